@@ -1,0 +1,73 @@
+"""Exceptions raised on purpose by symkf.
+
+Every error names the entry that caused it, the assumption that failed and,
+where one exists, what applies instead.  The command line turns each of them
+into a one-line message with exit status 2 (bad input) or 3 (a theorem's
+assumptions fail for the given system).
+"""
+
+from __future__ import annotations
+
+
+class SymkfError(Exception):
+    """Base of every error symkf raises on purpose."""
+
+    exit_status = 2
+
+
+class InputError(SymkfError, ValueError):
+    """Malformed input: wrong type, shape, or value of a named entry."""
+
+
+class InexactInputError(InputError):
+    """A Python float reached an exact path (pass ``rationalize=True`` to convert)."""
+
+
+class ShapeError(InputError):
+    """Matrix dimensions do not fit together."""
+
+
+class NotPositiveDefiniteError(InputError):
+    """A covariance (Q, R or P0) is not symmetric positive definite."""
+
+
+class ProbabilityError(InputError):
+    """A probability is outside [0, 1] or a transition row does not sum to 1."""
+
+
+class AssumptionError(SymkfError):
+    """A theorem's hypothesis fails for the given system or loss model.
+
+    ``assumption`` names the hypothesis (e.g. "Assumption 6 (Sui-You-Fu)"),
+    ``applies_instead`` the entry point that does apply, if any.
+    """
+
+    exit_status = 3
+
+    def __init__(self, message: str, *, assumption: str, applies_instead: str | None = None):
+        text = f"{assumption} fails: {message}"
+        if applies_instead:
+            text += f". What applies instead: {applies_instead}"
+        super().__init__(text)
+        self.assumption = assumption
+        self.applies_instead = applies_instead
+
+
+class NotDiagonalizableError(AssumptionError):
+    """A is defective (a repeated eigenvalue without a full eigenspace)."""
+
+
+class UnobservableError(AssumptionError):
+    """(A, C) is not observable; the unobservable mode is named."""
+
+
+class SingularSystemError(AssumptionError):
+    """A is singular where a theorem needs it invertible (Lemma 2, Sui-You-Fu)."""
+
+
+class AperiodicError(AssumptionError):
+    """A computation needs a periodic eigen-block and the block is proved aperiodic."""
+
+
+class FileFormatError(InputError):
+    """A system file (TOML) is malformed; the message names file and key."""

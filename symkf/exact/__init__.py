@@ -1,0 +1,1 @@
+"""The exact substrate: exact input, algebraic numbers, number fields, exact linear algebra."""

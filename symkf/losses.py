@@ -1,0 +1,293 @@
+"""Packet-loss models (Sui-You-Fu Assumptions 2 and 4).
+
+Every model is exposed to the rest of symkf as a :class:`LossChain`: a
+first-order finite Markov chain whose state ``X_k`` determines the receival
+vector ``(gamma_k^1, ..., gamma_k^d)`` (``1`` = packet received).  A joint
+chain of order ``nu`` is lifted to windows of its last ``nu`` receival vectors
+(Remark 3).  Parameters are exact numbers or sympy symbols.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any, Iterable, Mapping, Sequence
+
+import numpy as np
+import sympy as sp
+
+from .errors import AssumptionError, InputError, ProbabilityError
+from .exact.algebraic import sign
+from .exact.numbers import to_exact
+
+Vector = tuple[int, ...]
+
+
+def _probability(value: Any, entry: str) -> sp.Expr:
+    p = to_exact(value, entry, symbols=True)
+    if not p.free_symbols:
+        if not p.is_real:
+            raise ProbabilityError(f"{entry}: {p} is not real")
+        if sign(p) < 0 or sign(p - 1) > 0:
+            raise ProbabilityError(f"{entry}: {p} is not a probability (must lie in [0, 1])")
+    return p
+
+
+def _probabilities(values: Any, entry: str) -> tuple[sp.Expr, ...]:
+    if isinstance(values, (str, bytes)) or not isinstance(values, Iterable):
+        raise InputError(f"{entry}: expected a list with one probability per sensor")
+    out = tuple(_probability(v, f"{entry}[{i}]") for i, v in enumerate(values))
+    if not out:
+        raise InputError(f"{entry}: the list is empty; give one probability per sensor")
+    return out
+
+
+@dataclass(frozen=True)
+class LossChain:
+    """A first-order chain on ``states`` with exact transition matrix ``P``.
+
+    ``emit[s]`` is the receival vector in state ``s``; ``initial`` is the
+    distribution of ``X_0``.
+    """
+
+    states: tuple[Any, ...]
+    emit: tuple[Vector, ...]
+    P: sp.ImmutableMatrix
+    initial: sp.ImmutableMatrix  # 1 x S row
+
+    @property
+    def d(self) -> int:
+        return len(self.emit[0])
+
+    def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Float (P, initial, emit) for simulation; refuses free symbols."""
+        free = self.P.free_symbols | self.initial.free_symbols
+        if free:
+            raise InputError(f"loss model: symbols {sorted(map(str, free))} have no value; "
+                             "substitute numbers (loss.subs({...})) before simulating")
+        P = np.array(self.P.evalf(30).tolist(), dtype=float)
+        init = np.array(self.initial.evalf(30).tolist(), dtype=float).ravel()
+        return P, init, np.array(self.emit, dtype=bool)
+
+    def sequence_probability(self, seq: Sequence[Vector]) -> sp.Expr:
+        """Exact probability that the first ``len(seq)`` receival vectors equal ``seq``."""
+        S = len(self.states)
+        alpha = [self.initial[0, s] if self.emit[s] == tuple(seq[0]) else 0 for s in range(S)]
+        for v in seq[1:]:
+            alpha = [sum(alpha[r] * self.P[r, s] for r in range(S) if alpha[r] != 0)
+                     if self.emit[s] == tuple(v) else 0 for s in range(S)]
+        return sp.expand(sum(alpha))
+
+
+class LossModel:
+    """Base class: subclasses build :attr:`chain`."""
+
+    d: int
+
+    @cached_property
+    def chain(self) -> LossChain:
+        return self._build_chain()
+
+    def _build_chain(self) -> LossChain:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    @property
+    def symbols(self) -> set[sp.Symbol]:
+        return set(self.chain.P.free_symbols | self.chain.initial.free_symbols)
+
+    def subs(self, values: Mapping[Any, Any]) -> "LossModel":
+        """A copy with symbols replaced by exact values."""
+        raise NotImplementedError
+
+    def positivity_failure(self) -> str | None:
+        """Why Assumption 2's positivity fails, or None when every transition is positive."""
+        for r, s in itertools.product(range(len(self.chain.states)), repeat=2):
+            if self._reachable(r, s):
+                p = self.chain.P[r, s]
+                if not p.free_symbols and sign(p) <= 0:
+                    return (f"P(next = {self.chain.states[s]} | {self.chain.states[r]}) = {p}; "
+                            "Assumption 2 needs every transition probability positive")
+        return None
+
+    def _reachable(self, r: int, s: int) -> bool:
+        return True
+
+    def require_positive(self) -> None:
+        why = self.positivity_failure()
+        if why:
+            raise AssumptionError(why, assumption="Assumption 2 (Sui-You-Fu)")
+
+
+class IID(LossModel):
+    """Independent Bernoulli losses: sensor ``i`` loses each packet with probability ``loss[i]``."""
+
+    def __init__(self, loss: Sequence[Any]):
+        self.loss = _probabilities(loss, "loss")
+        self.d = len(self.loss)
+
+    @property
+    def arrival(self) -> tuple[sp.Expr, ...]:
+        """Arrival probabilities ``p_i = 1 - loss_i`` (Assumption 4)."""
+        return tuple(1 - e for e in self.loss)
+
+    def _build_chain(self) -> LossChain:
+        vecs = tuple(itertools.product((1, 0), repeat=self.d))
+        row = [sp.Mul(*[(1 - e) if g else e for g, e in zip(v, self.loss)]) for v in vecs]
+        return LossChain(vecs, vecs, sp.ImmutableMatrix([row] * len(vecs)), sp.ImmutableMatrix([row]))
+
+    def positivity_failure(self) -> str | None:
+        # Independence makes (27) of Sui-You-Fu hold with beta = epsilon = 1,
+        # so Theorem 4 needs no positivity for i.i.d. losses.
+        return None
+
+    def subs(self, values: Mapping[Any, Any]) -> "IID":
+        return IID([sp.sympify(e).subs(values) for e in self.loss])
+
+    def __repr__(self) -> str:
+        return f"IID(loss={[str(e) for e in self.loss]})"
+
+
+class GilbertElliott(LossModel):
+    """An independent two-state Markov channel per sensor.
+
+    ``fail[i] = P(lost | received last)``, ``recover[i] = P(received | lost last)``.
+    ``X_0`` is drawn from the stationary law ``P(received) = recover / (fail + recover)``
+    unless ``initial_received`` gives ``P(gamma_0^i = 1)`` per sensor.
+    """
+
+    def __init__(self, fail: Sequence[Any], recover: Sequence[Any],
+                 initial_received: Sequence[Any] | None = None):
+        self.fail = _probabilities(fail, "fail")
+        self.recover = _probabilities(recover, "recover")
+        if len(self.fail) != len(self.recover):
+            raise InputError(f"recover: {len(self.recover)} values for {len(self.fail)} sensors in fail")
+        self.d = len(self.fail)
+        if initial_received is None:
+            for i, (f, r) in enumerate(zip(self.fail, self.recover)):
+                if not (f + r).free_symbols and (f + r) == 0:
+                    raise InputError(f"fail[{i}] = recover[{i}] = 0: no stationary law; give initial_received")
+            self.initial_received = tuple(sp.cancel(r / (f + r)) for f, r in zip(self.fail, self.recover))
+        else:
+            self.initial_received = _probabilities(initial_received, "initial_received")
+            if len(self.initial_received) != self.d:
+                raise InputError(f"initial_received: {len(self.initial_received)} values for {self.d} sensors")
+
+    def sensor_matrix(self, i: int) -> sp.ImmutableMatrix:
+        """Transition matrix of sensor ``i`` on states (received, lost)."""
+        f, r = self.fail[i], self.recover[i]
+        return sp.ImmutableMatrix([[1 - f, f], [r, 1 - r]])
+
+    def _build_chain(self) -> LossChain:
+        vecs = tuple(itertools.product((1, 0), repeat=self.d))
+        P = [[sp.Mul(*[self.sensor_matrix(i)[1 - a[i], 1 - b[i]] for i in range(self.d)])
+              for b in vecs] for a in vecs]
+        init = [sp.Mul(*[q if g else 1 - q for g, q in zip(v, self.initial_received)]) for v in vecs]
+        return LossChain(vecs, vecs, sp.ImmutableMatrix(P), sp.ImmutableMatrix([init]))
+
+    def subs(self, values: Mapping[Any, Any]) -> "GilbertElliott":
+        def s(xs):
+            return [sp.sympify(x).subs(values) for x in xs]
+        return GilbertElliott(s(self.fail), s(self.recover), s(self.initial_received))
+
+    def __repr__(self) -> str:
+        return (f"GilbertElliott(fail={[str(x) for x in self.fail]}, "
+                f"recover={[str(x) for x in self.recover]})")
+
+
+class MarkovLoss(LossModel):
+    """A joint Markov chain of finite order ``nu`` on the receival vectors.
+
+    ``table`` maps a history (a tuple of ``nu`` receival vectors, oldest
+    first; for ``nu = 1`` a bare vector is accepted) to a mapping from next
+    receival vector to its probability.  Every history over ``{0, 1}^d`` must
+    appear and each row must sum to 1.  ``initial`` gives the law of the
+    first window; by default the stationary law of the lifted chain.
+    """
+
+    def __init__(self, table: Mapping[Any, Mapping[Any, Any]], order: int = 1,
+                 initial: Mapping[Any, Any] | None = None):
+        if not isinstance(order, int) or order < 1:
+            raise InputError(f"order: must be a positive integer, got {order!r}")
+        if not isinstance(table, Mapping) or not table:
+            raise InputError("table: expected a non-empty mapping history -> {next vector: probability}")
+        self.order = order
+        first = next(iter(table))
+        hist0 = (first,) if order == 1 and _is_vector(first) else first
+        self.d = len(hist0[0])
+        vecs = tuple(itertools.product((1, 0), repeat=self.d))
+        self.vectors = vecs
+        rows: dict[tuple[Vector, ...], dict[Vector, sp.Expr]] = {}
+        for key, row in table.items():
+            hist = (tuple(key),) if order == 1 and _is_vector(key) else tuple(tuple(v) for v in key)
+            if len(hist) != order or any(len(v) != self.d or set(v) - {0, 1} for v in hist):
+                raise InputError(f"table key {key!r}: expected {order} receival vector(s) of length {self.d}")
+            probs = {}
+            for nxt, p in row.items():
+                nxt = tuple(nxt)
+                if len(nxt) != self.d or set(nxt) - {0, 1}:
+                    raise InputError(f"table[{key!r}] key {nxt!r}: not a 0/1 vector of length {self.d}")
+                probs[nxt] = _probability(p, f"table[{key!r}][{nxt!r}]")
+            total = sp.simplify(sum(probs.values()))
+            if total != 1:
+                raise ProbabilityError(f"table[{key!r}]: row sums to {total}, not 1")
+            rows[hist] = probs
+        missing = [h for h in itertools.product(vecs, repeat=order) if h not in rows]
+        if missing:
+            raise InputError(f"table: history {missing[0]!r} is missing ({len(missing)} of "
+                             f"{len(vecs) ** order} histories have no row)")
+        self.table = rows
+        self._initial = initial
+
+    def _build_chain(self) -> LossChain:
+        windows = tuple(itertools.product(self.vectors, repeat=self.order))
+        index = {w: i for i, w in enumerate(windows)}
+        P = sp.zeros(len(windows), len(windows))
+        for w in windows:
+            for nxt, p in self.table[w].items():
+                P[index[w], index[w[1:] + (nxt,)]] += p
+        if self._initial is None:
+            init = _stationary(P)
+        else:
+            init = sp.zeros(1, len(windows))
+            for key, p in self._initial.items():
+                w = (tuple(key),) if self.order == 1 and _is_vector(key) else tuple(tuple(v) for v in key)
+                if w not in index:
+                    raise InputError(f"initial key {key!r}: not a window of {self.order} receival vectors")
+                init[0, index[w]] = _probability(p, f"initial[{key!r}]")
+            if sp.simplify(sum(init)) != 1:
+                raise ProbabilityError(f"initial: sums to {sp.simplify(sum(init))}, not 1")
+        return LossChain(windows, tuple(w[-1] for w in windows), sp.ImmutableMatrix(P),
+                         sp.ImmutableMatrix(init))
+
+    def _reachable(self, r: int, s: int) -> bool:
+        w, v = self.chain.states[r], self.chain.states[s]
+        return w[1:] == v[:-1]
+
+    def subs(self, values: Mapping[Any, Any]) -> "MarkovLoss":
+        table = {h: {n: sp.sympify(p).subs(values) for n, p in row.items()} for h, row in self.table.items()}
+        init = None if self._initial is None else {
+            k: sp.sympify(p).subs(values) for k, p in self._initial.items()}
+        return MarkovLoss(table, self.order, init)
+
+    def __repr__(self) -> str:
+        return f"MarkovLoss(d={self.d}, order={self.order})"
+
+
+def _is_vector(key: Any) -> bool:
+    return isinstance(key, tuple) and all(isinstance(v, int) for v in key)
+
+
+def _stationary(P: sp.Matrix) -> sp.Matrix:
+    """The unique stationary row vector of ``P`` (exact)."""
+    S = P.shape[0]
+    system = (P.T - sp.eye(S)).col_join(sp.ones(1, S))
+    rhs = sp.zeros(S, 1).col_join(sp.Matrix([1]))
+    try:
+        sol = system.solve_least_squares(rhs) if S > 0 else None
+        sol = sp.simplify(sol)
+    except Exception:
+        raise InputError("initial: the chain has no unique stationary law; give initial") from None
+    if system * sol != rhs and sp.simplify(system * sol - rhs) != sp.zeros(S + 1, 1):
+        raise InputError("initial: the chain has no unique stationary law; give initial")
+    return sol.T

@@ -1,0 +1,159 @@
+"""Systems and sensors with exact data (Sui-You-Fu eqs. 1-3).
+
+``x_{k+1} = A x_k + w_k``, ``y_k^i = C_i x_k + v_k^i`` with ``w ~ N(0, Q)``,
+``v^i ~ N(0, R_i)`` and ``x_0 ~ N(xbar_0, P0)``.  Every entry is exact (see
+:mod:`symkf.exact.numbers`); covariances are checked Hermitian positive
+definite exactly (Sylvester's criterion with certified signs).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Sequence
+
+import sympy as sp
+
+from .errors import InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, UnobservableError
+from .exact.algebraic import sign
+from .exact.numbers import to_exact_matrix
+
+
+def _identity(n: int) -> sp.ImmutableMatrix:
+    return sp.ImmutableMatrix(sp.eye(n))
+
+
+def check_positive_definite(M: sp.MatrixBase, entry: str) -> None:
+    """Raise unless ``M`` is Hermitian positive definite (exact leading minors)."""
+    if M.shape[0] != M.shape[1]:
+        raise ShapeError(f"{entry}: covariance must be square, got {M.shape[0]}x{M.shape[1]}")
+    for i in range(M.shape[0]):
+        for j in range(i + 1, M.shape[0]):
+            if sp.simplify(M[i, j] - sp.conjugate(M[j, i])) != 0:
+                raise NotPositiveDefiniteError(
+                    f"{entry}: not symmetric, entry [{i}][{j}] = {M[i, j]} but [{j}][{i}] = {M[j, i]}")
+    for k in range(1, M.shape[0] + 1):
+        minor = sp.nsimplify(M[:k, :k].det(method="berkowitz"))
+        if sign(minor) <= 0:
+            raise NotPositiveDefiniteError(
+                f"{entry}: not positive definite, leading {k}x{k} minor is {sp.simplify(minor)}")
+
+
+@dataclass(frozen=True)
+class Sensor:
+    """One sensor: ``y^i = C_i x + v^i`` with ``v^i ~ N(0, R_i)``; R defaults to I."""
+
+    C: Any
+    R: Any = None
+    name: str | None = None
+    rationalize: bool = False
+
+    def __post_init__(self) -> None:
+        label = f"sensor {self.name!r}" if self.name else "sensor"
+        C = to_exact_matrix(self.C, f"{label} C", rationalize=self.rationalize)
+        object.__setattr__(self, "C", C)
+        R = _identity(C.shape[0]) if self.R is None else to_exact_matrix(
+            self.R, f"{label} R", rationalize=self.rationalize, shape=(C.shape[0], C.shape[0]))
+        check_positive_definite(R, f"{label} R")
+        object.__setattr__(self, "R", R)
+
+    @property
+    def m(self) -> int:
+        """Number of measurement channels m_i."""
+        return self.C.shape[0]
+
+
+@dataclass(frozen=True)
+class System:
+    """A linear system observed by ``d`` sensors over lossy channels.
+
+    ``Q`` and ``P0`` default to the identity.  ``(A, C)`` with ``C`` the stack
+    of all ``C_i`` must be observable (the papers assume it throughout); the
+    error names an unobservable eigenvalue.
+    """
+
+    A: Any
+    sensors: Sequence[Sensor]
+    Q: Any = None
+    P0: Any = None
+    rationalize: bool = False
+    name: str | None = None
+    _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False, hash=False)
+
+    def __post_init__(self) -> None:
+        A = to_exact_matrix(self.A, "A", rationalize=self.rationalize)
+        if A.shape[0] != A.shape[1]:
+            raise ShapeError(f"A: must be square, got {A.shape[0]}x{A.shape[1]}")
+        n = A.shape[0]
+        object.__setattr__(self, "A", A)
+        sensors = list(self.sensors) if isinstance(self.sensors, Sequence) else [self.sensors]
+        if not sensors:
+            raise InputError("sensors: at least one sensor is needed")
+        names = []
+        for i, s in enumerate(sensors):
+            if not isinstance(s, Sensor):
+                raise InputError(f"sensors[{i}]: expected a symkf.Sensor, got {type(s).__name__}")
+            if s.C.shape[1] != n:
+                raise ShapeError(f"sensor {s.name or i!r} C: has {s.C.shape[1]} columns, A is {n}x{n}")
+            names.append(s.name or f"s{i + 1}")
+        if len(set(names)) != len(names):
+            raise InputError(f"sensors: names must be distinct, got {names}")
+        object.__setattr__(self, "sensors", tuple(
+            s if s.name else Sensor(s.C, s.R, name=names[i]) for i, s in enumerate(sensors)))
+        for key in ("Q", "P0"):
+            value = getattr(self, key)
+            M = _identity(n) if value is None else to_exact_matrix(
+                value, key, rationalize=self.rationalize, shape=(n, n))
+            check_positive_definite(M, key)
+            object.__setattr__(self, key, M)
+        self.check_observable()
+
+    @property
+    def n(self) -> int:
+        return self.A.shape[0]
+
+    @property
+    def d(self) -> int:
+        return len(self.sensors)
+
+    @property
+    def C(self) -> sp.ImmutableMatrix:
+        """The stacked ``C = col{C_1, ..., C_d}`` (eq. 3)."""
+        return sp.ImmutableMatrix(sp.Matrix.vstack(*[s.C for s in self.sensors]))
+
+    @property
+    def R(self) -> sp.ImmutableMatrix:
+        return sp.ImmutableMatrix(sp.diag(*[s.R for s in self.sensors]))
+
+    @property
+    def sensor_names(self) -> tuple[str, ...]:
+        return tuple(s.name for s in self.sensors)
+
+    def check_observable(self) -> None:
+        """Raise :class:`UnobservableError` naming an eigenvalue the sensors cannot see (PBH test)."""
+        from .exact.linalg import rank
+        from .spectral import eigenvalues
+
+        C = self.C
+        obs = sp.Matrix.vstack(*[C * self.A ** k for k in range(self.n)])
+        if rank(obs) == self.n:
+            return
+        for lam in eigenvalues(self.A):
+            if rank(sp.Matrix.vstack(self.A - lam.expr * sp.eye(self.n), C)) < self.n:
+                raise UnobservableError(
+                    f"the eigenvalue {lam.expr} of A is not seen by any sensor (PBH rank test)",
+                    assumption="observability of (A, C)",
+                    applies_instead="a sensor set whose stacked C sees every mode")
+        raise UnobservableError("the observability matrix is rank deficient",
+                                assumption="observability of (A, C)")
+
+    def require_invertible_A(self) -> None:
+        """Lemma 2 (Sui-You-Fu) needs A invertible."""
+        if self.A.det() == 0:
+            raise SingularSystemError("A is singular (det A = 0)",
+                                      assumption="Lemma 2 (Sui-You-Fu): A invertible")
+
+    def sensor_index(self, name: str) -> int:
+        try:
+            return self.sensor_names.index(name)
+        except ValueError:
+            raise InputError(f"no sensor named {name!r}; sensors are {list(self.sensor_names)}") from None

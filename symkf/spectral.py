@@ -1,0 +1,376 @@
+"""Eigen-blocks, periods, aperiodicity proofs and the modal form.
+
+Sui-You-Fu Assumptions 1, 3 and 5 group the eigenvalues of a diagonalizable
+``A`` into eigen-blocks of common modulus ``alpha_i``.  For each block two
+periods matter:
+
+* the papers' period ``tau``: least ``tau`` with ``A_i^tau = alpha_i^tau I``;
+* the governing period ``g``: least ``k`` with ``A_i^k`` a scalar multiple of
+  ``I``.  Rows ``C A^k`` and ``C A^(k+g)`` restricted to the block are then
+  parallel, so ``g`` (not ``tau``) decides the rank of the regression matrix
+  (eq. 14); ``g`` divides ``tau``.
+
+Both are exact: the eigenvalues are algebraic numbers identified by their
+minimal polynomial over Q and a certified isolating ball (python-flint arb);
+``lambda_a / lambda_b`` is a root of unity iff its minimal polynomial is
+cyclotomic, which ``fmpz_poly.is_cyclotomic`` decides (a root of unity of
+degree ``d`` has order ``m`` with ``phi(m) = d``, finitely many by the totient
+bound).  ``None`` means aperiodic and comes with that proof.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property, lru_cache
+from math import gcd
+from typing import Any
+
+import flint
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+from sympy.polys.polyclasses import DMP
+
+from .errors import NotDiagonalizableError
+from .exact.algebraic import (AlgebraicNumber, fmpz_to_sympy, identify, real_from_ball, root_ball,
+                              sympy_to_fmpz)
+from .exact.field import Elem, NumberField
+from .exact.linalg import field_of, rank_rows
+from .exact.numbers import to_exact_matrix
+
+x, y, z = sp.symbols("x y z")
+
+
+def _lcm(a: int, b: int) -> int:
+    return a * b // gcd(a, b)
+
+
+_YZ = flint.fmpz_mpoly_ctx.get(("y", "z"), "lex")
+
+
+def _resultant_y(f: tuple[int, ...], g_terms: dict[tuple[int, int], int]) -> flint.fmpz_poly:
+    """``Res_y(f(y), g(y, z))`` as a polynomial in ``z`` (python-flint)."""
+    fy = _YZ.from_dict({(k, 0): c for k, c in enumerate(f) if c})
+    gyz = _YZ.from_dict(g_terms)
+    res = fy.resultant(gyz, "y")
+    coeffs: dict[int, int] = {}
+    for (_, k), c in res.to_dict().items():
+        coeffs[k] = int(c)
+    return flint.fmpz_poly([coeffs.get(k, 0) for k in range(max(coeffs) + 1)])
+
+
+@lru_cache(maxsize=512)
+def _ratio_poly(fa: tuple[int, ...], fb: tuple[int, ...]) -> flint.fmpz_poly:
+    """A polynomial whose roots include every ratio ``root(fa) / root(fb)``: Res_y(fb(y), fa(z y))."""
+    return _resultant_y(fb, {(k, k): c for k, c in enumerate(fa) if c})
+
+
+@lru_cache(maxsize=512)
+def _abs_poly(f: tuple[int, ...]) -> flint.fmpz_poly:
+    """Roots include ``|lambda|`` for every root of the real ``f``: Res_y(f(y), y^d f(z^2/y))."""
+    d = len(f) - 1
+    return _resultant_y(f, {(d - k, 2 * k): c for k, c in enumerate(f) if c})
+
+
+@dataclass(frozen=True, eq=False)
+class Eigenvalue:
+    """An eigenvalue: root ``root_index`` of the irreducible ``minpoly`` (over Q)."""
+
+    minpoly: flint.fmpz_poly
+    root_index: int
+    multiplicity: int
+
+    @cached_property
+    def expr(self) -> sp.Expr:
+        """The eigenvalue as an exact sympy expression."""
+        return _nice_expr(self.minpoly, self.root_index)
+
+    def ball(self, prec: int) -> flint.acb:
+        return root_ball(self.minpoly, self.root_index, prec)
+
+    @property
+    def label(self) -> str:
+        """The exact form when it is short, else the root's approximate value and minimal polynomial."""
+        if self.minpoly.degree() <= 2 or self.minpoly.is_cyclotomic():
+            return str(self.expr)
+        v = complex(self.ball(64).real.mid(), self.ball(64).imag.mid())
+        return f"[root {v:.6g} of {fmpz_to_sympy(self.minpoly).as_expr()}]"
+
+    @cached_property
+    def modulus(self) -> AlgebraicNumber:
+        """``|lambda|`` exactly."""
+        poly, idx = identify(_abs_poly(tuple(int(c) for c in self.minpoly.coeffs())),
+                             lambda prec: flint.acb(abs(self.ball(prec))), "modulus")
+        return real_from_ball(poly, idx)
+
+    def __repr__(self) -> str:
+        return f"Eigenvalue({self.expr}, multiplicity={self.multiplicity})"
+
+
+def root_of_unity_order(num: Eigenvalue, den: Eigenvalue, conj_den: bool = False) -> tuple[int | None, str]:
+    """Order of ``num / den`` (or ``num / conj(den)``) as a root of unity, with its proof.
+
+    Returns ``(m, proof)``; ``m`` is None when the ratio is not a root of unity.
+    """
+    fa = tuple(int(c) for c in num.minpoly.coeffs())
+    fb = tuple(int(c) for c in den.minpoly.coeffs())
+
+    def ball(prec: int) -> flint.acb:
+        d = den.ball(prec)
+        return num.ball(prec) / (d.conjugate() if conj_den else d)
+
+    poly, _ = identify(_ratio_poly(fa, fb), ball, "eigenvalue ratio")
+    m = int(poly.is_cyclotomic())
+    label = f"({num.label})/{'conj' if conj_den else ''}({den.label})"
+    if m:
+        return m, f"{label} has minimal polynomial Phi_{m}, a primitive {m}-th root of unity"
+    return None, (f"{label} has modulus 1 and minimal polynomial {fmpz_to_sympy(poly).as_expr()}, "
+                  "which is not cyclotomic, so it is not a root of unity (aperiodic)")
+
+
+def _phase_order(lam: Eigenvalue) -> tuple[int | None, str]:
+    """Order of ``lambda / |lambda|`` as a root of unity (the papers' tau for one eigenvalue)."""
+    m, proof = root_of_unity_order(lam, lam, conj_den=True)  # (lambda/|lambda|)^2 = lambda/conj(lambda)
+    if m is None:
+        return None, proof
+    if m % 2 == 0:
+        return 2 * m, proof
+    # m odd: u = lambda/|lambda| has u^m = +-1; the sign of lambda^m decides
+    old = flint.ctx.prec
+    flint.ctx.prec = 128
+    try:
+        power = lam.ball(128) ** m
+    finally:
+        flint.ctx.prec = old
+    return (m if power.real > 0 else 2 * m), proof
+
+
+@dataclass(frozen=True, eq=False)
+class EigenBlock:
+    """The eigenvalues of ``A`` of one modulus ``alpha_i`` (Assumption 3)."""
+
+    modulus: AlgebraicNumber
+    members: tuple[Eigenvalue, ...]
+    period: int | None
+    governing_period: int | None
+    proof: str
+    classes: tuple[tuple[int, ...], ...] = field(repr=False)
+    class_period: int = field(repr=False)
+
+    @property
+    def eigenvalues(self) -> tuple[sp.Expr, ...]:
+        """Exact eigenvalues, repeated by multiplicity."""
+        return tuple(e.expr for e in self.members for _ in range(e.multiplicity))
+
+    @property
+    def size(self) -> int:
+        """``n_i``, the dimension of the block."""
+        return sum(e.multiplicity for e in self.members)
+
+    @property
+    def is_periodic(self) -> bool:
+        return self.governing_period is not None
+
+    def __repr__(self) -> str:
+        return (f"EigenBlock(modulus={self.modulus}, eigenvalues={[e.label for e in self.members]}, "
+                f"period={self.period}, governing_period={self.governing_period})")
+
+
+# -- eigenvalues ------------------------------------------------------------------
+def _nice_expr(f: flint.fmpz_poly, idx: int) -> sp.Expr:
+    """A readable exact expression for root ``idx`` of the irreducible ``f``.
+
+    Rationals, quadratic radicals and ``exp(2 pi i k/m)`` where sympy has them,
+    otherwise a ``CRootOf``; the choice among the roots is checked against the
+    certified ball of the root.
+    """
+    p = fmpz_to_sympy(f)
+    if p.degree() == 1:
+        return -p.nth(0) / p.nth(1)
+    target = root_ball(f, idx, 128)
+    m = int(f.is_cyclotomic())
+    if m:
+        cands = [sp.exp(2 * sp.pi * sp.I * sp.Rational(k, m)) for k in range(m) if gcd(k, m) == 1]
+    elif p.degree() == 2:
+        cands = list(sp.roots(p, x))
+    else:
+        cands = [sp.CRootOf(p.as_expr(), x, _crootof_index(f, idx))]
+    for c in cands:
+        v = complex(c.evalf(40))
+        tol = 1e-10 * (1 + abs(v))  # float rounding of v, far below root separation
+        if target.overlaps(flint.acb(flint.arb(v.real, tol), flint.arb(v.imag, tol))):
+            return c
+    raise AssertionError(f"no exact form found for root {idx} of {f}")  # pragma: no cover
+
+
+def _crootof_index(f: flint.fmpz_poly, idx: int) -> int:
+    """sympy's CRootOf index of flint's root ``idx``: real roots ascending, then complex
+    roots by real part, imaginary part."""
+    roots = [r for r, _ in f.complex_roots()]
+
+    def key(i: int) -> tuple:
+        r = roots[i]
+        real = r.imag.contains(0) and r.imag.rad() == 0 or r.imag == 0
+        return (0 if real else 1, float(r.real.mid()), float(r.imag.mid()))
+    return sorted(range(len(roots)), key=key).index(idx)
+
+
+def _factor_charpoly(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Elem], int, list[tuple[flint.fmpz_poly, int]]]]:
+    """Irreducible factors ``h`` of the characteristic polynomial over K with multiplicity,
+    each with its roots as (Q-minimal polynomial, root index)."""
+    n = A.shape[0]
+    if K.is_rational:
+        chi = flint.fmpq_mat([[flint.fmpq(int(sp.Rational(v).p), int(sp.Rational(v).q)) for v in A.row(i)]
+                              for i in range(n)]).charpoly()
+        out = []
+        for f, e in chi.factor()[1]:
+            fz = flint.fmpz_poly([int(c) for c in (f * f.denom()).coeffs()])
+            fz = fz if fz.leading_coefficient() > 0 else -fz
+            h = [flint.fmpq_poly([c]) for c in f.coeffs()]
+            out.append((h, e, [(fz, i) for i in range(fz.degree())]))
+        return out
+    dM = DomainMatrix([[K.K.from_sympy(v) for v in A.row(i)] for i in range(n)], (n, n), K.K)
+    chi = sp.Poly.new(DMP(dM.charpoly(), K.K), x)
+    out = []
+    for h, e in chi.factor_list()[1]:
+        coeffs = [K.from_anp(c) for c in reversed(h.rep.to_list())]  # low -> high
+        hxy = sum(sum(sp.Rational(int(c.p), int(c.q)) * y ** j for j, c in enumerate(a.coeffs())) * x ** k
+                  for k, a in enumerate(coeffs))
+        mod = sp.Poly([sp.Rational(int(c.p), int(c.q)) for c in reversed(K.modulus.coeffs())], y)
+        norm = sp.Poly(sp.resultant(mod.as_expr(), hxy, y), x)
+        theta_poly = sympy_to_fmpz(mod)
+        theta_idx = _theta_index(K, theta_poly)
+        roots = []
+        for g, _ in sympy_to_fmpz(norm).factor()[1]:
+            for i in range(g.degree()):
+                if _maybe_root(coeffs, theta_poly, theta_idx, g, i):
+                    roots.append((g if g.leading_coefficient() > 0 else -g, i))
+        if len(roots) != len(coeffs) - 1:
+            raise RuntimeError("eigenvalue selection failed")  # pragma: no cover
+        out.append((coeffs, e, roots))
+    return out
+
+
+def _theta_index(K: NumberField, mpoly: flint.fmpz_poly) -> int:
+    approx = complex(K.theta.evalf(60))
+
+    def ball(prec: int) -> flint.acb:
+        return flint.acb(approx.real, approx.imag) + flint.acb(flint.arb(0, 1e-12), flint.arb(0, 1e-12))
+    _, idx = identify(mpoly, ball, "primitive element")
+    return idx
+
+
+def _maybe_root(h: list[Elem], mpoly: flint.fmpz_poly, t_idx: int, g: flint.fmpz_poly, i: int) -> bool:
+    """False when interval arithmetic proves h(root_i(g)) != 0; True otherwise."""
+    for prec in (64, 256, 1024):
+        theta = root_ball(mpoly, t_idx, prec)
+        r = root_ball(g, i, prec)
+        old = flint.ctx.prec
+        flint.ctx.prec = prec
+        try:
+            val = flint.acb(0)
+            for k, a in enumerate(h):
+                ca = flint.acb(0)
+                for j, c in enumerate(a.coeffs()):
+                    ca += flint.acb(flint.arb(flint.fmpq(c))) * theta ** j
+                val += ca * r ** k
+        finally:
+            flint.ctx.prec = old
+        if not val.contains(0):
+            return False
+    return True
+
+
+def _check_diagonalizable(A: sp.MatrixBase, K: NumberField, factors) -> None:
+    n = A.shape[0]
+    Ak = K.matrix(A)
+    for h, e, roots in factors:
+        if e == 1:
+            continue
+        # h(A) by Horner; geometric multiplicity of each root = (n - rank h(A)) / deg h
+        H = [[h[-1] if i == j else flint.fmpq_poly([]) for j in range(n)] for i in range(n)]
+        for c in reversed(h[:-1]):
+            H = [[(K.dot(H[i], [Ak[k][j] for k in range(n)]) + (c if i == j else 0)) % K.modulus
+                  for j in range(n)] for i in range(n)]
+        geo = (n - rank_rows(K, H, n)) // (len(h) - 1)
+        if geo < e:
+            lam = _nice_expr(*roots[0])
+            raise NotDiagonalizableError(
+                f"the eigenvalue {lam} has algebraic multiplicity {e} but only {geo} independent "
+                "eigenvector(s), so A is defective", assumption="diagonalizable A (Assumptions 1 and 3)",
+                applies_instead="a diagonalizable A; symkf's theorems do not cover Jordan blocks")
+
+
+def eigenvalues(A: Any) -> list[Eigenvalue]:
+    """The distinct eigenvalues of ``A`` with multiplicities, exactly (A need not be diagonalizable)."""
+    A = sp.Matrix(to_exact_matrix(A, "A"))
+    return [ev for ev, _ in _eigen_with_factor(A)]
+
+
+def _eigen_with_factor(A: sp.Matrix, check: bool = False) -> list[tuple[Eigenvalue, int]]:
+    if A.shape[0] != A.shape[1]:
+        from .errors import ShapeError
+        raise ShapeError(f"A: must be square, got {A.shape[0]}x{A.shape[1]}")
+    K = field_of(A)
+    factors = _factor_charpoly(A, K)
+    if check:
+        _check_diagonalizable(A, K, factors)
+    out = []
+    for fi, (h, e, roots) in enumerate(factors):
+        for f, i in roots:
+            out.append((Eigenvalue(f, i, e), fi))
+    return out
+
+
+def eigen_blocks(A: Any) -> tuple[EigenBlock, ...]:
+    """The eigen-blocks of a diagonalizable ``A``, by decreasing modulus (Assumption 3).
+
+    Raises :class:`NotDiagonalizableError` naming a defective eigenvalue.
+    """
+    A = sp.Matrix(to_exact_matrix(A, "A"))
+    evs = [ev for ev, _ in _eigen_with_factor(A, check=True)]
+    groups: list[list[Eigenvalue]] = []
+    for ev in evs:
+        for g in groups:
+            if g[0].modulus == ev.modulus:
+                g.append(ev)
+                break
+        else:
+            groups.append([ev])
+    groups.sort(key=lambda g: g[0].modulus, reverse=True)
+    return tuple(_block(g) for g in groups)
+
+
+def _block(members: list[Eigenvalue]) -> EigenBlock:
+    proofs = []
+    tau: int | None = 1
+    for ev in members:
+        m, proof = _phase_order(ev)
+        if m is None:
+            tau = None
+            proofs.append(f"tau: {proof}")
+            break
+        tau = _lcm(tau, m)
+    # classes: eigenvalues whose ratios are roots of unity; the class period makes A^k scalar per class
+    classes: list[list[int]] = []
+    orders: dict[tuple[int, int], int] = {}
+    aperiodic_proof = None
+    for i, ev in enumerate(members):
+        for cl in classes:
+            m, proof = root_of_unity_order(ev, members[cl[0]])
+            if m is not None:
+                cl.append(i)
+                orders[(cl[0], i)] = m
+                break
+            aperiodic_proof = aperiodic_proof or proof
+        else:
+            classes.append([i])
+    class_period = 1
+    for m in orders.values():
+        class_period = _lcm(class_period, m)
+    governing = class_period if len(classes) == 1 else None
+    if governing is None:
+        proofs.append(f"governing period: {aperiodic_proof}")
+    elif tau is not None:
+        proofs.append(f"A_i^{governing} is a scalar multiple of I and A_i^{tau} = alpha^{tau} I")
+    return EigenBlock(members[0].modulus, tuple(members), tau, governing, "; ".join(proofs),
+                      tuple(tuple(c) for c in classes), class_period)
