@@ -1,0 +1,127 @@
+"""Sufficient conditions for Markov network states (Quevedo-Ahlén-Johansson, seed 002, Sec. V-VI).
+
+* ``r(k) = 1`` iff ``C(k)`` (eq. 14) has full column rank (eq. 19); ``J`` is the
+  set of link-outcome vectors ``gamma(k)`` with ``r(k) = 1`` (Example 3),
+  found with the exact rank or from a user's rule on ``theta``.
+* ``Pr{r(k) = 1 | Xi = j} = sum_{g in J} prod_m phi_{m|j}^{g_m} (1 - phi_{m|j})^{1 - g_m}``.
+* ``nu_i = sum_j p_ij Pr{r(k) = 0 | Xi(k) = j}`` (eqs. 20-21).
+* Theorem 1 (eq. 22): exponential boundedness if
+  ``rho* = max_{i, k} nu_i ||A(k)||^2 < 1``; ``rho*`` is the smallest
+  admissible ``rho``.
+* Corollary 1 (eq. 24): one sensor, ``C_1`` full column rank, ``r = gamma_1``.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from typing import Callable, Sequence
+
+import sympy as sp
+
+from ..errors import AssumptionError, InputError
+from ..exact.algebraic import AlgebraicNumber
+from ..exact.linalg import rank
+from .dynamics import PeriodicDynamics, spectral_norm_squared
+from .loss import NetworkLoss, bernoulli_product
+from .state import MarkovNetworkState
+from .tree import SensorTree, Vector
+
+Rule = Callable[[Vector], bool]
+
+
+def full_rank_configurations(tree: SensorTree, dynamics: PeriodicDynamics | None = None,
+                             rule: Rule | None = None) -> tuple[Vector, ...]:
+    """The set ``J`` of ``gamma`` vectors for which ``C(k)`` has full column rank (Example 3).
+
+    Either ``dynamics`` (exact rank of ``C(k)``, eq. 14) or ``rule(theta) -> bool``
+    decides; vectors are listed in increasing lexicographic order, as in the paper.
+    """
+    if (dynamics is None) == (rule is None):
+        raise InputError("give exactly one of dynamics (exact rank of C(k)) or rule(theta) -> bool")
+    if dynamics is not None and dynamics.M != tree.M:
+        raise InputError(f"dynamics: {dynamics.M} sensor blocks C_m for a tree of {tree.M} sensors")
+    cache: dict[Vector, bool] = {}
+
+    def full(theta: Vector) -> bool:
+        if theta not in cache:
+            cache[theta] = (bool(rule(theta)) if rule is not None
+                            else rank(dynamics.C_of(theta)) == dynamics.n)
+        return cache[theta]
+
+    return tuple(g for g in itertools.product((0, 1), repeat=tree.M) if full(tree.theta(g)))
+
+
+def is_up_set(J: Sequence[Vector]) -> bool:
+    """Whether ``J`` is closed under turning links on (then Pr{r = 1} grows with every phi)."""
+    members = set(J)
+    return all(g[:m] + (1,) + g[m + 1:] in members for g in members for m in range(len(g)))
+
+
+def full_rank_probability(J: Sequence[Vector], phi: Sequence[sp.Expr]) -> sp.Expr:
+    """``Pr{r(k) = 1 | Xi = j}`` given the column ``phi = (phi_{1|j}, ..., phi_{M|j})`` (Example 3)."""
+    return sp.Add(*[bernoulli_product(g, phi) for g in J])
+
+
+def _markov(loss: NetworkLoss) -> MarkovNetworkState:
+    if not isinstance(loss.state, MarkovNetworkState):
+        raise AssumptionError("the network state is semi-Markov", assumption="Assumption 1 (seed 002)",
+                              applies_instead="symkf.network.semi_markov.theorem2")
+    return loss.state
+
+
+def nu(loss: NetworkLoss, J: Sequence[Vector], phi: sp.MatrixBase | None = None) -> tuple[sp.Expr, ...]:
+    """``nu_i = sum_j p_ij (1 - Pr{r = 1 | Xi = j})`` for ``i = 1..|B|`` (eq. 21)."""
+    st = _markov(loss)
+    phi = loss.phi if phi is None else phi
+    miss = [1 - full_rank_probability(J, list(phi.col(j))) for j in range(st.B)]
+    return tuple(sp.expand(sum(st.p(i, j) * miss[j - 1] for j in range(1, st.B + 1)))
+                 for i in range(1, st.B + 1))
+
+
+@dataclass(frozen=True)
+class Theorem1:
+    """Theorem 1 of seed 002 evaluated on a network model.
+
+    ``lhs[(i, k)] = nu_i ||A(k)||^2``; ``rho`` is their maximum, the smallest
+    admissible ``rho`` in (22); ``holds`` says ``rho < 1``.  ``nu`` is
+    evaluated at ``phi_lower`` when some ``phi`` came from quadrature
+    (``certified_by_bounds``): ``J`` is an up-set, so this can only raise ``nu``.
+    With symbolic data ``rho`` and ``holds`` are None and ``condition`` lists
+    the inequalities ``nu_i ||A(k)||^2 < 1``.
+    """
+
+    J: tuple[Vector, ...]
+    nu: tuple[sp.Expr, ...]
+    norms: tuple[AlgebraicNumber, ...]
+    lhs: dict
+    rho: AlgebraicNumber | None
+    holds: bool | None
+    condition: tuple[sp.Expr, ...]
+    certified_by_bounds: bool
+
+
+def theorem1(loss: NetworkLoss, dynamics: PeriodicDynamics, rule: Rule | None = None) -> Theorem1:
+    """Theorem 1 (eq. 22): ``max_{i,k} nu_i ||A(k)||^2 <= rho < 1`` implies exponential boundedness."""
+    J = full_rank_configurations(loss.tree, None if rule else dynamics, rule)
+    bounded = loss.from_quadrature
+    if bounded and not is_up_set(J):
+        raise AssumptionError("J is not closed under extra successful links, so lower bounds on phi "
+                              "do not bound nu", assumption="monotone full-rank rule",
+                              applies_instead="exact phi values")
+    nus = nu(loss, J, loss.phi_lower if bounded else None)
+    norms = tuple(spectral_norm_squared(a) for a in dynamics.A)
+    lhs = {(i, k): sp.expand(v * a.exact) for i, v in enumerate(nus, start=1)
+           for k, a in enumerate(norms)}
+    condition = tuple(sp.Lt(e, 1) for e in dict.fromkeys(lhs.values()))
+    if any(v.free_symbols for v in nus):
+        return Theorem1(J, nus, norms, lhs, None, None, condition, bounded)
+    rho = max(AlgebraicNumber.from_expr(e) for e in lhs.values())
+    return Theorem1(J, nus, norms, lhs, rho, rho < 1, condition, bounded)
+
+
+def corollary1_lhs(P: sp.MatrixBase, phi: Sequence[sp.Expr], A: sp.MatrixBase) -> tuple[sp.Expr, ...]:
+    """Corollary 1 (eq. 24): ``||A||^2 sum_j p_ij (1 - phi_{1|j})`` for each ``i`` (one sensor, LTI)."""
+    a = spectral_norm_squared(A).exact if not sp.Matrix(A).free_symbols else sp.Symbol("normA2", positive=True)
+    B = P.shape[0]
+    return tuple(sp.expand(a * sum(P[i, j] * (1 - phi[j]) for j in range(B))) for i in range(B))

@@ -1,0 +1,205 @@
+"""The packet-loss process induced by a sensor tree over a network-state channel (seed 002).
+
+Given ``Xi(k) = j`` the links succeed independently, ``gamma_m(k) = 1`` with
+probability ``phi_{m|j}`` (eq. 9), and sensor ``m`` is heard at the gateway
+iff ``theta_m(k) = 1`` (Remark 2).  :class:`NetworkLoss` lifts the network
+state together with the link outcomes into one first-order chain
+(:class:`symkf.losses.LossChain`) whose receival vectors are the
+``theta(k)``, so the filter, the Monte Carlo code and the exact engine use
+it unchanged:
+
+* Markov network state (Assumption 1): chain states ``(j, theta)``;
+* semi-Markov (Assumption 3): ``(j, c, theta)`` where ``c`` counts the steps
+  left in the current holding period (``c = Delta_l`` at ``k_l``).
+
+Link outcomes enter only through ``theta``, and the next state's law depends
+only on ``(j, c)``, so grouping the ``gamma`` vectors with equal ``theta`` is
+an exact lumping.
+"""
+
+from __future__ import annotations
+
+import itertools
+from functools import cached_property
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
+
+import sympy as sp
+
+from ..errors import AssumptionError, InputError
+from ..losses import LossChain, LossModel, MarkovLoss, _probability
+from .fading import SuccessProbability
+from .state import MarkovNetworkState, SemiMarkovNetworkState
+from .tree import SensorTree, Vector
+
+if TYPE_CHECKING:
+    from .dynamics import PeriodicDynamics
+
+
+def phi_symbol(m: int, j: int) -> sp.Symbol:
+    """The symbol ``phi_{m|j}`` (eq. 9)."""
+    return sp.Symbol(f"phi_{{{m}|{j}}}", positive=True)
+
+
+def bernoulli_product(vector: Sequence[int], probs: Sequence[sp.Expr]) -> sp.Expr:
+    """``prod_m p_m^{v_m} (1 - p_m)^{1 - v_m}``: the law of independent links."""
+    return sp.Mul(*[p if v else 1 - p for v, p in zip(vector, probs)])
+
+
+class NetworkLoss(LossModel):
+    """Losses of a sensor tree whose links fade according to a network state (seed 002).
+
+    ``phi[m-1][j-1] = phi_{m|j}``: an exact number, a sympy expression, a
+    :class:`~symkf.network.fading.SuccessProbability` (its rational value is
+    used, its lower bound by :attr:`phi_lower`, and :attr:`from_quadrature` is set), or ``phi="symbols"`` for the
+    symbols ``phi_{m|j}``.  The emitted receival vector is
+    ``(theta_1, ..., theta_M)``: sensor ``m`` of the System is node ``S_m``.
+    """
+
+    def __init__(self, tree: SensorTree, state: MarkovNetworkState | SemiMarkovNetworkState,
+                 phi: Sequence[Sequence[Any]] | str):
+        if not isinstance(tree, SensorTree):
+            raise InputError(f"tree: expected a SensorTree, got {type(tree).__name__}")
+        if not isinstance(state, (MarkovNetworkState, SemiMarkovNetworkState)):
+            raise InputError("state: expected a MarkovNetworkState (Assumption 1) or "
+                             f"SemiMarkovNetworkState (Assumption 3), got {type(state).__name__}")
+        self.tree, self.state = tree, state
+        self.d = tree.M
+        M, B = tree.M, state.B
+        if isinstance(phi, str):
+            if phi != "symbols":
+                raise InputError(f"phi: {phi!r}; give a table phi[m][j] or the string 'symbols'")
+            phi = [[phi_symbol(m, j) for j in range(1, B + 1)] for m in range(1, M + 1)]
+        if isinstance(phi, (str, bytes)) or not isinstance(phi, Sequence) or len(phi) != M:
+            raise InputError(f"phi: expected {M} rows (one per link E_1..E_{M}) of {B} probabilities")
+        values, lower = [], []
+        for m, row in enumerate(phi, start=1):
+            if isinstance(row, (str, bytes)) or not isinstance(row, Sequence) or len(row) != B:
+                raise InputError(f"phi[{m}]: expected {B} probabilities phi_{{{m}|j}}, one per network state")
+            vrow, lrow = [], []
+            for j, p in enumerate(row, start=1):
+                if isinstance(p, SuccessProbability):
+                    vrow.append(p.value)
+                    lrow.append(p.lower)
+                else:
+                    vrow.append(_probability(p, f"phi[{m}][{j}] (phi_{{{m}|{j}}})"))
+                    lrow.append(vrow[-1])
+            values.append(vrow)
+            lower.append(lrow)
+        self.phi = sp.ImmutableMatrix(values)
+        self.phi_lower = sp.ImmutableMatrix(lower)
+        self.from_quadrature = any(isinstance(p, SuccessProbability) for row in phi for p in row)
+
+    # -- laws given the network state ------------------------------------------------
+    @cached_property
+    def link_vectors(self) -> tuple[Vector, ...]:
+        """All link-outcome vectors ``(gamma_1, ..., gamma_M)``."""
+        return tuple(itertools.product((1, 0), repeat=self.d))
+
+    def link_law(self, j: int, phi: sp.MatrixBase | None = None) -> dict[Vector, sp.Expr]:
+        """``Pr{gamma(k) = g | Xi(k) = j}`` for every ``g`` (links independent given ``Xi``, eq. 5)."""
+        phi = self.phi if phi is None else phi
+        col = [phi[m, j - 1] for m in range(self.d)]
+        return {g: bernoulli_product(g, col) for g in self.link_vectors}
+
+    @cached_property
+    def theta_vectors(self) -> tuple[Vector, ...]:
+        """The distinct ``theta`` vectors the tree can produce."""
+        return tuple(dict.fromkeys(self.tree.theta(g) for g in self.link_vectors))
+
+    def theta_law(self, j: int) -> dict[Vector, sp.Expr]:
+        """``Pr{theta(k) = t | Xi(k) = j}`` (Remark 2: theta's sharing links are dependent)."""
+        out = {t: sp.Integer(0) for t in self.theta_vectors}
+        for g, p in self.link_law(j).items():
+            out[self.tree.theta(g)] += p
+        return {t: sp.factor(p) for t, p in out.items()}
+
+    # -- the lifted chain ----------------------------------------------------------------
+    def _build_chain(self) -> LossChain:
+        B = self.state.B
+        laws = {j: {t: p for t, p in self.theta_law(j).items() if p != 0} for j in range(1, B + 1)}
+        if isinstance(self.state, MarkovNetworkState):
+            hidden = [(j,) for j in range(1, B + 1)]
+            start = {(j,): self.state.initial[0, j - 1] for j in range(1, B + 1)}
+
+            def step(h):
+                return {(j,): self.state.p(h[0], j) for j in range(1, B + 1)}
+        else:
+            st = self.state
+            hidden = [(j, c) for j in range(1, B + 1) for c in range(1, max(st.holding[j - 1]) + 1)]
+            start = {(j, c): st.initial[0, j - 1] * st.psi(j, c) for j, c in hidden}
+
+            def step(h):
+                j, c = h
+                if c > 1:
+                    return {(j, c - 1): sp.Integer(1)}
+                return {(i, d): st.qij(j, i) * st.psi(i, d) for i, d in hidden}
+        states = [h + (t,) for h in hidden for t in laws[h[0]]]
+        index = {s: n for n, s in enumerate(states)}
+        P = sp.zeros(len(states), len(states))
+        for s in states:
+            for h2, p in step(s[:-1]).items():
+                if p != 0:
+                    for t, pt in laws[h2[0]].items():
+                        P[index[s], index[h2 + (t,)]] += p * pt
+        init = [start[s[:-1]] * laws[s[0]][s[-1]] for s in states]
+        return LossChain(tuple(states), tuple(s[-1] for s in states), sp.ImmutableMatrix(P),
+                         sp.ImmutableMatrix([init]))
+
+    def as_markov_loss(self) -> MarkovLoss:
+        """The ``theta`` process as a first-order :class:`MarkovLoss`, when it is one.
+
+        This holds exactly when the lifted chain lumps onto ``theta``: every
+        chain state emitting the same ``theta`` has the same law of the next
+        ``theta`` (e.g. one network state, or ``phi`` in ``{0, 1}`` with a
+        different ``theta`` per state: the Gilbert-Elliott case of Sec. VI).
+        """
+        ch = self.chain
+        rows: dict[Vector, dict[Vector, sp.Expr]] = {}
+        for r, t in enumerate(ch.emit):
+            nxt = {v: sp.Integer(0) for v in self.theta_vectors}
+            for s, v in enumerate(ch.emit):
+                nxt[v] += ch.P[r, s]
+            nxt = {v: sp.simplify(p) for v, p in nxt.items()}
+            reach = ch.initial[0, r] != 0 or any(ch.P[x, r] != 0 for x in range(len(ch.states)))
+            if not reach:
+                continue
+            if t in rows and any(sp.simplify(rows[t][v] - nxt[v]) != 0 for v in nxt):
+                raise AssumptionError(
+                    f"chain states emitting theta = {t} predict different next receival laws",
+                    assumption="first-order Markov receival process",
+                    applies_instead="NetworkLoss.chain (a hidden-Markov LossChain)")
+            rows[t] = nxt
+        table = {}
+        for v in itertools.product((1, 0), repeat=self.d):
+            table[v] = rows.get(v, {v: 1})
+        initial = {v: sp.Integer(0) for v in table}
+        for r, t in enumerate(ch.emit):
+            initial[t] += ch.initial[0, r]
+        return MarkovLoss(table, order=1, initial={v: sp.simplify(p) for v, p in initial.items()})
+
+    def subs(self, values: Mapping[Any, Any]) -> "NetworkLoss":
+        phi = [[sp.sympify(p).subs(values) for p in self.phi.row(m)] for m in range(self.d)]
+        return NetworkLoss(self.tree, self.state, phi)
+
+    def __repr__(self) -> str:
+        return f"NetworkLoss({self.tree!r}, {self.state!r})"
+
+
+def induced_loss(loss: NetworkLoss, dynamics: PeriodicDynamics | None = None) -> LossModel:
+    """The loss model the exact engine (``symkf.stability``) should take for a Markov network.
+
+    Needs Assumption 1 and, when ``dynamics`` is given, a time-invariant ``A``.
+    Returns the first-order :class:`MarkovLoss` of ``theta`` when the lifted
+    chain lumps onto it, else ``loss`` itself (a :class:`LossModel` whose
+    ``.chain`` is the hidden-Markov :class:`LossChain` on ``(Xi, theta)``).
+    """
+    if not isinstance(loss.state, MarkovNetworkState):
+        raise AssumptionError("the network state is semi-Markov", assumption="Assumption 1 (seed 002)",
+                              applies_instead="NetworkLoss.chain (the counter-augmented chain)")
+    if dynamics is not None and dynamics.T != 1:
+        raise AssumptionError(f"A(k) has period {dynamics.T}", assumption="time-invariant A",
+                              applies_instead="symkf.network.conditions.theorem1")
+    try:
+        return loss.as_markov_loss()
+    except AssumptionError:
+        return loss
