@@ -1,0 +1,98 @@
+"""Transmission capacity, Mahler measure and the two critical capacities (Yang et al., seed 004).
+
+Yang et al. define, for sensor ``i`` with i.i.d. arrival rate ``lambda_i`` and
+``sigma_i^2 = lambda_i (1 - lambda_i)`` (Section III-A, eq. 11 and Remark 1),
+
+* ``q_i = lambda_i^2 / sigma_i^2 = lambda_i / (1 - lambda_i)``,
+* the individual capacity ``C_i = 1/2 ln(1 + q_i) = -1/2 ln(1 - lambda_i)``,
+* the overall capacity ``C = sum_i C_i``,
+
+and compare ``C`` with ``ln rho(A)`` (eq. 16, necessary) and the topological
+entropy ``h(A) = ln M(A)`` (eq. 29, sufficient for some allocation), where the
+Mahler measure is ``M(A) = prod_i max(1, |lambda_i(A)|)`` over the
+eigenvalues with multiplicity.
+
+Capacities are returned as exact sympy logarithms.  Every comparison is decided
+after exponentiating: ``C > ln x`` iff ``prod_i 1/(1 - lambda_i) > x^2``, a
+comparison of real algebraic numbers that :class:`AlgebraicNumber` decides
+exactly.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import sympy as sp
+
+from ..errors import InputError
+from ..exact.algebraic import AlgebraicNumber
+from ..exact.numbers import to_exact_matrix
+from ..losses import IID
+from ..spectral import eigenvalues
+
+
+def _require_iid(loss: Any) -> IID:
+    if not isinstance(loss, IID):
+        raise InputError(f"loss: Yang et al.'s capacities are defined for Bernoulli (i.i.d.) losses, "
+                         f"got {type(loss).__name__}; give symkf.IID(loss=[...])")
+    free = set().union(*(sp.sympify(e).free_symbols for e in loss.loss))
+    if free:
+        raise InputError(f"loss: symbols {sorted(map(str, free))} have no value; substitute numbers")
+    return loss
+
+
+def snr(loss: IID) -> tuple[sp.Expr, ...]:
+    """``q_i = lambda_i / (1 - lambda_i)`` (eq. 11, Remark 1); ``oo`` for a lossless channel."""
+    return tuple(sp.oo if e == 0 else sp.cancel((1 - e) / e) for e in _require_iid(loss).loss)
+
+
+def individual_capacities(loss: IID) -> tuple[sp.Expr, ...]:
+    """``C_i = -1/2 ln(1 - lambda_i) = -1/2 ln(loss_i)`` (eq. 11 and Remark 1), exact."""
+    return tuple(sp.oo if e == 0 else -sp.log(e) / 2 for e in _require_iid(loss).loss)
+
+
+def transmission_capacity(loss: IID) -> sp.Expr:
+    """The overall transmission capacity ``C = sum_i C_i`` (Remark 1), an exact sympy logarithm."""
+    return sp.Add(*individual_capacities(loss))
+
+
+def capacity_exponential(loss: IID) -> sp.Expr:
+    """``exp(2 C) = prod_i 1 / (1 - lambda_i)``: the algebraic number behind every capacity test."""
+    losses = _require_iid(loss).loss
+    return sp.oo if any(e == 0 for e in losses) else 1 / sp.Mul(*losses)
+
+
+def capacity_exceeds(loss: IID, x: Any) -> bool:
+    """Exactly whether ``C > ln x`` for a positive algebraic ``x`` (``C > ln x`` iff ``exp(2C) > x^2``)."""
+    e2c = capacity_exponential(loss)
+    if e2c == sp.oo:
+        return True
+    x = AlgebraicNumber.from_expr(x.exact if isinstance(x, AlgebraicNumber) else x)
+    if x < 0:
+        raise InputError(f"capacity_exceeds: ln({x}) is undefined; x must be non-negative")
+    if x == 0:
+        return True  # ln 0 = -oo
+    return AlgebraicNumber.from_expr(e2c) > AlgebraicNumber.from_expr(x.exact ** 2)
+
+
+def spectral_radius(A: Any) -> AlgebraicNumber:
+    """``rho(A)`` exactly (largest eigenvalue modulus, from :func:`symkf.spectral.eigenvalues`)."""
+    return max(ev.modulus for ev in eigenvalues(A))
+
+
+def mahler_measure(A: Any) -> AlgebraicNumber:
+    """The Mahler measure ``M(A) = prod max(1, |lambda_i(A)|)`` with multiplicity (Section III-D), exact."""
+    factors = [ev.modulus.exact ** ev.multiplicity for ev in eigenvalues(A) if ev.modulus > 1]
+    return AlgebraicNumber.from_expr(sp.Mul(*factors))
+
+
+def topological_entropy(A: Any) -> sp.Expr:
+    """``h(A) = ln M(A)`` (Bowen), exact."""
+    return sp.log(mahler_measure(A).exact)
+
+
+def critical_capacities(A: Any) -> tuple[sp.Expr, sp.Expr]:
+    """``(ln rho(A), ln M(A))``: the lower critical capacity (eq. 16, Theorem 2) and the upper (eq. 29, Theorem 6)."""
+    A = to_exact_matrix(A, "A")
+    rho = spectral_radius(A)
+    return (sp.log(rho.exact) if rho > 0 else -sp.oo), topological_entropy(A)

@@ -1,0 +1,329 @@
+"""Tests of symkf.capacity (Yang et al., seed 004): hand-derived values, enumeration, exact certificates."""
+
+from __future__ import annotations
+
+import importlib.util
+import itertools
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings, strategies as st
+
+from symkf import GilbertElliott, IID, Sensor, System
+from symkf.capacity import (MARE, capacity_bounds_meet, comparison_table, corollary1_critical_capacity,
+                            critical_capacities, critical_loss_comparison, hadamard_weight,
+                            individual_capacities, information_lower_bound_sequence, lower_bound_converges,
+                            lower_bound_limit, lower_bound_sequence, mahler_measure, mare_converges,
+                            mare_stabilizable, reproduce_yang_example1, single_sensor_rates, snr, theorem2,
+                            theorem5_requirements, theorem5_sufficient, theorem6_allocation, theorem7_necessary,
+                            transmission_capacity, unit_circle_condition, verdict_comparison,
+                            wonham_decomposition)
+from symkf.errors import AssumptionError, InputError
+
+ROOT = Path(__file__).resolve().parents[1]
+R = sp.Rational
+ROTATION = System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]])], name="rotation")
+LOWER_TRI = System(A=[[R(5, 4), 0], [1, R(11, 10)]], sensors=[Sensor(C=[[1, 1]])], name="lower-tri")
+FULL_C = System(A=[[2, 1], [0, 3]], sensors=[Sensor(C=[[1, 0], [0, 1]])], name="full C")
+SCALAR2 = System(A=[[2]], sensors=[Sensor(C=[[1]]), Sensor(C=[[1]])], name="scalar x2")
+
+
+# ---------------------------------------------------------------- capacities (eq. 11, Remark 1)
+
+def test_capacity_values_and_remark1():
+    loss = IID(["1/4", "1/9"])
+    assert sp.simplify(transmission_capacity(loss) - sp.log(6)) == 0
+    assert snr(loss) == (3, 8)
+    for q, C in zip(snr(loss), individual_capacities(loss)):
+        assert sp.simplify(sp.log(1 + q) / 2 - C) == 0            # eq. 11 form = Remark 1 form
+    assert transmission_capacity(IID(["0", "1/2"])) == sp.oo
+    assert transmission_capacity(IID(["1"])) == 0
+
+
+def test_capacity_refuses_other_loss_models():
+    with pytest.raises(InputError, match="i.i.d."):
+        transmission_capacity(GilbertElliott(fail=["1/2"], recover=["1/2"]))
+
+
+@pytest.mark.parametrize("A, M", [
+    ([[0, -2], [2, 0]], 4), ([[2, 0], [0, R(1, 2)]], 2), ([[R(5, 4), 0], [1, R(11, 10)]], R(11, 8)),
+    ([[2, 0], [0, 2]], 4), ([[R(1, 2), 1], [0, R(-1, 3)]], 1), ([[1, 1], [1, 0]], (1 + sp.sqrt(5)) / 2),
+    ([[1, 1], [-1, 1]], 2), ([[0, 0], [0, 0]], 1)])
+def test_mahler_measure_exact(A, M):
+    assert mahler_measure(A) == M
+
+
+def test_critical_capacities():
+    assert critical_capacities([[0, -2], [2, 0]]) == (sp.log(2), sp.log(4))
+    assert critical_capacities([[0, 1], [0, 0]])[0] == -sp.oo
+
+
+@settings(derandomize=True, max_examples=25, deadline=None)
+@given(st.lists(st.integers(-3, 3), min_size=4, max_size=4))
+def test_mahler_measure_matches_numpy(entries):
+    A = np.array(entries, dtype=float).reshape(2, 2)
+    expected = np.prod([max(1.0, abs(z)) for z in np.linalg.eigvals(A)])
+    assert float(mahler_measure([entries[:2], entries[2:]])) == pytest.approx(expected, rel=1e-9)
+
+
+# ---------------------------------------------------------------- lower bound (Prop. 1, Thms 1-2)
+
+def test_theorem1_boundary_is_exact():
+    S = System(A=[[2]], sensors=[Sensor(C=[[1]])])
+    assert not lower_bound_converges(S, IID(["1/4"]))             # c rho^2 = 1: diverges (<=)
+    assert lower_bound_converges(S, IID(["249/1000"]))
+    assert theorem2(S, IID(["1/4"])) == {"diverges": True, "Gbar": None}
+    with pytest.raises(AssumptionError, match="eq. 14"):
+        lower_bound_limit(S, IID(["1/3"]))
+
+
+def test_lower_bound_limit_solves_stein_exactly():
+    assert lower_bound_limit(System(A=[[2]], sensors=[Sensor(C=[[1]])]), IID(["1/8"]))[0, 0] == 2
+    S = System(A=[[R(6, 5), 1], [0, R(-1, 2)]], sensors=[Sensor(C=[[1, 0]]), Sensor(C=[[0, 1]])],
+               Q=[[1, R(1, 2)], [R(1, 2), 2]])
+    loss = IID(["1/3", "1/2"])
+    G = lower_bound_limit(S, loss)
+    assert G == R(1, 6) * S.A * G * S.A.T + S.Q                    # exact fixed point of m
+    seq = lower_bound_sequence(S, loss, 200)
+    assert np.allclose(seq[-1], np.array(G, dtype=float), rtol=1e-12)
+    assert lower_bound_sequence(S, loss, 3, exact=True)[2] == R(1, 6) * S.A * S.Q * S.A.T + S.Q
+
+
+# ---------------------------------------------------------------- MARE (eqs. 18-20, Lemma 1, Thm 3)
+
+def test_weight_matrix_is_second_moment_of_gamma():
+    """E[Gamma X Gamma] = Lambda (W o X) Lambda, by enumeration of the receival patterns."""
+    dims, arrival = [1, 2], [R(1, 3), R(3, 4)]
+    W = hadamard_weight(IID([1 - a for a in arrival]), dims)
+    X = sp.Matrix(3, 3, lambda i, j: R(i + 2 * j + 1, i * j + 2))
+    E = sp.zeros(3, 3)
+    for g in itertools.product((0, 1), repeat=2):
+        p = sp.Mul(*[a if gi else 1 - a for gi, a in zip(g, arrival)])
+        Gam = sp.diag(g[0], g[1], g[1])
+        E += p * Gam * X * Gam
+    Lam = sp.diag(arrival[0], arrival[1], arrival[1])
+    assert E == Lam * W.multiply_elementwise(X) * Lam
+
+
+def test_mare_equals_printed_form_and_sinopoli():
+    S = System(A=[[R(6, 5), 1], [0, R(-1, 2)]], sensors=[Sensor(C=[[1, 0]], R=[[2]]),
+                                                        Sensor(C=[[0, 1], [1, 1]], R=[[2, 1], [1, 2]])])
+    loss = IID(["1/4", "3/5"])
+    g = MARE(S, loss)
+    X = np.array([[2.0, 0.3], [0.3, 1.0]])
+    from scipy.linalg import sqrtm
+    H = np.vstack([np.linalg.inv(sqrtm(np.array(s.R, dtype=float))) @ np.array(s.C, dtype=float)
+                   for s in S.sensors])
+    A = np.array(S.A, dtype=float)
+    printed = A @ X @ A.T + np.eye(2) - A @ X @ H.T @ np.linalg.solve(g.W * (H @ X @ H.T + np.eye(3)), H @ X @ A.T)
+    assert np.allclose(g(X), printed, rtol=1e-12)
+    one = System(A=[[2, 1], [0, 3]], sensors=[Sensor(C=[[1, 1]], R=[[3]])])
+    lam = 0.7
+    Hs = np.array([[1.0, 1.0]]) / np.sqrt(3)
+    A1 = np.array([[2.0, 1.0], [0.0, 3.0]])
+    eq32 = A1 @ X @ A1.T + np.eye(2) - lam * A1 @ X @ Hs.T @ np.linalg.solve(Hs @ X @ Hs.T + 1, Hs @ X @ A1.T)
+    assert np.allclose(MARE(one, IID(["3/10"]))(X), eq32, rtol=1e-12)
+
+
+def _spd(seed_entries):
+    M = np.array(seed_entries, dtype=float).reshape(2, 2)
+    return M @ M.T + 0.1 * np.eye(2)
+
+
+MARE_EX = MARE(System(A=[[R(6, 5), 1], [0, R(-1, 2)]],
+                      sensors=[Sensor(C=[[1, 0]]), Sensor(C=[[0, 1], [1, 1]], R=[[2, 1], [1, 2]])]),
+               IID(["1/4", "3/5"]))
+ENTRIES = st.lists(st.floats(-3, 3, allow_nan=False), min_size=4, max_size=4)
+
+
+@settings(derandomize=True, max_examples=60, deadline=None)
+@given(ENTRIES, ENTRIES, st.floats(0.05, 0.95))
+def test_lemma1_monotone_and_concave(a, b, alpha):
+    X, D = _spd(a), _spd(b)
+    Y = X + D
+    tol = 1e-9 * (1 + np.abs(Y).max()) ** 2
+    assert np.linalg.eigvalsh(MARE_EX(Y) - MARE_EX(X))[0] >= -tol                    # Lemma 1, 1)
+    Z = alpha * X + (1 - alpha) * Y
+    gap = MARE_EX(Z) - alpha * MARE_EX(X) - (1 - alpha) * MARE_EX(Y)
+    assert np.linalg.eigvalsh(gap)[0] >= -tol                                           # Lemma 1, 2)
+
+
+def test_mare_fixed_point_and_divergence():
+    S = System(A=[[2]], sensors=[Sensor(C=[[1]])])
+    V = MARE(S, IID(["1/8"])).fixed_point()
+    # scalar MARE: V = 4V + 1 - (7/8) 4 V^2/(V+1)  =>  7 V^2/2 - 5 V - 1 = 0 ... solved exactly:
+    x = sp.Symbol("x", positive=True)
+    root = max(sp.solve(sp.Eq(x, 4 * x + 1 - R(7, 8) * 4 * x ** 2 / (x + 1)), x))
+    assert V[0, 0] == pytest.approx(float(root), rel=1e-9)
+    with pytest.raises(AssumptionError, match="Theorem 4"):
+        MARE(S, IID(["3/10"])).fixed_point(max_iter=20_000)
+
+
+def test_bounds_exhaustive_proof():
+    assert _run_proof("yang_bounds_exhaustive.py")
+
+
+# ---------------------------------------------------------------- Theorem 4 (LMI with certificates)
+
+@pytest.mark.parametrize("system, good, bad", [
+    (System(A=[[2]], sensors=[Sensor(C=[[1]])]), "1/5", "3/10"),           # a^2 (1 - lambda) < 1: loss < 1/4
+    (ROTATION, "1/20", "1/12"),                                             # loss < 1/M^2 = 1/16 (Elia)
+    (FULL_C, "1/10", "1/8"),                                                # invertible C: loss < 1/rho^2 = 1/9
+    (SCALAR2, "7/20", "9/20"),                                              # 4 < 1 + 2q: loss < 2/5
+])
+def test_theorem4_condition1_known_thresholds(system, good, bad):
+    yes, no = mare_stabilizable(system, IID([good] * system.d)), mare_stabilizable(system, IID([bad] * system.d))
+    assert yes.holds is True and no.holds is False
+    # the certified gain makes the second-moment map of eq. 24 contract
+    A = np.array(system.A, dtype=float)
+    L = np.array(yes.gain, dtype=float)
+    lam = 1 - float(R(good))
+    blocks, start = [], 0
+    for s in system.sensors:
+        blocks.append((L[:, start:start + s.m], np.array(s.C, dtype=float)))
+        start += s.m
+    Acl = A - lam * sum(Li @ Ci for Li, Ci in blocks)
+    n = A.shape[0]
+    T = np.kron(Acl.T, Acl.T) + lam * (1 - lam) * sum(np.kron((Li @ Ci).T, (Li @ Ci).T) for Li, Ci in blocks)
+    assert max(abs(np.linalg.eigvals(T))) < 1
+    assert n == system.n
+
+
+def test_theorem4_agrees_with_mare_iteration():
+    for loss, expected in ((IID(["7/20", "7/20"]), True), (IID(["9/20", "9/20"]), False)):
+        assert mare_converges(SCALAR2, loss) is expected
+        if expected:
+            MARE(SCALAR2, loss).fixed_point()
+        else:
+            with pytest.raises(AssumptionError):
+                MARE(SCALAR2, loss).fixed_point(max_iter=20_000)
+
+
+def test_theorem4_below_ln_rho_is_certified_without_sdp():
+    v = mare_stabilizable(ROTATION, IID(["1/3"]))
+    assert v.holds is False and "ln rho" in v.certificate
+
+
+def test_condition2_with_unit_circle_eigenvalues():
+    assert unit_circle_condition(System(A=[[0, -1], [1, 0]], sensors=[Sensor(C=[[1, 0]])]))
+    assert unit_circle_condition(System(A=[[1, 1], [0, 1]], sensors=[Sensor(C=[[1, 0]])],
+                                        Q=[[1, 0], [0, R(1, 100)]]))
+
+
+# ---------------------------------------------------------------- Wonham, Theorems 5-7, corollaries
+
+def test_wonham_decomposition_structure():
+    S = System(A=[[2, 1, 0], [0, 3, 1], [1, 0, R(1, 2)]],
+               sensors=[Sensor(C=[[1, 0, 0]]), Sensor(C=[[0, 0, 1], [0, 1, 0]])])
+    for order in (None, [(1, 1), (0, 0), (1, 0)]):
+        dec = wonham_decomposition(S, order)
+        At = sp.Matrix(dec.A_tilde)
+        sizes = [B.shape[0] for _, _, B in dec.blocks]
+        start = 0
+        for k in sizes:                                     # block lower triangular
+            assert At[start:start + k, start + k:].is_zero_matrix
+            start += k
+        assert sum(sizes) == 3
+        char = sp.Mul(*[B.charpoly().as_expr() for _, _, B in dec.blocks])
+        assert sp.expand(char - S.A.charpoly().as_expr()) == 0
+    assert [B.shape[0] for _, _, B in wonham_decomposition(FULL_C, [(0, 1), (0, 0)]).blocks] == [1, 1]
+
+
+def test_theorem5_requirements_and_allocation():
+    S = System(A=[[2, 0], [0, 3]], sensors=[Sensor(C=[[1, 0]]), Sensor(C=[[1, 1]])])
+    assert theorem5_requirements(S) == (sp.log(2), sp.log(3))
+    alloc = theorem6_allocation(S, 7)                       # C = ln 7 > h(A) = ln 6
+    assert sp.simplify(transmission_capacity(alloc) - sp.log(7)) == 0
+    assert theorem5_sufficient(S, alloc)
+    assert mare_stabilizable(S, alloc).holds is True        # Theorem 5's conclusion, certified
+    with pytest.raises(AssumptionError, match="27"):
+        theorem6_allocation(S, 6)
+
+
+def test_theorem5_reading_proof():
+    assert _run_proof("yang_theorem5_reading.py")
+
+
+def test_theorem7_necessary_against_certified_verdicts():
+    """Decoupled modes 2 and 3, one sensor each: condition 1) iff loss_1 < 1/4 and loss_2 < 1/9."""
+    S = System(A=[[2, 0], [0, 3]], sensors=[Sensor(C=[[1, 0]]), Sensor(C=[[0, 1]])])
+    for l1, l2 in itertools.product(["1/5", "1/10", "1/3"], ["1/12", "1/20", "1/5"]):
+        loss = IID([l1, l2])
+        truth = bool(R(l1) < R(1, 4) and R(l2) < R(1, 9))
+        verdict = mare_stabilizable(S, loss).holds
+        # feasible: always certified; infeasible in both modes: certified; infeasible in one mode only:
+        # no positive definite dual certificate exists (documented), so None is the honest answer
+        assert verdict is (truth if truth or (R(l1) > R(1, 4) and R(l2) > R(1, 9)) else None)
+        if truth:
+            assert theorem7_necessary(S, loss)
+    assert not theorem7_necessary(S, IID(["1/5", "1/5"]))          # 25 < 36
+    with pytest.raises(AssumptionError, match="Theorem 7"):
+        theorem7_necessary(System(A=[[0, 1], [0, 2]], sensors=[Sensor(C=[[1, 0]])]), IID(["1/2"]))
+
+
+def test_corollary1():
+    S = System(A=[[2, 0], [0, 3]], sensors=[Sensor(C=[[1, 0]]), Sensor(C=[[1, 1]])])
+    assert corollary1_critical_capacity(S) == sp.log(6)
+    with pytest.raises(AssumptionError, match="scalar measurements"):
+        corollary1_critical_capacity(FULL_C)
+    with pytest.raises(AssumptionError, match="unstable"):
+        corollary1_critical_capacity(System(A=[[2, 0], [0, R(1, 2)]], sensors=[Sensor(C=[[1, 1]])]))
+
+
+def test_lemma2_and_corollary2():
+    assert capacity_bounds_meet([[2, 0], [0, R(1, 2)]]) and capacity_bounds_meet([[-3]])
+    assert not capacity_bounds_meet([[2, 0], [0, 2]])
+    assert _run_proof("yang_lemma2.py")
+
+
+def test_single_sensor_rates():
+    assert single_sensor_rates(ROTATION.A) == (R(3, 4), R(15, 16))
+    assert single_sensor_rates(LOWER_TRI.A) == (R(9, 25), R(57, 121))
+    assert _run_proof("yang_single_sensor.py")
+
+
+# ---------------------------------------------------------------- comparison with exact critical rates
+
+def test_comparison_against_hand_derived_critical_rates():
+    rows = [critical_loss_comparison(S, eps) for S, eps in
+            ((ROTATION, R(1, 16)), (LOWER_TRI, R(16, 25)), (FULL_C, R(1, 9)), (SCALAR2, R(1, 2)))]
+    tight = [(r["tight_ln_rho"], r["tight_entropy"], r["tight_theorem5"]) for r in rows]
+    assert tight == [(False, True, True), (True, False, False), (True, False, True), (True, True, False)]
+    assert all(r["consistent"] for r in rows)
+    assert rows[3]["theorem5"]["exact"] == "1/4"
+    table = comparison_table(rows)
+    assert table.count("\n") == 5 and "64/121" in table
+    v = verdict_comparison(SCALAR2, IID(["1/10", "9/10"]), exact_stable=True)  # 4 * 9/100 < 1
+    assert v["consistent"] and v["C_gt_ln_rho"] and not v["theorem5_per_sensor"] is False
+
+
+def test_inconsistent_engine_value_is_flagged():
+    assert not critical_loss_comparison(ROTATION, R(1, 2))["consistent"]          # above 1/rho^2 = 1/4
+
+
+# ---------------------------------------------------------------- Example 1
+
+def test_reproduce_yang_example1(tmp_path):
+    out = reproduce_yang_example1(str(tmp_path), horizon=25, paths=4000, seed=7)
+    assert out["example"] == "yang-example1" and all(out["checks"].values()), out["checks"]
+    assert (tmp_path / "yang_example1.png").stat().st_size > 10_000
+    res = out["results"]
+    assert res["trace_G"][0] == 0 and res["trace_V"][0] == res["trace_EP"][0] == 2.0
+
+
+def _run_proof(name: str) -> bool:
+    spec = importlib.util.spec_from_file_location(name[:-3], ROOT / "proofs" / name)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.main()
+
+
+def test_example_script_runs():
+    done = subprocess.run([sys.executable, str(ROOT / "examples" / "yang_example1.py"), "--paths", "500"],
+                          capture_output=True, text=True, timeout=300, cwd=ROOT)
+    assert done.returncode == 0, done.stderr
+    assert '"yang-example1"' in done.stdout
