@@ -327,3 +327,12 @@ def test_example_script_runs():
                           capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert done.returncode == 0, done.stderr
     assert '"yang-example1"' in done.stdout
+
+
+def test_remark2_limits_of_gbar():
+    """Remark 2 (stable A): Gbar = Q when some lambda_i = 1; Gbar solves Sigma - A Sigma A' = Q when all lambda_i = 0."""
+    S = System(A=[[R(1, 2), 1], [0, R(-1, 3)]], sensors=[Sensor(C=[[1, 0]]), Sensor(C=[[0, 1]])],
+               Q=[[2, 1], [1, 3]])
+    assert lower_bound_limit(S, IID(["0", "1/2"])) == S.Q
+    Sigma = lower_bound_limit(S, IID(["1", "1"]))
+    assert Sigma - S.A * Sigma * S.A.T == S.Q
