@@ -135,6 +135,10 @@ def _positive_definite(M: sp.Matrix) -> bool:
     return True
 
 
+def _frobenius(P: sp.Matrix, Q: sp.Matrix) -> sp.Expr:
+    return sum(P.multiply_elementwise(Q))
+
+
 def _to_numpy(M: sp.Matrix) -> np.ndarray:
     return np.array(M.evalf(30), dtype=float)
 
@@ -175,9 +179,8 @@ def mare_stabilizable(system: System, loss: IID) -> LMIVerdict:
     s_val = float(s.value) if s.value is not None else -np.inf
     if s_val > 0:
         Wr = sp.Matrix(size, size, lambda i, j: sp.Rational(_dyadic((W.value[i, j] + W.value[j, i]) / 2)))
-        inner = lambda P, Q: sum(P.multiply_elementwise(Q))  # noqa: E731  Frobenius product
-        gram = sp.Matrix(len(basis), len(basis), lambda i, j: inner(basis[i], basis[j]))
-        coef = gram.LUsolve(sp.Matrix([inner(B, Wr) for B in basis]))
+        gram = sp.Matrix(len(basis), len(basis), lambda i, j: _frobenius(basis[i], basis[j]))
+        coef = gram.LUsolve(sp.Matrix([_frobenius(B, Wr) for B in basis]))
         Wp = Wr - sum((coef[k] * basis[k] for k in range(len(basis))), sp.zeros(size, size))
         if _positive_definite(Wp):
             return LMIVerdict(False, "W > 0 with <F_k, W> = 0 for every k verified exactly "

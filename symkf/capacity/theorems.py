@@ -33,6 +33,7 @@ import sympy as sp
 
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
+from ..exact.linalg import rank
 from ..exact.numbers import to_exact_matrix
 from ..losses import IID
 from ..model import System
@@ -77,7 +78,7 @@ def wonham_decomposition(system: System, order: list[tuple[int, int]] | None = N
             continue
         V = []  # complete a basis of U_k to one of U_{k-1}
         for u in U:
-            if sp.Matrix.hstack(*(new + V + [u])).rank() > len(new) + len(V):
+            if rank(sp.Matrix.hstack(*(new + V + [u]))) > len(new) + len(V):
                 V.append(u)
         B = sp.Matrix.hstack(*(V + new))
         M = (B.T * B).inv() * B.T * A * B
