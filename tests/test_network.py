@@ -350,3 +350,13 @@ def test_reproduce_robot_and_examples_scripts(tmp_path):
         run = subprocess.run([sys.executable, str(ROOT / "examples" / f"{name}.py")], capture_output=True,
                              text=True, cwd=ROOT)
         assert run.returncode == 0, run.stderr
+
+
+def test_simulation_bounded_where_theorem2_holds():
+    pytest.importorskip("symkf.montecarlo")
+    from symkf.network.reproduce import VIIC_A, VIIC_C1, viic_simulation
+    results, bounded = viic_simulation(PeriodicDynamics(VIIC_A, [VIIC_C1]))
+    assert bounded
+    stable = results["phi = 19/20 (both states)"]
+    assert stable["corrected_condition_holds"] and stable["mean_trace_k300_400"] < 10
+    assert results["phi = 3/10 (both states)"]["corrected_condition_holds"] is False
