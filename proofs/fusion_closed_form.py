@@ -1,0 +1,60 @@
+"""Claim: Theorem 2 of seed 003 (via Lemma 5, Albert 1973) solves Problem 1.
+
+Source: seed 003 (arXiv 2012.04896), Problem 1 and eq. (27):
+``W* = [I - (M Sigma M)^+ M Sigma] (V_o')^+``, ``M = I - V_o V_o^+``, is a
+minimiser of ``tr(W' Sigma W)`` subject to ``W' V_o = I`` for singular PSD
+``Sigma`` and full-column-rank ``V_o``.
+
+Method: exact rational arithmetic (sympy pseudo-inverses) over a stated
+family: 12 seeded random instances with n = 2, N = 2 or 3 sensors, rational
+orthonormal bases V_i (coordinate axes or the rotation (3/5, 4/5)),
+Sigma = Diag(V_i) P Diag(V_i)' with P = L L' (L random integer, possibly rank
+deficient).  For each, W* satisfies the KKT conditions of the convex QP
+exactly: ``W*' V_o = I`` and ``M Sigma W* = 0`` (i.e. ``2 Sigma W* = V_o Lambda'``
+for some Lambda), which are sufficient for optimality.  The general argument
+(``(M Sigma M)^+ = M (M Sigma M)^+`` and ``(M Sigma M)^+ V_o = 0``) is in
+``symkf/fusion/weights.py``.
+"""
+
+import random
+
+import sympy as sp
+
+BASES = [sp.Matrix([[1], [0]]), sp.Matrix([[0], [1]]), sp.Matrix([[sp.Rational(3, 5)], [sp.Rational(4, 5)]]),
+         sp.eye(2)]
+
+
+def instance(rng: random.Random):
+    N = rng.choice([2, 3])
+    Vs = [rng.choice(BASES) for _ in range(N)]
+    if not any(V.shape[1] == 2 for V in Vs) and sp.Matrix.hstack(*Vs).rank() < 2:
+        Vs[0] = sp.eye(2)
+    total = sum(V.shape[1] for V in Vs)
+    L = sp.Matrix(total, rng.choice([total, total - 1]), lambda i, j: rng.randint(-3, 3))
+    Vblk = sp.diag(*Vs)
+    Sigma = Vblk * L * L.T * Vblk.T
+    Vo = sp.Matrix.vstack(*[V * V.T for V in Vs])
+    return Sigma, Vo
+
+
+def main() -> bool:
+    rng = random.Random(3)
+    ok = True
+    for k in range(12):
+        Sigma, Vo = instance(rng)
+        if Vo.rank() < 2:
+            continue
+        nN = Sigma.shape[0]
+        M = sp.eye(nN) - Vo * Vo.pinv()
+        W = (sp.eye(nN) - (M * Sigma * M).pinv() * M * Sigma) * Vo.T.pinv()
+        feasible = sp.simplify(W.T * Vo - sp.eye(2)) == sp.zeros(2, 2)
+        stationary = sp.simplify(M * Sigma * W) == sp.zeros(nN, 2)
+        ok &= feasible and stationary
+        print(f"instance {k}: nN = {nN}, rank Sigma = {Sigma.rank()}, W'Vo = I: {feasible}, "
+              f"M Sigma W = 0: {stationary}, tr P* = {sp.nsimplify(sp.simplify((W.T * Sigma * W).trace()))}")
+    print("PASS" if ok else "FAIL")
+    return ok
+
+
+if __name__ == "__main__":
+    raise SystemExit(0 if main() else 1)

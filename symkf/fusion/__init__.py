@@ -1,0 +1,23 @@
+"""Optimal linear sensor fusion over lossy channels with collective observability (seed 003).
+
+Modules, in the order of the paper: :mod:`.decomposition` (Kalman
+decomposition per sensor, Assumption 1), :mod:`.model` (the set-up,
+Assumption 2), :mod:`.local_filters` (Lemmas 1-2), :mod:`.covariance`
+(eqs. 17-20, corrected eq. 18), :mod:`.weights` (Problems 1-3, Theorem 2),
+:mod:`.stability` (Proposition 1), :mod:`.remote` (the remote estimator),
+:mod:`.pendulum` (Section 4).
+"""
+
+from .covariance import (expected_remote_covariance, fusion_sigma, remote_error_covariance,
+                         unbiasedness_matrix)
+from .local_filters import local_filters
+from .model import FusionModel
+from .pendulum import pendulum_model, reproduce_fusion_pendulum
+from .remote import simulate
+from .stability import proposition1_bound
+from .weights import fused_covariance, optimal_weights
+
+__all__ = ["FusionModel", "local_filters", "remote_error_covariance", "fusion_sigma", "unbiasedness_matrix",
+           "expected_remote_covariance", "optimal_weights", "fused_covariance", "proposition1_bound",
+           "simulate", "reproduce_fusion_pendulum", "pendulum_model"]
+

@@ -1,0 +1,132 @@
+"""Optimal unbiased linear fusion weights (seed 003, Problems 1-3, Theorem 2, Lemma 5).
+
+Problem 1: ``min_W tr(W' Sigma W)`` subject to ``W' V_o = I(n)``, ``W`` nN x n,
+``Sigma`` nN x nN symmetric PSD and (here) singular.  Three ways to the optimum:
+
+``"closed-form"``
+    Theorem 2 / Lemma 5 (Albert's Gauss-Markov theorem with singular
+    covariance): ``W* = [I - (M Sigma M)^+ M Sigma] (V_o')^+`` with
+    ``M = I - V_o V_o^+``.  It satisfies the KKT conditions exactly
+    (``M Sigma W* = 0`` because ``(M Sigma M)^+ = M (M Sigma M)^+``, and
+    ``W*' V_o = I`` because ``(M Sigma M)^+ V_o = 0``), see
+    ``proofs/fusion_closed_form.py``.
+
+``"sdp"``
+    Problem 2 with the Schur-complement constraint ``[[I, W'], [W, X]] >= 0``
+    (Lemma 4), solved by cvxpy with Clarabel.
+
+``"problem3"``
+    The seed calls Problem 3 (``max tr(Lambda_1)/2`` s.t. ``W' V_o = I``,
+    ``2 Sigma W = V_o Lambda_1'``) a linear program and the dual of Problem 2.
+    It is neither in any useful sense: its constraints are exactly the KKT
+    conditions of Problem 1, and on them ``Lambda_1' = 2 W' Sigma W`` so the
+    objective is constant (the optimal value).  Problem 3 is a consistent,
+    rank-deficient **linear system**; it is solved here by least squares
+    (minimum norm).  ``proofs/fusion_problem3.py`` checks this.
+
+The minimiser ``W`` is not unique when ``Sigma`` is singular (add any ``D``
+with ``Sigma D = 0``, ``D' V_o = 0``); ``W' Sigma W`` and ``Sigma W`` are.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+
+from ..errors import AssumptionError, InputError, NotPositiveDefiniteError, ShapeError
+
+__all__ = ["optimal_weights", "fused_covariance", "METHODS"]
+
+METHODS = ("closed-form", "sdp", "problem3")
+# Relative tolerance for "zero" in Sigma's symmetry / PSD checks and for ranks:
+# Sigma is assembled in floating point, so exact zeros appear as rounding.
+_RTOL = 1e-9
+
+
+def _validate(Sigma: np.ndarray, Vo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    Sigma = np.asarray(Sigma, dtype=float)
+    Vo = np.asarray(Vo, dtype=float)
+    if Sigma.ndim != 2 or Sigma.shape[0] != Sigma.shape[1]:
+        raise ShapeError(f"Sigma: must be square (nN x nN), got shape {Sigma.shape}")
+    if Vo.ndim != 2 or Vo.shape[0] != Sigma.shape[0] or Vo.shape[1] > Vo.shape[0]:
+        raise ShapeError(f"Vo: must be nN x n with nN = {Sigma.shape[0]} rows of Sigma, got shape {Vo.shape}")
+    if not (np.all(np.isfinite(Sigma)) and np.all(np.isfinite(Vo))):
+        raise InputError("Sigma, Vo: entries must be finite")
+    scale = max(np.abs(Sigma).max(), np.finfo(float).tiny)
+    asym = np.abs(Sigma - Sigma.T).max()
+    if asym > _RTOL * scale:
+        i, j = np.unravel_index(np.argmax(np.abs(Sigma - Sigma.T)), Sigma.shape)
+        raise NotPositiveDefiniteError(
+            f"Sigma: not symmetric, entry [{i}][{j}] = {Sigma[i, j]:.6g} but [{j}][{i}] = {Sigma[j, i]:.6g} "
+            "(Lemma 3, seed 003: Sigma is symmetric positive semidefinite)")
+    Sigma = (Sigma + Sigma.T) / 2
+    low = np.linalg.eigvalsh(Sigma)[0]
+    if low < -_RTOL * scale * Sigma.shape[0]:
+        raise NotPositiveDefiniteError(
+            f"Sigma: not positive semidefinite, smallest eigenvalue {low:.6g} "
+            "(Lemma 3, seed 003: Sigma is symmetric positive semidefinite)")
+    s = np.linalg.svd(Vo, compute_uv=False)
+    if s[-1] <= _RTOL * s[0]:
+        raise AssumptionError(
+            f"Vo ({Vo.shape[0]}x{Vo.shape[1]}) has rank < {Vo.shape[1]} (smallest singular value {s[-1]:.3g}), "
+            "so W'Vo = I has no solution",
+            assumption="Assumption 1 (seed 003): collective observability (Vo of full column rank)")
+    return Sigma, Vo
+
+
+def _closed_form(Sigma: np.ndarray, Vo: np.ndarray) -> np.ndarray:
+    # M = I - Vo Vo^+ = N N' with N an orthonormal basis of null(Vo'), so
+    # (M Sigma M)^+ = N (N' Sigma N)^+ N'.  Computing it that way keeps its range
+    # inside range(M) in floating point, hence W' Vo = I to rounding even when
+    # Sigma's spectrum decays through the rounding level (the pendulum's does).
+    N = scipy.linalg.null_space(Vo.T)
+    pinv_VoT = scipy.linalg.pinv(Vo.T)
+    # Grouped as N ((N' Sigma N)^+ (N' Sigma (Vo')^+)): forming N (N' Sigma N)^+ N' first
+    # multiplies rounding by the huge entries of that pseudo-inverse.
+    return pinv_VoT - N @ (scipy.linalg.pinv(N.T @ Sigma @ N) @ (N.T @ Sigma @ pinv_VoT))
+
+
+def _problem3(Sigma: np.ndarray, Vo: np.ndarray) -> np.ndarray:
+    nN, n = Vo.shape
+    # Unknowns [W; Lambda_1']: 2 Sigma W - Vo Lambda_1' = 0, Vo' W = I.
+    K = np.block([[2 * Sigma, -Vo], [Vo.T, np.zeros((n, n))]])
+    rhs = np.vstack([np.zeros((nN, n)), np.eye(n)])
+    sol, *_ = scipy.linalg.lstsq(K, rhs)
+    return sol[:nN]
+
+
+def _sdp(Sigma: np.ndarray, Vo: np.ndarray) -> np.ndarray:
+    import cvxpy as cp
+
+    nN, n = Vo.shape
+    S = Sigma / max(np.abs(Sigma).max(), np.finfo(float).tiny)   # same minimiser, better scaled
+    W = cp.Variable((nN, n))
+    X = cp.Variable((nN, nN), symmetric=True)
+    schur = cp.bmat([[np.eye(n), W.T], [W, X]])
+    problem = cp.Problem(cp.Minimize(cp.trace(S @ X)), [W.T @ Vo == np.eye(n), schur >> 0])
+    problem.solve(solver=cp.CLARABEL, tol_gap_abs=1e-12, tol_gap_rel=1e-12, tol_feas=1e-12)
+    if problem.status not in ("optimal", "optimal_inaccurate") or W.value is None:
+        raise AssumptionError(f"the SDP solver returned status {problem.status!r}",
+                              assumption="Problem 2 (seed 003) solvable", applies_instead='method="closed-form"')
+    return np.asarray(W.value)
+
+
+def optimal_weights(Sigma: np.ndarray, Vo: np.ndarray, method: str = "closed-form") -> np.ndarray:
+    """Stacked fusion weights ``W = [W_1 ... W_N]'`` (nN x n) solving Problem 1 of seed 003.
+
+    ``method`` is ``"closed-form"`` (Theorem 2), ``"sdp"`` (Problem 2) or
+    ``"problem3"`` (the KKT linear system the seed calls an LP); see the
+    module docstring.  Raises :class:`NotPositiveDefiniteError` if ``Sigma``
+    is not symmetric PSD, :class:`ShapeError` on mismatched shapes and
+    :class:`AssumptionError` if ``Vo`` is rank deficient (Assumption 1).
+    """
+    if method not in METHODS:
+        raise InputError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")
+    Sigma, Vo = _validate(Sigma, Vo)
+    return {"closed-form": _closed_form, "sdp": _sdp, "problem3": _problem3}[method](Sigma, Vo)
+
+
+def fused_covariance(Sigma: np.ndarray, W: np.ndarray) -> np.ndarray:
+    """``P = W' Sigma W`` (eq. 19), the error covariance of the fused estimate."""
+    P = W.T @ Sigma @ W
+    return (P + P.T) / 2
