@@ -1,0 +1,476 @@
+"""Expectations of the filter's covariance: exact enumeration, Monte Carlo, importance sampling.
+
+The stability notion of Sui-You-Fu (eq. 7) and Yang et al. is boundedness
+of ``E[P_k]`` over the loss process.  Near the critical loss rate this mean
+is dominated by rare long loss bursts, so plain Monte Carlo underestimates
+it; :func:`estimate_mean_trace` therefore accepts a *tilted* loss model,
+simulates under it and reweights every path by the likelihood ratio of its
+chain states, which keeps the estimator unbiased (checked against
+:func:`exact_mean_covariances`).  :func:`divergence_test` turns the estimated
+growth rate of ``E[tr P_k]`` into a verdict.  Every result records its seed,
+sample sizes and confidence level: simulation is evidence, not proof.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import sys
+from dataclasses import dataclass
+from fractions import Fraction
+from statistics import NormalDist
+from typing import Any, Sequence
+
+import numpy as np
+import sympy as sp
+
+from .errors import InputError
+from .exact.numbers import to_exact
+from .filtering import _chain, _positive, _run, exact_covariances, real_form, receival_table, sample_states
+from .losses import IID, LossModel
+from .model import System
+
+#: paths per batch: bounds memory and drives the progress bar
+CHUNK = 50_000
+#: largest number of receival sequences enumerated exactly
+MAX_PATTERNS = 2 ** 20
+
+
+def _progress(total: int, work: int, desc: str):
+    """A tqdm bar over ``total`` chunks, shown only for long runs on a terminal."""
+    from tqdm import tqdm
+    return tqdm(total=total, desc=desc, disable=work < 5 * 10 ** 7 or not sys.stderr.isatty(), leave=False)
+
+
+# ------------------------------------------------------------ exact enumeration
+
+def _patterns(d: int, length: int) -> np.ndarray:
+    """All receival-code sequences of ``length`` steps as (length, 2^(d length)) codes."""
+    count = 2 ** (d * length)
+    if count > MAX_PATTERNS:
+        raise InputError(f"horizon: {count} receival sequences (2^(d (horizon-1))) exceed the "
+                         f"exact-enumeration limit {MAX_PATTERNS}; use estimate_mean_trace instead")
+    p = np.arange(count)
+    return (p[None, :] >> (d * np.arange(length))[:, None]) & (2 ** d - 1)
+
+
+def pattern_probabilities(loss: LossModel, codes: np.ndarray) -> np.ndarray:
+    """Float probability of each code sequence (columns of ``codes``), by the forward recursion.
+
+    Vectorised over sequences; agrees with :meth:`LossChain.sequence_probability`.
+    """
+    P, init, emit = loss.chain.numeric()
+    state_code = (emit.astype(np.intp) << np.arange(emit.shape[1])).sum(axis=1)
+    alpha = init[None, :] * (state_code[None, :] == codes[0][:, None])
+    for c in codes[1:]:
+        alpha = (alpha @ P) * (state_code[None, :] == c[:, None])
+    return alpha.sum(axis=1)
+
+
+def exact_mean_covariances(system: System, loss: LossModel, horizon: int,
+                           exact: bool = False) -> np.ndarray | list[sp.Matrix]:
+    """``E[P_{k|k-1}]`` for k = 0..horizon-1 by enumerating every receival sequence.
+
+    ``P_{k|k-1}`` depends on ``gamma_0..gamma_{k-1}``, so the 2^(d(horizon-1))
+    sequences of length horizon-1, weighted by their probabilities, give all
+    horizon expectations at once.  ``exact=False``: float64, the filter
+    vectorised over sequences, probabilities by the forward recursion.
+    ``exact=True``: sympy, :func:`~symkf.filtering.exact_covariances` and
+    :meth:`LossChain.sequence_probability` per sequence (small cases only).
+    """
+    horizon = _positive(horizon, "horizon")
+    chain = _chain(loss, system.d)
+    codes = _patterns(system.d, horizon - 1)
+    table = receival_table(system.d)
+    if exact:
+        total = [sp.zeros(system.n, system.n) for _ in range(horizon)]
+        for col in codes.T:
+            seq = [tuple(int(g) for g in table[c]) for c in col]
+            p = chain.sequence_probability(seq) if seq else sp.Integer(1)
+            if p != 0:
+                for k, Pk in enumerate(exact_covariances(system, seq)):
+                    total[k] += p * Pk
+        return [M.applyfunc(lambda e: sp.radsimp(sp.expand(e, complex=True))) for M in total]
+    weights = pattern_probabilities(loss, codes) if horizon > 1 else np.ones(1)
+    states = np.vstack([codes, np.zeros((1, codes.shape[1]), np.intp)])
+    model = real_form(system)
+    P, vech = _run(model, states, table, "all", 50)
+    mean = np.einsum("p,pkt->kt", weights, P)
+    full = vech.unpack(mean)
+    if model.n != system.n:   # back from the real form: P = 2 (P_r11 + i P_r21)
+        n = system.n
+        full = 2 * (full[:, :n, :n] + 1j * full[:, n:, :n])
+    return full
+
+
+def exact_mean_trace(system: System, loss: LossModel, horizon: int) -> np.ndarray:
+    """``E[tr P_{k|k-1}]``, k = 0..horizon-1, by exact enumeration (float64)."""
+    return np.real(np.trace(exact_mean_covariances(system, loss, horizon), axis1=1, axis2=2))
+
+
+# ------------------------------------------------------------------ Monte Carlo
+
+def _log_ratio_tables(loss: LossModel, tilt: LossModel) -> tuple[np.ndarray, np.ndarray]:
+    """``log(p/q)`` for the initial law and transitions of ``loss`` (p) against ``tilt`` (q)."""
+    a, b = loss.chain, tilt.chain
+    if a.states != b.states or a.emit != b.emit:
+        raise InputError(f"tilt: {tilt!r} is not a loss model of the same kind and size as {loss!r}")
+    P, init, _ = a.numeric()
+    Pt, initt, _ = b.numeric()
+    for name, p, q in (("transition", P, Pt), ("initial", init, initt)):
+        if np.any((p > 0) & (q <= 0)):
+            raise InputError(f"tilt: a {name} probability is 0 under the tilt but positive under the "
+                             "loss model; importance sampling needs the tilt to cover every event")
+    with np.errstate(divide="ignore"):
+        return (np.where(init > 0, np.log(init) - np.log(initt), -np.inf),
+                np.where(P > 0, np.log(P) - np.log(Pt), -np.inf))
+
+
+def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None,
+              tilt: LossModel | None) -> tuple[np.ndarray, np.ndarray | None]:
+    """tr P_{k|k-1} (paths, horizon) drawn under ``tilt or loss``, and log-weights if tilted.
+
+    The log-weight at step k is the log likelihood ratio of ``X_0..X_{k-1}``,
+    the states ``P_{k|k-1}`` depends on.
+    """
+    horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
+    model = real_form(system)
+    law = _chain(tilt if tilt is not None else loss, system.d)
+    _chain(loss, system.d)
+    emit = law.numeric()[2]
+    tables = _log_ratio_tables(loss, tilt) if tilt is not None else None
+    rng = np.random.default_rng(seed)
+    traces = np.empty((paths, horizon))
+    logw = np.empty((paths, horizon)) if tilt is not None else None
+    chunks = range(0, paths, CHUNK)
+    with _progress(len(chunks), paths * horizon, "simulate") as bar:
+        for start in chunks:
+            stop = min(start + CHUNK, paths)
+            states = sample_states(law, horizon, stop - start, rng)
+            traces[start:stop] = _run(model, states, emit, "trace", 50)[0]
+            if tables is not None:
+                lw0, lw = tables
+                steps = np.vstack([lw0[states[0]][None, :], lw[states[:-1], states[1:]]])
+                logw[start:stop, 0] = 0.0
+                logw[start:stop, 1:] = np.cumsum(steps[:-1], axis=0).T
+            bar.update()
+    return traces, logw
+
+
+def simulate_traces(system: System, loss: LossModel, horizon: int, paths: int,
+                    seed: int | None = None) -> np.ndarray:
+    """``tr P_{k|k-1}`` as an array (paths, horizon), k = 0..horizon-1 (Sui-You-Fu eq. 9).
+
+    Receival sequences are drawn from ``loss`` with ``numpy.random.default_rng(seed)``.
+    """
+    return _simulate(system, loss, horizon, paths, seed, None)[0]
+
+
+@dataclass(frozen=True)
+class TraceEstimate:
+    """An estimate of ``E[tr P_{k|k-1}]``, k = 0..horizon-1, with normal confidence intervals.
+
+    ``ess`` is the effective sample size ``(sum w)^2 / sum w^2`` per step
+    (= ``paths`` without a tilt); intervals are trustworthy only while it is
+    large.  ``sampling`` names the law the paths were drawn from.
+    """
+
+    mean: np.ndarray
+    low: np.ndarray
+    high: np.ndarray
+    stderr: np.ndarray
+    ess: np.ndarray
+    confidence: float
+    paths: int
+    horizon: int
+    seed: int | None
+    sampling: str
+
+    def covers(self, values: np.ndarray) -> np.ndarray:
+        """Which steps' intervals contain ``values``."""
+        return (self.low <= values) & (values <= self.high)
+
+
+def _z(confidence: float) -> float:
+    if not isinstance(confidence, float) or not 0 < confidence < 1:
+        raise InputError(f"confidence: expected a float in (0, 1), got {confidence!r}")
+    return NormalDist().inv_cdf(0.5 + confidence / 2)
+
+
+def estimate_mean_trace(system: System, loss: LossModel, horizon: int, paths: int,
+                        seed: int | None = None, tilt: LossModel | None = None,
+                        confidence: float = 0.95) -> TraceEstimate:
+    """Monte Carlo estimate of ``E[tr P_{k|k-1}]``; importance sampling when ``tilt`` is given.
+
+    With a tilt, paths are drawn from ``tilt`` and weighted by the likelihood
+    ratio ``dP_loss / dP_tilt`` of their chain states: the estimator stays
+    unbiased for any tilt that gives every event of ``loss`` positive
+    probability.  See :func:`iid_tilt` for the tilt suggested by the theory.
+    """
+    z = _z(confidence)
+    traces, logw = _simulate(system, loss, horizon, paths, seed, tilt)
+    if logw is None:
+        f, ess = traces, np.full(traces.shape[1], float(traces.shape[0]))
+    else:
+        w = np.exp(logw)
+        f = w * traces
+        ess = w.sum(axis=0) ** 2 / (w ** 2).sum(axis=0)
+    mean = f.mean(axis=0)
+    stderr = f.std(axis=0, ddof=1) / math.sqrt(len(f)) if len(f) > 1 else np.full_like(mean, np.inf)
+    return TraceEstimate(mean, mean - z * stderr, mean + z * stderr, stderr, ess, confidence,
+                         len(f), traces.shape[1], seed, repr(tilt if tilt is not None else loss))
+
+
+# ------------------------------------------------------------------ tilts
+
+def _real(value: Any, entry: str) -> float:
+    """A float tuning value (tilts only steer sampling, never a verdict)."""
+    return float(value) if isinstance(value, (int, float)) else float(to_exact(value, entry))
+
+
+def _rational(x: float) -> Fraction:
+    return Fraction(x).limit_denominator(10 ** 6)
+
+
+def iid_tilt(loss: IID, pattern: Sequence[int], growth: Any, cap: Any = "19/20") -> IID:
+    """The importance-sampling tilt for i.i.d. losses that makes a loss burst of ``pattern`` typical.
+
+    ``pattern`` lists the sensors whose simultaneous loss leaves a block of
+    growth ``growth`` (``alpha^2`` per step) unobserved, the dominant
+    rank-deficient pattern of the theory.  Losing them all has probability
+    ``q = prod loss_i`` per step, so ``E[P_k]`` carries terms ``(q alpha^2)^L``
+    for bursts of length ``L``; the tilt raises ``q`` to ``min(q alpha^2,
+    cap)`` (never lowers it), spreading the factor evenly over the pattern's
+    sensors.  For ``q alpha^2 < 1`` this keeps the second moment of the
+    estimator finite: it behaves like ``sum_L (q alpha^2)^L``.
+    """
+    if not isinstance(loss, IID):
+        raise InputError(f"loss: iid_tilt needs an IID loss model, got {type(loss).__name__}")
+    pattern = sorted(set(pattern))
+    if not pattern or any(not isinstance(i, int) or not 0 <= i < loss.d for i in pattern):
+        raise InputError(f"pattern: expected sensor indices in 0..{loss.d - 1}, got {pattern!r}")
+    growth_f, cap_f = _real(growth, "growth"), _real(cap, "cap")
+    if growth_f <= 0 or not 0 < cap_f < 1:
+        raise InputError(f"growth {growth} must be positive and cap {cap} in (0, 1)")
+    eps = [float(e) for e in loss.loss]
+    q = math.prod(eps[i] for i in pattern)
+    if q == 0:
+        return loss
+    factor = max(1.0, min(q * growth_f, cap_f) / q) ** (1 / len(pattern))
+    tilted = [_rational(min(e * factor, cap_f)) if i in pattern else loss.loss[i]
+              for i, e in enumerate(eps)]
+    return IID(tilted)
+
+
+def dominant_pattern(system: System, loss: IID) -> tuple[tuple[int, ...], float]:
+    """The sensor set whose loss most likely leaves the fastest-growing part of ``x`` unobserved.
+
+    A float heuristic used only to choose an importance-sampling tilt (any
+    tilt keeps the estimator unbiased): for every sensor set ``S`` whose loss
+    makes ``(A, C_rest)`` unobservable, the growth ``alpha_S^2`` of ``A`` on
+    the unobservable subspace; returns ``(S, alpha_S^2)`` maximising
+    ``prod_{i in S} loss_i * alpha_S^2``.  Periodic blocks (Sui-You-Fu's
+    ``tau``) are ignored; the exact dominant pattern comes from the theory.
+    """
+    model = real_form(system)
+    n = model.n
+    eps = [float(e) for e in loss.loss]
+    best: tuple[float, tuple[int, ...], float] = (-1.0, tuple(range(system.d)), 1.0)
+    for size in range(1, system.d + 1):
+        for S in itertools.combinations(range(system.d), size):
+            rows = model.H[~np.isin(model.row_sensor, S)]
+            if len(rows):
+                O = np.vstack([rows @ np.linalg.matrix_power(model.A, j) for j in range(n)])
+                _, sv, Vt = np.linalg.svd(O)
+                r = int(np.sum(sv > 1e-9 * max(sv.max(), 1.0)))
+                N = Vt[r:].T
+            else:
+                N = np.eye(n)
+            if N.shape[1] == 0:
+                continue
+            growth = float(np.max(np.abs(np.linalg.eigvals(N.T @ model.A @ N)))) ** 2
+            score = math.prod(eps[i] for i in S) * growth
+            if score > best[0]:
+                best = (score, S, growth)
+    return best[1], best[2]
+
+
+# ------------------------------------------------------------------ loss bursts
+
+def _template(pattern: Any, d: int) -> tuple[tuple[int, ...], ...]:
+    """A burst template: one tuple of sensor indices per phase of the period."""
+    if isinstance(pattern, (list, tuple)) and pattern and all(isinstance(i, int) for i in pattern):
+        pattern = [pattern]
+    try:
+        phases = tuple(tuple(sorted(set(int(i) for i in ph))) for ph in pattern)
+    except TypeError:
+        raise InputError(f"pattern: expected sensor indices or a list of them per phase, got {pattern!r}") from None
+    if not phases or not any(phases) or any(i < 0 or i >= d for ph in phases for i in ph):
+        raise InputError(f"pattern: expected non-empty sets of sensor indices in 0..{d - 1}, got {pattern!r}")
+    return phases
+
+
+def burst_estimate(system: System, loss: IID, horizon: int, paths: int, seed: int | None = None, *,
+                   pattern: Any = None, growth: Any = None, cap: Any = "19/20",
+                   confidence: float = 0.95) -> TraceEstimate:
+    """``E[tr P_{K|K-1}]`` at ``K = horizon`` by importance sampling of the final loss burst.
+
+    ``pattern`` is the dominant rank-deficient loss pattern: a list of sensor
+    indices, or one such list per phase of a period ``tau`` (e.g. ``[[0],
+    []]`` for Sui-You-Fu's 90-degree rotation, where ``C A^2`` is parallel to
+    ``C`` and losing every other packet already blinds the filter); ``growth``
+    is the factor by which ``P`` grows per period while the pattern holds
+    (``alpha^(2 tau)``).  Counting back from ``K``, let ``L`` be the number of
+    whole periods in which the pattern's sensors were all lost; under i.i.d.
+    losses ``L`` is geometric with ratio ``q = prod loss_i`` (truncated at
+    ``K // tau``), and given ``L`` the rest of the sequence has a known law.
+    The estimator draws ``L`` with ratio ``q' = min(q growth, cap)``, the rest
+    from its true conditional law, and weights by ``P(L) / P'(L)``; for a
+    period ``tau > 1`` the pattern's ``tau`` alignments are mixed with equal
+    weights (the weight is then ``1 / mean_x P'(L_x) / P(L_x)``): unbiased,
+    and with finite variance ``~ sum_L (q growth)^L`` in the stable regime,
+    where plain Monte Carlo almost never sees the bursts that dominate the
+    mean.  Defaults: :func:`dominant_pattern`.
+    """
+    horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
+    if not isinstance(loss, IID):
+        raise InputError(f"loss: burst sampling needs an IID loss model, got {type(loss).__name__}")
+    _chain(loss, system.d)
+    if pattern is None:
+        pattern, found = dominant_pattern(system, loss)
+        growth = found if growth is None else growth
+    phases = _template(pattern, system.d)
+    tau = len(phases)
+    if growth is None:
+        raise InputError("growth: give the growth factor of P per period of the pattern")
+    growth_f, cap_f = _real(growth, "growth"), _real(cap, "cap")
+    z = _z(confidence)
+    eps = np.array([float(e) for e in loss.loss])
+    q = math.prod(eps[i] for ph in phases for i in ph)
+    if not 0 < q < 1 or growth_f <= 0 or not 0 < cap_f < 1:
+        raise InputError(f"pattern {pattern!r}: needs burst probability q = {q:.3g} in (0, 1), "
+                         f"growth > 0 and cap in (0, 1)")
+    qt = min(max(q * growth_f, q), cap_f)
+    periods = horizon // tau
+    rng = np.random.default_rng(seed)
+    period_of = (horizon - 1 - np.arange(horizon)) // tau          # 0 = the last period
+
+    def required(shift: int) -> np.ndarray:
+        """Template rotated by ``shift`` phases, aligned to end at step K-1: (K, d) mask."""
+        mask = np.zeros((horizon, system.d), bool)
+        for t in range(horizon - periods * tau, horizon):
+            mask[t, list(phases[(shift + tau - 1 - (horizon - 1 - t) % tau) % tau])] = True
+        return mask
+
+    def log_ratio(L: np.ndarray) -> np.ndarray:
+        """``log P'(L) - log P(L)`` of the tilted against the true burst length."""
+        return L * math.log(qt / q) + np.where(L < periods, math.log((1 - qt) / (1 - q)), 0.0)
+
+    masks = [required(x) for x in range(tau)]
+    # a defensive mixture over the tau alignments of the pattern: every shift is equally likely
+    shift = rng.integers(0, tau, paths)
+    L = np.minimum(np.floor(np.log1p(-rng.random(paths)) / math.log(qt)), periods).astype(np.intp)
+    lost = rng.random((horizon, paths, system.d)) < eps
+    req = np.stack(masks)[shift].transpose(1, 0, 2)                  # (K, paths, d)
+    lost |= (period_of[:, None] < L[None, :])[:, :, None] & req
+    # the period before the burst must break the pattern: redraw it from the conditional law
+    edge = (period_of[:, None] == L[None, :]) & (L < periods)[None, :]
+    rows = np.flatnonzero(edge.any(axis=0))
+    while rows.size:
+        mask = edge[:, rows][:, :, None] & req[:, rows]
+        block = lost[:, rows]
+        block[mask] = rng.random(int(mask.sum())) < np.broadcast_to(eps, mask.shape)[mask]
+        lost[:, rows] = block
+        rows = rows[np.all(~mask | block, axis=(0, 2))]
+    ratios = []
+    for m in masks:
+        holds = np.all(lost | ~m[:, None, :], axis=2)                # (K, paths)
+        per_period = np.stack([holds[period_of == j].all(axis=0) for j in range(periods)])
+        L_x = np.cumprod(per_period, axis=0).sum(axis=0) if periods else np.zeros(paths, np.intp)
+        ratios.append(log_ratio(L_x))
+    logw = -(np.logaddexp.reduce(np.stack(ratios), axis=0) - math.log(tau))
+    states = np.vstack([(~lost).astype(np.intp) @ (1 << np.arange(system.d)), np.zeros((1, paths), np.intp)])
+    traces = _run(real_form(system), states, receival_table(system.d), "trace", 50)[0][:, horizon]
+    f = np.exp(logw) * traces
+    mean = np.array([f.mean()])
+    stderr = np.array([f.std(ddof=1) / math.sqrt(paths)])
+    w = np.exp(logw - logw.max())
+    ess = np.array([w.sum() ** 2 / (w ** 2).sum()])
+    return TraceEstimate(mean, mean - z * stderr, mean + z * stderr, stderr, ess, confidence, paths,
+                         horizon, seed, f"burst pattern {[list(p) for p in phases]}, q' = {qt:.4g}")
+
+
+# ------------------------------------------------------------------ divergence
+
+@dataclass(frozen=True)
+class DivergenceResult:
+    """Verdict on the boundedness of ``E[tr P_k]`` from simulated growth.
+
+    ``rate`` estimates the per-step growth factor of ``E[tr P_k]`` between
+    ``k = horizon / 2`` and ``k = horizon``, with a ``confidence`` interval
+    ``[rate_low, rate_high]``.  "unstable": ``rate_low > 1 + tolerance``;
+    "stable": ``rate_high < 1 + tolerance`` (growth slower than ``(1 +
+    tolerance)^k`` is not distinguishable from boundedness at this horizon);
+    "undecided" otherwise.  ``exact_rate`` (when given) is the theory's
+    ``alpha^2 rho`` for comparison.  ``horizon`` is the one finally used
+    (halved while float64 broke down on the longest bursts).
+    """
+
+    verdict: str
+    rate: float
+    rate_low: float
+    rate_high: float
+    exact_rate: float | None
+    exact_rate_expr: str | None
+    tolerance: float
+    confidence: float
+    horizon: int
+    paths: int
+    seed: int | None
+    sampling: str
+    estimates: tuple[TraceEstimate, TraceEstimate]
+
+
+def divergence_test(system: System, loss: IID, seed: int | None = None, *,
+                    horizon: int = 80, paths: int = 20_000, pattern: Any = None, growth: Any = None,
+                    exact_rate: Any = None, tolerance: float = 0.01,
+                    confidence: float = 0.99) -> DivergenceResult:
+    """Decide from simulation whether ``E[tr P_k]`` stays bounded (Sui-You-Fu eq. 7).
+
+    Two independent :func:`burst_estimate` runs (seeds ``seed`` and ``seed +
+    1``) estimate ``E[tr P_k]`` at ``k = horizon // 2`` and ``k = horizon``;
+    the rate is ``(E_2 / E_1)^(1 / (k_2 - k_1))`` and its interval comes from
+    the delta method on the two independent estimates.  ``pattern`` and
+    ``growth`` are those of the theory's dominant rank-deficient pattern
+    (default: :func:`dominant_pattern`, which ignores periods).
+    """
+    from .filtering import NumericalBreakdownError
+
+    horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
+    if horizon < 8:
+        raise InputError(f"horizon: at least 8 steps are needed to estimate a rate, got {horizon}")
+    if not isinstance(tolerance, float) or tolerance <= 0:
+        raise InputError(f"tolerance: expected a positive float, got {tolerance!r}")
+    z = _z(confidence)
+    second = None if seed is None else seed + 1
+    while True:
+        try:
+            k1, k2 = horizon // 2, horizon
+            runs = tuple(burst_estimate(system, loss, k, paths, s, pattern=pattern, growth=growth,
+                                        confidence=confidence) for k, s in ((k1, seed), (k2, second)))
+            break
+        except NumericalBreakdownError:
+            if horizon < 16:
+                raise
+            horizon //= 2
+    (e1, s1), (e2, s2) = ((float(r.mean[0]), float(r.stderr[0])) for r in runs)
+    slope = (math.log(e2) - math.log(e1)) / (k2 - k1)
+    half = z * math.hypot(s1 / e1, s2 / e2) / (k2 - k1)
+    rate, low, high = math.exp(slope), math.exp(slope - half), math.exp(slope + half)
+    verdict = "unstable" if low > 1 + tolerance else "stable" if high < 1 + tolerance else "undecided"
+    exact_value = None if exact_rate is None else to_exact(
+        exact_rate.exact if hasattr(exact_rate, "exact") else exact_rate, "exact_rate")
+    return DivergenceResult(verdict, rate, low, high,
+                            None if exact_value is None else float(exact_value),
+                            None if exact_value is None else str(exact_value),
+                            tolerance, confidence, horizon, paths, seed, runs[1].sampling, runs)

@@ -1,0 +1,72 @@
+"""The batched float filter against the exact oracle (Sui-You-Fu eq. 9) and against its own simulation."""
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from symkf.errors import InputError, ShapeError
+from symkf.filtering import exact_covariances, predicted_covariances, sample_receptions, simulate_trajectories
+from symkf.losses import IID, GilbertElliott
+from symkf.model import Sensor, System
+
+TRI = System(A=[["5/4", 0], [1, "11/10"]], sensors=[Sensor(C=[[1, 1]], R=[[2]]),
+                                                    Sensor(C=[[1, 0], [0, 1]], R=[[2, 1], [1, 3]])])
+CUBIC = System(A=[["5/4", 0, 0], [1, "11/10", 0], [0, 1, "-1/2"]],
+               sensors=[Sensor(C=[[1, 1, 0]], R=[[2]]), Sensor(C=[[1, 0, 0], [0, 0, 1]])])
+COMPLEX = System(A=[["2*exp(I*pi/3)", 0], [0, "3/2"]], sensors=[Sensor(C=[[1, "I"]]), Sensor(C=[[0, 1]])])
+
+
+@pytest.mark.parametrize("system", [TRI, CUBIC, COMPLEX], ids=["n2", "n3", "complex"])
+def test_float_filter_matches_exact_oracle(system):
+    rng = np.random.default_rng(7)
+    seqs = rng.integers(0, 2, (4, 6, system.d))
+    float_P = predicted_covariances(system, np.concatenate([seqs, seqs[:, :1]], axis=1), keep="all")
+    for seq, Pf in zip(seqs, float_P):
+        exact = exact_covariances(system, [tuple(int(g) for g in v) for v in seq])
+        for k, Pk in enumerate(exact):
+            target = np.array(sp.N(Pk).tolist(), dtype=complex)
+            if system is COMPLEX:   # the float filter runs the real form: tr is preserved
+                assert Pf[k].trace() == pytest.approx(target.trace().real, rel=1e-12)
+            else:
+                np.testing.assert_allclose(Pf[k], target.real, rtol=1e-12, atol=1e-12)
+
+
+def test_trace_keep_modes_agree():
+    g = sample_receptions(IID(["1/3", "1/2"]), 20, 5, np.random.default_rng(1))
+    allP = predicted_covariances(TRI, g, keep="all")
+    np.testing.assert_allclose(predicted_covariances(TRI, g), np.trace(allP, axis1=2, axis2=3))
+    np.testing.assert_allclose(predicted_covariances(TRI, g[:, :-1], keep="last"),
+                               allP[:, -1], rtol=1e-12)
+
+
+def test_estimation_error_covariance_matches_filter():
+    # MMSE: E[e e^T | receivals] = P_{k|k-1}; so E|e_k|^2 = E[tr P_{k|k-1}] over paths.
+    run = simulate_trajectories(TRI, GilbertElliott(["1/5", "1/3"], ["1/2", "2/3"]), 12, 40000, seed=3)
+    err = run.x - run.x_pred
+    sq = (err ** 2).sum(axis=2)
+    tr = np.trace(run.P_pred, axis1=2, axis2=3)
+    for k in (0, 5, 11):
+        se = sq[:, k].std() / np.sqrt(len(sq))
+        assert abs(sq[:, k].mean() - tr[:, k].mean()) < 5 * se
+    ferr = ((run.x - run.x_filt) ** 2).sum(axis=2)[:, 11]
+    assert abs(ferr.mean() - np.trace(run.P_filt[:, 11], axis1=1, axis2=2).mean()) < 5 * ferr.std() / 200
+
+
+def test_receival_frequencies():
+    g = sample_receptions(IID(["1/10", "1/2"]), 50, 4000, np.random.default_rng(2))
+    assert g.shape == (4000, 50, 2)
+    np.testing.assert_allclose(1 - g.mean(axis=(0, 1)), [0.1, 0.5], atol=0.01)
+    ge = sample_receptions(GilbertElliott(["1/10"], ["1/4"]), 200, 2000, np.random.default_rng(3))[:, :, 0]
+    after_loss = ge[:, 1:][~ge[:, :-1]]
+    assert after_loss.mean() == pytest.approx(0.25, abs=0.01)   # P(received | lost last) = recover
+
+
+def test_bad_receptions_are_refused():
+    with pytest.raises(ShapeError, match="receptions"):
+        predicted_covariances(TRI, np.ones((2, 3, 3)))
+    with pytest.raises(InputError, match="0 \\(lost\\) or 1"):
+        predicted_covariances(TRI, np.full((2, 3, 2), 2))
+    with pytest.raises(ShapeError, match="loss"):
+        sample_receptions(IID(["1/2"]), 3, 2, np.random.default_rng(0), d=2)
+    with pytest.raises(InputError, match="receptions\\[0\\]"):
+        exact_covariances(TRI, [(1, 2)])
