@@ -72,6 +72,8 @@ class LossChain:
 
     def sequence_probability(self, seq: Sequence[Vector]) -> sp.Expr:
         """Exact probability that the first ``len(seq)`` receival vectors equal ``seq``."""
+        if not seq:
+            return sp.Integer(1)
         S = len(self.states)
         alpha = [self.initial[0, s] if self.emit[s] == tuple(seq[0]) else 0 for s in range(S)]
         for v in seq[1:]:

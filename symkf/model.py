@@ -32,7 +32,7 @@ def check_positive_definite(M: sp.MatrixBase, entry: str) -> None:
                 raise NotPositiveDefiniteError(
                     f"{entry}: not symmetric, entry [{i}][{j}] = {M[i, j]} but [{j}][{i}] = {M[j, i]}")
     for k in range(1, M.shape[0] + 1):
-        minor = sp.nsimplify(M[:k, :k].det(method="berkowitz"))
+        minor = sp.expand(M[:k, :k].det(method="berkowitz"))
         if sign(minor) <= 0:
             raise NotPositiveDefiniteError(
                 f"{entry}: not positive definite, leading {k}x{k} minor is {sp.simplify(minor)}")

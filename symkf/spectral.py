@@ -81,8 +81,15 @@ class Eigenvalue:
 
     @cached_property
     def expr(self) -> sp.Expr:
-        """The eigenvalue as an exact sympy expression."""
-        return _nice_expr(self.minpoly, self.root_index)
+        """The eigenvalue as an exact sympy expression (``alpha exp(2 pi i k/m)`` when periodic)."""
+        f = self.minpoly
+        if f.degree() > 2 and not f.is_cyclotomic():
+            m, _ = _phase_order(self)
+            if m is not None:
+                alpha = self.modulus.exact
+                return _match(root_ball(f, self.root_index, 128),
+                              [alpha * sp.exp(2 * sp.pi * sp.I * sp.Rational(k, m)) for k in range(m)])
+        return _nice_expr(f, self.root_index)
 
     def ball(self, prec: int) -> flint.acb:
         return root_ball(self.minpoly, self.root_index, prec)
@@ -193,25 +200,18 @@ def _nice_expr(f: flint.fmpz_poly, idx: int) -> sp.Expr:
     elif p.degree() == 2:
         cands = list(sp.roots(p, x))
     else:
-        cands = [sp.CRootOf(p.as_expr(), x, _crootof_index(f, idx))]
+        cands = [sp.CRootOf(p.as_expr(), x, k) for k in range(p.degree())]
+    return _match(target, cands)
+
+
+def _match(target: flint.acb, cands: list[sp.Expr]) -> sp.Expr:
+    """The candidate (exact, distinct) whose value lies in the certified ball ``target``."""
     for c in cands:
         v = complex(c.evalf(40))
         tol = 1e-10 * (1 + abs(v))  # float rounding of v, far below root separation
         if target.overlaps(flint.acb(flint.arb(v.real, tol), flint.arb(v.imag, tol))):
             return c
-    raise AssertionError(f"no exact form found for root {idx} of {f}")  # pragma: no cover
-
-
-def _crootof_index(f: flint.fmpz_poly, idx: int) -> int:
-    """sympy's CRootOf index of flint's root ``idx``: real roots ascending, then complex
-    roots by real part, imaginary part."""
-    roots = [r for r, _ in f.complex_roots()]
-
-    def key(i: int) -> tuple:
-        r = roots[i]
-        real = r.imag.contains(0) and r.imag.rad() == 0 or r.imag == 0
-        return (0 if real else 1, float(r.real.mid()), float(r.imag.mid()))
-    return sorted(range(len(roots)), key=key).index(idx)
+    raise AssertionError(f"no exact form matches {target}")  # pragma: no cover
 
 
 def _factor_charpoly(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Elem], int, list[tuple[flint.fmpz_poly, int]]]]:

@@ -1,0 +1,190 @@
+"""Decay rates of P(R_N(i)) and the M matrix (Sui-You-Fu eqs. 33-36, Theorem 9).
+
+``rho_i = lim sup P(R_N(i))^(1/N)`` (eq. 36).  With ``g`` the block's
+projection period and ``H`` ranging over the maximal rank-deficient element
+sets (hyperplanes, :mod:`symkf.observability`):
+
+* i.i.d. losses: ``rho_i^g = max_H prod_{(j, r) not in H} loss_j`` -- the
+  probability that every element outside ``H`` is lost for a whole period;
+* Markov losses (a first-order :class:`~symkf.losses.LossChain`):
+  ``rho_i^g = max_H rho(M_H)`` with ``M_H`` the one-period transfer matrix of
+  the chain restricted to steps whose received elements lie in ``H``; these
+  are the diagonal blocks ``E_ii`` of M for the maximal deficient patterns, so
+  this is eq. (36) without building M.
+
+The full M (eqs. 33-34) over (projected pattern, chain state) is built only
+for checking ``P(R_{Ng}) = u M^N v`` (eq. 35) against enumeration.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from typing import Sequence
+
+import flint
+import sympy as sp
+
+from .errors import AperiodicError, InputError
+from .exact.algebraic import AlgebraicNumber, sympy_to_fmpz
+from .losses import IID, GilbertElliott, LossModel
+from .model import System
+from .observability import BlockRows, block_deficient, block_rows
+
+
+@dataclass(frozen=True)
+class BlockRate:
+    """``rho_i^g`` for one block: the exact value, the decisive hyperplane and all candidates."""
+
+    per_period: sp.Expr
+    hyperplane: frozenset[int]
+    candidates: tuple[tuple[frozenset[int], sp.Expr], ...]
+
+
+def perron_root(M: sp.MatrixBase) -> sp.Expr:
+    """Spectral radius of a non-negative exact matrix (Perron-Frobenius: its largest real eigenvalue)."""
+    if M.shape == (1, 1):
+        return sp.sympify(M[0, 0])
+    if all(v.is_Rational for v in M):
+        chi = flint.fmpq_mat([[flint.fmpq(int(v.p), int(v.q)) for v in M.row(i)] for i in range(M.shape[0])]).charpoly()
+        poly = flint.fmpz_poly([int(c) for c in (chi * chi.denom()).coeffs()])
+    else:
+        poly = sympy_to_fmpz(sp.Poly(M.charpoly(sp.Symbol("x")).as_expr(), sp.Symbol("x")))
+    best: AlgebraicNumber | None = None
+    for f, _ in poly.factor()[1]:
+        f = f if f.leading_coefficient() > 0 else -f
+        reals = [i for i, (r, _) in enumerate(f.complex_roots()) if r.imag == 0]
+        if reals:
+            cand = AlgebraicNumber(f, reals[-1])
+            if best is None or cand > best:
+                best = cand
+    return best.exact if best is not None else sp.Integer(0)
+
+
+def _received_ok(br: BlockRows, H: frozenset[int], vec: Sequence[int], phase: int) -> bool:
+    return all(not g or br.elements.index(_el(br, j, phase)) in H for j, g in enumerate(vec))
+
+
+def _el(br: BlockRows, j: int, phase: int):
+    return br.elements[j * br.period + phase]
+
+
+def _outside(br: BlockRows, H: frozenset[int], sensor: int) -> int:
+    return sum(1 for i, e in enumerate(br.elements) if e.sensor == sensor and i not in H)
+
+
+def _maximum(candidates: list[tuple[frozenset[int], sp.Expr]]) -> tuple[frozenset[int], sp.Expr]:
+    if any(v.free_symbols for _, v in candidates):
+        raise InputError("symbolic loss rates: use symkf.stability.stability_region for conditions")
+    return max(candidates, key=lambda hv: AlgebraicNumber.from_expr(hv[1]))
+
+
+def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
+    """``rho_i^g`` (per projection period) for one block, exactly (eq. 36)."""
+    cands = []
+    for H in br.hyperplanes:
+        if isinstance(loss, IID):
+            val = sp.Mul(*[loss.loss[j] ** _outside(br, H, j) for j in range(loss.d)])
+        elif isinstance(loss, GilbertElliott):
+            if not br.block.is_periodic:
+                raise _aperiodic(br)
+            val = sp.Mul(*[perron_root(_restricted_sensor_transfer(br, H, loss, j)) for j in range(loss.d)])
+        else:
+            if not br.block.is_periodic:
+                raise _aperiodic(br)
+            val = perron_root(_restricted_transfer(br, H, loss))
+        cands.append((H, sp.sympify(val)))
+    if all(not v.free_symbols for _, v in cands):
+        H, best = _maximum(cands)
+    else:
+        H, best = cands[0]
+    return BlockRate(best, H, tuple(cands))
+
+
+def _aperiodic(br: BlockRows) -> AperiodicError:
+    return AperiodicError(f"the eigen-block of modulus {br.block.modulus} is aperiodic ({br.block.proof})",
+                          assumption="Theorem 9 (Sui-You-Fu): periodic A for Markov losses",
+                          applies_instead="i.i.d. losses (symkf.IID), for which aperiodic blocks are decided")
+
+
+def _restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Matrix:
+    """One-period transfer of the loss chain restricted to steps received inside ``H``."""
+    ch = loss.chain
+    S = len(ch.states)
+    M = sp.eye(S)
+    for r in range(1, br.period + 1):
+        phase = r % br.period
+        D = sp.diag(*[1 if _received_ok(br, H, ch.emit[s], phase) else 0 for s in range(S)])
+        M = M * ch.P * D
+    return M
+
+
+def _restricted_sensor_transfer(br: BlockRows, H: frozenset[int], loss: GilbertElliott, j: int) -> sp.Matrix:
+    """Gilbert-Elliott channels are independent, so the transfer factorises over sensors."""
+    P = loss.sensor_matrix(j)
+    M = sp.eye(2)
+    for r in range(1, br.period + 1):
+        phase = r % br.period
+        inside = br.elements.index(_el(br, j, phase)) in H
+        M = M * P * sp.diag(1 if inside else 0, 1)  # states (received, lost)
+    return M
+
+
+# -- the full M matrix and brute force ------------------------------------------------
+def m_matrix(br: BlockRows, loss: LossModel) -> tuple[sp.Matrix, list]:
+    """M (eqs. 33-34) over (deficient projected pattern, chain state); column convention.
+
+    State ``(frozenset(), None)`` is the start (before time 0).  ``P(R_{Ng}(i)) =
+    sum of M^N`` applied to the start vector (eq. 35).
+    """
+    if not br.block.is_periodic:
+        raise _aperiodic(br)
+    ch = loss.chain
+    S = len(ch.states)
+    start = (frozenset(), None)
+    index = {start: 0}
+    order = [start]
+    cols: dict[tuple, dict[tuple, sp.Expr]] = {}
+    frontier = [start]
+    while frontier:
+        state = frontier.pop()
+        dist = {state: sp.Integer(1)}
+        for phase in range(br.period):
+            nxt: dict[tuple, sp.Expr] = {}
+            for (pat, x), p in dist.items():
+                row = ch.initial.row(0) if x is None else ch.P.row(x)
+                for y in range(S):
+                    if row[y] == 0:
+                        continue
+                    new = pat | {br.elements.index(_el(br, j, phase)) for j, g in enumerate(ch.emit[y]) if g}
+                    new = frozenset(new)
+                    if br.deficient(new):
+                        key = (new, y)
+                        nxt[key] = nxt.get(key, 0) + p * row[y]
+            dist = nxt
+        cols[state] = dist
+        for key in dist:
+            if key not in index:
+                index[key] = len(order)
+                order.append(key)
+                frontier.append(key)
+    M = sp.zeros(len(order), len(order))
+    for src, dist in cols.items():
+        for dst, p in dist.items():
+            M[index[dst], index[src]] += p
+    return M, order
+
+
+def probability_rank_deficient(system: System, loss: LossModel, N: int) -> tuple[sp.Expr, ...]:
+    """``P(R_N(i))`` per eigen-block by enumerating all ``2^(dN)`` receival patterns (brute force)."""
+    if loss.d != system.d:
+        raise InputError(f"loss model has {loss.d} sensors, the system {system.d}")
+    if loss.d * N > 18:
+        raise InputError(f"enumeration of 2^{loss.d * N} patterns is too large; use m_matrix")
+    totals = [sp.Integer(0)] * len(block_rows(system))
+    for pattern in itertools.product(itertools.product((1, 0), repeat=loss.d), repeat=N):
+        flags = block_deficient(system, pattern) if N else (True,) * len(totals)
+        if any(flags):
+            p = loss.chain.sequence_probability(pattern)
+            totals = [t + p if f else t for t, f in zip(totals, flags)]
+    return tuple(sp.sympify(sp.expand(t)) for t in totals)
