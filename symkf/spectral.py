@@ -113,10 +113,28 @@ class Eigenvalue:
         return f"Eigenvalue({self.expr}, multiplicity={self.multiplicity})"
 
 
-def root_of_unity_order(num: Eigenvalue, den: Eigenvalue, conj_den: bool = False) -> tuple[int | None, str]:
+@dataclass(frozen=True)
+class RatioEvidence:
+    """Why ``num / den`` (or ``num / conj(den)``) is, or is not, a root of unity of order ``order``."""
+
+    num: "Eigenvalue"
+    den: "Eigenvalue"
+    conj_den: bool
+    minpoly: flint.fmpz_poly
+    order: int | None
+
+    def __str__(self) -> str:
+        label = f"({self.num.label})/{'conj' if self.conj_den else ''}({self.den.label})"
+        if self.order:
+            return f"{label} has minimal polynomial Phi_{self.order}, a primitive {self.order}-th root of unity"
+        return (f"{label} has modulus 1 and minimal polynomial {fmpz_to_sympy(self.minpoly).as_expr()}, "
+                "which is not cyclotomic, so it is not a root of unity (aperiodic)")
+
+
+def root_of_unity_order(num: Eigenvalue, den: Eigenvalue, conj_den: bool = False) -> RatioEvidence:
     """Order of ``num / den`` (or ``num / conj(den)``) as a root of unity, with its proof.
 
-    Returns ``(m, proof)``; ``m`` is None when the ratio is not a root of unity.
+    ``.order`` is None when the ratio is not a root of unity; ``str()`` of the result is the proof.
     """
     fa = tuple(int(c) for c in num.minpoly.coeffs())
     fb = tuple(int(c) for c in den.minpoly.coeffs())
@@ -126,17 +144,13 @@ def root_of_unity_order(num: Eigenvalue, den: Eigenvalue, conj_den: bool = False
         return num.ball(prec) / (d.conjugate() if conj_den else d)
 
     poly, _ = identify(_ratio_poly(fa, fb), ball, "eigenvalue ratio")
-    m = int(poly.is_cyclotomic())
-    label = f"({num.label})/{'conj' if conj_den else ''}({den.label})"
-    if m:
-        return m, f"{label} has minimal polynomial Phi_{m}, a primitive {m}-th root of unity"
-    return None, (f"{label} has modulus 1 and minimal polynomial {fmpz_to_sympy(poly).as_expr()}, "
-                  "which is not cyclotomic, so it is not a root of unity (aperiodic)")
+    return RatioEvidence(num, den, conj_den, poly, int(poly.is_cyclotomic()) or None)
 
 
-def _phase_order(lam: Eigenvalue) -> tuple[int | None, str]:
+def _phase_order(lam: Eigenvalue) -> tuple[int | None, RatioEvidence]:
     """Order of ``lambda / |lambda|`` as a root of unity (the papers' tau for one eigenvalue)."""
-    m, proof = root_of_unity_order(lam, lam, conj_den=True)  # (lambda/|lambda|)^2 = lambda/conj(lambda)
+    proof = root_of_unity_order(lam, lam, conj_den=True)  # (lambda/|lambda|)^2 = lambda/conj(lambda)
+    m = proof.order
     if m is None:
         return None, proof
     if m % 2 == 0:
@@ -159,9 +173,14 @@ class EigenBlock:
     members: tuple[Eigenvalue, ...]
     period: int | None
     governing_period: int | None
-    proof: str
+    evidence: tuple[tuple[str, Any], ...] = field(repr=False)  # (claim, its RatioEvidence or text)
     classes: tuple[tuple[int, ...], ...] = field(repr=False)
     class_period: int = field(repr=False)
+
+    @cached_property
+    def proof(self) -> str:
+        """Why the periods are what they are (formatted on first use: it prints eigenvalues)."""
+        return "; ".join(f"{claim}: {why}" if claim else str(why) for claim, why in self.evidence)
 
     @property
     def eigenvalues(self) -> tuple[sp.Expr, ...]:
@@ -347,7 +366,7 @@ def _block(members: list[Eigenvalue]) -> EigenBlock:
         m, proof = _phase_order(ev)
         if m is None:
             tau = None
-            proofs.append(f"tau: {proof}")
+            proofs.append(("tau", proof))
             break
         tau = _lcm(tau, m)
     # classes: eigenvalues whose ratios are roots of unity; the class period makes A^k scalar per class
@@ -356,7 +375,8 @@ def _block(members: list[Eigenvalue]) -> EigenBlock:
     aperiodic_proof = None
     for i, ev in enumerate(members):
         for cl in classes:
-            m, proof = root_of_unity_order(ev, members[cl[0]])
+            proof = root_of_unity_order(ev, members[cl[0]])
+            m = proof.order
             if m is not None:
                 cl.append(i)
                 orders[(cl[0], i)] = m
@@ -369,8 +389,8 @@ def _block(members: list[Eigenvalue]) -> EigenBlock:
         class_period = _lcm(class_period, m)
     governing = class_period if len(classes) == 1 else None
     if governing is None:
-        proofs.append(f"governing period: {aperiodic_proof}")
+        proofs.append(("governing period", aperiodic_proof))
     elif tau is not None:
-        proofs.append(f"A_i^{governing} is a scalar multiple of I and A_i^{tau} = alpha^{tau} I")
-    return EigenBlock(members[0].modulus, tuple(members), tau, governing, "; ".join(proofs),
+        proofs.append(("", f"A_i^{governing} is a scalar multiple of I and A_i^{tau} = alpha^{tau} I"))
+    return EigenBlock(members[0].modulus, tuple(members), tau, governing, tuple(proofs),
                       tuple(tuple(c) for c in classes), class_period)

@@ -83,7 +83,9 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
     for prec in (64, 128, 256, 512, 1024, 4096):
         def hits() -> list[tuple[flint.fmpz_poly, int]]:
             z = ball_at(prec)
-            return [(f, i) for f in factors for i, (r, _) in enumerate(f.complex_roots()) if r.overlaps(z)]
+            # isolate roots only of the factors that can vanish on the ball: root isolation dominates
+            return [(f, i) for f in factors if f(z).contains(0)
+                    for i, (r, _) in enumerate(f.complex_roots()) if r.overlaps(z)]
         found = _with_prec(prec, hits)
         if len(found) == 1:
             return found[0]

@@ -11,7 +11,6 @@ the representation ``fmpq_poly``, and :mod:`symkf.exact.linalg` the algorithms.
 
 from __future__ import annotations
 
-import random
 from functools import cached_property
 from typing import Iterable, Sequence
 
@@ -120,49 +119,6 @@ class NumberField:
 
     def vecmat(self, v: Sequence[Elem], M: Sequence[Sequence[Elem]]) -> list[Elem]:
         return [self.dot(v, [row[j] for row in M]) for j in range(len(M[0]))]
-
-    # -- reduction modulo a prime (screening only; see linalg.rank) ---------------
-    @cached_property
-    def _prime_embedding(self) -> tuple[int, int]:
-        """A prime ``p`` and a root ``r`` of the minimal polynomial modulo ``p``."""
-        rng = random.Random(20261122)
-        num = self.modulus * self.modulus.denom()
-        ints = [int(c) for c in num.coeffs()]
-        while True:
-            p = int(sp.nextprime(rng.getrandbits(61) | (1 << 60)))
-            if ints[-1] % p == 0:
-                continue
-            roots = flint.nmod_poly(ints, p).roots()
-            simple = [int(r) for r, mult in roots if mult == 1]
-            if simple:
-                return p, simple[0]
-
-    def reduce(self, a: Elem) -> int | None:
-        """The image of ``a`` under ``theta -> r`` in ``F_p``, or None if a denominator vanishes."""
-        p, r = self._prime_embedding
-        acc, power = 0, 1
-        for c in a.coeffs():
-            q = int(c.q) % p
-            if q == 0:
-                return None
-            acc = (acc + int(c.p) * pow(q, -1, p) * power) % p
-            power = power * r % p
-        return acc
-
-    def realify(self, rows: Sequence[Sequence[Elem]]) -> flint.fmpq_mat:
-        """The Q-matrix of the Q-span of the K-span of ``rows``: rank = degree * rank over K."""
-        deg, mod = self.degree, self.modulus
-        out = []
-        for row in rows:
-            cur = list(row)
-            for _ in range(deg):
-                line = []
-                for a in cur:
-                    cs = a.coeffs()
-                    line.extend(cs + [0] * (deg - len(cs)))
-                out.append(line)
-                cur = [(a.left_shift(1)) % mod for a in cur]
-        return flint.fmpq_mat(out) if out else flint.fmpq_mat(0, deg * len(rows[0]) if rows else 0)
 
 
 QQ_FIELD = NumberField()

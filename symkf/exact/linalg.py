@@ -1,11 +1,9 @@
 """Exact linear algebra over Q and number fields.
 
 ``rank`` is the workhorse of the regression-matrix analysis (eqs. 14-17 of
-Sui-You-Fu).  Over Q it is ``fmpq_mat.rank``.  Over a number field K it first
-reduces modulo a prime ideal of degree one (``theta -> r mod p``): reduction
-can only lower the rank, so a full rank modulo ``p`` proves full rank over K.
-Otherwise the exact rank is computed from the Q-realification of the rows
-(rank over Q = [K:Q] * rank over K).
+Sui-You-Fu).  Over Q it is ``fmpq_mat.rank``.  Over a number field K it is
+Gaussian elimination in K, row by row with an early exit at full rank (elements
+are ``fmpq_poly`` reduced modulo the minimal polynomial).
 """
 
 from __future__ import annotations
@@ -35,15 +33,9 @@ def rank_rows(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int | None 
     if not rows:
         return 0
     ncols = len(rows[0]) if ncols is None else ncols
-    full = min(len(rows), ncols)
     if K.is_rational:
         return flint.fmpq_mat([[a[0] if a.length() else 0 for a in r] for r in rows]).rank()
-    p, _ = K._prime_embedding
-    reduced = [[K.reduce(a) for a in r] for r in rows]
-    if all(v is not None for r in reduced for v in r):
-        if flint.nmod_mat(reduced, p).rank() == full:
-            return full
-    return K.realify(rows).rank() // K.degree
+    return len(_echelon(K, rows, ncols)[1])
 
 
 def rank(M: sp.MatrixBase, K: NumberField | None = None) -> int:
@@ -55,26 +47,38 @@ def rank(M: sp.MatrixBase, K: NumberField | None = None) -> int:
     return rank_rows(K, K.matrix(M), M.shape[1])
 
 
-def nullspace_rows(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -> list[list[Elem]]:
-    """A basis of ``{h : row . h = 0 for every row}`` over ``K`` (Gaussian elimination in K)."""
-    A = [list(r) for r in rows]
-    pivots: list[int] = []
-    r = 0
-    for c in range(ncols):
-        piv = next((i for i in range(r, len(A)) if not A[i][c].is_zero()), None)
+def _echelon(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -> tuple[list[list[Elem]], list[int]]:
+    """Reduced row echelon form over ``K``: the normalised pivot rows and their pivot columns.
+
+    Rows are reduced one at a time against the pivot rows found so far, touching only
+    the non-pivot columns (pivot columns become exactly zero), as sympy's sparse rref does.
+    """
+    zero = flint.fmpq_poly([])
+    basis: dict[int, list[Elem]] = {}
+    for row in rows:
+        coef = [(pc, row[pc]) for pc in basis if not row[pc].is_zero()]
+        r = [zero if c in basis else
+             (row[c] - sum((K.mul(f, basis[pc][c]) for pc, f in coef), zero)) % K.modulus
+             for c in range(ncols)]
+        piv = next((c for c in range(ncols) if not r[c].is_zero()), None)
         if piv is None:
             continue
-        A[r], A[piv] = A[piv], A[r]
-        inv = K.inv(A[r][c])
-        A[r] = [K.mul(a, inv) for a in A[r]]
-        for i in range(len(A)):
-            if i != r and not A[i][c].is_zero():
-                f = A[i][c]
-                A[i] = [(a - K.mul(f, b)) % K.modulus for a, b in zip(A[i], A[r])]
-        pivots.append(c)
-        r += 1
-        if r == len(A):
+        inv = K.inv(r[piv])
+        r = [K.mul(a, inv) for a in r]
+        for pc, b in basis.items():
+            f = b[piv]
+            if not f.is_zero():
+                basis[pc] = [(x - K.mul(f, y)) % K.modulus for x, y in zip(b, r)]
+        basis[piv] = r
+        if len(basis) == ncols:
             break
+    pivots = sorted(basis)
+    return [basis[c] for c in pivots], pivots
+
+
+def nullspace_rows(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -> list[list[Elem]]:
+    """A basis of ``{h : row . h = 0 for every row}`` over ``K`` (Gaussian elimination in K)."""
+    A, pivots = _echelon(K, rows, ncols)
     free = [c for c in range(ncols) if c not in pivots]
     basis = []
     for fc in free:
