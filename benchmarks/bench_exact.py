@@ -2,9 +2,9 @@
 
 1. Exact rank of the 96 x 4 matrix of rows c_i D^k (k = 0..23, four sensors), D the
    modal form diag(z, z^-1, z^5, z^-5) of the rotation pair R(pi/12), R(5 pi/12),
-   z = exp(i pi/12), entries in Q(zeta_24) (degree 8).  Two cases: full rank (settled by
-   the mod-p screen) and rank 3 (every c_i has last coordinate 0: the exact realified
-   rank over Q decides).  Baseline: sympy's DomainMatrix rank over the same field
+   z = exp(i pi/12), entries in Q(zeta_24) (degree 8).  Two cases: full rank (elimination
+   stops after four pivots) and rank 3 (every c_i has last coordinate 0: every row is
+   reduced).  Baseline: sympy's DomainMatrix rank over the same field
    (QQ<zeta_24>) on the already converted matrix, run in this process (converting the
    sympy entries into that domain takes sympy about 20 s; symkf converts in ~2 ms).
 2. eigen_blocks of a random 6x6 rational A (eigenvalues, moduli, both periods, the
