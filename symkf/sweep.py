@@ -1,0 +1,161 @@
+"""Independent tasks evaluated serially, across local processes, or on a Dask cluster.
+
+``sweep(function, tasks)`` returns ``[function(t) for t in tasks]`` in the order
+of ``tasks`` whichever way it runs:
+
+* ``jobs=1`` (default): in this process;
+* ``jobs=N``: ``N`` local worker processes (:class:`concurrent.futures.ProcessPoolExecutor`);
+* ``scheduler="tcp://host:port"`` or a ``distributed.Client``: on a Dask
+  distributed cluster (the optional ``dask`` extra, imported only here).
+
+Values are exact, so the three modes return equal results (tested).  Tasks and
+results cross process boundaries pickled by :class:`_Pickler`, which also carries
+algebraic numbers, systems and symkf errors (a task's symkf error is re-raised in
+the caller with its type, message and attributes).  ``function`` must be
+importable by the workers (a module-level function, or a ``functools.partial``
+of one).  Progress is shown with tqdm when stderr is a terminal.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+import pickle
+import sys
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from typing import Any, Callable, Iterable, Sequence, TypeVar
+
+import flint
+from tqdm import tqdm
+
+from .errors import InputError, SymkfError
+from .model import System
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+
+class _Pickler(pickle.Pickler):
+    """Pickles what crosses a process boundary, including the objects plain pickle refuses.
+
+    * flint's ``fmpz_poly`` (inside every :class:`AlgebraicNumber`) travels as its integer
+      coefficients, so algebraic numbers arrive exactly as they left;
+    * a :class:`System` travels without its cache of derived data (flint objects);
+    * a :class:`SymkfError` is rebuilt from its message and attributes (``AssumptionError``'s
+      keyword-only ``__init__`` cannot be replayed from ``args``).
+    """
+
+    def reducer_override(self, obj: Any) -> Any:
+        if isinstance(obj, flint.fmpz_poly):
+            return flint.fmpz_poly, ([int(c) for c in obj.coeffs()],)
+        if isinstance(obj, System):
+            return _rebuilt, (type(obj), {k: v for k, v in obj.__dict__.items() if k != "_cache"}, {"_cache": {}})
+        if isinstance(obj, SymkfError):
+            return _rebuilt, (type(obj), dict(obj.__dict__), {"args": obj.args})
+        return NotImplemented
+
+
+def _rebuilt(cls: type, state: dict, extra: dict) -> Any:
+    obj = cls.__new__(cls)
+    obj.__dict__.update(state)
+    for key, value in extra.items():
+        if key == "args":
+            obj.args = value
+        else:
+            obj.__dict__[key] = value
+    return obj
+
+
+def _dumps(obj: Any) -> bytes:
+    buffer = io.BytesIO()
+    _Pickler(buffer, protocol=pickle.HIGHEST_PROTOCOL).dump(obj)
+    return buffer.getvalue()
+
+
+@dataclasses.dataclass(frozen=True)
+class _Raised:
+    error: SymkfError
+
+
+def _remote(payload: bytes) -> bytes:
+    """Worker side: run one pickled ``(function, task)``; return its pickled result or symkf error."""
+    function, task = pickle.loads(payload)
+    try:
+        return _dumps(function(task))
+    except SymkfError as exc:
+        return _dumps(_Raised(exc))
+
+
+def _result(data: bytes) -> Any:
+    value = pickle.loads(data)
+    if isinstance(value, _Raised):
+        raise value.error
+    return value
+
+
+def _progress(total: int, enabled: bool | None, desc: str) -> tqdm:
+    return tqdm(total=total, desc=desc, disable=not (sys.stderr.isatty() if enabled is None else enabled),
+                leave=False)
+
+
+def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, scheduler: Any = None,
+          progress: bool | None = None, desc: str = "symkf sweep") -> list[R]:
+    """``[function(t) for t in tasks]``, serially, on ``jobs`` local processes, or on Dask.
+
+    ``scheduler`` is a Dask scheduler address (``"tcp://host:8786"``) or a
+    ``distributed.Client``; it excludes ``jobs > 1``.  ``progress`` forces the
+    tqdm bar on or off (default: on when stderr is a terminal).
+    """
+    tasks = list(tasks)
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise InputError(f"jobs: expected a positive integer number of processes, got {jobs!r}")
+    if scheduler is not None and jobs != 1:
+        raise InputError("jobs and scheduler: give one of them (local processes or a Dask cluster), not both")
+    if scheduler is not None:
+        return _dask(function, tasks, scheduler, progress, desc)
+    if jobs == 1 or len(tasks) <= 1:
+        out = []
+        with _progress(len(tasks), progress, desc) as bar:
+            for t in tasks:
+                out.append(function(t))
+                bar.update()
+        return out
+    return _processes(function, tasks, jobs, progress, desc)
+
+
+def _processes(function: Callable, tasks: Sequence, jobs: int, progress: bool | None, desc: str) -> list:
+    results: list[Any] = [None] * len(tasks)
+    with ProcessPoolExecutor(max_workers=min(jobs, len(tasks))) as pool, \
+            _progress(len(tasks), progress, desc) as bar:
+        futures = {pool.submit(_remote, _dumps((function, t))): i for i, t in enumerate(tasks)}
+        for f in as_completed(futures):
+            results[futures[f]] = f.result()
+            bar.update()
+    return [_result(r) for r in results]
+
+
+def _dask(function: Callable, tasks: Sequence, scheduler: Any, progress: bool | None, desc: str) -> list:
+    try:
+        import distributed
+    except ImportError:
+        raise InputError("scheduler: Dask is not installed; install the extra: pip install 'symkf[dask]'") from None
+    if isinstance(scheduler, distributed.Client):
+        return _on_client(scheduler, function, tasks, progress, desc)
+    if not isinstance(scheduler, str) or not scheduler.strip():
+        raise InputError(f"scheduler: expected a Dask scheduler address such as 'tcp://host:8786' "
+                         f"or a distributed.Client, got {scheduler!r}")
+    try:
+        client = distributed.Client(scheduler, timeout="20s")
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise InputError(f"scheduler: cannot connect to the Dask scheduler at {scheduler!r} ({exc})") from None
+    with client:
+        return _on_client(client, function, tasks, progress, desc)
+
+
+def _on_client(client: Any, function: Callable, tasks: Sequence, progress: bool | None, desc: str) -> list:
+    import distributed
+    futures = client.map(_remote, [_dumps((function, t)) for t in tasks], pure=False)
+    with _progress(len(tasks), progress, desc) as bar:
+        for _ in distributed.as_completed(futures):
+            bar.update()
+    return [_result(r) for r in client.gather(futures)]
