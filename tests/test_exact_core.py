@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import sympy as sp
 from hypothesis import given, settings, strategies as st
+from sympy.polys.matrices import DomainMatrix
 
 import symkf as sk
 from symkf.errors import (InexactInputError, NotDiagonalizableError, ShapeError, SymkfError,
@@ -137,6 +138,25 @@ def test_rank_over_number_field():
     rows = sp.Matrix.vstack(sp.Matrix([[1, 0]]), sp.Matrix([[1, 0]]) * A ** 12)
     assert rank(rows) == 1  # A^12 = -I
     assert rank(sp.Matrix.vstack(rows, sp.Matrix([[1, 0]]) * A)) == 2
+
+
+
+SQRT_FIELD = sp.QQ.algebraic_field(sp.sqrt(2), sp.sqrt(3))
+
+
+@settings(derandomize=True, max_examples=40, deadline=None)
+@given(st.integers(1, 4), st.integers(1, 4), st.integers(0, 3), st.data())
+def test_rank_over_number_field_matches_sympy_domain_matrix(cols, free, dependent, data):
+    """Elimination in Q(sqrt2 + sqrt3) against sympy's DomainMatrix over the same field, on
+    matrices with planted dependencies (rows that are K-combinations of earlier rows)."""
+    entry = st.sampled_from([0, 1, -2, sp.sqrt(2), sp.sqrt(3) / 2, 1 + sp.sqrt(6), sp.sqrt(2) - sp.sqrt(3)])
+    rows = [[data.draw(entry) for _ in range(cols)] for _ in range(free)]
+    for _ in range(dependent):
+        coef = [data.draw(entry) for _ in rows]
+        rows.append([sp.expand(sum(c * r[j] for c, r in zip(coef, rows))) for j in range(cols)])
+    M = sp.Matrix(rows)
+    expected = DomainMatrix.from_Matrix(M).convert_to(SQRT_FIELD).rank()
+    assert rank(M) == expected
 
 
 @pytest.mark.parametrize("A,Cs", [
