@@ -75,30 +75,46 @@ def _outside(br: BlockRows, H: frozenset[int], sensor: int) -> int:
 
 def _maximum(candidates: list[tuple[frozenset[int], sp.Expr]]) -> tuple[frozenset[int], sp.Expr]:
     if any(v.free_symbols for _, v in candidates):
-        raise InputError("symbolic loss rates: use symkf.stability.stability_region for conditions")
+        raise InputError("loss: symbolic loss parameters have no numeric decay rate; "
+                         "use symkf.region.stability_conditions for the stability region as conditions")
     return max(candidates, key=lambda hv: AlgebraicNumber.from_expr(hv[1]))
+
+
+def outside_counts(br: BlockRows) -> dict[tuple[int, ...], frozenset[int]]:
+    """Per distinct exponent vector ``(k_1, ..., k_d)`` -- the number of sensor ``j``'s elements
+    outside a hyperplane ``H`` -- one such ``H``.  Under i.i.d. losses ``H`` decays at
+    ``prod_j loss_j^(k_j)`` per period, so hyperplanes sharing a vector are interchangeable."""
+    d = 1 + max(e.sensor for e in br.elements)
+    out: dict[tuple[int, ...], frozenset[int]] = {}
+    for H in br.hyperplanes:
+        out.setdefault(tuple(_outside(br, H, j) for j in range(d)), H)
+    return out
 
 
 def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
     """``rho_i^g`` (per projection period) for one block, exactly (eq. 36)."""
-    cands = []
-    for H in br.hyperplanes:
-        if isinstance(loss, IID):
-            val = sp.Mul(*[loss.loss[j] ** _outside(br, H, j) for j in range(loss.d)])
-        elif isinstance(loss, GilbertElliott):
-            if not br.block.is_periodic:
-                raise _aperiodic(br)
-            val = sp.Mul(*[perron_root(_restricted_sensor_transfer(br, H, loss, j)) for j in range(loss.d)])
-        else:
-            if not br.block.is_periodic:
-                raise _aperiodic(br)
-            val = perron_root(_restricted_transfer(br, H, loss))
-        cands.append((H, sp.sympify(val)))
-    if all(not v.free_symbols for _, v in cands):
-        H, best = _maximum(cands)
+    if isinstance(loss, IID):
+        cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.loss, ks)])) for ks, H in outside_counts(br).items()]
     else:
-        H, best = cands[0]
+        if not br.block.is_periodic:
+            raise _aperiodic(br)
+        cands = [(H, sp.sympify(ge_rate(br, H, loss) if isinstance(loss, GilbertElliott)
+                                else perron_root(_restricted_transfer(br, H, loss)))) for H in br.hyperplanes]
+    H, best = _maximum(cands)
     return BlockRate(best, H, tuple(cands))
+
+
+def ge_rate(br: BlockRows, H: frozenset[int], loss: GilbertElliott) -> sp.Expr:
+    """``rho(M_H)`` for independent Gilbert-Elliott channels: the product over sensors of the
+    Perron roots of their 2x2 restricted transfers.  A sensor with an element outside ``H``
+    has a singular factor ``P diag(0, 1)`` in its transfer, so its Perron root is the trace,
+    a polynomial in (fail, recover); a sensor entirely inside ``H`` has transfer ``P^g``
+    (stochastic), rate 1."""
+    rates = []
+    for j in range(loss.d):
+        M = _restricted_sensor_transfer(br, H, loss, j)
+        rates.append(sp.expand(M.trace()) if _outside(br, H, j) else sp.Integer(1))
+    return sp.Mul(*rates)
 
 
 def _aperiodic(br: BlockRows) -> AperiodicError:

@@ -13,13 +13,14 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from .decay import BlockRate, block_rate
+from .decay import BlockRate, block_rate, outside_counts
 from .errors import AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber
 from .exact.numbers import to_exact
-from .losses import IID, LossModel
+from .losses import IID, GilbertElliott, LossModel
 from .model import System
 from .observability import BlockRows, block_rows
+from .region import ge_margins, stable_intervals
 
 
 @dataclass(frozen=True)
@@ -87,6 +88,9 @@ def _margin(br: BlockRows, rate: BlockRate) -> tuple[AlgebraicNumber, sp.Expr]:
 def stability(system: System, loss: LossModel) -> Verdict:
     """Decide mean-square stability exactly (Theorems 4 and 7 with eq. 36)."""
     assumptions = _check_loss(system, loss)
+    if loss.symbols:
+        raise InputError(f"loss: symbols {sorted(map(str, loss.symbols))} have no value; "
+                         "symkf.region.stability_conditions(system, loss) gives the stability region as conditions")
     margins, certs = [], []
     for br in block_rows(system):
         rate = block_rate(br, loss)
@@ -103,13 +107,10 @@ def stability(system: System, loss: LossModel) -> Verdict:
     return Verdict(stable, tuple(margins), limiting, theorem + " with eq. (36)", tuple(assumptions), tuple(certs))
 
 
-def _exponents(br: BlockRows, weights: Sequence[sp.Expr]) -> list[tuple[int, sp.Expr]]:
-    """Per hyperplane: (number of elements outside, product of their weights)."""
-    out = []
-    for H in br.hyperplanes:
-        outside = [e for i, e in enumerate(br.elements) if i not in H]
-        out.append((len(outside), sp.Mul(*[weights[e.sensor] for e in outside])))
-    return out
+def _vectors(system: System) -> list[tuple[sp.Expr, tuple[int, ...]]]:
+    """``(alpha_i^(2g), (k_1, ..., k_d))`` for every block and distinct exponent vector."""
+    return [(sp.sympify(br.block.modulus.exact ** (2 * br.period)), ks)
+            for br in block_rows(system) for ks in outside_counts(br)]
 
 
 def critical_loss_rate(system: System, sensor: str | None = None, *, others: Sequence[Any] | None = None,
@@ -130,36 +131,28 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
         if len(w) != d:
             raise InputError(f"ray: {len(w)} weights for {d} sensors")
         bounds = []
-        for br in block_rows(system):
-            a2g = br.block.modulus.exact ** (2 * br.period)
-            for k, W in _exponents(br, w):
-                if k == 0:
-                    raise AssertionError("observability guarantees a non-empty complement")  # pragma: no cover
-                if W != 0:
-                    bounds.append(sp.root(1 / (a2g * W), k))
+        for a2g, ks in _vectors(system):
+            W = sp.Mul(*[wj ** k for wj, k in zip(w, ks)])
+            if W != 0:
+                bounds.append(sp.root(1 / (a2g * W), sum(ks)))
         return _min_capped(bounds)
     j = system.sensor_index(sensor)
     if others is None or len(others) != d:
         raise InputError(f"others: give the {d} loss probabilities of all sensors (entry {j} is ignored)")
-    eps = sp.Symbol("eps", positive=True)
-    fixed = [to_exact(v, f"others[{i}]") if i != j else eps for i, v in enumerate(others)]
+    fixed = [to_exact(v, f"others[{i}]") if i != j else sp.Integer(1) for i, v in enumerate(others)]
     bounds = []
-    for br in block_rows(system):
-        a2g = br.block.modulus.exact ** (2 * br.period)
-        for H in br.hyperplanes:
-            outside = [e for i, e in enumerate(br.elements) if i not in H]
-            k = sum(1 for e in outside if e.sensor == j)
-            rest = sp.Mul(*[fixed[e.sensor] for e in outside if e.sensor != j])
-            if k == 0:
-                if AlgebraicNumber.from_expr(a2g * rest) >= 1:
-                    return AlgebraicNumber.from_expr(0)
-            elif rest != 0:
-                bounds.append(sp.root(1 / (a2g * rest), k))
+    for a2g, ks in _vectors(system):
+        rest = sp.Mul(*[f ** k for i, (f, k) in enumerate(zip(fixed, ks)) if i != j])
+        if ks[j] == 0:
+            if AlgebraicNumber.from_expr(a2g * rest) >= 1:
+                return AlgebraicNumber.from_expr(0)
+        elif rest != 0:
+            bounds.append(sp.root(1 / (a2g * rest), ks[j]))
     return _min_capped(bounds)
 
 
 def _min_capped(bounds: list[sp.Expr]) -> AlgebraicNumber:
-    values = [AlgebraicNumber.from_expr(sp.sympify(b)) for b in bounds]
+    values = [AlgebraicNumber.from_expr(b) for b in set(map(sp.sympify, bounds))]
     best = min(values, default=AlgebraicNumber.from_expr(1))
     return best if best < 1 else AlgebraicNumber.from_expr(1)
 
@@ -178,3 +171,66 @@ def critical_alpha(system: System, loss: IID) -> AlgebraicNumber:
     if rate.per_period == 0:
         raise InputError("every decisive pattern has probability 0: no critical alpha exists")
     return AlgebraicNumber.from_expr(sp.sympify(sp.root(1 / rate.per_period, 2 * br.period)))
+
+
+def _recovery_model(system: System, fail: Sequence[Any], recover: Sequence[Any] | None,
+                    sensor: str | None, q: sp.Symbol) -> GilbertElliott:
+    """Gilbert-Elliott channels with the varying recovery probability replaced by the symbol ``q``."""
+    if len(fail) != system.d:
+        raise InputError(f"fail: {len(fail)} values for {system.d} sensors")
+    if sensor is None:
+        return GilbertElliott(fail, [q] * system.d)
+    j = system.sensor_index(sensor)
+    if recover is None or len(recover) != system.d:
+        raise InputError(f"recover: give the {system.d} recovery probabilities of all sensors (entry {j} is ignored)")
+    return GilbertElliott(fail, [q if i == j else r for i, r in enumerate(recover)])
+
+
+def stable_recovery_intervals(system: System, fail: Sequence[Any], *, recover: Sequence[Any] | None = None,
+                              sensor: str | None = None) -> tuple[tuple[AlgebraicNumber, AlgebraicNumber], ...]:
+    """The recovery probabilities ``q in (0, 1)`` that make Gilbert-Elliott channels stable, exactly.
+
+    ``q`` is common to all sensors, or only sensor ``sensor``'s with the others' ``recover``
+    fixed.  Each block and hyperplane gives the polynomial condition
+    ``alpha^(2g) prod_j tr(M_{H,j}(q)) < 1`` (:func:`symkf.region.ge_margins`); the set is a
+    union of open intervals with algebraic end points.  It need not be an up-set: a channel
+    that recovers faster also alternates more, which can lock its receptions onto one phase of
+    the period (``proofs/sui_engine_ge_recovery_nonmonotone.py``).
+    """
+    q = sp.Symbol("q", positive=True)
+    loss = _recovery_model(system, fail, recover, sensor, q)
+    _check_loss(system, loss.subs({q: sp.Rational(1, 2)}))
+    return stable_intervals(ge_margins(system, loss), q)
+
+
+def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequence[Any] | None = None,
+                           sensor: str | None = None) -> AlgebraicNumber:
+    """The critical recovery probability ``q_c`` of Gilbert-Elliott channels: stable iff ``recover > q_c``.
+
+    ``fail[j] = P(lost | received last)`` is fixed; the recovery probability ``P(received | lost
+    last)`` is common to all sensors, or (``sensor=NAME``) only that sensor's, the others given
+    by ``recover``.  Returns 0 when every ``q`` in (0, 1) is stable and 1 when none is.  Raises
+    :class:`AssumptionError` when the stable set is not an interval ``(q_c, 1)`` (stability is not
+    monotone in ``q`` in general; :func:`stable_recovery_intervals` gives the set).  Certified:
+    the verdict of :func:`stability` is checked at rationals just outside the isolating interval.
+    """
+    intervals = stable_recovery_intervals(system, fail, recover=recover, sensor=sensor)
+    if not intervals:
+        return AlgebraicNumber.from_expr(1)
+    if len(intervals) != 1 or intervals[0][1] != 1:
+        shown = ", ".join(f"({float(a):.6g}, {float(b):.6g})" for a, b in intervals)
+        raise AssumptionError(f"the filter is stable exactly for recover in {shown}, not on an interval (q_c, 1)",
+                              assumption="stability monotone in the recovery probability",
+                              applies_instead="symkf.stability.stable_recovery_intervals")
+    qc = intervals[0][0]
+    if qc > 0:
+        q = sp.Symbol("q", positive=True)
+        model = _recovery_model(system, fail, recover, sensor, q)
+        lo, hi = qc.refine(min(sp.Rational(1, 10 ** 12), sp.Rational(qc.interval[0]) / 4 or 1)).interval
+        while lo <= 0:
+            lo, hi = qc.refine(sp.Rational(hi - lo) / 4).interval
+        width = min(sp.Rational(hi - lo), sp.Rational(lo) / 2) or min(sp.Rational(1, 10 ** 12), sp.Rational(lo) / 2)
+        below, above = sp.Rational(lo) - width, sp.Rational(hi) + width
+        if stability(system, model.subs({q: below})).stable or not stability(system, model.subs({q: above})).stable:
+            raise AssertionError(f"certificate failed around q_c = {qc}")  # pragma: no cover
+    return qc

@@ -1,0 +1,272 @@
+"""Stability regions in the loss parameters, exactly (Sui-You-Fu Theorems 4 and 7 with eq. 36).
+
+Under i.i.d. losses block ``i`` (modulus ``alpha_i``, projection period
+``g_i``) is stable iff ``alpha_i^(2 g_i) prod_j eps_j^(k_j(H)) < 1`` for every
+hyperplane ``H`` of its elements, ``k_j(H)`` counting sensor ``j``'s elements
+outside ``H`` (:func:`symkf.decay.outside_counts`).  The stability region is
+the intersection of these monomial inequalities; only the componentwise
+minimal exponent vectors matter, since ``eps^k`` decreases in ``k`` on
+``[0, 1]``.  In ``(-ln eps_1, -ln eps_2)`` the region is an intersection of
+half-planes, so for two sensors its boundary ``eps_2 = f(eps_1)`` is a
+minimum of power laws ``(alpha^(2g) eps_1^(k_1))^(-1/k_2)``, with breakpoints
+where two laws cross (algebraic numbers).
+
+Under Gilbert-Elliott channels each hyperplane gives ``alpha^(2g) prod_j
+tr(M_{H,j}) < 1`` with polynomial traces (:func:`symkf.decay.ge_rate`), so
+with symbolic (fail, recover) the region is again an ``And`` of polynomial
+inequalities, and along one varying parameter its boundary points are real
+roots of polynomials (:func:`stable_intervals`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any, Sequence
+
+import sympy as sp
+
+from .decay import ge_rate, outside_counts
+from .errors import InputError
+from .exact.algebraic import AlgebraicNumber, sign, sympy_to_fmpz
+from .exact.numbers import to_exact
+from .losses import IID, GilbertElliott, LossModel
+from .model import System
+from .observability import block_rows
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """``growth * prod_j eps_j^(exponents[j]) < 1``: one block's hyperplane condition."""
+
+    block: int
+    growth: sp.Expr                 # alpha_i^(2 g_i)
+    exponents: tuple[int, ...]      # elements of each sensor outside the hyperplane
+    hyperplane: frozenset[int]      # one hyperplane with these exponents (element indices)
+
+    def margin(self, loss: Sequence[sp.Expr]) -> sp.Expr:
+        return self.growth * sp.Mul(*[e ** k for e, k in zip(loss, self.exponents)])
+
+
+def iid_constraints(system: System) -> tuple[Constraint, ...]:
+    """The non-redundant i.i.d. constraints of every block (minimal exponent vectors; cached)."""
+    cached = system._cache.get("iid_constraints")
+    if cached is None:
+        out = []
+        for i, br in enumerate(block_rows(system)):
+            growth = sp.sympify(br.block.modulus.exact ** (2 * br.period))
+            vectors = outside_counts(br)
+            for ks, H in vectors.items():
+                if not any(o != ks and all(a <= b for a, b in zip(o, ks)) for o in vectors):
+                    out.append(Constraint(i, growth, ks, H))
+        cached = system._cache["iid_constraints"] = tuple(out)
+    return cached
+
+
+def _holds(expr: sp.Expr) -> bool:
+    """Exact ``expr < 1`` for a numeric algebraic ``expr``."""
+    return sign(sp.sympify(expr) - 1) < 0
+
+
+def _condition(margin: sp.Expr) -> sp.Basic:
+    margin = sp.sympify(margin)
+    return sp.Lt(margin, 1) if margin.free_symbols else sp.true if _holds(margin) else sp.false
+
+
+@dataclass(frozen=True)
+class Piece:
+    """On ``lo < eps_1 < hi`` the critical ``eps_2`` is ``expr`` (in the symbol ``eps_1``)."""
+
+    lo: AlgebraicNumber
+    hi: AlgebraicNumber
+    expr: sp.Expr
+
+
+@dataclass(frozen=True)
+class StabilityRegion:
+    """The exact i.i.d. stability region ``{(eps_1, ..., eps_d) in [0, 1]^d : stable}``."""
+
+    system: System
+    constraints: tuple[Constraint, ...]
+
+    @property
+    def symbols(self) -> tuple[sp.Symbol, ...]:
+        return tuple(sp.Symbol(f"eps_{name}", nonnegative=True) for name in self.system.sensor_names)
+
+    def conditions(self, loss: Sequence[Any] | None = None) -> sp.Basic:
+        """``And`` of the constraints, in :attr:`symbols` or the given (symbolic or numeric) losses."""
+        loss = self.symbols if loss is None else _losses(loss, self.system.d)
+        return sp.And(*[_condition(c.margin(loss)) for c in self.constraints])
+
+    def contains(self, *loss: Any) -> bool:
+        """Exact membership of the loss vector ``(eps_1, ..., eps_d)`` (strict: margin 1 is outside)."""
+        eps = _losses(loss, self.system.d)
+        if any(e.free_symbols for e in eps):
+            raise InputError("contains: give numbers; use conditions() for symbols")
+        return all(_holds(c.margin(eps)) for c in self.constraints)
+
+    def boundary(self) -> tuple[Piece, ...]:
+        """Two sensors: the critical ``eps_2 = f(eps_1)`` on ``0 < eps_1 < 1``, piecewise.
+
+        Stable iff ``eps_2 < f(eps_1)``; ``f = 1`` where no ``eps_2 < 1`` destabilises and
+        ``f = 0`` where ``eps_1`` alone destabilises (as :func:`symkf.stability.critical_loss_rate`
+        with ``sensor``, ``others``)."""
+        if self.system.d != 2:
+            raise InputError(f"boundary: the curve eps_2 = f(eps_1) needs 2 sensors, the system has {self.system.d}")
+        e1 = self.symbols[0]
+        laws = [sp.root(c.growth * e1 ** c.exponents[0], -c.exponents[1]) for c in self.constraints if c.exponents[1]]
+        cuts = [c.growth * e1 ** c.exponents[0] for c in self.constraints if not c.exponents[1]]
+        breaks = [AlgebraicNumber.from_expr(0), AlgebraicNumber.from_expr(1)]
+        for c in self.constraints:  # where a law reaches 1, or eps_1 alone destabilises (k_2 = 0)
+            if c.exponents[0]:
+                breaks.append(AlgebraicNumber.from_expr(sp.root(1 / c.growth, c.exponents[0])))
+        for a, b in _pairs([c for c in self.constraints if c.exponents[1]]):
+            (a1, a2), (b1, b2) = a.exponents, b.exponents
+            if a1 * b2 != b1 * a2:  # ga^b2 e^(a1 b2) = gb^a2 e^(b1 a2)
+                breaks.append(AlgebraicNumber.from_expr(sp.root(b.growth ** a2 / a.growth ** b2, a1 * b2 - b1 * a2)))
+        points = _distinct(b for b in breaks if b >= 0 and b <= 1)
+        pieces: list[Piece] = []
+        for lo, hi in zip(points, points[1:]):
+            t = _between(lo, hi)
+            if not all(_holds(cut.subs(e1, t)) for cut in cuts):
+                expr = sp.Integer(0)
+            else:
+                expr = min([sp.Integer(1)] + laws, key=lambda law: AlgebraicNumber.from_expr(law.subs(e1, t)))
+            if pieces and pieces[-1].expr == expr:
+                pieces[-1] = Piece(pieces[-1].lo, hi, expr)
+            else:
+                pieces.append(Piece(lo, hi, expr))
+        return tuple(pieces)
+
+    def boundary_at(self, eps1: Any) -> AlgebraicNumber:
+        """``f(eps_1)`` at one point: 0 if ``eps_1`` alone destabilises, else the least law, capped at 1."""
+        if self.system.d != 2:
+            raise InputError(f"boundary_at: needs 2 sensors, the system has {self.system.d}")
+        e = _losses([eps1, 0], 2)[0]
+        values = [AlgebraicNumber.from_expr(1)]
+        for c in self.constraints:
+            k1, k2 = c.exponents
+            if not k2 and not _holds(c.growth * e ** k1):
+                return AlgebraicNumber.from_expr(0)
+            if k2 and (e != 0 or not k1):
+                values.append(AlgebraicNumber.from_expr(sp.root(c.growth * e ** k1, -k2)))
+        return min(values)
+
+
+def _distinct(values) -> list[AlgebraicNumber]:
+    out: list[AlgebraicNumber] = []
+    for v in sorted(values):
+        if not out or out[-1] != v:
+            out.append(v)
+    return out
+
+
+def _pairs(items: list) -> list:
+    return [(a, b) for i, a in enumerate(items) for b in items[i + 1:]]
+
+
+def _losses(loss: Sequence[Any], d: int) -> tuple[sp.Expr, ...]:
+    if len(loss) != d:
+        raise InputError(f"loss: {len(loss)} values for {d} sensors")
+    return tuple(to_exact(v, f"loss[{j}]", symbols=True) for j, v in enumerate(loss))
+
+
+def stability_region(system: System) -> StabilityRegion:
+    """The exact stability region of i.i.d. loss probabilities (all blocks, all hyperplanes)."""
+    return StabilityRegion(system, iid_constraints(system))
+
+
+def ge_margins(system: System, loss: GilbertElliott) -> list[sp.Expr]:
+    """Per block and hyperplane, ``alpha^(2g) rho(M_H)``: polynomials in (fail, recover)."""
+    out = []
+    for br in block_rows(system):
+        growth = sp.sympify(br.block.modulus.exact ** (2 * br.period))
+        if not br.block.is_periodic:
+            from .decay import _aperiodic
+            raise _aperiodic(br)
+        seen = set()
+        for H in br.hyperplanes:
+            m = sp.expand(growth * ge_rate(br, H, loss))
+            if m not in seen:
+                seen.add(m)
+                out.append(m)
+    return out
+
+
+def stability_conditions(system: System, loss: LossModel) -> sp.Basic:
+    """Mean-square stability as sympy conditions in the loss model's symbols.
+
+    i.i.d.: an ``And`` of ``alpha^(2g) prod_j eps_j^(k_j) < 1``; Gilbert-Elliott: an ``And`` of
+    ``alpha^(2g) prod_j tr(M_{H,j}) < 1`` (polynomials).  Parameters are taken to be
+    probabilities (in ``[0, 1]``; in ``(0, 1)`` for Gilbert-Elliott, Assumption 2).  Numeric
+    parameters give ``true`` or ``false``, decided exactly."""
+    if loss.d != system.d:
+        raise InputError(f"loss: the model has {loss.d} sensor(s), the system has {system.d}")
+    if isinstance(loss, IID):
+        return stability_region(system).conditions(loss.loss)
+    if isinstance(loss, GilbertElliott):
+        return sp.And(*[_condition(m) for m in ge_margins(system, loss)])
+    raise InputError(f"loss: stability conditions are given for IID and GilbertElliott, not {type(loss).__name__}; "
+                     "substitute numbers and use symkf.stability.stability")
+
+
+def _between(a: AlgebraicNumber, b: AlgebraicNumber) -> sp.Rational:
+    """A rational strictly between ``a < b`` (the simplest in the separating gap)."""
+    while a.interval[1] >= b.interval[0]:
+        a.refine(sp.Rational(a.interval[1] - a.interval[0]) / 4 or sp.Rational(1, 10 ** 30))
+        b.refine(sp.Rational(b.interval[1] - b.interval[0]) / 4 or sp.Rational(1, 10 ** 30))
+    lo, hi = a.interval[1], b.interval[0]
+    return sp.Rational(_simplest(lo, hi))
+
+
+def _simplest(lo: Fraction, hi: Fraction) -> Fraction:
+    """The rational with least denominator in the open interval ``(lo, hi)``."""
+    q = 1
+    while True:
+        n = (lo * q).__floor__() + 1
+        if Fraction(n, q) < hi:
+            return Fraction(n, q)
+        q += 1 if q < 64 else q
+
+
+def _roots_in_unit(expr: sp.Expr, t: sp.Symbol) -> list[AlgebraicNumber]:
+    """Real roots in (0, 1) of ``expr = 0`` (a polynomial in ``t`` with algebraic coefficients):
+    a superset, via the norm to Q when the coefficients are irrational."""
+    poly = sp.Poly(sp.expand(expr), t, extension=True)
+    if poly.is_zero or poly.degree() < 1:
+        return []
+    if not poly.domain.is_QQ and not poly.domain.is_ZZ:
+        poly = poly.norm()
+    out = []
+    for f, _ in sympy_to_fmpz(poly.as_expr().subs(t, sp.Symbol("x"))).factor()[1]:
+        f = f if f.leading_coefficient() > 0 else -f
+        for i, (r, _) in enumerate(f.complex_roots()):
+            if r.imag == 0:
+                a = AlgebraicNumber(f, i)
+                if a > 0 and a < 1:
+                    out.append(a)
+    return out
+
+
+def stable_intervals(margins: Sequence[sp.Expr], t: sp.Symbol) -> tuple[tuple[AlgebraicNumber, AlgebraicNumber], ...]:
+    """The open set ``{t in (0, 1) : every margin(t) < 1}`` as disjoint open intervals, exactly.
+
+    The margins are polynomials in ``t``; the set changes only at real roots of ``margin - 1``
+    (candidates), and each gap between candidates is classified at a rational point.  A
+    candidate between two stable gaps is kept as a boundary point unless it is stable itself."""
+    cands = _distinct([AlgebraicNumber.from_expr(0), AlgebraicNumber.from_expr(1)]
+                      + [r for m in margins for r in _roots_in_unit(m - 1, t)])
+
+    def stable_at(v: sp.Expr) -> bool:
+        return all(_holds(sp.sympify(m).subs(t, v)) for m in margins)
+
+    gaps = [(lo, hi, stable_at(_between(lo, hi))) for lo, hi in zip(cands, cands[1:])]
+    out: list[tuple[AlgebraicNumber, AlgebraicNumber]] = []
+    for k, (lo, hi, ok) in enumerate(gaps):
+        if not ok:
+            continue
+        if out and out[-1][1] is lo and gaps[k - 1][2] and stable_at(lo.exact):
+            out[-1] = (out[-1][0], hi)
+        else:
+            out.append((lo, hi))
+    return tuple(out)
