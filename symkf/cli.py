@@ -10,6 +10,8 @@ import argparse
 import importlib
 import json
 import sys
+import warnings
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
@@ -20,24 +22,50 @@ from .exact.algebraic import AlgebraicNumber
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "systems"
 
-# name -> (module, function); each returns {"example", "source", "results", "checks"}
-REPRODUCE: dict[str, tuple[str, str]] = {
-    "quevedo-example3": ("symkf.network.reproduce", "reproduce_quevedo_example3"),
-    "quevedo-robot": ("symkf.network.reproduce", "reproduce_quevedo_robot"),
-    "quevedo-semi-markov": ("symkf.network.reproduce", "reproduce_quevedo_semi_markov"),
-    "yang-example1": ("symkf.capacity", "reproduce_yang_example1"),
-    "fusion-pendulum": ("symkf.fusion", "reproduce_fusion_pendulum"),
+# name -> (module, function, keyword arguments of --quick); each function returns
+# {"example", "source", "results", "checks"}
+REPRODUCE: dict[str, tuple[str, str, dict[str, Any]]] = {
+    "quevedo-example3": ("symkf.network.reproduce", "reproduce_quevedo_example3", {}),
+    "quevedo-robot": ("symkf.network.reproduce", "reproduce_quevedo_robot", {}),
+    "quevedo-semi-markov": ("symkf.network.reproduce", "reproduce_quevedo_semi_markov", {"simulate": False}),
+    "yang-example1": ("symkf.capacity", "reproduce_yang_example1", {"horizon": 12, "paths": 2000}),
+    "fusion-pendulum": ("symkf.fusion", "reproduce_fusion_pendulum", {"paths": 4, "horizon": 200}),
 }
+
+
+#: exit status of an unexpected exception (a symkf bug), distinct from bad input (2)
+INTERNAL_ERROR = 70
 
 
 class UsageError(SymkfError):
     """Bad command-line usage."""
 
 
+@dataclass(frozen=True)
+class Command:
+    """A subcommand: ``configure`` adds its arguments, ``run`` returns a JSON-serialisable dict
+    (keys starting with ``_`` are for the plain-text display only; ``_status`` sets the exit
+    status), ``show`` prints it for people (default: :func:`_print_plain`)."""
+
+    name: str
+    help: str
+    configure: Callable[[argparse.ArgumentParser], None]
+    run: Callable[[argparse.Namespace], dict[str, Any]]
+    show: Callable[[dict[str, Any]], None] | None = None
+
+
+#: the subcommands, in the order of ``symkf --help``; new commands call :func:`register`
+COMMANDS: dict[str, Command] = {}
+
+
+def register(command: Command) -> Command:
+    COMMANDS[command.name] = command
+    return command
+
+
 def _number(a: AlgebraicNumber, digits: int) -> dict[str, Any]:
-    lo, hi = a.refine(sp.Rational(1, 10 ** (digits + 2))).interval
-    return {"exact": str(a.exact), "decimal": str(a.evalf(digits)), "interval": [str(lo), str(hi)],
-            "minpoly": str(a.minpoly.as_expr())}
+    from .verify import number_json
+    return number_json(a, digits)
 
 
 def _blocks_json(A: Any) -> list[dict[str, Any]]:
@@ -89,63 +117,206 @@ def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
     return res
 
 
+def _vary_common(system: Any, loss: Any, value: str, file: str) -> tuple[str, AlgebraicNumber, str]:
+    from .stability import critical_loss_rate
+    return "critical_loss_rate", critical_loss_rate(system), "common i.i.d. loss of all sensors"
+
+
+def _iid(loss: Any, file: str, option: str) -> Any:
+    from .losses import IID
+    if not isinstance(loss, IID):
+        raise UsageError(f"{file}: {option} needs an i.i.d. [loss] giving the sensors' rates")
+    return loss
+
+
+def _vary_sensor(system: Any, loss: Any, name: str, file: str) -> tuple[str, AlgebraicNumber, str]:
+    from .stability import critical_loss_rate
+    others = list(_iid(loss, file, "--vary sensor=NAME").loss)
+    return ("critical_loss_rate", critical_loss_rate(system, name, others=others),
+            f"loss of sensor {name}, others fixed at the file's rates")
+
+
+def _vary_alpha(system: Any, loss: Any, value: str, file: str) -> tuple[str, AlgebraicNumber, str]:
+    from .stability import critical_alpha
+    return "critical_alpha", critical_alpha(system, _iid(loss, file, "--vary alpha")), "modulus alpha, losses fixed"
+
+
+#: ``--vary`` of ``critical``: "KIND" or "KIND=VALUE" -> handler(system, loss, VALUE, file) giving
+#: (JSON key, exact value, what was varied)
+VARY: dict[str, Callable[[Any, Any, str, str], tuple[str, AlgebraicNumber, str]]] = {
+    "common": _vary_common, "sensor": _vary_sensor, "alpha": _vary_alpha}
+
+
 def cmd_critical(args: argparse.Namespace) -> dict[str, Any]:
     from . import files
-    from .stability import critical_alpha, critical_loss_rate
+    kind, _, value = args.vary.partition("=")
+    if kind not in VARY or (kind == "sensor") != bool(value):
+        raise UsageError(f"--vary {args.vary!r}: expected {', '.join(k + '=NAME' if k == 'sensor' else k for k in VARY)}"
+                         + ("" if "recovery" in VARY else " (recovery is not implemented yet)"))
     system, loss = files.load(args.file)
-    vary = args.vary
-    if vary == "common":
-        key, value, how = "critical_loss_rate", critical_loss_rate(system), "common i.i.d. loss of all sensors"
-    elif vary.startswith("sensor="):
-        from .losses import IID
-        if not isinstance(loss, IID):
-            raise UsageError(f"{args.file}: --vary sensor=NAME needs an i.i.d. [loss] giving the other sensors' rates")
-        name = vary.split("=", 1)[1]
-        key, value = "critical_loss_rate", critical_loss_rate(system, name, others=list(loss.loss))
-        how = f"loss of sensor {name}, others fixed at the file's rates"
-    elif vary == "alpha":
-        from .losses import IID
-        if not isinstance(loss, IID):
-            raise UsageError(f"{args.file}: --vary alpha needs an i.i.d. [loss]")
-        key, value, how = "critical_alpha", critical_alpha(system, loss), "modulus alpha, losses fixed"
-    else:
-        raise UsageError(f"--vary {vary!r}: expected common, sensor=NAME or alpha "
-                         "(recovery is not implemented yet)")
-    return {key: _number(value, args.digits), "varied": how,
+    key, exact, how = VARY[kind](system, loss, value, args.file)
+    return {key: _number(exact, args.digits), "varied": how,
             "theorem": "Sui-You-Fu Theorems 4/7 with eq. (36), hyperplane form"}
 
 
+def _needs_loss(args: argparse.Namespace) -> tuple[Any, Any]:
+    from . import files
+    system, loss = files.load(args.file)
+    if loss is None:
+        raise UsageError(f"{args.file}: key 'loss' missing; {args.command} needs a [loss] table")
+    return system, loss
+
+
+def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
+    from .verify import summary, verify
+    system, loss = _needs_loss(args)
+    report = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon)
+    # exit status 1 (and "outcome": "disagree") when simulation contradicts the theory
+    return {"system": str(args.file), "loss": repr(loss), **report, "_text": summary(report),
+            "_status": 1 if report["outcome"] == "disagree" else 0}
+
+
+def _mean_trace_rows(est: Any, points: int = 8) -> list[dict[str, Any]]:
+    """(k, mean, interval, effective sample size) at ``points`` evenly spread steps."""
+    count = min(points, est.horizon)
+    ks = sorted({round(i * (est.horizon - 1) / max(count - 1, 1)) for i in range(count)})
+    return [{"k": k, "mean": float(est.mean[k]), "low": float(est.low[k]), "high": float(est.high[k]),
+             "ess": float(est.ess[k])} for k in ks]
+
+
+def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
+    from .montecarlo import estimate_mean_trace
+    if args.plot:
+        from .plots import require_matplotlib
+        require_matplotlib()
+    system, loss = _needs_loss(args)
+    est = estimate_mean_trace(system, loss, args.horizon, args.paths, seed=args.seed)
+    res: dict[str, Any] = {
+        "system": str(args.file), "loss": repr(loss), "quantity": "E[tr P_{k|k-1}], k = 0..horizon-1",
+        "method": "plain Monte Carlo (estimate_mean_trace)", "horizon": est.horizon, "paths": est.paths,
+        "seed": est.seed, "confidence": est.confidence, "summary": _mean_trace_rows(est),
+        "mean": est.mean.tolist(), "low": est.low.tolist(), "high": est.high.tolist()}
+    if args.plot:
+        from .plots import mean_trace_figure
+        mean_trace_figure(system, loss, est, path=args.plot)
+        res["plot"] = str(args.plot)
+    return res
+
+
+def _print_simulate(res: dict[str, Any]) -> None:
+    print(f"{res['quantity']}: {res['method']}, {res['paths']} paths, seed {res['seed']}")
+    print(f"{'k':>6} {'mean':>12}  {100 * res['confidence']:g}% interval")
+    for r in res["summary"]:
+        print(f"{r['k']:>6} {r['mean']:>12.6g}  [{r['low']:.6g}, {r['high']:.6g}]")
+    if "plot" in res:
+        print(f"figure written to {res['plot']}")
+
+
 def cmd_reproduce(args: argparse.Namespace) -> dict[str, Any]:
-    if args.name not in REPRODUCE:
-        raise UsageError(f"reproduce: unknown example {args.name!r}; known: {', '.join(sorted(REPRODUCE))}")
-    module, func = REPRODUCE[args.name]
+    if args.list:
+        return {"examples": sorted(REPRODUCE)}
+    if args.name is None:
+        raise UsageError("give an example name or --list")
+    fn, kwargs = resolve_reproduce(args.name)
+    return fn(args.outdir, **(kwargs if args.quick else {}))
+
+
+def resolve_reproduce(name: str) -> tuple[Callable[..., dict], dict[str, Any]]:
+    """The ``reproduce_*`` function of example ``name`` and its ``--quick`` keyword arguments."""
+    if name not in REPRODUCE:
+        raise UsageError(f"unknown example {name!r}; known: {', '.join(sorted(REPRODUCE))}")
+    module, func, quick = REPRODUCE[name]
     try:
-        fn: Callable[..., dict] = getattr(importlib.import_module(module), func)
+        return getattr(importlib.import_module(module), func), quick
     except (ImportError, AttributeError):
-        raise UsageError(f"reproduce: {args.name} is not available in this version") from None
-    return fn(args.outdir)
+        raise UsageError(f"{name} is not available in this version") from None
+
+
+def _print_reproduce(res: dict[str, Any]) -> None:
+    if "examples" in res and "example" not in res:
+        print("\n".join(res["examples"]))
+    else:
+        _print_plain(res)
+
+
+def _args_critical(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file")
+    p.add_argument("--vary", default="common", help="common | sensor=NAME | alpha")
+    p.add_argument("--digits", type=_positive_int, default=15)
+
+
+def _args_simulation(p: argparse.ArgumentParser, horizon: int | None, paths: int | None) -> None:
+    p.add_argument("file")
+    p.add_argument("--seed", type=_nonnegative_int, default=0, help="random seed (default 0)")
+    p.add_argument("--horizon", type=_positive_int, default=horizon, required=horizon is None,
+                   help="number of steps K" + (f" (default {horizon})" if horizon else ""))
+    p.add_argument("--paths", type=_positive_int, default=paths, required=paths is None,
+                   help="Monte Carlo paths M" + (f" per run (default {paths})" if paths else ""))
+
+
+def _args_simulate(p: argparse.ArgumentParser) -> None:
+    _args_simulation(p, None, None)
+    p.add_argument("--plot", default=None, metavar="OUT.png", help="write E[tr P_k] against k (needs the plot extra)")
+
+
+def _args_reproduce(p: argparse.ArgumentParser) -> None:
+    p.add_argument("name", nargs="?")
+    p.add_argument("--list", action="store_true", help="list the example names")
+    p.add_argument("--outdir", default=None, help="directory for figures")
+    p.add_argument("--quick", action="store_true", help="small sample sizes (a smoke run, not the paper's)")
+
+
+def _positive_int(text: str) -> int:
+    return _bounded_int(text, 1)
+
+
+def _nonnegative_int(text: str) -> int:
+    return _bounded_int(text, 0)
+
+
+def _bounded_int(text: str, low: int) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    if value < low or value > 10 ** 9:
+        raise argparse.ArgumentTypeError(f"expected an integer in [{low}, 10^9], got {value}")
+    return value
+
+
+register(Command("demo", "eigen-blocks, periods and critical loss rates of the example systems",
+                 lambda p: None, cmd_demo, _print_demo))
+register(Command("analyze", "eigen-blocks, periods and, with a [loss] table, the exact verdict",
+                 lambda p: p.add_argument("file"), cmd_analyze))
+register(Command("critical", "an exact critical value with its isolating interval", _args_critical, cmd_critical))
+register(Command("verify", "theory against simulation: the exact verdict beside a Monte Carlo divergence "
+                 "test; exit status 1 when they disagree",
+                 lambda p: _args_simulation(p, 80, 20_000), cmd_verify))
+register(Command("simulate", "Monte Carlo E[tr P_k] with confidence intervals", _args_simulate,
+                 cmd_simulate, _print_simulate))
+register(Command("reproduce", "reproduce a paper's example: " + ", ".join(sorted(REPRODUCE)), _args_reproduce,
+                 cmd_reproduce, _print_reproduce))
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports usage errors in one line (exit status 2) instead of the usage block."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        print(f"{self.prog}: {message}", file=sys.stderr)
+        raise SystemExit(2)
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="symkf", description="Exact stability of multi-sensor Kalman filtering "
-                                "over lossy networks (Sui-You-Fu; Quevedo et al.; Yang et al.).")
-    sub = p.add_subparsers(dest="command", required=True)
-    d = sub.add_parser("demo", help="eigen-blocks, periods and critical loss rates of the example systems")
-    d.set_defaults(run=cmd_demo, show=_print_demo)
-    a = sub.add_parser("analyze", help="eigen-blocks, periods and, with a [loss] table, the exact verdict")
-    a.add_argument("file")
-    a.set_defaults(run=cmd_analyze)
-    c = sub.add_parser("critical", help="an exact critical value with its isolating interval")
-    c.add_argument("file")
-    c.add_argument("--vary", default="common", help="common | sensor=NAME | alpha")
-    c.add_argument("--digits", type=int, default=15)
-    c.set_defaults(run=cmd_critical)
-    r = sub.add_parser("reproduce", help="reproduce a paper's example: " + ", ".join(sorted(REPRODUCE)))
-    r.add_argument("name")
-    r.add_argument("--outdir", default=None, help="directory for figures")
-    r.set_defaults(run=cmd_reproduce)
-    for s in (d, a, c, r):
+    p = _Parser(prog="symkf", description="Exact stability of multi-sensor Kalman filtering over lossy "
+                "networks (Sui-You-Fu; Quevedo et al.; Yang et al.).",
+                epilog="exit status: 0 success, 1 verify: theory and simulation disagree, "
+                "2 bad input or usage, 3 a theorem's assumptions fail for the system, 70 internal error (a bug)")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    for c in COMMANDS.values():
+        s = sub.add_parser(c.name, help=c.help, description=c.help)
+        c.configure(s)
         s.add_argument("--json", action="store_true", help="machine-readable output")
+        s.set_defaults(command_spec=c)
     return p
 
 
@@ -160,32 +331,46 @@ def _print_plain(res: dict[str, Any]) -> None:
         if isinstance(v, dict) and "exact" in v:
             print(f"{k} = {v['exact']}\n  ~ {v['decimal']}\n  in [{v['interval'][0]}, {v['interval'][1]}]"
                   f"\n  minimal polynomial {v['minpoly']}")
-        else:
+        elif not k.startswith("_"):
             print(f"{k}: {json.dumps(v, default=str) if isinstance(v, (dict, list)) else v}")
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = _parser()
+    """Run ``symkf`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
     try:
-        args = parser.parse_args(argv)
+        args = _parser().parse_args(argv)
     except SystemExit as exc:
-        return int(exc.code or 0)
-    if getattr(args, "digits", 15) is not None and getattr(args, "digits", 15) < 1:
-        print("symkf: --digits must be at least 1", file=sys.stderr)
-        return 2
+        return exc.code if isinstance(exc.code, int) else 2
+    command: Command = args.command_spec
     try:
-        res = args.run(args)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            res = command.run(args)
+        # notes for the user (e.g. a float taken as a rational) in one line each; numerical
+        # RuntimeWarnings of the simulation are handled there (halved horizons) and dropped
+        for w in caught:
+            if not issubclass(w.category, RuntimeWarning):
+                print(f"symkf {command.name}: note: {_one_line(w.message)}", file=sys.stderr)
     except SymkfError as exc:
-        print(f"symkf: {str(exc).splitlines()[0]}", file=sys.stderr)
+        print(f"symkf {command.name}: {_one_line(exc)}", file=sys.stderr)
         return exc.exit_status
     except RecursionError:
-        print("symkf: input too deeply nested", file=sys.stderr)
+        print(f"symkf {command.name}: input too deeply nested", file=sys.stderr)
         return 2
+    except Exception as exc:  # a bug, not bad input: one line and a status of its own
+        print(f"symkf {command.name}: internal error ({type(exc).__name__}: {_one_line(exc)}); "
+              "please report it", file=sys.stderr)
+        return INTERNAL_ERROR
     if args.json:
         print(json.dumps({k: v for k, v in res.items() if not k.startswith("_")}, indent=2, default=str))
     else:
-        getattr(args, "show", _print_plain)(res)
-    return 0
+        (command.show or _print_plain)(res)
+    return res.get("_status", 0)
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split())
+    return text if len(text) <= 400 else text[:397] + "..."
 
 
 if __name__ == "__main__":  # pragma: no cover

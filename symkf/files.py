@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import math
 import tomllib
 from pathlib import Path
 from typing import Any
 
+import sympy as sp
+from sympy.parsing.sympy_parser import parse_expr
+
 from .errors import FileFormatError, SymkfError
+from .exact.numbers import _ALLOWED_NAMES, _CHARS, _TOKEN, to_exact
 from .losses import IID, GilbertElliott, LossModel
 from .model import Sensor, System
 
@@ -19,6 +24,63 @@ def _get(table: dict, key: str, where: str, required: bool = True) -> Any:
     return table[key]
 
 
+#: the keys each table may hold; any other key is refused (a misspelt optional key would
+#: otherwise be silently replaced by its default)
+KEYS = {"": {"system", "sensors", "loss", "rationalize"}, "[system]": {"A", "Q", "P0", "name"},
+        "sensors": {"name", "C", "R"}, "iid": {"kind", "loss"}, "gilbert-elliott": {"kind", "fail", "recover"}}
+
+#: bounds on the size of a number written as a string, checked before sympy evaluates it
+MAX_EXPONENT = 10 ** 4
+MAX_DIGITS = 1000
+
+
+def _check_keys(table: dict, allowed: set[str], where: str) -> None:
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise FileFormatError(f"{where}: unknown key '{unknown[0]}' (allowed: {', '.join(sorted(allowed))})")
+
+
+def _name(value: Any, where: str) -> str | None:
+    if value is not None and (not isinstance(value, str) or not value.strip()):
+        raise FileFormatError(f"{where}: key 'name' must be a non-empty string, got {value!r}")
+    return value
+
+
+def _check_size(value: Any, where: str) -> None:
+    """Refuse number strings whose value is too large to evaluate (``"9^9^9"`` has 370 million digits).
+
+    Parsed without evaluation; every power, innermost first, must have an
+    exponent of modulus at most :data:`MAX_EXPONENT` and a value of at most
+    :data:`MAX_DIGITS` decimal digits.
+    """
+    if isinstance(value, (list, tuple)):
+        for i, v in enumerate(value):
+            _check_size(v, f"{where}[{i}]")
+        return
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 3.33 * MAX_DIGITS:
+        raise FileFormatError(f"{where}: integer with more than {MAX_DIGITS} digits")
+    if not isinstance(value, str) or ("^" not in value and "**" not in value):
+        return
+    if len(value) > 500 or not _CHARS.match(value) or not set(_TOKEN.findall(value)) <= set(_ALLOWED_NAMES):
+        return  # to_exact refuses it, naming the entry
+    try:
+        expr = parse_expr(value.replace("^", "**"), local_dict=dict(_ALLOWED_NAMES), evaluate=False,
+                          global_dict={"Integer": sp.Integer, "Rational": sp.Rational, "Float": sp.Float,
+                                       "Pow": sp.Pow, "Mul": sp.Mul, "Add": sp.Add, "__builtins__": {}})
+    except Exception:  # malformed text: to_exact reports it with the entry's name
+        return
+    for node in sp.postorder_traversal(expr):
+        if node.is_Pow or node is expr:
+            try:
+                e = abs(complex(sp.N(node.exp, 15))) if node.is_Pow else 1.0
+                b = abs(complex(sp.N(node.base if node.is_Pow else node, 15)))
+            except (TypeError, ValueError):
+                continue
+            if not e <= MAX_EXPONENT or (b > 0 and not e * abs(math.log10(b)) <= MAX_DIGITS):
+                raise FileFormatError(f"{where}: {value!r} is too large to evaluate exactly "
+                                      f"(exponents up to {MAX_EXPONENT}, values up to {MAX_DIGITS} digits)")
+
+
 def load(path: str | Path) -> tuple[System, LossModel | None]:
     """Read a system file; returns the system and its loss model (None when absent)."""
     path = Path(path)
@@ -28,6 +90,11 @@ def load(path: str | Path) -> tuple[System, LossModel | None]:
         raise FileFormatError(f"{path}: no such file") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise FileFormatError(f"{path}: not valid TOML ({exc})") from None
+    except ValueError as exc:  # e.g. an integer beyond Python's digit limit for str -> int
+        raise FileFormatError(f"{path}: not a usable TOML file ({exc})") from None
+    except OSError as exc:
+        raise FileFormatError(f"{path}: cannot read ({exc.strerror or type(exc).__name__})") from None
+    _check_keys(data, KEYS[""], f"{path}")
     rationalize = data.get("rationalize", False)
     if not isinstance(rationalize, bool):
         raise FileFormatError(f"{path}: key 'rationalize' must be true or false")
@@ -35,42 +102,70 @@ def load(path: str | Path) -> tuple[System, LossModel | None]:
         sysdata = _get(data, "system", str(path))
         if not isinstance(sysdata, dict):
             raise FileFormatError(f"{path}: [system] must be a table")
+        _check_keys(sysdata, KEYS["[system]"], f"{path}: [system]")
         sensors_data = _get(data, "sensors", str(path))
         if not isinstance(sensors_data, list) or not sensors_data:
             raise FileFormatError(f"{path}: [[sensors]] must list at least one sensor")
         sensors = []
         for i, s in enumerate(sensors_data):
+            where = f"{path}: sensors[{i}]"
             if not isinstance(s, dict):
-                raise FileFormatError(f"{path}: sensors[{i}] must be a table")
-            sensors.append(Sensor(C=_get(s, "C", f"{path}: sensors[{i}]"), R=s.get("R"),
-                                  name=s.get("name"), rationalize=rationalize))
+                raise FileFormatError(f"{where} must be a table")
+            _check_keys(s, KEYS["sensors"], where)
+            for key in ("C", "R"):
+                _check_size(s.get(key), f"{where} {key}")
+            C, name = _get(s, "C", where), _name(s.get("name"), where)
+            try:
+                sensors.append(Sensor(C=C, R=s.get("R"), name=name, rationalize=rationalize))
+            except FileFormatError:
+                raise
+            except SymkfError as exc:
+                raise _located(exc, f"sensors[{i}]") from None
+        for key in ("A", "Q", "P0"):
+            _check_size(sysdata.get(key), f"{path}: [system] {key}")
         system = System(A=_get(sysdata, "A", f"{path}: [system]"), sensors=sensors, Q=sysdata.get("Q"),
-                        P0=sysdata.get("P0"), rationalize=rationalize, name=sysdata.get("name", path.stem))
-        loss = _loss(data.get("loss"), path, system)
+                        P0=sysdata.get("P0"), rationalize=rationalize,
+                        name=_name(sysdata.get("name"), f"{path}: [system]") or path.stem)
+        loss = _loss(data.get("loss"), path, system, rationalize)
     except FileFormatError:
         raise
     except SymkfError as exc:
-        raise _located(exc, path) from None
+        raise _located(exc, str(path)) from None
     return system, loss
 
 
-def _located(exc: SymkfError, path: Path) -> SymkfError:
-    exc.args = (f"{path}: {exc.args[0] if exc.args else exc}",)
+def _located(exc: SymkfError, where: str) -> SymkfError:
+    """``exc`` with its message prefixed by ``where`` (the file, or the table inside it)."""
+    exc.args = (f"{where}: {exc.args[0] if exc.args else exc}",)
     return exc
 
 
-def _loss(table: Any, path: Path, system: System) -> LossModel | None:
+def _loss(table: Any, path: Path, system: System, rationalize: bool) -> LossModel | None:
     if table is None:
         return None
     if not isinstance(table, dict):
         raise FileFormatError(f"{path}: [loss] must be a table")
+    where = f"{path}: [loss]"
     kind = table.get("kind", "iid")
-    if kind == "iid":
-        model: LossModel = IID(_get(table, "loss", f"{path}: [loss]"))
-    elif kind == "gilbert-elliott":
-        model = GilbertElliott(_get(table, "fail", f"{path}: [loss]"), _get(table, "recover", f"{path}: [loss]"))
-    else:
-        raise FileFormatError(f"{path}: [loss] kind {kind!r} is not one of 'iid', 'gilbert-elliott'")
+    if not isinstance(kind, str) or kind not in ("iid", "gilbert-elliott"):
+        raise FileFormatError(f"{where} kind {kind!r} is not one of 'iid', 'gilbert-elliott'")
+    _check_keys(table, KEYS[kind], where)
+    keys = ("loss",) if kind == "iid" else ("fail", "recover")
+    values = [_get(table, key, where) for key in keys]
+    for key, v in zip(keys, values):
+        _check_size(v, f"{where} {key}")
+    if rationalize:
+        values = [[to_exact(x, f"{where} {key}[{i}]", rationalize=True) if isinstance(x, float) else x
+                   for i, x in enumerate(v)] if isinstance(v, list) else v for key, v in zip(keys, values)]
+    try:
+        model: LossModel = IID(*values) if kind == "iid" else GilbertElliott(*values)
+    except SymkfError as exc:
+        raise _located(exc, "[loss]") from None
     if model.d != system.d:
-        raise FileFormatError(f"{path}: [loss] gives {model.d} value(s) for {system.d} sensor(s)")
+        raise FileFormatError(f"{where} gives {model.d} value(s) for {system.d} sensor(s)")
+    for key in keys:
+        free = set().union(*(sp.sympify(p).free_symbols for p in getattr(model, key)))
+        if free:
+            raise FileFormatError(f"{where} key '{key}': symbol(s) {sorted(map(str, free))} have no value; "
+                                  "a file gives numbers")
     return model

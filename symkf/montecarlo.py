@@ -13,7 +13,6 @@ sample sizes and confidence level: simulation is evidence, not proof.
 
 from __future__ import annotations
 
-import itertools
 import math
 import sys
 from dataclasses import dataclass
@@ -24,7 +23,7 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
-from .errors import InputError
+from .errors import InputError, NumericalBreakdownError
 from .exact.numbers import to_exact
 from .filtering import _chain, _positive, _run, exact_covariances, real_form, receival_table, sample_states
 from .losses import IID, LossModel
@@ -36,10 +35,15 @@ CHUNK = 50_000
 MAX_PATTERNS = 2 ** 20
 
 
-def _progress(total: int, work: int, desc: str):
-    """A tqdm bar over ``total`` chunks, shown only for long runs on a terminal."""
+def progress(total: int, desc: str, *, long: bool = True):
+    """A tqdm bar over ``total`` steps, shown only on a terminal (``sys.stderr.isatty()``) and when ``long``."""
     from tqdm import tqdm
-    return tqdm(total=total, desc=desc, disable=work < 5 * 10 ** 7 or not sys.stderr.isatty(), leave=False)
+    return tqdm(total=total, desc=desc, disable=not long or not sys.stderr.isatty(), leave=False)
+
+
+def _progress(total: int, work: int, desc: str):
+    """A bar over ``total`` chunks of ``work`` filter steps, shown only for long runs."""
+    return progress(total, desc, long=work >= 5 * 10 ** 7)
 
 
 # ------------------------------------------------------------ exact enumeration
@@ -262,37 +266,31 @@ def iid_tilt(loss: IID, pattern: Sequence[int], growth: Any, cap: Any = "19/20")
     return IID(tilted)
 
 
-def dominant_pattern(system: System, loss: IID) -> tuple[tuple[int, ...], float]:
-    """The sensor set whose loss most likely leaves the fastest-growing part of ``x`` unobserved.
+def dominant_pattern(system: System, loss: IID) -> tuple[tuple[tuple[int, ...], ...], float]:
+    """The dominant rank-deficient loss pattern from the exact theory, for burst sampling.
 
-    A float heuristic used only to choose an importance-sampling tilt (any
-    tilt keeps the estimator unbiased): for every sensor set ``S`` whose loss
-    makes ``(A, C_rest)`` unobservable, the growth ``alpha_S^2`` of ``A`` on
-    the unobservable subspace; returns ``(S, alpha_S^2)`` maximising
-    ``prod_{i in S} loss_i * alpha_S^2``.  Periodic blocks (Sui-You-Fu's
-    ``tau``) are ignored; the exact dominant pattern comes from the theory.
+    From :func:`symkf.stability.stability`: in the limiting eigen-block (largest margin
+    ``alpha_i^2 rho_i``, Sui-You-Fu eq. 36) with governing period ``g``, the decisive
+    hyperplane lists the elements (sensor, phase) that may be received while ``O_N^i``
+    stays rank deficient.  Returns, per phase ``0..g-1``, the sensors that must be lost
+    (the elements outside the hyperplane), and the growth ``alpha_i^(2g)`` of ``P`` per
+    period while the pattern holds.  Only a tuning choice (any pattern keeps the burst
+    estimator unbiased), hence the float growth.
     """
-    model = real_form(system)
-    n = model.n
-    eps = [float(e) for e in loss.loss]
-    best: tuple[float, tuple[int, ...], float] = (-1.0, tuple(range(system.d)), 1.0)
-    for size in range(1, system.d + 1):
-        for S in itertools.combinations(range(system.d), size):
-            rows = model.H[~np.isin(model.row_sensor, S)]
-            if len(rows):
-                O = np.vstack([rows @ np.linalg.matrix_power(model.A, j) for j in range(n)])
-                _, sv, Vt = np.linalg.svd(O)
-                r = int(np.sum(sv > 1e-9 * max(sv.max(), 1.0)))
-                N = Vt[r:].T
-            else:
-                N = np.eye(n)
-            if N.shape[1] == 0:
-                continue
-            growth = float(np.max(np.abs(np.linalg.eigvals(N.T @ model.A @ N)))) ** 2
-            score = math.prod(eps[i] for i in S) * growth
-            if score > best[0]:
-                best = (score, S, growth)
-    return best[1], best[2]
+    return _pattern_of(_verdict(system, loss), system)
+
+
+def _verdict(system: System, loss: IID):
+    from .stability import stability  # the engine imports nothing from simulation
+    return stability(system, loss)
+
+
+def _pattern_of(verdict, system: System) -> tuple[tuple[tuple[int, ...], ...], float]:
+    cert = verdict.certificate[verdict.limiting_block]
+    received = set(cert.decisive_elements)
+    phases = tuple(tuple(j for j, name in enumerate(system.sensor_names) if (name, phase) not in received)
+                   for phase in range(cert.period))
+    return phases, float(cert.modulus ** (2 * cert.period))
 
 
 # ------------------------------------------------------------------ loss bursts
@@ -442,15 +440,19 @@ def divergence_test(system: System, loss: IID, seed: int | None = None, *,
     the rate is ``(E_2 / E_1)^(1 / (k_2 - k_1))`` and its interval comes from
     the delta method on the two independent estimates.  ``pattern`` and
     ``growth`` are those of the theory's dominant rank-deficient pattern
-    (default: :func:`dominant_pattern`, which ignores periods).
+    (default: :func:`dominant_pattern`, from the exact engine, whose limiting margin
+    ``alpha_i^2 rho_i`` then also fills ``exact_rate`` when it is not given).
     """
-    from .filtering import NumericalBreakdownError
-
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     if horizon < 8:
         raise InputError(f"horizon: at least 8 steps are needed to estimate a rate, got {horizon}")
     if not isinstance(tolerance, float) or tolerance <= 0:
         raise InputError(f"tolerance: expected a positive float, got {tolerance!r}")
+    if pattern is None:
+        verdict = _verdict(system, loss)
+        pattern, found = _pattern_of(verdict, system)
+        growth = found if growth is None else growth
+        exact_rate = verdict.margins[verdict.limiting_block] if exact_rate is None else exact_rate
     z = _z(confidence)
     second = None if seed is None else seed + 1
     while True:

@@ -1,0 +1,226 @@
+"""Figures (the optional ``plot`` extra): exact boundaries with simulation overlaid.
+
+* :func:`stability_region_figure`: the region of mean-square stability of two
+  sensors in the ``(loss_1, loss_2)`` plane under i.i.d. losses, its boundary
+  from the exact :func:`~symkf.stability.critical_loss_rate` (Sui-You-Fu
+  Theorems 4/7, eq. 36), Monte Carlo verdicts overlaid;
+* :func:`mean_trace_figure`: ``E[tr P_k]`` against ``k`` (Monte Carlo with its
+  confidence band), the exact growth rate, and Yang et al.'s lower bound
+  ``G_k`` (Proposition 1, eq. 13) and upper bound ``V_k`` (Theorem 3, eq. 18);
+* :func:`critical_angle_figure`: the critical loss rate of ``A = r R(theta)``
+  against the rotation angle ``theta``.
+
+Each returns a :class:`matplotlib.figure.Figure` (no pyplot state, no backend
+change) and writes a PNG when ``path`` is given.  matplotlib is imported
+lazily; without it :class:`PlotExtraError` (exit status 2 on the command line).
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from math import gcd
+from typing import Any, Sequence
+
+import numpy as np
+import sympy as sp
+
+from .errors import InputError, SymkfError
+from .losses import IID, LossModel
+from .model import Sensor, System
+from .montecarlo import TraceEstimate, progress
+
+VERDICT_STYLE = {"stable": ("o", "tab:green"), "unstable": ("x", "tab:red"), "undecided": ("s", "tab:gray")}
+
+
+class PlotExtraError(SymkfError):
+    """matplotlib (the ``plot`` extra) is not installed."""
+
+
+def require_matplotlib() -> None:
+    """Raise :class:`PlotExtraError` unless matplotlib can be imported."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise PlotExtraError("plotting needs matplotlib: pip install 'symkf[plot]'") from None
+
+
+def _figure(width: float = 6.4, height: float = 4.8) -> Any:
+    require_matplotlib()
+    from matplotlib.figure import Figure
+    return Figure(figsize=(width, height), layout="constrained")
+
+
+def _finish(fig: Any, path: Any) -> Any:
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig
+
+
+def _grid(count: int, entry: str) -> list[Fraction]:
+    if not isinstance(count, int) or count < 2:
+        raise InputError(f"{entry}: expected an integer >= 2, got {count!r}")
+    return [Fraction(i, count + 1) for i in range(1, count + 1)]
+
+
+def stability_region_figure(system: System, *, boundary_points: int = 40, mc_points: int = 4,
+                            paths: int = 5000, horizon: int = 60, seed: int = 0, path: Any = None) -> Any:
+    """The stable set ``{(loss_1, loss_2)}`` of a two-sensor system under i.i.d. losses.
+
+    Boundary: for ``loss_2`` on a grid of ``boundary_points`` rationals in (0, 1),
+    the exact critical ``loss_1`` (stable iff ``loss_1`` is below it).  Overlay:
+    on an ``mc_points`` x ``mc_points`` grid, the verdict of
+    :func:`symkf.verify.simulated_verdict` (burst importance sampling steered
+    by the exact decisive pattern) with ``paths``, ``horizon``, ``seed``.
+    """
+    from .stability import critical_loss_rate, stability
+    from .verify import simulated_verdict
+
+    if system.d != 2:
+        raise InputError(f"system: the region figure needs exactly 2 sensors, the system has {system.d}")
+    first = system.sensor_names[0]
+    levels = _grid(boundary_points, "boundary_points")
+    mc = _grid(mc_points, "mc_points")
+    with progress(len(levels) + len(mc) ** 2, "region") as bar:
+        crit = []
+        for l2 in levels:
+            crit.append(float(critical_loss_rate(system, first, others=[0, sp.Rational(l2)])))
+            bar.update()
+        verdicts = []
+        for l1 in mc:
+            for l2 in mc:
+                loss = IID([sp.Rational(l1), sp.Rational(l2)])
+                v = stability(system, loss)
+                sim = simulated_verdict(system, loss, v, seed=seed, paths=paths, horizon=horizon)
+                verdicts.append((float(l1), float(l2), v.stable, sim["verdict"]))
+                bar.update()
+    fig = _figure()
+    ax = fig.add_subplot()
+    y = [0.0] + [float(l) for l in levels] + [1.0]
+    x = [crit[0]] + crit + [crit[-1]]
+    ax.fill_betweenx(y, 0, x, color="tab:green", alpha=0.15, label="stable (exact)")
+    ax.plot(crit, [float(l) for l in levels], "-", color="tab:green", lw=1.5, label="exact critical loss$_1$")
+    for kind, (marker, color) in VERDICT_STYLE.items():
+        pts = [(a, b) for a, b, _, s in verdicts if s == kind]
+        if pts:
+            ax.scatter(*zip(*pts), marker=marker, color=color, s=50, label=f"Monte Carlo: {kind}")
+    wrong = [(a, b) for a, b, st, s in verdicts if s != "undecided" and (s == "stable") != st]
+    if wrong:
+        ax.scatter(*zip(*wrong), marker="o", facecolors="none", edgecolors="black", s=160,
+                   label="simulation contradicts theory")
+    ax.set(xlim=(0, 1), ylim=(0, 1), xlabel=f"loss probability of {first}",
+           ylabel=f"loss probability of {system.sensor_names[1]}",
+           title=f"Mean-square stability region ({paths} paths, horizon {horizon}, seed {seed})")
+    ax.legend(loc="upper right", fontsize="small")
+    return _finish(fig, path)
+
+
+def yang_bounds(system: System, loss: IID, horizon: int) -> tuple[np.ndarray, np.ndarray]:
+    """``tr G_{k+1}`` and ``tr V_{k+1}``, k = 0..horizon-1: bounds of ``E[tr P_{k|k-1}]`` (Yang et al.).
+
+    Yang et al. index the first prediction ``P_1^-``, which is ``P_{0|-1} = P0`` here.
+    """
+    from .capacity import MARE, lower_bound_sequence
+    G = lower_bound_sequence(system, loss, horizon)
+    V = MARE(system, loss).sequence(horizon)
+    return np.array([np.trace(g) for g in G]), np.array([np.trace(v) for v in V])
+
+
+def mean_trace_figure(system: System, loss: LossModel, estimate: TraceEstimate, *, path: Any = None) -> Any:
+    """``E[tr P_{k|k-1}]`` against ``k``: estimate and band, exact growth rate, Yang's ``G_k`` and ``V_k``.
+
+    The growth-rate line ``c r^k`` has the exact ``r`` (``max alpha_i^2 rho_i``
+    when unstable, 1 when stable); ``c`` is the median of ``mean_k / r^k`` over
+    the second half of the horizon.
+    The bounds need i.i.d. losses; parts whose theory does not apply are left
+    out and the reason is put in the title.
+    """
+    from .stability import stability
+    from .verify import growth_rate
+
+    fig = _figure()
+    ax = fig.add_subplot()
+    k = np.arange(estimate.horizon)
+    ax.plot(k, estimate.mean, color="tab:blue", label=f"Monte Carlo ({estimate.paths} paths, seed {estimate.seed})")
+    curves = [estimate.mean]
+    notes = []
+    try:
+        v = stability(system, loss)
+        r = growth_rate(v)
+        half = k >= k[-1] // 2
+        powers = float(r) ** (k - k[-1]).astype(float)
+        line = float(np.median(estimate.mean[half] / powers[half])) * powers
+        ax.plot(k[half], line[half], "--", color="black",
+                label=f"exact growth rate {sp.sstr(r.exact)} ({'stable' if v.stable else 'unstable'})")
+    except SymkfError as exc:
+        notes.append(f"no exact rate: {exc}".splitlines()[0][:60])
+    if isinstance(loss, IID):
+        try:
+            G, V = yang_bounds(system, loss, estimate.horizon)
+            ax.plot(k[1:], G[1:], ":", color="tab:purple", label="Yang lower bound tr $G_k$")
+            ax.plot(k, V, "-.", color="tab:orange", label="Yang upper bound tr $V_k$")
+            curves += [G[1:], V]
+        except SymkfError as exc:
+            notes.append(f"no Yang bounds: {exc}".splitlines()[0][:60])
+    else:
+        notes.append("Yang bounds need i.i.d. losses")
+    # an interval reaching 0 or below (heavy tails) is drawn down to the bottom of the axes
+    bottom = 0.5 * min(float(np.min(c[c > 0])) for c in curves if np.any(c > 0))
+    ax.fill_between(k, np.maximum(estimate.low, bottom), estimate.high, color="tab:blue", alpha=0.2,
+                    label=f"{100 * estimate.confidence:g}% interval")
+    ax.set(yscale="log", ylim=(bottom, None), xlabel="k", ylabel=r"E[tr $P_{k|k-1}$]",
+           title="\n".join([f"{system.name or 'system'}: {estimate.sampling}"] + notes))
+    ax.legend(fontsize="small")
+    return _finish(fig, path)
+
+
+def rotation_system(scale: Any, angle: Any, C: Sequence[Sequence[Any]] = ((1, 0),)) -> System:
+    """``A = scale [[cos t, -sin t], [sin t, cos t]]`` with ``t = angle`` (exact), sensor ``C``."""
+    r, t = sp.sympify(scale), sp.sympify(angle)
+    return System(A=[[r * sp.cos(t), -r * sp.sin(t)], [r * sp.sin(t), r * sp.cos(t)]],
+                  sensors=[Sensor(C=[list(row) for row in C])])
+
+
+def rational_angles(max_denominator: int) -> list[Fraction]:
+    """Fractions ``p/q`` in (0, 1) in lowest terms with ``q <= max_denominator``, increasing."""
+    return sorted(Fraction(p, q) for q in range(2, max_denominator + 1) for p in range(1, q) if gcd(p, q) == 1)
+
+
+def critical_angle_figure(scale: Any = 2, *, max_denominator: int = 6, C: Sequence[Sequence[Any]] = ((1, 0),),
+                          path: Any = None) -> Any:
+    """The exact critical common loss rate of ``A = scale R(pi p/q)`` against the angle ``pi p/q``.
+
+    At a rational angle the block is periodic and rows ``C A^k`` repeat
+    direction with the governing period; an aperiodic rotation (``cos t =
+    3/5``, proved aperiodic) is shown for comparison: its critical rate is
+    ``1/scale^2``.
+    """
+    from .stability import critical_loss_rate
+
+    angles = rational_angles(max_denominator)
+    if not angles:
+        raise InputError(f"max_denominator: expected an integer >= 2, got {max_denominator!r}")
+    with progress(len(angles) + 1, "angles") as bar:
+        values = []
+        for f in angles:
+            values.append(float(critical_loss_rate(rotation_system(scale, sp.pi * sp.Rational(f.numerator,
+                                                                                             f.denominator), C))))
+            bar.update()
+        aperiodic = sp.acos(sp.Rational(3, 5))
+        generic = float(critical_loss_rate(rotation_system(scale, aperiodic, C)))
+        bar.update()
+    fig = _figure()
+    ax = fig.add_subplot()
+    x = [float(f) * np.pi for f in angles]
+    ax.vlines(x, 0, values, color="tab:blue", lw=0.8)
+    ax.plot(x, values, "o", color="tab:blue", label=r"$\theta = \pi p/q$ (periodic)")
+    for xi, f, yv in zip(x, angles, values):
+        ax.annotate(f"{f.numerator}/{f.denominator}", (xi, yv), textcoords="offset points", xytext=(0, 5),
+                    ha="center", fontsize="x-small")
+    ax.plot([float(aperiodic)], [generic], "D", color="tab:red", label=r"$\cos\theta = 3/5$ (aperiodic)")
+    ax.axhline(1 / float(sp.sympify(scale)) ** 2, color="tab:red", ls=":", lw=1,
+               label=f"1/scale$^2$ = {sp.sstr(1 / sp.sympify(scale) ** 2)}")
+    ax.set(xlim=(0, np.pi), ylim=(0, 1.1 * max(values + [generic])), xlabel=r"rotation angle $\theta$",
+           ylabel="critical common i.i.d. loss rate",
+           title=f"A = {sp.sstr(sp.sympify(scale))} R($\\theta$), C = {[list(r) for r in C]}: exact critical loss")
+    ax.legend(fontsize="small", loc="lower right")
+    return _finish(fig, path)

@@ -1,0 +1,204 @@
+"""The ``symkf`` command: critical, verify, simulate, reproduce, exit statuses, progress."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from symkf import cli, files
+from symkf.montecarlo import exact_mean_trace, progress
+
+ROOT = Path(__file__).resolve().parent.parent
+SYSTEMS = ROOT / "examples" / "systems"
+DESIGN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], loss 1/20: eps_c = 1/16
+GE = SYSTEMS / "ge-two-sensors.toml"
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    status = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def with_loss(tmp_path: Path, loss: str) -> Path:
+    """design-rotation.toml with its i.i.d. loss replaced."""
+    path = tmp_path / "rotation.toml"
+    path.write_text(DESIGN.read_text().replace('loss = ["1/20"]', f'loss = ["{loss}"]'))
+    return path
+
+
+def test_critical_json_exact(capsys):
+    status, out, err = run(capsys, "critical", DESIGN, "--json", "--digits", "8")
+    assert status == 0 and err == ""
+    c = json.loads(out)["critical_loss_rate"]
+    assert c["exact"] == "1/16" and c["decimal"].startswith("0.0625")
+
+
+@pytest.mark.parametrize("vary, message", [("recovery", "not implemented"), ("sensor", "sensor=NAME"),
+                                           ("bogus", "expected common")])
+def test_critical_bad_vary(capsys, vary, message):
+    status, out, err = run(capsys, "critical", DESIGN, "--vary", vary)
+    assert status == 2 and out == "" and message in err and err.count("\n") == 1
+
+
+def test_verify_stable_agrees(capsys):
+    status, out, err = run(capsys, "verify", DESIGN, "--json", "--paths", "5000", "--seed", "3")
+    assert status == 0
+    rep = json.loads(out)
+    assert rep["theory"]["stable"] is True
+    assert rep["theory"]["margins"][0]["exact"] == "2*sqrt(5)/5"       # 4 sqrt(1/20): hand-derived
+    assert rep["theory"]["critical_common_loss_rate"]["exact"] == "1/16"
+    sim = rep["simulation"]
+    assert sim["verdict"] == "stable" and rep["outcome"] == "agree"
+    assert sim["seeds"] == [3, 4] and sim["paths"] == 5000 and sim["horizons"] == [40, 80]
+    assert sim["pattern"] == [[], [0]]                 # lose s1 at one phase of the period 2
+
+
+def test_verify_unstable_rate(capsys, tmp_path):
+    # loss 5/64 > 1/16: E[tr P_k] grows like (4 sqrt(5/64))^k = (sqrt(5)/2)^k
+    status, out, _ = run(capsys, "verify", with_loss(tmp_path, "5/64"), "--json")
+    rep = json.loads(out)
+    assert status == 0 and rep["outcome"] == "agree"
+    assert rep["theory"]["growth_rate"]["exact"] == "sqrt(5)/2"
+    low, high = rep["simulation"]["rate_interval"]
+    assert low <= 5 ** 0.5 / 2 <= high and rep["rate_consistent"] is True
+
+
+def test_verify_plain_text(capsys):
+    status, out, _ = run(capsys, "verify", DESIGN, "--paths", "2000")
+    assert status == 0 and "theory:     stable" in out and "AGREE" in out and "seeds [0, 1]" in out
+
+
+def test_verify_markov_undecided(capsys):
+    # Gilbert-Elliott: only plain Monte Carlo, which never certifies boundedness; here it does
+    # not see the growth sqrt(6)/2 of the theory either, and says so
+    status, out, _ = run(capsys, "verify", GE, "--json", "--paths", "2000")
+    rep = json.loads(out)
+    assert status == 0 and rep["theory"]["stable"] is False and rep["theory"]["growth_rate"]["exact"] == "sqrt(6)/2"
+    assert rep["simulation"]["verdict"] == "undecided" and rep["outcome"] == "undecided"
+
+
+def test_verify_disagreement_has_its_own_status(capsys, monkeypatch):
+    import symkf.verify as verify
+
+    def contrary(system, loss, v, **kw):
+        return {"method": "stub", "verdict": "unstable" if v.stable else "stable", "rate": 1.5,
+                "rate_interval": [1.4, 1.6], "confidence": 0.99, "tolerance": 0.01, "paths": 1,
+                "horizons": [1, 2], "seeds": [0, 1]}
+    monkeypatch.setattr(verify, "simulated_verdict", contrary)
+    status, out, _ = run(capsys, "verify", DESIGN, "--json")
+    assert status == 1 and json.loads(out)["outcome"] == "disagree"
+    status, out, _ = run(capsys, "verify", DESIGN)
+    assert status == 1 and "DISAGREE" in out
+
+
+def test_verify_needs_loss(capsys):
+    status, out, err = run(capsys, "verify", SYSTEMS / "aperiodic-rotation.toml")
+    assert status == 2 and out == "" and "aperiodic-rotation.toml" in err and "'loss'" in err
+
+
+def test_simulate_matches_exact_enumeration(capsys):
+    # E[tr P_{k|k-1}] for k < 7 by enumerating all 2^6 receival sequences
+    status, out, _ = run(capsys, "simulate", DESIGN, "--horizon", "7", "--paths", "20000", "--json")
+    res = json.loads(out)
+    assert status == 0 and res["paths"] == 20000 and res["seed"] == 0 and len(res["mean"]) == 7
+    system, loss = files.load(DESIGN)
+    exact = exact_mean_trace(system, loss, 7)
+    mean, high = np.array(res["mean"]), np.array(res["high"])
+    stderr = (high - mean) / 1.959963984540054
+    assert np.all(np.abs(mean - exact) <= 5 * stderr + 1e-9)
+    assert [r["k"] for r in res["summary"]] == list(range(7))
+
+
+def test_simulate_plot(capsys, tmp_path):
+    png = tmp_path / "trace.png"
+    status, out, _ = run(capsys, "simulate", DESIGN, "--horizon", "20", "--paths", "500", "--plot", png)
+    assert status == 0 and "figure written" in out
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+
+
+def test_simulate_plot_without_matplotlib(capsys, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)       # import matplotlib -> ImportError
+    status, out, err = run(capsys, "simulate", DESIGN, "--horizon", "5", "--paths", "10",
+                           "--plot", tmp_path / "x.png")
+    assert status == 2 and out == "" and "symkf[plot]" in err and err.count("\n") == 1
+    assert not (tmp_path / "x.png").exists()
+
+
+@pytest.mark.parametrize("argv", [["simulate", DESIGN, "--paths", "5"], ["simulate", DESIGN, "--horizon", "0",
+                                  "--paths", "5"], ["verify", DESIGN, "--seed", "-1"], ["nope"], [],
+                                  ["critical", DESIGN, "--digits", "x"], ["reproduce"]])
+def test_usage_errors_one_line(capsys, argv):
+    status, out, err = run(capsys, *argv)
+    assert status == 2 and out == "" and err.count("\n") == 1 and "Traceback" not in err
+
+
+@pytest.mark.parametrize("command", list(cli.COMMANDS))
+def test_help(capsys, command):
+    status, out, _ = run(capsys, command, "--help")
+    assert status == 0 and "--json" in out
+
+
+def test_reproduce_list(capsys):
+    status, out, _ = run(capsys, "reproduce", "--list")
+    names = out.split()
+    assert status == 0 and set(names) == set(cli.REPRODUCE)
+    assert {"quevedo-example3", "quevedo-robot", "quevedo-semi-markov", "yang-example1",
+            "fusion-pendulum"} <= set(names)
+
+
+@pytest.mark.parametrize("name", sorted(cli.REPRODUCE))
+def test_reproduce_names_resolve(name):
+    import inspect
+    fn, quick = cli.resolve_reproduce(name)
+    assert fn.__name__ == "reproduce_" + name.replace("-", "_")
+    params = inspect.signature(fn).parameters
+    assert "outdir" in params and set(quick) <= set(params)
+
+
+def test_reproduce_runs_json(capsys):
+    status, out, _ = run(capsys, "reproduce", "quevedo-example3", "--json")
+    res = json.loads(out)
+    assert status == 0 and res["example"] == "quevedo-example3" and all(res["checks"].values())
+    assert len(res["results"]["configurations"]) == 9
+
+
+def test_reproduce_unknown(capsys):
+    status, _, err = run(capsys, "reproduce", "nope")
+    assert status == 2 and "unknown example 'nope'" in err
+
+
+def test_rationalize_note_one_line_each(capsys, tmp_path):
+    path = tmp_path / "r.toml"
+    path.write_text('rationalize = true\n[system]\nA = [[0, -2.0], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n'
+                    '[loss]\nloss = [0.05]\n')
+    status, out, err = run(capsys, "critical", path, "--vary", "sensor=s1", "--json")
+    assert status == 0 and json.loads(out)["critical_loss_rate"]["exact"] == "1/16"
+    assert [line.split(": note: ")[1] for line in err.splitlines()] == [
+        "A[0][1]: float -2.0 taken as the rational -2", f"{path}: [loss] loss[0]: float 0.05 taken as the rational 1/20"]
+
+
+def test_progress_only_on_a_terminal(monkeypatch):
+    assert progress(3, "x").disable                       # pytest's stderr is not a terminal
+
+    class Terminal:
+        def isatty(self):
+            return True
+
+        def write(self, s):
+            return len(s)
+
+        def flush(self):
+            pass
+    monkeypatch.setattr(sys, "stderr", Terminal())
+    assert not progress(3, "x").disable
+    assert progress(3, "x", long=False).disable
+
+
+def test_verify_is_quiet_off_terminal(capsys):
+    status, _, err = run(capsys, "verify", DESIGN, "--paths", "1000")
+    assert status == 0 and err == ""
