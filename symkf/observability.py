@@ -26,6 +26,7 @@ from functools import cached_property
 from typing import Sequence
 
 import flint
+import numpy as np
 import sympy as sp
 
 from .exact.field import Elem, NumberField
@@ -63,20 +64,17 @@ class BlockRows:
         if n == 1:
             inside = frozenset(e for e, gs in enumerate(self.generators) if not gs)
             return (inside,)
-        seen: dict[str, frozenset[int]] = {}
         vectors = _distinct([g for _, g in gens])
-        for combo in itertools.combinations(vectors, n - 1):
-            normal = nullspace_rows(self.K, combo, n)
-            if len(normal) != 1:
-                continue
-            h = _normalize(self.K, normal[0])
-            key = str([c.coeffs() for c in h])
-            if key in seen:
-                continue
-            seen[key] = frozenset(e for e, gs in enumerate(self.generators)
-                                  if all(self.K.dot(g, h).is_zero() for g in gs))
-        sets = set(seen.values())
-        return tuple(sorted((s for s in sets if not any(s < t for t in sets)), key=sorted))
+        index = {_key(v): i for i, v in enumerate(vectors)}
+        members = [[index[_key(g)] for g in gs] for gs in self.generators]
+        spanning, partial = set(), set()
+        for S in _generator_hyperplanes(self.K, vectors, n):
+            s = frozenset(e for e, idx in enumerate(members) if all(i in S for i in idx))
+            # s spans its hyperplane when it keeps all of S (S holds n - 1 independent vectors),
+            # and then no other hyperplane's element set contains it
+            (spanning if {i for e in s for i in members[e]} == S else partial).add(s)
+        sets = spanning | {s for s in partial if not any(s < t for t in spanning | partial)}
+        return tuple(sorted(sets, key=sorted))
 
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
@@ -84,20 +82,76 @@ class BlockRows:
         return rank_rows(self.K, rows, self.size) < self.size
 
 
+def _key(v: Sequence[Elem]) -> str:
+    return str([c.coeffs() for c in v])
+
+
 def _distinct(vectors: Sequence[tuple[Elem, ...]]) -> list[tuple[Elem, ...]]:
     out, keys = [], set()
     for v in vectors:
-        k = str([c.coeffs() for c in v])
+        k = _key(v)
         if k not in keys:
             keys.add(k)
             out.append(v)
     return out
 
 
-def _normalize(K: NumberField, h: Sequence[Elem]) -> list[Elem]:
-    lead = next(c for c in h if not c.is_zero())
-    inv = K.inv(lead)
-    return [K.mul(c, inv) for c in h]
+def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]]) -> tuple[int, list[list[int]]]:
+    """A prime ``p`` and the images of ``vectors`` under a ring map ``phi: Z_(p)[theta] -> F_p``.
+
+    ``phi`` sends ``theta`` to a root of its minimal polynomial mod ``p``; ``p`` divides no
+    denominator, so every linear relation over K maps to one over F_p."""
+    p = 1 << 27
+    while True:
+        p = int(sp.nextprime(p))
+        coeffs = [c for v in vectors for a in v for c in a.coeffs()] + list(K.modulus.coeffs())
+        if any(int(c.q) % p == 0 for c in coeffs) or int(K.modulus.coeffs()[-1].p) % p == 0:
+            continue
+        mod = [int(c.p) * pow(int(c.q), -1, p) % p for c in K.modulus.coeffs()]
+        roots = flint.nmod_poly(mod, p).roots()
+        if not roots:
+            continue
+        r = int(roots[0][0])
+
+        def phi(a: Elem) -> int:
+            return sum(int(c.p) * pow(int(c.q), -1, p) * pow(r, i, p) for i, c in enumerate(a.coeffs())) % p
+        return p, [[phi(a) for a in v] for v in vectors]
+
+
+def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n: int) -> list[frozenset[int]]:
+    """Every hyperplane spanned by ``vectors`` (distinct, in K^n), as the set of vectors it holds.
+
+    Screened mod p, decided exactly: if ``n - 1`` vectors are independent mod p they are
+    independent over K, and their exact span ``H`` holds ``v`` only if ``phi(v)`` lies in the
+    span of their images (Cramer's identity ``m_0 v = sum m_k v_k`` with the minor ``m_0``
+    nonzero mod p maps to F_p).  So the mod-p members are a superset of the exact ones, and each
+    extra member is confirmed by an exact rank.  Combinations dependent mod p are decided exactly.
+    """
+    p, images = _reduction(K, vectors)
+    W = np.array(images, dtype=np.int64)
+    found: list[frozenset[int]] = []
+    covered: set[tuple[int, ...]] = set()  # (n-1)-subsets of known hyperplanes: they span them or nothing
+    for combo in itertools.combinations(range(len(vectors)), n - 1):
+        if combo in covered:
+            continue
+        rows = [vectors[i] for i in combo]
+        null, nullity = flint.nmod_mat([images[i] for i in combo], p).nullspace()
+        if nullity == 1:
+            h = np.array([int(null[i, 0]) for i in range(n)], dtype=np.int64)
+            candidates = [int(i) for i in np.flatnonzero((W * h % p).sum(axis=1) % p == 0)]
+            if len(candidates) == n - 1 or rank_rows(K, [vectors[i] for i in candidates], n) == n - 1:
+                S = frozenset(candidates)
+            else:  # a false zero mod p: confirm the extra members one by one
+                S = frozenset(i for i in candidates if i in combo or rank_rows(K, rows + [vectors[i]], n) == n - 1)
+        elif rank_rows(K, rows, n) == n - 1:  # unlucky prime: decide exactly
+            (normal,) = nullspace_rows(K, rows, n)
+            S = frozenset(i for i, v in enumerate(vectors) if K.dot(v, normal).is_zero())
+        else:
+            continue
+        found.append(S)
+        if len(S) > n - 1:
+            covered.update(itertools.combinations(sorted(S), n - 1))
+    return found
 
 
 def block_rows(system: System) -> tuple[BlockRows, ...]:
