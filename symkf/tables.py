@@ -29,7 +29,7 @@ import sympy as sp
 
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber
-from .families import Family, Inapplicable, Outcome, load_family
+from .families import Family, Inapplicable, Member, Outcome, load_family
 from .stability import Verdict
 from .sweep import sweep
 
@@ -159,19 +159,19 @@ class Table:
 
 # -- families -------------------------------------------------------------------------------
 
-def _value_cell(outcome: Outcome, digits: int) -> Cell:
+def _value_cell(outcome: Outcome, member: Member, digits: int) -> Cell:
+    """A family cell; its JSON data also records the grid point and the periods the engine used."""
     value = outcome.value
+    where = {"point": {k: str(v) for k, v in member.point}, "periods": list(outcome.periods)}
     if isinstance(value, Inapplicable):
-        return Cell("---", "---", r"\text{---}", {"inapplicable": value.reason})
+        return Cell("---", "---", r"\text{---}", {**where, "inapplicable": value.reason})
     if isinstance(value, Verdict):
         margin = Cell.number(value.margins[value.limiting_block], digits)
         word = "stable" if value.stable else "unstable"
-        data = {"stable": value.stable, "margin": margin.data, "theorem": value.theorem,
-                "periods": list(outcome.periods)}
-        return Cell(f"{word}, {margin.plain}", _stack(word, margin.latex),
-                    rf"\text{{{word}}},\ {margin.math}", data)
+        return Cell(f"{word}, {margin.plain}", _stack(word, margin.latex), rf"\text{{{word}}},\ {margin.math}",
+                    {**where, "stable": value.stable, "margin": margin.data, "theorem": value.theorem})
     cell = Cell.number(value, digits)
-    return Cell(cell.plain, cell.latex, cell.math, {**cell.data, "periods": list(outcome.periods)})
+    return Cell(cell.plain, cell.latex, cell.math, {**where, **cell.data})
 
 
 def _axis_cell(value: sp.Expr, text: str) -> Cell:
@@ -198,7 +198,7 @@ def family_table_of(family: Family, outcomes: Sequence[Outcome]) -> Table:
     rows_axis = family.axes[0]
     cols_axis = family.axes[1] if len(family.axes) > 1 else None
     ncols = len(cols_axis.values) if cols_axis else 1
-    cells = [_value_cell(o, family.digits) for o in outcomes]
+    cells = [_value_cell(o, m, family.digits) for o, m in zip(outcomes, family.members)]
     rows = tuple((_axis_cell(v, t), tuple(cells[i * ncols:(i + 1) * ncols]))
                  for i, (v, t) in enumerate(zip(rows_axis.values, rows_axis.texts)))
     what_latex, what_text = {

@@ -85,6 +85,7 @@ def test_unobservable_member_is_marked_not_fatal(rotations):
     assert row["label"] == "1"
     assert all("observability of (A, C) fails" in c["inapplicable"] for c in row["cells"])
     assert "period = 1, sensors = 2" in row["cells"][1]["inapplicable"]
+    assert row["cells"][1]["point"] == {"period": "1", "sensors": "2"}
     assert rotations.rows[0][1][0].plain == "---"
     assert "---: the theorem's assumptions fail (" in rotations.to_latex()
 
@@ -249,6 +250,8 @@ def test_bad_family_files_name_file_key_and_problem(tmp_path, text, message):
     (GOOD_TEMPLATE.replace('C = [["1", "1"]]', 'C = [["1", "1", "1"]]'), "at a = 2: sensor 0 C: has 3 columns"),
     (GOOD_TEMPLATE.replace("[[sensors]]", "[loss]\nloss = [\"1/2\", \"1/2\"]\n[[sensors]]"),
      "at a = 2: [loss] gives 2 value(s) for 1 sensor(s)"),
+    # members are read as system files, so their guards apply: no 370-million-digit numbers
+    (GOOD_TEMPLATE.replace('"a/2"', '"a^9^9^9"'), "at a = 2: [system] A[1][1]: '(2)^9^9^9' is too large"),
 ])
 def test_bad_members_name_file_grid_point_and_entry(tmp_path, text, message):
     path = _write(tmp_path, text)
