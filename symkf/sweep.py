@@ -49,20 +49,17 @@ class _Pickler(pickle.Pickler):
         if isinstance(obj, flint.fmpz_poly):
             return flint.fmpz_poly, ([int(c) for c in obj.coeffs()],)
         if isinstance(obj, System):
-            return _rebuilt, (type(obj), {k: v for k, v in obj.__dict__.items() if k != "_cache"}, {"_cache": {}})
+            return _rebuilt, (type(obj), {**obj.__dict__, "_cache": {}})
         if isinstance(obj, SymkfError):
-            return _rebuilt, (type(obj), dict(obj.__dict__), {"args": obj.args})
+            return _rebuilt, (type(obj), dict(obj.__dict__), obj.args)
         return NotImplemented
 
 
-def _rebuilt(cls: type, state: dict, extra: dict) -> Any:
+def _rebuilt(cls: type, state: dict, args: tuple | None = None) -> Any:
     obj = cls.__new__(cls)
     obj.__dict__.update(state)
-    for key, value in extra.items():
-        if key == "args":
-            obj.args = value
-        else:
-            obj.__dict__[key] = value
+    if args is not None:
+        obj.args = args
     return obj
 
 
