@@ -2,8 +2,8 @@
 
 * :func:`stability_region_figure`: the region of mean-square stability of two
   sensors in the ``(loss_1, loss_2)`` plane under i.i.d. losses, its boundary
-  from the exact :func:`~symkf.stability.critical_loss_rate` (Sui-You-Fu
-  Theorems 4/7, eq. 36), Monte Carlo verdicts overlaid;
+  the exact piecewise curve of :func:`symkf.region.stability_region`
+  (Sui-You-Fu Theorems 4/7, eq. 36), Monte Carlo verdicts overlaid;
 * :func:`mean_trace_figure`: ``E[tr P_k]`` against ``k`` (Monte Carlo with its
   confidence band), the exact growth rate, and Yang et al.'s lower bound
   ``G_k`` (Proposition 1, eq. 13) and upper bound ``V_k`` (Theorem 3, eq. 18);
@@ -62,30 +62,48 @@ def _grid(count: int, entry: str) -> list[Fraction]:
     return [Fraction(i, count + 1) for i in range(1, count + 1)]
 
 
-def stability_region_figure(system: System, *, boundary_points: int = 40, mc_points: int = 4,
-                            paths: int = 5000, horizon: int = 60, seed: int = 0, path: Any = None) -> Any:
-    """The stable set ``{(loss_1, loss_2)}`` of a two-sensor system under i.i.d. losses.
+def region_boundary(system: System, samples: int = 60) -> tuple[np.ndarray, np.ndarray]:
+    """Points ``(eps_1, f(eps_1))`` of the exact critical curve of two sensors, for drawing.
 
-    Boundary: for ``loss_2`` on a grid of ``boundary_points`` rationals in (0, 1),
-    the exact critical ``loss_1`` (stable iff ``loss_1`` is below it).  Overlay:
-    on an ``mc_points`` x ``mc_points`` grid, the verdict of
-    :func:`symkf.verify.simulated_verdict` (burst importance sampling steered
-    by the exact decisive pattern) with ``paths``, ``horizon``, ``seed``.
+    The pieces of :meth:`symkf.region.StabilityRegion.boundary` (exact laws
+    between exact breakpoints) are each sampled at ``samples`` points
+    including both ends, so jumps between pieces appear as vertical edges.
     """
-    from .stability import critical_loss_rate, stability
-    from .verify import simulated_verdict
+    from .region import stability_region
 
     if system.d != 2:
         raise InputError(f"system: the region figure needs exactly 2 sensors, the system has {system.d}")
-    first = system.sensor_names[0]
-    levels = _grid(boundary_points, "boundary_points")
+    if not isinstance(samples, int) or samples < 2:
+        raise InputError(f"samples: expected an integer >= 2, got {samples!r}")
+    region = stability_region(system)
+    e1 = region.symbols[0]
+    xs, ys = [], []
+    for piece in region.boundary():
+        x = np.linspace(float(piece.lo), float(piece.hi), samples)
+        f = sp.lambdify(e1, piece.expr, "numpy")
+        xs.append(x)
+        ys.append(np.broadcast_to(np.asarray(f(x), dtype=float), x.shape))
+    return np.concatenate(xs), np.minimum(np.concatenate(ys), 1.0)
+
+
+def stability_region_figure(system: System, *, samples: int = 60, mc_points: int = 4,
+                            paths: int = 5000, horizon: int = 60, seed: int = 0, path: Any = None) -> Any:
+    """The stable set ``{(loss_1, loss_2)}`` of a two-sensor system under i.i.d. losses.
+
+    Boundary: the exact critical curve ``loss_2 = f(loss_1)`` (stable iff
+    ``loss_2 < f(loss_1)``; :func:`region_boundary`).  Overlay: on an
+    ``mc_points`` x ``mc_points`` grid, the verdict of
+    :func:`symkf.verify.simulated_verdict` (burst importance sampling steered
+    by the exact decisive pattern) with ``paths``, ``horizon``, ``seed``;
+    points where a decided simulation contradicts the exact verdict are circled.
+    """
+    from .stability import stability
+    from .verify import simulated_verdict
+
+    x, y = region_boundary(system, samples)
     mc = _grid(mc_points, "mc_points")
-    with progress(len(levels) + len(mc) ** 2, "region") as bar:
-        crit = []
-        for l2 in levels:
-            crit.append(float(critical_loss_rate(system, first, others=[0, sp.Rational(l2)])))
-            bar.update()
-        verdicts = []
+    verdicts = []
+    with progress(len(mc) ** 2, "region") as bar:
         for l1 in mc:
             for l2 in mc:
                 loss = IID([sp.Rational(l1), sp.Rational(l2)])
@@ -95,10 +113,8 @@ def stability_region_figure(system: System, *, boundary_points: int = 40, mc_poi
                 bar.update()
     fig = _figure()
     ax = fig.add_subplot()
-    y = [0.0] + [float(l) for l in levels] + [1.0]
-    x = [crit[0]] + crit + [crit[-1]]
-    ax.fill_betweenx(y, 0, x, color="tab:green", alpha=0.15, label="stable (exact)")
-    ax.plot(crit, [float(l) for l in levels], "-", color="tab:green", lw=1.5, label="exact critical loss$_1$")
+    ax.fill_between(x, 0, y, color="tab:green", alpha=0.15, label="stable (exact)")
+    ax.plot(x, y, "-", color="tab:green", lw=1.5, label="exact critical curve")
     for kind, (marker, color) in VERDICT_STYLE.items():
         pts = [(a, b) for a, b, _, s in verdicts if s == kind]
         if pts:
@@ -107,8 +123,9 @@ def stability_region_figure(system: System, *, boundary_points: int = 40, mc_poi
     if wrong:
         ax.scatter(*zip(*wrong), marker="o", facecolors="none", edgecolors="black", s=160,
                    label="simulation contradicts theory")
-    ax.set(xlim=(0, 1), ylim=(0, 1), xlabel=f"loss probability of {first}",
-           ylabel=f"loss probability of {system.sensor_names[1]}",
+    names = system.sensor_names
+    ax.set(xlim=(0, 1), ylim=(0, 1.02), xlabel=f"loss probability of {names[0]}",
+           ylabel=f"loss probability of {names[1]}",
            title=f"Mean-square stability region ({paths} paths, horizon {horizon}, seed {seed})")
     ax.legend(loc="upper right", fontsize="small")
     return _finish(fig, path)

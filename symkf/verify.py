@@ -6,7 +6,9 @@ and, independently, estimates the growth rate of ``E[tr P_k]`` by simulation
 
 * ``"agree"``: the simulation reached a verdict and it is the theory's;
 * ``"undecided"``: the simulation's confidence interval straddles the
-  tolerance (typical near the critical value), so it neither confirms nor
+  tolerance (typical near the critical value), or float64 broke down on the
+  longest bursts and forced a horizon shorter than requested (then the
+  transient from ``P0`` can pass for growth), so it neither confirms nor
   contradicts the theory;
 * ``"disagree"``: the simulation decided the opposite of the theory.
 
@@ -148,8 +150,14 @@ def simulated_verdict(system: System, loss: LossModel, v: Verdict, *, seed: int 
     r = divergence_test(system, loss, seed=seed, horizon=horizon, paths=paths,
                         pattern=phases if steer else None, growth=growth if steer else None,
                         exact_rate=growth_rate(v).exact, tolerance=tolerance, confidence=confidence)
-    return _divergence_json(r, phases if steer else "dominant_pattern (float heuristic)",
-                            growth if steer else None)
+    out = _divergence_json(r, phases if steer else "dominant_pattern (float heuristic)", growth if steer else None)
+    if r.horizon < horizon and out["verdict"] != "undecided":
+        # float64 broke down on the longest bursts and the horizon was halved: at short horizons
+        # the transient from P0 can pass for growth (or hide it), so the verdict is withheld
+        out["note"] = (f"horizon halved from {horizon} to {r.horizon} by float64 breakdown; "
+                       f"verdict {out['verdict']!r} at this horizon withheld")
+        out["verdict"] = "undecided"
+    return out
 
 
 def summary(report: dict[str, Any]) -> str:
@@ -166,6 +174,8 @@ def summary(report: dict[str, Any]) -> str:
              f"            growth rate {s['rate']:.5g}, {100 * s['confidence']:g}% interval "
              f"[{s['rate_interval'][0]:.5g}, {s['rate_interval'][1]:.5g}], tolerance {s['tolerance']:g}",
              f"            {s['paths']} paths per run, horizons {s['horizons']}, seeds {s['seeds']}"]
+    if "note" in s:
+        lines.append(f"            note: {s['note']}")
     if report["rate_consistent"] is not None:
         lines.append(f"            exact rate {'inside' if report['rate_consistent'] else 'OUTSIDE'} "
                      "the simulated interval")

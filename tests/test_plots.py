@@ -1,0 +1,97 @@
+"""Figures of the ``plot`` extra: each is drawn with small parameters, its data checked, its PNG written."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+pytest.importorskip("matplotlib")
+
+from symkf import files, plots  # noqa: E402
+from symkf.errors import InputError  # noqa: E402
+from symkf.model import Sensor, System  # noqa: E402
+from symkf.montecarlo import estimate_mean_trace, exact_mean_trace  # noqa: E402
+
+SYSTEMS = Path(__file__).resolve().parent.parent / "examples" / "systems"
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+def written(path: Path) -> bool:
+    return path.read_bytes()[:8] == PNG and path.stat().st_size > 20_000
+
+
+def labels(fig) -> list[str]:
+    return [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+
+
+def test_region_two_diagonal_modes(tmp_path):
+    # A = diag(3/2, 5/4), each sensor sees one mode: stable iff loss_1 < 4/9 and loss_2 < 16/25
+    S = System(A=[["3/2", 0], [0, "5/4"]], sensors=[Sensor(C=[[1, 0]]), Sensor(C=[[0, 1]])])
+    fig = plots.stability_region_figure(S, samples=5, mc_points=2, paths=2000, horizon=40,
+                                        path=tmp_path / "region.png")
+    assert written(tmp_path / "region.png")
+    boundary = fig.axes[0].lines[0]
+    x, y = boundary.get_xdata(), boundary.get_ydata()
+    assert np.allclose(y[x < 4 / 9 - 1e-9], 16 / 25) and np.allclose(y[x > 4 / 9 + 1e-9], 0)
+    assert np.isclose(x.min(), 0) and np.isclose(x.max(), 1) and np.any(np.isclose(x, 4 / 9))
+    names = labels(fig)
+    assert "Monte Carlo: stable" in names and "Monte Carlo: unstable" in names
+    assert "simulation contradicts theory" not in names
+
+
+def test_region_boundary_against_critical_loss_rate():
+    # the drawn curve f(loss_1) is the critical loss_2 with loss_1 fixed (two independent computations)
+    from symkf.stability import critical_loss_rate
+    S, _ = files.load(SYSTEMS / "ge-two-sensors.toml")
+    x, y = plots.region_boundary(S, samples=400)
+    for eps1 in (sp.Rational(1, 5), sp.Rational(1, 2), sp.Rational(9, 10)):
+        exact = float(critical_loss_rate(S, "s2", others=[eps1, 0]))
+        assert np.isclose(np.interp(float(eps1), x, y), exact, rtol=1e-3)   # linear between samples
+    # the kink where 16 eps1 eps2^2 = 16 eps1^2 eps2 meet: eps1 = eps2 = 16^(-1/3)
+    assert np.isclose(np.interp(16 ** (-1 / 3), x, y), 16 ** (-1 / 3))
+
+
+def test_region_needs_two_sensors():
+    S, _ = files.load(SYSTEMS / "design-rotation.toml")
+    with pytest.raises(InputError, match="2 sensors"):
+        plots.stability_region_figure(S)
+
+
+def test_critical_angle_matches_hand_formula(tmp_path):
+    # A = 2 R(pi p/q), C = [1 0]: eps_c = 2^(-2q/(q-1)) (strategies.Rotation); aperiodic: 1/4
+    fig = plots.critical_angle_figure(2, max_denominator=3, path=tmp_path / "angle.png")
+    assert written(tmp_path / "angle.png")
+    periodic, aperiodic = fig.axes[0].lines[0], fig.axes[0].lines[1]
+    assert np.allclose(periodic.get_xdata(), [np.pi / 3, np.pi / 2, 2 * np.pi / 3])
+    assert np.allclose(periodic.get_ydata(), [2 ** -3, 2 ** -4, 2 ** -3])
+    assert np.allclose(aperiodic.get_ydata(), [1 / 4]) and np.isclose(aperiodic.get_xdata()[0], np.arccos(3 / 5))
+
+
+def test_yang_bounds_bracket_the_exact_mean():
+    # Proposition 1 and Theorem 3 (Yang et al.): tr G_{k+1} <= E[tr P_{k|k-1}] <= tr V_{k+1}
+    S, loss = files.load(SYSTEMS / "design-rotation.toml")
+    G, V = plots.yang_bounds(S, loss, 8)
+    exact = exact_mean_trace(S, loss, 8)
+    assert np.all(G <= exact + 1e-9) and np.all(exact <= V + 1e-9)
+    assert G[0] == 0 and np.isclose(V[0], 2)                       # G_1 = 0, V_1 = P0 = I
+
+
+def test_mean_trace_figure(tmp_path):
+    S, loss = files.load(SYSTEMS / "design-rotation.toml")
+    est = estimate_mean_trace(S, loss, 20, 500, seed=0)
+    fig = plots.mean_trace_figure(S, loss, est, path=tmp_path / "trace.png")
+    assert written(tmp_path / "trace.png")
+    names = labels(fig)
+    assert "exact growth rate 1 (stable)" in names
+    assert {"Yang lower bound tr $G_k$", "Yang upper bound tr $V_k$"} <= set(names)
+
+
+def test_mean_trace_figure_markov(tmp_path):
+    S, loss = files.load(SYSTEMS / "ge-two-sensors.toml")
+    est = estimate_mean_trace(S, loss, 10, 200, seed=0)
+    fig = plots.mean_trace_figure(S, loss, est)
+    assert "Yang bounds need i.i.d. losses" in fig.axes[0].get_title()
+    assert f"exact growth rate {sp.sqrt(6) / 2} (unstable)" in labels(fig)
