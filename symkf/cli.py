@@ -15,7 +15,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-import sympy as sp
 
 from .errors import SymkfError
 from .exact.algebraic import AlgebraicNumber
@@ -151,7 +150,8 @@ def cmd_critical(args: argparse.Namespace) -> dict[str, Any]:
     from . import files
     kind, _, value = args.vary.partition("=")
     if kind not in VARY or (kind == "sensor") != bool(value):
-        raise UsageError(f"--vary {args.vary!r}: expected {', '.join(k + '=NAME' if k == 'sensor' else k for k in VARY)}"
+        choices = ", ".join(k + "=NAME" if k == "sensor" else k for k in VARY)
+        raise UsageError(f"--vary {args.vary!r}: expected {choices}"
                          + ("" if "recovery" in VARY else " (recovery is not implemented yet)"))
     system, loss = files.load(args.file)
     key, exact, how = VARY[kind](system, loss, value, args.file)

@@ -193,7 +193,8 @@ def test_rationalize_note_one_line_each(capsys, tmp_path):
     status, out, err = run(capsys, "critical", path, "--vary", "sensor=s1", "--json")
     assert status == 0 and json.loads(out)["critical_loss_rate"]["exact"] == "1/16"
     assert [line.split(": note: ")[1] for line in err.splitlines()] == [
-        "A[0][1]: float -2.0 taken as the rational -2", f"{path}: [loss] loss[0]: float 0.05 taken as the rational 1/20"]
+        "A[0][1]: float -2.0 taken as the rational -2",
+        f"{path}: [loss] loss[0]: float 0.05 taken as the rational 1/20"]
 
 
 def test_progress_only_on_a_terminal(monkeypatch):
