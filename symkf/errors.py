@@ -71,3 +71,7 @@ class AperiodicError(AssumptionError):
 
 class FileFormatError(InputError):
     """A system file (TOML) is malformed; the message names file and key."""
+
+
+class NumericalBreakdownError(SymkfError):
+    """The float64 covariance of a simulated filter lost positive semidefiniteness or overflowed."""

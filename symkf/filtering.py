@@ -31,13 +31,9 @@ from typing import Sequence
 import numpy as np
 import sympy as sp
 
-from .errors import InputError, ShapeError, SymkfError
+from .errors import InputError, NumericalBreakdownError, ShapeError
 from .losses import LossChain, LossModel
 from .model import System
-
-
-class NumericalBreakdownError(SymkfError):
-    """The float64 covariance lost positive semidefiniteness or overflowed."""
 
 
 # ---------------------------------------------------------------- float data

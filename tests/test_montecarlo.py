@@ -92,9 +92,12 @@ def test_simulate_traces_shape_and_seed():
     np.testing.assert_array_equal(a, simulate_traces(TRI, LOSS, 7, 3, seed=5))
 
 
-def test_dominant_pattern_single_sensor():
+def test_dominant_pattern_from_the_engine():
     pattern, growth = dominant_pattern(TRI, LOSS)
-    assert pattern == (0,) and growth == pytest.approx(25 / 16)
+    assert pattern == ((0,),) and growth == pytest.approx(25 / 16)
+    # governing period 2: losing the sensor at one phase of two already blinds the filter
+    pattern, growth = dominant_pattern(ROT, IID(["1/20"]))
+    assert sorted(pattern) == [(), (0,)] and growth == pytest.approx(16)
 
 
 def test_bad_arguments():

@@ -7,6 +7,7 @@ from hypothesis.errors import InvalidArgument
 
 from symkf import strategies as sks
 from symkf.errors import UnobservableError
+from symkf.exact.algebraic import AlgebraicNumber
 from symkf.exact.linalg import rank
 from symkf.model import Sensor, System
 
@@ -76,3 +77,11 @@ def test_complex_diagonal_systems(S):
 def test_arguments_validated_up_front(call, name):
     with pytest.raises(InvalidArgument, match=name):
         call()
+
+
+@settings(derandomize=True, max_examples=15, deadline=None)
+@given(sks.rotation_systems(scale="3/2", max_denominator=6))
+def test_hand_derived_rotation_threshold_equals_the_engine(rot):
+    """The strategy's closed form r^(-2q/(q-1)) against the exact engine (hyperplanes over g = q)."""
+    from symkf.stability import critical_loss_rate
+    assert critical_loss_rate(rot.system) == AlgebraicNumber.from_expr(rot.critical_loss_rate())
