@@ -2,16 +2,14 @@
 
 from __future__ import annotations
 
-import math
 import tomllib
 from pathlib import Path
 from typing import Any
 
 import sympy as sp
-from sympy.parsing.sympy_parser import parse_expr
 
 from .errors import FileFormatError, SymkfError
-from .exact.numbers import _ALLOWED_NAMES, _CHARS, _TOKEN, to_exact
+from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel
 from .model import Sensor, System
 
@@ -29,11 +27,6 @@ def _get(table: dict, key: str, where: str, required: bool = True) -> Any:
 KEYS = {"": {"system", "sensors", "loss", "rationalize"}, "[system]": {"A", "Q", "P0", "name"},
         "sensors": {"name", "C", "R"}, "iid": {"kind", "loss"}, "gilbert-elliott": {"kind", "fail", "recover"}}
 
-#: bounds on the size of a number written as a string, checked before sympy evaluates it
-MAX_EXPONENT = 10 ** 4
-MAX_DIGITS = 1000
-
-
 def _check_keys(table: dict, allowed: set[str], where: str) -> None:
     unknown = sorted(set(table) - allowed)
     if unknown:
@@ -44,41 +37,6 @@ def _name(value: Any, where: str) -> str | None:
     if value is not None and (not isinstance(value, str) or not value.strip()):
         raise FileFormatError(f"{where}: key 'name' must be a non-empty string, got {value!r}")
     return value
-
-
-def _check_size(value: Any, where: str) -> None:
-    """Refuse number strings whose value is too large to evaluate (``"9^9^9"`` has 370 million digits).
-
-    Parsed without evaluation; every power, innermost first, must have an
-    exponent of modulus at most :data:`MAX_EXPONENT` and a value of at most
-    :data:`MAX_DIGITS` decimal digits.
-    """
-    if isinstance(value, (list, tuple)):
-        for i, v in enumerate(value):
-            _check_size(v, f"{where}[{i}]")
-        return
-    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 3.33 * MAX_DIGITS:
-        raise FileFormatError(f"{where}: integer with more than {MAX_DIGITS} digits")
-    if not isinstance(value, str) or ("^" not in value and "**" not in value):
-        return
-    if len(value) > 500 or not _CHARS.match(value) or not set(_TOKEN.findall(value)) <= set(_ALLOWED_NAMES):
-        return  # to_exact refuses it, naming the entry
-    try:
-        expr = parse_expr(value.replace("^", "**"), local_dict=dict(_ALLOWED_NAMES), evaluate=False,
-                          global_dict={"Integer": sp.Integer, "Rational": sp.Rational, "Float": sp.Float,
-                                       "Pow": sp.Pow, "Mul": sp.Mul, "Add": sp.Add, "__builtins__": {}})
-    except Exception:  # malformed text: to_exact reports it with the entry's name
-        return
-    for node in sp.postorder_traversal(expr):
-        if node.is_Pow or node is expr:
-            try:
-                e = abs(complex(sp.N(node.exp, 15))) if node.is_Pow else 1.0
-                b = abs(complex(sp.N(node.base if node.is_Pow else node, 15)))
-            except (TypeError, ValueError):
-                continue
-            if not e <= MAX_EXPONENT or (b > 0 and not e * abs(math.log10(b)) <= MAX_DIGITS):
-                raise FileFormatError(f"{where}: {value!r} is too large to evaluate exactly "
-                                      f"(exponents up to {MAX_EXPONENT}, values up to {MAX_DIGITS} digits)")
 
 
 def load(path: str | Path) -> tuple[System, LossModel | None]:
@@ -112,8 +70,6 @@ def load(path: str | Path) -> tuple[System, LossModel | None]:
             if not isinstance(s, dict):
                 raise FileFormatError(f"{where} must be a table")
             _check_keys(s, KEYS["sensors"], where)
-            for key in ("C", "R"):
-                _check_size(s.get(key), f"{where} {key}")
             C, name = _get(s, "C", where), _name(s.get("name"), where)
             try:
                 sensors.append(Sensor(C=C, R=s.get("R"), name=name, rationalize=rationalize))
@@ -121,8 +77,6 @@ def load(path: str | Path) -> tuple[System, LossModel | None]:
                 raise
             except SymkfError as exc:
                 raise _located(exc, f"sensors[{i}]") from None
-        for key in ("A", "Q", "P0"):
-            _check_size(sysdata.get(key), f"{path}: [system] {key}")
         system = System(A=_get(sysdata, "A", f"{path}: [system]"), sensors=sensors, Q=sysdata.get("Q"),
                         P0=sysdata.get("P0"), rationalize=rationalize,
                         name=_name(sysdata.get("name"), f"{path}: [system]") or path.stem)
@@ -152,8 +106,6 @@ def _loss(table: Any, path: Path, system: System, rationalize: bool) -> LossMode
     _check_keys(table, KEYS[kind], where)
     keys = ("loss",) if kind == "iid" else ("fail", "recover")
     values = [_get(table, key, where) for key in keys]
-    for key, v in zip(keys, values):
-        _check_size(v, f"{where} {key}")
     if rationalize:
         values = [[to_exact(x, f"{where} {key}[{i}]", rationalize=True) if isinstance(x, float) else x
                    for i, x in enumerate(v)] if isinstance(v, list) else v for key, v in zip(keys, values)]

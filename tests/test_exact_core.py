@@ -176,3 +176,9 @@ def test_projection_decides_rank_for_every_pattern(A, Cs):
             proj = project(pattern, br.period)
             idx = frozenset(br.elements.index(e) for e in proj)
             assert br.deficient(idx) == flag
+
+
+@pytest.mark.parametrize("value", ["9^9^9", "2**(10**6)", "(10**999)**2", 10 ** 1200])
+def test_oversized_numbers_refused_before_evaluation(value):
+    with pytest.raises(sk.SymkfError, match=r"A\[0\]\[0\].*(too large|more than 1000 digits)"):
+        sk.System(A=[[value]], sensors=[sk.Sensor(C=[[1]])])

@@ -9,6 +9,7 @@ taken exactly and a warning says so.
 
 from __future__ import annotations
 
+import math
 import re
 import warnings
 from fractions import Fraction
@@ -29,6 +30,26 @@ _ALLOWED_NAMES = {
 _TOKEN = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
 _CHARS = re.compile(r"^[0-9A-Za-z_+\-*/^()., ]*$")
 
+#: bounds on the size of a number, checked before sympy evaluates a string ("9^9^9" has
+#: 370 million digits and would hang)
+MAX_EXPONENT = 10 ** 4
+MAX_DIGITS = 1000
+
+
+def _check_size(expr: sp.Expr, text: str, entry: str) -> None:
+    """Every power of the unevaluated ``expr``, innermost first, must have an exponent of
+    modulus at most MAX_EXPONENT and a value of at most MAX_DIGITS decimal digits."""
+    for node in sp.postorder_traversal(expr):
+        if node.is_Pow or node is expr:
+            try:
+                e = abs(complex(sp.N(node.exp, 15))) if node.is_Pow else 1.0
+                b = abs(complex(sp.N(node.base if node.is_Pow else node, 15)))
+            except (TypeError, ValueError):
+                continue
+            if not e <= MAX_EXPONENT or (b > 0 and not e * abs(math.log10(b)) <= MAX_DIGITS):
+                raise InputError(f"{entry}: {text!r} is too large to evaluate exactly "
+                                 f"(exponents up to {MAX_EXPONENT}, values up to {MAX_DIGITS} digits)")
+
 
 def _parse_string(text: str, entry: str, symbols: bool) -> sp.Expr:
     if not text.strip():
@@ -44,10 +65,15 @@ def _parse_string(text: str, entry: str, symbols: bool) -> sp.Expr:
             raise InputError(f"{entry}: unknown name {name!r} in {text!r}; only numbers and "
                              f"{', '.join(sorted(_ALLOWED_NAMES))} are allowed here")
         local[name] = sp.Symbol(name, positive=True)
+    source = text.replace("^", "**")
+    names = {"Integer": sp.Integer, "Float": sp.Float, "Rational": sp.Rational, "Symbol": sp.Symbol,
+             "Pow": sp.Pow, "Mul": sp.Mul, "Add": sp.Add, "__builtins__": {}}
     try:
-        value = parse_expr(text.replace("^", "**"), local_dict=local, global_dict={
-            "Integer": sp.Integer, "Float": sp.Float, "Rational": sp.Rational,
-            "Symbol": sp.Symbol, "__builtins__": {}})
+        if "**" in source:
+            _check_size(parse_expr(source, local_dict=local, global_dict=names, evaluate=False), text, entry)
+        value = parse_expr(source, local_dict=local, global_dict=names)
+    except InputError:
+        raise
     except Exception as exc:  # sympy raises many types on malformed text
         raise InputError(f"{entry}: cannot parse {text!r} ({type(exc).__name__})") from None
     if not isinstance(value, sp.Expr):
@@ -75,6 +101,8 @@ def to_exact(value: Any, entry: str, *, rationalize: bool = False,
     if isinstance(value, bool):
         raise InputError(f"{entry}: {value!r} is a bool, not a number")
     if isinstance(value, int):
+        if value.bit_length() > 3.33 * MAX_DIGITS:
+            raise InputError(f"{entry}: integer with more than {MAX_DIGITS} digits")
         out: sp.Expr = sp.Integer(value)
     elif isinstance(value, Fraction):
         out = sp.Rational(value.numerator, value.denominator)
