@@ -1,0 +1,366 @@
+"""Second-order systems under i.i.d. losses: congruent sets and the Theorem 12 closed form.
+
+Sui-You-Fu, Section 4 (seed 001).  ``A`` (2x2) has two distinct eigenvalues of
+one modulus ``alpha > 0`` (Assumption 5, up to similarity: ``alpha diag(e^{i
+theta_1}, e^{i theta_2})`` and the real rotation ``alpha R(theta)`` alike);
+losses are independent Bernoulli with arrival rates ``p_i`` (Assumption 4);
+``rank col{C_i, C_j} = 2`` and ``(A, C_i)`` is observable (Assumption 6).
+
+* Definition 1: ``J_i = {j : span C_i = span C_j A^{k_ij} for some 0 <= k_ij < tau}``;
+* eq. (37): ``p_i^* = prod_{j in J_i} (1 - p_j)``;
+* Theorem 12 as printed, eq. (38): stable iff
+  ``alpha^(2 tau) prod_i (1 - p_i)^tau / min_j p_j^* < 1``.
+
+Two corrections, each with a counterexample in ``proofs/sui_theorem12.py``:
+
+1. **Governing period.**  Rows ``C A^k`` and ``C A^(k+g)`` are parallel as soon as
+   ``A^g`` is a scalar multiple of ``I`` (the governing period ``g``, which divides
+   ``tau``), so the rank-deficient patterns repeat with period ``g``, not ``tau``.
+   The correct condition is (38) with ``tau`` replaced by ``g``:
+   ``alpha^(2g) prod_i (1 - p_i)^g < min_j p_j^*``, i.e. per period ``g``,
+   ``alpha^(2g) max_i prod_j (1 - p_j)^(g - [j in J_i]) < 1`` (the form used here,
+   which stays meaningful when some ``p_j = 1``).  ``J_i`` is the same under both
+   readings (shifts repeat with period ``g``).  When ``g`` is infinite the
+   condition is ``alpha^2 prod_i (1 - p_i) < 1``.  ``A = [[0, -2], [2, 0]]``,
+   ``C = [1, 0]``: ``tau = 4``, ``g = 2``; the critical loss rate is ``1/16``
+   (engine and enumeration), (38) gives ``2^(-8/3)``.
+2. **Rank-one sensors.**  Definition 1 and (38) presuppose ``rank C_i = 1``: a
+   sensor with ``rank C_i = 2`` makes ``O_N`` full rank on any reception, so it
+   lies in no rank-deficient pattern and must be left out of every ``J_i``
+   (literally, Definition 1 puts all rank-2 sensors into one congruent set).
+   ``A = 2 R(pi/2)``, ``C = I``: critical loss ``1/4``, (38) gives ``4^(-4/3)``.
+
+``period="tau"`` evaluates the statement as printed (literal Definition 1,
+exponent ``tau``); the default ``period="governing"`` is the corrected one.
+Remark 11 (sensors whose stacked ``C`` has rank one are merged into one sensor
+with arrival ``1 - (1 - p_i)(1 - p_j)``) is applied automatically and reported.
+Outside Assumptions 4-6 every function raises :class:`~symkf.errors.AssumptionError`
+naming the assumption and pointing to the general engine, :mod:`symkf.stability`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import sympy as sp
+
+from .errors import AperiodicError, AssumptionError, InputError
+from .exact.algebraic import AlgebraicNumber
+from .exact.field import Elem, NumberField
+from .exact.linalg import field_of, rank_rows
+from .losses import IID, LossModel
+from .model import System
+from .spectral import eigen_blocks
+from .stability import BlockCertificate, Verdict
+
+Period = Literal["governing", "tau"]
+ENGINE = "symkf.stability.critical_loss_rate / symkf.stability.stability (the general engine)"
+ALPHA = sp.Symbol("alpha", positive=True)
+
+
+@dataclass(frozen=True)
+class CongruentSets:
+    """Definition 1 for a second-order system, after Remark 11's merging.
+
+    ``groups[i]`` are the original sensors (indices) merged into sensor ``i``;
+    ``sets[i]`` is ``J_i`` (indices of merged sensors) and ``shifts[i][j]`` is
+    ``k_ij`` (least shift, ``0 <= k_ij < g``).  ``full_rank`` lists the merged
+    sensors with ``rank C_i = 2``; ``sets`` follows Definition 1 literally, so
+    they form one congruent set with shifts 0 (the correction drops them).
+    """
+
+    names: tuple[str, ...]
+    groups: tuple[tuple[int, ...], ...]
+    sets: tuple[frozenset[int], ...]
+    shifts: tuple[dict[int, int], ...]
+    full_rank: frozenset[int]
+    alpha: sp.Expr
+    tau: int | None
+    governing_period: int | None
+
+    @property
+    def merges(self) -> tuple[tuple[int, ...], ...]:
+        """Remark 11: the groups of two or more original sensors that were merged."""
+        return tuple(g for g in self.groups if len(g) > 1)
+
+    def decisive_sets(self, period: Period = "governing") -> tuple[tuple[int, frozenset[int]], ...]:
+        """``(i, J_i)`` entering (38): all of them as printed; only rank-one sensors' when corrected."""
+        return tuple((i, J) for i, J in enumerate(self.sets) if period == "tau" or i not in self.full_rank)
+
+    def exponent(self, period: Period = "governing") -> int | None:
+        """The period in (38): ``tau`` as printed, ``g`` corrected; None when infinite."""
+        return self.tau if period == "tau" else self.governing_period
+
+    def p_star(self, arrival: Any) -> tuple[sp.Expr, ...]:
+        """eq. (37) for the merged sensors, from the original sensors' arrival rates."""
+        miss = merged_losses(self, [1 - sp.sympify(p) for p in arrival])
+        return tuple(sp.Mul(*[miss[j] for j in sorted(J)]) for J in self.sets)
+
+
+def _check_period(period: str) -> None:
+    if period not in ("governing", "tau"):
+        raise InputError(f"period: expected 'governing' (corrected Theorem 12) or 'tau' (as printed), got {period!r}")
+
+
+def second_order_form(system: System) -> tuple[sp.Expr, int | None, int | None]:
+    """``(alpha, tau, g)`` after checking Assumption 5 (up to similarity)."""
+    if not isinstance(system, System):
+        raise InputError(f"system: expected a symkf.System, got {type(system).__name__}")
+    assumption = "Assumption 5 (Sui-You-Fu)"
+    if system.n != 2:
+        raise AssumptionError(f"A is {system.n}x{system.n}; Theorem 12 is for second-order systems",
+                              assumption=assumption, applies_instead=ENGINE)
+    blocks = eigen_blocks(system.A)
+    if len(blocks) != 1:
+        raise AssumptionError(f"the eigenvalues of A have different moduli ({', '.join(str(b.modulus) for b in blocks)})",
+                              assumption=assumption, applies_instead=ENGINE)
+    block = blocks[0]
+    if len(block.members) != 2:
+        raise AssumptionError(f"A has the repeated eigenvalue {block.eigenvalues[0]} (theta_1 = theta_2)",
+                              assumption=assumption, applies_instead=ENGINE)
+    if block.modulus == 0:
+        raise AssumptionError("A has modulus alpha = 0", assumption=assumption, applies_instead=ENGINE)
+    return block.modulus.exact, block.period, block.governing_period
+
+
+def _times(K: NumberField, rows: list[list[Elem]], A: list[list[Elem]]) -> list[list[Elem]]:
+    return [K.vecmat(r, A) for r in rows]
+
+
+def _sensor_groups(system: System, K: NumberField, A: list[list[Elem]]) -> tuple[list[list[int]], list[int]]:
+    """Remark 11 merging (rank-one sensors with one row space) and Assumption 6, exactly."""
+    Cs = [K.matrix(s.C) for s in system.sensors]
+    ranks = [rank_rows(K, C, 2) for C in Cs]
+    groups: list[list[int]] = []
+    for j, C in enumerate(Cs):
+        for g in groups:
+            if ranks[j] == ranks[g[0]] == 1 and rank_rows(K, Cs[g[0]] + C, 2) == 1:
+                g.append(j)
+                break
+        else:
+            groups.append([j])
+    for g in groups:
+        C = Cs[g[0]]
+        if rank_rows(K, C + _times(K, C, A), 2) < 2:
+            name = system.sensor_names[g[0]]
+            raise AssumptionError(f"(A, C_{name}) is not observable (C_{name} = {system.sensors[g[0]].C.tolist()})",
+                                  assumption="Assumption 6 (Sui-You-Fu)", applies_instead=ENGINE)
+    return groups, ranks
+
+
+def congruent_sets(system: System) -> CongruentSets:
+    """Congruent sets ``J_i`` with shifts ``k_ij`` (Definition 1), exactly, after Remark 11.
+
+    Raises :class:`~symkf.errors.AssumptionError` (Assumptions 5, 6) and
+    :class:`~symkf.errors.AperiodicError` when ``g`` is infinite (then no
+    ``J_i`` enters Theorem 12: use :func:`theorem12`).
+    """
+    alpha, tau, g = second_order_form(system)
+    K = field_of(system.A, *[s.C for s in system.sensors])
+    A = K.matrix(system.A)
+    groups, ranks = _sensor_groups(system, K, A)
+    if g is None:
+        raise AperiodicError("A^k is never a scalar multiple of I (g infinite); Definition 1 needs "
+                             "no congruent sets then, Theorem 12 reads alpha^2 prod(1 - p_i) < 1",
+                             assumption="Definition 1 (Sui-You-Fu): periodic A",
+                             applies_instead="symkf.second_order.theorem12 or " + ENGINE)
+    # powers[j][k] = C_j A^k for 0 <= k < g (one representative per merged sensor)
+    powers = []
+    for grp in groups:
+        rows = K.matrix(system.sensors[grp[0]].C)
+        seq = []
+        for _ in range(g):
+            seq.append(rows)
+            rows = _times(K, rows, A)
+        powers.append(seq)
+    full = frozenset(i for i, grp in enumerate(groups) if ranks[grp[0]] == 2)
+    sets, shifts = [], []
+    for i in range(len(groups)):
+        shift: dict[int, int] = {}
+        for j in range(len(groups)):
+            if (i in full) != (j in full):
+                continue
+            for k in range(g):
+                if i in full or rank_rows(K, powers[i][0] + powers[j][k], 2) == 1:
+                    shift[j] = k
+                    break
+        sets.append(frozenset(shift))
+        shifts.append(shift)
+    names = tuple("+".join(system.sensor_names[j] for j in grp) for grp in groups)
+    return CongruentSets(names, tuple(tuple(grp) for grp in groups), tuple(sets), tuple(shifts),
+                         full, alpha, tau, g)
+
+
+def merged_losses(cs: CongruentSets, losses: Any) -> list[sp.Expr]:
+    """Remark 11: a merged sensor loses a packet iff all its members do."""
+    return [sp.Mul(*[sp.sympify(losses[j]) for j in grp]) for grp in cs.groups]
+
+
+def _analysis(system: System) -> tuple[CongruentSets | None, sp.Expr, int | None, int | None, int]:
+    """Congruent sets (None when g is infinite) and (alpha, tau, g, d), cached on the system."""
+    hit = system._cache.get("second_order")
+    if hit is None:
+        alpha, tau, g = second_order_form(system)
+        if g is None:
+            K = field_of(system.A, *[s.C for s in system.sensors])
+            _sensor_groups(system, K, K.matrix(system.A))
+            hit = (None, alpha, tau, g, system.d)
+        else:
+            hit = (congruent_sets(system), alpha, tau, g, system.d)
+        system._cache["second_order"] = hit
+    return hit
+
+
+def _candidates(cs: CongruentSets, miss: list[sp.Expr], P: int, period: Period) \
+        -> list[tuple[int | None, sp.Expr]]:
+    """Per congruent set ``J_i``: ``(i, prod_j miss_j^(P - [j in J_i]))``, the per-period probability
+    that only the elements on the line of ``(i, 0)`` are received; the empty line (``i`` None)
+    is always a candidate."""
+    out: list[tuple[int | None, sp.Expr]] = [(None, sp.Mul(*[m ** P for m in miss]))]
+    for i, J in cs.decisive_sets(period):
+        out.append((i, sp.Mul(*[m ** (P - (1 if j in J else 0)) for j, m in enumerate(miss)])))
+    return out
+
+
+def _require_iid(system: System, loss: LossModel) -> IID:
+    if not isinstance(loss, LossModel):
+        raise InputError(f"loss: expected symkf.IID, got {type(loss).__name__}")
+    if not isinstance(loss, IID):
+        raise AssumptionError(f"the loss model is {type(loss).__name__}, not independent Bernoulli",
+                              assumption="Assumption 4 (Sui-You-Fu)", applies_instead="symkf.stability.stability")
+    if loss.d != system.d:
+        raise InputError(f"loss: the model has {loss.d} sensor(s), the system has {system.d}")
+    free = set().union(*[sp.sympify(e).free_symbols for e in loss.loss])
+    if free:
+        raise InputError(f"loss: symbols {sorted(map(str, free))} have no value; use threshold(system) "
+                         "for the condition in symbols")
+    return loss
+
+
+def theorem12(system: System, loss: IID, period: Period = "governing") -> Verdict:
+    """Mean-square stability from the closed form of Theorem 12 (eq. 38), exactly.
+
+    Corrected (default): stable iff ``alpha^(2g) max_i prod_j (1 - p_j)^(g - [j in J_i]) < 1``
+    over the rank-one sensors' congruent sets, ``alpha^2 prod_j (1 - p_j) < 1`` when
+    ``g`` is infinite.  ``period="tau"``: eq. (38) as printed.  Same
+    :class:`~symkf.stability.Verdict` as the engine, margin ``alpha^2 rho``.
+    """
+    _check_period(period)
+    loss = _require_iid(system, loss)
+    cs, alpha, tau, g, _ = _analysis(system)
+    P = tau if period == "tau" else g
+    assumptions = ["A similar to alpha diag(e^{i theta_1}, e^{i theta_2}), theta_1 != theta_2 (Assumption 5)",
+                   "i.i.d. independent losses (Assumption 4)",
+                   "(A, C_i) observable for every sensor (Assumption 6)"]
+    if P is None:
+        miss = loss.loss
+        power, rate, elements, P_cert = alpha ** 2 * sp.Mul(*miss), sp.Mul(*miss), (), 1
+    else:
+        miss = merged_losses(cs, loss.loss)
+        cands = _candidates(cs, miss, P, period)
+        i, rate = max(cands, key=lambda c: AlgebraicNumber.from_expr(c[1]))
+        names = system.sensor_names
+        elements = () if i is None else tuple(
+            (names[o], cs.shifts[i][j]) for j in sorted(cs.sets[i]) for o in cs.groups[j])
+        power, P_cert = alpha ** (2 * P) * rate, P
+        assumptions += [f"Remark 11: merged sensors {', '.join(cs.names[k] for k in range(len(cs.groups)) if len(cs.groups[k]) > 1)}"
+                        " (arrival 1 - prod(1 - p_j))"] if cs.merges else []
+    power = sp.sympify(power)
+    margin = AlgebraicNumber.from_expr(sp.root(power, P_cert) if P_cert > 1 else power)
+    cert = BlockCertificate(alpha, P_cert, elements, sp.sympify(rate), power,
+                            margin.refine(sp.Rational(1, 10 ** 12)).interval)
+    name = ("Theorem 12 (Sui-You-Fu) as printed: period tau" if period == "tau"
+            else "Theorem 12 (Sui-You-Fu), corrected: governing period g, rank-one congruent sets")
+    return Verdict(margin < 1, (margin,), 0, name, tuple(assumptions), (cert,))
+
+
+def _exponent_count(cs: CongruentSets, period: Period) -> int:
+    """``J = max_i sum_{j in J_i} |group_j|``: the original sensors on the best line."""
+    return max((sum(len(cs.groups[j]) for j in J) for _, J in cs.decisive_sets(period)), default=0)
+
+
+def critical_loss_expr(system: System, period: Period = "governing") -> sp.Expr:
+    """The critical common loss probability as a sympy expression in the symbol ``alpha``.
+
+    All ``d`` (original) sensors lose packets with probability ``eps``: stable iff
+    ``eps < min(1, alpha^(-2g / (g d - J)))`` with ``J`` the number of original
+    sensors on the best line; ``min(1, alpha^(-2/d))`` when ``g`` is infinite.
+    """
+    _check_period(period)
+    cs, _, tau, g, d = _analysis(system)
+    P = tau if period == "tau" else g
+    if P is None:
+        return sp.Min(1, ALPHA ** sp.Rational(-2, d))
+    return sp.Min(1, ALPHA ** sp.Rational(-2 * P, P * d - _exponent_count(cs, period)))
+
+
+def critical_loss_rate(system: System, period: Period = "governing") -> AlgebraicNumber:
+    """The critical common i.i.d. loss probability from the closed form (stable iff loss < value).
+
+    Corrected Theorem 12 (default): ``min(1, alpha^(-2g/(g d - J)))``, ``g`` the governing
+    period (least ``k`` with ``A^k`` a scalar multiple of ``I``), ``d`` the number of
+    sensors and ``J`` the largest number of sensors in one congruent set of rank-one
+    sensors (Remark 11 merges count their members); ``min(1, alpha^(-2/d))`` if ``g``
+    is infinite.  ``period="tau"`` gives eq. (38) as printed, which is wrong whenever
+    ``g < tau`` or a sensor has rank 2 (see the module docstring).
+    """
+    alpha = _analysis(system)[1]
+    return AlgebraicNumber.from_expr(sp.sympify(critical_loss_expr(system, period).subs(ALPHA, alpha)))
+
+
+def arrival_symbols(system: System) -> tuple[sp.Symbol, ...]:
+    """``p_1, ..., p_d``: the arrival probabilities of the original sensors."""
+    return sp.symbols(f"p_1:{system.d + 1}", positive=True)
+
+
+def _miss_symbols(cs: CongruentSets | None, system: System) -> list[sp.Expr]:
+    p = arrival_symbols(system)
+    return [1 - q for q in p] if cs is None else merged_losses(cs, [1 - q for q in p])
+
+
+def threshold(system: System, period: Period = "governing") -> sp.Basic:
+    """The stability condition as a sympy relation in ``alpha`` and ``p_1, ..., p_d``.
+
+    Corrected: ``And`` over the rank-one congruent sets of
+    ``alpha^(2g) prod_j (1 - p_j)^(g - [j in J_i]) < 1``.  ``period="tau"``: eq. (38)
+    as printed, ``alpha^(2 tau) prod (1 - p_i)^tau / Min(p_1^*, ...) < 1``.
+    """
+    _check_period(period)
+    cs, _, tau, g, _ = _analysis(system)
+    miss = _miss_symbols(cs, system)
+    P = tau if period == "tau" else g
+    if P is None:
+        return sp.StrictLessThan(ALPHA ** 2 * sp.Mul(*miss), 1)
+    if period == "tau":
+        p_star = [sp.Mul(*[miss[j] for j in sorted(J)]) for J in cs.sets]
+        return sp.StrictLessThan(ALPHA ** (2 * P) * sp.Mul(*[m ** P for m in miss]) / sp.Min(*p_star), 1)
+    return sp.And(*[sp.StrictLessThan(ALPHA ** (2 * P) * r, 1) for _, r in _candidates(cs, miss, P, period)[1:]]
+                  or [sp.StrictLessThan(ALPHA ** (2 * P) * sp.Mul(*[m ** P for m in miss]), 1)])
+
+
+def critical_alpha_expr(system: System, period: Period = "governing") -> sp.Expr:
+    """The critical modulus as a sympy expression in ``p_1, ..., p_d``: stable iff alpha < value."""
+    _check_period(period)
+    cs, _, tau, g, _ = _analysis(system)
+    miss = _miss_symbols(cs, system)
+    P = tau if period == "tau" else g
+    if P is None:
+        return sp.Mul(*miss) ** sp.Rational(-1, 2)
+    rates = [r for _, r in _candidates(cs, miss, P, period)]
+    return sp.Min(*[r ** sp.Rational(-1, 2 * P) for r in (rates[1:] or rates)])
+
+
+def critical_alpha(system: System, loss: IID, period: Period = "governing") -> AlgebraicNumber:
+    """The critical modulus for the given losses, eigen-directions fixed (exact)."""
+    loss = _require_iid(system, loss)
+    cs, _, tau, g, _ = _analysis(system)
+    P = tau if period == "tau" else g
+    if P is None:
+        rate, P = sp.Mul(*loss.loss), 1
+    else:
+        rate = max((r for _, r in _candidates(cs, merged_losses(cs, loss.loss), P, period)),
+                   key=AlgebraicNumber.from_expr)
+    if rate == 0:
+        raise InputError("loss: the decisive pattern has probability 0, so no alpha destabilises the filter")
+    return AlgebraicNumber.from_expr(sp.root(1 / sp.sympify(rate), 2 * P))
