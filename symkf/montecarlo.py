@@ -266,31 +266,40 @@ def iid_tilt(loss: IID, pattern: Sequence[int], growth: Any, cap: Any = "19/20")
     return IID(tilted)
 
 
-def dominant_pattern(system: System, loss: IID) -> tuple[tuple[tuple[int, ...], ...], float]:
-    """The dominant rank-deficient loss pattern from the exact theory, for burst sampling.
+def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...], sp.Expr]:
+    """The limiting block's decisive loss pattern, one tuple of lost sensors per phase, and its growth.
 
-    From :func:`symkf.stability.stability`: in the limiting eigen-block (largest margin
-    ``alpha_i^2 rho_i``, Sui-You-Fu eq. 36) with governing period ``g``, the decisive
-    hyperplane lists the elements (sensor, phase) that may be received while ``O_N^i``
-    stays rank deficient.  Returns, per phase ``0..g-1``, the sensors that must be lost
-    (the elements outside the hyperplane), and the growth ``alpha_i^(2g)`` of ``P`` per
-    period while the pattern holds.  Only a tuning choice (any pattern keeps the burst
-    estimator unbiased), hence the float growth.
+    ``verdict`` is :func:`symkf.stability.stability`'s: in the limiting eigen-block
+    (largest margin ``alpha_i^2 rho_i``, Sui-You-Fu eq. 36) with governing period ``g``,
+    the decisive hyperplane lists the elements (sensor, phase) that may be received while
+    ``O_N^i`` stays rank deficient.  Returns, per phase ``0..g-1``, the sensors that must
+    be lost (the elements outside the hyperplane), and the exact growth ``alpha_i^(2g)``
+    of ``P`` per period while the pattern holds.
     """
-    return _pattern_of(_verdict(system, loss), system)
+    cert = verdict.certificate[verdict.limiting_block]
+    received = set(cert.decisive_elements)
+    phases = tuple(tuple(j for j, name in enumerate(system.sensor_names) if (name, phase) not in received)
+                   for phase in range(cert.period))
+    return phases, sp.sympify(cert.modulus) ** (2 * cert.period)
+
+
+def exact_growth_rate(verdict) -> Any:
+    """The exact per-step growth rate of ``E[tr P_k]``: ``max_i alpha_i^2 rho_i`` when unstable,
+    else 1 (bounded), as an AlgebraicNumber."""
+    from .exact.algebraic import AlgebraicNumber
+    return max(verdict.margins) if not verdict.stable else AlgebraicNumber.from_expr(sp.Integer(1))
+
+
+def dominant_pattern(system: System, loss: IID) -> tuple[tuple[tuple[int, ...], ...], float]:
+    """:func:`burst_pattern` of the exact verdict, growth as a float: the default steering of
+    burst sampling (only a tuning choice: any pattern keeps the estimator unbiased)."""
+    phases, growth = burst_pattern(system, _verdict(system, loss))
+    return phases, float(growth)
 
 
 def _verdict(system: System, loss: IID):
     from .stability import stability  # the engine imports nothing from simulation
     return stability(system, loss)
-
-
-def _pattern_of(verdict, system: System) -> tuple[tuple[tuple[int, ...], ...], float]:
-    cert = verdict.certificate[verdict.limiting_block]
-    received = set(cert.decisive_elements)
-    phases = tuple(tuple(j for j, name in enumerate(system.sensor_names) if (name, phase) not in received)
-                   for phase in range(cert.period))
-    return phases, float(cert.modulus ** (2 * cert.period))
 
 
 # ------------------------------------------------------------------ loss bursts
@@ -440,8 +449,11 @@ def divergence_test(system: System, loss: IID, seed: int | None = None, *,
     the rate is ``(E_2 / E_1)^(1 / (k_2 - k_1))`` and its interval comes from
     the delta method on the two independent estimates.  ``pattern`` and
     ``growth`` are those of the theory's dominant rank-deficient pattern
-    (default: :func:`dominant_pattern`, from the exact engine, whose limiting margin
-    ``alpha_i^2 rho_i`` then also fills ``exact_rate`` when it is not given).
+    (default: :func:`burst_pattern` of the exact verdict, which then also fills
+    ``exact_rate`` with :func:`exact_growth_rate` when it is not given).  When float64
+    breaks down on the longest bursts the horizon is halved; a verdict at a horizon shorter
+    than requested is withheld ("undecided"), since there the transient from ``P0`` can
+    pass for growth.
     """
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     if horizon < 8:
@@ -450,11 +462,12 @@ def divergence_test(system: System, loss: IID, seed: int | None = None, *,
         raise InputError(f"tolerance: expected a positive float, got {tolerance!r}")
     if pattern is None:
         verdict = _verdict(system, loss)
-        pattern, found = _pattern_of(verdict, system)
+        pattern, found = burst_pattern(system, verdict)
         growth = found if growth is None else growth
-        exact_rate = verdict.margins[verdict.limiting_block] if exact_rate is None else exact_rate
+        exact_rate = exact_growth_rate(verdict) if exact_rate is None else exact_rate
     z = _z(confidence)
     second = None if seed is None else seed + 1
+    requested = horizon
     while True:
         try:
             k1, k2 = horizon // 2, horizon
@@ -470,6 +483,8 @@ def divergence_test(system: System, loss: IID, seed: int | None = None, *,
     half = z * math.hypot(s1 / e1, s2 / e2) / (k2 - k1)
     rate, low, high = math.exp(slope), math.exp(slope - half), math.exp(slope + half)
     verdict = "unstable" if low > 1 + tolerance else "stable" if high < 1 + tolerance else "undecided"
+    if horizon < requested:
+        verdict = "undecided"
     exact_value = None if exact_rate is None else to_exact(
         exact_rate.exact if hasattr(exact_rate, "exact") else exact_rate, "exact_rate")
     return DivergenceResult(verdict, rate, low, high,

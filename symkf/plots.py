@@ -152,7 +152,7 @@ def mean_trace_figure(system: System, loss: LossModel, estimate: TraceEstimate, 
     out and the reason is put in the title.
     """
     from .stability import stability
-    from .verify import growth_rate
+    from .montecarlo import exact_growth_rate
 
     fig = _figure()
     ax = fig.add_subplot()
@@ -162,7 +162,7 @@ def mean_trace_figure(system: System, loss: LossModel, estimate: TraceEstimate, 
     notes = []
     try:
         v = stability(system, loss)
-        r = growth_rate(v)
+        r = exact_growth_rate(v)
         half = k >= k[-1] // 2
         powers = float(r) ** (k - k[-1]).astype(float)
         line = float(np.median(estimate.mean[half] / powers[half])) * powers
