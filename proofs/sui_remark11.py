@@ -7,7 +7,7 @@ with loss ``(1 - p_i)(1 - p_j)``, so Assumption 6 loses no generality.
 Method: exhaustive check over a stated finite family, exact.  Systems
 ``2 R(2 pi/m)`` (``m = 3, 4, 6``) and ``2 diag(e^(3 pi i/2), e^(pi i/2))``, sensor
 rows ``C = [1, 2]`` and ``C' = c C`` (``c = 2, -1/3``) plus an independent
-sensor ``[3, -1]``, losses ``(a, b, 1/5)`` for ``a, b`` in ``{1/10, 1/3, 1/2}``:
+sensor ``[3, -1]``, losses ``(a, b, 1/5)`` for ``(a, b)`` in ``LOSSES``:
 the engine's margin (``symkf.stability``, which does not merge) for the
 unmerged system equals its margin for the merged system with loss ``a b``, and
 ``symkf.second_order`` reports the merge and gives the same margin and the
@@ -36,6 +36,7 @@ def rotation(m: int) -> sp.Matrix:
 
 
 MATRICES = [rotation(3), rotation(4), rotation(6), sp.diag(-2 * sp.I, 2 * sp.I)]
+LOSSES = [(R(1, 10), R(1, 2)), (R(1, 3), R(1, 3)), (R(1, 2), R(1, 10)), (R(1, 2), R(1, 2))]
 
 
 def main() -> bool:
@@ -45,7 +46,7 @@ def main() -> bool:
         pair = System(A=A, sensors=[Sensor(C=C, name="s1"), Sensor(C=c * C, name="s2"), Sensor(C=other, name="s3")])
         cs = so.congruent_sets(pair)
         good = cs.merges == ((0, 1),) and cs.names[0] == "s1+s2" and so.critical_loss_rate(pair) == critical_loss_rate(pair)
-        for a, b in itertools.product((R(1, 10), R(1, 3), R(1, 2)), repeat=2):
+        for a, b in LOSSES:
             merged = System(A=A, sensors=[Sensor(C=C), Sensor(C=other)])
             m_pair = stability(pair, IID([a, b, R(1, 5)])).margins[0]
             m_merged = stability(merged, IID([a * b, R(1, 5)])).margins[0]

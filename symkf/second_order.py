@@ -156,17 +156,19 @@ def congruent_sets(system: System) -> CongruentSets:
     :class:`~symkf.errors.AperiodicError` when ``g`` is infinite (then no
     ``J_i`` enters Theorem 12: use :func:`theorem12`).
     """
-    alpha, tau, g = second_order_form(system)
-    K = field_of(system.A, *[s.C for s in system.sensors])
-    A = K.matrix(system.A)
-    groups, ranks = _sensor_groups(system, K, A)
-    if g is None:
+    cs = _analysis(system)[0]
+    if cs is None:
         raise AperiodicError("A^k is never a scalar multiple of I (g infinite); Definition 1 needs "
                              "no congruent sets then, Theorem 12 reads alpha^2 prod(1 - p_i) < 1",
                              assumption="Definition 1 (Sui-You-Fu): periodic A",
                              applies_instead="symkf.second_order.theorem12 or " + ENGINE)
-    # powers[j][k] = C_j A^k for 0 <= k < g (one representative per merged sensor)
-    powers = []
+    return cs
+
+
+def _congruent_sets(system: System, K: NumberField, A: list[list[Elem]], groups: list[list[int]],
+                    ranks: list[int], alpha: sp.Expr, tau: int | None, g: int) -> CongruentSets:
+    """Definition 1 by exact rank tests of ``col{C_i, C_j A^k}``, ``0 <= k < g`` (shifts repeat mod g)."""
+    powers = []  # powers[j][k] = C_j A^k, one representative per merged sensor
     for grp in groups:
         rows = K.matrix(system.sensors[grp[0]].C)
         seq = []
@@ -202,13 +204,11 @@ def _analysis(system: System) -> tuple[CongruentSets | None, sp.Expr, int | None
     hit = system._cache.get("second_order")
     if hit is None:
         alpha, tau, g = second_order_form(system)
-        if g is None:
-            K = field_of(system.A, *[s.C for s in system.sensors])
-            _sensor_groups(system, K, K.matrix(system.A))
-            hit = (None, alpha, tau, g, system.d)
-        else:
-            hit = (congruent_sets(system), alpha, tau, g, system.d)
-        system._cache["second_order"] = hit
+        K = field_of(system.A, *[s.C for s in system.sensors])
+        A = K.matrix(system.A)
+        groups, ranks = _sensor_groups(system, K, A)
+        cs = None if g is None else _congruent_sets(system, K, A, groups, ranks, alpha, tau, g)
+        hit = system._cache["second_order"] = (cs, alpha, tau, g, system.d)
     return hit
 
 
