@@ -27,12 +27,10 @@ from typing import Any
 
 import flint
 import sympy as sp
-from sympy.polys.matrices import DomainMatrix
-from sympy.polys.polyclasses import DMP
 
 from .errors import NotDiagonalizableError
-from .exact.algebraic import (AlgebraicNumber, fmpz_to_sympy, identify, real_from_ball, root_ball,
-                              sympy_to_fmpz)
+from .exact.algebraic import AlgebraicNumber, fmpz_to_sympy, identify, real_from_ball, root_ball
+from .exact import nfpoly
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, rank_rows
 from .exact.numbers import to_exact_matrix
@@ -247,35 +245,19 @@ def _factor_charpoly(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Elem],
             h = [flint.fmpq_poly([c]) for c in f.coeffs()]
             out.append((h, e, [(fz, i) for i in range(fz.degree())]))
         return out
-    dM = DomainMatrix([[K.K.from_sympy(v) for v in A.row(i)] for i in range(n)], (n, n), K.K)
-    chi = sp.Poly.new(DMP(dM.charpoly(), K.K), x)
+    theta_poly = flint.fmpz_poly([int(c) for c in K.modulus.coeffs()])  # monic integral theta
     out = []
-    for h, e in chi.factor_list()[1]:
-        coeffs = [K.from_anp(c) for c in reversed(h.rep.to_list())]  # low -> high
-        hxy = sum(sum(sp.Rational(int(c.p), int(c.q)) * y ** j for j, c in enumerate(a.coeffs())) * x ** k
-                  for k, a in enumerate(coeffs))
-        mod = sp.Poly([sp.Rational(int(c.p), int(c.q)) for c in reversed(K.modulus.coeffs())], y)
-        norm = sp.Poly(sp.resultant(mod.as_expr(), hxy, y), x)
-        theta_poly = sympy_to_fmpz(mod)
-        theta_idx = _theta_index(K, theta_poly)
+    for coeffs, e in nfpoly.factor(K, nfpoly.charpoly(K, K.matrix(A))):
         roots = []
-        for g, _ in sympy_to_fmpz(norm).factor()[1]:
+        for g, _ in nfpoly.norm(K, coeffs).factor()[1]:
+            g = g.numer() // g.numer().content()
             for i in range(g.degree()):
-                if _maybe_root(coeffs, theta_poly, theta_idx, g, i):
+                if _maybe_root(coeffs, theta_poly, K.theta_index, g, i):
                     roots.append((g if g.leading_coefficient() > 0 else -g, i))
         if len(roots) != len(coeffs) - 1:
             raise RuntimeError("eigenvalue selection failed")  # pragma: no cover
         out.append((coeffs, e, roots))
     return out
-
-
-def _theta_index(K: NumberField, mpoly: flint.fmpz_poly) -> int:
-    approx = complex(K.theta.evalf(60))
-
-    def ball(prec: int) -> flint.acb:
-        return flint.acb(approx.real, approx.imag) + flint.acb(flint.arb(0, 1e-12), flint.arb(0, 1e-12))
-    _, idx = identify(mpoly, ball, "primitive element")
-    return idx
 
 
 def _maybe_root(h: list[Elem], mpoly: flint.fmpz_poly, t_idx: int, g: flint.fmpz_poly, i: int) -> bool:

@@ -15,7 +15,7 @@ choice needs one isolating ball to meet the expression's value.
 from __future__ import annotations
 
 from fractions import Fraction
-from functools import total_ordering
+from functools import lru_cache, total_ordering
 from typing import Any, Callable
 
 import flint
@@ -92,6 +92,23 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
     raise InputError(f"cannot identify the {what} among the roots of {poly}")  # pragma: no cover
 
 
+def expr_ball(expr: sp.Expr, prec: int) -> flint.acb:
+    """A ball around the value of the sympy number ``expr`` at about ``prec`` bits (sympy's evalf)."""
+    digits = prec // 3 + 10
+    v = sp.N(expr, digits)
+    re_, im_ = sp.re(v), sp.im(v)
+    tol = flint.arb(0, float(2.0 ** (-prec // 1.2)) * (1 + abs(complex(v))))
+    return flint.acb(flint.arb(str(re_)) + tol, flint.arb(str(im_)) + tol)
+
+
+@lru_cache(maxsize=4096)
+def root_of(expr: sp.Expr) -> tuple[flint.fmpz_poly, int]:
+    """The algebraic number denoted by ``expr`` (real or complex): its minimal polynomial
+    (sympy's ``minimal_polynomial``) and root index (flint's ordering), cached."""
+    poly = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))
+    return identify(poly, lambda prec: expr_ball(expr, prec), f"root denoted by {expr}")
+
+
 @total_ordering
 class AlgebraicNumber:
     """A real algebraic number: ``.exact``, ``.minpoly``, ``.interval``, ``.evalf(n)``, ``float()``.
@@ -125,15 +142,7 @@ class AlgebraicNumber:
             q = expr if expr.is_Rational else None
         if q is not None:
             return cls(flint.fmpz_poly([-int(q.p), int(q.q)]), 0, q)
-        poly = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))
-
-        def ball(prec: int) -> flint.acb:
-            digits = prec // 3 + 10
-            v = sp.N(expr, digits)
-            re_, im_ = sp.re(v), sp.im(v)
-            tol = flint.arb(0, float(2.0 ** (-prec // 1.2)) * (1 + abs(float(v))))
-            return flint.acb(flint.arb(str(re_)) + tol, flint.arb(str(im_)) + tol)
-        f, idx = identify(poly, ball, f"root denoted by {expr}")
+        f, idx = root_of(expr)
         return cls(f, idx, expr)
 
     @classmethod
