@@ -140,10 +140,19 @@ def _vary_alpha(system: Any, loss: Any, value: str, file: str) -> tuple[str, Alg
     return "critical_alpha", critical_alpha(system, _iid(loss, file, "--vary alpha")), "modulus alpha, losses fixed"
 
 
+def _vary_recovery(system: Any, loss: Any, value: str, file: str) -> tuple[str, AlgebraicNumber, str]:
+    from .losses import GilbertElliott
+    from .stability import critical_recovery_rate
+    if not isinstance(loss, GilbertElliott):
+        raise UsageError(f"{file}: --vary recovery needs a [loss] table of kind 'gilbert-elliott' giving 'fail'")
+    return ("critical_recovery_rate", critical_recovery_rate(system, loss.fail),
+            "common Gilbert-Elliott recovery probability P(received | lost last), fail fixed; stable iff above")
+
+
 #: ``--vary`` of ``critical``: "KIND" or "KIND=VALUE" -> handler(system, loss, VALUE, file) giving
 #: (JSON key, exact value, what was varied)
 VARY: dict[str, Callable[[Any, Any, str, str], tuple[str, AlgebraicNumber, str]]] = {
-    "common": _vary_common, "sensor": _vary_sensor, "alpha": _vary_alpha}
+    "common": _vary_common, "sensor": _vary_sensor, "alpha": _vary_alpha, "recovery": _vary_recovery}
 
 
 def cmd_critical(args: argparse.Namespace) -> dict[str, Any]:
@@ -151,8 +160,7 @@ def cmd_critical(args: argparse.Namespace) -> dict[str, Any]:
     kind, _, value = args.vary.partition("=")
     if kind not in VARY or (kind == "sensor") != bool(value):
         choices = ", ".join(k + "=NAME" if k == "sensor" else k for k in VARY)
-        raise UsageError(f"--vary {args.vary!r}: expected {choices}"
-                         + ("" if "recovery" in VARY else " (recovery is not implemented yet)"))
+        raise UsageError(f"--vary {args.vary!r}: expected {choices}")
     system, loss = files.load(args.file)
     key, exact, how = VARY[kind](system, loss, value, args.file)
     return {key: _number(exact, args.digits), "varied": how,
@@ -241,7 +249,7 @@ def _print_reproduce(res: dict[str, Any]) -> None:
 
 def _args_critical(p: argparse.ArgumentParser) -> None:
     p.add_argument("file")
-    p.add_argument("--vary", default="common", help="common | sensor=NAME | alpha")
+    p.add_argument("--vary", default="common", help="common | sensor=NAME | alpha | recovery")
     p.add_argument("--digits", type=_positive_int, default=15)
 
 
@@ -264,6 +272,30 @@ def _args_reproduce(p: argparse.ArgumentParser) -> None:
     p.add_argument("--list", action="store_true", help="list the example names")
     p.add_argument("--outdir", default=None, help="directory for figures")
     p.add_argument("--quick", action="store_true", help="small sample sizes (a smoke run, not the paper's)")
+
+
+def cmd_table(args: argparse.Namespace) -> dict[str, Any]:
+    from . import tables
+    table = tables.family_table(args.file, jobs=args.jobs, scheduler=args.scheduler)
+    res: dict[str, Any] = {"family": str(args.file), **table.to_json(), "_text": str(table)}
+    if args.latex:
+        table.write(args.latex)
+        res["latex"] = str(args.latex)
+    return res
+
+
+def _print_table(res: dict[str, Any]) -> None:
+    print(res["_text"])
+    if "latex" in res:
+        print(f"LaTeX (booktabs) written to {res['latex']}")
+
+
+def _args_table(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file", metavar="FAMILY.toml")
+    p.add_argument("--latex", default=None, metavar="OUT.tex", help="write the booktabs table here")
+    p.add_argument("--jobs", type=_positive_int, default=1, help="local worker processes (default 1)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="a Dask distributed scheduler (tcp://host:port); needs the dask extra")
 
 
 def _positive_int(text: str) -> int:
@@ -292,6 +324,8 @@ register(Command("critical", "an exact critical value with its isolating interva
 register(Command("verify", "theory against simulation: the exact verdict beside a Monte Carlo divergence "
                  "test; exit status 1 when they disagree",
                  lambda p: _args_simulation(p, 80, 20_000), cmd_verify))
+register(Command("table", "exact critical values over a parameter family as a LaTeX (booktabs) table",
+                 _args_table, cmd_table, _print_table))
 register(Command("simulate", "Monte Carlo E[tr P_k] with confidence intervals", _args_simulate,
                  cmd_simulate, _print_simulate))
 register(Command("reproduce", "reproduce a paper's example: " + ", ".join(sorted(REPRODUCE)), _args_reproduce,

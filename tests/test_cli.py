@@ -38,7 +38,7 @@ def test_critical_json_exact(capsys):
     assert c["exact"] == "1/16" and c["decimal"].startswith("0.0625")
 
 
-@pytest.mark.parametrize("vary, message", [("recovery", "not implemented"), ("sensor", "sensor=NAME"),
+@pytest.mark.parametrize("vary, message", [("recovery", "gilbert-elliott"), ("sensor", "sensor=NAME"),
                                            ("bogus", "expected common")])
 def test_critical_bad_vary(capsys, vary, message):
     status, out, err = run(capsys, "critical", DESIGN, "--vary", vary)
@@ -217,3 +217,25 @@ def test_progress_only_on_a_terminal(monkeypatch):
 def test_verify_is_quiet_off_terminal(capsys):
     status, _, err = run(capsys, "verify", DESIGN, "--paths", "1000")
     assert status == 0 and err == ""
+
+
+def test_critical_vary_recovery_is_exact(capsys):
+    # A = 2R(pi/2), g = 2, fail 1/4: the decisive pattern keeps one element; its margin is
+    # 16 (1-q)^2 (q/4 + (1-q)^2) (sensor s2 always lost, s1 lost at one phase), = 1 at q_c
+    status, out, _ = run(capsys, "critical", str(GE), "--vary", "recovery", "--json")
+    res = json.loads(out)["critical_recovery_rate"]
+    assert status == 0 and res["minpoly"] == "16*x**4 - 60*x**3 + 88*x**2 - 60*x + 15"
+    q = float(res["decimal"])
+    assert abs(16 * (1 - q) ** 2 * (q / 4 + (1 - q) ** 2) - 1) < 1e-12
+
+
+def test_table_command_writes_latex_and_json(capsys, tmp_path):
+    family = tmp_path / "small.toml"
+    family.write_text('[family]\nname = "small"\nkind = "rotation"\n[grid]\nperiod = [2, 3]\n'
+                      'sensors = [1, 2]\n[constants]\nalpha = "2"\n')
+    tex = tmp_path / "out.tex"
+    status, out, _ = run(capsys, "table", str(family), "--latex", str(tex), "--json")
+    assert status == 0 and "\\toprule" in tex.read_text()
+    cells = [[c["exact"] for c in row["cells"]] for row in json.loads(out)["rows"]]
+    # eps_c = 2^(-2g / (d (g - 1))): hand-derived in examples/families/rotation-periods.toml
+    assert cells == [["1/16", "1/4"], ["1/8", "sqrt(2)/4"]]
