@@ -11,11 +11,10 @@ from .spectral import eigen_blocks, eigenvalues
 from .stability import (Verdict, critical_alpha, critical_loss_rate, critical_recovery_rate, stability,
                         stable_recovery_intervals)
 from .sweep import sweep
-from .verify import verify
 
 __all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLoss", "AlgebraicNumber",
            "eigen_blocks", "eigenvalues", "stability", "Verdict", "critical_loss_rate", "critical_alpha",
            "critical_recovery_rate", "stable_recovery_intervals", "stability_region", "stability_conditions",
-           "StabilityRegion", "verify", "sweep", "load_family",
+           "StabilityRegion", "sweep", "load_family",
            "capacity", "fusion", "montecarlo", "network", "second_order", "tables"]
 __version__ = "0.1.0"
