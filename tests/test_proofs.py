@@ -14,3 +14,9 @@ def test_proof_passes(path, monkeypatch):
     monkeypatch.setattr(sys, "argv", [str(path)])
     module = runpy.run_path(str(path))
     assert bool(module["main"]()), f"{path.name} printed FAIL"
+
+
+def test_readme_lists_every_proof():
+    readme = (Path(__file__).parent.parent / "proofs" / "README.md").read_text()
+    listed = {p.stem for p in PROOFS if f"`{p.name}`" in readme}
+    assert listed == {p.stem for p in PROOFS}, f"missing from proofs/README.md: {sorted({p.stem for p in PROOFS} - listed)}"
