@@ -105,8 +105,27 @@ def expr_ball(expr: sp.Expr, prec: int) -> flint.acb:
 def root_of(expr: sp.Expr) -> tuple[flint.fmpz_poly, int]:
     """The algebraic number denoted by ``expr`` (real or complex): its minimal polynomial
     (sympy's ``minimal_polynomial``) and root index (flint's ordering), cached."""
-    poly = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))
+    poly = _root_of_unity_poly(expr)
+    if poly is None:
+        poly = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))
     return identify(poly, lambda prec: expr_ball(expr, prec), f"root denoted by {expr}")
+
+
+def _root_of_unity_poly(expr: sp.Expr) -> flint.fmpz_poly | None:
+    """An integer polynomial vanishing at ``exp(i pi r)``, ``cos(pi r)``, ``sin(pi r)`` (``r``
+    rational), from flint's cyclotomic and ``2 cos(2 pi k/n)`` minimal polynomials; else None."""
+    if not isinstance(expr, (sp.exp, sp.cos, sp.sin)):
+        return None
+    r = expr.args[0] / (sp.I * sp.pi if isinstance(expr, sp.exp) else sp.pi)
+    if not r.is_Rational:
+        return None
+    if isinstance(expr, sp.sin):
+        r = sp.Rational(1, 2) - r
+    n = int((r / 2).q)  # exp(i pi r) is a primitive n-th root of unity
+    if isinstance(expr, sp.exp):
+        return flint.fmpz_poly.cyclotomic(n)
+    psi = flint.fmpz_poly.cos_minpoly(n)  # minimal polynomial of 2 cos(2 pi k / n), gcd(k, n) = 1
+    return flint.fmpz_poly([int(c) * 2 ** i for i, c in enumerate(psi.coeffs())])
 
 
 @total_ordering

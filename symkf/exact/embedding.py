@@ -30,7 +30,7 @@ at ``theta'``; its degree is ``[Q(theta, beta) : Q]``, so ``beta`` lies in
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from itertools import count
 from typing import Callable
 
@@ -44,18 +44,27 @@ _PRECS = (128, 256, 512, 1024, 2048, 4096, 8192, 16384)
 
 @dataclass(frozen=True)
 class Integral:
-    """An algebraic integer: root ``index`` (flint's ordering) of the monic irreducible ``poly``."""
+    """An algebraic integer: root ``index`` (flint's ordering) of the monic irreducible
+    polynomial with coefficients ``coeffs`` (low to high)."""
 
-    poly: flint.fmpz_poly
+    coeffs: tuple[int, ...]
     index: int
+
+    @classmethod
+    def of(cls, poly: flint.fmpz_poly, index: int) -> "Integral":
+        return cls(tuple(int(c) for c in poly.coeffs()), index)
+
+    @cached_property
+    def poly(self) -> flint.fmpz_poly:
+        return flint.fmpz_poly(list(self.coeffs))
 
     @property
     def degree(self) -> int:
-        return self.poly.degree()
+        return len(self.coeffs) - 1
 
     def roots(self, prec: int) -> list[flint.acb]:
         """Isolating balls of all conjugates at ``prec`` bits (flint's ordering)."""
-        return _roots(tuple(int(c) for c in self.poly.coeffs()), prec)
+        return _roots(self.coeffs, prec)
 
 
 @lru_cache(maxsize=256)
@@ -116,6 +125,7 @@ def _shifts():
         yield -k
 
 
+@lru_cache(maxsize=256)
 def adjoin(theta: Integral, beta: Integral) -> Adjunction:
     """A primitive element ``beta + k theta`` of ``Q(theta, beta)`` with all its conjugates."""
     for k in _shifts():
@@ -164,7 +174,7 @@ def _adjunction(theta: Integral, beta: Integral, k: int, prec: int) -> Adjunctio
         roots = _with_prec(prec, lambda: [r for r, _ in f.complex_roots()])
         idx = [i for i, r in enumerate(roots) if r.overlaps(target)]
         if len(idx) == 1:
-            return Adjunction(theta, beta, k, Integral(f, idx[0]), pairs)
+            return Adjunction(theta, beta, k, Integral.of(f, idx[0]), pairs)
     raise InputError(f"cannot certify the primitive element of {theta} and {beta}")  # pragma: no cover
 
 

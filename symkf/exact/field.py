@@ -38,7 +38,7 @@ def _integral(expr: sp.Expr) -> tuple[Integral, int]:
     poly, idx = root_of(expr)
     c, monic = integral_scale(poly)
     _, index = identify(monic, lambda prec: c * root_ball(poly, idx, prec), f"{c} * ({expr})")
-    return Integral(monic, index), c
+    return Integral.of(monic, index), c
 
 
 def _compose(p: Elem, t: Elem, modulus: Elem) -> Elem:
@@ -53,13 +53,35 @@ def _rational(q: sp.Rational) -> Elem:
 
 
 class _Presentation:
-    """Mutable state shared by equal NumberFields: primitive element and converted elements."""
+    """Mutable state shared by equal NumberFields: primitive element and converted elements.
+
+    ``atoms`` are the elements represented directly (by interpolation); every other
+    representation is field arithmetic on them.  ``certify`` proves each atom's
+    representation is the intended root.
+    """
 
     def __init__(self) -> None:
         self.prim: Integral | None = None
         self.theta: sp.Expr = sp.Integer(0)
         self.modulus = flint.fmpq_poly([0, 1])
         self.reps: dict[sp.Expr, Elem] = {}
+        self.atoms: set[sp.Expr] = set()
+        self.certified: set[sp.Expr] = set()
+
+    def certify(self) -> None:
+        """``minpoly(c a)`` vanishes at ``c rep(theta)`` exactly, and the ball of ``c rep(theta)``
+        meets the isolating ball of ``c a`` and of no other conjugate: ``rep(theta) = a``."""
+        for e in self.atoms - self.certified:
+            beta, c = _integral(e)
+            rep = self.reps[e] * c
+            if not vanishes(beta.poly, rep, self.modulus) or \
+                    identify(beta.poly, lambda prec: self._ball(rep, prec))[1] != beta.index:
+                raise AssertionError(f"representation of {e} failed certification")  # pragma: no cover
+            self.certified.add(e)
+
+    def _ball(self, a: Elem, prec: int) -> flint.acb:
+        t = self.prim.roots(prec)[self.prim.index]
+        return _with_prec(prec, lambda: flint.acb_poly([flint.acb(flint.arb(c)) for c in a.coeffs()])(t))
 
 
 @lru_cache(maxsize=128)
@@ -67,35 +89,35 @@ def _presentation(generators: tuple[sp.Expr, ...]) -> _Presentation:
     state = _Presentation()
     for g in generators:
         _add_generator(state, g)
-    for g in generators:  # the certificate of every representation
-        poly, idx = root_of(g)
-        rep = state.reps[g]
-        if not vanishes(poly, rep, state.modulus) or identify(poly, lambda prec: _ball(state, rep, prec))[1] != idx:
-            raise AssertionError(f"representation of {g} failed certification")  # pragma: no cover
+    state.certify()
     return state
 
 
-def _ball(state: _Presentation, a: Elem, prec: int) -> flint.acb:
-    t = state.prim.roots(prec)[state.prim.index]
-    return _with_prec(prec, lambda: flint.acb_poly([flint.acb(flint.arb(c)) for c in a.coeffs()])(t))
-
-
 def _add_generator(state: _Presentation, g: sp.Expr) -> None:
+    if state.prim is not None and _express(state, g) is not None:
+        return
+    core = _core(g)  # Q(theta, g) = Q(theta, core); _express has tried core already
+    beta, c = _integral(core)
     if state.prim is None:
-        beta, c = _integral(g)
-        state.prim, state.theta = beta, c * g
-        state.modulus = flint.fmpq_poly(beta.poly)
-        state.reps[g] = flint.fmpq_poly([0, flint.fmpq(1, c)])
-        return
-    if _express(state, g) is not None:
-        return
-    beta, c = _integral(g)
-    adj = adjoin(state.prim, beta)
-    modulus = flint.fmpq_poly(adj.prim.poly)
-    old = interpolate(adj.prim.poly, lambda prec: (lambda v: (v[0], v[2]))(adj.values(prec)))
-    state.reps = {e: _compose(p, old, modulus) for e, p in state.reps.items()}
-    state.reps[g] = (flint.fmpq_poly([0, 1]) - adj.k * old) / c
-    state.prim, state.modulus, state.theta = adj.prim, modulus, c * g + adj.k * state.theta
+        state.prim, state.modulus, state.theta = beta, flint.fmpq_poly(beta.poly), c * core
+        state.reps[core] = flint.fmpq_poly([0, flint.fmpq(1, c)])
+    else:
+        adj = adjoin(state.prim, beta)
+        modulus = flint.fmpq_poly(adj.prim.poly)
+        old = interpolate(adj.prim.poly, lambda prec: (lambda v: (v[0], v[2]))(adj.values(prec)))
+        state.reps = {e: _compose(p, old, modulus) for e, p in state.reps.items()}
+        state.reps[core] = (flint.fmpq_poly([0, 1]) - adj.k * old) / c
+        state.prim, state.modulus, state.theta = adj.prim, modulus, c * core + adj.k * state.theta
+    state.atoms.add(core)
+    _express(state, g)
+
+
+def _core(g: sp.Expr) -> sp.Expr:
+    """``h`` with ``g = a + b h``, ``a``, ``b`` rational: ``g`` and ``h`` generate the same field."""
+    _, h = g.as_coeff_Mul()
+    _, h = h.as_coeff_Add()
+    _, h = h.as_coeff_Mul()
+    return h
 
 
 def _member(state: _Presentation, expr: sp.Expr) -> Elem | None:
@@ -112,6 +134,7 @@ def _member(state: _Presentation, expr: sp.Expr) -> Elem | None:
         return None
     at = sorted(adj.pairs, key=lambda ij: ij[1])  # embedding j of Q(theta) sends beta to beta_i
     rep = interpolate(state.prim.poly, lambda prec: (state.prim.roots(prec), [beta.roots(prec)[i] for i, _ in at]))
+    state.atoms.add(expr)
     return rep / c
 
 
@@ -135,7 +158,7 @@ def _express(state: _Presentation, expr: sp.Expr) -> Elem | None:
         if base is not None and not base.is_zero():
             e = int(expr.exp)
             out = _power(base if e > 0 else _inverse(base, state.modulus), abs(e), state.modulus)
-    if out is None:
+    if out is None and _core(expr) == expr:  # else membership is that of the core, just tried
         out = _member(state, expr)
     if out is not None:
         state.reps[expr] = out
@@ -209,6 +232,7 @@ class NumberField:
         out = _express(self._state, expr) if not self.is_rational else _member_of_q(expr)
         if out is None:
             raise InputError(f"{expr} is not in the number field {self}")
+        self._state.certify()
         return out
 
     def to_sympy(self, a: Elem) -> sp.Expr:
