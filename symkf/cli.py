@@ -176,12 +176,25 @@ def _needs_loss(args: argparse.Namespace) -> tuple[Any, Any]:
 
 
 def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
-    from .verify import summary, verify
+    from .verify import family_summary, is_family_file, summary, verify, verify_family
+    if is_family_file(args.file):
+        reports = verify_family(args.file, jobs=args.jobs, scheduler=args.scheduler, seed=args.seed,
+                                paths=args.paths, horizon=args.horizon)
+        return {"family": str(args.file), "members": reports, "_text": family_summary(reports),
+                "_status": 1 if any(r["outcome"] == "disagree" for r in reports) else 0}
     system, loss = _needs_loss(args)
     report = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon)
     # exit status 1 (and "outcome": "disagree") when simulation contradicts the theory
     return {"system": str(args.file), "loss": repr(loss), **report, "_text": summary(report),
             "_status": 1 if report["outcome"] == "disagree" else 0}
+
+
+def _args_verify(p: argparse.ArgumentParser) -> None:
+    _args_simulation(p, 80, 20_000)
+    p.add_argument("--jobs", type=_positive_int, default=1,
+                   help="family files: local worker processes (default 1)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="family files: a Dask distributed scheduler (tcp://host:port); needs the dask extra")
 
 
 def _mean_trace_rows(est: Any, points: int = 8) -> list[dict[str, Any]]:
@@ -322,8 +335,9 @@ register(Command("analyze", "eigen-blocks, periods and, with a [loss] table, the
                  lambda p: p.add_argument("file"), cmd_analyze))
 register(Command("critical", "an exact critical value with its isolating interval", _args_critical, cmd_critical))
 register(Command("verify", "theory against simulation: the exact verdict beside a Monte Carlo divergence "
-                 "test; exit status 1 when they disagree",
-                 lambda p: _args_simulation(p, 80, 20_000), cmd_verify))
+                 "test, for a system file or every member of a family file (in parallel with --jobs or "
+                 "--scheduler); exit status 1 when they disagree",
+                 _args_verify, cmd_verify))
 register(Command("table", "exact critical values over a parameter family as a LaTeX (booktabs) table",
                  _args_table, cmd_table, _print_table))
 register(Command("simulate", "Monte Carlo E[tr P_k] with confidence intervals", _args_simulate,

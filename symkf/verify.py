@@ -21,6 +21,12 @@ estimate.  For Markov losses only plain Monte Carlo is available; it rarely
 samples those bursts, so it can show growth but never certify boundedness:
 its verdict is ``"unstable"`` or ``"undecided"``.
 
+:func:`verify_family` runs :func:`verify` on every member of a parameter family
+(a TOML family file with a ``[loss]`` template, see :mod:`symkf.families`) with
+:func:`symkf.sweep.sweep`, serially, on local processes or on a Dask cluster.
+Member ``i`` is simulated with the seeds ``seed + 2i`` and ``seed + 2i + 1``, fixed
+by its place in the family, so the reports are identical however the sweep runs.
+
 When the theory says unstable, ``E[tr P_k]`` grows like ``(alpha_i^2
 rho_i)^k`` for the limiting block, so the exact rate is also compared with
 the simulated rate's interval (reported, not part of the outcome: slowly
@@ -29,20 +35,28 @@ decaying transients and polynomial factors bias a finite-horizon rate).
 
 from __future__ import annotations
 
+import functools
 import math
+import tomllib
+from pathlib import Path
 from statistics import NormalDist
 from typing import Any
 
 import sympy as sp
 
+from .errors import AssumptionError, FileFormatError
 from .exact.algebraic import AlgebraicNumber
+from .families import Member, load_family
 from .losses import IID, LossModel
 from .model import System
 from .montecarlo import (DivergenceResult, burst_pattern, divergence_test, estimate_mean_trace, exact_growth_rate,
                          progress)
 from .stability import Verdict, critical_loss_rate, stability
+from .sweep import sweep
 
 OUTCOMES = ("agree", "undecided", "disagree")
+#: outcome of a family member whose theorem assumptions fail (shown as --- in tables)
+INAPPLICABLE = "inapplicable"
 
 
 def number_json(a: AlgebraicNumber | sp.Expr, digits: int = 12) -> dict[str, Any]:
@@ -152,3 +166,67 @@ def summary(report: dict[str, Any]) -> str:
                   "disagree": "outcome:    theory and simulation DISAGREE"}[report["outcome"]])
     return "\n".join(lines)
 
+
+
+def is_family_file(path: str | Path) -> bool:
+    """Whether ``path`` is a TOML file with a ``[family]`` table (else it is read as a system file)."""
+    try:
+        return isinstance(tomllib.loads(Path(path).read_text(encoding="utf-8")).get("family"), dict)
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return False  # the system-file reader reports the problem
+
+
+def verify_member(task: tuple[int, Member, int], **kw: Any) -> dict[str, Any]:
+    """:func:`verify` on member ``(index, member, seed)`` of a family (runs on sweep workers).
+
+    A member whose theorem assumptions fail gets outcome ``"inapplicable"`` and the reason,
+    so one such member does not stop a campaign.
+    """
+    index, member, seed = task
+    head = {"member": member.label, "index": index, "point": {k: str(v) for k, v in member.point},
+            "seed": seed}
+    system, loss = member.system()
+    try:
+        return {**head, **verify(system, loss, seed=seed, **kw)}
+    except AssumptionError as exc:
+        return {**head, "outcome": INAPPLICABLE, "reason": str(exc)}
+
+
+def verify_family(path: str | Path, jobs: int = 1, scheduler: Any = None, *, seed: int = 0,
+                  progress: bool | None = None, **kw: Any) -> list[dict[str, Any]]:
+    """:func:`verify` on every member of the family file ``path``, in the family's order.
+
+    The family needs a ``[loss]`` template.  Member ``i`` uses ``seed + 2i`` (its two
+    simulation runs take ``seed + 2i`` and ``seed + 2i + 1``, so no two runs share a random
+    stream), which makes the reports identical for ``jobs=1``, ``jobs=N`` and a Dask
+    ``scheduler`` (see :func:`symkf.sweep.sweep`).  ``kw`` goes to :func:`verify`
+    (``paths``, ``horizon``, ``tolerance``, ``confidence``).  Each report is
+    :func:`verify`'s plus ``member`` (label), ``index``, ``point`` (grid coordinates) and
+    ``seed``; a member whose assumptions fail has ``outcome = "inapplicable"`` and ``reason``.
+    """
+    family = load_family(path)
+    if family.members[0].tables["loss"] is None:
+        raise FileFormatError(f"{path}: [loss]: verify needs a loss model; give the family a [loss] "
+                              "template, e.g. kind = \"iid\", loss = [\"eps\"] with eps in [grid]")
+    tasks = [(i, m, seed + 2 * i) for i, m in enumerate(family.members)]
+    return sweep(functools.partial(verify_member, **kw), tasks, jobs=jobs, scheduler=scheduler,
+                 progress=progress, desc=f"verify {family.name}")
+
+
+def family_summary(reports: list[dict[str, Any]]) -> str:
+    """One line per member (theory, simulation, outcome) and a count of the outcomes."""
+    width = max(len(r["member"]) for r in reports)
+    lines = []
+    for r in reports:
+        if r["outcome"] == INAPPLICABLE:
+            lines.append(f"{r['member']:<{width}}  INAPPLICABLE: {' '.join(r['reason'].split())}")
+            continue
+        t, s = r["theory"], r["simulation"]
+        low, high = s["rate_interval"]
+        lines.append(f"{r['member']:<{width}}  theory {'stable' if t['stable'] else 'NOT stable':<10} "
+                     f"growth {t['growth_rate']['exact']} ~ {float(t['growth_rate']['decimal']):.5g}; "
+                     f"simulation {s['verdict']:<9} rate {s['rate']:.5g} [{low:.5g}, {high:.5g}], "
+                     f"seeds {s['seeds']}; {r['outcome'].upper()}")
+    counts = [f"{sum(r['outcome'] == o for r in reports)} {o}" for o in (*OUTCOMES, INAPPLICABLE)]
+    lines.append(f"{len(reports)} members: " + ", ".join(counts))
+    return "\n".join(lines)

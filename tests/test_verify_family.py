@@ -1,0 +1,131 @@
+"""``verify`` over a family: serial, local processes and Dask give identical reports; the CLI."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+import sympy as sp
+
+from symkf import cli
+from symkf.errors import FileFormatError
+from symkf.families import load_family
+from symkf.verify import is_family_file, verify, verify_family
+
+# A = 2 R(pi/2), C = [1 0] (DESIGN.md's example): eps_c = 1/16, and for i.i.d. loss eps the
+# limiting margin is alpha^2 rho = 4 sqrt(eps) (hand-derived: the period-2 bursts lose one phase)
+FAMILY = """
+[family]
+name = "rotation-loss"
+[grid]
+eps = ["1/50", "1/10", "1/8"]
+[system]
+A = [["0", "-2"], ["2", "0"]]
+[[sensors]]
+name = "s1"
+C = [["1", "0"]]
+[loss]
+kind = "iid"
+loss = ["eps"]
+"""
+RUN = {"paths": 2000, "horizon": 40}
+# the same system scaled by alpha, without a [loss] template
+NO_LOSS = FAMILY.split("[loss]")[0].replace('eps = ["1/50", "1/10", "1/8"]', 'alpha = ["2", "3"]') \
+    .replace('"-2"], ["2"', '"-alpha"], ["alpha"')
+
+
+@pytest.fixture(scope="module")
+def path(tmp_path_factory):
+    p = tmp_path_factory.mktemp("fam") / "rotation-loss.toml"
+    p.write_text(FAMILY)
+    return p
+
+
+@pytest.fixture(scope="module")
+def serial(path):
+    return verify_family(path, seed=7, **RUN)
+
+
+def test_members_report_hand_derived_theory_and_agree(serial):
+    assert [r["member"] for r in serial] == ["eps = 1/50", "eps = 1/10", "eps = 1/8"]
+    assert [r["point"] for r in serial] == [{"eps": "1/50"}, {"eps": "1/10"}, {"eps": "1/8"}]
+    margins = [4 * sp.sqrt(sp.Rational(e)) for e in ("1/50", "1/10", "1/8")]
+    assert [sp.sympify(r["theory"]["margins"][0]["exact"]) for r in serial] == margins
+    assert [r["theory"]["stable"] for r in serial] == [m < 1 for m in margins] == [True, False, False]
+    assert {r["theory"]["critical_common_loss_rate"]["exact"] for r in serial} == {"1/16"}
+    assert [r["outcome"] for r in serial] == ["agree"] * 3
+
+
+def test_seeds_follow_member_index(path, serial):
+    # member i runs with seeds seed + 2i, seed + 2i + 1: its report is verify()'s with that seed
+    assert [r["seed"] for r in serial] == [7, 9, 11]
+    assert [r["simulation"]["seeds"] for r in serial] == [[7, 8], [9, 10], [11, 12]]
+    system, loss = load_family(path).members[1].system()
+    alone = verify(system, loss, seed=9, **RUN)
+    assert {k: serial[1][k] for k in alone} == alone
+
+
+def test_processes_match_serial(path, serial):
+    assert verify_family(path, jobs=2, seed=7, **RUN) == serial
+
+
+def test_dask_local_cluster_matches_serial(path, serial):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        assert verify_family(path, scheduler=cluster.scheduler_address, seed=7, **RUN) == serial
+
+
+def test_family_needs_a_loss_template(tmp_path):
+    p = tmp_path / "noloss.toml"
+    p.write_text(NO_LOSS)
+    with pytest.raises(FileFormatError, match=r"noloss\.toml: \[loss\]: verify needs a loss model"):
+        verify_family(p)
+
+
+def test_inapplicable_member_is_recorded(tmp_path):
+    # beta = 2: A = [[2, 1], [0, 2]] is a Jordan block (not diagonalizable), beta = 3 is not
+    p = tmp_path / "jordan.toml"
+    p.write_text(FAMILY.replace('eps = ["1/50", "1/10", "1/8"]', 'beta = ["3", "2"]')
+                 .replace('[["0", "-2"], ["2", "0"]]', '[["beta", "1"], ["0", "2"]]')
+                 .replace('loss = ["eps"]', 'loss = ["1/100"]'))
+    reports = verify_family(p, paths=200, horizon=10)
+    assert reports[1]["outcome"] == "inapplicable" and "diagonalizable" in reports[1]["reason"]
+    assert reports[0]["outcome"] != "inapplicable"
+
+
+def test_detects_family_files(path, tmp_path):
+    assert is_family_file(path)
+    assert not is_family_file(cli.EXAMPLES / "design-rotation.toml")
+    assert not is_family_file(tmp_path / "missing.toml")
+
+
+def test_cli_plain_json_and_disagreement_status(path, serial, capsys, monkeypatch):
+    argv = ["verify", str(path), "--seed", "7", "--paths", "2000", "--horizon", "40"]
+    assert cli.main(argv + ["--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["family"] == str(path) and out["members"] == json.loads(json.dumps(serial))
+    assert cli.main(argv + ["--jobs", "2"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 4 and lines[0].startswith("eps = 1/50") and lines[0].endswith("AGREE")
+    assert "seeds [9, 10]" in lines[1] and lines[3] == "3 members: 3 agree, 0 undecided, 0 disagree, 0 inapplicable"
+
+    import symkf.verify as verify_module
+    monkeypatch.setattr(verify_module, "simulated_verdict", _contrary(verify_module.simulated_verdict))
+    assert cli.main(argv) == 1
+    assert "DISAGREE" in capsys.readouterr().out
+
+
+def _contrary(simulated_verdict):
+    """A simulation that always contradicts the theory (to check the exit status)."""
+    def contrary(system, loss, v, **kw):
+        return {**simulated_verdict(system, loss, v, **kw), "verdict": "unstable" if v.stable else "stable"}
+    return contrary
+
+
+def test_cli_family_without_loss_is_bad_input(tmp_path, capsys):
+    p = tmp_path / "noloss.toml"
+    p.write_text(NO_LOSS)
+    assert cli.main(["verify", str(p)]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1 and "[loss]" in err
