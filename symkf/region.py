@@ -105,6 +105,12 @@ class StabilityRegion:
             raise InputError("contains: give numbers; use conditions() for symbols")
         return all(_holds(c.margin(eps)) for c in self.constraints)
 
+    def __str__(self) -> str:
+        return f"stable iff {self.conditions()}"
+
+    def _repr_latex_(self) -> str:
+        return f"$\\text{{stable iff }} {sp.latex(self.conditions())}$"
+
     def boundary(self) -> tuple[Piece, ...]:
         """Two sensors: the critical ``eps_2 = f(eps_1)`` on ``0 < eps_1 < 1``, piecewise.
 

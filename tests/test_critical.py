@@ -195,3 +195,11 @@ def test_adding_a_sensor_never_destabilises_markov(extra, params):
     one = stability(base, sk.GilbertElliott(params[:1], params[2:3]))
     two = stability(more, sk.GilbertElliott(params[:2], params[2:]))
     assert two.margins[0] <= one.margins[0]
+
+
+def test_region_prints_and_renders_its_conditions():
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+    r = stability_region(S)
+    # every single element is a hyperplane: receiving one element in a period of g = 2 is deficient
+    assert str(r) == "stable iff (16*eps_s1*eps_s2**2 < 1) & (16*eps_s1**2*eps_s2 < 1)"
+    assert r._repr_latex_().startswith("$\\text{stable iff }") and "\\wedge" in r._repr_latex_()
