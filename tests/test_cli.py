@@ -239,3 +239,10 @@ def test_table_command_writes_latex_and_json(capsys, tmp_path):
     cells = [[c["exact"] for c in row["cells"]] for row in json.loads(out)["rows"]]
     # eps_c = 2^(-2g / (d (g - 1))): hand-derived in examples/families/rotation-periods.toml
     assert cells == [["1/16", "1/4"], ["1/8", "sqrt(2)/4"]]
+
+
+def test_yang_example1_file_matches_the_reproduction_data():
+    from symkf.capacity.example1 import example1_system
+    S, loss = files.load(SYSTEMS / "yang-example1.toml")
+    S2, loss2 = example1_system()
+    assert (S.A, S.C, S.Q, loss.loss) == (S2.A, S2.C, S2.Q, loss2.loss)
