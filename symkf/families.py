@@ -142,6 +142,7 @@ class Outcome:
 
 @dataclass(frozen=True)
 class Family:
+    """A loaded family file: its metadata, axes, constants and members (row-major over the axes)."""
     path: str
     name: str
     description: str

@@ -56,10 +56,12 @@ class FloatSystem:
 
     @property
     def n(self) -> int:
+        """State dimension ``n``."""
         return self.A.shape[0]
 
     @property
     def d(self) -> int:
+        """Number of sensors ``d``."""
         return int(self.row_sensor.max()) + 1
 
 

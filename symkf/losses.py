@@ -58,6 +58,7 @@ class LossChain:
 
     @property
     def d(self) -> int:
+        """Number of sensors (length of each receival vector)."""
         return len(self.emit[0])
 
     def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -96,6 +97,7 @@ class LossModel:
 
     @property
     def symbols(self) -> set[sp.Symbol]:
+        """Free symbols of the transition matrix and initial law (empty for numeric models)."""
         return set(self.chain.P.free_symbols | self.chain.initial.free_symbols)
 
     def subs(self, values: Mapping[Any, Any]) -> "LossModel":
@@ -116,6 +118,7 @@ class LossModel:
         return True
 
     def require_positive(self) -> None:
+        """Raise :class:`~symkf.errors.AssumptionError` (Assumption 2) unless every transition is positive."""
         why = self.positivity_failure()
         if why:
             raise AssumptionError(why, assumption="Assumption 2 (Sui-You-Fu)")

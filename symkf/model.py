@@ -109,10 +109,12 @@ class System:
 
     @property
     def n(self) -> int:
+        """State dimension ``n``."""
         return self.A.shape[0]
 
     @property
     def d(self) -> int:
+        """Number of sensors ``d``."""
         return len(self.sensors)
 
     @property
@@ -122,10 +124,12 @@ class System:
 
     @property
     def R(self) -> sp.ImmutableMatrix:
+        """Block-diagonal ``R = diag(R_1, ..., R_d)`` of the sensors' noise covariances (eq. 3)."""
         return sp.ImmutableMatrix(sp.diag(*[s.R for s in self.sensors]))
 
     @property
     def sensor_names(self) -> tuple[str, ...]:
+        """The sensors' names, in order."""
         return tuple(s.name for s in self.sensors)
 
     def check_observable(self) -> None:
@@ -153,6 +157,7 @@ class System:
                                       assumption="Lemma 2 (Sui-You-Fu): A invertible")
 
     def sensor_index(self, name: str) -> int:
+        """Position of the sensor called ``name``; :class:`~symkf.errors.InputError` listing the names if none."""
         try:
             return self.sensor_names.index(name)
         except ValueError:

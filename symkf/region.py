@@ -45,6 +45,7 @@ class Constraint:
     hyperplane: frozenset[int]      # one hyperplane with these exponents (element indices)
 
     def margin(self, loss: Sequence[sp.Expr]) -> sp.Expr:
+        """``growth * prod_j loss_j^(exponents[j])`` at the i.i.d. losses ``loss``: the condition holds iff < 1."""
         return self.growth * sp.Mul(*[e ** k for e, k in zip(loss, self.exponents)])
 
 
@@ -91,6 +92,7 @@ class StabilityRegion:
 
     @property
     def symbols(self) -> tuple[sp.Symbol, ...]:
+        """One nonnegative symbol ``eps_<sensor name>`` per sensor, the variables of the conditions."""
         return tuple(sp.Symbol(f"eps_{name}", nonnegative=True) for name in self.system.sensor_names)
 
     def conditions(self, loss: Sequence[Any] | None = None) -> sp.Basic:

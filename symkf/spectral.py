@@ -90,6 +90,7 @@ class Eigenvalue:
         return _nice_expr(f, self.root_index)
 
     def ball(self, prec: int) -> flint.acb:
+        """A certified complex ball (flint ``acb``) around the eigenvalue at ``prec`` bits."""
         return root_ball(self.minpoly, self.root_index, prec)
 
     @property
@@ -192,6 +193,7 @@ class EigenBlock:
 
     @property
     def is_periodic(self) -> bool:
+        """Whether the block has a governing period (some power of it is a scalar multiple of I)."""
         return self.governing_period is not None
 
     def __repr__(self) -> str:

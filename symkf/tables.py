@@ -57,10 +57,12 @@ class Cell:
 
     @classmethod
     def text(cls, text: str) -> "Cell":
+        """A cell of literal text (escaped for LaTeX)."""
         return cls(text, escape(text), rf"\text{{{escape(text)}}}", text)
 
     @classmethod
     def formula(cls, latex: str, plain: str) -> "Cell":
+        """A cell holding the LaTeX formula ``latex``, shown as ``plain`` in terminals."""
         return cls(plain, f"${latex}$", latex, plain)
 
     @classmethod

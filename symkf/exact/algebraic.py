@@ -39,10 +39,12 @@ def _rational(q: Any) -> sp.Rational | None:
 
 
 def fmpz_to_sympy(poly: flint.fmpz_poly) -> sp.Poly:
+    """A flint integer polynomial as a sympy Poly in ``x``."""
     return sp.Poly([int(c) for c in reversed(poly.coeffs())], x)
 
 
 def sympy_to_fmpz(poly: Any) -> flint.fmpz_poly:
+    """A rational sympy polynomial in ``x`` as a flint integer one (denominators cleared, leading coefficient > 0)."""
     p = poly if isinstance(poly, sp.Poly) else sp.Poly(poly, x)
     _, p = p.clear_denoms()
     out = flint.fmpz_poly([int(c) for c in reversed(p.all_coeffs())])
@@ -194,6 +196,7 @@ class AlgebraicNumber:
 
     @property
     def is_rational(self) -> bool:
+        """Whether the number is rational (minimal polynomial of degree 1)."""
         return self._poly.degree() == 1
 
     @property

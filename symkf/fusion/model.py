@@ -145,14 +145,17 @@ class FusionModel:
 
     @property
     def n(self) -> int:
+        """State dimension ``n``."""
         return self.A.shape[0]
 
     @property
     def N(self) -> int:
+        """Number of sensors ``N``."""
         return len(self.local)
 
     @property
     def names(self) -> tuple[str, ...]:
+        """The sensors' names, in order."""
         return tuple(loc.name for loc in self.local)
 
     @property
@@ -162,6 +165,7 @@ class FusionModel:
 
     @property
     def R(self) -> np.ndarray:
+        """Block-diagonal ``R`` of all sensors (float), for the centralized filter."""
         from scipy.linalg import block_diag
         return block_diag(*[loc.R for loc in self.local])
 

@@ -48,9 +48,11 @@ class PeriodicDynamics:
 
     @property
     def M(self) -> int:
+        """Number of sensor nodes ``M``."""
         return len(self.C)
 
     def A_at(self, k: int) -> sp.ImmutableMatrix:
+        """``A(k)``: the periodic system matrix at time ``k``."""
         return self.A[k % self.T]
 
     def Phi(self, l: int, k: int) -> sp.ImmutableMatrix:

@@ -47,9 +47,11 @@ class GainDistribution:
     """Law of a power gain ``h >= 0``: ``pdf(h)`` and a rigorous upper bound ``tail(H) >= Pr{h > H}``."""
 
     def pdf(self, h: mpmath.mpf) -> mpmath.mpf:  # pragma: no cover - abstract
+        """Probability density of the power gain at ``h``."""
         raise NotImplementedError
 
     def tail(self, H: mpmath.mpf) -> mpmath.mpf:  # pragma: no cover - abstract
+        """A rigorous upper bound on ``Pr{h > H}``."""
         raise NotImplementedError
 
     def cutoff(self) -> mpmath.mpf:
