@@ -33,9 +33,7 @@ Bad files raise :class:`~symkf.errors.FileFormatError` (or another
 from __future__ import annotations
 
 import itertools
-import json
 import re
-import tempfile
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -83,46 +81,14 @@ class Member:
     compute: str
 
     def system(self) -> tuple[System, Any]:
-        """The member's System and loss model (None without ``[loss]``), read by :func:`symkf.files.load`.
-
-        The substituted tables are written as a system file and read back, so a member is
-        validated exactly like a system file; errors name the family file and the grid point.
+        """The member's System and loss model (None without ``[loss]``), read by :func:`symkf.files.parse`,
+        so a member is validated exactly like a system file; errors name the family file and the grid point.
         """
         data = {"rationalize": self.rationalize, "system": {**self.tables["system"], "name": self.label},
                 "sensors": self.tables["sensors"]}
         if self.tables["loss"] is not None:
             data["loss"] = self.tables["loss"]
-        with tempfile.TemporaryDirectory() as tmp:
-            path = Path(tmp) / "member.toml"
-            path.write_text(_toml(data), encoding="utf-8")
-            try:
-                return files.load(path)
-            except SymkfError as exc:
-                text = str(exc.args[0] if exc.args else exc)
-                exc.args = (text.replace(str(path), f"{self.source}: at {self.label}"),)
-                raise
-
-
-def _toml_value(value: Any) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (int, float)):
-        return repr(value)
-    if isinstance(value, list):
-        return "[" + ", ".join(map(_toml_value, value)) + "]"
-    if isinstance(value, dict):
-        return "{" + ", ".join(f"{json.dumps(str(k))} = {_toml_value(v)}" for k, v in value.items()) + "}"
-    return json.dumps(str(value))  # a JSON string literal is a TOML basic string
-
-
-def _toml(data: dict) -> str:
-    """A system file holding ``data`` (top-level scalars, tables and arrays of tables)."""
-    lines = [f"{json.dumps(k)} = {_toml_value(v)}" for k, v in data.items() if not isinstance(v, (dict, list))]
-    for key, value in data.items():
-        for table in ([value] if isinstance(value, dict) else value if isinstance(value, list) else []):
-            lines.append(f"[{json.dumps(key)}]" if isinstance(value, dict) else f"[[{json.dumps(key)}]]")
-            lines += [f"{json.dumps(str(k))} = {_toml_value(v)}" for k, v in table.items()]
-    return "\n".join(lines) + "\n"
+        return files.parse(data, f"{self.source}: at {self.label}")
 
 
 @dataclass(frozen=True)

@@ -52,21 +52,28 @@ def load(path: str | Path) -> tuple[System, LossModel | None]:
         raise FileFormatError(f"{path}: not a usable TOML file ({exc})") from None
     except OSError as exc:
         raise FileFormatError(f"{path}: cannot read ({exc.strerror or type(exc).__name__})") from None
-    _check_keys(data, KEYS[""], f"{path}")
+    return parse(data, str(path))
+
+
+def parse(data: dict, source: str) -> tuple[System, LossModel | None]:
+    """The system and loss model of already-read TOML ``data``; errors are prefixed by ``source``
+    (a file name, or a file and a family grid point).  The system's default name is the last
+    path component of ``source``."""
+    _check_keys(data, KEYS[""], f"{source}")
     rationalize = data.get("rationalize", False)
     if not isinstance(rationalize, bool):
-        raise FileFormatError(f"{path}: key 'rationalize' must be true or false")
+        raise FileFormatError(f"{source}: key 'rationalize' must be true or false")
     try:
-        sysdata = _get(data, "system", str(path))
+        sysdata = _get(data, "system", source)
         if not isinstance(sysdata, dict):
-            raise FileFormatError(f"{path}: [system] must be a table")
-        _check_keys(sysdata, KEYS["[system]"], f"{path}: [system]")
-        sensors_data = _get(data, "sensors", str(path))
+            raise FileFormatError(f"{source}: [system] must be a table")
+        _check_keys(sysdata, KEYS["[system]"], f"{source}: [system]")
+        sensors_data = _get(data, "sensors", source)
         if not isinstance(sensors_data, list) or not sensors_data:
-            raise FileFormatError(f"{path}: [[sensors]] must list at least one sensor")
+            raise FileFormatError(f"{source}: [[sensors]] must list at least one sensor")
         sensors = []
         for i, s in enumerate(sensors_data):
-            where = f"{path}: sensors[{i}]"
+            where = f"{source}: sensors[{i}]"
             if not isinstance(s, dict):
                 raise FileFormatError(f"{where} must be a table")
             _check_keys(s, KEYS["sensors"], where)
@@ -77,14 +84,14 @@ def load(path: str | Path) -> tuple[System, LossModel | None]:
                 raise
             except SymkfError as exc:
                 raise _located(exc, f"sensors[{i}]") from None
-        system = System(A=_get(sysdata, "A", f"{path}: [system]"), sensors=sensors, Q=sysdata.get("Q"),
+        system = System(A=_get(sysdata, "A", f"{source}: [system]"), sensors=sensors, Q=sysdata.get("Q"),
                         P0=sysdata.get("P0"), rationalize=rationalize,
-                        name=_name(sysdata.get("name"), f"{path}: [system]") or path.stem)
-        loss = _loss(data.get("loss"), path, system, rationalize)
+                        name=_name(sysdata.get("name"), f"{source}: [system]") or Path(source).stem)
+        loss = _loss(data.get("loss"), source, system, rationalize)
     except FileFormatError:
         raise
     except SymkfError as exc:
-        raise _located(exc, str(path)) from None
+        raise _located(exc, source) from None
     return system, loss
 
 
@@ -94,12 +101,12 @@ def _located(exc: SymkfError, where: str) -> SymkfError:
     return exc
 
 
-def _loss(table: Any, path: Path, system: System, rationalize: bool) -> LossModel | None:
+def _loss(table: Any, source: str, system: System, rationalize: bool) -> LossModel | None:
     if table is None:
         return None
     if not isinstance(table, dict):
-        raise FileFormatError(f"{path}: [loss] must be a table")
-    where = f"{path}: [loss]"
+        raise FileFormatError(f"{source}: [loss] must be a table")
+    where = f"{source}: [loss]"
     kind = table.get("kind", "iid")
     if not isinstance(kind, str) or kind not in ("iid", "gilbert-elliott"):
         raise FileFormatError(f"{where} kind {kind!r} is not one of 'iid', 'gilbert-elliott'")

@@ -77,11 +77,18 @@ class Cell:
             exact_math = rf"\text{{root of }} {sp.latex(value.minpoly.as_expr())}"
         else:
             exact_text, exact_math = f"${sp.latex(value.exact)}$", sp.latex(value.exact)
+        if len(exact_math) > MAX_EXACT_LATEX:  # too wide for a cell: decimal only, exact form in to_json()
+            return cls(f"≈ {decimal}", rf"$\approx {decimal}$\textsuperscript{{*}}",
+                       rf"\approx {decimal}^{{*}}", data)
         if value.exact.is_Integer:
             return cls(str(value.exact), exact_text, exact_math, data)
         relation = "=" if value.is_rational and sp.Rational(decimal) == value.exact else r"\approx"
         return cls(f"{value.exact} {'=' if relation == '=' else '≈'} {decimal}",
                    _stack(exact_text, f"${relation} {decimal}$"), rf"{exact_math} {relation} {decimal}", data)
+
+
+#: longer exact forms are shown as a starred decimal (the exact form stays in the JSON)
+MAX_EXACT_LATEX = 60
 
 
 def _decimal(value: AlgebraicNumber, digits: int) -> str:
@@ -278,9 +285,15 @@ _FIELD_SYMBOLS = {"loss": r"\varepsilon", "fail": "f", "recover": "q"}
 def _loss_cell(kind: str, fields: tuple[tuple[str, tuple[sp.Expr, ...]], ...]) -> Cell:
     """A loss model's parameters, one vector per field (a scalar when all sensors share it)."""
     def show(values: tuple[sp.Expr, ...], fmt: Any) -> str:
-        return fmt(values[0]) if len(set(values)) == 1 else "(" + ", ".join(map(fmt, values)) + ")"
-    math = r",\ ".join(f"{_FIELD_SYMBOLS[k]} = {show(v, sp.latex)}" for k, v in fields)
-    plain = ", ".join(f"{k} = {show(v, str)}" for k, v in fields)
+        """``= v``, ``= (v_1, ..., v_d)``, or for many sensors ``in [min, max]`` to 3 digits (all in to_json())."""
+        if len(set(values)) == 1:
+            return f"= {fmt(values[0])}"
+        if len(values) > 4:
+            lo, hi = (f"{float(v):.3g}" for v in (min(values), max(values)))
+            return rf"\in [{lo},\ {hi}]" if fmt is sp.latex else f"in [{lo}, {hi}]"
+        return "= (" + ", ".join(map(fmt, values)) + ")"
+    math = r",\ ".join(f"{_FIELD_SYMBOLS[k]} {show(v, sp.latex)}" for k, v in fields)
+    plain = ", ".join(f"{k} {show(v, str)}" for k, v in fields)
     latex_name, plain_name = _LOSS_NAMES[kind]
     data = {"kind": kind, **{k: [str(x) for x in v] for k, v in fields}}
     return Cell(f"{plain_name}: {plain}", _stack(latex_name, f"${math}$"),
@@ -314,7 +327,8 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
                r"period $g$; i.i.d.\ loss probabilities $\varepsilon$, Gilbert--Elliott failure $f$ and recovery "
                r"$q$ probabilities (one value when all sensors share it); theorem: Sui--You--Fu Theorem~4 (one "
                rf"eigen-block) or~7. Computed exactly by {_ENGINE}. Margins: exact value and decimal to {digits} "
-               "significant digits.")
+               "significant digits; a starred decimal marks an exact form too long to print (it is in the JSON "
+               "output).")
     caption_text = ("Mean-square stability of the example systems with their loss models: the limiting "
                     "eigen-block's margin alpha_i^2 rho_i (stable iff every margin is below 1) and its governing "
                     "period g; theorem: Sui-You-Fu Theorem 4 (one eigen-block) or 7. Computed exactly by symkf "
@@ -322,5 +336,5 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
     metadata = {"table": "verdicts", "files": [str(p) for p in paths],
                 "engine": "Sui-You-Fu Theorems 4/7 with eq. (36), hyperplane form, governing periods"}
     return Table(caption, caption_text, Cell.text("system"), columns, tuple(rows), None, "tab:verdicts", metadata,
-                 r"\small")
+                 r"\small\setlength{\tabcolsep}{4pt}")
 
