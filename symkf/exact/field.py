@@ -112,12 +112,16 @@ def _add_generator(state: _Presentation, g: sp.Expr) -> None:
     _express(state, g)
 
 
+def _affine(g: sp.Expr) -> tuple[sp.Rational, sp.Rational, sp.Expr]:
+    """``(a, b, h)`` with ``g = a + b h``, ``a``, ``b`` rational: ``g`` and ``h`` generate the same field."""
+    m1, h = g.as_coeff_Mul()
+    a, h = h.as_coeff_Add()
+    m2, h = h.as_coeff_Mul()
+    return m1 * a, m1 * m2, h
+
+
 def _core(g: sp.Expr) -> sp.Expr:
-    """``h`` with ``g = a + b h``, ``a``, ``b`` rational: ``g`` and ``h`` generate the same field."""
-    _, h = g.as_coeff_Mul()
-    _, h = h.as_coeff_Add()
-    _, h = h.as_coeff_Mul()
-    return h
+    return _affine(g)[2]
 
 
 def _member(state: _Presentation, expr: sp.Expr) -> Elem | None:
@@ -158,8 +162,13 @@ def _express(state: _Presentation, expr: sp.Expr) -> Elem | None:
         if base is not None and not base.is_zero():
             e = int(expr.exp)
             out = _power(base if e > 0 else _inverse(base, state.modulus), abs(e), state.modulus)
-    if out is None and _core(expr) == expr:  # else membership is that of the core, just tried
-        out = _member(state, expr)
+    if out is None:
+        a, b, core = _affine(expr)
+        if core == expr:
+            out = _member(state, expr)
+        else:  # expr is in the field iff its core is
+            h = _express(state, core)
+            out = None if h is None else (h * _rational(b) + _rational(a)) % state.modulus
     if out is not None:
         state.reps[expr] = out
     return out
