@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import json
+import os
 import sys
 import warnings
 from dataclasses import dataclass
@@ -189,12 +190,16 @@ def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
             "_status": 1 if report["outcome"] == "disagree" else 0}
 
 
+def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
+    """``--jobs`` and ``--scheduler``: how the members of a family are evaluated (symkf.sweep)."""
+    p.add_argument("--jobs", type=_positive_int, default=1, help=f"{scope}local worker processes (default 1)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help=f"{scope}a Dask distributed scheduler (tcp://host:port); needs the dask extra")
+
+
 def _args_verify(p: argparse.ArgumentParser) -> None:
     _args_simulation(p, 80, 20_000)
-    p.add_argument("--jobs", type=_positive_int, default=1,
-                   help="family files: local worker processes (default 1)")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="family files: a Dask distributed scheduler (tcp://host:port); needs the dask extra")
+    _args_sweep(p, "family files: ")
 
 
 def _mean_trace_rows(est: Any, points: int = 8) -> list[dict[str, Any]]:
@@ -306,9 +311,7 @@ def _print_table(res: dict[str, Any]) -> None:
 def _args_table(p: argparse.ArgumentParser) -> None:
     p.add_argument("file", metavar="FAMILY.toml")
     p.add_argument("--latex", default=None, metavar="OUT.tex", help="write the booktabs table here")
-    p.add_argument("--jobs", type=_positive_int, default=1, help="local worker processes (default 1)")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="a Dask distributed scheduler (tcp://host:port); needs the dask extra")
+    _args_sweep(p)
 
 
 def _positive_int(text: str) -> int:
@@ -409,10 +412,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"symkf {command.name}: internal error ({type(exc).__name__}: {_one_line(exc)}); "
               "please report it", file=sys.stderr)
         return INTERNAL_ERROR
-    if args.json:
-        print(json.dumps({k: v for k, v in res.items() if not k.startswith("_")}, indent=2, default=str))
-    else:
-        (command.show or _print_plain)(res)
+    try:
+        if args.json:
+            print(json.dumps({k: v for k, v in res.items() if not k.startswith("_")}, indent=2, default=str))
+        else:
+            (command.show or _print_plain)(res)
+        sys.stdout.flush()
+    except BrokenPipeError:  # e.g. `symkf demo | head`: the reader left; not an error of ours
+        sys.stdout = open(os.devnull, "w")
     return res.get("_status", 0)
 
 

@@ -246,3 +246,10 @@ def test_yang_example1_file_matches_the_reproduction_data():
     S, loss = files.load(SYSTEMS / "yang-example1.toml")
     S2, loss2 = example1_system()
     assert (S.A, S.C, S.Q, loss.loss) == (S2.A, S2.C, S2.Q, loss2.loss)
+
+
+def test_closed_pipe_is_not_a_traceback():
+    import subprocess
+    proc = subprocess.run(f"{sys.executable} -m symkf critical {DESIGN} --json | head -c 1", shell=True,
+                          capture_output=True, text=True, timeout=120)
+    assert proc.stdout == "{" and "Traceback" not in proc.stderr
