@@ -178,8 +178,9 @@ class NetworkLoss(LossModel):
         return MarkovLoss(table, order=1, initial={v: sp.simplify(p) for v, p in initial.items()})
 
     def subs(self, values: Mapping[Any, Any]) -> "NetworkLoss":
+        """A copy with symbols in ``phi`` and in the network state's laws replaced by exact values."""
         phi = [[sp.sympify(p).subs(values) for p in self.phi.row(m)] for m in range(self.d)]
-        return NetworkLoss(self.tree, self.state, phi)
+        return NetworkLoss(self.tree, self.state.subs(values), phi)
 
     def __repr__(self) -> str:
         return f"NetworkLoss({self.tree!r}, {self.state!r})"

@@ -74,6 +74,10 @@ class MarkovNetworkState:
         """``p_ij`` (eq. 4), states numbered from 1."""
         return self.P[i - 1, j - 1]
 
+    def subs(self, values: Mapping[Any, Any]) -> "MarkovNetworkState":
+        """A copy with symbols in ``P`` and the initial law replaced by exact values."""
+        return MarkovNetworkState(self.P.subs(values), initial=list(self.initial.subs(values)))
+
     def as_semi_markov(self) -> "SemiMarkovNetworkState":
         """The same process as in Assumption 3 with ``q_ij = p_ij`` and ``psi_j(1) = 1`` (Sec. VII-B)."""
         return SemiMarkovNetworkState(self.P, [{1: 1}] * self.B, initial=list(self.initial))
@@ -133,6 +137,11 @@ class SemiMarkovNetworkState:
     def qij(self, i: int, j: int) -> sp.Expr:
         """``q_ij`` (eq. 28), states numbered from 1."""
         return self.q[i - 1, j - 1]
+
+    def subs(self, values: Mapping[Any, Any]) -> "SemiMarkovNetworkState":
+        """A copy with symbols in ``q``, the holding laws and the initial law replaced by exact values."""
+        holding = [{d: sp.sympify(p).subs(values) for d, p in h.items()} for h in self.holding]
+        return SemiMarkovNetworkState(self.q.subs(values), holding, initial=list(self.initial.subs(values)))
 
     def __repr__(self) -> str:
         return f"SemiMarkovNetworkState(q={self.q.tolist()}, sigma={self.sigma})"
