@@ -160,3 +160,9 @@ def test_against_sympy_algebraic_field(radicands, c):
     assert K.degree == Ks.mod.degree()
     ours, theirs = K.to_sympy(K.convert(a)), Ks.to_sympy(Ks.from_sympy(a))
     assert sp.minimal_polynomial(ours - theirs, x) == x
+
+
+@pytest.mark.parametrize("g", [sp.pi, sp.Symbol("a"), sp.exp(1)])
+def test_non_algebraic_generators_refused(g):
+    with pytest.raises(InputError, match="cannot build the number field"):
+        NumberField([sp.sqrt(2), g])

@@ -107,6 +107,8 @@ def expr_ball(expr: sp.Expr, prec: int) -> flint.acb:
 def root_of(expr: sp.Expr) -> tuple[flint.fmpz_poly, int]:
     """The algebraic number denoted by ``expr`` (real or complex): its minimal polynomial
     (sympy's ``minimal_polynomial``) and root index (flint's ordering), cached."""
+    if expr.free_symbols:
+        raise InputError(f"{expr}: has free symbols, not a number")
     poly = _root_of_unity_poly(expr)
     if poly is None:
         poly = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))

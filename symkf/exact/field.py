@@ -1,7 +1,9 @@
 """Number fields Q(theta) with fast exact arithmetic (python-flint).
 
 ``NumberField(generators)`` is ``Q(generators)`` presented as ``Q(theta)``:
-the primitive element ``theta = sum k_i c_i g_i`` and every generator's
+the primitive element ``theta = sum k_i c_i h_i`` (``h_i`` the generator ``g_i``
+without rational coefficients, ``g_i = a_i + b_i h_i``; ``c_i`` the least integer
+making ``c_i h_i`` an algebraic integer; small integers ``k_i``) and every generator's
 representation come from certified complex embeddings
 (:mod:`symkf.exact.embedding`: Trager's norm for the primitive element, exact
 interpolation over all embeddings for the representations), so nothing is
@@ -30,6 +32,9 @@ from .algebraic import _with_prec, identify, root_ball, root_of
 from .embedding import Integral, adjoin, integral_scale, interpolate, vanishes
 
 Elem = flint.fmpq_poly
+
+_NOT_ALGEBRAIC = (InputError, sp.polys.polyerrors.NotAlgebraic, sp.polys.polyerrors.PolynomialError,
+                  NotImplementedError)
 
 
 @lru_cache(maxsize=4096)
@@ -128,7 +133,7 @@ def _member(state: _Presentation, expr: sp.Expr) -> Elem | None:
     """``expr`` in ``Q(theta)``, or None when it is not in the field (exact: degree of ``Q(theta, expr)``)."""
     try:
         beta, c = _integral(expr)
-    except (InputError, sp.polys.polyerrors.NotAlgebraic, sp.polys.polyerrors.PolynomialError):
+    except _NOT_ALGEBRAIC:
         return None
     d = state.prim.degree
     if d % beta.degree:
@@ -204,7 +209,7 @@ class NumberField:
         self.generators = tuple(gens)
         try:
             self._state = _presentation(self.generators)
-        except (InputError, sp.polys.polyerrors.NotAlgebraic, sp.polys.polyerrors.PolynomialError) as exc:
+        except _NOT_ALGEBRAIC as exc:
             raise InputError(f"cannot build the number field of {gens}: {exc}") from None
         self.modulus = self._state.modulus
         self.degree = self.modulus.degree()
@@ -276,7 +281,7 @@ def _member_of_q(expr: sp.Expr) -> Elem | None:
     sympy, ``cos(pi/3)`` too; others are decided by the degree of the minimal polynomial)."""
     try:
         poly, _ = root_of(expr)
-    except (InputError, sp.polys.polyerrors.NotAlgebraic, sp.polys.polyerrors.PolynomialError):
+    except _NOT_ALGEBRAIC:
         return None
     if poly.degree() != 1:
         return None
