@@ -116,7 +116,7 @@ def test_markdown_table_rows(table):
     md = markdown_table([table["iid-scalar"], table["fading-scalar"], table["ge-scalar-stay"]])
     lines = md.splitlines()
     assert len(lines) == 5
-    assert "| iid-scalar | phi_{1|1} | t > 3/4 | t > 3/4 | t > 3/4 | 3/4 / 3/4 | 0 | 1.0000 | yes |" == lines[2]
+    assert "| iid-scalar | phi_{1\\|1} | t > 3/4 | t > 3/4 | t > 3/4 | 3/4 / 3/4 | 0 | 1.0000 | yes |" == lines[2]
     assert "| 19/90 / 50/369 |" in lines[3]
     assert "| never | never | t < 4/9 | - / 4/9 |" in lines[4]
 
@@ -132,6 +132,10 @@ def test_example_script_prints_the_table(capsys, monkeypatch):
 def test_parameter_symbol_is_the_one_in_the_models():
     assert t in example("fading-scalar").loss.phi.free_symbols
     assert t in example("ge-scalar-stay").loss.state.P.free_symbols
+    # NetworkLoss.subs substitutes into the network state too (transition probabilities, initial law)
+    sub = example("ge-scalar-stay").loss.subs({t: R(1, 3)})
+    assert sub.state.P == sp.Matrix([[R(1, 2), R(1, 2)], [R(2, 3), R(1, 3)]])
+    assert sub.state.initial == sp.Matrix([[R(4, 7), R(3, 7)]])
 
 
 def test_relay_and_example3_hand_derived(table):

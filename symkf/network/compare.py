@@ -256,7 +256,8 @@ def markdown_table(comparisons: Sequence[Comparison], digits: int = 6) -> str:
         s, e = critical(c.theorem1), critical(c.exact)
         gap = f"{abs(float(s) - float(e)):.{digits}g}" if s is not None and e is not None else "-"
         cov = "-" if c.coverage is None else f"{c.coverage:.4f}"
-        lines.append(f"| {c.example.name} | {c.example.parameter} | {describe(c.theorem1, digits)} | "
+        param = c.example.parameter.replace("|", "\\|")  # a bare | would split the markdown cell
+        lines.append(f"| {c.example.name} | {param} | {describe(c.theorem1, digits)} | "
                      f"{describe(c.theorem2, digits)} | {describe(c.exact, digits)} | {fmt(s)} / {fmt(e)} | "
                      f"{gap} | {cov} | {'yes' if c.sufficient_inside_exact else 'NO'} |")
     return "\n".join(lines)
