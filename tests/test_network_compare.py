@@ -146,3 +146,14 @@ def test_relay_and_example3_hand_derived(table):
     # y = (1 - t)^2: det(I - 4 [[9/4000, y/10], [3/4000, 7y/10]]) = 991/1000 - 2776 y/1000.
     e = critical(table["example3-tree"].exact)
     assert e == AlgebraicNumber.from_expr(1 - sp.sqrt(R(991, 2776)))
+
+
+def test_identically_vanishing_determinant_is_refused():
+    # a = 3/2, p22 = 4/9: the margin a^2 p22 is 1 for every p12 = t, so no root marks a boundary
+    from symkf.errors import AssumptionError
+    from symkf.network.compare import NetworkExample, exact_candidates
+    ex = NetworkExample("flat", "stated", "p12", [[R(3, 2)]], [[[1]]], [0],
+                        [[1 - t, t], [R(5, 9), R(4, 9)]], [[1, 0]])
+    with pytest.raises(AssumptionError, match="vanishes identically"):
+        exact_candidates(ex)
+    assert max(stability(ex.system, ex.at(R(1, 3))).margins) == 1

@@ -36,6 +36,7 @@ from typing import Any, Sequence
 import sympy as sp
 
 from ..decay import _restricted_transfer
+from ..errors import AssumptionError
 from ..exact.algebraic import AlgebraicNumber
 from ..losses import LossModel
 from ..model import Sensor, System
@@ -167,8 +168,12 @@ def exact_candidates(example: NetworkExample) -> tuple[AlgebraicNumber, ...]:
             M = _restricted_transfer(br, H, loss).applyfunc(sp.expand)
             keep = [j for j in range(M.cols) if not M.col(j).is_zero_matrix]
             if keep:
-                sub = M.extract(keep, keep)
-                roots += _roots_in_unit((sp.eye(len(keep)) - growth * sub).det(method="berkowitz"), t)
+                det = sp.expand((sp.eye(len(keep)) - growth * M.extract(keep, keep)).det(method="berkowitz"))
+                if det == 0:  # 1/growth is an eigenvalue for every t: its roots locate nothing
+                    raise AssumptionError(f"{example.name}: det(I - alpha^(2g) M_H(t)) vanishes identically",
+                                          assumption="isolated boundary candidates",
+                                          applies_instead="symkf.stability.stability at chosen values of t")
+                roots += _roots_in_unit(det, t)
     return tuple(_distinct(roots))
 
 
@@ -180,7 +185,7 @@ def exact_stable_set(example: NetworkExample, candidates: Sequence[AlgebraicNumb
     points = _distinct([AlgebraicNumber.from_expr(0), *candidates, AlgebraicNumber.from_expr(1)])
     gaps = [(lo, hi, stable_at(_between(lo, hi))) for lo, hi in zip(points, points[1:])]
     out: list[tuple[AlgebraicNumber, AlgebraicNumber]] = []
-    for k, (lo, hi, ok) in enumerate(gaps):
+    for lo, hi, ok in gaps:
         if ok and out and out[-1][1] is lo and stable_at(lo.exact):
             out[-1] = (out[-1][0], hi)
         elif ok:
