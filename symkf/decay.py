@@ -99,7 +99,7 @@ def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
         if not br.block.is_periodic:
             raise _aperiodic(br)
         cands = [(H, sp.sympify(ge_rate(br, H, loss) if isinstance(loss, GilbertElliott)
-                                else perron_root(_restricted_transfer(br, H, loss)))) for H in br.hyperplanes]
+                                else perron_root(restricted_transfer(br, H, loss)))) for H in br.hyperplanes]
     H, best = _maximum(cands)
     return BlockRate(best, H, tuple(cands))
 
@@ -123,7 +123,7 @@ def _aperiodic(br: BlockRows) -> AperiodicError:
                           applies_instead="i.i.d. losses (symkf.IID), for which aperiodic blocks are decided")
 
 
-def _restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Matrix:
+def restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Matrix:
     """One-period transfer of the loss chain restricted to steps received inside ``H``."""
     ch = loss.chain
     S = len(ch.states)

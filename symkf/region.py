@@ -132,10 +132,10 @@ class StabilityRegion:
             (a1, a2), (b1, b2) = a.exponents, b.exponents
             if a1 * b2 != b1 * a2:  # ga^b2 e^(a1 b2) = gb^a2 e^(b1 a2)
                 breaks.append(AlgebraicNumber.from_expr(sp.root(b.growth ** a2 / a.growth ** b2, a1 * b2 - b1 * a2)))
-        points = _distinct(b for b in breaks if b >= 0 and b <= 1)
+        points = distinct(b for b in breaks if b >= 0 and b <= 1)
         pieces: list[Piece] = []
         for lo, hi in zip(points, points[1:]):
-            t = _between(lo, hi)
+            t = between(lo, hi)
             if not all(_holds(cut.subs(e1, t)) for cut in cuts):
                 expr = sp.Integer(0)
             else:
@@ -161,7 +161,8 @@ class StabilityRegion:
         return min(values)
 
 
-def _distinct(values) -> list[AlgebraicNumber]:
+def distinct(values) -> list[AlgebraicNumber]:
+    """The values sorted, exact duplicates removed."""
     out: list[AlgebraicNumber] = []
     for v in sorted(values):
         if not out or out[-1] != v:
@@ -218,7 +219,7 @@ def stability_conditions(system: System, loss: LossModel) -> sp.Basic:
                      "substitute numbers and use symkf.stability.stability")
 
 
-def _between(a: AlgebraicNumber, b: AlgebraicNumber) -> sp.Rational:
+def between(a: AlgebraicNumber, b: AlgebraicNumber) -> sp.Rational:
     """A rational strictly between ``a < b`` (the simplest in the separating gap)."""
     while a.interval[1] >= b.interval[0]:
         a.refine(sp.Rational(a.interval[1] - a.interval[0]) / 4 or sp.Rational(1, 10 ** 30))
@@ -237,7 +238,7 @@ def _simplest(lo: Fraction, hi: Fraction) -> Fraction:
         q += 1 if q < 64 else q
 
 
-def _roots_in_unit(expr: sp.Expr, t: sp.Symbol) -> list[AlgebraicNumber]:
+def roots_in_unit(expr: sp.Expr, t: sp.Symbol) -> list[AlgebraicNumber]:
     """Real roots in (0, 1) of ``expr = 0`` (a polynomial in ``t`` with algebraic coefficients):
     a superset, via the norm to Q when the coefficients are irrational."""
     poly = sp.Poly(sp.expand(expr), t, extension=True)
@@ -259,21 +260,22 @@ def _roots_in_unit(expr: sp.Expr, t: sp.Symbol) -> list[AlgebraicNumber]:
 def stable_intervals(margins: Sequence[sp.Expr], t: sp.Symbol) -> tuple[tuple[AlgebraicNumber, AlgebraicNumber], ...]:
     """The open set ``{t in (0, 1) : every margin(t) < 1}`` as disjoint open intervals, exactly.
 
-    The margins are polynomials in ``t``; the set changes only at real roots of ``margin - 1``
-    (candidates), and each gap between candidates is classified at a rational point.  A
+    The margins are polynomials in ``t``; the set changes only at real roots of ``margin - 1``."""
+    return stable_set([r for m in margins for r in roots_in_unit(m - 1, t)],
+                      lambda v: all(_holds(sp.sympify(m).subs(t, v)) for m in margins))
+
+
+def stable_set(candidates: Sequence[AlgebraicNumber], stable_at: Any
+               ) -> tuple[tuple[AlgebraicNumber, AlgebraicNumber], ...]:
+    """``{t in (0, 1) : stable_at(t)}`` as disjoint open intervals, given every point where the
+    verdict can change (``candidates``): each gap is classified at a rational point, and a
     candidate between two stable gaps is kept as a boundary point unless it is stable itself."""
-    cands = _distinct([AlgebraicNumber.from_expr(0), AlgebraicNumber.from_expr(1)]
-                      + [r for m in margins for r in _roots_in_unit(m - 1, t)])
-
-    def stable_at(v: sp.Expr) -> bool:
-        return all(_holds(sp.sympify(m).subs(t, v)) for m in margins)
-
-    gaps = [(lo, hi, stable_at(_between(lo, hi))) for lo, hi in zip(cands, cands[1:])]
+    points = distinct([AlgebraicNumber.from_expr(0), *candidates, AlgebraicNumber.from_expr(1)])
     out: list[tuple[AlgebraicNumber, AlgebraicNumber]] = []
-    for k, (lo, hi, ok) in enumerate(gaps):
-        if not ok:
+    for lo, hi in zip(points, points[1:]):
+        if not stable_at(between(lo, hi)):
             continue
-        if out and out[-1][1] is lo and gaps[k - 1][2] and stable_at(lo.exact):
+        if out and out[-1][1] is lo and stable_at(lo.exact):
             out[-1] = (out[-1][0], hi)
         else:
             out.append((lo, hi))

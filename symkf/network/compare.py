@@ -35,13 +35,13 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from ..decay import _restricted_transfer
+from ..decay import restricted_transfer
 from ..errors import AssumptionError
 from ..exact.algebraic import AlgebraicNumber
 from ..losses import LossModel
 from ..model import Sensor, System
 from ..observability import block_rows
-from ..region import _between, _distinct, _roots_in_unit, stable_intervals
+from ..region import distinct, roots_in_unit, stable_intervals, stable_set
 from ..stability import stability
 from .conditions import theorem1
 from .dynamics import PeriodicDynamics
@@ -165,7 +165,7 @@ def exact_candidates(example: NetworkExample) -> tuple[AlgebraicNumber, ...]:
     for br in block_rows(example.system):
         growth = sp.sympify(br.block.modulus.exact ** (2 * br.period))
         for H in br.hyperplanes:
-            M = _restricted_transfer(br, H, loss).applyfunc(sp.expand)
+            M = restricted_transfer(br, H, loss).applyfunc(sp.expand)
             keep = [j for j in range(M.cols) if not M.col(j).is_zero_matrix]
             if keep:
                 det = sp.expand((sp.eye(len(keep)) - growth * M.extract(keep, keep)).det(method="berkowitz"))
@@ -173,24 +173,13 @@ def exact_candidates(example: NetworkExample) -> tuple[AlgebraicNumber, ...]:
                     raise AssumptionError(f"{example.name}: det(I - alpha^(2g) M_H(t)) vanishes identically",
                                           assumption="isolated boundary candidates",
                                           applies_instead="symkf.stability.stability at chosen values of t")
-                roots += _roots_in_unit(det, t)
-    return tuple(_distinct(roots))
+                roots += roots_in_unit(det, t)
+    return tuple(distinct(roots))
 
 
 def exact_stable_set(example: NetworkExample, candidates: Sequence[AlgebraicNumber]) -> Intervals:
     """The exact ``{t in (0, 1) : stable}``: gaps between candidates classified by the engine."""
-    def stable_at(v: sp.Expr) -> bool:
-        return stability(example.system, example.at(v)).stable
-
-    points = _distinct([AlgebraicNumber.from_expr(0), *candidates, AlgebraicNumber.from_expr(1)])
-    gaps = [(lo, hi, stable_at(_between(lo, hi))) for lo, hi in zip(points, points[1:])]
-    out: list[tuple[AlgebraicNumber, AlgebraicNumber]] = []
-    for lo, hi, ok in gaps:
-        if ok and out and out[-1][1] is lo and stable_at(lo.exact):
-            out[-1] = (out[-1][0], hi)
-        elif ok:
-            out.append((lo, hi))
-    return tuple(out)
+    return stable_set(candidates, lambda v: stability(example.system, example.at(v)).stable)
 
 
 def compare(example: NetworkExample) -> Comparison:
