@@ -1,0 +1,244 @@
+"""System files with joint Markov and sensor-network losses, and fusion files (symkf.files).
+
+The example files in examples/systems/network and examples/systems/fusion must hold exactly
+the data that symkf/network/reproduce.py and symkf/fusion/pendulum.py build, and the command
+line must decide them (exit 0) or name the assumption that fails and what applies (exit 3).
+"""
+
+from __future__ import annotations
+
+import itertools
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from symkf import cli, files
+from symkf.errors import FileFormatError, InputError
+from symkf.losses import MarkovLoss
+from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SemiMarkovNetworkState, theorem1)
+from symkf.network import reproduce as rep
+from symkf.stability import stability
+
+ROOT = Path(__file__).resolve().parent.parent
+NETWORK = ROOT / "examples" / "systems" / "network"
+FUSION = ROOT / "examples" / "systems" / "fusion"
+R = sp.Rational
+
+
+def run(capsys, *argv) -> tuple[int, str, str]:
+    status = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def write(tmp_path: Path, text: str, name: str = "f.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def dynamics(system) -> PeriodicDynamics:
+    return PeriodicDynamics(system.A, [s.C for s in system.sensors])
+
+
+# -- the papers' example systems equal what the reproduction code builds -----------------------
+
+def test_example3_file_is_the_reproduction_data():
+    system, loss = files.load(NETWORK / "quevedo-example3.toml")
+    dyn = rep.example3_dynamics()
+    assert isinstance(loss, NetworkLoss) and isinstance(loss.state, MarkovNetworkState)
+    assert loss.tree == rep.example3_tree()
+    assert system.A == dyn.A[0] and [s.C for s in system.sensors] == list(dyn.C)
+    assert loss.state.P == sp.Matrix([[R(9, 10), R(1, 10)], [R(3, 10), R(7, 10)]])
+    phi = [["19/20", "1/2"], ["19/20", "1/2"], ["19/20", "19/20"], ["19/20", "19/20"], ["19/20", "19/20"]]
+    assert loss.phi == sp.Matrix(phi).applyfunc(sp.Rational)
+    assert loss.state.initial == sp.Matrix([[R(3, 4), R(1, 4)]])     # stationary law of P
+
+
+def test_example3_engine_agrees_with_hand_derivation_and_theorem1():
+    system, loss = files.load(NETWORK / "quevedo-example3.toml")
+    v = stability(system, loss)
+    # Every C_m has a non-zero entry in each 1-D eigen-block, so block i's filter loses rank only
+    # when no sensor is heard: theta = 0 iff E1 and E2 both fail, Pr = (1 - phi_1j)(1 - phi_2j).
+    # rho = spectral radius of P diag(1/400, 1/4) = (709 + 7 sqrt(9769)) / 8000.
+    M = sp.Matrix([[R(9, 10), R(1, 10)], [R(3, 10), R(7, 10)]]) * sp.diag(R(1, 400), R(1, 4))
+    rho = max(M.eigenvals(), key=lambda e: float(e))
+    assert sp.simplify(rho - (709 + 7 * sp.sqrt(9769)) / 8000) == 0
+    for margin, alpha in zip(v.margins, (R(11, 10), 1, R(9, 10))):
+        assert sp.simplify(margin.exact - alpha ** 2 * rho) == 0
+    assert v.stable
+    assert theorem1(loss, dynamics(system)).holds            # sufficient (Theorem 1), so consistent
+
+
+def test_robot_file_is_the_reproduction_data():
+    system, loss = files.load(NETWORK / "quevedo-robot.toml")
+    tree, dyn, phi = rep.robot_network()
+    assert isinstance(loss.state, SemiMarkovNetworkState)
+    assert loss.tree == tree and system.A == dyn.A[0] and [s.C for s in system.sensors] == list(dyn.C)
+    assert loss.phi == sp.Matrix(phi).applyfunc(sp.Rational)
+    assert loss.state.q == sp.Matrix(rep.ROBOT_Q).applyfunc(sp.Rational)
+    assert loss.state.holding == tuple(rep.ROBOT_HOLDING) and loss.state.sigma == 30
+
+
+def test_semi_markov_network_file_is_the_reproduction_instance():
+    system, loss = files.load(NETWORK / "quevedo-semi-markov-network.toml")
+    assert system.A == sp.Matrix(rep.VIIC_A).applyfunc(sp.Rational)
+    assert system.sensors[0].C == sp.Matrix(rep.VIIC_C1)
+    assert loss.tree.parents == (0,) and loss.phi == sp.Matrix([[R(19, 20), R(19, 20)]])
+    assert loss.state.q == sp.Matrix([[R(1, 2)] * 2] * 2) and loss.state.holding == tuple(rep.VIIC_HOLDING)
+    # the instance viic_simulation checks: Theorem 2 (corrected and as printed) holds
+    from symkf.network import theorem2
+    t2 = theorem2(loss, dynamics(system))
+    assert t2.holds and t2.holds_paper
+
+
+def test_markov_example_margin_is_hand_derived():
+    system, loss = files.load(NETWORK / "markov-shared-channel.toml")
+    assert isinstance(loss, MarkovLoss) and loss.order == 1
+    P = loss.chain.P
+    assert loss.chain.emit == ((1, 1), (1, 0), (0, 1), (0, 0))
+    # g = 2; rank is lost iff both packets are lost at every step of one phase:
+    # rho^2 = (P^2)[00, 00], margin alpha^4 rho^2 = 16 * 37/1000 = 74/125
+    assert (P ** 2)[3, 3] == R(37, 1000)
+    v = stability(system, loss)
+    assert v.certificate[0].margin_power == R(74, 125) and v.stable
+
+
+# -- the command line on the example files -------------------------------------------------------
+
+@pytest.mark.parametrize("name, critical", [
+    ("quevedo-example3", sp.Rational(100, 121) ** R(1, 5)),   # five sensors see the 11/10 block
+    ("quevedo-robot", R(20, 21)),                             # S1, S4 see the 21/20 block
+    ("quevedo-semi-markov-network", R(16, 25)),               # 1 / (5/4)^2
+    ("markov-shared-channel", R(1, 4))])                      # 16 eps^2 < 1 per period
+def test_critical_exits_0(capsys, name, critical):
+    import json
+    status, out, err = run(capsys, "critical", NETWORK / f"{name}.toml", "--json")
+    assert status == 0, err
+    assert sp.simplify(sp.sympify(json.loads(out)["critical_loss_rate"]["exact"]) - critical) == 0
+
+
+@pytest.mark.parametrize("name", ["quevedo-example3", "markov-shared-channel"])
+def test_analyze_decides(capsys, name):
+    status, out, err = run(capsys, "analyze", NETWORK / f"{name}.toml")
+    assert status == 0 and "stable" in out and err == ""
+
+
+@pytest.mark.parametrize("name", ["quevedo-robot", "quevedo-semi-markov-network"])
+def test_analyze_semi_markov_names_theorem2(capsys, name):
+    status, out, err = run(capsys, "analyze", NETWORK / f"{name}.toml")
+    assert status == 3 and out == "" and err.count("\n") == 1
+    assert "Assumption 2 (Sui-You-Fu) fails" in err and "symkf.network.theorem2" in err
+
+
+def test_analyze_markov_network_with_zero_transition_names_theorem1(capsys, tmp_path):
+    # the robot's chain q read as a Markov network state (Sec. VII-B): q_13 = 0
+    text = (NETWORK / "quevedo-robot.toml").read_text()
+    text = text.replace("q = [[", "P = [[").split("holding = ")[0] + "phi = " + text.split("phi = ")[1]
+    path = write(tmp_path, text)
+    system, loss = files.load(path)
+    assert isinstance(loss.state, MarkovNetworkState) and loss.state.P[0, 2] == 0
+    status, out, err = run(capsys, "analyze", path)
+    assert status == 3 and "symkf.network.theorem1" in err and "Assumption 2" in err
+
+
+# -- the file forms ------------------------------------------------------------------------------
+
+HEADER = '[system]\nA = [["2", "0"], ["0", "3"]]\n[[sensors]]\nC = [["1", "0"]]\n[[sensors]]\nC = [["0", "1"]]\n'
+
+
+def test_markov_order_two_equals_the_constructor(tmp_path):
+    states = [(1, 1), (1, 0), (0, 1), (0, 0)]
+    histories = list(itertools.product(states, repeat=2))
+    # a chain where the next vector's law depends on both previous ones
+    rows = [[R(1 + (i + j) % 3, 10), R(2, 10), R(3, 10), R(4 - (i + j) % 3, 10)]
+            for i, j in itertools.product(range(4), repeat=2)]
+    initial = [R(1, 16)] * 16
+    toml = HEADER + '[loss]\nkind = "markov"\norder = 2\nstates = [[1, 1], [1, 0], [0, 1], [0, 0]]\nP = [' + \
+        ", ".join("[" + ", ".join(f'"{p}"' for p in row) + "]" for row in rows) + "]\ninitial = [" + \
+        ", ".join(f'"{p}"' for p in initial) + "]\n"
+    _, loss = files.load(write(tmp_path, toml))
+    direct = MarkovLoss({h: dict(zip(states, row)) for h, row in zip(histories, rows)}, order=2,
+                        initial=dict(zip(histories, initial)))
+    assert loss.chain == direct.chain and loss.order == 2
+
+
+def test_states_may_come_in_any_order(tmp_path):
+    P = '[["1/2", "1/2", "0", "0"], ["1/4", "1/4", "1/4", "1/4"], ["1/8", "1/8", "1/4", "1/2"], ' \
+        '["1/4", "1/4", "1/4", "1/4"]]'
+    a = files.load(write(tmp_path, HEADER + f'[loss]\nkind = "markov"\nstates = [[0, 0], [0, 1], [1, 0], [1, 1]]\n'
+                         f'P = {P}\n', "a.toml"))[1]
+    table = a.table
+    assert table[((0, 0),)] == {(0, 0): R(1, 2), (0, 1): R(1, 2), (1, 0): 0, (1, 1): 0}
+    assert table[((1, 0),)][(1, 1)] == R(1, 2)
+
+
+def test_holding_as_list_or_table_and_rationalize(tmp_path):
+    base = '[system]\nA = [["2"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "network"\nparents = [0]\n'
+    exact = files.load(write(tmp_path, base + 'q = [["0", "1"], ["1", "0"]]\n'
+                             'holding = [["0", "1/2", "1/2"], { 3 = "1" }]\nphi = [["9/10", "1/2"]]\n'
+                             'initial = ["1", "0"]\n', "a.toml"))[1]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        floats = files.load(write(tmp_path, 'rationalize = true\n' + base + 'q = [[0, 1], [1, 0]]\n'
+                                  'holding = [{ 2 = 0.5, 3 = 0.5 }, [0, 0, 1]]\nphi = [[0.9, 0.5]]\n'
+                                  'initial = [1, 0]\n', "b.toml"))[1]
+    assert any("phi[1][1]: float 0.9 taken as the rational 9/10" in str(w.message) for w in caught)
+    assert exact.state.holding == floats.state.holding == ({2: R(1, 2), 3: R(1, 2)}, {3: 1})
+    assert exact.phi == floats.phi and exact.state.initial == sp.Matrix([[1, 0]])
+    assert exact.chain == floats.chain
+
+
+def test_network_chain_limit(tmp_path):
+    base = '[system]\nA = [["2"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "network"\nparents = [0]\n'
+    path = write(tmp_path, base + 'q = [["1"]]\nholding = [{ 999999 = "1" }]\nphi = [["1/2"]]\n')
+    with pytest.raises(FileFormatError, match=r"key 'holding'.*limited to 4096"):
+        files.load(path)
+
+
+# -- fusion files --------------------------------------------------------------------------------
+
+def test_pendulum_fusion_file_is_the_reproduction_model():
+    from symkf.fusion import pendulum_model
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")     # the printed decimals, each noted as taken exactly
+        model = files.load_fusion(FUSION / "pendulum.toml")
+    ref = pendulum_model()
+    assert np.array_equal(model.A, ref.A) and np.array_equal(model.Q, ref.Q)
+    assert model.arrival == ref.arrival and model.assumption2 == ref.assumption2
+    assert all(a.C == b.C and a.R == b.R and a.name == b.name for a, b in zip(model.sensors, ref.sensors))
+    assert model.description == ref.description
+
+
+def test_discrete_fusion_file(tmp_path):
+    from symkf.fusion import FusionModel
+    from symkf.model import Sensor
+    path = write(tmp_path, '[fusion]\nA = [["1/2", "1"], ["0", "2"]]\nQ = [["1", "0"], ["0", "1"]]\n'
+                 'arrival = ["9/10", "4/5"]\n[[sensors]]\nC = [["1", "0"]]\n[[sensors]]\nC = [["0", "1"]]\n')
+    model = files.load_fusion(path)
+    ref = FusionModel.discrete([["1/2", 1], [0, 2]], [[1, 0], [0, 1]], [Sensor([[1, 0]]), Sensor([[0, 1]])],
+                               ["9/10", "4/5"])
+    assert np.array_equal(model.A, ref.A) and model.assumption2 == ref.assumption2
+    # (1 - min lambda) rho(A)^2 = (1/5) 4 = 4/5
+    assert model.assumption2.exact == R(4, 5) and model.assumption2.holds
+
+
+@pytest.mark.parametrize("text, key", [
+    ('[fusion]\nA = [["2"]]\nQ = [["1"]]\nTs = "1"\narrival = ["1/2"]\n[[sensors]]\nC = [["1"]]\n', "'Ts'"),
+    ('[fusion]\nA = [["2"]]\nQ = [["1"]]\narrival = [0.5]\n[[sensors]]\nC = [["1"]]\n', "arrival[0]"),
+    ('[fusion]\nA = [["2"]]\narrival = ["1/2"]\n[[sensors]]\nC = [["1"]]\n', "'Q'"),
+    ('[fusion]\nA = [["2"]]\nQ = [["1"]]\narrival = ["3/2"]\n[[sensors]]\nC = [["1"]]\n', "arrival[0]"),
+    ('[system]\nA = [["2"]]\n[fusion]\n', "'system'")])
+def test_broken_fusion_files(tmp_path, text, key):
+    path = write(tmp_path, text)
+    with pytest.raises(InputError) as info:
+        files.load_fusion(path)
+    assert str(path) in str(info.value) and key in str(info.value) and "\n" not in str(info.value)
+
+
+def test_a_fusion_file_is_not_a_system_file(capsys):
+    status, out, err = run(capsys, "analyze", FUSION / "pendulum.toml")
+    assert status == 2 and "symkf.files.load_fusion" in err and str(FUSION / "pendulum.toml") in err
