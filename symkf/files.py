@@ -220,11 +220,15 @@ def _markov(table: dict, where: str, system: System, rationalize: bool) -> Marko
         raise FileFormatError(f"{where} key 'states': expected a list of 0/1 receival vectors of length {d} "
                               "(one entry per sensor, 1 = received)")
     vectors = [tuple(v) for v in states]
-    repeated = [v for v in vectors if vectors.count(v) > 1]
-    missing = [v for v in itertools.product((1, 0), repeat=d) if v not in vectors]
-    if repeated or missing:
-        raise FileFormatError(f"{where} key 'states': " + (f"{list(repeated[0])} is listed twice" if repeated else
-                              f"{list(missing[0])} is missing; list each of the {2 ** d} vectors once"))
+    seen: set[tuple[int, ...]] = set()
+    for v in vectors:
+        if v in seen:
+            raise FileFormatError(f"{where} key 'states': {list(v)} is listed twice")
+        seen.add(v)
+    if len(vectors) != 2 ** d:  # then a missing vector is among the first len(vectors) + 1
+        missing = next(v for v in itertools.product((1, 0), repeat=d) if v not in seen)
+        raise FileFormatError(f"{where} key 'states': {list(missing)} is missing; list each of the "
+                              f"2^{d} vectors once")
     P = _exact(_get(table, "P", where), f"{where} P", rationalize)
     rows = len(P) if isinstance(P, list) else 0
     # len(vectors) >= 2 rows per step of order: an order above rows.bit_length() cannot fit

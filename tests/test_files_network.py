@@ -8,17 +8,22 @@ line must decide them (exit 0) or name the assumption that fails and what applie
 from __future__ import annotations
 
 import itertools
+import json
 import warnings
+from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
 import pytest
 import sympy as sp
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from symkf import cli, files
-from symkf.errors import FileFormatError, InputError
+from symkf.errors import FileFormatError, InputError, SymkfError
 from symkf.losses import MarkovLoss
-from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SemiMarkovNetworkState, theorem1)
+from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SemiMarkovNetworkState, SensorTree,
+                           theorem1, theorem2)
 from symkf.network import reproduce as rep
 from symkf.stability import stability
 
@@ -73,6 +78,18 @@ def test_example3_engine_agrees_with_hand_derivation_and_theorem1():
     assert theorem1(loss, dynamics(system)).holds            # sufficient (Theorem 1), so consistent
 
 
+def test_one_network_state_is_decided_on_the_tree_chain(tmp_path):
+    # The file's NetworkLoss goes to the engine as is: its chain holds only the theta vectors the
+    # tree can produce.  (induced_loss would lump it onto all 2^5 vectors, whose impossible ones
+    # have zero rows, and the engine would refuse it under Assumption 2.)  With i.i.d. links of
+    # success 9/10 nothing is heard iff E1 and E2 fail: rho = 1/100, margins alpha^2 / 100.
+    text = (NETWORK / "quevedo-example3.toml").read_text().split("[loss]")[0]
+    path = write(tmp_path, text + '[loss]\nkind = "network"\nparents = [0, 0, 1, 2, 2]\nP = [["1"]]\n'
+                 'phi = [["9/10"], ["9/10"], ["9/10"], ["9/10"], ["9/10"]]\n')
+    system, loss = files.load(path)
+    assert [m.exact for m in stability(system, loss).margins] == [R(121, 10000), R(1, 100), R(81, 10000)]
+
+
 def test_robot_file_is_the_reproduction_data():
     system, loss = files.load(NETWORK / "quevedo-robot.toml")
     tree, dyn, phi = rep.robot_network()
@@ -90,7 +107,6 @@ def test_semi_markov_network_file_is_the_reproduction_instance():
     assert loss.tree.parents == (0,) and loss.phi == sp.Matrix([[R(19, 20), R(19, 20)]])
     assert loss.state.q == sp.Matrix([[R(1, 2)] * 2] * 2) and loss.state.holding == tuple(rep.VIIC_HOLDING)
     # the instance viic_simulation checks: Theorem 2 (corrected and as printed) holds
-    from symkf.network import theorem2
     t2 = theorem2(loss, dynamics(system))
     assert t2.holds and t2.holds_paper
 
@@ -115,7 +131,6 @@ def test_markov_example_margin_is_hand_derived():
     ("quevedo-semi-markov-network", R(16, 25)),               # 1 / (5/4)^2
     ("markov-shared-channel", R(1, 4))])                      # 16 eps^2 < 1 per period
 def test_critical_exits_0(capsys, name, critical):
-    import json
     status, out, err = run(capsys, "critical", NETWORK / f"{name}.toml", "--json")
     assert status == 0, err
     assert sp.simplify(sp.sympify(json.loads(out)["critical_loss_rate"]["exact"]) - critical) == 0
@@ -242,3 +257,56 @@ def test_broken_fusion_files(tmp_path, text, key):
 def test_a_fusion_file_is_not_a_system_file(capsys):
     status, out, err = run(capsys, "analyze", FUSION / "pendulum.toml")
     assert status == 2 and "symkf.files.load_fusion" in err and str(FUSION / "pendulum.toml") in err
+
+
+# -- round trips and corruption of network files (hypothesis, derandomized) ----------------------
+
+PROPS = settings(derandomize=True, max_examples=25, deadline=None,
+                 suppress_health_check=[HealthCheck.function_scoped_fixture])
+
+
+@st.composite
+def network_files(draw):
+    """(TOML text, M, parents, P, phi) of a random small Markov network over a 1-D plant."""
+    M, B = draw(st.integers(1, 3)), draw(st.integers(1, 2))
+    order = draw(st.permutations(range(1, M + 1)))      # a tree: each node's parent comes earlier
+    parents = [0] * M
+    for k, m in enumerate(order):
+        parents[m - 1] = draw(st.sampled_from([0] + list(order[:k])))
+    prob = st.fractions(0, 1, max_denominator=9)
+    P = []
+    for _ in range(B):
+        row = [draw(st.fractions(Fraction(1, 9), 1, max_denominator=9)) for _ in range(B)]
+        P.append([x / sum(row) for x in row])
+    phi = [[draw(prob) for _ in range(B)] for _ in range(M)]
+    q = lambda rows: "[" + ", ".join("[" + ", ".join(f'"{x}"' for x in r) + "]" for r in rows) + "]"
+    text = ('[system]\nA = [["2"]]\n' + '[[sensors]]\nC = [["1"]]\n' * M +
+            f'[loss]\nkind = "network"\nparents = {parents}\nP = {q(P)}\nphi = {q(phi)}\n')
+    return text, parents, P, phi
+
+
+@PROPS
+@given(case=network_files())
+def test_network_file_round_trip(tmp_path_factory, case):
+    text, parents, P, phi = case
+    _, loss = files.load(write(tmp_path_factory.mktemp("n"), text))
+    direct = NetworkLoss(SensorTree(parents), MarkovNetworkState(P), phi)
+    assert loss.chain == direct.chain
+
+
+JUNK = st.sampled_from(['"3/2"', '"-1/3"', "0.5", '"x"', "[1]", "true", '{ a = 1 }', '"sqrt(-1)"', "7"])
+
+
+@PROPS
+@given(case=network_files(), junk=JUNK, data=st.data())
+def test_corrupted_network_file_is_refused_in_one_line(tmp_path_factory, case, junk, data):
+    text, parents, P, phi = case
+    numbers = [i for i in range(len(text)) if text.startswith('"', i) and text[i + 1:i + 2].isdigit()
+               and text.rfind("[loss]", 0, i) >= 0]
+    i = data.draw(st.sampled_from(numbers))
+    j = text.index('"', i + 1) + 1
+    path = write(tmp_path_factory.mktemp("n"), text[:i] + junk + text[j:])
+    with pytest.raises(SymkfError) as info:
+        files.load(path)
+    message = str(info.value)
+    assert str(path) in message and "\n" not in message and info.value.exit_status == 2
