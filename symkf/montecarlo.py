@@ -438,6 +438,10 @@ class DivergenceResult:
     estimates: tuple[TraceEstimate, TraceEstimate]
 
 
+#: a verdict after halving the horizon needs at least this many steps (see divergence_test)
+MIN_HALVED_HORIZON = 32
+
+
 def divergence_test(system: System, loss: IID, seed: int | None = None, *,
                     horizon: int = 80, paths: int = 20_000, pattern: Any = None, growth: Any = None,
                     exact_rate: Any = None, tolerance: float = 0.01,
@@ -451,9 +455,10 @@ def divergence_test(system: System, loss: IID, seed: int | None = None, *,
     ``growth`` are those of the theory's dominant rank-deficient pattern
     (default: :func:`burst_pattern` of the exact verdict, which then also fills
     ``exact_rate`` with :func:`exact_growth_rate` when it is not given).  When float64
-    breaks down on the longest bursts the horizon is halved; a verdict at a horizon shorter
-    than requested is withheld ("undecided"), since there the transient from ``P0`` can
-    pass for growth.
+    breaks down on the longest bursts the horizon is halved; if that leaves fewer than
+    ``MIN_HALVED_HORIZON`` steps the verdict is withheld ("undecided"): over so few steps the
+    transient from ``P0`` can pass for growth (A = 2R(pi/2), C = [1 0], [1 1], losses 1/2, 1/6
+    is stable yet looked unstable at horizon 15).
     """
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     if horizon < 8:
@@ -483,7 +488,7 @@ def divergence_test(system: System, loss: IID, seed: int | None = None, *,
     half = z * math.hypot(s1 / e1, s2 / e2) / (k2 - k1)
     rate, low, high = math.exp(slope), math.exp(slope - half), math.exp(slope + half)
     verdict = "unstable" if low > 1 + tolerance else "stable" if high < 1 + tolerance else "undecided"
-    if horizon < requested:
+    if horizon < min(requested, MIN_HALVED_HORIZON):
         verdict = "undecided"
     exact_value = None if exact_rate is None else to_exact(
         exact_rate.exact if hasattr(exact_rate, "exact") else exact_rate, "exact_rate")

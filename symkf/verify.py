@@ -49,8 +49,8 @@ from .exact.algebraic import AlgebraicNumber
 from .families import Member, load_family
 from .losses import IID, LossModel
 from .model import System
-from .montecarlo import (DivergenceResult, burst_pattern, divergence_test, estimate_mean_trace, exact_growth_rate,
-                         progress)
+from .montecarlo import (MIN_HALVED_HORIZON, DivergenceResult, burst_pattern, divergence_test,
+                         estimate_mean_trace, exact_growth_rate, progress)
 from .stability import Verdict, critical_loss_rate, stability
 from .sweep import sweep
 
@@ -136,8 +136,9 @@ def simulated_verdict(system: System, loss: LossModel, v: Verdict, *, seed: int 
                         exact_rate=exact_growth_rate(v).exact, tolerance=tolerance, confidence=confidence)
     out = _divergence_json(r, phases, growth)
     if r.horizon < horizon:
-        out["note"] = (f"horizon halved from {horizon} to {r.horizon} by float64 breakdown; "
-                       "divergence_test verdicts at such horizons are withheld")
+        withheld = r.horizon < MIN_HALVED_HORIZON
+        out["note"] = (f"horizon halved from {horizon} to {r.horizon} by float64 breakdown"
+                       + ("; verdicts at such short horizons are withheld" if withheld else ""))
     return out
 
 
