@@ -45,7 +45,8 @@ def main() -> bool:
     for A, c in itertools.product(MATRICES, (2, R(-1, 3))):
         pair = System(A=A, sensors=[Sensor(C=C, name="s1"), Sensor(C=c * C, name="s2"), Sensor(C=other, name="s3")])
         cs = so.congruent_sets(pair)
-        good = cs.merges == ((0, 1),) and cs.names[0] == "s1+s2" and so.critical_loss_rate(pair) == critical_loss_rate(pair)
+        good = (cs.merges == ((0, 1),) and cs.names[0] == "s1+s2"
+                and so.critical_loss_rate(pair) == critical_loss_rate(pair))
         for a, b in LOSSES:
             merged = System(A=A, sensors=[Sensor(C=C), Sensor(C=other)])
             m_pair = stability(pair, IID([a, b, R(1, 5)])).margins[0]

@@ -50,7 +50,7 @@ from .exact.algebraic import AlgebraicNumber
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, rank_rows
 from .losses import IID, LossModel
-from .model import System
+from .model import Sensor, System
 from .spectral import eigen_blocks
 from .stability import BlockCertificate, Verdict
 
@@ -113,14 +113,13 @@ def second_order_form(system: System) -> tuple[sp.Expr, int | None, int | None]:
                               assumption=assumption, applies_instead=ENGINE)
     blocks = eigen_blocks(system.A)
     if len(blocks) != 1:
-        raise AssumptionError(f"the eigenvalues of A have different moduli ({', '.join(str(b.modulus) for b in blocks)})",
+        moduli = ", ".join(str(b.modulus) for b in blocks)
+        raise AssumptionError(f"the eigenvalues of A have different moduli ({moduli})",
                               assumption=assumption, applies_instead=ENGINE)
     block = blocks[0]
     if len(block.members) != 2:
         raise AssumptionError(f"A has the repeated eigenvalue {block.eigenvalues[0]} (theta_1 = theta_2)",
                               assumption=assumption, applies_instead=ENGINE)
-    if block.modulus == 0:
-        raise AssumptionError("A has modulus alpha = 0", assumption=assumption, applies_instead=ENGINE)
     return block.modulus.exact, block.period, block.governing_period
 
 
@@ -264,8 +263,8 @@ def theorem12(system: System, loss: IID, period: Period = "governing") -> Verdic
         elements = () if i is None else tuple(
             (names[o], cs.shifts[i][j]) for j in sorted(cs.sets[i]) for o in cs.groups[j])
         power, P_cert = alpha ** (2 * P) * rate, P
-        assumptions += [f"Remark 11: merged sensors {', '.join(cs.names[k] for k in range(len(cs.groups)) if len(cs.groups[k]) > 1)}"
-                        " (arrival 1 - prod(1 - p_j))"] if cs.merges else []
+        merged = ", ".join(name for name, grp in zip(cs.names, cs.groups) if len(grp) > 1)
+        assumptions += [f"Remark 11: merged sensors {merged} (arrival 1 - prod(1 - p_j))"] if cs.merges else []
     power = sp.sympify(power)
     margin = AlgebraicNumber.from_expr(sp.root(power, P_cert) if P_cert > 1 else power)
     cert = BlockCertificate(alpha, P_cert, elements, sp.sympify(rate), power,
@@ -364,3 +363,77 @@ def critical_alpha(system: System, loss: IID, period: Period = "governing") -> A
     if rate == 0:
         raise InputError("loss: the decisive pattern has probability 0, so no alpha destabilises the filter")
     return AlgebraicNumber.from_expr(sp.root(1 / sp.sympify(rate), 2 * P))
+
+
+def counterexamples() -> list[tuple[str, System]]:
+    """The systems on which (38) as printed fails (see the module docstring and proofs/sui_theorem12.py)."""
+    lam = 2 * (3 + 4 * sp.I) / 5
+    return [
+        ("2R(pi/2), C = [1, 0] (tau = 4, g = 2)", System(A=[[0, -2], [2, 0]], sensors=_sensors([[1, 0]]))),
+        ("2diag(e^(i pi/6), e^(7i pi/6)), C = [1, 1] (tau = 12, g = 2)",
+         System(A=sp.diag(2 * sp.exp(sp.I * sp.pi / 6), 2 * sp.exp(7 * sp.I * sp.pi / 6)), sensors=_sensors([[1, 1]]))),
+        ("diag(2(3+4i)/5, -2(3+4i)/5), C = [1, 1] (tau infinite, g = 2)",
+         System(A=sp.diag(lam, -lam), sensors=_sensors([[1, 1]]))),
+        ("2R(pi/2), C = I (rank 2)", System(A=[[0, -2], [2, 0]], sensors=_sensors([[1, 0], [0, 1]]))),
+    ]
+
+
+def _sensors(C: Any) -> list[Sensor]:
+    return [Sensor(C=C)]
+
+
+def _number(a: AlgebraicNumber) -> dict:
+    return {"exact": str(a.exact), "decimal": str(a.evalf(10))}
+
+
+def reproduce_sui_theorem12(outdir: str | None = None) -> dict:
+    """Theorem 12 as printed and corrected, against the engine: the counterexamples and the
+    rotations ``2 R(pi/g)``, ``C = [1, 0]``, ``g = 2..12`` (``tau = 2g``); figure of the critical
+    loss rates against ``g`` when ``outdir`` is given."""
+    from .stability import critical_loss_rate as engine
+
+    results: dict[str, Any] = {"counterexamples": {}, "rotations_2R(pi/g)": []}
+    checks: dict[str, bool] = {}
+    for label, S in counterexamples():
+        printed, corrected, exact = critical_loss_rate(S, "tau"), critical_loss_rate(S), engine(S)
+        _, tau, g = second_order_form(S)
+        results["counterexamples"][label] = {"tau": tau, "g": g, "printed": _number(printed),
+                                             "corrected": _number(corrected), "engine": _number(exact)}
+        checks[f"Theorem 12 as printed gives the critical loss rate: {label}"] = printed == exact
+        checks[f"Theorem 12 corrected (period g) gives the critical loss rate: {label}"] = corrected == exact
+    rows = []
+    for g in range(2, 13):
+        theta = sp.pi / g
+        S = System(A=[[2 * sp.cos(theta), -2 * sp.sin(theta)], [2 * sp.sin(theta), 2 * sp.cos(theta)]],
+                   sensors=_sensors([[1, 0]]))
+        printed, corrected, exact = critical_loss_rate(S, "tau"), critical_loss_rate(S), engine(S)
+        rows.append((g, printed, corrected, exact))
+        results["rotations_2R(pi/g)"].append({"g": g, "tau": second_order_form(S)[1], "printed": _number(printed),
+                                              "corrected": _number(corrected), "engine": _number(exact)})
+    checks["Theorem 12 as printed gives the critical loss rate: 2R(pi/g), g = 2..12"] = all(
+        p == e for _, p, _, e in rows)
+    checks["Theorem 12 corrected gives the critical loss rate: 2R(pi/g), g = 2..12"] = all(
+        c == e for _, _, c, e in rows)
+    if outdir is not None:
+        import os
+
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        gs = [r[0] for r in rows]
+        ax.plot(gs, [float(r[3]) for r in rows], "ko", label="exact (engine)")
+        ax.plot(gs, [float(r[2]) for r in rows], "C1-", label=r"corrected: $2^{-2g/(g-1)}$")
+        ax.plot(gs, [float(r[1]) for r in rows], "C0--", label=r"(38) as printed: $2^{-4g/(2g-1)}$")
+        ax.set_xlabel(r"governing period $g$ ($A = 2R(\pi/g)$, $\tau = 2g$)")
+        ax.set_ylabel("critical loss rate")
+        ax.legend()
+        fig.tight_layout()
+        os.makedirs(outdir, exist_ok=True)
+        path = os.path.join(outdir, "sui_theorem12.png")
+        fig.savefig(path, dpi=120)
+        plt.close(fig)
+        results["figure"] = path
+    return {"example": "sui-theorem12", "source": "seed 001 (Sui-You-Fu), Section 4, Definition 1, eqs. (37)-(38), "
+            "Theorem 12", "results": results, "checks": checks}

@@ -1,0 +1,19 @@
+"""Theorem 12 of Sui-You-Fu (seed 001) as printed and corrected: `symkf reproduce sui-theorem12`.
+
+Usage: python examples/sui_theorem12.py [OUTDIR]   (prints the JSON report; writes the figure to OUTDIR)
+The printed statement's checks are false (it is refuted); the corrected ones are true.
+"""
+
+import json
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from symkf.second_order import reproduce_sui_theorem12  # noqa: E402
+
+if __name__ == "__main__":
+    report = reproduce_sui_theorem12(sys.argv[1] if len(sys.argv) > 1 else None)
+    print(json.dumps(report, indent=2))
+    corrected = [ok for claim, ok in report["checks"].items() if "corrected" in claim]
+    raise SystemExit(0 if all(corrected) else 1)
