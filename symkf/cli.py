@@ -99,29 +99,13 @@ def _print_demo(res: dict[str, Any]) -> None:
         print(f"   critical common i.i.d. loss rate = {c['exact']} ~ {c['decimal']}")
 
 
-def _stability(system: Any, loss: Any) -> Any:
-    """``stability(system, loss)``; a network loss (seed 002) outside its assumptions is pointed to
-    seed 002's sufficient condition for its network state."""
-    from .errors import AssumptionError
-    from .network import NetworkLoss, SemiMarkovNetworkState
-    from .stability import stability
-    try:
-        return stability(system, loss)
-    except AssumptionError as exc:
-        if not isinstance(loss, NetworkLoss) or exc.applies_instead:
-            raise
-        n = 2 if isinstance(loss.state, SemiMarkovNetworkState) else 1
-        raise AssumptionError(str(exc).removeprefix(f"{exc.assumption} fails: "), assumption=exc.assumption,
-                              applies_instead=f"Theorem {n} of seed 002 (sufficient), symkf.network.theorem{n}("
-                                              "loss, PeriodicDynamics(A, [C_1, ..., C_M]))") from None
-
-
 def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
     from . import files
+    from .stability import stability
     system, loss = files.load(args.file)
     res: dict[str, Any] = {"system": str(args.file), "blocks": _blocks_json(system.A)}
     if loss is not None:
-        v = _stability(system, loss)
+        v = stability(system, loss)
         res["loss"] = repr(loss)
         res["verdict"] = {"stable": v.stable, "theorem": v.theorem,
                           "margins": [_number(m, 12) for m in v.margins], "limiting_block": v.limiting_block,

@@ -117,11 +117,15 @@ class LossModel:
     def _reachable(self, r: int, s: int) -> bool:
         return True
 
+    #: what applies when Assumption 2 fails (named in the error); None when nothing else does
+    applies_without_positivity: str | None = None
+
     def require_positive(self) -> None:
         """Raise :class:`~symkf.errors.AssumptionError` (Assumption 2) unless every transition is positive."""
         why = self.positivity_failure()
         if why:
-            raise AssumptionError(why, assumption="Assumption 2 (Sui-You-Fu)")
+            raise AssumptionError(why, assumption="Assumption 2 (Sui-You-Fu)",
+                                  applies_instead=self.applies_without_positivity)
 
 
 class IID(LossModel):

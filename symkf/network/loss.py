@@ -55,6 +55,12 @@ class NetworkLoss(LossModel):
     ``(theta_1, ..., theta_M)``: sensor ``m`` of the System is node ``S_m``.
     """
 
+    @property
+    def applies_without_positivity(self) -> str:
+        """Seed 002's sufficient condition for this network state (the exact engine needs Assumption 2)."""
+        n = 2 if isinstance(self.state, SemiMarkovNetworkState) else 1
+        return f"Theorem {n} of seed 002 (sufficient): symkf.network.theorem{n}(loss, PeriodicDynamics(A, [C_1, ..., C_M]))"
+
     def __init__(self, tree: SensorTree, state: MarkovNetworkState | SemiMarkovNetworkState,
                  phi: Sequence[Sequence[Any]] | str):
         if not isinstance(tree, SensorTree):
