@@ -30,6 +30,7 @@ REPRODUCE: dict[str, tuple[str, str, dict[str, Any]]] = {
     "quevedo-semi-markov": ("symkf.network.reproduce", "reproduce_quevedo_semi_markov", {"simulate": False}),
     "yang-example1": ("symkf.capacity", "reproduce_yang_example1", {"horizon": 12, "paths": 2000}),
     "fusion-pendulum": ("symkf.fusion", "reproduce_fusion_pendulum", {"paths": 4, "horizon": 200}),
+    "sui-theorem12": ("symkf.second_order", "reproduce_sui_theorem12", {}),
 }
 
 
