@@ -23,6 +23,7 @@ from sympy.polys.matrices import DomainMatrix
 from symkf.exact.field import NumberField
 from symkf.exact.linalg import rank_rows
 from symkf.spectral import eigen_blocks
+from timing import median_time
 
 Z = sp.exp(sp.I * sp.pi / 12)
 
@@ -37,15 +38,6 @@ def modal_rows(last_zero: bool, seed: int = 1) -> sp.Matrix:
             c[3] = sp.Integer(0)
         rows += [[c[j] * sp.expand_complex(diag[j] ** k) for j in range(4)] for k in range(24)]
     return sp.Matrix(rows)
-
-
-def median_time(fn, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
 
 
 def main() -> None:

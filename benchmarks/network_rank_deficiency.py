@@ -5,24 +5,14 @@ enumeration of every theta sequence (baseline), in the same process.
 Prints median seconds over repeats and the ratio.
 """
 
-import statistics
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SensorTree,  # noqa: E402
                            rank_deficiency_probabilities, rank_deficiency_probability_by_enumeration)
-
-
-def median_time(fn, repeats: int = 3) -> float:
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
+from timing import median_time  # noqa: E402
 
 
 def main() -> None:
