@@ -14,6 +14,11 @@ class SymkfError(Exception):
 
     exit_status = 2
 
+    def __reduce__(self):
+        # rebuilt from the final message and attributes: subclasses' __init__ (e.g.
+        # AssumptionError's keyword-only arguments) cannot be replayed from ``args``
+        return _rebuild_error, (type(self), self.args, dict(self.__dict__))
+
 
 class InputError(SymkfError, ValueError):
     """Malformed input: wrong type, shape, or value of a named entry."""
@@ -75,3 +80,10 @@ class FileFormatError(InputError):
 
 class NumericalBreakdownError(SymkfError):
     """The float64 covariance of a simulated filter lost positive semidefiniteness or overflowed."""
+
+
+def _rebuild_error(cls: type, args: tuple, state: dict) -> SymkfError:
+    error = cls.__new__(cls)
+    error.args = args
+    error.__dict__.update(state)
+    return error

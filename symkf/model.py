@@ -79,6 +79,10 @@ class System:
     name: str | None = None
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False, hash=False)
 
+    def __getstate__(self) -> dict:
+        # the cache is derived data (rebuilt on demand): pickles, e.g. to sweep workers, stay small
+        return {**self.__dict__, "_cache": {}}
+
     def __post_init__(self) -> None:
         A = to_exact_matrix(self.A, "A", rationalize=self.rationalize)
         if A.shape[0] != A.shape[1]:

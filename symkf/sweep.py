@@ -9,85 +9,25 @@ of ``tasks`` whichever way it runs:
   distributed cluster (the optional ``dask`` extra, imported only here).
 
 Values are exact, so the three modes return equal results (tested).  Tasks and
-results cross process boundaries pickled by :class:`_Pickler`, which also carries
-algebraic numbers, systems and symkf errors (a task's symkf error is re-raised in
-the caller with its type, message and attributes).  ``function`` must be
+results cross process boundaries by plain pickle (symkf's algebraic numbers, systems
+and errors pickle; a task's symkf error is re-raised in the caller with its type,
+message and attributes).  ``function`` must be
 importable by the workers (a module-level function, or a ``functools.partial``
 of one).  Progress is shown with tqdm when stderr is a terminal.
 """
 
 from __future__ import annotations
 
-import dataclasses
-import io
-import pickle
 import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Any, Callable, Iterable, Sequence, TypeVar
 
-import flint
 from tqdm import tqdm
 
-from .errors import InputError, SymkfError
-from .model import System
+from .errors import InputError
 
 T = TypeVar("T")
 R = TypeVar("R")
-
-
-class _Pickler(pickle.Pickler):
-    """Pickles what crosses a process boundary, including the objects plain pickle refuses.
-
-    * flint's ``fmpz_poly`` (inside every :class:`AlgebraicNumber`) travels as its integer
-      coefficients, so algebraic numbers arrive exactly as they left;
-    * a :class:`System` travels without its cache of derived data (flint objects);
-    * a :class:`SymkfError` is rebuilt from its message and attributes (``AssumptionError``'s
-      keyword-only ``__init__`` cannot be replayed from ``args``).
-    """
-
-    def reducer_override(self, obj: Any) -> Any:
-        if isinstance(obj, flint.fmpz_poly):
-            return flint.fmpz_poly, ([int(c) for c in obj.coeffs()],)
-        if isinstance(obj, System):
-            return _rebuilt, (type(obj), {**obj.__dict__, "_cache": {}})
-        if isinstance(obj, SymkfError):
-            return _rebuilt, (type(obj), dict(obj.__dict__), obj.args)
-        return NotImplemented
-
-
-def _rebuilt(cls: type, state: dict, args: tuple | None = None) -> Any:
-    obj = cls.__new__(cls)
-    obj.__dict__.update(state)
-    if args is not None:
-        obj.args = args
-    return obj
-
-
-def _dumps(obj: Any) -> bytes:
-    buffer = io.BytesIO()
-    _Pickler(buffer, protocol=pickle.HIGHEST_PROTOCOL).dump(obj)
-    return buffer.getvalue()
-
-
-@dataclasses.dataclass(frozen=True)
-class _Raised:
-    error: SymkfError
-
-
-def _remote(payload: bytes) -> bytes:
-    """Worker side: run one pickled ``(function, task)``; return its pickled result or symkf error."""
-    function, task = pickle.loads(payload)
-    try:
-        return _dumps(function(task))
-    except SymkfError as exc:
-        return _dumps(_Raised(exc))
-
-
-def _result(data: bytes) -> Any:
-    value = pickle.loads(data)
-    if isinstance(value, _Raised):
-        raise value.error
-    return value
 
 
 def _progress(total: int, enabled: bool | None, desc: str) -> tqdm:
@@ -124,11 +64,11 @@ def _processes(function: Callable, tasks: Sequence, jobs: int, progress: bool | 
     results: list[Any] = [None] * len(tasks)
     with ProcessPoolExecutor(max_workers=min(jobs, len(tasks))) as pool, \
             _progress(len(tasks), progress, desc) as bar:
-        futures = {pool.submit(_remote, _dumps((function, t))): i for i, t in enumerate(tasks)}
+        futures = {pool.submit(function, t): i for i, t in enumerate(tasks)}
         for f in as_completed(futures):
             results[futures[f]] = f.result()
             bar.update()
-    return [_result(r) for r in results]
+    return results
 
 
 def _dask(function: Callable, tasks: Sequence, scheduler: Any, progress: bool | None, desc: str) -> list:
@@ -151,8 +91,8 @@ def _dask(function: Callable, tasks: Sequence, scheduler: Any, progress: bool | 
 
 def _on_client(client: Any, function: Callable, tasks: Sequence, progress: bool | None, desc: str) -> list:
     import distributed
-    futures = client.map(_remote, [_dumps((function, t)) for t in tasks], pure=False)
+    futures = client.map(function, tasks, pure=False)
     with _progress(len(tasks), progress, desc) as bar:
         for _ in distributed.as_completed(futures):
             bar.update()
-    return [_result(r) for r in client.gather(futures)]
+    return client.gather(futures)

@@ -182,3 +182,20 @@ def test_projection_decides_rank_for_every_pattern(A, Cs):
 def test_oversized_numbers_refused_before_evaluation(value):
     with pytest.raises(sk.SymkfError, match=r"A\[0\]\[0\].*(too large|more than 1000 digits)"):
         sk.System(A=[[value]], sensors=[sk.Sensor(C=[[1]])])
+
+
+def test_exact_objects_and_errors_pickle():
+    """Plain pickle carries algebraic numbers, systems (without their derived cache), verdicts and
+    symkf errors exactly: what process pools, Dask and users' multiprocessing need."""
+    import pickle
+    from symkf.errors import AssumptionError
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
+    eps = sk.critical_loss_rate(S)                       # fills S's cache with flint objects
+    assert pickle.loads(pickle.dumps(eps)) == sp.Rational(1, 16)
+    S2 = pickle.loads(pickle.dumps(S))
+    assert S2 == S and S2._cache == {} and sk.critical_loss_rate(S2) == eps
+    v = pickle.loads(pickle.dumps(sk.stability(S, sk.IID(["1/20"]))))
+    assert v.stable and v.margins[0] == AlgebraicNumber.from_expr(2 * sp.sqrt(5) / 5)
+    e = pickle.loads(pickle.dumps(AssumptionError("x", assumption="A1", applies_instead="f")))
+    assert (type(e), str(e), e.assumption, e.applies_instead) == \
+        (AssumptionError, "A1 fails: x. What applies instead: f", "A1", "f")

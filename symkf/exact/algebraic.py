@@ -15,6 +15,7 @@ choice needs one isolating ball to meet the expression's value.
 from __future__ import annotations
 
 from fractions import Fraction
+import copyreg
 from functools import lru_cache, total_ordering
 from typing import Any, Callable
 
@@ -49,6 +50,20 @@ def sympy_to_fmpz(poly: Any) -> flint.fmpz_poly:
     _, p = p.clear_denoms()
     out = flint.fmpz_poly([int(c) for c in reversed(p.all_coeffs())])
     return out if out.leading_coefficient() > 0 else -out
+
+
+def _fmpz_poly_reduce(poly: flint.fmpz_poly) -> tuple:
+    return flint.fmpz_poly, ([int(c) for c in poly.coeffs()],)
+
+
+def _fmpq_poly_reduce(poly: flint.fmpq_poly) -> tuple:
+    return flint.fmpq_poly, ([flint.fmpq(int(c.p), int(c.q)) for c in poly.coeffs()],)
+
+
+# python-flint's polynomials do not pickle; algebraic numbers, number fields and everything
+# holding them must cross process boundaries (symkf.sweep, users' multiprocessing, Dask)
+copyreg.pickle(flint.fmpz_poly, _fmpz_poly_reduce)
+copyreg.pickle(flint.fmpq_poly, _fmpq_poly_reduce)
 
 
 def _with_prec(prec: int, fn: Callable[[], Any]) -> Any:
