@@ -209,9 +209,12 @@ class MarkovLoss(LossModel):
 
     ``table`` maps a history (a tuple of ``nu`` receival vectors, oldest
     first; for ``nu = 1`` a bare vector is accepted) to a mapping from next
-    receival vector to its probability.  Every history over ``{0, 1}^d`` must
-    appear and each row must sum to 1.  ``initial`` gives the law of the
-    first window; by default the stationary law of the lifted chain.
+    receival vector to its probability.  The chain lives on the receival vectors
+    that occur in the histories (all of ``{0, 1}^d``, or fewer when some cannot
+    occur, e.g. a relay's children are never received without it): every history
+    over them must appear, each row must sum to 1 and lead only to them.
+    ``initial`` gives the law of the first window; by default the stationary law
+    of the lifted chain.
     """
 
     def __init__(self, table: Mapping[Any, Mapping[Any, Any]], order: int = 1,
@@ -224,8 +227,6 @@ class MarkovLoss(LossModel):
         first = next(iter(table))
         hist0 = (first,) if order == 1 and _is_vector(first) else first
         self.d = len(hist0[0])
-        vecs = tuple(itertools.product((1, 0), repeat=self.d))
-        self.vectors = vecs
         rows: dict[tuple[Vector, ...], dict[Vector, sp.Expr]] = {}
         for key, row in table.items():
             hist = (tuple(key),) if order == 1 and _is_vector(key) else tuple(tuple(v) for v in key)
@@ -241,10 +242,18 @@ class MarkovLoss(LossModel):
             if total != 1:
                 raise ProbabilityError(f"table[{key!r}]: row sums to {total}, not 1")
             rows[hist] = probs
+        occurring = {v for hist in rows for v in hist}
+        vecs = tuple(v for v in itertools.product((1, 0), repeat=self.d) if v in occurring)
+        self.vectors = vecs
         missing = [h for h in itertools.product(vecs, repeat=order) if h not in rows]
         if missing:
             raise InputError(f"table: history {missing[0]!r} is missing ({len(missing)} of "
-                             f"{len(vecs) ** order} histories have no row)")
+                             f"{len(vecs) ** order} histories over the occurring vectors have no row)")
+        for hist, probs in rows.items():
+            stray = [v for v in probs if v not in occurring]
+            if stray:
+                raise InputError(f"table[{hist!r}] leads to {stray[0]!r}, which no history contains: "
+                                 "give its row, or leave it out if it cannot occur")
         self.table = rows
         self._initial = initial
 

@@ -310,3 +310,21 @@ def test_corrupted_network_file_is_refused_in_one_line(tmp_path_factory, case, j
         files.load(path)
     message = str(info.value)
     assert str(path) in message and "\n" not in message and info.value.exit_status == 2
+
+
+def test_induced_loss_lives_on_the_vectors_the_tree_can_produce():
+    """Example 3 tree, one network state, links 9/10: theta_3 = 1 needs theta_1 = 1 (relay), so 15 of
+    the 32 receival vectors occur; the lumped MarkovLoss lives on them and the engine gives the
+    same margins as on the NetworkLoss itself (hand-checked: 121/10000, 1/100, 81/10000)."""
+    from symkf.network import induced_loss
+    S, L = files.load(NETWORK / "quevedo-example3.toml")
+    net = NetworkLoss(L.tree, MarkovNetworkState([[1]]), [["9/10"]] * 5)
+    lumped = induced_loss(net)
+    assert isinstance(lumped, MarkovLoss) and len(lumped.vectors) == 15
+    expected = [sp.Rational(121, 10000), sp.Rational(1, 100), sp.Rational(81, 10000)]
+    assert [m.exact for m in stability(S, lumped).margins] == [m.exact for m in stability(S, net).margins] == expected
+
+
+def test_markov_loss_refuses_a_vector_without_a_row():
+    with pytest.raises(SymkfError, match=r"leads to \(0,\), which no history contains"):
+        MarkovLoss({(1,): {(1,): "1/2", (0,): "1/2"}})

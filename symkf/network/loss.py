@@ -175,12 +175,13 @@ class NetworkLoss(LossModel):
                     assumption="first-order Markov receival process",
                     applies_instead="NetworkLoss.chain (a hidden-Markov LossChain)")
             rows[t] = nxt
-        table = {}
-        for v in itertools.product((1, 0), repeat=self.d):
-            table[v] = rows.get(v, {v: 1})
+        # the chain lives on the theta the tree can produce (a relay's children are never received
+        # without it); the others have probability 0 and would break Assumption 2's positivity
+        table = {t: {v: p for v, p in nxt.items() if v in rows} for t, nxt in rows.items()}
         initial = {v: sp.Integer(0) for v in table}
         for r, t in enumerate(ch.emit):
-            initial[t] += ch.initial[0, r]
+            if t in initial:
+                initial[t] += ch.initial[0, r]
         return MarkovLoss(table, order=1, initial={v: sp.simplify(p) for v, p in initial.items()})
 
     def subs(self, values: Mapping[Any, Any]) -> "NetworkLoss":
