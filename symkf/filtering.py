@@ -236,7 +236,8 @@ def _run(model: FloatSystem, states: np.ndarray, emit: np.ndarray, keep: str, ch
             x_filt[k] = xp
             V_filt[k] = V
             xp = model.A @ xp
-        V = Tt @ V
+        with np.errstate(over="ignore", invalid="ignore"):  # overflow is caught by _check_psd
+            V = Tt @ V
         V += q
     if check_every:
         _check_psd(V, vech, horizon)
