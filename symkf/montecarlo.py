@@ -24,6 +24,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import InputError, NumericalBreakdownError
+from .exact.algebraic import AlgebraicNumber
 from .exact.numbers import to_exact
 from .filtering import _chain, _positive, _run, exact_covariances, real_form, receival_table, sample_states
 from .losses import IID, LossModel
@@ -283,10 +284,9 @@ def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...],
     return phases, sp.sympify(cert.modulus) ** (2 * cert.period)
 
 
-def exact_growth_rate(verdict) -> Any:
+def exact_growth_rate(verdict) -> AlgebraicNumber:
     """The exact per-step growth rate of ``E[tr P_k]``: ``max_i alpha_i^2 rho_i`` when unstable,
     else 1 (bounded), as an AlgebraicNumber."""
-    from .exact.algebraic import AlgebraicNumber
     return max(verdict.margins) if not verdict.stable else AlgebraicNumber.from_expr(sp.Integer(1))
 
 
