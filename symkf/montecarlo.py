@@ -14,7 +14,6 @@ sample sizes and confidence level: simulation is evidence, not proof.
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import dataclass
 from fractions import Fraction
 from statistics import NormalDist
@@ -29,6 +28,7 @@ from .exact.numbers import to_exact
 from .filtering import _chain, _positive, _run, exact_covariances, real_form, receival_table, sample_states
 from .losses import IID, LossModel
 from .model import System
+from .progress import progress
 
 #: paths per batch: bounds memory and drives the progress bar
 CHUNK = 50_000
@@ -36,15 +36,9 @@ CHUNK = 50_000
 MAX_PATTERNS = 2 ** 20
 
 
-def progress(total: int, desc: str, *, long: bool = True):
-    """A tqdm bar over ``total`` steps, shown only on a terminal (``sys.stderr.isatty()``) and when ``long``."""
-    from tqdm import tqdm
-    return tqdm(total=total, desc=desc, disable=not long or not sys.stderr.isatty(), leave=False)
-
-
 def _progress(total: int, work: int, desc: str):
     """A bar over ``total`` chunks of ``work`` filter steps, shown only for long runs."""
-    return progress(total, desc, long=work >= 5 * 10 ** 7)
+    return progress(total, desc, enabled=None if work >= 5 * 10 ** 7 else False)
 
 
 # ------------------------------------------------------------ exact enumeration

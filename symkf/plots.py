@@ -27,7 +27,8 @@ import sympy as sp
 from .errors import InputError, SymkfError
 from .losses import IID, LossModel
 from .model import Sensor, System
-from .montecarlo import TraceEstimate, progress
+from .montecarlo import TraceEstimate
+from .progress import progress
 
 VERDICT_STYLE = {"stable": ("o", "tab:green"), "unstable": ("x", "tab:red"), "undecided": ("s", "tab:gray")}
 

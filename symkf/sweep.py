@@ -18,21 +18,14 @@ of one).  Progress is shown with tqdm when stderr is a terminal.
 
 from __future__ import annotations
 
-import sys
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Any, Callable, Iterable, Sequence, TypeVar
 
-from tqdm import tqdm
-
 from .errors import InputError
+from .progress import progress as progress_bar
 
 T = TypeVar("T")
 R = TypeVar("R")
-
-
-def _progress(total: int, enabled: bool | None, desc: str) -> tqdm:
-    return tqdm(total=total, desc=desc, disable=not (sys.stderr.isatty() if enabled is None else enabled),
-                leave=False)
 
 
 def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, scheduler: Any = None,
@@ -52,7 +45,7 @@ def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, sche
         return _dask(function, tasks, scheduler, progress, desc)
     if jobs == 1 or len(tasks) <= 1:
         out = []
-        with _progress(len(tasks), progress, desc) as bar:
+        with progress_bar(len(tasks), desc, enabled=progress) as bar:
             for t in tasks:
                 out.append(function(t))
                 bar.update()
@@ -63,7 +56,7 @@ def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, sche
 def _processes(function: Callable, tasks: Sequence, jobs: int, progress: bool | None, desc: str) -> list:
     results: list[Any] = [None] * len(tasks)
     with ProcessPoolExecutor(max_workers=min(jobs, len(tasks))) as pool, \
-            _progress(len(tasks), progress, desc) as bar:
+            progress_bar(len(tasks), desc, enabled=progress) as bar:
         futures = {pool.submit(function, t): i for i, t in enumerate(tasks)}
         for f in as_completed(futures):
             results[futures[f]] = f.result()
@@ -92,7 +85,7 @@ def _dask(function: Callable, tasks: Sequence, scheduler: Any, progress: bool | 
 def _on_client(client: Any, function: Callable, tasks: Sequence, progress: bool | None, desc: str) -> list:
     import distributed
     futures = client.map(function, tasks, pure=False)
-    with _progress(len(tasks), progress, desc) as bar:
+    with progress_bar(len(tasks), desc, enabled=progress) as bar:
         for _ in distributed.as_completed(futures):
             bar.update()
     return client.gather(futures)

@@ -50,7 +50,8 @@ from .families import Member, load_family
 from .losses import IID, LossModel
 from .model import System
 from .montecarlo import (MIN_HALVED_HORIZON, DivergenceResult, burst_pattern, divergence_test,
-                         estimate_mean_trace, exact_growth_rate, progress)
+                         estimate_mean_trace, exact_growth_rate)
+from .progress import progress
 from .stability import Verdict, critical_loss_rate, stability
 from .sweep import sweep
 

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from symkf import cli, files
-from symkf.montecarlo import exact_mean_trace, progress
+from symkf.montecarlo import exact_mean_trace
+from symkf.progress import progress
 
 ROOT = Path(__file__).resolve().parent.parent
 SYSTEMS = ROOT / "examples" / "systems"
@@ -211,7 +212,7 @@ def test_progress_only_on_a_terminal(monkeypatch):
             pass
     monkeypatch.setattr(sys, "stderr", Terminal())
     assert not progress(3, "x").disable
-    assert progress(3, "x", long=False).disable
+    assert progress(3, "x", enabled=False).disable
 
 
 def test_verify_is_quiet_off_terminal(capsys):
