@@ -432,6 +432,16 @@ class DivergenceResult:
     estimates: tuple[TraceEstimate, TraceEstimate]
 
 
+def growth_rate_interval(first: tuple[float, float], second: tuple[float, float], steps: int,
+                         confidence: float) -> tuple[float, float, float]:
+    """Per-step growth ``(E_2 / E_1)^(1 / steps)`` of two independent estimates ``(mean, stderr)``
+    ``steps`` apart, with its ``confidence`` interval by the delta method on ``log E``."""
+    (e1, s1), (e2, s2) = first, second
+    slope = (math.log(e2) - math.log(e1)) / steps
+    half = _z(confidence) * math.hypot(s1 / e1, s2 / e2) / steps
+    return math.exp(slope), math.exp(slope - half), math.exp(slope + half)
+
+
 #: a verdict after halving the horizon needs at least this many steps (see divergence_test)
 MIN_HALVED_HORIZON = 32
 
@@ -464,7 +474,7 @@ def divergence_test(system: System, loss: IID, seed: int | None = None, *,
         pattern, found = burst_pattern(system, verdict)
         growth = found if growth is None else growth
         exact_rate = exact_growth_rate(verdict) if exact_rate is None else exact_rate
-    z = _z(confidence)
+    _z(confidence)  # validate before the runs
     second = None if seed is None else seed + 1
     requested = horizon
     while True:
@@ -477,10 +487,8 @@ def divergence_test(system: System, loss: IID, seed: int | None = None, *,
             if horizon < 16:
                 raise
             horizon //= 2
-    (e1, s1), (e2, s2) = ((float(r.mean[0]), float(r.stderr[0])) for r in runs)
-    slope = (math.log(e2) - math.log(e1)) / (k2 - k1)
-    half = z * math.hypot(s1 / e1, s2 / e2) / (k2 - k1)
-    rate, low, high = math.exp(slope), math.exp(slope - half), math.exp(slope + half)
+    rate, low, high = growth_rate_interval(*((float(r.mean[0]), float(r.stderr[0])) for r in runs),
+                                           k2 - k1, confidence)
     verdict = "unstable" if low > 1 + tolerance else "stable" if high < 1 + tolerance else "undecided"
     if horizon < min(requested, MIN_HALVED_HORIZON):
         verdict = "undecided"

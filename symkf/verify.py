@@ -36,10 +36,8 @@ decaying transients and polynomial factors bias a finite-horizon rate).
 from __future__ import annotations
 
 import functools
-import math
 import tomllib
 from pathlib import Path
-from statistics import NormalDist
 from typing import Any
 
 import sympy as sp
@@ -50,7 +48,7 @@ from .families import Member, load_family
 from .losses import IID, LossModel
 from .model import System
 from .montecarlo import (MIN_HALVED_HORIZON, DivergenceResult, burst_pattern, divergence_test,
-                         estimate_mean_trace, exact_growth_rate)
+                         estimate_mean_trace, exact_growth_rate, growth_rate_interval)
 from .progress import progress
 from .stability import Verdict, critical_loss_rate, stability
 from .sweep import sweep
@@ -74,14 +72,11 @@ def _plain_growth(system: System, loss: LossModel, seed: int, horizon: int, path
     k1, k2 = horizon // 2, horizon
     runs = [estimate_mean_trace(system, loss, k, paths, seed=s, confidence=confidence)
             for k, s in ((k1, seed), (k2, seed + 1))]
-    (e1, s1), (e2, s2) = ((float(r.mean[-1]), float(r.stderr[-1])) for r in runs)
-    z = NormalDist().inv_cdf(0.5 + confidence / 2)
-    slope = (math.log(e2) - math.log(e1)) / (k2 - k1)
-    half = z * math.hypot(s1 / e1, s2 / e2) / (k2 - k1)
-    low, high = math.exp(slope - half), math.exp(slope + half)
+    rate, low, high = growth_rate_interval(*((float(r.mean[-1]), float(r.stderr[-1])) for r in runs),
+                                           k2 - k1, confidence)
     return {"method": "plain Monte Carlo (estimate_mean_trace); cannot certify boundedness",
             "verdict": "unstable" if low > 1 + tolerance else "undecided",
-            "rate": math.exp(slope), "rate_interval": [low, high], "confidence": confidence,
+            "rate": rate, "rate_interval": [low, high], "confidence": confidence,
             "tolerance": tolerance, "horizon": horizon, "paths": paths, "seeds": [seed, seed + 1],
             "horizons": [k1, k2]}
 
