@@ -14,15 +14,22 @@ choice needs one isolating ball to meet the expression's value.
 
 from __future__ import annotations
 
-from fractions import Fraction
 import copyreg
-from functools import lru_cache, total_ordering
+import math
+import numbers
+import operator
+import re
+from decimal import Decimal
+from fractions import Fraction
+from functools import lru_cache
 from typing import Any, Callable
 
 import flint
 import sympy as sp
+from sympy.polys.polyerrors import NotAlgebraic
 
 from ..errors import InputError
+from .numbers import to_exact
 
 x = sp.Symbol("x")
 
@@ -30,8 +37,8 @@ x = sp.Symbol("x")
 def _rational(q: Any) -> sp.Rational | None:
     if isinstance(q, bool):
         return None
-    if isinstance(q, int):
-        return sp.Integer(q)
+    if isinstance(q, numbers.Integral):  # int and numpy integers
+        return sp.Integer(int(q))
     if isinstance(q, Fraction):
         return sp.Rational(q.numerator, q.denominator)
     if isinstance(q, sp.Rational):
@@ -147,16 +154,127 @@ def _root_of_unity_poly(expr: sp.Expr) -> flint.fmpz_poly | None:
     return flint.fmpz_poly([int(c) * 2 ** i for i, c in enumerate(psi.coeffs())])
 
 
-@total_ordering
+#: ``other`` is not a real algebraic number: comparisons defer to it (``==`` is then False)
+_INCOMPARABLE = (TypeError, NotAlgebraic, InputError)
+
+_XY = flint.fmpz_mpoly_ctx.get(("x", "y"), "lex")
+
+
+def _as_fmpz(poly: Any) -> flint.fmpz_poly:
+    """``poly`` (flint, or a sympy Poly or expression in ``x`` with rational coefficients) as a flint one."""
+    if isinstance(poly, flint.fmpz_poly):
+        return poly
+    try:
+        p = poly if isinstance(poly, sp.Poly) else sp.Poly(poly, x)
+    except (sp.PolynomialError, sp.SympifyError, TypeError, ValueError):
+        p = None
+    if p is None or p.gens != (x,) or not (p.domain.is_ZZ or p.domain.is_QQ):
+        raise InputError(f"{poly}: expected a polynomial in x with rational coefficients")
+    return sympy_to_fmpz(p)
+
+
+def _in_y(p: flint.fmpz_poly) -> flint.fmpz_mpoly:
+    _, Y = _XY.gens()
+    return sum((int(c) * Y ** k for k, c in enumerate(p.coeffs())), _XY.constant(0))
+
+
+def _eliminate(F: flint.fmpz_mpoly, q: flint.fmpz_poly) -> flint.fmpz_poly:
+    """``Res_y(F(x, y), q(y))``: vanishes at ``x = phi(y)`` for every root ``y`` of ``q`` when
+    ``F(phi(y), y) = 0``."""
+    terms = F.resultant(_in_y(q), "y").to_dict()
+    coeffs = [0] * (max(i for i, _ in terms) + 1)
+    for (i, _), c in terms.items():
+        coeffs[i] = int(c)
+    return flint.fmpz_poly(coeffs)
+
+
+def _sum_poly(p: flint.fmpz_poly, q: flint.fmpz_poly) -> flint.fmpz_poly:
+    """Vanishes at ``a + b`` for all roots ``a`` of ``p``, ``b`` of ``q``: ``Res_y(p(x - y), q(y))``."""
+    X, Y = _XY.gens()
+    return _eliminate(sum((int(c) * (X - Y) ** k for k, c in enumerate(p.coeffs())), _XY.constant(0)), q)
+
+
+def _product_poly(p: flint.fmpz_poly, q: flint.fmpz_poly) -> flint.fmpz_poly:
+    """Vanishes at ``a b`` for all roots ``a`` of ``p``, ``b != 0`` of ``q``: ``Res_y(y^deg p p(x/y), q(y))``."""
+    X, Y = _XY.gens()
+    d = p.degree()
+    return _eliminate(sum((int(c) * X ** k * Y ** (d - k) for k, c in enumerate(p.coeffs())), _XY.constant(0)), q)
+
+
+def _power_poly(p: flint.fmpz_poly, k: int) -> flint.fmpz_poly:
+    """Vanishes at ``a^k`` for every root ``a`` of ``p``: ``Res_y(x - y^k, p(y))``."""
+    X, Y = _XY.gens()
+    return _eliminate(X - Y ** k, p)
+
+
+def _terminating_decimal(q: Fraction) -> Decimal | None:
+    """``q`` as an exact Decimal when its denominator is ``2^a 5^b``; else None."""
+    den, a, b = q.denominator, 0, 0
+    while den % 2 == 0:
+        den, a = den // 2, a + 1
+    while den % 5 == 0:
+        den, b = den // 5, b + 1
+    if den != 1:
+        return None
+    e = max(a, b)
+    return Decimal(f"{q.numerator * 10 ** e // q.denominator}E-{e}")
+
+
+#: ``[[fill]align][sign][z][#][0][width][grouping]`` ``[.precision]`` ``[type]`` of a format spec
+_SPEC = re.compile(r"(?P<head>.*?)(?:\.(?P<prec>\d+))?(?P<kind>[eEfFgGn%]?)", re.S)
+
+
 class AlgebraicNumber:
     """A real algebraic number: ``.exact``, ``.minpoly``, ``.interval``, ``.evalf(n)``, ``float()``.
 
-    Comparisons with ints, Fractions, sympy numbers and other AlgebraicNumbers are exact.
+    It behaves as a SymPy and a Python number:
+
+    * ``sp.sympify(a)``, ``sp.Matrix([a])``, ``sp.sqrt(2) * a`` and ``sp.latex(a)`` use the exact
+      expression (``_sympy_``).
+    * **Result type of arithmetic** (``+ - * /``, both sides; ``**`` with an int exponent; ``-a``,
+      ``abs(a)``): with an int, a Fraction or another AlgebraicNumber the result is an
+      AlgebraicNumber, its minimal polynomial computed exactly (a resultant) and its root
+      certified by the operands' isolating intervals.  With a sympy object (Rational included) it
+      is the exact sympy expression, on both sides: sympy's own operators answer when sympy is on
+      the left, and the right side matches them.  With a Python float it is a float, as for
+      :class:`fractions.Fraction`.
+    * Comparisons (``== < <= > >=``) with ints, Fractions, sympy numbers, AlgebraicNumbers and
+      floats are exact; a float is compared through its binary value (``Fraction(f)`` is exact).
+      ``sp.Rational(1, 16) == a`` holds when ``a`` is 1/16 (sympy converts ``a`` by ``_sympy_``).
+    * ``hash`` agrees with ``==``: a rational hashes as the equal Fraction, int and (when it is
+      one) float.  (sympy's own Rational hashes differently from the equal Fraction, so no
+      hash can agree with both.)
+    * ``format(a, ".4f")`` and ``round(a, n)`` are correctly rounded (round half to even),
+      ``round`` giving an int or a Fraction as for Fraction; ``math.floor``/``ceil``/``trunc``.
     """
 
     __slots__ = ("_poly", "_index", "_lo", "_hi", "_prec", "_exact")
 
-    def __init__(self, poly: flint.fmpz_poly, index: int, exact: sp.Expr | None = None):
+    def __init__(self, poly: Any, index: int, exact: sp.Expr | None = None):
+        """Root ``index`` of ``poly`` (flint's ordering: real roots first, ascending).
+
+        ``poly`` may be a flint ``fmpz_poly`` or a sympy polynomial in ``x``.  A reducible
+        ``poly`` is factored: ``index`` then counts its distinct real roots in ascending order
+        (the same count for an irreducible one), and the number is stored with the minimal
+        polynomial of that root, chosen by exact comparison of certified isolating intervals.
+        """
+        fpoly = _as_fmpz(poly)
+        if fpoly.degree() < 1:
+            raise InputError(f"{poly}: a constant polynomial has no roots")
+        _, factors = fpoly.factor()
+        if len(factors) == 1 and factors[0][1] == 1:
+            if not 0 <= index < fpoly.degree():
+                raise InputError(f"root {index} of {poly}: it has {fpoly.degree()} roots (index 0..)")
+            self._setup(factors[0][0], index, exact)
+            return
+        reals = _real_roots(fpoly)
+        if not 0 <= index < len(reals):
+            raise InputError(f"root {index} of {poly}: it has {len(reals)} distinct real roots "
+                             f"(index 0..{len(reals) - 1})")
+        root = reals[index]
+        self._setup(root._poly, root._index, exact)
+
+    def _setup(self, poly: flint.fmpz_poly, index: int, exact: sp.Expr | None) -> None:
         self._poly = poly if poly.leading_coefficient() > 0 else -poly
         self._index = index
         self._exact = exact
@@ -166,6 +284,13 @@ class AlgebraicNumber:
             raise InputError(f"root {index} of {self._poly} is not real")
         self._lo, self._hi = _arb_interval(ball.real)
 
+    @classmethod
+    def _irreducible(cls, poly: flint.fmpz_poly, index: int, exact: sp.Expr | None = None) -> "AlgebraicNumber":
+        """Root ``index`` of ``poly``, known irreducible (a factor from flint): no re-factoring."""
+        a = cls.__new__(cls)
+        a._setup(poly, index, exact)
+        return a
+
     # -- construction -----------------------------------------------------------
     @classmethod
     def from_expr(cls, expr: Any) -> "AlgebraicNumber":
@@ -174,36 +299,24 @@ class AlgebraicNumber:
             return expr
         q = _rational(expr)
         if q is None:
-            expr = sp.sympify(expr)
+            expr = expr if isinstance(expr, sp.Basic) else to_exact(expr, "number")
             if expr.free_symbols:
                 raise InputError(f"{expr}: has free symbols, not a number")
             q = expr if expr.is_Rational else None
         if q is not None:
-            return cls(flint.fmpz_poly([-int(q.p), int(q.q)]), 0, q)
+            return cls._irreducible(flint.fmpz_poly([-int(q.p), int(q.q)]), 0, q)
         f, idx = root_of(expr)
-        return cls(f, idx, expr)
+        return cls._irreducible(f, idx, expr)
 
     @classmethod
     def from_root(cls, poly: Any, lo: Any, hi: Any, exact: sp.Expr | None = None) -> "AlgebraicNumber":
         """The unique real root of ``poly`` (integer or rational, sympy or flint) in ``[lo, hi]``."""
-        fpoly = poly if isinstance(poly, flint.fmpz_poly) else sympy_to_fmpz(poly)
         lo, hi = sp.Rational(lo), sp.Rational(hi)
-        found = []
-        for f, _ in fpoly.factor()[1]:
-            f = f if f.leading_coefficient() > 0 else -f
-            n_real = sum(1 for r, _ in f.complex_roots() if r.imag == 0)
-            for i in range(n_real):
-                a = cls(f, i)
-                if a >= lo and a <= hi:
-                    found.append(a)
-        distinct = []
-        for a in found:
-            if all(a != b for b in distinct):
-                distinct.append(a)
-        if len(distinct) != 1:
-            raise InputError(f"[{lo}, {hi}] holds {len(distinct)} distinct real roots of {poly}, not one")
-        distinct[0]._exact = exact
-        return distinct[0]
+        inside = [a for a in _real_roots(_as_fmpz(poly)) if a >= lo and a <= hi]  # exact: ours, not sympy's
+        if len(inside) != 1:
+            raise InputError(f"[{lo}, {hi}] holds {len(inside)} distinct real roots of {poly}, not one")
+        inside[0]._exact = exact
+        return inside[0]
 
     # -- the contract --------------------------------------------------------------
     @property
@@ -271,16 +384,41 @@ class AlgebraicNumber:
     def __float__(self) -> float:
         return float(self.evalf(20))
 
+    def _value(self) -> Fraction:
+        """The value of a rational number (``is_rational``)."""
+        c = self._poly.coeffs()
+        return Fraction(-int(c[0]), int(c[1]))
+
+    # -- SymPy protocol -------------------------------------------------------------
+    def _sympy_(self) -> sp.Expr:
+        return self.exact
+
+    def _latex(self, printer: Any) -> str:
+        return printer._print(self.exact)
+
     # -- exact comparisons ---------------------------------------------------------
-    def _compare(self, other: Any) -> int:
+    def _compare(self, other: Any) -> int | None:
+        """Sign of ``self - other``; None when unordered (NaN).  TypeError for non-numbers."""
+        if isinstance(other, float):
+            if math.isnan(other):
+                return None
+            other = Fraction(other) if math.isfinite(other) else sp.oo if other > 0 else -sp.oo  # exact
+        if isinstance(other, sp.Float):
+            other = sp.Rational(other) if other.is_finite else sp.oo if other > 0 else -sp.oo  # exact
+        if other is sp.nan:
+            return None
+        if other is sp.oo or other is -sp.oo:
+            return -1 if other is sp.oo else 1
         q = _rational(other)
         if q is None and not isinstance(other, AlgebraicNumber):
-            o = sp.sympify(other)
-            q = o if o.is_Rational else None
+            if not isinstance(other, sp.Expr) or other.free_symbols:
+                raise TypeError(f"cannot compare an AlgebraicNumber with {type(other).__name__}")
+            q = other if other.is_Rational else None
         if q is not None:
             if self.is_rational:
-                v = sp.Rational(-int(self._poly.coeffs()[0]), int(self._poly.coeffs()[1]))
-                return int(bool(v > q)) - int(bool(v < q))
+                v = self._value()
+                q = Fraction(int(q.p), int(q.q))
+                return int(v > q) - int(v < q)
             while self._lo <= q <= self._hi:  # q is not a root: the minimal polynomial has degree > 1
                 self.refine((self._hi - self._lo) / 4)
             return 1 if self._lo > q else -1
@@ -292,17 +430,184 @@ class AlgebraicNumber:
             o.refine((o._hi - o._lo) / 4)
         return 1 if self._lo > o._hi else -1
 
+    def _ordered(self, other: Any, test: Callable[[int], bool]) -> Any:
+        try:
+            s = self._compare(other)
+        except _INCOMPARABLE:
+            return NotImplemented
+        return False if s is None else test(s)
+
     def __eq__(self, other: object) -> bool:
         try:
             return self._compare(other) == 0
-        except (InputError, TypeError, sp.SympifyError):
+        except _INCOMPARABLE:
             return NotImplemented
 
     def __lt__(self, other: Any) -> bool:
-        return self._compare(other) < 0
+        return self._ordered(other, lambda s: s < 0)
+
+    def __le__(self, other: Any) -> bool:
+        return self._ordered(other, lambda s: s <= 0)
+
+    def __gt__(self, other: Any) -> bool:
+        return self._ordered(other, lambda s: s > 0)
+
+    def __ge__(self, other: Any) -> bool:
+        return self._ordered(other, lambda s: s >= 0)
 
     def __hash__(self) -> int:
-        return hash((str(self._poly), self._index))
+        if self.is_rational:
+            return hash(self._value())
+        return hash((tuple(int(c) for c in self._poly.coeffs()), self._index))
+
+    def __bool__(self) -> bool:
+        return not (self.is_rational and self._value() == 0)
+
+    # -- exact arithmetic ----------------------------------------------------------
+    def _ball(self, prec: int) -> flint.acb:
+        return root_ball(self._poly, self._index, prec)
+
+    def _combine(self, other: "AlgebraicNumber", op: str) -> "AlgebraicNumber":
+        """``self op other`` for ``op`` in ``+ *``: the factor of the resultant polynomial whose
+        root meets the sum or product of the operands' certified balls."""
+        if self.is_rational and other.is_rational:
+            v = self._value() + other._value() if op == "+" else self._value() * other._value()
+            return AlgebraicNumber.from_expr(v)
+        if op == "*" and not (self and other):
+            return AlgebraicNumber.from_expr(0)
+        poly = (_sum_poly if op == "+" else _product_poly)(self._poly, other._poly)
+        f, idx = identify(poly, lambda prec: self._ball(prec) + other._ball(prec) if op == "+"
+                          else self._ball(prec) * other._ball(prec), f"{self} {op} {other}")
+        exact = None
+        if self._exact is not None and other._exact is not None and f.degree() > 1:
+            exact = self._exact + other._exact if op == "+" else self._exact * other._exact
+        return AlgebraicNumber._irreducible(f, idx, exact)
+
+    def _reciprocal(self) -> "AlgebraicNumber":
+        if not self:
+            raise ZeroDivisionError("AlgebraicNumber division by zero")
+        if self.is_rational:
+            return AlgebraicNumber.from_expr(1 / self._value())
+        rev = flint.fmpz_poly(list(reversed(self._poly.coeffs())))
+        f, idx = identify(rev, lambda prec: 1 / self._ball(prec), f"1/({self})")
+        return AlgebraicNumber._irreducible(f, idx, None if self._exact is None else 1 / self._exact)
+
+    def __neg__(self) -> "AlgebraicNumber":
+        return self._combine(AlgebraicNumber.from_expr(-1), "*")
+
+    def __pos__(self) -> "AlgebraicNumber":
+        return self
+
+    def __abs__(self) -> "AlgebraicNumber":
+        return -self if self < 0 else self
+
+    def _arith(self, other: Any, op: Callable[[Any, Any], Any], exact_op: Callable[["AlgebraicNumber", "AlgebraicNumber"], Any]) -> Any:
+        """The documented result-type rule; ``op(self, other)`` on sympy / float values,
+        ``exact_op`` on AlgebraicNumbers."""
+        if isinstance(other, sp.Basic):
+            return op(self.exact, other)
+        if isinstance(other, float):
+            return op(float(self), other)
+        if isinstance(other, AlgebraicNumber):
+            return exact_op(self, other)
+        if isinstance(other, (numbers.Integral, Fraction)):  # int (bool too, as for Fraction), numpy ints
+            return exact_op(self, AlgebraicNumber.from_expr(Fraction(int(other)) if isinstance(
+                other, numbers.Integral) else other))
+        return NotImplemented
+
+    def __add__(self, other: Any) -> Any:
+        return self._arith(other, operator.add, lambda a, b: a._combine(b, "+"))
+
+    def __radd__(self, other: Any) -> Any:
+        return self._arith(other, lambda a, b: b + a, lambda a, b: b._combine(a, "+"))
+
+    def __sub__(self, other: Any) -> Any:
+        return self._arith(other, operator.sub, lambda a, b: a._combine(-b, "+"))
+
+    def __rsub__(self, other: Any) -> Any:
+        return self._arith(other, lambda a, b: b - a, lambda a, b: b._combine(-a, "+"))
+
+    def __mul__(self, other: Any) -> Any:
+        return self._arith(other, operator.mul, lambda a, b: a._combine(b, "*"))
+
+    def __rmul__(self, other: Any) -> Any:
+        return self._arith(other, lambda a, b: b * a, lambda a, b: b._combine(a, "*"))
+
+    def __truediv__(self, other: Any) -> Any:
+        return self._arith(other, operator.truediv, lambda a, b: a._combine(b._reciprocal(), "*"))
+
+    def __rtruediv__(self, other: Any) -> Any:
+        return self._arith(other, lambda a, b: b / a, lambda a, b: b._combine(a._reciprocal(), "*"))
+
+    def __pow__(self, k: Any) -> Any:
+        """An AlgebraicNumber for an int ``k``; other exponents: ``sp.sympify(self) ** k``
+        (a Python float exponent: a float)."""
+        if not isinstance(k, numbers.Integral):
+            if isinstance(k, Fraction):
+                k = sp.Rational(k.numerator, k.denominator)
+            return self._arith(k, operator.pow, lambda a, b: NotImplemented)
+        k = int(k)
+        if k < 0:
+            return self._reciprocal() ** -k
+        if self.is_rational:
+            return AlgebraicNumber.from_expr(self._value() ** k)
+        if k <= 1:
+            return self if k == 1 else AlgebraicNumber.from_expr(1)
+        f, idx = identify(_power_poly(self._poly, k), lambda prec: self._ball(prec) ** k, f"({self})^{k}")
+        return AlgebraicNumber._irreducible(f, idx, None if self._exact is None or f.degree() == 1
+                                            else self._exact ** k)
+
+    def __rpow__(self, base: Any) -> Any:
+        """``base ** self``, generally transcendental: the exact sympy expression (float base: float)."""
+        if isinstance(base, (numbers.Integral, Fraction)):
+            base = to_exact(base, "base")
+        return self._arith(base, lambda a, b: b ** a, lambda a, b: NotImplemented)
+
+    # -- rounding and formatting -------------------------------------------------
+    def _floor(self, scale: Fraction = Fraction(1), shift: Fraction = Fraction(0)) -> int:
+        """``floor(self * scale + shift)`` exactly (``scale > 0``)."""
+        if self.is_rational:
+            return math.floor(self._value() * scale + shift)
+        while True:  # irrational: never an integer, so the floors of the end points meet
+            lo, hi = (math.floor(Fraction(e) * scale + shift) for e in self.interval)
+            if lo == hi:
+                return lo
+            self.refine((self._hi - self._lo) / 4)
+
+    def __floor__(self) -> int:
+        return self._floor()
+
+    def __ceil__(self) -> int:
+        return -(-self)._floor()
+
+    def __trunc__(self) -> int:
+        return math.floor(self) if self >= 0 else math.ceil(self)
+
+    def __int__(self) -> int:
+        return self.__trunc__()
+
+    def __round__(self, ndigits: int | None = None) -> int | Fraction:
+        """Round half to even, as :class:`fractions.Fraction`: an int, or a Fraction with ``ndigits``."""
+        if self.is_rational:
+            return round(self._value(), ndigits)
+        scale = Fraction(10) ** (ndigits or 0)
+        n = self._floor(scale, Fraction(1, 2))  # irrational: never a tie
+        return n if ndigits is None else Fraction(n) / scale
+
+    def __format__(self, spec: str) -> str:
+        """Correctly rounded decimal formatting (``e f g %`` and ``n`` types, width, sign, ...);
+        with no type and no precision, ``str(self)`` is formatted as text."""
+        m = _SPEC.fullmatch(spec)
+        if not spec or m is None or not (m["kind"] or m["prec"]):
+            return format(str(self), spec)
+        spec = f"{m['head']}.{m['prec'] or 6}{m['kind']}"
+        if self.is_rational and (d := _terminating_decimal(self._value())) is not None:
+            return format(d, spec)
+        while True:  # the end points' roundings agree once the interval is narrow (no ties)
+            lo, hi = (format(_terminating_decimal(e), spec) for e in self.interval)
+            if lo == hi:
+                return lo
+            self.refine((self._hi - self._lo) / 2 ** 16)
 
     def __repr__(self) -> str:
         return f"AlgebraicNumber({self}, ≈{self.evalf(12)})"
@@ -316,9 +621,19 @@ class AlgebraicNumber:
         return f"${sp.latex(self.exact)} \\approx {self.evalf(10)}$"
 
 
+def _real_roots(poly: flint.fmpz_poly) -> list[AlgebraicNumber]:
+    """The distinct real roots of ``poly``, ascending, each with its minimal polynomial."""
+    roots = []
+    for f, _ in poly.factor()[1]:
+        f = f if f.leading_coefficient() > 0 else -f
+        n_real = sum(1 for r, _ in f.complex_roots() if r.imag == 0)
+        roots.extend(AlgebraicNumber._irreducible(f, i) for i in range(n_real))
+    return sorted(roots)
+
+
 def real_from_ball(poly: flint.fmpz_poly, index: int) -> AlgebraicNumber:
     """Root ``index`` (flint's ordering) of the irreducible ``poly``, which must be real."""
-    return AlgebraicNumber(poly, index)
+    return AlgebraicNumber._irreducible(poly, index)
 
 
 def sign(expr: Any) -> int:
