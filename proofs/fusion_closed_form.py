@@ -14,11 +14,26 @@ exactly: ``W*' V_o = I`` and ``M Sigma W* = 0`` (i.e. ``2 Sigma W* = V_o Lambda'
 for some Lambda), which are sufficient for optimality.  The general argument
 (``(M Sigma M)^+ = M (M Sigma M)^+`` and ``(M Sigma M)^+ V_o = 0``) is in
 ``symkf/fusion/weights.py``.
+
+symkf's own code is then run on each instance: ``symkf.fusion.optimal_weights``
+(``method="closed-form"``, the same formula computed in floating point through an
+orthonormal basis of null(V_o')) must give ``W' V_o = I`` and the exact optimal
+``P* = W*' Sigma W*`` (unique although ``W*`` is not) to ``1e-9`` relative.  So the
+formula is checked exactly and symkf's implementation of it to rounding.
 """
 
 import random
+import sys
+from pathlib import Path
 
+import numpy as np
 import sympy as sp
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from symkf.fusion.weights import fused_covariance, optimal_weights  # noqa: E402
+
+TOL = 1e-9
 
 BASES = [sp.Matrix([[1], [0]]), sp.Matrix([[0], [1]]), sp.Matrix([[sp.Rational(3, 5)], [sp.Rational(4, 5)]]),
          sp.eye(2)]
@@ -49,9 +64,15 @@ def main() -> bool:
         W = (sp.eye(nN) - (M * Sigma * M).pinv() * M * Sigma) * Vo.T.pinv()
         feasible = sp.simplify(W.T * Vo - sp.eye(2)) == sp.zeros(2, 2)
         stationary = sp.simplify(M * Sigma * W) == sp.zeros(nN, 2)
-        ok &= feasible and stationary
+        P = sp.simplify(W.T * Sigma * W)
+        Sf, Vf = np.array(Sigma, dtype=float), np.array(Vo, dtype=float)
+        Wf = optimal_weights(Sf, Vf)
+        scale = max(1.0, float(max(abs(v) for v in P)))
+        implemented = (np.abs(Wf.T @ Vf - np.eye(2)).max() < TOL
+                       and np.abs(fused_covariance(Sf, Wf) - np.array(P, dtype=float)).max() < TOL * scale)
+        ok &= feasible and stationary and implemented
         print(f"instance {k}: nN = {nN}, rank Sigma = {Sigma.rank()}, W'Vo = I: {feasible}, "
-              f"M Sigma W = 0: {stationary}, tr P* = {sp.nsimplify(sp.simplify((W.T * Sigma * W).trace()))}")
+              f"M Sigma W = 0: {stationary}, tr P* = {P.trace()}, symkf.fusion agrees: {implemented}")
     print("PASS" if ok else "FAIL")
     return ok
 

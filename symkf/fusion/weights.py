@@ -83,7 +83,10 @@ def _closed_form(Sigma: np.ndarray, Vo: np.ndarray) -> np.ndarray:
     pinv_VoT = scipy.linalg.pinv(Vo.T)
     # Grouped as N ((N' Sigma N)^+ (N' Sigma (Vo')^+)): forming N (N' Sigma N)^+ N' first
     # multiplies rounding by the huge entries of that pseudo-inverse.
-    return pinv_VoT - N @ (scipy.linalg.pinv(N.T @ Sigma @ N) @ (N.T @ Sigma @ pinv_VoT))
+    # Singular values of N' Sigma N below Sigma's rounding level are zeros: relative to N' Sigma N
+    # alone (pinv's default) an exactly zero N' Sigma N of size 1e-17 would be inverted.
+    rounding = Sigma.shape[0] * np.finfo(float).eps * np.abs(Sigma).max()
+    return pinv_VoT - N @ (scipy.linalg.pinv(N.T @ Sigma @ N, atol=rounding) @ (N.T @ Sigma @ pinv_VoT))
 
 
 def _problem3(Sigma: np.ndarray, Vo: np.ndarray) -> np.ndarray:
