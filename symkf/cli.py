@@ -34,6 +34,11 @@ REPRODUCE: dict[str, tuple[str, str, dict[str, Any]]] = {
 }
 
 
+#: version of every ``--json`` document; raised when a field is renamed or removed
+#: (1: blocks carry ``tau`` and ``governing_period``, certificates ``governing_period``,
+#: losses are structured objects, reproduce separates ``checks`` from ``discrepancies``)
+SCHEMA_VERSION = 1
+
 #: exit status of an unexpected exception (a symkf bug), distinct from bad input (2)
 INTERNAL_ERROR = 70
 
@@ -72,8 +77,28 @@ def _number(a: AlgebraicNumber, digits: int) -> dict[str, Any]:
 def _blocks_json(A: Any) -> list[dict[str, Any]]:
     from .spectral import eigen_blocks
     return [{"modulus": str(b.modulus), "eigenvalues": [str(e) for e in b.eigenvalues],
-             "period": b.period, "governing_period": b.governing_period, "proof": b.proof}
+             "tau": b.tau, "governing_period": b.governing_period, "proof": b.proof}
             for b in eigen_blocks(A)]
+
+
+def loss_json(loss: Any) -> dict[str, Any]:
+    """A loss model as a JSON object: ``kind`` (as in a system file's ``[loss]`` table) and its
+    parameters as exact strings; a Markov or network model also gives its lifted chain."""
+    from .losses import IID, GilbertElliott
+    from .network.loss import NetworkLoss
+    if isinstance(loss, IID):
+        return {"kind": "iid", "loss": [str(e) for e in loss.loss]}
+    if isinstance(loss, GilbertElliott):
+        return {"kind": "gilbert-elliott", "fail": [str(e) for e in loss.fail],
+                "recover": [str(e) for e in loss.recover]}
+    chain = loss.chain
+    out: dict[str, Any] = {"kind": "markov", "order": getattr(loss, "order", 1)}
+    if isinstance(loss, NetworkLoss):
+        out = {"kind": "network", "parents": list(loss.tree.parents),
+               "phi": [[str(p) for p in loss.phi.row(m)] for m in range(loss.d)]}
+    return {**out, "chain": {"states": [str(s) for s in chain.states], "emit": [list(v) for v in chain.emit],
+                             "P": [[str(p) for p in chain.P.row(r)] for r in range(chain.P.rows)],
+                             "initial": [str(p) for p in chain.initial]}}
 
 
 def cmd_demo(args: argparse.Namespace) -> dict[str, Any]:
@@ -93,8 +118,8 @@ def _print_demo(res: dict[str, Any]) -> None:
         print(f"== {e['system']}: A = {e['A']}")
         for i, b in enumerate(e["blocks"]):
             print(f"   block {i}: |lambda| = {b['modulus']}, eigenvalues {b['eigenvalues']}")
-            print(f"            period tau = {b['period']}, governing period = {b['governing_period']}")
-            if b["period"] is None or b["governing_period"] is None:
+            print(f"            period tau = {b['tau']}, governing period = {b['governing_period']}")
+            if b["tau"] is None or b["governing_period"] is None:
                 print(f"            proof: {b['proof']}")
         c = e["critical_loss_rate"]
         print(f"   critical common i.i.d. loss rate = {c['exact']} ~ {c['decimal']}")
@@ -107,11 +132,11 @@ def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
     res: dict[str, Any] = {"system": str(args.file), "blocks": _blocks_json(system.A)}
     if loss is not None:
         v = stability(system, loss)
-        res["loss"] = repr(loss)
+        res["loss"] = loss_json(loss)
         res["verdict"] = {"stable": v.stable, "theorem": v.theorem,
                           "margins": [_number(m, 12) for m in v.margins], "limiting_block": v.limiting_block,
                           "assumptions": list(v.assumptions),
-                          "certificate": [{"modulus": str(c.modulus), "period": c.period,
+                          "certificate": [{"modulus": str(c.modulus), "governing_period": c.governing_period,
                                            "decisive_received": [list(e) for e in c.decisive_elements],
                                            "alpha^(2g) rho^g": str(c.margin_power)} for c in v.certificate]}
         res["_text"] = str(v)
@@ -187,7 +212,7 @@ def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
     system, loss = _needs_loss(args)
     report = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon)
     # exit status 1 (and "outcome": "disagree") when simulation contradicts the theory
-    return {"system": str(args.file), "loss": repr(loss), **report, "_text": summary(report),
+    return {"system": str(args.file), "loss": loss_json(loss), **report, "_text": summary(report),
             "_status": 1 if report["outcome"] == "disagree" else 0}
 
 
@@ -219,7 +244,7 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
     system, loss = _needs_loss(args)
     est = estimate_mean_trace(system, loss, args.horizon, args.paths, seed=args.seed)
     res: dict[str, Any] = {
-        "system": str(args.file), "loss": repr(loss), "quantity": "E[tr P_{k|k-1}], k = 0..horizon-1",
+        "system": str(args.file), "loss": loss_json(loss), "quantity": "E[tr P_{k|k-1}], k = 0..horizon-1",
         "method": "plain Monte Carlo (estimate_mean_trace)", "horizon": est.horizon, "paths": est.paths,
         "seed": est.seed, "confidence": est.confidence, "summary": _mean_trace_rows(est),
         "mean": est.mean.tolist(), "low": est.low.tolist(), "high": est.high.tolist()}
@@ -376,7 +401,7 @@ def _print_plain(res: dict[str, Any]) -> None:
     if "_text" in res:
         for b in res.get("blocks", []):
             print(f"block: |lambda| = {b['modulus']}, eigenvalues {b['eigenvalues']}, "
-                  f"tau = {b['period']}, governing period = {b['governing_period']}")
+                  f"tau = {b['tau']}, governing period = {b['governing_period']}")
         print(res["_text"])
         return
     for k, v in res.items():
@@ -415,7 +440,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return INTERNAL_ERROR
     try:
         if args.json:
-            print(json.dumps({k: v for k, v in res.items() if not k.startswith("_")}, indent=2, default=str))
+            doc = {"schema_version": SCHEMA_VERSION, **{k: v for k, v in res.items() if not k.startswith("_")}}
+            print(json.dumps(doc, indent=2, default=str))
         else:
             (command.show or _print_plain)(res)
         sys.stdout.flush()

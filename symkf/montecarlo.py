@@ -274,8 +274,8 @@ def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...],
     cert = verdict.certificate[verdict.limiting_block]
     received = set(cert.decisive_elements)
     phases = tuple(tuple(j for j, name in enumerate(system.sensor_names) if (name, phase) not in received)
-                   for phase in range(cert.period))
-    return phases, sp.sympify(cert.modulus) ** (2 * cert.period)
+                   for phase in range(cert.governing_period))
+    return phases, sp.sympify(cert.modulus) ** (2 * cert.governing_period)
 
 
 def exact_growth_rate(verdict) -> AlgebraicNumber:

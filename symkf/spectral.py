@@ -170,8 +170,8 @@ class EigenBlock:
 
     modulus: AlgebraicNumber
     members: tuple[Eigenvalue, ...]
-    period: int | None
-    governing_period: int | None
+    period: int | None             # the papers' tau (DESIGN.md's name; also ``.tau``)
+    governing_period: int | None   # g: least k with A_i^k a scalar multiple of I
     evidence: tuple[tuple[str, Any], ...] = field(repr=False)  # (claim, its RatioEvidence or text)
     classes: tuple[tuple[int, ...], ...] = field(repr=False)
     class_period: int = field(repr=False)
@@ -180,6 +180,11 @@ class EigenBlock:
     def proof(self) -> str:
         """Why the periods are what they are (formatted on first use: it prints eigenvalues)."""
         return "; ".join(f"{claim}: {why}" if claim else str(why) for claim, why in self.evidence)
+
+    @property
+    def tau(self) -> int | None:
+        """The papers' tau (``period`` is the same value under DESIGN.md's contract name)."""
+        return self.period
 
     @property
     def eigenvalues(self) -> tuple[sp.Expr, ...]:
@@ -198,7 +203,7 @@ class EigenBlock:
 
     def __repr__(self) -> str:
         return (f"EigenBlock(modulus={self.modulus}, eigenvalues={[e.label for e in self.members]}, "
-                f"period={self.period}, governing_period={self.governing_period})")
+                f"tau={self.tau}, governing_period={self.governing_period})")
 
 
 # -- eigenvalues ------------------------------------------------------------------

@@ -28,7 +28,7 @@ class BlockCertificate:
     """What a reader needs to re-check one block's margin."""
 
     modulus: sp.Expr
-    period: int
+    governing_period: int                            # g: least k with A_i^k a scalar multiple of I
     decisive_elements: tuple[tuple[str, int], ...]  # (sensor name, phase) inside the decisive hyperplane
     rate_per_period: sp.Expr                         # rho_i^g
     margin_power: sp.Expr                            # alpha_i^(2g) rho_i^g, compared with 1
@@ -53,15 +53,16 @@ class Verdict:
         lines = [f"{'stable' if self.stable else 'NOT stable'} ({self.theorem})"]
         for i, (m, c) in enumerate(zip(self.margins, self.certificate)):
             lo, hi = c.interval
-            lines.append(f"  block {i}: alpha = {c.modulus}, period {c.period}, margin alpha^2 rho = {m} "
+            lines.append(f"  block {i}: alpha = {c.modulus}, governing period g = {c.governing_period}, "
+                         f"margin alpha^2 rho = {m} "
                          f"in [{float(lo):.6g}, {float(hi):.6g}]{'  <- limiting' if i == self.limiting_block else ''}")
             lines.append(f"    decisive pattern: only {list(c.decisive_elements) or 'nothing'} received; "
-                         f"alpha^{2 * c.period} * rho^{c.period} = {c.margin_power}")
+                         f"alpha^{2 * c.governing_period} * rho^{c.governing_period} = {c.margin_power}")
         lines.append("  assumptions checked: " + "; ".join(self.assumptions))
         return "\n".join(lines)
 
     def _repr_latex_(self) -> str:
-        rows = " \\\\ ".join(f"{i} & {sp.latex(c.modulus)} & {c.period} & {sp.latex(m.exact)} \\approx {m.evalf(6)}"
+        rows = " \\\\ ".join(f"{i} & {sp.latex(c.modulus)} & {c.governing_period} & {sp.latex(m.exact)} \\approx {m.evalf(6)}"
                              for i, (m, c) in enumerate(zip(self.margins, self.certificate)))
         return (f"$\\text{{{'stable' if self.stable else 'not stable'} ({self.theorem})}}\\quad"
                 f"\\begin{{array}}{{cccc}} i & \\alpha_i & g_i & \\alpha_i^2\\rho_i \\\\ \\hline {rows}\\end{{array}}$")
