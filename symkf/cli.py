@@ -23,7 +23,7 @@ from .exact.algebraic import AlgebraicNumber
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "systems"
 
 # name -> (module, function, keyword arguments of --quick); each function returns
-# {"example", "source", "results", "checks"}
+# {"example", "source", "results", "checks", "discrepancies"} (symkf.reproduction)
 REPRODUCE: dict[str, tuple[str, str, dict[str, Any]]] = {
     "quevedo-example3": ("symkf.network.reproduce", "reproduce_quevedo_example3", {}),
     "quevedo-robot": ("symkf.network.reproduce", "reproduce_quevedo_robot", {}),

@@ -11,6 +11,7 @@ import sympy as sp
 
 from ..losses import IID
 from ..model import Sensor, System
+from ..reproduction import reproduction
 from .convergence import mare_stabilizable, unit_circle_condition
 from .lower import lower_bound_converges, lower_bound_limit, lower_bound_sequence
 from .mare import MARE
@@ -119,4 +120,4 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
         fig.savefig(path, dpi=120)
         plt.close(fig)
         results["figure"] = path
-    return {"example": "yang-example1", "source": SOURCE, "results": results, "checks": checks}
+    return reproduction("yang-example1", SOURCE, results, checks)

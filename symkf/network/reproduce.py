@@ -1,6 +1,7 @@
 """The examples of seed 002 (Quevedo, Ahlén, Johansson), each as ``reproduce_<name>() -> dict``.
 
-Every claim the paper makes about an example is a key of ``checks``.
+Every claim the paper makes about an example that symkf verifies is a key of ``checks``
+(see :mod:`symkf.reproduction`).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import sympy as sp
 
 from ..exact.linalg import rank
 from ..model import Sensor, System
+from ..reproduction import reproduction
 from .conditions import full_rank_configurations, full_rank_probability, theorem1
 from .dynamics import PeriodicDynamics, certified_less_than_one, spectral_norm_squared
 from .loss import NetworkLoss, phi_symbol
@@ -108,10 +110,9 @@ def reproduce_quevedo_example3(outdir: str | None = None) -> dict:
         ax.set_title("Example 3 (Fig. 4 tree)")
 
     png = _plot(outdir, "quevedo_example3.png", draw)
-    return {
-        "example": "quevedo-example3",
-        "source": f"{SEED}, Sec. V, Example 3 and Fig. 4",
-        "results": {
+    return reproduction(
+        "quevedo-example3", f"{SEED}, Sec. V, Example 3 and Fig. 4",
+        {
             "tree_parents": list(tree.parents),
             "configurations": [list(g) for g in J_rank],
             "rank_plant": {"A": _s(dyn.A[0].tolist()), "C": [_s(c.tolist()) for c in dyn.C]},
@@ -124,7 +125,7 @@ def reproduce_quevedo_example3(outdir: str | None = None) -> dict:
                                   "holds": t1.holds},
             "figure": png,
         },
-        "checks": {
+        {
             "J has nine vectors": len(J_rank) == 9,
             "J (exact rank of C(k)) equals the printed J": J_rank == EXAMPLE3_J,
             "J (rule: at least three measurements) equals the printed J": J_rule == EXAMPLE3_J,
@@ -132,8 +133,7 @@ def reproduce_quevedo_example3(outdir: str | None = None) -> dict:
             "Remark 2: theta_1, theta_3 dependent given Xi": sp.expand(p13 - p1 * p3) != 0,
             "Remark 2: Pr{theta_m=1|Xi=j} = product of phi over Edge(Path(S_m))":
                 p3 == sp.expand(phi_symbol(1, 1) * phi_symbol(3, 1)),
-        },
-    }
+        })
 
 
 # -- Example 4: the robot ---------------------------------------------------------------
@@ -182,10 +182,9 @@ def reproduce_quevedo_robot(outdir: str | None = None) -> dict:
         ax.set_title("Example 4 robot network")
 
     png = _plot(outdir, "quevedo_robot.png", draw)
-    return {
-        "example": "quevedo-robot",
-        "source": f"{SEED}, Sec. VII-A, Example 4 and Fig. 1 (sensor network stated by symkf)",
-        "results": {
+    return reproduction(
+        "quevedo-robot", f"{SEED}, Sec. VII-A, Example 4 and Fig. 1 (sensor network stated by symkf)",
+        {
             "q": ROBOT_Q,
             "holding": {str(i + 1): {str(d): _s(p) for d, p in h.items()} for i, h in enumerate(state.holding)},
             "sigma": state.sigma,
@@ -199,13 +198,12 @@ def reproduce_quevedo_robot(outdir: str | None = None) -> dict:
             "pi_j(sigma)": {str(j): f"{float(t2.pi[(j, 0)][-1]):.6g}" for j in range(1, 5)},
             "figure": png,
         },
-        "checks": {
+        {
             "lifted chain (Xi, holding counter, theta) is stochastic":
                 all(sp.simplify(sum(loss.chain.P.row(r)) - 1) == 0 for r in range(len(loss.chain.states))),
             "sigma = 30 (psi_1 is a point mass at 30)": state.sigma == 30,
             "Sec. VII-B: with q = p and psi(1) = 1, (32) reduces to (22)": reduces and reduces_paper,
-        },
-    }
+        })
 
 
 # -- Section VII-C ----------------------------------------------------------------------
@@ -338,8 +336,7 @@ def reproduce_quevedo_semi_markov(outdir: str | None = None, simulate: bool = Tr
     }
     if simulate:
         results["simulation"], checks["bounded E[tr P] where the corrected condition holds"] = viic_simulation(dyn)
-    return {"example": "quevedo-semi-markov", "source": f"{SEED}, Sec. VII-C, eqs. (33)-(34), Fig. 6",
-            "results": results, "checks": checks}
+    return reproduction("quevedo-semi-markov", f"{SEED}, Sec. VII-C, eqs. (33)-(34), Fig. 6", results, checks)
 
 
 def viic_simulation(dyn: PeriodicDynamics) -> tuple[dict, bool]:
