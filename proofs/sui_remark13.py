@@ -20,6 +20,9 @@ which coincides with the single-sensor form iff ``tau = g``: Remark 13 holds
 for the corrected Theorem 12 and fails for the printed one whenever ``tau = 2g``.
 The single-sensor decay itself is checked against brute-force enumeration in
 ``proofs/sui_theorem12.py``.
+
+Scope: every ``g = 2..12``, each a symbolic identity in ``alpha`` and ``p_1``; a
+check on that range, not a proof for every ``g``.
 """
 
 from __future__ import annotations
@@ -47,7 +50,7 @@ def single_sensor(P: int, p: sp.Symbol) -> sp.Basic:
 
 def main() -> bool:
     ok = True
-    for g in (2, 3, 4, 5, 6, 8, 10, 12):
+    for g in range(2, 13):
         thetas = [sp.pi / g] + ([2 * sp.pi / g] if g % 2 else [])
         for theta in thetas:
             S = System(A=rotation(theta), sensors=[Sensor(C=[[1, 0]])])
