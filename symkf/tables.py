@@ -171,7 +171,7 @@ class Table:
 def _value_cell(outcome: Outcome, member: Member, digits: int) -> Cell:
     """A family cell; its JSON data also records the grid point and the periods the engine used."""
     value = outcome.value
-    where = {"point": {k: str(v) for k, v in member.point}, "periods": list(outcome.periods)}
+    where = {"point": {k: str(v) for k, v in member.point}, "governing_periods": list(outcome.periods)}
     if isinstance(value, Inapplicable):
         return Cell("---", "---", r"\text{---}", {**where, "inapplicable": value.reason})
     if isinstance(value, Verdict):

@@ -86,7 +86,7 @@ def _divergence_json(r: DivergenceResult, pattern: Any, growth: Any) -> dict[str
             "verdict": r.verdict, "rate": r.rate, "rate_interval": [r.rate_low, r.rate_high],
             "confidence": r.confidence, "tolerance": r.tolerance, "horizon": r.horizon, "paths": r.paths,
             "seeds": [r.seed, r.seed + 1], "horizons": [r.horizon // 2, r.horizon],
-            "pattern": pattern, "growth_per_period": None if growth is None else str(growth),
+            "pattern": pattern, "growth_per_governing_period": None if growth is None else str(growth),
             "sampling": r.sampling}
 
 
