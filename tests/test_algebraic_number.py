@@ -169,6 +169,9 @@ def test_bad_polynomials_are_refused() -> None:
         AlgebraicNumber(sp.sqrt(2) * x - 1, 0)
     with pytest.raises(InputError, match="is not exact"):
         AlgebraicNumber.from_expr(0.1)
+    with pytest.raises(InputError, match="Float"):
+        AlgebraicNumber.from_expr(sp.sqrt(2) * sp.Float(0.5))
+    assert not AlgebraicNumber.from_expr(0) and AlgebraicNumber.from_expr(sp.sqrt(2) - 1)
 
 
 def test_pickle_and_set_membership_survive_arithmetic() -> None:

@@ -240,7 +240,9 @@ class AlgebraicNumber:
       :class:`fractions.Fraction`.
     * Comparisons (``== < <= > >=``) with ints, Fractions, sympy numbers, AlgebraicNumbers and
       floats are exact; a float is compared through its binary value (``Fraction(f)`` is exact).
-      ``sp.Rational(1, 16) == a`` holds when ``a`` is 1/16 (sympy converts ``a`` by ``_sympy_``).
+      ``sp.Rational(1, 16) == a`` holds when ``a`` is 1/16 (sympy converts ``a`` by ``_sympy_``);
+      with another sympy expression on the left, sympy's ``==`` is structural (``a == e`` is not).
+    * Truth value: False exactly for zero.
     * ``hash`` agrees with ``==``: a rational hashes as the equal Fraction, int and (when it is
       one) float.  (sympy's own Rational hashes differently from the equal Fraction, so no
       hash can agree with both.)
@@ -299,7 +301,8 @@ class AlgebraicNumber:
             return expr
         q = _rational(expr)
         if q is None:
-            expr = expr if isinstance(expr, sp.Basic) else to_exact(expr, "number")
+            # strings through the safe parser; floats (also inside sympy expressions) refused
+            expr = expr if isinstance(expr, sp.Basic) and not expr.has(sp.Float) else to_exact(expr, "number")
             if expr.free_symbols:
                 raise InputError(f"{expr}: has free symbols, not a number")
             q = expr if expr.is_Rational else None
