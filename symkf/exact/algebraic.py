@@ -598,8 +598,9 @@ class AlgebraicNumber:
         return n if ndigits is None else Fraction(n) / scale
 
     def __format__(self, spec: str) -> str:
-        """Correctly rounded decimal formatting (``e f g %`` and ``n`` types, width, sign, ...);
-        with no type and no precision, ``str(self)`` is formatted as text."""
+        """Correctly rounded decimal formatting (``e f g %`` and ``n`` types, width, sign, ...) as
+        :class:`decimal.Decimal` formats (exponents ``e+0``, not float's ``e+00``); with no type and
+        no precision, ``str(self)`` is formatted as text."""
         m = _SPEC.fullmatch(spec)
         if not spec or m is None or not (m["kind"] or m["prec"]):
             return format(str(self), spec)
