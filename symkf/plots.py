@@ -24,7 +24,7 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
-from .errors import InputError, SymkfError
+from .errors import ExtraNotInstalledError, InputError, SymkfError
 from .losses import IID, LossModel
 from .model import Sensor, System
 from .montecarlo import TraceEstimate
@@ -33,7 +33,7 @@ from .progress import progress
 VERDICT_STYLE = {"stable": ("o", "tab:green"), "unstable": ("x", "tab:red"), "undecided": ("s", "tab:gray")}
 
 
-class PlotExtraError(SymkfError):
+class PlotExtraError(ExtraNotInstalledError):
     """matplotlib (the ``plot`` extra) is not installed."""
 
 
