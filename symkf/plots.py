@@ -17,6 +17,7 @@ lazily; without it :class:`PlotExtraError` (exit status 2 on the command line).
 
 from __future__ import annotations
 
+import sys
 from fractions import Fraction
 from math import gcd
 from typing import Any, Sequence
@@ -48,7 +49,18 @@ def require_matplotlib() -> None:
 def _figure(width: float = 6.4, height: float = 4.8) -> Any:
     require_matplotlib()
     from matplotlib.figure import Figure
+    _inline_in_jupyter(Figure)
     return Figure(figsize=(width, height), layout="constrained")
+
+
+def _inline_in_jupyter(figure_type: type) -> None:
+    """Figures display as images in a Jupyter kernel: IPython registers its figure formatter only
+    once pyplot is imported, and these figures are made without pyplot."""
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None
+    if shell is not None:
+        from IPython.core.pylabtools import print_figure
+        shell.display_formatter.formatters["image/png"].for_type(figure_type, lambda fig: print_figure(fig, "png"))
 
 
 def _finish(fig: Any, path: Any) -> Any:
