@@ -88,6 +88,7 @@ def test_holding_time_covariance_matches_propagation(small, tau):
     assert np.allclose(P, P.T) and np.linalg.eigvalsh(fusion_sigma(small, P))[0] > -1e-10   # Lemma 3
 
 
+@pytest.mark.full
 def test_expected_covariance_is_the_average_over_holding_times(small):
     lam = [float(x) for x in small.model.arrival]
     avg = np.zeros_like(small.Pi)
