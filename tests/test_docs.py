@@ -80,19 +80,18 @@ def test_cli_page_names_every_command_and_option():
         assert f"| {status} |" in page
 
 
-def test_json_page_keys_are_printed(capsys):
+def test_json_page_documents_every_printed_key(capsys):
     page = (DOCS / "json.md").read_text(encoding="utf-8")
     ge = str(examples.system("ge-two-sensors"))
     printed = {}
-    for argv, documented in ((["analyze", ge], ["system", "blocks", "loss", "verdict"]),
-                             (["critical", ge], ["critical_loss_rate", "varied", "theorem"])):
-        assert cli.main([*argv, "--json"]) == 0
-        printed[argv[0]] = out = json.loads(capsys.readouterr().out)
-        assert sorted(out) == sorted(documented)
+    for command in ("analyze", "critical"):
+        assert cli.main([command, ge, "--json"]) == 0
+        printed[command] = json.loads(capsys.readouterr().out)
     verdict = printed["analyze"]["verdict"]
     nested = [*verdict, *verdict["margins"][0], *printed["analyze"]["blocks"][0], *verdict["certificate"][0]]
     for key in [*printed["analyze"], *printed["critical"], *nested]:
         assert f"`{key}`" in page, f"docs/json.md does not document {key!r}"
+    assert {"critical_loss_rate", "varied", "theorem"} <= set(printed["critical"])
 
 
 def _without_code(text: str) -> str:
