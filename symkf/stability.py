@@ -288,6 +288,34 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
     :class:`AssumptionError` when the stable set is not an interval ``(q_c, 1)`` (stability is not
     monotone in ``q`` in general; :func:`stable_recovery_intervals` gives the set).  Certified:
     the verdict of :func:`stability` is checked at rationals just outside the isolating interval.
+
+    Parameters
+    ----------
+    system : System
+    fail : sequence
+        ``P(lost | received last)`` per sensor (exact numbers).
+    recover : sequence, optional
+        The other sensors' recovery probabilities, with ``sensor``.
+    sensor : str, optional
+        Vary only this sensor's recovery probability.
+
+    Returns
+    -------
+    AlgebraicNumber
+
+    Examples
+    --------
+    The two sensors of :func:`stability` on channels that fail with probability 1/4; the verdicts
+    on either side of the critical value agree with it:
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[1, 1]], name="s2")])
+    >>> q = sk.critical_recovery_rate(S, fail=["1/4", "1/4"])
+    >>> q.minpoly.as_expr(), round(float(q), 6)
+    (16*x**4 - 60*x**3 + 88*x**2 - 60*x + 15, 0.565084)
+    >>> [sk.stability(S, sk.GilbertElliott(["1/4"] * 2, [r] * 2)).stable for r in ("1/2", "3/4")]
+    [False, True]
     """
     intervals = stable_recovery_intervals(system, fail, recover=recover, sensor=sensor)
     if not intervals:
