@@ -26,7 +26,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import ExtraNotInstalledError, InputError, SymkfError
-from .losses import IID, LossModel
+from .losses import IID, GilbertElliott, LossModel
 from .model import Sensor, System
 from .montecarlo import TraceEstimate
 from .progress import progress
@@ -198,9 +198,20 @@ def mean_trace_figure(system: System, loss: LossModel, estimate: TraceEstimate, 
     ax.fill_between(k, np.maximum(estimate.low, bottom), estimate.high, color="tab:blue", alpha=0.2,
                     label=f"{100 * estimate.confidence:g}% interval")
     ax.set(yscale="log", ylim=(bottom, None), xlabel="k", ylabel=r"E[tr $P_{k|k-1}$]",
-           title="\n".join([f"{system.name or 'system'}: {estimate.sampling}"] + notes))
+           title="\n".join([f"{system.name or 'the system'} under {_in_words(loss)}"
+                             + ("" if estimate.sampling == repr(loss) else " (importance sampling)")] + notes))
     ax.legend(fontsize="small")
     return _finish(fig, path)
+
+
+def _in_words(loss: LossModel) -> str:
+    """A loss model as a figure title says it."""
+    if isinstance(loss, IID):
+        return "i.i.d. losses " + ", ".join(map(str, loss.loss))
+    if isinstance(loss, GilbertElliott):
+        return (f"Gilbert-Elliott channels, fail {', '.join(map(str, loss.fail))}, "
+                f"recover {', '.join(map(str, loss.recover))}")
+    return "a joint Markov loss process"
 
 
 def rotation_system(scale: Any, angle: Any, C: Sequence[Sequence[Any]] = ((1, 0),)) -> System:
