@@ -2,7 +2,7 @@
 
 Family: A = 2 R(pi/g), governing period g = 2..10, one sensor C = [1, 0] (9 members, every A
 distinct, so the serial run gains nothing from symkf's caches), the critical common i.i.d. loss
-rate of each (a column of examples/families/rotation-periods.toml).
+rate of each (a column of symkf/examples/families/rotation-periods.toml).
 Each timed run is a fresh interpreter (cold sympy and symkf caches for both modes, so forked
 workers do not inherit a warm cache); only ``family.evaluate`` is timed.  Prints medians over
 REPEATS runs of wall time and of CPU time (parent plus workers) and their ratios: on a machine

@@ -2,7 +2,7 @@
 
 Usage: python examples/critical_table.py [OUT.tex] [--family FAMILY.toml] [--jobs N] [--scheduler ADDRESS]
 
-The default family, examples/families/rotation-periods.toml (A = 2 R(pi/g), governing
+The default family, symkf/examples/families/rotation-periods.toml (A = 2 R(pi/g), governing
 period g = 2..12, 1..4 identical sensors), takes about two minutes serially; --jobs 2
 halves that.  OUT.tex holds two ``table`` environments; ``\\input`` it in a document
 that loads booktabs.
@@ -15,12 +15,13 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from symkf import examples  # noqa: E402
 from symkf.tables import family_table, verdict_table  # noqa: E402
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out", nargs="?", default="critical_table.tex")
-    parser.add_argument("--family", default=str(ROOT / "examples" / "families" / "rotation-periods.toml"))
+    parser.add_argument("--family", default=str(examples.family("rotation-periods")))
     parser.add_argument("--jobs", type=int, default=1)
     parser.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")
     args = parser.parse_args()

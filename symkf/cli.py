@@ -7,20 +7,22 @@ Exit status 0 on success, 2 on bad input or usage (one line, no traceback),
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import json
 import os
 import sys
 import warnings
 from dataclasses import dataclass
-from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
 
 
+from . import __version__
 from .errors import SymkfError
-from .exact.algebraic import AlgebraicNumber
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "systems"
+if TYPE_CHECKING:
+    from .exact.algebraic import AlgebraicNumber
+
 
 # name -> (module, function, keyword arguments of --quick); each function returns
 # {"example", "source", "results", "checks", "discrepancies"} (symkf.reproduction)
@@ -102,10 +104,10 @@ def loss_json(loss: Any) -> dict[str, Any]:
 
 
 def cmd_demo(args: argparse.Namespace) -> dict[str, Any]:
-    from . import files
+    from . import examples, files
     from .stability import critical_loss_rate
     out = []
-    for path in sorted(EXAMPLES.glob("*.toml")):
+    for path in examples.systems():
         system, _ = files.load(path)
         entry = {"system": path.stem, "A": str(system.A.tolist()), "blocks": _blocks_json(system.A)}
         entry["critical_loss_rate"] = _number(critical_loss_rate(system), 12)
@@ -388,11 +390,13 @@ def _parser() -> argparse.ArgumentParser:
                 "networks (Sui-You-Fu; Quevedo et al.; Yang et al.).",
                 epilog="exit status: 0 success, 1 verify: theory and simulation disagree, "
                 "2 bad input or usage, 3 a theorem's assumptions fail for the system, 70 internal error (a bug)")
+    p.add_argument("--version", action="version", version=f"symkf {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for c in COMMANDS.values():
         s = sub.add_parser(c.name, help=c.help, description=c.help)
         c.configure(s)
         s.add_argument("--json", action="store_true", help="machine-readable output")
+        s.add_argument("--quiet", action="store_true", help="no progress bars (as TQDM_DISABLE=1)")
         s.set_defaults(command_spec=c)
     return p
 
@@ -420,7 +424,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exc.code if isinstance(exc.code, int) else 2
     command: Command = args.command_spec
     try:
-        with warnings.catch_warnings(record=True) as caught:
+        with warnings.catch_warnings(record=True) as caught, _quiet(args.quiet):
             warnings.simplefilter("always")
             res = command.run(args)
         # notes for the user (e.g. a float taken as a rational) in one line each; numerical
@@ -448,6 +452,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # e.g. `symkf demo | head`: the reader left; not an error of ours
         sys.stdout = open(os.devnull, "w")
     return res.get("_status", 0)
+
+
+@contextlib.contextmanager
+def _quiet(quiet: bool) -> Iterator[None]:
+    """``--quiet``: TQDM_DISABLE=1 for the command (and the worker processes it starts)."""
+    previous = os.environ.get("TQDM_DISABLE")
+    if quiet:
+        os.environ["TQDM_DISABLE"] = "1"
+    try:
+        yield
+    finally:
+        if previous is None:
+            os.environ.pop("TQDM_DISABLE", None)
+        else:
+            os.environ["TQDM_DISABLE"] = previous
 
 
 def _one_line(exc: BaseException) -> str:

@@ -8,6 +8,9 @@ assumptions fail for the given system).
 
 from __future__ import annotations
 
+import importlib
+from types import ModuleType
+
 
 class SymkfError(Exception):
     """Base of every error symkf raises on purpose."""
@@ -80,6 +83,19 @@ class FileFormatError(InputError):
 
 class NumericalBreakdownError(SymkfError):
     """The float64 covariance of a simulated filter lost positive semidefiniteness or overflowed."""
+
+
+class ExtraNotInstalledError(SymkfError, ImportError):
+    """An optional dependency (a pip extra of symkf) is not installed."""
+
+
+def require_extra(module: str, extra: str, needed_for: str) -> ModuleType:
+    """Import and return ``module``, or raise :class:`ExtraNotInstalledError` naming the extra."""
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise ExtraNotInstalledError(f"{needed_for} needs {module.split('.')[0]}: "
+                                     f"pip install 'symkf[{extra}]'") from None
 
 
 def _rebuild_error(cls: type, args: tuple, state: dict) -> SymkfError:

@@ -15,7 +15,7 @@ unless the file says ``rationalize = true``; symbols are refused (a file gives n
   after the history ``a``, the histories being the ``order``-tuples of ``states`` (oldest
   first) in the order of ``itertools.product(states, repeat=order)``; optional
   ``initial[a]`` is the law of the first history (default: the stationary law).
-* ``kind = "network"``: a sensor tree over a fading network state (seed 002,
+* ``kind = "network"``: a sensor tree over a fading network state (Quevedo et al.,
   :class:`~symkf.network.NetworkLoss`).  ``parents[m-1] = Par(S_m)`` (0 = gateway; sensor
   ``m`` of ``[[sensors]]`` is node ``S_m``, a relay is a sensor with ``C = 0``);
   ``phi[m-1][j-1] = phi_{m|j}``, the success probability of link ``E_m`` in network state
@@ -25,7 +25,7 @@ unless the file says ``rationalize = true``; symbols are refused (a file gives n
   ``{ delta = psi_i(delta) }``; optional ``initial`` is the law of ``Xi(0)`` (default:
   stationary).  Messages about these keys count sensors and states from 1, as the paper.
 
-A fusion file (seed 003) has ``[fusion]`` and ``[[sensors]]`` instead of ``[system]``
+A fusion file (arXiv:2012.04896) has ``[fusion]`` and ``[[sensors]]`` instead of ``[system]``
 and is read by :func:`load_fusion`: ``arrival = [...]`` (packet arrival rates
 ``lambda_i``), and either ``A``, ``Q`` (discrete time, :meth:`FusionModel.discrete
 <symkf.fusion.FusionModel.discrete>`) or ``Ac``, ``Bc``, ``noise_variance``, ``Ts`` (a
@@ -143,7 +143,7 @@ def parse(data: dict, source: str) -> tuple[System, LossModel | None]:
     (a file name, or a file and a family grid point).  The system's default name is the last
     path component of ``source``."""
     if "fusion" in data:
-        raise FileFormatError(f"{source}: key 'fusion': a fusion file (seed 003) has no [system]; "
+        raise FileFormatError(f"{source}: key 'fusion': a fusion file (arXiv:2012.04896) has no [system]; "
                               "read it with symkf.files.load_fusion")
     _check_keys(data, KEYS[""], f"{source}")
     rationalize = _rationalize(data, source)
@@ -302,7 +302,7 @@ LOSS_KINDS: dict[str, Callable[[dict, str, System, bool], LossModel]] = {
 
 
 def load_fusion(path: str | Path) -> "FusionModel":
-    """Read a fusion file (seed 003): ``[fusion]`` and ``[[sensors]]``, see the module docstring."""
+    """Read a fusion file (arXiv:2012.04896): ``[fusion]`` and ``[[sensors]]``, see the module docstring."""
     return parse_fusion(_read(path), str(path))
 
 

@@ -79,7 +79,7 @@ def real_form(system: System) -> FloatSystem:
     ``x = u + i v`` with circular noise becomes ``(u, v)`` with
     ``A_r = [[Re A, -Im A], [Im A, Re A]]``, ``C_r`` alike, and covariances
     ``Q_r = realify(Q) / 2`` (likewise R, P0).  Realification is a
-    *-algebra homomorphism, so ``P_r,k = realify(P_k) / 2`` for every
+    ``*``-algebra homomorphism, so ``P_r,k = realify(P_k) / 2`` for every
     receival sequence and ``tr P_r,k = tr P_k``.
     """
     if not isinstance(system, System):

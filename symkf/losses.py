@@ -12,14 +12,16 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
-import numpy as np
 import sympy as sp
 
 from .errors import AssumptionError, InputError, ProbabilityError
 from .exact.algebraic import sign
 from .exact.numbers import to_exact
+
+if TYPE_CHECKING:
+    import numpy as np
 
 Vector = tuple[int, ...]
 
@@ -63,6 +65,7 @@ class LossChain:
 
     def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Float (P, initial, emit) for simulation; refuses free symbols."""
+        import numpy as np  # here, not at module level: the exact engine does not need numpy
         free = self.P.free_symbols | self.initial.free_symbols
         if free:
             raise InputError(f"loss model: symbols {sorted(map(str, free))} have no value; "

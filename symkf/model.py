@@ -166,3 +166,15 @@ class System:
             return self.sensor_names.index(name)
         except ValueError:
             raise InputError(f"no sensor named {name!r}; sensors are {list(self.sensor_names)}") from None
+
+    @classmethod
+    def from_statespace(cls, sys: Any, sensors: Any = None, **kwargs: Any) -> System:
+        """The system of a discrete-time python-control ``StateSpace``, the rows of ``C`` split into
+        ``sensors``: :func:`symkf.control.from_statespace` (the ``control`` extra)."""
+        from .control import from_statespace
+        return from_statespace(sys, sensors, **kwargs)
+
+    def to_statespace(self, B: Any = None, D: Any = None, dt: float | bool = True) -> Any:
+        """This system as a python-control ``StateSpace``: :func:`symkf.control.to_statespace`."""
+        from .control import to_statespace
+        return to_statespace(self, B, D, dt)

@@ -26,7 +26,6 @@ from functools import cached_property
 from typing import Sequence
 
 import flint
-import numpy as np
 import sympy as sp
 
 from .exact.field import Elem, NumberField
@@ -127,6 +126,7 @@ def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n:
     nonzero mod p maps to F_p).  So the mod-p members are a superset of the exact ones, and each
     extra member is confirmed by an exact rank.  Combinations dependent mod p are decided exactly.
     """
+    import numpy as np  # here, not at module level: only this screen needs numpy
     p, images = _reduction(K, vectors)
     W = np.array(images, dtype=np.int64)
     found: list[frozenset[int]] = []

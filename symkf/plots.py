@@ -17,6 +17,7 @@ lazily; without it :class:`PlotExtraError` (exit status 2 on the command line).
 
 from __future__ import annotations
 
+import sys
 from fractions import Fraction
 from math import gcd
 from typing import Any, Sequence
@@ -24,8 +25,8 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
-from .errors import InputError, SymkfError
-from .losses import IID, LossModel
+from .errors import ExtraNotInstalledError, InputError, SymkfError
+from .losses import IID, GilbertElliott, LossModel
 from .model import Sensor, System
 from .montecarlo import TraceEstimate
 from .progress import progress
@@ -33,7 +34,7 @@ from .progress import progress
 VERDICT_STYLE = {"stable": ("o", "tab:green"), "unstable": ("x", "tab:red"), "undecided": ("s", "tab:gray")}
 
 
-class PlotExtraError(SymkfError):
+class PlotExtraError(ExtraNotInstalledError):
     """matplotlib (the ``plot`` extra) is not installed."""
 
 
@@ -48,7 +49,18 @@ def require_matplotlib() -> None:
 def _figure(width: float = 6.4, height: float = 4.8) -> Any:
     require_matplotlib()
     from matplotlib.figure import Figure
+    _inline_in_jupyter(Figure)
     return Figure(figsize=(width, height), layout="constrained")
+
+
+def _inline_in_jupyter(figure_type: type) -> None:
+    """Figures display as images in a Jupyter kernel: IPython registers its figure formatter only
+    once pyplot is imported, and these figures are made without pyplot."""
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None
+    if shell is not None:
+        from IPython.core.pylabtools import print_figure
+        shell.display_formatter.formatters["image/png"].for_type(figure_type, lambda fig: print_figure(fig, "png"))
 
 
 def _finish(fig: Any, path: Any) -> Any:
@@ -186,9 +198,20 @@ def mean_trace_figure(system: System, loss: LossModel, estimate: TraceEstimate, 
     ax.fill_between(k, np.maximum(estimate.low, bottom), estimate.high, color="tab:blue", alpha=0.2,
                     label=f"{100 * estimate.confidence:g}% interval")
     ax.set(yscale="log", ylim=(bottom, None), xlabel="k", ylabel=r"E[tr $P_{k|k-1}$]",
-           title="\n".join([f"{system.name or 'system'}: {estimate.sampling}"] + notes))
+           title="\n".join([f"{system.name or 'the system'} under {_in_words(loss)}"
+                             + ("" if estimate.sampling == repr(loss) else " (importance sampling)")] + notes))
     ax.legend(fontsize="small")
     return _finish(fig, path)
+
+
+def _in_words(loss: LossModel) -> str:
+    """A loss model as a figure title says it."""
+    if isinstance(loss, IID):
+        return "i.i.d. losses " + ", ".join(map(str, loss.loss))
+    if isinstance(loss, GilbertElliott):
+        return (f"Gilbert-Elliott channels, fail {', '.join(map(str, loss.fail))}, "
+                f"recover {', '.join(map(str, loss.recover))}")
+    return "a joint Markov loss process"
 
 
 def rotation_system(scale: Any, angle: Any, C: Sequence[Sequence[Any]] = ((1, 0),)) -> System:

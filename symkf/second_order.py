@@ -1,6 +1,6 @@
 """Second-order systems under i.i.d. losses: congruent sets and the Theorem 12 closed form.
 
-Sui-You-Fu, Section 4 (seed 001).  ``A`` (2x2) has two distinct eigenvalues of
+Sui-You-Fu, Section 4 (Sui-You-Fu).  ``A`` (2x2) has two distinct eigenvalues of
 one modulus ``alpha > 0`` (Assumption 5, up to similarity: ``alpha diag(e^{i
 theta_1}, e^{i theta_2})`` and the real rotation ``alpha R(theta)`` alike);
 losses are independent Bernoulli with arrival rates ``p_i`` (Assumption 4);

@@ -87,7 +87,35 @@ def _margin(br: BlockRows, rate: BlockRate) -> tuple[AlgebraicNumber, sp.Expr]:
 
 
 def stability(system: System, loss: LossModel) -> Verdict:
-    """Decide mean-square stability exactly (Theorems 4 and 7 with eq. 36)."""
+    """Decide mean-square stability exactly (Sui-You-Fu Theorems 4 and 7 with eq. 36).
+
+    Parameters
+    ----------
+    system : System
+    loss : LossModel
+        :class:`~symkf.losses.IID`, :class:`~symkf.losses.GilbertElliott`,
+        :class:`~symkf.losses.MarkovLoss` or a network loss, without free symbols.
+
+    Returns
+    -------
+    Verdict
+        ``.stable``, the exact margins ``alpha_i^2 rho_i`` per eigen-block (stable iff all are
+        below 1), the theorem used, the assumptions checked and a certificate naming the
+        decisive loss pattern.
+
+    Examples
+    --------
+    ``A = 2R(pi/2)`` has governing period 2; its four rows ``C_j A^k`` (k = 0, 1) point in
+    four distinct directions, so the filter is blind when three of four packets of a period
+    are lost: ``(alpha^2 rho)^2 = alpha^4 eps^3``, i.e. ``16/1000`` at ``eps = 1/10``.
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[1, 1]], name="s2")])
+    >>> v = sk.stability(S, sk.IID(["1/10", "1/10"]))
+    >>> v.stable, v.margins[0].exact, v.margins[0].exact ** 2
+    (True, sqrt(10)/25, 2/125)
+    """
     assumptions = _check_loss(system, loss)
     if loss.symbols:
         raise InputError(f"loss: symbols {sorted(map(str, loss.symbols))} have no value; "
@@ -125,6 +153,32 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
 
     Each block gives ``alpha_i^(2g) * prod_outside(eps w_j) < 1`` for every hyperplane H,
     i.e. ``eps < (alpha_i^(2g) W_H)^(-1/K_H)``.  The value 1 means no loss rate below 1 destabilises.
+
+    Parameters
+    ----------
+    system : System
+    sensor : str, optional
+        Vary only this sensor's loss (then ``others`` gives every sensor's loss).
+    others : sequence, optional
+        The fixed loss probabilities of all sensors (exact numbers).
+    ray : sequence, optional
+        Weights ``w_j`` of the losses ``eps * w_j``.
+
+    Returns
+    -------
+    AlgebraicNumber
+        The critical value, with ``.exact``, ``.minpoly`` and a certified ``.interval``.
+
+    Examples
+    --------
+    Two sensors watching ``2R(pi/2)`` (see :func:`stability`): ``16 eps^3 < 1``.
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[1, 1]], name="s2")])
+    >>> eps = sk.critical_loss_rate(S)
+    >>> eps.exact, eps.minpoly.as_expr()
+    (2**(2/3)/4, 16*x**3 - 1)
     """
     d = system.d
     if sensor is None:
@@ -160,7 +214,28 @@ def _min_capped(bounds: list[sp.Expr]) -> AlgebraicNumber:
 
 def critical_alpha(system: System, loss: IID) -> AlgebraicNumber:
     """For a single eigen-block (Assumption 1), the critical modulus: stable iff alpha < value,
-    with the eigenvalue directions and the losses fixed."""
+    with the eigenvalue directions and the losses fixed.
+
+    Parameters
+    ----------
+    system : System
+        ``A`` with one eigen-block (all eigenvalues of one modulus).
+    loss : IID
+
+    Returns
+    -------
+    AlgebraicNumber
+
+    Examples
+    --------
+    ``alpha^4 eps^3 < 1`` at ``eps = 1/10`` (see :func:`stability`): ``alpha < 10^(3/4)``.
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[1, 1]], name="s2")])
+    >>> sk.critical_alpha(S, sk.IID(["1/10", "1/10"])).exact
+    10**(3/4)
+    """
     brs = block_rows(system)
     if len(brs) != 1:
         raise AssumptionError(f"A has {len(brs)} eigen-blocks of different moduli",
@@ -214,6 +289,34 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
     :class:`AssumptionError` when the stable set is not an interval ``(q_c, 1)`` (stability is not
     monotone in ``q`` in general; :func:`stable_recovery_intervals` gives the set).  Certified:
     the verdict of :func:`stability` is checked at rationals just outside the isolating interval.
+
+    Parameters
+    ----------
+    system : System
+    fail : sequence
+        ``P(lost | received last)`` per sensor (exact numbers).
+    recover : sequence, optional
+        The other sensors' recovery probabilities, with ``sensor``.
+    sensor : str, optional
+        Vary only this sensor's recovery probability.
+
+    Returns
+    -------
+    AlgebraicNumber
+
+    Examples
+    --------
+    The two sensors of :func:`stability` on channels that fail with probability 1/4; the verdicts
+    on either side of the critical value agree with it:
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[1, 1]], name="s2")])
+    >>> q = sk.critical_recovery_rate(S, fail=["1/4", "1/4"])
+    >>> q.minpoly.as_expr(), round(float(q), 6)
+    (16*x**4 - 60*x**3 + 88*x**2 - 60*x + 15, 0.565084)
+    >>> [sk.stability(S, sk.GilbertElliott(["1/4"] * 2, [r] * 2)).stable for r in ("1/2", "3/4")]
+    [False, True]
     """
     intervals = stable_recovery_intervals(system, fail, recover=recover, sensor=sensor)
     if not intervals:

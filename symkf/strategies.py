@@ -34,13 +34,17 @@ from fractions import Fraction
 from typing import Any, NamedTuple, Sequence
 
 import sympy as sp
-from hypothesis import strategies as st
-from hypothesis.errors import InvalidArgument
 
-from .exact.linalg import rank
-from .exact.numbers import to_exact
-from .losses import IID, GilbertElliott
-from .model import Sensor, System
+from .errors import require_extra
+
+require_extra("hypothesis", "strategies", "symkf.strategies")
+from hypothesis import strategies as st  # noqa: E402
+from hypothesis.errors import InvalidArgument  # noqa: E402
+
+from .exact.linalg import rank  # noqa: E402
+from .exact.numbers import to_exact  # noqa: E402
+from .losses import IID, GilbertElliott  # noqa: E402
+from .model import Sensor, System  # noqa: E402
 
 
 def _exact(value: Any, name: str) -> sp.Expr:

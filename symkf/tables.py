@@ -10,7 +10,7 @@ certified isolating interval.
 * :func:`family_table` -- critical loss rates or verdicts over a parameter family
   (a TOML family file, see :mod:`symkf.families`), evaluated with :func:`symkf.sweep.sweep`;
 * :func:`verdict_table` -- the stability verdicts of system files with a ``[loss]``
-  (by default the papers' examples in ``examples/systems/``).
+  (by default the papers' examples, ``symkf/examples/systems/``).
 
 The engine is Sui-You-Fu Theorems 4 and 7 with eq. (36) in hyperplane form
 (:mod:`symkf.stability`), with the rows ``C_j A^k`` grouped over each eigen-block's
@@ -27,13 +27,13 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from . import examples
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber
 from .families import Family, Inapplicable, Member, Outcome, load_family
 from .stability import Verdict
 from .sweep import sweep
 
-EXAMPLE_SYSTEMS = Path(__file__).resolve().parent.parent / "examples" / "systems"
 _ENGINE = ("symkf (Sui--You--Fu Theorems~4 and~7 with eq.~(36), hyperplane form; the rows "
            "$C_jA^k$ of each eigen-block are grouped over its governing period $g$, the least $k$ "
            "with $A_i^k$ a scalar multiple of $I$, and margins are compared with~1 exactly)")
@@ -302,9 +302,9 @@ def _loss_cell(kind: str, fields: tuple[tuple[str, tuple[sp.Expr, ...]], ...]) -
 
 def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, scheduler: Any = None,
                   digits: int = 6, progress: bool | None = None) -> Table:
-    """Verdicts of system files that have a ``[loss]`` (default: ``examples/systems/*.toml``)."""
+    """Verdicts of system files that have a ``[loss]`` (default: the example systems, :func:`symkf.examples.systems`)."""
     if paths is None:
-        paths = sorted(EXAMPLE_SYSTEMS.glob("*.toml"))
+        paths = examples.systems()
     results = sweep(_file_verdict, [str(p) for p in paths], jobs=jobs, scheduler=scheduler,
                     progress=progress, desc="verdicts")
     results = [r for r in results if r[2] is not None]

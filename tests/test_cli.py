@@ -9,12 +9,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from symkf import cli, files
+from symkf import cli, examples, files
 from symkf.montecarlo import exact_mean_trace
 from symkf.progress import progress
 
 ROOT = Path(__file__).resolve().parent.parent
-SYSTEMS = ROOT / "examples" / "systems"
+SYSTEMS = examples.directory() / "systems"
 DESIGN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], loss 1/20: eps_c = 1/16
 GE = SYSTEMS / "ge-two-sensors.toml"
 
@@ -238,7 +238,7 @@ def test_table_command_writes_latex_and_json(capsys, tmp_path):
     status, out, _ = run(capsys, "table", str(family), "--latex", str(tex), "--json")
     assert status == 0 and "\\toprule" in tex.read_text()
     cells = [[c["exact"] for c in row["cells"]] for row in json.loads(out)["rows"]]
-    # eps_c = 2^(-2g / (d (g - 1))): hand-derived in examples/families/rotation-periods.toml
+    # eps_c = 2^(-2g / (d (g - 1))): hand-derived in symkf/examples/families/rotation-periods.toml
     assert cells == [["1/16", "1/4"], ["1/8", "sqrt(2)/4"]]
 
 

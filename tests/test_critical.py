@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings, strategies as st
+from hypothesis import assume, given, settings, strategies as st
 
 import symkf as sk
 from symkf.decay import block_rate, m_matrix
@@ -78,6 +78,8 @@ def test_recovery_input_errors():
        st.lists(st.integers(-2, 2), min_size=2, max_size=2).filter(lambda v: v != [0, 0]),
        st.lists(st.sampled_from(["1/5", "1/3", "1/2", "3/4"]), min_size=4, max_size=4))
 def test_ge_hyperplane_rate_equals_spectral_radius_of_full_m(angle, scale, c, params):
+    # angle pi makes A a multiple of I: unobservable unless c is independent of [1, 0]
+    assume(angle != (1, 2) or c[1] != 0)
     t = 2 * sp.pi * angle[0] / angle[1]
     A = sp.sympify(scale) * sp.Matrix([[sp.cos(t), -sp.sin(t)], [sp.sin(t), sp.cos(t)]])
     S = sk.System(A=A, sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[c])])

@@ -1,6 +1,6 @@
 """System files with joint Markov and sensor-network losses, and fusion files (symkf.files).
 
-The example files in examples/systems/network and examples/systems/fusion must hold exactly
+The example files in symkf/examples/systems/network and symkf/examples/systems/fusion must hold exactly
 the data that symkf/network/reproduce.py and symkf/fusion/pendulum.py build, and the command
 line must decide them (exit 0) or name the assumption that fails and what applies (exit 3).
 """
@@ -19,7 +19,7 @@ import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from symkf import cli, files
+from symkf import cli, examples, files
 from symkf.errors import FileFormatError, InputError, SymkfError
 from symkf.losses import MarkovLoss
 from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SemiMarkovNetworkState, SensorTree,
@@ -28,8 +28,8 @@ from symkf.network import reproduce as rep
 from symkf.stability import stability
 
 ROOT = Path(__file__).resolve().parent.parent
-NETWORK = ROOT / "examples" / "systems" / "network"
-FUSION = ROOT / "examples" / "systems" / "fusion"
+NETWORK = examples.directory() / "systems" / "network"
+FUSION = examples.directory() / "systems" / "fusion"
 R = sp.Rational
 
 

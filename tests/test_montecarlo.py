@@ -155,6 +155,7 @@ def test_invertible_sensor_classified_on_both_sides(case):
     assert _verdict(S, above, seed).verdict == "unstable"
 
 
+@pytest.mark.full
 @SETTINGS
 @given(case=st.tuples(st.sampled_from(["3/2", "5/4"]), st.sampled_from(["6/5", "1/2", "11/10"])).flatmap(
     lambda t: st.tuples(st.just(t), sks.loss_rates_near(1 / sp.Rational(t[0]) ** 2, "1/4", side="below"),

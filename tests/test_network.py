@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import itertools
-import runpy
 import subprocess
 import sys
 from pathlib import Path
@@ -317,13 +316,7 @@ def test_spectral_norm_squared_against_numpy():
         assert abs(float(v) - np.linalg.norm(np.array(M, dtype=float), 2) ** 2) < 1e-10
 
 
-# -- proofs and reproductions -------------------------------------------------------------------
-
-@pytest.mark.parametrize("name", ["quevedo_example3", "quevedo_corollary1", "quevedo_theorem2_counterexample",
-                                  "quevedo_theorem1_constants"])
-def test_proofs_pass(name):
-    assert runpy.run_path(str(ROOT / "proofs" / f"{name}.py"))["main"]() is True
-
+# -- reproductions (the proofs run in tests/test_proofs.py) -------------------------------------------------------------------
 
 def test_reproduce_example3():
     from symkf.network.reproduce import reproduce_quevedo_example3

@@ -10,12 +10,12 @@ import sympy as sp
 
 pytest.importorskip("matplotlib")
 
-from symkf import files, plots  # noqa: E402
+from symkf import examples, files, plots  # noqa: E402
 from symkf.errors import InputError  # noqa: E402
 from symkf.model import Sensor, System  # noqa: E402
 from symkf.montecarlo import estimate_mean_trace, exact_mean_trace  # noqa: E402
 
-SYSTEMS = Path(__file__).resolve().parent.parent / "examples" / "systems"
+SYSTEMS = examples.directory() / "systems"
 PNG = b"\x89PNG\r\n\x1a\n"
 
 

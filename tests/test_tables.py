@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from symkf import GilbertElliott, files
+from symkf import GilbertElliott, examples, files
 from symkf.errors import FileFormatError, InputError
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.families import load_family
@@ -17,7 +17,7 @@ from symkf.stability import stability
 from symkf.tables import Cell, Table, escape, family_table, verdict_table
 
 ROOT = Path(__file__).resolve().parent.parent
-FAMILIES = ROOT / "examples" / "families"
+FAMILIES = examples.directory() / "families"
 
 SMALL_ROTATIONS = """
 [family]
@@ -103,7 +103,7 @@ def test_template_family_angle_alpha(angle_alpha):
 
 def test_stability_family_matches_the_system_file(ge_recovery):
     rows = ge_recovery.to_json()["rows"]
-    system, loss = files.load(ROOT / "examples" / "systems" / "ge-two-sensors.toml")  # recover = 1/2
+    system, loss = files.load(examples.directory() / "systems" / "ge-two-sensors.toml")  # recover = 1/2
     v = stability(system, loss)
     assert rows[2]["label"] == "1/2"
     assert rows[2]["cells"][0]["stable"] is v.stable is False
@@ -124,7 +124,7 @@ def test_verdict_table_of_the_examples(verdicts):
     assert sp.sympify(by_name["design-rotation"][3]["exact"]) == 2 * sp.sqrt(5) / 5
     assert by_name["design-rotation"][1] == "stable" and by_name["design-rotation"][2] == "2"
     assert by_name["rotation-pi12-four-sensors"][2] == "12"
-    for path in sorted((ROOT / "examples" / "systems").glob("*.toml")):
+    for path in sorted((examples.directory() / "systems").glob("*.toml")):
         system, loss = files.load(path)
         if loss is not None:
             assert (by_name[path.stem][1] == "stable") is stability(system, loss).stable

@@ -7,7 +7,7 @@ import json
 import pytest
 import sympy as sp
 
-from symkf import cli
+from symkf import cli, examples
 from symkf.errors import FileFormatError
 from symkf.families import load_family
 from symkf.verify import is_family_file, verify, verify_family
@@ -96,7 +96,7 @@ def test_inapplicable_member_is_recorded(tmp_path):
 
 def test_detects_family_files(path, tmp_path):
     assert is_family_file(path)
-    assert not is_family_file(cli.EXAMPLES / "design-rotation.toml")
+    assert not is_family_file(examples.system("design-rotation"))
     assert not is_family_file(tmp_path / "missing.toml")
 
 

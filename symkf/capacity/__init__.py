@@ -1,4 +1,4 @@
-"""Transmission capacity and MARE bounds (Yang et al., seed 004).
+"""Transmission capacity and MARE bounds (Yang et al.).
 
 Modules: :mod:`.quantities` (capacities, Mahler measure, critical capacities),
 :mod:`.lower` (m(X), G_k, Theorems 1-2, Remark 3), :mod:`.mare` (g_lambda, V_k,

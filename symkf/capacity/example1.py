@@ -17,7 +17,7 @@ from .lower import lower_bound_converges, lower_bound_limit, lower_bound_sequenc
 from .mare import MARE
 from .quantities import critical_capacities, transmission_capacity
 
-SOURCE = "seed 004 (Yang et al., Multi-sensor Kalman filtering with intermittent measurements), Section IV, Example 1, Fig. 2"
+SOURCE = "Yang et al., Multi-sensor Kalman filtering with intermittent measurements, Section IV, Example 1, Fig. 2"
 
 _A = [["-0.82", "0.53"], ["0.34", "0.78"]]
 _Q = [["0.53", "0.21"], ["0.21", "0.50"]]

@@ -1,4 +1,4 @@
-"""Transmission capacity, Mahler measure and the two critical capacities (Yang et al., seed 004).
+"""Transmission capacity, Mahler measure and the two critical capacities (Yang et al.).
 
 Yang et al. define, for sensor ``i`` with i.i.d. arrival rate ``lambda_i`` and
 ``sigma_i^2 = lambda_i (1 - lambda_i)`` (Section III-A, eq. 11 and Remark 1),

@@ -1,4 +1,4 @@
-"""Optimal linear sensor fusion over lossy channels with collective observability (seed 003).
+"""Optimal linear sensor fusion over lossy channels with collective observability (arXiv:2012.04896).
 
 Modules, in the order of the paper: :mod:`.decomposition` (Kalman
 decomposition per sensor, Assumption 1), :mod:`.model` (the set-up,

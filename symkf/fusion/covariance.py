@@ -1,4 +1,4 @@
-"""Error covariances at the remote estimator (seed 003, eqs. 17-20) and their mean.
+"""Error covariances at the remote estimator (arXiv:2012.04896, eqs. 17-20) and their mean.
 
 Remote estimate of sensor i with holding time ``tau_i`` (eq. 11):
 ``chi_hat_i = A_i^tau_i chi_hat_s_i(k - tau_i)``, error
@@ -168,7 +168,7 @@ def expected_remote_covariance(lf: LocalFilters) -> np.ndarray:
 
     With ``R_i`` the remote error and ``S_i`` the local error of sensor i,
     ``R_i+ = S_i+`` if the packet arrives, ``A_i R_i + V_i' w`` otherwise.  Then
-    ``X_ij = E[R_i S_j']`` and ``Y_ij = E[R_i R_j']`` solve
+    ``X_ij = E[R_i S_j']`` and ``Y_ij = E[R_i R_j']`` solve::
 
         X_ij = l_i Pi_ij + (1 - l_i) (A_i X_ij F_j' + Q_ij G_j'),
         Y_ii = l_i Pi_ii + (1 - l_i) (A_i Y_ii A_i' + Q_ii),

@@ -1,4 +1,4 @@
-"""Kalman decomposition of each sensor (seed 003, eqs. 3-5, Remark 2).
+"""Kalman decomposition of each sensor (arXiv:2012.04896, eqs. 3-5, Remark 2).
 
 The observable subspace of ``(A, C_i)`` is the row space of the observability
 matrix ``O_i = [C_i; C_i A; ...; C_i A^{n-1}]``, the orthogonal complement of
@@ -67,14 +67,14 @@ def orthonormal_basis(basis: sp.MatrixBase) -> np.ndarray:
 
 
 def check_collective_observability(A: sp.MatrixBase, Cs: list[sp.MatrixBase]) -> None:
-    """Assumption 1 (seed 003): ``(A, [C_1' ... C_N']')`` observable, decided by exact rank."""
+    """Assumption 1 (arXiv:2012.04896): ``(A, [C_1' ... C_N']')`` observable, decided by exact rank."""
     O = observability_matrix(A, sp.Matrix.vstack(*Cs))
     r = rank(O)
     if r < A.shape[0]:
         raise AssumptionError(
             f"the stacked observability matrix has rank {r} < n = {A.shape[0]}; the sensors "
             "together do not see the whole state, so W'V_o = I has no solution",
-            assumption="Assumption 1 (seed 003): collective observability",
+            assumption="Assumption 1 (arXiv:2012.04896): collective observability",
             applies_instead="a sensor set whose stacked C makes (A, C) observable")
 
 
@@ -96,7 +96,7 @@ def check_reachability(A: sp.MatrixBase, G: sp.MatrixBase) -> None:
         raise AssumptionError(
             f"Q is singular and (A, Q^(1/2)) has a reachable subspace of dimension {r} < {A.shape[0]}; "
             "the local Riccati equations need not have stabilising positive definite solutions",
-            assumption="Assumption 1 (seed 003): Q > 0 (or at least (A, Q^(1/2)) controllable, Remark 1)")
+            assumption="Assumption 1 (arXiv:2012.04896): Q > 0 (or at least (A, Q^(1/2)) controllable, Remark 1)")
 
 
 @dataclass(frozen=True)

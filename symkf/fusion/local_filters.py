@@ -1,4 +1,4 @@
-"""Local steady-state Kalman filters and their joint error covariance (seed 003, Lemmas 1-2).
+"""Local steady-state Kalman filters and their joint error covariance (arXiv:2012.04896, Lemmas 1-2).
 
 Each smart sensor runs the Kalman filter (6) on its observable subspace.  In
 steady state (Lemma 1) the prediction covariance ``P*`` solves the DARE
@@ -52,7 +52,7 @@ def steady_filter(loc: LocalModel) -> SteadyFilter:
     radius = max(abs(np.linalg.eigvals(F)))
     if radius >= 1:
         raise AssumptionError(f"sensor {loc.name!r}: the steady gain leaves rho(F) = {radius:.6g} >= 1",
-                              assumption="Lemma 1 (seed 003): stabilising DARE solution")
+                              assumption="Lemma 1 (arXiv:2012.04896): stabilising DARE solution")
     P = G @ P_pred
     return SteadyFilter(P_pred=P_pred, K=K, P=(P + P.T) / 2, F=F, G=G)
 

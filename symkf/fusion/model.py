@@ -1,4 +1,4 @@
-"""The fusion set-up of seed 003, Section 2: process (1), smart sensors (2), lossy channels (9).
+"""The fusion set-up of arXiv:2012.04896, Section 2: process (1), smart sensors (2), lossy channels (9).
 
 :class:`FusionModel` holds the float matrices the filters run on and the
 exact data that decide the assumptions:
@@ -42,7 +42,7 @@ __all__ = ["Assumption2", "FusionModel"]
 
 @dataclass(frozen=True)
 class Assumption2:
-    """``(1 - min_i lambda_i) rho(A)^2`` (seed 003, Assumption 2).
+    """``(1 - min_i lambda_i) rho(A)^2`` (arXiv:2012.04896, Assumption 2).
 
     ``exact`` is a sympy expression (None when the dominant eigenvalue is not
     real), ``interval`` certified rational bounds, ``holds`` the verdict
@@ -97,7 +97,7 @@ def _assumption2(A_exact: sp.Matrix, Ts: sp.Rational | None, loss_max: sp.Ration
                 break
         else:
             raise AssumptionError(f"(1 - min lambda) rho(A)^2 is within 2^-1000 of 1",
-                                  assumption="Assumption 2 (seed 003): decidable by certified intervals")
+                                  assumption="Assumption 2 (arXiv:2012.04896): decidable by certified intervals")
         best = max(range(len(ends)), key=lambda k: ends[k][1])
         dominant_real = roots[best].imag == 0 and all(
             k == best or ends[k][1] < ends[best][0] for k in range(len(ends)))
@@ -123,7 +123,7 @@ def _arrival_rates(arrival: Sequence[Any], N: int) -> tuple[sp.Rational, ...]:
         value = to_exact(lam, f"arrival[{i}]")
         if not value.is_Rational or not 0 < value <= 1:
             raise ProbabilityError(f"arrival[{i}]: packet arrival rate lambda_{i + 1} = {value} "
-                                   "must be a rational number in (0, 1] (seed 003, eq. 9)")
+                                   "must be a rational number in (0, 1] (arXiv:2012.04896, eq. 9)")
         rates.append(value)
     return tuple(rates)
 

@@ -1,4 +1,4 @@
-"""The inverted pendulum of seed 003, Section 4 (``symkf reproduce fusion-pendulum``).
+"""The inverted pendulum of arXiv:2012.04896, Section 4 (``symkf reproduce fusion-pendulum``).
 
 Cart mass M = 1/2, pendulum mass m = 1/5, friction b = 1/10, length l = 1/10,
 inertia J = 1, all exact; g = 49/5 (the seed does not state g; 9.8 is the
@@ -76,7 +76,7 @@ def _plots(outdir: str, t: np.ndarray, curves: dict[str, np.ndarray], sub: dict[
     ax.set_yscale("log")
     ax.set_xlabel("time (s)")
     ax.set_ylabel(r"mean $\|e_k\|$ over sample paths")
-    ax.set_title("Inverted pendulum, seed 003 Fig. 2: estimation error")
+    ax.set_title("Inverted pendulum, arXiv:2012.04896 Fig. 2: estimation error")
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig2_path = os.path.join(outdir, "fusion_pendulum_fig2.png")
@@ -92,7 +92,7 @@ def _plots(outdir: str, t: np.ndarray, curves: dict[str, np.ndarray], sub: dict[
     axes[0, 0].legend(fontsize=7)
     for ax in axes[1]:
         ax.set_xlabel("time (s)")
-    fig.suptitle(r"seed 003 Fig. 3: mean $\|V_{i,o}' e_k\|$ on each sensor's observable subspace")
+    fig.suptitle(r"arXiv:2012.04896 Fig. 3: mean $\|V_{i,o}' e_k\|$ on each sensor's observable subspace")
     fig.tight_layout()
     fig3_path = os.path.join(outdir, "fusion_pendulum_fig3.png")
     fig.savefig(fig3_path, dpi=120)
@@ -102,7 +102,7 @@ def _plots(outdir: str, t: np.ndarray, curves: dict[str, np.ndarray], sub: dict[
 
 def reproduce_fusion_pendulum(outdir: str | None = None, paths: int = 50, horizon: int = 2000,
                               seed: int = 2012_04896) -> dict[str, Any]:
-    """Reproduce Section 4 of seed 003: Assumption 2, Figs. 2-3, weight methods, Proposition 1."""
+    """Reproduce Section 4 of arXiv:2012.04896: Assumption 2, Figs. 2-3, weight methods, Proposition 1."""
     model = pendulum_model()
     lf = local_filters(model)
     a2 = model.assumption2
@@ -154,7 +154,7 @@ def reproduce_fusion_pendulum(outdir: str | None = None, paths: int = 50, horizo
         "weights_trace_P": traces,
         "weights_relative_gap": gaps,
         "sigma_min_eigenvalue_relative": float(eig[0] / eig[-1]),
-        "proposition1": {"valid_bound_trace_E_P": prop1.bound, "seed_bound": prop1.seed_bound,
+        "proposition1": {"valid_bound_trace_E_P": prop1.bound, "printed_bound": prop1.printed_bound,
                          "simulated_mean_trace_P_second_half": mean_trP_late,
                          "simulated_mean_sq_error_second_half": mean_sq_late},
         "mean_error_norm": {"fusion": mean(fused), "centralized": mean(central),
@@ -178,7 +178,7 @@ def reproduce_fusion_pendulum(outdir: str | None = None, paths: int = 50, horizo
         **{f"fusion beats sensor {i + 1} alone (mean ||e_k||)": mean(fused) < mean(single[i]) for i in shown},
         "fusion error stays bounded (second-half mean <= 1.5 x first-half mean, and E||e||^2 <= valid bound)":
             bool(last <= 1.5 * first and mean_sq_late <= 1.2 * prop1.bound),
-        "Proposition 1's printed bound is above the simulated tr E[P*]": bool(prop1.seed_bound >= mean_trP_late),
+        "Proposition 1's printed bound is above the simulated tr E[P*]": bool(prop1.printed_bound >= mean_trP_late),
     }
     return reproduction("fusion-pendulum", "seed 003 (arXiv 2012.04896), Section 4, Figs. 2-3",
                         results, checks, discrepancies)

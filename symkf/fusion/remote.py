@@ -1,4 +1,4 @@
-"""The remote estimator over i.i.d. lossy channels and its simulation (seed 003, eqs. 9-12).
+"""The remote estimator over i.i.d. lossy channels and its simulation (arXiv:2012.04896, eqs. 9-12).
 
 Each channel delivers the local estimate with probability ``lambda_i``; the
 remote estimator predicts the last one it received open loop,

@@ -1,4 +1,4 @@
-"""Stability of the remote fused estimate (seed 003, Proposition 1 and Assumption 2).
+"""Stability of the remote fused estimate (arXiv:2012.04896, Proposition 1 and Assumption 2).
 
 Proposition 1 claims ``lim_k tr E[P*_k] < infinity`` under Assumption 2 and
 proves it with the bound (Appendix E)
@@ -31,10 +31,10 @@ __all__ = ["Proposition1", "proposition1_bound"]
 
 @dataclass(frozen=True)
 class Proposition1:
-    """``bound``: valid steady-state bound on ``tr E[P*_k]``; ``seed_bound``: the printed one (E.1)."""
+    """``bound``: valid steady-state bound on ``tr E[P*_k]``; ``printed_bound``: the bound as printed, (E.1)."""
 
     bound: float
-    seed_bound: float
+    printed_bound: float
     trace_expected_sigma: float
     weights: np.ndarray
 
@@ -45,7 +45,7 @@ def proposition1_bound(lf: LocalFilters) -> Proposition1:
     if not a2.holds:
         raise AssumptionError(f"(1 - min lambda) rho(A)^2 lies in [{float(a2.interval[0]):.6g}, "
                               f"{float(a2.interval[1]):.6g}], not below 1",
-                              assumption="Assumption 2 (seed 003)")
+                              assumption="Assumption 2 (arXiv:2012.04896)")
     EP = expected_remote_covariance(lf)
     ES = fusion_sigma(lf, EP)
     W = optimal_weights(ES, unbiasedness_matrix(lf))
@@ -58,4 +58,4 @@ def proposition1_bound(lf: LocalFilters) -> Proposition1:
         e_rho = lam / (1 - (1 - lam) * rho2)
         stat = np.trace(loc.Q) / (1 - rho2)
         total += loc.n_o * (e_rho * (np.trace(f.P) - stat) + stat)
-    return Proposition1(bound=bound, seed_bound=m * total, trace_expected_sigma=float(np.trace(ES)), weights=W)
+    return Proposition1(bound=bound, printed_bound=m * total, trace_expected_sigma=float(np.trace(ES)), weights=W)

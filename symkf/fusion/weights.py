@@ -1,4 +1,4 @@
-"""Optimal unbiased linear fusion weights (seed 003, Problems 1-3, Theorem 2, Lemma 5).
+"""Optimal unbiased linear fusion weights (arXiv:2012.04896, Problems 1-3, Theorem 2, Lemma 5).
 
 Problem 1: ``min_W tr(W' Sigma W)`` subject to ``W' V_o = I(n)``, ``W`` nN x n,
 ``Sigma`` nN x nN symmetric PSD and (here) singular.  Three ways to the optimum:
@@ -58,19 +58,19 @@ def _validate(Sigma: np.ndarray, Vo: np.ndarray) -> tuple[np.ndarray, np.ndarray
         i, j = np.unravel_index(np.argmax(np.abs(Sigma - Sigma.T)), Sigma.shape)
         raise NotPositiveDefiniteError(
             f"Sigma: not symmetric, entry [{i}][{j}] = {Sigma[i, j]:.6g} but [{j}][{i}] = {Sigma[j, i]:.6g} "
-            "(Lemma 3, seed 003: Sigma is symmetric positive semidefinite)")
+            "(Lemma 3, arXiv:2012.04896: Sigma is symmetric positive semidefinite)")
     Sigma = (Sigma + Sigma.T) / 2
     low = np.linalg.eigvalsh(Sigma)[0]
     if low < -_RTOL * scale * Sigma.shape[0]:
         raise NotPositiveDefiniteError(
             f"Sigma: not positive semidefinite, smallest eigenvalue {low:.6g} "
-            "(Lemma 3, seed 003: Sigma is symmetric positive semidefinite)")
+            "(Lemma 3, arXiv:2012.04896: Sigma is symmetric positive semidefinite)")
     s = np.linalg.svd(Vo, compute_uv=False)
     if s[-1] <= _RTOL * s[0]:
         raise AssumptionError(
             f"Vo ({Vo.shape[0]}x{Vo.shape[1]}) has rank < {Vo.shape[1]} (smallest singular value {s[-1]:.3g}), "
             "so W'Vo = I has no solution",
-            assumption="Assumption 1 (seed 003): collective observability (Vo of full column rank)")
+            assumption="Assumption 1 (arXiv:2012.04896): collective observability (Vo of full column rank)")
     return Sigma, Vo
 
 
@@ -110,12 +110,12 @@ def _sdp(Sigma: np.ndarray, Vo: np.ndarray) -> np.ndarray:
     problem.solve(solver=cp.CLARABEL, tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10)
     if problem.status not in ("optimal", "optimal_inaccurate") or W.value is None:
         raise AssumptionError(f"the SDP solver returned status {problem.status!r}",
-                              assumption="Problem 2 (seed 003) solvable", applies_instead='method="closed-form"')
+                              assumption="Problem 2 (arXiv:2012.04896) solvable", applies_instead='method="closed-form"')
     return np.asarray(W.value)
 
 
 def optimal_weights(Sigma: np.ndarray, Vo: np.ndarray, method: str = "closed-form") -> np.ndarray:
-    """Stacked fusion weights ``W = [W_1 ... W_N]'`` (nN x n) solving Problem 1 of seed 003.
+    """Stacked fusion weights ``W = [W_1 ... W_N]'`` (nN x n) solving Problem 1 of arXiv:2012.04896.
 
     ``method`` is ``"closed-form"`` (Theorem 2), ``"sdp"`` (Problem 2) or
     ``"problem3"`` (the KKT linear system the seed calls an LP); see the

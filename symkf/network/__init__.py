@@ -1,4 +1,4 @@
-"""Sensor-network trees over correlated fading channels (Quevedo, Ahlén, Johansson; seed 002).
+"""Sensor-network trees over correlated fading channels (Quevedo, Ahlén, Johansson).
 
 * :mod:`.tree`: the tree rooted at the gateway, paths, ``theta = prod gamma`` (Remark 2);
 * :mod:`.state`: Markov (Assumption 1) and semi-Markov (Assumption 3) network states;

@@ -1,4 +1,4 @@
-"""Theorems 1-2 of seed 002 against the exact verdict: critical parameters, sufficient versus exact.
+"""Theorems 1-2 of Quevedo et al. against the exact verdict: critical parameters, sufficient versus exact.
 
 For a Markov network state (Assumption 1) and a time-invariant ``A``,
 :func:`~symkf.network.loss.induced_loss` is a loss model that the exact engine

@@ -1,4 +1,4 @@
-"""Sufficient conditions for Markov network states (Quevedo-Ahlén-Johansson, seed 002, Sec. V-VI).
+"""Sufficient conditions for Markov network states (Quevedo-Ahlén-Johansson, Sec. V-VI).
 
 * ``r(k) = 1`` iff ``C(k)`` (eq. 14) has full column rank (eq. 19); ``J`` is the
   set of link-outcome vectors ``gamma(k)`` with ``r(k) = 1`` (Example 3),
@@ -65,7 +65,7 @@ def full_rank_probability(J: Sequence[Vector], phi: Sequence[sp.Expr]) -> sp.Exp
 
 def _markov(loss: NetworkLoss) -> MarkovNetworkState:
     if not isinstance(loss.state, MarkovNetworkState):
-        raise AssumptionError("the network state is semi-Markov", assumption="Assumption 1 (seed 002)",
+        raise AssumptionError("the network state is semi-Markov", assumption="Assumption 1 (Quevedo et al.)",
                               applies_instead="symkf.network.semi_markov.theorem2")
     return loss.state
 
@@ -81,7 +81,7 @@ def nu(loss: NetworkLoss, J: Sequence[Vector], phi: sp.MatrixBase | None = None)
 
 @dataclass(frozen=True)
 class Theorem1:
-    """Theorem 1 of seed 002 evaluated on a network model.
+    """Theorem 1 of Quevedo et al. evaluated on a network model.
 
     ``lhs[(i, k)] = nu_i ||A(k)||^2``; ``rho`` is their maximum, the smallest
     admissible ``rho`` in (22); ``holds`` says ``rho < 1``.  ``nu`` is

@@ -1,4 +1,4 @@
-"""Plant data for the network conditions: ``A(k)`` as a periodic sequence, ``C_m``, norms (seed 002).
+"""Plant data for the network conditions: ``A(k)`` as a periodic sequence, ``C_m``, norms (Quevedo et al.).
 
 ``A(k)`` is given as one matrix (LTI) or a finite list ``A(0), ..., A(T-1)``
 repeated periodically (eq. 1 with deterministic bounded ``A(k)``).

@@ -1,4 +1,4 @@
-"""Link success probabilities from fading channels (Quevedo-Ahlén-Johansson, seed 002, Sec. III).
+"""Link success probabilities from fading channels (Quevedo-Ahlén-Johansson, Sec. III).
 
 Given the network state ``Xi = j``, the power gain ``h_m`` of link ``E_m`` has a
 state-dependent law (eq. 5).  With transmit power ``u = kappa_m(j, h)`` and

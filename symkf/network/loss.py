@@ -1,4 +1,4 @@
-"""The packet-loss process induced by a sensor tree over a network-state channel (seed 002).
+"""The packet-loss process induced by a sensor tree over a network-state channel (Quevedo et al.).
 
 Given ``Xi(k) = j`` the links succeed independently, ``gamma_m(k) = 1`` with
 probability ``phi_{m|j}`` (eq. 9), and sensor ``m`` is heard at the gateway
@@ -46,7 +46,7 @@ def bernoulli_product(vector: Sequence[int], probs: Sequence[sp.Expr]) -> sp.Exp
 
 
 class NetworkLoss(LossModel):
-    """Losses of a sensor tree whose links fade according to a network state (seed 002).
+    """Losses of a sensor tree whose links fade according to a network state (Quevedo et al.).
 
     ``phi[m-1][j-1] = phi_{m|j}``: an exact number, a sympy expression, a
     :class:`~symkf.network.fading.SuccessProbability` (its rational value is
@@ -59,7 +59,7 @@ class NetworkLoss(LossModel):
     def applies_without_positivity(self) -> str:
         """Seed 002's sufficient condition for this network state (the exact engine needs Assumption 2)."""
         n = 2 if isinstance(self.state, SemiMarkovNetworkState) else 1
-        return f"Theorem {n} of seed 002 (sufficient): symkf.network.theorem{n}(loss, PeriodicDynamics(A, [C_1, ..., C_M]))"
+        return f"Theorem {n} of Quevedo et al. (sufficient): symkf.network.theorem{n}(loss, PeriodicDynamics(A, [C_1, ..., C_M]))"
 
     def __init__(self, tree: SensorTree, state: MarkovNetworkState | SemiMarkovNetworkState,
                  phi: Sequence[Sequence[Any]] | str):
@@ -202,7 +202,7 @@ def induced_loss(loss: NetworkLoss, dynamics: PeriodicDynamics | None = None) ->
     ``.chain`` is the hidden-Markov :class:`LossChain` on ``(Xi, theta)``).
     """
     if not isinstance(loss.state, MarkovNetworkState):
-        raise AssumptionError("the network state is semi-Markov", assumption="Assumption 1 (seed 002)",
+        raise AssumptionError("the network state is semi-Markov", assumption="Assumption 1 (Quevedo et al.)",
                               applies_instead="NetworkLoss.chain (the counter-augmented chain)")
     if dynamics is not None and dynamics.T != 1:
         raise AssumptionError(f"A(k) has period {dynamics.T}", assumption="time-invariant A",

@@ -1,4 +1,4 @@
-"""The examples of seed 002 (Quevedo, Ahlén, Johansson), each as ``reproduce_<name>() -> dict``.
+"""The examples of Quevedo, Ahlén, Johansson, each as ``reproduce_<name>() -> dict``.
 
 Every claim the paper makes about an example that symkf verifies is a key of ``checks``
 (see :mod:`symkf.reproduction`).

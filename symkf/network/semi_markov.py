@@ -1,4 +1,4 @@
-"""Theorem 2 of seed 002: semi-Markov network states (Quevedo-Ahlén-Johansson, Sec. VII).
+"""Theorem 2 of Quevedo et al.: semi-Markov network states (Quevedo-Ahlén-Johansson, Sec. VII).
 
 Over a holding period ``[k_l, k_l + delta - 1]`` the state is constant,
 ``Xi = j``, and the ``theta(k)`` are i.i.d. with law ``Pr{theta | Xi = j}``.
@@ -98,7 +98,7 @@ def rank_deficiency_probability_by_enumeration(loss: NetworkLoss, dynamics: Peri
 
 @dataclass(frozen=True)
 class Theorem2:
-    """Theorem 2 of seed 002 on a semi-Markov network model.
+    """Theorem 2 of Quevedo et al. on a semi-Markov network model.
 
     For each previous state ``i`` and phase ``k_l mod T``:
     ``lhs_paper[(i, phase)]`` is the left-hand side of (32) with (31) as
@@ -126,7 +126,7 @@ def theorem2(loss: NetworkLoss, dynamics: PeriodicDynamics) -> Theorem2:
     """Evaluate condition (32) of Theorem 2, as printed and as corrected (module docstring)."""
     st = loss.state
     if not isinstance(st, SemiMarkovNetworkState):
-        raise AssumptionError("the network state is Markov (Assumption 1)", assumption="Assumption 3 (seed 002)",
+        raise AssumptionError("the network state is Markov (Assumption 1)", assumption="Assumption 3 (Quevedo et al.)",
                               applies_instead="NetworkState.as_semi_markov() or symkf.network.conditions.theorem1")
     B, sigma, T = st.B, st.sigma, dynamics.T
     deltas = range(1, sigma + 1)

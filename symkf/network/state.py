@@ -1,4 +1,4 @@
-"""Network-state processes Xi(k) (Quevedo-Ahlén-Johansson, seed 002, Sec. III-A and VII-A).
+"""Network-state processes Xi(k) (Quevedo-Ahlén-Johansson, Sec. III-A and VII-A).
 
 ``MarkovNetworkState``: Assumption 1, ``p_ij = Pr{Xi(k+1) = j | Xi(k) = i}`` (eq. 4).
 ``SemiMarkovNetworkState``: Assumption 3, an embedded chain ``q_ij`` at the

@@ -1,4 +1,4 @@
-"""Sensor-network trees rooted at the gateway (Quevedo-Ahlén-Johansson, seed 002, Sec. II).
+"""Sensor-network trees rooted at the gateway (Quevedo-Ahlén-Johansson, Sec. II).
 
 Sensor ``S_m`` (``m = 1..M``) sends to its parent ``Par(S_m)``; the gateway is
 ``S_0``.  Link ``E_m = (S_m, Par(S_m))`` succeeds when ``gamma_m(k) = 1``

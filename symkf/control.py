@@ -1,0 +1,139 @@
+"""The bridge to python-control: a discrete-time ``StateSpace`` to a :class:`~symkf.model.System`
+and back (the ``control`` extra: ``pip install 'symkf[control]'``).
+
+A ``StateSpace`` ``x[k+1] = A x[k] + B u[k]``, ``y[k] = C x[k] + D u[k]`` carries no noise, so
+``Q`` (process noise, entering as ``w`` in ``x[k+1] = A x[k] + w[k]``, Sui-You-Fu eq. 1) and the
+sensors' ``R_i`` are given separately, as for ``control.dlqe(A, I, C, Q, R)``.  ``B`` and ``D``
+do not affect the error covariance and are not kept.
+
+python-control stores every matrix as float64, so the usual float rule applies: entries are
+refused unless ``rationalize=True``, which takes each float as the rational its shortest repr
+spells (``0.1`` as 1/10, :func:`symkf.exact.numbers.to_exact`) and says so in a warning.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
+
+import numpy as np
+import sympy as sp
+
+from .errors import InputError, ShapeError, require_extra
+from .model import Sensor, System
+
+if TYPE_CHECKING:
+    import control
+
+__all__ = ["from_statespace", "to_statespace"]
+
+
+def from_statespace(sys: "control.StateSpace", sensors: Mapping[str, Sequence[int]] | Sequence[str] | None = None,
+                    *, Q: Any = None, R: Mapping[str, Any] | None = None, P0: Any = None,
+                    rationalize: bool = False, name: str | None = None) -> System:
+    """The :class:`System` ``(A, C)`` of a discrete-time python-control ``StateSpace``.
+
+    Parameters
+    ----------
+    sys : control.StateSpace
+        A discrete-time system (``dt`` not 0); only ``A`` and ``C`` are used.
+    sensors : mapping, sequence of str or None
+        How the rows of ``C`` split into sensors: a mapping from sensor name to its row indices
+        (every row in exactly one sensor), a list of names (one row each), or None: one sensor
+        per row, named by ``sys.output_labels``.
+    Q, P0 : matrix, optional
+        Process-noise and initial covariances (default identity).
+    R : mapping, optional
+        Measurement-noise covariance per sensor name (default identity).
+    rationalize : bool
+        Take float entries as the rationals they represent (python-control stores float64).
+    name : str, optional
+        The system's name (default ``sys.name``).
+
+    Returns
+    -------
+    System
+
+    Examples
+    --------
+    >>> import control as ct
+    >>> plant = ct.ss([[0, -2], [2, 0]], [[0], [1]], [[1, 0], [1, 1]], 0, dt=1)
+    >>> S = from_statespace(plant, {"s1": [0], "s2": [1]}, rationalize=True)
+    >>> S.sensor_names, S.A.tolist()
+    (('s1', 's2'), [[0, -2], [2, 0]])
+    """
+    if getattr(sys, "dt", None) in (0, None) or not hasattr(sys, "C"):
+        raise InputError(f"sys: expected a discrete-time control.StateSpace (dt != 0), got {sys!r:.80}; "
+                         "discretize a continuous system first (control.c2d)")
+    rows = np.asarray(sys.C)
+    groups = _sensor_rows(sensors, list(sys.output_labels), rows.shape[0])
+    R = dict(R or {})
+    unknown = sorted(set(R) - set(groups))
+    if unknown:
+        raise InputError(f"R: no sensor named {unknown[0]!r}; sensors are {sorted(groups)}")
+    return System(A=np.asarray(sys.A).tolist(), Q=Q, P0=P0, rationalize=rationalize, name=name or sys.name,
+                  sensors=[Sensor(C=rows[idx].tolist(), R=R.get(s), name=s, rationalize=rationalize)
+                           for s, idx in groups.items()])
+
+
+def _sensor_rows(sensors: Mapping[str, Sequence[int]] | Sequence[str] | None, labels: list[str],
+                 p: int) -> dict[str, list[int]]:
+    """Sensor name -> row indices of ``C``, checked to split the ``p`` rows exactly."""
+    if sensors is None:
+        sensors = labels
+    if not isinstance(sensors, Mapping):
+        names = list(sensors)
+        if len(names) != p:
+            raise ShapeError(f"sensors: {len(names)} names for the {p} rows of C; give one name per row "
+                             "or a mapping from name to row indices")
+        sensors = {s: [i] for i, s in enumerate(names)}
+    groups = {str(s): [int(i) for i in idx] for s, idx in sensors.items()}
+    used = sorted(i for idx in groups.values() for i in idx)
+    if used != list(range(p)):
+        raise InputError(f"sensors: rows {used} of C assigned; every row 0..{p - 1} must belong to exactly "
+                         "one sensor")
+    return groups
+
+
+def to_statespace(system: System, B: Any = None, D: Any = None, dt: float | bool = True) -> "control.StateSpace":
+    """``system`` as a python-control ``StateSpace`` (float64), outputs named after the sensors.
+
+    Parameters
+    ----------
+    system : System
+        A real system (python-control has no complex state spaces).
+    B, D : array_like, optional
+        Input and feedthrough matrices (default: one input that does not act, ``B = 0``, ``D = 0``).
+    dt : float or True
+        Sampling time (``True``: discrete, unspecified).
+
+    Returns
+    -------
+    control.StateSpace
+        ``A`` and the stacked ``C`` of the sensors; the rows of sensor ``s`` with ``m`` rows are
+        labelled ``s`` (``m = 1``) or ``s[0]``, ..., ``s[m-1]``. ``Q`` and ``R`` for
+        ``control.dlqe`` are :func:`float_matrix` of ``system.Q`` and ``system.R``.
+
+    Examples
+    --------
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+    >>> to_statespace(S).output_labels
+    ['s1']
+    """
+    ct = require_extra("control", "control", "to_statespace")
+    A, C = float_matrix(system.A, "A"), float_matrix(system.C, "C")
+    n, p = A.shape[0], C.shape[0]
+    # python-control mishandles empty (p, 0) feedthroughs, so "no input" is one input that does not act
+    B = np.zeros((n, 1)) if B is None else np.asarray(B, dtype=float)
+    D = np.zeros((p, B.shape[1])) if D is None else np.asarray(D, dtype=float)
+    labels = [s.name if s.m == 1 else f"{s.name}[{j}]" for s in system.sensors for j in range(s.m)]
+    return ct.ss(A, B, C, D, dt, outputs=labels, name=system.name)
+
+
+def float_matrix(M: sp.MatrixBase, entry: str) -> np.ndarray:
+    """The float64 array of a real exact matrix (correctly rounded entries)."""
+    values = [[complex(sp.N(v, 20)) for v in row] for row in M.tolist()]
+    if any(v.imag for row in values for v in row):
+        raise InputError(f"{entry}: complex entries; python-control needs a real system "
+                         "(symkf.filtering.real_form gives one with the same tr P_k)")
+    return np.array([[v.real for v in row] for row in values])

@@ -1,0 +1,103 @@
+"""Packaging: lazy imports keep the public API, example data ship in the package, the README's
+set-up commands are the ones CI runs, --version / --quiet, optional extras name themselves."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+import symkf
+from symkf import cli, examples
+from symkf.errors import ExtraNotInstalledError, InputError
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _python(code: str) -> str:
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                          cwd=ROOT).stdout.strip()
+
+
+def test_import_loads_no_heavy_dependency():
+    loaded = _python("import sys, symkf; print(sorted(m for m in ('sympy', 'numpy', 'scipy', 'flint', 'tqdm') "
+                     "if m in sys.modules))")
+    assert loaded == "[]"
+
+
+def test_every_public_name_resolves_and_stability_stays_a_function():
+    # importing the module symkf.stability must not rebind symkf.stability (the function) to it
+    out = _python("import symkf, symkf.stability, symkf.sweep, symkf.families; "
+                  "print(callable(symkf.stability), callable(symkf.sweep), "
+                  "all(hasattr(symkf, n) for n in symkf.__all__))")
+    assert out == "True True True"
+    for name in symkf.__all__:
+        assert getattr(symkf, name) is not None
+    assert set(symkf.__all__) <= set(dir(symkf))
+    with pytest.raises(AttributeError, match="no attribute 'nonsense'"):
+        symkf.nonsense  # noqa: B018
+
+
+def test_version_is_the_packages():
+    pyproject = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    assert pyproject["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "symkf.__version__"}
+    run = subprocess.run([sys.executable, "-m", "symkf", "--version"], capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == 0 and run.stdout.strip() == f"symkf {symkf.__version__}"
+
+
+def test_examples_are_package_data():
+    names = [p.stem for p in examples.systems()]
+    assert "ge-two-sensors" in names and "rotation-pi12-four-sensors" in names
+    assert [p.stem for p in examples.systems("network")] == [
+        "markov-shared-channel", "quevedo-example3", "quevedo-robot", "quevedo-semi-markov-network"]
+    assert examples.family("ge-recovery").is_file() and examples.system("fusion/pendulum").is_file()
+    assert examples.directory().parent == Path(symkf.__file__).parent
+    with pytest.raises(InputError, match="no example 'nope' in systems/; known: .*ge-two-sensors"):
+        examples.system("nope")
+    # the wheel carries them: every example file matches a package-data pattern of pyproject.toml
+    pyproject = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    patterns = pyproject["tool"]["setuptools"]["package-data"]["symkf"]
+    package = Path(symkf.__file__).parent
+    for path in examples.directory().rglob("*.toml"):
+        assert any(path.relative_to(package).match(p) for p in patterns), path
+
+
+def test_readme_test_command_is_what_ci_runs():
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"^```\n(.*?)\n```", readme.split("## A five-minute tour")[0], re.M | re.S)
+    assert len(blocks) == 2, "the README keeps exactly two set-up commands"
+    demo, tests = blocks
+    assert demo == "pip install -e . && symkf demo"
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    marked = ci.split("# --- the README's test command (keep identical to README.md) ---\n")[1]
+    assert marked.splitlines()[0] == f"# {tests}"
+    steps = re.findall(r'^step "[^"]+" (.*)$', marked, re.M)
+    assert " && ".join(steps[:len(tests.split(" && "))]) == tests
+
+
+def test_quiet_disables_progress_bars(monkeypatch, capsys):
+    from symkf import progress
+    monkeypatch.delenv("TQDM_DISABLE", raising=False)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    assert not progress.progress(3, "x").disable
+    monkeypatch.setenv("TQDM_DISABLE", "1")
+    assert progress.progress(3, "x").disable
+    seen = []
+    monkeypatch.delenv("TQDM_DISABLE")
+    monkeypatch.setitem(cli.COMMANDS, "demo", cli.Command(
+        "demo", "", lambda p: None, lambda args: seen.append(progress.progress(3, "x").disable) or {}))
+    assert cli.main(["demo", "--quiet", "--json"]) == 0 and cli.main(["demo", "--json"]) == 0
+    assert seen == [True, False]
+    assert "TQDM_DISABLE" not in __import__("os").environ
+
+
+def test_strategies_without_hypothesis_name_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "hypothesis", None)
+    monkeypatch.delitem(sys.modules, "symkf.strategies", raising=False)
+    with pytest.raises(ExtraNotInstalledError, match=r"symkf.strategies needs hypothesis: pip install "
+                                                     r"'symkf\[strategies\]'"):
+        import symkf.strategies  # noqa: F401
