@@ -78,7 +78,8 @@ def _check_loss(system: System, loss: LossModel) -> list[str]:
                          f"({', '.join(system.sensor_names)})")
     loss.require_positive()
     brs = block_rows(system)
-    out = ["A diagonalizable (Assumption 3)" if not any(br.block.defective for br in brs) else
+    out = [("A" if not system.set_aside() else "the decided blocks") + " diagonalizable (Assumption 3)"
+           if not any(br.block.defective for br in brs) else
            "Jordan chains on |lambda| >= 1 (symkf's extension of Assumption 3, docs/sui.md)",
            "(A, C) observable" if system.observable else "(A, C) detectable (PBH on |lambda| >= 1)",
            "loss process " + ("i.i.d. (Assumption 4)" if isinstance(loss, IID) else
