@@ -51,6 +51,17 @@ def at_most_one_reception(N):
     return sp.expand(eps ** N + N * (1 - eps) * eps ** (N - 1))
 
 
+def test_design_example_against_oracle():
+    # DESIGN's A = 2 R(pi/2), C = [1 0]: rows C A^k are multiples of [1, 0] at even k and of
+    # [0, 1] at odd k, so O_6 is deficient iff every reception has one parity:
+    # P(R_6) = 2 eps^3 - eps^6.  Slope of L(N): 1 lost packet per 2 steps, rho = eps^(1/2),
+    # margin 4 eps^(1/2) < 1 iff eps < 1/16 (the README's claim points here).
+    S = system([[0, -2], [2, 0]], [[1, 0]])
+    assert RawRegression(S.A, [S.sensors[0].C], 6).probability(iid_probability([eps])) == 2 * eps ** 3 - eps ** 6
+    assert critical_loss_rate(S) == R(1, 16)
+    assert_oracle_agrees(S)
+
+
 def test_constant_velocity_is_stable_for_every_loss():
     # rows C A^k = [1, k]: any two receptions are independent, so R_N = {at most one reception},
     # P(R_N) ~ N eps^N, rho = eps and alpha = 1: margin eps < 1 for every eps < 1.
