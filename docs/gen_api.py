@@ -26,7 +26,7 @@ if str(ROOT) not in sys.path:
 
 #: the public modules, in reading order (model and losses first, the engine, simulation, tooling, papers)
 MODULES = ("model", "losses", "spectral", "observability", "decay", "stability", "region", "second_order",
-           "montecarlo", "filtering", "verify", "sweep", "progress", "families", "tables", "plots", "strategies",
+           "oracle", "montecarlo", "filtering", "verify", "sweep", "progress", "families", "tables", "plots", "strategies",
            "files", "errors", "capacity", "fusion", "network", "exact.algebraic")
 MISSING = "*(no docstring)*"
 
