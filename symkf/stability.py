@@ -83,7 +83,7 @@ def _check_loss(system: System, loss: LossModel) -> list[str]:
            "Jordan chains on |lambda| >= 1 (symkf's extension of Assumption 3, docs/sui.md)",
            "(A, C) observable" if system.observable else "(A, C) detectable (PBH on |lambda| >= 1)",
            "loss process " + ("i.i.d. (Assumption 4)" if isinstance(loss, IID) else
-                              "Markov with positive transitions (Assumption 2)")]
+                              getattr(loss, "chain_assumption", "Markov with positive transitions (Assumption 2)"))]
     if not isinstance(loss, IID) and not all(br.block.is_periodic for br in brs):
         out.append("aperiodic block under Markov losses (symkf's extension of Theorem 9, docs/sui.md)")
     return out

@@ -197,3 +197,60 @@ def test_engine_against_oracle_on_drawn_systems(chains, sensors):
 @pytest.mark.parametrize("chains, sensors", CHAINS)
 def test_engine_against_oracle_on_drawn_systems_full(chains, sensors):
     assert compare_drawn(chains, sensors, 12) >= 1
+
+
+# -- semi-Markov network states (seed 002, Sec. VII) -------------------------------------------
+def semi_markov_loss(phi, q=(("1/2", "1/2"), ("1/2", "1/2")), holding=None, initial=None):
+    from symkf.network import NetworkLoss, SensorTree
+    from symkf.network.reproduce import VIIC_HOLDING
+    from symkf.network.state import SemiMarkovNetworkState
+    state = SemiMarkovNetworkState([list(r) for r in q], holding or VIIC_HOLDING, initial=initial)
+    return NetworkLoss(SensorTree([0]), state, [list(phi)])
+
+
+VIIC = system([["5/4", 0], [1, "11/10"]], [[1, 1]])
+
+
+def test_semi_markov_decided_by_hand():
+    # holding time exactly 2 in both states, next state uniform: states come in aligned pairs,
+    # i.i.d.; state 1 loses each packet with probability 1/2, state 2 never.  "All lost" over
+    # 2m steps has probability (1/2 * 1/4)^m, so rho = 8^(-1/2) and the margins are
+    # alpha^2 / (2 sqrt 2): 25 sqrt(2)/64 and 121 sqrt(2)/400.  (Exit 3 before issue 14: the
+    # holding counter's count-down makes most transitions of the lifted chain 0.)
+    v = stability(VIIC, semi_markov_loss(["1/2", "1"], holding=[{2: 1}, {2: 1}]))
+    assert [m.exact for m in v.margins] == [25 * sp.sqrt(2) / 64, 121 * sp.sqrt(2) / 400]
+    assert "irreducible lifted chain" in v.assumptions[-1]
+    # the Sec. VII-C instance (phi = 19/20 in both states): theta is i.i.d. with loss 1/20, so
+    # the margins are (25/16)/20 = 5/64 and (121/100)/20 = 121/2000
+    assert [m.exact for m in stability(VIIC, semi_markov_loss(["19/20", "19/20"])).margins] == \
+        [R(5, 64), R(121, 2000)]
+
+
+def test_semi_markov_reducible_chain_is_refused():
+    loss = semi_markov_loss(["1/2", "1/3"], q=((1, 0), (0, 1)), holding=[{2: 1}, {1: "1/2", 3: "1/2"}],
+                            initial=["1/2", "1/2"])
+    with pytest.raises(sk.errors.AssumptionError, match="not irreducible"):
+        stability(VIIC, loss)
+
+
+@pytest.mark.parametrize("phi2, exact_bracket, theorem2_bracket", [
+    # common phi: theta i.i.d., exact critical phi = 1 - 16/25 = 9/25 (margin exactly 1 at 9/25)
+    ("same", ("9/25", "37/100"), ("89/100", "9/10")),
+    ("1", ("1/5", "21/100"), ("85/100", "86/100")),
+    ("1/2", ("1/4", "27/100"), None),  # Theorem 2 fails even at phi_{1|1} = 1
+])
+def test_theorem2_conservatism_on_viic(phi2, exact_bracket, theorem2_bracket):
+    """docs/quevedo.md: the exact verdict against Theorem 2 (corrected) on Sec. VII-C, varying phi_{1|1}."""
+    from symkf.network.dynamics import PeriodicDynamics
+    from symkf.network.semi_markov import theorem2
+    dyn = PeriodicDynamics(VIIC.A, [VIIC.sensors[0].C])
+
+    def loss(p):
+        return semi_markov_loss([p, p if phi2 == "same" else phi2])
+    lo, hi = exact_bracket
+    assert not stability(VIIC, loss(lo)).stable and stability(VIIC, loss(hi)).stable
+    if theorem2_bracket is None:
+        assert not theorem2(loss("1"), dyn).holds
+    else:
+        lo, hi = theorem2_bracket
+        assert not theorem2(loss(lo), dyn).holds and theorem2(loss(hi), dyn).holds

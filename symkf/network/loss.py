@@ -55,6 +55,43 @@ class NetworkLoss(LossModel):
     ``(theta_1, ..., theta_M)``: sensor ``m`` of the System is node ``S_m``.
     """
 
+    def positivity_failure(self) -> str | None:
+        """Markov network states: Assumption 2's positivity.  Semi-Markov states: irreducibility.
+
+        The holding-time counter of a semi-Markov state (Assumption 3) counts down
+        deterministically, so most transitions of the lifted chain are 0 and positivity cannot
+        hold.  What the decay-rate argument needs is that every state carrying the rate of
+        ``P(R_N)`` is visited infinitely often (docs/quevedo.md, "Semi-Markov states decided
+        exactly"): an irreducible finite chain gives ``P(R_N) = u M_H^N v`` up to polynomial
+        factors with the Perron root of every restricted transfer attained."""
+        if not isinstance(self.state, SemiMarkovNetworkState):
+            return super().positivity_failure()
+        P = self.chain.P
+        if any(v.free_symbols for v in P):
+            return None
+        n = len(self.chain.states)
+        succ = [[s for s in range(n) if P[r, s] != 0] for r in range(n)]
+        pred = [[r for r in range(n) if P[r, s] != 0] for s in range(n)]
+        for graph, word in ((succ, "reached from"), (pred, "reach")):
+            seen, stack = {0}, [0]
+            while stack:
+                for s in graph[stack.pop()]:
+                    if s not in seen:
+                        seen.add(s)
+                        stack.append(s)
+            if len(seen) < n:
+                missing = self.chain.states[min(set(range(n)) - seen)]
+                return (f"the chain state {missing} (network state, holding counter, theta) cannot be {word} "
+                        f"the state {self.chain.states[0]}: the lifted semi-Markov chain is not irreducible")
+        return None
+
+    @property
+    def chain_assumption(self) -> str:
+        """What :func:`symkf.stability.stability` checked of this loss process (its verdict says it)."""
+        if isinstance(self.state, SemiMarkovNetworkState):
+            return "semi-Markov network state with an irreducible lifted chain (symkf's extension, docs/quevedo.md)"
+        return "Markov with positive transitions (Assumption 2)"
+
     @property
     def applies_without_positivity(self) -> str:
         """Seed 002's sufficient condition for this network state (the exact engine needs Assumption 2)."""
