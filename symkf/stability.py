@@ -50,6 +50,13 @@ class Verdict:
     def __bool__(self) -> bool:
         return self.stable
 
+    @property
+    def limiting_margin(self) -> AlgebraicNumber:
+        """``max_i alpha_i^2 rho_i``; 0 when no block decides (every mode set aside, nothing grows)."""
+        if self.limiting_block is None:
+            return AlgebraicNumber.from_expr(sp.Integer(0))
+        return self.margins[self.limiting_block]
+
     def __str__(self) -> str:
         lines = [f"{'stable' if self.stable else 'NOT stable'} ({self.theorem})"]
         for i, (m, c) in enumerate(zip(self.margins, self.certificate)):
@@ -174,7 +181,8 @@ def critical_alpha(system: System, loss: IID) -> AlgebraicNumber:
     with the eigenvalue directions and the losses fixed."""
     brs = block_rows(system)
     if len(brs) != 1:
-        raise AssumptionError(f"A has {len(brs)} eigen-blocks of different moduli",
+        raise AssumptionError(f"A has {len(brs)} eigen-blocks of different moduli" if brs else
+                              "A has no eigenvalue with |lambda| >= 1 (every mode is set aside)",
                               assumption="Assumption 1 (single eigen-block)",
                               applies_instead="stability(system, loss) for each scaled system")
     _check_loss(system, loss)

@@ -132,8 +132,9 @@ def diagonalizable_systems(blocks: Sequence[tuple[Any, int]], sensors: int = 1,
     matrix.  ``sensors`` integer rows are drawn; ``observable=True`` keeps
     draws with ``(A, C)`` observable (the papers' standing assumption),
     ``observable=False`` makes every sensor blind to the first eigenvector,
-    violating it (constructing a :class:`System` then raises
-    ``UnobservableError``; the strategy returns ``(A, [C_i])`` instead).
+    violating it (the strategy returns ``(A, [C_i])`` instead; constructing a
+    :class:`System` raises ``UnobservableError`` when that eigenvalue has
+    ``|lambda| >= 1``, since symkf needs detectability only).
     """
     if not isinstance(blocks, (list, tuple)) or not blocks:
         raise InvalidArgument(f"blocks={blocks!r}: expected a non-empty list of (modulus, size)")
