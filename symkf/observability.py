@@ -239,7 +239,7 @@ def _jordan_block_rows(system: System, block: EigenBlock, K: NumberField, T: lis
     at ``n_i`` or more times ``t`` (binomials of degree < n_i are independent functions of t) its
     rows span every ``w_(c, s)``: these are the element's generators.  With no Jordan chain
     ``B_c T_c = 0`` and they are today's class projections ``C_j A^r T_c``."""
-    n, g = system.n, block.class_period
+    g = block.class_period
     Ak = K.matrix(system.A)
     class_of = [ci for ci, members in enumerate(block.classes)
                 for m in members for _ in range(block.members[m].multiplicity)]
@@ -299,16 +299,17 @@ def block_deficient(system: System, pattern: Sequence[Sequence[int]]) -> tuple[b
     for br in block_rows(system):
         K, T, diag = br.K, br.T, br.diag
         rows = []
-        AkT = T  # A^k T, for blocks with Jordan chains (T D^k otherwise)
+        jordan = br.block.defective  # rows C_j A^k T then (C_j T D^k otherwise)
+        AkT, Ak = (T, K.matrix(system.A)) if jordan else (None, None)
         for k, vec in enumerate(pattern):
             powers = [K.pow(lam, k) for lam in diag]
             for j, s in enumerate(system.sensors):
                 if vec[j]:
                     for row in K.matrix(s.C):
-                        rows.append(K.vecmat(row, AkT) if br.block.defective else
+                        rows.append(K.vecmat(row, AkT) if jordan else
                                     [K.mul(a, p) for a, p in zip(K.vecmat(row, T), powers)])
-            if br.block.defective:
-                AkT = _matmul(K, K.matrix(system.A), AkT)
+            if jordan:
+                AkT = _matmul(K, Ak, AkT)
         out.append(rank_rows(K, rows, br.size) < br.size)
     return tuple(out)
 
