@@ -254,3 +254,15 @@ def test_theorem2_conservatism_on_viic(phi2, exact_bracket, theorem2_bracket):
     else:
         lo, hi = theorem2_bracket
         assert not theorem2(loss(lo), dyn).holds and theorem2(loss(hi), dyn).holds
+
+
+def test_analyze_reports_set_aside_modes(capsys):
+    import json
+    from symkf import cli
+    assert cli.main(["analyze", "--json", str(EXAMPLES / "detectable.toml")]) == 0
+    res = json.loads(capsys.readouterr().out)
+    (aside,) = res["set_aside"]
+    assert aside["eigenvalues"] == ["1/2"] and "Jordan chains" in aside["reason"]
+    assert [b["jordan_chains"] for b in res["blocks"]] == [False, True]
+    assert cli.main(["analyze", str(EXAMPLES / "detectable.toml")]) == 0
+    assert "set aside: 1/2 (eigenvalue(s) 1/2 with Jordan chains" in capsys.readouterr().out
