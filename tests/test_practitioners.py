@@ -82,6 +82,8 @@ def test_unstable_jordan_block_critical_25_36():
     assert critical_loss_rate(S) == R(25, 36)
     assert stability(S, sk.IID(["1/2"])).margins[0] == R(18, 25)
     assert not stability(S, sk.IID(["7/10"])).stable
+    # at the boundary the margin is exactly 1: not stable (docs/sui.md, "At the boundary")
+    assert stability(S, sk.IID(["25/36"])).margins[0] == 1 and not stability(S, sk.IID(["25/36"])).stable
     assert_oracle_agrees(S)
 
 
