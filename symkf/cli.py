@@ -79,7 +79,8 @@ def _number(a: AlgebraicNumber, digits: int) -> dict[str, Any]:
 def _blocks_json(A: Any) -> list[dict[str, Any]]:
     from .spectral import eigen_blocks
     return [{"modulus": str(b.modulus), "eigenvalues": [str(e) for e in b.eigenvalues],
-             "tau": b.tau, "governing_period": b.governing_period, "proof": b.proof}
+             "tau": b.tau, "governing_period": b.governing_period, "proof": b.proof,
+             "jordan_chains": b.defective}
             for b in eigen_blocks(A)]
 
 
@@ -131,7 +132,9 @@ def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
     from . import files
     from .stability import stability
     system, loss = files.load(args.file)
-    res: dict[str, Any] = {"system": str(args.file), "blocks": _blocks_json(system.A)}
+    res: dict[str, Any] = {"system": str(args.file), "blocks": _blocks_json(system.A),
+                           "set_aside": [{"eigenvalues": [e.label for e in b.members], "reason": why}
+                                         for b, why in system.set_aside()]}
     if loss is not None:
         v = stability(system, loss)
         res["loss"] = loss_json(loss)

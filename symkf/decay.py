@@ -10,7 +10,12 @@ sets (hyperplanes, :mod:`symkf.observability`):
   ``rho_i^g = max_H rho(M_H)`` with ``M_H`` the one-period transfer matrix of
   the chain restricted to steps whose received elements lie in ``H``; these
   are the diagonal blocks ``E_ii`` of M for the maximal deficient patterns, so
-  this is eq. (36) without building M.
+  this is eq. (36) without building M.  It holds for aperiodic blocks as well
+  (symkf's extension, docs/sui.md): an element received infinitely often spans
+  its class projections, the other receptions are boundedly many and add
+  polynomial factors only; with every class a single eigenvalue (rotations by
+  irrational angles) ``g = 1`` and the decisive ``H`` is typically empty, the
+  rate of the chain restricted to "everything lost".
 
 The full M (eqs. 33-34) over (projected pattern, chain state) is built only
 for checking ``P(R_{Ng}) = u M^N v`` (eq. 35) against enumeration.
@@ -95,9 +100,7 @@ def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
     """``rho_i^g`` (per projection period) for one block, exactly (eq. 36)."""
     if isinstance(loss, IID):
         cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.loss, ks)])) for ks, H in outside_counts(br).items()]
-    else:
-        if not br.block.is_periodic:
-            raise _aperiodic(br)
+    else:  # aperiodic blocks too: their elements' generators are class projections (docs/sui.md)
         cands = [(H, sp.sympify(ge_rate(br, H, loss) if isinstance(loss, GilbertElliott)
                                 else perron_root(restricted_transfer(br, H, loss)))) for H in br.hyperplanes]
     H, best = _maximum(cands)
@@ -119,8 +122,8 @@ def ge_rate(br: BlockRows, H: frozenset[int], loss: GilbertElliott) -> sp.Expr:
 
 def _aperiodic(br: BlockRows) -> AperiodicError:
     return AperiodicError(f"the eigen-block of modulus {br.block.modulus} is aperiodic ({br.block.proof})",
-                          assumption="Theorem 9 (Sui-You-Fu): periodic A for Markov losses",
-                          applies_instead="i.i.d. losses (symkf.IID), for which aperiodic blocks are decided")
+                          assumption="eq. (35) (Sui-You-Fu): M over projected patterns needs a periodic block",
+                          applies_instead="symkf.decay.block_rate, which decides aperiodic blocks")
 
 
 def restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Matrix:

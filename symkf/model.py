@@ -67,8 +67,10 @@ class System:
     """A linear system observed by ``d`` sensors over lossy channels.
 
     ``Q`` and ``P0`` default to the identity.  ``(A, C)`` with ``C`` the stack
-    of all ``C_i`` must be observable (the papers assume it throughout); the
-    error names an unobservable eigenvalue.
+    of all ``C_i`` must be detectable: every eigenvalue with ``|lambda| >= 1``
+    seen by some sensor (PBH test); the error names an unseen one.  The papers
+    assume observability; modes with ``|lambda| < 1`` never decide stability
+    (:meth:`System.set_aside`).
     """
 
     A: Any
@@ -109,7 +111,7 @@ class System:
                 value, key, rationalize=self.rationalize, shape=(n, n))
             check_positive_definite(M, key)
             object.__setattr__(self, key, M)
-        self.check_observable()
+        self.check_detectable()
 
     @property
     def n(self) -> int:
@@ -136,23 +138,69 @@ class System:
         """The sensors' names, in order."""
         return tuple(s.name for s in self.sensors)
 
-    def check_observable(self) -> None:
-        """Raise :class:`UnobservableError` naming an eigenvalue the sensors cannot see (PBH test)."""
+    def unseen(self, lam: sp.Expr) -> bool:
+        """PBH test: whether the eigenvalue ``lam`` has an eigenvector in the kernel of every C_i."""
         from .exact.linalg import rank
-        from .spectral import eigenvalues
+        return rank(sp.Matrix.vstack(self.A - lam * sp.eye(self.n), self.C)) < self.n
 
-        C = self.C
-        obs = sp.Matrix.vstack(*[C * self.A ** k for k in range(self.n)])
-        if rank(obs) == self.n:
+    @property
+    def observable(self) -> bool:
+        """Whether ``(A, C)`` is observable (exact rank of the observability matrix, cached)."""
+        cached = self._cache.get("observable")
+        if cached is None:
+            from .exact.linalg import rank
+            obs = sp.Matrix.vstack(*[self.C * self.A ** k for k in range(self.n)])
+            cached = self._cache["observable"] = rank(obs) == self.n
+        return cached
+
+    def check_detectable(self) -> None:
+        """Raise :class:`UnobservableError` naming an eigenvalue with ``|lambda| >= 1`` that no sensor sees.
+
+        Detectability (PBH on ``|lambda| >= 1`` only) is what a Kalman filter needs: an unseen
+        mode with ``|lambda| < 1`` decays by itself and is set aside (:meth:`set_aside`)."""
+        if self.observable:
             return
-        for lam in eigenvalues(self.A):
-            if rank(sp.Matrix.vstack(self.A - lam.expr * sp.eye(self.n), C)) < self.n:
-                raise UnobservableError(
-                    f"the eigenvalue {lam.expr} of A is not seen by any sensor (PBH rank test)",
-                    assumption="observability of (A, C)",
-                    applies_instead="a sensor set whose stacked C sees every mode")
-        raise UnobservableError("the observability matrix is rank deficient",
-                                assumption="observability of (A, C)")
+        for block in self.eigen_blocks():
+            for lam in block.members:
+                if not block.is_stable and self.unseen(lam.expr):
+                    raise UnobservableError(
+                        f"the eigenvalue {lam.expr} of A (|lambda| = {block.modulus} >= 1) is not seen by any "
+                        "sensor (PBH rank test), so (A, C) is not detectable",
+                        assumption="detectability of (A, C)",
+                        applies_instead="a sensor set whose stacked C sees every mode with |lambda| >= 1")
+
+    def eigen_blocks(self) -> tuple[Any, ...]:
+        """:func:`symkf.spectral.eigen_blocks` of ``A`` (cached)."""
+        cached = self._cache.get("eigen_blocks")
+        if cached is None:
+            from .spectral import eigen_blocks
+            cached = self._cache["eigen_blocks"] = eigen_blocks(self.A)
+        return cached
+
+    def set_aside(self) -> tuple[tuple[Any, str], ...]:
+        """The eigen-blocks of modulus < 1 left out of the verdict, each with the reason (cached).
+
+        A block with ``alpha_i < 1`` has margin ``alpha_i^2 rho_i <= alpha_i^2 < 1`` and never
+        decides stability.  symkf keeps such a block in the verdict when the papers' analysis
+        applies to it (diagonalizable, nonzero, every mode seen) and sets it aside otherwise:
+        zero eigenvalues, stable Jordan chains, stable modes no sensor sees."""
+        cached = self._cache.get("set_aside")
+        if cached is None:
+            out = []
+            for block in self.eigen_blocks():
+                if not block.is_stable:
+                    continue
+                names = ", ".join(e.label for e in block.members)
+                if block.modulus == 0:
+                    out.append((block, "eigenvalue 0: its modes vanish after finitely many steps"))
+                elif block.defective:
+                    out.append((block, f"eigenvalue(s) {names} with Jordan chains and |lambda| = "
+                                       f"{block.modulus} < 1: they decay without measurements"))
+                elif any(self.unseen(e.expr) for e in block.members):
+                    out.append((block, f"eigenvalue(s) {names} with |lambda| = {block.modulus} < 1, not all "
+                                       "seen by the sensors: detectability suffices"))
+            cached = self._cache["set_aside"] = tuple(out)
+        return cached
 
     def require_invertible_A(self) -> None:
         """Lemma 2 (Sui-You-Fu) needs A invertible."""

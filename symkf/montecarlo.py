@@ -271,6 +271,8 @@ def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...],
     be lost (the elements outside the hyperplane), and the exact growth ``alpha_i^(2g)``
     of ``P`` per period while the pattern holds.
     """
+    if verdict.limiting_block is None:  # no eigenvalue with |lambda| >= 1: nothing grows, nothing to steer
+        return ((),), sp.Integer(1)
     cert = verdict.certificate[verdict.limiting_block]
     received = set(cert.decisive_elements)
     phases = tuple(tuple(j for j, name in enumerate(system.sensor_names) if (name, phase) not in received)

@@ -158,7 +158,9 @@ def block_rows(system: System) -> tuple[BlockRows, ...]:
     """The regression rows of every eigen-block of ``system.A`` over its period (cached)."""
     cached = system._cache.get("block_rows")
     if cached is None:
-        cached = system._cache["block_rows"] = tuple(_block_rows(system, b) for b in eigen_blocks(system.A))
+        aside = [b for b, _ in system.set_aside()]
+        cached = system._cache["block_rows"] = tuple(
+            _block_rows(system, b) for b in system.eigen_blocks() if b not in aside)
     return cached
 
 
@@ -167,7 +169,9 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
     """Exact modal form of one eigen-block: field K, eigenvector columns ``T_i`` (n x n_i), ``D_i``.
 
     K is the smallest field holding the entries of ``A``, of ``extra``
-    matrices (the sensors' C) and the block's eigenvalues.
+    matrices (the sensors' C) and the block's eigenvalues.  For an eigenvalue
+    with Jordan chains the columns span its generalized eigenspace
+    ``ker (A - lambda I)^m`` (``D_i`` then holds only its diagonal).
     """
     gens = [v for M in (A, *extra) for v in M if not sp.sympify(v).is_Rational]
     gens += [e.expr for e in block.members if not e.expr.is_Rational]
@@ -179,17 +183,32 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
     for ev in block.members:
         lam = K.convert(ev.expr)
         shifted = [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(n)] for i in range(n)]
+        if ev.defective:
+            shifted = _matpow(K, shifted, ev.multiplicity)
         basis = nullspace_rows(K, shifted, n)
-        if len(basis) != ev.multiplicity:  # guarded by eigen_blocks' diagonalizability check
-            raise AssertionError("eigenspace dimension mismatch")  # pragma: no cover
+        if len(basis) != ev.multiplicity:
+            raise AssertionError("generalized eigenspace dimension mismatch")  # pragma: no cover
         cols.extend(basis)
         diag.extend([lam] * ev.multiplicity)
     T = [[cols[c][i] for c in range(len(cols))] for i in range(n)]
     return K, T, diag
 
 
+def _matmul(K: NumberField, X: Sequence[Sequence[Elem]], Y: Sequence[Sequence[Elem]]) -> list[list[Elem]]:
+    return [K.vecmat(row, Y) for row in X]
+
+
+def _matpow(K: NumberField, X: list[list[Elem]], k: int) -> list[list[Elem]]:
+    out = X
+    for _ in range(k - 1):
+        out = _matmul(K, out, X)
+    return out
+
+
 def _block_rows(system: System, block: EigenBlock) -> BlockRows:
     K, T, diag = modal_form(system.A, block, [s.C for s in system.sensors])
+    if block.defective:
+        return _jordan_block_rows(system, block, K, T, diag)
     g = block.class_period
     class_of = [ci for ci, members in enumerate(block.classes)
                 for m in members for _ in range(block.members[m].multiplicity)]
@@ -207,6 +226,46 @@ def _block_rows(system: System, block: EigenBlock) -> BlockRows:
                         gens.append(v)
             elements.append(Element(j, phase))
             generators.append(tuple(_independent(K, gens, block.size)))
+    return BlockRows(block, K, g, tuple(elements), tuple(generators), block.size, T, diag)
+
+
+def _jordan_block_rows(system: System, block: EigenBlock, K: NumberField, T: list, diag: list) -> BlockRows:
+    """Generators of a block with Jordan chains (symkf's extension, docs/sui.md).
+
+    With ``g`` the class period, ``A^g`` acts on the generalized eigenspace of class ``c``
+    (columns ``T_c``) as ``c_c (I + N'_c)``, ``N'_c`` nilpotent: ``A^g T_c = c_c T_c (I + N'_c)``.
+    The row of sensor j at time ``r + g t`` is then ``sum_c c_c^t sum_s binom(t, s) w_(c, s)`` with
+    ``w_(c, s) = C_j A^r B_c^s T_c`` and ``B_c = A^g / c_c - I`` (``T_c N'_c = B_c T_c``).  Received
+    at ``n_i`` or more times ``t`` (binomials of degree < n_i are independent functions of t) its
+    rows span every ``w_(c, s)``: these are the element's generators.  With no Jordan chain
+    ``B_c T_c = 0`` and they are today's class projections ``C_j A^r T_c``."""
+    g = block.class_period
+    Ak = K.matrix(system.A)
+    class_of = [ci for ci, members in enumerate(block.classes)
+                for m in members for _ in range(block.members[m].multiplicity)]
+    zero = flint.fmpq_poly([])
+    Ag = _matpow(K, Ak, g) if g > 1 else Ak
+    B = []
+    for c in range(len(block.classes)):
+        inv = K.inv(K.pow(diag[class_of.index(c)], g))
+        B.append([[(K.mul(a, inv) - (1 if i == j else 0)) % K.modulus for j, a in enumerate(row)]
+                  for i, row in enumerate(Ag)])
+    elements, generators = [], []
+    for j, sensor in enumerate(system.sensors):
+        rows = K.matrix(sensor.C)  # C_j A^r, r = phase
+        for phase in range(g):
+            gens = []
+            for c in range(len(block.classes)):
+                ws = rows
+                for _ in range(block.size):
+                    for w in _matmul(K, ws, T):
+                        v = tuple(a if class_of[k] == c else zero for k, a in enumerate(w))
+                        if any(not a.is_zero() for a in v):
+                            gens.append(v)
+                    ws = _matmul(K, ws, B[c])
+            elements.append(Element(j, phase))
+            generators.append(tuple(_independent(K, gens, block.size)))
+            rows = _matmul(K, rows, Ak)
     return BlockRows(block, K, g, tuple(elements), tuple(generators), block.size, T, diag)
 
 
@@ -240,12 +299,17 @@ def block_deficient(system: System, pattern: Sequence[Sequence[int]]) -> tuple[b
     for br in block_rows(system):
         K, T, diag = br.K, br.T, br.diag
         rows = []
+        jordan = br.block.defective  # rows C_j A^k T then (C_j T D^k otherwise)
+        AkT, Ak = (T, K.matrix(system.A)) if jordan else (None, None)
         for k, vec in enumerate(pattern):
             powers = [K.pow(lam, k) for lam in diag]
             for j, s in enumerate(system.sensors):
                 if vec[j]:
                     for row in K.matrix(s.C):
-                        rows.append([K.mul(a, p) for a, p in zip(K.vecmat(row, T), powers)])
+                        rows.append(K.vecmat(row, AkT) if jordan else
+                                    [K.mul(a, p) for a, p in zip(K.vecmat(row, T), powers)])
+            if jordan:
+                AkT = _matmul(K, Ak, AkT)
         out.append(rank_rows(K, rows, br.size) < br.size)
     return tuple(out)
 

@@ -190,9 +190,6 @@ def ge_margins(system: System, loss: GilbertElliott) -> list[sp.Expr]:
     out = []
     for br in block_rows(system):
         growth = sp.sympify(br.block.modulus.exact ** (2 * br.period))
-        if not br.block.is_periodic:
-            from .decay import _aperiodic
-            raise _aperiodic(br)
         seen = set()
         for H in br.hyperplanes:
             m = sp.expand(growth * ge_rate(br, H, loss))

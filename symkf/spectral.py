@@ -28,7 +28,6 @@ from typing import Any
 import flint
 import sympy as sp
 
-from .errors import NotDiagonalizableError
 from .exact.algebraic import AlgebraicNumber, fmpz_to_sympy, identify, real_from_ball, root_ball
 from .exact import nfpoly
 from .exact.field import Elem, NumberField
@@ -76,6 +75,17 @@ class Eigenvalue:
     minpoly: flint.fmpz_poly
     root_index: int
     multiplicity: int
+    geometric: int | None = None  # dimension of the eigenspace; None: equal to ``multiplicity``
+
+    @property
+    def defective(self) -> bool:
+        """Whether the eigenvalue has Jordan chains (fewer eigenvectors than its multiplicity)."""
+        return self.geometric is not None and self.geometric < self.multiplicity
+
+    @property
+    def is_zero(self) -> bool:
+        """Whether the eigenvalue is 0 (minimal polynomial x)."""
+        return self.minpoly.degree() == 1 and self.minpoly.coeffs()[0] == 0
 
     @cached_property
     def expr(self) -> sp.Expr:
@@ -104,12 +114,15 @@ class Eigenvalue:
     @cached_property
     def modulus(self) -> AlgebraicNumber:
         """``|lambda|`` exactly."""
+        if self.is_zero:
+            return AlgebraicNumber.from_expr(sp.Integer(0))
         poly, idx = identify(_abs_poly(tuple(int(c) for c in self.minpoly.coeffs())),
                              lambda prec: flint.acb(abs(self.ball(prec))), "modulus")
         return real_from_ball(poly, idx)
 
     def __repr__(self) -> str:
-        return f"Eigenvalue({self.expr}, multiplicity={self.multiplicity})"
+        jordan = f", eigenvectors={self.geometric}" if self.defective else ""
+        return f"Eigenvalue({self.expr}, multiplicity={self.multiplicity}{jordan})"
 
 
 @dataclass(frozen=True)
@@ -195,6 +208,16 @@ class EigenBlock:
     def size(self) -> int:
         """``n_i``, the dimension of the block."""
         return sum(e.multiplicity for e in self.members)
+
+    @property
+    def defective(self) -> bool:
+        """Whether some eigenvalue of the block has Jordan chains."""
+        return any(e.defective for e in self.members)
+
+    @property
+    def is_stable(self) -> bool:
+        """``alpha_i < 1``: the block's modes decay without measurements and never decide stability."""
+        return self.modulus < 1
 
     @property
     def is_periodic(self) -> bool:
@@ -288,24 +311,23 @@ def _maybe_root(h: list[Elem], mpoly: flint.fmpz_poly, t_idx: int, g: flint.fmpz
     return True
 
 
-def _check_diagonalizable(A: sp.MatrixBase, K: NumberField, factors) -> None:
+def _geometric_multiplicities(A: sp.MatrixBase, K: NumberField, factors) -> list[int | None]:
+    """Per factor ``h`` of the characteristic polynomial with multiplicity ``e > 1``, the dimension
+    of each root's eigenspace, ``(n - rank h(A)) / deg h``; None for simple factors."""
     n = A.shape[0]
     Ak = K.matrix(A)
+    out: list[int | None] = []
     for h, e, roots in factors:
         if e == 1:
+            out.append(None)
             continue
-        # h(A) by Horner; geometric multiplicity of each root = (n - rank h(A)) / deg h
+        # h(A) by Horner
         H = [[h[-1] if i == j else flint.fmpq_poly([]) for j in range(n)] for i in range(n)]
         for c in reversed(h[:-1]):
             H = [[(K.dot(H[i], [Ak[k][j] for k in range(n)]) + (c if i == j else 0)) % K.modulus
                   for j in range(n)] for i in range(n)]
-        geo = (n - rank_rows(K, H, n)) // (len(h) - 1)
-        if geo < e:
-            lam = _nice_expr(*roots[0])
-            raise NotDiagonalizableError(
-                f"the eigenvalue {lam} has algebraic multiplicity {e} but only {geo} independent "
-                "eigenvector(s), so A is defective", assumption="diagonalizable A (Assumptions 1 and 3)",
-                applies_instead="a diagonalizable A; symkf's theorems do not cover Jordan blocks")
+        out.append((n - rank_rows(K, H, n)) // (len(h) - 1))
+    return out
 
 
 def eigenvalues(A: Any) -> list[Eigenvalue]:
@@ -314,28 +336,29 @@ def eigenvalues(A: Any) -> list[Eigenvalue]:
     return [ev for ev, _ in _eigen_with_factor(A)]
 
 
-def _eigen_with_factor(A: sp.Matrix, check: bool = False) -> list[tuple[Eigenvalue, int]]:
+def _eigen_with_factor(A: sp.Matrix, jordan: bool = False) -> list[tuple[Eigenvalue, int]]:
     if A.shape[0] != A.shape[1]:
         from .errors import ShapeError
         raise ShapeError(f"A: must be square, got {A.shape[0]}x{A.shape[1]}")
     K = field_of(A)
     factors = _factor_charpoly(A, K)
-    if check:
-        _check_diagonalizable(A, K, factors)
+    geometric = _geometric_multiplicities(A, K, factors) if jordan else [None] * len(factors)
     out = []
-    for fi, (h, e, roots) in enumerate(factors):
+    for fi, ((h, e, roots), geo) in enumerate(zip(factors, geometric)):
         for f, i in roots:
-            out.append((Eigenvalue(f, i, e), fi))
+            out.append((Eigenvalue(f, i, e, geo), fi))
     return out
 
 
 def eigen_blocks(A: Any) -> tuple[EigenBlock, ...]:
-    """The eigen-blocks of a diagonalizable ``A``, by decreasing modulus (Assumption 3).
+    """The eigen-blocks of ``A``, by decreasing modulus (Assumption 3).
 
-    Raises :class:`NotDiagonalizableError` naming a defective eigenvalue.
+    ``A`` need not be diagonalizable: each eigenvalue records the dimension of
+    its eigenspace (``Eigenvalue.geometric``), and blocks with Jordan chains say
+    so (``EigenBlock.defective``).  Zero eigenvalues form a block of modulus 0.
     """
     A = sp.Matrix(to_exact_matrix(A, "A"))
-    evs = [ev for ev, _ in _eigen_with_factor(A, check=True)]
+    evs = [ev for ev, _ in _eigen_with_factor(A, jordan=True)]
     groups: list[list[Eigenvalue]] = []
     for ev in evs:
         for g in groups:
@@ -349,6 +372,9 @@ def eigen_blocks(A: Any) -> tuple[EigenBlock, ...]:
 
 
 def _block(members: list[Eigenvalue]) -> EigenBlock:
+    if members[0].is_zero:  # A_i is nilpotent: A_i^k = 0 = 0^k I once k reaches the longest chain
+        return EigenBlock(members[0].modulus, tuple(members), 1, 1, (("", "A_i is nilpotent (eigenvalue 0)"),),
+                          ((0,),), 1)
     proofs = []
     tau: int | None = 1
     for ev in members:

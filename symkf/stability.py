@@ -40,14 +40,22 @@ class Verdict:
     """Mean-square stability of the multi-sensor Kalman filter, with its certificate."""
 
     stable: bool
-    margins: tuple[AlgebraicNumber, ...]   # alpha_i^2 rho_i per eigen-block
-    limiting_block: int
+    margins: tuple[AlgebraicNumber, ...]   # alpha_i^2 rho_i per decided eigen-block
+    limiting_block: int | None             # None when no block decides (every |lambda| < 1)
     theorem: str
     assumptions: tuple[str, ...]
     certificate: tuple[BlockCertificate, ...] = field(repr=False)
+    set_aside: tuple[tuple[tuple[str, ...], str], ...] = ()  # (eigenvalues, why) of blocks left out
 
     def __bool__(self) -> bool:
         return self.stable
+
+    @property
+    def limiting_margin(self) -> AlgebraicNumber:
+        """``max_i alpha_i^2 rho_i``; 0 when no block decides (every mode set aside, nothing grows)."""
+        if self.limiting_block is None:
+            return AlgebraicNumber.from_expr(sp.Integer(0))
+        return self.margins[self.limiting_block]
 
     def __str__(self) -> str:
         lines = [f"{'stable' if self.stable else 'NOT stable'} ({self.theorem})"]
@@ -58,6 +66,8 @@ class Verdict:
                          f"in [{float(lo):.6g}, {float(hi):.6g}]{'  <- limiting' if i == self.limiting_block else ''}")
             lines.append(f"    decisive pattern: only {list(c.decisive_elements) or 'nothing'} received; "
                          f"alpha^{2 * c.governing_period} * rho^{c.governing_period} = {c.margin_power}")
+        for eigenvalues, why in self.set_aside:
+            lines.append(f"  set aside: {', '.join(eigenvalues)} ({why})")
         lines.append("  assumptions checked: " + "; ".join(self.assumptions))
         return "\n".join(lines)
 
@@ -75,9 +85,16 @@ def _check_loss(system: System, loss: LossModel) -> list[str]:
         raise InputError(f"loss: the model has {loss.d} sensor(s), the system has {system.d} "
                          f"({', '.join(system.sensor_names)})")
     loss.require_positive()
-    return ["A diagonalizable (Assumption 3)", "(A, C) observable",
-            "loss process " + ("i.i.d. (Assumption 4)" if isinstance(loss, IID) else
-                               "Markov with positive transitions (Assumption 2)")]
+    brs = block_rows(system)
+    out = [("A" if not system.set_aside() else "the decided blocks") + " diagonalizable (Assumption 3)"
+           if not any(br.block.defective for br in brs) else
+           "Jordan chains on |lambda| >= 1 (symkf's extension of Assumption 3, docs/sui.md)",
+           "(A, C) observable" if system.observable else "(A, C) detectable (PBH on |lambda| >= 1)",
+           "loss process " + ("i.i.d. (Assumption 4)" if isinstance(loss, IID) else
+                              getattr(loss, "chain_assumption", "Markov with positive transitions (Assumption 2)"))]
+    if not isinstance(loss, IID) and not all(br.block.is_periodic for br in brs):
+        out.append("aperiodic block under Markov losses (symkf's extension of Theorem 9, docs/sui.md)")
+    return out
 
 
 def _margin(br: BlockRows, rate: BlockRate) -> tuple[AlgebraicNumber, sp.Expr]:
@@ -130,10 +147,12 @@ def stability(system: System, loss: LossModel) -> Verdict:
             br.block.modulus.exact, br.period,
             tuple((names[br.elements[e].sensor], br.elements[e].phase) for e in sorted(rate.hyperplane)),
             rate.per_period, power, margin.refine(sp.Rational(1, 10 ** 12)).interval))
-    limiting = max(range(len(margins)), key=lambda i: margins[i])
+    limiting = max(range(len(margins)), key=lambda i: margins[i]) if margins else None
     stable = all(m < 1 for m in margins)
-    theorem = "Theorem 4" if len(margins) == 1 else "Theorem 7"
-    return Verdict(stable, tuple(margins), limiting, theorem + " with eq. (36)", tuple(assumptions), tuple(certs))
+    theorem = ("no eigenvalue with |lambda| >= 1" if not margins else
+               ("Theorem 4" if len(margins) == 1 else "Theorem 7") + " with eq. (36)")
+    aside = tuple((tuple(e.label for e in b.members), why) for b, why in system.set_aside())
+    return Verdict(stable, tuple(margins), limiting, theorem, tuple(assumptions), tuple(certs), aside)
 
 
 def _vectors(system: System) -> list[tuple[sp.Expr, tuple[int, ...]]]:
@@ -238,7 +257,8 @@ def critical_alpha(system: System, loss: IID) -> AlgebraicNumber:
     """
     brs = block_rows(system)
     if len(brs) != 1:
-        raise AssumptionError(f"A has {len(brs)} eigen-blocks of different moduli",
+        raise AssumptionError(f"A has {len(brs)} eigen-blocks of different moduli" if brs else
+                              "A has no eigenvalue with |lambda| >= 1 (every mode is set aside)",
                               assumption="Assumption 1 (single eigen-block)",
                               applies_instead="stability(system, loss) for each scaled system")
     _check_loss(system, loss)

@@ -136,8 +136,9 @@ def diagonalizable_systems(blocks: Sequence[tuple[Any, int]], sensors: int = 1,
     matrix.  ``sensors`` integer rows are drawn; ``observable=True`` keeps
     draws with ``(A, C)`` observable (the papers' standing assumption),
     ``observable=False`` makes every sensor blind to the first eigenvector,
-    violating it (constructing a :class:`System` then raises
-    ``UnobservableError``; the strategy returns ``(A, [C_i])`` instead).
+    violating it (the strategy returns ``(A, [C_i])`` instead; constructing a
+    :class:`System` raises ``UnobservableError`` when that eigenvalue has
+    ``|lambda| >= 1``, since symkf needs detectability only).
     """
     if not isinstance(blocks, (list, tuple)) or not blocks:
         raise InvalidArgument(f"blocks={blocks!r}: expected a non-empty list of (modulus, size)")
@@ -177,6 +178,55 @@ def diagonalizable_systems(blocks: Sequence[tuple[Any, int]], sensors: int = 1,
         return rank(obs) == n
     pairs = st.tuples(_unimodular(n), st.lists(row, min_size=sensors, max_size=sensors))
     return pairs.filter(keep).map(lambda tr: build(*tr))
+
+
+class Drawn(NamedTuple):
+    """A drawn system with what its construction knows: ``A = T J T^{-1}`` and the columns of ``T``
+    spanning the generalized eigenspace of ``|lambda| >= 1`` (for :mod:`symkf.oracle`)."""
+
+    system: System
+    unstable_basis: sp.Matrix
+
+
+def jordan_systems(chains: Sequence[tuple[Any, int]], sensors: int = 1) -> st.SearchStrategy[Drawn]:
+    """Detectable systems ``A = T J T^{-1}`` with Jordan chains, zero and stable eigenvalues, n <= 4.
+
+    ``chains`` lists ``(eigenvalue, length)`` (rational eigenvalues, chain length 1-3); ``J`` is
+    block diagonal with one Jordan block per chain, ``T`` integer unimodular.  ``sensors``
+    integer rows are drawn and draws with ``(A, C)`` detectable (PBH on ``|lambda| >= 1``) kept:
+    stable modes may be unseen, chains may be defective, singular ``A`` is allowed.
+    """
+    if not isinstance(chains, (list, tuple)) or not chains:
+        raise InvalidArgument(f"chains={chains!r}: expected a non-empty list of (eigenvalue, length)")
+    lams, lengths = [], []
+    for i, c in enumerate(chains):
+        if not isinstance(c, (list, tuple)) or len(c) != 2:
+            raise InvalidArgument(f"chains[{i}]={c!r}: expected (eigenvalue, length)")
+        lam = _exact(c[0], f"chains[{i}] eigenvalue")
+        if not lam.is_Rational:
+            raise InvalidArgument(f"chains[{i}] eigenvalue={c[0]!r}: expected a rational")
+        lams.append(lam)
+        lengths.append(_check_int(c[1], f"chains[{i}] length", 1, 3))
+    n = sum(lengths)
+    if n > 4:
+        raise InvalidArgument(f"chains={chains!r}: total length {n} > 4")
+    _check_int(sensors, "sensors", 1, 3)
+    J = sp.diag(*[sp.Matrix(k, k, lambda i, j: lam if i == j else (1 if j == i + 1 else 0))
+                  for lam, k in zip(lams, lengths)])
+    unstable = [c for c, lam in enumerate(v for lam, k in zip(lams, lengths) for v in [lam] * k) if abs(lam) >= 1]
+    row = st.lists(st.integers(-2, 2), min_size=n, max_size=n)
+
+    def detectable(T_rows) -> bool:
+        T, rows = T_rows
+        A, C = T * J * T.inv(), sp.Matrix(rows)
+        return all(rank(sp.Matrix.vstack(A - lam * sp.eye(n), C)) == n for lam in set(lams) if abs(lam) >= 1)
+
+    def build(T_rows) -> Drawn:
+        T, rows = T_rows
+        system = System(A=T * J * T.inv(), sensors=[Sensor(C=[r]) for r in rows])
+        return Drawn(system, T[:, unstable] if unstable else sp.zeros(n, 0))
+    pairs = st.tuples(_unimodular(n), st.lists(row, min_size=sensors, max_size=sensors))
+    return pairs.filter(detectable).map(build)
 
 
 def _pivot(v: sp.Matrix) -> int:
@@ -237,5 +287,5 @@ def loss_rates_near(critical: Any, margin: Any, side: str, max_denominator: int 
     return _rationals_between(lo, hi, max_denominator)
 
 
-__all__ = ["Rotation", "complex_diagonal_systems", "diagonalizable_systems", "gilbert_elliott_losses",
+__all__ = ["Drawn", "Rotation", "jordan_systems", "complex_diagonal_systems", "diagonalizable_systems", "gilbert_elliott_losses",
            "iid_losses", "loss_rates_near", "rational_angles", "rotation_systems"]

@@ -175,7 +175,7 @@ def _value_cell(outcome: Outcome, member: Member, digits: int) -> Cell:
     if isinstance(value, Inapplicable):
         return Cell("---", "---", r"\text{---}", {**where, "inapplicable": value.reason})
     if isinstance(value, Verdict):
-        margin = Cell.number(value.margins[value.limiting_block], digits)
+        margin = Cell.number(value.limiting_margin, digits)
         word = "stable" if value.stable else "unstable"
         return Cell(f"{word}, {margin.plain}", _stack(word, margin.latex), rf"\text{{{word}}},\ {margin.math}",
                     {**where, "stable": value.stable, "margin": margin.data, "theorem": value.theorem})
@@ -312,13 +312,14 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
         raise InputError("verdict_table: none of the system files has a [loss] table")
     rows = []
     for name, (kind, fields), verdict, periods in results:
-        period = periods[verdict.limiting_block]
+        period = "-" if verdict.limiting_block is None else periods[verdict.limiting_block]
         rows.append((Cell.text(name), (
             _loss_cell(kind, fields),
             Cell.text("stable" if verdict.stable else "unstable"),
             Cell.formula(str(period), str(period)),
-            Cell.number(verdict.margins[verdict.limiting_block], digits),
-            Cell.text(verdict.theorem.split()[1]))))  # "Theorem 4 with eq. (36)" -> "4"
+            Cell.number(verdict.limiting_margin, digits),
+            Cell.text(verdict.theorem.split()[1] if verdict.theorem.startswith("Theorem") else "-"))))
+        # "Theorem 4 with eq. (36)" -> "4"; "-" when no block decides
     columns = (Cell.text("loss model"), Cell.text("verdict"), Cell.formula("g", "g"),
                Cell("margin alpha^2 rho", r"$\alpha_i^2\rho_i$", r"\alpha_i^2\rho_i", "margin alpha^2 rho"),
                Cell.text("Thm."))

@@ -8,7 +8,7 @@ import symkf as sk
 from symkf.decay import block_rate, m_matrix, probability_rank_deficient
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.observability import block_rows
-from symkf.stability import critical_alpha, critical_loss_rate, stability
+from symkf.stability import critical_alpha, critical_loss_rate, critical_recovery_rate, stability
 
 DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
 SEED002 = sk.System(A=[["5/4", 0], [1, "11/10"]], sensors=[sk.Sensor(C=[[1, 1]])])
@@ -65,8 +65,12 @@ def test_two_sensor_values_by_hand():
 def test_aperiodic_rotation_critical_is_sinopoli_bound():
     S = sk.System(A=[["9/10", "-6/5"], ["6/5", "9/10"]], sensors=[sk.Sensor(C=[[1, 0]])])
     assert critical_loss_rate(S) == sp.Rational(4, 9)
-    with pytest.raises(sk.SymkfError, match="Theorem 9"):
-        stability(S, sk.GilbertElliott(["1/4"], ["1/2"]))
+    # Markov losses on the aperiodic block (issue 14): rows C A^k, C A^l are independent for k != l
+    # (sin((l - k) theta) != 0, theta/pi irrational), so R_N = {at most one reception}, of rate
+    # P(stay lost) = 1 - recover.  alpha^2 = 9/4: margin 9/4 * 1/2 = 9/8, critical recovery 5/9.
+    v = stability(S, sk.GilbertElliott(["1/4"], ["1/2"]))
+    assert not v.stable and v.margins[0] == sp.Rational(9, 8)
+    assert critical_recovery_rate(S, ["1/4"]) == sp.Rational(5, 9)
 
 
 def test_certified_on_both_sides():

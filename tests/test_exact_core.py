@@ -78,8 +78,8 @@ def test_modal_form_is_exact():
 
 
 def test_bad_inputs_raise_named_errors():
-    with pytest.raises(NotDiagonalizableError, match="eigenvalue 1 has algebraic multiplicity 2"):
-        eigen_blocks([[1, 1], [0, 1]])
+    (cv,) = eigen_blocks([[1, 1], [0, 1]])  # constant velocity: one Jordan chain, accepted (issue 14)
+    assert cv.defective and cv.members[0].geometric == 1 and cv.members[0].multiplicity == 2
     with pytest.raises(InexactInputError, match=r"A\[0\]\[1\].*'1/10'"):
         sk.System(A=[[1, 0.1], [0, 1]], sensors=[sk.Sensor(C=[[1, 0]])])
     with pytest.raises(ShapeError, match="A: must be square"):

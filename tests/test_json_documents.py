@@ -4,16 +4,15 @@ losses as structured objects."""
 from __future__ import annotations
 
 import json
-from pathlib import Path
 from typing import Any
 
 import pytest
 
 import symkf as sk
-from symkf import cli
+from symkf import cli, examples
 from symkf.spectral import eigen_blocks
 
-SYSTEMS = Path(__file__).resolve().parent.parent / "examples" / "systems"
+SYSTEMS = examples.directory() / "systems"
 DESIGN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], i.i.d. loss 1/20
 GE = SYSTEMS / "ge-two-sensors.toml"
 MARKOV = SYSTEMS / "network" / "markov-shared-channel.toml"

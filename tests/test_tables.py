@@ -83,7 +83,7 @@ def test_unobservable_member_is_marked_not_fatal(rotations):
     # period 1: A = 2 R(pi) = -2 I and C = [1, 0] does not see the second coordinate
     row = rotations.to_json()["rows"][0]
     assert row["label"] == "1"
-    assert all("observability of (A, C) fails" in c["inapplicable"] for c in row["cells"])
+    assert all("detectability of (A, C) fails" in c["inapplicable"] for c in row["cells"])
     assert "period = 1, sensors = 2" in row["cells"][1]["inapplicable"]
     assert row["cells"][1]["point"] == {"period": "1", "sensors": "2"}
     assert rotations.rows[0][1][0].plain == "---"

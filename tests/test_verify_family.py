@@ -84,13 +84,13 @@ def test_family_needs_a_loss_template(tmp_path):
 
 
 def test_inapplicable_member_is_recorded(tmp_path):
-    # beta = 2: A = [[2, 1], [0, 2]] is a Jordan block (not diagonalizable), beta = 3 is not
-    p = tmp_path / "jordan.toml"
-    p.write_text(FAMILY.replace('eps = ["1/50", "1/10", "1/8"]', 'beta = ["3", "2"]')
-                 .replace('[["0", "-2"], ["2", "0"]]', '[["beta", "1"], ["0", "2"]]')
-                 .replace('loss = ["eps"]', 'loss = ["1/100"]'))
+    # Gilbert-Elliott with fail = beta: beta = 1/10 is decided, beta = 0 breaks Assumption 2's
+    # positivity (a Jordan block, refused here before issue 14, is now decided)
+    p = tmp_path / "positivity.toml"
+    p.write_text(FAMILY.replace('eps = ["1/50", "1/10", "1/8"]', 'beta = ["1/10", "0"]')
+                 .replace('kind = "iid"\nloss = ["eps"]', 'kind = "gilbert-elliott"\nfail = ["beta"]\nrecover = ["1/2"]'))
     reports = verify_family(p, paths=200, horizon=10)
-    assert reports[1]["outcome"] == "inapplicable" and "diagonalizable" in reports[1]["reason"]
+    assert reports[1]["outcome"] == "inapplicable" and "Assumption 2" in reports[1]["reason"]
     assert reports[0]["outcome"] != "inapplicable"
 
 

@@ -45,6 +45,9 @@ def bernoulli_product(vector: Sequence[int], probs: Sequence[sp.Expr]) -> sp.Exp
     return sp.Mul(*[p if v else 1 - p for v, p in zip(vector, probs)])
 
 
+SEMI_MARKOV_STATES = 100  # lifted states up to which a semi-Markov network state is decided exactly
+
+
 class NetworkLoss(LossModel):
     """Losses of a sensor tree whose links fade according to a network state (Quevedo et al.).
 
@@ -54,6 +57,47 @@ class NetworkLoss(LossModel):
     symbols ``phi_{m|j}``.  The emitted receival vector is
     ``(theta_1, ..., theta_M)``: sensor ``m`` of the System is node ``S_m``.
     """
+
+    def positivity_failure(self) -> str | None:
+        """Markov network states: Assumption 2's positivity.  Semi-Markov states: irreducibility.
+
+        The holding-time counter of a semi-Markov state (Assumption 3) counts down
+        deterministically, so most transitions of the lifted chain are 0 and positivity cannot
+        hold.  What the decay-rate argument needs is that every state carrying the rate of
+        ``P(R_N)`` is visited infinitely often (docs/quevedo.md, "Semi-Markov states decided
+        exactly"): an irreducible finite chain gives ``P(R_N) = u M_H^N v`` up to polynomial
+        factors with the Perron root of every restricted transfer attained."""
+        if not isinstance(self.state, SemiMarkovNetworkState):
+            return super().positivity_failure()
+        n = len(self.chain.states)
+        if n > SEMI_MARKOV_STATES:
+            return (f"the lifted semi-Markov chain has {n} states (network state, holding counter, theta); "
+                    f"symkf decides semi-Markov states exactly up to {SEMI_MARKOV_STATES} lifted states "
+                    "(exact Perron roots of larger restricted transfers exceed its budget)")
+        P = self.chain.P
+        if any(v.free_symbols for v in P):
+            return None
+        succ = [[s for s in range(n) if P[r, s] != 0] for r in range(n)]
+        pred = [[r for r in range(n) if P[r, s] != 0] for s in range(n)]
+        for graph, word in ((succ, "reached from"), (pred, "reach")):
+            seen, stack = {0}, [0]
+            while stack:
+                for s in graph[stack.pop()]:
+                    if s not in seen:
+                        seen.add(s)
+                        stack.append(s)
+            if len(seen) < n:
+                missing = self.chain.states[min(set(range(n)) - seen)]
+                return (f"the chain state {missing} (network state, holding counter, theta) cannot be {word} "
+                        f"the state {self.chain.states[0]}: the lifted semi-Markov chain is not irreducible")
+        return None
+
+    @property
+    def chain_assumption(self) -> str:
+        """What :func:`symkf.stability.stability` checked of this loss process (its verdict says it)."""
+        if isinstance(self.state, SemiMarkovNetworkState):
+            return "semi-Markov network state with an irreducible lifted chain (symkf's extension, docs/quevedo.md)"
+        return "Markov with positive transitions (Assumption 2)"
 
     @property
     def applies_without_positivity(self) -> str:
