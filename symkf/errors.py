@@ -61,12 +61,8 @@ class AssumptionError(SymkfError):
         self.applies_instead = applies_instead
 
 
-class NotDiagonalizableError(AssumptionError):
-    """A is defective (a repeated eigenvalue without a full eigenspace)."""
-
-
 class UnobservableError(AssumptionError):
-    """(A, C) is not observable; the unobservable mode is named."""
+    """(A, C) is not detectable: a mode with |lambda| >= 1 that no sensor sees; the mode is named."""
 
 
 class SingularSystemError(AssumptionError):

@@ -10,7 +10,7 @@ from hypothesis import given, settings, strategies as st
 from sympy.polys.matrices import DomainMatrix
 
 import symkf as sk
-from symkf.errors import (InexactInputError, NotDiagonalizableError, ShapeError, SymkfError,
+from symkf.errors import (InexactInputError, ShapeError, SymkfError,
                           UnobservableError, NotPositiveDefiniteError)
 from symkf.exact.algebraic import AlgebraicNumber, sign
 from symkf.exact.linalg import rank
