@@ -28,6 +28,10 @@ class InexactInputError(InputError):
     """A Python float reached an exact path (pass ``rationalize=True`` to convert)."""
 
 
+class BudgetError(InputError):
+    """An input would exceed a resource cap (symkf.budget); the message names the option raising it."""
+
+
 class ShapeError(InputError):
     """Matrix dimensions do not fit together."""
 

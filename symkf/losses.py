@@ -19,7 +19,7 @@ import sympy as sp
 
 from .errors import AssumptionError, InputError, ProbabilityError
 from .exact.algebraic import sign
-from .exact.numbers import to_exact
+from .exact.numbers import substitution, to_exact
 
 Vector = tuple[int, ...]
 
@@ -151,7 +151,8 @@ class IID(LossModel):
         return None
 
     def subs(self, values: Mapping[Any, Any]) -> "IID":
-        return IID([sp.sympify(e).subs(values) for e in self.loss])
+        values = substitution(values, "subs", self.symbols)
+        return IID([e.subs(values) for e in self.loss])
 
     def __repr__(self) -> str:
         return f"IID(loss={[str(e) for e in self.loss]})"
@@ -195,6 +196,8 @@ class GilbertElliott(LossModel):
         return LossChain(vecs, vecs, sp.ImmutableMatrix(P), sp.ImmutableMatrix([init]))
 
     def subs(self, values: Mapping[Any, Any]) -> "GilbertElliott":
+        values = substitution(values, "subs", self.symbols)
+
         def s(xs):
             return [sp.sympify(x).subs(values) for x in xs]
         return GilbertElliott(s(self.fail), s(self.recover), s(self.initial_received))
@@ -283,6 +286,7 @@ class MarkovLoss(LossModel):
         return w[1:] == v[:-1]
 
     def subs(self, values: Mapping[Any, Any]) -> "MarkovLoss":
+        values = substitution(values, "subs", self.symbols)
         table = {h: {n: sp.sympify(p).subs(values) for n, p in row.items()} for h, row in self.table.items()}
         init = None if self._initial is None else {
             k: sp.sympify(p).subs(values) for k, p in self._initial.items()}

@@ -23,6 +23,7 @@ import flint
 import sympy as sp
 
 from ..errors import InputError
+from .numbers import sympify
 
 x = sp.Symbol("x")
 
@@ -174,7 +175,7 @@ class AlgebraicNumber:
             return expr
         q = _rational(expr)
         if q is None:
-            expr = sp.sympify(expr)
+            expr = sympify(expr)
             if expr.free_symbols:
                 raise InputError(f"{expr}: has free symbols, not a number")
             q = expr if expr.is_Rational else None
@@ -275,7 +276,7 @@ class AlgebraicNumber:
     def _compare(self, other: Any) -> int:
         q = _rational(other)
         if q is None and not isinstance(other, AlgebraicNumber):
-            o = sp.sympify(other)
+            o = sympify(other)
             q = o if o.is_Rational else None
         if q is not None:
             if self.is_rational:
@@ -323,7 +324,7 @@ def real_from_ball(poly: flint.fmpz_poly, index: int) -> AlgebraicNumber:
 
 def sign(expr: Any) -> int:
     """Exact sign (-1, 0, 1) of a real algebraic number given as a sympy expression."""
-    expr = sp.sympify(expr)
+    expr = sympify(expr)
     if expr.is_Rational:
         return int(sp.sign(expr))
     if expr.free_symbols:
