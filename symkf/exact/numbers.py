@@ -282,13 +282,15 @@ def _float(value: float, entry: str, rationalize: bool | str) -> sp.Expr:
     if decimal == Fraction(value):  # the printed decimal is the binary value: nothing to guess
         return sp.Rational(decimal.numerator, decimal.denominator)
     if rationalize not in (True, "decimal", "nearby"):
+        active = _ACTIVE.get()
+        where = f"{active.what}(..., rationalize=...)" if active else "rationalize=..."
         if rationalize is not False:
             raise InputError(f"{entry}: rationalize={rationalize!r}; expected False, True, 'decimal' or 'nearby'")
         raise InexactInputError(
             f"{entry}: the float {value!r} is not exact (its binary value is {Fraction(value)}); give "
             f"the string {repr(value)!r} or {str(decimal)!r}, a Fraction or Decimal, or pass "
-            "rationalize=True (its shortest decimal) or rationalize='nearby' (a nearby exact constant "
-            "such as sqrt(3)/2) to the constructor")
+            f"{where} with True (its shortest decimal) or 'nearby' (a nearby exact constant such as "
+            "sqrt(3)/2)")
     out = _nearby(value) if rationalize == "nearby" else None
     how = f"nearby constant within {NEARBY_TOLERANCE:g}" if out is not None else "shortest decimal"
     if out is None:
