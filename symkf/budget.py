@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import sys
 from dataclasses import dataclass
 from typing import Iterator
 
@@ -60,18 +61,21 @@ LIMITS = Limits()
 
 @contextlib.contextmanager
 def limits(**caps: int) -> Iterator[Limits]:
-    """Raise (or lower) caps inside a ``with`` block, e.g. ``limits(max_degree=128)``."""
+    """Raise (or lower) caps inside a ``with`` block, e.g. ``limits(max_degree=128)``; Python's
+    limit on int <-> str conversion follows ``max_digits``."""
     unknown = sorted(set(caps) - set(OPTIONS))
     if unknown:
         raise TypeError(f"unknown cap(s) {unknown}; caps are {sorted(OPTIONS)}")
-    saved = dataclasses.asdict(LIMITS)
+    saved, digits = dataclasses.asdict(LIMITS), sys.get_int_max_str_digits()
     for name, value in caps.items():
         setattr(LIMITS, name, value)
+    sys.set_int_max_str_digits(max(digits, 2 * LIMITS.max_digits))
     try:
         yield LIMITS
     finally:
         for name, value in saved.items():
             setattr(LIMITS, name, value)
+        sys.set_int_max_str_digits(digits)
 
 
 def check(cap: str, estimate: int, entry: str, what: str) -> None:

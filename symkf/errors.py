@@ -32,6 +32,10 @@ class BudgetError(InputError):
     """An input would exceed a resource cap (symkf.budget); the message names the option raising it."""
 
 
+class OutputError(InputError):
+    """An output path cannot be written safely (missing directory, an input file, exists without --force)."""
+
+
 class ShapeError(InputError):
     """Matrix dimensions do not fit together."""
 

@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
 import sys
+import threading
+import time
+from typing import Callable, Iterator
 
 from tqdm import tqdm
 
@@ -12,3 +16,33 @@ def progress(total: int, desc: str, *, enabled: bool | None = None) -> tqdm:
     default) only when stderr is a terminal."""
     show = sys.stderr.isatty() if enabled is None else enabled
     return tqdm(total=total, desc=desc, disable=not show, leave=False)
+
+
+@contextlib.contextmanager
+def still_working(desc: str, *, after: float = 2.0, every: float = 10.0,
+                  enabled: bool | None = None) -> Iterator[Callable[[str], None]]:
+    """Long work without natural steps (eigen-blocks, hyperplane enumeration): after ``after``
+    seconds, a line on stderr every ``every`` seconds naming ``desc``, the current stage and the
+    elapsed time.  Shown when ``enabled``, or (``None``) when stderr is a terminal.  Yields a
+    function that sets the stage."""
+    show = sys.stderr.isatty() if enabled is None else enabled
+    stage = [""]
+    done = threading.Event()
+    start = time.monotonic()
+
+    def report() -> None:
+        wait = after
+        while not done.wait(wait):
+            what = f" ({stage[0]})" if stage[0] else ""
+            print(f"{desc}: still working{what}, {time.monotonic() - start:.0f} s", file=sys.stderr, flush=True)
+            wait = every
+
+    thread = threading.Thread(target=report, daemon=True) if show else None
+    if thread is not None:
+        thread.start()
+    try:
+        yield lambda text: stage.__setitem__(0, text)
+    finally:
+        done.set()
+        if thread is not None:
+            thread.join()
