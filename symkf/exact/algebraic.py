@@ -47,7 +47,7 @@ def fmpz_to_sympy(poly: flint.fmpz_poly) -> sp.Poly:
 
 def sympy_to_fmpz(poly: Any) -> flint.fmpz_poly:
     """A rational sympy polynomial in ``x`` as a flint integer one (denominators cleared, leading coefficient > 0)."""
-    p = poly if isinstance(poly, sp.Poly) else sp.Poly(poly, x)
+    p = poly if isinstance(poly, sp.Poly) else sp.Poly(sympify(poly, "poly"), x)
     _, p = p.clear_denoms()
     out = flint.fmpz_poly([int(c) for c in reversed(p.all_coeffs())])
     return out if out.leading_coefficient() > 0 else -out

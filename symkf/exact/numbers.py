@@ -185,8 +185,8 @@ class _Parser:
         if arg.expr.free_symbols:
             return _Num(fn(arg.expr), arg.gens, arg.depth)
         unit = sp.pi * sp.I if name == "exp" else sp.pi
-        r = sp.nsimplify(arg.expr / unit) if arg.expr.has(sp.pi) else None
-        if r is None or not r.is_Rational:
+        r = sp.expand(arg.expr / unit)
+        if not r.is_Rational:
             raise self.fail(f"the argument of {name} must be a rational multiple of "
                             f"{'pi*I' if name == 'exp' else 'pi'}, got {arg.expr}")
         budget.check("max_angle_denominator", r.q, self.entry, f"the denominator of the angle in {self.text!r}")
