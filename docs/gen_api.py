@@ -27,7 +27,8 @@ if str(ROOT) not in sys.path:
 #: the public modules, in reading order (model and losses first, the engine, simulation, tooling, papers)
 MODULES = ("model", "losses", "spectral", "observability", "decay", "stability", "region", "second_order",
            "montecarlo", "filtering", "verify", "sweep", "progress", "families", "tables", "plots", "strategies",
-           "files", "errors", "capacity", "fusion", "network", "exact.algebraic")
+           "files", "budget", "output", "errors", "capacity", "fusion", "network", "exact.numbers",
+           "exact.algebraic")
 MISSING = "*(no docstring)*"
 
 HEADER = """# symkf API reference

@@ -25,7 +25,8 @@ class InputError(SymkfError, ValueError):
 
 
 class InexactInputError(InputError):
-    """A Python float reached an exact path (pass ``rationalize=True`` to convert)."""
+    """A binary float that is not exactly its printed decimal reached an exact path (pass
+    ``rationalize=True`` or ``rationalize="nearby"`` to the constructor to convert it)."""
 
 
 class BudgetError(InputError):
