@@ -40,10 +40,12 @@ class Limits:
     max_digits: int = 1000
     #: rows or columns of a matrix (state dimension n, measurement channels)
     max_dimension: int = 16
-    #: sensors d of a system or loss model (the loss chain has up to 2^d states)
-    max_sensors: int = 16
-    #: states of a (lifted) loss or network Markov chain
-    max_markov_states: int = 4096
+    #: sensors d of a system or loss model (an i.i.d. or Gilbert-Elliott chain has 2^d states;
+    #: 10 i.i.d. sensors take about 6 s, 12 exhaust 2 GB)
+    max_sensors: int = 10
+    #: states of a joint (lifted) Markov loss chain: the exact engine's work grows with their
+    #: square (64 states: about 9 s, 128: 30 s, 256: past 60 CPU-s)
+    max_markov_states: int = 128
     #: members of a family file
     max_members: int = 2000
     #: bytes of the float64 arrays of one Monte Carlo run (paths x horizon x n^2 x 8)

@@ -95,12 +95,7 @@ class LossModel:
 
     @cached_property
     def chain(self) -> LossChain:
-        budget.check("max_markov_states", self._chain_size(), type(self).__name__, "the number of chain states")
         return self._build_chain()
-
-    def _chain_size(self) -> int:
-        """The number of states :meth:`_build_chain` will make (checked before it runs)."""
-        return 2 ** self.d
 
     def _build_chain(self) -> LossChain:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -282,9 +277,6 @@ class MarkovLoss(LossModel):
             raise InputError("initial: expected a mapping window -> probability")
         self._initial = None if initial is None else {
             k: _probability(p, f"initial[{k!r}]", rationalize) for k, p in initial.items()}
-
-    def _chain_size(self) -> int:
-        return len(self.vectors) ** self.order
 
     def _build_chain(self) -> LossChain:
         windows = tuple(itertools.product(self.vectors, repeat=self.order))

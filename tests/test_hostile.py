@@ -7,6 +7,7 @@ assert that it never exists and that the entry point answers with symkf's InputE
 from __future__ import annotations
 
 import importlib
+import itertools
 import inspect
 import pkgutil
 import signal
@@ -292,7 +293,9 @@ def test_sympy_input_is_budgeted_too():
     (lambda: sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]]) for _ in range(20)]), "--max-sensors"),
     (lambda: sk.System(A=[[1 if i == j else 0 for j in range(1000)] for i in range(1000)],
                        sensors=[sk.Sensor(C=[[1] * 1000])]), "--max-dimension"),
-    (lambda: sk.IID(["1/2"] * 13).chain, "--max-markov-states"),
+    (lambda: sk.IID(["1/2"] * 11), "--max-sensors"),
+    (lambda: sk.MarkovLoss({h: {(0,): "1/2", (1,): "1/2"} for h in itertools.product([(0,), (1,)], repeat=8)},
+                           order=8), "--max-markov-states"),
 ])
 def test_large_inputs_refused_early(build, option):
     with pytest.raises(BudgetError, match=option):
