@@ -449,7 +449,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         _cap_jobs(args, command.name)
         with warnings.catch_warnings(record=True) as caught, budget.limits(**_caps(args)), \
-                still_working(f"symkf {command.name}"):
+                still_working(f"symkf {command.name}", enabled=False if getattr(args, "quiet", False) else None):
             warnings.simplefilter("always")
             res = command.run(args)
         # notes for the user (e.g. a float taken as a rational) in one line each; numerical

@@ -6,7 +6,7 @@ import contextlib
 import sys
 import threading
 import time
-from typing import Callable, Iterator
+from typing import Iterator
 
 from tqdm import tqdm
 
@@ -20,28 +20,25 @@ def progress(total: int, desc: str, *, enabled: bool | None = None) -> tqdm:
 
 @contextlib.contextmanager
 def still_working(desc: str, *, after: float = 2.0, every: float = 10.0,
-                  enabled: bool | None = None) -> Iterator[Callable[[str], None]]:
+                  enabled: bool | None = None) -> Iterator[None]:
     """Long work without natural steps (eigen-blocks, hyperplane enumeration): after ``after``
-    seconds, a line on stderr every ``every`` seconds naming ``desc``, the current stage and the
-    elapsed time.  Shown when ``enabled``, or (``None``) when stderr is a terminal.  Yields a
-    function that sets the stage."""
+    seconds, a line on stderr every ``every`` seconds naming ``desc`` and the elapsed time.
+    Shown when ``enabled``, or (``None``) when stderr is a terminal."""
     show = sys.stderr.isatty() if enabled is None else enabled
-    stage = [""]
     done = threading.Event()
     start = time.monotonic()
 
     def report() -> None:
         wait = after
         while not done.wait(wait):
-            what = f" ({stage[0]})" if stage[0] else ""
-            print(f"{desc}: still working{what}, {time.monotonic() - start:.0f} s", file=sys.stderr, flush=True)
+            print(f"{desc}: still working, {time.monotonic() - start:.0f} s", file=sys.stderr, flush=True)
             wait = every
 
     thread = threading.Thread(target=report, daemon=True) if show else None
     if thread is not None:
         thread.start()
     try:
-        yield lambda text: stage.__setitem__(0, text)
+        yield
     finally:
         done.set()
         if thread is not None:

@@ -102,3 +102,14 @@ def test_ctrl_c_is_one_line_and_exit_130():
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == 130 and err == "symkf simulate: interrupted\n" and out == ""
+
+
+def test_still_working_notes_on_stderr_and_silenceable(capsys):
+    from symkf.progress import still_working
+    with still_working("symkf analyze", after=0.05, every=0.05, enabled=True):
+        time.sleep(0.3)
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) >= 2 and all(line.startswith("symkf analyze: still working, ") for line in lines)
+    with still_working("symkf analyze", after=0.01, every=0.01, enabled=False):
+        time.sleep(0.1)
+    assert capsys.readouterr().err == ""
