@@ -317,3 +317,15 @@ def test_not_algebraic_loss_is_an_input_error():
 
 def test_symbol_errors_are_symkf_errors():
     assert issubclass(BudgetError, SymkfError)
+
+
+def test_field_of_a_matrix_is_budgeted():
+    """Six distinct square roots on a diagonal: each entry has degree 2, the field of the entries
+    2^6 = 64, its eigen-extension bound 6 * 64 = 384 > 64.  A rotation by pi/7 (cos and sin in
+    Q(zeta_28), phi(28) = 12) has bound 2 * 12 = 24 and passes."""
+    primes = (2, 3, 5, 7, 11, 13)
+    with pytest.raises(BudgetError, match="is 384, above the cap 64"):
+        sk.System([[f"sqrt({p})" if i == j else 0 for j in range(6)] for i, p in enumerate(primes)],
+                  [sk.Sensor([[1] * 6])])
+    S = sk.System([["2*cos(pi/7)", "-2*sin(pi/7)"], ["2*sin(pi/7)", "2*cos(pi/7)"]], [sk.Sensor([[1, 0]])])
+    assert S.n == 2
