@@ -329,3 +329,13 @@ def test_field_of_a_matrix_is_budgeted():
                   [sk.Sensor([[1] * 6])])
     S = sk.System([["2*cos(pi/7)", "-2*sin(pi/7)"], ["2*sin(pi/7)", "2*cos(pi/7)"]], [sk.Sensor([[1, 0]])])
     assert S.n == 2
+
+
+def test_family_members_budgeted(tmp_path):
+    """A family of 10^4 members is refused when read, before any member is built."""
+    from symkf.families import load_family
+    path = tmp_path / "big.toml"
+    path.write_text('[family]\n[grid]\na = { from = 1, to = 1000 }\nb = { from = 1, to = 10 }\n'
+                    '[system]\nA = [["a", "b"], ["0", "2"]]\n[[sensors]]\nC = [["1", "1"]]\n')
+    with pytest.raises(BudgetError, match="number of family members is 10000, above the cap 2000.*--max-members"):
+        load_family(path)

@@ -151,3 +151,14 @@ def test_the_limits_are_real():
     reports it as an untranslated MemoryError), so a real blow-up cannot reach the machine."""
     code, err = limited(library, lambda: bytearray(4 * 1024 ** 3))
     assert code == 70 and "MemoryError" in err
+
+
+def test_raised_digit_cap_serves_beyond_pythons_int_limit(tmp_path):
+    """--digits 100000 was exit 70 (Python's 4300-digit int <-> str limit); above the default cap it
+    is refused, and with --max-digits raised 5000 digits are served: A = [cbrt(3)] has the
+    irrational critical rate 3^(-2/3), whose isolating interval at 10^-5002 has endpoints of
+    about 19700 characters (the conversion limit follows the cap)."""
+    path = tmp_path / "cube.toml"
+    path.write_text('[system]\nA = [["root(3, 3)"]]\n[[sensors]]\nC = [["1"]]\n')
+    code, err = limited(cli.main, ["critical", str(path), "--digits", "5000", "--max-digits", "6000", "--json"])
+    assert code == 0, err
