@@ -93,7 +93,6 @@ def _entry_points():
         "IID.subs value": lambda p: sk.IID(["e"]).subs({"e": p}),
         "IID.subs key": lambda p: sk.IID(["e"]).subs({p: "1/2"}),
         "AlgebraicNumber.from_expr": lambda p: sk.AlgebraicNumber.from_expr(p),
-        "AlgebraicNumber ==": lambda p: sk.AlgebraicNumber.from_expr(2) < p,
         "critical_loss_rate others": lambda p: sk.critical_loss_rate(S, "s1", others=["1/2", p]),
     }
 

@@ -16,8 +16,8 @@ import pytest
 from symkf import cli
 
 ROOT = Path(__file__).resolve().parent.parent
-FAMILY = ROOT / "examples" / "families" / "rotation-periods.toml"
-SYSTEM = ROOT / "examples" / "systems" / "design-rotation.toml"
+#: A = 2 R(pi/2) watched by [1 0] with i.i.d. loss 1/2
+SYSTEM_TEXT = '[system]\nA = [[0, -2], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n[loss]\nloss = ["1/2"]\n'
 
 
 def run(capsys, *argv) -> tuple[int, str, str]:
@@ -76,27 +76,34 @@ def test_failed_write_keeps_the_old_file(tmp_path, family):
     assert out.read_text() == "old" and sorted(p.name for p in tmp_path.iterdir()) == ["fam.toml", "out.tex"]
 
 
-def test_plot_written_to_the_path_reported(capsys, tmp_path):
+@pytest.fixture
+def system(tmp_path):
+    path = tmp_path / "system.toml"
+    path.write_text(SYSTEM_TEXT)
+    return path
+
+
+def test_plot_written_to_the_path_reported(capsys, tmp_path, system):
     pytest.importorskip("matplotlib")
     target = tmp_path / "plot_noext"
-    status, out, _ = run(capsys, "simulate", SYSTEM, "--paths", "20", "--horizon", "5", "--plot", target, "--json")
+    status, out, _ = run(capsys, "simulate", system, "--paths", "20", "--horizon", "5", "--plot", target, "--json")
     assert status == 0 and json.loads(out)["plot"] == str(target)
     assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and not (tmp_path / "plot_noext.png").exists()
 
 
-def test_jobs_capped_at_the_cpu_count(capsys, monkeypatch):
+def test_jobs_capped_at_the_cpu_count(capsys, monkeypatch, family):
     seen = {}
     import symkf.tables as tables
     monkeypatch.setattr(tables, "family_table", lambda path, jobs, scheduler: seen.setdefault("jobs", jobs) and 1/0)
-    run(capsys, "table", FAMILY, "--jobs", "1000")
+    run(capsys, "table", family, "--jobs", "1000")
     assert seen["jobs"] == len(os.sched_getaffinity(0))
     seen.clear()
-    run(capsys, "table", FAMILY, "--jobs", "1000", "--oversubscribe")
+    run(capsys, "table", family, "--jobs", "1000", "--oversubscribe")
     assert seen["jobs"] == 1000
 
 
-def test_ctrl_c_is_one_line_and_exit_130():
-    proc = subprocess.Popen([sys.executable, "-m", "symkf", "simulate", str(SYSTEM), "--paths", "600000",
+def test_ctrl_c_is_one_line_and_exit_130(system):
+    proc = subprocess.Popen([sys.executable, "-m", "symkf", "simulate", str(system), "--paths", "600000",
                              "--horizon", "100"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
     time.sleep(4)
     proc.send_signal(signal.SIGINT)
