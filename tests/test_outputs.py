@@ -120,3 +120,18 @@ def test_still_working_notes_on_stderr_and_silenceable(capsys):
     with still_working("symkf analyze", after=0.01, every=0.01, enabled=False):
         time.sleep(0.1)
     assert capsys.readouterr().err == ""
+
+
+@pytest.mark.parametrize("command", ["table", "analyze", "verify"])
+def test_unreadable_input_is_exit_2(capsys, monkeypatch, family, command):
+    """An unreadable file (PermissionError; simulated, the tests may run as root) was exit 70 in
+    ``table``: every reader goes through files.read_toml."""
+    real_open = Path.open
+
+    def deny(self, *args, **kwargs):
+        if self == family:
+            raise PermissionError(13, "Permission denied")
+        return real_open(self, *args, **kwargs)
+    monkeypatch.setattr(Path, "open", deny)
+    status, out, err = run(capsys, command, family)
+    assert status == 2 and out == "" and "cannot read (Permission denied)" in err and err.count("\n") == 1
