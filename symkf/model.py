@@ -30,7 +30,7 @@ def _compare_periods(A: sp.MatrixBase, decimal_A: Any) -> str:
         exact, decimal = periods(A), periods(decimal_A())
     except SymkfError as exc:
         return f"governing periods not compared ({exc})"
-    verdict = "they DIFFER: the critical values do too" if exact != decimal else "the same"
+    verdict = "they DIFFER, so the critical values may too" if exact != decimal else "the same"
     return (f"governing periods of A: {exact} with the recognised constants, {decimal} with the plain "
             f"decimals ({verdict}; None = aperiodic)")
 

@@ -91,7 +91,7 @@ def test_nearby_constants_recognise_a_float_rotation_with_one_warning():
     assert len(caught) == 1
     message = str(caught[0].message)
     assert "4 float(s) rationalized" in message and "3*sqrt(3)/4" in message
-    assert "(6,) with the recognised constants, (None,) with the plain decimals (they DIFFER" in message
+    assert "(6,) with the recognised constants, (None,) with the plain decimals (they DIFFER, so the critical values may too" in message
     exact = sk.System([[R(3, 4) * sp.sqrt(3), R(-3, 4)], [R(3, 4), R(3, 4) * sp.sqrt(3)]], [sk.Sensor(C=[[1, 0]])])
     assert S.A == exact.A
     assert sk.critical_loss_rate(S) == sk.critical_loss_rate(exact)
