@@ -1,7 +1,9 @@
 """The ``symkf`` command: plain text for people, ``--json`` for machines.
 
 Exit status 0 on success, 2 on bad input or usage (one line, no traceback),
-3 when a theorem's assumptions fail for the given system.
+3 when a theorem's assumptions fail for the given system, 130 when interrupted (Ctrl-C).
+Output files are checked before any work and written atomically (:mod:`symkf.output`); the
+resource caps of :mod:`symkf.budget` are raised with ``--max-degree`` and friends.
 """
 
 from __future__ import annotations
@@ -17,8 +19,9 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
 
 
-from . import __version__
+from . import __version__, budget, output
 from .errors import SymkfError
+from .progress import still_working
 
 if TYPE_CHECKING:
     from .exact.algebraic import AlgebraicNumber
@@ -43,6 +46,8 @@ SCHEMA_VERSION = 1
 
 #: exit status of an unexpected exception (a symkf bug), distinct from bad input (2)
 INTERNAL_ERROR = 70
+#: exit status after Ctrl-C (128 + SIGINT, as shells report it)
+INTERRUPTED = 130
 
 
 class UsageError(SymkfError):
@@ -193,6 +198,7 @@ def cmd_critical(args: argparse.Namespace) -> dict[str, Any]:
     if kind not in VARY or (kind == "sensor") != bool(value):
         choices = ", ".join(k + "=NAME" if k == "sensor" else k for k in VARY)
         raise UsageError(f"--vary {args.vary!r}: expected {choices}")
+    budget.check("max_digits", args.digits, "--digits", "the number of digits asked for")
     system, loss = files.load(args.file)
     key, exact, how = VARY[kind](system, loss, value, args.file)
     return {key: _number(exact, args.digits), "varied": how,
@@ -204,7 +210,14 @@ def _needs_loss(args: argparse.Namespace) -> tuple[Any, Any]:
     system, loss = files.load(args.file)
     if loss is None:
         raise UsageError(f"{args.file}: key 'loss' missing; {args.command} needs a [loss] table")
+    _check_simulation_memory(args, system.n)
     return system, loss
+
+
+def _check_simulation_memory(args: argparse.Namespace, n: int) -> None:
+    """--paths x --horizon x n^2 float64 values: refused before numpy tries to allocate them."""
+    budget.check("max_memory", 8 * args.paths * args.horizon * n * n, "--paths x --horizon",
+                 f"the bytes of a simulation of {args.paths} paths, {args.horizon} steps, n = {n}")
 
 
 def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
@@ -223,7 +236,9 @@ def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
 
 def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
     """``--jobs`` and ``--scheduler``: how the members of a family are evaluated (symkf.sweep)."""
-    p.add_argument("--jobs", type=_positive_int, default=1, help=f"{scope}local worker processes (default 1)")
+    p.add_argument("--jobs", type=_positive_int, default=1,
+                   help=f"{scope}local worker processes (default 1; at most the CPU count unless --oversubscribe)")
+    p.add_argument("--oversubscribe", action="store_true", help=f"{scope}allow --jobs above the CPU count")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help=f"{scope}a Dask distributed scheduler (tcp://host:port); needs the dask extra")
 
@@ -243,9 +258,11 @@ def _mean_trace_rows(est: Any, points: int = 8) -> list[dict[str, Any]]:
 
 def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
     from .montecarlo import estimate_mean_trace
+    target = None
     if args.plot:
         from .plots import require_matplotlib
         require_matplotlib()
+        target = output.plan(args.plot, "--plot", inputs=[args.file], force=args.force)
     system, loss = _needs_loss(args)
     est = estimate_mean_trace(system, loss, args.horizon, args.paths, seed=args.seed)
     res: dict[str, Any] = {
@@ -253,10 +270,10 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
         "method": "plain Monte Carlo (estimate_mean_trace)", "horizon": est.horizon, "paths": est.paths,
         "seed": est.seed, "confidence": est.confidence, "summary": _mean_trace_rows(est),
         "mean": est.mean.tolist(), "low": est.low.tolist(), "high": est.high.tolist()}
-    if args.plot:
+    if target is not None:
         from .plots import mean_trace_figure
-        mean_trace_figure(system, loss, est, path=args.plot)
-        res["plot"] = str(args.plot)
+        fig = mean_trace_figure(system, loss, est)
+        res["plot"] = str(target.write(lambda f: fig.savefig(f, format=target.image_format, dpi=110)))
     return res
 
 
@@ -275,7 +292,8 @@ def cmd_reproduce(args: argparse.Namespace) -> dict[str, Any]:
     if args.name is None:
         raise UsageError("give an example name or --list")
     fn, kwargs = resolve_reproduce(args.name)
-    return fn(args.outdir, **(kwargs if args.quick else {}))
+    outdir = None if args.outdir is None else str(output.plan_directory(args.outdir, "--outdir"))
+    return fn(outdir, **(kwargs if args.quick else {}))
 
 
 def resolve_reproduce(name: str) -> tuple[Callable[..., dict], dict[str, Any]]:
@@ -313,23 +331,30 @@ def _args_simulation(p: argparse.ArgumentParser, horizon: int | None, paths: int
 
 def _args_simulate(p: argparse.ArgumentParser) -> None:
     _args_simulation(p, None, None)
-    p.add_argument("--plot", default=None, metavar="OUT.png", help="write E[tr P_k] against k (needs the plot extra)")
+    p.add_argument("--plot", default=None, metavar="OUT.png", help="write E[tr P_k] against k (needs the plot "
+                   "extra); PNG unless the extension names another image format")
+    _args_force(p)
+
+
+def _args_force(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--force", action="store_true", help="replace an existing output file (never an input file)")
 
 
 def _args_reproduce(p: argparse.ArgumentParser) -> None:
     p.add_argument("name", nargs="?")
     p.add_argument("--list", action="store_true", help="list the example names")
-    p.add_argument("--outdir", default=None, help="directory for figures")
+    p.add_argument("--outdir", default=None, help="directory for figures (created if missing; the "
+                   "example's own figure files in it are replaced)")
     p.add_argument("--quick", action="store_true", help="small sample sizes (a smoke run, not the paper's)")
 
 
 def cmd_table(args: argparse.Namespace) -> dict[str, Any]:
     from . import tables
+    target = output.plan(args.latex, "--latex", inputs=[args.file], force=args.force) if args.latex else None
     table = tables.family_table(args.file, jobs=args.jobs, scheduler=args.scheduler)
     res: dict[str, Any] = {"family": str(args.file), **table.to_json(), "_text": str(table)}
-    if args.latex:
-        table.write(args.latex)
-        res["latex"] = str(args.latex)
+    if target is not None:
+        res["latex"] = str(target.write_text(table.to_latex()))
     return res
 
 
@@ -342,6 +367,7 @@ def _print_table(res: dict[str, Any]) -> None:
 def _args_table(p: argparse.ArgumentParser) -> None:
     p.add_argument("file", metavar="FAMILY.toml")
     p.add_argument("--latex", default=None, metavar="OUT.tex", help="write the booktabs table here")
+    _args_force(p)
     _args_sweep(p)
 
 
@@ -353,14 +379,38 @@ def _nonnegative_int(text: str) -> int:
     return _bounded_int(text, 0)
 
 
-def _bounded_int(text: str, low: int) -> int:
+def _bounded_int(text: str, low: int, high: int = 10 ** 9) -> int:
     try:
-        value = int(text)
+        value = int(text) if len(text) <= 20 else None
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
-    if value < low or value > 10 ** 9:
-        raise argparse.ArgumentTypeError(f"expected an integer in [{low}, 10^9], got {value}")
+        value = None
+    if value is None:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text[:40]!r}")
+    if value < low or value > high:
+        raise argparse.ArgumentTypeError(f"expected an integer in [{low}, {high:.0e}], got {value}")
     return value
+
+
+def _args_caps(p: argparse.ArgumentParser) -> None:
+    """The caps of :mod:`symkf.budget`, one option each (documented there)."""
+    group = p.add_argument_group("resource caps (symkf.budget; an input above one is refused at once)")
+    for name, option in budget.OPTIONS.items():
+        group.add_argument(option, dest=f"cap_{name}", type=lambda t: _bounded_int(t, 1, 10 ** 15), default=None,
+                           metavar="N", help=f"default {getattr(budget.Limits, name)}")
+
+
+def _caps(args: argparse.Namespace) -> dict[str, int]:
+    return {name: getattr(args, f"cap_{name}") for name in budget.OPTIONS
+            if getattr(args, f"cap_{name}", None) is not None}
+
+
+def _cap_jobs(args: argparse.Namespace, command: str) -> None:
+    """--jobs beyond the CPU count only slows a shared machine down: capped unless --oversubscribe."""
+    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    if getattr(args, "jobs", 1) > cpus and not args.oversubscribe:
+        print(f"symkf {command}: note: --jobs {args.jobs} capped at the {cpus} available CPU(s) "
+              "(pass --oversubscribe to keep it)", file=sys.stderr)
+        args.jobs = cpus
 
 
 register(Command("demo", "eigen-blocks, periods and critical loss rates of the example systems",
@@ -400,6 +450,7 @@ def _parser() -> argparse.ArgumentParser:
         c.configure(s)
         s.add_argument("--json", action="store_true", help="machine-readable output")
         s.add_argument("--quiet", action="store_true", help="no progress bars (as TQDM_DISABLE=1)")
+        _args_caps(s)
         s.set_defaults(command_spec=c)
     return p
 
@@ -427,7 +478,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exc.code if isinstance(exc.code, int) else 2
     command: Command = args.command_spec
     try:
-        with warnings.catch_warnings(record=True) as caught, _quiet(args.quiet):
+        _cap_jobs(args, command.name)
+        with warnings.catch_warnings(record=True) as caught, _quiet(args.quiet), budget.limits(**_caps(args)), \
+                still_working(f"symkf {command.name}", enabled=False if args.quiet else None):
             warnings.simplefilter("always")
             res = command.run(args)
         # notes for the user (e.g. a float taken as a rational) in one line each; numerical
@@ -440,6 +493,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exc.exit_status
     except RecursionError:
         print(f"symkf {command.name}: input too deeply nested", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"symkf {command.name}: interrupted", file=sys.stderr)
+        return INTERRUPTED
+    except MemoryError:  # an estimate let through work that did not fit: input, not a bug
+        print(f"symkf {command.name}: out of memory; lower the input's size or the caps of symkf.budget",
+              file=sys.stderr)
         return 2
     except Exception as exc:  # a bug, not bad input: one line and a status of its own
         print(f"symkf {command.name}: internal error ({type(exc).__name__}: {_one_line(exc)}); "

@@ -28,7 +28,16 @@ class InputError(SymkfError, ValueError):
 
 
 class InexactInputError(InputError):
-    """A Python float reached an exact path (pass ``rationalize=True`` to convert)."""
+    """A binary float that is not exactly its printed decimal reached an exact path (pass
+    ``rationalize=True`` or ``rationalize="nearby"`` to the constructor to convert it)."""
+
+
+class BudgetError(InputError):
+    """An input would exceed a resource cap (symkf.budget); the message names the option raising it."""
+
+
+class OutputError(InputError):
+    """An output path cannot be written safely (missing directory, an input file, exists without --force)."""
 
 
 class ShapeError(InputError):

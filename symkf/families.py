@@ -33,18 +33,19 @@ Bad files raise :class:`~symkf.errors.FileFormatError` (or another
 from __future__ import annotations
 
 import itertools
+import math
 import re
-import tomllib
 from dataclasses import dataclass
+from decimal import Decimal
 from pathlib import Path
 from typing import Any, Sequence
 
 import sympy as sp
 
-from . import files
+from . import budget, files
 from .errors import AssumptionError, FileFormatError, SymkfError
 from .exact.algebraic import AlgebraicNumber
-from .exact.numbers import _ALLOWED_NAMES, _parse_string, to_exact
+from .exact.numbers import RESERVED, parse_exact, to_exact
 from .model import System
 from .observability import block_rows
 from .stability import Verdict, critical_loss_rate, stability
@@ -145,12 +146,7 @@ def _fail(path: Path, message: str) -> FileFormatError:
 def load_family(path: str | Path) -> Family:
     """Read and validate a family file; members are built (and checked) when evaluated."""
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise _fail(path, "no such file") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise _fail(path, f"not valid TOML ({exc})") from None
+    data = files.read_toml(path)
     fam = data.get("family")
     if not isinstance(fam, dict):
         raise _fail(path, "missing table [family] (a family file needs [family] and [grid])")
@@ -189,6 +185,7 @@ def load_family(path: str | Path) -> Family:
         if key != "sensors" and not any(re.search(rf"\b{key}\b", s) for s in used):
             raise _fail(path, f"parameter {key!r} appears in no entry of [system], [[sensors]] or [loss]")
 
+    budget.check("max_members", math.prod(len(a.values) for a in axes), str(path), "the number of family members")
     members = []
     for combo in itertools.product(*[range(len(a.values)) for a in axes]):
         texts = dict(fixed)
@@ -214,9 +211,9 @@ def _text(table: dict, key: str, path: Path, default: str) -> str:
 
 
 def _check_name(key: str, path: Path, where: str) -> None:
-    if not _NAME.match(key) or key in _ALLOWED_NAMES:
+    if not _NAME.match(key) or key in RESERVED:
         raise _fail(path, f"{where}: parameter name {key!r} must be an identifier other than "
-                          f"{', '.join(sorted(_ALLOWED_NAMES))}")
+                          f"{', '.join(sorted(RESERVED))}")
 
 
 def _value_text(key: str, value: Any, entry: str, path: Path, rationalize: bool) -> tuple[sp.Expr, str]:
@@ -232,11 +229,11 @@ def _value_text(key: str, value: Any, entry: str, path: Path, rationalize: bool)
         return sp.Integer(value), str(value)
     try:
         if isinstance(value, str):
-            exact = _parse_string(value, entry, False)
+            exact = parse_exact(value, entry)
             if exact.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
                 raise _fail(path, f"{entry}: {value!r} is not a finite number")
             return exact, value
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
+        if isinstance(value, (int, float, Decimal)) and not isinstance(value, bool):
             exact = to_exact(value, entry, rationalize=rationalize)
             return exact, str(exact)
     except SymkfError as exc:

@@ -3,8 +3,11 @@
 A system file holds ``[system]`` (``A``, optional ``Q``, ``P0``, ``name``), a list
 ``[[sensors]]`` (``C``, optional ``R``, ``name``) and an optional ``[loss]`` table whose
 ``kind`` selects the loss model; :data:`KEYS` lists the keys each table may hold.
-Numbers are strings taken exactly ("5/4", "sqrt(3)/2") or integers; a float is refused
-unless the file says ``rationalize = true``; symbols are refused (a file gives numbers).
+Numbers are integers, decimals (TOML ``0.1`` is exactly 1/10: the file's text is read, never
+a binary float) or strings read by :func:`symkf.exact.numbers.parse_exact` ("5/4",
+"sqrt(3)/2"); symbols are refused (a file gives numbers).  ``rationalize = true`` is accepted
+for older files and changes nothing.  A file larger than ``symkf.budget`` ``max_file_size``
+(1 MiB, option ``--max-file-size``) is refused before it is parsed.
 
 * ``kind = "iid"``: ``loss = [...]``, one loss probability per sensor (:class:`~symkf.losses.IID`);
 * ``kind = "gilbert-elliott"``: ``fail = [...]``, ``recover = [...]``
@@ -37,9 +40,11 @@ from __future__ import annotations
 import itertools
 import re
 import tomllib
+from decimal import Decimal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
+from . import budget
 from .errors import FileFormatError, SymkfError
 from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel, MarkovLoss
@@ -96,15 +101,25 @@ def _exact(value: Any, entry: str, rationalize: bool, start: int = 0) -> Any:
         raise FileFormatError(str(exc)) from None
 
 
-def _read(path: str | Path) -> dict:
+def read_toml(path: str | Path) -> dict:
+    """The TOML document at ``path``, decimals as :class:`~decimal.Decimal` (exact); at most
+    ``max_file_size`` bytes are read (``/dev/zero`` or a huge file is refused, not exhausted)."""
     path = Path(path)
+    cap = budget.LIMITS.max_file_size
     try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
+        if path.is_dir():
+            raise FileFormatError(f"{path}: is a directory, not a TOML file")
+        with path.open("rb") as f:
+            raw = f.read(cap + 1)
+        budget.check("max_file_size", len(raw), str(path), "the size in bytes (at least)")
+        return tomllib.loads(raw.decode("utf-8"), parse_float=Decimal)
     except FileNotFoundError:
         raise FileFormatError(f"{path}: no such file") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise FileFormatError(f"{path}: not valid TOML ({exc})") from None
     except ValueError as exc:  # e.g. an integer beyond Python's digit limit for str -> int
+        if isinstance(exc, SymkfError):
+            raise
         raise FileFormatError(f"{path}: not a usable TOML file ({exc})") from None
     except OSError as exc:
         raise FileFormatError(f"{path}: cannot read ({exc.strerror or type(exc).__name__})") from None
@@ -112,7 +127,7 @@ def _read(path: str | Path) -> dict:
 
 def load(path: str | Path) -> tuple[System, LossModel | None]:
     """Read a system file; returns the system and its loss model (None when absent)."""
-    return parse(_read(path), str(path))
+    return parse(read_toml(path), str(path))
 
 
 def _rationalize(data: dict, source: str) -> bool:
@@ -303,7 +318,7 @@ LOSS_KINDS: dict[str, Callable[[dict, str, System, bool], LossModel]] = {
 
 def load_fusion(path: str | Path) -> "FusionModel":
     """Read a fusion file (arXiv:2012.04896): ``[fusion]`` and ``[[sensors]]``, see the module docstring."""
-    return parse_fusion(_read(path), str(path))
+    return parse_fusion(read_toml(path), str(path))
 
 
 def parse_fusion(data: dict, source: str) -> "FusionModel":

@@ -16,9 +16,10 @@ from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
 import sympy as sp
 
+from . import budget
 from .errors import AssumptionError, InputError, ProbabilityError
 from .exact.algebraic import sign
-from .exact.numbers import to_exact
+from .exact.numbers import rationalization, substitution, to_exact
 
 if TYPE_CHECKING:
     import numpy as np
@@ -26,8 +27,8 @@ if TYPE_CHECKING:
 Vector = tuple[int, ...]
 
 
-def _probability(value: Any, entry: str) -> sp.Expr:
-    p = to_exact(value, entry, symbols=True)
+def _probability(value: Any, entry: str, rationalize: bool | str = False) -> sp.Expr:
+    p = to_exact(value, entry, symbols=True, rationalize=rationalize)
     if not p.free_symbols:
         if not p.is_real:
             raise ProbabilityError(f"{entry}: {p} is not real")
@@ -36,10 +37,14 @@ def _probability(value: Any, entry: str) -> sp.Expr:
     return p
 
 
-def _probabilities(values: Any, entry: str) -> tuple[sp.Expr, ...]:
+def _probabilities(values: Any, entry: str, rationalize: bool | str = False) -> tuple[sp.Expr, ...]:
     if isinstance(values, (str, bytes)) or not isinstance(values, Iterable):
         raise InputError(f"{entry}: expected a list with one probability per sensor")
-    out = tuple(_probability(v, f"{entry}[{i}]") for i, v in enumerate(values))
+    if hasattr(values, "tolist"):  # a numpy array: its scalars as Python numbers
+        values = values.tolist()
+    values = list(values)
+    budget.check("max_sensors", len(values), entry, "the number of sensors")
+    out = tuple(_probability(v, f"{entry}[{i}]", rationalize) for i, v in enumerate(values))
     if not out:
         raise InputError(f"{entry}: the list is empty; give one probability per sensor")
     return out
@@ -134,8 +139,9 @@ class LossModel:
 class IID(LossModel):
     """Independent Bernoulli losses: sensor ``i`` loses each packet with probability ``loss[i]``."""
 
-    def __init__(self, loss: Sequence[Any]):
-        self.loss = _probabilities(loss, "loss")
+    def __init__(self, loss: Sequence[Any], *, rationalize: bool | str = False):
+        with rationalization("IID"):
+            self.loss = _probabilities(loss, "loss", rationalize)
         self.d = len(self.loss)
 
     @property
@@ -154,7 +160,8 @@ class IID(LossModel):
         return None
 
     def subs(self, values: Mapping[Any, Any]) -> "IID":
-        return IID([sp.sympify(e).subs(values) for e in self.loss])
+        values = substitution(values, "subs", self.symbols)
+        return IID([e.subs(values) for e in self.loss])
 
     def __repr__(self) -> str:
         return f"IID(loss={[str(e) for e in self.loss]})"
@@ -169,9 +176,12 @@ class GilbertElliott(LossModel):
     """
 
     def __init__(self, fail: Sequence[Any], recover: Sequence[Any],
-                 initial_received: Sequence[Any] | None = None):
-        self.fail = _probabilities(fail, "fail")
-        self.recover = _probabilities(recover, "recover")
+                 initial_received: Sequence[Any] | None = None, *, rationalize: bool | str = False):
+        with rationalization("GilbertElliott"):
+            self.fail = _probabilities(fail, "fail", rationalize)
+            self.recover = _probabilities(recover, "recover", rationalize)
+            if initial_received is not None:
+                initial_received = _probabilities(initial_received, "initial_received", rationalize)
         if len(self.fail) != len(self.recover):
             raise InputError(f"recover: {len(self.recover)} values for {len(self.fail)} sensors in fail")
         self.d = len(self.fail)
@@ -198,6 +208,8 @@ class GilbertElliott(LossModel):
         return LossChain(vecs, vecs, sp.ImmutableMatrix(P), sp.ImmutableMatrix([init]))
 
     def subs(self, values: Mapping[Any, Any]) -> "GilbertElliott":
+        values = substitution(values, "subs", self.symbols)
+
         def s(xs):
             return [sp.sympify(x).subs(values) for x in xs]
         return GilbertElliott(s(self.fail), s(self.recover), s(self.initial_received))
@@ -221,7 +233,12 @@ class MarkovLoss(LossModel):
     """
 
     def __init__(self, table: Mapping[Any, Mapping[Any, Any]], order: int = 1,
-                 initial: Mapping[Any, Any] | None = None):
+                 initial: Mapping[Any, Any] | None = None, *, rationalize: bool | str = False):
+        with rationalization("MarkovLoss"):
+            self._read(table, order, initial, rationalize)
+
+    def _read(self, table: Mapping[Any, Mapping[Any, Any]], order: int, initial: Mapping[Any, Any] | None,
+              rationalize: bool | str) -> None:
         if not isinstance(order, int) or order < 1:
             raise InputError(f"order: must be a positive integer, got {order!r}")
         if not isinstance(table, Mapping) or not table:
@@ -240,7 +257,7 @@ class MarkovLoss(LossModel):
                 nxt = tuple(nxt)
                 if len(nxt) != self.d or set(nxt) - {0, 1}:
                     raise InputError(f"table[{key!r}] key {nxt!r}: not a 0/1 vector of length {self.d}")
-                probs[nxt] = _probability(p, f"table[{key!r}][{nxt!r}]")
+                probs[nxt] = _probability(p, f"table[{key!r}][{nxt!r}]", rationalize)
             total = sp.simplify(sum(probs.values()))
             if total != 1:
                 raise ProbabilityError(f"table[{key!r}]: row sums to {total}, not 1")
@@ -248,6 +265,7 @@ class MarkovLoss(LossModel):
         occurring = {v for hist in rows for v in hist}
         vecs = tuple(v for v in itertools.product((1, 0), repeat=self.d) if v in occurring)
         self.vectors = vecs
+        budget.check("max_markov_states", len(vecs) ** order, "MarkovLoss", "the number of histories (chain states)")
         missing = [h for h in itertools.product(vecs, repeat=order) if h not in rows]
         if missing:
             raise InputError(f"table: history {missing[0]!r} is missing ({len(missing)} of "
@@ -258,7 +276,10 @@ class MarkovLoss(LossModel):
                 raise InputError(f"table[{hist!r}] leads to {stray[0]!r}, which no history contains: "
                                  "give its row, or leave it out if it cannot occur")
         self.table = rows
-        self._initial = initial
+        if initial is not None and not isinstance(initial, Mapping):
+            raise InputError("initial: expected a mapping window -> probability")
+        self._initial = None if initial is None else {
+            k: _probability(p, f"initial[{k!r}]", rationalize) for k, p in initial.items()}
 
     def _build_chain(self) -> LossChain:
         windows = tuple(itertools.product(self.vectors, repeat=self.order))
@@ -286,6 +307,7 @@ class MarkovLoss(LossModel):
         return w[1:] == v[:-1]
 
     def subs(self, values: Mapping[Any, Any]) -> "MarkovLoss":
+        values = substitution(values, "subs", self.symbols)
         table = {h: {n: sp.sympify(p).subs(values) for n, p in row.items()} for h, row in self.table.items()}
         init = None if self._initial is None else {
             k: sp.sympify(p).subs(values) for k, p in self._initial.items()}

@@ -13,9 +13,26 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from .errors import InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, UnobservableError
+from . import budget
+from .errors import InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, SymkfError, UnobservableError
 from .exact.algebraic import sign
-from .exact.numbers import to_exact_matrix
+from .exact.numbers import decimal_matrix, rationalization, to_exact_matrix
+
+
+def _compare_periods(A: sp.MatrixBase, decimal_A: Any) -> str:
+    """Whether reading the floats of A as nearby constants rather than as decimals changed its
+    governing periods (they decide the critical values, Sui-You-Fu Theorem 7)."""
+    from .spectral import eigen_blocks
+
+    def periods(M: Any) -> str:
+        return str(tuple(b.governing_period for b in eigen_blocks(M)))
+    try:
+        exact, decimal = periods(A), periods(decimal_A())
+    except SymkfError as exc:
+        return f"governing periods not compared ({exc})"
+    verdict = "they DIFFER, so the critical values may too" if exact != decimal else "the same"
+    return (f"governing periods of A: {exact} with the recognised constants, {decimal} with the plain "
+            f"decimals ({verdict}; None = aperiodic)")
 
 
 def _identity(n: int) -> sp.ImmutableMatrix:
@@ -45,14 +62,15 @@ class Sensor:
     C: Any
     R: Any = None
     name: str | None = None
-    rationalize: bool = False
+    rationalize: bool | str = False
 
     def __post_init__(self) -> None:
         label = f"sensor {self.name!r}" if self.name else "sensor"
-        C = to_exact_matrix(self.C, f"{label} C", rationalize=self.rationalize)
+        with rationalization("Sensor"):
+            C = to_exact_matrix(self.C, f"{label} C", rationalize=self.rationalize, vector="row")
+            R = _identity(C.shape[0]) if self.R is None else to_exact_matrix(
+                self.R, f"{label} R", rationalize=self.rationalize, shape=(C.shape[0], C.shape[0]))
         object.__setattr__(self, "C", C)
-        R = _identity(C.shape[0]) if self.R is None else to_exact_matrix(
-            self.R, f"{label} R", rationalize=self.rationalize, shape=(C.shape[0], C.shape[0]))
         check_positive_definite(R, f"{label} R")
         object.__setattr__(self, "R", R)
 
@@ -77,7 +95,7 @@ class System:
     sensors: Sequence[Sensor]
     Q: Any = None
     P0: Any = None
-    rationalize: bool = False
+    rationalize: bool | str = False
     name: str | None = None
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False, hash=False)
 
@@ -86,7 +104,15 @@ class System:
         return {**self.__dict__, "_cache": {}}
 
     def __post_init__(self) -> None:
-        A = to_exact_matrix(self.A, "A", rationalize=self.rationalize)
+        with rationalization("System") as record:
+            self._read(record)
+        self.check_detectable()
+
+    def _read(self, record: Any) -> None:
+        raw = self.A
+        A = to_exact_matrix(raw, "A", rationalize=self.rationalize)
+        if self.rationalize == "nearby" and any(e == "A" or e.startswith("A[") for e, *_ in record.changes):
+            record.notes.append(_compare_periods(A, lambda: decimal_matrix(raw, "A")))
         if A.shape[0] != A.shape[1]:
             raise ShapeError(f"A: must be square, got {A.shape[0]}x{A.shape[1]}")
         n = A.shape[0]
@@ -94,6 +120,7 @@ class System:
         sensors = list(self.sensors) if isinstance(self.sensors, Sequence) else [self.sensors]
         if not sensors:
             raise InputError("sensors: at least one sensor is needed")
+        budget.check("max_sensors", len(sensors), "sensors", "the number of sensors")
         names = []
         for i, s in enumerate(sensors):
             if not isinstance(s, Sensor):
@@ -111,7 +138,6 @@ class System:
                 value, key, rationalize=self.rationalize, shape=(n, n))
             check_positive_definite(M, key)
             object.__setattr__(self, key, M)
-        self.check_detectable()
 
     @property
     def n(self) -> int:

@@ -26,6 +26,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import ExtraNotInstalledError, InputError, SymkfError
+from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel
 from .model import Sensor, System
 from .montecarlo import TraceEstimate
@@ -216,7 +217,7 @@ def _in_words(loss: LossModel) -> str:
 
 def rotation_system(scale: Any, angle: Any, C: Sequence[Sequence[Any]] = ((1, 0),)) -> System:
     """``A = scale [[cos t, -sin t], [sin t, cos t]]`` with ``t = angle`` (exact), sensor ``C``."""
-    r, t = sp.sympify(scale), sp.sympify(angle)
+    r, t = to_exact(scale, "scale"), to_exact(angle, "angle", algebraic=False)
     return System(A=[[r * sp.cos(t), -r * sp.sin(t)], [r * sp.sin(t), r * sp.cos(t)]],
                   sensors=[Sensor(C=[list(row) for row in C])])
 
@@ -237,6 +238,7 @@ def critical_angle_figure(scale: Any = 2, *, max_denominator: int = 6, C: Sequen
     """
     from .stability import critical_loss_rate
 
+    scale = to_exact(scale, "scale")
     angles = rational_angles(max_denominator)
     if not angles:
         raise InputError(f"max_denominator: expected an integer >= 2, got {max_denominator!r}")
@@ -258,10 +260,10 @@ def critical_angle_figure(scale: Any = 2, *, max_denominator: int = 6, C: Sequen
         ax.annotate(f"{f.numerator}/{f.denominator}", (xi, yv), textcoords="offset points", xytext=(0, 5),
                     ha="center", fontsize="x-small")
     ax.plot([float(aperiodic)], [generic], "D", color="tab:red", label=r"$\cos\theta = 3/5$ (aperiodic)")
-    ax.axhline(1 / float(sp.sympify(scale)) ** 2, color="tab:red", ls=":", lw=1,
-               label=f"1/scale$^2$ = {sp.sstr(1 / sp.sympify(scale) ** 2)}")
+    ax.axhline(1 / float(scale) ** 2, color="tab:red", ls=":", lw=1,
+               label=f"1/scale$^2$ = {sp.sstr(1 / scale ** 2)}")
     ax.set(xlim=(0, np.pi), ylim=(0, 1.1 * max(values + [generic])), xlabel=r"rotation angle $\theta$",
            ylabel="critical common i.i.d. loss rate",
-           title=f"A = {sp.sstr(sp.sympify(scale))} R($\\theta$), C = {[list(r) for r in C]}: exact critical loss")
+           title=f"A = {sp.sstr(scale)} R($\\theta$), C = {[list(r) for r in C]}: exact critical loss")
     ax.legend(fontsize="small", loc="lower right")
     return _finish(fig, path)

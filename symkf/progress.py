@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
+import threading
+import time
+from typing import Iterator
 
 from tqdm.auto import tqdm
 
@@ -20,3 +24,30 @@ def _interactive() -> bool:
     if os.environ.get("TQDM_DISABLE", "").strip().lower() not in ("", "0", "false"):
         return False
     return sys.stderr.isatty() or "ipykernel" in sys.modules
+
+
+@contextlib.contextmanager
+def still_working(desc: str, *, after: float = 2.0, every: float = 10.0,
+                  enabled: bool | None = None) -> Iterator[None]:
+    """Long work without natural steps (eigen-blocks, hyperplane enumeration): after ``after``
+    seconds, a line on stderr every ``every`` seconds naming ``desc`` and the elapsed time.
+    Shown when ``enabled``, or (``None``) when stderr is a terminal."""
+    show = _interactive() if enabled is None else enabled
+    done = threading.Event()
+    start = time.monotonic()
+
+    def report() -> None:
+        wait = after
+        while not done.wait(wait):
+            print(f"{desc}: still working, {time.monotonic() - start:.0f} s", file=sys.stderr, flush=True)
+            wait = every
+
+    thread = threading.Thread(target=report, daemon=True) if show else None
+    if thread is not None:
+        thread.start()
+    try:
+        yield
+    finally:
+        done.set()
+        if thread is not None:
+            thread.join()

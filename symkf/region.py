@@ -29,7 +29,7 @@ import sympy as sp
 from .decay import ge_rate, outside_counts
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber, sign, sympy_to_fmpz
-from .exact.numbers import to_exact
+from .exact.numbers import sympify, to_exact
 from .losses import IID, GilbertElliott, LossModel
 from .model import System
 from .observability import block_rows
@@ -238,7 +238,9 @@ def _simplest(lo: Fraction, hi: Fraction) -> Fraction:
 def roots_in_unit(expr: sp.Expr, t: sp.Symbol) -> list[AlgebraicNumber]:
     """Real roots in (0, 1) of ``expr = 0`` (a polynomial in ``t`` with algebraic coefficients):
     a superset, via the norm to Q when the coefficients are irrational."""
-    poly = sp.Poly(sp.expand(expr), t, extension=True)
+    if not isinstance(t, sp.Symbol):
+        raise InputError(f"t: expected a sympy Symbol, got {type(t).__name__}")
+    poly = sp.Poly(sp.expand(sympify(expr, "expr")), t, extension=True)
     if poly.is_zero or poly.degree() < 1:
         return []
     if not poly.domain.is_QQ and not poly.domain.is_ZZ:

@@ -49,6 +49,7 @@ from .errors import AperiodicError, AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, rank_rows
+from .exact.numbers import to_exact
 from .losses import IID, LossModel
 from .model import Sensor, System
 from .spectral import eigen_blocks
@@ -94,7 +95,7 @@ class CongruentSets:
 
     def p_star(self, arrival: Any) -> tuple[sp.Expr, ...]:
         """eq. (37) for the merged sensors, from the original sensors' arrival rates."""
-        miss = merged_losses(self, [1 - sp.sympify(p) for p in arrival])
+        miss = merged_losses(self, [1 - to_exact(p, f"arrival[{i}]", symbols=True) for i, p in enumerate(arrival)])
         return tuple(sp.Mul(*[miss[j] for j in sorted(J)]) for J in self.sets)
 
 

@@ -36,15 +36,15 @@ decaying transients and polynomial factors bias a finite-horizon rate).
 from __future__ import annotations
 
 import functools
-import tomllib
 from pathlib import Path
 from typing import Any
 
 import sympy as sp
 
-from .errors import AssumptionError, FileFormatError
+from .errors import AssumptionError, FileFormatError, SymkfError
 from .exact.algebraic import AlgebraicNumber
 from .families import Member, load_family
+from .files import read_toml
 from .losses import IID, LossModel
 from .model import System
 from .montecarlo import (MIN_HALVED_HORIZON, DivergenceResult, burst_pattern, divergence_test,
@@ -60,7 +60,7 @@ INAPPLICABLE = "inapplicable"
 
 def number_json(a: AlgebraicNumber | sp.Expr, digits: int = 12) -> dict[str, Any]:
     """JSON form of an exact value: exact string, decimal, isolating interval and minimal polynomial."""
-    a = a if isinstance(a, AlgebraicNumber) else AlgebraicNumber.from_expr(sp.sympify(a))
+    a = a if isinstance(a, AlgebraicNumber) else AlgebraicNumber.from_expr(a)
     lo, hi = a.refine(sp.Rational(1, 10 ** (digits + 2))).interval
     return {"exact": str(a.exact), "decimal": str(a.evalf(digits)), "interval": [str(lo), str(hi)],
             "minpoly": str(a.minpoly.as_expr())}
@@ -168,8 +168,8 @@ def summary(report: dict[str, Any]) -> str:
 def is_family_file(path: str | Path) -> bool:
     """Whether ``path`` is a TOML file with a ``[family]`` table (else it is read as a system file)."""
     try:
-        return isinstance(tomllib.loads(Path(path).read_text(encoding="utf-8")).get("family"), dict)
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return isinstance(read_toml(path).get("family"), dict)
+    except SymkfError:
         return False  # the system-file reader reports the problem
 
 

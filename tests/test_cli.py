@@ -187,15 +187,15 @@ def test_reproduce_unknown(capsys):
     assert status == 2 and "unknown example 'nope'" in err
 
 
-def test_rationalize_note_one_line_each(capsys, tmp_path):
-    path = tmp_path / "r.toml"
-    path.write_text('rationalize = true\n[system]\nA = [[0, -2.0], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n'
-                    '[loss]\nloss = [0.05]\n')
-    status, out, err = run(capsys, "critical", path, "--vary", "sensor=s1", "--json")
-    assert status == 0 and json.loads(out)["critical_loss_rate"]["exact"] == "1/16"
-    assert [line.split(": note: ")[1] for line in err.splitlines()] == [
-        "A[0][1]: float -2.0 taken as the rational -2",
-        f"{path}: [loss] loss[0]: float 0.05 taken as the rational 1/20"]
+def test_toml_decimals_are_exact_without_notes(capsys, tmp_path):
+    """TOML decimals are read from the file's text (issue 15): -2.0 is -2 and 0.05 is 1/20 exactly,
+    with or without the old ``rationalize = true``, and nothing needs a note."""
+    for head in ("", "rationalize = true\n"):
+        path = tmp_path / "r.toml"
+        path.write_text(head + '[system]\nA = [[0, -2.0], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n'
+                        '[loss]\nloss = [0.05]\n')
+        status, out, err = run(capsys, "critical", path, "--vary", "sensor=s1", "--json")
+        assert status == 0 and json.loads(out)["critical_loss_rate"]["exact"] == "1/16" and err == ""
 
 
 def test_progress_only_on_a_terminal(monkeypatch):

@@ -71,7 +71,7 @@ def test_complex_diagonal_systems(S):
     (lambda: sks.loss_rates_near("9/10", "1/4", side="above", max_denominator=10), "critical"),
     (lambda: sks.diagonalizable_systems([("3/2", 3)]), "size"),
     (lambda: sks.diagonalizable_systems([("3/2", 2), ("3/2", 1)]), "blocks"),
-    (lambda: sks.rotation_systems(scale=0.5), "scale"),
+    (lambda: sks.rotation_systems(scale=0.1), "scale"),
     (lambda: sks.iid_losses(0), "d"),
 ])
 def test_arguments_validated_up_front(call, name):

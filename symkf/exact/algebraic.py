@@ -29,7 +29,7 @@ import sympy as sp
 from sympy.polys.polyerrors import NotAlgebraic
 
 from ..errors import InputError
-from .numbers import to_exact
+from .numbers import sympify, to_exact
 
 x = sp.Symbol("x")
 
@@ -53,7 +53,7 @@ def fmpz_to_sympy(poly: flint.fmpz_poly) -> sp.Poly:
 
 def sympy_to_fmpz(poly: Any) -> flint.fmpz_poly:
     """A rational sympy polynomial in ``x`` as a flint integer one (denominators cleared, leading coefficient > 0)."""
-    p = poly if isinstance(poly, sp.Poly) else sp.Poly(poly, x)
+    p = poly if isinstance(poly, sp.Poly) else sp.Poly(sympify(poly, "poly"), x)
     _, p = p.clear_denoms()
     out = flint.fmpz_poly([int(c) for c in reversed(p.all_coeffs())])
     return out if out.leading_coefficient() > 0 else -out
@@ -165,7 +165,7 @@ def _as_fmpz(poly: Any) -> flint.fmpz_poly:
     if isinstance(poly, flint.fmpz_poly):
         return poly
     try:
-        p = poly if isinstance(poly, sp.Poly) else sp.Poly(poly, x)
+        p = poly if isinstance(poly, sp.Poly) else sp.Poly(sympify(poly, "poly"), x)
     except (sp.PolynomialError, sp.SympifyError, TypeError, ValueError):
         p = None
     if p is None or p.gens != (x,) or not (p.domain.is_ZZ or p.domain.is_QQ):
@@ -642,7 +642,7 @@ def real_from_ball(poly: flint.fmpz_poly, index: int) -> AlgebraicNumber:
 
 def sign(expr: Any) -> int:
     """Exact sign (-1, 0, 1) of a real algebraic number given as a sympy expression."""
-    expr = sp.sympify(expr)
+    expr = sympify(expr)
     if expr.is_Rational:
         return int(sp.sign(expr))
     if expr.free_symbols:

@@ -30,6 +30,7 @@ import sympy as sp
 from ..errors import InputError
 from .algebraic import _with_prec, identify, root_ball, root_of
 from .embedding import Integral, adjoin, integral_scale, interpolate, vanishes
+from .numbers import sympify
 
 Elem = flint.fmpq_poly
 
@@ -203,7 +204,7 @@ class NumberField:
     def __init__(self, generators: Iterable[sp.Expr] = ()):
         gens = []
         for g in generators:
-            g = sp.sympify(g)
+            g = sympify(g)
             if not g.is_Rational and g not in gens:
                 gens.append(g)
         self.generators = tuple(gens)
@@ -240,7 +241,7 @@ class NumberField:
     # -- conversion -------------------------------------------------------------
     def convert(self, expr: sp.Expr) -> Elem:
         """The element of this field equal to ``expr`` (raises if it is not in the field)."""
-        expr = sp.sympify(expr)
+        expr = sympify(expr)
         if expr.is_Rational:
             return _rational(expr)
         out = _express(self._state, expr) if not self.is_rational else _member_of_q(expr)

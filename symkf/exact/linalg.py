@@ -14,6 +14,7 @@ import flint
 import sympy as sp
 
 from .field import Elem, NumberField, QQ_FIELD
+from .numbers import sympify
 
 
 def field_of(*matrices: sp.MatrixBase) -> NumberField:
@@ -21,7 +22,7 @@ def field_of(*matrices: sp.MatrixBase) -> NumberField:
     gens: list[sp.Expr] = []
     for M in matrices:
         for v in M:
-            v = sp.sympify(v)
+            v = sympify(v)
             if not v.is_Rational and v not in gens:
                 gens.append(v)
     return NumberField(gens) if gens else QQ_FIELD

@@ -1,123 +1,390 @@
-"""Exact scalars and matrices from user input.
+"""Exact scalars and matrices from user input, through one safe parser.
 
-Accepted: ``int``, :class:`fractions.Fraction`, strings such as ``"5/4"``,
-``"sqrt(3)/2"`` or ``"cos(pi/3)"``, and sympy expressions.  A Python ``float``
-is refused (its binary value is almost never what the user meant) unless
-``rationalize=True``, in which case its shortest decimal representation is
-taken exactly and a warning says so.
+Accepted: ``int`` (and numpy integers), :class:`fractions.Fraction`, :class:`decimal.Decimal`,
+strings, sympy expressions, and binary floats whose value is exactly the decimal they print
+as (``2.0``, ``-1.5``, ``0.0625``: dyadic rationals).  Any other float (``0.1`` is
+``3602879701896397/36028797018963968`` in binary) is refused unless ``rationalize`` says how
+to read it:
+
+* ``rationalize=True`` (or ``"decimal"``): the float's shortest decimal, exactly (0.1 -> 1/10);
+* ``rationalize="nearby"``: a nearby exact constant q*c, q a rational with a small
+  denominator and c in :data:`NEARBY_CONSTANTS` (sqrt(3), cos(pi/5), ...), within the relative
+  tolerance :data:`NEARBY_TOLERANCE`; the decimal when none is that close.
+
+Every conversion of one constructor call is reported in ONE warning (see
+:func:`rationalization`).
+
+A string is read by :func:`parse_exact`, a whitelist over Python's ``ast``: integers, decimals
+(``"0.1"`` is exactly 1/10), ``+ - * /``, powers ``**``/``^`` with rational exponents,
+``sqrt``, ``cbrt``, ``root(x, n)``, ``Rational(p, q)``, ``pi``, ``I``, ``E``, ``cos``/``sin``/``tan``
+of rational multiples of ``pi`` and ``exp`` of rational multiples of ``pi*I``, and the symbols
+the caller declares.  Nothing else (no attribute access, no other call, no ``eval``) is
+accepted, and every size (exponents, digits, root indices, angle denominators, algebraic
+degree, radical nesting) is checked against :mod:`symkf.budget` before sympy evaluates it.
 """
 
 from __future__ import annotations
 
+import ast
+import contextlib
+import contextvars
 import math
+import numbers
 import re
 import warnings
+from dataclasses import dataclass, field
+from decimal import Decimal
 from fractions import Fraction
-from typing import Any, Sequence
+from typing import Any, Collection, Iterable, Iterator, Mapping, Sequence
 
 import sympy as sp
-from sympy.parsing.sympy_parser import parse_expr
 
+from .. import budget
 from ..errors import InexactInputError, InputError, ShapeError
 
-# Only these names may appear in a string entry; anything else is refused
-# before sympy evaluates the text.
-_ALLOWED_NAMES = {
-    "sqrt": sp.sqrt, "root": sp.root, "cbrt": sp.cbrt,
-    "cos": sp.cos, "sin": sp.sin, "tan": sp.tan, "exp": sp.exp,
-    "pi": sp.pi, "I": sp.I, "E": sp.E, "Rational": sp.Rational,
-}
-_TOKEN = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
-_CHARS = re.compile(r"^[0-9A-Za-z_+\-*/^()., ]*$")
+#: the names a string may use besides declared symbols: functions, then constants
+FUNCTIONS = ("sqrt", "cbrt", "root", "Rational", "cos", "sin", "tan", "exp")
+CONSTANTS = {"pi": sp.pi, "I": sp.I, "E": sp.E}
+RESERVED = frozenset(FUNCTIONS) | frozenset(CONSTANTS)
 
-#: bounds on the size of a number, checked before sympy evaluates a string ("9^9^9" has
-#: 370 million digits and would hang)
-MAX_EXPONENT = 10 ** 4
-MAX_DIGITS = 1000
+#: the longest string accepted as one number
+MAX_LENGTH = 1000
+
+_DECIMAL = re.compile(r"(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+_SYMBOL = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,31}\Z")
+_EXAMPLES = "forms like '5/4', '0.1', 'sqrt(3)/2', 'cos(pi/3)'"
 
 
-def _check_size(expr: sp.Expr, text: str, entry: str) -> None:
-    """Every power of the unevaluated ``expr``, innermost first, must have an exponent of
-    modulus at most MAX_EXPONENT and a value of at most MAX_DIGITS decimal digits."""
-    for node in sp.postorder_traversal(expr):
-        if node.is_Pow or node is expr:
-            try:
-                e = abs(complex(sp.N(node.exp, 15))) if node.is_Pow else 1.0
-                b = abs(complex(sp.N(node.base if node.is_Pow else node, 15)))
-            except (TypeError, ValueError):
-                continue
-            if not e <= MAX_EXPONENT or (b > 0 and not e * abs(math.log10(b)) <= MAX_DIGITS):
-                raise InputError(f"{entry}: {text!r} is too large to evaluate exactly "
-                                 f"(exponents up to {MAX_EXPONENT}, values up to {MAX_DIGITS} digits)")
+#: the key of :class:`_Num` ``gens`` holding the order m of the cyclotomic field Q(zeta_m) that
+#: contains every trigonometric constant and I (cos, sin, tan(p*pi/q), exp(p*pi*I/q) lie in Q(zeta_4q))
+_CYCLOTOMIC = "cyclotomic order"
 
 
-def _parse_string(text: str, entry: str, symbols: bool) -> sp.Expr:
+def _merge(*parts: dict) -> dict:
+    out: dict = {}
+    for gens in parts:
+        for key, value in gens.items():
+            out[key] = math.lcm(out.get(key, 1), value) if key == _CYCLOTOMIC else value
+    return out
+
+
+def _degree(gens: dict) -> int:
+    """The degree bound: product of the radicals' bounds times phi(cyclotomic order)."""
+    return math.prod(v for k, v in gens.items() if k != _CYCLOTOMIC) * int(sp.totient(gens.get(_CYCLOTOMIC, 1)))
+
+
+@dataclass(frozen=True)
+class _Num:
+    """A parsed value with what bounds its cost: ``gens`` maps each radical to a bound on its
+    degree over Q, and :data:`_CYCLOTOMIC` to the order of a cyclotomic field holding its
+    trigonometric constants (:func:`_degree` bounds the value's degree); ``depth`` is the
+    nesting of radicals."""
+
+    expr: sp.Expr
+    gens: dict = field(default_factory=dict)
+    depth: int = 0
+
+
+class _Parser:
+    def __init__(self, text: str, entry: str, symbols: bool | Collection[str]):
+        self.text, self.entry, self.symbols = text, entry, symbols
+
+    def fail(self, why: str) -> InputError:
+        return InputError(f"{self.entry}: {why} in {self.text!r} (an exact number is written in {_EXAMPLES})")
+
+    def parse(self) -> sp.Expr:
+        source = self.text.replace("^", "**")
+        try:
+            tree = ast.parse(source.strip(), mode="eval")
+        except (SyntaxError, ValueError, MemoryError, RecursionError):
+            raise self.fail("not a well-formed expression") from None
+        self.source = source.strip()
+        try:
+            return self.node(tree.body).expr
+        except RecursionError:
+            raise self.fail("nested too deeply") from None
+
+    def node(self, n: ast.AST) -> _Num:
+        if isinstance(n, ast.Constant):
+            return self.constant(n)
+        if isinstance(n, ast.Name):
+            return self.name(n.id)
+        if isinstance(n, ast.UnaryOp) and isinstance(n.op, (ast.UAdd, ast.USub)):
+            x = self.node(n.operand)
+            return _Num(-x.expr if isinstance(n.op, ast.USub) else x.expr, x.gens, x.depth)
+        if isinstance(n, ast.BinOp) and isinstance(n.op, (ast.Add, ast.Sub, ast.Mult, ast.Div)):
+            a, b = self.node(n.left), self.node(n.right)
+            if isinstance(n.op, ast.Div) and b.expr == 0:
+                raise self.fail("division by zero")
+            op = {ast.Add: sp.Add, ast.Sub: lambda x, y: x - y, ast.Mult: sp.Mul,
+                  ast.Div: lambda x, y: x / y}[type(n.op)]
+            return self.combine(op(a.expr, b.expr), a, b)
+        if isinstance(n, ast.BinOp) and isinstance(n.op, ast.Pow):
+            return self.power(self.node(n.left), self.node(n.right).expr)
+        if isinstance(n, ast.Call):
+            return self.call(n)
+        raise self.fail(f"{type(n).__name__.lower()} is not allowed")
+
+    def constant(self, n: ast.Constant) -> _Num:
+        if isinstance(n.value, bool) or not isinstance(n.value, (int, float)):
+            raise self.fail(f"literal {n.value!r} is not allowed")
+        text = (ast.get_source_segment(self.source, n) or "").replace("_", "")
+        if not _DECIMAL.fullmatch(text):
+            raise self.fail(f"the literal {text!r} is not a decimal number")
+        mantissa, _, exponent = text.lower().partition("e")
+        digits = len(mantissa.replace(".", "").lstrip("0"))
+        budget.check("max_digits", digits + abs(int(exponent or 0)), self.entry,
+                     f"the number of digits of the literal {text[:20]!r}")
+        return _Num(sp.Rational(Fraction(text)))
+
+    def name(self, name: str) -> _Num:
+        if name in CONSTANTS:
+            return _Num(CONSTANTS[name], {_CYCLOTOMIC: 4} if name == "I" else {})
+        if name in FUNCTIONS:
+            raise self.fail(f"{name} is a function; call it, e.g. {name}(2)")
+        declared = self.symbols is True and _SYMBOL.match(name) or \
+            not isinstance(self.symbols, bool) and name in self.symbols
+        if not declared:
+            allowed = "numbers and " + ", ".join(sorted(RESERVED))
+            if not isinstance(self.symbols, bool) and self.symbols:
+                allowed += ", and the symbols " + ", ".join(sorted(self.symbols))
+            raise self.fail(f"unknown name {name!r} (only {allowed} are allowed here)")
+        return _Num(sp.Symbol(name, positive=True))
+
+    def combine(self, expr: sp.Expr, *parts: _Num, gen: tuple[Any, int] | None = None,
+                depth: int = 0) -> _Num:
+        gens = _merge(*(p.gens for p in parts))
+        if gen is not None and not (expr.is_Rational or expr.free_symbols):
+            gens = _merge(gens, {gen[0]: gen[1]})
+        budget.check("max_degree", _degree(gens), self.entry, f"the algebraic degree (bound) of {self.text!r}")
+        return _Num(expr, gens, max([depth, *(p.depth for p in parts)]))
+
+    def power(self, base: _Num, exp: sp.Expr) -> _Num:
+        if not exp.is_Rational:
+            raise self.fail(f"the exponent {exp} is not a rational number")
+        budget.check("max_exponent", abs(exp.p), self.entry, f"the exponent in {self.text!r}")
+        if exp.q > 1:
+            budget.check("max_degree", exp.q, self.entry, f"the root index in {self.text!r}")
+            budget.check("max_nesting", base.depth + 1, self.entry, f"the radical nesting of {self.text!r}")
+        if base.expr == 0 and exp < 0:
+            raise self.fail("division by zero")
+        if not base.expr.free_symbols and base.expr != 0:
+            size = abs(complex(sp.N(base.expr, 15)))
+            budget.check("max_digits", math.ceil(abs(exp) * abs(math.log10(size))), self.entry,
+                         f"the number of digits of a power in {self.text!r}")
+        value = base.expr ** exp
+        if exp.q == 1:
+            return self.combine(value, base)
+        degree = exp.q * _degree(base.gens)
+        return self.combine(value, gen=(value, degree), depth=base.depth + 1)
+
+    def call(self, n: ast.Call) -> _Num:
+        name = n.func.id if isinstance(n.func, ast.Name) else None
+        if name not in FUNCTIONS:
+            raise self.fail("only the calls " + ", ".join(FUNCTIONS) + " are allowed")
+        arity = {"root": 2, "Rational": 2}.get(name, 1)
+        if n.keywords or len(n.args) != arity:
+            raise self.fail(f"{name} takes {arity} positional argument{'s' * (arity > 1)}")
+        args = [self.node(a) for a in n.args]
+        if name in ("sqrt", "cbrt"):
+            return self.power(args[0], sp.Rational(1, 2 if name == "sqrt" else 3))
+        if name in ("root", "Rational"):
+            k = args[1].expr
+            if not k.is_Integer or k == 0 or name == "root" and k < 1 or not args[0].expr.is_Integer \
+                    and name == "Rational":
+                raise self.fail(f"{name} needs {'an integer index' if name == 'root' else 'two integers'}")
+            return self.power(args[0], 1 / k) if name == "root" else _Num(args[0].expr / k)
+        return self.angle(name, args[0])
+
+    def angle(self, name: str, arg: _Num) -> _Num:
+        fn = getattr(sp, name)
+        if arg.expr.free_symbols:
+            return _Num(fn(arg.expr), arg.gens, arg.depth)
+        unit = sp.pi * sp.I if name == "exp" else sp.pi
+        r = sp.expand(arg.expr / unit)
+        if not r.is_Rational:
+            raise self.fail(f"the argument of {name} must be a rational multiple of "
+                            f"{'pi*I' if name == 'exp' else 'pi'}, got {arg.expr}")
+        budget.check("max_angle_denominator", r.q, self.entry, f"the denominator of the angle in {self.text!r}")
+        return self.combine(fn(r * unit), arg, gen=(_CYCLOTOMIC, 4 * r.q), depth=arg.depth)
+
+
+def parse_exact(text: str, entry: str, *, symbols: bool | Collection[str] = ()) -> sp.Expr:
+    """The exact sympy value of the string ``text``; ``entry`` names it in errors.
+
+    ``symbols`` declares the free symbols allowed: a collection of names, or True for any
+    identifier (loss probabilities may be symbolic).  Symbols are positive.  The value may be
+    transcendental (``"pi/5"``, an angle); :func:`to_exact` refuses that where a number must be
+    algebraic.
+    """
+    if not isinstance(text, str):
+        raise InputError(f"{entry}: expected a string, got {type(text).__name__}")
     if not text.strip():
         raise InputError(f"{entry}: empty string is not a number")
-    if len(text) > 500 or not _CHARS.match(text):
-        raise InputError(f"{entry}: {text!r} is not an exact number expression "
-                         "(use forms like '5/4', 'sqrt(3)/2', 'cos(pi/3)')")
-    local: dict[str, Any] = dict(_ALLOWED_NAMES)
-    for name in _TOKEN.findall(text):
-        if name in local:
-            continue
-        if not symbols:
-            raise InputError(f"{entry}: unknown name {name!r} in {text!r}; only numbers and "
-                             f"{', '.join(sorted(_ALLOWED_NAMES))} are allowed here")
-        local[name] = sp.Symbol(name, positive=True)
-    source = text.replace("^", "**")
-    names = {"Integer": sp.Integer, "Float": sp.Float, "Rational": sp.Rational, "Symbol": sp.Symbol,
-             "Pow": sp.Pow, "Mul": sp.Mul, "Add": sp.Add, "__builtins__": {}}
+    if len(text) > MAX_LENGTH:
+        raise InputError(f"{entry}: a number written with {len(text)} characters (at most {MAX_LENGTH})")
+    return _Parser(text, entry, symbols).parse()
+
+
+# ---- conversion of floats ------------------------------------------------------------------
+
+#: relative tolerance of ``rationalize="nearby"``: float64 results of a few operations on exact
+#: constants lie within a few ulps (2.2e-16 each)
+NEARBY_TOLERANCE = 1e-12
+#: the largest denominator of the rational factor q of a nearby constant q*c
+NEARBY_DENOMINATOR = 120
+#: the constants c of ``rationalize="nearby"``: square roots of square-free integers up to 30 and
+#: cos(pi*a/b) for the small b whose values are not already q*sqrt(k)
+NEARBY_CONSTANTS: tuple[sp.Expr, ...] = (
+    sp.Integer(1), *(sp.sqrt(k) for k in (2, 3, 5, 6, 7, 10, 11, 13, 14, 15, 17, 19, 21, 22, 23, 26, 29, 30)),
+    *sorted({sp.cos(sp.pi * a / b) for b in (5, 7, 9, 10, 12, 16, 24) for a in range(1, b)
+             if math.gcd(a, b) == 1 and 2 * a < b}, key=sp.default_sort_key))
+_NEARBY_VALUES = tuple(float(c) for c in NEARBY_CONSTANTS)
+
+
+def _nearby(x: float) -> sp.Expr | None:
+    """The simplest q*c within :data:`NEARBY_TOLERANCE` of ``x`` (smallest denominator, then
+    numerator), or None."""
+    best: tuple[int, int, sp.Expr] | None = None
+    for c, cf in zip(NEARBY_CONSTANTS, _NEARBY_VALUES):
+        q = Fraction(x / cf).limit_denominator(NEARBY_DENOMINATOR)
+        if abs(float(q) * cf - x) <= NEARBY_TOLERANCE * max(abs(x), 1e-300) or x == 0:
+            key = (q.denominator, abs(q.numerator))
+            if best is None or key < best[:2]:
+                best = (*key, sp.Rational(q.numerator, q.denominator) * c)
+    return None if best is None else best[2]
+
+
+@dataclass
+class _Conversions:
+    """The floats converted inside one :func:`rationalization` block."""
+
+    what: str
+    changes: list = field(default_factory=list)
+    notes: list = field(default_factory=list)
+
+
+_ACTIVE: contextvars.ContextVar[_Conversions | None] = contextvars.ContextVar("symkf_rationalize", default=None)
+
+
+@contextlib.contextmanager
+def rationalization(what: str) -> Iterator[_Conversions]:
+    """Collect the floats rationalized inside the block and warn ONCE, listing them, when it
+    ends.  Nested blocks join the outermost (one constructor, one warning); ``notes`` appended
+    to the yielded record (e.g. a comparison of periods) are added to the warning."""
+    outer = _ACTIVE.get()
+    if outer is not None:
+        yield outer
+        return
+    record = _Conversions(what)
+    token = _ACTIVE.set(record)
     try:
-        if "**" in source:
-            _check_size(parse_expr(source, local_dict=local, global_dict=names, evaluate=False), text, entry)
-        value = parse_expr(source, local_dict=local, global_dict=names)
-    except InputError:
-        raise
-    except Exception as exc:  # sympy raises many types on malformed text
-        raise InputError(f"{entry}: cannot parse {text!r} ({type(exc).__name__})") from None
-    if not isinstance(value, sp.Expr):
-        raise InputError(f"{entry}: {text!r} is not a number")
-    if value.has(sp.Float):
-        raise InexactInputError(f"{entry}: {text!r} contains a decimal point; write the exact "
-                                f"rational instead (for example {_suggest(text)!r})")
-    return value
+        yield record
+    finally:
+        _ACTIVE.reset(token)
+    if record.changes:
+        shown = "; ".join(f"{e}: {x!r} -> {v} ({how})" for e, x, v, how in record.changes[:12])
+        more = f"; and {len(record.changes) - 12} more" if len(record.changes) > 12 else ""
+        warnings.warn(f"{what}: {len(record.changes)} float(s) rationalized: {shown}{more}. Periods and "
+                      "critical values can jump under rounding" + "".join(f"; {n}" for n in record.notes),
+                      stacklevel=4)
 
 
-def _suggest(text: str) -> str:
+def _float(value: float, entry: str, rationalize: bool | str) -> sp.Expr:
+    if not math.isfinite(value):
+        raise InputError(f"{entry}: {value!r} is not a finite number")
+    decimal = Fraction(repr(value))
+    if decimal == Fraction(value):  # the printed decimal is the binary value: nothing to guess
+        return sp.Rational(decimal.numerator, decimal.denominator)
+    if rationalize not in (True, "decimal", "nearby"):
+        active = _ACTIVE.get()
+        where = f"{active.what}(..., rationalize=...)" if active else "rationalize=..."
+        if rationalize is not False:
+            raise InputError(f"{entry}: rationalize={rationalize!r}; expected False, True, 'decimal' or 'nearby'")
+        raise InexactInputError(
+            f"{entry}: the float {value!r} is not exact (its binary value is {Fraction(value)}); give "
+            f"the string {repr(value)!r} or {str(decimal)!r}, a Fraction or Decimal, or pass "
+            f"{where} with True (its shortest decimal) or 'nearby' (a nearby exact constant such as "
+            "sqrt(3)/2)")
+    out = _nearby(value) if rationalize == "nearby" else None
+    how = f"nearby constant within {NEARBY_TOLERANCE:g}" if out is not None else "shortest decimal"
+    if out is None:
+        out = sp.Rational(decimal.numerator, decimal.denominator)
+    with rationalization(entry) as record:
+        record.changes.append((entry, value, out, how))
+    return out
+
+
+def sympify(value: Any, entry: str = "value") -> sp.Basic:
+    """sympy's ``sympify`` without its string parser (which evaluates Python): a string goes
+    through :func:`parse_exact`, anything else must be a type sympy converts explicitly."""
+    if isinstance(value, str):
+        return parse_exact(value, entry)
     try:
-        return str(Fraction(text))
-    except (ValueError, ZeroDivisionError):
-        return "p/q"
+        return sp.sympify(value, strict=True)
+    except sp.SympifyError:
+        raise InputError(f"{entry}: {type(value).__name__} {value!r} is not a number") from None
 
 
-def to_exact(value: Any, entry: str, *, rationalize: bool = False,
-             symbols: bool = False) -> sp.Expr:
+def field_degree_bound(exprs: Iterable[sp.Expr]) -> int:
+    """A bound on the degree over Q of the field generated by ``exprs``: the product of the
+    degrees of their distinct radicals (index q) and trigonometric constants (cyclotomic order
+    4q bound), nested ones counted separately."""
+    atoms: dict = {}
+    for expr in exprs:
+        for node in sp.preorder_traversal(expr):
+            if node.is_Pow and node.exp.is_Rational and node.exp.q > 1:
+                atoms = _merge(atoms, {(node.base, node.exp.q): node.exp.q})
+            elif node is sp.I:
+                atoms = _merge(atoms, {_CYCLOTOMIC: 4})
+            elif isinstance(node, (sp.cos, sp.sin, sp.tan, sp.exp)):
+                r = node.args[0] / (sp.pi * sp.I if isinstance(node, sp.exp) else sp.pi)
+                if r.is_Rational:
+                    atoms = _merge(atoms, {_CYCLOTOMIC: 4 * r.q})
+    return _degree(atoms)
+
+
+def _check_sympy(expr: sp.Basic, entry: str) -> None:
+    """The budget checks of the parser, applied to a sympy expression given directly."""
+    for node in sp.preorder_traversal(expr):
+        if node.is_Pow and node.exp.is_Rational:
+            budget.check("max_exponent", abs(node.exp.p), entry, f"an exponent of {expr}")
+            budget.check("max_degree", node.exp.q, entry, f"a root index of {expr}")
+        elif isinstance(node, (sp.cos, sp.sin, sp.tan, sp.exp)) and not node.args[0].free_symbols:
+            r = node.args[0] / (sp.pi * sp.I if isinstance(node, sp.exp) else sp.pi)
+            if r.is_Rational:
+                budget.check("max_angle_denominator", r.q, entry, f"the denominator of an angle of {expr}")
+
+
+def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
+             symbols: bool | Collection[str] = (), algebraic: bool = True) -> sp.Expr:
     """Return ``value`` as an exact sympy number; ``entry`` names it in errors.
 
-    With ``symbols=True`` free symbols are allowed (loss probabilities may be
-    symbolic); otherwise the result must be an algebraic number.
+    ``symbols`` declares the free symbols a string may use (see :func:`parse_exact`); without
+    them the result must be a number, algebraic unless ``algebraic=False`` (an angle such as
+    ``pi/5``).  ``rationalize`` reads binary floats (module docstring).
     """
-    if isinstance(value, bool):
+    if isinstance(value, bool) or type(value).__name__ == "bool_":
         raise InputError(f"{entry}: {value!r} is a bool, not a number")
-    if isinstance(value, int):
-        if value.bit_length() > 3.33 * MAX_DIGITS:
-            raise InputError(f"{entry}: integer with more than {MAX_DIGITS} digits")
+    if hasattr(value, "dtype") and getattr(value, "shape", None) == ():  # numpy scalar or 0-d array
+        value = value.item()
+    if isinstance(value, numbers.Integral):
+        value = int(value)
+        budget.check("max_digits", math.ceil(value.bit_length() * math.log10(2)), entry,
+                     "the number of digits (about) of an integer")
         out: sp.Expr = sp.Integer(value)
-    elif isinstance(value, Fraction):
-        out = sp.Rational(value.numerator, value.denominator)
-    elif isinstance(value, float):
-        if not rationalize:
-            raise InexactInputError(
-                f"{entry}: float {value!r} is not exact; pass the string "
-                f"{str(Fraction(repr(value))) if value == value and abs(value) != float('inf') else 'p/q'!r} "
-                "or a Fraction, or set rationalize=True")
-        if value != value or value in (float("inf"), float("-inf")):
-            raise InputError(f"{entry}: {value!r} is not a finite number")
-        out = sp.Rational(repr(value))
-        warnings.warn(f"{entry}: float {value!r} taken as the rational {out}", stacklevel=3)
+    elif isinstance(value, (Fraction, Decimal)):
+        if isinstance(value, Decimal) and not value.is_finite():
+            raise InputError(f"{entry}: {value} is not a finite number")
+        if isinstance(value, Decimal):
+            budget.check("max_digits", len(value.as_tuple().digits) + abs(value.as_tuple().exponent), entry,
+                         "the number of digits of a decimal")
+        f = Fraction(value)
+        out = sp.Rational(f.numerator, f.denominator)
+    elif isinstance(value, numbers.Real) and not isinstance(value, sp.Basic):
+        out = _float(float(value), entry, rationalize)
     elif isinstance(value, str):
-        out = _parse_string(value, entry, symbols)
+        out = parse_exact(value, entry, symbols=symbols)
     elif isinstance(value, sp.Basic):
         if not isinstance(value, sp.Expr):
             raise InputError(f"{entry}: {value!r} is not a number")
@@ -126,35 +393,60 @@ def to_exact(value: Any, entry: str, *, rationalize: bool = False,
                 raise InexactInputError(f"{entry}: {value} contains a sympy Float; give it exactly "
                                         "or set rationalize=True")
             value = sp.nsimplify(value, rational=True)
+        _check_sympy(value, entry)
         out = value
-    elif hasattr(value, "dtype") and getattr(value, "shape", None) == ():  # numpy scalar
-        return to_exact(value.item(), entry, rationalize=rationalize, symbols=symbols)
     else:
         raise InputError(f"{entry}: {type(value).__name__} {value!r} is not an exact number "
-                         "(give an int, Fraction, string like '5/4', or sympy expression)")
+                         "(give an int, Fraction, Decimal, a string like '5/4' or '0.1', or a sympy expression)")
     if out.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
         raise InputError(f"{entry}: {value!r} is not a finite number")
     if out.free_symbols and not symbols:
         raise InputError(f"{entry}: symbol(s) {sorted(map(str, out.free_symbols))} are not "
                          "allowed here; give a number")
-    if not out.free_symbols and out.is_algebraic is False:
+    if algebraic and not out.free_symbols and out.is_algebraic is False:
         raise InputError(f"{entry}: {out} is transcendental; symkf needs algebraic numbers "
                          "to decide exactly")
     return out
 
 
-def to_exact_matrix(rows: Any, entry: str, *, rationalize: bool = False,
-                    shape: tuple[int | None, int | None] = (None, None)) -> sp.ImmutableMatrix:
-    """Return a rectangular exact matrix; ``shape`` entries that are not None are enforced."""
-    if isinstance(rows, sp.MatrixBase):
-        rows = rows.tolist()
-    elif hasattr(rows, "tolist"):
+def substitution(values: Mapping[Any, Any], entry: str, known: Collection[sp.Symbol] = ()) -> dict[sp.Symbol, sp.Expr]:
+    """``values`` of a ``subs`` call with symbol keys (a Symbol, or a name: the symbol of that name
+    among ``known``, else a positive symbol) and exact values (strings through :func:`parse_exact`):
+    nothing reaches sympy's own string parsing."""
+    if not isinstance(values, Mapping):
+        raise InputError(f"{entry}: expected a mapping symbol -> value, got {type(values).__name__}")
+    out = {}
+    for key, value in values.items():
+        if isinstance(key, str):
+            if not _SYMBOL.match(key) or key in RESERVED:
+                raise InputError(f"{entry}: {key!r} is not a symbol name")
+            key = next((s for s in known if s.name == key), sp.Symbol(key, positive=True))
+        elif not isinstance(key, sp.Symbol):
+            raise InputError(f"{entry}: key {key!r} is not a symbol")
+        out[key] = to_exact(value, f"{entry}[{key}]", symbols=True)
+    return out
+
+
+def to_exact_matrix(rows: Any, entry: str, *, rationalize: bool | str = False,
+                    shape: tuple[int | None, int | None] = (None, None),
+                    vector: str | None = None) -> sp.ImmutableMatrix:
+    """Return a rectangular exact matrix; ``shape`` entries that are not None are enforced.
+
+    A flat list or 1-D array is refused, or read as one row when ``vector == "row"`` (a sensor's
+    C).  Each dimension is checked against ``symkf.budget`` (``max_dimension``) before any entry
+    is converted.
+    """
+    if isinstance(rows, sp.MatrixBase) or hasattr(rows, "tolist"):
         rows = rows.tolist()
     if isinstance(rows, (str, bytes)) or not isinstance(rows, Sequence) or len(rows) == 0:
         raise ShapeError(f"{entry}: expected a non-empty list of rows, got {type(rows).__name__}")
+    if vector == "row" and not any(isinstance(r, Sequence) and not isinstance(r, (str, bytes)) for r in rows):
+        rows = [rows]
     if not all(isinstance(r, Sequence) and not isinstance(r, (str, bytes)) for r in rows):
         raise ShapeError(f"{entry}: expected a list of rows (a list of lists)")
+    budget.check("max_dimension", len(rows), entry, "the number of rows")
     width = len(rows[0])
+    budget.check("max_dimension", width, entry, "the number of columns")
     if width == 0 or any(len(r) != width for r in rows):
         raise ShapeError(f"{entry}: rows have lengths {[len(r) for r in rows]}; "
                          "all rows must have the same non-zero length")
@@ -162,5 +454,20 @@ def to_exact_matrix(rows: Any, entry: str, *, rationalize: bool = False,
     if want_r is not None and len(rows) != want_r or want_c is not None and width != want_c:
         raise ShapeError(f"{entry}: shape {len(rows)}x{width}, expected "
                          f"{want_r if want_r is not None else 'any'}x{want_c if want_c is not None else 'any'}")
-    return sp.ImmutableMatrix([[to_exact(v, f"{entry}[{i}][{j}]", rationalize=rationalize)
-                                for j, v in enumerate(r)] for i, r in enumerate(rows)])
+    with rationalization(entry):
+        M = sp.ImmutableMatrix([[to_exact(v, f"{entry}[{i}][{j}]", rationalize=rationalize)
+                                 for j, v in enumerate(r)] for i, r in enumerate(rows)])
+    # the eigenvalues of a square matrix lie in an extension of degree <= n of its entries' field
+    budget.check("max_degree", field_degree_bound(M) * (M.rows if M.is_square else 1), entry,
+                 "the algebraic degree (bound) of its entries' field" + (" times n" if M.is_square else ""))
+    return M
+
+
+def decimal_matrix(rows: Any, entry: str) -> sp.ImmutableMatrix:
+    """``rows`` with every float read as its shortest decimal, silently: the reading that
+    ``rationalize="nearby"`` is compared against."""
+    token = _ACTIVE.set(_Conversions(entry))
+    try:
+        return to_exact_matrix(rows, entry, rationalize=True)
+    finally:
+        _ACTIVE.reset(token)

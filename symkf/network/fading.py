@@ -27,6 +27,7 @@ import mpmath
 import sympy as sp
 
 from ..errors import InputError
+from ..exact.numbers import to_exact
 
 _DPS = 25
 _TAIL = mpmath.mpf(10) ** -22
@@ -37,7 +38,8 @@ def _positive(value: Any, entry: str) -> mpmath.mpf:
     if isinstance(value, bool) or not isinstance(value, (int, float, str, sp.Basic, mpmath.mpf)):
         raise InputError(f"{entry}: expected a positive number, got {value!r}")
     with mpmath.workdps(_DPS):
-        v = mpmath.mpf(sp.N(sp.sympify(value), _DPS)) if not isinstance(value, float) else mpmath.mpf(value)
+        v = mpmath.mpf(value) if isinstance(value, float) else mpmath.mpf(
+            sp.N(value if isinstance(value, mpmath.mpf) else to_exact(value, entry, algebraic=False), _DPS))
     if not v > 0:
         raise InputError(f"{entry}: must be positive, got {value!r}")
     return v

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 import sympy as sp
 
 from ..errors import AssumptionError, InputError
+from ..exact.numbers import substitution
 from ..losses import LossChain, LossModel, MarkovLoss, _probability
 from .fading import SuccessProbability
 from .state import MarkovNetworkState, SemiMarkovNetworkState
@@ -230,7 +231,8 @@ class NetworkLoss(LossModel):
 
     def subs(self, values: Mapping[Any, Any]) -> "NetworkLoss":
         """A copy with symbols in ``phi`` and in the network state's laws replaced by exact values."""
-        phi = [[sp.sympify(p).subs(values) for p in self.phi.row(m)] for m in range(self.d)]
+        values = substitution(values, "subs", self.phi.free_symbols)
+        phi = [[p.subs(values) for p in self.phi.row(m)] for m in range(self.d)]
         return NetworkLoss(self.tree, self.state.subs(values), phi)
 
     def __repr__(self) -> str:

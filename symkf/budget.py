@@ -1,0 +1,88 @@
+"""Resource budgets: caps checked before heavy work, refused early with a clear message.
+
+Each cap bounds an *estimate* made before any expensive computation starts (the algebraic
+degree of a parsed number, the size of a matrix, the states of a lifted Markov chain, the
+memory of a Monte Carlo run, ...).  A refusal is a :class:`~symkf.errors.BudgetError` that
+names the entry, the estimate, the cap, and how to raise it: the keyword of
+:func:`limits` in Python, the option in :data:`OPTIONS` on the command line.
+
+>>> from symkf import budget
+>>> with budget.limits(max_degree=128):   # doctest: +SKIP
+...     sk.System(A, sensors)
+
+Limits are process-wide; worker processes of a parallel sweep use the defaults.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import sys
+from dataclasses import dataclass
+from typing import Iterator
+
+from .errors import BudgetError
+
+
+@dataclass
+class Limits:
+    """The caps (defaults in brackets are chosen so that every example of the papers passes)."""
+
+    #: algebraic degree over Q of one number, bounded by the product of the degrees of its radicals
+    #: and trigonometric constants (a sum of 12 square roots has degree up to 4096)
+    max_degree: int = 64
+    #: nesting depth of radicals (sqrt(2 + sqrt(3)) has depth 2)
+    max_nesting: int = 4
+    #: denominator q of an angle p*pi/q inside cos, sin, tan or exp (degree grows like q)
+    max_angle_denominator: int = 360
+    #: modulus of an integer exponent (x**e) and decimal digits of any number
+    max_exponent: int = 10_000
+    max_digits: int = 1000
+    #: rows or columns of a matrix (state dimension n, measurement channels)
+    max_dimension: int = 16
+    #: sensors d of a system or loss model (an i.i.d. or Gilbert-Elliott chain has 2^d states;
+    #: 10 i.i.d. sensors take about 6 s, 12 exhaust 2 GB)
+    max_sensors: int = 10
+    #: states of a joint (lifted) Markov loss chain: the exact engine's work grows with their
+    #: square (64 states: about 9 s, 128: 30 s, 256: past 60 CPU-s)
+    max_markov_states: int = 128
+    #: members of a family file
+    max_members: int = 2000
+    #: bytes of the float64 arrays of one Monte Carlo run (paths x horizon x n^2 x 8)
+    max_memory: int = 2 * 1024 ** 3
+    #: bytes of an input file
+    max_file_size: int = 1024 ** 2
+
+
+#: the command-line option that raises each cap
+OPTIONS = {f.name: "--" + f.name.replace("_", "-") for f in dataclasses.fields(Limits)}
+
+#: the limits in force
+LIMITS = Limits()
+
+
+@contextlib.contextmanager
+def limits(**caps: int) -> Iterator[Limits]:
+    """Raise (or lower) caps inside a ``with`` block, e.g. ``limits(max_degree=128)``; Python's
+    limit on int <-> str conversion follows ``max_digits``."""
+    unknown = sorted(set(caps) - set(OPTIONS))
+    if unknown:
+        raise TypeError(f"unknown cap(s) {unknown}; caps are {sorted(OPTIONS)}")
+    saved, digits = dataclasses.asdict(LIMITS), sys.get_int_max_str_digits()
+    for name, value in caps.items():
+        setattr(LIMITS, name, value)
+    sys.set_int_max_str_digits(max(digits, 2 * LIMITS.max_digits))
+    try:
+        yield LIMITS
+    finally:
+        for name, value in saved.items():
+            setattr(LIMITS, name, value)
+        sys.set_int_max_str_digits(digits)
+
+
+def check(cap: str, estimate: int, entry: str, what: str) -> None:
+    """Refuse when ``estimate`` of ``what`` for ``entry`` exceeds the cap named ``cap``."""
+    bound = getattr(LIMITS, cap)
+    if estimate > bound:
+        raise BudgetError(f"{entry}: {what} is {estimate}, above the cap {bound}; raise it with "
+                          f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")

@@ -1,0 +1,340 @@
+"""Hostile input (issue 17): no code execution through any entry point, and the one safe parser.
+
+Every payload, if it ran, would create the file ``MARK`` (in a temporary directory): the tests
+assert that it never exists and that the entry point answers with symkf's InputError.
+"""
+
+from __future__ import annotations
+
+import importlib
+import itertools
+import inspect
+import pkgutil
+import signal
+import time
+from pathlib import Path
+
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import symkf as sk
+from symkf import budget
+from symkf.errors import BudgetError, InputError, SymkfError
+from symkf.exact.numbers import parse_exact
+
+#: code that would create ``{mark}`` if any part of it were evaluated as Python or by sympify
+PAYLOADS = (
+    "__import__('os').system('touch {mark}')",
+    "open('{mark}', 'w')",
+    "sqrt.__globals__['__builtins__']['open']('{mark}', 'w')",
+    "cos.__init__.__globals__['__builtins__']['exec'](\"open('{mark}','w')\")",
+    "exec(\"open('{mark}','w')\")",
+    "eval(\"open('{mark}','w')\")",
+    "().__class__.__base__.__subclasses__()",
+    "Symbol('x').__class__.__mro__",
+    "[open('{mark}', 'w') for x in (1,)]",
+    "(lambda: open('{mark}', 'w'))()",
+    "sympify(\"open('{mark}','w')\")",
+    "S(\"open('{mark}','w')\")",
+    "1 if open('{mark}', 'w') else 0",
+    "__builtins__",
+    "sqrt(*[open('{mark}', 'w')])",
+    "root(2, n=open('{mark}', 'w'))",
+    "Rational(1, 2).__class__",
+    "Integer(1)",
+    "x.y",
+    "2 @ 3",
+)
+
+
+@pytest.fixture
+def mark(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # a payload writing a relative path would land here
+    return tmp_path / "MARK"
+
+
+def payloads(mark: Path) -> list[str]:
+    return [p.format(mark=mark) for p in PAYLOADS]
+
+
+def _system():
+    return sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+
+
+def _entry_points():
+    """The 13 library entry points of issue 17, each taking the payload as its one string."""
+    from symkf import plots, second_order
+    from symkf.network import fading
+    S = _system()
+    region = sk.stability_region(S) if hasattr(sk, "stability_region") else None
+    from symkf.region import stability_region
+    region = stability_region(S)
+    S2 = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
+    cs = second_order.congruent_sets(S2)
+    return {
+        "IID": lambda p: sk.IID([p]),
+        "GilbertElliott fail": lambda p: sk.GilbertElliott([p], ["1/2"]),
+        "GilbertElliott recover": lambda p: sk.GilbertElliott(["1/2"], [p]),
+        "MarkovLoss": lambda p: sk.MarkovLoss({(1,): {(1,): p, (0,): "1/2"}, (0,): {(1,): "1/2", (0,): "1/2"}}),
+        "StabilityRegion.contains": lambda p: region.contains(p, "1/2"),
+        "StabilityRegion.conditions": lambda p: region.conditions([p, "1/2"]),
+        "StabilityRegion.boundary_at": lambda p: region.boundary_at(p),
+        "plots.rotation_system scale": lambda p: plots.rotation_system(p, "pi/2"),
+        "plots.rotation_system angle": lambda p: plots.rotation_system("2", p),
+        "plots.critical_angle_figure": lambda p: plots.critical_angle_figure(p),
+        "fading.Rayleigh": lambda p: fading.Rayleigh(p),
+        "fading.Nakagami": lambda p: fading.Nakagami(p, 1),
+        "congruent_sets.p_star": lambda p: cs.p_star([p]),
+        # beyond the issue's 13: everything else that reads a number from a string
+        "System A": lambda p: sk.System(A=[[p]], sensors=[sk.Sensor(C=[[1]])]),
+        "Sensor C": lambda p: sk.Sensor(C=[[p]]),
+        "IID.subs value": lambda p: sk.IID(["e"]).subs({"e": p}),
+        "IID.subs key": lambda p: sk.IID(["e"]).subs({p: "1/2"}),
+        "AlgebraicNumber.from_expr": lambda p: sk.AlgebraicNumber.from_expr(p),
+        "critical_loss_rate others": lambda p: sk.critical_loss_rate(S, "s1", others=["1/2", p]),
+    }
+
+
+ENTRY_NAMES = list(_entry_points())
+
+
+@pytest.mark.parametrize("name", ENTRY_NAMES)
+def test_payloads_never_run_and_are_input_errors(mark, name):
+    call = _entry_points()[name]
+    for payload in payloads(mark):
+        with pytest.raises(InputError):
+            call(payload)
+        assert not mark.exists(), f"{name} ran {payload!r}"
+
+
+# ---- every public callable that takes a string -------------------------------------------
+
+def _public_callables():
+    """(qualified name, callable) for every public function and class of every symkf module."""
+    seen, out = set(), []
+    for info in pkgutil.walk_packages(sk.__path__, "symkf."):
+        if info.name.endswith("__main__"):
+            continue
+        module = importlib.import_module(info.name)
+        for name, obj in vars(module).items():
+            if name.startswith("_") or not callable(obj) or getattr(obj, "__module__", "") != module.__name__:
+                continue
+            if id(obj) in seen or isinstance(obj, type) and issubclass(obj, BaseException):
+                continue
+            seen.add(id(obj))
+            out.append((f"{module.__name__}.{name}", obj))
+    return out
+
+
+def _may_take_a_string(p: inspect.Parameter) -> bool:
+    """Unannotated, or annotated with a type that admits a string (``Any``, ``str``, containers)."""
+    note = str(p.annotation)
+    return p.annotation is p.empty or any(t in note for t in ("Any", "str", "Sequence", "Mapping", "Iterable", "object"))
+
+
+class _Timeout(BaseException):
+    """Not an Exception: code under test that catches Exception cannot swallow it."""
+
+
+def _alarm(signum, frame):
+    raise _Timeout
+
+
+@pytest.mark.parametrize("count", [pytest.param(1, id="one-payload"), pytest.param(3, id="three", marks=pytest.mark.full)])
+def test_every_public_callable_refuses_payloads_in_every_parameter(mark, count):
+    """Each payload in each parameter of each public callable, the others at their defaults (or
+    the payload too when required): the payload never runs.  Callables writing files or starting
+    simulations run with the payload everywhere, so they fail at the first check; 2 s of CPU
+    each at most (a payload must be refused before any heavy work)."""
+    callables = _public_callables()
+    assert len(callables) > 100
+    tried, ran, cpu = 0, [], 0.0
+    old = signal.signal(signal.SIGALRM, _alarm)
+    try:
+        for qualname, fn in callables:
+            try:
+                params = [p for p in inspect.signature(fn).parameters.values()
+                          if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+            except (TypeError, ValueError):
+                continue
+            if count == 1 and qualname.rsplit(".", 1)[1].startswith("reproduce_"):
+                continue  # whole reproductions (seconds each) run in the full tier
+            for target in [p for p in params if count > 1 or _may_take_a_string(p)]:
+                for payload in payloads(mark)[:count]:
+                    args, kwargs = [], {}
+                    for p in params:
+                        if p is not target and p.default is not p.empty:
+                            continue
+                        (args.append if p.kind != p.KEYWORD_ONLY else
+                         lambda v, name=p.name: kwargs.__setitem__(name, v))(payload)
+                    signal.setitimer(signal.ITIMER_REAL, 2)
+                    t0 = time.process_time()
+                    try:
+                        fn(*args, **kwargs)
+                    except (_Timeout, Exception):
+                        pass
+                    finally:
+                        signal.setitimer(signal.ITIMER_REAL, 0)
+                    cpu += time.process_time() - t0
+                    tried += 1
+                    if mark.exists():
+                        ran.append(f"{qualname}({target.name}=...)")
+                        mark.unlink()
+    finally:
+        signal.signal(signal.SIGALRM, old)
+    assert not ran, "\n".join(ran)
+    assert tried > 200
+    print(f"{tried} calls, {cpu:.1f} CPU s")
+
+
+def test_no_string_evaluation_left_in_symkf():
+    """sympy's sympify/parse_expr and Python's eval/exec appear nowhere in symkf but the safe
+    parser's own strict wrapper."""
+    root = Path(sk.__file__).parent
+    offenders = []
+    for path in root.rglob("*.py"):
+        for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            code = line.split("#")[0]
+            if any(t in code for t in ("parse_expr", "eval(", "exec(", "S(\"", "S('", "sympify(\"", "sympify('")):
+                if "evalf(" not in code or "eval(" in code.replace("evalf(", ""):
+                    offenders.append(f"{path.relative_to(root)}:{i}: {line.strip()}")
+    assert offenders == []
+
+
+# ---- the grammar ---------------------------------------------------------------------------
+
+#: strings of the grammar, built from its pieces
+_ATOMS = st.one_of(st.integers(0, 10 ** 6).map(str), st.sampled_from(["0.5", "1e-3", "2.25", ".75", "pi", "I"]),
+                   st.fractions(min_value=-100, max_value=100, max_denominator=50).map(str))
+
+
+def _grow(children):
+    return st.one_of(
+        st.tuples(children, st.sampled_from(["+", "-", "*", "/"]), children).map(lambda t: f"({t[0]}{t[1]}{t[2]})"),
+        children.map(lambda c: f"sqrt({c})"),
+        st.tuples(children, st.integers(-3, 3)).map(lambda t: f"({t[0]})^{t[1]}"),
+        st.tuples(st.integers(-12, 12), st.integers(1, 12), st.sampled_from(["cos", "sin"])).map(
+            lambda t: f"{t[2]}({t[0]}*pi/{t[1]})"),
+        st.tuples(st.integers(-12, 12), st.integers(1, 12)).map(lambda t: f"exp({t[0]}*pi*I/{t[1]})"))
+
+
+GRAMMAR = st.recursive(_ATOMS, _grow, max_leaves=6)
+
+
+@settings(derandomize=True, max_examples=150, deadline=None)
+@given(GRAMMAR)
+def test_grammar_strings_parse_exactly_or_are_refused_cleanly(text):
+    """Strings of the grammar give the same value as sympy's own evaluation of the same
+    (trusted) expression, or a clear refusal: a budget cap or division by zero."""
+    try:
+        value = parse_exact(text, "x")
+    except BudgetError:
+        return
+    except InputError as exc:
+        assert "division by zero" in str(exc) or "exponent" in str(exc), exc
+        return
+    trusted = sp.sympify(text.replace("^", "**"), rational=True)
+    if trusted.has(sp.zoo, sp.nan):
+        return
+    assert sp.simplify(value - trusted) == 0 or abs(complex(sp.N(value - trusted, 30))) < 1e-25
+
+
+@settings(derandomize=True, max_examples=300, deadline=None)
+@given(st.text(alphabet=st.sampled_from(list("0123456789.+-*/^()eEjIpisqrtcoxn_,[]{}'\"=<>!@#$%&|~;: \\\n")),
+               max_size=40))
+def test_strings_outside_the_grammar_are_input_errors(text):
+    """Any string: an exact value or InputError, nothing else escapes."""
+    try:
+        value = parse_exact(text, "x", symbols=True)
+    except InputError:
+        return
+    assert isinstance(value, sp.Expr) and not value.has(sp.Float)
+
+
+# ---- budgets -------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("text, cap", [
+    ("exp(2*pi*I/99991)", "max_angle_denominator"),
+    ("sqrt(" * 20 + "2" + ")" * 20, "max_nesting"),
+    ("root(2, 99999)", "max_degree"),
+    ("root(2, 10**12)", "max_degree"),
+    ("cos(pi/1000000007)", "max_angle_denominator"),
+    ("+".join(f"sqrt({p})" for p in (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37)), "max_degree"),
+    ("9^9^9", "max_exponent"),
+    ("1e999999", "max_digits"),
+])
+def test_issue_hangs_are_refused_at_once_naming_the_option(text, cap):
+    """Each of these ran past 85 CPU-s, to gigabytes, or aborted the interpreter inside FLINT."""
+    for call in (lambda: sk.IID([text]), lambda: sk.System(A=[[text]], sensors=[sk.Sensor(C=[[1]])])):
+        with pytest.raises(BudgetError, match=budget.OPTIONS[cap]):
+            call()
+
+
+def test_caps_can_be_raised_and_are_restored():
+    """sum of 7 square roots of primes: degree 2^7 = 128 > 64 (default); with the cap raised it
+    parses (and the cap returns to its default after the block)."""
+    text = "+".join(f"sqrt({p})" for p in (2, 3, 5, 7, 11, 13, 17))
+    with pytest.raises(BudgetError, match="is 128, above the cap 64"):
+        parse_exact(text, "x")
+    with budget.limits(max_degree=128):
+        assert parse_exact(text, "x") == sum(sp.sqrt(p) for p in (2, 3, 5, 7, 11, 13, 17))
+    assert budget.LIMITS.max_degree == 64
+
+
+def test_sympy_input_is_budgeted_too():
+    with pytest.raises(BudgetError, match="--max-angle-denominator"):
+        sk.System(A=[[sp.cos(sp.pi / 1000000007)]], sensors=[sk.Sensor(C=[[1]])])
+
+
+@pytest.mark.parametrize("build, option", [
+    (lambda: sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]]) for _ in range(20)]), "--max-sensors"),
+    (lambda: sk.System(A=[[1 if i == j else 0 for j in range(1000)] for i in range(1000)],
+                       sensors=[sk.Sensor(C=[[1] * 1000])]), "--max-dimension"),
+    (lambda: sk.IID(["1/2"] * 11), "--max-sensors"),
+    (lambda: sk.MarkovLoss({h: {(0,): "1/2", (1,): "1/2"} for h in itertools.product([(0,), (1,)], repeat=8)},
+                           order=8), "--max-markov-states"),
+])
+def test_large_inputs_refused_early(build, option):
+    with pytest.raises(BudgetError, match=option):
+        build()
+
+
+def test_loss_above_one_refused_before_evaluation():
+    """root(2, 3) > 1 is not a probability: refused with the value, without a hang."""
+    with pytest.raises(sk.errors.ProbabilityError, match="not a probability"):
+        sk.IID(["root(2, 3)"])
+
+
+def test_not_algebraic_loss_is_an_input_error():
+    """cos(pi*sqrt(2)) is transcendental: refused by the parser, in a loss as in A."""
+    for call in (lambda: sk.IID(["cos(pi*sqrt(2))"]), lambda: sk.System(A=[["cos(pi*sqrt(2))"]], sensors=[sk.Sensor(C=[[1]])])):
+        with pytest.raises(InputError, match="rational multiple of pi"):
+            call()
+
+
+def test_symbol_errors_are_symkf_errors():
+    assert issubclass(BudgetError, SymkfError)
+
+
+def test_field_of_a_matrix_is_budgeted():
+    """Six distinct square roots on a diagonal: each entry has degree 2, the field of the entries
+    2^6 = 64, its eigen-extension bound 6 * 64 = 384 > 64.  A rotation by pi/7 (cos and sin in
+    Q(zeta_28), phi(28) = 12) has bound 2 * 12 = 24 and passes."""
+    primes = (2, 3, 5, 7, 11, 13)
+    with pytest.raises(BudgetError, match="is 384, above the cap 64"):
+        sk.System([[f"sqrt({p})" if i == j else 0 for j in range(6)] for i, p in enumerate(primes)],
+                  [sk.Sensor([[1] * 6])])
+    S = sk.System([["2*cos(pi/7)", "-2*sin(pi/7)"], ["2*sin(pi/7)", "2*cos(pi/7)"]], [sk.Sensor([[1, 0]])])
+    assert S.n == 2
+
+
+def test_family_members_budgeted(tmp_path):
+    """A family of 10^4 members is refused when read, before any member is built."""
+    from symkf.families import load_family
+    path = tmp_path / "big.toml"
+    path.write_text('[family]\n[grid]\na = { from = 1, to = 1000 }\nb = { from = 1, to = 10 }\n'
+                    '[system]\nA = [["a", "b"], ["0", "2"]]\n[[sensors]]\nC = [["1", "1"]]\n')
+    with pytest.raises(BudgetError, match="number of family members is 10000, above the cap 2000.*--max-members"):
+        load_family(path)

@@ -1,0 +1,164 @@
+"""Heavy and hostile input under hard limits (issue 17): every case runs in a forked child with
+a CPU and an address-space limit (resource.setrlimit), so a regression that hangs or allocates
+gigabytes fails the test instead of taking the machine down.  A case passes when the child
+ends by itself, with exit status 0-3 (never 70, never a signal) and no traceback."""
+
+from __future__ import annotations
+
+import os
+import resource
+import sys
+import tempfile
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import symkf as sk
+from symkf import cli
+
+#: CPU seconds and extra address space (over the parent's) of one case
+CPU_SECONDS = 20
+EXTRA_MEMORY = 1536 * 1024 ** 2
+
+
+def _vm_size() -> int:
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith("VmSize:"):
+            return int(line.split()[1]) * 1024
+    return 0
+
+
+def limited(fn, *args) -> tuple[int, str]:
+    """Run ``fn(*args)`` (returning an exit status) in a forked child under the limits; returns
+    (exit status, stderr).  A child killed by a signal (SIGXCPU, SIGKILL, SIGSEGV) is -signal."""
+    memory = _vm_size() + EXTRA_MEMORY
+    with tempfile.TemporaryFile() as err:
+        pid = os.fork()
+        if pid == 0:  # the child: never returns into pytest
+            status = 99
+            try:
+                resource.setrlimit(resource.RLIMIT_CPU, (CPU_SECONDS, CPU_SECONDS))
+                resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
+                os.dup2(err.fileno(), 2)
+                devnull = os.open(os.devnull, os.O_WRONLY)
+                os.dup2(devnull, 1)
+                sys.stdout, sys.stderr = open(1, "w", closefd=False), open(2, "w", closefd=False)
+                status = fn(*args)
+            except BaseException as exc:  # noqa: BLE001 - reported through the status
+                print(f"Traceback-free report: {type(exc).__name__}: {exc}", file=sys.stderr)
+                status = 98
+            finally:
+                sys.stderr.flush()
+                os._exit(status)
+        _, wait = os.waitpid(pid, 0)
+        err.seek(0)
+        text = err.read().decode(errors="replace")
+    code = os.waitstatus_to_exitcode(wait)
+    return code, text
+
+
+def library(call) -> int:
+    """0 when ``call()`` returns, 2 or 3 for symkf's own errors, 70 for anything else."""
+    try:
+        call()
+    except sk.SymkfError as exc:
+        return exc.exit_status
+    except Exception as exc:  # noqa: BLE001
+        print(f"untranslated {type(exc).__name__}: {exc}", file=sys.stderr)
+        return 70
+    return 0
+
+
+def assert_clean(code: int, err: str) -> None:
+    assert code in (0, 1, 2, 3), (code, err[-500:])
+    assert "Traceback" not in err
+
+
+def system_file(tmp: Path, entry: str, loss: str = "1/2", name: str = "s.toml") -> Path:
+    path = tmp / name
+    path.write_text(f'[system]\nA = [["{entry}"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nloss = ["{loss}"]\n')
+    return path
+
+
+HANGS = ["exp(2*pi*I/99991)", "sqrt(" * 20 + "2" + ")" * 20, "root(2, 99999)", "cos(pi/1000000007)",
+         "root(2, 10**12)", "+".join(f"sqrt({p})" for p in (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37)),
+         "cos(pi*sqrt(2))", "9^9^9"]
+
+
+@pytest.mark.parametrize("text", HANGS)
+def test_issue_hang_strings_end_at_once_everywhere(tmp_path, text):
+    """In A and as a loss, through the library and the CLI: exit 2 in one line, within the limits."""
+    code, err = limited(library, lambda: sk.IID([text]))
+    assert code == 2, err
+    code, err = limited(library, lambda: sk.System(A=[[text]], sensors=[sk.Sensor(C=[[1]])]))
+    assert code == 2, err
+    for path in (system_file(tmp_path, text), system_file(tmp_path, "2", loss=text, name="l.toml")):
+        code, err = limited(cli.main, ["analyze", str(path)])
+        assert code == 2 and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["critical", "{sys}", "--digits", "1000000000"], "--max-digits"),
+    (["critical", "{sys}", "--digits", "100000"], "--max-digits"),
+    (["simulate", "{sys}", "--paths", "1000000000", "--horizon", "80"], "--max-memory"),
+    (["analyze", "/dev/zero"], "--max-file-size"),
+    (["table", "{dir}"], "is a directory"),
+    (["verify", "/dev/zero"], "--max-file-size"),
+    (["analyze", "{cos}"], "rational multiple of pi"),
+])
+def test_cli_values_it_cannot_serve_are_exit_2(tmp_path, argv, message):
+    """Issue 17's CLI cases that hung, hit MemoryError or exited 70."""
+    paths = {"sys": system_file(tmp_path, "2"), "dir": tmp_path, "cos": system_file(tmp_path, "2", "cos(pi*sqrt(2))", "c.toml")}
+    code, err = limited(cli.main, [a.format(**{k: str(v) for k, v in paths.items()}) for a in argv])
+    assert code == 2 and err.count("\n") == 1 and message in err, err
+
+
+ENTRY = st.one_of(
+    st.sampled_from(HANGS),
+    st.text(alphabet=st.sampled_from(list("0123456789.+-*/^()eEIpisqrtcoxn_,")), max_size=30),
+    st.tuples(st.sampled_from(["sqrt", "root", "cos", "exp", "sin"]), st.integers(-10 ** 12, 10 ** 12),
+              st.integers(-10 ** 12, 10 ** 12)).map(lambda t: f"{t[0]}({t[1]}*pi/{t[2] or 1})" if t[0] != "root"
+                                                       else f"root({t[1]}, {t[2]})"),
+    st.integers(-10 ** 30, 10 ** 30).map(lambda k: f"2^{k}"))
+
+
+def _fuzz(tmp_path_factory, entry: str, where: str) -> None:
+    tmp = tmp_path_factory.mktemp("limits")
+    path = system_file(tmp, entry) if where == "A" else system_file(tmp, "2", loss=entry)
+    code, err = limited(cli.main, ["analyze", str(path)])
+    assert_clean(code, err)
+    code, err = limited(library, lambda: sk.IID([entry]))
+    assert_clean(code, err)
+
+
+@settings(derandomize=True, max_examples=15, deadline=None)
+@given(entry=ENTRY, where=st.sampled_from(["A", "loss"]))
+def test_fuzz_under_limits(tmp_path_factory, entry, where):
+    _fuzz(tmp_path_factory, entry, where)
+
+
+@pytest.mark.full
+@settings(derandomize=True, max_examples=300, deadline=None)
+@given(entry=ENTRY, where=st.sampled_from(["A", "loss"]))
+def test_fuzz_under_limits_long(tmp_path_factory, entry, where):
+    _fuzz(tmp_path_factory, entry, where)
+
+
+def test_the_limits_are_real():
+    """The harness itself: 4 GiB over the parent's size is refused inside the child (the case
+    reports it as an untranslated MemoryError), so a real blow-up cannot reach the machine."""
+    code, err = limited(library, lambda: bytearray(4 * 1024 ** 3))
+    assert code == 70 and "MemoryError" in err
+
+
+def test_raised_digit_cap_serves_beyond_pythons_int_limit(tmp_path):
+    """--digits 100000 was exit 70 (Python's 4300-digit int <-> str limit); above the default cap it
+    is refused, and with --max-digits raised 5000 digits are served: A = [cbrt(3)] has the
+    irrational critical rate 3^(-2/3), whose isolating interval at 10^-5002 has endpoints of
+    about 19700 characters (the conversion limit follows the cap)."""
+    path = tmp_path / "cube.toml"
+    path.write_text('[system]\nA = [["root(3, 3)"]]\n[[sensors]]\nC = [["1"]]\n')
+    code, err = limited(cli.main, ["critical", str(path), "--digits", "5000", "--max-digits", "6000", "--json"])
+    assert code == 0, err
