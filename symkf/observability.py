@@ -59,27 +59,55 @@ class BlockRows:
     @cached_property
     def hyperplanes(self) -> tuple[frozenset[int], ...]:
         """Maximal sets of elements whose generators lie in a common hyperplane (indices)."""
-        n = self.size
-        gens = [(e, g) for e, gs in enumerate(self.generators) for g in gs]
+        return tuple(_set(row) for row in self.inside)
+
+    @cached_property
+    def inside(self) -> np.ndarray:
+        """Boolean matrix: ``inside[h, e]`` iff element ``e`` lies in hyperplane ``h`` (the order of
+        :attr:`hyperplanes`, sorted by their sorted index lists).  Counting is vectorised: an
+        element is inside a generator hyperplane ``S`` iff all its generators are in ``S``."""
+        n, E = self.size, len(self.generators)
         if n == 1:
-            inside = frozenset(e for e, gs in enumerate(self.generators) if not gs)
-            return (inside,)
-        vectors = _distinct([g for _, g in gens])
+            return np.array([[not gs for gs in self.generators]], dtype=bool)
+        vectors = _distinct([g for gs in self.generators for g in gs])
         index = {_key(v): i for i, v in enumerate(vectors)}
-        members = [[index[_key(g)] for g in gs] for gs in self.generators]
-        spanning, partial = set(), set()
-        for S in _generator_hyperplanes(self.K, vectors, n):
-            s = frozenset(e for e, idx in enumerate(members) if all(i in S for i in idx))
-            # s spans its hyperplane when it keeps all of S (S holds n - 1 independent vectors),
-            # and then no other hyperplane's element set contains it
-            (spanning if {i for e in s for i in members[e]} == S else partial).add(s)
-        sets = spanning | {s for s in partial if not any(s < t for t in spanning | partial)}
-        return tuple(sorted(sets, key=sorted))
+        member = np.zeros((E, len(vectors)), dtype=np.int32)
+        for e, gs in enumerate(self.generators):
+            member[e, [index[_key(g)] for g in gs]] = 1
+        found = _generator_hyperplanes(self.K, vectors, n)
+        S = np.zeros((len(found), len(vectors)), dtype=np.int32)
+        S[np.repeat(np.arange(len(found)), [len(hs) for hs in found]),
+          np.fromiter(itertools.chain.from_iterable(found), dtype=np.int64)] = 1
+        inside = S @ member.T == member.sum(axis=1)
+        # an element set spans its hyperplane when its generators are all of S (S holds n - 1
+        # independent vectors); then it is maximal and no other hyperplane has the same set
+        spanning = ((inside.astype(np.int32) @ member > 0) == S.astype(bool)).all(axis=1)
+        sets = inside[spanning]
+        partial = np.unique(inside[~spanning], axis=0)
+        if len(partial):  # kept unless strictly inside another set
+            every = np.concatenate([sets, partial])
+            sizes = every.sum(axis=1)
+            keep = [not (every[:, r].all(axis=1) & (sizes > r.sum())).any() for r in partial]
+            sets = np.concatenate([sets, partial[keep]])
+        return sets[_lex_order(sets)]
 
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
         rows = [g for e in pattern for g in self.generators[e]]
         return rank_rows(self.K, rows, self.size) < self.size
+
+
+def _set(row: np.ndarray) -> frozenset[int]:
+    return frozenset(np.flatnonzero(row).tolist())
+
+
+def _lex_order(rows: np.ndarray) -> np.ndarray:
+    """The permutation sorting boolean rows as their sorted lists of True indices are sorted."""
+    r, c = np.nonzero(rows)
+    counts = rows.sum(axis=1)
+    padded = np.full((len(rows), int(counts.max(initial=0)) + 1), -1, dtype=np.int64)  # -1: the list ended
+    padded[r, np.arange(len(r)) - np.repeat(np.cumsum(counts) - counts, counts)] = c
+    return np.lexsort(padded.T[::-1])
 
 
 def _key(v: Sequence[Elem]) -> str:
@@ -119,39 +147,115 @@ def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]]) -> tuple[int, 
 
 
 def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n: int) -> list[frozenset[int]]:
-    """Every hyperplane spanned by ``vectors`` (distinct, in K^n), as the set of vectors it holds.
+    """Every hyperplane spanned by ``vectors`` (distinct, in K^n, n >= 2), as the set of vectors it holds.
 
-    Screened mod p, decided exactly: if ``n - 1`` vectors are independent mod p they are
-    independent over K, and their exact span ``H`` holds ``v`` only if ``phi(v)`` lies in the
-    span of their images (Cramer's identity ``m_0 v = sum m_k v_k`` with the minor ``m_0``
-    nonzero mod p maps to F_p).  So the mod-p members are a superset of the exact ones, and each
-    extra member is confirmed by an exact rank.  Combinations dependent mod p are decided exactly.
+    The hyperplanes through a flat ``Z`` of rank ``n - 2`` partition the vectors outside ``Z``
+    by their direction in the plane ``K^n / Z``: with ``N`` a basis of the normals of ``Z``,
+    ``v`` lies on the line ``(v.N_2 : -v.N_1)``.  Each flat is visited once, from its
+    lexicographically first basis ``c`` (the greedy basis; later bases lie in a known flat),
+    and a hyperplane ``Z + G`` is kept there only when ``min G > max c``: its greedy basis then
+    starts with ``c``, so every hyperplane is found exactly once.
+
+    Screened mod p, decided exactly: ``n - 2`` (or ``n - 1``) vectors independent mod p are
+    independent over K and the mod-p members of their span are a superset of the exact ones
+    (Cramer's identity with a minor nonzero mod p maps to F_p).  So a set of exactly ``n - 1``
+    vectors is exact, larger sets (``Z`` and kept ``Z + G``) are confirmed by an exact rank,
+    and a flat where a confirmation fails, or whose basis is dependent mod p, is done exactly.
     """
     p, images = _reduction(K, vectors)
     W = np.array(images, dtype=np.int64)
-    found: list[frozenset[int]] = []
-    covered: set[tuple[int, ...]] = set()  # (n-1)-subsets of known hyperplanes: they span them or nothing
-    for combo in itertools.combinations(range(len(vectors)), n - 1):
-        if combo in covered:
-            continue
-        rows = [vectors[i] for i in combo]
-        null, nullity = flint.nmod_mat([images[i] for i in combo], p).nullspace()
-        if nullity == 1:
-            h = np.array([int(null[i, 0]) for i in range(n)], dtype=np.int64)
-            candidates = [int(i) for i in np.flatnonzero((W * h % p).sum(axis=1) % p == 0)]
-            if len(candidates) == n - 1 or rank_rows(K, [vectors[i] for i in candidates], n) == n - 1:
-                S = frozenset(candidates)
-            else:  # a false zero mod p: confirm the extra members one by one
-                S = frozenset(i for i in candidates if i in combo or rank_rows(K, rows + [vectors[i]], n) == n - 1)
-        elif rank_rows(K, rows, n) == n - 1:  # unlucky prime: decide exactly
-            (normal,) = nullspace_rows(K, rows, n)
-            S = frozenset(i for i, v in enumerate(vectors) if K.dot(v, normal).is_zero())
-        else:
-            continue
-        found.append(S)
-        if len(S) > n - 1:
-            covered.update(itertools.combinations(sorted(S), n - 1))
-    return found
+    V = len(vectors)
+    found: set[frozenset[int]] = set()
+    exact: dict[frozenset[int], bool] = {}
+
+    def flat(S: frozenset[int], rank: int) -> bool:  # S holds independent vectors of that rank
+        if len(S) == rank:
+            return True
+        if S not in exact:
+            exact[S] = rank_rows(K, [vectors[i] for i in S], n) == rank
+        return exact[S]
+
+    covered: set[tuple[int, ...]] = set()  # bases of visited flats are (n-2)-subsets of them
+    combos = itertools.combinations(range(V), n - 2)
+    while chunk := list(itertools.islice(combos, 2048)):
+        batch = [c for c in chunk if c not in covered]
+        normals: list[np.ndarray | None] = []
+        for c in batch:
+            null, nullity = flint.nmod_mat([images[i] for i in c], p).nullspace() if c else (None, n)
+            normals.append(None if nullity != 2 else np.eye(2, dtype=np.int64) if not c else
+                           np.array([[int(null[i, k]) for k in range(2)] for i in range(n)], dtype=np.int64))
+        good = [N for N in normals if N is not None]
+        if good:  # B x V x 2 images of the vectors in the planes K^n / Z (entries < n p^2 < 2^63)
+            XY = np.einsum("vn,bnk->bvk", W, np.stack(good)) % p
+            lines = iter(_line_keys(XY[..., 0], XY[..., 1], p))
+        for c, N in zip(batch, normals):
+            if N is not None:
+                key = next(lines)
+                if c in covered:
+                    continue
+                out = _hyperplanes_through(c, key, p, n, flat)
+            elif c in covered:
+                continue
+            elif rank_rows(K, [vectors[i] for i in c], n) == n - 2:
+                out = None  # independent, but not mod p: decide exactly
+            else:
+                continue  # dependent: spans no flat of rank n - 2
+            if out is None:
+                out = _hyperplanes_through_exact(K, vectors, c, n)
+            Z, hyperplanes = out
+            found.update(hyperplanes)
+            if len(Z) > n - 2:
+                covered.update(itertools.combinations(sorted(Z), n - 2))
+    return list(found)
+
+
+def _line_keys(x: np.ndarray, y: np.ndarray, p: int) -> np.ndarray:
+    """The point ``(x : y)`` of the projective line over F_p as ``x / y`` in ``0..p-1``, ``p`` for
+    ``y = 0``, and ``p + 1`` for ``x = y = 0`` (the vector lies in the flat)."""
+    inv, base, e = np.ones_like(y), y.copy(), p - 2  # Fermat: y^(p-2) = 1/y, squarings stay below 2^54
+    while e:
+        if e & 1:
+            inv = inv * base % p
+        base = base * base % p
+        e >>= 1
+    return np.where(y != 0, x * inv % p, np.where(x != 0, p, p + 1))
+
+
+def _hyperplanes_through(c: tuple[int, ...], key: np.ndarray, p: int, n: int, flat) \
+        -> tuple[frozenset[int], list[frozenset[int]]] | None:
+    """The flat ``Z`` spanned by ``c`` and the hyperplanes through it whose greedy basis starts
+    with ``c``, from the mod-p line of every vector; None when an exact confirmation fails."""
+    Z = frozenset(np.flatnonzero(key == p + 1).tolist())
+    if not flat(Z, n - 2):
+        return None
+    outside = np.flatnonzero(key != p + 1)
+    last = c[-1] if c else -1
+    _, first, group = np.unique(key[outside], return_index=True, return_inverse=True)
+    out = []
+    for g in np.flatnonzero(outside[first] > last).tolist() + \
+            [g for g in np.unique(group[outside > last]).tolist() if outside[first[g]] < last]:
+        S = Z | frozenset(outside[group == g].tolist())
+        # kept sets are confirmed; so are straddling ones, which could hide a kept set (a false merge mod p)
+        if not flat(S, n - 1):
+            return None
+        if outside[first[g]] > last:
+            out.append(S)
+    return Z, out
+
+
+def _hyperplanes_through_exact(K: NumberField, vectors: Sequence[Sequence[Elem]], c: tuple[int, ...],
+                               n: int) -> tuple[frozenset[int], list[frozenset[int]]]:
+    """The flat spanned by the independent ``c`` and every hyperplane through it, exactly."""
+    rows = [vectors[i] for i in c]
+    Z = frozenset(i for i, v in enumerate(vectors) if rank_rows(K, rows + [v], n) == n - 2)
+    out, done = [], set(Z)
+    for i, v in enumerate(vectors):
+        if i not in done:
+            (normal,) = nullspace_rows(K, rows + [v], n)
+            S = frozenset(j for j, u in enumerate(vectors) if K.dot(u, normal).is_zero())
+            out.append(S)
+            done |= S
+    return Z, out
 
 
 def block_rows(system: System) -> tuple[BlockRows, ...]:
