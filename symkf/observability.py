@@ -71,17 +71,17 @@ class BlockRows:
             return np.array([[not gs for gs in self.generators]], dtype=bool)
         vectors = _distinct([g for gs in self.generators for g in gs])
         index = {_key(v): i for i, v in enumerate(vectors)}
-        member = np.zeros((E, len(vectors)), dtype=np.int32)
+        member = np.zeros((E, len(vectors)), dtype=np.float32)  # small counts: exact, and BLAS
         for e, gs in enumerate(self.generators):
             member[e, [index[_key(g)] for g in gs]] = 1
         found = _generator_hyperplanes(self.K, vectors, n)
-        S = np.zeros((len(found), len(vectors)), dtype=np.int32)
+        S = np.zeros((len(found), len(vectors)), dtype=np.float32)
         S[np.repeat(np.arange(len(found)), [len(hs) for hs in found]),
           np.fromiter(itertools.chain.from_iterable(found), dtype=np.int64)] = 1
         inside = S @ member.T == member.sum(axis=1)
         # an element set spans its hyperplane when its generators are all of S (S holds n - 1
         # independent vectors); then it is maximal and no other hyperplane has the same set
-        spanning = ((inside.astype(np.int32) @ member > 0) == S.astype(bool)).all(axis=1)
+        spanning = ((inside.astype(np.float32) @ member > 0) == S.astype(bool)).all(axis=1)
         sets = inside[spanning]
         partial = np.unique(inside[~spanning], axis=0)
         if len(partial):  # kept unless strictly inside another set
@@ -230,15 +230,18 @@ def _hyperplanes_through(c: tuple[int, ...], key: np.ndarray, p: int, n: int, fl
         return None
     outside = np.flatnonzero(key != p + 1)
     last = c[-1] if c else -1
-    _, first, group = np.unique(key[outside], return_index=True, return_inverse=True)
+    order = np.argsort(key[outside], kind="stable")  # lines, each with ascending members
+    keys, members = key[outside][order], outside[order].tolist()
+    bounds = [0, *(np.flatnonzero(keys[1:] != keys[:-1]) + 1).tolist(), len(members)]
     out = []
-    for g in np.flatnonzero(outside[first] > last).tolist() + \
-            [g for g in np.unique(group[outside > last]).tolist() if outside[first[g]] < last]:
-        S = Z | frozenset(outside[group == g].tolist())
+    for a, b in zip(bounds, bounds[1:]):
+        if members[b - 1] < last:
+            continue
+        S = Z | frozenset(members[a:b])
         # kept sets are confirmed; so are straddling ones, which could hide a kept set (a false merge mod p)
         if not flat(S, n - 1):
             return None
-        if outside[first[g]] > last:
+        if members[a] > last:
             out.append(S)
     return Z, out
 
