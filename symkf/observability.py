@@ -53,7 +53,7 @@ class BlockRows:
     elements: tuple[Element, ...]
     generators: tuple[tuple[tuple[Elem, ...], ...], ...]  # per element
     size: int
-    T: list = field(repr=False)      # modal eigenvector columns (n x n_i over K)
+    T: list = field(repr=False)      # modal eigenvector columns (n x n_i over K; see modal_form's conjugate_pair)
     diag: list = field(repr=False)   # the block's eigenvalues in K, repeated by multiplicity
 
     @cached_property
@@ -269,21 +269,28 @@ def block_rows(system: System) -> tuple[BlockRows, ...]:
     return cached
 
 
-def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBase] = ()) \
-        -> tuple[NumberField, list[list[Elem]], list[Elem]]:
+def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBase] = (),
+               conjugate_pair: bool = False) -> tuple[NumberField, list[list[Elem]], list[Elem]]:
     """Exact modal form of one eigen-block: field K, eigenvector columns ``T_i`` (n x n_i), ``D_i``.
 
     K is the smallest field holding the entries of ``A``, of ``extra``
-    matrices (the sensors' C) and the block's eigenvalues.
+    matrices (the sensors' C) and the block's eigenvalues.  With ``conjugate_pair``
+    (see :func:`is_conjugate_pair`) the second eigenvalue ``conj(lambda)`` and its
+    eigenvector are replaced by their complex conjugates ``lambda``, ``v``: K is then
+    ``Q(lambda)`` (degree ``deg``) instead of ``Q(lambda, conj(lambda))`` (up to
+    ``deg (deg - 1)``).  This is the modal form up to conjugating the second class, which
+    preserves linear dependence within that class: right for the per-class generators,
+    not for rows that mix the two classes.
     """
+    members = block.members[:1] * 2 if conjugate_pair else block.members
     gens = [v for M in (A, *extra) for v in M if not sp.sympify(v).is_Rational]
-    gens += [e.expr for e in block.members if not e.expr.is_Rational]
+    gens += [e.expr for e in members if not e.expr.is_Rational]
     K = NumberField(gens)
     n = A.shape[0]
     Ak = K.matrix(A)
     cols: list[list[Elem]] = []
     diag: list[Elem] = []
-    for ev in block.members:
+    for ev in members:
         lam = K.convert(ev.expr)
         shifted = [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(n)] for i in range(n)]
         basis = nullspace_rows(K, shifted, n)
@@ -295,8 +302,20 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
     return K, T, diag
 
 
+def is_conjugate_pair(system: System, block: EigenBlock) -> bool:
+    """Whether the block is ``{lambda, conj(lambda)}`` (simple) in two classes of a real system.
+
+    For real ``A`` a block of two simple eigenvalues that are not in one class (their ratio is
+    no root of unity; ``lambda, -lambda`` are) is a conjugate pair, and with real ``C`` the
+    eigenvectors can be chosen conjugate, so the second class's generators are the conjugates
+    of the first's (the generic case of a dense real matrix)."""
+    return (len(block.members) == 2 and len(block.classes) == 2
+            and all(e.multiplicity == 1 for e in block.members)
+            and all(sp.sympify(v).is_real for M in (system.A, *(s.C for s in system.sensors)) for v in M))
+
+
 def _block_rows(system: System, block: EigenBlock) -> BlockRows:
-    K, T, diag = modal_form(system.A, block, [s.C for s in system.sensors])
+    K, T, diag = modal_form(system.A, block, [s.C for s in system.sensors], is_conjugate_pair(system, block))
     g = block.class_period
     class_of = [ci for ci, members in enumerate(block.classes)
                 for m in members for _ in range(block.members[m].multiplicity)]
@@ -346,6 +365,11 @@ def block_deficient(system: System, pattern: Sequence[Sequence[int]]) -> tuple[b
     out = []
     for br in block_rows(system):
         K, T, diag = br.K, br.T, br.diag
+        if is_conjugate_pair(system, br.block):  # rows mix the classes: the true modal form
+            key = ("modal form", id(br.block))
+            if key not in system._cache:
+                system._cache[key] = modal_form(system.A, br.block, [s.C for s in system.sensors])
+            K, T, diag = system._cache[key]
         rows = []
         for k, vec in enumerate(pattern):
             powers = [K.pow(lam, k) for lam in diag]

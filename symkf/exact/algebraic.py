@@ -109,8 +109,22 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
     raise InputError(f"cannot identify the {what} among the roots of {poly}")  # pragma: no cover
 
 
+def crootof_ball(expr: sp.CRootOf) -> flint.acb:
+    """A ball holding sympy's isolating interval (exact rationals) of a ``CRootOf``: no refinement,
+    which for high degrees costs far more than isolating the roots again in flint."""
+    iv = expr._get_interval()
+    (xlo, xhi), (ylo, yhi) = ((iv.a, iv.b), (0, 0)) if expr.is_real else ((iv.ax, iv.bx), (iv.ay, iv.by))
+
+    def arb(lo: sp.Rational, hi: sp.Rational) -> flint.arb:
+        return flint.arb(flint.fmpq(int(lo.p), int(lo.q))).union(flint.arb(flint.fmpq(int(hi.p), int(hi.q))))
+    return flint.acb(arb(sp.Rational(xlo), sp.Rational(xhi)), arb(sp.Rational(ylo), sp.Rational(yhi)))
+
+
 def expr_ball(expr: sp.Expr, prec: int) -> flint.acb:
-    """A ball around the value of the sympy number ``expr`` at about ``prec`` bits (sympy's evalf)."""
+    """A ball around the value of the sympy number ``expr`` at about ``prec`` bits (sympy's evalf;
+    for a ``CRootOf``, its isolating interval, which separates it from the other roots)."""
+    if isinstance(expr, sp.CRootOf):
+        return crootof_ball(expr)
     digits = prec // 3 + 10
     v = sp.N(expr, digits)
     re_, im_ = sp.re(v), sp.im(v)
