@@ -31,9 +31,11 @@ def dense(n: int, d: int = 3, seed: int = 0) -> tuple[sk.System, sk.IID]:
     return sk.System(A=A, sensors=_sensors(_random_rows(rng, d, n))), sk.IID(["1/10"] * d)
 
 
-def rotation_stack(d: int = 3, seed: int = 0) -> tuple[sk.System, sk.IID]:
-    """n = 8: rotations by pi/2, pi/3, pi/4, pi/6 scaled by 2, 3, 4, 5 (four moduli, four periods)."""
-    blocks = [_rotation(sp.pi / 2, 2), _rotation(sp.pi / 3, 3), _rotation(sp.pi / 4, 4), _rotation(sp.pi / 6, 5)]
+def rotation_stack(d: int = 3, seed: int = 0, hard: int = 0) -> tuple[sk.System, sk.IID]:
+    """n = 8: rotations by pi/2, pi/3, pi/4, pi/6 scaled by 2, 3, 4, 5 (four moduli, four periods);
+    ``hard=1``: by 2 pi/5, 2 pi/7, pi/4, pi/6 (entries from four different fields)."""
+    angles = [2 * sp.pi / 5, 2 * sp.pi / 7, sp.pi / 4, sp.pi / 6] if hard else [sp.pi / 2, sp.pi / 3, sp.pi / 4, sp.pi / 6]
+    blocks = [_rotation(a, k + 2) for k, a in enumerate(angles)]
     rng = np.random.default_rng(seed)
     return sk.System(A=sp.diag(*blocks), sensors=_sensors(_random_rows(rng, d, 8))), sk.IID(["1/10"] * d)
 

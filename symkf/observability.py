@@ -124,12 +124,13 @@ def _distinct(vectors: Sequence[tuple[Elem, ...]]) -> list[tuple[Elem, ...]]:
     return out
 
 
-def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]]) -> tuple[int, list[list[int]]]:
+def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]], start: int = 1 << 27) \
+        -> tuple[int, list[list[int]]]:
     """A prime ``p`` and the images of ``vectors`` under a ring map ``phi: Z_(p)[theta] -> F_p``.
 
     ``phi`` sends ``theta`` to a root of its minimal polynomial mod ``p``; ``p`` divides no
     denominator, so every linear relation over K maps to one over F_p."""
-    p = 1 << 27
+    p = start  # below 2^30: products of two residues, summed n times, stay in int64
     while True:
         p = int(sp.nextprime(p))
         coeffs = [c for v in vectors for a in v for c in a.coeffs()] + list(K.modulus.coeffs())
