@@ -131,19 +131,19 @@ def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]], start: int = 1
     ``phi`` sends ``theta`` to a root of its minimal polynomial mod ``p``; ``p`` divides no
     denominator, so every linear relation over K maps to one over F_p."""
     p = start  # below 2^30: products of two residues, summed n times, stay in int64
+    elements = [a for v in vectors for a in v]
+    denominators = int(np.lcm.reduce([int(a.denom()) for a in elements] + [int(K.modulus.denom())], dtype=object))
     while True:
         p = int(sp.nextprime(p))
-        coeffs = [c for v in vectors for a in v for c in a.coeffs()] + list(K.modulus.coeffs())
-        if any(int(c.q) % p == 0 for c in coeffs) or int(K.modulus.coeffs()[-1].p) % p == 0:
+        if denominators % p == 0 or int(K.modulus.coeffs()[-1].p) % p == 0:
             continue
-        mod = [int(c.p) * pow(int(c.q), -1, p) % p for c in K.modulus.coeffs()]
-        roots = flint.nmod_poly(mod, p).roots()
+        roots = flint.nmod_poly([int(c.p) * pow(int(c.q), -1, p) % p for c in K.modulus.coeffs()], p).roots()
         if not roots:
             continue
         r = int(roots[0][0])
 
         def phi(a: Elem) -> int:
-            return sum(int(c.p) * pow(int(c.q), -1, p) * pow(r, i, p) for i, c in enumerate(a.coeffs())) % p
+            return int(flint.nmod_poly([int(c) for c in a.numer().coeffs()], p)(r)) * pow(int(a.denom()), -1, p) % p
         return p, [[phi(a) for a in v] for v in vectors]
 
 

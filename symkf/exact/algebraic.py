@@ -77,7 +77,13 @@ def _with_prec(prec: int, fn: Callable[[], Any]) -> Any:
 
 def root_ball(poly: flint.fmpz_poly, index: int, prec: int) -> flint.acb:
     """Certified isolating ball of root ``index`` of ``poly`` (flint's ordering) at ``prec`` bits."""
-    return _with_prec(prec, lambda: poly.complex_roots()[index][0])
+    return _complex_roots(tuple(int(c) for c in poly.coeffs()), prec)[index]
+
+
+@lru_cache(maxsize=512)
+def _complex_roots(coeffs: tuple[int, ...], prec: int) -> tuple[flint.acb, ...]:
+    # isolating all roots dominates (degree 2(p-1) for a rotation by 2 pi/p); callers ask root by root
+    return _with_prec(prec, lambda: tuple(r for r, _ in flint.fmpz_poly(list(coeffs)).complex_roots()))
 
 
 def _arb_interval(b: flint.arb) -> tuple[sp.Rational, sp.Rational]:
