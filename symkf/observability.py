@@ -137,9 +137,12 @@ def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]], start: int = 1
         p = int(sp.nextprime(p))
         if denominators % p == 0 or int(K.modulus.coeffs()[-1].p) % p == 0:
             continue
-        roots = flint.nmod_poly([int(c.p) * pow(int(c.q), -1, p) % p for c in K.modulus.coeffs()], p).roots()
-        if not roots:
+        f = flint.nmod_poly([int(c.p) * pow(int(c.q), -1, p) % p for c in K.modulus.coeffs()], p)
+        x = flint.nmod_poly([0, 1], p)
+        split = f.gcd(x.pow_mod(p, f) - x)  # the linear factors of f: finding them all costs far more
+        if split.degree() < 1:
             continue
+        roots = split.roots()
         r = int(roots[0][0])
 
         def phi(a: Elem) -> int:

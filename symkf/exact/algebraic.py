@@ -108,7 +108,7 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
             z = ball_at(prec)
             # isolate roots only of the factors that can vanish on the ball: root isolation dominates
             return [(f, i) for f in factors if f(z).contains(0)
-                    for i, (r, _) in enumerate(f.complex_roots()) if r.overlaps(z)]
+                    for i, r in enumerate(_complex_roots(tuple(int(c) for c in f.coeffs()), prec)) if r.overlaps(z)]
         found = _with_prec(prec, hits)
         if len(found) == 1:
             return found[0]
