@@ -14,6 +14,7 @@ Child mode: ``python engine_rows.py --child WHAT CASE ARG...``.
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import statistics
 import subprocess
@@ -40,7 +41,7 @@ def _child(what: str, case: str, args: list[str]) -> None:
         from symkf.stability import stability
         v = stability(system, loss)
         result = f"{v.stable} {[str(m.exact) for m in v.margins]}"
-    elif what == "analyze":  # the CLI command on a TOML file of the system (plain output captured)
+    elif what == "analyze":  # the CLI command on a TOML file of the system (JSON output captured)
         result = _analyze(system, loss)
     else:
         raise SystemExit(f"unknown computation {what}")
@@ -65,7 +66,8 @@ def _analyze(system, loss) -> str:
             status = main(["analyze", str(path), "--json"])
     if status != 0:
         raise SystemExit(f"analyze exited with {status}")
-    return out.getvalue()
+    verdict = json.loads(out.getvalue())["verdict"]  # the exact part (main's JSON layout moves on)
+    return f"{verdict['stable']} {[m['exact'] for m in verdict['margins']]}"
 
 
 def _baseline_tree(tmp: str) -> str:

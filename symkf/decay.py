@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from typing import Sequence
 
 import flint
-import numpy as np
+import numpy as np  # outside counts from BlockRows.inside
 import sympy as sp
 
 from .errors import AperiodicError, InputError

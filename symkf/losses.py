@@ -15,7 +15,7 @@ from functools import cached_property
 from typing import Any, Iterable, Mapping, Sequence
 
 import flint
-import numpy as np
+import numpy as np  # float chains for simulation (LossModel.numeric)
 import sympy as sp
 
 from .errors import AssumptionError, InputError, ProbabilityError

@@ -26,7 +26,7 @@ from functools import cached_property
 from typing import Sequence
 
 import flint
-import numpy as np
+import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
 import sympy as sp
 
 from .exact.field import Elem, NumberField
