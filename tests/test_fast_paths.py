@@ -148,3 +148,19 @@ def test_conjugate_pair_in_q_lambda_equals_the_full_field(seed):
         assert critical_loss_rate(slow) == critical_loss_rate(fast)
     assert [br.hyperplanes for br in obs.block_rows(fast)] == [h for h, _ in reference]
     assert pairs and all(br.K.degree < max(k for _, k in reference) for br in pairs)
+
+
+@pytest.mark.full  # about 5 CPU-s on the shared machine
+def test_critical_recovery_with_eight_gilbert_elliott_sensors():
+    """Eight independent channels: per-sensor factors (no 2^8-state chain); the certificate inside
+    critical_recovery_rate evaluates verdicts at rationals with huge numerators (margins as roots
+    of q x^g - p, where sympy's root overflowed a float).  Checked again here on both sides."""
+    from symkf.stability import critical_recovery_rate, stability
+    rows = [[1, 0], [0, 1], [1, 1], [1, -1], [2, 1], [1, 2], [2, -1], [1, -2]]
+    system = sk.System(A=2 * ROT, sensors=[sk.Sensor(C=[r], name=f"s{j}") for j, r in enumerate(rows)])
+    fail = ["1/10"] * 8
+    qc = critical_recovery_rate(system, fail)
+    lo, hi = qc.refine(sp.Rational(1, 10 ** 6)).interval
+    assert 0 < lo and hi < 1
+    assert stability(system, sk.GilbertElliott(fail, [sp.Rational(hi) + sp.Rational(1, 10 ** 5)] * 8)).stable
+    assert not stability(system, sk.GilbertElliott(fail, [sp.Rational(lo) - sp.Rational(1, 10 ** 5)] * 8)).stable
