@@ -28,13 +28,14 @@ from dataclasses import dataclass
 from typing import Sequence
 
 import flint
+import numpy as np  # outside counts from BlockRows.inside
 import sympy as sp
 
 from .errors import AperiodicError, InputError
 from .exact.algebraic import AlgebraicNumber, sympy_to_fmpz
 from .losses import IID, GilbertElliott, LossModel
 from .model import System
-from .observability import BlockRows, block_deficient, block_rows
+from .observability import BlockRows, _set, block_deficient, block_rows
 
 
 @dataclass(frozen=True)
@@ -89,11 +90,11 @@ def outside_counts(br: BlockRows) -> dict[tuple[int, ...], frozenset[int]]:
     """Per distinct exponent vector ``(k_1, ..., k_d)`` -- the number of sensor ``j``'s elements
     outside a hyperplane ``H`` -- one such ``H``.  Under i.i.d. losses ``H`` decays at
     ``prod_j loss_j^(k_j)`` per period, so hyperplanes sharing a vector are interchangeable."""
-    d = 1 + max(e.sensor for e in br.elements)
-    out: dict[tuple[int, ...], frozenset[int]] = {}
-    for H in br.hyperplanes:
-        out.setdefault(tuple(_outside(br, H, j) for j in range(d)), H)
-    return out
+    sensor = np.array([e.sensor for e in br.elements])
+    per_sensor = (sensor[:, None] == np.arange(sensor.max() + 1)).astype(np.int64)  # elements x d
+    outside = (~br.inside).astype(np.int64) @ per_sensor                            # hyperplanes x d
+    _, first = np.unique(outside, axis=0, return_index=True)
+    return {tuple(outside[h].tolist()): _set(br.inside[h]) for h in sorted(first.tolist())}
 
 
 def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:

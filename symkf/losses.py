@@ -12,17 +12,16 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
+from typing import Any, Iterable, Mapping, Sequence
 
+import flint
+import numpy as np  # float chains for simulation (LossModel.numeric)
 import sympy as sp
 
 from . import budget
 from .errors import AssumptionError, InputError, ProbabilityError
 from .exact.algebraic import sign
 from .exact.numbers import rationalization, substitution, to_exact
-
-if TYPE_CHECKING:
-    import numpy as np
 
 Vector = tuple[int, ...]
 
@@ -70,14 +69,8 @@ class LossChain:
 
     def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Float (P, initial, emit) for simulation; refuses free symbols."""
-        import numpy as np  # here, not at module level: the exact engine does not need numpy
-        free = self.P.free_symbols | self.initial.free_symbols
-        if free:
-            raise InputError(f"loss model: symbols {sorted(map(str, free))} have no value; "
-                             "substitute numbers (loss.subs({...})) before simulating")
-        P = np.array(self.P.evalf(30).tolist(), dtype=float)
-        init = np.array(self.initial.evalf(30).tolist(), dtype=float).ravel()
-        return P, init, np.array(self.emit, dtype=bool)
+        _require_numbers(self.P.free_symbols | self.initial.free_symbols)
+        return _floats(self.P), _floats(self.initial).ravel(), np.array(self.emit, dtype=bool)
 
     def sequence_probability(self, seq: Sequence[Vector]) -> sp.Expr:
         """Exact probability that the first ``len(seq)`` receival vectors equal ``seq``."""
@@ -89,6 +82,32 @@ class LossChain:
             alpha = [sum(alpha[r] * self.P[r, s] for r in range(S) if alpha[r] != 0)
                      if self.emit[s] == tuple(v) else 0 for s in range(S)]
         return sp.expand(sum(alpha))
+
+
+def _require_numbers(free: set) -> None:
+    if free:
+        raise InputError(f"loss model: symbols {sorted(map(str, free))} have no value; "
+                         "substitute numbers (loss.subs({...})) before simulating")
+
+
+def _floats(M: sp.MatrixBase) -> np.ndarray:
+    """Entries as float64: rationals through flint (correctly rounded), others by evalf(30)."""
+    return np.array([[float(flint.fmpq(int(v.p), int(v.q))) if v.is_Rational else float(v.evalf(30))
+                      for v in M.row(i)] for i in range(M.shape[0])], dtype=float).reshape(M.shape)
+
+
+def _independent_numeric(matrices: Sequence[sp.MatrixBase], initial: Sequence[sp.Expr]) \
+        -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Float (P, initial, emit) of independent two-state sensors on states (received, lost):
+    the joint chain on ``itertools.product((1, 0), repeat=d)`` is the Kronecker product
+    of the sensors' chains, built in float64 without the 2^d x 2^d exact matrix."""
+    _require_numbers(set().union(*(M.free_symbols for M in matrices), *(sp.sympify(q).free_symbols for q in initial)))
+    P, init = np.ones((1, 1)), np.ones(1)
+    for M, q in zip(matrices, initial):
+        P = np.kron(P, _floats(M))
+        init = np.kron(init, _floats(sp.Matrix([[q, 1 - q]])).ravel())
+    emit = np.array(list(itertools.product((1, 0), repeat=len(matrices))), dtype=bool)
+    return P, init, emit
 
 
 class LossModel:
@@ -107,6 +126,10 @@ class LossModel:
     def symbols(self) -> set[sp.Symbol]:
         """Free symbols of the transition matrix and initial law (empty for numeric models)."""
         return set(self.chain.P.free_symbols | self.chain.initial.free_symbols)
+
+    def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Float (P, initial, emit) of :attr:`chain` for simulation; refuses free symbols."""
+        return self.chain.numeric()
 
     def subs(self, values: Mapping[Any, Any]) -> "LossModel":
         """A copy with symbols replaced by exact values."""
@@ -159,6 +182,14 @@ class IID(LossModel):
         # so Theorem 4 needs no positivity for i.i.d. losses.
         return None
 
+    @property
+    def symbols(self) -> set[sp.Symbol]:
+        return set().union(*(sp.sympify(e).free_symbols for e in self.loss))
+
+    def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        rows = [sp.Matrix([[1 - e, e], [1 - e, e]]) for e in self.loss]
+        return _independent_numeric(rows, self.arrival)
+
     def subs(self, values: Mapping[Any, Any]) -> "IID":
         values = substitution(values, "subs", self.symbols)
         return IID([e.subs(values) for e in self.loss])
@@ -206,6 +237,25 @@ class GilbertElliott(LossModel):
               for b in vecs] for a in vecs]
         init = [sp.Mul(*[q if g else 1 - q for g, q in zip(v, self.initial_received)]) for v in vecs]
         return LossChain(vecs, vecs, sp.ImmutableMatrix(P), sp.ImmutableMatrix([init]))
+
+    @property
+    def symbols(self) -> set[sp.Symbol]:
+        return set().union(*(sp.sympify(v).free_symbols for v in self.fail + self.recover + self.initial_received))
+
+    def positivity_failure(self) -> str | None:
+        # the joint transition is the product of the sensors' (independent channels), so it is
+        # positive for every pair of states iff every sensor's 2x2 transition is positive
+        for i in range(self.d):
+            P = self.sensor_matrix(i)
+            for r, s in itertools.product(range(2), repeat=2):
+                if not P[r, s].free_symbols and sign(P[r, s]) <= 0:
+                    state = ("received", "lost")
+                    return (f"sensor {i}: P(next {state[s]} | {state[r]}) = {P[r, s]}, so the joint chain has "
+                            "zero transitions; Assumption 2 needs every transition probability positive")
+        return None
+
+    def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return _independent_numeric([self.sensor_matrix(i) for i in range(self.d)], self.initial_received)
 
     def subs(self, values: Mapping[Any, Any]) -> "GilbertElliott":
         values = substitution(values, "subs", self.symbols)

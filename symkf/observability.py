@@ -26,6 +26,7 @@ from functools import cached_property
 from typing import Sequence
 
 import flint
+import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
 import sympy as sp
 
 from .exact.field import Elem, NumberField
@@ -52,33 +53,61 @@ class BlockRows:
     elements: tuple[Element, ...]
     generators: tuple[tuple[tuple[Elem, ...], ...], ...]  # per element
     size: int
-    T: list = field(repr=False)      # modal eigenvector columns (n x n_i over K)
+    T: list = field(repr=False)      # modal eigenvector columns (n x n_i over K; see modal_form's conjugate_pair)
     diag: list = field(repr=False)   # the block's eigenvalues in K, repeated by multiplicity
 
     @cached_property
     def hyperplanes(self) -> tuple[frozenset[int], ...]:
         """Maximal sets of elements whose generators lie in a common hyperplane (indices)."""
-        n = self.size
-        gens = [(e, g) for e, gs in enumerate(self.generators) for g in gs]
+        return tuple(_set(row) for row in self.inside)
+
+    @cached_property
+    def inside(self) -> np.ndarray:
+        """Boolean matrix: ``inside[h, e]`` iff element ``e`` lies in hyperplane ``h`` (the order of
+        :attr:`hyperplanes`, sorted by their sorted index lists).  Counting is vectorised: an
+        element is inside a generator hyperplane ``S`` iff all its generators are in ``S``."""
+        n, E = self.size, len(self.generators)
         if n == 1:
-            inside = frozenset(e for e, gs in enumerate(self.generators) if not gs)
-            return (inside,)
-        vectors = _distinct([g for _, g in gens])
+            return np.array([[not gs for gs in self.generators]], dtype=bool)
+        vectors = _distinct([g for gs in self.generators for g in gs])
         index = {_key(v): i for i, v in enumerate(vectors)}
-        members = [[index[_key(g)] for g in gs] for gs in self.generators]
-        spanning, partial = set(), set()
-        for S in _generator_hyperplanes(self.K, vectors, n):
-            s = frozenset(e for e, idx in enumerate(members) if all(i in S for i in idx))
-            # s spans its hyperplane when it keeps all of S (S holds n - 1 independent vectors),
-            # and then no other hyperplane's element set contains it
-            (spanning if {i for e in s for i in members[e]} == S else partial).add(s)
-        sets = spanning | {s for s in partial if not any(s < t for t in spanning | partial)}
-        return tuple(sorted(sets, key=sorted))
+        member = np.zeros((E, len(vectors)), dtype=np.float32)  # small counts: exact, and BLAS
+        for e, gs in enumerate(self.generators):
+            member[e, [index[_key(g)] for g in gs]] = 1
+        found = _generator_hyperplanes(self.K, vectors, n)
+        S = np.zeros((len(found), len(vectors)), dtype=np.float32)
+        S[np.repeat(np.arange(len(found)), [len(hs) for hs in found]),
+          np.fromiter(itertools.chain.from_iterable(found), dtype=np.int64)] = 1
+        inside = S @ member.T == member.sum(axis=1)
+        # an element set spans its hyperplane when its generators are all of S (S holds n - 1
+        # independent vectors); then it is maximal and no other hyperplane has the same set
+        spanning = ((inside.astype(np.float32) @ member > 0) == S.astype(bool)).all(axis=1)
+        sets = inside[spanning]
+        partial = np.unique(inside[~spanning], axis=0)
+        if len(partial):  # kept unless strictly inside another set
+            every = np.concatenate([sets, partial])
+            sizes = every.sum(axis=1)
+            keep = [not (every[:, r].all(axis=1) & (sizes > r.sum())).any() for r in partial]
+            sets = np.concatenate([sets, partial[keep]])
+        return sets[_lex_order(sets)]
 
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
         rows = [g for e in pattern for g in self.generators[e]]
         return rank_rows(self.K, rows, self.size) < self.size
+
+
+def _set(row: np.ndarray) -> frozenset[int]:
+    return frozenset(np.flatnonzero(row).tolist())
+
+
+def _lex_order(rows: np.ndarray) -> np.ndarray:
+    """The permutation sorting boolean rows as their sorted lists of True indices are sorted."""
+    r, c = np.nonzero(rows)
+    counts = rows.sum(axis=1)
+    padded = np.full((len(rows), int(counts.max(initial=0)) + 1), -1, dtype=np.int64)  # -1: the list ended
+    padded[r, np.arange(len(r)) - np.repeat(np.cumsum(counts) - counts, counts)] = c
+    return np.lexsort(padded.T[::-1])
 
 
 def _key(v: Sequence[Elem]) -> str:
@@ -95,63 +124,145 @@ def _distinct(vectors: Sequence[tuple[Elem, ...]]) -> list[tuple[Elem, ...]]:
     return out
 
 
-def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]]) -> tuple[int, list[list[int]]]:
+def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]], start: int = 1 << 27) \
+        -> tuple[int, list[list[int]]]:
     """A prime ``p`` and the images of ``vectors`` under a ring map ``phi: Z_(p)[theta] -> F_p``.
 
     ``phi`` sends ``theta`` to a root of its minimal polynomial mod ``p``; ``p`` divides no
     denominator, so every linear relation over K maps to one over F_p."""
-    p = 1 << 27
+    p = start  # below 2^30: products of two residues, summed n times, stay in int64
+    elements = [a for v in vectors for a in v]
+    denominators = int(np.lcm.reduce([int(a.denom()) for a in elements] + [int(K.modulus.denom())], dtype=object))
     while True:
         p = int(sp.nextprime(p))
-        coeffs = [c for v in vectors for a in v for c in a.coeffs()] + list(K.modulus.coeffs())
-        if any(int(c.q) % p == 0 for c in coeffs) or int(K.modulus.coeffs()[-1].p) % p == 0:
+        if denominators % p == 0 or int(K.modulus.coeffs()[-1].p) % p == 0:
             continue
-        mod = [int(c.p) * pow(int(c.q), -1, p) % p for c in K.modulus.coeffs()]
-        roots = flint.nmod_poly(mod, p).roots()
-        if not roots:
+        f = flint.nmod_poly([int(c.p) * pow(int(c.q), -1, p) % p for c in K.modulus.coeffs()], p)
+        x = flint.nmod_poly([0, 1], p)
+        split = f.gcd(x.pow_mod(p, f) - x)  # the linear factors of f: finding them all costs far more
+        if split.degree() < 1:
             continue
+        roots = split.roots()
         r = int(roots[0][0])
 
         def phi(a: Elem) -> int:
-            return sum(int(c.p) * pow(int(c.q), -1, p) * pow(r, i, p) for i, c in enumerate(a.coeffs())) % p
+            return int(flint.nmod_poly([int(c) for c in a.numer().coeffs()], p)(r)) * pow(int(a.denom()), -1, p) % p
         return p, [[phi(a) for a in v] for v in vectors]
 
 
 def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n: int) -> list[frozenset[int]]:
-    """Every hyperplane spanned by ``vectors`` (distinct, in K^n), as the set of vectors it holds.
+    """Every hyperplane spanned by ``vectors`` (distinct, in K^n, n >= 2), as the set of vectors it holds.
 
-    Screened mod p, decided exactly: if ``n - 1`` vectors are independent mod p they are
-    independent over K, and their exact span ``H`` holds ``v`` only if ``phi(v)`` lies in the
-    span of their images (Cramer's identity ``m_0 v = sum m_k v_k`` with the minor ``m_0``
-    nonzero mod p maps to F_p).  So the mod-p members are a superset of the exact ones, and each
-    extra member is confirmed by an exact rank.  Combinations dependent mod p are decided exactly.
+    The hyperplanes through a flat ``Z`` of rank ``n - 2`` partition the vectors outside ``Z``
+    by their direction in the plane ``K^n / Z``: with ``N`` a basis of the normals of ``Z``,
+    ``v`` lies on the line ``(v.N_2 : -v.N_1)``.  Each flat is visited once, from its
+    lexicographically first basis ``c`` (the greedy basis; later bases lie in a known flat),
+    and a hyperplane ``Z + G`` is kept there only when ``min G > max c``: its greedy basis then
+    starts with ``c``, so every hyperplane is found exactly once.
+
+    Screened mod p, decided exactly: ``n - 2`` (or ``n - 1``) vectors independent mod p are
+    independent over K and the mod-p members of their span are a superset of the exact ones
+    (Cramer's identity with a minor nonzero mod p maps to F_p).  So a set of exactly ``n - 1``
+    vectors is exact, larger sets (``Z`` and kept ``Z + G``) are confirmed by an exact rank,
+    and a flat where a confirmation fails, or whose basis is dependent mod p, is done exactly.
     """
-    import numpy as np  # here, not at module level: only this screen needs numpy
     p, images = _reduction(K, vectors)
     W = np.array(images, dtype=np.int64)
-    found: list[frozenset[int]] = []
-    covered: set[tuple[int, ...]] = set()  # (n-1)-subsets of known hyperplanes: they span them or nothing
-    for combo in itertools.combinations(range(len(vectors)), n - 1):
-        if combo in covered:
+    V = len(vectors)
+    found: set[frozenset[int]] = set()
+    exact: dict[frozenset[int], bool] = {}
+
+    def flat(S: frozenset[int], rank: int) -> bool:  # S holds independent vectors of that rank
+        if len(S) == rank:
+            return True
+        if S not in exact:
+            exact[S] = rank_rows(K, [vectors[i] for i in S], n) == rank
+        return exact[S]
+
+    covered: set[tuple[int, ...]] = set()  # bases of visited flats are (n-2)-subsets of them
+    combos = itertools.combinations(range(V), n - 2)
+    while chunk := list(itertools.islice(combos, 2048)):
+        batch = [c for c in chunk if c not in covered]
+        normals: list[np.ndarray | None] = []
+        for c in batch:
+            null, nullity = flint.nmod_mat([images[i] for i in c], p).nullspace() if c else (None, n)
+            normals.append(None if nullity != 2 else np.eye(2, dtype=np.int64) if not c else
+                           np.array([[int(null[i, k]) for k in range(2)] for i in range(n)], dtype=np.int64))
+        good = [N for N in normals if N is not None]
+        if good:  # B x V x 2 images of the vectors in the planes K^n / Z (entries < n p^2 < 2^63)
+            XY = np.einsum("vn,bnk->bvk", W, np.stack(good)) % p
+            lines = iter(_line_keys(XY[..., 0], XY[..., 1], p))
+        for c, N in zip(batch, normals):
+            if N is not None:
+                key = next(lines)
+                if c in covered:
+                    continue
+                out = _hyperplanes_through(c, key, p, n, flat)
+            elif c in covered:
+                continue
+            elif rank_rows(K, [vectors[i] for i in c], n) == n - 2:
+                out = None  # independent, but not mod p: decide exactly
+            else:
+                continue  # dependent: spans no flat of rank n - 2
+            if out is None:
+                out = _hyperplanes_through_exact(K, vectors, c, n)
+            Z, hyperplanes = out
+            found.update(hyperplanes)
+            if len(Z) > n - 2:
+                covered.update(itertools.combinations(sorted(Z), n - 2))
+    return list(found)
+
+
+def _line_keys(x: np.ndarray, y: np.ndarray, p: int) -> np.ndarray:
+    """The point ``(x : y)`` of the projective line over F_p as ``x / y`` in ``0..p-1``, ``p`` for
+    ``y = 0``, and ``p + 1`` for ``x = y = 0`` (the vector lies in the flat)."""
+    inv, base, e = np.ones_like(y), y.copy(), p - 2  # Fermat: y^(p-2) = 1/y, squarings stay below 2^54
+    while e:
+        if e & 1:
+            inv = inv * base % p
+        base = base * base % p
+        e >>= 1
+    return np.where(y != 0, x * inv % p, np.where(x != 0, p, p + 1))
+
+
+def _hyperplanes_through(c: tuple[int, ...], key: np.ndarray, p: int, n: int, flat) \
+        -> tuple[frozenset[int], list[frozenset[int]]] | None:
+    """The flat ``Z`` spanned by ``c`` and the hyperplanes through it whose greedy basis starts
+    with ``c``, from the mod-p line of every vector; None when an exact confirmation fails."""
+    Z = frozenset(np.flatnonzero(key == p + 1).tolist())
+    if not flat(Z, n - 2):
+        return None
+    outside = np.flatnonzero(key != p + 1)
+    last = c[-1] if c else -1
+    order = np.argsort(key[outside], kind="stable")  # lines, each with ascending members
+    keys, members = key[outside][order], outside[order].tolist()
+    bounds = [0, *(np.flatnonzero(keys[1:] != keys[:-1]) + 1).tolist(), len(members)]
+    out = []
+    for a, b in zip(bounds, bounds[1:]):
+        if members[b - 1] < last:
             continue
-        rows = [vectors[i] for i in combo]
-        null, nullity = flint.nmod_mat([images[i] for i in combo], p).nullspace()
-        if nullity == 1:
-            h = np.array([int(null[i, 0]) for i in range(n)], dtype=np.int64)
-            candidates = [int(i) for i in np.flatnonzero((W * h % p).sum(axis=1) % p == 0)]
-            if len(candidates) == n - 1 or rank_rows(K, [vectors[i] for i in candidates], n) == n - 1:
-                S = frozenset(candidates)
-            else:  # a false zero mod p: confirm the extra members one by one
-                S = frozenset(i for i in candidates if i in combo or rank_rows(K, rows + [vectors[i]], n) == n - 1)
-        elif rank_rows(K, rows, n) == n - 1:  # unlucky prime: decide exactly
-            (normal,) = nullspace_rows(K, rows, n)
-            S = frozenset(i for i, v in enumerate(vectors) if K.dot(v, normal).is_zero())
-        else:
-            continue
-        found.append(S)
-        if len(S) > n - 1:
-            covered.update(itertools.combinations(sorted(S), n - 1))
-    return found
+        S = Z | frozenset(members[a:b])
+        # kept sets are confirmed; so are straddling ones, which could hide a kept set (a false merge mod p)
+        if not flat(S, n - 1):
+            return None
+        if members[a] > last:
+            out.append(S)
+    return Z, out
+
+
+def _hyperplanes_through_exact(K: NumberField, vectors: Sequence[Sequence[Elem]], c: tuple[int, ...],
+                               n: int) -> tuple[frozenset[int], list[frozenset[int]]]:
+    """The flat spanned by the independent ``c`` and every hyperplane through it, exactly."""
+    rows = [vectors[i] for i in c]
+    Z = frozenset(i for i, v in enumerate(vectors) if rank_rows(K, rows + [v], n) == n - 2)
+    out, done = [], set(Z)
+    for i, v in enumerate(vectors):
+        if i not in done:
+            (normal,) = nullspace_rows(K, rows + [v], n)
+            S = frozenset(j for j, u in enumerate(vectors) if K.dot(u, normal).is_zero())
+            out.append(S)
+            done |= S
+    return Z, out
 
 
 def block_rows(system: System) -> tuple[BlockRows, ...]:
@@ -164,23 +275,30 @@ def block_rows(system: System) -> tuple[BlockRows, ...]:
     return cached
 
 
-def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBase] = ()) \
-        -> tuple[NumberField, list[list[Elem]], list[Elem]]:
+def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBase] = (),
+               conjugate_pair: bool = False) -> tuple[NumberField, list[list[Elem]], list[Elem]]:
     """Exact modal form of one eigen-block: field K, eigenvector columns ``T_i`` (n x n_i), ``D_i``.
 
     K is the smallest field holding the entries of ``A``, of ``extra``
     matrices (the sensors' C) and the block's eigenvalues.  For an eigenvalue
     with Jordan chains the columns span its generalized eigenspace
-    ``ker (A - lambda I)^m`` (``D_i`` then holds only its diagonal).
+    ``ker (A - lambda I)^m`` (``D_i`` then holds only its diagonal).  With ``conjugate_pair``
+    (see :func:`is_conjugate_pair`) the second eigenvalue ``conj(lambda)`` and its
+    eigenvector are replaced by their complex conjugates ``lambda``, ``v``: K is then
+    ``Q(lambda)`` (degree ``deg``) instead of ``Q(lambda, conj(lambda))`` (up to
+    ``deg (deg - 1)``).  This is the modal form up to conjugating the second class, which
+    preserves linear dependence within that class: right for the per-class generators,
+    not for rows that mix the two classes.
     """
+    members = block.members[:1] * 2 if conjugate_pair else block.members
     gens = [v for M in (A, *extra) for v in M if not sp.sympify(v).is_Rational]
-    gens += [e.expr for e in block.members if not e.expr.is_Rational]
+    gens += [e.expr for e in members if not e.expr.is_Rational]
     K = NumberField(gens)
     n = A.shape[0]
     Ak = K.matrix(A)
     cols: list[list[Elem]] = []
     diag: list[Elem] = []
-    for ev in block.members:
+    for ev in members:
         lam = K.convert(ev.expr)
         shifted = [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(n)] for i in range(n)]
         if ev.defective:
@@ -205,8 +323,20 @@ def _matpow(K: NumberField, X: list[list[Elem]], k: int) -> list[list[Elem]]:
     return out
 
 
+def is_conjugate_pair(system: System, block: EigenBlock) -> bool:
+    """Whether the block is ``{lambda, conj(lambda)}`` (simple) in two classes of a real system.
+
+    For real ``A`` a block of two simple eigenvalues that are not in one class (their ratio is
+    no root of unity; ``lambda, -lambda`` are) is a conjugate pair, and with real ``C`` the
+    eigenvectors can be chosen conjugate, so the second class's generators are the conjugates
+    of the first's (the generic case of a dense real matrix)."""
+    return (len(block.members) == 2 and len(block.classes) == 2
+            and all(e.multiplicity == 1 for e in block.members)
+            and all(sp.sympify(v).is_real for M in (system.A, *(s.C for s in system.sensors)) for v in M))
+
+
 def _block_rows(system: System, block: EigenBlock) -> BlockRows:
-    K, T, diag = modal_form(system.A, block, [s.C for s in system.sensors])
+    K, T, diag = modal_form(system.A, block, [s.C for s in system.sensors], is_conjugate_pair(system, block))
     if block.defective:
         return _jordan_block_rows(system, block, K, T, diag)
     g = block.class_period
@@ -298,6 +428,11 @@ def block_deficient(system: System, pattern: Sequence[Sequence[int]]) -> tuple[b
     out = []
     for br in block_rows(system):
         K, T, diag = br.K, br.T, br.diag
+        if is_conjugate_pair(system, br.block):  # rows mix the classes: the true modal form
+            key = ("modal form", id(br.block))
+            if key not in system._cache:
+                system._cache[key] = modal_form(system.A, br.block, [s.C for s in system.sensors])
+            K, T, diag = system._cache[key]
         rows = []
         jordan = br.block.defective  # rows C_j A^k T then (C_j T D^k otherwise)
         AkT, Ak = (T, K.matrix(system.A)) if jordan else (None, None)

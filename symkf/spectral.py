@@ -28,7 +28,7 @@ from typing import Any
 import flint
 import sympy as sp
 
-from .exact.algebraic import AlgebraicNumber, fmpz_to_sympy, identify, real_from_ball, root_ball
+from .exact.algebraic import AlgebraicNumber, crootof_ball, fmpz_to_sympy, identify, real_from_ball, root_ball
 from .exact import nfpoly
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, rank_rows
@@ -253,6 +253,10 @@ def _nice_expr(f: flint.fmpz_poly, idx: int) -> sp.Expr:
 
 def _match(target: flint.acb, cands: list[sp.Expr]) -> sp.Expr:
     """The candidate (exact, distinct) whose value lies in the certified ball ``target``."""
+    if all(isinstance(c, sp.CRootOf) for c in cands):  # disjoint isolating intervals: no evalf
+        hits = [c for c in cands if target.overlaps(crootof_ball(c))]
+        if len(hits) == 1:
+            return hits[0]
     for c in cands:
         v = complex(c.evalf(40))
         tol = 1e-10 * (1 + abs(v))  # float rounding of v, far below root separation

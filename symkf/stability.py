@@ -11,11 +11,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
+import flint
 import sympy as sp
 
 from .decay import BlockRate, block_rate, outside_counts
 from .errors import AssumptionError, InputError
-from .exact.algebraic import AlgebraicNumber
+from .exact.algebraic import AlgebraicNumber, _with_prec, identify
 from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel
 from .model import System
@@ -100,6 +101,14 @@ def _check_loss(system: System, loss: LossModel) -> list[str]:
 def _margin(br: BlockRows, rate: BlockRate) -> tuple[AlgebraicNumber, sp.Expr]:
     alpha = br.block.modulus.exact
     power = sp.sympify(alpha ** (2 * br.period) * rate.per_period)
+    if br.period > 1 and power.is_Rational and max(abs(power.p), power.q).bit_length() > 512:
+        # sympy's root of a huge rational overflows a float in its perfect-power test (Gilbert-
+        # Elliott losses at rationals near a critical recovery rate): the positive root of q x^g - p
+        g, num, den = br.period, int(power.p), int(power.q)
+        poly, index = identify(flint.fmpz_poly([-num] + [0] * (g - 1) + [den]),
+                               lambda prec: _with_prec(prec, lambda: flint.acb(
+                                   flint.arb(flint.fmpq(num, den)).root(g))), "margin")
+        return AlgebraicNumber(poly, index), power
     return AlgebraicNumber.from_expr(sp.root(power, br.period) if br.period > 1 else power), power
 
 

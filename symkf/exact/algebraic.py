@@ -84,7 +84,13 @@ def _with_prec(prec: int, fn: Callable[[], Any]) -> Any:
 
 def root_ball(poly: flint.fmpz_poly, index: int, prec: int) -> flint.acb:
     """Certified isolating ball of root ``index`` of ``poly`` (flint's ordering) at ``prec`` bits."""
-    return _with_prec(prec, lambda: poly.complex_roots()[index][0])
+    return _complex_roots(tuple(int(c) for c in poly.coeffs()), prec)[index]
+
+
+@lru_cache(maxsize=512)
+def _complex_roots(coeffs: tuple[int, ...], prec: int) -> tuple[flint.acb, ...]:
+    # isolating all roots dominates (degree 2(p-1) for a rotation by 2 pi/p); callers ask root by root
+    return _with_prec(prec, lambda: tuple(r for r, _ in flint.fmpz_poly(list(coeffs)).complex_roots()))
 
 
 def _arb_interval(b: flint.arb) -> tuple[sp.Rational, sp.Rational]:
@@ -109,15 +115,29 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
             z = ball_at(prec)
             # isolate roots only of the factors that can vanish on the ball: root isolation dominates
             return [(f, i) for f in factors if f(z).contains(0)
-                    for i, (r, _) in enumerate(f.complex_roots()) if r.overlaps(z)]
+                    for i, r in enumerate(_complex_roots(tuple(int(c) for c in f.coeffs()), prec)) if r.overlaps(z)]
         found = _with_prec(prec, hits)
         if len(found) == 1:
             return found[0]
     raise InputError(f"cannot identify the {what} among the roots of {poly}")  # pragma: no cover
 
 
+def crootof_ball(expr: sp.CRootOf) -> flint.acb:
+    """A ball holding sympy's isolating interval (exact rationals) of a ``CRootOf``: no refinement,
+    which for high degrees costs far more than isolating the roots again in flint."""
+    iv = expr._get_interval()
+    (xlo, xhi), (ylo, yhi) = ((iv.a, iv.b), (0, 0)) if expr.is_real else ((iv.ax, iv.bx), (iv.ay, iv.by))
+
+    def arb(lo: sp.Rational, hi: sp.Rational) -> flint.arb:
+        return flint.arb(flint.fmpq(int(lo.p), int(lo.q))).union(flint.arb(flint.fmpq(int(hi.p), int(hi.q))))
+    return flint.acb(arb(sp.Rational(xlo), sp.Rational(xhi)), arb(sp.Rational(ylo), sp.Rational(yhi)))
+
+
 def expr_ball(expr: sp.Expr, prec: int) -> flint.acb:
-    """A ball around the value of the sympy number ``expr`` at about ``prec`` bits (sympy's evalf)."""
+    """A ball around the value of the sympy number ``expr`` at about ``prec`` bits (sympy's evalf;
+    for a ``CRootOf``, its isolating interval, which separates it from the other roots)."""
+    if isinstance(expr, sp.CRootOf):
+        return crootof_ball(expr)
     digits = prec // 3 + 10
     v = sp.N(expr, digits)
     re_, im_ = sp.re(v), sp.im(v)

@@ -22,6 +22,7 @@ conjugate).
 from __future__ import annotations
 
 from functools import lru_cache
+from math import gcd
 from typing import Iterable, Sequence
 
 import flint
@@ -93,10 +94,75 @@ class _Presentation:
 @lru_cache(maxsize=128)
 def _presentation(generators: tuple[sp.Expr, ...]) -> _Presentation:
     state = _Presentation()
+    _start_cyclotomic(state, generators)
     for g in generators:
         _add_generator(state, g)
     state.certify()
     return state
+
+
+def _root_of_unity_atoms(generators: Sequence[sp.Expr]) -> dict[sp.Expr, sp.Rational]:
+    """``exp(i pi r)``, ``cos(pi r)``, ``sin(pi r)`` (``r`` rational) and ``I`` in the generators, with ``r``
+    (``I`` as ``exp(i pi/2)``; ``sin`` records ``r`` and needs ``I`` too)."""
+    atoms: dict[sp.Expr, sp.Rational] = {}
+    for g in generators:
+        for a in sp.preorder_traversal(g):
+            if a is sp.I:
+                atoms[a] = sp.Rational(1, 2)
+            elif isinstance(a, (sp.exp, sp.cos, sp.sin)):
+                r = a.args[0] / (sp.I * sp.pi if isinstance(a, sp.exp) else sp.pi)
+                if r.is_Rational:
+                    atoms[a] = r
+    return atoms
+
+
+def _start_cyclotomic(state: _Presentation, generators: Sequence[sp.Expr]) -> None:
+    """Present the field by a root of unity when the generators' roots of unity, cosines and
+    sines generate all of ``Q(zeta_m)`` or its real subfield ``Q(zeta_m)^+``: the cyclotomic
+    polynomial (or the minimal polynomial of ``2 cos(2 pi/m)``) has tiny coefficients, where the
+    generic primitive element of a degree-2(p-1) field has huge ones, slowing its arithmetic by
+    orders of magnitude.  With ``zeta = exp(2 pi i/m)`` every atom is ``zeta^k`` or
+    ``cos(2 pi k/m)`` (``sin(2 pi k/m) = cos(2 pi (m/4 - k)/m)``, ``i = zeta^(m/4)``); the atoms
+    generate the fixed field of ``H = {a : sigma_a fixes them}`` (``sigma_a: zeta -> zeta^a``),
+    read off the exponents: ``zeta^k`` is fixed iff ``a k = k``, a cosine iff ``a k = +-k`` (mod m).
+    Representations are exact by Euler's formula and Chebyshev's ``2 cos(k x) = V_k(2 cos x)``.
+    Any other ``H`` (a smaller field), and other generators, go the generic way."""
+    atoms = _root_of_unity_atoms(generators)
+    m = 4
+    for a, r in atoms.items():
+        m = int(sp.ilcm(m, (r / 2).q))
+    powers = {a: int(r * m / 2) for a, r in atoms.items() if not isinstance(a, (sp.cos, sp.sin))}
+    cosines = {a: int(r * m / 2) if isinstance(a, sp.cos) else m // 4 - int(r * m / 2)
+               for a, r in atoms.items() if isinstance(a, (sp.cos, sp.sin))}
+    H = [a for a in range(1, m) if gcd(a, m) == 1
+         and all((a - 1) * k % m == 0 for k in powers.values())
+         and all((a - 1) * k % m == 0 or (a + 1) * k % m == 0 for k in cosines.values())]
+    if not atoms or m <= 4 or H not in ([1], [1, m - 1]):
+        return
+    if H == [1]:
+        poly = flint.fmpz_poly.cyclotomic(m)
+        theta, ball = sp.exp(2 * sp.pi * sp.I / m), lambda: flint.acb(flint.arb(flint.fmpq(2, m))).exp_pi_i()
+    else:
+        poly = flint.fmpz_poly.cos_minpoly(m)
+        theta, ball = 2 * sp.cos(2 * sp.pi / m), lambda: flint.acb(2 * flint.arb(flint.fmpq(2, m)).cos_pi())
+    _, index = identify(poly, lambda prec: _with_prec(prec, ball), str(theta))
+    state.prim, state.modulus, state.theta = Integral.of(poly, index), flint.fmpq_poly(poly), theta
+    t = flint.fmpq_poly([0, 1])
+    if H == [1]:
+        def cos2(k: int) -> Elem:  # 2 cos(2 pi k/m) = zeta^k + zeta^-k
+            return _power(t, k % m, state.modulus) + _power(t, -k % m, state.modulus)
+        for a, k in powers.items():
+            state.reps[a] = _power(t, k % m, state.modulus)
+    else:
+        V = [flint.fmpq_poly([2]), t]  # V_k(theta) = 2 cos(2 pi k/m), V_(k+1) = theta V_k - V_(k-1)
+        for _ in range(m // 2):
+            V.append((t * V[-1] - V[-2]) % state.modulus)
+
+        def cos2(k: int) -> Elem:
+            k %= m
+            return V[min(k, m - k)]
+    for a, k in cosines.items():
+        state.reps[a] = cos2(k) / 2
 
 
 def _add_generator(state: _Presentation, g: sp.Expr) -> None:

@@ -1,0 +1,70 @@
+"""The systems of issue 18's exact-engine rows, shared by the benchmark scripts.
+
+Each builder returns ``(System, loss)``; sizes are parameters so a script can sweep them.
+Random data come from ``numpy.random.default_rng(seed)`` (fixed seeds: the same systems every run).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+import symkf as sk
+
+
+def _rotation(angle: sp.Expr, scale: sp.Expr = 1) -> sp.Matrix:
+    return scale * sp.Matrix([[sp.cos(angle), -sp.sin(angle)], [sp.sin(angle), sp.cos(angle)]])
+
+
+def _sensors(rows: list[list[int]]) -> list[sk.Sensor]:
+    return [sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)]
+
+
+def _random_rows(rng: np.random.Generator, d: int, n: int) -> list[list[int]]:
+    return [[int(v) for v in rng.integers(-2, 3, n)] for _ in range(d)]
+
+
+def dense(n: int, d: int = 3, seed: int = 0) -> tuple[sk.System, sk.IID]:
+    """Dense random integer A (entries -3..3) and d random integer sensor rows."""
+    rng = np.random.default_rng(seed)
+    A = [[int(v) for v in row] for row in rng.integers(-3, 4, (n, n))]
+    return sk.System(A=A, sensors=_sensors(_random_rows(rng, d, n))), sk.IID(["1/10"] * d)
+
+
+def rotation_stack(d: int = 3, seed: int = 0, hard: int = 0) -> tuple[sk.System, sk.IID]:
+    """n = 8: rotations by pi/2, pi/3, pi/4, pi/6 scaled by 2, 3, 4, 5 (four moduli, four periods);
+    ``hard=1``: by 2 pi/5, 2 pi/7, pi/4, pi/6 (entries from four different fields)."""
+    angles = [2 * sp.pi / 5, 2 * sp.pi / 7, sp.pi / 4, sp.pi / 6] if hard else [sp.pi / 2, sp.pi / 3, sp.pi / 4, sp.pi / 6]
+    blocks = [_rotation(a, k + 2) for k, a in enumerate(angles)]
+    rng = np.random.default_rng(seed)
+    return sk.System(A=sp.diag(*blocks), sensors=_sensors(_random_rows(rng, d, 8))), sk.IID(["1/10"] * d)
+
+
+def rotation_block(k: int, d: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
+    """One eigen-block of modulus 2 and dimension 2k: rotations by pi/6, pi/3, pi/2 (first k), period 12."""
+    blocks = [_rotation(sp.pi / 6, 2), _rotation(sp.pi / 3, 2), _rotation(sp.pi / 2, 2)][:k]
+    rng = np.random.default_rng(seed)
+    return sk.System(A=sp.diag(*blocks), sensors=_sensors(_random_rows(rng, d, 2 * k))), sk.IID(["1/10"] * d)
+
+
+def prime_rotation(p: int) -> tuple[sk.System, sk.IID]:
+    """2 R(2 pi / p) with sensors x and y (field of degree 2(p - 1) today)."""
+    return sk.System(A=_rotation(2 * sp.pi / p, 2), sensors=_sensors([[1, 0], [0, 1]])), sk.IID(["1/10"] * 2)
+
+
+def many_sensors(d: int) -> tuple[sk.System, sk.IID]:
+    """2 R(pi/12) with sensors [1, j] for j = 0..d-1 (the README example grown to d sensors)."""
+    A = _rotation(sp.pi / 12, 2)
+    return sk.System(A=A, sensors=_sensors([[1, j] for j in range(d)])), sk.IID(["1/2"] * d)
+
+
+def gilbert_elliott(d: int, seed: int = 0) -> tuple[sk.System, sk.GilbertElliott]:
+    """2 R(pi/3) (period 6) with d random integer sensor rows, fail 1/10, recover 1/2."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    while len(rows) < d:
+        r = [int(v) for v in rng.integers(-2, 3, 2)]
+        if any(r):
+            rows.append(r)
+    system = sk.System(A=_rotation(sp.pi / 3, 2), sensors=_sensors(rows))
+    return system, sk.GilbertElliott(["1/10"] * d, ["1/2"] * d)
