@@ -54,9 +54,10 @@ class Verdict:
 
     Examples
     --------
-    The system of :func:`stability` at ``eps = 1/10``: the decisive pattern receives only
-    ``s1``'s packet at phase 0 of the period, and ``alpha^4 rho^2 = 16 * (1/10)^3 = 2/125``
-    (by hand):
+    The system of :func:`stability` at ``eps = 1/10``: each of the four rows ``C_j A^k``
+    spans a hyperplane (a line) holding no other row, so every decisive pattern receives one
+    packet per period and loses three; the certificate names the first, ``s1``'s at phase 0,
+    and ``alpha^4 rho^2 = 16 * (1/10)^3 = 2/125`` (by hand):
 
     >>> import symkf as sk
     >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),

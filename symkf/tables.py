@@ -380,10 +380,10 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
     Examples
     --------
     ``ge-two-sensors``: ``A = 2R(pi/2)``, sensors ``[1, 0]``, ``[1, 1]`` on channels with
-    ``fail = 1/4``, ``recover = 1/2``.  By hand: the decisive pattern receives at most ``s1``'s
-    packet at phase 0 of the period ``g = 2``.  Per period, ``s2`` stays lost with probability
-    ``(1 - 1/2)^2 = 1/4``; ``s1``, lost at phase 1 and free at phase 0, continues with
-    probability ``recover * fail + (1 - recover)^2 = 1/8 + 1/4 = 3/8``.  So
+    ``fail = 1/4``, ``recover = 1/2``.  By hand: a decisive pattern receives at most one packet
+    per period ``g = 2``, say ``s1``'s at phase 0 (the four choices tie).  Per period, ``s2``
+    stays lost with probability ``(1 - 1/2)^2 = 1/4``; ``s1``, lost at phase 1 and free at
+    phase 0, continues with probability ``recover * fail + (1 - recover)^2 = 1/8 + 1/4 = 3/8``.  So
     ``alpha^4 rho^2 = 16 * 3/32 = 3/2`` and the margin is ``sqrt(3/2) = sqrt(6)/2 > 1``:
 
     >>> from symkf import examples, tables
