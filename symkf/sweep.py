@@ -48,7 +48,8 @@ def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, sche
     scheduler : str or distributed.Client, optional
         A Dask scheduler address or client (the ``dask`` extra).
     progress : bool, optional
-        Show the tqdm bar (default: when stderr is a terminal; ``TQDM_DISABLE`` is honoured).
+        Show the tqdm bar (default: on a terminal or in a Jupyter kernel, unless the
+        environment sets ``TQDM_DISABLE``; :func:`symkf.progress.progress`).
     desc : str, default "symkf sweep"
         The bar's label.
 
