@@ -207,7 +207,7 @@ def family_table(path: str | Path, *, jobs: int = 1, scheduler: Any = None,
     scheduler : str or distributed.Client, optional
         A Dask scheduler instead of local processes.
     progress : bool, optional
-        Show a progress bar (default: when stderr is a terminal).
+        Show a progress bar (default as in :func:`symkf.sweep.sweep`).
 
     Returns
     -------
@@ -362,7 +362,7 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
     digits : int, default 6
         Significant digits of the decimal margins.
     progress : bool, optional
-        Show a progress bar (default: when stderr is a terminal).
+        Show a progress bar (default as in :func:`symkf.sweep.sweep`).
 
     Returns
     -------
