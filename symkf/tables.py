@@ -228,7 +228,8 @@ def family_table(path: str | Path, *, jobs: int = 1, scheduler: Any = None,
 
     >>> import pathlib, tempfile
     >>> from symkf import tables
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "small.toml"
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "small.toml"
     >>> _ = path.write_text('''
     ... [family]
     ... name = "small"
@@ -244,6 +245,7 @@ def family_table(path: str | Path, *, jobs: int = 1, scheduler: Any = None,
     [('2', ['1/16', '1/4']), ('3', ['1/8', 'sqrt(2)/4'])]
     >>> all(word in table.to_latex() for word in ("toprule", "midrule", "bottomrule"))
     True
+    >>> tmp.cleanup()
     """
     family = load_family(path)
     return family_table_of(family, family.evaluate(jobs=jobs, scheduler=scheduler, progress=progress))
