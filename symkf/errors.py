@@ -71,7 +71,7 @@ class AssumptionError(SymkfError):
 
 
 class UnobservableError(AssumptionError):
-    """(A, C) is not detectable: a mode with |lambda| >= 1 that no sensor sees; the mode is named."""
+    """(A, C) is not detectable: a mode with ``|lambda| >= 1`` that no sensor sees; the mode is named."""
 
 
 class SingularSystemError(AssumptionError):

@@ -144,7 +144,49 @@ def _fail(path: Path, message: str) -> FileFormatError:
 
 
 def load_family(path: str | Path) -> Family:
-    """Read and validate a family file; members are built (and checked) when evaluated."""
+    """Read and validate a family file; members are built (and checked) when evaluated.
+
+    The file format (``[family]``, ``[grid]``, ``[constants]`` and a system template or
+    ``kind = "rotation"``) is described in the docs' formats page; :func:`symkf.tables.family_table`
+    turns a family into a LaTeX table.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A family file (TOML); :func:`symkf.examples.family` gives the shipped ones.
+
+    Returns
+    -------
+    Family
+        Its name, description, ``compute`` (``"critical_loss_rate"`` or ``"stability"``),
+        grid ``axes`` and ``members`` (row-major over the axes); ``Family.evaluate`` evaluates
+        them all (:func:`symkf.sweep.sweep`).
+
+    Raises
+    ------
+    FileFormatError
+        The file is missing, not TOML, or a key or value is invalid; the message names the file
+        and the key.
+
+    Examples
+    --------
+    ``rotation-periods``: ``A = 2R(pi/g)`` watched by ``d`` identical sensors ``[1, 0]``.  The
+    file derives ``eps_c = 2^(-2g / (d (g - 1)))`` by hand: 1/16 for ``g = 2, d = 1``, 1/4 for
+    ``g = 2, d = 2`` and 1/8 for ``g = 3, d = 1``:
+
+    >>> import symkf as sk
+    >>> from symkf import examples
+    >>> from symkf.families import evaluate
+    >>> family = sk.load_family(examples.family("rotation-periods"))
+    >>> family.compute, [(axis.name, len(axis.values)) for axis in family.axes], len(family.members)
+    ('critical_loss_rate', [('period', 11), ('sensors', 4)], 44)
+    >>> [(m.label, evaluate(m).value.exact) for m in (family.members[0], family.members[1], family.members[4])]
+    [('period = 2, sensors = 1', 1/16), ('period = 2, sensors = 2', 1/4), ('period = 3, sensors = 1', 1/8)]
+    >>> sk.load_family("no-such-family.toml")
+    Traceback (most recent call last):
+    ...
+    symkf.errors.FileFormatError: no-such-family.toml: no such file
+    """
     path = Path(path)
     data = files.read_toml(path)
     fam = data.get("family")

@@ -160,7 +160,36 @@ class LossModel:
 
 
 class IID(LossModel):
-    """Independent Bernoulli losses: sensor ``i`` loses each packet with probability ``loss[i]``."""
+    """Independent Bernoulli losses: sensor ``i`` loses each packet with probability ``loss[i]``.
+
+    Sui-You-Fu Assumption 4 (arrival probability ``p_i = 1 - loss[i]``), independent across
+    sensors and time.
+
+    Parameters
+    ----------
+    loss : sequence
+        One loss probability per sensor: exact numbers in ``[0, 1]`` (ints, Fractions, sympy
+        numbers, strings such as ``"1/10"``) or sympy symbols
+        (:func:`symkf.region.stability_conditions`).
+
+    Raises
+    ------
+    InputError
+        ``loss`` is not a non-empty list, or an entry is not an exact number.
+    ProbabilityError
+        An entry is not real or lies outside ``[0, 1]``.
+
+    Examples
+    --------
+    >>> import symkf as sk
+    >>> loss = sk.IID(["1/10", "1/5"])
+    >>> loss.d, loss.arrival
+    (2, (9/10, 4/5))
+    >>> sk.IID(["3/2"])
+    Traceback (most recent call last):
+    ...
+    symkf.errors.ProbabilityError: loss[0]: 3/2 is not a probability (must lie in [0, 1])
+    """
 
     def __init__(self, loss: Sequence[Any], *, rationalize: bool | str = False):
         with rationalization("IID"):
@@ -203,7 +232,39 @@ class GilbertElliott(LossModel):
 
     ``fail[i] = P(lost | received last)``, ``recover[i] = P(received | lost last)``.
     ``X_0`` is drawn from the stationary law ``P(received) = recover / (fail + recover)``
-    unless ``initial_received`` gives ``P(gamma_0^i = 1)`` per sensor.
+    unless ``initial_received`` gives ``P(gamma_0^i = 1)`` per sensor.  The channels are
+    independent across sensors; the joint chain is Sui-You-Fu Assumption 2 with ``nu = 1``.
+
+    Parameters
+    ----------
+    fail : sequence
+        ``P(lost | received last)`` per sensor (exact numbers in ``[0, 1]`` or sympy symbols).
+    recover : sequence
+        ``P(received | lost last)`` per sensor, as many as ``fail``.
+    initial_received : sequence, optional
+        ``P(gamma_0^i = 1)`` per sensor; needed when ``fail[i] = recover[i] = 0``.
+
+    Raises
+    ------
+    InputError
+        Lengths differ, an entry is not exact, or no stationary law exists without
+        ``initial_received``.
+    ProbabilityError
+        An entry lies outside ``[0, 1]``.
+
+    Examples
+    --------
+    The stationary reception probability is ``(1/2) / (1/20 + 1/2) = 10/11`` (by hand);
+    :meth:`sensor_matrix` is the channel's chain on (received, lost):
+
+    >>> import symkf as sk
+    >>> ge = sk.GilbertElliott(fail=["1/20"], recover=["1/2"])
+    >>> ge.initial_received
+    (10/11,)
+    >>> ge.sensor_matrix(0)
+    Matrix([
+    [19/20, 1/20],
+    [  1/2,  1/2]])
     """
 
     def __init__(self, fail: Sequence[Any], recover: Sequence[Any],
@@ -279,7 +340,46 @@ class MarkovLoss(LossModel):
     occur, e.g. a relay's children are never received without it): every history
     over them must appear, each row must sum to 1 and lead only to them.
     ``initial`` gives the law of the first window; by default the stationary law
-    of the lifted chain.
+    of the lifted chain.  This is Sui-You-Fu Assumption 2 (order ``nu``, lifted as in Remark 3).
+
+    Parameters
+    ----------
+    table : mapping
+        ``{history: {next receival vector: probability}}``; receival vectors are tuples of 0/1
+        of length ``d``, probabilities exact numbers or sympy symbols.
+    order : int, default 1
+        The order ``nu`` of the chain.
+    initial : mapping, optional
+        ``{window: probability}``, the law of the first ``nu`` receival vectors.
+
+    Raises
+    ------
+    InputError
+        A malformed key or vector, a missing history, a row leading outside the occurring
+        vectors, or no unique stationary law when ``initial`` is omitted.
+    ProbabilityError
+        A probability outside ``[0, 1]``, or a row (or ``initial``) not summing to 1.
+
+    Examples
+    --------
+    One sensor whose channel fails with probability 1/10 after a reception and recovers with
+    probability 1/2 after a loss: the chain of ``GilbertElliott(["1/10"], ["1/2"])``.  Its
+    stationary law is ``(5/6, 1/6)`` (by hand: ``(1/2) / (1/10 + 1/2) = 5/6``):
+
+    >>> import symkf as sk
+    >>> m = sk.MarkovLoss({(1,): {(1,): "9/10", (0,): "1/10"},
+    ...                    (0,): {(1,): "1/2", (0,): "1/2"}})
+    >>> m.d, m.order, m.chain.initial
+    (1, 1, Matrix([[5/6, 1/6]]))
+
+    It gives the same verdict as the Gilbert-Elliott model: for ``A = 2`` the decisive pattern
+    is a run of losses, which lasts with probability ``1 - 1/2`` per step, so the margin is
+    ``alpha^2 rho = 4 * 1/2 = 2`` (not stable):
+
+    >>> S = sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])])
+    >>> [sk.stability(S, loss).margins[0].exact
+    ...  for loss in (m, sk.GilbertElliott(["1/10"], ["1/2"]))]
+    [2, 2]
     """
 
     def __init__(self, table: Mapping[Any, Mapping[Any, Any]], order: int = 1,

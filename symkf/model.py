@@ -57,7 +57,49 @@ def check_positive_definite(M: sp.MatrixBase, entry: str) -> None:
 
 @dataclass(frozen=True)
 class Sensor:
-    """One sensor: ``y^i = C_i x + v^i`` with ``v^i ~ N(0, R_i)``; R defaults to I."""
+    """One sensor: ``y^i = C_i x + v^i`` with ``v^i ~ N(0, R_i)``; R defaults to I (Sui-You-Fu eq. 2).
+
+    Parameters
+    ----------
+    C : matrix-like
+        The ``m_i x n`` measurement matrix: nested lists of exact numbers (ints, Fractions,
+        sympy numbers or strings such as ``"sqrt(3)/2"``).
+    R : matrix-like, optional
+        The ``m_i x m_i`` noise covariance, Hermitian positive definite; default the identity.
+    name : str, optional
+        The sensor's name in verdicts and errors; :class:`System` names an unnamed sensor
+        ``s1``, ``s2``, ... by its position.
+    rationalize : bool, default False
+        Accept binary floats, read as the exact rationals they denote; otherwise a float is an
+        error (exact stays exact).
+
+    Raises
+    ------
+    InputError
+        An entry is not an exact number (or a float without ``rationalize``).
+    ShapeError
+        ``R`` is not ``m_i x m_i``.
+    NotPositiveDefiniteError
+        ``R`` is not Hermitian positive definite (exact leading minors).
+
+    Examples
+    --------
+    Two channels, ``R`` defaulting to the 2 x 2 identity:
+
+    >>> import symkf as sk
+    >>> s = sk.Sensor(C=[[1, 0], [0, 1]], name="gps")
+    >>> s.m, s.R
+    (2, Matrix([
+    [1, 0],
+    [0, 1]]))
+
+    A noise variance must be positive:
+
+    >>> sk.Sensor(C=[[1, 0]], R=[[-1]])
+    Traceback (most recent call last):
+    ...
+    symkf.errors.NotPositiveDefiniteError: sensor R: not positive definite, leading 1x1 minor is -1
+    """
 
     C: Any
     R: Any = None
@@ -89,6 +131,55 @@ class System:
     seen by some sensor (PBH test); the error names an unseen one.  The papers
     assume observability; modes with ``|lambda| < 1`` never decide stability
     (:meth:`System.set_aside`).
+
+    Parameters
+    ----------
+    A : matrix-like
+        The ``n x n`` state matrix (Sui-You-Fu eq. 1), exact entries as for :class:`Sensor`.
+    sensors : sequence of Sensor
+        The ``d >= 1`` sensors, with distinct names (unnamed ones become ``s1``, ``s2``, ...).
+    Q : matrix-like, optional
+        Process-noise covariance, Hermitian positive definite; default the identity.
+    P0 : matrix-like, optional
+        Covariance of ``x_0``, Hermitian positive definite; default the identity.
+    rationalize : bool, default False
+        Accept binary floats in ``A``, ``Q`` and ``P0`` as the rationals they denote.
+    name : str, optional
+        A name for reports and tables.
+
+    Raises
+    ------
+    InputError
+        No sensor, a non-:class:`Sensor` entry, repeated names, or an inexact entry.
+    ShapeError
+        ``A`` is not square, or a ``C_i``, ``Q`` or ``P0`` does not fit ``n``.
+    NotPositiveDefiniteError
+        ``Q`` or ``P0`` is not Hermitian positive definite.
+    UnobservableError
+        ``(A, C)`` is not detectable; the message names the unseen eigenvalue.
+
+    Examples
+    --------
+    ``A = 2R(pi/2)`` (rotation by a quarter turn, scaled by 2) watched by two scalar sensors;
+    the stacked ``C`` (eq. 3) is their rows in order:
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[1, 1]], name="s2")])
+    >>> S.n, S.d, S.sensor_names, S.observable
+    (2, 2, ('s1', 's2'), True)
+    >>> S.C
+    Matrix([
+    [1, 0],
+    [1, 1]])
+
+    ``diag(2, 3)`` seen only through its first coordinate: the eigenvalue 3 (``|3| >= 1``) has
+    the eigenvector ``e_2`` in the kernel of ``C`` (PBH), so no Kalman filter can track it:
+
+    >>> sk.System(A=[[2, 0], [0, 3]], sensors=[sk.Sensor(C=[[1, 0]])])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    symkf.errors.UnobservableError: detectability of (A, C) fails: the eigenvalue 3 of A ...
     """
 
     A: Any

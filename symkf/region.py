@@ -85,7 +85,32 @@ class Piece:
 
 @dataclass(frozen=True)
 class StabilityRegion:
-    """The exact i.i.d. stability region ``{(eps_1, ..., eps_d) in [0, 1]^d : stable}``."""
+    """The exact i.i.d. stability region ``{(eps_1, ..., eps_d) in [0, 1]^d : stable}``.
+
+    Returned by :func:`stability_region`: :meth:`conditions` as sympy inequalities,
+    :meth:`contains` for exact membership, and for two sensors the boundary curve
+    ``eps_2 = f(eps_1)`` (:meth:`boundary`, :meth:`boundary_at`).
+
+    Examples
+    --------
+    ``A = 2R(pi/2)`` with sensors ``[1, 0]`` and ``[1, 1]``: governing period 2, four rows
+    ``C_j A^k`` in distinct directions, so a hyperplane (a line) holds one of them and the
+    three outside must all be lost.  By hand, the region is ``16 eps_1 eps_2^2 < 1`` and
+    ``16 eps_1^2 eps_2 < 1``; the two laws ``eps_2 = 1/(4 sqrt(eps_1))`` and
+    ``eps_2 = 1/(16 eps_1^2)`` cross at ``eps_1 = 2^(-4/3)``, and the first reaches 1 at
+    ``eps_1 = 1/16``:
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[1, 1]], name="s2")])
+    >>> region = sk.stability_region(S)
+    >>> region.contains("1/4", "1/4"), region.contains("1/2", "1/2")
+    (True, False)
+    >>> region.boundary_at("1/4").exact
+    1/2
+    >>> [(p.lo.exact, p.hi.exact, p.expr) for p in region.boundary()]
+    [(0, 1/16, 1), (1/16, 2**(2/3)/4, 1/(4*sqrt(eps_s1))), (2**(2/3)/4, 1, 1/(16*eps_s1**2))]
+    """
 
     system: System
     constraints: tuple[Constraint, ...]
@@ -181,7 +206,29 @@ def _losses(loss: Sequence[Any], d: int) -> tuple[sp.Expr, ...]:
 
 
 def stability_region(system: System) -> StabilityRegion:
-    """The exact stability region of i.i.d. loss probabilities (all blocks, all hyperplanes)."""
+    """The exact stability region of i.i.d. loss probabilities (all blocks, all hyperplanes).
+
+    Sui-You-Fu Theorems 4 and 7 with eq. (36), as monomial inequalities in the losses.
+
+    Parameters
+    ----------
+    system : System
+
+    Returns
+    -------
+    StabilityRegion
+        Its conditions are in one nonnegative symbol ``eps_<sensor name>`` per sensor.
+
+    Examples
+    --------
+    For the system of :class:`StabilityRegion` (region derived there by hand):
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[1, 1]], name="s2")])
+    >>> sk.stability_region(S).conditions()
+    (16*eps_s1*eps_s2**2 < 1) & (16*eps_s1**2*eps_s2 < 1)
+    """
     return StabilityRegion(system, iid_constraints(system))
 
 
@@ -205,7 +252,39 @@ def stability_conditions(system: System, loss: LossModel) -> sp.Basic:
     i.i.d.: an ``And`` of ``alpha^(2g) prod_j eps_j^(k_j) < 1``; Gilbert-Elliott: an ``And`` of
     ``alpha^(2g) prod_j tr(M_{H,j}) < 1`` (polynomials).  Parameters are taken to be
     probabilities (in ``[0, 1]``; in ``(0, 1)`` for Gilbert-Elliott, Assumption 2).  Numeric
-    parameters give ``true`` or ``false``, decided exactly."""
+    parameters give ``true`` or ``false``, decided exactly.
+
+    Parameters
+    ----------
+    system : System
+    loss : IID or GilbertElliott
+        Its parameters exact numbers or sympy symbols.
+
+    Returns
+    -------
+    sympy.logic.boolalg.Boolean
+        An ``And`` of strict polynomial inequalities, or ``true`` / ``false``.
+
+    Raises
+    ------
+    InputError
+        The loss model's sensor count differs from the system's, or it is a
+        :class:`~symkf.losses.MarkovLoss`.
+
+    Examples
+    --------
+    A scalar ``A = 2`` with one sensor on a Gilbert-Elliott channel: a run of losses continues
+    with probability ``1 - q``, so (by hand) the filter is stable iff ``4 (1 - q) < 1``:
+
+    >>> import sympy as sp
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])])
+    >>> q = sp.Symbol("q")
+    >>> sk.stability_conditions(S, sk.GilbertElliott(fail=["1/4"], recover=[q]))
+    4 - 4*q < 1
+    >>> sk.stability_conditions(S, sk.IID(["1/5"]))  # 4/5 < 1
+    True
+    """
     if loss.d != system.d:
         raise InputError(f"loss: the model has {loss.d} sensor(s), the system has {system.d}")
     if isinstance(loss, IID):

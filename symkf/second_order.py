@@ -155,6 +155,46 @@ def congruent_sets(system: System) -> CongruentSets:
     Raises :class:`~symkf.errors.AssumptionError` (Assumptions 5, 6) and
     :class:`~symkf.errors.AperiodicError` when ``g`` is infinite (then no
     ``J_i`` enters Theorem 12: use :func:`theorem12`).
+
+    Parameters
+    ----------
+    system : System
+        A 2 x 2 ``A`` with two distinct eigenvalues of one modulus (Assumption 5) and sensors
+        satisfying Assumption 6.
+
+    Returns
+    -------
+    CongruentSets
+        ``.names``, ``.groups`` (Remark 11's merging), ``.sets`` (``J_i`` as index sets),
+        ``.shifts`` (``k_ij``), ``.full_rank``, ``.alpha``, ``.tau`` and ``.governing_period``.
+
+    Raises
+    ------
+    AssumptionError
+        Assumption 5 or 6 fails; the message points to the general engine.
+    AperiodicError
+        ``A^k`` is never a scalar multiple of ``I``.
+
+    Examples
+    --------
+    ``A = 2R(pi/2)`` with sensors ``[1, 0]`` and ``[0, 1]``.  By hand: ``[0, 1] A = [2, 0]``
+    spans ``C_1`` and ``[1, 0] A = [0, -2]`` spans ``C_2``, so both sensors form one
+    congruent set with shifts ``k_12 = k_21 = 1``; ``g = 2`` (``A^2 = -4I``), ``tau = 4``:
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[0, 1]], name="s2")])
+    >>> cs = sk.second_order.congruent_sets(S)
+    >>> [sorted(J) for J in cs.sets], cs.shifts, cs.governing_period, cs.tau
+    ([[0, 1], [0, 1]], ({0: 0, 1: 1}, {0: 1, 1: 0}), 2, 4)
+
+    Eigenvalues of different moduli are outside Assumption 5:
+
+    >>> sk.second_order.congruent_sets(sk.System(A=[[2, 0], [0, 3]], sensors=[sk.Sensor(C=[[1, 1]])]))
+    ... # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    symkf.errors.AssumptionError: Assumption 5 (Sui-You-Fu) fails: the eigenvalues of A have different moduli ...
     """
     cs = _analysis(system)[0]
     if cs is None:
@@ -304,6 +344,46 @@ def critical_loss_rate(system: System, period: Period = "governing") -> Algebrai
     sensors (Remark 11 merges count their members); ``min(1, alpha^(-2/d))`` if ``g``
     is infinite.  ``period="tau"`` gives eq. (38) as printed, which is wrong whenever
     ``g < tau`` or a sensor has rank 2 (see the module docstring).
+
+    Parameters
+    ----------
+    system : System
+        Within Assumptions 5 and 6 (see :func:`congruent_sets`).
+    period : {"governing", "tau"}, default "governing"
+        ``"governing"``: the corrected Theorem 12; ``"tau"``: eq. (38) as printed.
+
+    Returns
+    -------
+    AlgebraicNumber
+        The critical common loss probability; 1 when no loss rate below 1 destabilises.
+
+    Raises
+    ------
+    AssumptionError
+        Assumption 5 or 6 fails; :func:`symkf.stability.critical_loss_rate` applies instead.
+    InputError
+        ``period`` is neither ``"governing"`` nor ``"tau"``.
+
+    Examples
+    --------
+    The first counterexample of the module docstring, ``A = 2R(pi/2)``, ``C = [1, 0]``
+    (``g = 2``, ``tau = 4``, ``d = J = 1``): the corrected form gives
+    ``2^(-4/(2 - 1)) = 1/16``, as the general engine does, while (38) as printed gives
+    ``2^(-8/(4 - 1)) = 2^(-8/3)``:
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
+    >>> sk.second_order.critical_loss_rate(S).exact, sk.critical_loss_rate(S).exact
+    (1/16, 1/16)
+    >>> sk.second_order.critical_loss_rate(S, period="tau").exact
+    2**(1/3)/8
+
+    With the sensors of :func:`congruent_sets` (one set, ``J = 2``, ``d = 2``):
+    ``2^(-4/(4 - 2)) = 1/4``:
+
+    >>> S2 = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[0, 1]])])
+    >>> sk.second_order.critical_loss_rate(S2).exact
+    1/4
     """
     alpha = _analysis(system)[1]
     return AlgebraicNumber.from_expr(sp.sympify(critical_loss_expr(system, period).subs(ALPHA, alpha)))

@@ -335,7 +335,34 @@ def _geometric_multiplicities(A: sp.MatrixBase, K: NumberField, factors) -> list
 
 
 def eigenvalues(A: Any) -> list[Eigenvalue]:
-    """The distinct eigenvalues of ``A`` with multiplicities, exactly (A need not be diagonalizable)."""
+    """The distinct eigenvalues of ``A`` with multiplicities, exactly (A need not be diagonalizable).
+
+    Parameters
+    ----------
+    A : matrix-like
+        A square matrix with exact entries (see :mod:`symkf.exact.numbers`).
+
+    Returns
+    -------
+    list of Eigenvalue
+        Each a root of an irreducible integer polynomial (``.minpoly``, ``.root_index``), with
+        its algebraic ``.multiplicity``, exact ``.expr`` and ``.modulus``.
+
+    Raises
+    ------
+    ShapeError
+        ``A`` is not square.
+    InputError
+        An entry is not an exact number.
+
+    Examples
+    --------
+    The Jordan block ``[[1, 1], [0, 1]]`` has the double eigenvalue 1:
+
+    >>> import symkf as sk
+    >>> [(e.expr, e.multiplicity) for e in sk.eigenvalues([[1, 1], [0, 1]])]
+    [(1, 2)]
+    """
     A = sp.Matrix(to_exact_matrix(A, "A"))
     return [ev for ev, _ in _eigen_with_factor(A)]
 
@@ -360,6 +387,42 @@ def eigen_blocks(A: Any) -> tuple[EigenBlock, ...]:
     ``A`` need not be diagonalizable: each eigenvalue records the dimension of
     its eigenspace (``Eigenvalue.geometric``), and blocks with Jordan chains say
     so (``EigenBlock.defective``).  Zero eigenvalues form a block of modulus 0.
+
+    Parameters
+    ----------
+    A : matrix-like
+        A square matrix with exact entries.
+
+    Returns
+    -------
+    tuple of EigenBlock
+        Each with the exact ``.modulus`` ``alpha_i``, ``.eigenvalues``, the papers' period
+        ``.period`` (``tau``: least ``tau`` with ``A_i^tau = alpha_i^tau I``), the
+        ``.governing_period`` (least ``k`` with ``A_i^k`` a scalar multiple of ``I``) and the
+        ``.proof`` of both; a period is ``None`` only when aperiodicity is proved.
+
+    Raises
+    ------
+    ShapeError
+        ``A`` is not square.
+    InputError
+        An entry is not an exact number.
+
+    Examples
+    --------
+    ``A = 2R(pi/2)`` has eigenvalues ``+-2i``, one block of modulus 2.  By hand:
+    ``A^2 = -4I`` is a scalar multiple of ``I`` (governing period 2) and ``A^4 = 16I = 2^4 I``
+    is the first power equal to ``alpha^k I`` (``tau = 4``):
+
+    >>> import symkf as sk
+    >>> (block,) = sk.eigen_blocks([[0, -2], [2, 0]])
+    >>> block.modulus.exact, block.eigenvalues, block.period, block.governing_period
+    (2, (2*I, -2*I), 4, 2)
+
+    Blocks come by decreasing modulus:
+
+    >>> [b.modulus.exact for b in sk.eigen_blocks([["1/2", 0], [0, 2]])]
+    [2, 1/2]
     """
     A = sp.Matrix(to_exact_matrix(A, "A"))
     evs = [ev for ev, _ in _eigen_with_factor(A, jordan=True)]

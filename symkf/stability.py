@@ -38,7 +38,38 @@ class BlockCertificate:
 
 @dataclass(frozen=True)
 class Verdict:
-    """Mean-square stability of the multi-sensor Kalman filter, with its certificate."""
+    """Mean-square stability of the multi-sensor Kalman filter, with its certificate.
+
+    Returned by :func:`stability`; ``bool(verdict)`` is ``verdict.stable``.
+
+    Its fields:
+
+    * ``stable``: whether every margin is below 1 (Sui-You-Fu eq. 32);
+    * ``margins``: the exact ``alpha_i^2 rho_i`` per decided eigen-block;
+    * ``limiting_block``: the index of the largest margin, None when no block decides;
+    * ``theorem``: the theorem applied (Theorem 4 for one eigen-block, Theorem 7 for several);
+    * ``assumptions``: the assumptions that were checked;
+    * ``certificate``: per block a :class:`BlockCertificate` (modulus, governing period,
+      decisive loss pattern, ``alpha^(2g) rho^g`` and exact rational bounds of the margin);
+    * ``set_aside``: ``(eigenvalues, reason)`` of the blocks of modulus below 1 left out.
+
+    Examples
+    --------
+    The system of :func:`stability` at ``eps = 1/10``: each of the four rows ``C_j A^k``
+    spans a hyperplane (a line) holding no other row, so every decisive pattern receives one
+    packet per period and loses three; the certificate names the first, ``s1``'s at phase 0,
+    and ``alpha^4 rho^2 = 16 * (1/10)^3 = 2/125`` (by hand):
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[1, 1]], name="s2")])
+    >>> v = sk.stability(S, sk.IID(["1/10", "1/10"]))
+    >>> bool(v), v.theorem, v.limiting_margin.exact
+    (True, 'Theorem 4 with eq. (36)', sqrt(10)/25)
+    >>> c = v.certificate[0]
+    >>> c.governing_period, c.decisive_elements, c.margin_power
+    (2, (('s1', 0),), 2/125)
+    """
 
     stable: bool
     margins: tuple[AlgebraicNumber, ...]   # alpha_i^2 rho_i per decided eigen-block
@@ -301,6 +332,41 @@ def stable_recovery_intervals(system: System, fail: Sequence[Any], *, recover: S
     union of open intervals with algebraic end points.  It need not be an up-set: a channel
     that recovers faster also alternates more, which can lock its receptions onto one phase of
     the period (``proofs/sui_engine_ge_recovery_nonmonotone.py``).
+
+    Parameters
+    ----------
+    system : System
+    fail : sequence
+        ``P(lost | received last)`` per sensor (exact numbers).
+    recover : sequence, optional
+        The other sensors' recovery probabilities, with ``sensor`` (that entry is ignored).
+    sensor : str, optional
+        Vary only this sensor's recovery probability.
+
+    Returns
+    -------
+    tuple of (AlgebraicNumber, AlgebraicNumber)
+        The disjoint open intervals ``(lo, hi)`` of stable ``q``, ascending; empty when no ``q``
+        in (0, 1) is stable.
+
+    Raises
+    ------
+    InputError
+        ``fail`` or ``recover`` has the wrong length, or ``sensor`` names no sensor.
+    AssumptionError
+        A theorem's assumption fails for the system.
+
+    Examples
+    --------
+    A scalar ``A = 2`` with one sensor: the only decisive pattern is a run of losses, which
+    continues with probability ``1 - q`` per step whatever ``fail`` is, so the filter is stable
+    iff ``4 (1 - q) < 1``, i.e. ``q > 3/4`` (by hand; the classical Gilbert-Elliott condition
+    ``q > 1 - 1/|a|^2``):
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])])
+    >>> [(lo.exact, hi.exact) for lo, hi in sk.stable_recovery_intervals(S, fail=["1/4"])]
+    [(3/4, 1)]
     """
     q = sp.Symbol("q", positive=True)
     loss = _recovery_model(system, fail, recover, sensor, q)

@@ -35,6 +35,47 @@ def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, sche
     ``scheduler`` is a Dask scheduler address (``"tcp://host:8786"``) or a
     ``distributed.Client``; it excludes ``jobs > 1``.  ``progress`` forces the
     tqdm bar on or off (default: on when stderr is a terminal).
+
+    Parameters
+    ----------
+    function : callable
+        Applied to each task; with ``jobs > 1`` or ``scheduler`` it must be importable by the
+        workers (a module-level function or a ``functools.partial`` of one).
+    tasks : iterable
+        The arguments, one call each; they and the results must pickle across processes.
+    jobs : int, default 1
+        Number of local worker processes.
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler address or client (the ``dask`` extra).
+    progress : bool, optional
+        Show the tqdm bar (default: on a terminal or in a Jupyter kernel, unless the
+        environment sets ``TQDM_DISABLE``; :func:`symkf.progress.progress`).
+    desc : str, default "symkf sweep"
+        The bar's label.
+
+    Returns
+    -------
+    list
+        ``[function(t) for t in tasks]``, in the order of ``tasks``.
+
+    Raises
+    ------
+    InputError
+        ``jobs`` is not a positive integer, or both ``jobs > 1`` and ``scheduler`` are given.
+    SymkfError
+        A task's symkf error, re-raised with its type, message and attributes.
+
+    Examples
+    --------
+    Critical common loss rates of ``A = 2`` with one sensor (``4 eps < 1``, by hand) and of
+    ``A = 2R(pi/2)`` with sensors ``[1, 0]``, ``[1, 1]`` (``16 eps^3 < 1``, see
+    :func:`symkf.stability.critical_loss_rate`); ``jobs=2`` returns the same list:
+
+    >>> import symkf as sk
+    >>> systems = [sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])]),
+    ...            sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[1, 1]])])]
+    >>> [eps.exact for eps in sk.sweep(sk.critical_loss_rate, systems, progress=False)]
+    [1/4, 2**(2/3)/4]
     """
     tasks = list(tasks)
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:

@@ -197,6 +197,55 @@ def family_table(path: str | Path, *, jobs: int = 1, scheduler: Any = None,
     """The table of a family file: rows the first grid axis, columns the second (if any).
 
     ``jobs`` local processes or a Dask ``scheduler`` evaluate the members (:func:`symkf.sweep.sweep`).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A family file (:func:`symkf.families.load_family`).
+    jobs : int, default 1
+        Local worker processes.
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler instead of local processes.
+    progress : bool, optional
+        Show a progress bar (default as in :func:`symkf.sweep.sweep`).
+
+    Returns
+    -------
+    Table
+        ``str(table)`` for terminals, :meth:`Table.to_latex` (booktabs), :meth:`Table.write`
+        and :meth:`Table.to_json`; members whose assumptions fail show as ``---``.
+
+    Raises
+    ------
+    FileFormatError
+        The family file is missing or invalid; the message names the file and key.
+
+    Examples
+    --------
+    A two-by-two excerpt of ``rotation-periods`` (``A = 2R(pi/g)``, ``d`` identical sensors
+    ``[1, 0]``), whose file derives ``eps_c = 2^(-2g / (d (g - 1)))`` by hand: 1/16, 1/4 for
+    ``g = 2`` and 1/8, ``2^(-3/2) = sqrt(2)/4`` for ``g = 3``:
+
+    >>> import pathlib, tempfile
+    >>> from symkf import tables
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "small.toml"
+    >>> _ = path.write_text('''
+    ... [family]
+    ... name = "small"
+    ... kind = "rotation"
+    ... [grid]
+    ... period = [2, 3]
+    ... sensors = [1, 2]
+    ... [constants]
+    ... alpha = "2"
+    ... ''')
+    >>> table = tables.family_table(path, progress=False)
+    >>> [(row["label"], [cell["exact"] for cell in row["cells"]]) for row in table.to_json()["rows"]]
+    [('2', ['1/16', '1/4']), ('3', ['1/8', 'sqrt(2)/4'])]
+    >>> all(word in table.to_latex() for word in ("toprule", "midrule", "bottomrule"))
+    True
+    >>> tmp.cleanup()
     """
     family = load_family(path)
     return family_table_of(family, family.evaluate(jobs=jobs, scheduler=scheduler, progress=progress))
@@ -302,7 +351,49 @@ def _loss_cell(kind: str, fields: tuple[tuple[str, tuple[sp.Expr, ...]], ...]) -
 
 def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, scheduler: Any = None,
                   digits: int = 6, progress: bool | None = None) -> Table:
-    """Verdicts of system files that have a ``[loss]`` (default: the example systems, :func:`symkf.examples.systems`)."""
+    """Verdicts of system files that have a ``[loss]`` (default: the example systems, :func:`symkf.examples.systems`).
+
+    Parameters
+    ----------
+    paths : sequence of str or pathlib.Path, optional
+        System files; those without a ``[loss]`` table are left out.
+    jobs : int, default 1
+        Local worker processes.
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler instead of local processes.
+    digits : int, default 6
+        Significant digits of the decimal margins.
+    progress : bool, optional
+        Show a progress bar (default as in :func:`symkf.sweep.sweep`).
+
+    Returns
+    -------
+    Table
+        One row per system: loss model, verdict, governing period of the limiting block, its
+        margin ``alpha_i^2 rho_i`` and the theorem.
+
+    Raises
+    ------
+    InputError
+        None of the files has a ``[loss]`` table.
+    FileFormatError
+        A file is missing or invalid.
+
+    Examples
+    --------
+    ``ge-two-sensors``: ``A = 2R(pi/2)``, sensors ``[1, 0]``, ``[1, 1]`` on channels with
+    ``fail = 1/4``, ``recover = 1/2``.  By hand: a decisive pattern receives at most one packet
+    per period ``g = 2``, say ``s1``'s at phase 0 (the four choices tie).  Per period, ``s2``
+    stays lost with probability ``(1 - 1/2)^2 = 1/4``; ``s1``, lost at phase 1 and free at
+    phase 0, continues with probability ``recover * fail + (1 - recover)^2 = 1/8 + 1/4 = 3/8``.  So
+    ``alpha^4 rho^2 = 16 * 3/32 = 3/2`` and the margin is ``sqrt(3/2) = sqrt(6)/2 > 1``:
+
+    >>> from symkf import examples, tables
+    >>> table = tables.verdict_table([examples.system("ge-two-sensors")], progress=False)
+    >>> (row,) = table.to_json()["rows"]
+    >>> row["label"], row["cells"][1], row["cells"][2], row["cells"][3]["exact"]
+    ('ge-two-sensors', 'unstable', '2', 'sqrt(6)/2')
+    """
     if paths is None:
         paths = examples.systems()
     results = sweep(_file_verdict, [str(p) for p in paths], jobs=jobs, scheduler=scheduler,

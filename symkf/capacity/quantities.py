@@ -52,7 +52,33 @@ def individual_capacities(loss: IID) -> tuple[sp.Expr, ...]:
 
 
 def transmission_capacity(loss: IID) -> sp.Expr:
-    """The overall transmission capacity ``C = sum_i C_i`` (Remark 1), an exact sympy logarithm."""
+    """The overall transmission capacity ``C = sum_i C_i`` (Remark 1), an exact sympy logarithm.
+
+    Parameters
+    ----------
+    loss : IID
+        Bernoulli losses with numeric probabilities; ``loss_i = 1 - lambda_i``.
+
+    Returns
+    -------
+    sympy.Expr
+        ``-1/2 sum_i ln(loss_i)``; ``oo`` when some channel never loses.
+
+    Raises
+    ------
+    InputError
+        ``loss`` is not an :class:`~symkf.losses.IID`, or has free symbols.
+
+    Examples
+    --------
+    Losses 1/4 and 1/9: by hand ``C = -1/2 ln(1/4) - 1/2 ln(1/9) = ln 2 + ln 3 = ln 6``:
+
+    >>> import sympy as sp
+    >>> import symkf as sk
+    >>> C = sk.capacity.transmission_capacity(sk.IID(["1/4", "1/9"]))
+    >>> C, sp.simplify(C - sp.log(6))
+    (log(4)/2 + log(9)/2, 0)
+    """
     return sp.Add(*individual_capacities(loss))
 
 
@@ -81,7 +107,34 @@ def spectral_radius(A: Any) -> AlgebraicNumber:
 
 
 def mahler_measure(A: Any) -> AlgebraicNumber:
-    """The Mahler measure ``M(A) = prod max(1, |lambda_i(A)|)`` with multiplicity (Section III-D), exact."""
+    """The Mahler measure ``M(A) = prod max(1, |lambda_i(A)|)`` with multiplicity (Section III-D), exact.
+
+    Parameters
+    ----------
+    A : matrix-like
+        A square matrix with exact entries.
+
+    Returns
+    -------
+    AlgebraicNumber
+        ``M(A) >= 1``; ``ln M(A)`` is the topological entropy (:func:`topological_entropy`).
+
+    Raises
+    ------
+    ShapeError
+        ``A`` is not square.
+
+    Examples
+    --------
+    By hand: ``diag(2, 3, 1/2)`` has ``M = 2 * 3 * 1 = 6``; ``2R(pi/2)`` has eigenvalues
+    ``+-2i``, so ``M = 2 * 2 = 4``:
+
+    >>> import symkf as sk
+    >>> sk.capacity.mahler_measure([[2, 0, 0], [0, 3, 0], [0, 0, "1/2"]]).exact
+    6
+    >>> sk.capacity.mahler_measure([[0, -2], [2, 0]]).exact
+    4
+    """
     factors = [ev.modulus.exact ** ev.multiplicity for ev in eigenvalues(A) if ev.modulus > 1]
     return AlgebraicNumber.from_expr(sp.Mul(*factors))
 
@@ -92,7 +145,38 @@ def topological_entropy(A: Any) -> sp.Expr:
 
 
 def critical_capacities(A: Any) -> tuple[sp.Expr, sp.Expr]:
-    """``(ln rho(A), ln M(A))``: the lower critical capacity (eq. 16, Theorem 2) and the upper (eq. 29, Theorem 6)."""
+    """``(ln rho(A), ln M(A))``: the lower critical capacity (eq. 16, Theorem 2) and the upper (eq. 29, Theorem 6).
+
+    A transmission capacity ``C <= ln rho(A)`` makes ``E[P_k^-]`` diverge (Theorem 2); a budget
+    ``C > ln M(A)`` can be allocated among the sensors so that the upper bound ``V_k``
+    converges (Theorem 6, see :mod:`symkf.capacity.theorems`).
+
+    Parameters
+    ----------
+    A : matrix-like
+        A square matrix with exact entries.
+
+    Returns
+    -------
+    tuple of sympy.Expr
+        ``(ln rho(A), ln M(A))``, exact logarithms (``-oo`` for ``rho(A) = 0``).
+
+    Raises
+    ------
+    ShapeError
+        ``A`` is not square.
+
+    Examples
+    --------
+    By hand: ``diag(2, 3)`` has ``rho = 3`` and ``M = 6``; for ``2R(pi/2)`` (eigenvalues
+    ``+-2i``) ``rho = 2`` and ``M = 4``:
+
+    >>> import symkf as sk
+    >>> sk.capacity.critical_capacities([[2, 0], [0, 3]])
+    (log(3), log(6))
+    >>> sk.capacity.critical_capacities([[0, -2], [2, 0]])
+    (log(2), log(4))
+    """
     A = to_exact_matrix(A, "A")
     rho = spectral_radius(A)
     return (sp.log(rho.exact) if rho > 0 else -sp.oo), topological_entropy(A)

@@ -268,6 +268,45 @@ class AlgebraicNumber:
       hash can agree with both.)
     * ``format(a, ".4f")`` and ``round(a, n)`` are correctly rounded (round half to even),
       ``round`` giving an int or a Fraction as for Fraction; ``math.floor``/``ceil``/``trunc``.
+
+    Parameters
+    ----------
+    poly : flint.fmpz_poly or sympy polynomial in ``x``
+        A nonconstant polynomial with integer (or rational) coefficients.
+    index : int
+        Which root: flint's ordering (real roots first, ascending) for an irreducible ``poly``,
+        the index among its distinct real roots, ascending, otherwise.
+    exact : sympy.Expr, optional
+        A closed form of the root, returned by :attr:`exact` (otherwise radicals are sought,
+        else a ``CRootOf``).
+
+    Raises
+    ------
+    InputError
+        ``poly`` is constant, ``index`` is out of range, or the root is not real.
+
+    Examples
+    --------
+    ``sqrt(2)`` is the larger root of ``x^2 - 2``; ``sqrt(2) + sqrt(3)`` has the minimal
+    polynomial ``x^4 - 10x^2 + 1`` (by hand: squaring ``x - sqrt(2) = sqrt(3)`` gives
+    ``x^2 - 1 = 2 sqrt(2) x``, and squaring again gives it):
+
+    >>> import sympy as sp
+    >>> from fractions import Fraction
+    >>> from symkf import AlgebraicNumber
+    >>> x = sp.Symbol("x")
+    >>> a = AlgebraicNumber(x**2 - 2, 1)
+    >>> a.exact, a.minpoly.as_expr(), a * a == 2, a < Fraction(3, 2), format(a, ".4f")
+    (sqrt(2), x**2 - 2, True, True, '1.4142')
+    >>> lo, hi = a.interval
+    >>> lo * lo <= 2 <= hi * hi
+    True
+    >>> AlgebraicNumber.from_expr(sp.sqrt(2) + sp.sqrt(3)).minpoly.as_expr()
+    x**4 - 10*x**2 + 1
+    >>> AlgebraicNumber(x**2 + 1, 0)
+    Traceback (most recent call last):
+    ...
+    symkf.errors.InputError: root 0 of x^2 + 1 is not real
     """
 
     __slots__ = ("_poly", "_index", "_lo", "_hi", "_prec", "_exact")

@@ -122,6 +122,56 @@ def optimal_weights(Sigma: np.ndarray, Vo: np.ndarray, method: str = "closed-for
     module docstring.  Raises :class:`NotPositiveDefiniteError` if ``Sigma``
     is not symmetric PSD, :class:`ShapeError` on mismatched shapes and
     :class:`AssumptionError` if ``Vo`` is rank deficient (Assumption 1).
+
+    Floats: ``Sigma`` is assembled in floating point (eqs. 17-20), so the weights are floats too.
+
+    Parameters
+    ----------
+    Sigma : numpy.ndarray
+        The ``nN x nN`` symmetric positive semidefinite covariance of the stacked local errors
+        (eq. 18, :func:`symkf.fusion.fusion_sigma`); it may be singular.
+    Vo : numpy.ndarray
+        The ``nN x n`` unbiasedness matrix, of full column rank (Assumption 1,
+        :func:`symkf.fusion.unbiasedness_matrix`).
+    method : {"closed-form", "sdp", "problem3"}, default "closed-form"
+        Theorem 2's closed form, Problem 2's SDP (cvxpy, Clarabel), or Problem 3's KKT system.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``W`` (``nN x n``) with ``W' V_o = I`` minimising ``tr(W' Sigma W)``;
+        :func:`fused_covariance` gives ``W' Sigma W``.
+
+    Raises
+    ------
+    InputError
+        An unknown ``method`` or a non-finite entry.
+    ShapeError
+        ``Sigma`` is not square or ``Vo`` does not fit it.
+    NotPositiveDefiniteError
+        ``Sigma`` is not symmetric positive semidefinite.
+    AssumptionError
+        ``Vo`` is rank deficient, or the SDP solver fails.
+
+    Examples
+    --------
+    Two independent unbiased scalar estimates with error variances 1 and 2 (``n = 1``,
+    ``N = 2``): by hand the optimum is inverse-variance weighting, ``W = (2/3, 1/3)'``
+    with fused variance ``1 / (1 + 1/2) = 2/3``; Problem 3's linear system gives the same:
+
+    >>> import numpy as np
+    >>> from symkf.fusion import fused_covariance, optimal_weights
+    >>> Sigma, Vo = np.diag([1.0, 2.0]), np.ones((2, 1))
+    >>> W = optimal_weights(Sigma, Vo)
+    >>> W.round(9).tolist(), fused_covariance(Sigma, W).round(9).tolist()
+    ([[0.666666667], [0.333333333]], [[0.666666667]])
+    >>> np.allclose(optimal_weights(Sigma, Vo, method="problem3"), W)
+    True
+
+    A singular ``Sigma``: an error-free first estimate takes all the weight:
+
+    >>> np.allclose(optimal_weights(np.diag([0.0, 1.0]), Vo), [[1.0], [0.0]])
+    True
     """
     if method not in METHODS:
         raise InputError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")
