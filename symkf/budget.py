@@ -40,9 +40,9 @@ class Limits:
     max_digits: int = 1000
     #: rows or columns of a matrix (state dimension n, measurement channels)
     max_dimension: int = 16
-    #: sensors d of a system or loss model (an i.i.d. or Gilbert-Elliott chain has 2^d states;
-    #: 10 i.i.d. sensors take about 6 s, 12 exhaust 2 GB)
-    max_sensors: int = 10
+    #: sensors d of a system or loss model (independent sensors are decided per sensor, never
+    #: through the joint 2^d-state chain: 50 Gilbert-Elliott sensors take about 3 CPU-s)
+    max_sensors: int = 64
     #: states of a joint (lifted) Markov loss chain: the exact engine's work grows with their
     #: square (64 states: about 9 s, 128: 30 s, 256: past 60 CPU-s)
     max_markov_states: int = 128

@@ -164,3 +164,20 @@ def test_critical_recovery_with_eight_gilbert_elliott_sensors():
     assert 0 < lo and hi < 1
     assert stability(system, sk.GilbertElliott(fail, [sp.Rational(hi) + sp.Rational(1, 10 ** 5)] * 8)).stable
     assert not stability(system, sk.GilbertElliott(fail, [sp.Rational(lo) - sp.Rational(1, 10 ** 5)] * 8)).stable
+
+
+def test_twenty_sensors_decided_within_the_default_budget():
+    # A = 2R(pi/2) (g = 2, alpha^(2g) = 16), sensors C_k = [1, k], k = 0..d-1.  The rows
+    # [1, j] and C_k A ∝ [k, -1] are pairwise non-parallel (jk = -1 has no solution in
+    # non-negative integers), so every hyperplane holds one of the 2d elements and
+    # rho^g = eps^(2d - 1): margin^2 = 16 eps^(2d-1), critical eps = 2^(-4/(2d-1)).
+    d = 20
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, k]], name=f"s{k}") for k in range(d)])
+    v = sk.stability(S, sk.IID(["1/2"] * d))
+    assert v.margins[0] == sp.sqrt(2) / 2 ** 18
+    assert sk.critical_loss_rate(S) == sp.Integer(2) ** sp.Rational(-4, 2 * d - 1)
+    # Gilbert-Elliott (fail 1/10, recover 1/2), states (received, lost), D = diag(0, 1): a sensor
+    # lost at both phases has tr (P D)^2 = (1 - r)^2 = 1/4; the one kept at one phase has
+    # tr(P D P) = 1/20 + 1/4 = 3/10, so margin^2 = 16 (1/4)^19 3/10 and margin = sqrt(30)/(10 2^17)
+    ge = sk.stability(S, sk.GilbertElliott(["1/10"] * d, ["1/2"] * d))
+    assert ge.margins[0] == sp.sqrt(30) / (10 * 2 ** 17)

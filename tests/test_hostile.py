@@ -289,10 +289,10 @@ def test_sympy_input_is_budgeted_too():
 
 
 @pytest.mark.parametrize("build, option", [
-    (lambda: sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]]) for _ in range(20)]), "--max-sensors"),
+    (lambda: sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]]) for _ in range(65)]), "--max-sensors"),
     (lambda: sk.System(A=[[1 if i == j else 0 for j in range(1000)] for i in range(1000)],
                        sensors=[sk.Sensor(C=[[1] * 1000])]), "--max-dimension"),
-    (lambda: sk.IID(["1/2"] * 11), "--max-sensors"),
+    (lambda: sk.IID(["1/2"] * 65), "--max-sensors"),
     (lambda: sk.MarkovLoss({h: {(0,): "1/2", (1,): "1/2"} for h in itertools.product([(0,), (1,)], repeat=8)},
                            order=8), "--max-markov-states"),
 ])
