@@ -53,6 +53,8 @@ def perron_root(M: sp.MatrixBase) -> sp.Expr:
 
     Rational matrices go through :func:`symkf.exact.perron.perron_root` (sparse: strongly
     connected components, merged identical rows, flint characteristic polynomials)."""
+    if M.shape == (1, 1):
+        return sp.sympify(M[0, 0])
     dm = M.to_DM()
     if dm.domain.is_QQ or dm.domain.is_ZZ:
         K = dm.domain
