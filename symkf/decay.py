@@ -33,7 +33,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from .errors import AperiodicError, InputError
 from .exact import perron
-from .exact.algebraic import AlgebraicNumber, sympy_to_fmpz
+from .exact.algebraic import AlgebraicNumber
 from .losses import IID, GilbertElliott, LossModel
 from .model import System
 from .observability import BlockRows, block_deficient, block_rows
@@ -60,9 +60,11 @@ def perron_root(M: sp.MatrixBase) -> sp.Expr:
         K = dm.domain
         rows = {r: {c: flint.fmpq(int(K.numer(v)), int(K.denom(v))) for c, v in row.items()}
                 for r, row in dm.to_sdm().items()}
-        return perron.perron_root(rows, M.shape[0]).exact
-    best = perron.largest_real_root(sympy_to_fmpz(sp.Poly(M.charpoly(sp.Symbol("x")).as_expr(), sp.Symbol("x"))))
-    return best.exact if best is not None else sp.Integer(0)
+    else:
+        rows = {}
+        for (r, c), v in M.todok().items():
+            rows.setdefault(r, {})[c] = v
+    return perron.perron_root(rows, M.shape[0]).exact
 
 
 def _received_ok(br: BlockRows, H: frozenset[int], vec: Sequence[int], phase: int) -> bool:

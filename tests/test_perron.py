@@ -70,3 +70,26 @@ def test_robot_transfers_against_lapack():
             assert abs(float(perron_root(M)) - lapack) < 1e-9
             checked += 1
     assert checked >= 2
+
+
+Q = sp.sqrt(2) / 2  # an algebraic probability: the matrix's entries lie in Q(sqrt(2))
+
+
+def test_algebraic_entries_hand_derived():
+    # [[q, q], [q, 0]]: x^2 - q x - 1/2 = 0, x = (q + sqrt(q^2 + 2)) / 2 = (sqrt(2) + sqrt(10)) / 4
+    assert sp.simplify(perron_root(sp.Matrix([[Q, Q], [Q, 0]])) - (sp.sqrt(2) + sp.sqrt(10)) / 4) == 0
+    # [[0, 1], [1 - q, 0]]: rho = sqrt(1 - q) = 0.541; the norm (x^2 - 1 + q)(x^2 - 1 - q) also has the
+    # conjugate's root sqrt(1 + q) = 1.307, which is not an eigenvalue and must not be taken
+    assert sp.simplify(perron_root(sp.Matrix([[0, 1], [1 - Q, 0]])) - sp.sqrt(1 - Q)) == 0
+    # a self-loop of weight q beside a transient state: rho = q (sympy's path used to give 1/2 here)
+    assert perron_root(sp.Matrix([[0, Q], [0, Q]])) == Q
+
+
+@settings(derandomize=True, max_examples=40, deadline=None)
+@given(st.integers(2, 3).flatmap(lambda n: st.lists(st.sampled_from([R(0), Q, 1 - Q, R(1, 2), 1 + Q]),
+                                                    min_size=n * n, max_size=n * n)))
+def test_algebraic_entries_against_lapack(entries):
+    n = int(len(entries) ** 0.5)
+    M = sp.Matrix(n, n, entries)
+    lapack = max(abs(np.linalg.eigvals(np.array(M.evalf(20), dtype=float))))
+    assert abs(float(perron_root(M)) - lapack) < 1e-9

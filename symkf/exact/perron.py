@@ -14,13 +14,15 @@ root of the factors of an exact characteristic polynomial (python-flint), certif
 
 from __future__ import annotations
 
-from typing import Mapping
+from typing import Any, Mapping
 
 import flint
+import sympy as sp
 
-from .algebraic import AlgebraicNumber
+from ..errors import InputError
+from .algebraic import AlgebraicNumber, _real_roots, sympy_to_fmpz, x
 
-Rows = Mapping[int, Mapping[int, flint.fmpq]]
+Rows = Mapping[int, Mapping[int, Any]]
 
 
 def strongly_connected_components(rows: Rows, n: int) -> list[list[int]]:
@@ -64,7 +66,7 @@ def strongly_connected_components(rows: Rows, n: int) -> list[list[int]]:
     return out
 
 
-def merge_identical_rows(rows: Rows, states: list[int]) -> dict[int, dict[int, flint.fmpq]]:
+def merge_identical_rows(rows: Rows, states: list[int]) -> dict[int, dict[int, Any]]:
     """``W V`` on the classes of identical rows of ``rows`` restricted to ``states``, repeated
     until no two rows agree; classes are numbered ``0, 1, ...``.  Same non-zero spectrum."""
     inside = set(states)
@@ -74,12 +76,12 @@ def merge_identical_rows(rows: Rows, states: list[int]) -> dict[int, dict[int, f
         of = {s: classes.setdefault(tuple(sorted(r.items())), len(classes)) for s, r in current.items()}
         if len(classes) == len(current):
             return current
-        merged: dict[int, dict[int, flint.fmpq]] = {}
+        merged: dict[int, dict[int, Any]] = {}
         for s, r in current.items():
             c = of[s]
             if c in merged:
                 continue
-            row: dict[int, flint.fmpq] = {}
+            row: dict[int, Any] = {}
             for t, v in r.items():
                 row[of[t]] = row.get(of[t], 0) + v
             merged[c] = row
@@ -99,20 +101,52 @@ def largest_real_root(poly: flint.fmpz_poly) -> AlgebraicNumber | None:
     return best
 
 
+def _block_root(block: dict[int, dict[int, Any]]) -> AlgebraicNumber | None:
+    """Largest real eigenvalue of one merged irreducible block: flint for rationals, exact
+    number-field arithmetic for algebraic entries (e.g. ``sqrt(2)/2``)."""
+    order = {s: i for i, s in enumerate(block)}
+    if all(isinstance(v, flint.fmpq) for r in block.values() for v in r.values()):
+        dense = [[0] * len(block) for _ in block]
+        for s, r in block.items():
+            for t, v in r.items():
+                dense[order[s]][order[t]] = v
+        chi = flint.fmpq_mat(dense).charpoly()
+        return largest_real_root(flint.fmpz_poly([int(c) for c in (chi * chi.denom()).coeffs()]))
+    M = sp.zeros(len(block), len(block))
+    for s, r in block.items():
+        for t, v in r.items():
+            M[order[s], order[t]] = v
+    if M.free_symbols:
+        raise InputError(f"loss: symbolic transition probabilities {sorted(map(str, M.free_symbols))} have no "
+                         "numeric decay rate; use symkf.region.stability_conditions for the stability region")
+    if len(block) == 1:
+        return AlgebraicNumber.from_expr(M[0, 0])
+    try:
+        chi = sp.Poly(M.charpoly(x).as_expr(), x, extension=True)
+    except (sp.polys.polyerrors.PolynomialError, NotImplementedError):
+        chi = None
+    if chi is None or not (chi.domain.is_QQ or chi.domain.is_ZZ or chi.domain.is_AlgebraicField):
+        raise InputError(f"an irreducible block of {len(block)} chain states has transition probabilities "
+                         "that are not algebraic numbers: its Perron root has no exact algebraic form")
+    if not chi.domain.is_AlgebraicField:
+        return largest_real_root(sympy_to_fmpz(chi))
+    # coefficients in a number field K: the Perron root is the largest real root of the norm
+    # N(x) in Q[x] (the product of chi's conjugates) that is a root of chi itself
+    coeffs = [AlgebraicNumber.from_expr(c) for c in reversed(chi.all_coeffs())]
+    for r in reversed(_real_roots(sympy_to_fmpz(chi.norm()))):
+        if sum((c * r ** k for k, c in enumerate(coeffs)), AlgebraicNumber.from_expr(0)) == 0:
+            return r
+    return None
+
+
 def perron_root(rows: Rows, n: int) -> AlgebraicNumber:
-    """``rho(M)`` of the non-negative ``n x n`` rational matrix with non-zero entries ``rows[r][s]``."""
+    """``rho(M)`` of the non-negative ``n x n`` matrix with non-zero entries ``rows[r][s]``:
+    flint rationals (``fmpq``), or exact sympy numbers."""
     best = AlgebraicNumber._irreducible(flint.fmpz_poly([0, 1]), 0)
     for comp in strongly_connected_components(rows, n):
         if len(comp) == 1 and comp[0] not in rows.get(comp[0], {}):
             continue  # no cycle: a zero diagonal block
-        q = merge_identical_rows(rows, comp)
-        order = {s: i for i, s in enumerate(q)}
-        dense = [[0] * len(q) for _ in q]
-        for s, r in q.items():
-            for t, v in r.items():
-                dense[order[s]][order[t]] = v
-        chi = flint.fmpq_mat(dense).charpoly()
-        cand = largest_real_root(flint.fmpz_poly([int(c) for c in (chi * chi.denom()).coeffs()]))
+        cand = _block_root(merge_identical_rows(rows, comp))
         if cand is not None and cand > best:
             best = cand
     return best
