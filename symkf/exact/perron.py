@@ -142,11 +142,11 @@ def _block_root(block: dict[int, dict[int, Any]]) -> AlgebraicNumber | None:
 def perron_root(rows: Rows, n: int) -> AlgebraicNumber:
     """``rho(M)`` of the non-negative ``n x n`` matrix with non-zero entries ``rows[r][s]``:
     flint rationals (``fmpq``), or exact sympy numbers."""
-    best = AlgebraicNumber._irreducible(flint.fmpz_poly([0, 1]), 0)
+    best = None
     for comp in strongly_connected_components(rows, n):
         if len(comp) == 1 and comp[0] not in rows.get(comp[0], {}):
             continue  # no cycle: a zero diagonal block
         cand = _block_root(merge_identical_rows(rows, comp))
-        if cand is not None and cand > best:
+        if cand is not None and (best is None or cand > best):
             best = cand
-    return best
+    return best if best is not None and best > 0 else AlgebraicNumber.from_expr(0)
