@@ -1,4 +1,4 @@
-"""Exact Perron roots of sparse non-negative rational matrices (Perron-Frobenius).
+"""Exact Perron roots of sparse non-negative matrices with algebraic entries (Perron-Frobenius).
 
 The spectral radius of a non-negative matrix is an eigenvalue (Perron-Frobenius) and, the
 matrix being block triangular in the order of its graph's strongly connected components
@@ -9,7 +9,8 @@ merged: if ``M = V W`` with ``V`` the 0/1 matrix of the classes and ``W`` their 
 Loss chains lifted by a hidden state (holding counters, network states) have many identical
 rows, since the next law depends on the hidden state only.  The root itself is the largest real
 root of the factors of an exact characteristic polynomial (python-flint), certified by
-:class:`~symkf.exact.algebraic.AlgebraicNumber`'s isolating intervals.
+:class:`~symkf.exact.algebraic.AlgebraicNumber`'s isolating intervals; with entries in a number
+field, the root of the norm polynomial that is an eigenvalue.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from typing import Any, Mapping
 
 import flint
 import sympy as sp
+from sympy.polys.polyerrors import PolynomialError
 
 from ..errors import InputError
 from .algebraic import AlgebraicNumber, _real_roots, sympy_to_fmpz, x
@@ -123,11 +125,12 @@ def _block_root(block: dict[int, dict[int, Any]]) -> AlgebraicNumber | None:
         return AlgebraicNumber.from_expr(M[0, 0])
     try:
         chi = sp.Poly(M.charpoly(x).as_expr(), x, extension=True)
-    except (sp.polys.polyerrors.PolynomialError, NotImplementedError):
+    except (PolynomialError, NotImplementedError):
         chi = None
     if chi is None or not (chi.domain.is_QQ or chi.domain.is_ZZ or chi.domain.is_AlgebraicField):
         raise InputError(f"an irreducible block of {len(block)} chain states has transition probabilities "
-                         "that are not algebraic numbers: its Perron root has no exact algebraic form")
+                         "that are not algebraic numbers (exact comparison of such numbers is not decidable "
+                         "in general); give rational or algebraic probabilities")
     if not chi.domain.is_AlgebraicField:
         return largest_real_root(sympy_to_fmpz(chi))
     # coefficients in a number field K: the Perron root is the largest real root of the norm
