@@ -104,8 +104,9 @@ def loss_json(loss: Any) -> dict[str, Any]:
     if isinstance(loss, NetworkLoss):
         out = {"kind": "network", "parents": list(loss.tree.parents),
                "phi": [[str(p) for p in loss.phi.row(m)] for m in range(loss.d)]}
+    shown = {p: str(p) for p in chain.P.values()} | {0: "0"}  # lifted chains: 10^5 entries, few values
     return {**out, "chain": {"states": [str(s) for s in chain.states], "emit": [list(v) for v in chain.emit],
-                             "P": [[str(p) for p in chain.P.row(r)] for r in range(chain.P.rows)],
+                             "P": [[shown[p] for p in row] for row in chain.P.tolist()],
                              "initial": [str(p) for p in chain.initial]}}
 
 

@@ -30,9 +30,11 @@ from typing import Sequence
 import flint
 import numpy as np  # outside counts from BlockRows.inside
 import sympy as sp
+from sympy.polys.matrices import DomainMatrix
 
 from .errors import AperiodicError, InputError
-from .exact.algebraic import AlgebraicNumber, sympy_to_fmpz
+from .exact import perron
+from .exact.algebraic import AlgebraicNumber
 from .losses import IID, GilbertElliott, LossModel
 from .model import System
 from .observability import BlockRows, _set, block_deficient, block_rows
@@ -48,23 +50,22 @@ class BlockRate:
 
 
 def perron_root(M: sp.MatrixBase) -> sp.Expr:
-    """Spectral radius of a non-negative exact matrix (Perron-Frobenius: its largest real eigenvalue)."""
+    """Spectral radius of a non-negative exact matrix (Perron-Frobenius: its largest real eigenvalue).
+
+    Rational matrices go through :func:`symkf.exact.perron.perron_root` (sparse: strongly
+    connected components, merged identical rows, flint characteristic polynomials)."""
     if M.shape == (1, 1):
         return sp.sympify(M[0, 0])
-    if all(v.is_Rational for v in M):
-        chi = flint.fmpq_mat([[flint.fmpq(int(v.p), int(v.q)) for v in M.row(i)] for i in range(M.shape[0])]).charpoly()
-        poly = flint.fmpz_poly([int(c) for c in (chi * chi.denom()).coeffs()])
+    dm = M.to_DM()
+    if dm.domain.is_QQ or dm.domain.is_ZZ:
+        K = dm.domain
+        rows = {r: {c: flint.fmpq(int(K.numer(v)), int(K.denom(v))) for c, v in row.items()}
+                for r, row in dm.to_sdm().items()}
     else:
-        poly = sympy_to_fmpz(sp.Poly(M.charpoly(sp.Symbol("x")).as_expr(), sp.Symbol("x")))
-    best: AlgebraicNumber | None = None
-    for f, _ in poly.factor()[1]:
-        f = f if f.leading_coefficient() > 0 else -f
-        reals = [i for i, (r, _) in enumerate(f.complex_roots()) if r.imag == 0]
-        if reals:
-            cand = AlgebraicNumber(f, reals[-1])
-            if best is None or cand > best:
-                best = cand
-    return best.exact if best is not None else sp.Integer(0)
+        rows = {}
+        for (r, c), v in M.todok().items():
+            rows.setdefault(r, {})[c] = v
+    return perron.perron_root(rows, M.shape[0]).exact
 
 
 def _received_ok(br: BlockRows, H: frozenset[int], vec: Sequence[int], phase: int) -> bool:
@@ -128,15 +129,19 @@ def _aperiodic(br: BlockRows) -> AperiodicError:
 
 
 def restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Matrix:
-    """One-period transfer of the loss chain restricted to steps received inside ``H``."""
+    """One-period transfer of the loss chain restricted to steps received inside ``H``.
+
+    Sparse (sympy's DomainMatrix): lifted semi-Markov chains have hundreds of states."""
     ch = loss.chain
     S = len(ch.states)
-    M = sp.eye(S)
+    P = ch.P.to_DM()
+    K = P.domain
+    M = DomainMatrix.eye(S, K).to_sparse()
     for r in range(1, br.period + 1):
         phase = r % br.period
-        D = sp.diag(*[1 if _received_ok(br, H, ch.emit[s], phase) else 0 for s in range(S)])
-        M = M * ch.P * D
-    return M
+        D = DomainMatrix.diag([K.one if _received_ok(br, H, ch.emit[s], phase) else K.zero for s in range(S)], K)
+        M = M * P * D.to_sparse()
+    return M.to_Matrix()
 
 
 def _restricted_sensor_transfer(br: BlockRows, H: frozenset[int], loss: GilbertElliott, j: int) -> sp.Matrix:

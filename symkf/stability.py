@@ -36,6 +36,16 @@ class BlockCertificate:
     interval: tuple[Any, Any]                        # exact rational bounds of the margin
 
 
+def _readable(expr: sp.Expr, margin: AlgebraicNumber, i: int) -> str:
+    """``expr`` as text, or a pointer to the exact data when it is a root too long to read
+    (the Perron root of a large lifted chain: a ``CRootOf`` of degree 56 for Example 4's robot)."""
+    text = str(expr)
+    if len(text) <= 200:
+        return text
+    return (f"a root of a degree-{margin.minpoly.degree()} polynomial "
+            f"(exact: Verdict.margins[{i}].exact and .minpoly, or --json)")
+
+
 @dataclass(frozen=True)
 class Verdict:
     """Mean-square stability of the multi-sensor Kalman filter, with its certificate.
@@ -94,10 +104,10 @@ class Verdict:
         for i, (m, c) in enumerate(zip(self.margins, self.certificate)):
             lo, hi = c.interval
             lines.append(f"  block {i}: alpha = {c.modulus}, governing period g = {c.governing_period}, "
-                         f"margin alpha^2 rho = {m} "
+                         f"margin alpha^2 rho = {_readable(m.exact, m, i)} "
                          f"in [{float(lo):.6g}, {float(hi):.6g}]{'  <- limiting' if i == self.limiting_block else ''}")
             lines.append(f"    decisive pattern: only {list(c.decisive_elements) or 'nothing'} received; "
-                         f"alpha^{2 * c.governing_period} * rho^{c.governing_period} = {c.margin_power}")
+                         f"alpha^{2 * c.governing_period} * rho^{c.governing_period} = {_readable(c.margin_power, m, i)}")
         for eigenvalues, why in self.set_aside:
             lines.append(f"  set aside: {', '.join(eigenvalues)} ({why})")
         lines.append("  assumptions checked: " + "; ".join(self.assumptions))

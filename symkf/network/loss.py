@@ -46,9 +46,6 @@ def bernoulli_product(vector: Sequence[int], probs: Sequence[sp.Expr]) -> sp.Exp
     return sp.Mul(*[p if v else 1 - p for v, p in zip(vector, probs)])
 
 
-SEMI_MARKOV_STATES = 100  # lifted states up to which a semi-Markov network state is decided exactly
-
-
 class NetworkLoss(LossModel):
     """Losses of a sensor tree whose links fade according to a network state (Quevedo et al.).
 
@@ -71,15 +68,14 @@ class NetworkLoss(LossModel):
         if not isinstance(self.state, SemiMarkovNetworkState):
             return super().positivity_failure()
         n = len(self.chain.states)
-        if n > SEMI_MARKOV_STATES:
-            return (f"the lifted semi-Markov chain has {n} states (network state, holding counter, theta); "
-                    f"symkf decides semi-Markov states exactly up to {SEMI_MARKOV_STATES} lifted states "
-                    "(exact Perron roots of larger restricted transfers exceed its budget)")
-        P = self.chain.P
-        if any(v.free_symbols for v in P):
+        edges = self.chain.P.todok()  # the non-zero transitions only: lifted chains are sparse
+        if any(v.free_symbols for v in edges.values()):
             return None
-        succ = [[s for s in range(n) if P[r, s] != 0] for r in range(n)]
-        pred = [[r for r in range(n) if P[r, s] != 0] for s in range(n)]
+        succ: list[list[int]] = [[] for _ in range(n)]
+        pred: list[list[int]] = [[] for _ in range(n)]
+        for r, s in edges:
+            succ[r].append(s)
+            pred[s].append(r)
         for graph, word in ((succ, "reached from"), (pred, "reach")):
             seen, stack = {0}, [0]
             while stack:
