@@ -6,9 +6,11 @@ A ``StateSpace`` ``x[k+1] = A x[k] + B u[k]``, ``y[k] = C x[k] + D u[k]`` carrie
 sensors' ``R_i`` are given separately, as for ``control.dlqe(A, I, C, Q, R)``.  ``B`` and ``D``
 do not affect the error covariance and are not kept.
 
-python-control stores every matrix as float64, so the usual float rule applies: entries are
-refused unless ``rationalize=True``, which takes each float as the rational its shortest repr
-spells (``0.1`` as 1/10, :func:`symkf.exact.numbers.to_exact`) and says so in a warning.
+python-control stores every matrix as float64, so the usual float rule applies: a float whose
+binary value is the decimal it prints as (``2.0``, ``-1.5``, ``0.625``) is exact; any other
+(``0.1``) is refused unless ``rationalize=True`` (its shortest decimal, ``0.1`` as 1/10) or
+``rationalize="nearby"`` (a nearby exact constant such as ``sqrt(3)/2``), which say so in one
+warning (:func:`symkf.exact.numbers.to_exact`).
 """
 
 from __future__ import annotations
@@ -44,8 +46,9 @@ def from_statespace(sys: "control.StateSpace", sensors: Mapping[str, Sequence[in
         Process-noise and initial covariances (default identity).
     R : mapping, optional
         Measurement-noise covariance per sensor name (default identity).
-    rationalize : bool
-        Take float entries as the rationals they represent (python-control stores float64).
+    rationalize : bool or "nearby"
+        How to read float entries that are not exact in binary (python-control stores float64):
+        ``True`` takes the shortest decimal, ``"nearby"`` a nearby exact constant.
     name : str, optional
         The system's name (default ``sys.name``).
 

@@ -4,6 +4,7 @@ Riccati limit against control.dlqe."""
 from __future__ import annotations
 
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -44,17 +45,21 @@ def test_zero_loss_riccati_limit_equals_dlqe_for_two_sensors():
 
 
 def test_round_trip_is_exact_for_dyadic_entries():
+    # 1/2, 3, -1, 5/4 are exact in binary, so their float64 copies are read back exactly, without
+    # rationalize and without a warning
     S = sk.System(A=[["1/2", 3], [-1, "5/4"]],
                   sensors=[sk.Sensor(C=[[1, 0]], name="a"), sk.Sensor(C=[[0, 2], [1, 1]], name="b")])
-    with pytest.warns(UserWarning, match="taken as the rational"):
-        back = sk.System.from_statespace(S.to_statespace(), {"a": [0], "b": [1, 2]}, rationalize=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        back = sk.System.from_statespace(S.to_statespace(), {"a": [0], "b": [1, 2]})
     assert back.A == S.A and back.sensor_names == ("a", "b")
     assert [s.C for s in back.sensors] == [s.C for s in S.sensors]
 
 
 def test_floats_are_refused_unless_rationalized():
     plant = ct.ss([[0.1, 0], [0, 2]], [[1], [0]], [[1, 1]], 0, dt=0.5)
-    with pytest.raises(InexactInputError, match=r"C\[0\]\[0\]: float 1.0 is not exact"):
+    # 1.0, 2.0 and 0.5 are exact in binary; 0.1 is not, and is named
+    with pytest.raises(InexactInputError, match=r"A\[0\]\[0\]: the float 0.1 is not exact"):
         sk.System.from_statespace(plant)
     with pytest.warns(UserWarning):
         S = sk.System.from_statespace(plant, rationalize=True)
@@ -63,10 +68,9 @@ def test_floats_are_refused_unless_rationalized():
 
 
 def test_sensor_splits_and_their_errors():
-    plant = ct.ss([[2, 0], [0, 3]], [[1], [1]], [[1, 0], [0, 1], [1, 1]], 0, dt=True)
-    with pytest.warns(UserWarning):
-        assert sk.System.from_statespace(plant, ["x", "y", "z"], rationalize=True).sensor_names == ("x", "y", "z")
-        S = sk.System.from_statespace(plant, {"u": [0, 2], "v": [1]}, R={"v": [[2]]}, rationalize=True)
+    plant = ct.ss([[2, 0], [0, 3]], [[1], [1]], [[1, 0], [0, 1], [1, 1]], 0, dt=True)  # integer floats: exact
+    assert sk.System.from_statespace(plant, ["x", "y", "z"]).sensor_names == ("x", "y", "z")
+    S = sk.System.from_statespace(plant, {"u": [0, 2], "v": [1]}, R={"v": [[2]]})
     assert S.sensors[0].C.tolist() == [[1, 0], [1, 1]] and S.sensors[1].R.tolist() == [[2]]
     with pytest.raises(ShapeError, match="2 names for the 3 rows"):
         sk.System.from_statespace(plant, ["x", "y"], rationalize=True)
