@@ -183,12 +183,12 @@ def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
         reports = verify_family(args.file, jobs=args.jobs, scheduler=args.scheduler, seed=args.seed,
                                 paths=args.paths, horizon=args.horizon)
         return {"family": str(args.file), "members": reports, "_text": family_summary(reports),
-                "_status": 1 if any(r["outcome"] == "disagree" for r in reports) else 0}
+                "_status": 1 if any(r["outcome"] == "contradiction" for r in reports) else 0}
     system, loss = _needs_loss(args)
     report = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon)
-    # exit status 1 (and "outcome": "disagree") when simulation contradicts the theory
+    # exit status 1 (and "outcome": "contradiction") when simulation contradicts the theory
     return {"system": str(args.file), "loss": repr(loss), **report, "_text": summary(report),
-            "_status": 1 if report["outcome"] == "disagree" else 0}
+            "_status": 1 if report["outcome"] == "contradiction" else 0}
 
 
 def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
@@ -199,7 +199,7 @@ def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
 
 
 def _args_verify(p: argparse.ArgumentParser) -> None:
-    _args_simulation(p, 80, 20_000)
+    _args_simulation(p, 120, 20_000)
     _args_sweep(p, "family files: ")
 
 

@@ -22,16 +22,19 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
-from .errors import InputError, NumericalBreakdownError
+from .errors import InputError
 from .exact.algebraic import AlgebraicNumber
 from .exact.numbers import to_exact
-from .filtering import _chain, _positive, _run, exact_covariances, real_form, receival_table, sample_states
-from .losses import IID, LossModel
+from .filtering import (_chain, _positive, _run, exact_covariances, log_traces, real_form, receival_table,
+                        sample_states)
+from .losses import IID, GilbertElliott, LossModel
 from .model import System
 from .progress import progress
 
 #: paths per batch: bounds memory and drives the progress bar
 CHUNK = 50_000
+#: paths per batch of burst sampling (its ratios take components x horizon x paths floats)
+BURST_CHUNK = 8192
 #: largest number of receival sequences enumerated exactly
 MAX_PATTERNS = 2 ** 20
 
@@ -291,7 +294,7 @@ def dominant_pattern(system: System, loss: IID) -> tuple[tuple[tuple[int, ...], 
     return phases, float(growth)
 
 
-def _verdict(system: System, loss: IID):
+def _verdict(system: System, loss: LossModel):
     from .stability import stability  # the engine imports nothing from simulation
     return stability(system, loss)
 
@@ -401,20 +404,275 @@ def burst_estimate(system: System, loss: IID, horizon: int, paths: int, seed: in
                          horizon, seed, f"burst pattern {[list(p) for p in phases]}, q' = {qt:.4g}")
 
 
+# ------------------------------------------------------------------ final bursts, any loss model
+
+@dataclass(frozen=True)
+class LossFactor:
+    """An independent piece of a loss model: a chain on ``P`` (float) driving ``sensors``.
+
+    i.i.d. and Gilbert-Elliott sensors are independent, one two-state factor each
+    (states: received, lost); joint Markov and network losses are one factor on
+    their :class:`~symkf.losses.LossChain`.  ``emit[s]`` are the factor's sensors'
+    receivals in state ``s``.
+    """
+
+    sensors: tuple[int, ...]
+    P: np.ndarray
+    init: np.ndarray
+    emit: np.ndarray
+
+
+def loss_factors(loss: LossModel, d: int) -> list[LossFactor]:
+    """The loss model as independent factors (never the joint 2^d chain of independent sensors)."""
+    _chain_free(loss, d)
+    two = np.array([[True], [False]])
+    if isinstance(loss, IID):
+        return [LossFactor((j,), np.array([[1 - e, e]] * 2), np.array([1 - e, e]), two)
+                for j, e in enumerate(float(x) for x in loss.loss)]
+    if isinstance(loss, GilbertElliott):
+        return [LossFactor((j,), np.array([[1 - f, f], [r, 1 - r]]), np.array([q, 1 - q]), two)
+                for j, (f, r, q) in enumerate(zip(*(map(float, xs) for xs in
+                                                     (loss.fail, loss.recover, loss.initial_received))))]
+    P, init, emit = loss.chain.numeric()
+    return [LossFactor(tuple(range(d)), P, init, emit)]
+
+
+def _chain_free(loss: LossModel, d: int) -> None:
+    if not isinstance(loss, LossModel):
+        raise InputError(f"loss: expected a symkf loss model, got {type(loss).__name__}")
+    if loss.d != d:
+        raise InputError(f"loss: models {loss.d} sensor(s), the system has {d}")
+    if loss.symbols:
+        raise InputError(f"loss model: symbols {sorted(map(str, loss.symbols))} have no value; "
+                         "substitute numbers (loss.subs({...})) before simulating")
+
+
+def _perron(M: np.ndarray) -> tuple[float, np.ndarray]:
+    """Spectral radius and a non-negative right eigenvector of a non-negative matrix (float)."""
+    w, V = np.linalg.eig(M)
+    i = int(np.argmax(w.real))
+    return max(float(w[i].real), 0.0), np.abs(V[:, i].real)
+
+
+#: weight of the original law inside a burst: keeps every ratio p/q bounded
+DEFENSIVE = 0.05
+
+
+@dataclass(frozen=True)
+class _Tilt:
+    """One factor's burst law for one pattern: per phase ``r`` the transition into a state at
+    time ``k = r mod g`` (``cum``) and ``log(q/p)`` of every transition (``logr``); ``rate`` is
+    the factor's burst probability per period (Perron root of its restricted transfer)."""
+
+    cum_init: np.ndarray
+    cum: np.ndarray
+    logr_init: np.ndarray
+    logr: np.ndarray
+    rate: float
+
+
+def _cumulative(P: np.ndarray) -> np.ndarray:
+    cum = np.cumsum(P, axis=-1)
+    cum[..., -1] = np.inf
+    return cum
+
+
+def _factor_tilt(f: LossFactor, allowed: np.ndarray) -> _Tilt:
+    """The chain conditioned to stay in the pattern (Doob h-transform of the restricted
+    transfer ``M_H``, Sui-You-Fu eq. 36), mixed with ``DEFENSIVE`` of the original law.
+
+    ``allowed`` (g, d): which sensors may be received at each phase.  ``D_r`` keeps the
+    states whose received sensors are all allowed at phase ``r``; ``v_r`` is the right
+    Perron vector of the one-period transfer seen from phase ``r``; the conditioned step
+    into phase ``r`` is ``P(x, y) D_r(y) v_r(y) / (P D_r v_r)(x)``.
+    """
+    g = allowed.shape[0]
+    D = np.array([np.all(~f.emit | allowed[r][list(f.sensors)], axis=1) for r in range(g)], float)
+    M = np.eye(len(f.P))
+    for r in range(1, g + 1):
+        M = M @ f.P * D[r % g]
+    rate, v0 = _perron(M)
+    v = [v0] * g
+    for r in range(g - 1, 0, -1):
+        nxt = f.P @ (D[(r + 1) % g] * v[(r + 1) % g])
+        v[r] = nxt / nxt.max() if nxt.max() > 0 else nxt
+
+    def mix(p: np.ndarray, weight: np.ndarray) -> np.ndarray:
+        q = p * weight
+        total = q.sum(axis=-1, keepdims=True)
+        q = np.divide(q, total, out=np.array(p, float), where=total > 0)
+        return (1 - DEFENSIVE) * q + DEFENSIVE * p
+
+    q_init = mix(f.init, D[0] * v[0])
+    q = np.stack([mix(f.P, (D[r] * v[r])[None, :]) for r in range(g)])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        logr_init = np.where(f.init > 0, np.log(q_init) - np.log(f.init), 0.0)
+        logr = np.where(f.P[None] > 0, np.log(q) - np.log(f.P)[None], 0.0)
+    return _Tilt(_cumulative(q_init), _cumulative(q), logr_init, logr, rate)
+
+
+@dataclass(frozen=True)
+class BurstPlan:
+    """Importance sampling of final bursts: ``allowed`` (components, g, d) lists, per
+    component (the decisive pattern and its shifts by whole phases) and phase, the sensors
+    that may be received; ``growth`` is ``P``'s growth per period inside the pattern
+    (``alpha^(2g)``), used with the patterns' burst probability to tilt the burst length."""
+
+    allowed: np.ndarray
+    growth: float
+
+    @property
+    def period(self) -> int:
+        return self.allowed.shape[1]
+
+    def describe(self, names: Sequence[str]) -> str:
+        lost = [[names[j] for j in range(len(names)) if not a[j]] for a in self.allowed[0]]
+        return f"final bursts losing {lost} per phase (and the {len(self.allowed) - 1} shift(s))"
+
+
+def burst_plan(system: System, pattern: Any, growth: Any) -> BurstPlan:
+    """A :class:`BurstPlan` from ``pattern`` (the sensors lost at each phase, as in
+    :func:`burst_estimate`) and ``growth`` per period; every cyclic shift of the pattern
+    is a component (a rank-deficient pattern stays one under a shift of time)."""
+    phases = _template(pattern, system.d)
+    g = len(phases)
+    base = np.ones((g, system.d), bool)
+    for r, ph in enumerate(phases):
+        base[r, list(ph)] = False
+    shifts = []
+    for c in range(g):
+        a = np.roll(base, c, axis=0)
+        if not any(np.array_equal(a, b) for b in shifts):
+            shifts.append(a)
+    growth_f = _real(growth, "growth")
+    if growth_f <= 0:
+        raise InputError(f"growth: expected a positive growth per period, got {growth}")
+    return BurstPlan(np.stack(shifts), growth_f)
+
+
+def verdict_plan(system: System, verdict) -> BurstPlan:
+    """The :class:`BurstPlan` of the exact verdict's limiting block (its decisive hyperplane)."""
+    phases, growth = burst_pattern(system, verdict)
+    return burst_plan(system, phases if any(phases) else [list(range(system.d))], growth)
+
+
+@dataclass(frozen=True)
+class LogMeanEstimate:
+    """``log E[tr P_{K|K-1}]`` at ``K = horizon`` with the relative standard error of the mean
+    (delta method: the stderr of ``log`` of the mean), effective sample size and seed."""
+
+    log_mean: float
+    rel_stderr: float
+    ess: float
+    paths: int
+    horizon: int
+    seed: int | None
+    sampling: str
+
+
+def _burst_lengths(horizon: int, per_step: float, rng: np.random.Generator, paths: int) -> tuple[np.ndarray, np.ndarray]:
+    """Final-burst lengths ``L`` in 0..horizon: 9/10 from a law ``~ per_step^L`` (the
+    contribution of a burst of length ``L`` to the mean), 1/10 uniform (defensive)."""
+    L = np.arange(horizon + 1)
+    if per_step > 0:
+        log_tilt = L * math.log(per_step)
+        tilt = np.exp(log_tilt - log_tilt.max())
+    else:
+        tilt = (L == 0).astype(float)
+    law = 0.9 * tilt / tilt.sum() + 0.1 / (horizon + 1)
+    draw = np.minimum(np.searchsorted(np.cumsum(law), rng.random(paths), side="right"), horizon)
+    return draw, np.log(law)
+
+
+def burst_sample(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None,
+                 plan: BurstPlan | None) -> tuple[np.ndarray, np.ndarray]:
+    """``log tr P_{K|K-1}`` (``K = horizon``) and the log likelihood ratio ``log dP/dQ`` per path.
+
+    Without a plan: plain Monte Carlo (ratios 0).  With one, each path picks a component
+    (uniformly) and a final-burst length ``L``; states ``X_0..X_{K-L-1}`` follow the loss
+    law, ``X_{K-L}..X_{K-1}`` the component's conditioned chain (:func:`_factor_tilt`).  The
+    ratio is exact: ``dQ/dP = mean_c sum_L pi(L) prod_{k >= K-L} q_c / p``, summed over
+    every ``(c, L)`` that could have produced the path, so the estimator is unbiased for
+    any plan.
+    """
+    model = real_form(system)
+    factors = loss_factors(loss, system.d)
+    rng = np.random.default_rng(seed)
+    K = horizon
+    tilts = [[_factor_tilt(f, a) for f in factors] for a in plan.allowed] if plan is not None else []
+    logtr = np.empty(paths)
+    logw = np.zeros(paths)
+    for start in range(0, paths, BURST_CHUNK):
+        m = min(BURST_CHUNK, paths - start)
+        if plan is not None:
+            C, g = len(tilts), plan.period
+            burst = math.prod(t.rate for t in tilts[0])
+            per_step = (burst * plan.growth) ** (1 / g)
+            L, log_law = _burst_lengths(K, per_step, rng, m)
+            comp = rng.integers(0, C, m)
+        received = np.empty((K, m, system.d), bool)
+        lr = np.zeros((len(tilts), K, m))
+        for i, f in enumerate(factors):
+            u = rng.random((K, m))
+            x = np.empty((K, m), np.intp)
+            base_init, base = _cumulative(f.init), _cumulative(f.P)
+            if plan is None:
+                x[0] = (u[0][:, None] >= base_init[None]).sum(axis=1)
+                for k in range(1, K):
+                    x[k] = (u[k][:, None] >= base[x[k - 1]]).sum(axis=1)
+            else:
+                cum_init = np.stack([base_init] + [t[i].cum_init for t in tilts])
+                cum = np.concatenate([base[None]] + [t[i].cum for t in tilts])   # (1 + C g, S, S)
+                x[0] = (u[0][:, None] >= cum_init[np.where(L >= K, 1 + comp, 0)]).sum(axis=1)
+                for k in range(1, K):
+                    table = np.where(k >= K - L, 1 + comp * g + k % g, 0)
+                    x[k] = (u[k][:, None] >= cum[table, x[k - 1]]).sum(axis=1)
+                for c, t in enumerate(tilts):
+                    lr[c, 0] += t[i].logr_init[x[0]]
+                    phase = np.arange(1, K) % g
+                    lr[c, 1:] += t[i].logr[phase[:, None], x[:-1], x[1:]]
+            received[:, :, list(f.sensors)] = f.emit[x]
+        logtr[start:start + m] = log_traces(model, received)[:, K]
+        if plan is not None:
+            tail = np.concatenate([np.zeros((len(tilts), 1, m)), np.cumsum(lr[:, ::-1], axis=1)], axis=1)
+            terms = tail + log_law[None, :, None] - math.log(len(tilts))
+            logw[start:start + m] = -np.logaddexp.reduce(terms.reshape(-1, m), axis=0)
+    return logtr, logw
+
+
+def log_mean_trace(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None = None,
+                   plan: BurstPlan | None = None) -> LogMeanEstimate:
+    """``log E[tr P_{K|K-1}]`` by :func:`burst_sample` (plain Monte Carlo without ``plan``).
+
+    Works in log space throughout: ``E = mean(w tr P)`` with ``log w + log tr P`` shifted by
+    its maximum, so neither weights nor covariances overflow.
+    """
+    horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
+    if paths < 2:
+        raise InputError("paths: at least 2 are needed for a standard error")
+    logtr, logw = burst_sample(system, loss, horizon, paths, seed, plan)
+    y = logtr + logw
+    top = float(np.max(y))
+    f = np.exp(y - top)
+    mean = float(f.mean())
+    w = np.exp(logw - logw.max())
+    return LogMeanEstimate(top + math.log(mean), float(f.std(ddof=1) / mean / math.sqrt(paths)),
+                           float(w.sum() ** 2 / (w ** 2).sum()), paths, horizon, seed,
+                           "plain Monte Carlo" if plan is None else plan.describe(system.sensor_names))
+
+
 # ------------------------------------------------------------------ divergence
 
 @dataclass(frozen=True)
 class DivergenceResult:
     """Verdict on the boundedness of ``E[tr P_k]`` from simulated growth.
 
-    ``rate`` estimates the per-step growth factor of ``E[tr P_k]`` between
-    ``k = horizon / 2`` and ``k = horizon``, with a ``confidence`` interval
-    ``[rate_low, rate_high]``.  "unstable": ``rate_low > 1 + tolerance``;
-    "stable": ``rate_high < 1 + tolerance`` (growth slower than ``(1 +
-    tolerance)^k`` is not distinguishable from boundedness at this horizon);
-    "undecided" otherwise.  ``exact_rate`` (when given) is the theory's
-    ``alpha^2 rho`` for comparison.  ``horizon`` is the one finally used
-    (halved while float64 broke down on the longest bursts).
+    ``rate`` estimates the per-step growth factor of ``E[tr P_k]`` between ``k_1 =
+    horizons[0]`` and ``k_2 = horizons[1]`` (multiples of the pattern's period), with a
+    ``confidence`` interval ``[rate_low, rate_high]``.  "unstable": ``rate_low > 1 +
+    tolerance``; "stable": ``rate_high < 1 + tolerance`` (growth slower than ``(1 +
+    tolerance)^k`` is not distinguishable from boundedness at this horizon); "undecided"
+    otherwise.  ``exact_rate`` (when given) is the theory's ``alpha^2 rho`` for comparison.
     """
 
     verdict: str
@@ -425,76 +683,69 @@ class DivergenceResult:
     exact_rate_expr: str | None
     tolerance: float
     confidence: float
-    horizon: int
+    horizons: tuple[int, int]
     paths: int
     seed: int | None
     sampling: str
-    estimates: tuple[TraceEstimate, TraceEstimate]
+    estimates: tuple[LogMeanEstimate, LogMeanEstimate]
+
+    @property
+    def horizon(self) -> int:
+        return self.horizons[1]
 
 
-def growth_rate_interval(first: tuple[float, float], second: tuple[float, float], steps: int,
-                         confidence: float) -> tuple[float, float, float]:
-    """Per-step growth ``(E_2 / E_1)^(1 / steps)`` of two independent estimates ``(mean, stderr)``
-    ``steps`` apart, with its ``confidence`` interval by the delta method on ``log E``."""
-    (e1, s1), (e2, s2) = first, second
-    slope = (math.log(e2) - math.log(e1)) / steps
-    half = _z(confidence) * math.hypot(s1 / e1, s2 / e2) / steps
+def rate_interval(first: LogMeanEstimate, second: LogMeanEstimate, confidence: float) -> tuple[float, float, float]:
+    """Per-step growth ``(E_2 / E_1)^(1 / (k_2 - k_1))`` of two independent estimates, with its
+    ``confidence`` interval by the delta method on ``log E``."""
+    steps = second.horizon - first.horizon
+    slope = (second.log_mean - first.log_mean) / steps
+    half = _z(confidence) * math.hypot(first.rel_stderr, second.rel_stderr) / steps
     return math.exp(slope), math.exp(slope - half), math.exp(slope + half)
 
 
-#: a verdict after halving the horizon needs at least this many steps (see divergence_test)
-MIN_HALVED_HORIZON = 32
+def rate_horizons(horizon: int, period: int) -> tuple[int, int]:
+    """``(k_1, 2 k_1)`` with ``k_1`` the multiple of ``period`` nearest ``horizon / 2`` (at least
+    one period): equal phases, so a periodic factor of ``E[tr P_k]`` cancels in the ratio."""
+    k1 = max(period, period * round(horizon / (2 * period)))
+    return k1, 2 * k1
 
 
-def divergence_test(system: System, loss: IID, seed: int | None = None, *,
-                    horizon: int = 80, paths: int = 20_000, pattern: Any = None, growth: Any = None,
-                    exact_rate: Any = None, tolerance: float = 0.01,
-                    confidence: float = 0.99) -> DivergenceResult:
-    """Decide from simulation whether ``E[tr P_k]`` stays bounded (Sui-You-Fu eq. 7).
+def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
+                    horizon: int = 120, paths: int = 20_000, pattern: Any = None, growth: Any = None,
+                    exact_rate: Any = None, tolerance: float = 0.01, confidence: float = 0.99,
+                    plan: BurstPlan | None = None) -> DivergenceResult:
+    """Decide from simulation whether ``E[tr P_k]`` stays bounded (Sui-You-Fu eq. 7), any loss model.
 
-    Two independent :func:`burst_estimate` runs (seeds ``seed`` and ``seed +
-    1``) estimate ``E[tr P_k]`` at ``k = horizon // 2`` and ``k = horizon``;
-    the rate is ``(E_2 / E_1)^(1 / (k_2 - k_1))`` and its interval comes from
-    the delta method on the two independent estimates.  ``pattern`` and
-    ``growth`` are those of the theory's dominant rank-deficient pattern
-    (default: :func:`burst_pattern` of the exact verdict, which then also fills
-    ``exact_rate`` with :func:`exact_growth_rate` when it is not given).  When float64
-    breaks down on the longest bursts the horizon is halved; if that leaves fewer than
-    ``MIN_HALVED_HORIZON`` steps the verdict is withheld ("undecided"): over so few steps the
-    transient from ``P0`` can pass for growth (A = 2R(pi/2), C = [1 0], [1 1], losses 1/2, 1/6
-    is stable yet looked unstable at horizon 15).
+    Two independent :func:`log_mean_trace` runs (seeds ``seed`` and ``seed + 1``) estimate
+    ``log E[tr P_k]`` at ``k_1`` and ``k_2 = 2 k_1`` (:func:`rate_horizons`); the rate is
+    ``(E_2 / E_1)^(1 / k_1)``, its interval from the delta method.  The runs sample final
+    bursts of ``pattern`` (sensors lost per phase) with ``growth`` per period, or of ``plan``;
+    default: the exact verdict's decisive pattern (:func:`verdict_plan`), which also fills
+    ``exact_rate`` (:func:`exact_growth_rate`) when it is not given.  The sampling only steers:
+    the estimate is unbiased for any pattern.
     """
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     if horizon < 8:
         raise InputError(f"horizon: at least 8 steps are needed to estimate a rate, got {horizon}")
     if not isinstance(tolerance, float) or tolerance <= 0:
         raise InputError(f"tolerance: expected a positive float, got {tolerance!r}")
-    if pattern is None:
-        verdict = _verdict(system, loss)
-        pattern, found = burst_pattern(system, verdict)
-        growth = found if growth is None else growth
-        exact_rate = exact_growth_rate(verdict) if exact_rate is None else exact_rate
     _z(confidence)  # validate before the runs
+    if plan is None and pattern is None:
+        verdict = _verdict(system, loss)
+        plan = verdict_plan(system, verdict)
+        exact_rate = exact_growth_rate(verdict) if exact_rate is None else exact_rate
+    elif plan is None:
+        if growth is None:
+            raise InputError("growth: give the growth factor of P per period of the pattern")
+        plan = burst_plan(system, pattern, growth)
+    horizons = rate_horizons(horizon, plan.period)
     second = None if seed is None else seed + 1
-    requested = horizon
-    while True:
-        try:
-            k1, k2 = horizon // 2, horizon
-            runs = tuple(burst_estimate(system, loss, k, paths, s, pattern=pattern, growth=growth,
-                                        confidence=confidence) for k, s in ((k1, seed), (k2, second)))
-            break
-        except NumericalBreakdownError:
-            if horizon < 16:
-                raise
-            horizon //= 2
-    rate, low, high = growth_rate_interval(*((float(r.mean[0]), float(r.stderr[0])) for r in runs),
-                                           k2 - k1, confidence)
+    runs = tuple(log_mean_trace(system, loss, k, paths, s, plan) for k, s in zip(horizons, (seed, second)))
+    rate, low, high = rate_interval(*runs, confidence)
     verdict = "unstable" if low > 1 + tolerance else "stable" if high < 1 + tolerance else "undecided"
-    if horizon < min(requested, MIN_HALVED_HORIZON):
-        verdict = "undecided"
     exact_value = None if exact_rate is None else to_exact(
         exact_rate.exact if hasattr(exact_rate, "exact") else exact_rate, "exact_rate")
     return DivergenceResult(verdict, rate, low, high,
                             None if exact_value is None else float(exact_value),
                             None if exact_value is None else str(exact_value),
-                            tolerance, confidence, horizon, paths, seed, runs[1].sampling, runs)
+                            tolerance, confidence, horizons, paths, seed, runs[1].sampling, runs)
