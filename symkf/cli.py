@@ -224,8 +224,12 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
         "seed": est.seed, "confidence": est.confidence, "summary": _mean_trace_rows(est),
         "mean": est.mean.tolist(), "low": est.low.tolist(), "high": est.high.tolist()}
     if args.plot:
+        from .montecarlo import mean_trace_curve
         from .plots import mean_trace_figure
-        mean_trace_figure(system, loss, est, path=args.plot)
+        curve = mean_trace_curve(system, loss, args.horizon, args.paths, seed=args.seed)
+        res["growth_curve"] = {"method": curve.sampling, "k": curve.ks.tolist(),
+                               "log_mean": curve.log_mean.tolist(), "rel_stderr": curve.rel_stderr.tolist()}
+        mean_trace_figure(system, loss, curve, path=args.plot)
         res["plot"] = str(args.plot)
     return res
 
