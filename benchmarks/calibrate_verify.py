@@ -138,7 +138,7 @@ def main() -> None:
                      "covered_raw": (low <= m <= high) if m > 1 else None,
                      "covered_allowance": (low * math.exp(-allowance) <= m <= high * math.exp(allowance))
                      if m > 1 else None, "cpu": time.process_time() - t})
-        print(f"{i:4d} {kind:16s} {str(off):>6s} margin {m:.5f} rate {sim['rate']:.5f} "
+        print(f"{i:4d} {kind:16s} {str(off):>6s} A = {system.A.tolist()} margin {m:.5f} rate {sim['rate']:.5f} "
               f"[{low:.5f}, {high:.5f}] {rep['outcome']}", flush=True)
     total = time.process_time() - t0
     print(f"\n{len(rows)} points, budget {args.paths} paths x horizons {rows[0]['interval'] and sim['horizons']}; "

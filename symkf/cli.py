@@ -185,7 +185,7 @@ def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
         return {"family": str(args.file), "members": reports, "_text": family_summary(reports),
                 "_status": 1 if any(r["outcome"] == "contradiction" for r in reports) else 0}
     system, loss = _needs_loss(args)
-    report = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon)
+    report = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon, jobs=args.jobs)
     # exit status 1 (and "outcome": "contradiction") when simulation contradicts the theory
     return {"system": str(args.file), "loss": repr(loss), **report, "_text": summary(report),
             "_status": 1 if report["outcome"] == "contradiction" else 0}
@@ -200,7 +200,7 @@ def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
 
 def _args_verify(p: argparse.ArgumentParser) -> None:
     _args_simulation(p, 120, 20_000)
-    _args_sweep(p, "family files: ")
+    _args_sweep(p, "family members, or a single system's simulated paths: ")
 
 
 def _mean_trace_rows(est: Any, points: int = 8) -> list[dict[str, Any]]:

@@ -31,6 +31,7 @@ from typing import Sequence
 
 import numpy as np
 import sympy as sp
+from threadpoolctl import threadpool_limits
 
 from .errors import InputError, NumericalBreakdownError, ShapeError
 from .losses import LossChain, LossModel
@@ -258,21 +259,21 @@ def _psd_factor(M: np.ndarray) -> np.ndarray:
 
 def _triangularise(X: np.ndarray) -> np.ndarray:
     """Householder QR of every stacked ``X`` (m, n, paths) -> ``R^T`` (n, n, paths) with
-    ``R^T R = X^T X``, vectorised across paths (one reflection per column)."""
+    ``R^T R = X^T X``, vectorised across paths (one reflection per column); ``X`` is overwritten."""
     m, n, _ = X.shape
     for j in range(n):
         x = X[j:, j]
         norm = np.sqrt(np.einsum("ip,ip->p", x, x))
         head = np.where(x[0] >= 0, norm, -norm)
-        v = x.copy()
-        v[0] += head
-        vv = np.einsum("ip,ip->p", v, v)
         if j + 1 < n:
-            scale = np.divide(2.0, vv, out=np.zeros_like(vv), where=vv > 0)
+            v = x.copy()
+            v[0] += head
+            vv = norm * (norm + np.abs(x[0]))          # |v|^2 / 2
+            scale = np.divide(1.0, vv, out=np.zeros_like(vv), where=vv > 0)
             rest = X[j:, j + 1:]
             rest -= v[:, None, :] * (np.einsum("ip,ikp->kp", v, rest) * scale)[None]
         X[j, j] = -head
-    return np.transpose(np.triu(np.moveaxis(X[:n], 2, 0)), (2, 1, 0))
+    return X[:n].transpose(1, 0, 2) * np.tri(n)[:, :, None]
 
 
 def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
@@ -288,7 +289,11 @@ def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
     ``P`` stays positive semidefinite by construction, and errors in its small
     directions are ``~1e-16 ||S||``, i.e. ``1e-32 ||P||`` after squaring.
     """
-    received = np.asarray(received, bool)
+    with threadpool_limits(1, user_api="blas"):   # small products: BLAS threads only cost CPU
+        return _log_traces(model, np.asarray(received, bool))
+
+
+def _log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
     horizon, paths, d = received.shape
     if d != model.d:
         raise ShapeError(f"receptions: {d} sensor(s) given, the system has {model.d}")
@@ -307,12 +312,15 @@ def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
         out[k] = s
         noise = np.exp(-s)
         for r, h in enumerate(model.H):
-            f = np.tensordot(h, S, axes=(0, 0))                      # S^T h, (n, paths)
+            got = rows[k, :, r]
+            if not got.any():
+                continue
+            f = (h @ S.reshape(n, n * paths)).reshape(n, paths)      # S^T h
             a = np.einsum("ip,ip->p", f, f) + noise
-            coef = rows[k, :, r] / (a + np.sqrt(a * noise))
             Sf = np.einsum("ijp,jp->ip", S, f)
-            S -= Sf[:, None, :] * (f * coef)[None]
-        X[:n] = np.einsum("ij,jkp->kip", model.A, S)                # (A S)^T
+            f *= got / (a + np.sqrt(a * noise))
+            S -= Sf[:, None, :] * f[None]
+        X[:n] = (model.A @ S.reshape(n, n * paths)).reshape(n, n, paths).transpose(1, 0, 2)   # (A S)^T
         X[n:] = LqT[:, :, None] * np.exp(-s / 2)[None, None]
         S = _triangularise(X)
         c = np.einsum("ijp,ijp->p", S, S)

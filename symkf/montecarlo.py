@@ -13,6 +13,7 @@ sample sizes and confidence level: simulation is evidence, not proof.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -25,11 +26,12 @@ import sympy as sp
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
 from .exact.numbers import to_exact
-from .filtering import (_chain, _positive, _run, exact_covariances, log_traces, real_form, receival_table,
-                        sample_states)
+from .filtering import (FloatSystem, _chain, _positive, _run, exact_covariances, log_traces, real_form,
+                        receival_table, sample_states)
 from .losses import IID, GilbertElliott, LossModel
 from .model import System
 from .progress import progress
+from .sweep import sweep
 
 #: paths per batch: bounds memory and drives the progress bar
 CHUNK = 50_000
@@ -585,7 +587,7 @@ def _burst_lengths(horizon: int, per_step: float, rng: np.random.Generator, path
 
 
 def burst_sample(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None,
-                 plan: BurstPlan | None) -> tuple[np.ndarray, np.ndarray]:
+                 plan: BurstPlan | None, jobs: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """``log tr P_{K|K-1}`` (``K = horizon``) and the log likelihood ratio ``log dP/dQ`` per path.
 
     Without a plan: plain Monte Carlo (ratios 0).  With one, each path picks a component
@@ -593,55 +595,64 @@ def burst_sample(system: System, loss: LossModel, horizon: int, paths: int, seed
     law, ``X_{K-L}..X_{K-1}`` the component's conditioned chain (:func:`_factor_tilt`).  The
     ratio is exact: ``dQ/dP = mean_c sum_L pi(L) prod_{k >= K-L} q_c / p``, summed over
     every ``(c, L)`` that could have produced the path, so the estimator is unbiased for
-    any plan.
+    any plan.  Paths run in chunks of :data:`BURST_CHUNK`, each with its own child of
+    ``SeedSequence(seed)``, on ``jobs`` processes (:func:`symkf.sweep.sweep`): the result
+    does not depend on ``jobs``.
     """
     model = real_form(system)
     factors = loss_factors(loss, system.d)
+    tilts = tuple(tuple(_factor_tilt(f, a) for f in factors) for a in plan.allowed) if plan is not None else ()
+    sizes = [min(BURST_CHUNK, paths - start) for start in range(0, paths, BURST_CHUNK)]
+    seeds = np.random.SeedSequence(seed).spawn(len(sizes))
+    chunk = functools.partial(_burst_chunk, model, tuple(factors), tilts,
+                              None if plan is None else (plan.period, plan.growth), horizon)
+    parts = sweep(chunk, list(zip(sizes, seeds)), jobs=jobs, progress=False)
+    return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+
+
+def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tuple, plan: tuple[int, float] | None,
+                 K: int, task: tuple[int, np.random.SeedSequence]) -> tuple[np.ndarray, np.ndarray]:
+    """One chunk of :func:`burst_sample` (module level, so worker processes can run it)."""
+    m, seed = task
     rng = np.random.default_rng(seed)
-    K = horizon
-    tilts = [[_factor_tilt(f, a) for f in factors] for a in plan.allowed] if plan is not None else []
-    logtr = np.empty(paths)
-    logw = np.zeros(paths)
-    for start in range(0, paths, BURST_CHUNK):
-        m = min(BURST_CHUNK, paths - start)
-        if plan is not None:
-            C, g = len(tilts), plan.period
-            burst = math.prod(t.rate for t in tilts[0])
-            per_step = (burst * plan.growth) ** (1 / g)
-            L, log_law = _burst_lengths(K, per_step, rng, m)
-            comp = rng.integers(0, C, m)
-        received = np.empty((K, m, system.d), bool)
-        lr = np.zeros((len(tilts), K, m))
-        for i, f in enumerate(factors):
-            u = rng.random((K, m))
-            x = np.empty((K, m), np.intp)
-            base_init, base = _cumulative(f.init), _cumulative(f.P)
-            if plan is None:
-                x[0] = (u[0][:, None] >= base_init[None]).sum(axis=1)
-                for k in range(1, K):
-                    x[k] = (u[k][:, None] >= base[x[k - 1]]).sum(axis=1)
-            else:
-                cum_init = np.stack([base_init] + [t[i].cum_init for t in tilts])
-                cum = np.concatenate([base[None]] + [t[i].cum for t in tilts])   # (1 + C g, S, S)
-                x[0] = (u[0][:, None] >= cum_init[np.where(L >= K, 1 + comp, 0)]).sum(axis=1)
-                for k in range(1, K):
-                    table = np.where(k >= K - L, 1 + comp * g + k % g, 0)
-                    x[k] = (u[k][:, None] >= cum[table, x[k - 1]]).sum(axis=1)
-                for c, t in enumerate(tilts):
-                    lr[c, 0] += t[i].logr_init[x[0]]
-                    phase = np.arange(1, K) % g
-                    lr[c, 1:] += t[i].logr[phase[:, None], x[:-1], x[1:]]
-            received[:, :, list(f.sensors)] = f.emit[x]
-        logtr[start:start + m] = log_traces(model, received)[:, K]
-        if plan is not None:
-            tail = np.concatenate([np.zeros((len(tilts), 1, m)), np.cumsum(lr[:, ::-1], axis=1)], axis=1)
-            terms = tail + log_law[None, :, None] - math.log(len(tilts))
-            logw[start:start + m] = -np.logaddexp.reduce(terms.reshape(-1, m), axis=0)
-    return logtr, logw
+    C = len(tilts)
+    if plan is not None:
+        g, growth = plan
+        burst = math.prod(t.rate for t in tilts[0])
+        L, log_law = _burst_lengths(K, (burst * growth) ** (1 / g), rng, m)
+        comp = rng.integers(0, C, m)
+    received = np.empty((K, m, model.d), bool)
+    lr = np.zeros((C, K, m))
+    for i, f in enumerate(factors):
+        u = rng.random((K, m))
+        x = np.empty((K, m), np.intp)
+        base_init, base = _cumulative(f.init), _cumulative(f.P)
+        if plan is None:
+            x[0] = (u[0][:, None] >= base_init[None]).sum(axis=1)
+            for k in range(1, K):
+                x[k] = (u[k][:, None] >= base[x[k - 1]]).sum(axis=1)
+        else:
+            cum_init = np.stack([base_init] + [t[i].cum_init for t in tilts])
+            cum = np.concatenate([base[None]] + [t[i].cum for t in tilts])   # (1 + C g, S, S)
+            x[0] = (u[0][:, None] >= cum_init[np.where(L >= K, 1 + comp, 0)]).sum(axis=1)
+            for k in range(1, K):
+                table = np.where(k >= K - L, 1 + comp * g + k % g, 0)
+                x[k] = (u[k][:, None] >= cum[table, x[k - 1]]).sum(axis=1)
+            phase = np.arange(1, K) % g
+            for c, t in enumerate(tilts):
+                lr[c, 0] += t[i].logr_init[x[0]]
+                lr[c, 1:] += t[i].logr[phase[:, None], x[:-1], x[1:]]
+        received[:, :, list(f.sensors)] = f.emit[x]
+    logtr = log_traces(model, received)[:, K]
+    if plan is None:
+        return logtr, np.zeros(m)
+    tail = np.concatenate([np.zeros((C, 1, m)), np.cumsum(lr[:, ::-1], axis=1)], axis=1)
+    terms = tail + log_law[None, :, None] - math.log(C)
+    return logtr, -np.logaddexp.reduce(terms.reshape(-1, m), axis=0)
 
 
 def log_mean_trace(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None = None,
-                   plan: BurstPlan | None = None) -> LogMeanEstimate:
+                   plan: BurstPlan | None = None, jobs: int = 1) -> LogMeanEstimate:
     """``log E[tr P_{K|K-1}]`` by :func:`burst_sample` (plain Monte Carlo without ``plan``).
 
     Works in log space throughout: ``E = mean(w tr P)`` with ``log w + log tr P`` shifted by
@@ -650,7 +661,7 @@ def log_mean_trace(system: System, loss: LossModel, horizon: int, paths: int, se
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     if paths < 2:
         raise InputError("paths: at least 2 are needed for a standard error")
-    logtr, logw = burst_sample(system, loss, horizon, paths, seed, plan)
+    logtr, logw = burst_sample(system, loss, horizon, paths, seed, plan, jobs)
     y = logtr + logw
     top = float(np.max(y))
     f = np.exp(y - top)
@@ -704,16 +715,44 @@ def rate_interval(first: LogMeanEstimate, second: LogMeanEstimate, confidence: f
 
 
 def rate_horizons(horizon: int, period: int) -> tuple[int, int]:
-    """``(k_1, 2 k_1)`` with ``k_1`` the multiple of ``period`` nearest ``horizon / 2`` (at least
+    """``(k_1, 2 k_1)`` with ``k_1`` the largest multiple of ``period`` up to ``horizon / 2`` (at least
     one period): equal phases, so a periodic factor of ``E[tr P_k]`` cancels in the ratio."""
-    k1 = max(period, period * round(horizon / (2 * period)))
+    k1 = max(period, period * (horizon // (2 * period)))
     return k1, 2 * k1
+
+
+#: largest growth of ``P`` along a burst that float64 resolves when ``A`` is not exact in binary
+FLOAT_GROWTH = 1e28
+
+
+def _binary_exact(e: sp.Expr) -> bool:
+    """Whether the exact number ``e`` is a float64 value (a dyadic rational of 53 bits or less)."""
+    re, im = sp.sympify(e).as_real_imag()
+    for part in (re, im):
+        if not part.is_Rational or part.q & (part.q - 1) or abs(part.p) >= 2 ** 53:
+            return False
+    return True
+
+
+def float_horizon(system: System, plan: BurstPlan | None) -> int | None:
+    """The longest horizon whose bursts float64 can follow, or None when there is no limit.
+
+    When an entry of ``A`` is not a binary fraction (``sqrt(3)``, ``cos(pi/5)``), the float
+    ``A`` has the exact period structure only to ~1e-16: ``C A^{kg}`` are parallel only to
+    that precision, so a burst of the decisive pattern leaves the float system slightly
+    observable and ``P`` stops growing once its two scales differ by ~1e32 (seen: ``2
+    R(2 pi/3)``, log tr P flat beyond 60 steps).  The horizon is capped so that a burst
+    grows ``P`` by at most :data:`FLOAT_GROWTH` (``plan.growth`` per period).
+    """
+    if plan is None or plan.growth <= 1 or all(_binary_exact(e) for e in system.A):
+        return None
+    return max(8, int(math.log(FLOAT_GROWTH) * plan.period / math.log(plan.growth)))
 
 
 def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
                     horizon: int = 120, paths: int = 20_000, pattern: Any = None, growth: Any = None,
                     exact_rate: Any = None, tolerance: float = 0.01, confidence: float = 0.99,
-                    plan: BurstPlan | None = None) -> DivergenceResult:
+                    plan: BurstPlan | None = None, jobs: int = 1) -> DivergenceResult:
     """Decide from simulation whether ``E[tr P_k]`` stays bounded (Sui-You-Fu eq. 7), any loss model.
 
     Two independent :func:`log_mean_trace` runs (seeds ``seed`` and ``seed + 1``) estimate
@@ -722,7 +761,8 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
     bursts of ``pattern`` (sensors lost per phase) with ``growth`` per period, or of ``plan``;
     default: the exact verdict's decisive pattern (:func:`verdict_plan`), which also fills
     ``exact_rate`` (:func:`exact_growth_rate`) when it is not given.  The sampling only steers:
-    the estimate is unbiased for any pattern.
+    the estimate is unbiased for any pattern.  ``jobs``: worker processes for the paths.  The
+    horizon is capped by :func:`float_horizon` when float64 cannot follow longer bursts.
     """
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     if horizon < 8:
@@ -738,9 +778,10 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
         if growth is None:
             raise InputError("growth: give the growth factor of P per period of the pattern")
         plan = burst_plan(system, pattern, growth)
-    horizons = rate_horizons(horizon, plan.period)
+    cap = float_horizon(system, plan)
+    horizons = rate_horizons(horizon if cap is None else min(horizon, cap), plan.period)
     second = None if seed is None else seed + 1
-    runs = tuple(log_mean_trace(system, loss, k, paths, s, plan) for k, s in zip(horizons, (seed, second)))
+    runs = tuple(log_mean_trace(system, loss, k, paths, s, plan, jobs) for k, s in zip(horizons, (seed, second)))
     rate, low, high = rate_interval(*runs, confidence)
     verdict = "unstable" if low > 1 + tolerance else "stable" if high < 1 + tolerance else "undecided"
     exact_value = None if exact_rate is None else to_exact(
@@ -774,7 +815,8 @@ def mean_trace_curve(system: System, loss: LossModel, horizon: int, paths: int, 
                      points: int = 12, plan: BurstPlan | None = None, confidence: float = 0.95) -> MeanTraceCurve:
     """``log E[tr P_k]`` at ``points`` steps up to ``horizon`` (multiples of the plan's period), by
     final-burst importance sampling steered by ``plan`` (default: the exact verdict's,
-    :func:`verdict_plan`; plain Monte Carlo when the theory does not apply)."""
+    :func:`verdict_plan`; plain Monte Carlo when the theory does not apply); the horizon is
+    capped by :func:`float_horizon`."""
     horizon, paths, points = _positive(horizon, "horizon"), _positive(paths, "paths"), _positive(points, "points")
     _z(confidence)
     if plan is None:
@@ -783,6 +825,8 @@ def mean_trace_curve(system: System, loss: LossModel, horizon: int, paths: int, 
         except SymkfError:
             plan = None
     g = plan.period if plan is not None else 1
+    cap = float_horizon(system, plan)
+    horizon = horizon if cap is None else min(horizon, cap)
     ks = np.unique(np.maximum(g, g * np.round(np.linspace(g, horizon, points) / g))).astype(int)
     runs = [log_mean_trace(system, loss, int(k), paths, None if seed is None else seed + j, plan)
             for j, k in enumerate(ks)]

@@ -73,7 +73,7 @@ def number_json(a: AlgebraicNumber | sp.Expr, digits: int = 12) -> dict[str, Any
 
 
 def verify(system: System, loss: LossModel, *, seed: int = 0, paths: int = 20_000, horizon: int = 120,
-           tolerance: float = 0.01, confidence: float = 0.99) -> dict[str, Any]:
+           tolerance: float = 0.01, confidence: float = 0.99, jobs: int = 1) -> dict[str, Any]:
     """Run the exact verdict and a Monte Carlo test on ``(system, loss)``; JSON-serialisable report.
 
     Keys: ``theory`` (verdict, theorem, margins ``alpha_i^2 rho_i``, the exact growth rate
@@ -81,7 +81,7 @@ def verify(system: System, loss: LossModel, *, seed: int = 0, paths: int = 20_00
     rate), ``simulation`` (method, verdict, rate with its interval, seeds, horizons,
     paths), ``outcome`` (one of :data:`OUTCOMES`), ``reason`` (why, in words) and
     ``rate_consistent`` (exact rate inside the allowance-widened interval when the theory
-    says unstable, else None).
+    says unstable, else None).  ``jobs``: worker processes for the simulated paths.
     """
     with progress(2, "verify") as bar:
         v = stability(system, loss)
@@ -92,7 +92,7 @@ def verify(system: System, loss: LossModel, *, seed: int = 0, paths: int = 20_00
                   "critical_common_loss_rate": number_json(critical_loss_rate(system))}
         bar.update()
         sim = simulated_verdict(system, loss, v, seed=seed, paths=paths, horizon=horizon, tolerance=tolerance,
-                                confidence=confidence)
+                                confidence=confidence, jobs=jobs)
         bar.update()
     return {"theory": theory, "simulation": sim, **judge(v, sim)}
 
@@ -147,21 +147,27 @@ def _undecided(sim: dict[str, Any], bound: float, side: str) -> str:
 
 
 def simulated_verdict(system: System, loss: LossModel, v: Verdict, *, seed: int = 0, paths: int = 20_000,
-                      horizon: int = 120, tolerance: float = 0.01, confidence: float = 0.99) -> dict[str, Any]:
+                      horizon: int = 120, tolerance: float = 0.01, confidence: float = 0.99,
+                      jobs: int = 1) -> dict[str, Any]:
     """The simulation half of :func:`verify`, steered by the theory's verdict ``v`` (JSON form)."""
     plan = verdict_plan(system, v)
     r = divergence_test(system, loss, seed=seed, horizon=horizon, paths=paths, plan=plan,
-                        exact_rate=exact_growth_rate(v).exact, tolerance=tolerance, confidence=confidence)
-    return _divergence_json(r)
+                        exact_rate=exact_growth_rate(v).exact, tolerance=tolerance, confidence=confidence,
+                        jobs=jobs)
+    return _divergence_json(r, horizon)
 
 
-def _divergence_json(r: DivergenceResult) -> dict[str, Any]:
-    return {"method": "divergence_test: importance sampling of final bursts of the decisive loss pattern, "
+def _divergence_json(r: DivergenceResult, requested: int) -> dict[str, Any]:
+    out = {"method": "divergence_test: importance sampling of final bursts of the decisive loss pattern, "
                       "square-root filter with log-scale",
             "verdict": r.verdict, "rate": r.rate, "rate_interval": [r.rate_low, r.rate_high],
             "confidence": r.confidence, "tolerance": r.tolerance, "paths": r.paths,
             "seeds": [r.seed, None if r.seed is None else r.seed + 1], "horizons": list(r.horizons),
             "sampling": r.sampling, "effective_sample_sizes": [e.ess for e in r.estimates]}
+    if r.horizon < requested:
+        out["note"] = (f"horizon capped from {requested} to {r.horizon}: A's entries are not binary fractions, so "
+                       "float64 follows the decisive bursts only while P grows by less than 1e28")
+    return out
 
 
 def summary(report: dict[str, Any]) -> str:
@@ -178,6 +184,8 @@ def summary(report: dict[str, Any]) -> str:
              f"            growth rate {s['rate']:.5g}, {100 * s['confidence']:g}% interval "
              f"[{s['rate_interval'][0]:.5g}, {s['rate_interval'][1]:.5g}], tolerance {s['tolerance']:g}",
              f"            {s['paths']} paths per run, horizons {s['horizons']}, seeds {s['seeds']}"]
+    if "note" in s:
+        lines.append(f"            note: {s['note']}")
     if report["rate_consistent"] is not None:
         lines.append(f"            exact rate {'inside' if report['rate_consistent'] else 'OUTSIDE'} "
                      "the simulated interval (with the finite-horizon allowance)")
