@@ -35,8 +35,6 @@ from .sweep import sweep
 
 #: paths per batch: bounds memory and drives the progress bar
 CHUNK = 50_000
-#: paths per batch of burst sampling (its ratios take components x horizon x paths floats)
-BURST_CHUNK = 8192
 #: largest number of receival sequences enumerated exactly
 MAX_PATTERNS = 2 ** 20
 
@@ -444,8 +442,11 @@ def _chain_free(loss: LossModel, d: int) -> None:
         raise InputError(f"loss: expected a symkf loss model, got {type(loss).__name__}")
     if loss.d != d:
         raise InputError(f"loss: models {loss.d} sensor(s), the system has {d}")
-    if loss.symbols:
-        raise InputError(f"loss model: symbols {sorted(map(str, loss.symbols))} have no value; "
+    params = {IID: lambda m: m.loss, GilbertElliott: lambda m: (*m.fail, *m.recover, *m.initial_received)}
+    free = (set().union(*(sp.sympify(x).free_symbols for x in params[type(loss)](loss)))
+            if type(loss) in params else loss.symbols)   # independent sensors: never the joint chain
+    if free:
+        raise InputError(f"loss model: symbols {sorted(map(str, free))} have no value; "
                          "substitute numbers (loss.subs({...})) before simulating")
 
 
@@ -595,14 +596,16 @@ def burst_sample(system: System, loss: LossModel, horizon: int, paths: int, seed
     law, ``X_{K-L}..X_{K-1}`` the component's conditioned chain (:func:`_factor_tilt`).  The
     ratio is exact: ``dQ/dP = mean_c sum_L pi(L) prod_{k >= K-L} q_c / p``, summed over
     every ``(c, L)`` that could have produced the path, so the estimator is unbiased for
-    any plan.  Paths run in chunks of :data:`BURST_CHUNK`, each with its own child of
+    any plan.  Paths run in chunks (at most 65536 paths), each with its own child of
     ``SeedSequence(seed)``, on ``jobs`` processes (:func:`symkf.sweep.sweep`): the result
     does not depend on ``jobs``.
     """
     model = real_form(system)
     factors = loss_factors(loss, system.d)
     tilts = tuple(tuple(_factor_tilt(f, a) for f in factors) for a in plan.allowed) if plan is not None else ()
-    sizes = [min(BURST_CHUNK, paths - start) for start in range(0, paths, BURST_CHUNK)]
+    # a chunk holds components x horizon x paths likelihood ratios: about 1.6e7 floats at most
+    chunk = max(1024, min(65536, 2 ** 24 // (max(len(tilts), 1) * horizon)))
+    sizes = [min(chunk, paths - start) for start in range(0, paths, chunk)]
     seeds = np.random.SeedSequence(seed).spawn(len(sizes))
     chunk = functools.partial(_burst_chunk, model, tuple(factors), tilts,
                               None if plan is None else (plan.period, plan.growth), horizon)
@@ -621,34 +624,64 @@ def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tup
         burst = math.prod(t.rate for t in tilts[0])
         L, log_law = _burst_lengths(K, (burst * growth) ** (1 / g), rng, m)
         comp = rng.integers(0, C, m)
+        # law index per (step, path): 0 = the loss model, 1 + c g + r = component c's burst law at phase r
+        table = np.where(np.arange(K)[:, None] >= K - L[None, :],
+                         1 + comp[None, :] * g + (np.arange(K) % g)[:, None], 0)
+        table[0] = np.where(L >= K, 1 + comp * g, 0)
+    else:
+        g, table = 1, None
     received = np.empty((K, m, model.d), bool)
     lr = np.zeros((C, K, m))
-    for i, f in enumerate(factors):
-        u = rng.random((K, m))
-        x = np.empty((K, m), np.intp)
-        base_init, base = _cumulative(f.init), _cumulative(f.P)
-        if plan is None:
-            x[0] = (u[0][:, None] >= base_init[None]).sum(axis=1)
-            for k in range(1, K):
-                x[k] = (u[k][:, None] >= base[x[k - 1]]).sum(axis=1)
+    # sensors on independent two-state chains are sampled together, a joint chain on its own
+    groups = [[f for f in factors if len(f.P) == 2 and len(f.sensors) == 1]]
+    groups += [[f] for f in factors if f not in groups[0]]
+    for group in filter(None, groups):
+        index = [factors.index(f) for f in group]
+        sensors = [f.sensors for f in group]
+        # first[t, j, s], step[t, j, x, s]: cumulative law of the first state / next state under law t
+        first = np.stack([np.stack([_cumulative(f.init) for f in group])]
+                         + [np.stack([tilt[i].cum_init for i in index]) for tilt in tilts for _ in range(g)])
+        step = np.stack([np.stack([_cumulative(f.P) for f in group])]
+                        + [np.stack([tilt[i].cum[r] for i in index]) for tilt in tilts for r in range(g)])
+        x = _chain_states(first, step, table, rng.random((K, m, len(group))))
+        for c, tilt in enumerate(tilts):
+            for j, i in enumerate(index):
+                lr[c, 0] += tilt[i].logr_init[x[0, :, j]]
+                lr[c, 1:] += tilt[i].logr[(np.arange(1, K) % g)[:, None], x[:-1, :, j], x[1:, :, j]]
+        if all(len(f.P) == 2 for f in group):   # state 0 = received (loss_factors' convention)
+            received[:, :, [f.sensors[0] for f in group]] = x == 0
         else:
-            cum_init = np.stack([base_init] + [t[i].cum_init for t in tilts])
-            cum = np.concatenate([base[None]] + [t[i].cum for t in tilts])   # (1 + C g, S, S)
-            x[0] = (u[0][:, None] >= cum_init[np.where(L >= K, 1 + comp, 0)]).sum(axis=1)
-            for k in range(1, K):
-                table = np.where(k >= K - L, 1 + comp * g + k % g, 0)
-                x[k] = (u[k][:, None] >= cum[table, x[k - 1]]).sum(axis=1)
-            phase = np.arange(1, K) % g
-            for c, t in enumerate(tilts):
-                lr[c, 0] += t[i].logr_init[x[0]]
-                lr[c, 1:] += t[i].logr[phase[:, None], x[:-1], x[1:]]
-        received[:, :, list(f.sensors)] = f.emit[x]
+            for j, f in enumerate(group):
+                received[:, :, list(sensors[j])] = f.emit[x[:, :, j]]
     logtr = log_traces(model, received)[:, K]
     if plan is None:
         return logtr, np.zeros(m)
     tail = np.concatenate([np.zeros((C, 1, m)), np.cumsum(lr[:, ::-1], axis=1)], axis=1)
     terms = tail + log_law[None, :, None] - math.log(C)
     return logtr, -np.logaddexp.reduce(terms.reshape(-1, m), axis=0)
+
+
+def _chain_states(first: np.ndarray, step: np.ndarray, table: np.ndarray | None, u: np.ndarray) -> np.ndarray:
+    """States (K, paths, chains) of independent chains by inverse CDFs: ``first[t, j]`` and
+    ``step[t, j, x]`` are cumulative laws under law ``t`` (``table[k, p]``; None: law 0 always)."""
+    K, m, J = u.shape
+    j = np.arange(J)[None, :]
+    if step.shape[-1] == 2:         # two states: one comparison with P(state 0), states as uint8
+        if table is None and np.array_equal(step[0, :, :, 0], np.broadcast_to(first[0, :, :1], (J, 2))):
+            return (u >= first[0, :, 0]).view(np.uint8)                      # i.i.d.: every step at once
+        x = np.empty((K, m, J), np.uint8)
+        t = np.zeros((m, 1), np.intp) if table is None else None
+        x[0] = u[0] >= first[t if table is None else table[0][:, None], j, 0]
+        for k in range(1, K):
+            x[k] = u[k] >= step[t if table is None else table[k][:, None], j, x[k - 1], 0]
+        return x
+    x = np.empty((K, m, J), np.intp)
+    t = np.zeros((m, 1), np.intp) if table is None else None
+    x[0] = (u[0][..., None] >= first[t if table is None else table[0][:, None], j]).sum(axis=-1)
+    for k in range(1, K):
+        tk = t if table is None else table[k][:, None]
+        x[k] = (u[k][..., None] >= step[tk, j, x[k - 1]]).sum(axis=-1)
+    return x
 
 
 def log_mean_trace(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None = None,
