@@ -318,7 +318,8 @@ def _log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
             f = (h @ S.reshape(n, n * paths)).reshape(n, paths)      # S^T h
             a = np.einsum("ip,ip->p", f, f) + noise
             Sf = np.einsum("ijp,jp->ip", S, f)
-            f *= got / (a + np.sqrt(a * noise))
+            denom = a + np.sqrt(a * noise)   # 0 only when S^T h = 0 and exp(-s) underflowed: no update
+            f *= np.divide(got, denom, out=np.zeros_like(denom), where=denom > 0)
             S -= Sf[:, None, :] * f[None]
         X[:n] = (model.A @ S.reshape(n, n * paths)).reshape(n, n, paths).transpose(1, 0, 2)   # (A S)^T
         X[n:] = LqT[:, :, None] * np.exp(-s / 2)[None, None]

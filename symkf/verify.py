@@ -165,8 +165,8 @@ def _divergence_json(r: DivergenceResult, requested: int) -> dict[str, Any]:
             "seeds": [r.seed, None if r.seed is None else r.seed + 1], "horizons": list(r.horizons),
             "sampling": r.sampling, "effective_sample_sizes": [e.ess for e in r.estimates]}
     if r.horizon < requested:
-        out["note"] = (f"horizon capped from {requested} to {r.horizon}: A's entries are not binary fractions, so "
-                       "float64 follows the decisive bursts only while P grows by less than 1e28")
+        out["note"] = (f"horizon capped from {requested} to {r.horizon}: beyond it float64 cannot follow a burst of "
+                       "the decisive pattern (A's entries are not binary fractions; see montecarlo.float_horizon)")
     return out
 
 

@@ -15,7 +15,7 @@ from symkf.losses import IID, GilbertElliott, MarkovLoss
 from symkf.model import Sensor, System
 from symkf.montecarlo import (BurstPlan, burst_estimate, divergence_test, dominant_pattern, estimate_mean_trace,
                               exact_mean_covariances, exact_mean_trace, iid_tilt, log_mean_trace, loss_factors,
-                              pattern_probabilities, simulate_traces, verdict_plan, _patterns)
+                              float_horizon, pattern_probabilities, simulate_traces, verdict_plan, _patterns)
 from symkf.stability import stability
 
 TRI = System(A=[["5/4", 0], [1, "11/10"]], sensors=[Sensor(C=[[1, 1]])])     # eps_c = 16/25
@@ -236,3 +236,20 @@ def test_gilbert_elliott_growth_found_where_plain_monte_carlo_misses_it():
     plain = divergence_test(system, loss, seed=SEED, horizon=80, paths=4000,
                             plan=BurstPlan(np.ones((1, 1, 2), bool), 1.0))
     assert plain.rate_high < 6 ** 0.5 / 2 - 0.1     # nothing to steer: the rare bursts are missed
+
+
+def test_float_horizon_caps_bursts_float64_cannot_follow():
+    # A = 2 R(2 pi/3) (entries -1, +-sqrt(3)), C = [1 0]: the decisive pattern receives one
+    # phase in 3, C A^(3k) = 8^k C exactly but only to 1e-16 in float64, so a burst saturates
+    # near log tr P ~ 75 (P grows 4x per step: ~55 steps).  Uncapped, verify at loss 3/20
+    # (exact rate 4 (3/20)^(2/3) ~ 1.129) saw ~1.0 and called it a contradiction.
+    system = System(A=[[-1, "-sqrt(3)"], ["sqrt(3)", -1]], sensors=[Sensor(C=[[1, 0]])])
+    loss = IID(["3/20"])
+    plan = verdict_plan(system, stability(system, loss))
+    cap = float_horizon(system, plan)
+    assert cap is not None and 30 <= cap <= 55
+    r = divergence_test(system, loss, seed=SEED, horizon=120, paths=4000)
+    assert r.horizons[1] <= cap and r.verdict == "unstable" and r.rate_low > 1.1
+    # integer A = 2 R(pi/2): exact in float64, no cap
+    ge_system, ge_loss = _example("ge-two-sensors.toml")
+    assert float_horizon(ge_system, verdict_plan(ge_system, stability(ge_system, ge_loss))) is None
