@@ -268,10 +268,10 @@ def _triangularise(X: np.ndarray) -> np.ndarray:
         if j + 1 < n:
             v = x.copy()
             v[0] += head
-            vv = norm * (norm + np.abs(x[0]))          # |v|^2 / 2
-            scale = np.divide(1.0, vv, out=np.zeros_like(vv), where=vv > 0)
+            length = np.sqrt(2 * norm * (norm + np.abs(x[0])))      # |v|
+            v = np.divide(v, length, out=np.zeros_like(v), where=length > 0)
             rest = X[j:, j + 1:]
-            rest -= v[:, None, :] * (np.einsum("ip,ikp->kp", v, rest) * scale)[None]
+            rest -= v[:, None, :] * (2 * np.einsum("ip,ikp->kp", v, rest))[None]
         X[j, j] = -head
     return X[:n].transpose(1, 0, 2) * np.tri(n)[:, :, None]
 
@@ -316,11 +316,15 @@ def _log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
             if not got.any():
                 continue
             f = (h @ S.reshape(n, n * paths)).reshape(n, paths)      # S^T h
-            a = np.einsum("ip,ip->p", f, f) + noise
-            Sf = np.einsum("ijp,jp->ip", S, f)
-            denom = a + np.sqrt(a * noise)   # 0 only when S^T h = 0 and exp(-s) underflowed: no update
-            f *= np.divide(got, denom, out=np.zeros_like(denom), where=denom > 0)
-            S -= Sf[:, None, :] * f[None]
+            f2 = np.einsum("ip,ip->p", f, f)
+            a = f2 + noise
+            # Potter: S -= S f f^T / (a + sqrt(a r)) = (S u) u^T |f|^2 / (a + sqrt(a r)), u = f / |f|,
+            # a weight in [0, 1] that cannot overflow when exp(-s) and |f| underflow
+            norm = np.sqrt(f2)
+            f = np.divide(f, norm, out=np.zeros_like(f), where=norm > 0)
+            denom = a + np.sqrt(a * noise)
+            weight = np.divide(f2, denom, out=np.zeros_like(denom), where=denom > 0) * got
+            S -= np.einsum("ijp,jp->ip", S, f)[:, None, :] * (f * weight)[None]
         X[:n] = (model.A @ S.reshape(n, n * paths)).reshape(n, n, paths).transpose(1, 0, 2)   # (A S)^T
         X[n:] = LqT[:, :, None] * np.exp(-s / 2)[None, None]
         S = _triangularise(X)
