@@ -149,7 +149,8 @@ def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: i
         for start in chunks:
             stop = min(start + CHUNK, paths)
             states = sample_states(law, horizon, stop - start, rng)
-            traces[start:stop] = _run(model, states, emit, "trace", 50)[0]
+            with np.errstate(over="ignore"):   # tr P beyond float64 is inf here; log_mean_trace keeps logs
+                traces[start:stop] = np.exp(log_traces(model, emit[states])[:, :horizon])
             if tables is not None:
                 lw0, lw = tables
                 steps = np.vstack([lw0[states[0]][None, :], lw[states[:-1], states[1:]]])
