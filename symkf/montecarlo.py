@@ -527,9 +527,11 @@ class BurstPlan:
 
     @property
     def period(self) -> int:
+        """The pattern's period ``g`` (phases)."""
         return self.allowed.shape[1]
 
     def describe(self, names: Sequence[str]) -> str:
+        """The plan in words: the sensors lost at each phase, and the number of shifts."""
         lost = [[names[j] for j in range(len(names)) if not a[j]] for a in self.allowed[0]]
         return f"final bursts losing {lost} per phase (and the {len(self.allowed) - 1} shift(s))"
 
@@ -736,6 +738,7 @@ class DivergenceResult:
 
     @property
     def horizon(self) -> int:
+        """The longer horizon ``k_2``."""
         return self.horizons[1]
 
 
