@@ -239,6 +239,10 @@ def _print_simulate(res: dict[str, Any]) -> None:
     print(f"{'k':>6} {'mean':>12}  {100 * res['confidence']:g}% interval")
     for r in res["summary"]:
         print(f"{r['k']:>6} {r['mean']:>12.6g}  [{r['low']:.6g}, {r['high']:.6g}]")
+    if "growth_curve" in res:
+        c = res["growth_curve"]
+        print(f"log10 E[tr P_k] by {c['method']}:")
+        print("  " + ", ".join(f"k = {k}: {m / 2.302585092994046:.4g}" for k, m in zip(c["k"], c["log_mean"])))
     if "plot" in res:
         print(f"figure written to {res['plot']}")
 
