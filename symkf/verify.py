@@ -143,6 +143,9 @@ def _undecided(sim: dict[str, Any], bound: float, side: str) -> str:
     if on_side and gap > 0:
         need = math.ceil(sim["paths"] * (half / gap) ** 2 * 1.2)
         text += f"; about {need} paths per run would decide"
+    else:
+        text += ("; the estimate itself is on the other side, as expected this close to the threshold "
+                 "(E_k approaches its limit or its growth slowly): a longer horizon is needed, not more paths")
     return text
 
 
