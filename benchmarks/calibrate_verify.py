@@ -141,7 +141,7 @@ def main() -> None:
         print(f"{i:4d} {kind:16s} {str(off):>6s} A = {system.A.tolist()} margin {m:.5f} rate {sim['rate']:.5f} "
               f"[{low:.5f}, {high:.5f}] {rep['outcome']}", flush=True)
     total = time.process_time() - t0
-    print(f"\n{len(rows)} points, budget {args.paths} paths x horizons {rows[0]['interval'] and sim['horizons']}; "
+    print(f"\n{len(rows)} points, budget {args.paths} paths x horizon {args.horizon} (capped by float_horizon where needed); "
           f"set-up {setup:.0f} CPU-s, total {total:.0f} CPU-s")
     for dist in DISTANCES:
         for side in ("stable", "unstable"):
