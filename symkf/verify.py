@@ -153,7 +153,7 @@ def simulated_verdict(system: System, loss: LossModel, v: Verdict, *, seed: int 
                       horizon: int = 120, tolerance: float = 0.01, confidence: float = 0.99,
                       jobs: int = 1) -> dict[str, Any]:
     """The simulation half of :func:`verify`, steered by the theory's verdict ``v`` (JSON form)."""
-    plan = verdict_plan(system, v)
+    plan = verdict_plan(system, v, loss)
     r = divergence_test(system, loss, seed=seed, horizon=horizon, paths=paths, plan=plan,
                         exact_rate=exact_growth_rate(v).exact, tolerance=tolerance, confidence=confidence,
                         jobs=jobs)

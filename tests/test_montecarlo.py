@@ -209,7 +209,7 @@ def test_burst_sampling_is_unbiased_for_every_loss_model(name, horizon):
     # 24 runs, not 12: the runs' means are skewed (importance weights), and the 4-sigma check
     # with 12 failed once in 80 (seed 4, network: -4.0 sigma, +-1.1 sigma with 40 runs of 4000)
     system, loss = _example(name)
-    plan = verdict_plan(system, stability(system, loss))
+    plan = verdict_plan(system, stability(system, loss), loss)
     exact = exact_mean_trace(system, loss, horizon + 1)[horizon]
     runs = np.array([np.exp(log_mean_trace(system, loss, horizon, 1000, seed=s, plan=plan).log_mean)
                      for s in range(24 * SEED, 24 * SEED + 24)])
