@@ -227,12 +227,12 @@ def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
         reports = verify_family(args.file, jobs=args.jobs, scheduler=args.scheduler, seed=args.seed,
                                 paths=args.paths, horizon=args.horizon)
         return {"family": str(args.file), "members": reports, "_text": family_summary(reports),
-                "_status": 1 if any(r["outcome"] == "disagree" for r in reports) else 0}
+                "_status": 1 if any(r["outcome"] == "contradiction" for r in reports) else 0}
     system, loss = _needs_loss(args)
-    report = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon)
-    # exit status 1 (and "outcome": "disagree") when simulation contradicts the theory
+    report = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon, jobs=args.jobs)
+    # exit status 1 (and "outcome": "contradiction") when simulation contradicts the theory
     return {"system": str(args.file), "loss": loss_json(loss), **report, "_text": summary(report),
-            "_status": 1 if report["outcome"] == "disagree" else 0}
+            "_status": 1 if report["outcome"] == "contradiction" else 0}
 
 
 def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
@@ -245,8 +245,8 @@ def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
 
 
 def _args_verify(p: argparse.ArgumentParser) -> None:
-    _args_simulation(p, 80, 20_000)
-    _args_sweep(p, "family files: ")
+    _args_simulation(p, 120, 20_000)
+    _args_sweep(p, "family members, or a single system's simulated paths: ")
 
 
 def _mean_trace_rows(est: Any, points: int = 8) -> list[dict[str, Any]]:
@@ -272,8 +272,12 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
         "seed": est.seed, "confidence": est.confidence, "summary": _mean_trace_rows(est),
         "mean": est.mean.tolist(), "low": est.low.tolist(), "high": est.high.tolist()}
     if target is not None:
+        from .montecarlo import mean_trace_curve
         from .plots import mean_trace_figure
-        fig = mean_trace_figure(system, loss, est)
+        curve = mean_trace_curve(system, loss, args.horizon, args.paths, seed=args.seed)
+        res["growth_curve"] = {"method": curve.sampling, "k": curve.ks.tolist(),
+                               "log_mean": curve.log_mean.tolist(), "rel_stderr": curve.rel_stderr.tolist()}
+        fig = mean_trace_figure(system, loss, curve)
         res["plot"] = str(target.write(lambda f: fig.savefig(f, format=target.image_format, dpi=110)))
     return res
 
@@ -283,6 +287,10 @@ def _print_simulate(res: dict[str, Any]) -> None:
     print(f"{'k':>6} {'mean':>12}  {100 * res['confidence']:g}% interval")
     for r in res["summary"]:
         print(f"{r['k']:>6} {r['mean']:>12.6g}  [{r['low']:.6g}, {r['high']:.6g}]")
+    if "growth_curve" in res:
+        c = res["growth_curve"]
+        print(f"log10 E[tr P_k] by {c['method']}:")
+        print("  " + ", ".join(f"k = {k}: {m / 2.302585092994046:.4g}" for k, m in zip(c["k"], c["log_mean"])))
     if "plot" in res:
         print(f"figure written to {res['plot']}")
 

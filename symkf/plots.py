@@ -29,7 +29,7 @@ from .errors import ExtraNotInstalledError, InputError, SymkfError
 from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel
 from .model import Sensor, System
-from .montecarlo import TraceEstimate
+from .montecarlo import MeanTraceCurve
 from .progress import progress
 
 VERDICT_STYLE = {"stable": ("o", "tab:green"), "unstable": ("x", "tab:red"), "undecided": ("s", "tab:gray")}
@@ -101,18 +101,18 @@ def region_boundary(system: System, samples: int = 60) -> tuple[np.ndarray, np.n
 
 
 def stability_region_figure(system: System, *, samples: int = 60, mc_points: int = 4,
-                            paths: int = 5000, horizon: int = 60, seed: int = 0, path: Any = None) -> Any:
+                            paths: int = 20_000, horizon: int = 120, seed: int = 0, path: Any = None) -> Any:
     """The stable set ``{(loss_1, loss_2)}`` of a two-sensor system under i.i.d. losses.
 
     Boundary: the exact critical curve ``loss_2 = f(loss_1)`` (stable iff
     ``loss_2 < f(loss_1)``; :func:`region_boundary`).  Overlay: on an
     ``mc_points`` x ``mc_points`` grid, the verdict of
-    :func:`symkf.verify.simulated_verdict` (burst importance sampling steered
-    by the exact decisive pattern) with ``paths``, ``horizon``, ``seed``;
-    points where a decided simulation contradicts the exact verdict are circled.
+    :func:`symkf.verify.simulated_verdict` (final-burst importance sampling steered
+    by the exact decisive pattern) with ``paths``, ``horizon``, ``seed``, judged
+    against the exact verdict by :func:`symkf.verify.judge`; contradictions are circled.
     """
     from .stability import stability
-    from .verify import simulated_verdict
+    from .verify import judge, simulated_verdict
 
     x, y = region_boundary(system, samples)
     mc = _grid(mc_points, "mc_points")
@@ -123,24 +123,25 @@ def stability_region_figure(system: System, *, samples: int = 60, mc_points: int
                 loss = IID([sp.Rational(l1), sp.Rational(l2)])
                 v = stability(system, loss)
                 sim = simulated_verdict(system, loss, v, seed=seed, paths=paths, horizon=horizon)
-                verdicts.append((float(l1), float(l2), v.stable, sim["verdict"]))
+                verdicts.append((float(l1), float(l2), sim["verdict"], judge(v, sim)["outcome"]))
                 bar.update()
     fig = _figure()
     ax = fig.add_subplot()
     ax.fill_between(x, 0, y, color="tab:green", alpha=0.15, label="stable (exact)")
     ax.plot(x, y, "-", color="tab:green", lw=1.5, label="exact critical curve")
     for kind, (marker, color) in VERDICT_STYLE.items():
-        pts = [(a, b) for a, b, _, s in verdicts if s == kind]
+        pts = [(a, b) for a, b, s, _ in verdicts if s == kind]
         if pts:
             ax.scatter(*zip(*pts), marker=marker, color=color, s=50, label=f"Monte Carlo: {kind}")
-    wrong = [(a, b) for a, b, st, s in verdicts if s != "undecided" and (s == "stable") != st]
+    wrong = [(a, b) for a, b, _, outcome in verdicts if outcome == "contradiction"]
     if wrong:
         ax.scatter(*zip(*wrong), marker="o", facecolors="none", edgecolors="black", s=160,
                    label="simulation contradicts theory")
     names = system.sensor_names
     ax.set(xlim=(0, 1), ylim=(0, 1.02), xlabel=f"loss probability of {names[0]}",
            ylabel=f"loss probability of {names[1]}",
-           title=f"Mean-square stability region ({paths} paths, horizon {horizon}, seed {seed})")
+           title=f"Where the filter is mean-square stable: exact region and simulation\n"
+                 f"({paths} paths per run, horizon {horizon}, seed {seed})")
     ax.legend(loc="upper right", fontsize="small")
     return _finish(fig, path)
 
@@ -156,51 +157,57 @@ def yang_bounds(system: System, loss: IID, horizon: int) -> tuple[np.ndarray, np
     return np.array([np.trace(g) for g in G]), np.array([np.trace(v) for v in V])
 
 
-def mean_trace_figure(system: System, loss: LossModel, estimate: TraceEstimate, *, path: Any = None) -> Any:
-    """``E[tr P_{k|k-1}]`` against ``k``: estimate and band, exact growth rate, Yang's ``G_k`` and ``V_k``.
+def mean_trace_figure(system: System, loss: LossModel, curve: MeanTraceCurve, *, path: Any = None) -> Any:
+    """``log10 E[tr P_{k|k-1}]`` against ``k``: estimate with its band, the exact growth rate as a
+    slope through the estimate, and (i.i.d. losses) Yang's bounds ``tr G_k`` and ``tr V_k``.
 
-    The growth-rate line ``c r^k`` has the exact ``r`` (``max alpha_i^2 rho_i``
-    when unstable, 1 when stable); ``c`` is the median of ``mean_k / r^k`` over
-    the second half of the horizon.
-    The bounds need i.i.d. losses; parts whose theory does not apply are left
-    out and the reason is put in the title.
+    The estimate is :func:`symkf.montecarlo.mean_trace_curve` (final-burst importance
+    sampling, log-scale filter), so the curve shows the growth the theory predicts instead of
+    the typical path.  The exact line has slope ``log10 r`` (``r = max alpha_i^2 rho_i`` when
+    unstable, 1 when stable) and passes through the mean of ``log E_k - k log r`` over the
+    second half of the steps.  Parts whose theory does not apply are left out and the
+    reason is put in the title.
     """
     from .stability import stability
     from .montecarlo import exact_growth_rate
 
     fig = _figure()
     ax = fig.add_subplot()
-    k = np.arange(estimate.horizon)
-    ax.plot(k, estimate.mean, color="tab:blue", label=f"Monte Carlo ({estimate.paths} paths, seed {estimate.seed})")
-    curves = [estimate.mean]
+    k = curve.ks
+    ln10 = np.log(10)
+    low, high = curve.band()
+    ax.plot(k, curve.log_mean / ln10, "o-", color="tab:blue", ms=3,
+            label=f"simulation ({curve.paths} paths per point, seed {curve.seed})")
+    ax.fill_between(k, low / ln10, high / ln10, color="tab:blue", alpha=0.25,
+                    label=f"{100 * curve.confidence:g}% interval")
     notes = []
     try:
         v = stability(system, loss)
         r = exact_growth_rate(v)
-        half = k >= k[-1] // 2
-        powers = float(r) ** (k - k[-1]).astype(float)
-        line = float(np.median(estimate.mean[half] / powers[half])) * powers
-        ax.plot(k[half], line[half], "--", color="black",
-                label=f"exact growth rate {sp.sstr(r.exact)} ({'stable' if v.stable else 'unstable'})")
+        half = k >= k[-1] / 2
+        slope = np.log(float(r))
+        anchor = float(np.mean(curve.log_mean[half] - k[half] * slope))
+        ax.plot(k, (anchor + k * slope) / ln10, "--", color="black",
+                label=f"exact growth rate {sp.sstr(r.exact)} ~ {float(r):.5g} per step "
+                      f"({'stable' if v.stable else 'not stable'})")
     except SymkfError as exc:
-        notes.append(f"no exact rate: {exc}".splitlines()[0][:60])
+        notes.append(f"no exact rate: {exc}".splitlines()[0][:70])
     if isinstance(loss, IID):
         try:
-            G, V = yang_bounds(system, loss, estimate.horizon)
-            ax.plot(k[1:], G[1:], ":", color="tab:purple", label="Yang lower bound tr $G_k$")
-            ax.plot(k, V, "-.", color="tab:orange", label="Yang upper bound tr $V_k$")
-            curves += [G[1:], V]
+            G, V = yang_bounds(system, loss, int(k[-1]) + 1)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ax.plot(k, np.log10(G[k]), ":", color="tab:purple", label="Yang lower bound tr $G_k$")
+                ax.plot(k, np.log10(V[k]), "-.", color="tab:orange", label="Yang upper bound tr $V_k$")
         except SymkfError as exc:
-            notes.append(f"no Yang bounds: {exc}".splitlines()[0][:60])
+            notes.append(f"no Yang bounds: {exc}".splitlines()[0][:70])
     else:
-        notes.append("Yang bounds need i.i.d. losses")
-    # an interval reaching 0 or below (heavy tails) is drawn down to the bottom of the axes
-    bottom = 0.5 * min(float(np.min(c[c > 0])) for c in curves if np.any(c > 0))
-    ax.fill_between(k, np.maximum(estimate.low, bottom), estimate.high, color="tab:blue", alpha=0.2,
-                    label=f"{100 * estimate.confidence:g}% interval")
-    ax.set(yscale="log", ylim=(bottom, None), xlabel="k", ylabel=r"E[tr $P_{k|k-1}$]",
-           title="\n".join([f"{system.name or 'the system'} under {_in_words(loss)}"
-                             + ("" if estimate.sampling == repr(loss) else " (importance sampling)")] + notes))
+        notes.append("Yang's bounds need i.i.d. losses")
+    name = system.name or "the system"
+    ax.set(xlabel="step k", ylabel=r"$\log_{10}$ E[tr $P_{k|k-1}$]",
+           title="\n".join([f"Growth of the expected error covariance of {name} under {_in_words(loss)}",
+                             "importance sampling of final loss bursts" if "burst" in curve.sampling
+                             else "plain Monte Carlo"] + notes))
+    ax.title.set_fontsize("small")
     ax.legend(fontsize="small")
     return _finish(fig, path)
 

@@ -5,7 +5,8 @@ import pytest
 import sympy as sp
 
 from symkf.errors import InputError, ShapeError
-from symkf.filtering import exact_covariances, predicted_covariances, sample_receptions, simulate_trajectories
+from symkf.filtering import (exact_covariances, log_traces, predicted_covariances, real_form, sample_receptions,
+                             simulate_trajectories)
 from symkf.losses import IID, GilbertElliott
 from symkf.model import Sensor, System
 
@@ -70,3 +71,27 @@ def test_bad_receptions_are_refused():
         sample_receptions(IID(["1/2"]), 3, 2, np.random.default_rng(0), d=2)
     with pytest.raises(InputError, match="receptions\\[0\\]"):
         exact_covariances(TRI, [(1, 2)])
+
+
+@pytest.mark.parametrize("system", [TRI, CUBIC, COMPLEX], ids=["n2", "n3", "complex"])
+def test_log_traces_match_the_exact_oracle(system):
+    # the square-root, log-scale filter against eq. (9) in exact arithmetic
+    rng = np.random.default_rng(11)
+    seqs = rng.integers(0, 2, (3, 6, system.d)).astype(bool)
+    logs = log_traces(real_form(system), seqs.transpose(1, 0, 2))
+    for seq, lt in zip(seqs, logs):
+        exact = exact_covariances(system, [tuple(int(g) for g in v) for v in seq])
+        target = [float(sp.re(sp.N(Pk.trace()))) for Pk in exact]
+        np.testing.assert_allclose(np.exp(lt), target, rtol=1e-11)
+
+
+def test_log_traces_follow_thousands_of_unstable_steps():
+    # everything lost for 3000 steps: P_{k+1} = A P A^T + Q with A = 2 R(pi/2), P0 = Q = I,
+    # so P_k = (4^(k+1) - 1)/3 I and log tr P_k = log(2 (4^(k+1) - 1) / 3) (hand-derived:
+    # A A^T = 4 I); float64 covariances overflow after ~510 steps
+    system = System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]])])
+    lost = np.zeros((3000, 2, 1), bool)
+    logs = log_traces(real_form(system), lost)
+    k = np.arange(3001)
+    np.testing.assert_allclose(logs[0], np.log(2 / 3) + (k + 1) * np.log(4) + np.log1p(-4.0 ** -(k + 1)),
+                               rtol=1e-12)

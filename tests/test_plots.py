@@ -13,7 +13,7 @@ pytest.importorskip("matplotlib")
 from symkf import examples, files, plots  # noqa: E402
 from symkf.errors import InputError  # noqa: E402
 from symkf.model import Sensor, System  # noqa: E402
-from symkf.montecarlo import estimate_mean_trace, exact_mean_trace  # noqa: E402
+from symkf.montecarlo import mean_trace_curve, exact_mean_trace  # noqa: E402
 
 SYSTEMS = examples.directory() / "systems"
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -81,17 +81,22 @@ def test_yang_bounds_bracket_the_exact_mean():
 
 def test_mean_trace_figure(tmp_path):
     S, loss = files.load(SYSTEMS / "design-rotation.toml")
-    est = estimate_mean_trace(S, loss, 20, 500, seed=0)
-    fig = plots.mean_trace_figure(S, loss, est, path=tmp_path / "trace.png")
+    curve = mean_trace_curve(S, loss, 20, 500, seed=0, points=5)
+    fig = plots.mean_trace_figure(S, loss, curve, path=tmp_path / "trace.png")
     assert written(tmp_path / "trace.png")
     names = labels(fig)
-    assert "exact growth rate 1 (stable)" in names
+    assert "exact growth rate 1 ~ 1 per step (stable)" in names
     assert {"Yang lower bound tr $G_k$", "Yang upper bound tr $V_k$"} <= set(names)
+    assert "i.i.d. losses" in fig.axes[0].get_title() and "IID(" not in fig.axes[0].get_title()
 
 
-def test_mean_trace_figure_markov(tmp_path):
+def test_mean_trace_figure_markov_shows_the_exact_growth(tmp_path):
+    # Gilbert-Elliott (fail 1/4, recover 1/2): not stable, E[tr P_k] grows like (sqrt(6)/2)^k.
+    # The simulated curve must show that slope (plain Monte Carlo drew a flat curve here)
     S, loss = files.load(SYSTEMS / "ge-two-sensors.toml")
-    est = estimate_mean_trace(S, loss, 10, 200, seed=0)
-    fig = plots.mean_trace_figure(S, loss, est)
-    assert "Yang bounds need i.i.d. losses" in fig.axes[0].get_title()
-    assert f"exact growth rate {sp.sqrt(6) / 2} (unstable)" in labels(fig)
+    curve = mean_trace_curve(S, loss, 80, 2000, seed=0, points=5)
+    fig = plots.mean_trace_figure(S, loss, curve)
+    assert "Yang's bounds need i.i.d. losses" in fig.axes[0].get_title()
+    assert f"exact growth rate {sp.sqrt(6) / 2} ~ 1.2247 per step (not stable)" in labels(fig)
+    slope = np.polyfit(curve.ks[2:], curve.log_mean[2:], 1)[0]
+    assert abs(slope - np.log(np.sqrt(6) / 2)) < 0.02 * np.log(np.sqrt(6) / 2)

@@ -53,7 +53,7 @@ def test_members_report_hand_derived_theory_and_agree(serial):
     assert [sp.sympify(r["theory"]["margins"][0]["exact"]) for r in serial] == margins
     assert [r["theory"]["stable"] for r in serial] == [m < 1 for m in margins] == [True, False, False]
     assert {r["theory"]["critical_common_loss_rate"]["exact"] for r in serial} == {"1/16"}
-    assert [r["outcome"] for r in serial] == ["agree"] * 3
+    assert [r["outcome"] for r in serial] == ["consistent"] * 3
 
 
 def test_seeds_follow_member_index(path, serial):
@@ -107,20 +107,40 @@ def test_cli_plain_json_and_disagreement_status(path, serial, capsys, monkeypatc
     assert out["family"] == str(path) and out["members"] == json.loads(json.dumps(serial))
     assert cli.main(argv + ["--jobs", "2"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert len(lines) == 4 and lines[0].startswith("eps = 1/50") and lines[0].endswith("AGREE")
-    assert "seeds [9, 10]" in lines[1] and lines[3] == "3 members: 3 agree, 0 undecided, 0 disagree, 0 inapplicable"
+    assert len(lines) == 4 and lines[0].startswith("eps = 1/50") and lines[0].endswith("CONSISTENT")
+    assert "seeds [9, 10]" in lines[1] and lines[3] == ("3 members: 3 consistent, 0 undecided, 0 contradiction, "
+                                                        "0 inapplicable, 0 breakdown")
 
     import symkf.verify as verify_module
     monkeypatch.setattr(verify_module, "simulated_verdict", _contrary(verify_module.simulated_verdict))
     assert cli.main(argv) == 1
-    assert "DISAGREE" in capsys.readouterr().out
+    assert "CONTRADICTION" in capsys.readouterr().out
 
 
 def _contrary(simulated_verdict):
-    """A simulation that always contradicts the theory (to check the exit status)."""
+    """A simulation that always contradicts the theory (to check the exit status): its rate
+    interval is moved to the other side of 1, far from the exact rate."""
     def contrary(system, loss, v, **kw):
-        return {**simulated_verdict(system, loss, v, **kw), "verdict": "unstable" if v.stable else "stable"}
+        wrong = [1.4, 1.6] if v.stable else [0.5, 0.6]
+        return {**simulated_verdict(system, loss, v, **kw), "verdict": "unstable" if v.stable else "stable",
+                "rate": sum(wrong) / 2, "rate_interval": wrong}
     return contrary
+
+
+def test_breakdown_is_recorded_in_the_members_row(path, monkeypatch):
+    import symkf.verify as verify_module
+    from symkf.errors import NumericalBreakdownError
+
+    def breaks(system, loss, v, **kw):
+        if v.stable:
+            raise NumericalBreakdownError("P lost positive semidefiniteness")
+        return simulated_verdict(system, loss, v, **kw)
+    simulated_verdict = verify_module.simulated_verdict
+    monkeypatch.setattr(verify_module, "simulated_verdict", breaks)
+    reports = verify_family(path, seed=7, **RUN)
+    assert [r["outcome"] for r in reports] == ["breakdown", "consistent", "consistent"]
+    assert reports[0]["reason"] == "member eps = 1/50: P lost positive semidefiniteness"
+    assert cli.main(["verify", str(path), "--seed", "7", "--paths", "2000", "--horizon", "40"]) == 0
 
 
 def test_cli_family_without_loss_is_bad_input(tmp_path, capsys):
