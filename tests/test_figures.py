@@ -34,9 +34,9 @@ def test_figures_render_as_png_in_an_ipython_kernel(figure):
 
 def test_titles_say_the_loss_model_in_words():
     import symkf as sk
-    from symkf.montecarlo import estimate_mean_trace
+    from symkf.montecarlo import mean_trace_curve
     S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")], name="rotation")
     for loss, words in ((sk.IID(["1/20"]), "rotation under i.i.d. losses 1/20"),
                         (sk.GilbertElliott(["1/4"], ["1/2"]), "Gilbert-Elliott channels, fail 1/4, recover 1/2")):
-        title = plots.mean_trace_figure(S, loss, estimate_mean_trace(S, loss, 10, 50, seed=0)).axes[0].get_title()
+        title = plots.mean_trace_figure(S, loss, mean_trace_curve(S, loss, 10, 50, seed=0)).axes[0].get_title()
         assert words in title and "IID(" not in title and "GilbertElliott(" not in title

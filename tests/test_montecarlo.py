@@ -195,9 +195,8 @@ def test_verdicts_over_seeds(seed):
 
 
 def _example(name):
-    from symkf import files
-    from pathlib import Path
-    return files.load(Path(__file__).resolve().parents[1] / "examples" / "systems" / name)
+    from symkf import examples, files
+    return files.load(examples.directory() / "systems" / name)
 
 
 @pytest.mark.parametrize("name, horizon", [("design-rotation.toml", 6), ("ge-two-sensors.toml", 5),
