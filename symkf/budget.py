@@ -10,7 +10,7 @@ names the entry, the estimate, the cap, and how to raise it: the keyword of
 >>> with budget.limits(max_degree=128):   # doctest: +SKIP
 ...     sk.System(A, sensors)
 
-Limits are process-wide; worker processes of a parallel sweep use the defaults.
+Limits are process-wide; :func:`symkf.sweep.sweep` hands the caller's caps to its worker processes.
 """
 
 from __future__ import annotations

@@ -23,6 +23,7 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
+from . import budget
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
 from .exact.numbers import to_exact
@@ -136,6 +137,9 @@ def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: i
     the states ``P_{k|k-1}`` depends on.
     """
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
+    # the traces (and log-weights) are kept whole: refused before numpy tries to allocate them
+    budget.check("max_memory", 8 * paths * horizon * (1 if tilt is None else 2), "paths x horizon",
+                 f"the bytes of the traces of {paths} paths over {horizon} steps")
     model = real_form(system)
     law = _chain(tilt if tilt is not None else loss, system.d)
     _chain(loss, system.d)

@@ -18,9 +18,12 @@ of one).  Progress is shown with tqdm when stderr is a terminal.
 
 from __future__ import annotations
 
+import dataclasses
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Sequence, TypeVar
 
+from . import budget
 from .errors import InputError
 from .progress import progress as progress_bar
 
@@ -83,7 +86,7 @@ def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, sche
     if scheduler is not None and jobs != 1:
         raise InputError("jobs and scheduler: give one of them (local processes or a Dask cluster), not both")
     if scheduler is not None:
-        return _dask(function, tasks, scheduler, progress, desc)
+        return _dask(_Limited(function, dataclasses.asdict(budget.LIMITS)), tasks, scheduler, progress, desc)
     if jobs == 1 or len(tasks) <= 1:
         out = []
         with progress_bar(len(tasks), desc, enabled=progress) as bar:
@@ -91,7 +94,20 @@ def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, sche
                 out.append(function(t))
                 bar.update()
         return out
-    return _processes(function, tasks, jobs, progress, desc)
+    return _processes(_Limited(function, dataclasses.asdict(budget.LIMITS)), tasks, jobs, progress, desc)
+
+
+@dataclass(frozen=True)
+class _Limited:
+    """``function`` under the caller's resource caps: :mod:`symkf.budget` is per process, and a
+    worker would otherwise run with the defaults whatever ``--max-*`` or ``limits(...)`` said."""
+
+    function: Callable
+    caps: dict
+
+    def __call__(self, task: Any) -> Any:
+        with budget.limits(**self.caps):
+            return self.function(task)
 
 
 def _processes(function: Callable, tasks: Sequence, jobs: int, progress: bool | None, desc: str) -> list:

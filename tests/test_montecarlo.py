@@ -262,3 +262,10 @@ def test_float_horizon_caps_bursts_float64_cannot_follow():
     # integer A = 2 R(pi/2): exact in float64, no cap
     ge_system, ge_loss = _example("ge-two-sensors.toml")
     assert float_horizon(ge_system, verdict_plan(ge_system, stability(ge_system, ge_loss))) is None
+
+
+def test_traces_too_large_for_memory_are_refused_before_allocation():
+    from symkf.errors import BudgetError
+    S = System(A=[[2]], sensors=[Sensor(C=[[1]])])
+    with pytest.raises(BudgetError, match=r"paths x horizon: the bytes .* above the cap .*--max-memory"):
+        simulate_traces(S, IID(["1/2"]), horizon=10 ** 5, paths=10 ** 6, seed=0)

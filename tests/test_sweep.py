@@ -107,3 +107,16 @@ def test_progress_only_when_asked_or_on_a_terminal(capsys):
     assert capsys.readouterr().err == ""          # pytest's stderr is not a terminal
     assert sweep(abs, [-1, -2], progress=True) == [1, 2]
     assert "symkf sweep" in capsys.readouterr().err
+
+
+def _max_degree(_: object) -> int:
+    from symkf import budget
+    return budget.LIMITS.max_degree
+
+
+def test_workers_run_under_the_callers_caps():
+    # symkf.budget is per process: without passing the caps, workers would see the default 64
+    from symkf import budget
+    with budget.limits(max_degree=200):
+        assert sweep(_max_degree, range(3), jobs=2, progress=False) == [200, 200, 200]
+    assert sweep(_max_degree, range(3), jobs=2, progress=False) == [budget.Limits.max_degree] * 3
