@@ -56,11 +56,11 @@ def perron_root(M: sp.MatrixBase) -> sp.Expr:
     connected components, merged identical rows, flint characteristic polynomials)."""
     if M.shape == (1, 1):
         return sp.sympify(M[0, 0])
-    dm = M.to_DM()
+    dm = DomainMatrix.from_Matrix(M).to_sparse()
     if dm.domain.is_QQ or dm.domain.is_ZZ:
         K = dm.domain
         rows = {r: {c: flint.fmpq(int(K.numer(v)), int(K.denom(v))) for c, v in row.items()}
-                for r, row in dm.to_sdm().items()}
+                for r, row in dm.rep.items()}
     else:
         rows = {}
         for (r, c), v in M.todok().items():
@@ -134,7 +134,7 @@ def restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp
     Sparse (sympy's DomainMatrix): lifted semi-Markov chains have hundreds of states."""
     ch = loss.chain
     S = len(ch.states)
-    P = ch.P.to_DM()
+    P = DomainMatrix.from_Matrix(ch.P).to_sparse()
     K = P.domain
     M = DomainMatrix.eye(S, K).to_sparse()
     for r in range(1, br.period + 1):

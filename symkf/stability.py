@@ -9,6 +9,8 @@ with 1.  Margin exactly 1 is not stable.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from decimal import Decimal, localcontext
+from fractions import Fraction
 from typing import Any, Sequence
 
 import flint
@@ -44,6 +46,17 @@ def _readable(expr: sp.Expr, margin: AlgebraicNumber, i: int) -> str:
         return text
     return (f"a root of a degree-{margin.minpoly.degree()} polynomial "
             f"(exact: Verdict.margins[{i}].exact and .minpoly, or --json)")
+
+
+def _approx(q: Any) -> str:
+    """Six significant digits of an exact rational bound, also beyond the float range (A = 10^200)."""
+    q = Fraction(q)
+    try:
+        return f"{float(q):.6g}"
+    except OverflowError:
+        with localcontext() as ctx:
+            ctx.prec = 6
+            return str(Decimal(q.numerator) / Decimal(q.denominator))
 
 
 @dataclass(frozen=True)
@@ -105,7 +118,7 @@ class Verdict:
             lo, hi = c.interval
             lines.append(f"  block {i}: alpha = {c.modulus}, governing period g = {c.governing_period}, "
                          f"margin alpha^2 rho = {_readable(m.exact, m, i)} "
-                         f"in [{float(lo):.6g}, {float(hi):.6g}]{'  <- limiting' if i == self.limiting_block else ''}")
+                         f"in [{_approx(lo)}, {_approx(hi)}]{'  <- limiting' if i == self.limiting_block else ''}")
             lines.append(f"    decisive pattern: only {list(c.decisive_elements) or 'nothing'} received; "
                          f"alpha^{2 * c.governing_period} * rho^{c.governing_period} = {_readable(c.margin_power, m, i)}")
         for eigenvalues, why in self.set_aside:

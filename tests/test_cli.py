@@ -255,3 +255,11 @@ def test_closed_pipe_is_not_a_traceback():
     proc = subprocess.run(f"{sys.executable} -m symkf critical {DESIGN} --json | head -c 1", shell=True,
                           capture_output=True, text=True, timeout=120)
     assert proc.stdout == "{" and "Traceback" not in proc.stderr
+
+
+def test_analyze_prints_margins_beyond_the_float_range(tmp_path, capsys):
+    # A = 10^200, loss 1/2: margin alpha^2 rho = 10^400 / 2 = 5 x 10^399, past float64's 1.8e308
+    path = tmp_path / "huge.toml"
+    path.write_text('[system]\nA = [["1E200"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nloss = ["1/2"]\n')
+    assert cli.main(["analyze", str(path)]) == 0
+    assert "in [5.00000E+399, 5.00000E+399]" in capsys.readouterr().out
