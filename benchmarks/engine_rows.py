@@ -31,6 +31,11 @@ ROOT = HERE.parent
 
 def _child(what: str, case: str, args: list[str]) -> None:
     sys.path.insert(0, str(HERE))
+    try:  # the rows are heavy on purpose: above symkf.budget's defaults (prime rotations, 50 sensors)
+        from symkf import budget
+        budget.LIMITS.max_degree, budget.LIMITS.max_sensors = 1024, 128
+    except ImportError:  # a baseline older than symkf.budget
+        pass
     import engine_cases
     system, loss = getattr(engine_cases, case)(*[int(a) for a in args])
     start = time.process_time()
