@@ -17,7 +17,7 @@ later (``P_{0|0} = Pi``, eqs. 4-5), which is a shift of the index.
   ``K_k = P C^* Upsilon (Upsilon C P C^* Upsilon + R)^{-1}`` in exact sympy
   arithmetic, for short horizons.
 * :func:`sample_receptions` draws receival sequences of any loss model from
-  its :class:`~symkf.losses.LossChain`, vectorised across paths.
+  its float chain (:meth:`~symkf.losses.LossModel.numeric`), vectorised across paths.
 
 Complex systems (``x in C^n`` with circular noise) are simulated through
 their real form (:func:`real_form`), which has the same ``tr P_k``.
@@ -34,7 +34,7 @@ import sympy as sp
 from threadpoolctl import threadpool_limits
 
 from .errors import InputError, NumericalBreakdownError, ShapeError
-from .losses import LossChain, LossModel
+from .losses import LossModel
 from .model import System
 
 
@@ -378,8 +378,9 @@ def simulate_trajectories(system: System, loss: LossModel, horizon: int, paths: 
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     model = real_form(system)
     rng = np.random.default_rng(seed)
-    states = sample_states(_chain(loss, model.d), horizon, paths, rng)
-    gamma = loss.chain.numeric()[2][states.T]
+    states = sample_states(_checked(loss, model.d), horizon, paths, rng)
+    emit = loss.numeric()[2]
+    gamma = emit[states.T]
     n, m = model.n, model.H.shape[0]
     LQ, LP = np.linalg.cholesky(model.Q), np.linalg.cholesky(model.P0)
     x = np.empty((paths, horizon, n))
@@ -387,7 +388,7 @@ def simulate_trajectories(system: System, loss: LossModel, horizon: int, paths: 
     for k in range(1, horizon):
         x[:, k] = x[:, k - 1] @ model.A.T + rng.standard_normal((paths, n)) @ LQ.T
     z = x @ model.H.T + rng.standard_normal((paths, horizon, m))  # whitened measurements
-    P_pred, x_pred, x_filt, V_filt, vech = _run(model, states, loss.chain.numeric()[2], "all", 50, noise=(x, z))
+    P_pred, x_pred, x_filt, V_filt, vech = _run(model, states, emit, "all", 50, noise=(x, z))
     y = (z @ np.linalg.inv(model.W).T) * gamma[:, :, model.row_sensor]
     return Trajectories(x, y, gamma, x_pred, x_filt, vech.unpack(P_pred), vech.unpack(V_filt), seed)
 
@@ -400,12 +401,13 @@ def _positive(value: int, name: str) -> int:
 
 # ------------------------------------------------------------- receival draws
 
-def _chain(loss: LossModel, d: int | None = None) -> LossChain:
+def _checked(loss: LossModel, d: int | None = None) -> LossModel:
+    """``loss``, refused unless it is a symkf loss model of ``d`` sensors."""
     if not isinstance(loss, LossModel):
         raise InputError(f"loss: expected a symkf loss model, got {type(loss).__name__}")
     if d is not None and loss.d != d:
         raise ShapeError(f"loss: models {loss.d} sensor(s), the system has {d}")
-    return loss.chain
+    return loss
 
 
 def _inverse_cdf(cum: np.ndarray, u: np.ndarray) -> np.ndarray:
@@ -416,9 +418,10 @@ def _inverse_cdf(cum: np.ndarray, u: np.ndarray) -> np.ndarray:
     return idx
 
 
-def sample_states(chain: LossChain, horizon: int, paths: int, rng: np.random.Generator) -> np.ndarray:
-    """Chain states ``X_k`` as an int array (horizon, paths), vectorised across paths."""
-    P, init, _ = chain.numeric()
+def sample_states(loss: LossModel, horizon: int, paths: int, rng: np.random.Generator) -> np.ndarray:
+    """Chain states ``X_k`` as an int array (horizon, paths), vectorised across paths (float
+    chain of :meth:`LossModel.numeric`: independent sensors never build the exact joint chain)."""
+    P, init, _ = loss.numeric()
     u = rng.random((horizon, paths))
     if np.array_equal(P, np.broadcast_to(init, P.shape)):
         return _inverse_cdf(np.cumsum(init), u)   # i.i.d. states: one draw for all times
@@ -434,8 +437,8 @@ def sample_states(chain: LossChain, horizon: int, paths: int, rng: np.random.Gen
 def sample_receptions(loss: LossModel, horizon: int, paths: int, rng: np.random.Generator,
                       d: int | None = None) -> np.ndarray:
     """Receival vectors ``gamma_k`` as a bool array (paths, horizon, d), 1 = received."""
-    chain = _chain(loss, d)
-    return chain.numeric()[2][sample_states(chain, horizon, paths, rng).T]
+    loss = _checked(loss, d)
+    return loss.numeric()[2][sample_states(loss, horizon, paths, rng).T]
 
 
 # ---------------------------------------------------------------- exact oracle

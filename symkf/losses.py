@@ -69,7 +69,7 @@ class LossChain:
 
     def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Float (P, initial, emit) for simulation; refuses free symbols."""
-        _require_numbers(self.P.free_symbols | self.initial.free_symbols)
+        require_numbers(self.P.free_symbols | self.initial.free_symbols)
         return _floats(self.P), _floats(self.initial).ravel(), np.array(self.emit, dtype=bool)
 
     def sequence_probability(self, seq: Sequence[Vector]) -> sp.Expr:
@@ -84,7 +84,8 @@ class LossChain:
         return sp.expand(sum(alpha))
 
 
-def _require_numbers(free: set) -> None:
+def require_numbers(free: set) -> None:
+    """Refuse a loss model with free symbols where numbers are needed (simulation)."""
     if free:
         raise InputError(f"loss model: symbols {sorted(map(str, free))} have no value; "
                          "substitute numbers (loss.subs({...})) before simulating")
@@ -101,7 +102,7 @@ def _independent_numeric(matrices: Sequence[sp.MatrixBase], initial: Sequence[sp
     """Float (P, initial, emit) of independent two-state sensors on states (received, lost):
     the joint chain on ``itertools.product((1, 0), repeat=d)`` is the Kronecker product
     of the sensors' chains, built in float64 without the 2^d x 2^d exact matrix."""
-    _require_numbers(set().union(*(M.free_symbols for M in matrices), *(sp.sympify(q).free_symbols for q in initial)))
+    require_numbers(set().union(*(M.free_symbols for M in matrices), *(sp.sympify(q).free_symbols for q in initial)))
     P, init = np.ones((1, 1)), np.ones(1)
     for M, q in zip(matrices, initial):
         P = np.kron(P, _floats(M))

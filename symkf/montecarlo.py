@@ -27,9 +27,9 @@ from . import budget
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
 from .exact.numbers import to_exact
-from .filtering import (FloatSystem, _chain, _positive, _run, exact_covariances, log_traces, real_form,
+from .filtering import (FloatSystem, _checked, _positive, _run, exact_covariances, log_traces, real_form,
                         receival_table, sample_states)
-from .losses import IID, GilbertElliott, LossModel
+from .losses import IID, GilbertElliott, LossModel, require_numbers
 from .model import System
 from .progress import progress
 from .sweep import sweep
@@ -62,7 +62,7 @@ def pattern_probabilities(loss: LossModel, codes: np.ndarray) -> np.ndarray:
 
     Vectorised over sequences; agrees with :meth:`LossChain.sequence_probability`.
     """
-    P, init, emit = loss.chain.numeric()
+    P, init, emit = loss.numeric()
     state_code = (emit.astype(np.intp) << np.arange(emit.shape[1])).sum(axis=1)
     alpha = init[None, :] * (state_code[None, :] == codes[0][:, None])
     for c in codes[1:]:
@@ -82,7 +82,7 @@ def exact_mean_covariances(system: System, loss: LossModel, horizon: int,
     :meth:`LossChain.sequence_probability` per sequence (small cases only).
     """
     horizon = _positive(horizon, "horizon")
-    chain = _chain(loss, system.d)
+    chain = _checked(loss, system.d).chain
     codes = _patterns(system.d, horizon - 1)
     table = receival_table(system.d)
     if exact:
@@ -118,8 +118,8 @@ def _log_ratio_tables(loss: LossModel, tilt: LossModel) -> tuple[np.ndarray, np.
     a, b = loss.chain, tilt.chain
     if a.states != b.states or a.emit != b.emit:
         raise InputError(f"tilt: {tilt!r} is not a loss model of the same kind and size as {loss!r}")
-    P, init, _ = a.numeric()
-    Pt, initt, _ = b.numeric()
+    P, init, _ = loss.numeric()
+    Pt, initt, _ = tilt.numeric()
     for name, p, q in (("transition", P, Pt), ("initial", init, initt)):
         if np.any((p > 0) & (q <= 0)):
             raise InputError(f"tilt: a {name} probability is 0 under the tilt but positive under the "
@@ -141,8 +141,8 @@ def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: i
     budget.check("max_memory", 8 * paths * horizon * (1 if tilt is None else 2), "paths x horizon",
                  f"the bytes of the traces of {paths} paths over {horizon} steps")
     model = real_form(system)
-    law = _chain(tilt if tilt is not None else loss, system.d)
-    _chain(loss, system.d)
+    law = _checked(tilt if tilt is not None else loss, system.d)
+    _checked(loss, system.d)
     emit = law.numeric()[2]
     tables = _log_ratio_tables(loss, tilt) if tilt is not None else None
     rng = np.random.default_rng(seed)
@@ -346,7 +346,7 @@ def burst_estimate(system: System, loss: IID, horizon: int, paths: int, seed: in
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     if not isinstance(loss, IID):
         raise InputError(f"loss: burst sampling needs an IID loss model, got {type(loss).__name__}")
-    _chain(loss, system.d)
+    _checked(loss, system.d)
     if pattern is None:
         pattern, found = dominant_pattern(system, loss)
         growth = found if growth is None else growth
@@ -440,7 +440,7 @@ def loss_factors(loss: LossModel, d: int) -> list[LossFactor]:
         return [LossFactor((j,), np.array([[1 - f, f], [r, 1 - r]]), np.array([q, 1 - q]), two)
                 for j, (f, r, q) in enumerate(zip(*(map(float, xs) for xs in
                                                      (loss.fail, loss.recover, loss.initial_received))))]
-    P, init, emit = loss.chain.numeric()
+    P, init, emit = loss.numeric()
     return [LossFactor(tuple(range(d)), P, init, emit)]
 
 
@@ -449,12 +449,7 @@ def _chain_free(loss: LossModel, d: int) -> None:
         raise InputError(f"loss: expected a symkf loss model, got {type(loss).__name__}")
     if loss.d != d:
         raise InputError(f"loss: models {loss.d} sensor(s), the system has {d}")
-    params = {IID: lambda m: m.loss, GilbertElliott: lambda m: (*m.fail, *m.recover, *m.initial_received)}
-    free = (set().union(*(sp.sympify(x).free_symbols for x in params[type(loss)](loss)))
-            if type(loss) in params else loss.symbols)   # independent sensors: never the joint chain
-    if free:
-        raise InputError(f"loss model: symbols {sorted(map(str, free))} have no value; "
-                         "substitute numbers (loss.subs({...})) before simulating")
+    require_numbers(loss.symbols)   # IID and GilbertElliott name their symbols without the joint chain
 
 
 def _perron(M: np.ndarray) -> tuple[float, np.ndarray]:
