@@ -41,6 +41,8 @@ import sympy as sp
 from sympy.polys.constructor import construct_domain
 from sympy.polys.matrices import DomainMatrix
 
+from .exact.numbers import sympify, to_exact_matrix
+
 Pair = tuple[int, int]  # (time k, sensor j)
 
 
@@ -48,10 +50,10 @@ class RawRegression:
     """The rows ``C_j A^k U`` for ``k < N`` over the field of the entries of ``A``, ``C_j``, ``U``."""
 
     def __init__(self, A: Any, Cs: Sequence[Any], N: int, subspace: Any = None):
-        A = sp.Matrix(A)
-        Cs = [sp.Matrix(C) for C in Cs]
+        A = sp.Matrix(to_exact_matrix(A, "A"))
+        Cs = [sp.Matrix(to_exact_matrix(C, f"Cs[{j}]")) for j, C in enumerate(Cs)]
         n = A.shape[0]
-        U = sp.eye(n) if subspace is None else sp.Matrix(subspace)
+        U = sp.eye(n) if subspace is None else sp.Matrix(to_exact_matrix(subspace, "subspace"))
         entries = [*A, *U, *(v for C in Cs for v in C)]
         K, values = construct_domain([sp.nsimplify(v) if isinstance(v, float) else v for v in entries],
                                      extension=True)
@@ -106,7 +108,7 @@ class RawRegression:
 
 def iid_probability(loss: Sequence[Any]) -> Callable[[list[list[int]]], sp.Expr]:
     """The probability of a receival pattern under independent losses ``loss[j]`` (Assumption 4)."""
-    eps = [sp.sympify(e) for e in loss]
+    eps = [sympify(e, f"loss[{j}]") for j, e in enumerate(loss)]
 
     def prob(pattern: list[list[int]]) -> sp.Expr:
         return sp.Mul(*[(1 - e) if g else e for vec in pattern for g, e in zip(vec, eps)])

@@ -236,7 +236,7 @@ def _congruent_sets(system: System, K: NumberField, A: list[list[Elem]], groups:
 
 def merged_losses(cs: CongruentSets, losses: Any) -> list[sp.Expr]:
     """Remark 11: a merged sensor loses a packet iff all its members do."""
-    return [sp.Mul(*[sp.sympify(losses[j]) for j in grp]) for grp in cs.groups]
+    return [sp.Mul(*[to_exact(losses[j], f"losses[{j}]", symbols=True) for j in grp]) for grp in cs.groups]
 
 
 def _analysis(system: System) -> tuple[CongruentSets | None, sp.Expr, int | None, int | None, int]:

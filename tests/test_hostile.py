@@ -162,7 +162,8 @@ def test_every_public_callable_refuses_payloads_in_every_parameter(mark, count):
             if count == 1 and qualname.rsplit(".", 1)[1].startswith("reproduce_"):
                 continue  # whole reproductions (seconds each) run in the full tier
             for target in [p for p in params if count > 1 or _may_take_a_string(p)]:
-                for payload in payloads(mark)[:count]:
+                # a bare string and a list of them: list parameters (losses, rows) index their entries
+                for payload in [v for text in payloads(mark)[:count] for v in (text, [text] * 3)]:
                     args, kwargs = [], {}
                     for p in params:
                         if p is not target and p.default is not p.empty:

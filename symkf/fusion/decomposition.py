@@ -25,6 +25,7 @@ import sympy as sp
 
 from ..errors import AssumptionError, ShapeError
 from ..exact.linalg import rank
+from ..exact.numbers import to_exact_matrix
 
 __all__ = ["observability_matrix", "observable_subspace", "orthonormal_basis",
            "check_collective_observability", "check_reachability", "LocalModel", "local_model"]
@@ -130,6 +131,7 @@ def local_model(name: str, A_exact: sp.MatrixBase, A: np.ndarray, Q: np.ndarray,
     and ``A_c``, ``exp(A_c T_s)`` for a sampled one (see
     :meth:`symkf.fusion.model.FusionModel.zoh`).
     """
+    A_exact, C = to_exact_matrix(A_exact, "A_exact"), to_exact_matrix(C, f"sensor {name!r} C")
     basis = observable_subspace(A_exact, C)
     V = orthonormal_basis(basis)
     Cf = np.array(sp.Matrix(C).evalf(30).tolist(), dtype=float)

@@ -22,6 +22,7 @@ import sympy as sp
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.linalg import rank
+from ..exact.numbers import to_exact_matrix
 from .dynamics import PeriodicDynamics, spectral_norm_squared
 from .loss import NetworkLoss, bernoulli_product
 from .state import MarkovNetworkState
@@ -122,6 +123,7 @@ def theorem1(loss: NetworkLoss, dynamics: PeriodicDynamics, rule: Rule | None = 
 
 def corollary1_lhs(P: sp.MatrixBase, phi: Sequence[sp.Expr], A: sp.MatrixBase) -> tuple[sp.Expr, ...]:
     """Corollary 1 (eq. 24): ``||A||^2 sum_j p_ij (1 - phi_{1|j})`` for each ``i`` (one sensor, LTI)."""
-    a = spectral_norm_squared(A).exact if not sp.Matrix(A).free_symbols else sp.Symbol("normA2", positive=True)
+    A = A if isinstance(A, sp.MatrixBase) else to_exact_matrix(A, "A")  # user rows: the safe parser
+    a = spectral_norm_squared(A).exact if not A.free_symbols else sp.Symbol("normA2", positive=True)
     B = P.shape[0]
     return tuple(sp.expand(a * sum(P[i, j] * (1 - phi[j]) for j in range(B))) for i in range(B))
