@@ -14,7 +14,7 @@ import flint
 import sympy as sp
 
 from .field import Elem, NumberField, QQ_FIELD
-from .numbers import sympify
+from .numbers import as_matrix, sympify
 
 
 def field_of(*matrices: sp.MatrixBase) -> NumberField:
@@ -41,7 +41,7 @@ def rank_rows(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int | None 
 
 def rank(M: sp.MatrixBase, K: NumberField | None = None) -> int:
     """Exact rank of a sympy matrix with algebraic entries."""
-    M = sp.Matrix(M)
+    M = as_matrix(M, "M")
     if M.shape[0] == 0 or M.shape[1] == 0:
         return 0
     K = K or field_of(M)

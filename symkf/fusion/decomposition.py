@@ -25,7 +25,7 @@ import sympy as sp
 
 from ..errors import AssumptionError, ShapeError
 from ..exact.linalg import rank
-from ..exact.numbers import to_exact_matrix
+from ..exact.numbers import as_matrix
 
 __all__ = ["observability_matrix", "observable_subspace", "orthonormal_basis",
            "check_collective_observability", "check_reachability", "LocalModel", "local_model"]
@@ -33,7 +33,7 @@ __all__ = ["observability_matrix", "observable_subspace", "orthonormal_basis",
 
 def observability_matrix(A: sp.MatrixBase, C: sp.MatrixBase) -> sp.Matrix:
     """``O = [C; CA; ...; CA^{n-1}]`` (exact)."""
-    A, C = sp.Matrix(A), sp.Matrix(C)
+    A, C = as_matrix(A, "A"), as_matrix(C, "C")
     if A.shape[0] != A.shape[1] or C.shape[1] != A.shape[0]:
         raise ShapeError(f"C: has {C.shape[1]} columns, A is {A.shape[0]}x{A.shape[1]}")
     blocks, M = [], C
@@ -62,7 +62,7 @@ def observable_subspace(A: sp.MatrixBase, C: sp.MatrixBase) -> sp.Matrix:
 
 def orthonormal_basis(basis: sp.MatrixBase) -> np.ndarray:
     """Float orthonormal basis ``V_{i,o}`` of the exact column space (QR)."""
-    B = np.array(sp.Matrix(basis).evalf(30).tolist(), dtype=float)
+    B = np.array(as_matrix(basis, "basis").evalf(30).tolist(), dtype=float)
     Q, _ = np.linalg.qr(B)
     return Q
 
@@ -87,7 +87,7 @@ def check_reachability(A: sp.MatrixBase, G: sp.MatrixBase) -> None:
     of ``(A, Q^{1/2})`` already gives that, because ``(A_{i,o}, V_{i,o}' Q^{1/2})``
     is the quotient of ``(A, Q^{1/2})`` by the A-invariant unobservable subspace.
     """
-    A, G = sp.Matrix(A), sp.Matrix(G)
+    A, G = as_matrix(A, "A"), as_matrix(G, "G")
     blocks, M = [], G
     for _ in range(A.shape[0]):
         blocks.append(M)
@@ -131,7 +131,7 @@ def local_model(name: str, A_exact: sp.MatrixBase, A: np.ndarray, Q: np.ndarray,
     and ``A_c``, ``exp(A_c T_s)`` for a sampled one (see
     :meth:`symkf.fusion.model.FusionModel.zoh`).
     """
-    A_exact, C = to_exact_matrix(A_exact, "A_exact"), to_exact_matrix(C, f"sensor {name!r} C")
+    A_exact, C = as_matrix(A_exact, "A_exact"), as_matrix(C, f"sensor {name!r} C")
     basis = observable_subspace(A_exact, C)
     V = orthonormal_basis(basis)
     Cf = np.array(sp.Matrix(C).evalf(30).tolist(), dtype=float)

@@ -15,7 +15,7 @@ import sympy as sp
 
 from ..errors import InputError, ShapeError
 from ..exact.algebraic import AlgebraicNumber, sign
-from ..exact.numbers import to_exact_matrix
+from ..exact.numbers import as_matrix, to_exact_matrix
 from ..model import System
 
 x = sp.Symbol("x")
@@ -78,7 +78,8 @@ def _is_matrix(A: Any) -> bool:
 
 def spectral_norm_squared(M: sp.MatrixBase) -> AlgebraicNumber:
     """``||M||^2``, the largest eigenvalue of ``M^T M``, as an exact algebraic number."""
-    G = sp.Matrix(M).T * sp.Matrix(M)
+    M = as_matrix(M, "M")
+    G = M.T * M
     poly = sp.Poly(G.charpoly(x).as_expr(), x)
     if all(c.is_Rational for c in poly.all_coeffs()):
         # the largest root of each irreducible factor, then the largest of those
