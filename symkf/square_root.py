@@ -1,0 +1,187 @@
+"""The compiled square-root filter kernel behind :func:`symkf.filtering.log_traces`.
+
+numba-compiled loops (``cache=True``: compiled once per installation, then
+loaded from ``__pycache__``) over blocks of paths, the innermost loop running
+across the paths of a block so that the compiler vectorises it (every path
+does the same arithmetic; a lost row is a zero weight, not a branch).
+
+Per path ``P_{k|k-1} = 2^E S S^T`` with an even integer ``E`` and ``tr(S S^T)``
+in ``[1/2, 2)``, so ``log tr P = E log 2 + log tr(S S^T)`` over any dynamic
+range; scaling by powers of two is exact.  In these units the whitened
+measurement noise is ``2^-E`` and the process noise ``2^-E Q``.
+
+* Measurement update (Yang et al. eq. 8, rows independent with unit variance
+  after whitening): Potter's square-root form, one received row ``h`` at a
+  time, ``S <- S - S f f^T / (a + sqrt(a r))`` with ``f = S^T h``, ``r =
+  2^-E``, ``a = |f|^2 + r``; ``|S f| / (a + sqrt(a r)) <= 1 / |f|`` stays
+  finite whenever ``|f|^2 > 0``, however far ``2^-E`` underflows.
+* Time update (Sui-You-Fu eq. 9, ``P <- A P A^T + Q``): Householder
+  triangularisation of the stacked ``[(A S)^T; 2^(-E/2) U_Q]`` (``U_Q``
+  upper triangular, ``U_Q^T U_Q = Q``), giving a lower-triangular ``S`` with
+  the same ``S S^T``; the triangular structure of both blocks is skipped.
+
+``P`` stays positive semidefinite by construction, and errors in its small
+directions are ``~1e-16 ||S||``, i.e. ``1e-32 ||P||`` after squaring.  This
+module imports numba; :mod:`symkf.filtering` imports it only when a
+simulation runs, so ``import symkf`` and the exact engine never pay for it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+# error_model="numpy": divisions need no Python zero check, so the path loops vectorise;
+# "contract" lets LLVM fuse multiply-adds (FMA), changing nothing beyond rounding
+_compiled = njit(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
+
+
+@_compiled
+def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, b: int) -> None:
+    """Scale every ``S`` (n, n, paths) by a power of two so that ``tr S S^T`` is in [1/2, 2),
+    adding the (even) exponent taken out to ``E``; ``t`` receives the new trace."""
+    n = S.shape[0]
+    for p in range(b):
+        t[p] = 0.0
+    for i in range(n):
+        for j in range(i + 1):
+            for p in range(b):
+                t[p] += S[i, j, p] * S[i, j, p]
+    for p in range(b):
+        e = math.frexp(t[p])[1]
+        e -= e & 1
+        E[p] += e
+        t[p] = math.ldexp(t[p], -e)
+        scale = math.ldexp(1.0, -(e // 2))
+        for i in range(n):
+            for j in range(i + 1):
+                S[i, j, p] *= scale
+
+
+@_compiled
+def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
+                    S0: np.ndarray, received: np.ndarray, block: int,
+                    trace: np.ndarray, exponent: np.ndarray) -> None:
+    """``tr P_{k|k-1} = 2^exponent[k, p] trace[k, p]`` (k = 0..horizon) for receptions
+    ``received[k, p, i]`` (sensor ``i``), from ``P_0 = S0 S0^T`` (``S0`` lower triangular)."""
+    horizon, paths, _ = received.shape
+    n = A.shape[0]
+    rows = H.shape[0]
+    S = np.zeros((n, n, block))
+    X = np.zeros((2 * n, n, block))
+    f = np.empty((n, block))
+    Su = np.empty((n, block))
+    f2 = np.empty(block)
+    coef = np.empty(block)
+    noise = np.empty(block)
+    E = np.empty(block, np.int64)
+    t = np.empty(block)
+    for start in range(0, paths, block):
+        b = min(block, paths - start)
+        for i in range(n):
+            for j in range(n):
+                for p in range(b):
+                    S[i, j, p] = S0[i, j]
+        for p in range(b):
+            E[p] = 0
+        _rescale(S, E, t, b)
+        for k in range(horizon + 1):
+            for p in range(b):
+                trace[k, start + p] = t[p]
+                exponent[k, start + p] = E[p]
+            if k == horizon:
+                break
+            for p in range(b):
+                noise[p] = math.ldexp(1.0, -E[p])
+            for r in range(rows):                   # Potter, one whitened row at a time
+                sensor = row_sensor[r]
+                for p in range(b):
+                    f2[p] = 0.0
+                for j in range(n):
+                    for p in range(b):
+                        f[j, p] = 0.0
+                    for i in range(n):
+                        for p in range(b):
+                            f[j, p] += S[i, j, p] * H[r, i]
+                    for p in range(b):
+                        f2[p] += f[j, p] * f[j, p]
+                for p in range(b):
+                    a = f2[p] + noise[p]
+                    denom = a + math.sqrt(a * noise[p])
+                    got = received[k, start + p, sensor]
+                    # divided, not multiplied by 1 / denom: that overflows for denom < 2^-1024
+                    coef[p] = denom if got and denom > 0.0 else math.inf     # inf: no update
+                for i in range(n):
+                    for p in range(b):
+                        Su[i, p] = 0.0
+                    for j in range(n):
+                        for p in range(b):
+                            Su[i, p] += S[i, j, p] * f[j, p]
+                    for p in range(b):
+                        Su[i, p] /= coef[p]
+                for i in range(n):
+                    for j in range(n):
+                        for p in range(b):
+                            S[i, j, p] -= Su[i, p] * f[j, p]
+            _time_update(S, A, UQ, E, X, f2, coef, noise, b)
+            _rescale(S, E, t, b)
+
+
+@_compiled
+def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X: np.ndarray,
+                 sq: np.ndarray, beta: np.ndarray, dot: np.ndarray, b: int) -> None:
+    """``S <- R^T`` with ``R^T R = X^T X``, ``X = [(A S)^T; 2^(-E/2) U_Q]`` (Householder QR).
+
+    Row ``n + i`` of ``X`` is zero left of column ``i`` and stays so until step ``i``
+    (a reflection leaves rows with a zero pivot-column entry alone), so step ``j`` only
+    touches rows ``j..n-1`` and ``n..n+j``."""
+    n = A.shape[0]
+    for i in range(n):           # X[j, i] = (A S)[i, j] = sum_l A[i, l] S[l, j], S full
+        for j in range(n):
+            for p in range(b):
+                X[j, i, p] = 0.0
+            for l in range(n):
+                for p in range(b):
+                    X[j, i, p] += A[i, l] * S[l, j, p]
+    for p in range(b):
+        beta[p] = math.ldexp(1.0, -(E[p] // 2))
+    for i in range(n):
+        for j in range(n):
+            for p in range(b):
+                X[n + i, j, p] = beta[p] * UQ[i, j]
+    for j in range(n):
+        for p in range(b):
+            sq[p] = 0.0
+        for i in range(j, n + j + 1):
+            for p in range(b):
+                sq[p] += X[i, j, p] * X[i, j, p]
+        for p in range(b):
+            norm = math.sqrt(sq[p])
+            x0 = X[j, j, p]
+            head = norm if x0 >= 0.0 else -norm
+            X[j, j, p] = x0 + head                 # v = x + sign(x0) |x| e_1, |v|^2 = 2 |x| (|x| + |x0|)
+            # |v| without squaring |x| again (no underflow); dividing by it, not multiplying by its
+            # inverse, keeps u = v / |v| finite for the tiniest columns; inf turns u into 0
+            length = math.sqrt(2.0 * norm) * math.sqrt(norm + abs(x0))
+            beta[p] = length if length > 0.0 else math.inf
+            sq[p] = -head
+        for i in range(j, n + j + 1):
+            for p in range(b):
+                X[i, j, p] /= beta[p]
+        for k in range(j + 1, n):
+            for p in range(b):
+                dot[p] = 0.0
+            for i in range(j, n + j + 1):
+                for p in range(b):
+                    dot[p] += X[i, j, p] * X[i, k, p]
+            for i in range(j, n + j + 1):
+                for p in range(b):
+                    X[i, k, p] -= 2.0 * dot[p] * X[i, j, p]
+        for p in range(b):
+            X[j, j, p] = sq[p]
+    for i in range(n):
+        for j in range(n):
+            for p in range(b):
+                S[i, j, p] = X[j, i, p] if j <= i else 0.0
