@@ -266,8 +266,8 @@ def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
     any dynamic range (thousands of unstable steps), and ``P`` stays positive semidefinite
     by construction.
     """
-    from .square_root import log_trace_paths   # numba: loaded only when a simulation runs
-    received = np.ascontiguousarray(received, bool)
+    from .square_root import LANES, log_trace_paths   # numba: loaded only when a simulation runs
+    received = np.asarray(received, bool)
     if received.ndim != 3:
         raise ShapeError(f"receptions: expected an array (horizon, paths, d), got shape {received.shape}")
     horizon, paths, d = received.shape
@@ -275,16 +275,18 @@ def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
         raise ShapeError(f"receptions: {d} sensor(s) given, the system has {model.d}")
     if not np.any(model.P0):
         raise InputError("P0: the prior covariance is zero; log tr P_0 is undefined")
-    n = model.n
+    # the kernel runs whole blocks of LANES paths: pad with paths that receive nothing
+    padded = -(-paths // LANES) * LANES
+    if padded != paths or not received.flags.c_contiguous:
+        received = np.concatenate([received, np.zeros((horizon, padded - paths, d), bool)], axis=1)
     # triangular factors: S0 S0^T = P0 (lower), U_Q^T U_Q = Q (upper), from QR of any square root
     S0 = np.linalg.qr(_psd_factor(model.P0).T, mode="r").T
     UQ = np.linalg.qr(_psd_factor(model.Q).T, mode="r")
-    trace = np.empty((horizon + 1, paths))
-    exponent = np.empty((horizon + 1, paths), np.int64)
+    trace = np.empty((horizon + 1, padded))
+    exponent = np.empty((horizon + 1, padded), np.int64)
     c = np.ascontiguousarray
-    # paths per block: the block's S and its Householder array stay in cache
-    log_trace_paths(c(model.A), c(UQ), c(model.H), c(model.row_sensor), c(S0), received,
-                    max(64, min(256, 4096 // (n * n))), trace, exponent)
+    log_trace_paths(c(model.A), c(UQ), c(model.H), c(model.row_sensor), c(S0), received, trace, exponent)
+    trace, exponent = trace[:, :paths], exponent[:, :paths]
     return (exponent * math.log(2) + np.log(trace)).T
 
 
