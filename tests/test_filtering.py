@@ -141,3 +141,23 @@ def test_log_traces_keep_an_unobserved_unstable_mode_beyond_float64():
     expected = np.logaddexp(log_p1, np.array(log_p2))
     logs = log_traces(model, received[:, None, None])
     np.testing.assert_allclose(logs[0], expected, rtol=1e-12)
+
+
+def test_log_traces_follow_the_burst_of_2R_2pi3_up_to_the_float_horizon():
+    # A = 2 R(2 pi/3), C = [1 0], received at phases 0 mod 3 (the decisive burst of
+    # test_float_horizon_caps_bursts_float64_cannot_follow): independent oracle, the
+    # covariance form in 60-digit mpmath.  float64 A is structured only to 1e-16, so the float
+    # filter follows the exact log tr P to 1e-10 up to float_horizon (41 steps) and departs
+    # after ~50 (measured: 3e-8 at 50, 4% at 60)
+    import mpmath as mp
+    system = System(A=[[-1, "-sqrt(3)"], ["sqrt(3)", -1]], sensors=[Sensor(C=[[1, 0]])])
+    with mp.workdps(60):
+        A, C, P = mp.matrix([[-1, -mp.sqrt(3)], [mp.sqrt(3), -1]]), mp.matrix([[1, 0]]), mp.eye(2)
+        exact = []
+        for k in range(42):
+            exact.append(float(mp.log(P[0, 0] + P[1, 1])))
+            if k % 3 == 0:
+                P = P - P * C.T * C * P / (1 + P[0, 0])
+            P = A * P * A.T + mp.eye(2)
+    received = (np.arange(41) % 3 == 0)[:, None, None]
+    np.testing.assert_allclose(log_traces(real_form(system), received)[0], exact, rtol=1e-10)
