@@ -631,15 +631,17 @@ def burst_sample(system: System, loss: LossModel, horizon: int, paths: int, seed
     law, ``X_{K-L}..X_{K-1}`` the component's conditioned chain (:func:`_factor_tilt`).  The
     ratio is exact: ``dQ/dP = mean_c sum_L pi(L) prod_{k >= K-L} q_c / p``, summed over
     every ``(c, L)`` that could have produced the path, so the estimator is unbiased for
-    any plan.  Paths run in chunks (at most 65536 paths), each with its own child of
+    any plan.  Paths run in chunks (at most 32768 paths), each with its own child of
     ``SeedSequence(seed)``, on ``jobs`` processes (:func:`symkf.sweep.sweep`): the result
     does not depend on ``jobs``.
     """
     model = real_form(system)
     factors = loss_factors(loss, system.d)
     tilts = tuple(tuple(_factor_tilt(f, a) for f in factors) for a in plan.allowed) if plan is not None else ()
-    # a chunk holds components x horizon x paths likelihood ratios: about 1.6e7 floats at most
-    chunk = max(1024, min(65536, 2 ** 24 // (max(len(tilts), 1) * horizon)))
+    # a chunk holds components x horizon x paths likelihood ratios: about 1.6e7 floats at most;
+    # 32768 paths at most, so that jobs = 2 has two chunks from 32769 paths on (the chunks,
+    # not jobs, fix the random streams: default runs of 20 000 paths are one chunk as before)
+    chunk = max(1024, min(32768, 2 ** 24 // (max(len(tilts), 1) * horizon)))
     sizes = [min(chunk, paths - start) for start in range(0, paths, chunk)]
     seeds = np.random.SeedSequence(seed).spawn(len(sizes))
     chunk = functools.partial(_burst_chunk, model, tuple(factors), tilts,

@@ -3,8 +3,8 @@
 numba-compiled loops (``cache=True``: compiled once per installation, then
 loaded from ``__pycache__``) over blocks of ``LANES`` paths, the innermost loop
 running across the paths of a block so that the compiler vectorises it (every
-path does the same arithmetic; a lost row is an update divided by infinity,
-not a branch).
+path does the same arithmetic; a lost row is an update with weight 0, not a
+branch).
 
 Per path ``P_{k|k-1} = 2^E S S^T`` with an even integer ``E`` and ``tr(S S^T)``
 in ``[1/2, 2)``, so ``log tr P = E log 2 + log tr(S S^T)`` over any dynamic
@@ -15,7 +15,7 @@ measurement noise is ``2^-E`` and the process noise ``2^-E Q``.
   after whitening): Potter's square-root form, one received row ``h`` at a
   time, ``S <- S - S f f^T / (a + sqrt(a r))`` with ``f = S^T h``, ``r =
   2^-E``, ``a = |f|^2 + r``; ``|S f| / (a + sqrt(a r)) <= 1 / |f|`` stays
-  finite whenever ``|f|^2 > 0``, however far ``2^-E`` underflows.
+  finite however far ``2^-E`` underflows (denominators below ``TINY``: no update).
 * Time update (Sui-You-Fu eq. 9, ``P <- A P A^T + Q``): Householder
   triangularisation of the stacked ``[(A S)^T; 2^(-E/2) U_Q]`` (``U_Q``
   upper triangular, ``U_Q^T U_Q = Q``), giving a lower-triangular ``S`` with
@@ -37,6 +37,10 @@ from numba import njit
 #: paths per block, a compile-time constant: the path loops have a fixed trip count (no remainder
 #: loops, no per-entry set-up); 64 measured faster than 32 and as fast as 128 at n = 2..8
 LANES = 64
+#: below this a Potter denominator or a Householder column length is treated as zero (no update):
+#: it multiplies by its reciprocal (one division, not one per entry), which stays finite; what
+#: is dropped is below 2^-1000 of tr(S S^T) = O(1), far under float64's resolution of P
+TINY = 2.0 ** -1000
 # error_model="numpy": divisions need no Python zero check, so the path loops vectorise;
 # "contract" lets LLVM fuse multiply-adds (FMA), changing nothing beyond rounding
 _compiled = njit(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
@@ -129,8 +133,7 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
                     a = f2[p] + noise[p]
                     denom = a + math.sqrt(a * noise[p])
                     got = received[k, start + p, sensor]
-                    # divided, not multiplied by 1 / denom: that overflows for denom < 2^-1024
-                    coef[p] = denom if got and denom > 0.0 else math.inf     # inf: no update
+                    coef[p] = 1.0 / denom if got and denom > TINY else 0.0
                 for i in range(n):
                     for p in range(LANES):
                         Su[i, p] = 0.0
@@ -138,7 +141,7 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
                         for p in range(LANES):
                             Su[i, p] += S[i, j, p] * f[j, p]
                     for p in range(LANES):
-                        Su[i, p] /= coef[p]
+                        Su[i, p] *= coef[p]
                 for i in range(n):
                     for j in range(n):
                         for p in range(LANES):
@@ -181,14 +184,13 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
             x0 = X[j, j, p]
             head = norm if x0 >= 0.0 else -norm
             X[j, j, p] = x0 + head                 # v = x + sign(x0) |x| e_1, |v|^2 = 2 |x| (|x| + |x0|)
-            # |v| without squaring |x| again (no underflow); dividing by it, not multiplying by its
-            # inverse, keeps u = v / |v| finite for the tiniest columns; inf turns u into 0
+            # |v| without squaring |x| again (no underflow); u = v / |v|
             length = math.sqrt(2.0 * norm) * math.sqrt(norm + abs(x0))
-            beta[p] = length if length > 0.0 else math.inf
+            beta[p] = 1.0 / length if length > TINY else 0.0
             sq[p] = -head
         for i in range(j, n + j + 1):
             for p in range(LANES):
-                X[i, j, p] /= beta[p]
+                X[i, j, p] *= beta[p]
         for k in range(j + 1, n):
             for p in range(LANES):
                 dot[p] = 0.0
