@@ -682,6 +682,8 @@ def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tup
                         + [np.stack([tilt[i].cum[r] for i in index]) for tilt in tilts for r in range(g)])
         x = _chain_states(first, step, table, rng, (K, m, len(group)))
         for j, i in enumerate(index if tilts else ()):
+            if all(np.abs(t[i].logr).max() < 1e-12 and np.abs(t[i].logr_init).max() < 1e-12 for t in tilts):
+                continue        # a sensor free in every component: its burst law is the loss law
             # transition (phase r, from s, to s') at flat index (r S + s) S + s': one take per sensor
             S = tilts[0][i].logr.shape[-1]
             at = ((np.arange(1, K) % g)[:, None] * S + x[:-1, :, j]) * S + x[1:, :, j]
