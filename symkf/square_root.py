@@ -3,8 +3,8 @@
 numba-compiled loops (``cache=True``: compiled once per installation, then
 loaded from ``__pycache__``) over blocks of ``LANES`` paths, the innermost loop
 running across the paths of a block so that the compiler vectorises it (every
-path does the same arithmetic; a lost row is an update with weight 0, not a
-branch).
+path does the same arithmetic; a lost row is an update divided by infinity,
+not a branch).
 
 Per path ``P_{k|k-1} = 2^E S S^T`` with an even integer ``E`` and ``tr(S S^T)``
 in ``[1/2, 2)``, so ``log tr P = E log 2 + log tr(S S^T)`` over any dynamic
@@ -13,17 +13,28 @@ measurement noise is ``2^-E`` and the process noise ``2^-E Q``.
 
 * Measurement update (Yang et al. eq. 8, rows independent with unit variance
   after whitening): Potter's square-root form, one received row ``h`` at a
-  time, ``S <- S - S f f^T / (a + sqrt(a r))`` with ``f = S^T h``, ``r =
-  2^-E``, ``a = |f|^2 + r``; ``|S f| / (a + sqrt(a r)) <= 1 / |f|`` stays
-  finite however far ``2^-E`` underflows (denominators below ``TINY``: no update).
+  time, ``S <- S - (S u)(u w)^T`` with ``f = S^T h``, ``u = f / |f|``, ``r =
+  2^-E``, ``a = |f|^2 + r`` and ``w = |f|^2 / (a + sqrt(a r))`` in [0, 1]
+  (``= S f f^T / (a + sqrt(a r))``): finite however far ``2^-E`` and ``|f|``
+  underflow.  The operations and their order are those of the numpy kernel
+  this replaced: on float-exact systems (``A = 2 R(pi/2)``) long bursts keep
+  their exact cancellations only as far as the rounding does (see below).
 * Time update (Sui-You-Fu eq. 9, ``P <- A P A^T + Q``): Householder
   triangularisation of the stacked ``[(A S)^T; 2^(-E/2) U_Q]`` (``U_Q``
   upper triangular, ``U_Q^T U_Q = Q``), giving a lower-triangular ``S`` with
   the same ``S S^T``; the triangular structure of both blocks is skipped.
 
 ``P`` stays positive semidefinite by construction, and errors in its small
-directions are ``~1e-16 ||S||``, i.e. ``1e-32 ||P||`` after squaring.  This
-module imports numba; :mod:`symkf.filtering` imports it only when a
+directions are ``~1e-16 ||S||``, i.e. ``1e-32 ||P||`` after squaring: once a
+path's scales are 1e32 apart (``log tr P`` beyond ~75 on a well-observed
+system) the float filter no longer resolves its small directions, for this
+kernel as for the numpy one before it (on ``ge-two-sensors`` with 80-step
+final bursts both miss the exact ``log tr P`` on ~30 of 75 paths checked,
+the largest and the most disagreeing, not the same ones).  Rounding matters
+there: FMA contraction, a reciprocal instead of a division, or a two-factor
+``|v|`` each moved which paths break and flipped the 2 % slope check of
+``test_plots``, so none is used.
+This module imports numba; :mod:`symkf.filtering` imports it only when a
 simulation runs, so ``import symkf`` and the exact engine never pay for it.
 """
 
@@ -37,13 +48,11 @@ from numba import njit
 #: paths per block, a compile-time constant: the path loops have a fixed trip count (no remainder
 #: loops, no per-entry set-up); 64 measured faster than 32 and as fast as 128 at n = 2..8
 LANES = 64
-#: below this a Potter denominator or a Householder column length is treated as zero (no update):
-#: it multiplies by its reciprocal (one division, not one per entry), which stays finite; what
-#: is dropped is below 2^-1000 of tr(S S^T) = O(1), far under float64's resolution of P
-TINY = 2.0 ** -1000
-# error_model="numpy": divisions need no Python zero check, so the path loops vectorise;
-# "contract" lets LLVM fuse multiply-adds (FMA), changing nothing beyond rounding
-_compiled = njit(cache=True, nogil=True, error_model="numpy", fastmath={"contract"})
+# error_model="numpy": divisions need no Python zero check, so the path loops vectorise.
+# No fastmath, not even FMA contraction: a fused S - Su f^T does not cancel to the same
+# rounding as the product it subtracts; on A = 2 R(pi/2) (exact in float64) that lost 32 of
+# log tr P's 2773 over a 2000-step periodic burst (float_horizon fell from None to 45)
+_compiled = njit(cache=True, nogil=True, error_model="numpy")
 
 
 with np.errstate(over="ignore"):
@@ -95,6 +104,7 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     X = np.zeros((2 * n, n, LANES))
     f = np.empty((n, LANES))
     Su = np.empty((n, LANES))
+    g = np.empty((n, LANES))
     f2 = np.empty(LANES)
     coef = np.empty(LANES)
     noise = np.empty(LANES)
@@ -133,19 +143,23 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
                     a = f2[p] + noise[p]
                     denom = a + math.sqrt(a * noise[p])
                     got = received[k, start + p, sensor]
-                    coef[p] = 1.0 / denom if got and denom > TINY else 0.0
+                    # S <- S - (S u) (u w)^T with u = f / |f| and w = |f|^2 / denom in [0, 1]
+                    coef[p] = f2[p] / denom if got and denom > 0.0 else 0.0
+                    Su[0, p] = math.sqrt(f2[p]) if f2[p] > 0.0 else math.inf
+                for j in range(n):
+                    for p in range(LANES):
+                        f[j, p] /= Su[0, p]
+                        g[j, p] = f[j, p] * coef[p]
                 for i in range(n):
                     for p in range(LANES):
                         Su[i, p] = 0.0
                     for j in range(n):
                         for p in range(LANES):
                             Su[i, p] += S[i, j, p] * f[j, p]
-                    for p in range(LANES):
-                        Su[i, p] *= coef[p]
                 for i in range(n):
                     for j in range(n):
                         for p in range(LANES):
-                            S[i, j, p] -= Su[i, p] * f[j, p]
+                            S[i, j, p] -= Su[i, p] * g[j, p]
             _time_update(S, A, UQ, E, X, f2, coef, noise)
             _rescale(S, E, t, f2)
 
@@ -184,13 +198,15 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
             x0 = X[j, j, p]
             head = norm if x0 >= 0.0 else -norm
             X[j, j, p] = x0 + head                 # v = x + sign(x0) |x| e_1, |v|^2 = 2 |x| (|x| + |x0|)
-            # |v| without squaring |x| again (no underflow); u = v / |v|
-            length = math.sqrt(2.0 * norm) * math.sqrt(norm + abs(x0))
-            beta[p] = 1.0 / length if length > TINY else 0.0
+            # |v| as one square root and u = v / |v| by division: sqrt(2|x|) sqrt(|x| + |x0|) or
+            # a reciprocal round differently and broke exact cancellations of A = 2 R(pi/2)
+            # (log tr P 35 low after an 80-step burst); inf turns u into 0
+            length = math.sqrt(2.0 * norm * (norm + abs(x0)))
+            beta[p] = length if length > 0.0 else math.inf
             sq[p] = -head
         for i in range(j, n + j + 1):
             for p in range(LANES):
-                X[i, j, p] *= beta[p]
+                X[i, j, p] /= beta[p]
         for k in range(j + 1, n):
             for p in range(LANES):
                 dot[p] = 0.0
