@@ -31,7 +31,6 @@ from typing import Sequence
 
 import numpy as np
 import sympy as sp
-from threadpoolctl import threadpool_limits
 
 from .errors import InputError, NumericalBreakdownError, ShapeError
 from .losses import LossModel
@@ -257,82 +256,38 @@ def _psd_factor(M: np.ndarray) -> np.ndarray:
     return U * np.sqrt(np.clip(w, 0.0, None))
 
 
-def _triangularise(X: np.ndarray) -> np.ndarray:
-    """Householder QR of every stacked ``X`` (m, n, paths) -> ``R^T`` (n, n, paths) with
-    ``R^T R = X^T X``, vectorised across paths (one reflection per column); ``X`` is overwritten."""
-    m, n, _ = X.shape
-    for j in range(n):
-        x = X[j:, j]
-        norm = np.sqrt(np.einsum("ip,ip->p", x, x))
-        head = np.where(x[0] >= 0, norm, -norm)
-        if j + 1 < n:
-            v = x.copy()
-            v[0] += head
-            length = np.sqrt(2 * norm * (norm + np.abs(x[0])))      # |v|
-            v = np.divide(v, length, out=np.zeros_like(v), where=length > 0)
-            rest = X[j:, j + 1:]
-            rest -= v[:, None, :] * (2 * np.einsum("ip,ikp->kp", v, rest))[None]
-        X[j, j] = -head
-    return X[:n].transpose(1, 0, 2) * np.tri(n)[:, :, None]
-
-
 def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
-    """``log tr P_{k|k-1}``, k = 0..horizon, for receptions ``received`` (horizon, paths, d) bool.
+    """``log tr P_{k|k-1}`` (paths, horizon + 1), k = 0..horizon, for receptions ``received``
+    (horizon, paths, d) bool.
 
-    Square-root filter with a running log-scale per path: ``P_{k|k-1} =
-    exp(s_k) S_k S_k^T`` with ``tr(S_k S_k^T) = 1``, so ``log tr P = s_k`` for
-    any dynamic range (thousands of unstable steps).  In normalised units the
-    whitened measurement noise is ``exp(-s)`` and the process noise
-    ``exp(-s) Q``.  Measurement update: Potter's square-root form, one whitened
-    row at a time (exact for independent unit-variance rows; Yang et al. eq. 8);
-    time update: Householder triangularisation of ``[A S, exp(-s/2) Q^{1/2}]``.
-    ``P`` stays positive semidefinite by construction, and errors in its small
-    directions are ``~1e-16 ||S||``, i.e. ``1e-32 ||P||`` after squaring.
+    Square-root filter with a running power-of-two scale per path (Potter measurement
+    updates one whitened row at a time, Yang et al. eq. 8; Householder time update,
+    Sui-You-Fu eq. 9), compiled: :mod:`symkf.square_root`.  ``log tr P`` is available over
+    any dynamic range (thousands of unstable steps), and ``P`` stays positive semidefinite
+    by construction.
     """
-    with threadpool_limits(1, user_api="blas"):   # small products: BLAS threads only cost CPU
-        return _log_traces(model, np.asarray(received, bool))
-
-
-def _log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
+    from .square_root import LANES, log_trace_paths   # numba: loaded only when a simulation runs
+    received = np.asarray(received, bool)
+    if received.ndim != 3:
+        raise ShapeError(f"receptions: expected an array (horizon, paths, d), got shape {received.shape}")
     horizon, paths, d = received.shape
     if d != model.d:
         raise ShapeError(f"receptions: {d} sensor(s) given, the system has {model.d}")
-    n = model.n
-    rows = received[:, :, model.row_sensor]                          # (horizon, paths, rows)
-    S0 = _psd_factor(model.P0)
-    t0 = float(np.sum(S0 ** 2))
-    if t0 <= 0:
+    if not np.any(model.P0):
         raise InputError("P0: the prior covariance is zero; log tr P_0 is undefined")
-    S = np.repeat((S0 / math.sqrt(t0))[:, :, None], paths, axis=2)
-    s = np.full(paths, math.log(t0))
-    LqT = _psd_factor(model.Q).T
-    out = np.empty((horizon + 1, paths))
-    X = np.empty((2 * n, n, paths))
-    for k in range(horizon):
-        out[k] = s
-        noise = np.exp(-s)
-        for r, h in enumerate(model.H):
-            got = rows[k, :, r]
-            if not got.any():
-                continue
-            f = (h @ S.reshape(n, n * paths)).reshape(n, paths)      # S^T h
-            f2 = np.einsum("ip,ip->p", f, f)
-            a = f2 + noise
-            # Potter: S -= S f f^T / (a + sqrt(a r)) = (S u) u^T |f|^2 / (a + sqrt(a r)), u = f / |f|,
-            # a weight in [0, 1] that cannot overflow when exp(-s) and |f| underflow
-            norm = np.sqrt(f2)
-            f = np.divide(f, norm, out=np.zeros_like(f), where=norm > 0)
-            denom = a + np.sqrt(a * noise)
-            weight = np.divide(f2, denom, out=np.zeros_like(denom), where=denom > 0) * got
-            S -= np.einsum("ijp,jp->ip", S, f)[:, None, :] * (f * weight)[None]
-        X[:n] = (model.A @ S.reshape(n, n * paths)).reshape(n, n, paths).transpose(1, 0, 2)   # (A S)^T
-        X[n:] = LqT[:, :, None] * np.exp(-s / 2)[None, None]
-        S = _triangularise(X)
-        c = np.einsum("ijp,ijp->p", S, S)
-        S /= np.sqrt(c)
-        s = s + np.log(c)
-    out[horizon] = s
-    return out.T
+    # the kernel runs whole blocks of LANES paths: pad with paths that receive nothing
+    padded = -(-paths // LANES) * LANES
+    if padded != paths or not received.flags.c_contiguous:
+        received = np.concatenate([received, np.zeros((horizon, padded - paths, d), bool)], axis=1)
+    # triangular factors: S0 S0^T = P0 (lower), U_Q^T U_Q = Q (upper), from QR of any square root
+    S0 = np.linalg.qr(_psd_factor(model.P0).T, mode="r").T
+    UQ = np.linalg.qr(_psd_factor(model.Q).T, mode="r")
+    trace = np.empty((horizon + 1, padded))
+    exponent = np.empty((horizon + 1, padded), np.int64)
+    c = np.ascontiguousarray
+    log_trace_paths(c(model.A), c(UQ), c(model.H), c(model.row_sensor), c(S0), received, trace, exponent)
+    trace, exponent = trace[:, :paths], exponent[:, :paths]
+    return (exponent * math.log(2) + np.log(trace)).T
 
 
 def predicted_covariances(system: System | FloatSystem, receptions: np.ndarray, keep: str = "trace",

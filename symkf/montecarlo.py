@@ -631,15 +631,17 @@ def burst_sample(system: System, loss: LossModel, horizon: int, paths: int, seed
     law, ``X_{K-L}..X_{K-1}`` the component's conditioned chain (:func:`_factor_tilt`).  The
     ratio is exact: ``dQ/dP = mean_c sum_L pi(L) prod_{k >= K-L} q_c / p``, summed over
     every ``(c, L)`` that could have produced the path, so the estimator is unbiased for
-    any plan.  Paths run in chunks (at most 65536 paths), each with its own child of
+    any plan.  Paths run in chunks (at most 32768 paths), each with its own child of
     ``SeedSequence(seed)``, on ``jobs`` processes (:func:`symkf.sweep.sweep`): the result
     does not depend on ``jobs``.
     """
     model = real_form(system)
     factors = loss_factors(loss, system.d)
     tilts = tuple(tuple(_factor_tilt(f, a) for f in factors) for a in plan.allowed) if plan is not None else ()
-    # a chunk holds components x horizon x paths likelihood ratios: about 1.6e7 floats at most
-    chunk = max(1024, min(65536, 2 ** 24 // (max(len(tilts), 1) * horizon)))
+    # a chunk holds components x horizon x paths likelihood ratios: about 1.6e7 floats at most;
+    # 32768 paths at most, so that jobs = 2 has two chunks from 32769 paths on (the chunks,
+    # not jobs, fix the random streams: default runs of 20 000 paths are one chunk as before)
+    chunk = max(1024, min(32768, 2 ** 24 // (max(len(tilts), 1) * horizon)))
     sizes = [min(chunk, paths - start) for start in range(0, paths, chunk)]
     seeds = np.random.SeedSequence(seed).spawn(len(sizes))
     chunk = functools.partial(_burst_chunk, model, tuple(factors), tilts,
@@ -678,13 +680,22 @@ def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tup
                          + [np.stack([tilt[i].cum_init for i in index]) for tilt in tilts for _ in range(g)])
         step = np.stack([np.stack([_cumulative(f.P) for f in group])]
                         + [np.stack([tilt[i].cum[r] for i in index]) for tilt in tilts for r in range(g)])
-        x = _chain_states(first, step, table, rng.random((K, m, len(group))))
-        for c, tilt in enumerate(tilts):
-            for j, i in enumerate(index):
+        x = _chain_states(first, step, table, rng, (K, m, len(group)))
+        for j, i in enumerate(index if tilts else ()):
+            if all(np.abs(t[i].logr).max() < 1e-12 and np.abs(t[i].logr_init).max() < 1e-12 for t in tilts):
+                continue        # a sensor free in every component: its burst law is the loss law
+            # transition (phase r, from s, to s') at flat index (r S + s) S + s': one take per sensor
+            S = tilts[0][i].logr.shape[-1]
+            at = ((np.arange(1, K) % g)[:, None] * S + x[:-1, :, j]) * S + x[1:, :, j]
+            for c, tilt in enumerate(tilts):
                 lr[c, 0] += tilt[i].logr_init[x[0, :, j]]
-                lr[c, 1:] += tilt[i].logr[(np.arange(1, K) % g)[:, None], x[:-1, :, j], x[1:, :, j]]
+                lr[c, 1:] += tilt[i].logr.ravel().take(at)
         if all(len(f.P) == 2 for f in group):   # state 0 = received (loss_factors' convention)
-            received[:, :, [f.sensors[0] for f in group]] = x == 0
+            cols = [f.sensors[0] for f in group]
+            if cols == list(range(model.d)):
+                np.equal(x, 0, out=received)
+            else:
+                received[:, :, cols] = x == 0
         else:
             for j, f in enumerate(group):
                 received[:, :, list(sensors[j])] = f.emit[x[:, :, j]]
@@ -692,30 +703,41 @@ def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tup
     if plan is None:
         return logtr, np.zeros(m)
     tail = np.concatenate([np.zeros((C, 1, m)), np.cumsum(lr[:, ::-1], axis=1)], axis=1)
-    terms = tail + log_law[None, :, None] - math.log(C)
-    return logtr, -np.logaddexp.reduce(terms.reshape(-1, m), axis=0)
+    terms = (tail + log_law[None, :, None]).reshape(-1, m)
+    top = terms.max(axis=0)                                  # log-sum-exp, shifted by the largest term
+    np.exp(terms - top, out=terms)
+    return logtr, math.log(C) - top - np.log(terms.sum(axis=0))
 
 
-def _chain_states(first: np.ndarray, step: np.ndarray, table: np.ndarray | None, u: np.ndarray) -> np.ndarray:
+def _chain_states(first: np.ndarray, step: np.ndarray, table: np.ndarray | None, rng: np.random.Generator,
+                  shape: tuple[int, int, int]) -> np.ndarray:
     """States (K, paths, chains) of independent chains by inverse CDFs: ``first[t, j]`` and
-    ``step[t, j, x]`` are cumulative laws under law ``t`` (``table[k, p]``; None: law 0 always)."""
-    K, m, J = u.shape
+    ``step[t, j, x]`` are cumulative laws under law ``t`` (``table[k, p]``; None: law 0 always).
+    The uniforms are drawn one step at a time (the same stream as one (K, paths, chains) draw,
+    without holding it: 26 MB per thousand paths at K = 100, d = 16)."""
+    K, m, J = shape
     j = np.arange(J)[None, :]
     if step.shape[-1] == 2:         # two states: one comparison with P(state 0), states as uint8
-        if table is None and np.array_equal(step[0, :, :, 0], np.broadcast_to(first[0, :, :1], (J, 2))):
-            return (u >= first[0, :, 0]).view(np.uint8)                      # i.i.d.: every step at once
         x = np.empty((K, m, J), np.uint8)
-        t = np.zeros((m, 1), np.intp) if table is None else None
-        x[0] = u[0] >= first[t if table is None else table[0][:, None], j, 0]
+        if table is None and np.array_equal(step[0, :, :, 0], np.broadcast_to(first[0, :, :1], (J, 2))):
+            for k in range(K):                                               # i.i.d.: no dependence
+                np.greater_equal(rng.random((m, J)), first[0, :, 0], out=x[k].view(bool))
+            return x
+        # P(next state 0) under law t, of chain j, from state s, at flat index (t J + j) 2 + s:
+        # one take per step (multi-array fancy indexing costs twice as much)
+        stay = np.ascontiguousarray(step[..., 0]).ravel()
+        row = np.broadcast_to(2 * j, (m, J)) if table is None else None
+        x[0] = rng.random((m, J)) >= first[0 if table is None else table[0][:, None], j, 0]
         for k in range(1, K):
-            x[k] = u[k] >= step[t if table is None else table[k][:, None], j, x[k - 1], 0]
+            at = row if table is None else 2 * (table[k][:, None] * J + j)
+            np.greater_equal(rng.random((m, J)), stay.take(at + x[k - 1]), out=x[k].view(bool))
         return x
     x = np.empty((K, m, J), np.intp)
     t = np.zeros((m, 1), np.intp) if table is None else None
-    x[0] = (u[0][..., None] >= first[t if table is None else table[0][:, None], j]).sum(axis=-1)
+    x[0] = (rng.random((m, J))[..., None] >= first[t if table is None else table[0][:, None], j]).sum(axis=-1)
     for k in range(1, K):
         tk = t if table is None else table[k][:, None]
-        x[k] = (u[k][..., None] >= step[tk, j, x[k - 1]]).sum(axis=-1)
+        x[k] = (rng.random((m, J))[..., None] >= step[tk, j, x[k - 1]]).sum(axis=-1)
     return x
 
 

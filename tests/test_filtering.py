@@ -5,7 +5,7 @@ import pytest
 import sympy as sp
 
 from symkf.errors import InputError, ShapeError
-from symkf.filtering import (exact_covariances, log_traces, predicted_covariances, real_form, sample_receptions,
+from symkf.filtering import (FloatSystem, exact_covariances, log_traces, predicted_covariances, real_form, sample_receptions,
                              simulate_trajectories)
 from symkf.losses import IID, GilbertElliott
 from symkf.model import Sensor, System
@@ -95,3 +95,88 @@ def test_log_traces_follow_thousands_of_unstable_steps():
     k = np.arange(3001)
     np.testing.assert_allclose(logs[0], np.log(2 / 3) + (k + 1) * np.log(4) + np.log1p(-4.0 ** -(k + 1)),
                                rtol=1e-12)
+
+
+def _rotations(n: int, modulus: str) -> sp.Matrix:
+    """n/2 rotation blocks of ``modulus`` by the rational angles of (3, 4, 5), (5, 12, 13), ..."""
+    A = sp.zeros(n, n)
+    for b, (x, y, r) in enumerate([(3, 4, 5), (5, 12, 13), (8, 15, 17), (7, 24, 25)][:n // 2]):
+        A[2 * b:2 * b + 2, 2 * b:2 * b + 2] = sp.Rational(modulus) / r * sp.Matrix([[x, -y], [y, x]])
+    return A
+
+
+@pytest.mark.parametrize("n, modulus, loss", [(2, "9/10", 0.5), (4, "6/5", 0.2), (8, "11/10", 0.3)])
+def test_log_traces_match_the_covariance_form_on_stable_runs(n, modulus, loss):
+    # an independent computation: the float64 covariance recursion (information-form update,
+    # predicted_covariances) is accurate while P stays moderate, here 300 steps of mean-square
+    # stable runs; 300 paths leave a partial block of the compiled kernel (blocks of 64 or 256).
+    # Two-row sensors with correlated noise exercise the whitening.
+    rng = np.random.default_rng(n)
+    sensors = [Sensor(C=rng.integers(-2, 3, (2, n)).tolist(), R=[[2, 1], [1, 3]]),
+               Sensor(C=[[1] + [0] * (n - 1)])]
+    system = System(A=_rotations(n, modulus), sensors=sensors)
+    gamma = rng.random((300, 300, 2)) >= loss                 # (paths, horizon, d)
+    plain = predicted_covariances(system, gamma, check_every=0)
+    logs = log_traces(real_form(system), gamma.transpose(1, 0, 2))
+    assert logs.shape == (300, 301)
+    np.testing.assert_allclose(logs[:, :300], np.log(plain), rtol=1e-10)
+
+
+def test_log_traces_keep_an_unobserved_unstable_mode_beyond_float64():
+    # A = diag(2, 1/2), P0 = Q = I, the sensor sees only the stable coordinate: P stays diagonal,
+    # p1_{k+1} = 4 p1_k + 1 whatever is received (p1_k = (4^(k+1) - 1)/3, beyond 1e308 after
+    # 512 steps) and p2 follows the scalar Riccati recursion p2 <- p2 / (1 + p2) on received
+    # steps, then p2 <- p2 / 4 + 1 (hand-derived: C = [0 1], R = 1).  The compiled kernel's
+    # measurement noise 2^-E underflows to zero after ~540 steps; log tr P must not notice.
+    # (symkf.System refuses this undetectable pair, so the float data are given directly)
+    model = FloatSystem(A=np.diag([2.0, 0.5]), Q=np.eye(2), P0=np.eye(2), H=np.array([[0.0, 1.0]]),
+                        W=np.eye(1), row_sensor=np.zeros(1, int))
+    received = np.random.default_rng(5).random(2000) < 0.5
+    p2, log_p2 = 1.0, [0.0]
+    for got in received:
+        p2 = (p2 / (1 + p2) if got else p2) / 4 + 1
+        log_p2.append(np.log(p2))
+    k = np.arange(2001)
+    log_p1 = (k + 1) * np.log(4) + np.log1p(-4.0 ** -(k + 1)) - np.log(3)
+    expected = np.logaddexp(log_p1, np.array(log_p2))
+    logs = log_traces(model, received[:, None, None])
+    np.testing.assert_allclose(logs[0], expected, rtol=1e-12)
+
+
+def test_log_traces_follow_the_burst_of_2R_2pi3_up_to_the_float_horizon():
+    # A = 2 R(2 pi/3), C = [1 0], received at phases 0 mod 3 (the decisive burst of
+    # test_float_horizon_caps_bursts_float64_cannot_follow): independent oracle, the
+    # covariance form in 60-digit mpmath.  float64 A is structured only to 1e-16, so the float
+    # filter follows the exact log tr P to 1e-10 up to float_horizon (41 steps) and departs
+    # after ~50 (measured: 3e-8 at 50, 4% at 60)
+    import mpmath as mp
+    system = System(A=[[-1, "-sqrt(3)"], ["sqrt(3)", -1]], sensors=[Sensor(C=[[1, 0]])])
+    with mp.workdps(60):
+        A, C, P = mp.matrix([[-1, -mp.sqrt(3)], [mp.sqrt(3), -1]]), mp.matrix([[1, 0]]), mp.eye(2)
+        exact = []
+        for k in range(42):
+            exact.append(float(mp.log(P[0, 0] + P[1, 1])))
+            if k % 3 == 0:
+                P = P - P * C.T * C * P / (1 + P[0, 0])
+            P = A * P * A.T + mp.eye(2)
+    received = (np.arange(41) % 3 == 0)[:, None, None]
+    np.testing.assert_allclose(log_traces(real_form(system), received)[0], exact, rtol=1e-10)
+
+
+def test_log_traces_keep_the_exact_structure_of_a_float_exact_burst():
+    # A = 2 R(pi/2) = [[0, -2], [2, 0]] and h = [1, 1] (exact in float64), received at even steps
+    # only: in the basis u1 = [1, 1]/sqrt2, u2 = [1, -1]/sqrt2, A = [[0, 2], [-2, 0]], so P (= I at
+    # first, Q = I) stays diagonal: a received step maps p1 -> p1 / (1 + 2 p1) (h = sqrt2 u1),
+    # then p1, p2 -> 4 p2 + 1, 4 p1 + 1 (hand-derived).  The unseen direction grows 16x per
+    # period for 2000 steps; an FMA-contracted kernel lost 32 of the final 2773 here
+    import mpmath as mp
+    model = real_form(System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]]), Sensor(C=[[1, 1]])]))
+    p1, p2, expected = mp.mpf(1), mp.mpf(1), []
+    for k in range(2001):
+        expected.append(float(mp.log(p1 + p2)))
+        if k % 2 == 0:
+            p1 = p1 / (1 + 2 * p1)
+        p1, p2 = 4 * p2 + 1, 4 * p1 + 1
+    received = np.zeros((2000, 1, 2), bool)
+    received[::2, 0, 1] = True
+    np.testing.assert_allclose(log_traces(model, received)[0], expected, rtol=1e-12)

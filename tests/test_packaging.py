@@ -24,9 +24,17 @@ def _python(code: str) -> str:
 
 
 def test_import_loads_no_heavy_dependency():
-    loaded = _python("import sys, symkf; print(sorted(m for m in ('sympy', 'numpy', 'scipy', 'flint', 'tqdm') "
+    loaded = _python("import sys, symkf; print(sorted(m for m in ('sympy', 'numpy', 'scipy', 'flint', 'tqdm', 'numba') "
                      "if m in sys.modules))")
     assert loaded == "[]"
+
+
+def test_numba_loads_only_when_a_filter_runs():
+    # the compiled kernel (symkf.square_root) costs ~0.4 s to import: the exact engine never pays it
+    out = _python("import sys, symkf, symkf.filtering, symkf.montecarlo, symkf.verify; "
+                  "symkf.stability(symkf.System(A=[[2, 0], [0, 1]], sensors=[symkf.Sensor(C=[[1, 1]])]), "
+                  "symkf.IID(['1/2'])); print('numba' in sys.modules)")
+    assert out == "False"
 
 
 def test_every_public_name_resolves_and_stability_stays_a_function():

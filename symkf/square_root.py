@@ -1,0 +1,224 @@
+"""The compiled square-root filter kernel behind :func:`symkf.filtering.log_traces`.
+
+numba-compiled loops (``cache=True``: compiled once per installation, then
+loaded from ``__pycache__``) over blocks of ``LANES`` paths, the innermost loop
+running across the paths of a block so that the compiler vectorises it (every
+path does the same arithmetic; a lost row is an update divided by infinity,
+not a branch).
+
+Per path ``P_{k|k-1} = 2^E S S^T`` with an even integer ``E`` and ``tr(S S^T)``
+in ``[1/2, 2)``, so ``log tr P = E log 2 + log tr(S S^T)`` over any dynamic
+range; scaling by powers of two is exact.  In these units the whitened
+measurement noise is ``2^-E`` and the process noise ``2^-E Q``.
+
+* Measurement update (Yang et al. eq. 8, rows independent with unit variance
+  after whitening): Potter's square-root form, one received row ``h`` at a
+  time, ``S <- S - (S u)(u w)^T`` with ``f = S^T h``, ``u = f / |f|``, ``r =
+  2^-E``, ``a = |f|^2 + r`` and ``w = |f|^2 / (a + sqrt(a r))`` in [0, 1]
+  (``= S f f^T / (a + sqrt(a r))``): finite however far ``2^-E`` and ``|f|``
+  underflow.  The operations and their order are those of the numpy kernel
+  this replaced: on float-exact systems (``A = 2 R(pi/2)``) long bursts keep
+  their exact cancellations only as far as the rounding does (see below).
+* Time update (Sui-You-Fu eq. 9, ``P <- A P A^T + Q``): Householder
+  triangularisation of the stacked ``[(A S)^T; 2^(-E/2) U_Q]`` (``U_Q``
+  upper triangular, ``U_Q^T U_Q = Q``), giving a lower-triangular ``S`` with
+  the same ``S S^T``; the triangular structure of both blocks is skipped.
+
+``P`` stays positive semidefinite by construction, and errors in its small
+directions are ``~1e-16 ||S||``, i.e. ``1e-32 ||P||`` after squaring: once a
+path's scales are 1e32 apart (``log tr P`` beyond ~75 on a well-observed
+system) the float filter no longer resolves its small directions, for this
+kernel as for the numpy one before it (on ``ge-two-sensors`` with 80-step
+final bursts both miss the exact ``log tr P`` on ~30 of 75 paths checked,
+the largest and the most disagreeing, not the same ones).  Rounding matters
+there: FMA contraction, a reciprocal instead of a division, or a two-factor
+``|v|`` each moved which paths break and flipped the 2 % slope check of
+``test_plots``, so none is used.
+This module imports numba; :mod:`symkf.filtering` imports it only when a
+simulation runs, so ``import symkf`` and the exact engine never pay for it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+#: paths per block, a compile-time constant: the path loops have a fixed trip count (no remainder
+#: loops, no per-entry set-up); 64 measured faster than 32 and as fast as 128 at n = 2..8
+LANES = 64
+# error_model="numpy": divisions need no Python zero check, so the path loops vectorise.
+# No fastmath, not even FMA contraction: a fused S - Su f^T does not cancel to the same
+# rounding as the product it subtracts; on A = 2 R(pi/2) (exact in float64) that lost 32 of
+# log tr P's 2773 over a 2000-step periodic burst (float_horizon fell from None to 45)
+_compiled = njit(cache=True, nogil=True, error_model="numpy")
+
+
+with np.errstate(over="ignore"):
+    #: 2^e for |e| <= 1100 (0 and inf beyond the float range): a table lookup vectorises, ldexp does not
+    _POW2 = np.ldexp(1.0, np.arange(-1100, 1101))
+
+
+@_compiled
+def _pow2(e: int) -> float:
+    """``2^e`` (0 below 2^-1100, inf above 2^1100)."""
+    return _POW2[min(max(e + 1100, 0), 2200)]
+
+
+@_compiled
+def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, scale: np.ndarray) -> None:
+    """Scale every ``S`` (n, n, paths) by a power of two so that ``tr S S^T`` is in [1/2, 2),
+    adding the (even) exponent taken out to ``E``; ``t`` receives the new trace."""
+    n = S.shape[0]
+    for p in range(LANES):
+        t[p] = 0.0
+    for i in range(n):
+        for j in range(i + 1):
+            for p in range(LANES):
+                t[p] += S[i, j, p] * S[i, j, p]
+    bits = t.view(np.int64)
+    for p in range(LANES):
+        # t = m 2^e with m in [1/2, 1): e from the exponent field (frexp's, without a call)
+        e = ((bits[p] >> 52) & 2047) - 1022 if t[p] > 0.0 else 0
+        e -= e & 1
+        E[p] += e
+        t[p] *= _pow2(-e)
+        scale[p] = _pow2(-(e // 2))
+    for i in range(n):
+        for j in range(i + 1):
+            for p in range(LANES):
+                S[i, j, p] *= scale[p]
+
+
+@_compiled
+def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
+                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, exponent: np.ndarray) -> None:
+    """``tr P_{k|k-1} = 2^exponent[k, p] trace[k, p]`` (k = 0..horizon) for receptions
+    ``received[k, p, i]`` (sensor ``i``), from ``P_0 = S0 S0^T`` (``S0`` lower triangular);
+    the number of paths is a multiple of ``LANES``."""
+    horizon, paths, _ = received.shape
+    n = A.shape[0]
+    rows = H.shape[0]
+    S = np.zeros((n, n, LANES))
+    X = np.zeros((2 * n, n, LANES))
+    f = np.empty((n, LANES))
+    Su = np.empty((n, LANES))
+    g = np.empty((n, LANES))
+    f2 = np.empty(LANES)
+    coef = np.empty(LANES)
+    noise = np.empty(LANES)
+    E = np.empty(LANES, np.int64)
+    t = np.empty(LANES)
+    for start in range(0, paths, LANES):
+        for i in range(n):
+            for j in range(n):
+                for p in range(LANES):
+                    S[i, j, p] = S0[i, j]
+        for p in range(LANES):
+            E[p] = 0
+        _rescale(S, E, t, f2)
+        for k in range(horizon + 1):
+            for p in range(LANES):
+                trace[k, start + p] = t[p]
+                exponent[k, start + p] = E[p]
+            if k == horizon:
+                break
+            for p in range(LANES):
+                noise[p] = _pow2(-E[p])
+            for r in range(rows):                   # Potter, one whitened row at a time
+                sensor = row_sensor[r]
+                for p in range(LANES):
+                    f2[p] = 0.0
+                for j in range(n):
+                    for p in range(LANES):
+                        f[j, p] = 0.0
+                    for i in range(n):
+                        if H[r, i] != 0.0:          # integer sensor rows are often sparse
+                            for p in range(LANES):
+                                f[j, p] += S[i, j, p] * H[r, i]
+                    for p in range(LANES):
+                        f2[p] += f[j, p] * f[j, p]
+                for p in range(LANES):
+                    a = f2[p] + noise[p]
+                    denom = a + math.sqrt(a * noise[p])
+                    got = received[k, start + p, sensor]
+                    # S <- S - (S u) (u w)^T with u = f / |f| and w = |f|^2 / denom in [0, 1]
+                    coef[p] = f2[p] / denom if got and denom > 0.0 else 0.0
+                    Su[0, p] = math.sqrt(f2[p]) if f2[p] > 0.0 else math.inf
+                for j in range(n):
+                    for p in range(LANES):
+                        f[j, p] /= Su[0, p]
+                        g[j, p] = f[j, p] * coef[p]
+                for i in range(n):
+                    for p in range(LANES):
+                        Su[i, p] = 0.0
+                    for j in range(n):
+                        for p in range(LANES):
+                            Su[i, p] += S[i, j, p] * f[j, p]
+                for i in range(n):
+                    for j in range(n):
+                        for p in range(LANES):
+                            S[i, j, p] -= Su[i, p] * g[j, p]
+            _time_update(S, A, UQ, E, X, f2, coef, noise)
+            _rescale(S, E, t, f2)
+
+
+@_compiled
+def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X: np.ndarray,
+                 sq: np.ndarray, beta: np.ndarray, dot: np.ndarray) -> None:
+    """``S <- R^T`` with ``R^T R = X^T X``, ``X = [(A S)^T; 2^(-E/2) U_Q]`` (Householder QR).
+
+    Row ``n + i`` of ``X`` is zero left of column ``i`` and stays so until step ``i``
+    (a reflection leaves rows with a zero pivot-column entry alone), so step ``j`` only
+    touches rows ``j..n-1`` and ``n..n+j``."""
+    n = A.shape[0]
+    for i in range(n):           # X[j, i] = (A S)[i, j] = sum_l A[i, l] S[l, j], S full
+        for j in range(n):
+            for p in range(LANES):
+                X[j, i, p] = 0.0
+            for l in range(n):
+                if A[i, l] != 0.0:                  # block-diagonal A: skip its zero blocks
+                    for p in range(LANES):
+                        X[j, i, p] += A[i, l] * S[l, j, p]
+    for p in range(LANES):
+        beta[p] = _pow2(-(E[p] // 2))
+    for i in range(n):
+        for j in range(n):
+            for p in range(LANES):
+                X[n + i, j, p] = beta[p] * UQ[i, j]
+    for j in range(n):
+        for p in range(LANES):
+            sq[p] = 0.0
+        for i in range(j, n + j + 1):
+            for p in range(LANES):
+                sq[p] += X[i, j, p] * X[i, j, p]
+        for p in range(LANES):
+            norm = math.sqrt(sq[p])
+            x0 = X[j, j, p]
+            head = norm if x0 >= 0.0 else -norm
+            X[j, j, p] = x0 + head                 # v = x + sign(x0) |x| e_1, |v|^2 = 2 |x| (|x| + |x0|)
+            # |v| as one square root and u = v / |v| by division: sqrt(2|x|) sqrt(|x| + |x0|) or
+            # a reciprocal round differently and broke exact cancellations of A = 2 R(pi/2)
+            # (log tr P 35 low after an 80-step burst); inf turns u into 0
+            length = math.sqrt(2.0 * norm * (norm + abs(x0)))
+            beta[p] = length if length > 0.0 else math.inf
+            sq[p] = -head
+        for i in range(j, n + j + 1):
+            for p in range(LANES):
+                X[i, j, p] /= beta[p]
+        for k in range(j + 1, n):
+            for p in range(LANES):
+                dot[p] = 0.0
+            for i in range(j, n + j + 1):
+                for p in range(LANES):
+                    dot[p] += X[i, j, p] * X[i, k, p]
+            for i in range(j, n + j + 1):
+                for p in range(LANES):
+                    X[i, k, p] -= 2.0 * dot[p] * X[i, j, p]
+        for p in range(LANES):
+            X[j, j, p] = sq[p]
+    for i in range(n):
+        for j in range(n):
+            for p in range(LANES):
+                S[i, j, p] = X[j, i, p] if j <= i else 0.0
