@@ -351,6 +351,10 @@ def test_cyclotomic_rotations_pass_the_default_caps():
     assert sk.critical_loss_rate(sk.System([["cos(pi/97)"]], [sk.Sensor([[1]])])).exact == 1
     with pytest.raises(BudgetError, match="is 384, above the cap 64.*--max-degree"):
         sk.System([["cos(2*pi/97)", 1], [1, "sin(2*pi/97)"]], [sk.Sensor([[1, 0]])])
+    # +-i cos(pi/97): a complex eigenvalue of degree 96 whose squared modulus cos(pi/97)^2 is
+    # irrational, so |lambda| needs a resultant of degree 2 * 96^2: generic, refused
+    with pytest.raises(BudgetError, match="is 384, above the cap 64.*--max-degree"):
+        sk.System([[0, "-cos(pi/97)"], ["cos(pi/97)", 0]], [sk.Sensor([[1, 0]])])
 
 
 def test_family_members_budgeted(tmp_path):

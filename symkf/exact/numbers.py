@@ -533,13 +533,12 @@ def _unit_multiple(v: sp.Expr) -> bool:
 
 
 def _scaled_rotation(M: sp.MatrixBase) -> bool:
-    """Whether ``M = r [[cos t, -sin t], [sin t, cos t]]`` with ``r`` rational: eigenvalues
-    ``r exp(+-i t)``, of rational modulus."""
+    """Whether ``M = [[a, -b], [b, a]]`` with ``a = +-r cos t``, ``b = +-r sin t`` (``r`` rational;
+    sympy writes cos(96 pi/97) as -cos(pi/97)): eigenvalues ``a +- i b`` of rational modulus ``|r|``."""
     (r, c), (s, t) = M[0, 0].as_coeff_Mul(), M[1, 0].as_coeff_Mul()
     if M[1, 1] != M[0, 0] or M[0, 1] != -M[1, 0]:
         return False
-    return (c == 1 and t == 1 or c == 1 and r == 0 or t == 1 and s == 0
-            or r == s and isinstance(c, sp.cos) and isinstance(t, sp.sin) and c.args == t.args)
+    return abs(r) == abs(s) and isinstance(c, sp.cos) and isinstance(t, sp.sin) and c.args == t.args
 
 
 def _rows(index: list[int]) -> str:
