@@ -28,9 +28,16 @@ from .errors import BudgetError
 class Limits:
     """The caps (defaults in brackets are chosen so that every example of the papers passes)."""
 
-    #: algebraic degree over Q of one number, bounded by the product of the degrees of its radicals
-    #: and trigonometric constants (a sum of 12 square roots has degree up to 4096)
+    #: algebraic degree over Q of a field with radicals, bounded by the product of the degrees of
+    #: its radicals and trigonometric constants, times the size of the diagonal block of A whose
+    #: eigenvalues it holds: such fields are built generically (sympy's minimal_polynomial,
+    #: Trager's norm), whose cost explodes (a sum of 7 square roots, degree 128: > 60 CPU-s)
     max_degree: int = 64
+    #: degree of the cyclotomic field Q(zeta_m) holding the trigonometric constants and I of a
+    #: number or matrix without radicals (its real subfield for real entries), times the size of
+    #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap
+    #: (2R(2 pi/97): 192, 1.6 CPU-s; 2R(2 pi/127): 252, 2.6 CPU-s)
+    max_cyclotomic_degree: int = 256
     #: nesting depth of radicals (sqrt(2 + sqrt(3)) has depth 2)
     max_nesting: int = 4
     #: denominator q of an angle p*pi/q inside cos, sin, tan or exp (degree grows like q)

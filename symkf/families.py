@@ -45,7 +45,7 @@ import sympy as sp
 from . import budget, files
 from .errors import AssumptionError, FileFormatError, SymkfError
 from .exact.algebraic import AlgebraicNumber
-from .exact.numbers import RESERVED, parse_exact, to_exact
+from .exact.numbers import RESERVED, field_cost, parse_exact, to_exact, to_exact_matrix
 from .model import System
 from .observability import block_rows
 from .stability import Verdict, critical_loss_rate, stability
@@ -123,7 +123,7 @@ class Family:
     def evaluate(self, *, jobs: int = 1, scheduler: Any = None, progress: bool | None = None) -> list[Outcome]:
         """Evaluate every member (see :func:`symkf.sweep.sweep` for ``jobs`` and ``scheduler``)."""
         return sweep(evaluate, self.members, jobs=jobs, scheduler=scheduler, progress=progress,
-                     desc=f"family {self.name}")
+                     desc=f"family {self.name}", cost=_cost)
 
 
 def evaluate(member: Member) -> Outcome:
@@ -137,6 +137,18 @@ def evaluate(member: Member) -> Outcome:
         return Outcome(value, tuple(br.period for br in block_rows(system)))
     except AssumptionError as exc:
         return Outcome(Inapplicable(str(exc)), ())
+
+
+def _cost(member: Member) -> int:
+    """An a-priori proxy for a member's work, to start the costliest first: the degree bound of
+    its A's entries' field (:func:`symkf.exact.numbers.field_cost`) times n times the sensors;
+    0 when A does not parse (the member then fails quickly)."""
+    try:
+        A = to_exact_matrix(member.tables["system"].get("A"), "A")
+    except SymkfError:
+        return 0
+    cost = field_cost(A)
+    return cost.radical * cost.cyclotomic * A.rows * len(member.tables["sensors"])
 
 
 def _fail(path: Path, message: str) -> FileFormatError:

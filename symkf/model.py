@@ -255,19 +255,27 @@ class System:
         """The sensors' names, in order."""
         return tuple(s.name for s in self.sensors)
 
-    def unseen(self, lam: sp.Expr) -> bool:
-        """PBH test: whether the eigenvalue ``lam`` has an eigenvector in the kernel of every C_i."""
-        from .exact.linalg import rank
-        return rank(sp.Matrix.vstack(self.A - lam * sp.eye(self.n), self.C)) < self.n
+    def unseen(self, lam: Any) -> bool:
+        """PBH test: whether the eigenvalue ``lam`` (a :class:`~symkf.spectral.Eigenvalue` of A)
+        has an eigenvector in the kernel of every C_i (:func:`symkf.spectral.unseen`, cached)."""
+        cached = self._cache.get("unseen")
+        if cached is None:
+            from .spectral import unseen
+            cached = self._cache["unseen"] = unseen(self.A, self.C)
+        return lam.key in cached
 
     @property
     def observable(self) -> bool:
-        """Whether ``(A, C)`` is observable (exact rank of the observability matrix, cached)."""
+        """Whether ``(A, C)`` is observable (cached): the exact rank of the observability matrix
+        over Q, else no eigenvalue unseen (Hautus), decided per diagonal block of A in its own field."""
         cached = self._cache.get("observable")
         if cached is None:
-            from .exact.linalg import rank
-            obs = sp.Matrix.vstack(*[self.C * self.A ** k for k in range(self.n)])
-            cached = self._cache["observable"] = rank(obs) == self.n
+            if all(sp.sympify(v).is_Rational for M in (self.A, self.C) for v in M):
+                from .exact.linalg import rank
+                cached = rank(sp.Matrix.vstack(*[self.C * self.A ** k for k in range(self.n)])) == self.n
+            else:
+                cached = not any(self.unseen(e) for b in self.eigen_blocks() for e in b.members)
+            self._cache["observable"] = cached
         return cached
 
     def check_detectable(self) -> None:
@@ -279,7 +287,7 @@ class System:
             return
         for block in self.eigen_blocks():
             for lam in block.members:
-                if not block.is_stable and self.unseen(lam.expr):
+                if not block.is_stable and self.unseen(lam):
                     raise UnobservableError(
                         f"the eigenvalue {lam.expr} of A (|lambda| = {block.modulus} >= 1) is not seen by any "
                         "sensor (PBH rank test), so (A, C) is not detectable",
@@ -313,7 +321,7 @@ class System:
                 elif block.defective:
                     out.append((block, f"eigenvalue(s) {names} with Jordan chains and |lambda| = "
                                        f"{block.modulus} < 1: they decay without measurements"))
-                elif any(self.unseen(e.expr) for e in block.members):
+                elif any(self.unseen(e) for e in block.members):
                     out.append((block, f"eigenvalue(s) {names} with |lambda| = {block.modulus} < 1, not all "
                                        "seen by the sensors: detectability suffices"))
             cached = self._cache["set_aside"] = tuple(out)

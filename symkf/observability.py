@@ -30,9 +30,9 @@ import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
 import sympy as sp
 
 from .exact.field import Elem, NumberField
-from .exact.linalg import nullspace_rows, rank_rows
+from .exact.linalg import field_of, nullspace_rows, rank_rows
 from .model import System
-from .spectral import EigenBlock, _eigen_with_factor, eigen_blocks
+from .spectral import EigenBlock, eigen_blocks, eigenvalue_key, factors_in, support
 
 
 @dataclass(frozen=True)
@@ -279,8 +279,10 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
                conjugate_pair: bool = False) -> tuple[NumberField, list[list[Elem]], list[Elem]]:
     """Exact modal form of one eigen-block: field K, eigenvector columns ``T_i`` (n x n_i), ``D_i``.
 
-    K is the smallest field holding the entries of ``A``, of ``extra``
-    matrices (the sensors' C) and the block's eigenvalues.  For an eigenvalue
+    K is the smallest field holding the entries of the diagonal blocks of ``A`` that hold the
+    block's eigenvalues (:func:`symkf.spectral.support`; all of ``A`` for Jordan chains), of
+    ``extra`` matrices (the sensors' C) and the block's eigenvalues: the columns vanish outside
+    those diagonal blocks.  For an eigenvalue
     with Jordan chains the columns span its generalized eigenspace
     ``ker (A - lambda I)^m`` (``D_i`` then holds only its diagonal).  With ``conjugate_pair``
     (see :func:`is_conjugate_pair`) the second eigenvalue ``conj(lambda)`` and its
@@ -291,24 +293,35 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
     not for rows that mix the two classes.
     """
     members = block.members[:1] * 2 if conjugate_pair else block.members
-    gens = [v for M in (A, *extra) for v in M if not sp.sympify(v).is_Rational]
-    gens += [e.expr for e in members if not e.expr.is_Rational]
-    K = NumberField(gens)
     n = A.shape[0]
-    Ak = K.matrix(A)
+    # the eigenvectors live on the diagonal blocks of A holding the members (spectral.support); a
+    # block with Jordan chains keeps all of A, which _jordan_block_rows multiplies by
+    index = list(range(n)) if block.defective else support(A, block.members)
+    sub = A.extract(index, index)
+    K = field_of(sub, *extra)
+    # an eigenvalue with a linear factor over the entries' field is an element of it already
+    inside = {eigenvalue_key(f, i): K.mul(-h[0], K.inv(h[1])) for h, _, roots in factors_in(sub, K) if len(h) == 2
+              for f, i in roots}
+    own = all(e.key in inside for e in members)
+    if not own:
+        K = NumberField([*K.generators, *(e.expr for e in members if not e.expr.is_Rational)])
+    Ak = K.matrix(sub)
+    m = len(index)
     cols: list[list[Elem]] = []
     diag: list[Elem] = []
     for ev in members:
-        lam = K.convert(ev.expr)
-        shifted = [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(n)] for i in range(n)]
+        lam = inside[ev.key] if own else K.convert(ev.expr)
+        shifted = [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(m)] for i in range(m)]
         if ev.defective:
             shifted = _matpow(K, shifted, ev.multiplicity)
-        basis = nullspace_rows(K, shifted, n)
+        basis = nullspace_rows(K, shifted, m)
         if len(basis) != ev.multiplicity:
             raise AssertionError("generalized eigenspace dimension mismatch")  # pragma: no cover
         cols.extend(basis)
         diag.extend([lam] * ev.multiplicity)
-    T = [[cols[c][i] for c in range(len(cols))] for i in range(n)]
+    row_of = {i: r for r, i in enumerate(index)}
+    zero = flint.fmpq_poly([])
+    T = [[cols[c][row_of[i]] if i in row_of else zero for c in range(len(cols))] for i in range(n)]
     return K, T, diag
 
 

@@ -21,17 +21,19 @@ bound).  ``None`` means aperiodic and comes with that proof.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from fractions import Fraction
 from functools import cached_property, lru_cache
 from math import gcd
-from typing import Any
+from typing import Any, Sequence
 
 import flint
 import sympy as sp
 
-from .exact.algebraic import AlgebraicNumber, crootof_ball, fmpz_to_sympy, identify, real_from_ball, root_ball
+from .exact.algebraic import (AlgebraicNumber, _complex_roots, _with_prec, crootof_ball, fmpz_to_sympy, identify,
+                              real_from_ball, root_ball)
 from .exact import nfpoly
 from .exact.field import Elem, NumberField
-from .exact.linalg import field_of, rank_rows
+from .exact.linalg import field_of, rank, rank_rows
 from .exact.numbers import to_exact_matrix
 
 x, y, z = sp.symbols("x y z")
@@ -68,6 +70,45 @@ def _abs_poly(f: tuple[int, ...]) -> flint.fmpz_poly:
     return _resultant_y(f, {(d - k, 2 * k): c for k, c in enumerate(f) if c})
 
 
+def _negated_index(f: flint.fmpz_poly, index: int) -> int:
+    """Index of ``-r`` among the roots of ``f(-x)`` for the real root ``r`` of index ``index`` of
+    ``f``: flint lists real roots first, ascending, so negation reverses them."""
+    reals = sum(1 for r, _ in f.complex_roots() if r.imag == 0)
+    return reals - 1 - index
+
+
+def _rational_norm(lam: "Eigenvalue") -> Fraction | None:
+    """``rho = lambda conj(lambda)`` when it is rational and ``x^d f(rho/x)`` is proportional to the
+    minimal polynomial ``f`` (all conjugates then pair as ``mu, rho/mu``, e.g. ``r zeta`` with
+    ``r^2`` rational); else None.  Exact: the coefficients ``a_k rho^k = c a_(d-k)`` make
+    ``rho/lambda`` a root of ``f``, and its certified ball meets the isolating ball of
+    ``conj(lambda)`` only, so ``rho/lambda = conj(lambda)``."""
+    a = [int(c) for c in lam.minpoly.coeffs()]
+    d = len(a) - 1
+    if a[0] == 0:
+        return None
+    c = Fraction(a[0], a[d])
+    num, den = (c * c).numerator, (c * c).denominator
+    p, exact_p = sp.integer_nthroot(num, d)
+    q, exact_q = sp.integer_nthroot(den, d)
+    if not (exact_p and exact_q):
+        return None
+    for sign in (1, -1) if d % 2 == 0 else (1,):
+        rho = Fraction(int(p), int(q)) * sign
+        if rho > 0 and all(a[k] * rho ** k == c * a[d - k] for k in range(d + 1)):
+            break
+    else:
+        return None
+    for prec in (64, 256, 1024):
+        roots = _complex_roots(tuple(a), prec)
+        image = _with_prec(prec, lambda: flint.acb(rho.numerator) / flint.acb(rho.denominator) / roots[lam.root_index])
+        conj = roots[lam.root_index].conjugate()
+        hits = [i for i, r in enumerate(roots) if r.overlaps(image)]
+        if len(hits) == 1:
+            return rho if [i for i, r in enumerate(roots) if r.overlaps(conj)] == hits else None
+    return None
+
+
 @dataclass(frozen=True, eq=False)
 class Eigenvalue:
     """An eigenvalue: root ``root_index`` of the irreducible ``minpoly`` (over Q)."""
@@ -91,7 +132,7 @@ class Eigenvalue:
     def expr(self) -> sp.Expr:
         """The eigenvalue as an exact sympy expression (``alpha exp(2 pi i k/m)`` when periodic)."""
         f = self.minpoly
-        if f.degree() > 2 and not f.is_cyclotomic():
+        if f.degree() > 2 and not f.is_cyclotomic() and not _cosine_order(f):
             m, _ = _phase_order(self)
             if m is not None:
                 alpha = self.modulus.exact
@@ -104,6 +145,17 @@ class Eigenvalue:
         return root_ball(self.minpoly, self.root_index, prec)
 
     @property
+    def key(self) -> tuple[tuple[int, ...], int]:
+        """The eigenvalue as a hashable key: (minimal polynomial coefficients, root index)."""
+        return eigenvalue_key(self.minpoly, self.root_index)
+
+    @property
+    def is_real(self) -> bool:
+        """Whether the eigenvalue is real (flint isolates the real roots of an integer polynomial
+        with an exactly zero imaginary part)."""
+        return self.ball(64).imag == 0
+
+    @property
     def label(self) -> str:
         """The exact form when it is short, else the root's approximate value and minimal polynomial."""
         if self.minpoly.degree() <= 2 or self.minpoly.is_cyclotomic():
@@ -113,10 +165,21 @@ class Eigenvalue:
 
     @cached_property
     def modulus(self) -> AlgebraicNumber:
-        """``|lambda|`` exactly."""
+        """``|lambda|`` exactly: ``+-lambda`` for a real eigenvalue, ``sqrt(rho)`` when
+        ``lambda conj(lambda) = rho`` is rational (:func:`_rational_norm`), else a root of the
+        resultant :func:`_abs_poly` (degree ``2 d^2`` for ``d = deg lambda``)."""
         if self.is_zero:
             return AlgebraicNumber.from_expr(sp.Integer(0))
-        poly, idx = identify(_abs_poly(tuple(int(c) for c in self.minpoly.coeffs())),
+        f = self.minpoly
+        ball = self.ball(64)
+        if self.is_real:
+            g = f if ball.real > 0 else flint.fmpz_poly([(-1) ** k * int(c) for k, c in enumerate(f.coeffs())])
+            return real_from_ball(g if g.leading_coefficient() > 0 else -g, self.root_index if ball.real > 0
+                                  else _negated_index(f, self.root_index))
+        rho = _rational_norm(self)
+        if rho is not None:
+            return AlgebraicNumber(flint.fmpz_poly([-rho.numerator, 0, rho.denominator]), 1)
+        poly, idx = identify(_abs_poly(tuple(int(c) for c in f.coeffs())),
                              lambda prec: flint.acb(abs(self.ball(prec))), "modulus")
         return real_from_ball(poly, idx)
 
@@ -148,6 +211,9 @@ def root_of_unity_order(num: Eigenvalue, den: Eigenvalue, conj_den: bool = False
 
     ``.order`` is None when the ratio is not a root of unity; ``str()`` of the result is the proof.
     """
+    if num.is_real and den.is_real and num.modulus == den.modulus:  # num/den = +-1, no resultant
+        sign = 1 if (num.ball(64).real > 0) == (den.ball(64).real > 0) else -1
+        return RatioEvidence(num, den, conj_den, flint.fmpz_poly([-sign, 1]), 1 if sign > 0 else 2)
     fa = tuple(int(c) for c in num.minpoly.coeffs())
     fb = tuple(int(c) for c in den.minpoly.coeffs())
 
@@ -246,9 +312,30 @@ def _nice_expr(f: flint.fmpz_poly, idx: int) -> sp.Expr:
         cands = [sp.exp(2 * sp.pi * sp.I * sp.Rational(k, m)) for k in range(m) if gcd(k, m) == 1]
     elif p.degree() == 2:
         cands = list(sp.roots(p, x))
+    elif _cosine_order(f):
+        m = _cosine_order(f)
+        cands = [sp.cos(2 * sp.pi * sp.Rational(k, m)) for k in range(m // 2 + 1) if gcd(k, m) == 1]
     else:
         cands = [sp.CRootOf(p.as_expr(), x, k) for k in range(p.degree())]
     return _match(target, cands)
+
+
+def _cosine_order(f: flint.fmpz_poly) -> int:
+    """``m`` when the roots of ``f`` are the ``cos(2 pi k/m)``, ``gcd(k, m) = 1`` (then ``2 x`` is a
+    root of the minimal polynomial ``g`` of ``2 cos(2 pi/m)`` and ``x^d g(x + 1/x)`` is the
+    cyclotomic ``Phi_m``), else 0: such eigenvalues get their trigonometric form, which
+    :class:`~symkf.exact.field.NumberField` presents cheaply by ``2 cos(2 pi/m)``."""
+    d = f.degree()
+    c = [int(v) for v in f.coeffs()]
+    if c[d] & (c[d] - 1):  # the leading coefficient of a cosine's polynomial is a power of 2
+        return 0
+    g = [c[k] * 2 ** (d - k) for k in range(d + 1)]  # 2^d f(x/2), monic times c[d]
+    if any(v % c[d] for v in g):
+        return 0
+    g = [v // c[d] for v in g]
+    t = flint.fmpz_poly([1, 0, 1])  # x^2 + 1: x^d g(x + 1/x) = sum g_k (x^2 + 1)^k x^(d - k)
+    h = sum((g[k] * t ** k * flint.fmpz_poly([0, 1]) ** (d - k) for k in range(d + 1)), flint.fmpz_poly([]))
+    return int(h.is_cyclotomic())
 
 
 def _match(target: flint.acb, cands: list[sp.Expr]) -> sp.Expr:
@@ -315,23 +402,52 @@ def _maybe_root(h: list[Elem], mpoly: flint.fmpz_poly, t_idx: int, g: flint.fmpz
     return True
 
 
+def _poly_at(K: NumberField, Ak: list[list[Elem]], h: list[Elem]) -> list[list[Elem]]:
+    """``h(A)`` over K by Horner (``h`` from the constant coefficient up)."""
+    n = len(Ak)
+    H = [[h[-1] if i == j else flint.fmpq_poly([]) for j in range(n)] for i in range(n)]
+    for c in reversed(h[:-1]):
+        H = [[(K.dot(H[i], [Ak[k][j] for k in range(n)]) + (c if i == j else 0)) % K.modulus
+              for j in range(n)] for i in range(n)]
+    return H
+
+
 def _geometric_multiplicities(A: sp.MatrixBase, K: NumberField, factors) -> list[int | None]:
     """Per factor ``h`` of the characteristic polynomial with multiplicity ``e > 1``, the dimension
     of each root's eigenspace, ``(n - rank h(A)) / deg h``; None for simple factors."""
     n = A.shape[0]
     Ak = K.matrix(A)
-    out: list[int | None] = []
-    for h, e, roots in factors:
-        if e == 1:
-            out.append(None)
-            continue
-        # h(A) by Horner
-        H = [[h[-1] if i == j else flint.fmpq_poly([]) for j in range(n)] for i in range(n)]
-        for c in reversed(h[:-1]):
-            H = [[(K.dot(H[i], [Ak[k][j] for k in range(n)]) + (c if i == j else 0)) % K.modulus
-                  for j in range(n)] for i in range(n)]
-        out.append((n - rank_rows(K, H, n)) // (len(h) - 1))
-    return out
+    return [None if e == 1 else (n - rank_rows(K, _poly_at(K, Ak, h), n)) // (len(h) - 1)
+            for h, e, _ in factors]
+
+
+def diagonal_blocks(A: sp.MatrixBase) -> list[list[int]]:
+    """The index sets of the diagonal blocks of ``A`` up to a symmetric permutation: the connected
+    components of the graph with an edge ``i - j`` when ``A_ij != 0`` or ``A_ji != 0``.  ``A`` is
+    their direct sum, so its eigenvalues, eigenspaces and Jordan chains are theirs, and each block
+    is decided in the field of its own entries instead of the compositum of all of them (a stack of
+    rotations in four cyclotomic fields)."""
+    n = A.shape[0]
+    parent = list(range(n))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+    for i in range(n):
+        for j in range(i + 1, n):
+            if A[i, j] != 0 or A[j, i] != 0:
+                parent[root(i)] = root(j)
+    groups: dict[int, list[int]] = {}
+    for i in range(n):
+        groups.setdefault(root(i), []).append(i)
+    return list(groups.values())
+
+
+def eigenvalue_key(f: flint.fmpz_poly, i: int) -> tuple[tuple[int, ...], int]:
+    """Root ``i`` (flint's ordering) of the irreducible ``f`` as a hashable key."""
+    return tuple(int(c) for c in f.coeffs()), i
 
 
 def eigenvalues(A: Any) -> list[Eigenvalue]:
@@ -364,21 +480,87 @@ def eigenvalues(A: Any) -> list[Eigenvalue]:
     [(1, 2)]
     """
     A = sp.Matrix(to_exact_matrix(A, "A"))
-    return [ev for ev, _ in _eigen_with_factor(A)]
+    return _eigenvalues(A)
 
 
-def _eigen_with_factor(A: sp.Matrix, jordan: bool = False) -> list[tuple[Eigenvalue, int]]:
+def _eigenvalues(A: sp.Matrix, jordan: bool = False) -> list[Eigenvalue]:
+    """The eigenvalues of ``A``, block by block (:func:`diagonal_blocks`); an eigenvalue of several
+    blocks has the sum of their (algebraic and geometric) multiplicities."""
     if A.shape[0] != A.shape[1]:
         from .errors import ShapeError
         raise ShapeError(f"A: must be square, got {A.shape[0]}x{A.shape[1]}")
-    K = field_of(A)
-    factors = _factor_charpoly(A, K)
-    geometric = _geometric_multiplicities(A, K, factors) if jordan else [None] * len(factors)
-    out = []
-    for fi, ((h, e, roots), geo) in enumerate(zip(factors, geometric)):
-        for f, i in roots:
-            out.append((Eigenvalue(f, i, e, geo), fi))
-    return out
+    found: dict[tuple[tuple[int, ...], int], list] = {}
+    for index in diagonal_blocks(A):
+        for f, i, e, geo in _block_spectrum(sp.ImmutableMatrix(A.extract(index, index)), jordan):
+            entry = found.setdefault(eigenvalue_key(f, i), [f, i, 0, 0])
+            entry[2] += e
+            entry[3] += e if geo is None else geo
+    return [Eigenvalue(f, i, e, None if geo == e else geo) for f, i, e, geo in found.values()]
+
+
+@lru_cache(maxsize=256)
+def _block_spectrum(sub: sp.ImmutableMatrix, jordan: bool) -> tuple[tuple[flint.fmpz_poly, int, int, int | None], ...]:
+    """(minimal polynomial, root index, multiplicity, eigenspace dimension or None) of each
+    eigenvalue of one diagonal block, in the field of its entries."""
+    K = field_of(sub)
+    factors = factors_in(sub, K)
+    geometric = _geometric_multiplicities(sub, K, factors) if jordan else [None] * len(factors)
+    return tuple((f, i, e, geo) for (_, e, roots), geo in zip(factors, geometric) for f, i in roots)
+
+
+def factors_in(A: sp.MatrixBase, K: NumberField) -> tuple:
+    """:func:`_factor_charpoly` of ``A`` over ``K``, cached (the spectrum, the PBH test and the
+    modal form of one diagonal block factor over the same field)."""
+    return _factors_over(sp.ImmutableMatrix(A), K.generators)
+
+
+@lru_cache(maxsize=256)
+def _factors_over(A: sp.ImmutableMatrix, generators: tuple[sp.Expr, ...]) -> tuple:
+    return tuple(_factor_charpoly(A, NumberField(generators)))
+
+
+def support(A: sp.MatrixBase, members: Sequence[Eigenvalue]) -> list[int]:
+    """The coordinates of the diagonal blocks of ``A`` that have one of ``members`` as an
+    eigenvalue: the eigenvectors of ``members`` vanish outside them."""
+    keys = {e.key for e in members}
+    return sorted(i for index in diagonal_blocks(A)
+                  if keys & {eigenvalue_key(f, j) for f, j, _, _ in _block_spectrum(sp.ImmutableMatrix(A.extract(index, index)), True)}
+                  for i in index)
+
+
+def unseen(A: sp.MatrixBase, C: sp.MatrixBase) -> frozenset[tuple[tuple[int, ...], int]]:
+    """The eigenvalues of ``A`` with an eigenvector in ``ker C`` (PBH), as keys (minimal polynomial
+    coefficients, root index).
+
+    Per diagonal block ``A_b`` (columns ``C_b``), in the field K of the entries of ``A_b`` and
+    ``C_b``: the roots of an irreducible factor ``h`` over K of the characteristic polynomial are
+    conjugate over K, so all or none are unseen, and some is iff ``ker h(A_b)`` meets the
+    unobservable subspace ``ker col{C_b, C_b A_b, ..., C_b A_b^(n_b - 1)}`` (A_b-invariant):
+    iff ``rank col{h(A_b), C_b, ..., C_b A_b^(n_b - 1)} < n_b``.  An eigenvalue seen in each of
+    several blocks may still be unseen jointly; it is tested on the whole of ``A`` and ``C``."""
+    out: set = set()
+    blocks_of: dict = {}
+    for index in diagonal_blocks(A):
+        sub, Cb = A.extract(index, index), C.extract(list(range(C.rows)), index)
+        K = field_of(sub, Cb)
+        Ak = K.matrix(sub)
+        rows = K.matrix(Cb)
+        observability = []
+        for _ in range(len(index)):
+            observability += rows
+            rows = [K.vecmat(r, Ak) for r in rows]
+        for h, _, roots in factors_in(sub, K):
+            keys = [eigenvalue_key(f, i) for f, i in roots]
+            if rank_rows(K, _poly_at(K, Ak, h) + observability, len(index)) < len(index):
+                out.update(keys)
+            for k in keys:
+                blocks_of[k] = blocks_of.get(k, 0) + 1
+    for k, count in blocks_of.items():
+        if count > 1 and k not in out:
+            lam = Eigenvalue(flint.fmpz_poly(list(k[0])), k[1], 1).expr
+            if rank(sp.Matrix.vstack(A - lam * sp.eye(A.shape[0]), C)) < A.shape[0]:
+                out.add(k)
+    return frozenset(out)
 
 
 def eigen_blocks(A: Any) -> tuple[EigenBlock, ...]:
@@ -425,7 +607,7 @@ def eigen_blocks(A: Any) -> tuple[EigenBlock, ...]:
     [2, 1/2]
     """
     A = sp.Matrix(to_exact_matrix(A, "A"))
-    evs = [ev for ev, _ in _eigen_with_factor(A, jordan=True)]
+    evs = _eigenvalues(A, jordan=True)
     groups: list[list[Eigenvalue]] = []
     for ev in evs:
         for g in groups:

@@ -32,7 +32,8 @@ R = TypeVar("R")
 
 
 def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, scheduler: Any = None,
-          progress: bool | None = None, desc: str = "symkf sweep") -> list[R]:
+          progress: bool | None = None, desc: str = "symkf sweep",
+          cost: Callable[[T], float] | None = None) -> list[R]:
     """``[function(t) for t in tasks]``, serially, on ``jobs`` local processes, or on Dask.
 
     ``scheduler`` is a Dask scheduler address (``"tcp://host:8786"``) or a
@@ -55,6 +56,10 @@ def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, sche
         environment sets ``TQDM_DISABLE``; :func:`symkf.progress.progress`).
     desc : str, default "symkf sweep"
         The bar's label.
+    cost : callable, optional
+        An estimate of each task's work: local processes start the costliest first (longest
+        processing time first, so no worker is left with one long task at the end); the results
+        keep the order of ``tasks``.
 
     Returns
     -------
@@ -94,7 +99,8 @@ def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, sche
                 out.append(function(t))
                 bar.update()
         return out
-    return _processes(_Limited(function, dataclasses.asdict(budget.LIMITS)), tasks, jobs, progress, desc)
+    order = sorted(range(len(tasks)), key=lambda i: -cost(tasks[i])) if cost else range(len(tasks))
+    return _processes(_Limited(function, dataclasses.asdict(budget.LIMITS)), tasks, order, jobs, progress, desc)
 
 
 @dataclass(frozen=True)
@@ -110,11 +116,13 @@ class _Limited:
             return self.function(task)
 
 
-def _processes(function: Callable, tasks: Sequence, jobs: int, progress: bool | None, desc: str) -> list:
+def _processes(function: Callable, tasks: Sequence, order: Iterable[int], jobs: int, progress: bool | None,
+               desc: str) -> list:
+    """The tasks submitted in ``order`` (workers take them first come, first served)."""
     results: list[Any] = [None] * len(tasks)
     with ProcessPoolExecutor(max_workers=min(jobs, len(tasks))) as pool, \
             progress_bar(len(tasks), desc, enabled=progress) as bar:
-        futures = {pool.submit(function, t): i for i, t in enumerate(tasks)}
+        futures = {pool.submit(function, tasks[i]): i for i in order}
         for f in as_completed(futures):
             results[futures[f]] = f.result()
             bar.update()

@@ -319,16 +319,42 @@ def test_symbol_errors_are_symkf_errors():
     assert issubclass(BudgetError, SymkfError)
 
 
-def test_field_of_a_matrix_is_budgeted():
-    """Six distinct square roots on a diagonal: each entry has degree 2, the field of the entries
-    2^6 = 64, its eigen-extension bound 6 * 64 = 384 > 64.  A rotation by pi/7 (cos and sin in
-    Q(zeta_28), phi(28) = 12) has bound 2 * 12 = 24 and passes."""
+def test_field_of_a_matrix_is_budgeted_per_diagonal_block():
+    """Six distinct square roots on a diagonal: six 1x1 blocks, each decided in its own field of
+    degree 2, so the system is accepted; its critical loss rate is 1/13 (one sensor sees every
+    mode; the largest |lambda|^2 = 13 decides: 13 * loss < 1).  Coupled by a superdiagonal of
+    ones the six form one block: the entries' field 2^6 = 64 times size 6 is 384 > 64.  A rotation
+    by pi/7 (cos and sin in Q(zeta_28), phi(28) = 12) is a rotation block of cyclotomic degree 12."""
     primes = (2, 3, 5, 7, 11, 13)
-    with pytest.raises(BudgetError, match="is 384, above the cap 64"):
-        sk.System([[f"sqrt({p})" if i == j else 0 for j in range(6)] for i, p in enumerate(primes)],
+    S = sk.System([[f"sqrt({p})" if i == j else 0 for j in range(6)] for i, p in enumerate(primes)],
+                  [sk.Sensor([[1] * 6])])
+    assert sk.critical_loss_rate(S).exact == sp.Rational(1, 13)
+    with pytest.raises(BudgetError, match=r"diagonal block rows 1-6 .* is 384, above the cap 64.*--max-degree"):
+        sk.System([[f"sqrt({p})" if i == j else int(j == i + 1) for j in range(6)] for i, p in enumerate(primes)],
                   [sk.Sensor([[1] * 6])])
     S = sk.System([["2*cos(pi/7)", "-2*sin(pi/7)"], ["2*sin(pi/7)", "2*cos(pi/7)"]], [sk.Sensor([[1, 0]])])
     assert S.n == 2
+
+
+def test_cyclotomic_rotations_pass_the_default_caps():
+    """Rotation blocks of trigonometric constants stay in Q(zeta_m) (m = 4q): 2R(2 pi/97) has
+    cyclotomic degree phi(388) = 192 <= 256 and is decided, to the value the engine gave before the
+    cost model with --max-degree raised (2^(192/193)/4); 2R(2 pi/359) has phi(1436) = 716 > 256.  A 1x1 cos(pi/97)
+    is its own eigenvalue (real, modulus cos(pi/97) < 1: stable for every loss rate).  The same
+    constants off the rotation pattern give eigenvalues of degree up to 2 * 192 in a generic
+    extension: refused under max_degree, at once."""
+    rot = lambda t: [[f"2*cos({t})", f"-2*sin({t})"], [f"2*sin({t})", f"2*cos({t})"]]  # noqa: E731
+    S = sk.System(rot("2*pi/97"), [sk.Sensor([[1, 0]]), sk.Sensor([[0, 1]])])
+    assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(192, 193) / 4
+    with pytest.raises(BudgetError, match="is 716, above the cap 256.*--max-cyclotomic-degree"):
+        sk.System(rot("2*pi/359"), [sk.Sensor([[1, 0]])])
+    assert sk.critical_loss_rate(sk.System([["cos(pi/97)"]], [sk.Sensor([[1]])])).exact == 1
+    with pytest.raises(BudgetError, match="is 384, above the cap 64.*--max-degree"):
+        sk.System([["cos(2*pi/97)", 1], [1, "sin(2*pi/97)"]], [sk.Sensor([[1, 0]])])
+    # +-i cos(pi/97): a complex eigenvalue of degree 96 whose squared modulus cos(pi/97)^2 is
+    # irrational, so |lambda| needs a resultant of degree 2 * 96^2: generic, refused
+    with pytest.raises(BudgetError, match="is 384, above the cap 64.*--max-degree"):
+        sk.System([[0, "-cos(pi/97)"], ["cos(pi/97)", 0]], [sk.Sensor([[1, 0]])])
 
 
 def test_family_members_budgeted(tmp_path):

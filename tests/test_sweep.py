@@ -120,3 +120,19 @@ def test_workers_run_under_the_callers_caps():
     with budget.limits(max_degree=200):
         assert sweep(_max_degree, range(3), jobs=2, progress=False) == [200, 200, 200]
     assert sweep(_max_degree, range(3), jobs=2, progress=False) == [budget.Limits.max_degree] * 3
+
+
+def _started(task: int) -> tuple[int, float]:
+    import time
+    start = time.monotonic()  # CLOCK_MONOTONIC: one clock for all processes of the machine
+    time.sleep(0.2)
+    return -task, start
+
+
+def test_costliest_tasks_start_first_and_results_keep_their_order():
+    """With ``cost``, local processes take the tasks by decreasing cost (1 and 0 wait for a free
+    worker, so they start >= 0.2 s after 3 and 2); the results stay in task order."""
+    out = sweep(_started, range(4), jobs=2, progress=False, cost=lambda t: t)
+    assert [v for v, _ in out] == [0, -1, -2, -3]
+    starts = [s for _, s in out]
+    assert min(starts[0], starts[1]) >= max(starts[2], starts[3]) + 0.15
