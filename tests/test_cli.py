@@ -55,7 +55,7 @@ def test_verify_stable_agrees(capsys):
     assert rep["theory"]["critical_common_loss_rate"]["exact"] == "1/16"
     sim = rep["simulation"]
     assert sim["verdict"] == "stable" and rep["outcome"] == "consistent"
-    assert sim["seeds"] == [3, 4] and sim["paths"] == 5000 and sim["horizons"] == [60, 120]
+    assert sim["seeds"] == [3, 4, 5] and sim["paths"] == 5000 and sim["horizons"] == [40, 80, 120]
     assert "losing [[], ['s1']] per phase" in sim["sampling"]   # lose s1 at one phase of the period 2
 
 
@@ -78,13 +78,13 @@ def test_verify_long_bursts_do_not_break_down(capsys, tmp_path):
     status, out, _ = run(capsys, "verify", path, "--json", "--paths", "5000", "--horizon", "60")
     rep = json.loads(out)
     assert status == 0 and rep["theory"]["stable"] is True and rep["theory"]["margins"][0]["exact"] == "sqrt(6)/3"
-    assert rep["simulation"]["horizons"] == [30, 60]
+    assert rep["simulation"]["horizons"] == [20, 40, 60]
     assert rep["simulation"]["verdict"] == "stable" and rep["outcome"] == "consistent"
 
 
 def test_verify_plain_text(capsys):
     status, out, _ = run(capsys, "verify", DESIGN, "--paths", "2000")
-    assert status == 0 and "theory:     stable" in out and "CONSISTENT" in out and "seeds [0, 1]" in out
+    assert status == 0 and "theory:     stable" in out and "CONSISTENT" in out and "seeds [0, 1, 2]" in out
 
 
 def test_verify_gilbert_elliott_rate(capsys):
@@ -103,8 +103,8 @@ def test_verify_disagreement_has_its_own_status(capsys, monkeypatch):
 
     def contrary(system, loss, v, **kw):
         return {"method": "stub", "verdict": "unstable" if v.stable else "stable", "rate": 1.5,
-                "rate_interval": [1.4, 1.6], "confidence": 0.99, "tolerance": 0.01, "paths": 1,
-                "horizons": [60, 120], "seeds": [0, 1]}
+                "rate_interval": [1.4, 1.6], "growth": 1.5, "growth_interval": [1.4, 1.6], "confidence": 0.99,
+                "tolerance": 0.01, "paths": 1, "horizons": [40, 80, 120], "seeds": [0, 1, 2]}
     monkeypatch.setattr(verify, "simulated_verdict", contrary)
     status, out, _ = run(capsys, "verify", DESIGN, "--json")
     assert status == 1 and json.loads(out)["outcome"] == "contradiction"

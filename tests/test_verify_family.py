@@ -57,11 +57,11 @@ def test_members_report_hand_derived_theory_and_agree(serial):
 
 
 def test_seeds_follow_member_index(path, serial):
-    # member i runs with seeds seed + 2i, seed + 2i + 1: its report is verify()'s with that seed
-    assert [r["seed"] for r in serial] == [7, 9, 11]
-    assert [r["simulation"]["seeds"] for r in serial] == [[7, 8], [9, 10], [11, 12]]
+    # member i runs with seeds seed + 3i .. seed + 3i + 2: its report is verify()'s with that seed
+    assert [r["seed"] for r in serial] == [7, 10, 13]
+    assert [r["simulation"]["seeds"] for r in serial] == [[7, 8, 9], [10, 11, 12], [13, 14, 15]]
     system, loss = load_family(path).members[1].system()
-    alone = verify(system, loss, seed=9, **RUN)
+    alone = verify(system, loss, seed=10, **RUN)
     assert {k: serial[1][k] for k in alone} == alone
 
 
@@ -108,7 +108,7 @@ def test_cli_plain_json_and_disagreement_status(path, serial, capsys, monkeypatc
     assert cli.main(argv + ["--jobs", "2"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert len(lines) == 4 and lines[0].startswith("eps = 1/50") and lines[0].endswith("CONSISTENT")
-    assert "seeds [9, 10]" in lines[1] and lines[3] == ("3 members: 3 consistent, 0 undecided, 0 contradiction, "
+    assert "seeds [10, 11, 12]" in lines[1] and lines[3] == ("3 members: 3 consistent, 0 undecided, 0 contradiction, "
                                                         "0 inapplicable, 0 breakdown")
 
     import symkf.verify as verify_module
