@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import time
 from fractions import Fraction
 
@@ -136,8 +135,9 @@ def main() -> None:
                      "rate": sim["rate"], "interval": interval, "growth": sim["growth_interval"],
                      "horizons": sim["horizons"], "outcome": rep["outcome"],
                      "covered": None if interval is None else interval[0] <= m <= interval[1],
+                     "fieller": sim["fieller_interval"], "allowance": sim["allowance"],
                      "covered_fieller": None if interval is None else
-                     interval[0] * math.exp(sim["allowance"]) <= m <= interval[1],
+                     sim["fieller_interval"][0] <= m <= sim["fieller_interval"][1],
                      "cpu": time.process_time() - t})
         shown = "not resolved" if interval is None else f"{sim['rate']:.5f} [{interval[0]:.5f}, {interval[1]:.5f}]"
         print(f"{i:4d} {kind:16s} {str(off):>6s} A = {system.A.tolist()} margin {m:.5f} estimate {shown} "

@@ -20,6 +20,8 @@ from symkf.stability import stability
 
 TRI = System(A=[["5/4", 0], [1, "11/10"]], sensors=[Sensor(C=[[1, 1]])])     # eps_c = 16/25
 ROT = System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]])])               # eps_c = 1/16
+#: the property tests' simulation seed; checked with SYMKF_TEST_SEED = 0..19 before landing
+SEED = int(os.environ.get("SYMKF_TEST_SEED", "0"))
 COMPLEX = System(A=[["2*exp(I*pi/3)", 0], [0, "1/2"]], sensors=[Sensor(C=[[1, 1]])])
 
 
@@ -64,7 +66,8 @@ EXACT9 = exact_mean_trace(TRI, LOSS, 9)
 
 
 def test_plain_monte_carlo_coverage():
-    cov = _coverage([estimate_mean_trace(TRI, LOSS, 9, 1000, seed=s) for s in range(200)], EXACT9[-1])
+    cov = _coverage([estimate_mean_trace(TRI, LOSS, 9, 1000, seed=s) for s in range(200 * SEED, 200 * SEED + 200)],
+                    EXACT9[-1])
     assert 0.88 <= cov <= 0.99
 
 
@@ -99,8 +102,6 @@ def _verdict(system, eps, seed, **kw):
     return divergence_test(system, IID([eps] * system.d), seed=seed, **kw)
 
 
-#: the property tests' simulation seed; checked with 0..20 before landing (SYMKF_TEST_SEED=k)
-SEED = int(os.environ.get("SYMKF_TEST_SEED", "0"))
 SETTINGS = settings(derandomize=True, max_examples=4, deadline=None)
 
 
@@ -151,9 +152,11 @@ def test_diagonal_one_sensor_per_mode(case):
 
 def test_design_example_rate_matches_exact():
     for eps, verdict in (("3/64", "stable"), ("5/64", "unstable")):
-        r = _verdict(ROT, eps, 0, pattern=[[0], []], growth=16, exact_rate=4 * sp.sqrt(sp.Rational(eps)))
-        assert r.verdict == verdict
-        if verdict == "unstable":
+        r = _verdict(ROT, eps, SEED, pattern=[[0], []], growth=16, exact_rate=4 * sp.sqrt(sp.Rational(eps)))
+        # the margin 4 sqrt(eps) (hand-derived: period-2 bursts lose one phase) inside the margin
+        # interval: always resolved when unstable, and when resolved below the threshold too
+        assert r.verdict == verdict and (r.rate is not None or verdict == "stable")
+        if r.rate is not None:
             assert r.rate_low <= r.exact_rate <= r.rate_high
 
 
@@ -248,3 +251,62 @@ def test_traces_too_large_for_memory_are_refused_before_allocation():
     S = System(A=[[2]], sensors=[Sensor(C=[[1]])])
     with pytest.raises(BudgetError, match=r"paths x horizon: the bytes .* above the cap .*--max-memory"):
         simulate_traces(S, IID(["1/2"]), horizon=10 ** 5, paths=10 ** 6, seed=0)
+
+
+# ------------------------------------------------- the margin from three horizons
+
+def _estimates(values, rel, horizons):
+    from symkf.montecarlo import LogMeanEstimate
+    return [LogMeanEstimate(float(np.log(v)), rel, 1000.0, 1000, k, None, "synthetic")
+            for v, k in zip(values, horizons)]
+
+
+@pytest.mark.parametrize("m, a, b", [(1.02, 60.0, -50.0), (1.05, 1.0, 30.0), (0.97, -40.0, 41.0), (0.9, 5.0, 2.0)])
+def test_difference_ratio_removes_the_bounded_part(m, a, b):
+    # E_k = a m^k + b exactly (unstable: b < 0 is the geometric tail of shorter bursts; stable:
+    # E_k rising to its limit b): the difference ratio gives m to rounding, the finite-horizon
+    # rate (E_3h / E_h)^(1/2h) does not
+    from symkf.montecarlo import margin_interval, rate_interval
+    ks = (40, 80, 120)
+    runs = _estimates([a * m ** k + b for k in ks], 1e-12, ks)
+    rate, low, high = margin_interval(runs, 0.99)
+    assert rate == pytest.approx(m, rel=1e-9) and low <= m * (1 + 1e-9) and m <= high * (1 + 1e-9)
+    assert high - low < 1e-6
+    assert abs(rate_interval(runs[0], runs[2], 0.99)[0] - m) > 1e-3
+
+
+def test_margin_not_resolved_when_noise_hides_the_change():
+    from symkf.montecarlo import margin_interval
+    runs = _estimates([10.0, 10.01, 10.02], 0.01, (40, 80, 120))     # D_1 = 0.01 against sd 0.14
+    assert margin_interval(runs, 0.99) is None
+
+
+def test_fieller_interval_covers_at_the_nominal_level():
+    # independent normal E_k around a m^k + b with the stated standard deviations: the 99 %
+    # interval must cover m in 99 % of 4000 draws (binomial sd 0.16 %: 98.4 % is 4 sd below)
+    from symkf.montecarlo import margin_interval
+    rng = np.random.default_rng(12345 + SEED)
+    ks, m, rel = (24, 48, 72), 1.01, 0.01
+    true = np.array([10 * m ** k - 3 for k in ks])
+    hits = resolved = 0
+    for _ in range(4000):
+        draw = true * (1 + rel * rng.standard_normal(3))
+        r = margin_interval(_estimates(draw, rel, ks), 0.99)
+        if r is not None:
+            resolved += 1
+            hits += r[1] <= m <= r[2]
+    assert resolved > 3900 and hits / resolved > 0.984
+
+
+@pytest.mark.parametrize("m", [1.001, 1.02, 1.3, 3.0])
+@pytest.mark.parametrize("k, h", [(40, 40), (24, 24), (60, 30)])
+def test_one_factor_k_moves_the_ratio_by_at_most_the_allowance(m, k, h):
+    # E_k = (a + c k) m^k + b with a, c >= 0 (polynomial_allowance's derivation): the ratio's
+    # log m lies in [ln m, ln m + allowance], with the upper end reached by the pure k m^k term
+    # only in the limit; brute force over the weights
+    from symkf.montecarlo import polynomial_allowance
+    allowance = polynomial_allowance((k, k + h, k + 2 * h))
+    for a, c in [(1, 0), (0, 1), (1, 1), (1, 0.01), (0.01, 1), (5, 0.2)]:
+        E = [(a + c * j) * m ** j - 7 for j in (k, k + h, k + 2 * h)]
+        log_ratio = np.log((E[2] - E[1]) / (E[1] - E[0])) / h
+        assert np.log(m) - 1e-12 <= log_ratio <= np.log(m) + allowance + 1e-12
