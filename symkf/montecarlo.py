@@ -658,25 +658,44 @@ def margin_interval(runs: Sequence[LogMeanEstimate], confidence: float) -> tuple
     return (d2 / d1) ** (1 / h), max(lo, 0.0) ** (1 / h), hi ** (1 / h)
 
 
-def polynomial_allowance(horizons: Sequence[int]) -> float:
-    """``ln((k + 2h) / (k + h)) / h``: how far one factor ``k`` can move the difference ratio's ``log m``.
+def polynomial_degree(system: System, verdict) -> int:
+    """How many factors ``k`` the mean may carry: ``E_k ~ k^p m^k``, ``p <= 2 (s - 1) + 1``.
 
-    With ``E_k = (a + c k) m^k + b`` (``a, c >= 0``; ``c > 0`` where ``E_k`` carries a factor
-    ``k``, seen for limiting blocks with several eigenvalues of one modulus and long periods),
-    ``D_j = m^(k + jh) (a (m^h - 1) + c ((k + (j+1) h) m^h - (k + jh)))`` and for ``m > 1``
-    ``m^h <= D_2 / D_1 <= m^h (k + 2h) / (k + h)`` (the ratio of the ``c`` terms is below
-    ``(k + 2h) / (k + h)`` by ``h^2`` in the cross-multiplied form, and above 1 since ``m^h > 1``;
-    the ``a`` terms have ratio exactly ``m^h``; a sum lies between its parts' ratios).  This
-    bias is upward: the interval's lower end is lowered by this much.  The upper end is
-    raised by the same amount, which is *not* derived: a subdominant term of positive weight
-    decaying slowly against ``m^k`` biases the ratio down; measured on ``ge-recovery.toml``'s
-    member recover = 1/4 (``m = 2.3717``, effective sample sizes below 100): -0.3 % to -0.5 %
-    at ``h = 40`` with 15 000 to 80 000 paths, -0.17 % at ``h = 60``, against an allowance of
-    1.0 % at ``h = 40``.
+    ``s`` bounds the longest Jordan chain of the limiting block (multiplicity minus
+    eigenvectors plus one): ``A^k`` has entries ``~ k^(s-1) alpha^k``, so ``P`` grows like
+    ``k^(2(s-1))`` inside a burst; the ``+ 1`` is the one factor ``k`` seen for diagonalizable
+    blocks (the position of a single reception a deficient pattern may contain, as in
+    ``P(at most one reception in N steps) = eps^N + N (1 - eps) eps^(N-1)``).  1 when there
+    is no limiting block.
+    """
+    if verdict.limiting_block is None:
+        return 1
+    from .observability import block_rows  # the engine imports nothing from simulation
+    block = block_rows(system)[verdict.limiting_block].block
+    chain = max(e.multiplicity - (e.multiplicity if e.geometric is None else e.geometric) + 1
+                for e in block.members)
+    return 2 * (chain - 1) + 1
+
+
+def polynomial_allowance(horizons: Sequence[int], degree: int = 1) -> float:
+    """``p ln((k + 2h) / (k + h)) / h``: how far ``p`` factors ``k`` can move the difference ratio's ``log m``.
+
+    With ``E_k = sum_{i <= p} c_i k^i m^k + b`` (``c_i >= 0``; ``p`` from
+    :func:`polynomial_degree`), each term's differences have ratio ``m^h (A x - B) / (B x -
+    C)`` with ``x = m^h``, ``A, B, C = (k + 2h)^i, (k + h)^i, k^i``; for ``m > 1`` this lies in
+    ``[m^h, m^h (A / B)]``: above since ``A - B >= B - C`` (convexity), below since ``A C <=
+    B^2`` (``k (k + 2h) = (k + h)^2 - h^2``).  The ratio of a sum lies between its terms'
+    ratios, so ``m^h <= D_2 / D_1 <= m^h ((k + 2h) / (k + h))^p``: the bias is upward and the
+    interval's lower end is lowered by this much.  The upper end is raised by the same
+    amount, which is *not* derived: a subdominant term of positive weight decaying slowly
+    against ``m^k`` biases the ratio down; measured on ``ge-recovery.toml``'s member recover
+    = 1/4 (``m = 2.3717``, effective sample sizes below 100): -0.3 % to -0.5 % at ``h = 40``
+    with 15 000 to 80 000 paths, -0.17 % at ``h = 60``, against an allowance of 1.0 % at
+    ``h = 40``.
     """
     k, k1, _ = horizons
     h = k1 - k
-    return math.log((k + 2 * h) / (k + h)) / h
+    return degree * math.log((k + 2 * h) / (k + h)) / h
 
 
 def rate_horizons(horizon: int, period: int) -> tuple[int, int, int]:
@@ -716,7 +735,7 @@ def float_horizon(system: System, plan: BurstPlan | None, longest: int = 2000) -
 def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
                     horizon: int = 120, paths: int = 20_000, pattern: Any = None, growth: Any = None,
                     exact_rate: Any = None, tolerance: float = 0.01, confidence: float = 0.99,
-                    plan: BurstPlan | None = None, jobs: int = 1) -> DivergenceResult:
+                    plan: BurstPlan | None = None, degree: int = 1, jobs: int = 1) -> DivergenceResult:
     """Decide from simulation whether ``E[tr P_k]`` stays bounded (Sui-You-Fu eq. 7), any loss model.
 
     Three independent :func:`log_mean_trace` runs (seeds ``seed``, ``seed + 1``, ``seed + 2``)
@@ -725,7 +744,8 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
     :func:`rate_interval` (verdicts: :class:`DivergenceResult`).  The runs sample final
     bursts of ``pattern`` (sensors lost per phase) with ``growth`` per period, or of ``plan``;
     default: the exact verdict's decisive pattern (:func:`verdict_plan`), which also fills
-    ``exact_rate`` (:func:`exact_growth_rate`) when it is not given.  The sampling only steers:
+    ``exact_rate`` (:func:`exact_growth_rate`) and ``degree`` (:func:`polynomial_degree`, the
+    factors ``k`` the allowance admits; otherwise 1).  The sampling only steers:
     the estimate is unbiased for any pattern.  ``jobs``: worker processes for the paths.  The
     horizon is capped by :func:`float_horizon` when float64 cannot follow longer bursts.
     """
@@ -739,6 +759,7 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
         verdict = _verdict(system, loss)
         plan = verdict_plan(system, verdict, loss)
         exact_rate = exact_growth_rate(verdict) if exact_rate is None else exact_rate
+        degree = polynomial_degree(system, verdict)
     elif plan is None:
         if growth is None:
             raise InputError("growth: give the growth factor of P per period of the pattern")
@@ -748,7 +769,7 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
     runs = tuple(log_mean_trace(system, loss, k, paths, None if seed is None else seed + j, plan, jobs)
                  for j, k in enumerate(horizons))
     corrected = margin_interval(runs, confidence)
-    allowance = polynomial_allowance(horizons)
+    allowance = polynomial_allowance(horizons, degree)
     rate, f_low, f_high = corrected if corrected is not None else (None, None, None)
     low, high = (None, None) if rate is None else (f_low * math.exp(-allowance), f_high * math.exp(allowance))
     growth = rate_interval(runs[0], runs[2], confidence)

@@ -27,9 +27,11 @@ stable: ``E_k`` rising or falling to its limit ``b``).  ``log E[tr P_k]`` at ``h
 gives ``m^h = (E_{3h} - E_{2h}) / (E_{2h} - E_h)``, in which ``b`` cancels exactly;
 its interval is Fieller's for a ratio of normal differences
 (:func:`symkf.montecarlo.margin_interval`).  One residual allowance remains
-(:func:`symkf.montecarlo.polynomial_allowance`), ``delta = ln((k + 2h) / (k + h)) / h``
-(``ln(3/2) / h``: 1.0 % at ``h = 40``) at both ends of the interval: at the lower end it is
-derived (a factor ``k`` in ``E_k`` raises the ratio by at most ``(k + 2h) / (k + h)``); at
+(:func:`symkf.montecarlo.polynomial_allowance`), ``delta = p ln((k + 2h) / (k + h)) / h``
+(``p = 1`` for a diagonalizable limiting block: ``ln(3/2) / h``, 1.0 % at ``h = 40``; ``p =
+3`` for a Jordan chain of length 2, :func:`symkf.montecarlo.polynomial_degree`) at both
+ends of the interval: at the lower end it is derived (``p`` factors ``k`` in ``E_k`` raise
+the ratio by at most ``((k + 2h) / (k + h))^p``); at
 the upper end it is measured, not derived (a slowly decaying subdominant term biased
 ``ge-recovery``'s member recover = 1/4 down by 0.3-0.5 %).  Simulated "unstable" means
 the widened interval's lower end exceeds 1; "stable" means the Fieller interval's upper end
@@ -61,7 +63,7 @@ from .families import Member, load_family
 from .files import read_toml
 from .losses import LossModel
 from .model import System
-from .montecarlo import DivergenceResult, divergence_test, exact_growth_rate, verdict_plan
+from .montecarlo import DivergenceResult, divergence_test, exact_growth_rate, polynomial_degree, verdict_plan
 from .progress import progress
 from .stability import Verdict, critical_loss_rate, stability
 from .sweep import sweep
@@ -169,7 +171,7 @@ def simulated_verdict(system: System, loss: LossModel, v: Verdict, *, seed: int 
     plan = verdict_plan(system, v, loss)
     r = divergence_test(system, loss, seed=seed, horizon=horizon, paths=paths, plan=plan,
                         exact_rate=exact_growth_rate(v).exact, tolerance=tolerance, confidence=confidence,
-                        jobs=jobs)
+                        degree=polynomial_degree(system, v), jobs=jobs)
     return _divergence_json(r, horizon)
 
 

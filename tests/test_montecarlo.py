@@ -300,13 +300,25 @@ def test_fieller_interval_covers_at_the_nominal_level():
 
 @pytest.mark.parametrize("m", [1.001, 1.02, 1.3, 3.0])
 @pytest.mark.parametrize("k, h", [(40, 40), (24, 24), (60, 30)])
-def test_one_factor_k_moves_the_ratio_by_at_most_the_allowance(m, k, h):
-    # E_k = (a + c k) m^k + b with a, c >= 0 (polynomial_allowance's derivation): the ratio's
-    # log m lies in [ln m, ln m + allowance], with the upper end reached by the pure k m^k term
-    # only in the limit; brute force over the weights
+@pytest.mark.parametrize("degree", [1, 3])
+def test_factors_k_move_the_ratio_by_at_most_the_allowance(m, k, h, degree):
+    # E_k = sum_{i <= p} c_i k^i m^k + b with c_i >= 0 (polynomial_allowance's derivation): the
+    # ratio's log m lies in [ln m, ln m + allowance]; brute force over weights, the pure k^p m^k
+    # term included (it comes closest to the upper end)
     from symkf.montecarlo import polynomial_allowance
-    allowance = polynomial_allowance((k, k + h, k + 2 * h))
-    for a, c in [(1, 0), (0, 1), (1, 1), (1, 0.01), (0.01, 1), (5, 0.2)]:
-        E = [(a + c * j) * m ** j - 7 for j in (k, k + h, k + 2 * h)]
+    allowance = polynomial_allowance((k, k + h, k + 2 * h), degree)
+    rng = np.random.default_rng(7)
+    weights = [np.eye(degree + 1)[i] for i in range(degree + 1)] + list(rng.random((20, degree + 1)))
+    for c in weights:
+        E = [sum(ci * j ** i for i, ci in enumerate(c)) * m ** j - 7 for j in (k, k + h, k + 2 * h)]
         log_ratio = np.log((E[2] - E[1]) / (E[1] - E[0])) / h
         assert np.log(m) - 1e-12 <= log_ratio <= np.log(m) + allowance + 1e-12
+
+
+def test_polynomial_degree_from_the_limiting_block():
+    from symkf.montecarlo import polynomial_degree
+    # diagonalizable: one factor k; a Jordan chain of length 2 (A = [[6/5, 1], [0, 6/5]]): P grows
+    # like k^2 (6/5)^(2k) in a burst, plus that factor: 3
+    assert polynomial_degree(ROT, stability(ROT, IID(["1/20"]))) == 1
+    jordan = System(A=[["6/5", 1], [0, "6/5"]], sensors=[Sensor(C=[[1, 0]])])
+    assert polynomial_degree(jordan, stability(jordan, IID(["19/25"]))) == 3
