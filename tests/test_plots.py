@@ -101,5 +101,13 @@ def test_mean_trace_figure_markov_shows_the_exact_growth(tmp_path):
     fig = plots.mean_trace_figure(S, loss, curve)
     assert "Yang's bounds need i.i.d. losses" in fig.axes[0].get_title()
     assert f"exact growth rate {sp.sqrt(6) / 2} ~ 1.2247 per step (not stable)" in labels(fig)
-    slope = np.polyfit(curve.ks[2:], curve.log_mean[2:], 1)[0]
-    assert abs(slope - np.log(np.sqrt(6) / 2)) < 0.02 * np.log(np.sqrt(6) / 2)
+    # the plotted points at k = 40, 60, 80 (independent runs) give the margin by the difference
+    # ratio, whose widened 99 % interval must contain sqrt(6)/2 (the former check, a least-squares
+    # slope within 2 % of ln(sqrt(6)/2), measured the finite-horizon rate: 3.4 % off at seed 20)
+    from symkf.montecarlo import LogMeanEstimate, margin_interval, polynomial_allowance
+    assert list(curve.ks[2:]) == [40, 60, 80]
+    runs = [LogMeanEstimate(float(m), float(r), 0.0, 2000, int(k), None, "")
+            for m, r, k in zip(curve.log_mean[2:], curve.rel_stderr[2:], curve.ks[2:])]
+    rate, low, high = margin_interval(runs, 0.99)
+    delta = np.exp(polynomial_allowance((40, 60, 80)))
+    assert low / delta <= np.sqrt(6) / 2 <= high * delta and abs(rate / (np.sqrt(6) / 2) - 1) < 0.03
