@@ -25,6 +25,7 @@ TESTS = [
     "tests/test_montecarlo.py::test_design_example_rate_matches_exact",
     "tests/test_montecarlo.py::test_burst_sampling_is_unbiased_for_every_loss_model",
     "tests/test_montecarlo.py::test_gilbert_elliott_growth_found_where_plain_monte_carlo_misses_it",
+    "tests/test_montecarlo.py::test_long_bursts_are_sampled_to_the_horizon",
     "tests/test_montecarlo.py::test_float_horizon_caps_bursts_float64_cannot_follow",
     "tests/test_montecarlo.py::test_fieller_interval_covers_at_the_nominal_level",
     "tests/test_cli.py::test_verify_stable_agrees",
@@ -57,8 +58,8 @@ def main() -> None:
                 passed[node] += 1
             else:
                 failures.append((seed, node))
-        print(f"seed {seed}: {sum(1 for s, _ in failures if s == seed)} failed ({time.time() - start:.0f} s)",
-              flush=True)
+        failed = [node for s, node in failures if s == seed]
+        print(f"seed {seed}: {len(failed)} failed {failed} ({time.time() - start:.0f} s)", flush=True)
     for node in sorted(seen):
         print(f"{passed[node]:3d}/{args.seeds}  {node}")
     for seed, node in failures:

@@ -228,6 +228,16 @@ def test_gilbert_elliott_growth_found_where_plain_monte_carlo_misses_it():
     assert plain.growth_high < 6 ** 0.5 / 2 - 0.1     # nothing to steer: the rare bursts are missed
 
 
+def test_long_bursts_are_sampled_to_the_horizon():
+    # ge-two-sensors, 2000 paths: log E[tr P_k] must keep growing like k ln(sqrt(6)/2) out to
+    # k = 200 (with 5 % of the loss law mixed in at every burst step, almost no path held the
+    # pattern for 196 steps and log10 E_200 came out 7.5 instead of ~19)
+    system, loss = _example("ge-two-sensors.toml")
+    plan = verdict_plan(system, stability(system, loss), loss)
+    first, last = (log_mean_trace(system, loss, k, 2000, seed=2 * SEED + j, plan=plan) for j, k in enumerate((100, 200)))
+    assert abs((last.log_mean - first.log_mean) / (100 * np.log(np.sqrt(6) / 2)) - 1) < 0.05
+
+
 def test_float_horizon_caps_bursts_float64_cannot_follow():
     # A = 2 R(2 pi/3) (entries -1, +-sqrt(3)), C = [1 0]: the decisive pattern receives one
     # phase in 3, C A^(3k) = 8^k C exactly but only to 1e-16 in float64, so a burst saturates
