@@ -250,11 +250,10 @@ def _args_verify(p: argparse.ArgumentParser) -> None:
 
 
 def _mean_trace_rows(est: Any, points: int = 8) -> list[dict[str, Any]]:
-    """(k, mean, interval, effective sample size) at ``points`` evenly spread steps."""
+    """(k, mean, interval) at ``points`` evenly spread steps."""
     count = min(points, est.horizon)
     ks = sorted({round(i * (est.horizon - 1) / max(count - 1, 1)) for i in range(count)})
-    return [{"k": k, "mean": float(est.mean[k]), "low": float(est.low[k]), "high": float(est.high[k]),
-             "ess": float(est.ess[k])} for k in ks]
+    return [{"k": k, "mean": float(est.mean[k]), "low": float(est.low[k]), "high": float(est.high[k])} for k in ks]
 
 
 def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:

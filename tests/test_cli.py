@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -17,6 +18,8 @@ ROOT = Path(__file__).resolve().parent.parent
 SYSTEMS = examples.directory() / "systems"
 DESIGN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], loss 1/20: eps_c = 1/16
 GE = SYSTEMS / "ge-two-sensors.toml"
+#: simulation seed of the verify tests; checked with SYMKF_TEST_SEED = 0..19 before landing
+SEED = 3 * int(os.environ.get("SYMKF_TEST_SEED", "0"))
 
 
 def run(capsys, *argv: str) -> tuple[int, str, str]:
@@ -47,7 +50,7 @@ def test_critical_bad_vary(capsys, vary, message):
 
 
 def test_verify_stable_agrees(capsys):
-    status, out, err = run(capsys, "verify", DESIGN, "--json", "--paths", "5000", "--seed", "3")
+    status, out, err = run(capsys, "verify", DESIGN, "--json", "--paths", "5000", "--seed", SEED + 3)
     assert status == 0
     rep = json.loads(out)
     assert rep["theory"]["stable"] is True
@@ -55,13 +58,13 @@ def test_verify_stable_agrees(capsys):
     assert rep["theory"]["critical_common_loss_rate"]["exact"] == "1/16"
     sim = rep["simulation"]
     assert sim["verdict"] == "stable" and rep["outcome"] == "consistent"
-    assert sim["seeds"] == [3, 4] and sim["paths"] == 5000 and sim["horizons"] == [60, 120]
+    assert sim["seeds"] == [SEED + 3, SEED + 4, SEED + 5] and sim["paths"] == 5000 and sim["horizons"] == [40, 80, 120]
     assert "losing [[], ['s1']] per phase" in sim["sampling"]   # lose s1 at one phase of the period 2
 
 
 def test_verify_unstable_rate(capsys, tmp_path):
     # loss 5/64 > 1/16: E[tr P_k] grows like (4 sqrt(5/64))^k = (sqrt(5)/2)^k
-    status, out, _ = run(capsys, "verify", with_loss(tmp_path, "5/64"), "--json")
+    status, out, _ = run(capsys, "verify", with_loss(tmp_path, "5/64"), "--json", "--seed", SEED)
     rep = json.loads(out)
     assert status == 0 and rep["outcome"] == "consistent"
     assert rep["theory"]["growth_rate"]["exact"] == "sqrt(5)/2"
@@ -75,22 +78,22 @@ def test_verify_long_bursts_do_not_break_down(capsys, tmp_path):
     # horizon had to be halved); the square-root filter with a log-scale decides at full horizon
     path = tmp_path / "two.toml"
     path.write_text(GE.read_text().split("[loss]")[0] + '[loss]\nloss = ["1/2", "1/6"]\n')
-    status, out, _ = run(capsys, "verify", path, "--json", "--paths", "5000", "--horizon", "60")
+    status, out, _ = run(capsys, "verify", path, "--json", "--paths", "5000", "--horizon", "60", "--seed", SEED)
     rep = json.loads(out)
     assert status == 0 and rep["theory"]["stable"] is True and rep["theory"]["margins"][0]["exact"] == "sqrt(6)/3"
-    assert rep["simulation"]["horizons"] == [30, 60]
+    assert rep["simulation"]["horizons"] == [20, 40, 60]
     assert rep["simulation"]["verdict"] == "stable" and rep["outcome"] == "consistent"
 
 
 def test_verify_plain_text(capsys):
-    status, out, _ = run(capsys, "verify", DESIGN, "--paths", "2000")
-    assert status == 0 and "theory:     stable" in out and "CONSISTENT" in out and "seeds [0, 1]" in out
+    status, out, _ = run(capsys, "verify", DESIGN, "--paths", "2000", "--seed", SEED)
+    assert status == 0 and "theory:     stable" in out and "CONSISTENT" in out and f"seeds {[SEED, SEED + 1, SEED + 2]}" in out
 
 
 def test_verify_gilbert_elliott_rate(capsys):
     # Gilbert-Elliott (fail 1/4, recover 1/2 on both sensors): the theory's growth sqrt(6)/2 is
     # found by sampling final bursts of the decisive pattern (plain Monte Carlo saw 0.947)
-    status, out, _ = run(capsys, "verify", GE, "--json", "--paths", "4000")
+    status, out, _ = run(capsys, "verify", GE, "--json", "--paths", "4000", "--seed", SEED)
     rep = json.loads(out)
     assert status == 0 and rep["theory"]["stable"] is False and rep["theory"]["growth_rate"]["exact"] == "sqrt(6)/2"
     low, high = rep["simulation"]["rate_interval"]
@@ -103,8 +106,8 @@ def test_verify_disagreement_has_its_own_status(capsys, monkeypatch):
 
     def contrary(system, loss, v, **kw):
         return {"method": "stub", "verdict": "unstable" if v.stable else "stable", "rate": 1.5,
-                "rate_interval": [1.4, 1.6], "confidence": 0.99, "tolerance": 0.01, "paths": 1,
-                "horizons": [60, 120], "seeds": [0, 1]}
+                "rate_interval": [1.4, 1.6], "growth": 1.5, "growth_interval": [1.4, 1.6], "confidence": 0.99,
+                "tolerance": 0.01, "paths": 1, "horizons": [40, 80, 120], "seeds": [0, 1, 2]}
     monkeypatch.setattr(verify, "simulated_verdict", contrary)
     status, out, _ = run(capsys, "verify", DESIGN, "--json")
     assert status == 1 and json.loads(out)["outcome"] == "contradiction"
