@@ -712,11 +712,14 @@ def polynomial_allowance(horizons: Sequence[int], degree: int = 1) -> float:
     B^2`` (``k (k + 2h) = (k + h)^2 - h^2``).  The ratio of a sum lies between its terms'
     ratios, so ``m^h <= D_2 / D_1 <= m^h ((k + 2h) / (k + h))^p``: the bias is upward and the
     interval's lower end is lowered by this much.  The upper end is raised by the same
-    amount, which is *not* derived: a subdominant term of positive weight decaying slowly
-    against ``m^k`` biases the ratio down; measured on ``ge-recovery.toml``'s member recover
-    = 1/4 (``m = 2.3717``, effective sample sizes below 100): -0.3 % to -0.5 % at ``h = 40``
-    with 15 000 to 80 000 paths, -0.17 % at ``h = 60``, against an allowance of 1.0 % at
-    ``h = 40``.
+    amount, which is *not* derived: it covers float64 losing the small directions of ``P``
+    on long sampled paths (:mod:`symkf.square_root`), which biases the ratio down.  Measured
+    (``benchmarks/float_resolution.py``: every sampled path recomputed by the exact rational
+    recursion) on ``ge-recovery.toml``'s member recover = 1/4 (``m = 2.3717``), 15 000 paths:
+    the float kernel misses ``log tr P_k`` on 0, 2423 and ~5300 paths at ``k = 40, 80, 120``,
+    ``log E_k`` by 0, -0.140 and -0.308, and the estimate is -0.41 % low at ``h = 40``
+    (-0.07 % at ``h = 60``); from the exact ``log tr P`` of the same paths it is +0.008 %
+    (+0.009 %), inside the derived lower half: no statistical downward bias is left.
     """
     k, k1, _ = horizons
     h = k1 - k

@@ -30,7 +30,10 @@ path's scales are 1e32 apart (``log tr P`` beyond ~75 on a well-observed
 system) the float filter no longer resolves its small directions, for this
 kernel as for the numpy one before it (on ``ge-two-sensors`` with 80-step
 final bursts both miss the exact ``log tr P`` on ~30 of 75 paths checked,
-the largest and the most disagreeing, not the same ones).  Rounding matters
+the largest and the most disagreeing, not the same ones; on the final-burst sample of
+``ge-recovery.toml``'s member recover = 1/4 it misses 2423 of 15 000 paths at ``k = 80``,
+``log E[tr P_80]`` by -0.14, which biases ``divergence_test``'s margin 0.4 % low at ``h = 40``:
+``benchmarks/float_resolution.py``).  Rounding matters
 there: FMA contraction, a reciprocal instead of a division, or a two-factor
 ``|v|`` each moved which paths break and flipped the 2 % slope check of
 ``test_plots``, so none is used.
