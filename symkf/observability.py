@@ -91,6 +91,69 @@ class BlockRows:
             sets = np.concatenate([sets, partial[keep]])
         return sets[_lex_order(sets)]
 
+    def heaviest(self, weights: Sequence[float]) -> list[frozenset[int]] | None:
+        """The hyperplanes (element sets, as in :attr:`hyperplanes`) whose weight ``sum_{e in H}
+        weights[e]`` may be maximal, without enumerating every hyperplane; None when the fast
+        path does not apply (then enumerate).
+
+        Weights are floats >= 0 (``-log loss``) used only to screen: every hyperplane within a
+        relative ``1e-9`` of the maximum is returned, each confirmed exactly, and the caller
+        decides among them exactly.  The search visits every flat ``Z`` of rank ``n - 2`` spanned
+        by generators mod p (:func:`_line_keys`); a hyperplane ``H`` of K^n spanned by generators
+        holds ``n - 1`` of them independent over K, and when they are independent mod p the
+        mod-p set of that flat's line contains ``H``'s generators (Cramer), so its screened
+        weight is at least ``H``'s.  A returned set confirmed exactly (rank ``n - 1``) is an
+        exact hyperplane; so if every set within the tolerance confirms, every exact maximiser
+        is among them.  Applies to elements with at most one generator (single-row sensors),
+        generators spanning K^n mod p and (n - 2)-sets independent mod p whenever over K."""
+        n = self.size
+        if n < 2 or any(len(gs) > 1 for gs in self.generators):
+            return None
+        vectors = _distinct([gs[0] for gs in self.generators if gs])
+        index = {_key(v): i for i, v in enumerate(vectors)}
+        owner = np.array([index[_key(gs[0])] if gs else -1 for gs in self.generators])
+        vw = np.bincount(owner[owner >= 0], weights=np.asarray(weights, dtype=float)[owner >= 0],
+                         minlength=len(vectors))
+        p, images = _reduction(self.K, vectors)
+        if flint.nmod_mat(images, p).rank() < n:
+            return None
+        W = np.array(images, dtype=np.int64)
+        V, tol = len(vectors), 1e-9 * (1 + vw.sum())
+        best, kept = -np.inf, []  # kept: (score, line keys of the flat, line) within tol of best so far
+        combos = itertools.combinations(range(V), n - 2)
+        while chunk := list(itertools.islice(combos, 2048)):
+            batch, normals = [], []
+            for c in chunk:
+                N = _normals(images, c, p, n)
+                if N is not None:
+                    batch.append(c)
+                    normals.append(N)
+                elif rank_rows(self.K, [vectors[i] for i in c], n) == n - 2:
+                    return None  # independent over K, not mod p
+            if not batch:
+                continue
+            XY = np.einsum("vn,bnk->bvk", W, np.stack(normals)) % p
+            key = _line_keys(XY[..., 0], XY[..., 1], p)                      # batch x V
+            flat_weight = np.where(key == p + 1, vw, 0).sum(axis=1)
+            ids = np.arange(len(batch))[:, None] * (p + 2) + key
+            lines, inverse = np.unique(ids[key != p + 1], return_inverse=True)
+            score = np.bincount(inverse, weights=vw[np.nonzero(key != p + 1)[1]]) + flat_weight[lines // (p + 2)]
+            best = max(best, score.max(initial=-np.inf))
+            kept = [k for k in kept if k[0] >= best - tol]
+            for i in np.flatnonzero(score >= best - tol):
+                b = int(lines[i] // (p + 2))
+                kept.append((score[i], key[b], int(lines[i] % (p + 2))))
+        found: set[frozenset[int]] = set()
+        for score, key, line in kept:
+            if score >= best - tol:
+                found.add(frozenset(np.flatnonzero((key == p + 1) | (key == line)).tolist()))
+        out = []
+        for S in found:
+            if rank_rows(self.K, [vectors[i] for i in S], n) != n - 1:
+                return None  # a false merge mod p
+            out.append(frozenset(np.flatnonzero((owner < 0) | np.isin(owner, list(S))).tolist()))
+        return out
+
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
         rows = [g for e in pattern for g in self.generators[e]]
@@ -185,9 +248,7 @@ def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n:
         batch = [c for c in chunk if c not in covered]
         normals: list[np.ndarray | None] = []
         for c in batch:
-            null, nullity = flint.nmod_mat([images[i] for i in c], p).nullspace() if c else (None, n)
-            normals.append(None if nullity != 2 else np.eye(2, dtype=np.int64) if not c else
-                           np.array([[int(null[i, k]) for k in range(2)] for i in range(n)], dtype=np.int64))
+            normals.append(_normals(images, c, p, n))
         good = [N for N in normals if N is not None]
         if good:  # B x V x 2 images of the vectors in the planes K^n / Z (entries < n p^2 < 2^63)
             XY = np.einsum("vn,bnk->bvk", W, np.stack(good)) % p
@@ -211,6 +272,16 @@ def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n:
             if len(Z) > n - 2:
                 covered.update(itertools.combinations(sorted(Z), n - 2))
     return list(found)
+
+
+def _normals(images: Sequence[Sequence[int]], c: tuple[int, ...], p: int, n: int) -> np.ndarray | None:
+    """A basis (n x 2) of the mod-p normals of the vectors ``c`` (n - 2 of them), None if dependent mod p."""
+    if not c:
+        return np.eye(2, dtype=np.int64)
+    null, nullity = flint.nmod_mat([images[i] for i in c], p).nullspace()
+    if nullity != 2:
+        return None
+    return np.array([[int(null[i, k]) for k in range(2)] for i in range(n)], dtype=np.int64)
 
 
 def _line_keys(x: np.ndarray, y: np.ndarray, p: int) -> np.ndarray:
