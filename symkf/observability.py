@@ -96,16 +96,21 @@ class BlockRows:
         weights[e]`` may be maximal, without enumerating every hyperplane; None when the fast
         path does not apply (then enumerate).
 
-        Weights are floats >= 0 (``-log loss``) used only to screen: every hyperplane within a
-        relative ``1e-9`` of the maximum is returned, each confirmed exactly, and the caller
-        decides among them exactly.  The search visits every flat ``Z`` of rank ``n - 2`` spanned
-        by generators mod p (:func:`_line_keys`); a hyperplane ``H`` of K^n spanned by generators
-        holds ``n - 1`` of them independent over K, and when they are independent mod p the
-        mod-p set of that flat's line contains ``H``'s generators (Cramer), so its screened
-        weight is at least ``H``'s.  A returned set confirmed exactly (rank ``n - 1``) is an
-        exact hyperplane; so if every set within the tolerance confirms, every exact maximiser
-        is among them.  Applies to elements with at most one generator (single-row sensors),
-        generators spanning K^n mod p and (n - 2)-sets independent mod p whenever over K."""
+        Weights are floats >= 0 (``-log loss``) used only to screen; every set whose screened
+        weight is within ``1e-9 (1 + total weight)`` of the screened maximum is confirmed exactly
+        (rank ``n - 1`` over K) and returned, and the caller decides among them exactly (float
+        sums of at most E correctly rounded terms err by far less than the tolerance).
+
+        Why no maximiser is missed: the search visits the flat ``Z_p`` spanned mod p by every
+        (n - 2)-set ``c`` of generators and scores ``Z_p`` plus each of its lines (:func:`_line_keys`).
+        An exact hyperplane ``H`` holds such a ``c``, independent over K and so mod p (checked);
+        its other generators lie in ``Z_p`` or, by Cramer with an (n - 1)-minor of ``c`` and one
+        of them nonzero mod p, on one line: that screened set contains ``H``, and weights are
+        >= 0.  So if every set near the screened maximum confirms, that maximum is exact and
+        every exact maximiser is among the returned sets; a failed confirmation returns None.
+        Applies to elements with at most one generator (single-row sensors) and generators
+        spanning K^n mod p.
+        """
         n = self.size
         if n < 2 or any(len(gs) > 1 for gs in self.generators):
             return None
@@ -119,7 +124,7 @@ class BlockRows:
             return None
         W = np.array(images, dtype=np.int64)
         V, tol = len(vectors), 1e-9 * (1 + vw.sum())
-        best, kept = -np.inf, []  # kept: (score, line keys of the flat, line) within tol of best so far
+        best, kept = -np.inf, {}  # screened sets (vector indices) within tol of the best so far: score
         combos = itertools.combinations(range(V), n - 2)
         while chunk := list(itertools.islice(combos, 2048)):
             batch, normals = [], []
@@ -135,20 +140,21 @@ class BlockRows:
             XY = np.einsum("vn,bnk->bvk", W, np.stack(normals)) % p
             key = _line_keys(XY[..., 0], XY[..., 1], p)                      # batch x V
             flat_weight = np.where(key == p + 1, vw, 0).sum(axis=1)
-            ids = np.arange(len(batch))[:, None] * (p + 2) + key
-            lines, inverse = np.unique(ids[key != p + 1], return_inverse=True)
-            score = np.bincount(inverse, weights=vw[np.nonzero(key != p + 1)[1]]) + flat_weight[lines // (p + 2)]
+            order = np.argsort(key, axis=1)  # per flat, its lines as runs of equal keys
+            keys = np.take_along_axis(key, order, axis=1)
+            run = np.ones_like(keys, dtype=bool)
+            run[:, 1:] = keys[:, 1:] != keys[:, :-1]
+            starts = np.flatnonzero(run)
+            rows, line = starts // V, keys.ravel()[starts]
+            score = np.add.reduceat(vw[order].ravel(), starts) + flat_weight[rows]
+            score[line == p + 1] = -np.inf  # the flat itself is no hyperplane
             best = max(best, score.max(initial=-np.inf))
-            kept = [k for k in kept if k[0] >= best - tol]
+            kept = {S: w for S, w in kept.items() if w >= best - tol}
             for i in np.flatnonzero(score >= best - tol):
-                b = int(lines[i] // (p + 2))
-                kept.append((score[i], key[b], int(lines[i] % (p + 2))))
-        found: set[frozenset[int]] = set()
-        for score, key, line in kept:
-            if score >= best - tol:
-                found.add(frozenset(np.flatnonzero((key == p + 1) | (key == line)).tolist()))
+                member = key[rows[i]]
+                kept[frozenset(np.flatnonzero((member == p + 1) | (member == line[i])).tolist())] = score[i]
         out = []
-        for S in found:
+        for S in kept:
             if rank_rows(self.K, [vectors[i] for i in S], n) != n - 1:
                 return None  # a false merge mod p
             out.append(frozenset(np.flatnonzero((owner < 0) | np.isin(owner, list(S))).tolist()))
