@@ -293,13 +293,29 @@ def _normals(images: Sequence[Sequence[int]], c: tuple[int, ...], p: int, n: int
 def _line_keys(x: np.ndarray, y: np.ndarray, p: int) -> np.ndarray:
     """The point ``(x : y)`` of the projective line over F_p as ``x / y`` in ``0..p-1``, ``p`` for
     ``y = 0``, and ``p + 1`` for ``x = y = 0`` (the vector lies in the flat)."""
-    inv, base, e = np.ones_like(y), y.copy(), p - 2  # Fermat: y^(p-2) = 1/y, squarings stay below 2^54
+    inv = _inverses(np.where(y != 0, y, 1), p)
+    return np.where(y != 0, x * inv % p, np.where(x != 0, p, p + 1))
+
+
+def _inverses(y: np.ndarray, p: int) -> np.ndarray:
+    """Inverses mod p of the (nonzero) entries of ``y`` (B x V), with Montgomery's batch trick
+    along each row: prefix products, one Fermat power per row, and a backward pass."""
+    prefix = np.empty_like(y)
+    prefix[:, 0] = y[:, 0]
+    for j in range(1, y.shape[1]):
+        prefix[:, j] = prefix[:, j - 1] * y[:, j] % p
+    inv_all, base, e = np.ones_like(prefix[:, -1]), prefix[:, -1].copy(), p - 2  # squarings stay below 2^54
     while e:
         if e & 1:
-            inv = inv * base % p
+            inv_all = inv_all * base % p
         base = base * base % p
         e >>= 1
-    return np.where(y != 0, x * inv % p, np.where(x != 0, p, p + 1))
+    out = np.empty_like(y)
+    for j in range(y.shape[1] - 1, 0, -1):  # inv_all = 1 / (y_0 ... y_j)
+        out[:, j] = inv_all * prefix[:, j - 1] % p
+        inv_all = inv_all * y[:, j] % p
+    out[:, 0] = inv_all
+    return out
 
 
 def _hyperplanes_through(c: tuple[int, ...], key: np.ndarray, p: int, n: int, flat) \
