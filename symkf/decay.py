@@ -42,7 +42,9 @@ from .observability import BlockRows, _set, block_deficient, block_rows
 
 @dataclass(frozen=True)
 class BlockRate:
-    """``rho_i^g`` for one block: the exact value, the decisive hyperplane and all candidates."""
+    """``rho_i^g`` for one block: the exact value, the decisive hyperplane and the candidates compared
+    exactly (under i.i.d. losses only the near-heaviest hyperplanes when :meth:`BlockRows.heaviest`
+    applies, else one hyperplane per exponent vector or every hyperplane)."""
 
     per_period: sp.Expr
     hyperplane: frozenset[int]
@@ -122,6 +124,8 @@ def _heaviest(br: BlockRows, loss: IID) -> list[frozenset[int]] | None:
 def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
     """``rho_i^g`` (per projection period) for one block, exactly (eq. 36)."""
     if isinstance(loss, IID):
+        # once every hyperplane is known (cached), counting is cheaper than the screen; the screen's
+        # sets in lexicographic order give the tie-break of the enumeration (the first maximiser)
         heaviest = None if "inside" in br.__dict__ else _heaviest(br, loss)
         counts = outside_counts(br) if heaviest is None else _outside_vectors(br, sorted(heaviest, key=sorted))
         cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.loss, ks)])) for ks, H in counts.items()]
