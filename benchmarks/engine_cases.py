@@ -47,6 +47,15 @@ def rotation_block(k: int, d: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
     return sk.System(A=sp.diag(*blocks), sensors=_sensors(_random_rows(rng, d, 2 * k))), sk.IID(["1/10"] * d)
 
 
+def near_unit_block(d: int) -> tuple[sk.System, sk.IID]:
+    """One eigen-block of modulus 21/20 and dimension 4 (21/20 R(pi/3), 21/20 R(pi/4); period 24)
+    with d random integer sensor rows, losses 1/10: bench_simulate's ``system(4, d)``."""
+    rows = np.random.default_rng(400 + d).integers(-2, 3, (d, 4))
+    rows[np.all(rows == 0, axis=1), 0] = 1
+    A = sp.diag(_rotation(sp.pi / 3, sp.Rational(21, 20)), _rotation(sp.pi / 4, sp.Rational(21, 20)))
+    return sk.System(A=A, sensors=_sensors([[int(v) for v in r] for r in rows])), sk.IID(["1/10"] * d)
+
+
 def prime_rotation(p: int) -> tuple[sk.System, sk.IID]:
     """2 R(2 pi / p) with sensors x and y (field of degree 2(p - 1) today)."""
     return sk.System(A=_rotation(2 * sp.pi / p, 2), sensors=_sensors([[1, 0], [0, 1]])), sk.IID(["1/10"] * 2)

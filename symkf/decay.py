@@ -42,7 +42,9 @@ from .observability import BlockRows, _set, block_deficient, block_rows
 
 @dataclass(frozen=True)
 class BlockRate:
-    """``rho_i^g`` for one block: the exact value, the decisive hyperplane and all candidates."""
+    """``rho_i^g`` for one block: the exact value, the decisive hyperplane and the candidates compared
+    exactly (under i.i.d. losses only the near-heaviest hyperplanes when :meth:`BlockRows.heaviest`
+    applies, else one hyperplane per exponent vector or every hyperplane)."""
 
     per_period: sp.Expr
     hyperplane: frozenset[int]
@@ -91,17 +93,42 @@ def outside_counts(br: BlockRows) -> dict[tuple[int, ...], frozenset[int]]:
     """Per distinct exponent vector ``(k_1, ..., k_d)`` -- the number of sensor ``j``'s elements
     outside a hyperplane ``H`` -- one such ``H``.  Under i.i.d. losses ``H`` decays at
     ``prod_j loss_j^(k_j)`` per period, so hyperplanes sharing a vector are interchangeable."""
+    return _outside_vectors(br, br.inside)
+
+
+def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[int]]:
+    """:func:`outside_counts` of the hyperplanes ``inside`` (boolean rows or index sets, in
+    lexicographic order: the first hyperplane of each vector is kept)."""
+    if not isinstance(inside, np.ndarray):
+        rows = np.zeros((len(inside), len(br.elements)), dtype=bool)
+        for h, H in enumerate(inside):
+            rows[h, list(H)] = True
+        inside = rows
     sensor = np.array([e.sensor for e in br.elements])
     per_sensor = (sensor[:, None] == np.arange(sensor.max() + 1)).astype(np.int64)  # elements x d
-    outside = (~br.inside).astype(np.int64) @ per_sensor                            # hyperplanes x d
+    outside = (~inside).astype(np.int64) @ per_sensor                               # hyperplanes x d
     _, first = np.unique(outside, axis=0, return_index=True)
-    return {tuple(outside[h].tolist()): _set(br.inside[h]) for h in sorted(first.tolist())}
+    return {tuple(outside[h].tolist()): _set(inside[h]) for h in sorted(first.tolist())}
+
+
+def _heaviest(br: BlockRows, loss: IID) -> list[frozenset[int]] | None:
+    """The hyperplanes that may decay slowest under ``loss`` (:meth:`BlockRows.heaviest` with
+    weights ``-log loss_j``: the slowest maximises ``sum_{e in H} -log loss_(sensor e)``); None
+    when a loss is 0 or symbolic (then every hyperplane is compared exactly)."""
+    if loss.symbols or any(e == 0 for e in loss.loss):
+        return None
+    per_sensor = [-float(sp.log(e).evalf(20)) for e in loss.loss]
+    return br.heaviest([per_sensor[e.sensor] for e in br.elements])
 
 
 def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
     """``rho_i^g`` (per projection period) for one block, exactly (eq. 36)."""
     if isinstance(loss, IID):
-        cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.loss, ks)])) for ks, H in outside_counts(br).items()]
+        # once every hyperplane is known (cached), counting is cheaper than the screen; the screen's
+        # sets in lexicographic order give the tie-break of the enumeration (the first maximiser)
+        heaviest = None if "inside" in br.__dict__ else _heaviest(br, loss)
+        counts = outside_counts(br) if heaviest is None else _outside_vectors(br, sorted(heaviest, key=sorted))
+        cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.loss, ks)])) for ks, H in counts.items()]
     else:  # aperiodic blocks too: their elements' generators are class projections (docs/sui.md)
         cands = [(H, sp.sympify(ge_rate(br, H, loss) if isinstance(loss, GilbertElliott)
                                 else perron_root(restricted_transfer(br, H, loss)))) for H in br.hyperplanes]

@@ -91,6 +91,75 @@ class BlockRows:
             sets = np.concatenate([sets, partial[keep]])
         return sets[_lex_order(sets)]
 
+    def heaviest(self, weights: Sequence[float]) -> list[frozenset[int]] | None:
+        """The hyperplanes (element sets, as in :attr:`hyperplanes`) whose weight ``sum_{e in H}
+        weights[e]`` may be maximal, without enumerating every hyperplane; None when the fast
+        path does not apply (then enumerate).
+
+        Weights are floats >= 0 (``-log loss``) used only to screen; every set whose screened
+        weight is within ``1e-9 (1 + total weight)`` of the screened maximum is confirmed exactly
+        (rank ``n - 1`` over K) and returned, and the caller decides among them exactly (float
+        sums of at most E correctly rounded terms err by far less than the tolerance).
+
+        Why no maximiser is missed: the search visits the flat ``Z_p`` spanned mod p by every
+        (n - 2)-set ``c`` of generators and scores ``Z_p`` plus each of its lines (:func:`_line_keys`).
+        An exact hyperplane ``H`` holds such a ``c``, independent over K and so mod p (checked);
+        its other generators lie in ``Z_p`` or, by Cramer with an (n - 1)-minor of ``c`` and one
+        of them nonzero mod p, on one line: that screened set contains ``H``, and weights are
+        >= 0.  So if every set near the screened maximum confirms, that maximum is exact and
+        every exact maximiser is among the returned sets; a failed confirmation returns None.
+        Applies to elements with at most one generator (single-row sensors) and generators
+        spanning K^n mod p.
+        """
+        n = self.size
+        if n < 2 or any(len(gs) > 1 for gs in self.generators):
+            return None
+        vectors = _distinct([gs[0] for gs in self.generators if gs])
+        index = {_key(v): i for i, v in enumerate(vectors)}
+        owner = np.array([index[_key(gs[0])] if gs else -1 for gs in self.generators])
+        vw = np.bincount(owner[owner >= 0], weights=np.asarray(weights, dtype=float)[owner >= 0],
+                         minlength=len(vectors))
+        p, images = _reduction(self.K, vectors)
+        if flint.nmod_mat(images, p).rank() < n:
+            return None
+        W = np.array(images, dtype=np.int64)
+        V, tol = len(vectors), 1e-9 * (1 + vw.sum())
+        best, kept = -np.inf, {}  # screened sets (vector indices) within tol of the best so far: score
+        combos = itertools.combinations(range(V), n - 2)
+        while chunk := list(itertools.islice(combos, 2048)):
+            batch, normals = [], []
+            for c in chunk:
+                N = _normals(images, c, p, n)
+                if N is not None:
+                    batch.append(c)
+                    normals.append(N)
+                elif rank_rows(self.K, [vectors[i] for i in c], n) == n - 2:
+                    return None  # independent over K, not mod p
+            if not batch:
+                continue
+            XY = np.einsum("vn,bnk->bvk", W, np.stack(normals)) % p
+            key = _line_keys(XY[..., 0], XY[..., 1], p)                      # batch x V
+            flat_weight = np.where(key == p + 1, vw, 0).sum(axis=1)
+            order = np.argsort(key, axis=1)  # per flat, its lines as runs of equal keys
+            keys = np.take_along_axis(key, order, axis=1)
+            run = np.ones_like(keys, dtype=bool)
+            run[:, 1:] = keys[:, 1:] != keys[:, :-1]
+            starts = np.flatnonzero(run)
+            rows, line = starts // V, keys.ravel()[starts]
+            score = np.add.reduceat(vw[order].ravel(), starts) + flat_weight[rows]
+            score[line == p + 1] = -np.inf  # the flat itself is no hyperplane
+            best = max(best, score.max(initial=-np.inf))
+            kept = {S: w for S, w in kept.items() if w >= best - tol}
+            for i in np.flatnonzero(score >= best - tol):
+                member = key[rows[i]]
+                kept[frozenset(np.flatnonzero((member == p + 1) | (member == line[i])).tolist())] = score[i]
+        out = []
+        for S in kept:
+            if rank_rows(self.K, [vectors[i] for i in S], n) != n - 1:
+                return None  # a false merge mod p
+            out.append(frozenset(np.flatnonzero((owner < 0) | np.isin(owner, list(S))).tolist()))
+        return out
+
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
         rows = [g for e in pattern for g in self.generators[e]]
@@ -185,9 +254,7 @@ def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n:
         batch = [c for c in chunk if c not in covered]
         normals: list[np.ndarray | None] = []
         for c in batch:
-            null, nullity = flint.nmod_mat([images[i] for i in c], p).nullspace() if c else (None, n)
-            normals.append(None if nullity != 2 else np.eye(2, dtype=np.int64) if not c else
-                           np.array([[int(null[i, k]) for k in range(2)] for i in range(n)], dtype=np.int64))
+            normals.append(_normals(images, c, p, n))
         good = [N for N in normals if N is not None]
         if good:  # B x V x 2 images of the vectors in the planes K^n / Z (entries < n p^2 < 2^63)
             XY = np.einsum("vn,bnk->bvk", W, np.stack(good)) % p
@@ -213,16 +280,42 @@ def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n:
     return list(found)
 
 
+def _normals(images: Sequence[Sequence[int]], c: tuple[int, ...], p: int, n: int) -> np.ndarray | None:
+    """A basis (n x 2) of the mod-p normals of the vectors ``c`` (n - 2 of them), None if dependent mod p."""
+    if not c:
+        return np.eye(2, dtype=np.int64)
+    null, nullity = flint.nmod_mat([images[i] for i in c], p).nullspace()
+    if nullity != 2:
+        return None
+    return np.array([[int(null[i, k]) for k in range(2)] for i in range(n)], dtype=np.int64)
+
+
 def _line_keys(x: np.ndarray, y: np.ndarray, p: int) -> np.ndarray:
     """The point ``(x : y)`` of the projective line over F_p as ``x / y`` in ``0..p-1``, ``p`` for
     ``y = 0``, and ``p + 1`` for ``x = y = 0`` (the vector lies in the flat)."""
-    inv, base, e = np.ones_like(y), y.copy(), p - 2  # Fermat: y^(p-2) = 1/y, squarings stay below 2^54
+    inv = _inverses(np.where(y != 0, y, 1), p)
+    return np.where(y != 0, x * inv % p, np.where(x != 0, p, p + 1))
+
+
+def _inverses(y: np.ndarray, p: int) -> np.ndarray:
+    """Inverses mod p of the (nonzero) entries of ``y`` (B x V), with Montgomery's batch trick
+    along each row: prefix products, one Fermat power per row, and a backward pass."""
+    prefix = np.empty_like(y)
+    prefix[:, 0] = y[:, 0]
+    for j in range(1, y.shape[1]):
+        prefix[:, j] = prefix[:, j - 1] * y[:, j] % p
+    inv_all, base, e = np.ones_like(prefix[:, -1]), prefix[:, -1].copy(), p - 2  # squarings stay below 2^54
     while e:
         if e & 1:
-            inv = inv * base % p
+            inv_all = inv_all * base % p
         base = base * base % p
         e >>= 1
-    return np.where(y != 0, x * inv % p, np.where(x != 0, p, p + 1))
+    out = np.empty_like(y)
+    for j in range(y.shape[1] - 1, 0, -1):  # inv_all = 1 / (y_0 ... y_j)
+        out[:, j] = inv_all * prefix[:, j - 1] % p
+        inv_all = inv_all * y[:, j] % p
+    out[:, 0] = inv_all
+    return out
 
 
 def _hyperplanes_through(c: tuple[int, ...], key: np.ndarray, p: int, n: int, flat) \

@@ -1,0 +1,50 @@
+"""The i.i.d. decay rate from the weight-screened hyperplane search (BlockRows.heaviest) equals the
+one from enumerating every hyperplane (outside_counts over BlockRows.inside): value and decisive
+hyperplane, including ties (equal losses) and unequal losses (issue 18)."""
+
+import pytest
+import sympy as sp
+
+import symkf as sk
+from symkf.decay import _heaviest, block_rate
+from symkf.observability import block_rows
+
+
+def _rotation(angle, scale):
+    c, s = sp.cos(angle), sp.sin(angle)
+    return scale * sp.Matrix([[c, -s], [s, c]])
+
+
+BLOCKS = {  # each a single eigen-block (eigenvalue ratios are roots of unity) of dimension 2, 3, 4
+    "2R(pi/6)": _rotation(sp.pi / 6, 2),
+    "diag(2R(pi/3), -2)": sp.diag(_rotation(sp.pi / 3, 2), -2),
+    "diag(21/20 R(pi/3), 21/20 R(pi/4))": sp.diag(_rotation(sp.pi / 3, sp.Rational(21, 20)),
+                                                  _rotation(sp.pi / 4, sp.Rational(21, 20))),
+}
+CASES = [  # (block, sensor rows, losses): ties (equal losses) and unequal losses
+    ("2R(pi/6)", [[1, 0], [1, 1]], ["1/10", "1/5"]),
+    ("diag(2R(pi/3), -2)", [[1, 0, 1], [0, 1, 1]], ["1/10", "1/10"]),
+    ("diag(2R(pi/3), -2)", [[1, 0, 1], [1, 1, 0], [0, 1, 2]], ["1/10", "1/2", "1/3"]),
+    ("diag(2R(pi/3), -2)", [[1, 0, 1], [2, 0, 2], [0, 1, 1]], ["1/5", "1/5", "9/10"]),  # parallel rows
+    ("diag(21/20 R(pi/3), 21/20 R(pi/4))", [[1, 0, 1, 0], [0, 1, 1, 1]], ["1/10", "1/10"]),
+    ("diag(21/20 R(pi/3), 21/20 R(pi/4))", [[1, 0, 1, 0], [1, 2, 0, -1]], ["1/10", "1/2"]),
+]
+
+
+@pytest.mark.parametrize("name, rows, losses", CASES)
+def test_heaviest_equals_enumeration(name, rows, losses):
+    loss = sk.IID(losses)
+    fast, full = (sk.System(A=BLOCKS[name], sensors=[sk.Sensor(C=[r]) for r in rows]) for _ in range(2))
+    (br_fast,), (br_full,) = block_rows(fast), block_rows(full)
+    assert _heaviest(br_fast, loss) is not None  # the screen ran
+    br_full.inside  # computed first: block_rate then compares every hyperplane
+    a, b = block_rate(br_fast, loss), block_rate(br_full, loss)
+    assert sp.simplify(a.per_period - b.per_period) == 0
+    assert a.hyperplane == b.hyperplane
+    assert a.hyperplane in br_full.hyperplanes
+
+
+def test_heaviest_declines_multi_row_sensors():
+    """A sensor with two rows gives elements with two generators: the screen does not apply."""
+    S = sk.System(A=BLOCKS["2R(pi/6)"], sensors=[sk.Sensor(C=[[1, 0], [0, 1]])])
+    assert block_rows(S)[0].heaviest([1.0] * 12) is None
