@@ -34,6 +34,7 @@ from .exact.algebraic import (AlgebraicNumber, _complex_roots, _with_prec, croot
 from .exact import nfpoly
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, rank, rank_rows
+from .errors import InputError, ShapeError
 from .exact.numbers import to_exact_matrix
 
 x, y, z = sp.symbols("x y z")
@@ -487,7 +488,6 @@ def _eigenvalues(A: sp.Matrix, jordan: bool = False) -> list[Eigenvalue]:
     """The eigenvalues of ``A``, block by block (:func:`diagonal_blocks`); an eigenvalue of several
     blocks has the sum of their (algebraic and geometric) multiplicities."""
     if A.shape[0] != A.shape[1]:
-        from .errors import ShapeError
         raise ShapeError(f"A: must be square, got {A.shape[0]}x{A.shape[1]}")
     found: dict[tuple[tuple[int, ...], int], list] = {}
     for index in diagonal_blocks(A):
@@ -511,7 +511,9 @@ def _block_spectrum(sub: sp.ImmutableMatrix, jordan: bool) -> tuple[tuple[flint.
 def factors_in(A: sp.MatrixBase, K: NumberField) -> tuple:
     """:func:`_factor_charpoly` of ``A`` over ``K``, cached (the spectrum, the PBH test and the
     modal form of one diagonal block factor over the same field)."""
-    return _factors_over(sp.ImmutableMatrix(A), K.generators)
+    if not isinstance(K, NumberField):
+        raise InputError(f"K: expected a symkf NumberField, got {type(K).__name__}")
+    return _factors_over(to_exact_matrix(A, "A"), K.generators)
 
 
 @lru_cache(maxsize=256)
