@@ -1,6 +1,7 @@
 """Issue 18: i.i.d. verdict for one eigen-block of modulus 21/20 and dimension 4 (period 24) with
 d = 4, 8, 12, 16 sensors (384 elements at d = 16; about C(384, 3) hyperplanes, so enumerating them
-is out of reach): the decay rate needs only the heaviest hyperplanes (BlockRows.heaviest).
+is out of reach): the decay rate needs only the heaviest hyperplanes (BlockRows.heaviest), and the
+critical common loss rate only those holding the most elements (equal weights).
 Usage: python bench_heaviest_hyperplane.py [REPEATS]"""
 
 import sys
@@ -10,4 +11,7 @@ from engine_rows import compare
 compare("4-dim block of modulus 21/20, period 24: stability under i.i.d. losses 1/10", "stability",
         [("near_unit_block", [4], 2), ("near_unit_block", [8], 2), ("near_unit_block", [12], 10),
          ("near_unit_block", [16], 10)],
+        repeats=int(sys.argv[1]) if len(sys.argv) > 1 else 1, baseline_cap=60)
+compare("the same block: critical common i.i.d. loss rate", "critical",
+        [("near_unit_block", [8], 2), ("near_unit_block", [16], 10)],
         repeats=int(sys.argv[1]) if len(sys.argv) > 1 else 1, baseline_cap=60)

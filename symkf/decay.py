@@ -89,10 +89,21 @@ def _maximum(candidates: list[tuple[frozenset[int], sp.Expr]]) -> tuple[frozense
     return max(candidates, key=lambda hv: AlgebraicNumber.from_expr(hv[1]))
 
 
-def outside_counts(br: BlockRows) -> dict[tuple[int, ...], frozenset[int]]:
+def outside_counts(br: BlockRows, weights: Sequence[float] | None = None) -> dict[tuple[int, ...], frozenset[int]]:
     """Per distinct exponent vector ``(k_1, ..., k_d)`` -- the number of sensor ``j``'s elements
     outside a hyperplane ``H`` -- one such ``H``.  Under i.i.d. losses ``H`` decays at
-    ``prod_j loss_j^(k_j)`` per period, so hyperplanes sharing a vector are interchangeable."""
+    ``prod_j loss_j^(k_j)`` per period, so hyperplanes sharing a vector are interchangeable.
+
+    ``weights`` (per sensor, floats >= 0): only the hyperplanes that may maximise ``sum_{e in H}
+    weights[sensor e]`` (:meth:`BlockRows.heaviest`), which is all a caller minimising ``prod_j
+    c_j^(k_j)`` with ``c_j = exp(-weights[j])`` needs; every hyperplane when the screen does not
+    apply or every hyperplane is already known (cached: counting is then cheaper than the
+    screen).  The screen's sets in lexicographic order keep the enumeration's tie-break (the
+    first maximiser)."""
+    if weights is not None and "inside" not in br.__dict__:
+        heaviest = br.heaviest([weights[e.sensor] for e in br.elements])
+        if heaviest is not None:
+            return _outside_vectors(br, sorted(heaviest, key=sorted))
     return _outside_vectors(br, br.inside)
 
 
@@ -111,23 +122,18 @@ def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[i
     return {tuple(outside[h].tolist()): _set(inside[h]) for h in sorted(first.tolist())}
 
 
-def _heaviest(br: BlockRows, loss: IID) -> list[frozenset[int]] | None:
-    """The hyperplanes that may decay slowest under ``loss`` (:meth:`BlockRows.heaviest` with
-    weights ``-log loss_j``: the slowest maximises ``sum_{e in H} -log loss_(sensor e)``); None
-    when a loss is 0 or symbolic (then every hyperplane is compared exactly)."""
+def _weights(loss: IID) -> list[float] | None:
+    """``-log loss_j`` per sensor: the slowest-decaying hyperplane maximises ``sum_{e in H} -log
+    loss_(sensor e)``; None when a loss is 0 or symbolic (then every hyperplane is compared)."""
     if loss.symbols or any(e == 0 for e in loss.loss):
         return None
-    per_sensor = [-float(sp.log(e).evalf(20)) for e in loss.loss]
-    return br.heaviest([per_sensor[e.sensor] for e in br.elements])
+    return [-float(sp.log(e).evalf(20)) for e in loss.loss]
 
 
 def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
     """``rho_i^g`` (per projection period) for one block, exactly (eq. 36)."""
     if isinstance(loss, IID):
-        # once every hyperplane is known (cached), counting is cheaper than the screen; the screen's
-        # sets in lexicographic order give the tie-break of the enumeration (the first maximiser)
-        heaviest = None if "inside" in br.__dict__ else _heaviest(br, loss)
-        counts = outside_counts(br) if heaviest is None else _outside_vectors(br, sorted(heaviest, key=sorted))
+        counts = outside_counts(br, _weights(loss))
         cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.loss, ks)])) for ks, H in counts.items()]
     else:  # aperiodic blocks too: their elements' generators are class projections (docs/sui.md)
         cands = [(H, sp.sympify(ge_rate(br, H, loss) if isinstance(loss, GilbertElliott)

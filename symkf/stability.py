@@ -218,10 +218,15 @@ def stability(system: System, loss: LossModel) -> Verdict:
     return Verdict(stable, tuple(margins), limiting, theorem, tuple(assumptions), tuple(certs), aside)
 
 
-def _vectors(system: System) -> list[tuple[sp.Expr, tuple[int, ...]]]:
-    """``(alpha_i^(2g), (k_1, ..., k_d))`` for every block and distinct exponent vector."""
+def _vectors(system: System, common: bool = False) -> list[tuple[sp.Expr, tuple[int, ...]]]:
+    """``(alpha_i^(2g), (k_1, ..., k_d))`` for every block and distinct exponent vector.
+
+    ``common``: a common loss ``eps`` for every sensor, whose bound ``(alpha_i^(2g) eps^K)``
+    binds first at the fewest elements ``K`` outside: only the hyperplanes holding the most
+    elements (:func:`symkf.decay.outside_counts` with equal weights) are needed."""
+    weights = [1.0] * system.d if common else None
     return [(sp.sympify(br.block.modulus.exact ** (2 * br.period)), ks)
-            for br in block_rows(system) for ks in outside_counts(br)]
+            for br in block_rows(system) for ks in outside_counts(br, weights)]
 
 
 def critical_loss_rate(system: System, sensor: str | None = None, *, others: Sequence[Any] | None = None,
@@ -268,7 +273,7 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
         if len(w) != d:
             raise InputError(f"ray: {len(w)} weights for {d} sensors")
         bounds = []
-        for a2g, ks in _vectors(system):
+        for a2g, ks in _vectors(system, common=len(set(w)) == 1):
             W = sp.Mul(*[wj ** k for wj, k in zip(w, ks)])
             if W != 0:
                 bounds.append(sp.root(1 / (a2g * W), sum(ks)))

@@ -6,7 +6,8 @@ import pytest
 import sympy as sp
 
 import symkf as sk
-from symkf.decay import _heaviest, block_rate
+from symkf.decay import _weights, block_rate
+from symkf.stability import critical_loss_rate
 from symkf.observability import block_rows
 
 
@@ -36,7 +37,8 @@ def test_heaviest_equals_enumeration(name, rows, losses):
     loss = sk.IID(losses)
     fast, full = (sk.System(A=BLOCKS[name], sensors=[sk.Sensor(C=[r]) for r in rows]) for _ in range(2))
     (br_fast,), (br_full,) = block_rows(fast), block_rows(full)
-    assert _heaviest(br_fast, loss) is not None  # the screen ran
+    weights = _weights(loss)
+    assert br_fast.heaviest([weights[e.sensor] for e in br_fast.elements]) is not None  # the screen ran
     br_full.inside  # computed first: block_rate then compares every hyperplane
     a, b = block_rate(br_fast, loss), block_rate(br_full, loss)
     assert sp.simplify(a.per_period - b.per_period) == 0
@@ -48,3 +50,15 @@ def test_heaviest_declines_multi_row_sensors():
     """A sensor with two rows gives elements with two generators: the screen does not apply."""
     S = sk.System(A=BLOCKS["2R(pi/6)"], sensors=[sk.Sensor(C=[[1, 0], [0, 1]])])
     assert block_rows(S)[0].heaviest([1.0] * 12) is None
+
+
+@pytest.mark.parametrize("name, rows", sorted({(name, str(rows)): (name, rows) for name, rows, _ in CASES}.values()))
+def test_common_critical_loss_rate_from_the_heaviest_hyperplanes(name, rows):
+    """The critical common loss rate binds at the hyperplanes holding the most elements: from the
+    screen (no enumeration happens) it equals the value over every hyperplane."""
+    fast, full = (sk.System(A=BLOCKS[name], sensors=[sk.Sensor(C=[r]) for r in rows]) for _ in range(2))
+    (br_fast,), (br_full,) = block_rows(fast), block_rows(full)
+    br_full.inside  # computed first: the bound is taken over every hyperplane
+    a = critical_loss_rate(fast)
+    assert "inside" not in br_fast.__dict__  # the screen answered
+    assert a == critical_loss_rate(full)
