@@ -606,8 +606,8 @@ class DivergenceResult:
     ``E_k = a m^k + b + o(m^k)`` on both sides of the threshold, so the difference ratio
     ``m^h = (E_{3h} - E_{2h}) / (E_{2h} - E_h)`` removes the bounded part ``b`` exactly
     (:func:`margin_interval`); ``[fieller_low, fieller_high]`` is its Fieller ``confidence``
-    interval and ``[rate_low, rate_high]`` that interval widened by ``exp(allowance)`` at both
-    ends (:func:`polynomial_allowance`), the interval a contradiction is judged against; all
+    interval and ``[rate_low, rate_high]`` that interval with its lower end widened by
+    ``exp(-allowance)`` (:func:`polynomial_allowance`), the interval a contradiction is judged against; all
     None when the differences are not resolved from the noise.  ``growth`` ``[growth_low,
     growth_high]`` is the finite-horizon growth ``(E_{3h} / E_h)^(1 / 2h)``
     (:func:`rate_interval`).  "unstable": ``rate_low > 1``; "stable": ``fieller_high < 1``,
@@ -711,15 +711,12 @@ def polynomial_allowance(horizons: Sequence[int], degree: int = 1) -> float:
     ``[m^h, m^h (A / B)]``: above since ``A - B >= B - C`` (convexity), below since ``A C <=
     B^2`` (``k (k + 2h) = (k + h)^2 - h^2``).  The ratio of a sum lies between its terms'
     ratios, so ``m^h <= D_2 / D_1 <= m^h ((k + 2h) / (k + h))^p``: the bias is upward and the
-    interval's lower end is lowered by this much.  The upper end is raised by the same
-    amount, which is *not* derived: it covers float64 losing the small directions of ``P``
-    on long sampled paths (:mod:`symkf.square_root`), which biases the ratio down.  Measured
-    (``benchmarks/float_resolution.py``: every sampled path recomputed by the exact rational
-    recursion) on ``ge-recovery.toml``'s member recover = 1/4 (``m = 2.3717``), 15 000 paths:
-    the float kernel misses ``log tr P_k`` on 0, 2423 and ~5300 paths at ``k = 40, 80, 120``,
-    ``log E_k`` by 0, -0.140 and -0.308, and the estimate is -0.41 % low at ``h = 40``
-    (-0.07 % at ``h = 60``); from the exact ``log tr P`` of the same paths it is +0.008 %
-    (+0.009 %), inside the derived lower half: no statistical downward bias is left.
+    interval's lower end is lowered by this much; the upper end is not widened.  A downward
+    bias once seen here (-0.41 % on ``ge-recovery.toml``'s member recover = 1/4, ``m =
+    2.3717``, at ``h = 40``) was float64 losing the small directions of ``P`` on long sampled
+    paths, not statistics: from the exact rational ``log tr P`` of the same 15 000 paths
+    (``benchmarks/float_resolution.py``) the estimate is +0.008 %, inside the lower half.
+    :func:`float_horizon` now keeps the horizons where float64 resolves every path.
     """
     k, k1, _ = horizons
     h = k1 - k
@@ -733,6 +730,10 @@ def rate_horizons(horizon: int, period: int) -> tuple[int, int, int]:
     return h, 2 * h, 3 * h
 
 
+#: bits of float64's 53 a sampled path may spend on the spread of its covariance's scales
+RESOLUTION_BITS = 40
+
+
 def float_horizon(system: System, plan: BurstPlan | None, longest: int = 2000) -> int | None:
     """The longest horizon whose bursts float64 can follow, or None when there is no limit.
 
@@ -743,26 +744,38 @@ def float_horizon(system: System, plan: BurstPlan | None, longest: int = 2000) -
     which looked like a contradiction).  Checked directly: the filter runs one burst of the
     plan's first component for ``longest`` steps; the cap is 4/5 of the first step where the
     growth over four periods falls below half the growth of the first four periods.
+
+    Sampled paths meet a second limit that the pure burst does not show: after a burst of
+    ``L`` steps ``P`` spans scales ``alpha^(2L)`` apart, and a reception then leaves one
+    direction of size ~1 beside others of size ``alpha^(2L)``; the square-root factor carries
+    that small direction with an error ``~2^-53 alpha^L`` relative to it, which the following
+    steps propagate into ``log tr P``.  So the horizon is also capped at ``RESOLUTION_BITS
+    ln 2 / ln alpha`` (``alpha = growth^(1/(2g))``, the block's modulus): relative errors
+    below ``2^(RESOLUTION_BITS - 53) = 1.2e-4`` in ``log tr P``.  Measured against exact rational traces on every
+    sampled path (``benchmarks/float_resolution.py``, ``2 R`` with Gilbert-Elliott losses,
+    ``alpha = 2``): all 15 000 paths within 2e-4 at ``k = 40`` (``2^-53 2^40 = 1.2e-4``), 17 %
+    of the mean's weight on broken paths at ``k = 80``.
     """
     if plan is None or plan.growth <= 1:
         return None
     g = plan.period
+    resolution = max(8, int(RESOLUTION_BITS * math.log(2) * 2 * g / math.log(plan.growth)))
     received = np.broadcast_to(plan.allowed[0][np.arange(longest) % g][:, None, :], (longest, 1, system.d))
     lt = log_traces(real_form(system), received)[0]
     w = 4 * g
     if longest < 3 * w:
-        return None
+        return resolution
     early = lt[2 * w] - lt[w]
     if early <= 0:
-        return None
+        return resolution
     local = lt[w:] - lt[:-w]
     slow = np.flatnonzero(local[w:] < early / 2)
-    return None if not slow.size else max(8, int(0.8 * (slow[0] + w)))
+    return resolution if not slow.size else min(resolution, max(8, int(0.8 * (slow[0] + w))))
 
 
 def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
                     horizon: int = 120, paths: int = 20_000, pattern: Any = None, growth: Any = None,
-                    exact_rate: Any = None, tolerance: float = 0.01, confidence: float = 0.99,
+                    exact_rate: Any = None, tolerance: float = 0.01, confidence: float = 0.999,
                     plan: BurstPlan | None = None, degree: int = 1, jobs: int = 1) -> DivergenceResult:
     """Decide from simulation whether ``E[tr P_k]`` stays bounded (Sui-You-Fu eq. 7), any loss model.
 
@@ -799,7 +812,7 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
     corrected = margin_interval(runs, confidence)
     allowance = polynomial_allowance(horizons, degree)
     rate, f_low, f_high = corrected if corrected is not None else (None, None, None)
-    low, high = (None, None) if rate is None else (f_low * math.exp(-allowance), f_high * math.exp(allowance))
+    low, high = (None, None) if rate is None else (f_low * math.exp(-allowance), f_high)
     growth = rate_interval(runs[0], runs[2], confidence)
     verdict = ("unstable" if low is not None and low > 1 else
                "stable" if (f_high is not None and f_high < 1) or growth[2] < 1 + tolerance else "undecided")

@@ -152,3 +152,17 @@ def test_cli_family_without_loss_is_bad_input(tmp_path, capsys):
     assert cli.main(["verify", str(p)]) == 2
     out, err = capsys.readouterr()
     assert out == "" and err.count("\n") == 1 and "[loss]" in err
+
+
+def test_undecided_near_threshold_names_the_float64_horizon():
+    # ge-two-sensors' system (A = 2 R(pi/2), C1 = [1 0], C2 = [1 1]) with i.i.d. losses 2/5: the
+    # decisive pattern loses s1 and s2 at one phase and s1 at the other, 16 eps^3 per period 2,
+    # so the margin is 4 (2/5)^(3/2) = 1.0119, 1.2 % above 1.  alpha = 2 caps the horizon at 40
+    # steps (h = 12): the derived allowance ln(3/2)/12 = 3.4 % cannot be beaten by more paths
+    from symkf import files
+    from symkf.losses import IID
+    system, _ = files.load(examples.directory() / "systems" / "ge-two-sensors.toml")
+    rep = verify(system, IID(["2/5", "2/5"]), seed=SEED, paths=4000)
+    assert rep["theory"]["margins"][0]["exact"] == "8*sqrt(10)/25"
+    assert rep["outcome"] == "undecided" and rep["simulation"]["horizons"] == [12, 24, 36]
+    assert "beyond what float64 resolves here (the horizon is capped at 36" in rep["reason"]
