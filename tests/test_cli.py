@@ -80,7 +80,7 @@ def test_verify_long_bursts_do_not_break_down(capsys, tmp_path):
     # where float64 resolves every sampled path (montecarlo.float_horizon: alpha = 2, 40 steps)
     path = tmp_path / "two.toml"
     path.write_text(GE.read_text().split("[loss]")[0] + '[loss]\nloss = ["1/2", "1/6"]\n')
-    status, out, _ = run(capsys, "verify", path, "--json", "--paths", "5000", "--horizon", "60", "--seed", SEED)
+    status, out, _ = run(capsys, "verify", path, "--json", "--paths", "50000", "--horizon", "60", "--seed", SEED)
     rep = json.loads(out)
     assert status == 0 and rep["theory"]["stable"] is True and rep["theory"]["margins"][0]["exact"] == "sqrt(6)/3"
     assert rep["simulation"]["horizons"] == [12, 24, 36] and "horizon capped from 60 to 36" in rep["simulation"]["note"]
@@ -88,7 +88,7 @@ def test_verify_long_bursts_do_not_break_down(capsys, tmp_path):
 
 
 def test_verify_plain_text(capsys):
-    status, out, _ = run(capsys, "verify", DESIGN, "--paths", "2000", "--seed", SEED)
+    status, out, _ = run(capsys, "verify", DESIGN, "--paths", "8000", "--seed", SEED)
     assert status == 0 and "theory:     stable" in out and "CONSISTENT" in out and f"seeds {[SEED, SEED + 1, SEED + 2]}" in out
 
 
