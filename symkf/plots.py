@@ -18,7 +18,6 @@ lazily; without it :class:`PlotExtraError` (exit status 2 on the command line).
 from __future__ import annotations
 
 import sys
-import textwrap
 from fractions import Fraction
 from math import gcd
 from typing import Any, Sequence
@@ -205,8 +204,7 @@ def mean_trace_figure(system: System, loss: LossModel, curve: MeanTraceCurve, *,
         notes.append("Yang's bounds need i.i.d. losses")
     name = system.name or "the system"
     ax.set(xlabel="step k", ylabel=r"$\log_{10}$ E[tr $P_{k|k-1}$]",
-           title="\n".join([textwrap.fill(f"Growth of the expected error covariance of {name} under "
-                                           f"{_in_words(loss)}", 90),
+           title="\n".join(["Growth of the expected error covariance:", f"{name} under {_in_words(loss)}",
                              "importance sampling of final loss bursts" if "burst" in curve.sampling
                              else "plain Monte Carlo"] + notes))
     ax.title.set_fontsize("small")
