@@ -19,6 +19,7 @@ of one).  Progress is shown with tqdm when stderr is a terminal.
 from __future__ import annotations
 
 import dataclasses
+import re
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Sequence, TypeVar
@@ -129,6 +130,14 @@ def _processes(function: Callable, tasks: Sequence, order: Iterable[int], jobs: 
     return results
 
 
+#: a scheduler address, ``[protocol://]host:port`` (a DNS name, IPv4 or bracketed IPv6 host): anything
+#: else is refused before distributed sees it (a Client that fails half-built can deadlock the next one
+#: when the garbage collector closes it)
+_ADDRESS = re.compile(r"(?:(?:tcp|tls|ucx|ws|wss)://)?"
+                      r"(?:[A-Za-z0-9](?:[A-Za-z0-9-]*[A-Za-z0-9])?(?:\.[A-Za-z0-9](?:[A-Za-z0-9-]*[A-Za-z0-9])?)*"
+                      r"|\[[0-9A-Fa-f:.]+\]):\d{1,5}")
+
+
 def _dask(function: Callable, tasks: Sequence, scheduler: Any, progress: bool | None, desc: str) -> list:
     try:
         import distributed
@@ -136,7 +145,7 @@ def _dask(function: Callable, tasks: Sequence, scheduler: Any, progress: bool | 
         raise InputError("scheduler: Dask is not installed; install the extra: pip install 'symkf[dask]'") from None
     if isinstance(scheduler, distributed.Client):
         return _on_client(scheduler, function, tasks, progress, desc)
-    if not isinstance(scheduler, str) or not scheduler.strip():
+    if not isinstance(scheduler, str) or not _ADDRESS.fullmatch(scheduler):
         raise InputError(f"scheduler: expected a Dask scheduler address such as 'tcp://host:8786' "
                          f"or a distributed.Client, got {scheduler!r}")
     try:

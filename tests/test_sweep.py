@@ -96,6 +96,8 @@ def test_worker_errors_are_reraised_exactly():
     ({"jobs": True}, "jobs: expected a positive integer"),
     ({"jobs": 2, "scheduler": "tcp://127.0.0.1:8786"}, "not both"),
     ({"scheduler": 42}, "scheduler: expected a Dask scheduler address"),
+    ({"scheduler": "__builtins__"}, "scheduler: expected a Dask scheduler address"),   # never reaches distributed
+    ({"scheduler": "tcp://host:8786/x"}, "scheduler: expected a Dask scheduler address"),
 ])
 def test_bad_arguments(kwargs, message):
     with pytest.raises(InputError, match=message):
