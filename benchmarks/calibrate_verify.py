@@ -32,7 +32,6 @@ from fractions import Fraction
 
 import sympy as sp
 from hypothesis import given, settings, HealthCheck
-from hypothesis import strategies as st
 
 from symkf import strategies as sks
 from symkf.losses import IID, GilbertElliott, MarkovLoss

@@ -188,7 +188,7 @@ def estimate_mean_trace(system: System, loss: LossModel, horizon: int, paths: in
 # ------------------------------------------------------------------ patterns
 
 def _real(value: Any, entry: str) -> float:
-    """A float tuning value (tilts only steer sampling, never a verdict)."""
+    """A float tuning value (a burst pattern only steers sampling, never a verdict)."""
     return float(value) if isinstance(value, (int, float)) else float(to_exact(value, entry))
 
 

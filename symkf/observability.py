@@ -32,7 +32,7 @@ import sympy as sp
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, nullspace_rows, rank_rows
 from .model import System
-from .spectral import EigenBlock, eigen_blocks, eigenvalue_key, factors_in, support
+from .spectral import EigenBlock, eigenvalue_key, factors_in, support
 
 
 @dataclass(frozen=True)

@@ -313,8 +313,7 @@ def _nice_expr(f: flint.fmpz_poly, idx: int) -> sp.Expr:
         cands = [sp.exp(2 * sp.pi * sp.I * sp.Rational(k, m)) for k in range(m) if gcd(k, m) == 1]
     elif p.degree() == 2:
         cands = list(sp.roots(p, x))
-    elif _cosine_order(f):
-        m = _cosine_order(f)
+    elif m := _cosine_order(f):
         cands = [sp.cos(2 * sp.pi * sp.Rational(k, m)) for k in range(m // 2 + 1) if gcd(k, m) == 1]
     else:
         cands = [sp.CRootOf(p.as_expr(), x, k) for k in range(p.degree())]
