@@ -29,6 +29,7 @@ import flint
 import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
 import sympy as sp
 
+from . import hyperplane_screen
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, nullspace_rows, rank_rows
 from .model import System
@@ -98,72 +99,135 @@ class BlockRows:
 
         Weights are floats >= 0 (``-log loss``) used only to screen; every set whose screened
         weight is within ``1e-9 (1 + total weight)`` of the screened maximum is confirmed exactly
-        (rank ``n - 1`` over K) and returned, and the caller decides among them exactly (float
-        sums of at most E correctly rounded terms err by far less than the tolerance).
+        and returned, and the caller decides among them exactly (float sums of at most E correctly
+        rounded terms err by far less than the tolerance).
 
-        Why no maximiser is missed: the search visits the flat ``Z_p`` spanned mod p by every
-        (n - 2)-set ``c`` of generators and scores ``Z_p`` plus each of its lines (:func:`_line_keys`).
-        An exact hyperplane ``H`` holds such a ``c``, independent over K and so mod p (checked);
-        its other generators lie in ``Z_p`` or, by Cramer with an (n - 1)-minor of ``c`` and one
-        of them nonzero mod p, on one line: that screened set contains ``H``, and weights are
-        >= 0.  So if every set near the screened maximum confirms, that maximum is exact and
-        every exact maximiser is among the returned sets; a failed confirmation returns None.
-        Applies to elements with at most one generator (single-row sensors) and generators
-        spanning K^n mod p.
+        The screen (:mod:`symkf.hyperplane_screen`) works mod p, stage by stage: each orbit of
+        elements under the phase shift ``(j, r) -> (j, r + 1 mod g)`` (a symmetry of the hyperplanes
+        when the generator of ``(j, r + 1)`` is parallel to that of ``(j, r)`` times ``D_i``, checked
+        exactly; else every element is its own orbit) contributes the hyperplanes through its first
+        element ``a`` that hold no element of an earlier orbit; every hyperplane is a shift of one
+        of those.  Within a stage, a hyperplane ``H`` is visited at the flat ``Z_p`` spanned mod p
+        by ``a`` and its first ``n - 3`` classes independent mod ``a`` (independent over K, as
+        independent mod p), with the line of the later classes of ``H``: every later element of
+        ``H`` lies in ``Z_p`` or, by Cramer with an (n - 1)-minor nonzero mod p, on that one line,
+        so the screened set (``Z_p`` alone when no later class is left) contains ``H``, and weights
+        are >= 0.  Each kept set is closed mod p (every element on the mod-p span of its normal)
+        and confirmed exactly (rank ``n - 1`` over K): the closure is then an exact hyperplane, no
+        lighter than the set, so the screened maximum is the exact one and every exact maximiser
+        is among the closures' shifts.  A failed confirmation (a merge mod p that is not exact, or
+        a representative vanishing mod p) repeats the screen with the next prime, then returns
+        None.  Applies to elements with at most one generator (single-row sensors) and
+        generators spanning K^n mod p.
         """
         n = self.size
         if n < 2 or any(len(gs) > 1 for gs in self.generators):
             return None
-        vectors = _distinct([gs[0] for gs in self.generators if gs])
-        index = {_key(v): i for i, v in enumerate(vectors)}
-        owner = np.array([index[_key(gs[0])] if gs else -1 for gs in self.generators])
-        vw = np.bincount(owner[owner >= 0], weights=np.asarray(weights, dtype=float)[owner >= 0],
-                         minlength=len(vectors))
-        p, images = _reduction(self.K, vectors)
-        if flint.nmod_mat(images, p).rank() < n:
-            return None
-        W = np.array(images, dtype=np.int64)
-        V, tol = len(vectors), 1e-9 * (1 + vw.sum())
-        best, kept = -np.inf, {}  # screened sets (vector indices) within tol of the best so far: score
-        combos = itertools.combinations(range(V), n - 2)
-        while chunk := list(itertools.islice(combos, 2048)):
-            batch, normals = [], []
-            for c in chunk:
-                N = _normals(images, c, p, n)
-                if N is not None:
-                    batch.append(c)
-                    normals.append(N)
-                elif rank_rows(self.K, [vectors[i] for i in c], n) == n - 2:
-                    return None  # independent over K, not mod p
-            if not batch:
+        live = [e for e, gs in enumerate(self.generators) if gs]
+        always = [e for e, gs in enumerate(self.generators) if not gs]
+        vectors = [self.generators[e][0] for e in live]
+        w = np.asarray(weights, dtype=float)
+        shift = self._shift(live)
+        orbits = _orbits(len(live), shift)
+        p, tol = 1 << 27, 1e-9 * (1 + w.sum())
+        for _ in range(3):
+            p, images = _reduction(self.K, vectors, p)
+            if flint.nmod_mat(images, p).rank() < n:
+                return None
+            X = np.array(images, dtype=np.int64)
+            screen = hyperplane_screen.Screen(tol)
+            if not hyperplane_screen.search(X, w[live], p, orbits, self._parallel_orbits(X, p, orbits, vectors),
+                                            screen):
                 continue
-            XY = np.einsum("vn,bnk->bvk", W, np.stack(normals)) % p
-            key = _line_keys(XY[..., 0], XY[..., 1], p)                      # batch x V
-            flat_weight = np.where(key == p + 1, vw, 0).sum(axis=1)
-            order = np.argsort(key, axis=1)  # per flat, its lines as runs of equal keys
-            keys = np.take_along_axis(key, order, axis=1)
-            run = np.ones_like(keys, dtype=bool)
-            run[:, 1:] = keys[:, 1:] != keys[:, :-1]
-            starts = np.flatnonzero(run)
-            rows, line = starts // V, keys.ravel()[starts]
-            score = np.add.reduceat(vw[order].ravel(), starts) + flat_weight[rows]
-            score[line == p + 1] = -np.inf  # the flat itself is no hyperplane
-            best = max(best, score.max(initial=-np.inf))
-            kept = {S: w for S, w in kept.items() if w >= best - tol}
-            for i in np.flatnonzero(score >= best - tol):
-                member = key[rows[i]]
-                kept[frozenset(np.flatnonzero((member == p + 1) | (member == line[i])).tolist())] = score[i]
-        out = []
-        for S in kept:
-            if rank_rows(self.K, [vectors[i] for i in S], n) != n - 1:
-                return None  # a false merge mod p
-            out.append(frozenset(np.flatnonzero((owner < 0) | np.isin(owner, list(S))).tolist()))
+            closures = [self._closure(X, p, sorted(S), vectors) for S in screen.kept]
+            if any(c is None for c in closures):
+                continue
+            out = set()
+            for c in closures:
+                for _ in range(self.period if shift is not None else 1):
+                    out.add(frozenset(live[i] for i in c) | frozenset(always))
+                    c = shift[c] if shift is not None else c
+            return list(out)
+        return None
+
+    def _shift(self, live: list[int]) -> np.ndarray | None:
+        """The phase shift on live elements (positions in ``live``): the position of ``(j, r + 1 mod
+        g)`` for each ``(j, r)``, when its generator is parallel over K to ``(j, r)``'s times
+        ``D_i`` for every live element (then shifts map hyperplanes to hyperplanes); else None."""
+        if self.period < 2:
+            return None
+        at = {(e.sensor, e.phase): i for i, e in enumerate(self.elements)}
+        position = {e: i for i, e in enumerate(live)}
+        shift = []
+        for e in live:
+            el = self.elements[e]
+            nxt = at.get((el.sensor, (el.phase + 1) % self.period))
+            if nxt not in position:
+                return None
+            u = [self.K.mul(a, lam) for a, lam in zip(self.generators[e][0], self.diag)]
+            if not _parallel(self.K, u, self.generators[nxt][0]):
+                return None
+            shift.append(position[nxt])
+        return np.array(shift)
+
+    def _parallel_orbits(self, X: np.ndarray, p: int, orbits: list[list[int]], vectors) -> set[int]:
+        """Orbits whose first element is parallel over K to an element of an earlier orbit (every
+        hyperplane through it holds that element: the stage finds nothing new)."""
+        _, classes, _ = hyperplane_screen._classes(X, p)
+        label = np.empty(len(X), dtype=np.int64)
+        for c, members in enumerate(classes):
+            label[members] = c
+        stage = np.empty(len(X), dtype=np.int64)
+        for o, orbit in enumerate(orbits):
+            stage[orbit] = o
+        out = set()
+        for o, orbit in enumerate(orbits):
+            a = orbit[0]
+            earlier = [i for i in classes[label[a]] if stage[i] < o]
+            if earlier and _parallel(self.K, vectors[a], vectors[earlier[0]]):
+                out.add(o)
         return out
+
+    def _closure(self, X: np.ndarray, p: int, S: list[int], vectors) -> np.ndarray | None:
+        """Every element on the mod-p hyperplane spanned by ``S``, if that set has rank ``n - 1``
+        mod p and over K (then it is the exact hyperplane through ``S``); else None."""
+        null, nullity = flint.nmod_mat(X[S].tolist(), p).nullspace()
+        if nullity != 1:
+            return None
+        normal = np.array([int(null[i, 0]) for i in range(self.size)], dtype=np.int64)
+        members = np.flatnonzero(X @ normal % p == 0)
+        if rank_rows(self.K, _distinct([vectors[i] for i in members]), self.size) != self.size - 1:
+            return None
+        return members
 
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
         rows = [g for e in pattern for g in self.generators[e]]
         return rank_rows(self.K, rows, self.size) < self.size
+
+
+def _orbits(count: int, shift: np.ndarray | None) -> list[list[int]]:
+    """The cycles of ``shift`` on ``range(count)`` (each element alone without it), each from its
+    least element, in the order of those."""
+    if shift is None:
+        return [[i] for i in range(count)]
+    seen = np.zeros(count, dtype=bool)
+    out = []
+    for i in range(count):
+        if not seen[i]:
+            cycle, j = [], i
+            while not seen[j]:
+                seen[j] = True
+                cycle.append(j)
+                j = int(shift[j])
+            out.append(sorted(cycle))
+    return out
+
+
+def _parallel(K: NumberField, u: Sequence[Elem], v: Sequence[Elem]) -> bool:
+    """Whether the nonzero vectors ``u`` and ``v`` over K are parallel (all 2 x 2 minors vanish)."""
+    k = next(i for i, a in enumerate(u) if not a.is_zero())
+    return all(K.mul(a, v[k]) == K.mul(b, u[k]) for a, b in zip(u, v))
 
 
 def _set(row: np.ndarray) -> frozenset[int]:
@@ -293,29 +357,8 @@ def _normals(images: Sequence[Sequence[int]], c: tuple[int, ...], p: int, n: int
 def _line_keys(x: np.ndarray, y: np.ndarray, p: int) -> np.ndarray:
     """The point ``(x : y)`` of the projective line over F_p as ``x / y`` in ``0..p-1``, ``p`` for
     ``y = 0``, and ``p + 1`` for ``x = y = 0`` (the vector lies in the flat)."""
-    inv = _inverses(np.where(y != 0, y, 1), p)
+    inv = hyperplane_screen.inverses(np.where(y != 0, y, 1), p)
     return np.where(y != 0, x * inv % p, np.where(x != 0, p, p + 1))
-
-
-def _inverses(y: np.ndarray, p: int) -> np.ndarray:
-    """Inverses mod p of the (nonzero) entries of ``y`` (B x V), with Montgomery's batch trick
-    along each row: prefix products, one Fermat power per row, and a backward pass."""
-    prefix = np.empty_like(y)
-    prefix[:, 0] = y[:, 0]
-    for j in range(1, y.shape[1]):
-        prefix[:, j] = prefix[:, j - 1] * y[:, j] % p
-    inv_all, base, e = np.ones_like(prefix[:, -1]), prefix[:, -1].copy(), p - 2  # squarings stay below 2^54
-    while e:
-        if e & 1:
-            inv_all = inv_all * base % p
-        base = base * base % p
-        e >>= 1
-    out = np.empty_like(y)
-    for j in range(y.shape[1] - 1, 0, -1):  # inv_all = 1 / (y_0 ... y_j)
-        out[:, j] = inv_all * prefix[:, j - 1] % p
-        inv_all = inv_all * y[:, j] % p
-    out[:, 0] = inv_all
-    return out
 
 
 def _hyperplanes_through(c: tuple[int, ...], key: np.ndarray, p: int, n: int, flat) \
