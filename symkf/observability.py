@@ -440,17 +440,18 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
               for f, i in roots}
     own = all(e.key in inside for e in members)
     if not own:
-        K = NumberField([*K.generators, *(e.expr for e in members if not e.expr.is_Rational)])
+        K = NumberField([*K.generators, *(e.root for e in members if not e.root.is_Rational)])
     Ak = K.matrix(sub)
     m = len(index)
     cols: list[list[Elem]] = []
     diag: list[Elem] = []
     for ev in members:
-        lam = inside[ev.key] if own else K.convert(ev.expr)
+        lam = inside[ev.key] if own else K.convert(ev.root)
         shifted = [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(m)] for i in range(m)]
         if ev.defective:
             shifted = _matpow(K, shifted, ev.multiplicity)
-        basis = nullspace_rows(K, shifted, m)
+        basis = _krylov_eigenvector(K, sub, lam) if ev.multiplicity == 1 else None
+        basis = basis or nullspace_rows(K, shifted, m)
         if len(basis) != ev.multiplicity:
             raise AssertionError("generalized eigenspace dimension mismatch")  # pragma: no cover
         cols.extend(basis)
@@ -459,6 +460,38 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
     zero = flint.fmpq_poly([])
     T = [[cols[c][row_of[i]] if i in row_of else zero for c in range(len(cols))] for i in range(n)]
     return K, T, diag
+
+
+def _krylov_eigenvector(K: NumberField, A: sp.MatrixBase, lam: Elem) -> list[list[Elem]] | None:
+    """``[v]`` with ``A v = lam v``, ``v != 0``, for a rational ``A`` and a simple eigenvalue ``lam``
+    in K, from the adjugate instead of an echelon form over K (whose coefficients swell: most of
+    the time of a dense 20 x 20 system): ``adj(lam I - A) = sum_j q_j(lam) A^j`` with
+    ``q(x, y) = (chi(x) - chi(y)) / (x - y) = sum_j q_j(x) y^j``, of rank 1, so a nonzero column
+    ``sum_j q_j(lam) A^j e_k`` spans the eigenspace (checked exactly); None when A is not rational."""
+    if not all(v.is_Rational for v in A):
+        return None
+    n = A.shape[0]
+    M = flint.fmpq_mat([[flint.fmpq(int(v.p), int(v.q)) for v in A.row(i)] for i in range(n)])
+    chi = M.charpoly().coeffs()
+    q = [flint.fmpq_poly([chi[n]])]  # q_(n-1) = chi_n; q_j = lam q_(j+1) + chi_(j+1)
+    for j in range(n - 2, -1, -1):
+        q.append(K.mul(lam, q[-1]) + chi[j + 1])
+    q.reverse()
+    for k in range(n):
+        w = flint.fmpq_mat(n, 1, [1 if i == k else 0 for i in range(n)])
+        v = [flint.fmpq_poly([]) for _ in range(n)]
+        for j in range(n):
+            for i in range(n):
+                if w[i, 0] != 0:
+                    v[i] += q[j] * w[i, 0]
+            w = M * w
+        if any(not a.is_zero() for a in v):
+            for i in range(n):  # (A - lam I) v = 0 exactly
+                if not (sum((v[j] * M[i, j] for j in range(n) if M[i, j] != 0), flint.fmpq_poly([]))
+                        - K.mul(lam, v[i])) % K.modulus == 0:
+                    raise AssertionError("adjugate eigenvector check failed")  # pragma: no cover
+            return [v]
+    return None
 
 
 def _matmul(K: NumberField, X: Sequence[Sequence[Elem]], Y: Sequence[Sequence[Elem]]) -> list[list[Elem]]:

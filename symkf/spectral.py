@@ -21,6 +21,7 @@ bound).  ``None`` means aperiodic and comes with that proof.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+import math
 from fractions import Fraction
 from functools import cached_property, lru_cache
 from math import gcd
@@ -29,8 +30,8 @@ from typing import Any, Sequence
 import flint
 import sympy as sp
 
-from .exact.algebraic import (AlgebraicNumber, _complex_roots, _with_prec, crootof_ball, fmpz_to_sympy, identify,
-                              real_from_ball, root_ball)
+from .exact.algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, _with_prec, crootof_ball,
+                              fmpz_to_sympy, identify, real_from_ball, root_ball)
 from .exact import nfpoly
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, rank, rank_rows
@@ -134,12 +135,27 @@ class Eigenvalue:
         """The eigenvalue as an exact sympy expression (``alpha exp(2 pi i k/m)`` when periodic)."""
         f = self.minpoly
         if f.degree() > 2 and not f.is_cyclotomic() and not _cosine_order(f):
-            m, _ = _phase_order(self)
+            m, _ = self.phase
             if m is not None:
                 alpha = self.modulus.exact
                 return _match(root_ball(f, self.root_index, 128),
                               [alpha * sp.exp(2 * sp.pi * sp.I * sp.Rational(k, m)) for k in range(m)])
         return _nice_expr(f, self.root_index)
+
+    @cached_property
+    def root(self) -> sp.Expr:
+        """The eigenvalue as a number field's generator: :attr:`expr` when that is a closed form
+        (a rational, quadratic, trigonometric or ``alpha exp(2 pi i k/m)`` form), else a
+        :class:`~symkf.exact.algebraic.FlintRoot` (a ``CRootOf`` would cost sympy's root isolation)."""
+        f = self.minpoly
+        if f.degree() <= 2 or f.is_cyclotomic() or _cosine_order(f) or self.phase[0] is not None:
+            return self.expr
+        return FlintRoot(f, self.root_index)
+
+    @cached_property
+    def phase(self) -> tuple[int | None, "RatioEvidence"]:
+        """:func:`_phase_order`: the order of ``lambda / |lambda|`` as a root of unity, with its proof."""
+        return _phase_order(self)
 
     def ball(self, prec: int) -> flint.acb:
         """A certified complex ball (flint ``acb``) around the eigenvalue at ``prec`` bits."""
@@ -191,13 +207,28 @@ class Eigenvalue:
 
 @dataclass(frozen=True)
 class RatioEvidence:
-    """Why ``num / den`` (or ``num / conj(den)``) is, or is not, a root of unity of order ``order``."""
+    """Why ``num / den`` (or ``num / conj(den)``) is, or is not, a root of unity of order ``order``;
+    the ratio's minimal polynomial is found when first asked for (an aperiodicity decided by
+    :func:`_far_from_roots_of_unity` needs none)."""
 
     num: "Eigenvalue"
     den: "Eigenvalue"
     conj_den: bool
-    minpoly: flint.fmpz_poly
     order: int | None
+    known: flint.fmpz_poly | None = None
+
+    @cached_property
+    def minpoly(self) -> flint.fmpz_poly:
+        """The ratio's minimal polynomial over Q."""
+        if self.known is not None:
+            return self.known
+        fa, fb = (tuple(int(c) for c in e.minpoly.coeffs()) for e in (self.num, self.den))
+        return identify(_ratio_poly(fa, fb), self.ball, "eigenvalue ratio")[0]
+
+    def ball(self, prec: int) -> flint.acb:
+        """A certified ball around the ratio at ``prec`` bits."""
+        d = self.den.ball(prec)
+        return _with_prec(prec, lambda: self.num.ball(prec) / (d.conjugate() if self.conj_den else d))
 
     def __str__(self) -> str:
         label = f"({self.num.label})/{'conj' if self.conj_den else ''}({self.den.label})"
@@ -214,16 +245,41 @@ def root_of_unity_order(num: Eigenvalue, den: Eigenvalue, conj_den: bool = False
     """
     if num.is_real and den.is_real and num.modulus == den.modulus:  # num/den = +-1, no resultant
         sign = 1 if (num.ball(64).real > 0) == (den.ball(64).real > 0) else -1
-        return RatioEvidence(num, den, conj_den, flint.fmpz_poly([-sign, 1]), 1 if sign > 0 else 2)
-    fa = tuple(int(c) for c in num.minpoly.coeffs())
-    fb = tuple(int(c) for c in den.minpoly.coeffs())
+        return RatioEvidence(num, den, conj_den, 1 if sign > 0 else 2, flint.fmpz_poly([-sign, 1]))
+    evidence = RatioEvidence(num, den, conj_den, None)
+    if _far_from_roots_of_unity(evidence.ball, num.minpoly.degree() * den.minpoly.degree()):
+        return evidence
+    return RatioEvidence(num, den, conj_den, int(evidence.minpoly.is_cyclotomic()) or None, evidence.minpoly)
 
-    def ball(prec: int) -> flint.acb:
-        d = den.ball(prec)
-        return num.ball(prec) / (d.conjugate() if conj_den else d)
 
-    poly, _ = identify(_ratio_poly(fa, fb), ball, "eigenvalue ratio")
-    return RatioEvidence(num, den, conj_den, poly, int(poly.is_cyclotomic()) or None)
+def _far_from_roots_of_unity(ball_at, degree: int) -> bool:
+    """True when the number in the balls ``ball_at(prec)``, algebraic of degree at most ``degree``,
+    is proved not a root of unity without its minimal polynomial (a resultant of that degree):
+    a primitive m-th root of unity has degree ``phi(m) >= sqrt(m/2)``, so ``m <= 2 degree^2``,
+    and ``arg / (2 pi)`` would be a fraction of denominator m; it is not when the certified
+    interval of ``arg / (2 pi)`` holds no fraction of denominator up to that bound."""
+    bound = 2 * degree * degree
+    for prec in (64, 128, 256):
+        z = ball_at(prec)
+        if z.contains(0):
+            continue
+        t = _with_prec(prec, lambda: z.arg() / (2 * flint.arb.pi()))
+        lo, hi = (Fraction(int(v.p), int(v.q)) for v in _arb_interval(t))
+        if _least_denominator(lo, hi) > bound:
+            return True
+    return False
+
+
+def _least_denominator(lo: Fraction, hi: Fraction) -> int:
+    """The least q such that some p/q lies in [lo, hi] (exact continued fractions): with the
+    fractions of the interval written ``(p1 x + p0) / (q1 x + q0)``, x in [a, b], an integer x
+    there gives the least denominator at ``x = ceil(a)``; else ``x = floor(a) + 1/y``."""
+    q0, q1, a, b = 1, 0, lo, hi
+    while True:
+        f = math.floor(a)
+        if f == a or f + 1 <= b:
+            return q1 * math.ceil(a) + q0
+        q0, q1, a, b = q1, f * q1 + q0, 1 / (b - f), 1 / (a - f)
 
 
 def _phase_order(lam: Eigenvalue) -> tuple[int | None, RatioEvidence]:
@@ -628,7 +684,7 @@ def _block(members: list[Eigenvalue]) -> EigenBlock:
     proofs = []
     tau: int | None = 1
     for ev in members:
-        m, proof = _phase_order(ev)
+        m, proof = ev.phase
         if m is None:
             tau = None
             proofs.append(("tau", proof))

@@ -9,6 +9,7 @@ with 1.  Margin exactly 1 is not stable.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from decimal import Decimal, localcontext
 from fractions import Fraction
 from typing import Any, Sequence
@@ -218,15 +219,14 @@ def stability(system: System, loss: LossModel) -> Verdict:
     return Verdict(stable, tuple(margins), limiting, theorem, tuple(assumptions), tuple(certs), aside)
 
 
-def _vectors(system: System, common: bool = False) -> list[tuple[sp.Expr, tuple[int, ...]]]:
-    """``(alpha_i^(2g), (k_1, ..., k_d))`` for every block and distinct exponent vector.
+def _vectors(system: System, common: bool = False) -> list[tuple[AlgebraicNumber, int, tuple[int, ...]]]:
+    """``(alpha_i, 2g, (k_1, ..., k_d))`` for every block and distinct exponent vector.
 
     ``common``: a common loss ``eps`` for every sensor, whose bound ``(alpha_i^(2g) eps^K)``
     binds first at the fewest elements ``K`` outside: only the hyperplanes holding the most
     elements (:func:`symkf.decay.outside_counts` with equal weights) are needed."""
     weights = [1.0] * system.d if common else None
-    return [(sp.sympify(br.block.modulus.exact ** (2 * br.period)), ks)
-            for br in block_rows(system) for ks in outside_counts(br, weights)]
+    return [(br.block.modulus, 2 * br.period, ks) for br in block_rows(system) for ks in outside_counts(br, weights)]
 
 
 def critical_loss_rate(system: System, sensor: str | None = None, *, others: Sequence[Any] | None = None,
@@ -273,28 +273,71 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
         if len(w) != d:
             raise InputError(f"ray: {len(w)} weights for {d} sensors")
         bounds = []
-        for a2g, ks in _vectors(system, common=len(set(w)) == 1):
+        for alpha, power, ks in _vectors(system, common=len(set(w)) == 1):
             W = sp.Mul(*[wj ** k for wj, k in zip(w, ks)])
             if W != 0:
-                bounds.append(sp.root(1 / (a2g * W), sum(ks)))
+                bounds.append(_Bound(alpha, power, W, sum(ks)))
         return _min_capped(bounds)
     j = system.sensor_index(sensor)
     if others is None or len(others) != d:
         raise InputError(f"others: give the {d} loss probabilities of all sensors (entry {j} is ignored)")
     fixed = [to_exact(v, f"others[{i}]") if i != j else sp.Integer(1) for i, v in enumerate(others)]
     bounds = []
-    for a2g, ks in _vectors(system):
+    for alpha, power, ks in _vectors(system):
         rest = sp.Mul(*[f ** k for i, (f, k) in enumerate(zip(fixed, ks)) if i != j])
         if ks[j] == 0:
-            if AlgebraicNumber.from_expr(a2g * rest) >= 1:
+            if AlgebraicNumber.from_expr(sp.sympify(alpha.exact ** power) * rest) >= 1:
                 return AlgebraicNumber.from_expr(0)
         elif rest != 0:
-            bounds.append(sp.root(1 / (a2g * rest), ks[j]))
+            bounds.append(_Bound(alpha, power, rest, ks[j]))
     return _min_capped(bounds)
 
 
-def _min_capped(bounds: list[sp.Expr]) -> AlgebraicNumber:
-    values = [AlgebraicNumber.from_expr(b) for b in set(map(sp.sympify, bounds))]
+class _Bound:
+    """A candidate critical value ``(alpha^power c)^(-1/k)`` (``alpha > 0`` a block's modulus,
+    ``c > 0``): its sympy form ``.expr`` (the result's ``.exact``), a certified ball, and for
+    rational ``c`` its exact value from flint resultants (sympy's minimal polynomial of a root
+    of a high-degree ``CRootOf`` is far slower)."""
+
+    def __init__(self, alpha: AlgebraicNumber, power: int, c: sp.Expr, k: int) -> None:
+        self.alpha, self.power, self.c, self.k = alpha, power, sp.sympify(c), k
+        self.key = (alpha, power, self.c, k)
+
+    @cached_property
+    def expr(self) -> sp.Expr:
+        """Built for the result only: a ``CRootOf`` modulus costs sympy's real-root isolation."""
+        return sp.sympify(sp.root(1 / (sp.sympify(self.alpha.exact ** self.power) * self.c), self.k))
+
+    def ball(self, prec: int) -> flint.arb:
+        if not self.c.is_Rational:
+            return self.value()._ball(prec).real
+        c = flint.fmpq(int(self.c.p), int(self.c.q))
+        return _with_prec(prec, lambda: ((self.alpha._ball(prec).real ** self.power * c).log() / -self.k).exp())
+
+    def value(self) -> AlgebraicNumber:
+        if not self.c.is_Rational or self.alpha.is_rational:
+            return AlgebraicNumber.from_expr(self.expr)
+        gamma = 1 / (self.alpha ** self.power * AlgebraicNumber.from_expr(self.c))
+        if self.k == 1:
+            return AlgebraicNumber._irreducible(gamma._poly, gamma._index, self.expr)
+        coeffs = [0] * (self.k * gamma._poly.degree() + 1)  # p(x^k) for the minimal polynomial p of gamma
+        for i, a in enumerate(gamma._poly.coeffs()):
+            coeffs[self.k * i] = int(a)
+        f, index = identify(flint.fmpz_poly(coeffs), lambda prec: flint.acb(self.ball(prec)), "critical value")
+        return AlgebraicNumber._irreducible(f, index, self.expr)
+
+
+def _min_capped(bounds: list[_Bound]) -> AlgebraicNumber:
+    """The least bound, or 1 when none is below 1: certified balls decide, exact values break
+    the ties the balls leave (the first least bound wins)."""
+    cands = list({b.key: b for b in bounds}.values())
+    one = flint.arb(1)
+    for prec in (64, 256, 1024):
+        balls = [b.ball(prec) for b in cands]
+        cands = [b for b, z in zip(cands, balls) if not any(y < z for y in balls) and not one < z]
+        if len(cands) <= 1:
+            break
+    values = [b.value() for b in cands]
     best = min(values, default=AlgebraicNumber.from_expr(1))
     return best if best < 1 else AlgebraicNumber.from_expr(1)
 

@@ -109,7 +109,7 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
     bits.  The answer is the unique root, over all factors, whose isolating
     ball meets it; precision grows until exactly one does.
     """
-    factors = [f if f.leading_coefficient() > 0 else -f for f, _ in poly.factor()[1] if f.degree() > 0]
+    factors = _factors(tuple(int(c) for c in poly.coeffs()))
     for prec in (64, 128, 256, 512, 1024, 4096):
         def hits() -> list[tuple[flint.fmpz_poly, int]]:
             z = ball_at(prec)
@@ -120,6 +120,15 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
         if len(found) == 1:
             return found[0]
     raise InputError(f"cannot identify the {what} among the roots of {poly}")  # pragma: no cover
+
+
+@lru_cache(maxsize=512)
+def _factors(coeffs: tuple[int, ...]) -> list[flint.fmpz_poly]:
+    """The irreducible factors (positive leading coefficient) of a nonconstant integer polynomial,
+    cached: the moduli and phase orders of all eigenvalues of one minimal polynomial share one
+    resultant of degree up to ``2 d^2``."""
+    return [f if f.leading_coefficient() > 0 else -f for f, _ in flint.fmpz_poly(list(coeffs)).factor()[1]
+            if f.degree() > 0]
 
 
 def crootof_ball(expr: sp.CRootOf) -> flint.acb:
@@ -133,11 +142,49 @@ def crootof_ball(expr: sp.CRootOf) -> flint.acb:
     return flint.acb(arb(sp.Rational(xlo), sp.Rational(xhi)), arb(sp.Rational(ylo), sp.Rational(yhi)))
 
 
+class FlintRoot(sp.Expr):
+    """Root ``index`` (python-flint's ``complex_roots`` ordering) of the irreducible primitive
+    integer polynomial ``poly``: an algebraic number known by its minimal polynomial and its
+    isolating ball, so a number field can adjoin it without sympy's pure-Python root isolation
+    (which a ``CRootOf`` needs for its own index: most of the time of a dense 16 x 16 system)."""
+
+    is_number = True
+    is_commutative = True
+
+    def __new__(cls, poly: flint.fmpz_poly, index: int) -> "FlintRoot":
+        return sp.Expr.__new__(cls, sp.Tuple(*[sp.Integer(int(c)) for c in poly.coeffs()]), sp.Integer(index))
+
+    @property
+    def poly(self) -> flint.fmpz_poly:
+        return flint.fmpz_poly([int(c) for c in self.args[0]])
+
+    @property
+    def index(self) -> int:
+        return int(self.args[1])
+
+    def _eval_is_extended_real(self) -> bool:
+        return root_ball(self.poly, self.index, 64).imag == 0
+
+    def _eval_is_finite(self) -> bool:
+        return True
+
+    def _eval_evalf(self, prec: int) -> sp.Expr:
+        b = root_ball(self.poly, self.index, prec + 16)
+        digits = int(prec / 3.32) + 2
+        part = lambda a: sp.Float(a.mid().str(digits, radius=False), digits)  # noqa: E731
+        return part(b.real) + sp.I * part(b.imag) if b.imag != 0 else part(b.real)
+
+    def _sympystr(self, printer: Any) -> str:
+        return f"FlintRoot({fmpz_to_sympy(self.poly).as_expr()}, {self.index})"
+
+
 def expr_ball(expr: sp.Expr, prec: int) -> flint.acb:
     """A ball around the value of the sympy number ``expr`` at about ``prec`` bits (sympy's evalf;
     for a ``CRootOf``, its isolating interval, which separates it from the other roots)."""
     if isinstance(expr, sp.CRootOf):
         return crootof_ball(expr)
+    if isinstance(expr, FlintRoot):
+        return root_ball(expr.poly, expr.index, prec)
     digits = prec // 3 + 10
     v = sp.N(expr, digits)
     re_, im_ = sp.re(v), sp.im(v)
@@ -151,6 +198,8 @@ def root_of(expr: sp.Expr) -> tuple[flint.fmpz_poly, int]:
     (sympy's ``minimal_polynomial``) and root index (flint's ordering), cached."""
     if expr.free_symbols:
         raise InputError(f"{expr}: has free symbols, not a number")
+    if isinstance(expr, FlintRoot):
+        return expr.poly, expr.index
     poly = _root_of_unity_poly(expr)
     if poly is None:
         poly = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))
