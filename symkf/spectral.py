@@ -67,9 +67,26 @@ def _ratio_poly(fa: tuple[int, ...], fb: tuple[int, ...]) -> flint.fmpz_poly:
 
 @lru_cache(maxsize=512)
 def _abs_poly(f: tuple[int, ...]) -> flint.fmpz_poly:
-    """Roots include ``|lambda|`` for every root of the real ``f``: Res_y(f(y), y^d f(z^2/y))."""
-    d = len(f) - 1
-    return _resultant_y(f, {(d - k, 2 * k): c for k, c in enumerate(f) if c})
+    """Roots include ``|lambda|`` for every root of the real ``f`` (degree d, leading coefficient
+    a): ``H(a^2 x^2)`` with ``H`` the polynomial of the products ``mu_i mu_j``, i <= j, of the
+    roots ``mu = a lambda`` of the monic integer ``a^(d-1) f(x/a)``, among them ``a^2 lambda
+    conj(lambda)`` (and ``a^2 lambda^2`` for a real root).  ``H`` comes from power sums (Newton's
+    identities, exact integers: ``sum_(i<=j) (mu_i mu_j)^k = (p_k^2 + p_2k) / 2``), of degree
+    ``d(d+1)/2``; the resultant ``Res_y(f(y), y^d f(x^2/y))`` of degree ``2 d^2`` costs far more."""
+    d, lead = len(f) - 1, f[-1]
+    c = [f[k] * lead ** (d - 1 - k) for k in range(d)] + [1]
+    D = d * (d + 1) // 2
+    p = [d] + [0] * (2 * D)  # power sums of the mu
+    for k in range(1, 2 * D + 1):
+        p[k] = -sum(c[d - i] * p[k - i] for i in range(1, min(k - 1, d) + 1)) - (k * c[d - k] if k <= d else 0)
+    s = [0] + [(p[k] * p[k] + p[2 * k]) // 2 for k in range(1, D + 1)]
+    e = [1] + [0] * D  # elementary symmetric functions of the products (Newton)
+    for k in range(1, D + 1):
+        e[k] = sum((-1) ** (i - 1) * e[k - i] * s[i] for i in range(1, k + 1)) // k
+    coeffs = [0] * (2 * D + 1)
+    for j in range(D + 1):  # H = sum_j (-1)^(D-j) e_(D-j) z^j at z = a^2 x^2
+        coeffs[2 * j] = (-1) ** (D - j) * e[D - j] * lead ** (2 * j)
+    return flint.fmpz_poly(coeffs)
 
 
 def _negated_index(f: flint.fmpz_poly, index: int) -> int:
