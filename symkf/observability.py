@@ -56,6 +56,7 @@ class BlockRows:
     size: int
     T: list = field(repr=False)      # modal eigenvector columns (n x n_i over K; see modal_form's conjugate_pair)
     diag: list = field(repr=False)   # the block's eigenvalues in K, repeated by multiplicity
+    phase_shift: bool = False        # generators are the class parts of C_j T D^phase (not Jordan chains)
 
     @cached_property
     def hyperplanes(self) -> tuple[frozenset[int], ...]:
@@ -104,8 +105,8 @@ class BlockRows:
 
         The screen (:mod:`symkf.hyperplane_screen`) works mod p, stage by stage: each orbit of
         elements under the phase shift ``(j, r) -> (j, r + 1 mod g)`` (a symmetry of the hyperplanes
-        when the generator of ``(j, r + 1)`` is parallel to that of ``(j, r)`` times ``D_i``, checked
-        exactly; else every element is its own orbit) contributes the hyperplanes through its first
+        when the generator of ``(j, r + 1)`` is that of ``(j, r)`` times ``D_i``, by construction in
+        :func:`_block_rows`; else every element is its own orbit) contributes the hyperplanes through its first
         element ``a`` that hold no element of an earlier orbit; every hyperplane is a shift of one
         of those.  Within a stage, a hyperplane ``H`` is visited at the flat ``Z_p`` spanned mod p
         by ``a`` and its first ``n - 3`` classes independent mod ``a`` (independent over K, as
@@ -152,23 +153,16 @@ class BlockRows:
 
     def _shift(self, live: list[int]) -> np.ndarray | None:
         """The phase shift on live elements (positions in ``live``): the position of ``(j, r + 1 mod
-        g)`` for each ``(j, r)``, when its generator is parallel over K to ``(j, r)``'s times
-        ``D_i`` for every live element (then shifts map hyperplanes to hyperplanes); else None."""
-        if self.period < 2:
+        g)`` for each ``(j, r)``, when the generators are the class parts of ``C_j T D^r``
+        (:attr:`phase_shift`): the generator of ``(j, r + 1)`` is then that of ``(j, r)`` times
+        ``D_i``, parallel to it at ``r = g - 1`` (``D_i^g`` is scalar on each class), so shifts map
+        hyperplanes to hyperplanes; else None."""
+        if self.period < 2 or not self.phase_shift:
             return None
         at = {(e.sensor, e.phase): i for i, e in enumerate(self.elements)}
         position = {e: i for i, e in enumerate(live)}
-        shift = []
-        for e in live:
-            el = self.elements[e]
-            nxt = at.get((el.sensor, (el.phase + 1) % self.period))
-            if nxt not in position:
-                return None
-            u = [self.K.mul(a, lam) for a, lam in zip(self.generators[e][0], self.diag)]
-            if not _parallel(self.K, u, self.generators[nxt][0]):
-                return None
-            shift.append(position[nxt])
-        return np.array(shift)
+        nxt = [at[(self.elements[e].sensor, (self.elements[e].phase + 1) % self.period)] for e in live]
+        return np.array([position[e] for e in nxt])
 
     def _parallel_orbits(self, X: np.ndarray, p: int, orbits: list[list[int]], vectors) -> set[int]:
         """Orbits whose first element is parallel over K to an element of an earlier orbit (every
@@ -266,21 +260,58 @@ def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]], start: int = 1
     p = start  # below 2^30: products of two residues, summed n times, stay in int64
     elements = [a for v in vectors for a in v]
     denominators = int(np.lcm.reduce([int(a.denom()) for a in elements] + [int(K.modulus.denom())], dtype=object))
+    m = _conductor(K.modulus)
     while True:
-        p = int(sp.nextprime(p))
+        p = int(sp.nextprime(p)) if not m else _next_prime_1_mod(p, m)
         if denominators % p == 0 or int(K.modulus.coeffs()[-1].p) % p == 0:
             continue
         f = flint.nmod_poly([int(c.p) * pow(int(c.q), -1, p) % p for c in K.modulus.coeffs()], p)
-        x = flint.nmod_poly([0, 1], p)
-        split = f.gcd(x.pow_mod(p, f) - x)  # the linear factors of f: finding them all costs far more
-        if split.degree() < 1:
+        r = _cyclotomic_root(f, p, m) if m else _some_root(f, p)
+        if r is None:
             continue
-        roots = split.roots()
-        r = int(roots[0][0])
 
         def phi(a: Elem) -> int:
             return int(flint.nmod_poly([int(c) for c in a.numer().coeffs()], p)(r)) * pow(int(a.denom()), -1, p) % p
         return p, [[phi(a) for a in v] for v in vectors]
+
+
+def _some_root(f: flint.nmod_poly, p: int) -> int | None:
+    x = flint.nmod_poly([0, 1], p)
+    split = f.gcd(x.pow_mod(p, f) - x)  # the linear factors of f: finding them all costs far more
+    return int(split.roots()[0][0]) if split.degree() >= 1 else None
+
+
+def _conductor(modulus: Elem) -> int:
+    """m when ``modulus`` is the cyclotomic ``Phi_m`` or the minimal polynomial of ``2 cos(2 pi/m)``
+    (the presentations of :mod:`symkf.exact.field`), else 0: both split mod every prime
+    ``p = 1 mod m``, where a root is a power ``a^((p - 1)/m)`` (no search over primes, whose
+    density with a root is ``1/phi(m)``)."""
+    if modulus.denom() != 1 or modulus.degree() < 2:
+        return 0
+    f = flint.fmpz_poly([int(c) for c in modulus.coeffs()])
+    if m := int(f.is_cyclotomic()):
+        return m
+    d, t, x = f.degree(), flint.fmpz_poly([1, 0, 1]), flint.fmpz_poly([0, 1])  # x^d f(x + 1/x)
+    h = sum((int(c) * t ** k * x ** (d - k) for k, c in enumerate(f.coeffs())), flint.fmpz_poly([]))
+    return int(h.is_cyclotomic())
+
+
+def _next_prime_1_mod(p: int, m: int) -> int:
+    q = p + 1 + (-p) % m  # the next q = 1 mod m above p
+    while not sp.isprime(q):
+        q += m
+    return q
+
+
+def _cyclotomic_root(f: flint.nmod_poly, p: int, m: int) -> int | None:
+    """A root of ``f`` (``Phi_m`` or the polynomial of ``2 cos(2 pi/m)`` mod ``p = 1 mod m``):
+    ``zeta = a^((p - 1)/m)`` is a primitive m-th root of unity for some small ``a``."""
+    for a in range(2, 200):
+        z = pow(a, (p - 1) // m, p)
+        for r in (z, (z + pow(z, -1, p)) % p):
+            if int(f(r)) == 0:
+                return r
+    return None
 
 
 def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n: int) -> list[frozenset[int]]:
@@ -527,9 +558,10 @@ def _block_rows(system: System, block: EigenBlock) -> BlockRows:
     elements, generators = [], []
     for j, sensor in enumerate(system.sensors):
         CT = [K.vecmat(K.matrix(sensor.C)[r], T) for r in range(sensor.m)]
-        for phase in range(g):
-            powers = [K.pow(lam, phase) for lam in diag]
-            rows = [[K.mul(a, p) for a, p in zip(row, powers)] for row in CT]
+        rows = CT
+        for phase in range(g):  # rows C_j T D^phase
+            if phase:
+                rows = [[K.mul(a, lam) for a, lam in zip(row, diag)] for row in rows]
             gens = []
             for c in range(len(block.classes)):
                 for row in rows:
@@ -538,7 +570,7 @@ def _block_rows(system: System, block: EigenBlock) -> BlockRows:
                         gens.append(v)
             elements.append(Element(j, phase))
             generators.append(tuple(_independent(K, gens, block.size)))
-    return BlockRows(block, K, g, tuple(elements), tuple(generators), block.size, T, diag)
+    return BlockRows(block, K, g, tuple(elements), tuple(generators), block.size, T, diag, phase_shift=True)
 
 
 def _jordan_block_rows(system: System, block: EigenBlock, K: NumberField, T: list, diag: list) -> BlockRows:
@@ -583,6 +615,8 @@ def _jordan_block_rows(system: System, block: EigenBlock, K: NumberField, T: lis
 
 def _independent(K: NumberField, vectors: list[tuple[Elem, ...]], n: int) -> list[tuple[Elem, ...]]:
     """A maximal independent subset (generators of the same span, fewer rank tests later)."""
+    if len(vectors) == 1:  # nonzero
+        return list(vectors)
     out: list[tuple[Elem, ...]] = []
     for v in vectors:
         if rank_rows(K, out + [v], n) > len(out):

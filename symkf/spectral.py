@@ -153,10 +153,11 @@ class Eigenvalue:
         f = self.minpoly
         if f.degree() > 2 and not f.is_cyclotomic() and not _cosine_order(f):
             m, _ = self.phase
-            if m is not None:
-                alpha = self.modulus.exact
-                return _match(root_ball(f, self.root_index, 128),
-                              [alpha * sp.exp(2 * sp.pi * sp.I * sp.Rational(k, m)) for k in range(m)])
+            if m is not None:  # lambda = alpha exp(2 pi i k/m): k from the ball of m arg(lambda) / (2 pi)
+                ball = root_ball(f, self.root_index, 128)
+                lo, hi = _arb_interval(_with_prec(128, lambda: ball.arg() * m / (2 * flint.arb.pi())))
+                near = range(math.floor(lo), math.ceil(hi) + 1) if hi - lo < 1 else range(m)
+                return _match(ball, [self.modulus.exact * sp.exp(2 * sp.pi * sp.I * sp.Rational(j % m, m)) for j in near])
         return _nice_expr(f, self.root_index)
 
     @cached_property
@@ -226,7 +227,7 @@ class Eigenvalue:
 class RatioEvidence:
     """Why ``num / den`` (or ``num / conj(den)``) is, or is not, a root of unity of order ``order``;
     the ratio's minimal polynomial is found when first asked for (an aperiodicity decided by
-    :func:`_far_from_roots_of_unity` needs none)."""
+    :func:`_arg_denominator` needs none)."""
 
     num: "Eigenvalue"
     den: "Eigenvalue"
@@ -264,27 +265,52 @@ def root_of_unity_order(num: Eigenvalue, den: Eigenvalue, conj_den: bool = False
         sign = 1 if (num.ball(64).real > 0) == (den.ball(64).real > 0) else -1
         return RatioEvidence(num, den, conj_den, 1 if sign > 0 else 2, flint.fmpz_poly([-sign, 1]))
     evidence = RatioEvidence(num, den, conj_den, None)
-    if _far_from_roots_of_unity(evidence.ball, num.minpoly.degree() * den.minpoly.degree()):
+    q = _arg_denominator(evidence.ball, num.minpoly.degree() * den.minpoly.degree())
+    if q == 0:
         return evidence
+    if q is not None and _equal_powers(num.minpoly, den.minpoly, q):
+        return RatioEvidence(num, den, conj_den, q, flint.fmpz_poly.cyclotomic(q))
     return RatioEvidence(num, den, conj_den, int(evidence.minpoly.is_cyclotomic()) or None, evidence.minpoly)
 
 
-def _far_from_roots_of_unity(ball_at, degree: int) -> bool:
-    """True when the number in the balls ``ball_at(prec)``, algebraic of degree at most ``degree``,
-    is proved not a root of unity without its minimal polynomial (a resultant of that degree):
-    a primitive m-th root of unity has degree ``phi(m) >= sqrt(m/2)``, so ``m <= 2 degree^2``,
-    and ``arg / (2 pi)`` would be a fraction of denominator m; it is not when the certified
-    interval of ``arg / (2 pi)`` holds no fraction of denominator up to that bound."""
-    bound = 2 * degree * degree
+def _arg_denominator(ball_at, degree: int) -> int | None:
+    """For the number in the balls ``ball_at(prec)``, algebraic of degree at most ``degree``: 0 when
+    it is proved not a root of unity without its minimal polynomial (a resultant of that degree),
+    else the least denominator q of a fraction in the certified interval of ``arg / (2 pi)`` (its
+    order if it is a root of unity; None when undecided).  A primitive m-th root of unity has
+    degree ``phi(m) >= sqrt(m/2)``, so ``m <= 2 degree^2``, and ``arg / (2 pi)`` is a fraction of
+    denominator m: none up to that bound in the interval proves the number no root of unity; and
+    no fraction of denominator below q there means no order below q."""
+    bound, q = 2 * degree * degree, None
     for prec in (64, 128, 256):
         z = ball_at(prec)
         if z.contains(0):
             continue
         t = _with_prec(prec, lambda: z.arg() / (2 * flint.arb.pi()))
         lo, hi = (Fraction(int(v.p), int(v.q)) for v in _arb_interval(t))
-        if _least_denominator(lo, hi) > bound:
-            return True
-    return False
+        q = _least_denominator(lo, hi)
+        if q > bound:
+            return 0
+    return q
+
+
+def _equal_powers(fa: flint.fmpz_poly, fb: flint.fmpz_poly, q: int) -> bool:
+    """Whether ``x^q`` is one rational constant modulo both ``fa`` and ``fb``: then every root of
+    either has the same q-th power, and every ratio of two of them (or of one and a conjugate)
+    is a q-th root of unity (``2 exp(2 pi i k/m)``: ``x^m = 2^m``), exactly."""
+    powers = []
+    for f in (fa, fb):
+        f = flint.fmpq_poly(f)
+        out, base, e = flint.fmpq_poly([1]), flint.fmpq_poly([0, 1]) % f, q
+        while e:
+            if e & 1:
+                out = out * base % f
+            base = base * base % f
+            e >>= 1
+        if out.degree() > 0:
+            return False
+        powers.append(out)
+    return powers[0] == powers[1]
 
 
 def _least_denominator(lo: Fraction, hi: Fraction) -> int:
@@ -445,34 +471,32 @@ def _factor_charpoly(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Elem],
         roots = []
         for g, _ in nfpoly.norm(K, coeffs).factor()[1]:
             g = g.numer() // g.numer().content()
-            for i in range(g.degree()):
-                if _maybe_root(coeffs, theta_poly, K.theta_index, g, i):
-                    roots.append((g if g.leading_coefficient() > 0 else -g, i))
+            g = g if g.leading_coefficient() > 0 else -g
+            roots.extend((g, i) for i in range(g.degree()))
+        # the roots of the irreducible h are deg h distinct roots of its norm, never excluded: once
+        # exactly deg h remain, they are h's (the others are excluded at the least precision)
+        for prec in (64, 256, 1024):
+            balls = _coefficient_balls(coeffs, theta_poly, K.theta_index, prec)
+            roots = [(g, i) for g, i in roots if _maybe_root(balls, g, i, prec)]
+            if len(roots) == len(coeffs) - 1:
+                break
         if len(roots) != len(coeffs) - 1:
             raise RuntimeError("eigenvalue selection failed")  # pragma: no cover
         out.append((coeffs, e, roots))
     return out
 
 
-def _maybe_root(h: list[Elem], mpoly: flint.fmpz_poly, t_idx: int, g: flint.fmpz_poly, i: int) -> bool:
-    """False when interval arithmetic proves h(root_i(g)) != 0; True otherwise."""
-    for prec in (64, 256, 1024):
-        theta = root_ball(mpoly, t_idx, prec)
-        r = root_ball(g, i, prec)
-        old = flint.ctx.prec
-        flint.ctx.prec = prec
-        try:
-            val = flint.acb(0)
-            for k, a in enumerate(h):
-                ca = flint.acb(0)
-                for j, c in enumerate(a.coeffs()):
-                    ca += flint.acb(flint.arb(flint.fmpq(c))) * theta ** j
-                val += ca * r ** k
-        finally:
-            flint.ctx.prec = old
-        if not val.contains(0):
-            return False
-    return True
+def _maybe_root(h: list[flint.acb], g: flint.fmpz_poly, i: int, prec: int) -> bool:
+    """False when interval arithmetic at ``prec`` bits proves h(root_i(g)) != 0 (``h``: balls of the
+    coefficients at ``theta``, :func:`_coefficient_balls`); True otherwise."""
+    r = root_ball(g, i, prec)
+    return _with_prec(prec, lambda: sum((c * r ** k for k, c in enumerate(h)), flint.acb(0)).contains(0))
+
+
+def _coefficient_balls(h: list[Elem], mpoly: flint.fmpz_poly, t_idx: int, prec: int) -> list[flint.acb]:
+    """Balls of the coefficients of ``h`` (polynomials in ``theta``) at ``prec`` bits."""
+    theta = root_ball(mpoly, t_idx, prec)
+    return _with_prec(prec, lambda: [flint.acb_poly([flint.acb(flint.arb(c)) for c in a.coeffs()])(theta) for a in h])
 
 
 def _poly_at(K: NumberField, Ak: list[list[Elem]], h: list[Elem]) -> list[list[Elem]]:

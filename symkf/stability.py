@@ -315,7 +315,7 @@ class _Bound:
         return _with_prec(prec, lambda: ((self.alpha._ball(prec).real ** self.power * c).log() / -self.k).exp())
 
     def value(self) -> AlgebraicNumber:
-        if not self.c.is_Rational or self.alpha.is_rational:
+        if not self.c.is_Rational:
             return AlgebraicNumber.from_expr(self.expr)
         gamma = 1 / (self.alpha ** self.power * AlgebraicNumber.from_expr(self.c))
         if self.k == 1:

@@ -89,8 +89,39 @@ def root_ball(poly: flint.fmpz_poly, index: int, prec: int) -> flint.acb:
 
 @lru_cache(maxsize=512)
 def _complex_roots(coeffs: tuple[int, ...], prec: int) -> tuple[flint.acb, ...]:
-    # isolating all roots dominates (degree 2(p-1) for a rotation by 2 pi/p); callers ask root by root
+    """Isolating balls of all roots of the integer polynomial ``coeffs``, in flint's ordering (real
+    roots first, ascending), except that roots known in closed form come without isolation
+    (:func:`_known_roots`; isolating the roots of degree-800 cyclotomic polynomials dominated a
+    rotation by 2 pi/401).  This is the one ordering of root indices in symkf.exact."""
+    known = _known_roots(coeffs)
+    if known is not None:
+        return _with_prec(prec, lambda: tuple(scale * flint.acb(flint.arb(flint.fmpq(2 * j, m))).exp_pi_i()
+                                              if kind == "unit" else flint.acb(2 * flint.arb(flint.fmpq(2 * j, m)).cos_pi())
+                                              for kind, scale, j, m in known))
     return _with_prec(prec, lambda: tuple(r for r, _ in flint.fmpz_poly(list(coeffs)).complex_roots()))
+
+
+@lru_cache(maxsize=512)
+def _known_roots(coeffs: tuple[int, ...]) -> list[tuple[str, int, int, int]] | None:
+    """The roots of ``c^d Phi_m(x / c)`` (``m >= 3``, integer ``c >= 1``: ``c exp(2 pi i j/m)``,
+    none real, listed ``j, -j`` for ``j = 1 .. m/2`` prime to m) and of the minimal polynomial of
+    ``2 cos(2 pi/m)`` (``x^d f(x + 1/x) = Phi_m``: the real ``2 cos(2 pi j/m)``, ascending as in
+    flint), as ``(kind, c, j, m)``; None for other polynomials."""
+    d, a = len(coeffs) - 1, coeffs
+    if d < 2 or a[d] != 1:
+        return None
+    c, exact = sp.integer_nthroot(abs(a[0]), d)
+    c = int(c)
+    if a[0] > 0 and exact and all(a[k] % c ** (d - k) == 0 for k in range(d + 1)):
+        m = int(flint.fmpz_poly([a[k] // c ** (d - k) for k in range(d + 1)]).is_cyclotomic())
+        if m >= 3:
+            return [("unit", c, j, m) for k in range(1, (m + 1) // 2) if math.gcd(k, m) == 1 for j in (k, m - k)]
+    f, t, x = flint.fmpz_poly(list(a)), flint.fmpz_poly([1, 0, 1]), flint.fmpz_poly([0, 1])
+    h = sum((int(v) * t ** k * x ** (d - k) for k, v in enumerate(f.coeffs())), flint.fmpz_poly([]))
+    m = int(h.is_cyclotomic())
+    if m:  # 2 cos(2 pi j/m) ascends as j descends from m/2
+        return [("cos", 1, j, m) for j in range((m - 1) // 2 + (m % 2 == 0), 0, -1) if math.gcd(j, m) == 1]
+    return None
 
 
 def _arb_interval(b: flint.arb) -> tuple[sp.Rational, sp.Rational]:
@@ -127,6 +158,8 @@ def _factors(coeffs: tuple[int, ...]) -> list[flint.fmpz_poly]:
     """The irreducible factors (positive leading coefficient) of a nonconstant integer polynomial,
     cached: the moduli and phase orders of all eigenvalues of one minimal polynomial share one
     resultant of degree up to ``2 d^2``."""
+    if _known_roots(coeffs) is not None:  # c^d Phi_m(x/c) and the polynomial of 2 cos(2 pi/m) are irreducible
+        return [flint.fmpz_poly(list(coeffs))]
     return [f if f.leading_coefficient() > 0 else -f for f, _ in flint.fmpz_poly(list(coeffs)).factor()[1]
             if f.degree() > 0]
 
