@@ -19,6 +19,8 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import resource
+import signal
 import statistics
 import subprocess
 import sys
@@ -41,7 +43,6 @@ def _child(what: str, case: str, args: list[str]) -> None:
     except ImportError:  # a baseline older than symkf.budget
         pass
     import contextlib
-    import resource
     import engine_cases
     caps = json.loads(os.environ.get("BENCH_CAPS", "{}"))
     with (budget.limits(**caps) if caps else contextlib.nullcontext()):
@@ -99,11 +100,17 @@ def _baseline_tree(tmp: str) -> str:
 
 
 def _run(tree: str, what: str, case: str, args: list, cap: float, caps: dict) -> tuple[float | None, str, int]:
+    """One child run, capped at ``cap`` CPU seconds (RLIMIT_CPU: on the shared machine wall time
+    overstates the work); ``(None, "timeout", 0)`` when it does not finish."""
     env = {**os.environ, "PYTHONPATH": tree, "OPENBLAS_NUM_THREADS": "1", "BENCH_CAPS": json.dumps(caps)}
+    limit = lambda: resource.setrlimit(resource.RLIMIT_CPU, (int(cap) + 1, int(cap) + 2))  # noqa: E731
     try:
         out = subprocess.run([sys.executable, __file__, "--child", what, case, *map(str, args)], env=env,
-                             capture_output=True, text=True, timeout=cap, check=True, cwd=tree).stdout.split()
-    except subprocess.TimeoutExpired:
+                             capture_output=True, text=True, timeout=50 * cap, check=True, cwd=tree,
+                             preexec_fn=limit).stdout.split()
+    except (subprocess.TimeoutExpired, subprocess.CalledProcessError) as exc:
+        if isinstance(exc, subprocess.CalledProcessError) and exc.returncode != -signal.SIGXCPU:
+            raise
         return None, "timeout", 0
     return float(out[0]), out[1], int(out[2])
 
@@ -113,7 +120,7 @@ def compare(title: str, what: str, cases: list[tuple], repeats: int = 3,
     """Print one line per case ``(case, args, target[, caps])``: CPU medians and peak RSS of this
     checkout and of main, the ratio, the target, and whether the exact results agree."""
     print(f"{title}\n  CPU seconds (time.process_time of the computation, fresh interpreter each), "
-          f"medians; baseline = git main (cap {baseline_cap:.0f} s), load {os.getloadavg()[0]:.1f}")
+          f"medians; baseline = git main (cap {baseline_cap:.0f} CPU-s), load {os.getloadavg()[0]:.1f}")
     with tempfile.TemporaryDirectory() as tmp:
         main_tree = _baseline_tree(tmp)
         for case, args, target, *caps in cases:

@@ -116,6 +116,8 @@ def _known_roots(coeffs: tuple[int, ...]) -> list[tuple[str, int, int, int]] | N
         m = int(flint.fmpz_poly([a[k] // c ** (d - k) for k in range(d + 1)]).is_cyclotomic())
         if m >= 3:
             return [("unit", c, j, m) for k in range(1, (m + 1) // 2) if math.gcd(k, m) == 1 for j in (k, m - k)]
+    if any(abs(a[d - k]) > math.comb(d, k) << k for k in range(d + 1)):
+        return None  # roots in [-2, 2] bound the coefficients: most polynomials end here, cheaply
     f, t, x = flint.fmpz_poly(list(a)), flint.fmpz_poly([1, 0, 1]), flint.fmpz_poly([0, 1])
     h = sum((int(v) * t ** k * x ** (d - k) for k, v in enumerate(f.coeffs())), flint.fmpz_poly([]))
     m = int(h.is_cyclotomic())
