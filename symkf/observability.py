@@ -464,6 +464,8 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
     # the eigenvectors live on the diagonal blocks of A holding the members (spectral.support); a
     # block with Jordan chains keeps all of A, which _jordan_block_rows multiplies by
     index = list(range(n)) if block.defective else support(A, block.members)
+    if not block.defective and len({tuple(support(A, [e])) for e in members}) > 1:
+        return _split_modal_form(A, members, extra, index)
     sub = A.extract(index, index)
     K = field_of(sub, *extra)
     # an eigenvalue with a linear factor over the entries' field is an element of it already
@@ -491,6 +493,34 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
     zero = flint.fmpq_poly([])
     T = [[cols[c][row_of[i]] if i in row_of else zero for c in range(len(cols))] for i in range(n)]
     return K, T, diag
+
+
+def _split_modal_form(A: sp.MatrixBase, members: Sequence, extra: Sequence[sp.MatrixBase], index: list[int]) \
+        -> tuple[NumberField, list[list[Elem]], list[Elem]]:
+    """:func:`modal_form` of a block whose eigenvalues live on different diagonal blocks of ``A``
+    (rotations of one modulus from several cyclotomic fields): each eigenvector is found on the
+    diagonal blocks holding its eigenvalue only (it vanishes elsewhere), without factoring the
+    characteristic polynomial over the compositum of all entries (most of the time before)."""
+    K = NumberField([*field_of(A.extract(index, index), *extra).generators,
+                     *(e.root for e in members if not e.root.is_Rational)])
+    n, zero = A.shape[0], flint.fmpq_poly([])
+    cols: list[list[Elem]] = []
+    diag: list[Elem] = []
+    for ev in members:
+        own = support(A, [ev])
+        sub = A.extract(own, own)
+        lam = K.convert(ev.root)
+        basis = _krylov_eigenvector(K, sub, lam) if ev.multiplicity == 1 else None
+        if not basis:
+            Ak = K.matrix(sub)
+            basis = nullspace_rows(K, [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(len(own))]
+                                       for i in range(len(own))], len(own))
+        if len(basis) != ev.multiplicity:
+            raise AssertionError("eigenspace dimension mismatch")  # pragma: no cover
+        row_of = {i: r for r, i in enumerate(own)}
+        cols.extend([[v[row_of[i]] if i in row_of else zero for i in range(n)] for v in basis])
+        diag.extend([lam] * ev.multiplicity)
+    return K, [[col[i] for col in cols] for i in range(n)], diag
 
 
 def _krylov_eigenvector(K: NumberField, A: sp.MatrixBase, lam: Elem) -> list[list[Elem]] | None:
