@@ -1,7 +1,7 @@
 """The ``symkf`` command: plain text for people, ``--json`` for machines.
 
 Exit status 0 on success, 2 on bad input or usage (one line, no traceback),
-3 when a theorem's assumptions fail for the given system, 130 when interrupted (Ctrl-C).
+3 when a theorem's assumptions fail for the given system, 130 when interrupted (Ctrl-C), 143 on SIGTERM.
 Output files are checked before any work and written atomically (:mod:`symkf.output`); the
 resource caps of :mod:`symkf.budget` are raised with ``--max-degree`` and friends.
 """
@@ -13,7 +13,9 @@ import contextlib
 import importlib
 import json
 import os
+import signal
 import sys
+import threading
 import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
@@ -48,10 +50,21 @@ SCHEMA_VERSION = 1
 INTERNAL_ERROR = 70
 #: exit status after Ctrl-C (128 + SIGINT, as shells report it)
 INTERRUPTED = 130
+#: exit status after SIGTERM (128 + SIGTERM)
+TERMINATED = 143
 
 
 class UsageError(SymkfError):
     """Bad command-line usage."""
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread like Ctrl-C so that the same clean-up runs (worker
+    processes stopped, queued work cancelled, temporary files removed)."""
+
+
+def _raise_terminated(signum: int, frame: Any) -> None:
+    raise Terminated()
 
 
 @dataclass(frozen=True)
@@ -259,7 +272,7 @@ def _mean_trace_rows(est: Any, points: int = 8) -> list[dict[str, Any]]:
 def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
     from .montecarlo import estimate_mean_trace
     target = None
-    if args.plot:
+    if args.plot is not None:
         from .plots import require_matplotlib
         require_matplotlib()
         target = output.plan(args.plot, "--plot", inputs=[args.file], force=args.force)
@@ -277,7 +290,7 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
         res["growth_curve"] = {"method": curve.sampling, "k": curve.ks.tolist(),
                                "log_mean": curve.log_mean.tolist(), "rel_stderr": curve.rel_stderr.tolist()}
         fig = mean_trace_figure(system, loss, curve)
-        res["plot"] = str(target.write(lambda f: fig.savefig(f, format=target.image_format, dpi=110)))
+        res["plot"] = str(target.put_figure(fig, dpi=110))
     return res
 
 
@@ -345,7 +358,8 @@ def _args_simulate(p: argparse.ArgumentParser) -> None:
 
 
 def _args_force(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--force", action="store_true", help="replace an existing output file (never an input file)")
+    p.add_argument("--force", action="store_true", help="replace the output file even if it appeared or changed "
+                   "while this run was computing (an existing output is replaced anyway; an input file never)")
 
 
 def _args_reproduce(p: argparse.ArgumentParser) -> None:
@@ -358,11 +372,11 @@ def _args_reproduce(p: argparse.ArgumentParser) -> None:
 
 def cmd_table(args: argparse.Namespace) -> dict[str, Any]:
     from . import tables
-    target = output.plan(args.latex, "--latex", inputs=[args.file], force=args.force) if args.latex else None
+    target = None if args.latex is None else output.plan(args.latex, "--latex", inputs=[args.file], force=args.force)
     table = tables.family_table(args.file, jobs=args.jobs, scheduler=args.scheduler)
     res: dict[str, Any] = {"family": str(args.file), **table.to_json(), "_text": str(table)}
     if target is not None:
-        res["latex"] = str(target.write_text(table.to_latex()))
+        res["latex"] = str(target.put_text(table.to_latex()))
     return res
 
 
@@ -488,6 +502,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         _cap_jobs(args, command.name)
         with warnings.catch_warnings(record=True) as caught, _quiet(args.quiet), budget.limits(**_caps(args)), \
+                _sigterm_interrupts(), output.run(), \
                 still_working(f"symkf {command.name}", enabled=False if args.quiet else None):
             warnings.simplefilter("always")
             res = command.run(args)
@@ -502,6 +517,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except RecursionError:
         print(f"symkf {command.name}: input too deeply nested", file=sys.stderr)
         return 2
+    except Terminated:
+        print(f"symkf {command.name}: terminated (SIGTERM)", file=sys.stderr)
+        return TERMINATED
     except KeyboardInterrupt:
         print(f"symkf {command.name}: interrupted", file=sys.stderr)
         return INTERRUPTED
@@ -523,6 +541,20 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # e.g. `symkf demo | head`: the reader left; not an error of ours
         sys.stdout = open(os.devnull, "w")
     return res.get("_status", 0)
+
+
+@contextlib.contextmanager
+def _sigterm_interrupts() -> Iterator[None]:
+    """SIGTERM raises :class:`Terminated` during the command (in the main thread only: a signal
+    handler cannot be installed elsewhere), and is restored afterwards."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 @contextlib.contextmanager

@@ -40,6 +40,11 @@ class OutputError(InputError):
     """An output path cannot be written safely (missing directory, an input file, exists without --force)."""
 
 
+class SchedulerError(InputError):
+    """A Dask scheduler cannot be used: unreachable, silent, not a scheduler, without workers, or
+    lost mid-run; the message names its address."""
+
+
 class ShapeError(InputError):
     """Matrix dimensions do not fit together."""
 

@@ -35,14 +35,16 @@ def family(tmp_path):
     return path
 
 
-def test_existing_output_needs_force(capsys, tmp_path, family):
+def test_rerun_replaces_its_own_output(capsys, tmp_path, family):
+    """Issue 24: rerunning `symkf table ... --latex table.tex` replaces the table (atomically, no
+    --force needed); --force is still accepted."""
     out = tmp_path / "out.tex"
-    out.write_text("keep me")
-    status, _, err = run(capsys, "table", family, "--latex", out)
-    assert status == 2 and "exists; pass --force" in err and out.read_text() == "keep me"
-    status, stdout, err = run(capsys, "table", family, "--latex", out, "--force", "--json")
-    assert status == 0 and out.read_text().startswith("\\begin{table}")
-    assert json.loads(stdout)["latex"] == str(out)
+    out.write_text("an earlier table")
+    for extra in ([], [], ["--force"]):
+        status, stdout, err = run(capsys, "table", family, "--latex", out, "--json", *extra)
+        assert status == 0 and err == "" and out.read_text().startswith("\\begin{table}")
+        assert json.loads(stdout)["latex"] == str(out)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fam.toml", "out.tex"]
 
 
 def test_input_file_is_never_overwritten(capsys, family):
@@ -72,7 +74,7 @@ def test_failed_write_keeps_the_old_file(tmp_path, family):
         resource.setrlimit(resource.RLIMIT_FSIZE, (512, 512))
     proc = subprocess.run([sys.executable, "-m", "symkf", "table", str(family), "--latex", str(out), "--force"],
                           capture_output=True, text=True, preexec_fn=small_files, cwd=ROOT, timeout=300)
-    assert proc.returncode == 2 and "cannot write (File too large)" in proc.stderr
+    assert proc.returncode == 2 and f"--latex {out}: cannot write (File too large)" in proc.stderr
     assert out.read_text() == "old" and sorted(p.name for p in tmp_path.iterdir()) == ["fam.toml", "out.tex"]
 
 

@@ -1,0 +1,190 @@
+"""Interrupts and parallel work (issue 26, section 4): Ctrl-C and SIGTERM cancel the queued work,
+stop the workers and end with one line (exit 130 / 143), a killed parent leaves no orphan, and
+no partial file is left."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from symkf import cli
+from symkf.sweep import sweep
+
+ROOT = Path(__file__).resolve().parent.parent
+#: members of about 10 CPU-s each (2 R(2 pi/g) for primes g > 200, under raised caps): every
+#: signal arrives while both workers compute
+SLOW_FAMILY = ('[family]\nname = "slow"\nkind = "rotation"\n[grid]\nperiod = [211, 223, 227, 229]\nsensors = [1]\n'
+               '[constants]\nalpha = "2"\n')
+CAPS = ["--max-cyclotomic-degree", "2000", "--max-angle-denominator", "1000", "--max-degree", "1000"]
+
+
+def _processes() -> dict[int, tuple[int, int, str]]:
+    """pid -> (parent pid, process group, state) of every process (psutil if installed, else /proc)."""
+    try:
+        import psutil
+    except ImportError:
+        psutil = None
+    out = {}
+    if psutil is not None:
+        for p in psutil.process_iter(["ppid", "status"]):
+            try:
+                out[p.pid] = (p.info["ppid"], os.getpgid(p.pid), "Z" if p.info["status"] == psutil.STATUS_ZOMBIE else "R")
+            except (ProcessLookupError, psutil.Error):
+                pass
+        return out
+    for entry in Path("/proc").iterdir():
+        try:
+            fields = (entry / "stat").read_text().rpartition(")")[2].split()
+        except (OSError, ValueError):
+            continue
+        if entry.name.isdigit():
+            out[int(entry.name)] = (int(fields[1]), int(fields[2]), fields[0])
+    return out
+
+
+def children(pid: int) -> list[int]:
+    return [p for p, (ppid, _, state) in _processes().items() if ppid == pid and state != "Z"]
+
+
+def living_in_group(group: int) -> list[int]:
+    """Processes of the process group ``group`` still alive (zombies excepted: they compute nothing)."""
+    return [p for p, (_, pgid, state) in _processes().items() if pgid == group and state != "Z"]
+
+
+def wait_for(condition, timeout: float, what: str) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            pytest.fail(f"timed out after {timeout} s waiting for {what}")
+        time.sleep(0.05)
+
+
+def _started_with_workers(argv: list[str], cwd: Path, workers: int = 2) -> subprocess.Popen:
+    """``argv`` in a session of its own, once ``workers`` child processes run."""
+    if not Path("/proc").is_dir():
+        pytest.skip("needs /proc (Linux) to watch the worker processes")
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=cwd,
+                            start_new_session=True)
+    wait_for(lambda: len(children(proc.pid)) >= workers or proc.poll() is not None, 60, "the worker processes")
+    assert proc.poll() is None, proc.communicate()
+    time.sleep(0.3)   # the workers are inside their first task
+    return proc
+
+
+def table_run(tmp_path: Path) -> subprocess.Popen:
+    family = tmp_path / "slow.toml"
+    family.write_text(SLOW_FAMILY)
+    return _started_with_workers([sys.executable, "-m", "symkf", "table", str(family), "--jobs", "2",
+                                  "--latex", str(tmp_path / "out.tex"), *CAPS], tmp_path)
+
+
+def finished(proc: subprocess.Popen, timeout: float = 15) -> tuple[int, str, str, float]:
+    start = time.monotonic()
+    out, err = proc.communicate(timeout=timeout)
+    return proc.returncode, out, err, time.monotonic() - start
+
+
+def assert_nothing_left(proc: subprocess.Popen, tmp_path: Path | None = None) -> None:
+    """No process of the run's group computes on, and no table or partial file was written."""
+    wait_for(lambda: not living_in_group(proc.pid), 10, "the workers to end")
+    if tmp_path is not None:
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["slow.toml"]
+
+
+@pytest.mark.parametrize("to", ["group", pytest.param("parent", marks=pytest.mark.full)])
+def test_ctrl_c_stops_the_table_and_its_workers(tmp_path, to):
+    """Issue 26: `symkf table FAMILY --jobs 2` did not stop on SIGINT (to the parent or the whole
+    group, as Ctrl-C sends it) within 40 s."""
+    proc = table_run(tmp_path)
+    if to == "group":
+        os.killpg(proc.pid, signal.SIGINT)
+    else:
+        proc.send_signal(signal.SIGINT)
+    status, out, err, seconds = finished(proc)
+    assert (status, out, err) == (130, "", "symkf table: interrupted\n") and seconds < 10
+    assert_nothing_left(proc, tmp_path)
+
+
+@pytest.mark.full
+def test_sigterm_stops_the_table_with_a_message(tmp_path):
+    """SIGTERM ended the run without a message."""
+    proc = table_run(tmp_path)
+    proc.send_signal(signal.SIGTERM)
+    status, out, err, seconds = finished(proc)
+    assert (status, out, err) == (143, "", "symkf table: terminated (SIGTERM)\n") and seconds < 10
+    assert_nothing_left(proc, tmp_path)
+
+
+@pytest.mark.full
+def test_sigkill_of_the_table_leaves_no_orphan(tmp_path):
+    """After SIGKILL of the parent, its two workers kept computing as orphans."""
+    proc = table_run(tmp_path)
+    proc.kill()
+    status, _, _, _ = finished(proc)
+    assert status == -signal.SIGKILL
+    assert_nothing_left(proc, tmp_path)
+
+
+SLEEPERS = "import time\nfrom symkf.sweep import sweep\nsweep(time.sleep, [30] * 4, jobs=2)\n"
+
+
+def test_workers_die_with_their_parent():
+    """The same without the exact engine's CPU time: workers sleeping in a task, parent killed."""
+    proc = _started_with_workers([sys.executable, "-c", SLEEPERS], ROOT)
+    proc.kill()
+    finished(proc)
+    assert_nothing_left(proc)
+
+
+def _sleep_or_fail(seconds: float) -> float:
+    if seconds < 0:
+        raise ValueError("this task fails")
+    time.sleep(seconds)
+    return seconds
+
+
+def _interrupt_the_parent(seconds: float) -> float:
+    os.kill(os.getppid(), signal.SIGINT)
+    time.sleep(seconds)
+    return seconds
+
+
+def _no_workers_left() -> None:
+    import multiprocessing
+    wait_for(lambda: not multiprocessing.active_children(), 5, "the workers to end")
+
+
+def test_a_failing_task_cancels_the_queued_ones():
+    """A task's error ends the sweep at once: the queued tasks are cancelled and the worker still
+    sleeping is stopped (before, the pool waited for every queued task)."""
+    start = time.monotonic()
+    with pytest.raises(ValueError, match="this task fails"):
+        sweep(_sleep_or_fail, [30, -1, 30, 30], jobs=2, progress=False)
+    assert time.monotonic() - start < 10
+    _no_workers_left()
+
+
+def test_ctrl_c_in_the_caller_stops_the_workers():
+    """KeyboardInterrupt in the caller (here sent by a worker to its parent) stops the workers,
+    which ignore SIGINT themselves."""
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        sweep(_interrupt_the_parent, [30, 30, 30], jobs=2, progress=False)
+    assert time.monotonic() - start < 10
+    _no_workers_left()
+
+
+def test_sigterm_is_raised_like_ctrl_c_during_a_command():
+    previous = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(cli.Terminated):
+        with cli._sigterm_interrupts():
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(5)
+    assert signal.getsignal(signal.SIGTERM) is previous
+    assert issubclass(cli.Terminated, KeyboardInterrupt)    # every clean-up of Ctrl-C runs for it
