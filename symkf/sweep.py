@@ -22,6 +22,7 @@ of one).  Progress is shown with tqdm when stderr is a terminal.
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import dataclasses
 import os
@@ -31,7 +32,7 @@ import threading
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
-from typing import Any, Callable, Iterable, Sequence, TypeVar
+from typing import Any, Callable, Iterable, Iterator, Sequence, TypeVar
 
 from . import budget
 from .errors import InputError
@@ -154,11 +155,31 @@ def _stop(pool: ProcessPoolExecutor) -> None:
     the parent needs).  The executor has no public call for this before Python 3.14
     (``kill_workers``); its process table is read directly."""
     workers = list((getattr(pool, "_processes", None) or {}).values())
-    pool.shutdown(wait=False, cancel_futures=True)
-    for worker in workers:
-        worker.kill()
-    for worker in workers:
-        worker.join(5)
+    with _interrupts_ignored():
+        pool.shutdown(wait=False, cancel_futures=True)
+        for worker in workers:
+            worker.kill()
+        for worker in workers:
+            worker.join(5)
+
+
+@contextlib.contextmanager
+def _interrupts_ignored() -> Iterator[None]:
+    """A second Ctrl-C (or SIGTERM) while the workers are being stopped is dropped: the run is
+    ending already, and the clean-up must not be cut short (signal handlers belong to the main
+    thread; elsewhere nothing is changed)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    saved = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    saved = {s: h for s, h in saved.items() if h is not None}   # None: a handler not set from Python
+    for s in saved:
+        signal.signal(s, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        for s, handler in saved.items():
+            signal.signal(s, handler)
 
 
 #: prctl(2) option: the signal a process receives when its parent dies
