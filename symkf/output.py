@@ -89,10 +89,12 @@ def run(inputs: Iterable[str | os.PathLike] = ()) -> Iterator[None]:
 
 def note_input(path: str | os.PathLike) -> None:
     """Record ``path`` as an input of the current run: no output may be written over it."""
-    with contextlib.suppress(OSError, ValueError):
+    if not isinstance(path, (str, os.PathLike)):
+        return
+    with contextlib.suppress(OSError, ValueError, TypeError):
         st = os.stat(path)
         _RUN.inputs[(st.st_dev, st.st_ino)] = str(path)
-    with contextlib.suppress(OSError, ValueError, RuntimeError):
+    with contextlib.suppress(OSError, ValueError, TypeError, RuntimeError):
         _RUN.resolved_inputs[str(Path(path).resolve())] = str(path)
 
 
@@ -172,9 +174,7 @@ def plan(path: str | os.PathLike, option: str, *, inputs: Iterable[str | os.Path
          force: bool = False) -> Planned:
     """Check ``path`` as the target of ``option`` before any work is done (module docstring);
     ``inputs`` are protected besides the run's own."""
-    if not isinstance(path, (str, os.PathLike)) or not os.fspath(path):
-        raise OutputError(f"{option}: expected a file path, got {path!r}")
-    target = Path(path)
+    target = _path(path, option, "a file path")
     where = f"{option} {_shown(target)}"
     for source in inputs:
         note_input(source)
@@ -236,9 +236,7 @@ def save_figure(figure: Any, path: str | os.PathLike, option: str = "path", *, f
 
 def plan_directory(path: str | os.PathLike, option: str) -> Path:
     """Check (and create) the output directory of ``option`` before any work is done."""
-    if not isinstance(path, (str, os.PathLike)) or not os.fspath(path):
-        raise OutputError(f"{option}: expected a directory path, got {path!r}")
-    directory = Path(path)
+    directory = _path(path, option, "a directory path")
     try:
         directory.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -246,6 +244,14 @@ def plan_directory(path: str | os.PathLike, option: str) -> Path:
     if not os.access(directory, os.W_OK | os.X_OK):
         raise OutputError(f"{option} {directory}: the directory is not writable")
     return directory
+
+
+def _path(path: Any, option: str, what: str) -> Path:
+    """``path`` as a Path: a non-empty str or os.PathLike of one, without NUL characters."""
+    text = os.fspath(path) if isinstance(path, (str, os.PathLike)) else None
+    if not isinstance(text, str) or not text or "\0" in text:
+        raise OutputError(f"{option}: expected {what}, got {_shown(repr(path))}")
+    return Path(text)
 
 
 def _lstat(path: Path) -> os.stat_result | None:
@@ -263,7 +269,7 @@ def _name_max(directory: Path) -> int:
         return 255
 
 
-def _shown(path: Path) -> str:
+def _shown(path: Path | str) -> str:
     """``path`` for a message: a very long one is cut in the middle."""
     text = str(path)
     return text if len(text) <= 160 else f"{text[:100]}...{text[-40:]} ({len(text)} characters)"

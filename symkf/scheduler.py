@@ -54,7 +54,8 @@ def run_on_scheduler(function: Callable, tasks: Sequence, scheduler: Any, progre
     if isinstance(scheduler, distributed.Client):
         name = f"the Dask scheduler at {getattr(scheduler.scheduler, 'address', scheduler)}"
         return _on_client(scheduler, name, function, tasks, timeout, progress, desc)
-    if not isinstance(scheduler, str) or not _ADDRESS.fullmatch(scheduler):
+    if not isinstance(scheduler, str) or not _ADDRESS.fullmatch(scheduler) or \
+            not 0 < int(scheduler.rpartition(":")[2]) < 65536:
         raise InputError(f"scheduler: expected a Dask scheduler address such as 'tcp://host:8786' "
                          f"or a distributed.Client, got {scheduler!r}")
     name = f"the Dask scheduler at {scheduler}"

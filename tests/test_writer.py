@@ -184,6 +184,14 @@ def test_bad_paths_are_refused_before_computing(capsys, tmp_path, family, no_tab
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fam.toml"]
 
 
+@pytest.mark.parametrize("path", ["a\0b", b"out.tex", 12, None])
+def test_what_is_not_a_path_is_refused(path):
+    for call in (lambda: output.plan(path, "--latex"), lambda: output.write_text(path, "x"),
+                 lambda: output.plan_directory(path, "--outdir")):
+        with pytest.raises(OutputError, match="expected a (file|directory) path, got"):
+            call()
+
+
 @pytest.mark.parametrize("code", [errno.ENOSPC, errno.EACCES, errno.EFBIG, errno.ENAMETOOLONG, errno.EIO])
 @pytest.mark.parametrize("where", ["fsync", "replace"])
 def test_os_errors_name_the_file_and_leave_nothing(tmp_path, monkeypatch, code, where):
