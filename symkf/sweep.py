@@ -196,6 +196,8 @@ def _worker_started(parent: int) -> None:
         if os.getppid() != parent:  # the parent died before prctl took effect
             os._exit(1)
         return
+    if os.name != "posix":  # os.kill(pid, 0) would terminate the parent on Windows
+        return
     threading.Thread(target=_watch_parent, args=(parent,), name="symkf parent watch", daemon=True).start()
 
 

@@ -114,12 +114,16 @@ def test_a_signal_stops_the_table_and_its_workers(tmp_path, signum, to, status, 
     assert_nothing_left(proc, tmp_path)
 
 
-SLEEPERS = "import time\nfrom symkf.sweep import sweep\nsweep(time.sleep, [30] * 4, jobs=2)\n"
+SLEEPERS = ("import importlib, time\nsweep = importlib.import_module('symkf.sweep')\n"
+            "{}sweep.sweep(time.sleep, [30] * 4, jobs=2)\n")
 
 
-def test_workers_die_with_their_parent():
-    """The same without the exact engine's CPU time: workers sleeping in a task, parent killed."""
-    proc = _started_with_workers([sys.executable, "-c", SLEEPERS], ROOT)
+@pytest.mark.parametrize("watch", ["prctl", "watchdog"])
+def test_workers_die_with_their_parent(watch):
+    """The same without the exact engine's CPU time: workers sleeping in a task, parent killed;
+    by the kernel's parent-death signal (Linux) or by the workers' watchdog thread (elsewhere)."""
+    without_prctl = "sweep._kill_on_parent_death = lambda: False\n" if watch == "watchdog" else ""
+    proc = _started_with_workers([sys.executable, "-c", SLEEPERS.format(without_prctl)], ROOT)
     proc.kill()
     finished(proc)
     assert_nothing_left(proc)
