@@ -358,3 +358,25 @@ def test_the_scan_sees_each_kind_of_write():
               "d.copy()", "np.asarray(x)"]
     assert [c for c in caught if not _writes(ast.parse(c).body[0].value)] == []
     assert [c for c in missed if _writes(ast.parse(c).body[0].value)] == []
+
+
+@pytest.mark.full
+def test_two_runs_writing_the_same_new_table(tmp_path):
+    """Two `symkf table` processes on one new --latex file: the quick run writes it, the slow one
+    (started first, finishing last) refuses instead of silently replacing it."""
+    slow = tmp_path / "slow.toml"
+    slow.write_text('[family]\nkind = "rotation"\n[grid]\nperiod = [89, 97, 101]\nsensors = [1]\n'
+                    '[constants]\nalpha = "2"\n')
+    (tmp_path / "fam.toml").write_text(FAMILY_TEXT)
+    out = tmp_path / "table.tex"
+    caps = ["--max-cyclotomic-degree", "1000", "--max-angle-denominator", "1000"]
+    first = subprocess.Popen([sys.executable, "-m", "symkf", "table", str(slow), "--latex", str(out), *caps],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    second = subprocess.run([sys.executable, "-m", "symkf", "table", str(tmp_path / "fam.toml"), "--latex", str(out)],
+                            capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert first.poll() is None, "the slow run finished before the quick one: the test proves nothing"
+    _, err = first.communicate(timeout=300)
+    assert second.returncode == 0 and first.returncode == 2
+    assert err == (f"symkf table: --latex {out}: appeared while this run was computing (another run writing the "
+                   "same file?); not replaced: pass --force (force=True) to replace it anyway, or choose another path\n")
+    assert "fam" in out.read_text() and leftovers(tmp_path) == []
