@@ -12,7 +12,7 @@ imported only here).  Before any task is sent, the address is checked:
   waits past its own timeout on the first, and reads the second as a frame of exabytes);
 * that it has a worker, or gets one within the timeout.
 
-During the run, a scheduler lost midway (its futures cancelled with "scheduler-connection-lost",
+During the run, a scheduler lost midway, or left without workers, (its futures cancelled with "scheduler-connection-lost",
 a closed connection) ends the sweep with the same error.  Every one of these is a
 :class:`~symkf.errors.SchedulerError` (exit status 2 on the command line).  The timeout is the
 cap ``scheduler_timeout`` of :mod:`symkf.budget` (seconds; ``--scheduler-timeout``).
@@ -154,8 +154,16 @@ def _on_client(client: Any, name: str, function: Callable, tasks: Sequence, time
     futures = client.map(function, tasks, pure=False)
     try:
         with progress_bar(len(tasks), desc, enabled=progress) as bar:
-            for _ in distributed.as_completed(futures):
-                bar.update()
+            pending = futures
+            while pending:
+                try:
+                    done, pending = distributed.wait(pending, timeout=timeout, return_when="FIRST_COMPLETED")
+                except TimeoutError:  # a long task, or nobody left to run it
+                    if not client.scheduler_info().get("workers"):
+                        raise SchedulerError(f"scheduler: {name} lost all its workers mid-run (no result for "
+                                             f"{timeout} s and no worker left); no result was kept") from None
+                    continue
+                bar.update(len(done))
         return client.gather(futures)
     except RuntimeError as exc:
         if "deserialization" not in str(exc):

@@ -55,10 +55,10 @@ def listener(answer: bytes | None):
         server.close()
 
 
-def refused(address: str, match: str, within: float = TIMEOUT + 3) -> None:
+def refused(address: str, match: str, within: float = TIMEOUT + 3, function=abs, tasks=(-1, -2)) -> None:
     start = time.monotonic()
     with budget.limits(scheduler_timeout=TIMEOUT), pytest.raises(SchedulerError, match=match) as info:
-        sweep(abs, [-1, -2], scheduler=address, progress=False)
+        sweep(function, tasks, scheduler=address, progress=False)
     assert time.monotonic() - start < within
     message = str(info.value)
     assert address in message and "\n" not in message
@@ -108,6 +108,16 @@ def test_the_command_line_says_it_in_one_line(capsys, tmp_path):
     assert status == 2 and out == "" and err.count("\n") == 1
     assert err.startswith(f"symkf table: scheduler: the Dask scheduler at {address} accepts connections but did "
                           "not answer within 1 s")
+
+
+def test_a_scheduler_losing_its_workers_mid_run():
+    import distributed
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, protocol="tcp://",
+                                  host="127.0.0.1", dashboard_address=None) as cluster:
+        worker = next(iter(cluster.workers.values()))
+        threading.Timer(1, cluster.sync, args=(worker.close,)).start()
+        refused(cluster.scheduler_address, "lost all its workers mid-run", within=1 + 3 * TIMEOUT + 3,
+                function=time.sleep, tasks=[0.3] * 40)
 
 
 @pytest.mark.full
