@@ -218,8 +218,9 @@ def _refuse_existing(target: Path, st: os.stat_result, where: str) -> None:
         raise OutputError(f"{where}: exists and is not a regular file")
     source = _RUN.inputs.get((st.st_dev, st.st_ino))
     if source is not None:
-        raise OutputError(f"{where}: is the input file {source}"
-                          f"{'' if st.st_nlink == 1 else ' (a hard link to it)'}; refusing to overwrite an input")
+        linked = st.st_nlink > 1 and os.path.realpath(source) != os.path.realpath(target)
+        raise OutputError(f"{where}: is the input file {source}{' (a hard link to it)' if linked else ''}; "
+                          "refusing to overwrite an input")
 
 
 def write_text(path: str | os.PathLike, text: str, option: str = "path", *, force: bool = False) -> Path:
