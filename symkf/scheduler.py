@@ -171,12 +171,19 @@ def _on_client(client: Any, name: str, function: Callable, tasks: Sequence, time
         raise SchedulerError(f"scheduler: {name}: its workers cannot unpickle symkf's tasks; they need symkf "
                              f"{__version__} and its dependencies installed") from None
     except _LOST as exc:
-        why = getattr(exc, "reason", None) or _why(exc)  # FutureCancelledError: "scheduler-connection-lost"
-        raise SchedulerError(f"scheduler: {name} was lost mid-run ({why}); no result was kept") from None
+        raise SchedulerError(f"scheduler: {name} was lost mid-run ({_reasons(exc)}); no result was kept") from None
     except BaseException:  # Ctrl-C, SIGTERM: the cluster drops the queued work
         with contextlib.suppress(Exception):
             client.cancel(futures)
         raise
+
+
+def _reasons(exc: BaseException) -> str:
+    """Why the futures were cancelled ("scheduler-connection-lost"): distributed's
+    FutureCancelledError has a ``reason``, FuturesCancelledError groups of them; else the error."""
+    groups = getattr(exc, "error_groups", None) or [exc]
+    reasons = sorted({r for r in (getattr(g, "reason", None) for g in groups) if isinstance(r, str)})
+    return ", ".join(reasons) if reasons else _why(exc)
 
 
 @contextlib.contextmanager
