@@ -498,6 +498,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = _parser().parse_args(argv)
     except SystemExit as exc:
         return exc.code if isinstance(exc.code, int) else 2
+    except KeyboardInterrupt:
+        print("symkf: interrupted", file=sys.stderr)
+        return INTERRUPTED
     command: Command = args.command_spec
     try:
         _cap_jobs(args, command.name)

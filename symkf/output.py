@@ -31,8 +31,8 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import secrets
 import stat
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -118,7 +118,7 @@ class Planned:
         """Write what ``fill`` writes to a binary file object into :attr:`path`, atomically."""
         where = f"{self.option} {_shown(self.path)}"
         try:
-            fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=f".{self.path.name[:32]}.", suffix=".part")
+            fd, tmp = _temporary(self.path)
         except OSError as exc:
             raise OutputError(f"{where}: cannot write ({_reason(exc)}); nothing was written") from None
         try:
@@ -126,9 +126,6 @@ class Planned:
                 fill(f)
                 f.flush()
                 os.fsync(f.fileno())
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(tmp, 0o666 & ~umask)
             self._put_in_place(tmp, where)
         except OSError as exc:
             Path(tmp).unlink(missing_ok=True)
@@ -253,6 +250,18 @@ def _path(path: Any, option: str, what: str) -> Path:
     if not isinstance(text, str) or not text or "\0" in text:
         raise OutputError(f"{option}: expected {what}, got {_shown(repr(path))}")
     return Path(text)
+
+
+def _temporary(path: Path) -> tuple[int, str]:
+    """A new file beside ``path``, open for writing, with the permissions of a file the user
+    creates (0666 less the umask, applied by the kernel: no process-wide umask juggling)."""
+    for _ in range(100):
+        name = os.path.join(path.parent, f".{path.name[:32]}.{secrets.token_hex(4)}.part")
+        try:
+            return os.open(name, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666), name
+        except FileExistsError:
+            continue
+    raise FileExistsError(errno.EEXIST, "no free temporary name", str(path.parent))
 
 
 def _lstat(path: Path) -> os.stat_result | None:

@@ -168,6 +168,23 @@ def test_ctrl_c_in_the_caller_stops_the_workers():
     _no_workers_left()
 
 
+def test_ctrl_c_while_the_command_line_is_imported(monkeypatch, capsys):
+    """`symkf` (and `python -m symkf`) interrupted before symkf.cli is even imported: one line,
+    exit 130, no traceback (simulated: an import that raises KeyboardInterrupt)."""
+    import importlib.abc
+
+    import symkf.__main__ as entry
+
+    class Interrupting(importlib.abc.MetaPathFinder):
+        def find_spec(self, name, path=None, target=None):
+            if name == "symkf.cli":
+                raise KeyboardInterrupt
+    monkeypatch.delitem(sys.modules, "symkf.cli")
+    monkeypatch.setattr(sys, "meta_path", [Interrupting(), *sys.meta_path])
+    assert entry.run() == 130
+    assert capsys.readouterr().err == "symkf: interrupted\n"
+
+
 def test_sigterm_is_raised_like_ctrl_c_during_a_command():
     previous = signal.getsignal(signal.SIGTERM)
     with pytest.raises(cli.Terminated):
