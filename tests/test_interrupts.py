@@ -65,15 +65,28 @@ def wait_for(condition, timeout: float, what: str) -> None:
         time.sleep(0.05)
 
 
-def _started_with_workers(argv: list[str], cwd: Path, workers: int = 2) -> subprocess.Popen:
-    """``argv`` in a session of its own, once ``workers`` child processes run."""
+def cpu_seconds(pid: int) -> float:
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rpartition(")")[2].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _started_with_workers(argv: list[str], cwd: Path, workers: int = 2, busy: bool = False) -> subprocess.Popen:
+    """``argv`` in a session of its own, once ``workers`` child processes run (``busy``: once each
+    has computed for 0.3 CPU-s, i.e. is inside a task whatever the machine's load)."""
     if not Path("/proc").is_dir():
         pytest.skip("needs /proc (Linux) to watch the worker processes")
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=cwd,
                             start_new_session=True)
     wait_for(lambda: len(children(proc.pid)) >= workers or proc.poll() is not None, 60, "the worker processes")
     assert proc.poll() is None, proc.communicate()
-    time.sleep(0.3)   # the workers are inside their first task
+    if busy:
+        wait_for(lambda: all(cpu_seconds(p) >= 0.3 for p in children(proc.pid)) or proc.poll() is not None, 60,
+                 "the workers to compute")
+    else:
+        time.sleep(0.3)   # the workers are inside their first task
     return proc
 
 
@@ -81,7 +94,7 @@ def table_run(tmp_path: Path) -> subprocess.Popen:
     family = tmp_path / "slow.toml"
     family.write_text(SLOW_FAMILY)
     return _started_with_workers([sys.executable, "-m", "symkf", "table", str(family), "--jobs", "2",
-                                  "--latex", str(tmp_path / "out.tex"), *CAPS], tmp_path)
+                                  "--latex", str(tmp_path / "out.tex"), *CAPS], tmp_path, busy=True)
 
 
 def finished(proc: subprocess.Popen, timeout: float = 15) -> tuple[int, str, str, float]:
