@@ -1,6 +1,6 @@
 """Parameter families of systems (TOML), the input of ``symkf table``.
 
-A family file is a system file (see DESIGN.md) whose string entries may name
+A family file is a system file (:mod:`symkf.files`, the docs' formats page) whose string entries may name
 parameters, plus a grid of exact parameter values::
 
     [family]

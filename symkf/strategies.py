@@ -8,7 +8,7 @@ A user's own property test, checking simulation against the hand-derived
 critical loss rate of a single sensor ``C = [1, 0]`` watching ``A = r R(pi
 p/q)``: rows ``C A^k`` are parallel exactly when ``q | k``, so the cheapest
 blinding pattern loses ``q - 1`` packets per ``q`` steps while ``P`` grows by
-``r^(2q)``, and ``eps_c = r^(-2q/(q-1))`` (``1/16`` for the DESIGN example
+``r^(2q)``, and ``eps_c = r^(-2q/(q-1))`` (``1/16`` for the ``design-rotation`` example
 ``r = 2``, ``q = 2``)::
 
     from hypothesis import given, settings

@@ -8,6 +8,10 @@ Assumption 2), :mod:`.local_filters` (Lemmas 1-2), :mod:`.covariance`
 :mod:`.pendulum` (Section 4).
 """
 
+from ..errors import require_extra
+
+require_extra("scipy", "fusion", "symkf.fusion (the local filters' Riccati and Lyapunov equations)")
+
 from .covariance import (expected_remote_covariance, fusion_sigma, remote_error_covariance,
                          unbiasedness_matrix)
 from .local_filters import local_filters
