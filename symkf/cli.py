@@ -223,17 +223,17 @@ def _check_simulation_memory(args: argparse.Namespace, n: int) -> None:
 
 
 def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
-    from .verify import family_summary, is_family_file, summary, verify, verify_family
+    from .verify import is_family_file, verify, verify_family
     if is_family_file(args.file):
-        reports = verify_family(args.file, jobs=args.jobs, scheduler=args.scheduler, seed=args.seed,
-                                paths=args.paths, horizon=args.horizon)
-        return {"family": str(args.file), "members": reports, "_text": family_summary(reports),
-                "_status": 1 if any(r["outcome"] == "contradiction" for r in reports) else 0}
+        family = verify_family(args.file, jobs=args.jobs, scheduler=args.scheduler, seed=args.seed,
+                               paths=args.paths, horizon=args.horizon)
+        return {"family": str(args.file), "members": family.to_json(), "_text": str(family),
+                "_status": 1 if family.counts()["contradiction"] else 0}
     system, loss = _needs_loss(args)
-    report = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon, jobs=args.jobs)
+    result = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon, jobs=args.jobs)
     # exit status 1 (and "outcome": "contradiction") when simulation contradicts the theory
-    return {"system": str(args.file), "loss": loss_json(loss), **report, "_text": summary(report),
-            "_status": 1 if report["outcome"] == "contradiction" else 0}
+    return {"system": str(args.file), "loss": loss_json(loss), **result.to_json(), "_text": str(result),
+            "_status": 1 if result.outcome == "contradiction" else 0}
 
 
 def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
@@ -250,47 +250,24 @@ def _args_verify(p: argparse.ArgumentParser) -> None:
     _args_sweep(p, "family members, or a single system's simulated paths: ")
 
 
-def _mean_trace_rows(est: Any, points: int = 8) -> list[dict[str, Any]]:
-    """(k, mean, interval) at ``points`` evenly spread steps."""
-    count = min(points, est.horizon)
-    ks = sorted({round(i * (est.horizon - 1) / max(count - 1, 1)) for i in range(count)})
-    return [{"k": k, "mean": float(est.mean[k]), "low": float(est.low[k]), "high": float(est.high[k])} for k in ks]
-
-
 def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
-    from .montecarlo import estimate_mean_trace
+    from .simulation import simulate
     target = None
     if args.plot:
         from .plots import require_matplotlib
         require_matplotlib()
         target = output.plan(args.plot, "--plot", inputs=[args.file], force=args.force)
     system, loss = _needs_loss(args)
-    est = estimate_mean_trace(system, loss, args.horizon, args.paths, seed=args.seed)
-    res: dict[str, Any] = {
-        "system": str(args.file), "loss": loss_json(loss), "quantity": "E[tr P_{k|k-1}], k = 0..horizon-1",
-        "method": "plain Monte Carlo (estimate_mean_trace)", "horizon": est.horizon, "paths": est.paths,
-        "seed": est.seed, "confidence": est.confidence, "summary": _mean_trace_rows(est),
-        "mean": est.mean.tolist(), "low": est.low.tolist(), "high": est.high.tolist()}
+    sim = simulate(system, loss, args.horizon, args.paths, seed=args.seed, curve=target is not None)
+    res: dict[str, Any] = {"system": str(args.file), "loss": loss_json(loss), **sim.to_json(), "_text": str(sim)}
     if target is not None:
-        from .montecarlo import mean_trace_curve
-        from .plots import mean_trace_figure
-        curve = mean_trace_curve(system, loss, args.horizon, args.paths, seed=args.seed)
-        res["growth_curve"] = {"method": curve.sampling, "k": curve.ks.tolist(),
-                               "log_mean": curve.log_mean.tolist(), "rel_stderr": curve.rel_stderr.tolist()}
-        fig = mean_trace_figure(system, loss, curve)
+        fig = sim.figure()
         res["plot"] = str(target.write(lambda f: fig.savefig(f, format=target.image_format, dpi=110)))
     return res
 
 
 def _print_simulate(res: dict[str, Any]) -> None:
-    print(f"{res['quantity']}: {res['method']}, {res['paths']} paths, seed {res['seed']}")
-    print(f"{'k':>6} {'mean':>12}  {100 * res['confidence']:g}% interval")
-    for r in res["summary"]:
-        print(f"{r['k']:>6} {r['mean']:>12.6g}  [{r['low']:.6g}, {r['high']:.6g}]")
-    if "growth_curve" in res:
-        c = res["growth_curve"]
-        print(f"log10 E[tr P_k] by {c['method']}:")
-        print("  " + ", ".join(f"k = {k}: {m / 2.302585092994046:.4g}" for k, m in zip(c["k"], c["log_mean"])))
+    print(res["_text"])
     if "plot" in res:
         print(f"figure written to {res['plot']}")
 
