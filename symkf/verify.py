@@ -149,9 +149,9 @@ class Verification:
 
     def _repr_latex_(self) -> str:
         m = self.margin
-        return (f"$\max_i \alpha_i^2\rho_i = {sp.latex(m.exact)} \approx {m.evalf(6)}"
-                f"\ (\text{{{'stable' if self.stable else 'not stable'}}});\quad"
-                f"\text{{simulation: {self.simulation['verdict']}; outcome: {self.outcome}}}$")
+        state = "stable" if self.stable else "not stable"
+        return (rf"$\max_i \alpha_i^2\rho_i = {sp.latex(m.exact)} \approx {m.evalf(6)}\ (\text{{{state}}});\quad"
+                rf"\text{{simulation: {self.simulation['verdict']}; outcome: {self.outcome}}}$")
 
 
 def verify(system: System, loss: LossModel, *, seed: int = 0, paths: int = 20_000, horizon: int = 120,
