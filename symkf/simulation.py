@@ -114,8 +114,9 @@ class Simulation:
             interval = f"[{e.low[k]:.6g}, {e.high[k]:.6g}]" if e.resolved[k] else "not resolved"
             lines.append(f"{k:>6} {e.mean[k]:>12.6g}  {interval}")
         if self.growth_rate is not None:
-            lines.append(f"exact: {'stable' if self.stable else 'NOT stable'}, E[tr P_k] grows by "
-                         f"{self.growth_rate.exact} ~ {float(self.growth_rate):.6g} per step (Sui-You-Fu Theorems 4/7)")
+            lines.append("exact: " + ("stable, E[tr P_k] stays bounded" if self.stable else
+                                      f"NOT stable, E[tr P_k] grows by {self.growth_rate.exact} ~ "
+                                      f"{float(self.growth_rate):.6g} per step") + " (Sui-You-Fu Theorems 4/7)")
         if self.curve is not None:
             c = self.curve
             lines.append(f"log10 E[tr P_k] by {c.sampling}:")

@@ -8,6 +8,7 @@ with 1.  Margin exactly 1 is not stable.
 
 from __future__ import annotations
 
+import textwrap
 from dataclasses import dataclass, field
 from decimal import Decimal, localcontext
 from fractions import Fraction
@@ -147,7 +148,8 @@ class Verdict:
                          f"alpha^{2 * c.governing_period} * rho^{c.governing_period} = {_readable(c.margin_power, m, i)}")
         for eigenvalues, why in self.set_aside:
             lines.append(f"  set aside: {', '.join(eigenvalues)} ({why})")
-        lines.append("  assumptions checked: " + "; ".join(self.assumptions))
+        lines += textwrap.wrap("assumptions checked: " + "; ".join(self.assumptions), 100, initial_indent="  ",
+                               subsequent_indent="    ", break_long_words=False, break_on_hyphens=False)
         return "\n".join(lines)
 
     def _repr_latex_(self) -> str:

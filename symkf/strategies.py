@@ -35,7 +35,7 @@ from typing import Any, NamedTuple, Sequence
 
 import sympy as sp
 
-from .errors import require_extra
+from .errors import InexactInputError, require_extra
 
 require_extra("hypothesis", "strategies", "symkf.strategies")
 from hypothesis import strategies as st  # noqa: E402
@@ -50,8 +50,12 @@ from .model import Sensor, System  # noqa: E402
 def _exact(value: Any, name: str) -> sp.Expr:
     try:
         return to_exact(value, name)
+    except InexactInputError:   # strategies take no rationalize=: say what they do take
+        raise InvalidArgument(f"{name}: the float {value!r} is not exact; give the string {str(value)!r}, "
+                              "a Fraction or a Decimal") from None
     except Exception as exc:
-        raise InvalidArgument(f"{name}: {exc}") from None
+        text = str(exc)
+        raise InvalidArgument(text if text.startswith(f"{name}:") else f"{name}: {text}") from None
 
 
 def _check_int(value: Any, name: str, low: int, high: int) -> int:

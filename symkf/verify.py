@@ -55,6 +55,7 @@ from __future__ import annotations
 import functools
 import html
 import math
+import textwrap
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator, Sequence
@@ -63,7 +64,7 @@ import sympy as sp
 
 from .errors import AssumptionError, FileFormatError, NumericalBreakdownError, SymkfError
 from .exact.algebraic import AlgebraicNumber
-from .families import Member, load_family
+from .families import Family, Member, load_family
 from .files import read_toml
 from .losses import LossModel
 from .model import System
@@ -279,14 +280,17 @@ def summary(report: dict[str, Any]) -> str:
         lines.append(f"            exact margin {'inside' if report['rate_consistent'] else 'OUTSIDE'} "
                      "the simulated margin interval")
     lines.append(f"outcome:    {report['outcome'].upper()}: {report['reason']}")
-    return "\n".join(lines)
+    return "\n".join(wrapped for line in lines for wrapped in textwrap.wrap(
+        line, 100, subsequent_indent=" " * 14, break_long_words=False, break_on_hyphens=False))
 
 
-def _interval_text(s: dict[str, Any]) -> str:
-    """The simulated margin with its interval, or why there is none."""
+def _interval_text(s: dict[str, Any], short: bool = False) -> str:
+    """The simulated margin with its interval, or why there is none (``short``: for a table row)."""
     if s["rate_interval"] is None:
-        return "not resolved (E_k changes less than its noise between the horizons)"
+        return "not resolved" + ("" if short else " (E_k changes less than its noise between the horizons)")
     low, high = s["rate_interval"]
+    if short:
+        return f"{s['rate']:.5g} in [{low:.5g}, {high:.5g}]"
     return f"{s['rate']:.5g}, {100 * s['confidence']:g}% interval [{low:.5g}, {high:.5g}] with the allowance"
 
 
@@ -375,7 +379,7 @@ def verify_member(task: tuple[int, Member, int], **kw: Any) -> MemberVerificatio
     return MemberVerification(*head, result.outcome, result.reason, result)
 
 
-def verify_family(path: str | Path, jobs: int = 1, scheduler: Any = None, *, seed: int = 0,
+def verify_family(path: str | Path | Family, jobs: int = 1, scheduler: Any = None, *, seed: int = 0,
                   progress: bool | None = None, **kw: Any) -> FamilyVerification:
     """:func:`verify` on every member of the family file ``path``, in the family's order.
 
@@ -387,9 +391,9 @@ def verify_family(path: str | Path, jobs: int = 1, scheduler: Any = None, *, see
     :class:`MemberVerification`: label, index, grid point, seed and :func:`verify`'s result; a
     member whose assumptions fail has ``outcome = "inapplicable"`` and its ``reason``.
     """
-    family = load_family(path)
-    if family.members[0].tables["loss"] is None:
-        raise FileFormatError(f"{path}: [loss]: verify needs a loss model; give the family a [loss] "
+    family = path if isinstance(path, Family) else load_family(path)
+    if not family.members[0].has_loss:
+        raise FileFormatError(f"{family.path}: [loss]: verify needs a loss model; give the family a [loss] "
                               "template, e.g. kind = \"iid\", loss = [\"eps\"] with eps in [grid]")
     tasks = [(i, m, seed + 3 * i) for i, m in enumerate(family.members)]
     return FamilyVerification(family.name, tuple(sweep(functools.partial(verify_member, **kw), tasks, jobs=jobs,
@@ -408,7 +412,7 @@ def family_summary(reports: list[dict[str, Any]]) -> str:
         t, s = r["theory"], r["simulation"]
         lines.append(f"{r['member']:<{width}}  theory {'stable' if t['stable'] else 'NOT stable':<10} "
                      f"growth {t['growth_rate']['exact']} ~ {float(t['growth_rate']['decimal']):.5g}; "
-                     f"simulation {s['verdict']:<9} margin {_interval_text(s)}, "
+                     f"simulation {s['verdict']:<9} margin {_interval_text(s, short=True)}, "
                      f"seeds {s['seeds']}; {r['outcome'].upper()}")
     counts = [f"{sum(r['outcome'] == o for r in reports)} {o}" for o in (*OUTCOMES, INAPPLICABLE, BREAKDOWN)]
     lines.append(f"{len(reports)} members: " + ", ".join(counts))
