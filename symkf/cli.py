@@ -125,12 +125,13 @@ def cmd_demo(args: argparse.Namespace) -> dict[str, Any]:
 
 def _print_demo(res: dict[str, Any]) -> None:
     for e in res["examples"]:
-        print(f"== {e['system']}: A = {e['A']}")
+        print("\n".join(textwrap.wrap(f"== {e['system']}: A = {e['A']}", 100, subsequent_indent="      ")))
         for i, b in enumerate(e["blocks"]):
             print(f"   block {i}: |lambda| = {b['modulus']}, eigenvalues {', '.join(b['eigenvalues'])}")
             print(f"            period tau = {b['tau']}, governing period = {b['governing_period']}")
             if b["tau"] is None or b["governing_period"] is None:
-                print(f"            proof: {b['proof']}")
+                print("\n".join(textwrap.wrap(f"proof: {b['proof']}", 100, initial_indent=" " * 12,
+                                               subsequent_indent=" " * 14)))
         c = e["critical_loss_rate"]
         print(f"   critical common i.i.d. loss rate = {c['exact']} ~ {c['decimal']}")
 

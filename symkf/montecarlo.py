@@ -154,8 +154,7 @@ class TraceEstimate:
     scale (delta method: ``mean * exp(+-z stderr / mean)``, positive like the trace itself).
 
     Plain Monte Carlo: a step is ``resolved`` when its relative standard error is at most
-    :data:`MAX_REL_STDERR` and no path carries more than :data:`MAX_PATH_SHARE` of the sum, and
-    every earlier step is resolved;
+    :data:`MAX_REL_STDERR` and no path carries more than :data:`MAX_PATH_SHARE` of the sum;
     elsewhere the mean is carried by bursts too rare for ``paths`` (a diverging filter: use
     :func:`log_mean_trace`) and ``low``, ``high`` are NaN.  ``sampling`` names the law the
     paths were drawn from.
@@ -172,11 +171,6 @@ class TraceEstimate:
     sampling: str
     resolved: np.ndarray
 
-    @property
-    def resolved_until(self) -> int:
-        """The number of leading steps whose mean is resolved (``horizon`` when all are)."""
-        bad = np.flatnonzero(~self.resolved)
-        return int(bad[0]) if bad.size else self.horizon
 
     def covers(self, values: np.ndarray) -> np.ndarray:
         """Which steps' intervals contain ``values``."""
@@ -200,7 +194,6 @@ def estimate_mean_trace(system: System, loss: LossModel, horizon: int, paths: in
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         rel = stderr / mean
         resolved = np.isfinite(mean) & (rel <= MAX_REL_STDERR) & (f.max(axis=0) <= MAX_PATH_SHARE * f.sum(axis=0))
-        resolved = np.logical_and.accumulate(resolved)   # once the tail outruns the sample, it stays ahead
         low, high = (np.where(resolved, mean * np.exp(s * z * rel), np.nan) for s in (-1, 1))
     return TraceEstimate(mean, low, high, stderr, confidence, len(f), f.shape[1], seed, repr(loss), resolved)
 

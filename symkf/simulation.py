@@ -19,6 +19,8 @@ import textwrap
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
 from .losses import LossModel
@@ -49,6 +51,24 @@ class Simulation:
     stable: bool | None
 
     @property
+    def resolved(self) -> np.ndarray:
+        """Per step, whether plain Monte Carlo resolves the mean (:class:`TraceEstimate`); for a
+        diverging filter no step after the first unresolved one is (its mean outgrows every
+        sample: a later step that looks resolved has merely missed the bursts carrying it)."""
+        ok = self.estimate.resolved
+        return np.logical_and.accumulate(ok) if self.stable is False else ok
+
+    @property
+    def resolved_until(self) -> int:
+        """The number of leading steps whose mean is resolved (``horizon`` when all are)."""
+        bad = np.flatnonzero(~self.resolved)
+        return int(bad[0]) if bad.size else self.horizon
+
+    def interval(self, k: int) -> tuple[float, float] | None:
+        """The confidence interval of ``E[tr P_k]`` (log scale), None where the data cannot support one."""
+        return (float(self.estimate.low[k]), float(self.estimate.high[k])) if self.resolved[k] else None
+
+    @property
     def horizon(self) -> int:
         return self.estimate.horizon
 
@@ -61,17 +81,19 @@ class Simulation:
         h = self.horizon
         count = min(points, h)
         ks = {round(i * (h - 1) / max(count - 1, 1)) for i in range(count)}
-        if self.estimate.resolved_until < h:
-            ks.add(self.estimate.resolved_until)
+        if self.resolved_until < h:
+            ks.add(self.resolved_until)
         return sorted(ks)
 
     def notes(self) -> list[str]:
         """What the data cannot support, in words."""
         e, out = self.estimate, []
-        if e.resolved_until < e.horizon:
-            why = (f"from k = {e.resolved_until} on, a few paths carry the mean (relative standard error above "
-                   f"{MAX_REL_STDERR:.0%} or one path above {MAX_PATH_SHARE:.0%} of the sum), so no interval is "
-                   "given there")
+        bad = int((~self.resolved).sum())
+        if bad:
+            where = (f"from k = {self.resolved_until} on" if self.stable is False else
+                     f"at {bad} of {e.horizon} steps (the first: k = {self.resolved_until})")
+            why = (f"{where}, a few paths carry the mean (relative standard error above {MAX_REL_STDERR:.0%} or "
+                   f"one path above {MAX_PATH_SHARE:.0%} of the sum), so no interval is given there")
             if self.stable is False:
                 why += (f"; the filter diverges (exact growth {self.growth_rate.exact} ~ {float(self.growth_rate):.5g}"
                         f" per step) and its mean sits on loss bursts too rare for {e.paths} paths: plain Monte "
@@ -84,13 +106,13 @@ class Simulation:
     def to_json(self) -> dict[str, Any]:
         """The ``symkf simulate --json`` document (docs/json.md), NaN written as null."""
         e = self.estimate
-        rows = [{"k": k, "mean": float(e.mean[k]), "low": _float(e.low[k]), "high": _float(e.high[k]),
-                 "resolved": bool(e.resolved[k])} for k in self.summary_steps()]
+        shown = [self.interval(k) or (None, None) for k in range(e.horizon)]
+        rows = [{"k": k, "mean": float(e.mean[k]), "low": shown[k][0], "high": shown[k][1],
+                 "resolved": bool(self.resolved[k])} for k in self.summary_steps()]
         out: dict[str, Any] = {
             "quantity": QUANTITY, "method": METHOD, "horizon": e.horizon, "paths": e.paths, "seed": e.seed,
             "confidence": e.confidence, "summary": rows, "mean": e.mean.tolist(),
-            "low": [_float(x) for x in e.low], "high": [_float(x) for x in e.high],
-            "resolved_until": e.resolved_until,
+            "low": [s[0] for s in shown], "high": [s[1] for s in shown], "resolved_until": self.resolved_until,
             "exact_growth_rate": None if self.growth_rate is None else str(self.growth_rate.exact),
             "notes": self.notes()}
         if self.curve is not None:
@@ -111,8 +133,7 @@ class Simulation:
         lines = [f"{QUANTITY}: plain Monte Carlo, {e.paths} paths, seed {e.seed}",
                  f"{'k':>6} {'mean':>12}  {100 * e.confidence:g}% interval (log scale)"]
         for k in self.summary_steps():
-            interval = f"[{e.low[k]:.6g}, {e.high[k]:.6g}]" if e.resolved[k] else "not resolved"
-            lines.append(f"{k:>6} {e.mean[k]:>12.6g}  {interval}")
+            lines.append(f"{k:>6} {e.mean[k]:>12.6g}  {_interval_text(self.interval(k))}")
         if self.growth_rate is not None:
             lines.append("exact: " + ("stable, E[tr P_k] stays bounded" if self.stable else
                                       f"NOT stable, E[tr P_k] grows by {self.growth_rate.exact} ~ "
@@ -130,13 +151,12 @@ class Simulation:
         e = self.estimate
         exact = "" if self.growth_rate is None else f", exact growth {self.growth_rate.exact} per step"
         return (f"<Simulation of E[tr P_k]: {e.paths} paths x {e.horizon} steps, seed {e.seed}, plain Monte "
-                f"Carlo resolved for k < {e.resolved_until}{exact}>")
+                f"Carlo resolves {int(self.resolved.sum())} of {e.horizon} steps{exact}>")
 
     def _repr_html_(self) -> str:
         e = self.estimate
-        rows = "".join(f"<tr><td>{k}</td><td>{e.mean[k]:.6g}</td><td>"
-                       + (f"[{e.low[k]:.6g}, {e.high[k]:.6g}]" if e.resolved[k] else "not resolved")
-                       + "</td></tr>" for k in self.summary_steps())
+        rows = "".join(f"<tr><td>{k}</td><td>{e.mean[k]:.6g}</td><td>{_interval_text(self.interval(k))}</td></tr>"
+                       for k in self.summary_steps())
         notes = "".join(f"<p>{html.escape(n)}</p>" for n in self.notes())
         exact = "" if self.growth_rate is None else (
             f"<p>exact growth rate of E[tr P<sub>k</sub>]: {html.escape(str(self.growth_rate.exact))} "
@@ -148,14 +168,14 @@ class Simulation:
     def _repr_latex_(self) -> str:
         e = self.estimate
         rows = r" \\ ".join(f"{k} & {e.mean[k]:.6g} & "
-                            + (f"[{e.low[k]:.6g}, {e.high[k]:.6g}]" if e.resolved[k] else r"\text{not resolved}")
+                            + (_interval_text(self.interval(k)) if self.resolved[k] else r"\text{not resolved}")
                             for k in self.summary_steps())
         return (r"$\begin{array}{rrl} k & \mathrm{E}[\mathrm{tr}\,P_{k|k-1}] & "
                 f"{100 * e.confidence:g}\\%\\ \\text{{interval}} \\\\ \\hline {rows}\\end{{array}}$")
 
 
-def _float(x: float) -> float | None:
-    return None if math.isnan(x) else float(x)
+def _interval_text(interval: tuple[float, float] | None) -> str:
+    return "not resolved" if interval is None else f"[{interval[0]:.6g}, {interval[1]:.6g}]"
 
 
 def simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None = 0, *,
@@ -170,7 +190,7 @@ def simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: in
     >>> import symkf as sk
     >>> S = sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])])
     >>> sim = sk.simulate(S, sk.IID(["1/8"]), horizon=6, paths=400, seed=1)
-    >>> sim.growth_rate.exact, sim.stable, sim.estimate.resolved_until
+    >>> sim.growth_rate.exact, sim.stable, sim.resolved_until
     (1, True, 6)
     """
     from .montecarlo import estimate_mean_trace, exact_growth_rate, mean_trace_curve
