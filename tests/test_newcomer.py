@@ -10,6 +10,7 @@ import sys
 import tomllib
 import warnings
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -286,7 +287,7 @@ def test_families_in_memory():
 def test_offline_check_finds_assets_from_other_hosts(tmp_path):
     sys.path.insert(0, str(ROOT / "docs"))
     try:
-        from offline import external_assets
+        from offline import _check, external_assets
     finally:
         sys.path.remove(str(ROOT / "docs"))
     (tmp_path / "a.html").write_text('<script src="_static/mathjax/tex-chtml.js"></script>'
@@ -296,6 +297,9 @@ def test_offline_check_finds_assets_from_other_hosts(tmp_path):
                                      '</script><link rel="stylesheet" href="//fonts.example/f.css">')
     assert external_assets(tmp_path) == ["b.html: https://cdn.jsdelivr.net/npm/mathjax@3/es5/tex.js",
                                          "b.html: //fonts.example/f.css"]
+    app = SimpleNamespace(builder=SimpleNamespace(format="html"), outdir=str(tmp_path))
+    with pytest.raises(RuntimeError, match="b.html: https://cdn.jsdelivr.net"):   # the build fails
+        _check(app, None)
 
 
 def test_no_text_bars_in_a_kernel_without_widgets(monkeypatch):
