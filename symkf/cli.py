@@ -454,8 +454,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse that reports usage errors in one line (exit status 2) instead of the usage block."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        print(f"{self.prog}: {message}", file=sys.stderr)
-        raise SystemExit(2)
+        raise UsageError(f"{self.prog}: {message}")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -542,8 +541,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     try:
         args = _parser().parse_args(argv)
-    except SystemExit as exc:
+    except SystemExit as exc:   # --help, --version
         return exc.code if isinstance(exc.code, int) else 2
+    except UsageError as exc:   # one line; with --json also as a JSON error (the command line is not parsed)
+        print(exc, file=sys.stderr)
+        if "--json" in argv:
+            print(json.dumps(_error_document("UsageError", str(exc), 2), indent=2))
+        return 2
     command: Command = args.command_spec
     try:
         if isinstance(getattr(args, "file", None), str):
@@ -585,9 +589,12 @@ def _fail(args: argparse.Namespace, kind: str, message: str, status: int) -> int
     """Report a failure in one line on stderr and, with ``--json``, as ``{"error": ...}`` on stdout."""
     print(f"symkf {args.command}: {message}", file=sys.stderr)
     if args.json:
-        print(json.dumps({"schema_version": SCHEMA_VERSION, "error": {
-            "type": kind, "message": message, "exit_status": status}}, indent=2))
+        print(json.dumps(_error_document(kind, message, status), indent=2))
     return status
+
+
+def _error_document(kind: str, message: str, status: int) -> dict[str, Any]:
+    return {"schema_version": SCHEMA_VERSION, "error": {"type": kind, "message": message, "exit_status": status}}
 
 
 @contextlib.contextmanager

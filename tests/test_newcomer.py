@@ -265,6 +265,8 @@ def test_json_errors_go_to_stdout_too(capsys, tmp_path):
                       '[loss]\nkind = "iid"\nloss = ["1/10"]\n')
     status, out, _ = run(capsys, "analyze", unseen, "--json")
     assert status == 3 and json.loads(out)["error"]["exit_status"] == 3
+    status, out, err = run(capsys, "simulate", unseen, "--paths", "5", "--json")    # no --horizon
+    assert status == 2 and json.loads(out)["error"]["message"] == err.strip() and "--horizon" in err
 
 
 def test_families_in_memory():
