@@ -168,9 +168,10 @@ class Planned:
 
 
 def plan(path: str | os.PathLike, option: str, *, inputs: Iterable[str | os.PathLike] = (),
-         force: bool = False) -> Planned:
+         force: bool = False, keep_existing: bool = False) -> Planned:
     """Check ``path`` as the target of ``option`` before any work is done (module docstring);
-    ``inputs`` are protected besides the run's own."""
+    ``inputs`` are protected besides the run's own.  ``keep_existing``: the target is a file the
+    user edits (a copied example), so an existing one is replaced only with ``force``."""
     target = _path(path, option, "a file path")
     where = f"{option} {_shown(target)}"
     for source in inputs:
@@ -194,6 +195,8 @@ def plan(path: str | os.PathLike, option: str, *, inputs: Iterable[str | os.Path
     if source is not None:
         raise OutputError(f"{where}: is the input file {source}; refusing to overwrite an input")
     before = None if current is None else _Identity.of(current)
+    if before is not None and keep_existing and not force:
+        raise OutputError(f"{where}: exists (perhaps edited); pass --force (force=True) to replace it")
     started = _RUN.started_ns
     if (before is not None and not force and started is not None and before.ctime_ns > started
             and before not in _RUN.written):

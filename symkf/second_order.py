@@ -520,5 +520,5 @@ def reproduce_sui_theorem12(outdir: str | None = None) -> dict:
         path = os.path.join(output.plan_directory(outdir, "outdir"), "sui_theorem12.png")
         results["figure"] = str(output.save_figure(fig, path, "outdir", dpi=120))
         plt.close(fig)
-    return reproduction("sui-theorem12", "seed 001 (Sui-You-Fu), Section 4, Definition 1, eqs. (37)-(38), "
+    return reproduction("sui-theorem12", "Sui-You-Fu, Section 4, Definition 1, eqs. (37)-(38), "
                         "Theorem 12", results, checks, discrepancies)

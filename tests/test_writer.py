@@ -283,6 +283,18 @@ def test_python_writers_go_through_the_writer(tmp_path):
     assert (tmp_path / "angles.pdf").read_bytes()[:5] == b"%PDF-" and leftovers(tmp_path) == []
 
 
+def test_a_copied_example_is_replaced_only_with_force(capsys, tmp_path, monkeypatch):
+    """`symkf examples NAME` copies a file for the user to edit: unlike an output, a second copy
+    does not replace the first (edited) one without --force."""
+    monkeypatch.chdir(tmp_path)
+    assert run(capsys, "examples", "ge-two-sensors")[0] == 0
+    copy = tmp_path / "ge-two-sensors.toml"
+    copy.write_text("# my edits\n")
+    status, _, err = run(capsys, "examples", "ge-two-sensors")
+    assert status == 2 and "exists (perhaps edited); pass --force" in err and copy.read_text() == "# my edits\n"
+    assert run(capsys, "examples", "ge-two-sensors", "--force")[0] == 0 and copy.read_text() != "# my edits\n"
+
+
 def test_json_reports_the_written_path(capsys, tmp_path, family):
     out = tmp_path / "out.tex"
     status, stdout, _ = run(capsys, "table", family, "--latex", out, "--json")
