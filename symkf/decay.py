@@ -26,7 +26,7 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import flint
 import numpy as np  # outside counts from BlockRows.inside
@@ -155,6 +155,41 @@ def _maximum(candidates: list[tuple[frozenset[int], sp.Expr]]) -> tuple[frozense
     return max(candidates, key=lambda hv: AlgebraicNumber.from_expr(hv[1]))
 
 
+def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[sp.Expr]],
+                    bound: Callable[[tuple[int, ...]], sp.Expr | None], start: AlgebraicNumber) \
+        -> AlgebraicNumber | None:
+    """``min(start, min_H x_H)`` without listing every hyperplane, or None when the screen
+    declines (then list them: :func:`outside_counts`).
+
+    ``losses(x)`` are the i.i.d. losses at the parameter ``x`` (each non-decreasing in ``x``);
+    ``bound(k)`` is ``x_H`` for a hyperplane whose exponent vector is ``k``: the ``x`` at which
+    its margin ``alpha^(2g) prod_j loss_j(x)^(k_j)`` reaches 1 (None when it never does).  This
+    is Dinkelbach's iteration: at ``x`` the hyperplanes of largest margin are the heaviest for the
+    weights ``-log loss_j(x)`` (:meth:`BlockRows.heaviest`, which returns every maximiser); if
+    one of them has ``x_H < x`` continue from the least such ``x_H``, else every margin is at
+    most 1 at ``x`` (a maximiser's is), so no ``x_H`` lies below ``x``: ``x`` is the minimum.
+    ``x`` strictly decreases through values ``x_H`` (a finite set), so the iteration ends; it
+    typically needs two screens.  Declines (None) when a loss is 0 or above 1 at ``start`` (a
+    weight would be infinite or negative) or the screen does not apply."""
+    x = start
+    while True:
+        values = [sp.sympify(v) for v in losses(x)]
+        if any(v == 0 or AlgebraicNumber.from_expr(v) > 1 for v in values):
+            return None
+        weights = [-float(sp.log(v).evalf(20)) for v in values]
+        sets = br.heaviest([weights[e.sensor] for e in br.elements])
+        if sets is None:
+            return None
+        found = [AlgebraicNumber.from_expr(b) for b in
+                 (bound(ks) for ks in _outside_vectors(br, sorted(sets, key=sorted))) if b is not None]
+        least = min(found, default=None)
+        if least is None or not least < x:
+            return x
+        x = least
+        if x == 0:
+            return x
+
+
 # -- restricted transfers per independent factor ----------------------------------------
 @dataclass(frozen=True)
 class Factor:
@@ -206,7 +241,7 @@ class FactorRates:
             if self.rational else ch.P
         self.Pf = np.array([[float(v) for v in row] for row in self.P.tolist()]) if self.rational else None
         self._words: dict[tuple[int, ...], tuple[Any, float]] = {}
-        self._patterns: dict[tuple[int, ...], tuple[Any, float]] = {}
+        self._patterns: dict[tuple[int, ...], Any] = {}  # patterns without a zero mask
 
     @property
     def screened(self) -> bool:
@@ -236,27 +271,48 @@ class FactorRates:
             hit = self._words[word] = (exact, np.log(value) if value > 0 else -np.inf)
         return hit
 
-    def rate(self, pattern: tuple[int, ...]) -> tuple[Any, float]:
-        """``(rho(M), log rho(M) in float64)`` of the pattern (``fmpq`` or sympy exact; the float
-        is NaN when there is no twin)."""
+    def _runs(self, masks: dict[int, int]) -> list[tuple[int, ...]] | None:
+        """The words (runs of non-zero masks, cyclically) of a pattern given by its non-zero
+        masks ``{phase: mask}``; None when no mask is zero (or no single all-lost state)."""
+        if self.z is None or len(masks) == self.g:
+            return None
+        out = []
+        for p in masks:
+            if (p - 1) % self.g not in masks:
+                word, q = [], p
+                while q in masks:
+                    word.append(masks[q])
+                    q = (q + 1) % self.g
+                out.append(tuple(word))
+        return out
+
+    def log_rate(self, masks: dict[int, int]) -> float:
+        """``log rho(M)`` in float64 (NaN without a twin); error at most :meth:`error` of its
+        ``g - len(masks)`` words."""
+        if not self.rational:
+            return np.nan
+        runs = self._runs(masks)
+        if runs is None:
+            return float(np.log(float(self.rate(masks)))) if self.rate(masks) else -np.inf
+        return (self.g - len(masks) - len(runs)) * self._word(())[1] + sum(self._word(w)[1] for w in runs)
+
+    def rate(self, masks: dict[int, int]) -> Any:
+        """``rho(M)`` exactly (``fmpq`` for rational chains, else sympy) of the pattern given by
+        its non-zero masks ``{phase: mask}``."""
+        runs = self._runs(masks)
+        if runs is not None:
+            out = self._word(())[0] ** (self.g - len(masks) - len(runs))
+            for w in runs:
+                out *= self._word(w)[0]
+            return out if self.rational else sp.expand(out)
+        pattern = tuple(masks.get(r, 0) for r in range(self.g))
         hit = self._patterns.get(pattern)
         if hit is None:
-            if self.z is not None and 0 in pattern:
-                start = pattern.index(0)
-                cyc = pattern[start + 1:] + pattern[:start + 1]  # ends with a zero mask
-                exact, log, word = (flint.fmpq(1) if self.rational else sp.Integer(1)), 0.0, []
-                for m in cyc:
-                    if m:
-                        word.append(m)
-                        continue
-                    s, sl = self._word(tuple(word))
-                    exact, log, word = exact * s, log + sl, []
-                hit = (exact if self.rational else sp.expand(exact), log if self.rational else np.nan)
-            elif all(self.received[s] & ~m == 0 for m in pattern for s in range(self.S)):  # P^g: stochastic
-                hit = (flint.fmpq(1) if self.rational else sp.Integer(1), 0.0 if self.rational else np.nan)
+            if all(self.received[s] & ~m == 0 for m in pattern for s in range(self.S)):  # P^g: stochastic
+                hit = flint.fmpq(1) if self.rational else sp.Integer(1)
             else:
                 rho = perron_root(self.transfer(pattern))
-                hit = (flint.fmpq(int(rho.p), int(rho.q)) if self.rational and rho.is_Rational else rho, np.nan)
+                hit = flint.fmpq(int(rho.p), int(rho.q)) if self.rational and rho.is_Rational else rho
             self._patterns[pattern] = hit
         return hit
 
@@ -282,14 +338,34 @@ class FactorRates:
         gamma = k * _U / (1 - k * _U)
         return terms * (2 * gamma + 4 * _U * (1 + self.g * (1 + abs(np.log(max(self.Pf.min(initial=1.0), 1e-300))))))
 
-    def lost_bound(self) -> float:
-        """``c = max_(1 <= l <= g) (P^l)_(z, z)``: every word of length ``l - 1`` is at most
-        ``(P^l)_(z, z)`` (``D_r <= I``), so ``rho(M) <= c^(phases with mask 0)``."""
-        Pl, best = np.eye(self.S), 0.0
+    def gain_bound(self) -> tuple[float, list[float]]:
+        """``(C, b)`` with ``log rho(M) <= C + sum_(elements (j, r) inside) b[j]`` for every pattern,
+        ``b >= 0``: the smaller of two bounds (both proved, floats rounded outwards).
+
+        * Lost runs: every word of length ``l - 1`` is at most ``(P^l)_(z, z)`` (``D_r <= I``), so
+          ``rho(M) <= c^(phases with mask 0)`` with ``c = max_(1 <= l <= g) (P^l)_(z, z)``: ``C = g
+          log c``, ``b_j = -log c`` (a phase with a non-zero mask holds an element).
+        * Row sums: ``rho(M) <= ||M||_inf <= prod_r mu(m_r)`` with ``mu(m) = max_s sum_(t allowed
+          by m) P_(s, t)``, and ``log mu(m) <= log mu(0) + sum_(j in m) b_j`` with ``b_j`` the
+          largest increase of ``log mu`` from adding ``j`` to a mask (telescoping).
+        """
+        pad = 1 + 4 * self.error(1)
+        Pl, c = np.eye(self.S), 0.0
         for _ in range(self.g):
             Pl = Pl @ self.Pf
-            best = max(best, Pl[self.z, self.z])
-        return min(1.0, best * (1 + 2 * self.error(1)))
+            c = max(c, Pl[self.z, self.z])
+        c = min(1.0, c * pad)
+        k = len(self.factor.sensors)
+        mu = [min(1.0, pad * max(self.Pf[s, [t for t in range(self.S) if self.received[t] & ~m == 0]].sum()
+                                 for s in range(self.S))) for m in range(1 << k)]
+        if c <= 0 or min(mu) <= 0:
+            return -np.inf, [np.inf] * k
+        rows = [max(np.log(mu[m]) - np.log(mu[m & ~(1 << j)]) for m in range(1 << k) if m >> j & 1) * pad
+                for j in range(k)]
+        lost = [-np.log(c)] * k
+        if max(rows) < max(lost):
+            return self.g * np.log(mu[0]), rows
+        return self.g * np.log(c), lost
 
 
 def factor_rates(br: BlockRows, loss: LossModel) -> tuple[FactorRates, ...]:
@@ -298,27 +374,32 @@ def factor_rates(br: BlockRows, loss: LossModel) -> tuple[FactorRates, ...]:
 
 
 class _Patterns:
-    """The phase patterns of hyperplanes, per factor."""
+    """The phase patterns of hyperplanes, per factor: ``{phase: mask}`` of its non-zero masks."""
 
     def __init__(self, br: BlockRows, rates: Sequence[FactorRates]):
         self.g, self.rates = br.period, rates
         where = {j: (f, i) for f, r in enumerate(rates) for i, j in enumerate(r.factor.sensors)}
         self.of = [(where[e.sensor][0], 1 << where[e.sensor][1], e.phase) for e in br.elements]
+        self.word_error = 2 * max(r.error(1) for r in rates) if all(r.screened for r in rates) else np.nan
 
-    def of_set(self, H) -> list[tuple[int, ...]]:
-        masks = [[0] * self.g for _ in self.rates]
+    def of_set(self, H) -> list[dict[int, int]]:
+        masks: list[dict[int, int]] = [{} for _ in self.rates]
         for e in H:
             f, bit, phase = self.of[e]
-            masks[f][phase] |= bit
-        return [tuple(m) for m in masks]
+            masks[f][phase] = masks[f].get(phase, 0) | bit
+        return masks
 
-    def rate(self, H) -> tuple[Any, float, int]:
-        """Exact rate, its float log and the number of words (for the error bound)."""
-        exact, log, words = 1, 0.0, 0
-        for r, pattern in zip(self.rates, self.of_set(H)):
-            e, lg = r.rate(pattern)
-            exact, log, words = exact * e, log + lg, words + pattern.count(0)
-        return exact, log, words
+    def log_rate(self, H) -> tuple[float, float]:
+        """``log rho(M_H)`` in float64 and a proved bound on its error (NaN without twins)."""
+        masks = self.of_set(H)
+        log = sum(r.log_rate(m) for r, m in zip(self.rates, masks))
+        return log, self.word_error * (1 + sum(self.g - len(m) for m in masks))
+
+    def rate(self, H) -> Any:
+        out = 1
+        for r, m in zip(self.rates, self.of_set(H)):
+            out = out * r.rate(m)
+        return out
 
 
 def _exact(value: Any) -> sp.Expr:
@@ -358,26 +439,25 @@ def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
 
 
 def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns) -> list[frozenset[int]] | None:
-    g = br.period
-    empty = [r.rate((0,) * g)[1] for r in rates]
-    gains = []
-    for e, (f, bit, phase) in enumerate(patterns.of):
-        alone = [0] * g
-        alone[phase] = bit
-        gains.append(max(0.0, rates[f].rate(tuple(alone))[1] - empty[f]))
+    """The hyperplanes of :func:`markov_search`'s two screens; None when a screen declines or the
+    bound cannot rule out the generic hyperplanes (``n - 1`` elements: then listing is cheaper)."""
+    empty = [r.log_rate({}) for r in rates]
+    gains = [max(0.0, rates[f].log_rate({phase: bit}) - empty[f]) for f, bit, phase in patterns.of]
     if not all(np.isfinite(gains)):
         return None
     first = br.heaviest(gains)
     if first is None:
         return None
-    rated = [patterns.rate(H) for H in first]
-    tau = max(lg - 2 * sum(r.error(1) for r in rates) * (w + 1) for _, lg, w in rated)
-    lost = [r.lost_bound() for r in rates]
-    if min(lost) <= 0 or not np.isfinite(tau):
+    tau = max(lg - err for lg, err in map(patterns.log_rate, first))
+    bounds = [r.gain_bound() for r in rates]
+    if not np.isfinite(tau) or not all(np.isfinite(C) for C, _ in bounds):
         return None
-    beta = [-np.log(lost[f]) for f, _, _ in patterns.of]
-    C = sum(g * np.log(c) for c in lost)
+    beta = [bounds[f][1][rates[f].factor.sensors.index(br.elements[e].sensor)]
+            for e, (f, _, _) in enumerate(patterns.of)]
+    C = sum(C for C, _ in bounds)
     floor = tau - C
+    if sum(sorted(beta)[-(br.size - 1):]) >= floor:
+        return None
     second = br.heaviest(beta, floor=floor - 1e-9 * (1 + abs(floor) + abs(C)))
     if second is None:
         return None
@@ -386,16 +466,13 @@ def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns) 
 
 def _decide(sets: list[frozenset[int]], patterns: _Patterns) -> BlockRate:
     """The first exact maximum (lexicographic order) of the rates of ``sets``; with float twins
-    only the sets within the proved error of the largest float are compared exactly."""
+    only the sets within the proved errors of the largest float are compared exactly."""
     sets = sorted(sets, key=sorted)
-    rated = [patterns.rate(H) for H in sets]
-    if all(np.isfinite(lg) or lg == -np.inf for _, lg, _ in rated):
-        err = [2 * sum(r.error(1) for r in patterns.rates) * (w + 1) for _, _, w in rated]
-        top = max(lg - e for (_, lg, _), e in zip(rated, err))
-        near = [i for i, ((_, lg, _), e) in enumerate(zip(rated, err)) if lg + e >= top]
-    else:
-        near = range(len(sets))
-    cands = [(sets[i], rated[i][0]) for i in near]
+    if np.isfinite(patterns.word_error):
+        rated = [patterns.log_rate(H) for H in sets]
+        top = max(lg - err for lg, err in rated)
+        sets = [H for H, (lg, err) in zip(sets, rated) if lg + err >= top]
+    cands = [(H, patterns.rate(H)) for H in sets]
     if all(isinstance(v, flint.fmpq) for _, v in cands):
         H, best = max(cands, key=lambda hv: hv[1])
         return BlockRate(_exact(best), H, tuple((H, _exact(v)) for H, v in cands))
@@ -414,8 +491,7 @@ def ge_rate(br: BlockRows, H: frozenset[int], loss: GilbertElliott) -> sp.Expr:
     cache = br.__dict__.setdefault("_rates", {})
     if cache.get(key, (None,))[0] is not loss:
         cache[key] = (loss, _Patterns(br, factor_rates(br, loss)))
-    exact, _, _ = cache[key][1].rate(H)
-    return sp.expand(_exact(exact))
+    return sp.expand(_exact(cache[key][1].rate(H)))
 
 
 def _aperiodic(br: BlockRows) -> AperiodicError:
@@ -427,7 +503,8 @@ def _aperiodic(br: BlockRows) -> AperiodicError:
 def restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Matrix:
     """One-period transfer of the loss chain restricted to steps received inside ``H``."""
     rates = FactorRates(Factor(tuple(range(loss.d)), loss.chain), br.period)
-    return rates.transfer(_Patterns(br, [rates]).of_set(H)[0])
+    masks = _Patterns(br, [rates]).of_set(H)[0]
+    return rates.transfer(tuple(masks.get(r, 0) for r in range(br.period)))
 
 
 # -- the full M matrix and brute force ------------------------------------------------
