@@ -338,34 +338,37 @@ class FactorRates:
         gamma = k * _U / (1 - k * _U)
         return terms * (2 * gamma + 4 * _U * (1 + self.g * (1 + abs(np.log(max(self.Pf.min(initial=1.0), 1e-300))))))
 
-    def gain_bound(self) -> tuple[float, list[float]]:
+    def gain_bound(self, elements: int) -> tuple[float, list[float]]:
         """``(C, b)`` with ``log rho(M) <= C + sum_(elements (j, r) inside) b[j]`` for every pattern,
-        ``b >= 0``: the smaller of two bounds (both proved, floats rounded outwards).
+        ``b >= 0``: of three proved bounds (floats rounded outwards) the least at ``elements``
+        elements inside.  With ``a_l = (P^l)_(z, z)``, a word of length ``l - 1`` is at most
+        ``a_l`` (``D_r <= I``); ``n`` phases with a non-zero mask hold at least ``n`` elements.
 
-        * Lost runs: every word of length ``l - 1`` is at most ``(P^l)_(z, z)`` (``D_r <= I``), so
-          ``rho(M) <= c^(phases with mask 0)`` with ``c = max_(1 <= l <= g) (P^l)_(z, z)``: ``C = g
-          log c``, ``b_j = -log c`` (a phase with a non-zero mask holds an element).
+        * Lost runs: ``rho(M) <= c^(g - n)``, ``c = max_(l <= g) a_l``: ``C = g log c``,
+          ``b_j = -log c``.
+        * Run lengths: ``rho(M) <= prod_segments a_l <= a_1^g kappa^n`` with ``kappa`` the largest
+          of ``(a_l / a_1^l)^(1/(l - 1))`` and ``1 / a_1`` (no zero mask: ``rho <= 1``):
+          ``C = g log a_1``, ``b_j = log kappa``.
         * Row sums: ``rho(M) <= ||M||_inf <= prod_r mu(m_r)`` with ``mu(m) = max_s sum_(t allowed
           by m) P_(s, t)``, and ``log mu(m) <= log mu(0) + sum_(j in m) b_j`` with ``b_j`` the
           largest increase of ``log mu`` from adding ``j`` to a mask (telescoping).
         """
-        pad = 1 + 4 * self.error(1)
-        Pl, c = np.eye(self.S), 0.0
-        for _ in range(self.g):
+        pad, k, g = 1 + 4 * self.error(1), len(self.factor.sensors), self.g
+        a, Pl = [], np.eye(self.S)
+        for _ in range(g):
             Pl = Pl @ self.Pf
-            c = max(c, Pl[self.z, self.z])
-        c = min(1.0, c * pad)
-        k = len(self.factor.sensors)
+            a.append(min(1.0, Pl[self.z, self.z] * pad))
         mu = [min(1.0, pad * max(self.Pf[s, [t for t in range(self.S) if self.received[t] & ~m == 0]].sum()
                                  for s in range(self.S))) for m in range(1 << k)]
-        if c <= 0 or min(mu) <= 0:
+        if min(a[0], min(mu)) <= 0:
             return -np.inf, [np.inf] * k
+        a1 = a[0] / pad ** 2
+        kappa = max([1 / a1] + [(a[l - 1] / a1 ** l) ** (1 / (l - 1)) for l in range(2, g + 1)]) * pad
         rows = [max(np.log(mu[m]) - np.log(mu[m & ~(1 << j)]) for m in range(1 << k) if m >> j & 1) * pad
                 for j in range(k)]
-        lost = [-np.log(c)] * k
-        if max(rows) < max(lost):
-            return self.g * np.log(mu[0]), rows
-        return self.g * np.log(c), lost
+        bounds = [(g * np.log(max(a)), [-np.log(max(a))] * k), (g * np.log(a1), [np.log(kappa)] * k),
+                  (g * np.log(mu[0]), rows)]
+        return min(bounds, key=lambda cb: cb[0] + elements * max(cb[1]))
 
 
 def factor_rates(br: BlockRows, loss: LossModel) -> tuple[FactorRates, ...]:
@@ -449,7 +452,7 @@ def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns) 
     if first is None:
         return None
     tau = max(lg - err for lg, err in map(patterns.log_rate, first))
-    bounds = [r.gain_bound() for r in rates]
+    bounds = [r.gain_bound(br.size - 1) for r in rates]
     if not np.isfinite(tau) or not all(np.isfinite(C) for C, _ in bounds):
         return None
     beta = [bounds[f][1][rates[f].factor.sensors.index(br.elements[e].sensor)]
