@@ -39,7 +39,8 @@ from .exact import perron
 from .exact.algebraic import AlgebraicNumber
 from .losses import IID, GilbertElliott, LossChain, LossModel
 from .model import System
-from .observability import BlockRows, _set, block_deficient, block_rows
+from .exact.linalg import nullspace_rows, rank_rows
+from .observability import BlockRows, _distinct, _key, _set, block_deficient, block_rows
 
 
 @dataclass(frozen=True)
@@ -98,7 +99,7 @@ def listed_hyperplanes(br: BlockRows) -> np.ndarray:
     """:attr:`BlockRows.inside` (every hyperplane), refused up front when their estimated number
     ``C(V, n - 1)`` (V distinct generators) exceeds ``budget.Limits.max_hyperplanes``."""
     if "inside" not in br.__dict__ and br.size > 1:
-        V = len({str([c.coeffs() for c in g]) for gs in br.generators for g in gs})
+        V = len({_key(g) for gs in br.generators for g in gs})
         budget.check("max_hyperplanes", math.comb(V, br.size - 1), f"eigen-block of modulus {br.block.modulus}",
                      f"the estimated number of hyperplanes to list (C({V}, {br.size - 1}); no screen applies)")
     return br.inside
@@ -156,38 +157,78 @@ def _maximum(candidates: list[tuple[frozenset[int], sp.Expr]]) -> tuple[frozense
 
 
 def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[sp.Expr]],
-                    bound: Callable[[tuple[int, ...]], sp.Expr | None], start: AlgebraicNumber) \
-        -> AlgebraicNumber | None:
+                    bound: Callable[[tuple[int, ...]], sp.Expr | None], start: AlgebraicNumber,
+                    growth: sp.Expr) -> AlgebraicNumber | None:
     """``min(start, min_H x_H)`` without listing every hyperplane, or None when the screen
     declines (then list them: :func:`outside_counts`).
 
     ``losses(x)`` are the i.i.d. losses at the parameter ``x`` (each non-decreasing in ``x``);
     ``bound(k)`` is ``x_H`` for a hyperplane whose exponent vector is ``k``: the ``x`` at which
-    its margin ``alpha^(2g) prod_j loss_j(x)^(k_j)`` reaches 1 (None when it never does).  This
-    is Dinkelbach's iteration: at ``x`` the hyperplanes of largest margin are the heaviest for the
-    weights ``-log loss_j(x)`` (:meth:`BlockRows.heaviest`, which returns every maximiser); if
-    one of them has ``x_H < x`` continue from the least such ``x_H``, else every margin is at
-    most 1 at ``x`` (a maximiser's is), so no ``x_H`` lies below ``x``: ``x`` is the minimum.
-    ``x`` strictly decreases through values ``x_H`` (a finite set), so the iteration ends; it
-    typically needs two screens.  Declines (None) when a loss is 0 or above 1 at ``start`` (a
-    weight would be infinite or negative) or the screen does not apply."""
-    x = start
-    while True:
+    its margin ``growth * prod_j loss_j(x)^(k_j)`` reaches 1 (None when it never does).
+
+    Why no hyperplane is missed.  With weights ``w_e(x) = -log loss_(sensor e)(x) >= 0`` the
+    margin of ``H`` is ``log growth - T(x) + sum_(e in H) w_e(x)`` (``T`` the total weight), and
+    it increases with ``x``; so ``x_H <= x`` iff that margin is ``>= 0`` at ``x``, i.e. iff ``H``
+    weighs at least ``T(x) - log growth``.  Take ``x`` = the least ``x_H`` over a few hyperplanes
+    spanned by the heaviest generators (:func:`_spanned`; exact) or, when none lies below
+    ``start``, one step of Dinkelbach's iteration (the heaviest hyperplanes at ``start``: if none
+    has ``x_H < start``, every margin is at most 1 there and ``start`` is the answer).  Then
+    ``heaviest(w(x), floor=T(x) - log growth)`` returns every hyperplane with ``x_H <= x``
+    (its no-miss argument for a floor), and the least of their ``x_H`` is the minimum: one screen
+    when the guess is good.  Declines (None) when a loss is 0 or above 1 at ``start`` (a weight
+    would be infinite or negative) or the screen does not apply."""
+    def weights(x: AlgebraicNumber) -> list[float] | None:
         values = [sp.sympify(v) for v in losses(x)]
         if any(v == 0 or AlgebraicNumber.from_expr(v) > 1 for v in values):
             return None
-        weights = [-float(sp.log(v).evalf(20)) for v in values]
-        sets = br.heaviest([weights[e.sensor] for e in br.elements])
-        if sets is None:
-            return None
+        per_sensor = [-float(sp.log(v).evalf(20)) for v in values]
+        return [per_sensor[e.sensor] for e in br.elements]
+
+    def least(sets) -> AlgebraicNumber | None:
         found = [AlgebraicNumber.from_expr(b) for b in
                  (bound(ks) for ks in _outside_vectors(br, sorted(sets, key=sorted))) if b is not None]
-        least = min(found, default=None)
-        if least is None or not least < x:
-            return x
-        x = least
-        if x == 0:
-            return x
+        return min(found, default=None)
+
+    w = weights(start)
+    if w is None:
+        return None
+    x = least(_spanned(br, w))
+    if x is None or not x < start:
+        sets = br.heaviest(w)
+        if sets is None:
+            return None
+        x = least(sets)
+        if x is None or not x < start:
+            return start
+    w = weights(x)
+    if w is None:
+        return None
+    floor = sum(w[e] for e, gs in enumerate(br.generators) if gs) - float(sp.log(growth).evalf(20))
+    sets = br.heaviest(w, floor=floor - 1e-9 * (1 + abs(floor)))
+    if sets is None:
+        return None
+    found = least(sets)
+    return x if found is None or not found < x else found
+
+
+def _spanned(br: BlockRows, weights: Sequence[float], count: int = 9) -> list[frozenset[int]]:
+    """The hyperplanes spanned by ``n - 1`` of the ``count`` heaviest generators (exact): a cheap
+    guess of a heavy hyperplane."""
+    n, K = br.size, br.K
+    gens = _distinct([g for gs in br.generators for g in gs])
+    weight = {_key(g): 0.0 for g in gens}
+    for e, gs in enumerate(br.generators):
+        for g in gs:
+            weight[_key(g)] += weights[e]
+    top = sorted(gens, key=lambda g: -weight[_key(g)])[:count]
+    out = []
+    for rows in itertools.combinations(top, n - 1):
+        if n < 2 or rank_rows(K, rows, n) < n - 1:
+            continue
+        (normal,) = nullspace_rows(K, rows, n)
+        out.append(frozenset(e for e, gs in enumerate(br.generators)
+                             if all(K.dot(g, normal).is_zero() for g in gs)))
+    return out
 
 
 # -- restricted transfers per independent factor ----------------------------------------

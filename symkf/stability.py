@@ -299,7 +299,7 @@ def _least(system: System, losses, bound) -> AlgebraicNumber:
     values = []
     for br in block_rows(system):
         a2g = sp.sympify(br.block.modulus.exact ** (2 * br.period))
-        v = least_iid_bound(br, losses, lambda ks: bound(a2g, ks), one)
+        v = least_iid_bound(br, losses, lambda ks: bound(a2g, ks), one, a2g)
         values.append(v if v is not None else
                       _min_capped([b for ks in outside_counts(br) if (b := bound(a2g, ks)) is not None]))
     return min(values, default=one)

@@ -156,7 +156,9 @@ def test_ray_critical_rate_equals_listing(A, rows, w):
     got = sk.critical_loss_rate(_system(A, rows), ray=w)
     assert got == _listed(_system(A, rows), losses, bound)
     for br in block_rows(_system(A, rows)):  # the screen decided (it applies to one-row sensors)
-        assert decay.least_iid_bound(br, losses, lambda ks: None, AlgebraicNumber.from_expr(1)) is not None
+        a2g = br.block.modulus.exact ** (2 * br.period)
+        assert decay.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g) \
+            is not None and "inside" not in br.__dict__
 
 
 @settings(derandomize=True, max_examples=15, deadline=None)
