@@ -17,6 +17,11 @@ sets (hyperplanes, :mod:`symkf.observability`):
   irrational angles) ``g = 1`` and the decisive ``H`` is typically empty, the
   rate of the chain restricted to "everything lost".
 
+Neither maximum lists every hyperplane when a screen applies: :func:`outside_counts` (i.i.d.),
+:func:`markov_search` (Markov losses, per independent factor of the model) and
+:func:`least_iid_bound` (critical loss rates along a ray or of one sensor) reduce them to
+:meth:`~symkf.observability.BlockRows.heaviest`, each with its no-miss argument.
+
 The full M (eqs. 33-34) over (projected pattern, chain state) is built only
 for checking ``P(R_{Ng}) = u M^N v`` (eq. 35) against enumeration.
 """
@@ -47,7 +52,8 @@ from .observability import BlockRows, _distinct, _key, _set, block_deficient, bl
 class BlockRate:
     """``rho_i^g`` for one block: the exact value, the decisive hyperplane and the candidates compared
     exactly (under i.i.d. losses only the near-heaviest hyperplanes when :meth:`BlockRows.heaviest`
-    applies, else one hyperplane per exponent vector or every hyperplane)."""
+    applies, else one hyperplane per exponent vector; under Markov losses the hyperplanes whose
+    float rate is within its proved error of the largest, :func:`markov_search`)."""
 
     per_period: sp.Expr
     hyperplane: frozenset[int]
