@@ -26,7 +26,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from .decay import ge_rate, outside_counts
+from .decay import ge_rate, listed_hyperplanes, outside_counts
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber, sign, sympy_to_fmpz
 from .exact.numbers import sympify, to_exact
@@ -238,6 +238,7 @@ def ge_margins(system: System, loss: GilbertElliott) -> list[sp.Expr]:
     for br in block_rows(system):
         growth = sp.sympify(br.block.modulus.exact ** (2 * br.period))
         seen = set()
+        listed_hyperplanes(br)  # refused up front when too many
         for H in br.hyperplanes:
             m = sp.expand(growth * ge_rate(br, H, loss))
             if m not in seen:
