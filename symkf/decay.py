@@ -35,7 +35,7 @@ from sympy.polys.matrices import DomainMatrix
 from .errors import AperiodicError, InputError
 from .exact import perron
 from .exact.algebraic import AlgebraicNumber
-from .losses import IID, GilbertElliott, LossModel
+from .losses import GilbertElliott, LossModel, checked
 from .model import System
 from .observability import BlockRows, _set, block_deficient, block_rows
 
@@ -122,22 +122,21 @@ def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[i
     return {tuple(outside[h].tolist()): _set(inside[h]) for h in sorted(first.tolist())}
 
 
-def _weights(loss: IID) -> list[float] | None:
-    """``-log loss_j`` per sensor: the slowest-decaying hyperplane maximises ``sum_{e in H} -log
-    loss_(sensor e)``; None when a loss is 0 or symbolic (then every hyperplane is compared)."""
-    if loss.symbols or any(e == 0 for e in loss.loss):
+def _weights(loss: LossModel) -> list[float] | None:
+    """``-log loss_j`` per sensor of i.i.d. losses: the slowest-decaying hyperplane maximises ``sum_{e
+    in H} -log loss_(sensor e)``; None when a loss is 0 or symbolic (then every hyperplane is compared)."""
+    if loss.symbols or any(e == 0 for e in loss.bernoulli):
         return None
-    return [-float(sp.log(e).evalf(20)) for e in loss.loss]
+    return [-float(sp.log(e).evalf(20)) for e in loss.bernoulli]
 
 
 def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
     """``rho_i^g`` (per projection period) for one block, exactly (eq. 36)."""
-    if isinstance(loss, IID):
+    if loss.bernoulli is not None:   # i.i.d.: the rate depends on the exponent vector only
         counts = outside_counts(br, _weights(loss))
-        cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.loss, ks)])) for ks, H in counts.items()]
+        cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.bernoulli, ks)])) for ks, H in counts.items()]
     else:  # aperiodic blocks too: their elements' generators are class projections (docs/sui.md)
-        cands = [(H, sp.sympify(ge_rate(br, H, loss) if isinstance(loss, GilbertElliott)
-                                else perron_root(restricted_transfer(br, H, loss)))) for H in br.hyperplanes]
+        cands = [(H, sp.sympify(loss.hyperplane_rate(br, H))) for H in br.hyperplanes]
     H, best = _maximum(cands)
     return BlockRate(best, H, tuple(cands))
 
@@ -235,14 +234,13 @@ def m_matrix(br: BlockRows, loss: LossModel) -> tuple[sp.Matrix, list]:
 
 def probability_rank_deficient(system: System, loss: LossModel, N: int) -> tuple[sp.Expr, ...]:
     """``P(R_N(i))`` per eigen-block by enumerating all ``2^(dN)`` receival patterns (brute force)."""
-    if loss.d != system.d:
-        raise InputError(f"loss model has {loss.d} sensors, the system {system.d}")
+    checked(loss, system)
     if loss.d * N > 18:
         raise InputError(f"enumeration of 2^{loss.d * N} patterns is too large; use m_matrix")
     totals = [sp.Integer(0)] * len(block_rows(system))
     for pattern in itertools.product(itertools.product((1, 0), repeat=loss.d), repeat=N):
         flags = block_deficient(system, pattern) if N else (True,) * len(totals)
         if any(flags):
-            p = loss.chain.sequence_probability(pattern)
+            p = loss.sequence_probability(pattern)
             totals = [t + p if f else t for t, f in zip(totals, flags)]
     return tuple(sp.sympify(sp.expand(t)) for t in totals)

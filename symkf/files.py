@@ -10,11 +10,11 @@ for older files and changes nothing.  A file larger than ``symkf.budget`` ``max_
 (1 MiB, option ``--max-file-size``) is refused before it is parsed.
 
 * ``kind = "iid"``: ``loss = [...]``, one loss probability per sensor (:class:`~symkf.losses.IID`);
-* ``kind = "gilbert-elliott"``: ``fail = [...]``, ``recover = [...]``
-  (:class:`~symkf.losses.GilbertElliott`);
+* ``kind = "gilbert-elliott"``: ``fail = [...]``, ``recover = [...]``, optional
+  ``initial_received = [...]`` (default: stationary; :class:`~symkf.losses.GilbertElliott`);
 * ``kind = "markov"``: a joint chain of order ``order`` (default 1) on the receival vectors
-  (:class:`~symkf.losses.MarkovLoss`).  ``states`` lists every 0/1 vector of length ``d``
-  once (1 = received); ``P[a][b]`` is the probability that the next vector is ``states[b]``
+  (:class:`~symkf.losses.MarkovLoss`).  ``states`` lists the 0/1 vectors of length ``d`` the
+  chain lives on, each once (1 = received; all ``2^d`` of them, or those that can occur); ``P[a][b]`` is the probability that the next vector is ``states[b]``
   after the history ``a``, the histories being the ``order``-tuples of ``states`` (oldest
   first) in the order of ``itertools.product(states, repeat=order)``; optional
   ``initial[a]`` is the law of the first history (default: the stationary law).
@@ -66,7 +66,7 @@ def _get(table: dict, key: str, where: str, required: bool = True) -> Any:
 #: other key is refused (a misspelt optional key would otherwise be silently replaced by
 #: its default)
 KEYS = {"": {"system", "sensors", "loss", "rationalize"}, "[system]": {"A", "Q", "P0", "name"},
-        "sensors": {"name", "C", "R"}, "iid": {"kind", "loss"}, "gilbert-elliott": {"kind", "fail", "recover"},
+        "sensors": {"name", "C", "R"}, "iid": {"kind", "loss"}, "gilbert-elliott": {"kind", "fail", "recover", "initial_received"},
         "markov": {"kind", "order", "states", "P", "initial"},
         "network": {"kind", "parents", "phi", "P", "q", "holding", "initial"},
         "fusion file": {"fusion", "sensors", "rationalize"},
@@ -174,7 +174,7 @@ def _system_and_loss(data: dict, source: str, rationalize: bool) -> tuple[System
     system = System(A=_get(sysdata, "A", f"{source}: [system]"), sensors=sensors, Q=sysdata.get("Q"),
                     P0=sysdata.get("P0"), rationalize=rationalize,
                     name=_name(sysdata.get("name"), f"{source}: [system]") or Path(source).stem)
-    return system, _loss(data.get("loss"), source, system, rationalize)
+    return system, _loss(data.get("loss"), source, system.d, rationalize)
 
 
 def _located(exc: SymkfError, where: str) -> SymkfError:
@@ -183,19 +183,27 @@ def _located(exc: SymkfError, where: str) -> SymkfError:
     return exc
 
 
-def _loss(table: Any, source: str, system: System, rationalize: bool) -> LossModel | None:
+def _loss(table: Any, source: str, d: int, rationalize: bool) -> LossModel | None:
     if table is None:
         return None
     if not isinstance(table, dict):
         raise FileFormatError(f"{source}: [loss] must be a table")
-    where = f"{source}: [loss]"
+    return read_loss(table, f"{source}: [loss]", d, rationalize)
+
+
+def read_loss(table: dict, where: str, d: int, rationalize: bool = False) -> LossModel:
+    """The loss model of a ``[loss]`` table, or of its JSON object (:meth:`LossModel.to_json
+    <symkf.losses.LossModel.to_json>`: a lifted ``chain`` and the ``words`` of a report are derived,
+    and ignored),
+    for ``d`` sensors; ``where`` prefixes errors."""
+    table = {k: v for k, v in table.items() if k not in ("chain", "words")}
     kind = table.get("kind", "iid")
     if not isinstance(kind, str) or kind not in LOSS_KINDS:
         raise FileFormatError(f"{where} kind {kind!r} is not one of {', '.join(map(repr, LOSS_KINDS))}")
     _check_keys(table, KEYS[kind], where)
-    model = _built(lambda: LOSS_KINDS[kind](table, where, system, rationalize), "[loss]")
-    if model.d != system.d:
-        raise FileFormatError(f"{where} gives {model.d} value(s) for {system.d} sensor(s)")
+    model = _built(lambda: LOSS_KINDS[kind](table, where, d, rationalize), "[loss]")
+    if model.d != d:
+        raise FileFormatError(f"{where} gives {model.d} value(s) for {d} sensor(s)")
     return model
 
 
@@ -210,13 +218,15 @@ def _built(build: Callable[[], Any], where: str) -> Any:
         raise _located(exc, where) from None
 
 
-def _iid(table: dict, where: str, system: System, rationalize: bool) -> IID:
+def _iid(table: dict, where: str, d: int, rationalize: bool) -> IID:
     return IID(_exact(_get(table, "loss", where), f"{where} loss", rationalize))
 
 
-def _gilbert_elliott(table: dict, where: str, system: System, rationalize: bool) -> GilbertElliott:
+def _gilbert_elliott(table: dict, where: str, d: int, rationalize: bool) -> GilbertElliott:
     fail, recover = (_exact(_get(table, key, where), f"{where} {key}", rationalize) for key in ("fail", "recover"))
-    return GilbertElliott(fail, recover)
+    initial = table.get("initial_received")
+    initial = None if initial is None else _exact(initial, f"{where} initial_received", rationalize)
+    return GilbertElliott(fail, recover, initial)
 
 
 def _positive_int(value: Any, entry: str) -> int:
@@ -225,10 +235,9 @@ def _positive_int(value: Any, entry: str) -> int:
     return value
 
 
-def _markov(table: dict, where: str, system: System, rationalize: bool) -> MarkovLoss:
+def _markov(table: dict, where: str, d: int, rationalize: bool) -> MarkovLoss:
     order = _positive_int(table.get("order", 1), f"{where} key 'order'")
     states = _get(table, "states", where)
-    d = system.d
     if not isinstance(states, list) or any(
             not isinstance(v, list) or len(v) != d or any(type(g) is not int or g not in (0, 1) for g in v)
             for v in states):
@@ -240,12 +249,12 @@ def _markov(table: dict, where: str, system: System, rationalize: bool) -> Marko
         if v in seen:
             raise FileFormatError(f"{where} key 'states': {list(v)} is listed twice")
         seen.add(v)
-    if len(vectors) != 2 ** d:  # then a missing vector is among the first len(vectors) + 1
-        missing = next(v for v in itertools.product((1, 0), repeat=d) if v not in seen)
-        raise FileFormatError(f"{where} key 'states': {list(missing)} is missing; list each of the "
-                              f"2^{d} vectors once")
     P = _exact(_get(table, "P", where), f"{where} P", rationalize)
     rows = len(P) if isinstance(P, list) else 0
+    if rows and isinstance(P[0], list) and len(vectors) < len(P[0]) <= 2 ** d:   # a vector left out of 'states'
+        missing = next(v for v in itertools.product((1, 0), repeat=d) if v not in seen)
+        raise FileFormatError(f"{where} key 'states': {list(missing)} is missing; 'P' has {len(P[0])} columns, "
+                              "one per vector of 'states'")
     # len(vectors) >= 2 rows per step of order: an order above rows.bit_length() cannot fit
     if order > rows.bit_length() or rows != len(vectors) ** order or any(
             not isinstance(row, list) or len(row) != len(vectors) for row in P):
@@ -281,15 +290,15 @@ def _holding(value: Any, where: str, rationalize: bool) -> list[Any]:
     return laws
 
 
-def _network(table: dict, where: str, system: System, rationalize: bool):
+def _network(table: dict, where: str, d: int, rationalize: bool):
     from .network import MarkovNetworkState, NetworkLoss, SemiMarkovNetworkState, SensorTree
     parents = _get(table, "parents", where)
     if not isinstance(parents, list):
         raise FileFormatError(f"{where} key 'parents': expected a list, parents[m-1] = Par(S_m) (0 = gateway)")
     tree = SensorTree(parents)
-    if tree.M != system.d:
+    if tree.M != d:
         raise FileFormatError(f"{where} key 'parents': the tree has {tree.M} sensor node(s), the system has "
-                              f"{system.d} sensor(s); sensor m of [[sensors]] is node S_m")
+                              f"{d} sensor(s); sensor m of [[sensors]] is node S_m")
     markov, semi = "P" in table, "q" in table or "holding" in table
     if markov == semi:
         raise FileFormatError(f"{where}: give 'P' (Markov network state, Assumption 1) or 'q' and 'holding' "
@@ -311,8 +320,9 @@ def _network(table: dict, where: str, system: System, rationalize: bool):
     return NetworkLoss(tree, state, phi)
 
 
-#: ``[loss] kind`` -> reader(table, where, system, rationalize)
-LOSS_KINDS: dict[str, Callable[[dict, str, System, bool], LossModel]] = {
+#: ``[loss] kind`` (:attr:`LossModel.kind <symkf.losses.LossModel.kind>`) -> reader(table, where, d, rationalize);
+#: :meth:`LossModel.to_table <symkf.losses.LossModel.to_table>` writes what it reads
+LOSS_KINDS: dict[str, Callable[[dict, str, int, bool], LossModel]] = {
     "iid": _iid, "gilbert-elliott": _gilbert_elliott, "markov": _markov, "network": _network}
 
 

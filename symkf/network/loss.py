@@ -89,8 +89,11 @@ class NetworkLoss(LossModel):
                         f"the state {self.chain.states[0]}: the lifted semi-Markov chain is not irreducible")
         return None
 
+    kind = "network"
+    label = ("network", "network")
+
     @property
-    def chain_assumption(self) -> str:
+    def assumption(self) -> str:
         """What :func:`symkf.stability.stability` checked of this loss process (its verdict says it)."""
         if isinstance(self.state, SemiMarkovNetworkState):
             return "semi-Markov network state with an irreducible lifted chain (symkf's extension, docs/quevedo.md)"
@@ -230,6 +233,29 @@ class NetworkLoss(LossModel):
         values = substitution(values, "subs", self.phi.free_symbols)
         phi = [[p.subs(values) for p in self.phi.row(m)] for m in range(self.d)]
         return NetworkLoss(self.tree, self.state.subs(values), phi)
+
+    def words(self) -> str:
+        kind = "semi-Markov" if isinstance(self.state, SemiMarkovNetworkState) else "Markov"
+        return (f"a sensor tree of {self.d} links over a {kind} network state with {self.state.B} states "
+                "(Quevedo et al.)")
+
+    def fields(self) -> tuple[tuple[str, str, tuple[sp.Expr, ...]], ...]:
+        return (("phi", r"\phi", tuple(self.phi.values()) or (sp.Integer(0),)), ("states", "|B|", (sp.Integer(self.state.B),)))
+
+    def to_table(self) -> dict[str, Any]:
+        def rows(M: sp.MatrixBase) -> list[list[str]]:
+            return [[str(p) for p in M.row(i)] for i in range(M.shape[0])]
+        out: dict[str, Any] = {"kind": self.kind, "parents": list(self.tree.parents), "phi": rows(self.phi)}
+        if isinstance(self.state, SemiMarkovNetworkState):
+            out["q"] = rows(self.state.q)
+            out["holding"] = [{str(k): str(p) for k, p in h.items()} for h in self.state.holding]
+        else:
+            out["P"] = rows(self.state.P)
+        out["initial"] = [str(p) for p in self.state.initial]
+        return out
+
+    def to_json(self) -> dict[str, Any]:
+        return self._with_chain(self.to_table())
 
     def __repr__(self) -> str:
         return f"NetworkLoss({self.tree!r}, {self.state!r})"
