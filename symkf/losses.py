@@ -197,6 +197,8 @@ class LossModel:
     label: ClassVar[tuple[str, str]] = ("", "")
     #: kind -> model class, filled as the classes are defined
     KINDS: ClassVar[dict[str, type["LossModel"]]] = {}
+    #: the keys of its ``[loss]`` table
+    keys: ClassVar[frozenset[str]] = frozenset()
     d: int
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
@@ -338,6 +340,12 @@ class LossModel:
                                  "initial": [str(p) for p in chain.initial]}}
 
 
+    @classmethod
+    def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "LossModel":
+        """The model of a ``[loss]`` table of kind :attr:`kind` (checked against :attr:`keys`)."""
+        raise NotImplementedError
+
+
 def from_table(table: Mapping[str, Any], d: int, where: str = "loss") -> LossModel:
     """The loss model of a ``[loss]`` table or its JSON object (:meth:`LossModel.to_json`) for ``d``
     sensors: the reader of system files (:mod:`symkf.files`), so files and JSON share one codec."""
@@ -407,6 +415,15 @@ class IID(LossModel):
 
     kind = "iid"
     label = ("i.i.d.", "i.i.d.")
+
+    #: the keys of its ``[loss]`` table
+    keys: ClassVar[frozenset[str]] = frozenset({"kind", "loss"})
+
+    @classmethod
+    def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "IID":
+        """The model of a ``[loss]`` table (or its JSON object) for ``d`` sensors; ``where`` names it in errors."""
+        from .files import _exact, _get
+        return cls(_exact(_get(table, "loss", where), f"{where} loss", rationalize))
 
     def _build_chain(self) -> LossChain:
         _joint_cap(self.d)
@@ -529,6 +546,18 @@ class GilbertElliott(LossModel):
 
     kind = "gilbert-elliott"
     label = ("Gilbert--Elliott", "Gilbert-Elliott")
+
+    #: the keys of its ``[loss]`` table
+    keys: ClassVar[frozenset[str]] = frozenset({"kind", "fail", "recover", "initial_received"})
+
+    @classmethod
+    def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "GilbertElliott":
+        """The model of a ``[loss]`` table (or its JSON object) for ``d`` sensors; ``where`` names it in errors."""
+        from .files import _exact, _get
+        fail, recover = (_exact(_get(table, key, where), f"{where} {key}", rationalize) for key in ("fail", "recover"))
+        initial = table.get("initial_received")
+        initial = None if initial is None else _exact(initial, f"{where} initial_received", rationalize)
+        return cls(fail, recover, initial)
 
     def _build_chain(self) -> LossChain:
         _joint_cap(self.d)
@@ -716,6 +745,51 @@ class MarkovLoss(LossModel):
 
     kind = "markov"
     label = ("joint Markov", "joint Markov")
+
+    #: the keys of its ``[loss]`` table
+    keys: ClassVar[frozenset[str]] = frozenset({"kind", "order", "states", "P", "initial"})
+
+    @classmethod
+    def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "MarkovLoss":
+        """The model of a ``[loss]`` table (or its JSON object) for ``d`` sensors; ``where`` names it in errors."""
+        from .errors import FileFormatError
+        from .files import _built, _exact, _get, _positive_int
+        order = _positive_int(table.get("order", 1), f"{where} key 'order'")
+        states = _get(table, "states", where)
+        if not isinstance(states, list) or any(
+                not isinstance(v, list) or len(v) != d or any(type(g) is not int or g not in (0, 1) for g in v)
+                for v in states):
+            raise FileFormatError(f"{where} key 'states': expected a list of 0/1 receival vectors of length {d} "
+                                  "(one entry per sensor, 1 = received)")
+        vectors = [tuple(v) for v in states]
+        seen: set[tuple[int, ...]] = set()
+        for v in vectors:
+            if v in seen:
+                raise FileFormatError(f"{where} key 'states': {list(v)} is listed twice")
+            seen.add(v)
+        P = _exact(_get(table, "P", where), f"{where} P", rationalize)
+        rows = len(P) if isinstance(P, list) else 0
+        if rows and isinstance(P[0], list) and len(vectors) < len(P[0]) <= 2 ** d:   # a vector left out of 'states'
+            missing = next(v for v in itertools.product((1, 0), repeat=d) if v not in seen)
+            raise FileFormatError(f"{where} key 'states': {list(missing)} is missing; 'P' has {len(P[0])} columns, "
+                                  "one per vector of 'states'")
+        # len(vectors) >= 2 rows per step of order: an order above rows.bit_length() cannot fit
+        if order > rows.bit_length() or rows != len(vectors) ** order or any(
+                not isinstance(row, list) or len(row) != len(vectors) for row in P):
+            raise FileFormatError(f"{where} key 'P': expected {len(vectors)}^{order} rows (one per history) of "
+                                  f"{len(vectors)} probabilities (one per next vector in 'states')")
+        histories = list(itertools.product(vectors, repeat=order))
+        initial = table.get("initial")
+        if initial is not None:
+            initial = _exact(initial, f"{where} initial", rationalize)
+            if not isinstance(initial, list) or len(initial) != len(histories):
+                raise FileFormatError(f"{where} key 'initial': expected {len(histories)} probabilities, one per "
+                                      "history (the rows of 'P')")
+            initial = dict(zip(histories, initial))
+        model = _built(lambda: cls({h: dict(zip(vectors, row)) for h, row in zip(histories, P)}, order,
+                                          initial), "key 'P'")
+        _built(lambda: model.chain, "key 'initial'")  # the initial law is checked when the chain is built
+        return model
 
     def _reachable(self, r: int, s: int) -> bool:
         w, v = self.chain.states[r], self.chain.states[s]

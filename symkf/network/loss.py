@@ -20,6 +20,7 @@ an exact lumping.
 from __future__ import annotations
 
 import itertools
+import re
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
@@ -91,6 +92,43 @@ class NetworkLoss(LossModel):
 
     kind = "network"
     label = ("network", "network")
+
+    #: the keys of its ``[loss]`` table
+    keys: ClassVar[frozenset[str]] = frozenset({"kind", "parents", "phi", "P", "q", "holding", "initial"})
+
+    @classmethod
+    def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "NetworkLoss":
+        """The model of a ``[loss]`` table (or its JSON object) for ``d`` sensors; ``where`` names it in errors."""
+        from ..errors import FileFormatError
+        from ..files import MAX_NETWORK_CHAIN, _exact, _get
+        from .state import MarkovNetworkState, SemiMarkovNetworkState
+        from .tree import SensorTree
+        parents = _get(table, "parents", where)
+        if not isinstance(parents, list):
+            raise FileFormatError(f"{where} key 'parents': expected a list, parents[m-1] = Par(S_m) (0 = gateway)")
+        tree = SensorTree(parents)
+        if tree.M != d:
+            raise FileFormatError(f"{where} key 'parents': the tree has {tree.M} sensor node(s), the system has "
+                                  f"{d} sensor(s); sensor m of [[sensors]] is node S_m")
+        markov, semi = "P" in table, "q" in table or "holding" in table
+        if markov == semi:
+            raise FileFormatError(f"{where}: give 'P' (Markov network state, Assumption 1) or 'q' and 'holding' "
+                                  "(semi-Markov, Assumption 3), not " + ("both" if markov else "neither"))
+        initial = table.get("initial")
+        initial = None if initial is None else _exact(initial, f"{where} initial", rationalize, start=1)
+        if markov:
+            state = MarkovNetworkState(_exact(table["P"], f"{where} P", rationalize, start=1), initial)
+            hidden = state.B
+        else:
+            q = _exact(_get(table, "q", where), f"{where} q", rationalize, start=1)
+            holding = _holding(_get(table, "holding", where), where, rationalize)
+            state = SemiMarkovNetworkState(q, holding, initial)
+            hidden = sum(max(h) for h in state.holding)
+        if hidden * 2 ** tree.M > MAX_NETWORK_CHAIN:
+            raise FileFormatError(f"{where} key '{'P' if markov else 'holding'}': the lifted chain would have up to "
+                                  f"{hidden} x 2^{tree.M} states; files are limited to {MAX_NETWORK_CHAIN}")
+        phi = _exact(_get(table, "phi", where), f"{where} phi", rationalize, start=1)
+        return cls(tree, state, phi)
 
     @property
     def assumption(self) -> str:
@@ -259,6 +297,24 @@ class NetworkLoss(LossModel):
 
     def __repr__(self) -> str:
         return f"NetworkLoss({self.tree!r}, {self.state!r})"
+
+
+def _holding(value: Any, where: str, rationalize: bool) -> list[Any]:
+    from ..errors import FileFormatError
+    from ..files import _exact
+    """Holding-time laws as lists ``[psi(1), ...]`` or tables ``{delta: psi(delta)}`` (TOML keys are text)."""
+    if not isinstance(value, list):
+        raise FileFormatError(f"{where} key 'holding': expected a list of holding-time laws, one per network state")
+    laws = []
+    for i, law in enumerate(value, start=1):
+        if isinstance(law, dict):
+            bad = [k for k in law if not re.fullmatch(r"[1-9][0-9]{0,5}", k)]
+            if bad:
+                raise FileFormatError(f"{where} key 'holding[{i}]': holding time {bad[0]!r} is not a positive "
+                                      "integer below 10^6")
+            law = {int(k): _exact(p, f"{where} holding[{i}][{k}]", rationalize) for k, p in law.items()}
+        laws.append(_exact(law, f"{where} holding[{i}]", rationalize, start=1) if isinstance(law, list) else law)
+    return laws
 
 
 def induced_loss(loss: NetworkLoss, dynamics: PeriodicDynamics | None = None) -> LossModel:
