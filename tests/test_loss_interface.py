@@ -227,3 +227,36 @@ def test_figure_titles_say_every_loss_model(name):
     S, loss = _system(), MODELS[name]()
     title = plots.mean_trace_figure(S, loss, mean_trace_curve(S, loss, 8, 40, seed=0)).axes[0].get_title()
     assert loss.words() in title and "Yang's bounds need i.i.d. losses" in title
+
+
+def test_docs_worked_example_adds_a_model_in_one_place(tmp_path):
+    # docs/losses.md: the class and the hand-derived margin, then the model through a system file,
+    # JSON, the sampler and a verdict table without any other change to symkf
+    from pathlib import Path
+    import re
+    page = (Path(__file__).resolve().parent.parent / "docs" / "losses.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"^```python\n(.*?)^```", page, re.M | re.S)
+    assert len(blocks) == 2
+    namespace: dict = {}
+    for block in blocks:
+        exec(compile(block, "docs/losses.md", "exec"), namespace)   # the second block asserts the margin
+    cls, loss = namespace["CommonOutage"], namespace["loss"]
+    try:
+        path = tmp_path / "outage.toml"
+        path.write_text('[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nC = [["1", "0"]]\n'
+                        '[[sensors]]\nC = [["1", "1"]]\n' + loss.to_toml(), encoding="utf-8")
+        S, read = files.load(path)
+        assert isinstance(read, cls) and read.chain.P == loss.chain.P
+        assert from_table(json.loads(json.dumps(loss.to_json())), 2).to_table() == loss.to_table()
+        assert sk.stability(S, read).margins[0].exact ** 2 == R(828, 3125)
+        p = {s: float(loss.sequence_probability(s)) for s in SEQUENCES}
+        assert abs(p[((0, 0),) * 3] - (69 / 1000) ** 3) < 1e-15
+        gamma = loss.sample(3, 40_000, np.random.default_rng(3))
+        weights = 2 ** np.arange(5, -1, -1)
+        found = np.bincount(gamma.transpose(1, 0, 2).reshape(-1, 6).astype(int) @ weights, minlength=64)
+        counts = {s: int(found[np.array([g for v in s for g in v]) @ weights]) for s in SEQUENCES}
+        assert _z(counts, p, 40_000) < 5
+        (row,) = tables.verdict_table([path], progress=False).to_json()["rows"]
+        assert row["cells"][0]["kind"] == "common-outage" and row["cells"][1] == "stable"
+    finally:
+        del LossModel.KINDS["common-outage"]
