@@ -26,6 +26,7 @@ import sympy as sp
 from . import budget, receptions
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
+from .exact.perron import perron_float
 from .exact.numbers import to_exact
 from .filtering import FloatSystem, _positive, _run, exact_covariances, log_traces, real_form, receival_table
 from .losses import LossModel, checked
@@ -247,13 +248,6 @@ def loss_factors(loss: LossModel, d: int) -> list[LossFactor]:
     return [f.numeric() for f in checked(loss, d, numbers=True).factors]
 
 
-def _perron(M: np.ndarray) -> tuple[float, np.ndarray]:
-    """Spectral radius and a non-negative right eigenvector of a non-negative matrix (float)."""
-    w, V = np.linalg.eig(M)
-    i = int(np.argmax(w.real))
-    return max(float(w[i].real), 0.0), np.abs(V[:, i].real)
-
-
 #: weight of the original law at each step inside a burst: keeps every ratio p/q below 1/DEFENSIVE.
 #: Per step, so a burst path stays in the pattern for L steps with probability ~(1 - DEFENSIVE)^L:
 #: 0.05 left 4e-5 of the paths a full burst at L = 196 and log E[tr P_k] of ge-two-sensors fell
@@ -288,7 +282,7 @@ def _factor_tilt(f: LossFactor, allowed: np.ndarray) -> _Tilt:
     M = np.eye(len(f.P))
     for r in range(1, g + 1):
         M = M @ f.P * D[r % g]
-    rate, v0 = _perron(M)
+    rate, v0 = perron_float(M)
     v = [v0] * g
     for r in range(g - 1, 0, -1):
         nxt = f.P @ (D[(r + 1) % g] * v[(r + 1) % g])
