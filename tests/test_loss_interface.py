@@ -260,3 +260,19 @@ def test_docs_worked_example_adds_a_model_in_one_place(tmp_path):
         assert row["cells"][0]["kind"] == "common-outage" and row["cells"][1] == "stable"
     finally:
         del LossModel.KINDS["common-outage"]
+
+
+@pytest.mark.parametrize("name", ["iid", "gilbert-elliott", "gilbert-elliott-initial"])
+def test_hyperplane_rate_of_independent_sensors_is_the_joint_chains(name):
+    # the closed forms (i.i.d.: prod_j loss_j^(k_j); Gilbert-Elliott: product of 2x2 traces) against
+    # the Perron root of the joint chain's restricted transfer (eq. 36), hyperplane by hyperplane
+    from symkf.decay import perron_root, restricted_transfer
+    from symkf.observability import block_rows
+    loss = MODELS[name]()
+    (br,) = block_rows(_system())
+    assert len(br.hyperplanes) == 4
+    for H in br.hyperplanes:
+        assert sp.simplify(loss.hyperplane_rate(br, H) - perron_root(restricted_transfer(br, H, loss))) == 0
+    (H,) = [H for H in br.hyperplanes if [br.elements[i].sensor for i in H] == [0]][:1]
+    if name == "iid":   # sensor 0 received at one phase: 1/10 (its other phase) * (1/4)^2 (sensor 1's two)
+        assert loss.hyperplane_rate(br, H) == R(1, 10) * R(1, 16)
