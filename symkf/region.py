@@ -267,9 +267,11 @@ def stability_conditions(system: System, loss: LossModel) -> sp.Basic:
 
     Raises
     ------
+    ShapeError
+        The loss model's sensor count differs from the system's.
     InputError
-        The loss model's sensor count differs from the system's, or it is a
-        :class:`~symkf.losses.MarkovLoss`.
+        The model gives no conditions (a joint Markov or network loss:
+        :meth:`~symkf.losses.LossModel.stability_conditions`).
 
     Examples
     --------

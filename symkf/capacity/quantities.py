@@ -64,7 +64,9 @@ def transmission_capacity(loss: IID) -> sp.Expr:
     Raises
     ------
     InputError
-        ``loss`` is not an :class:`~symkf.losses.IID`, or has free symbols.
+        ``loss`` is no loss model, or has free symbols.
+    AssumptionError
+        ``loss`` is not i.i.d. (:meth:`~symkf.losses.LossModel.require_bernoulli`).
 
     Examples
     --------
