@@ -142,7 +142,9 @@ def simulate_traces(system: System, loss: LossModel, horizon: int, paths: int,
                     seed: int | None = None) -> np.ndarray:
     """``tr P_{k|k-1}`` as an array (paths, horizon), k = 0..horizon-1 (Sui-You-Fu eq. 9).
 
-    Receival sequences are drawn from ``loss`` with ``numpy.random.default_rng(seed)``.
+    Receival sequences are drawn from ``loss`` with ``numpy.random.default_rng(seed)``, factor by
+    factor (:meth:`~symkf.losses.LossModel.sample`: independent sensors never build the joint
+    ``2^d`` chain; memory is linear in ``d``).
     """
     return _simulate(system, loss, horizon, paths, seed)
 
