@@ -42,7 +42,7 @@ from . import budget
 from .errors import AperiodicError, InputError
 from .exact import perron
 from .exact.algebraic import AlgebraicNumber
-from .losses import IID, GilbertElliott, LossChain, LossModel
+from .losses import Factor, GilbertElliott, LossModel, checked
 from .model import System
 from .exact.linalg import nullspace_rows, rank_rows
 from .observability import BlockRows, _distinct, _key, _set, block_deficient, block_rows
@@ -126,12 +126,12 @@ def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[i
     return {tuple(outside[h].tolist()): _set(inside[h]) for h in sorted(first.tolist())}
 
 
-def _weights(loss: IID) -> list[float] | None:
-    """``-log loss_j`` per sensor: the slowest-decaying hyperplane maximises ``sum_{e in H} -log
-    loss_(sensor e)``; None when a loss is 0 or symbolic (then every hyperplane is compared)."""
-    if loss.symbols or any(e == 0 for e in loss.loss):
+def _weights(loss: LossModel) -> list[float] | None:
+    """``-log loss_j`` per sensor of i.i.d. losses: the slowest-decaying hyperplane maximises ``sum_{e
+    in H} -log loss_(sensor e)``; None when a loss is 0 or symbolic (then every hyperplane is compared)."""
+    if loss.symbols or any(e == 0 for e in loss.bernoulli):
         return None
-    return [-float(sp.log(e).evalf(20)) for e in loss.loss]
+    return [-float(sp.log(e).evalf(20)) for e in loss.bernoulli]
 
 
 def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
@@ -141,9 +141,9 @@ def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
     product over the model's independent factors of their restricted transfers' Perron roots,
     maximised by :func:`markov_search` (aperiodic blocks too: their elements' generators are
     class projections, docs/sui.md)."""
-    if isinstance(loss, IID):
+    if loss.bernoulli is not None:   # i.i.d.: the rate depends on the exponent vector only
         counts = outside_counts(br, _weights(loss))
-        cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.loss, ks)])) for ks, H in counts.items()]
+        cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.bernoulli, ks)])) for ks, H in counts.items()]
         H, best = _maximum(cands)
         return BlockRate(best, H, tuple(cands))
     if loss.symbols:
@@ -238,24 +238,6 @@ def _spanned(br: BlockRows, weights: Sequence[float], count: int = 9) -> list[fr
 
 
 # -- restricted transfers per independent factor ----------------------------------------
-@dataclass(frozen=True)
-class Factor:
-    """An independent factor of a loss model: a first-order chain whose states emit the
-    receptions of ``sensors`` (per-sensor Gilbert-Elliott channels, or one joint chain)."""
-
-    sensors: tuple[int, ...]
-    chain: LossChain
-
-
-def loss_factors(loss: LossModel) -> tuple[Factor, ...]:
-    """The independent factors of ``loss``: its transfer restricted to ``H`` is the Kronecker
-    product of theirs, so ``rho(M_H)`` is the product of their Perron roots."""
-    if isinstance(loss, GilbertElliott):
-        return tuple(Factor((j,), LossChain(("received", "lost"), ((1,), (0,)), loss.sensor_matrix(j),
-                                            sp.ImmutableMatrix([[1, 0]]))) for j in range(loss.d))
-    return (Factor(tuple(range(loss.d)), loss.chain),)
-
-
 _U = 2.0 ** -53  # unit roundoff of float64
 
 
@@ -420,7 +402,7 @@ class FactorRates:
 
 def factor_rates(br: BlockRows, loss: LossModel) -> tuple[FactorRates, ...]:
     """One :class:`FactorRates` per independent factor of ``loss`` for the block's period."""
-    return tuple(FactorRates(f, br.period) for f in loss_factors(loss))
+    return tuple(FactorRates(f, br.period) for f in loss.factors)
 
 
 class _Patterns:
@@ -604,14 +586,13 @@ def m_matrix(br: BlockRows, loss: LossModel) -> tuple[sp.Matrix, list]:
 
 def probability_rank_deficient(system: System, loss: LossModel, N: int) -> tuple[sp.Expr, ...]:
     """``P(R_N(i))`` per eigen-block by enumerating all ``2^(dN)`` receival patterns (brute force)."""
-    if loss.d != system.d:
-        raise InputError(f"loss model has {loss.d} sensors, the system {system.d}")
+    checked(loss, system)
     if loss.d * N > 18:
         raise InputError(f"enumeration of 2^{loss.d * N} patterns is too large; use m_matrix")
     totals = [sp.Integer(0)] * len(block_rows(system))
     for pattern in itertools.product(itertools.product((1, 0), repeat=loss.d), repeat=N):
         flags = block_deficient(system, pattern) if N else (True,) * len(totals)
         if any(flags):
-            p = loss.chain.sequence_probability(pattern)
+            p = loss.sequence_probability(pattern)
             totals = [t + p if f else t for t, f in zip(totals, flags)]
     return tuple(sp.sympify(sp.expand(t)) for t in totals)

@@ -21,7 +21,7 @@ from .decay import BlockRate, block_rate, least_iid_bound, outside_counts
 from .errors import AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber, _with_prec, identify
 from .exact.numbers import to_exact
-from .losses import IID, GilbertElliott, LossModel
+from .losses import IID, GilbertElliott, LossModel, checked
 from .model import System
 from .observability import BlockRows, block_rows
 from .region import ge_margins, stable_intervals
@@ -160,20 +160,14 @@ class Verdict:
 
 
 def _check_loss(system: System, loss: LossModel) -> list[str]:
-    if not isinstance(loss, LossModel):
-        raise InputError(f"loss: expected an IID, GilbertElliott or MarkovLoss, got {type(loss).__name__}")
-    if loss.d != system.d:
-        raise InputError(f"loss: the model has {loss.d} sensor(s), the system has {system.d} "
-                         f"({', '.join(system.sensor_names)})")
-    loss.require_positive()
+    checked(loss, system, positive=True)
     brs = block_rows(system)
     out = [("A" if not system.set_aside() else "the decided blocks") + " diagonalizable (Assumption 3)"
            if not any(br.block.defective for br in brs) else
            "Jordan chains on |lambda| >= 1 (symkf's extension of Assumption 3, docs/sui.md)",
            "(A, C) observable" if system.observable else "(A, C) detectable (PBH on |lambda| >= 1)",
-           "loss process " + ("i.i.d. (Assumption 4)" if isinstance(loss, IID) else
-                              getattr(loss, "chain_assumption", "Markov with positive transitions (Assumption 2)"))]
-    if not isinstance(loss, IID) and not all(br.block.is_periodic for br in brs):
+           "loss process " + loss.assumption]
+    if loss.bernoulli is None and not all(br.block.is_periodic for br in brs):
         out.append("aperiodic block under Markov losses (symkf's extension of Theorem 9, docs/sui.md)")
     return out
 
