@@ -468,8 +468,9 @@ class IID(LossModel):
 
     def hyperplane_rate(self, br: Any, H: frozenset[int]) -> sp.Expr:
         """``prod_j loss_j^(k_j)``, ``k_j`` sensor ``j``'s elements outside ``H`` (every one lost)."""
-        from .decay import _outside
-        return sp.Mul(*[e ** _outside(br, H, j) for j, e in enumerate(self.loss)])
+        from .decay import _outside_vectors
+        (ks,) = _outside_vectors(br, [H])
+        return sp.Mul(*[e ** k for e, k in zip(self.loss, ks)])
 
     @property
     def assumption(self) -> str:
