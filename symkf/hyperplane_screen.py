@@ -27,18 +27,23 @@ _BLOCK = 1 << 21  # entries of one vectorised block of flats x points (about 16 
 
 
 class Screen:
-    """Best screened weight so far and the kept sets (frozensets of point indices) near it."""
+    """Best screened weight so far and the kept sets (frozensets of point indices) at least
+    ``bar``: the best less ``tol``, or with ``floor`` ``min(floor, best)`` less ``tol``."""
 
-    def __init__(self, tol: float) -> None:
-        self.tol, self.best = tol, -np.inf
+    def __init__(self, tol: float, floor: float | None = None) -> None:
+        self.tol, self.floor, self.best = tol, floor, -np.inf
         self.kept: dict[frozenset[int], float] = {}
 
+    @property
+    def bar(self) -> float:
+        return (self.best if self.floor is None else min(self.best, self.floor)) - self.tol
+
     def offer(self, score: float, members) -> None:
-        if score < self.best - self.tol:
+        if score < self.bar:
             return
         if score > self.best:
             self.best = score
-            self.kept = {S: w for S, w in self.kept.items() if w >= score - self.tol}
+            self.kept = {S: w for S, w in self.kept.items() if w >= self.bar}
         self.kept[frozenset(members)] = score
 
 
@@ -112,7 +117,7 @@ def search(images: np.ndarray, weights: np.ndarray, p: int, orbits: Sequence[Seq
             continue
         if not images[a].any():
             return False
-        if weights[a] + weights[points].sum() < screen.best - screen.tol:
+        if weights[a] + weights[points].sum() < screen.bar:
             continue
         zero, classes, reps = _classes(_quotient(images[points], images[a], p), p)
         flat = [a, *points[zero].tolist()]
@@ -151,7 +156,7 @@ def _lines_through_points(reps: np.ndarray, members: list[np.ndarray], w: np.nda
     others = np.array([[1, 2], [0, 2], [0, 1]])
     b0 = 0
     while b0 < C:
-        if base + w[b0:].max() + suffix[b0 + 1] < screen.best - screen.tol:
+        if base + w[b0:].max() + suffix[b0 + 1] < screen.bar:
             return  # no later flat can reach the best
         rows = max(1, min(C - b0, _BLOCK // max(1, C - b0)))
         B = reps[b0:b0 + rows]                                  # rows x 3
@@ -176,8 +181,8 @@ def _lines_through_points(reps: np.ndarray, members: list[np.ndarray], w: np.nda
         score = (np.add.reduceat(w[b0 + 1:][order].ravel(), starts) if U else np.zeros(0)) + base + w[b0 + r]
         score[line == p + 1] = -np.inf
         if len(score):  # the block's best first: fewer sets kept on the way
-            for i in [int(np.argmax(score)), *np.flatnonzero(score >= screen.best - screen.tol).tolist()]:
-                if score[i] >= screen.best - screen.tol:
+            for i in [int(np.argmax(score)), *np.flatnonzero(score >= screen.bar).tolist()]:
+                if score[i] >= screen.bar:
                     on = np.flatnonzero(key[r[i]] == line[i]) + b0 + 1
                     screen.offer(float(score[i]), [*flat, *members[b0 + int(r[i])].tolist(),
                                                    *np.concatenate([members[c] for c in on]).tolist()])

@@ -93,15 +93,17 @@ class BlockRows:
             sets = np.concatenate([sets, partial[keep]])
         return sets[_lex_order(sets)]
 
-    def heaviest(self, weights: Sequence[float]) -> list[frozenset[int]] | None:
+    def heaviest(self, weights: Sequence[float], floor: float | None = None) -> list[frozenset[int]] | None:
         """The hyperplanes (element sets, as in :attr:`hyperplanes`) whose weight ``sum_{e in H}
         weights[e]`` may be maximal, without enumerating every hyperplane; None when the fast
         path does not apply (then enumerate).
 
         Weights are floats >= 0 (``-log loss``) used only to screen; every set whose screened
         weight is within ``1e-9 (1 + total weight)`` of the screened maximum is confirmed exactly
-        and returned, and the caller decides among them exactly (float sums of at most E correctly
-        rounded terms err by far less than the tolerance).
+        (rank ``n - 1`` over K) and returned, and the caller decides among them exactly (float
+        sums of at most E correctly rounded terms err by far less than the tolerance).  With
+        ``floor``, every set whose screened weight is at least ``min(floor, maximum)`` (less the
+        tolerance) is returned: all hyperplanes that an additive upper bound cannot rule out.
 
         The screen (:mod:`symkf.hyperplane_screen`) works mod p, stage by stage: each orbit of
         elements under the phase shift ``(j, r) -> (j, r + 1 mod g)`` (a symmetry of the hyperplanes
@@ -136,7 +138,7 @@ class BlockRows:
             if flint.nmod_mat(images, p).rank() < n:
                 return None
             X = np.array(images, dtype=np.int64)
-            screen = hyperplane_screen.Screen(tol)
+            screen = hyperplane_screen.Screen(tol, floor)
             if not hyperplane_screen.search(X, w[live], p, orbits, self._parallel_orbits(X, p, orbits, vectors),
                                             screen):
                 continue

@@ -8,20 +8,20 @@ with 1.  Margin exactly 1 is not stable.
 
 from __future__ import annotations
 
+import textwrap
 from dataclasses import dataclass, field
-from functools import cached_property
 from decimal import Decimal, localcontext
 from fractions import Fraction
-from typing import Any, Sequence
+from typing import Any, Iterable, Sequence
 
 import flint
 import sympy as sp
 
-from .decay import BlockRate, block_rate, outside_counts
+from .decay import BlockRate, block_rate, least_iid_bound, outside_counts
 from .errors import AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber, _with_prec, identify
 from .exact.numbers import to_exact
-from .losses import IID, GilbertElliott, LossModel
+from .losses import IID, GilbertElliott, LossModel, checked
 from .model import System
 from .observability import BlockRows, block_rows
 from .region import ge_margins, stable_intervals
@@ -37,6 +37,30 @@ class BlockCertificate:
     rate_per_period: sp.Expr                         # rho_i^g
     margin_power: sp.Expr                            # alpha_i^(2g) rho_i^g, compared with 1
     interval: tuple[Any, Any]                        # exact rational bounds of the margin
+
+
+def pattern_words(elements: Iterable[tuple[str, int]]) -> str:
+    """A decisive loss pattern in words: the (sensor, phase) elements received in each period,
+    every other packet lost (``[("s1", 0)]`` reads "s1 received at phase 0 only").
+
+    >>> pattern_words([("s1", 0)]), pattern_words([])
+    ('s1 received at phase 0 only', 'nothing received')
+    >>> pattern_words([("a", 0), ("b", 1), ("a", 1)])
+    'a received at phases 0 and 1, b at phase 1, nothing else'
+    """
+    phases: dict[str, list[int]] = {}
+    for name, phase in elements:
+        phases.setdefault(name, []).append(phase)
+    if not phases:
+        return "nothing received"
+
+    def at(ks: list[int]) -> str:
+        ks = sorted(ks)
+        return f"phase {ks[0]}" if len(ks) == 1 else f"phases {', '.join(map(str, ks[:-1]))} and {ks[-1]}"
+
+    parts = [f"{name} at {at(ks)}" for name, ks in phases.items()]
+    first = parts[0].replace(" at ", " received at ", 1)
+    return f"{first} only" if len(parts) == 1 else ", ".join([first, *parts[1:]]) + ", nothing else"
 
 
 def _readable(expr: sp.Expr, margin: AlgebraicNumber, i: int) -> str:
@@ -120,11 +144,12 @@ class Verdict:
             lines.append(f"  block {i}: alpha = {c.modulus}, governing period g = {c.governing_period}, "
                          f"margin alpha^2 rho = {_readable(m.exact, m, i)} "
                          f"in [{_approx(lo)}, {_approx(hi)}]{'  <- limiting' if i == self.limiting_block else ''}")
-            lines.append(f"    decisive pattern: only {list(c.decisive_elements) or 'nothing'} received; "
+            lines.append(f"    decisive pattern: {pattern_words(c.decisive_elements)}; "
                          f"alpha^{2 * c.governing_period} * rho^{c.governing_period} = {_readable(c.margin_power, m, i)}")
         for eigenvalues, why in self.set_aside:
             lines.append(f"  set aside: {', '.join(eigenvalues)} ({why})")
-        lines.append("  assumptions checked: " + "; ".join(self.assumptions))
+        lines += textwrap.wrap("assumptions checked: " + "; ".join(self.assumptions), 100, initial_indent="  ",
+                               subsequent_indent="    ", break_long_words=False, break_on_hyphens=False)
         return "\n".join(lines)
 
     def _repr_latex_(self) -> str:
@@ -135,20 +160,14 @@ class Verdict:
 
 
 def _check_loss(system: System, loss: LossModel) -> list[str]:
-    if not isinstance(loss, LossModel):
-        raise InputError(f"loss: expected an IID, GilbertElliott or MarkovLoss, got {type(loss).__name__}")
-    if loss.d != system.d:
-        raise InputError(f"loss: the model has {loss.d} sensor(s), the system has {system.d} "
-                         f"({', '.join(system.sensor_names)})")
-    loss.require_positive()
+    checked(loss, system, positive=True)
     brs = block_rows(system)
     out = [("A" if not system.set_aside() else "the decided blocks") + " diagonalizable (Assumption 3)"
            if not any(br.block.defective for br in brs) else
            "Jordan chains on |lambda| >= 1 (symkf's extension of Assumption 3, docs/sui.md)",
            "(A, C) observable" if system.observable else "(A, C) detectable (PBH on |lambda| >= 1)",
-           "loss process " + ("i.i.d. (Assumption 4)" if isinstance(loss, IID) else
-                              getattr(loss, "chain_assumption", "Markov with positive transitions (Assumption 2)"))]
-    if not isinstance(loss, IID) and not all(br.block.is_periodic for br in brs):
+           "loss process " + loss.assumption]
+    if loss.bernoulli is None and not all(br.block.is_periodic for br in brs):
         out.append("aperiodic block under Markov losses (symkf's extension of Theorem 9, docs/sui.md)")
     return out
 
@@ -219,14 +238,13 @@ def stability(system: System, loss: LossModel) -> Verdict:
     return Verdict(stable, tuple(margins), limiting, theorem, tuple(assumptions), tuple(certs), aside)
 
 
-def _vectors(system: System, common: bool = False) -> list[tuple[AlgebraicNumber, int, tuple[int, ...]]]:
-    """``(alpha_i, 2g, (k_1, ..., k_d))`` for every block and distinct exponent vector.
-
-    ``common``: a common loss ``eps`` for every sensor, whose bound ``(alpha_i^(2g) eps^K)``
-    binds first at the fewest elements ``K`` outside: only the hyperplanes holding the most
-    elements (:func:`symkf.decay.outside_counts` with equal weights) are needed."""
-    weights = [1.0] * system.d if common else None
-    return [(br.block.modulus, 2 * br.period, ks) for br in block_rows(system) for ks in outside_counts(br, weights)]
+def _vectors(system: System) -> list[tuple[sp.Expr, tuple[int, ...]]]:
+    """``(alpha_i^(2g), (k_1, ..., k_d))`` for every block and the exponent vectors that matter
+    for a common loss ``eps``: its bound ``(alpha_i^(2g) eps^K)`` binds first at the fewest
+    elements ``K`` outside, so only the hyperplanes holding the most elements
+    (:func:`symkf.decay.outside_counts` with equal weights) are needed."""
+    return [(sp.sympify(br.block.modulus.exact ** (2 * br.period)), ks)
+            for br in block_rows(system) for ks in outside_counts(br, [1.0] * system.d)]
 
 
 def critical_loss_rate(system: System, sensor: str | None = None, *, others: Sequence[Any] | None = None,
@@ -272,72 +290,43 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
         w = [to_exact(v, f"ray[{j}]") for j, v in enumerate(ray)] if ray is not None else [sp.Integer(1)] * d
         if len(w) != d:
             raise InputError(f"ray: {len(w)} weights for {d} sensors")
-        bounds = []
-        for alpha, power, ks in _vectors(system, common=len(set(w)) == 1):
-            W = sp.Mul(*[wj ** k for wj, k in zip(w, ks)])
-            if W != 0:
-                bounds.append(_Bound(alpha, power, W, sum(ks)))
-        return _min_capped(bounds)
+        if len(set(w)) == 1:
+            return _min_capped([b for a2g, ks in _vectors(system) if (b := _ray_bound(a2g, ks, w)) is not None])
+        return _least(system, lambda x: [x * wj for wj in w], lambda a2g, ks: _ray_bound(a2g, ks, w))
     j = system.sensor_index(sensor)
     if others is None or len(others) != d:
         raise InputError(f"others: give the {d} loss probabilities of all sensors (entry {j} is ignored)")
     fixed = [to_exact(v, f"others[{i}]") if i != j else sp.Integer(1) for i, v in enumerate(others)]
-    bounds = []
-    for alpha, power, ks in _vectors(system):
+
+    def bound(a2g: sp.Expr, ks: tuple[int, ...]) -> sp.Expr | None:
         rest = sp.Mul(*[f ** k for i, (f, k) in enumerate(zip(fixed, ks)) if i != j])
         if ks[j] == 0:
-            if AlgebraicNumber.from_expr(sp.sympify(alpha.exact ** power) * rest) >= 1:
-                return AlgebraicNumber.from_expr(0)
-        elif rest != 0:
-            bounds.append(_Bound(alpha, power, rest, ks[j]))
-    return _min_capped(bounds)
+            return sp.Integer(0) if AlgebraicNumber.from_expr(a2g * rest) >= 1 else None
+        return sp.root(1 / (a2g * rest), ks[j]) if rest != 0 else None
+    return _least(system, lambda x: [x if i == j else f for i, f in enumerate(fixed)], bound)
 
 
-class _Bound:
-    """A candidate critical value ``(alpha^power c)^(-1/k)`` (``alpha > 0`` a block's modulus,
-    ``c > 0``): its sympy form ``.expr`` (the result's ``.exact``), a certified ball, and for
-    rational ``c`` its exact value from flint resultants (sympy's minimal polynomial of a root
-    of a high-degree ``CRootOf`` is far slower)."""
-
-    def __init__(self, alpha: AlgebraicNumber, power: int, c: sp.Expr, k: int) -> None:
-        self.alpha, self.power, self.c, self.k = alpha, power, sp.sympify(c), k
-        self.key = (alpha, power, self.c, k)
-
-    @cached_property
-    def expr(self) -> sp.Expr:
-        """Built for the result only: a ``CRootOf`` modulus costs sympy's real-root isolation."""
-        return sp.sympify(sp.root(1 / (sp.sympify(self.alpha.exact ** self.power) * self.c), self.k))
-
-    def ball(self, prec: int) -> flint.arb:
-        if not self.c.is_Rational:
-            return self.value()._ball(prec).real
-        c = flint.fmpq(int(self.c.p), int(self.c.q))
-        return _with_prec(prec, lambda: ((self.alpha._ball(prec).real ** self.power * c).log() / -self.k).exp())
-
-    def value(self) -> AlgebraicNumber:
-        if not self.c.is_Rational:
-            return AlgebraicNumber.from_expr(self.expr)
-        gamma = 1 / (self.alpha ** self.power * AlgebraicNumber.from_expr(self.c))
-        if self.k == 1:
-            return AlgebraicNumber._irreducible(gamma._poly, gamma._index, self.expr)
-        coeffs = [0] * (self.k * gamma._poly.degree() + 1)  # p(x^k) for the minimal polynomial p of gamma
-        for i, a in enumerate(gamma._poly.coeffs()):
-            coeffs[self.k * i] = int(a)
-        f, index = identify(flint.fmpz_poly(coeffs), lambda prec: flint.acb(self.ball(prec)), "critical value")
-        return AlgebraicNumber._irreducible(f, index, self.expr)
+def _ray_bound(a2g: sp.Expr, ks: tuple[int, ...], w: Sequence[sp.Expr]) -> sp.Expr | None:
+    """``eps`` at which ``alpha^(2g) prod_j (eps w_j)^(k_j)`` reaches 1, None when it is 0."""
+    W = sp.Mul(*[wj ** k for wj, k in zip(w, ks)])
+    return sp.root(1 / (a2g * W), sum(ks)) if W != 0 else None
 
 
-def _min_capped(bounds: list[_Bound]) -> AlgebraicNumber:
-    """The least bound, or 1 when none is below 1: certified balls decide, exact values break
-    the ties the balls leave (the first least bound wins)."""
-    cands = list({b.key: b for b in bounds}.values())
-    one = flint.arb(1)
-    for prec in (64, 256, 1024):
-        balls = [b.ball(prec) for b in cands]
-        cands = [b for b, z in zip(cands, balls) if not any(y < z for y in balls) and not one < z]
-        if len(cands) <= 1:
-            break
-    values = [b.value() for b in cands]
+def _least(system: System, losses, bound) -> AlgebraicNumber:
+    """The least hyperplane bound over every block, capped at 1: per block by the screened
+    iteration (:func:`symkf.decay.least_iid_bound`), else over every exponent vector."""
+    one = AlgebraicNumber.from_expr(1)
+    values = []
+    for br in block_rows(system):
+        a2g = sp.sympify(br.block.modulus.exact ** (2 * br.period))
+        v = least_iid_bound(br, losses, lambda ks: bound(a2g, ks), one, a2g)
+        values.append(v if v is not None else
+                      _min_capped([b for ks in outside_counts(br) if (b := bound(a2g, ks)) is not None]))
+    return min(values, default=one)
+
+
+def _min_capped(bounds: list[sp.Expr]) -> AlgebraicNumber:
+    values = [AlgebraicNumber.from_expr(b) for b in set(map(sp.sympify, bounds))]
     best = min(values, default=AlgebraicNumber.from_expr(1))
     return best if best < 1 else AlgebraicNumber.from_expr(1)
 

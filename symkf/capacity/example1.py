@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from .. import output
 from ..losses import IID
 from ..model import Sensor, System
 from ..reproduction import reproduction
@@ -58,15 +59,12 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
     Monte Carlo standard errors.  A PNG like Fig. 2 (traces, 95% band) is
     written to ``outdir`` when given.
     """
-    from ..filtering import predicted_covariances
+    from ..filtering import predicted_covariances, sample_receptions
 
     system, loss = example1_system()
     G = lower_bound_sequence(system, loss, horizon)
     V = MARE(system, loss).sequence(horizon)
-    rng = np.random.default_rng(seed)
-    # i.i.d. Bernoulli receivals drawn directly: the 2^8-state LossChain of IID is slow to evaluate
-    arrival = np.array([float(1 - e) for e in loss.loss])
-    gamma = rng.random((paths, horizon, system.d)) < arrival
+    gamma = sample_receptions(loss, horizon, paths, np.random.default_rng(seed))   # per sensor
     P = predicted_covariances(system, gamma, keep="all")  # (paths, K, n, n): P_{k|k-1}
     lower_gaps = [_loewner_gap(G[k], P[:, k]) for k in range(horizon)]
     upper_gaps = [_loewner_gap(-V[k], -P[:, k]) for k in range(horizon)]
@@ -104,7 +102,6 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        os.makedirs(outdir, exist_ok=True)
         k = np.arange(1, horizon + 1)
         fig, ax = plt.subplots(figsize=(6, 4))
         ax.plot(k, results["trace_V"], label="upper bound tr $V_k$ (Theorem 3)")
@@ -116,8 +113,7 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
         ax.set_title("Yang et al. Example 1 (Fig. 2)")
         ax.legend()
         fig.tight_layout()
-        path = os.path.join(outdir, "yang_example1.png")
-        fig.savefig(path, dpi=120)
+        path = os.path.join(output.plan_directory(outdir, "outdir"), "yang_example1.png")
+        results["figure"] = str(output.save_figure(fig, path, "outdir", dpi=120))
         plt.close(fig)
-        results["figure"] = path
     return reproduction("yang-example1", SOURCE, results, checks)
