@@ -35,18 +35,20 @@ class Limits:
     max_degree: int = 64
     #: degree of the cyclotomic field Q(zeta_m) holding the trigonometric constants and I of a
     #: number or matrix without radicals (its real subfield for real entries), times the size of
-    #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap
-    #: (2R(2 pi/97): 192, 1.6 CPU-s; 2R(2 pi/127): 252, 2.6 CPU-s)
-    max_cyclotomic_degree: int = 256
+    #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and its
+    #: roots come from Euler's formula (2R(2 pi/401): 800, 3.2 CPU-s; 2R(2 pi/509): 1016, 6 CPU-s)
+    max_cyclotomic_degree: int = 1024
     #: nesting depth of radicals (sqrt(2 + sqrt(3)) has depth 2)
     max_nesting: int = 4
-    #: denominator q of an angle p*pi/q inside cos, sin, tan or exp (degree grows like q)
-    max_angle_denominator: int = 360
+    #: denominator q of an angle p*pi/q inside cos, sin, tan or exp (degree grows like q; the
+    #: cyclotomic cap bounds the field, this one a single constant: 2R(2 pi/509) passes both)
+    max_angle_denominator: int = 1024
     #: modulus of an integer exponent (x**e) and decimal digits of any number
     max_exponent: int = 10_000
     max_digits: int = 1000
-    #: rows or columns of a matrix (state dimension n, measurement channels)
-    max_dimension: int = 16
+    #: rows or columns of a matrix (state dimension n, measurement channels; a dense random
+    #: integer 32 x 32 system with 3 sensors: critical loss rate in about 8 CPU-s, 36 x 36: 25)
+    max_dimension: int = 32
     #: sensors d of a system or loss model (independent sensors are decided per sensor, never
     #: through the joint 2^d-state chain: 50 Gilbert-Elliott sensors take about 3 CPU-s)
     max_sensors: int = 64

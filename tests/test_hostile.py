@@ -338,16 +338,19 @@ def test_field_of_a_matrix_is_budgeted_per_diagonal_block():
 
 def test_cyclotomic_rotations_pass_the_default_caps():
     """Rotation blocks of trigonometric constants stay in Q(zeta_m) (m = 4q): 2R(2 pi/97) has
-    cyclotomic degree phi(388) = 192 <= 256 and is decided, to the value the engine gave before the
-    cost model with --max-degree raised (2^(192/193)/4); 2R(2 pi/359) has phi(1436) = 716 > 256.  A 1x1 cos(pi/97)
+    cyclotomic degree phi(388) = 192 <= 1024 and is decided, to the value the engine gave before the
+    cost model with --max-degree raised (2^(192/193)/4), as is 2R(2 pi/401) (phi(1604) = 800,
+    2^(800/801)/4); 2R(2 pi/521) has phi(2084) = 1040 > 1024.  A 1x1 cos(pi/97)
     is its own eigenvalue (real, modulus cos(pi/97) < 1: stable for every loss rate).  The same
     constants off the rotation pattern give eigenvalues of degree up to 2 * 192 in a generic
     extension: refused under max_degree, at once."""
     rot = lambda t: [[f"2*cos({t})", f"-2*sin({t})"], [f"2*sin({t})", f"2*cos({t})"]]  # noqa: E731
     S = sk.System(rot("2*pi/97"), [sk.Sensor([[1, 0]]), sk.Sensor([[0, 1]])])
     assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(192, 193) / 4
-    with pytest.raises(BudgetError, match="is 716, above the cap 256.*--max-cyclotomic-degree"):
-        sk.System(rot("2*pi/359"), [sk.Sensor([[1, 0]])])
+    S = sk.System(rot("2*pi/401"), [sk.Sensor([[1, 0]]), sk.Sensor([[0, 1]])])
+    assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(800, 801) / 4
+    with pytest.raises(BudgetError, match="is 1040, above the cap 1024.*--max-cyclotomic-degree"):
+        sk.System(rot("2*pi/521"), [sk.Sensor([[1, 0]])])
     assert sk.critical_loss_rate(sk.System([["cos(pi/97)"]], [sk.Sensor([[1]])])).exact == 1
     with pytest.raises(BudgetError, match="is 384, above the cap 64.*--max-degree"):
         sk.System([["cos(2*pi/97)", 1], [1, "sin(2*pi/97)"]], [sk.Sensor([[1, 0]])])

@@ -37,7 +37,7 @@ from typing import Callable
 import flint
 
 from ..errors import InputError
-from .algebraic import _with_prec
+from .algebraic import _complex_roots, _with_prec
 
 _PRECS = (128, 256, 512, 1024, 2048, 4096, 8192, 16384)
 
@@ -69,7 +69,7 @@ class Integral:
 
 @lru_cache(maxsize=256)
 def _roots(coeffs: tuple[int, ...], prec: int) -> list[flint.acb]:
-    return _with_prec(prec, lambda: [r for r, _ in flint.fmpz_poly(list(coeffs)).complex_roots()])
+    return list(_complex_roots(coeffs, prec))
 
 
 def integral_scale(poly: flint.fmpz_poly) -> tuple[int, flint.fmpz_poly]:
@@ -171,7 +171,7 @@ def _adjunction(theta: Integral, beta: Integral, k: int, prec: int) -> Adjunctio
                                                for j, s in enumerate(row) if f(s).contains(0)))
         if len(pairs) != f.degree():
             continue
-        roots = _with_prec(prec, lambda: [r for r, _ in f.complex_roots()])
+        roots = _complex_roots(tuple(int(c) for c in f.coeffs()), prec)
         idx = [i for i, r in enumerate(roots) if r.overlaps(target)]
         if len(idx) == 1:
             return Adjunction(theta, beta, k, Integral.of(f, idx[0]), pairs)
