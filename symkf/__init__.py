@@ -18,6 +18,7 @@ from .errors import SymkfError
 
 if TYPE_CHECKING:
     from . import capacity, control, examples, fusion, montecarlo, network, second_order, tables
+    from .bounds import bounds
     from .exact.algebraic import AlgebraicNumber
     from .families import load_family
     from .losses import IID, GilbertElliott, MarkovLoss
@@ -37,13 +38,13 @@ _LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "losses", "GilbertElliott"
          "MarkovLoss": "losses", "Sensor": "model", "System": "model", "eigen_blocks": "spectral",
          "eigenvalues": "spectral", "Verdict": "stability", "critical_alpha": "stability",
          "critical_loss_rate": "stability", "critical_recovery_rate": "stability", "stability": "stability",
-         "stable_recovery_intervals": "stability", "load_family": "families", "StabilityRegion": "region",
+         "stable_recovery_intervals": "stability", "load_family": "families", "bounds": "bounds", "StabilityRegion": "region",
          "stability_conditions": "region", "stability_region": "region", "sweep": "sweep"}
 
 __all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLoss", "AlgebraicNumber",
            "eigen_blocks", "eigenvalues", "stability", "Verdict", "critical_loss_rate", "critical_alpha",
            "critical_recovery_rate", "stable_recovery_intervals", "stability_region", "stability_conditions",
-           "StabilityRegion", "sweep", "load_family",
+           "StabilityRegion", "sweep", "load_family", "bounds",
            "capacity", "fusion", "montecarlo", "network", "second_order", "tables"]
 
 def __getattr__(name: str) -> Any:
