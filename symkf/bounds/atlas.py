@@ -100,13 +100,13 @@ class Atlas:
         name = self.system.name or "the system"
         caption_text = (f"Published results on {name} beside the exact stable set of {q.symbol} "
                         f"({q.words}; symkf: {_intervals_text(q.stable)}).")
-        columns = (Cell.text("claim"), Cell.text("value"), Cell.text("relation to the exact value"))
+        columns = (Cell.text("claim"), Cell.text("value"), Cell.text("relation"))
         rows = [(Cell.text(r.result), (Cell.text(r.claim), _value_cell(r, q), Cell.text(_relation_short(r))))
                 for r in self.rows]
         exact = _exact_cell(q)
         rows.append((Cell.text("exact (symkf)"), (Cell.text("exact"), exact, Cell.text(""))))
         return Table(escape(caption_text), caption_text, Cell.text("result"), columns, tuple(rows),
-                     label="tab:bounds-atlas", size=r"\small", metadata={"system": self.system.name or ""})
+                     label="tab:bounds-atlas", size=r"\footnotesize", metadata={"system": self.system.name or ""})
 
     def to_latex(self) -> str:
         return self.table().to_latex()
@@ -219,7 +219,9 @@ def _relation_text(r: Row) -> str:
 
 def _relation_short(r: Row) -> str:
     if not r.applies:
-        return f"n/a: {r.failed.name}"
+        return f"n/a: {r.failed.name.split(' (')[0]}"
+    if r.relation == HOLDS and r.gap["exact"] is None:
+        return f"holds, gap <= {float(r.gap['interval'][1]):.3g}"
     if r.relation == HOLDS:
         return "holds" + _gap_text(r)
     return {NOT_COMPARED: "another estimator", INSIDE: "exact value inside bracket"}.get(r.relation, r.relation)
@@ -232,13 +234,25 @@ def _value_cell(r: Row, q: Quantity) -> Cell:
         lo, hi = r.bracket
         return Cell.formula(rf"[{sp.latex(lo)},\ {sp.latex(hi)}]", f"[{lo}, {hi}]")
     if r.value is not None and r.stable is not None and len(r.stable) <= 1:
-        return Cell.number(r.value, 4)
-    return Cell.text(_intervals_text(r.stable))
+        return _number_cell(r.value)
+    return Cell.text(_intervals_text(r.stable) if r.stable else "empty")
+
+
+def _number_cell(value: AlgebraicNumber) -> Cell:
+    """Exact over its decimal when the exact form is short; else the decimal (exact in the JSON)."""
+    if value.exact.has(sp.CRootOf) or len(sp.latex(value.exact)) > MAX_EXACT_CELL:
+        decimal = str(value.evalf(4))
+        return Cell.formula(rf"\approx {decimal}", f"~ {decimal}")
+    return Cell.number(value, 4)
+
+
+#: longer exact forms than this (LaTeX characters) are shown as decimals in the table
+MAX_EXACT_CELL = 24
 
 
 def _exact_cell(q: Quantity) -> Cell:
     if q.critical is not None:
-        return Cell.number(q.critical, 4)
+        return _number_cell(q.critical)
     return Cell.text(_intervals_text(q.stable))
 
 

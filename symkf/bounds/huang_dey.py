@@ -26,7 +26,7 @@ def peak_covariance(system: System, quantity: Quantity) -> Row:
     """Sufficient: ``q > 1 - 1/rho(A)^2`` with ``C`` of full column rank."""
     rho = hyp.spectral_radius(system)
     v = 1 - 1 / rho.exact ** 2
-    return row("huang-dey", "Huang, Dey (2007), peak covariance", CITATION,
+    return row("huang-dey", "Huang, Dey 2007, peak cov.", CITATION,
                "peak covariance stable if (1 - q) rho(A)^2 < 1 (C of full column rank)", SUFFICIENT,
                [hyp.one_sensor(system), hyp.gilbert_elliott(quantity), hyp.unstable(system),
                 hyp.one_step_observable(system), hyp.no_defective_unit_circle_eigenvalue(system)], quantity,

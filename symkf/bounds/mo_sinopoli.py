@@ -36,7 +36,7 @@ def _non_degenerate(system: System, quantity: Quantity, channel: Hypothesis) -> 
 def non_degenerate(system: System, quantity: Quantity) -> Row:
     """``eps_c = 1/rho(A)^2`` for non-degenerate systems (i.i.d.)."""
     rho = hyp.spectral_radius(system)
-    return row("mo-sinopoli", "Mo, Sinopoli (2012), non-degenerate", CITATION,
+    return row("mo-sinopoli", "Mo, Sinopoli 2012, non-degenerate", CITATION,
                "eps_c = 1/rho(A)^2 for non-degenerate (A, C)", EXACT,
                _non_degenerate(system, quantity, hyp.iid(quantity)), quantity,
                lambda: (quantity.below(1 / rho.exact ** 2), number(1 / rho.exact ** 2)))
@@ -46,7 +46,7 @@ def gilbert_elliott(system: System, quantity: Quantity) -> Row:
     """Stable iff ``(1 - q) rho(A)^2 < 1``: the set ``q > 1 - 1/rho(A)^2`` (non-degenerate)."""
     rho = hyp.spectral_radius(system)
     q = 1 - 1 / rho.exact ** 2
-    return row("mo-sinopoli-ge", "Mo, Sinopoli (2012), Gilbert-Elliott", CITATION,
+    return row("mo-sinopoli-ge", "Mo, Sinopoli 2012, Gilbert-Elliott", CITATION,
                "stable iff (1 - q) rho(A)^2 < 1, q = P(received | lost last), non-degenerate (A, C)", EXACT,
                _non_degenerate(system, quantity, hyp.gilbert_elliott(quantity)), quantity,
                lambda: (quantity.above(q), number(q)))
@@ -86,7 +86,7 @@ def degenerate(system: System, quantity: Quantity) -> Row:
         v = sp.radsimp(r ** sp.Rational(-2 * p, p - 1))
         return quantity.below(v), number(v)
 
-    return row("mo-sinopoli-degenerate", "Mo, Sinopoli (2012), degenerate 2nd order", CITATION,
+    return row("mo-sinopoli-degenerate", "Mo, Sinopoli 2012, degenerate", CITATION,
                "eps_c = r^(-2p/(p-1)), lambda_1/lambda_2 a primitive p-th root of unity", EXACT,
                hyps, quantity, value)
 

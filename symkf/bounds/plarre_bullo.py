@@ -21,7 +21,7 @@ CITATION = ("K. Plarre, F. Bullo, \"On Kalman filtering for detectable systems w
 def critical_value(system: System, quantity: Quantity) -> Row:
     """``eps_c = 1/rho(A)^2`` when ``C_o`` is invertible (one sensor, i.i.d.)."""
     rho = hyp.spectral_radius(system)
-    return row("plarre-bullo", "Plarre, Bullo (2009)", CITATION,
+    return row("plarre-bullo", "Plarre, Bullo 2009", CITATION,
                "eps_c = 1/rho(A)^2 when C restricted to the observable subspace is invertible", EXACT,
                [hyp.one_sensor(system), hyp.iid(quantity), hyp.unstable(system), hyp.controllable_noise(system),
                 hyp.detectable(system), hyp.invertible_on_observable_subspace(system)], quantity,

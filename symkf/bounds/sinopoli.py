@@ -43,7 +43,7 @@ LMI_STEPS = 8
 def lower_bound(system: System, quantity: Quantity) -> Row:
     """Theorem 2/3: ``eps_c <= 1/rho(A)^2`` (necessary), one sensor."""
     rho = hyp.spectral_radius(system)
-    return row("sinopoli-lower", "Sinopoli et al. (2004), Thm. 2", CITATION,
+    return row("sinopoli-lower", "Sinopoli et al. 2004, Thm. 2", CITATION,
                "eps_c <= 1/rho(A)^2 (arrival lambda_c >= 1 - 1/rho(A)^2)", NECESSARY,
                [hyp.one_sensor(system), hyp.iid(quantity), hyp.unstable(system), hyp.controllable_noise(system),
                 hyp.detectable(system)], quantity,
@@ -53,7 +53,7 @@ def lower_bound(system: System, quantity: Quantity) -> Row:
 def invertible_c(system: System, quantity: Quantity) -> Row:
     """Theorem 3 with ``C`` invertible: ``lambda_min = lambda_max``, so ``eps_c = 1/rho(A)^2``."""
     rho = hyp.spectral_radius(system)
-    return row("sinopoli-invertible-c", "Sinopoli et al. (2004), Thm. 3, C invertible", CITATION,
+    return row("sinopoli-invertible-c", "Sinopoli et al. 2004, Thm. 3", CITATION,
                "eps_c = 1/rho(A)^2 when C is invertible", EXACT,
                [hyp.one_sensor(system), hyp.iid(quantity), hyp.unstable(system), hyp.controllable_noise(system),
                 hyp.invertible_C(system)], quantity,
@@ -97,7 +97,7 @@ def _between(lo: sp.Expr, hi: sp.Expr, share: sp.Rational) -> sp.Rational:
 
 def lmi(system: System, quantity: Quantity, steps: int = LMI_STEPS) -> Row:
     """Theorem 5: ``eps_c >= 1 - lambda_max``, ``lambda_max`` by bisection on the LMI (certified bracket)."""
-    base = dict(key="sinopoli-lmi", result="Sinopoli et al. (2004), Thm. 5 (LMI)", citation=CITATION,
+    base = dict(key="sinopoli-lmi", result="Sinopoli et al. 2004, Thm. 5 (LMI)", citation=CITATION,
                 statement="eps_c >= 1 - lambda_max, lambda_max the least arrival rate with Psi_lambda(Y, Z) > 0, "
                           "0 < Y <= I feasible" + (" (multi-sensor form, common rate)" if system.d > 1 else ""),
                 claim=SUFFICIENT)

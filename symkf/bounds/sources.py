@@ -51,7 +51,7 @@ def sui_theorem12(system: System, quantity: Quantity) -> Row:
     def value() -> tuple:
         v = sui.critical_loss_rate(system)
         return quantity.below(v), v
-    return row("sui-theorem12", "Sui, You, Fu, Thm. 12 (corrected)", SUI,
+    return row("sui-theorem12", "Sui, You, Fu, Thm. 12 (corr.)", SUI,
                "eps_c = min(1, alpha^(-2g/(g d - J))) for second-order systems (corrected eq. 38)", EXACT,
                [hyp.iid(quantity)], quantity, value)
 
@@ -84,7 +84,7 @@ def quevedo_theorem1(system: System, quantity: Quantity) -> Row:
 def yang_theorem2(system: System, quantity: Quantity) -> Row:
     """Theorem 2: ``C > ln rho(A)`` is necessary: ``eps_c <= rho(A)^(-2/d)``."""
     v = sp.radsimp(hyp.spectral_radius(system).exact ** sp.Rational(-2, system.d))
-    return row("yang-theorem2", "Yang et al., Thm. 2 (ln rho(A))", YANG,
+    return row("yang-theorem2", "Yang et al., Thm. 2", YANG,
                "C > ln rho(A) necessary: eps_c <= rho(A)^(-2/d)", NECESSARY,
                [hyp.iid(quantity), hyp.unstable(system)], quantity, lambda: (quantity.below(v), number(v)))
 
@@ -94,7 +94,7 @@ def yang_theorem5(system: System, quantity: Quantity) -> Row:
     def value() -> tuple:
         v = theorem5_common_threshold(system)
         return quantity.below(v), v
-    return row("yang-theorem5", "Yang et al., Thm. 5 (per sensor)", YANG,
+    return row("yang-theorem5", "Yang et al., Thm. 5", YANG,
                "C_i > max_j h(A_ij) for every sensor: eps_c >= min_i max_j M(A_ij)^(-2)", SUFFICIENT,
                [hyp.iid(quantity), hyp.unstable(system)], quantity, value)
 

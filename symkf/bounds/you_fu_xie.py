@@ -73,7 +73,7 @@ def second_order(system: System, quantity: Quantity) -> Row:
 
     statement = ("stable iff r^(2p) (1-q)^(p-2) ((1-q)^2 + f q) < 1 (degenerate, period p), "
                  "else (1-q) rho(A)^2 < 1; i.i.d.: eps_c = r^(-2p/(p-1)) or 1/rho(A)^2")
-    return row("you-fu-xie", "You, Fu, Xie (2011), 2nd order", CITATION, statement, EXACT, hyps, quantity, value)
+    return row("you-fu-xie", "You, Fu, Xie 2011, 2nd order", CITATION, statement, EXACT, hyps, quantity, value)
 
 
 ROWS = (second_order,)
