@@ -5,8 +5,10 @@ proofs/bounds_*.py (run by tests/test_proofs.py); hypothesis-drawn systems here.
 """
 
 import json
+import runpy
 import shutil
 import subprocess
+from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -21,6 +23,7 @@ from symkf.bounds.row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE, VIOLATED
 from symkf.strategies import diagonalizable_systems
 
 R = sp.Rational
+PROOFS = Path(__file__).resolve().parents[1] / "proofs"
 
 
 def system(A, *rows, single=True):
@@ -212,6 +215,13 @@ def test_figure_has_the_exact_rate_and_bounds():
     fig = atlas_figure(rotation_family(2, 3), lmi_steps=1)
     labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
     assert any("exact" in t for t in labels) and any("Sinopoli" in t for t in labels)
+
+
+@pytest.mark.full
+@pytest.mark.parametrize("name", ["bounds_atlas_family", "bounds_mo_sinopoli_degenerate", "bounds_you_fu_xie_markov",
+                                  "bounds_sinopoli_bracket"])
+def test_proofs_full_families(name):
+    assert runpy.run_path(str(PROOFS / f"{name}.py"))["main"](full=True)
 
 
 def test_bad_input():

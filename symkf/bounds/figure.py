@@ -57,7 +57,7 @@ def atlas_figure(family: Sequence[tuple[float, System]] | None = None, *, parame
                 elif r.value is not None and r.stable is not None and len(r.stable) <= 1:
                     points.setdefault(r.key, []).append((x, min(float(r.value), 1.0), 0.0))
             bar.update()
-    fig = _figure(7.2, 5.0)
+    fig = _figure(7.2, 5.6)
     ax = fig.add_subplot()
     xs, ys = zip(*exact)
     ax.plot(xs, ys, "o", ms=9, mfc="none", color="black", label="exact $\\varepsilon_c$ (symkf)")
@@ -69,5 +69,5 @@ def atlas_figure(family: Sequence[tuple[float, System]] | None = None, *, parame
         else:
             ax.plot(x, y, marker, color=color, label=labels[key])
     ax.set(xlabel=parameter, ylabel="critical common i.i.d. loss probability", title=title, ylim=(0, None))
-    ax.legend(fontsize="x-small", loc="upper right", ncol=2)
+    ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3)
     return _finish(fig, path)
