@@ -37,7 +37,8 @@ def family(M: int) -> list[sk.System]:
     for m in range(2, M + 1):
         for k in range(1, m):
             if gcd(k, m) == 1:
-                out += [rotation_system(2, sp.pi * sp.Rational(k, m), C) for C in ([[1, 0]], [[1, 1]], [[1, 0], [0, 1]])]
+                theta = sp.pi * sp.Rational(k, m)
+                out += [rotation_system(2, theta, C) for C in ([[1, 0]], [[1, 1]], [[1, 0], [0, 1]])]
     for a, b in [(2, 3), (2, -2), (3, -3), (2, sp.Rational(1, 2)), (-2, 3)]:
         for C in ([[1, 1]], [[1, 0]], [[1, 0], [0, 1]]):
             try:

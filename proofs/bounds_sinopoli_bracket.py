@@ -11,8 +11,8 @@ scalar measurement the bracket holds ``1/M(A)^2`` (Elia's threshold, Yang et al.
 bracket lies strictly below ``eps_c = 1/8 < 1/4``: the critical value is strictly between.
 
 Method: the spectra of ``2 R(t)``, ``t = pi/2, pi/3, 2 pi/3, pi/4``, in companion form (the LMI is
-similarity invariant; the companion forms are rational but for ``t = pi/4``), ``C = [1 0]`` (and ``C = I`` with ``full=True``); diag(2, 3) with
-``C = [1 1]``; 4 bisection steps.  Status: checked.
+similarity invariant; the companion forms are rational but for ``t = pi/4``), ``C = [1 0]`` (and
+``C = I`` with ``full=True``); diag(2, 3) with ``C = [1 1]``; 4 bisection steps.  Status: checked.
 """
 
 from __future__ import annotations

@@ -195,7 +195,9 @@ def _value_text(r: Row, q: Quantity) -> str:
     if r.value is not None and r.stable is not None and len(r.stable) <= 1:
         side = "<" if q.iid else ">"
         return f"stable for {q.symbol} {side} {r.value.exact} ~ {float(r.value):.6g}"
-    return f"stable for {q.symbol} in {_intervals_text(r.stable)}" if r.stable else f"stable for no {q.symbol} in (0, 1)"
+    if not r.stable:
+        return f"stable for no {q.symbol} in (0, 1)"
+    return f"stable for {q.symbol} in {_intervals_text(r.stable)}"
 
 
 def _gap_text(r: Row) -> str:

@@ -101,7 +101,8 @@ def non_degenerate(system: System) -> Hypothesis:
         deficiency = len(nullspace_rows(K, rows, block.size))
         if deficiency:
             return Hypothesis("non-degenerate", False,
-                              f"not every equiblock is one-step observable: the equiblock |lambda| = {block.modulus.exact} (eigenvalues "
+                              "not every equiblock is one-step observable: the equiblock "
+                              f"|lambda| = {block.modulus.exact} (eigenvalues "
                               f"{', '.join(map(str, block.eigenvalues))}) has rank C T = "
                               f"{block.size - deficiency} < {block.size}")
     return Hypothesis("non-degenerate", True)

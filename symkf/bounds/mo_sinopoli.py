@@ -23,6 +23,7 @@ from ..exact.linalg import rank
 from ..model import System
 from . import hypotheses as hyp
 from .row import EXACT, Hypothesis, Quantity, Row, number, row
+from .sinopoli import inverse_rho_squared
 
 CITATION = ("Y. Mo, B. Sinopoli, \"Kalman filtering with intermittent observations: tail distribution "
             "and critical value\", IEEE Trans. Autom. Control 57(3), 2012")
@@ -35,11 +36,9 @@ def _non_degenerate(system: System, quantity: Quantity, channel: Hypothesis) -> 
 
 def non_degenerate(system: System, quantity: Quantity) -> Row:
     """``eps_c = 1/rho(A)^2`` for non-degenerate systems (i.i.d.)."""
-    rho = hyp.spectral_radius(system)
     return row("mo-sinopoli", "Mo, Sinopoli 2012, non-degenerate", CITATION,
                "eps_c = 1/rho(A)^2 for non-degenerate (A, C)", EXACT,
-               _non_degenerate(system, quantity, hyp.iid(quantity)), quantity,
-               lambda: (quantity.below(1 / rho.exact ** 2), number(1 / rho.exact ** 2)))
+               _non_degenerate(system, quantity, hyp.iid(quantity)), quantity, inverse_rho_squared(system, quantity))
 
 
 def gilbert_elliott(system: System, quantity: Quantity) -> Row:
@@ -59,8 +58,9 @@ def degenerate_pair(system: System) -> list[Hypothesis]:
         return out
     blocks = system.eigen_blocks()
     pair = len(blocks) == 1 and len(blocks[0].members) == 2
+    found = ", ".join(str(e) for b in blocks for e in b.eigenvalues)
     out.append(Hypothesis("equal-modulus pair", pair,
-                          "two distinct eigenvalues of one modulus" if pair else "eigenvalues " + ", ".join(str(e) for b in blocks for e in b.eigenvalues)))
+                          "two distinct eigenvalues of one modulus" if pair else f"eigenvalues {found}"))
     r = rank(sp.Matrix(system.C))
     out.append(Hypothesis("rank C = 1", r == 1, f"one independent measurement row (degenerate): rank C = {r}"))
     return out

@@ -12,7 +12,8 @@ from __future__ import annotations
 
 from ..model import System
 from . import hypotheses as hyp
-from .row import EXACT, Quantity, Row, number, row
+from .row import EXACT, Quantity, Row, row
+from .sinopoli import inverse_rho_squared
 
 CITATION = ("K. Plarre, F. Bullo, \"On Kalman filtering for detectable systems with intermittent "
             "observations\", IEEE Trans. Autom. Control 54(2), 2009")
@@ -20,12 +21,11 @@ CITATION = ("K. Plarre, F. Bullo, \"On Kalman filtering for detectable systems w
 
 def critical_value(system: System, quantity: Quantity) -> Row:
     """``eps_c = 1/rho(A)^2`` when ``C_o`` is invertible (one sensor, i.i.d.)."""
-    rho = hyp.spectral_radius(system)
     return row("plarre-bullo", "Plarre, Bullo 2009", CITATION,
                "eps_c = 1/rho(A)^2 when C restricted to the observable subspace is invertible", EXACT,
                [hyp.one_sensor(system), hyp.iid(quantity), hyp.unstable(system), hyp.controllable_noise(system),
                 hyp.detectable(system), hyp.invertible_on_observable_subspace(system)], quantity,
-               lambda: (quantity.below(1 / rho.exact ** 2), number(1 / rho.exact ** 2)))
+               inverse_rho_squared(system, quantity))
 
 
 ROWS = (critical_value,)

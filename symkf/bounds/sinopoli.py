@@ -25,6 +25,8 @@ standard multi-sensor LMI, one arrival rate per sensor, all equal).
 
 from __future__ import annotations
 
+from typing import Callable
+
 import sympy as sp
 
 from ..capacity.convergence import mare_stabilizable
@@ -40,24 +42,27 @@ CITATION = ("B. Sinopoli, L. Schenato, M. Franceschetti, K. Poolla, M. I. Jordan
 LMI_STEPS = 8
 
 
+def inverse_rho_squared(system: System, quantity: Quantity) -> Callable[[], tuple]:
+    """The evaluation ``eps < 1/rho(A)^2`` of every row whose value is Sinopoli et al.'s bound."""
+    v = 1 / hyp.spectral_radius(system).exact ** 2
+    return lambda: (quantity.below(v), number(v))
+
+
 def lower_bound(system: System, quantity: Quantity) -> Row:
     """Theorem 2/3: ``eps_c <= 1/rho(A)^2`` (necessary), one sensor."""
-    rho = hyp.spectral_radius(system)
+    hyps = [hyp.one_sensor(system), hyp.iid(quantity), hyp.unstable(system), hyp.controllable_noise(system),
+            hyp.detectable(system)]
     return row("sinopoli-lower", "Sinopoli et al. 2004, Thm. 2", CITATION,
-               "eps_c <= 1/rho(A)^2 (arrival lambda_c >= 1 - 1/rho(A)^2)", NECESSARY,
-               [hyp.one_sensor(system), hyp.iid(quantity), hyp.unstable(system), hyp.controllable_noise(system),
-                hyp.detectable(system)], quantity,
-               lambda: (quantity.below(1 / rho.exact ** 2), number(1 / rho.exact ** 2)))
+               "eps_c <= 1/rho(A)^2 (arrival lambda_c >= 1 - 1/rho(A)^2)", NECESSARY, hyps, quantity,
+               inverse_rho_squared(system, quantity))
 
 
 def invertible_c(system: System, quantity: Quantity) -> Row:
     """Theorem 3 with ``C`` invertible: ``lambda_min = lambda_max``, so ``eps_c = 1/rho(A)^2``."""
-    rho = hyp.spectral_radius(system)
+    hyps = [hyp.one_sensor(system), hyp.iid(quantity), hyp.unstable(system), hyp.controllable_noise(system),
+            hyp.invertible_C(system)]
     return row("sinopoli-invertible-c", "Sinopoli et al. 2004, Thm. 3", CITATION,
-               "eps_c = 1/rho(A)^2 when C is invertible", EXACT,
-               [hyp.one_sensor(system), hyp.iid(quantity), hyp.unstable(system), hyp.controllable_noise(system),
-                hyp.invertible_C(system)], quantity,
-               lambda: (quantity.below(1 / rho.exact ** 2), number(1 / rho.exact ** 2)))
+               "eps_c = 1/rho(A)^2 when C is invertible", EXACT, hyps, quantity, inverse_rho_squared(system, quantity))
 
 
 def lmi_bracket(system: System, steps: int = LMI_STEPS) -> tuple[sp.Expr, sp.Expr, tuple[str, ...]]:
