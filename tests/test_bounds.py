@@ -138,6 +138,11 @@ def test_multi_sensor_rows():
     assert r["yang-theorem2"].value.exact == R(1, 2) and r["yang-theorem2"].relation == HOLDS
     assert r["sui-theorem12"].relation == EQUAL
     assert r["sinopoli-lmi"].applies and r["sinopoli-lmi"].relation in (HOLDS, INSIDE)
+    # the multi-sensor LMI at the model's own rates (1/20, 1/4), beside the exact verdict: stable, by
+    # hand the decisive pattern receives only s1 at phase 0 of each period g = 2, and
+    # alpha^4 rho^2 = 16 (1/20) (1/4)^2 = 1/20 < 1
+    note = rows(bounds(S, sk.IID(["1/20", "1/4"]), lmi_steps=0))["sinopoli-lmi"].note
+    assert "at the model's rates ['1/20', '1/4']: LMI" in note and "exact verdict stable" in note
 
 
 def test_counterexample_reproduces():

@@ -46,8 +46,9 @@ def quantity(system: System, loss: LossModel | None = None) -> tuple[Quantity, s
         f"the loss model ({type(loss).__name__}) is neither i.i.d. nor Gilbert-Elliott; the atlas compares "
         "the common i.i.d. critical loss probability")
     zero = number(0)
+    rates = tuple(getattr(loss, "loss", ()))
     return Quantity("iid", "eps", "common i.i.d. loss probability eps of every sensor",
-                    ((zero, eps),) if eps > 0 else (), eps), note
+                    ((zero, eps),) if eps > 0 else (), eps, rates=rates), note
 
 
 @dataclass(frozen=True)

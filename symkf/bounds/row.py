@@ -53,6 +53,7 @@ class Quantity:
     stable: tuple[Interval, ...]
     critical: AlgebraicNumber | None      # eps_c, or q_c when the stable set is (q_c, 1)
     fail: tuple[sp.Expr, ...] = ()
+    rates: tuple[sp.Expr, ...] = ()       # an i.i.d. model's own per-sensor loss rates, if given
 
     @property
     def iid(self) -> bool:

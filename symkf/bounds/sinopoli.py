@@ -32,8 +32,9 @@ import sympy as sp
 from ..capacity.convergence import mare_stabilizable
 from ..losses import IID
 from ..model import System
+from ..stability import stability
 from . import hypotheses as hyp
-from .row import EXACT, NECESSARY, SUFFICIENT, Quantity, Row, compare_bracket, number, row
+from .row import EXACT, NECESSARY, SUFFICIENT, VIOLATED, Quantity, Row, compare_bracket, number, row
 
 CITATION = ("B. Sinopoli, L. Schenato, M. Franceschetti, K. Poolla, M. I. Jordan, S. S. Sastry, "
             "\"Kalman filtering with intermittent observations\", IEEE Trans. Autom. Control 49(9), 2004")
@@ -111,8 +112,25 @@ def lmi(system: System, quantity: Quantity, steps: int = LMI_STEPS) -> Row:
         return Row(**base, hypotheses=hyps)
     lo, hi, notes = lmi_bracket(system, steps)
     relation, gap = compare_bracket(lo, hi, quantity.critical)
+    note = "the threshold lies in the certified bracket"
+    if quantity.rates:
+        at, relation = at_rates(system, quantity.rates, relation)
+        note += "; " + at
     return Row(**base, hypotheses=hyps, bracket=(lo, hi), relation=relation, gap=gap, certificate=notes,
-               stable=quantity.below(lo), note="the threshold lies in the certified bracket")
+               stable=quantity.below(lo), note=note)
+
+
+def at_rates(system: System, rates: tuple, relation: str) -> tuple[str, str]:
+    """The multi-sensor LMI at the model's own per-sensor rates beside the exact verdict.
+
+    Feasible (certified) where the engine says unstable would be a violation."""
+    verdict = mare_stabilizable(system, IID(list(rates)))
+    exact = stability(system, IID(list(rates))).stable
+    words = {True: "feasible (stable certified)", False: "infeasible", None: "undecided"}[verdict.holds]
+    if verdict.holds and not exact:
+        relation = VIOLATED
+    return (f"at the model's rates {[str(r) for r in rates]}: LMI {words}, exact verdict "
+            f"{'stable' if exact else 'unstable'}"), relation
 
 
 ROWS = (lower_bound, lmi, invertible_c)
