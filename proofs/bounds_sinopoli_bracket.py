@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import sys
 
-import sympy as sp
 
 import symkf as sk
 from symkf.bounds import bounds

@@ -19,7 +19,7 @@ from symkf import cli, examples
 from symkf.bounds import RESULTS, bounds
 from symkf.bounds import hypotheses as hyp
 from symkf.bounds.counterexample import reproduce_you_2011_counterexample
-from symkf.bounds.row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE, VIOLATED
+from symkf.bounds.row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE
 from symkf.strategies import diagonalizable_systems
 
 R = sp.Rational

@@ -21,7 +21,7 @@ from ..stability import critical_loss_rate, stable_recovery_intervals
 from ..tables import Cell, Table, escape
 from ..verify import number_json
 from . import huang_dey, mo_sinopoli, plarre_bullo, sinopoli, sources, you_fu_xie
-from .row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE, NOT_COMPARED, VIOLATED, Quantity, Row, number
+from .row import EQUAL, HOLDS, INSIDE, NOT_COMPARED, VIOLATED, Quantity, Row, number
 
 #: the results, in the order of the table (each a function (system, quantity) -> Row)
 RESULTS: tuple[Callable[[System, Quantity], Row], ...] = (
@@ -259,4 +259,4 @@ def _exact_cell(q: Quantity) -> Cell:
     return Cell.text(_intervals_text(q.stable))
 
 
-__all__ = ["Atlas", "bounds", "quantity", "RESULTS", "NOT_APPLICABLE"]
+__all__ = ["Atlas", "bounds", "quantity", "RESULTS"]
