@@ -1,8 +1,8 @@
 """The closed forms and sufficient/necessary conditions of the atlas (``symkf.bounds``) hold
 wherever their hypotheses hold: no row is ``violated`` on a stated family.
 
-Claims checked (each row's, as stated in docs/bounds.md): Sinopoli et al. 2004 Theorem 2
-(``eps_c <= 1/rho^2``) and Theorem 3 with ``C`` invertible (``eps_c = 1/rho^2``); Plarre and
+Claims checked (each row's, as stated in docs/bounds.md): Sinopoli et al. 2004's lower
+bound (``eps_c <= 1/rho^2``) and its case ``C`` invertible (``eps_c = 1/rho^2``); Plarre and
 Bullo 2009 (``eps_c = 1/rho^2`` when ``C_o`` is invertible); Mo and Sinopoli 2012
 (non-degenerate: ``eps_c = 1/rho^2``; over a Gilbert-Elliott channel stable iff
 ``(1 - q) rho^2 < 1``); Huang and Dey 2007 (sufficient ``(1 - q) rho^2 < 1`` for ``C`` of full

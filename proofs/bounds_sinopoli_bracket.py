@@ -1,4 +1,4 @@
-"""Sinopoli et al. (IEEE TAC 49(9), 2004), Theorems 2, 3 and 5: the two bounds bracket the critical
+"""Sinopoli et al. (IEEE TAC 49(9), 2004), the lower bound and the LMI of Theorem 5: they bracket the critical
 loss probability, ``1 - lambda_max <= eps_c <= 1/rho(A)^2``, and both can be strict at once
 (You, Fu and Xie, 2011).
 

@@ -229,6 +229,13 @@ def test_proofs_full_families(name):
     assert runpy.run_path(str(PROOFS / f"{name}.py"))["main"](full=True)
 
 
+def test_docstring_example():
+    import doctest
+    import importlib
+    module = importlib.import_module("symkf.bounds.atlas")
+    assert doctest.testmod(module).failed == 0
+
+
 def test_bad_input():
     with pytest.raises(sk.SymkfError):
         bounds("not a system")

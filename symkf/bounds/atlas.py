@@ -140,13 +140,13 @@ def bounds(system: System, loss: LossModel | None = None, *, lmi_steps: int = si
 
     >>> import symkf as sk
     >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
-    >>> atlas = sk.bounds(S)
+    >>> atlas = sk.bounds(S, lmi_steps=2)
     >>> atlas.quantity.critical.exact
     1/16
     >>> r = atlas.row("sinopoli-lower"); r.relation, r.gap["exact"]
     ('holds', 3/16)
     >>> atlas.row("mo-sinopoli").failed.name
-    'non-degenerate (every equiblock one-step observable)'
+    'non-degenerate'
     >>> atlas.row("mo-sinopoli-degenerate").relation
     'equal'
     """

@@ -31,7 +31,7 @@ from .row import number
 
 SOURCE = ("K. You, M. Fu, L. Xie, \"Mean square stability for Kalman filtering with Markovian packet losses\", "
           "Automatica 47(12), 2011: the critical rate strictly between the bounds of Sinopoli et al. (2004), "
-          "Theorems 3 and 5")
+          "lower bound and LMI (Theorem 5)")
 
 
 def system() -> System:

@@ -87,7 +87,7 @@ class Row:
     """A result's reading on one system (module docstring)."""
 
     key: str
-    result: str                       # "Sinopoli et al. 2004, Thm. 3"
+    result: str                       # "Sinopoli et al. 2004, LMI (Thm. 5)"
     citation: str
     statement: str                    # the claim, in the row's words
     claim: str                        # exact | sufficient | necessary | other

@@ -2,16 +2,18 @@
 observations", IEEE TAC 49(9), 2004: the two bounds on the critical arrival rate.
 
 With ``lambda`` the arrival probability (``eps = 1 - lambda``), under ``(A, Q^(1/2))``
-controllable and ``(A, C)`` detectable, Theorem 3 brackets the critical arrival rate,
+controllable and ``(A, C)`` detectable, they bracket the critical arrival rate,
 ``lambda_min <= lambda_c <= lambda_max``:
 
-* ``lambda_min = 1 - 1/rho(A)^2`` (Theorem 2's necessary condition: the all-lost pattern), so
+* ``lambda_min = 1 - 1/rho(A)^2`` (necessary: the all-lost pattern), so
   ``eps_c <= 1/rho(A)^2``;
 * ``lambda_max`` is the least ``lambda`` for which the modified Riccati inequality
   ``X > phi_lambda(K, X)`` has a solution, i.e. (Theorem 5) for which the LMI
   ``Psi_lambda(Y, Z) > 0, 0 < Y <= I`` is feasible; the problem is quasi-convex and
   solved by bisection on ``lambda``, so ``eps_c >= 1 - lambda_max``;
-* the two coincide when ``C`` is invertible (Theorem 3's remark).
+* the two coincide when ``C`` is invertible.
+
+Theorem numbers other than Theorem 5 (the LMI) are not given: they could not be checked here.
 
 ``Psi_lambda`` is, after the change of variables ``Z = Y K``, the one-sensor case of the
 multi-sensor LMI that :mod:`symkf.capacity.convergence` decides with exact certificates (a
@@ -50,19 +52,19 @@ def inverse_rho_squared(system: System, quantity: Quantity) -> Callable[[], tupl
 
 
 def lower_bound(system: System, quantity: Quantity) -> Row:
-    """Theorem 2/3: ``eps_c <= 1/rho(A)^2`` (necessary), one sensor."""
+    """The lower bound on the arrival rate: ``eps_c <= 1/rho(A)^2`` (necessary), one sensor."""
     hyps = [hyp.one_sensor(system), hyp.iid(quantity), hyp.unstable(system), hyp.controllable_noise(system),
             hyp.detectable(system)]
-    return row("sinopoli-lower", "Sinopoli et al. 2004, Thm. 2", CITATION,
+    return row("sinopoli-lower", "Sinopoli et al. 2004, lower bound", CITATION,
                "eps_c <= 1/rho(A)^2 (arrival lambda_c >= 1 - 1/rho(A)^2)", NECESSARY, hyps, quantity,
                inverse_rho_squared(system, quantity))
 
 
 def invertible_c(system: System, quantity: Quantity) -> Row:
-    """Theorem 3 with ``C`` invertible: ``lambda_min = lambda_max``, so ``eps_c = 1/rho(A)^2``."""
+    """``C`` invertible: ``lambda_min = lambda_max``, so ``eps_c = 1/rho(A)^2``."""
     hyps = [hyp.one_sensor(system), hyp.iid(quantity), hyp.unstable(system), hyp.controllable_noise(system),
             hyp.invertible_C(system)]
-    return row("sinopoli-invertible-c", "Sinopoli et al. 2004, Thm. 3", CITATION,
+    return row("sinopoli-invertible-c", "Sinopoli et al. 2004, C invertible", CITATION,
                "eps_c = 1/rho(A)^2 when C is invertible", EXACT, hyps, quantity, inverse_rho_squared(system, quantity))
 
 
@@ -103,7 +105,7 @@ def _between(lo: sp.Expr, hi: sp.Expr, share: sp.Rational) -> sp.Rational:
 
 def lmi(system: System, quantity: Quantity, steps: int = LMI_STEPS) -> Row:
     """Theorem 5: ``eps_c >= 1 - lambda_max``, ``lambda_max`` by bisection on the LMI (certified bracket)."""
-    base = dict(key="sinopoli-lmi", result="Sinopoli et al. 2004, Thm. 5 (LMI)", citation=CITATION,
+    base = dict(key="sinopoli-lmi", result="Sinopoli et al. 2004, LMI (Thm. 5)", citation=CITATION,
                 statement="eps_c >= 1 - lambda_max, lambda_max the least arrival rate with Psi_lambda(Y, Z) > 0, "
                           "0 < Y <= I feasible" + (" (multi-sensor form, common rate)" if system.d > 1 else ""),
                 claim=SUFFICIENT)
