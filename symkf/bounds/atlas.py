@@ -23,7 +23,8 @@ from ..verify import number_json
 from . import huang_dey, mo_sinopoli, plarre_bullo, sinopoli, sources, you_fu_xie
 from .row import EQUAL, HOLDS, INSIDE, NOT_COMPARED, VIOLATED, Quantity, Row, number
 
-#: the results, in the order of the table (each a function (system, quantity) -> Row)
+#: the results, in the order of the table (each a function (system, quantity) -> Row; the LMI's
+#: also takes its bisection steps)
 RESULTS: tuple[Callable[[System, Quantity], Row], ...] = (
     *sinopoli.ROWS, *plarre_bullo.ROWS, *mo_sinopoli.ROWS, *you_fu_xie.ROWS, *huang_dey.ROWS, *sources.ROWS)
 
@@ -33,7 +34,8 @@ def quantity(system: System, loss: LossModel | None = None) -> tuple[Quantity, s
 
     A Gilbert-Elliott model (it has ``fail`` and ``recover``) selects the common recovery
     probability at its failure rates; any other model, or none, the common i.i.d. loss
-    probability (the rates of an i.i.d. model are not used: every row is about a threshold)."""
+    probability; an i.i.d. model's own rates are kept for the multi-sensor LMI's verdict at
+    those rates (every other row is about a threshold)."""
     fail = getattr(loss, "fail", None)
     if fail is not None and hasattr(loss, "recover"):
         stable = stable_recovery_intervals(system, list(fail))
