@@ -27,6 +27,7 @@ import sympy as sp
 
 from ..errors import AssumptionError
 from ..exact.algebraic import AlgebraicNumber
+from ..exact.numbers import to_exact
 
 Interval = tuple[AlgebraicNumber, AlgebraicNumber]
 
@@ -36,8 +37,12 @@ EQUAL, HOLDS, VIOLATED, INSIDE, NOT_APPLICABLE, NOT_COMPARED = (
 
 
 def number(value: Any) -> AlgebraicNumber:
-    """An exact value as an :class:`AlgebraicNumber` (radicals simplified first)."""
-    return value if isinstance(value, AlgebraicNumber) else AlgebraicNumber.from_expr(sp.radsimp(sp.sympify(value)))
+    """An exact value as an :class:`AlgebraicNumber` (radicals simplified first); anything but a
+    sympy expression goes through the safe parser (:func:`symkf.exact.numbers.to_exact`)."""
+    if isinstance(value, AlgebraicNumber):
+        return value
+    expr = value if isinstance(value, sp.Basic) else to_exact(value, "value")
+    return AlgebraicNumber.from_expr(sp.radsimp(expr))
 
 
 @dataclass(frozen=True)
