@@ -32,11 +32,12 @@ from typing import Callable
 import sympy as sp
 
 from ..capacity.convergence import mare_stabilizable
+from ..errors import ExtraNotInstalledError
 from ..losses import IID
 from ..model import System
 from ..stability import stability
 from . import hypotheses as hyp
-from .row import EXACT, NECESSARY, SUFFICIENT, VIOLATED, Quantity, Row, compare_bracket, number, row
+from .row import EXACT, NECESSARY, SUFFICIENT, VIOLATED, Hypothesis, Quantity, Row, compare_bracket, number, row
 
 CITATION = ("B. Sinopoli, L. Schenato, M. Franceschetti, K. Poolla, M. I. Jordan, S. S. Sastry, "
             "\"Kalman filtering with intermittent observations\", IEEE Trans. Autom. Control 49(9), 2004")
@@ -112,12 +113,15 @@ def lmi(system: System, quantity: Quantity, steps: int = LMI_STEPS) -> Row:
     hyps = (hyp.iid(quantity), hyp.unstable(system), hyp.controllable_noise(system), hyp.detectable(system))
     if not all(h.holds for h in hyps):
         return Row(**base, hypotheses=hyps)
-    lo, hi, notes = lmi_bracket(system, steps)
-    relation, gap = compare_bracket(lo, hi, quantity.critical)
-    note = "the threshold lies in the certified bracket"
-    if quantity.rates:
-        at, relation = at_rates(system, quantity.rates, relation)
-        note += "; " + at
+    try:
+        lo, hi, notes = lmi_bracket(system, steps)
+        relation, gap = compare_bracket(lo, hi, quantity.critical)
+        note = "the threshold lies in the certified bracket"
+        if quantity.rates:
+            at, relation = at_rates(system, quantity.rates, relation)
+            note += "; " + at
+    except ExtraNotInstalledError as exc:  # the LMI needs cvxpy (the sdp extra); the other rows do not
+        return Row(**base, hypotheses=hyps + (Hypothesis("the sdp extra installed", False, str(exc)),))
     return Row(**base, hypotheses=hyps, bracket=(lo, hi), relation=relation, gap=gap, certificate=notes,
                stable=quantity.below(lo), note=note)
 
