@@ -22,7 +22,7 @@ def main() -> None:
     args = p.parse_args()
     target = output.plan(args.out, "OUT", force=args.force)
     fig = atlas_figure(rotation_family(2, args.max_denominator), lmi_steps=args.lmi_steps)
-    print(f"wrote {target.write(lambda f: fig.savefig(f, format=target.image_format, dpi=110))}")
+    print(f"wrote {target.put_figure(fig, dpi=110)}")
 
 
 if __name__ == "__main__":

@@ -44,7 +44,7 @@ from decimal import Decimal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
-from . import budget
+from . import budget, output
 from .errors import FileFormatError, SymkfError
 from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel, MarkovLoss
@@ -105,6 +105,7 @@ def read_toml(path: str | Path) -> dict:
     """The TOML document at ``path``, decimals as :class:`~decimal.Decimal` (exact); at most
     ``max_file_size`` bytes are read (``/dev/zero`` or a huge file is refused, not exhausted)."""
     path = Path(path)
+    output.note_input(path)
     cap = budget.LIMITS.max_file_size
     try:
         if path.is_dir():

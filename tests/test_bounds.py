@@ -195,7 +195,8 @@ def test_cli_text_latex_and_refusals(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "Mo, Sinopoli 2012, degenerate" in text and f"written to {out}" in text
     assert r"\toprule" in out.read_text()
-    assert cli.main(["bounds", str(f), "--latex", str(out)]) == 2      # exists without --force
+    assert cli.main(["bounds", str(f), "--latex", str(f)]) == 2        # never over an input file
+    assert f.read_text().startswith("[system]")
     assert cli.main(["bounds", str(tmp_path / "missing.toml")]) == 2
     capsys.readouterr()
 
