@@ -39,6 +39,7 @@ REPRODUCE: dict[str, tuple[str, str, dict[str, Any]]] = {
     "yang-example1": ("symkf.capacity", "reproduce_yang_example1", {"horizon": 12, "paths": 2000}),
     "fusion-pendulum": ("symkf.fusion", "reproduce_fusion_pendulum", {"paths": 4, "horizon": 200}),
     "sui-theorem12": ("symkf.second_order", "reproduce_sui_theorem12", {}),
+    "you-2011-counterexample": ("symkf.bounds.counterexample", "reproduce_you_2011_counterexample", {"steps": 4}),
 }
 
 
@@ -390,6 +391,26 @@ def _args_table(p: argparse.ArgumentParser) -> None:
     _args_sweep(p)
 
 
+def cmd_bounds(args: argparse.Namespace) -> dict[str, Any]:
+    from . import files
+    from .bounds import bounds
+    target = None if args.latex is None else output.plan(args.latex, "--latex", inputs=[args.file], force=args.force)
+    system, loss = files.load(args.file)
+    atlas = bounds(system, loss, lmi_steps=args.lmi_steps)
+    res: dict[str, Any] = {"file": str(args.file), **atlas.to_json(), "_text": str(atlas)}
+    if target is not None:
+        res["latex"] = str(target.put_text(atlas.to_latex()))
+    return res
+
+
+def _args_bounds(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file", metavar="FILE.toml")
+    p.add_argument("--latex", default=None, metavar="OUT.tex", help="write the booktabs table here")
+    p.add_argument("--lmi-steps", type=lambda t: _bounded_int(t, 0, 60), default=8, metavar="N",
+                   help="bisection steps of Sinopoli et al.'s LMI threshold (default 8)")
+    _args_force(p)
+
+
 def _positive_int(text: str) -> int:
     return _bounded_int(text, 1)
 
@@ -447,6 +468,8 @@ register(Command("simulate", "Monte Carlo E[tr P_k] with confidence intervals", 
                  cmd_simulate, _print_simulate))
 register(Command("examples", "the shipped example systems and families; NAME copies one into the working directory",
                  _args_examples, cmd_examples, _print_examples))
+register(Command("bounds", "every published bound and closed form for the critical rate beside the exact value",
+                 _args_bounds, cmd_bounds, _print_table))
 register(Command("reproduce", "reproduce a paper's example: " + ", ".join(sorted(REPRODUCE)), _args_reproduce,
                  cmd_reproduce, _print_reproduce))
 
