@@ -21,6 +21,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import InputError, ShapeError, require_extra
+from .exact.numbers import as_matrix
 from .model import Sensor, System
 
 if TYPE_CHECKING:
@@ -135,7 +136,7 @@ def to_statespace(system: System, B: Any = None, D: Any = None, dt: float | bool
 
 def float_matrix(M: sp.MatrixBase, entry: str) -> np.ndarray:
     """The float64 array of a real exact matrix (correctly rounded entries)."""
-    values = [[complex(sp.N(v, 20)) for v in row] for row in M.tolist()]
+    values = [[complex(sp.N(v, 20)) for v in row] for row in as_matrix(M, entry).tolist()]
     if any(v.imag for row in values for v in row):
         raise InputError(f"{entry}: complex entries; python-control needs a real system "
                          "(symkf.filtering.real_form gives one with the same tr P_k)")

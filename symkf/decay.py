@@ -35,6 +35,7 @@ from sympy.polys.matrices import DomainMatrix
 from .errors import AperiodicError, InputError
 from .exact import perron
 from .exact.algebraic import AlgebraicNumber
+from .exact.numbers import sympify
 from .losses import IID, GilbertElliott, LossModel
 from .model import System
 from .observability import BlockRows, _set, block_deficient, block_rows
@@ -57,7 +58,7 @@ def perron_root(M: sp.MatrixBase) -> sp.Expr:
     Rational matrices go through :func:`symkf.exact.perron.perron_root` (sparse: strongly
     connected components, merged identical rows, flint characteristic polynomials)."""
     if M.shape == (1, 1):
-        return sp.sympify(M[0, 0])
+        return sympify(M[0, 0])
     dm = DomainMatrix.from_Matrix(M).to_sparse()
     if dm.domain.is_QQ or dm.domain.is_ZZ:
         K = dm.domain
@@ -136,7 +137,7 @@ def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
         counts = outside_counts(br, _weights(loss))
         cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.loss, ks)])) for ks, H in counts.items()]
     else:  # aperiodic blocks too: their elements' generators are class projections (docs/sui.md)
-        cands = [(H, sp.sympify(ge_rate(br, H, loss) if isinstance(loss, GilbertElliott)
+        cands = [(H, sympify(ge_rate(br, H, loss) if isinstance(loss, GilbertElliott)
                                 else perron_root(restricted_transfer(br, H, loss)))) for H in br.hyperplanes]
     H, best = _maximum(cands)
     return BlockRate(best, H, tuple(cands))
@@ -245,4 +246,4 @@ def probability_rank_deficient(system: System, loss: LossModel, N: int) -> tuple
         if any(flags):
             p = loss.chain.sequence_probability(pattern)
             totals = [t + p if f else t for t, f in zip(totals, flags)]
-    return tuple(sp.sympify(sp.expand(t)) for t in totals)
+    return tuple(sympify(sp.expand(t)) for t in totals)

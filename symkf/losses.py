@@ -21,7 +21,7 @@ import sympy as sp
 from . import budget
 from .errors import AssumptionError, InputError, ProbabilityError
 from .exact.algebraic import sign
-from .exact.numbers import rationalization, substitution, to_exact
+from .exact.numbers import rationalization, substitution, sympify, to_exact
 
 Vector = tuple[int, ...]
 
@@ -102,7 +102,7 @@ def _independent_numeric(matrices: Sequence[sp.MatrixBase], initial: Sequence[sp
     """Float (P, initial, emit) of independent two-state sensors on states (received, lost):
     the joint chain on ``itertools.product((1, 0), repeat=d)`` is the Kronecker product
     of the sensors' chains, built in float64 without the 2^d x 2^d exact matrix."""
-    require_numbers(set().union(*(M.free_symbols for M in matrices), *(sp.sympify(q).free_symbols for q in initial)))
+    require_numbers(set().union(*(M.free_symbols for M in matrices), *(sympify(q).free_symbols for q in initial)))
     P, init = np.ones((1, 1)), np.ones(1)
     for M, q in zip(matrices, initial):
         P = np.kron(P, _floats(M))
@@ -214,7 +214,7 @@ class IID(LossModel):
 
     @property
     def symbols(self) -> set[sp.Symbol]:
-        return set().union(*(sp.sympify(e).free_symbols for e in self.loss))
+        return set().union(*(sympify(e).free_symbols for e in self.loss))
 
     def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         rows = [sp.Matrix([[1 - e, e], [1 - e, e]]) for e in self.loss]
@@ -302,7 +302,7 @@ class GilbertElliott(LossModel):
 
     @property
     def symbols(self) -> set[sp.Symbol]:
-        return set().union(*(sp.sympify(v).free_symbols for v in self.fail + self.recover + self.initial_received))
+        return set().union(*(sympify(v).free_symbols for v in self.fail + self.recover + self.initial_received))
 
     def positivity_failure(self) -> str | None:
         # the joint transition is the product of the sensors' (independent channels), so it is
@@ -323,7 +323,7 @@ class GilbertElliott(LossModel):
         values = substitution(values, "subs", self.symbols)
 
         def s(xs):
-            return [sp.sympify(x).subs(values) for x in xs]
+            return [sympify(x).subs(values) for x in xs]
         return GilbertElliott(s(self.fail), s(self.recover), s(self.initial_received))
 
     def __repr__(self) -> str:
@@ -459,9 +459,9 @@ class MarkovLoss(LossModel):
 
     def subs(self, values: Mapping[Any, Any]) -> "MarkovLoss":
         values = substitution(values, "subs", self.symbols)
-        table = {h: {n: sp.sympify(p).subs(values) for n, p in row.items()} for h, row in self.table.items()}
+        table = {h: {n: sympify(p).subs(values) for n, p in row.items()} for h, row in self.table.items()}
         init = None if self._initial is None else {
-            k: sp.sympify(p).subs(values) for k, p in self._initial.items()}
+            k: sympify(p).subs(values) for k, p in self._initial.items()}
         return MarkovLoss(table, self.order, init)
 
     def __repr__(self) -> str:

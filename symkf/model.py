@@ -16,7 +16,7 @@ import sympy as sp
 from . import budget
 from .errors import InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, SymkfError, UnobservableError
 from .exact.algebraic import sign
-from .exact.numbers import decimal_matrix, rationalization, to_exact_matrix
+from .exact.numbers import as_matrix, decimal_matrix, rationalization, sympify, to_exact_matrix
 
 
 def _compare_periods(A: sp.MatrixBase, decimal_A: Any) -> str:
@@ -41,6 +41,7 @@ def _identity(n: int) -> sp.ImmutableMatrix:
 
 def check_positive_definite(M: sp.MatrixBase, entry: str) -> None:
     """Raise unless ``M`` is Hermitian positive definite (exact leading minors)."""
+    M = as_matrix(M, entry)
     if M.shape[0] != M.shape[1]:
         raise ShapeError(f"{entry}: covariance must be square, got {M.shape[0]}x{M.shape[1]}")
     for i in range(M.shape[0]):
@@ -270,7 +271,7 @@ class System:
         over Q, else no eigenvalue unseen (Hautus), decided per diagonal block of A in its own field."""
         cached = self._cache.get("observable")
         if cached is None:
-            if all(sp.sympify(v).is_Rational for M in (self.A, self.C) for v in M):
+            if all(sympify(v).is_Rational for M in (self.A, self.C) for v in M):
                 from .exact.linalg import rank
                 cached = rank(sp.Matrix.vstack(*[self.C * self.A ** k for k in range(self.n)])) == self.n
             else:

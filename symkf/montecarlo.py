@@ -26,7 +26,7 @@ import sympy as sp
 from . import budget
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
-from .exact.numbers import to_exact
+from .exact.numbers import sympify, to_exact
 from .filtering import (FloatSystem, _checked, _positive, _run, exact_covariances, log_traces, real_form,
                         receival_table, sample_states)
 from .losses import IID, GilbertElliott, LossModel, require_numbers
@@ -208,7 +208,7 @@ def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...],
     received = set(cert.decisive_elements)
     phases = tuple(tuple(j for j, name in enumerate(system.sensor_names) if (name, phase) not in received)
                    for phase in range(cert.governing_period))
-    return phases, sp.sympify(cert.modulus) ** (2 * cert.governing_period)
+    return phases, sympify(cert.modulus) ** (2 * cert.governing_period)
 
 
 def exact_growth_rate(verdict) -> AlgebraicNumber:

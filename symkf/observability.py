@@ -31,6 +31,7 @@ import sympy as sp
 
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, nullspace_rows, rank_rows
+from .exact.numbers import sympify
 from .model import System
 from .spectral import EigenBlock, eigenvalue_key, factors_in, support
 
@@ -438,7 +439,7 @@ def is_conjugate_pair(system: System, block: EigenBlock) -> bool:
     of the first's (the generic case of a dense real matrix)."""
     return (len(block.members) == 2 and len(block.classes) == 2
             and all(e.multiplicity == 1 for e in block.members)
-            and all(sp.sympify(v).is_real for M in (system.A, *(s.C for s in system.sensors)) for v in M))
+            and all(sympify(v).is_real for M in (system.A, *(s.C for s in system.sensors)) for v in M))
 
 
 def _block_rows(system: System, block: EigenBlock) -> BlockRows:

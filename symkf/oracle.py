@@ -55,8 +55,7 @@ class RawRegression:
         n = A.shape[0]
         U = sp.eye(n) if subspace is None else sp.Matrix(to_exact_matrix(subspace, "subspace"))
         entries = [*A, *U, *(v for C in Cs for v in C)]
-        K, values = construct_domain([sp.nsimplify(v) if isinstance(v, float) else v for v in entries],
-                                     extension=True)
+        K, values = construct_domain(entries, extension=True)
         it = iter(values)
 
         def take(rows: int, cols: int) -> DomainMatrix:

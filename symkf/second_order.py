@@ -49,7 +49,7 @@ from .errors import AperiodicError, AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, rank_rows
-from .exact.numbers import to_exact
+from .exact.numbers import sympify, to_exact
 from .losses import IID, LossModel
 from .model import Sensor, System
 from .spectral import eigen_blocks
@@ -271,7 +271,7 @@ def _require_iid(system: System, loss: LossModel) -> IID:
                               assumption="Assumption 4 (Sui-You-Fu)", applies_instead="symkf.stability.stability")
     if loss.d != system.d:
         raise InputError(f"loss: the model has {loss.d} sensor(s), the system has {system.d}")
-    free = set().union(*[sp.sympify(e).free_symbols for e in loss.loss])
+    free = set().union(*[sympify(e).free_symbols for e in loss.loss])
     if free:
         raise InputError(f"loss: symbols {sorted(map(str, free))} have no value; use threshold(system) "
                          "for the condition in symbols")
@@ -306,9 +306,9 @@ def theorem12(system: System, loss: IID, period: Period = "governing") -> Verdic
         power, P_cert = alpha ** (2 * P) * rate, P
         merged = ", ".join(name for name, grp in zip(cs.names, cs.groups) if len(grp) > 1)
         assumptions += [f"Remark 11: merged sensors {merged} (arrival 1 - prod(1 - p_j))"] if cs.merges else []
-    power = sp.sympify(power)
+    power = sympify(power)
     margin = AlgebraicNumber.from_expr(sp.root(power, P_cert) if P_cert > 1 else power)
-    cert = BlockCertificate(alpha, P_cert, elements, sp.sympify(rate), power,
+    cert = BlockCertificate(alpha, P_cert, elements, sympify(rate), power,
                             margin.refine(sp.Rational(1, 10 ** 12)).interval)
     name = ("Theorem 12 (Sui-You-Fu) as printed: period tau" if period == "tau"
             else "Theorem 12 (Sui-You-Fu), corrected: governing period g, rank-one congruent sets")
@@ -386,7 +386,7 @@ def critical_loss_rate(system: System, period: Period = "governing") -> Algebrai
     1/4
     """
     alpha = _analysis(system)[1]
-    return AlgebraicNumber.from_expr(sp.sympify(critical_loss_expr(system, period).subs(ALPHA, alpha)))
+    return AlgebraicNumber.from_expr(sympify(critical_loss_expr(system, period).subs(ALPHA, alpha)))
 
 
 def arrival_symbols(system: System) -> tuple[sp.Symbol, ...]:
@@ -443,7 +443,7 @@ def critical_alpha(system: System, loss: IID, period: Period = "governing") -> A
                    key=AlgebraicNumber.from_expr)
     if rate == 0:
         raise InputError("loss: the decisive pattern has probability 0, so no alpha destabilises the filter")
-    return AlgebraicNumber.from_expr(sp.root(1 / sp.sympify(rate), 2 * P))
+    return AlgebraicNumber.from_expr(sp.root(1 / sympify(rate), 2 * P))
 
 
 def counterexamples() -> list[tuple[str, System]]:

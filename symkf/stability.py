@@ -19,7 +19,7 @@ import sympy as sp
 from .decay import BlockRate, block_rate, outside_counts
 from .errors import AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber, _with_prec, identify
-from .exact.numbers import to_exact
+from .exact.numbers import sympify, to_exact
 from .losses import IID, GilbertElliott, LossModel
 from .model import System
 from .observability import BlockRows, block_rows
@@ -154,7 +154,7 @@ def _check_loss(system: System, loss: LossModel) -> list[str]:
 
 def _margin(br: BlockRows, rate: BlockRate) -> tuple[AlgebraicNumber, sp.Expr]:
     alpha = br.block.modulus.exact
-    power = sp.sympify(alpha ** (2 * br.period) * rate.per_period)
+    power = sympify(alpha ** (2 * br.period) * rate.per_period)
     if br.period > 1 and power.is_Rational and max(abs(power.p), power.q).bit_length() > 512:
         # sympy's root of a huge rational overflows a float in its perfect-power test (Gilbert-
         # Elliott losses at rationals near a critical recovery rate): the positive root of q x^g - p
@@ -225,7 +225,7 @@ def _vectors(system: System, common: bool = False) -> list[tuple[sp.Expr, tuple[
     binds first at the fewest elements ``K`` outside: only the hyperplanes holding the most
     elements (:func:`symkf.decay.outside_counts` with equal weights) are needed."""
     weights = [1.0] * system.d if common else None
-    return [(sp.sympify(br.block.modulus.exact ** (2 * br.period)), ks)
+    return [(sympify(br.block.modulus.exact ** (2 * br.period)), ks)
             for br in block_rows(system) for ks in outside_counts(br, weights)]
 
 
@@ -294,7 +294,7 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
 
 
 def _min_capped(bounds: list[sp.Expr]) -> AlgebraicNumber:
-    values = [AlgebraicNumber.from_expr(b) for b in set(map(sp.sympify, bounds))]
+    values = [AlgebraicNumber.from_expr(b) for b in set(map(sympify, bounds))]
     best = min(values, default=AlgebraicNumber.from_expr(1))
     return best if best < 1 else AlgebraicNumber.from_expr(1)
 
@@ -334,7 +334,7 @@ def critical_alpha(system: System, loss: IID) -> AlgebraicNumber:
     rate = block_rate(br, loss)
     if rate.per_period == 0:
         raise InputError("every decisive pattern has probability 0: no critical alpha exists")
-    return AlgebraicNumber.from_expr(sp.sympify(sp.root(1 / rate.per_period, 2 * br.period)))
+    return AlgebraicNumber.from_expr(sympify(sp.root(1 / rate.per_period, 2 * br.period)))
 
 
 def _recovery_model(system: System, fail: Sequence[Any], recover: Sequence[Any] | None,

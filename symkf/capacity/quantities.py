@@ -26,7 +26,7 @@ import sympy as sp
 
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
-from ..exact.numbers import to_exact_matrix
+from ..exact.numbers import sympify, to_exact_matrix
 from ..losses import IID
 from ..spectral import eigenvalues
 
@@ -35,7 +35,7 @@ def _require_iid(loss: Any) -> IID:
     if not isinstance(loss, IID):
         raise InputError(f"loss: Yang et al.'s capacities are defined for Bernoulli (i.i.d.) losses, "
                          f"got {type(loss).__name__}; give symkf.IID(loss=[...])")
-    free = set().union(*(sp.sympify(e).free_symbols for e in loss.loss))
+    free = set().union(*(sympify(e).free_symbols for e in loss.loss))
     if free:
         raise InputError(f"loss: symbols {sorted(map(str, free))} have no value; substitute numbers")
     return loss

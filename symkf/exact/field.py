@@ -270,7 +270,7 @@ class NumberField:
     def __init__(self, generators: Iterable[sp.Expr] = ()):
         gens = []
         for g in generators:
-            g = sympify(g)
+            g = sympify(g, "generators")
             if not g.is_Rational and g not in gens:
                 gens.append(g)
         self.generators = tuple(gens)
@@ -307,7 +307,7 @@ class NumberField:
     # -- conversion -------------------------------------------------------------
     def convert(self, expr: sp.Expr) -> Elem:
         """The element of this field equal to ``expr`` (raises if it is not in the field)."""
-        expr = sympify(expr)
+        expr = sympify(expr, "expr")
         if expr.is_Rational:
             return _rational(expr)
         out = _express(self._state, expr) if not self.is_rational else _member_of_q(expr)

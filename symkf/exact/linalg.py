@@ -22,7 +22,7 @@ def field_of(*matrices: sp.MatrixBase) -> NumberField:
     gens: list[sp.Expr] = []
     for M in matrices:
         for v in M:
-            v = sympify(v)
+            v = sympify(v, "entry")
             if not v.is_Rational and v not in gens:
                 gens.append(v)
     return NumberField(gens) if gens else QQ_FIELD

@@ -31,6 +31,7 @@ import contextvars
 import math
 import numbers
 import re
+import reprlib
 import warnings
 from dataclasses import dataclass, field
 from decimal import Decimal
@@ -334,14 +335,39 @@ def _float(value: float, entry: str, rationalize: bool | str) -> sp.Expr:
 
 
 def sympify(value: Any, entry: str = "value") -> sp.Basic:
-    """sympy's ``sympify`` without its string parser (which evaluates Python): a string goes
-    through :func:`parse_exact`, anything else must be a type sympy converts explicitly."""
-    if isinstance(value, str):
-        return parse_exact(value, entry)
+    """One number from outside as a sympy object, without sympy's own ``sympify`` (which
+    evaluates strings as Python, also inside tuples, dicts and sets, and calls ``str`` of unknown
+    objects): a sympy object is kept, an object with ``_sympy_`` (an AlgebraicNumber) gives its
+    sympy value, a string goes through :func:`parse_exact` and any other number through
+    :func:`to_exact` (transcendental values allowed).  Containers and other objects are refused
+    with an :class:`InputError` naming ``entry``."""
+    if isinstance(value, sp.Basic):
+        return value
+    convert = getattr(type(value), "_sympy_", None)
+    if convert is not None:
+        out = convert(value)
+        if isinstance(out, sp.Basic):
+            return out
+    return to_exact(value, entry, algebraic=False)
+
+
+def to_rational(value: Any, entry: str) -> sp.Rational:
+    """``value`` (an int, Fraction, exact float, string such as ``"1/3"``, sympy Rational, ...)
+    as a sympy Rational; anything else is an :class:`InputError` naming ``entry``."""
+    out = sympify(value, entry)
+    if not isinstance(out, sp.Rational):
+        raise InputError(f"{entry}: expected a rational number, got {described(value)}")
+    return out
+
+
+def described(value: Any) -> str:
+    """``value`` for an error message: its type and a short repr (a hostile ``__repr__`` is never
+    needed to build the message)."""
     try:
-        return sp.sympify(value, strict=True)
-    except sp.SympifyError:
-        raise InputError(f"{entry}: {type(value).__name__} {value!r} is not a number") from None
+        shown = reprlib.repr(value)
+    except Exception:  # noqa: BLE001 - any failure of the caller's __repr__ just hides the value
+        shown = "..."
+    return f"{type(value).__name__} {shown if isinstance(shown, str) else '...'}"
 
 
 def as_matrix(value: Any, entry: str) -> sp.Matrix:
@@ -438,11 +464,11 @@ def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
             if not rationalize:
                 raise InexactInputError(f"{entry}: {value} contains a sympy Float; give it exactly "
                                         "or set rationalize=True")
-            value = sp.nsimplify(value, rational=True)
+            value = value.xreplace({f: sp.Rational(str(f)) for f in value.atoms(sp.Float)})
         _check_sympy(value, entry)
         out = value
     else:
-        raise InputError(f"{entry}: {type(value).__name__} {value!r} is not an exact number "
+        raise InputError(f"{entry}: {described(value)} is not an exact number "
                          "(give an int, Fraction, Decimal, a string like '5/4' or '0.1', or a sympy expression)")
     if out.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
         raise InputError(f"{entry}: {value!r} is not a finite number")

@@ -38,6 +38,7 @@ import sympy as sp
 from ..decay import restricted_transfer
 from ..errors import AssumptionError
 from ..exact.algebraic import AlgebraicNumber
+from ..exact.numbers import sympify
 from ..losses import LossModel
 from ..model import Sensor, System
 from ..observability import block_rows
@@ -163,7 +164,7 @@ def exact_candidates(example: NetworkExample) -> tuple[AlgebraicNumber, ...]:
     loss = example.engine_loss
     roots = []
     for br in block_rows(example.system):
-        growth = sp.sympify(br.block.modulus.exact ** (2 * br.period))
+        growth = sympify(br.block.modulus.exact ** (2 * br.period))
         for H in br.hyperplanes:
             M = restricted_transfer(br, H, loss).applyfunc(sp.expand)
             keep = [j for j in range(M.cols) if not M.col(j).is_zero_matrix]
