@@ -13,6 +13,7 @@ import contextlib
 import importlib
 import json
 import os
+import re
 import sys
 import warnings
 from dataclasses import dataclass
@@ -40,7 +41,7 @@ REPRODUCE: dict[str, tuple[str, str, dict[str, Any]]] = {
 
 
 #: version of every ``--json`` document; raised when a field is renamed or removed
-#: (1: blocks carry ``tau`` and ``governing_period``, certificates ``governing_period``,
+#: (1: blocks carry ``tau`` and ``governing_period``, certificates ``class_period``,
 #: losses are structured objects, reproduce separates ``checks`` from ``discrepancies``)
 SCHEMA_VERSION = 1
 
@@ -147,7 +148,7 @@ def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
         res["verdict"] = {"stable": v.stable, "theorem": v.theorem,
                           "margins": [_number(m, 12) for m in v.margins], "limiting_block": v.limiting_block,
                           "assumptions": list(v.assumptions),
-                          "certificate": [{"modulus": str(c.modulus), "governing_period": c.governing_period,
+                          "certificate": [{"modulus": str(c.modulus), "class_period": c.class_period,
                                            "decisive_received": [list(e) for e in c.decisive_elements],
                                            "alpha^(2g) rho^g": str(c.margin_power)} for c in v.certificate]}
         res["_text"] = str(v)
@@ -395,7 +396,7 @@ def _bounded_int(text: str, low: int, high: int = 10 ** 9) -> int:
     if value is None:
         raise argparse.ArgumentTypeError(f"expected an integer, got {text[:40]!r}")
     if value < low or value > high:
-        raise argparse.ArgumentTypeError(f"expected an integer in [{low}, {high:.0e}], got {value}")
+        raise argparse.ArgumentTypeError(f"expected an integer in [{low}, {high}], got {value}")
     return value
 
 
@@ -403,7 +404,9 @@ def _args_caps(p: argparse.ArgumentParser) -> None:
     """The caps of :mod:`symkf.budget`, one option each (documented there)."""
     group = p.add_argument_group("resource caps (symkf.budget; an input above one is refused at once)")
     for name, option in budget.OPTIONS.items():
-        group.add_argument(option, dest=f"cap_{name}", type=lambda t: _bounded_int(t, 1, 10 ** 15), default=None,
+        group.add_argument(option, dest=f"cap_{name}", default=None,
+                           type=lambda t, high=budget.MAX_DIGITS_CAP if name == "max_digits" else 10 ** 15:
+                           _bounded_int(t, 1, high),
                            metavar="N", help=f"default {getattr(budget.Limits, name)}")
 
 
@@ -497,8 +500,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             if not issubclass(w.category, RuntimeWarning):
                 print(f"symkf {command.name}: note: {_one_line(w.message)}", file=sys.stderr)
     except SymkfError as exc:
-        print(f"symkf {command.name}: {_one_line(exc)}", file=sys.stderr)
+        print(f"symkf {command.name}: {_located(_one_line(exc), args)}", file=sys.stderr)
         return exc.exit_status
+    except ValueError as exc:
+        if not _digits_exceeded(exc):
+            return _internal(command, exc)
+        return _too_many_digits(command, args)
     except RecursionError:
         print(f"symkf {command.name}: input too deeply nested", file=sys.stderr)
         return 2
@@ -510,9 +517,7 @@ def main(argv: Sequence[str] | None = None) -> int:
               file=sys.stderr)
         return 2
     except Exception as exc:  # a bug, not bad input: one line and a status of its own
-        print(f"symkf {command.name}: internal error ({type(exc).__name__}: {_one_line(exc)}); "
-              "please report it", file=sys.stderr)
-        return INTERNAL_ERROR
+        return _internal(command, exc)
     try:
         if args.json:
             doc = {"schema_version": SCHEMA_VERSION, **{k: v for k, v in res.items() if not k.startswith("_")}}
@@ -522,6 +527,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stdout.flush()
     except BrokenPipeError:  # e.g. `symkf demo | head`: the reader left; not an error of ours
         sys.stdout = open(os.devnull, "w")
+    except ValueError as exc:
+        if not _digits_exceeded(exc):
+            return _internal(command, exc)
+        return _too_many_digits(command, args)
     return res.get("_status", 0)
 
 
@@ -540,9 +549,39 @@ def _quiet(quiet: bool) -> Iterator[None]:
             os.environ["TQDM_DISABLE"] = previous
 
 
+def _internal(command: Command, exc: Exception) -> int:
+    print(f"symkf {command.name}: internal error ({type(exc).__name__}: {_one_line(exc)}); "
+          "please report it", file=sys.stderr)
+    return INTERNAL_ERROR
+
+
 def _one_line(exc: BaseException) -> str:
-    text = " ".join(str(exc).split())
+    text = _DIGIT_RUN.sub(lambda m: f"{m.group()[:6]}...({len(m.group())} digits)", " ".join(str(exc).split()))
     return text if len(text) <= 400 else text[:397] + "..."
+
+
+#: a run of digits too long to show in a one-line message
+_DIGIT_RUN = re.compile(r"\d{31,}")
+
+
+def _located(message: str, args: argparse.Namespace) -> str:
+    """``message`` prefixed by the command's input file when it does not name it already (an
+    error found while computing, e.g. a theorem's assumption, after the file was read)."""
+    file = getattr(args, "file", None)
+    return message if file is None or str(file) in message else f"{file}: {message}"
+
+
+def _too_many_digits(command: Command, args: argparse.Namespace) -> int:
+    message = (f"a number computed from the input has more than {sys.get_int_max_str_digits()} digits, the most "
+               f"converted to text under {budget.OPTIONS['max_digits']} {budget.LIMITS.max_digits}")
+    print(f"symkf {command.name}: {_located(message, args)}; give smaller numbers or raise "
+          f"{budget.OPTIONS['max_digits']}", file=sys.stderr)
+    return 2
+
+
+def _digits_exceeded(exc: ValueError) -> bool:
+    """Whether ``exc`` is Python's refusal to convert an integer of too many digits to text."""
+    return "integer string conversion" in str(exc)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -76,7 +76,7 @@ def _received_ok(br: BlockRows, H: frozenset[int], vec: Sequence[int], phase: in
 
 
 def _el(br: BlockRows, j: int, phase: int):
-    return br.elements[j * br.period + phase]
+    return br.elements[j * br.class_period + phase]
 
 
 def _outside(br: BlockRows, H: frozenset[int], sensor: int) -> int:
@@ -171,8 +171,8 @@ def restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp
     P = DomainMatrix.from_Matrix(ch.P).to_sparse()
     K = P.domain
     M = DomainMatrix.eye(S, K).to_sparse()
-    for r in range(1, br.period + 1):
-        phase = r % br.period
+    for r in range(1, br.class_period + 1):
+        phase = r % br.class_period
         D = DomainMatrix.diag([K.one if _received_ok(br, H, ch.emit[s], phase) else K.zero for s in range(S)], K)
         M = M * P * D.to_sparse()
     return M.to_Matrix()
@@ -182,8 +182,8 @@ def _restricted_sensor_transfer(br: BlockRows, H: frozenset[int], loss: GilbertE
     """Gilbert-Elliott channels are independent, so the transfer factorises over sensors."""
     P = loss.sensor_matrix(j)
     M = sp.eye(2)
-    for r in range(1, br.period + 1):
-        phase = r % br.period
+    for r in range(1, br.class_period + 1):
+        phase = r % br.class_period
         inside = br.elements.index(_el(br, j, phase)) in H
         M = M * P * sp.diag(1 if inside else 0, 1)  # states (received, lost)
     return M
@@ -208,7 +208,7 @@ def m_matrix(br: BlockRows, loss: LossModel) -> tuple[sp.Matrix, list]:
     while frontier:
         state = frontier.pop()
         dist = {state: sp.Integer(1)}
-        for phase in range(br.period):
+        for phase in range(br.class_period):
             nxt: dict[tuple, sp.Expr] = {}
             for (pat, x), p in dist.items():
                 row = ch.initial.row(0) if x is None else ch.P.row(x)

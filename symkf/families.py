@@ -101,7 +101,7 @@ class Inapplicable:
 
 @dataclass(frozen=True)
 class Outcome:
-    """What one member evaluates to, with the projection (governing) periods the engine used."""
+    """What one member evaluates to, with the class periods (one per eigen-block) the engine used."""
 
     value: AlgebraicNumber | Verdict | Inapplicable
     periods: tuple[int, ...]
@@ -134,7 +134,7 @@ def evaluate(member: Member) -> Outcome:
             value: Any = critical_loss_rate(system)
         else:
             value = stability(system, loss)
-        return Outcome(value, tuple(br.period for br in block_rows(system)))
+        return Outcome(value, tuple(br.class_period for br in block_rows(system)))
     except AssumptionError as exc:
         return Outcome(Inapplicable(str(exc)), ())
 

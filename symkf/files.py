@@ -189,7 +189,9 @@ def _loss(table: Any, source: str, system: System, rationalize: bool) -> LossMod
     if not isinstance(table, dict):
         raise FileFormatError(f"{source}: [loss] must be a table")
     where = f"{source}: [loss]"
-    kind = table.get("kind", "iid")
+    if "kind" not in table:
+        raise FileFormatError(f"{where}: key 'kind' missing; it is required, one of {', '.join(map(repr, LOSS_KINDS))}")
+    kind = table["kind"]
     if not isinstance(kind, str) or kind not in LOSS_KINDS:
         raise FileFormatError(f"{where} kind {kind!r} is not one of {', '.join(map(repr, LOSS_KINDS))}")
     _check_keys(table, KEYS[kind], where)

@@ -312,8 +312,9 @@ class GilbertElliott(LossModel):
             for r, s in itertools.product(range(2), repeat=2):
                 if not P[r, s].free_symbols and sign(P[r, s]) <= 0:
                     state = ("received", "lost")
-                    return (f"sensor {i}: P(next {state[s]} | {state[r]}) = {P[r, s]}, so the joint chain has "
-                            "zero transitions; Assumption 2 needs every transition probability positive")
+                    key = f"fail[{i}] = {self.fail[i]}" if r == 0 else f"recover[{i}] = {self.recover[i]}"
+                    return (f"{key} (sensor {i}): P(next {state[s]} | {state[r]}) = {P[r, s]}, so the joint "
+                            "chain has zero transitions; Assumption 2 needs every transition probability positive")
         return None
 
     def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

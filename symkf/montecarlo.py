@@ -196,7 +196,7 @@ def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...],
     """The limiting block's decisive loss pattern, one tuple of lost sensors per phase, and its growth.
 
     ``verdict`` is :func:`symkf.stability.stability`'s: in the limiting eigen-block
-    (largest margin ``alpha_i^2 rho_i``, Sui-You-Fu eq. 36) with governing period ``g``,
+    (largest margin ``alpha_i^2 rho_i``, Sui-You-Fu eq. 36) with class period ``g``,
     the decisive hyperplane lists the elements (sensor, phase) that may be received while
     ``O_N^i`` stays rank deficient.  Returns, per phase ``0..g-1``, the sensors that must
     be lost (the elements outside the hyperplane), and the exact growth ``alpha_i^(2g)``
@@ -207,8 +207,8 @@ def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...],
     cert = verdict.certificate[verdict.limiting_block]
     received = set(cert.decisive_elements)
     phases = tuple(tuple(j for j, name in enumerate(system.sensor_names) if (name, phase) not in received)
-                   for phase in range(cert.governing_period))
-    return phases, sympify(cert.modulus) ** (2 * cert.governing_period)
+                   for phase in range(cert.class_period))
+    return phases, sympify(cert.modulus) ** (2 * cert.class_period)
 
 
 def exact_growth_rate(verdict) -> AlgebraicNumber:
@@ -409,11 +409,11 @@ def verdict_plan(system: System, verdict, loss: LossModel | None = None) -> Burs
         return plan
     from .observability import block_rows  # the engine imports nothing from simulation
     br = block_rows(system)[verdict.limiting_block]
-    if len(br.hyperplanes) > MAX_TIE_SEARCH or br.period != plan.period:
+    if len(br.hyperplanes) > MAX_TIE_SEARCH or br.class_period != plan.period:
         return plan
     masks = []
     for H in br.hyperplanes:
-        a = np.zeros((br.period, system.d), bool)
+        a = np.zeros((br.class_period, system.d), bool)
         for i in H:
             a[br.elements[i].phase, br.elements[i].sensor] = True
         masks.append(a)

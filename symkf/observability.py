@@ -50,7 +50,7 @@ class BlockRows:
 
     block: EigenBlock
     K: NumberField
-    period: int
+    class_period: int  # the block's class period (EigenBlock.class_period): the elements' phases
     elements: tuple[Element, ...]
     generators: tuple[tuple[tuple[Elem, ...], ...], ...]  # per element
     size: int

@@ -75,7 +75,11 @@ def plan(path: str | os.PathLike, option: str, *, inputs: Iterable[str | os.Path
     for source in inputs:
         if _same(target, Path(source)):
             raise OutputError(f"{where}: is the input file {source}; refusing to overwrite an input")
-    if target.exists() or target.is_symlink():
+    try:  # a name too long, or a component that is not a directory, fails the probe itself
+        present = target.exists() or target.is_symlink()
+    except OSError as exc:
+        raise OutputError(f"{where}: not a usable path ({exc.strerror or exc})") from None
+    if present:
         mode = target.stat().st_mode if target.exists() else 0
         if not stat.S_ISREG(mode):
             raise OutputError(f"{where}: exists and is not a regular file")

@@ -55,7 +55,7 @@ def iid_constraints(system: System) -> tuple[Constraint, ...]:
     if cached is None:
         out = []
         for i, br in enumerate(block_rows(system)):
-            growth = sympify(br.block.modulus.exact ** (2 * br.period))
+            growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
             vectors = outside_counts(br)
             for ks, H in vectors.items():
                 if not any(o != ks and all(a <= b for a, b in zip(o, ks)) for o in vectors):
@@ -236,7 +236,7 @@ def ge_margins(system: System, loss: GilbertElliott) -> list[sp.Expr]:
     """Per block and hyperplane, ``alpha^(2g) rho(M_H)``: polynomials in (fail, recover)."""
     out = []
     for br in block_rows(system):
-        growth = sympify(br.block.modulus.exact ** (2 * br.period))
+        growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
         seen = set()
         for H in br.hyperplanes:
             m = sp.expand(growth * ge_rate(br, H, loss))

@@ -251,7 +251,7 @@ def test_bad_family_files_name_file_key_and_problem(tmp_path, text, message):
 @pytest.mark.parametrize("text, pieces", [
     (GOOD_TEMPLATE.replace('"a/2"', '"a/"'), ["A[1][1]: not a well-formed expression"]),
     (GOOD_TEMPLATE.replace('C = [["1", "1"]]', 'C = [["1", "1", "1"]]'), ["sensor 0 C: has 3 columns"]),
-    (GOOD_TEMPLATE.replace("[[sensors]]", "[loss]\nloss = [\"1/2\", \"1/2\"]\n[[sensors]]"),
+    (GOOD_TEMPLATE.replace("[[sensors]]", "[loss]\nkind = \"iid\"\nloss = [\"1/2\", \"1/2\"]\n[[sensors]]"),
      ["[loss] gives 2 value(s) for 1 sensor(s)"]),
     # members are read as system files, so their guards apply: no 370-million-digit numbers
     (GOOD_TEMPLATE.replace('"a/2"', '"a^9^9^9"'), ["A[1][1]: the exponent in '(2)^9^9^9' is 387420489, above the cap 10000"]),
@@ -278,6 +278,6 @@ def test_template_substitutes_exact_values(tmp_path):
 
 def test_sensor_copies_repeat_names_and_losses(tmp_path):
     text = GOOD_TEMPLATE.replace("a = [\"2\", \"3\"]", "a = [\"2\"]\nsensors = [2]").replace(
-        "[[sensors]]", "[loss]\nloss = [\"1/3\"]\n[[sensors]]\nname = \"s\"")
+        "[[sensors]]", "[loss]\nkind = \"iid\"\nloss = [\"1/3\"]\n[[sensors]]\nname = \"s\"")
     system, loss = load_family(_write(tmp_path, text)).members[0].system()
     assert system.sensor_names == ("s_1", "s_2") and loss.loss == (sp.Rational(1, 3),) * 2

@@ -471,7 +471,11 @@ def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
         raise InputError(f"{entry}: {described(value)} is not an exact number "
                          "(give an int, Fraction, Decimal, a string like '5/4' or '0.1', or a sympy expression)")
     if out.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
-        raise InputError(f"{entry}: {value!r} is not a finite number")
+        raise InputError(f"{entry}: {described(value)} is not a finite number")
+    # what the parser's estimates let through is measured once evaluated: no later conversion
+    # to text (Python's limit follows max_digits) meets a longer integer
+    budget.check("max_digits", max((_digits(r) for r in out.atoms(sp.Rational)), default=0), entry,
+                 "the number of digits (about) of a rational in its value")
     if out.free_symbols and not symbols:
         raise InputError(f"{entry}: symbol(s) {sorted(map(str, out.free_symbols))} are not "
                          "allowed here; give a number")
@@ -479,6 +483,10 @@ def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
         raise InputError(f"{entry}: {out} is transcendental; symkf needs algebraic numbers "
                          "to decide exactly")
     return out
+
+
+def _digits(r: sp.Rational) -> int:
+    return math.ceil(max(int(r.p).bit_length(), int(r.q).bit_length()) * math.log10(2))
 
 
 def substitution(values: Mapping[Any, Any], entry: str, known: Collection[sp.Symbol] = ()) -> dict[sp.Symbol, sp.Expr]:

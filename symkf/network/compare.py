@@ -164,7 +164,7 @@ def exact_candidates(example: NetworkExample) -> tuple[AlgebraicNumber, ...]:
     loss = example.engine_loss
     roots = []
     for br in block_rows(example.system):
-        growth = sympify(br.block.modulus.exact ** (2 * br.period))
+        growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
         for H in br.hyperplanes:
             M = restricted_transfer(br, H, loss).applyfunc(sp.expand)
             keep = [j for j in range(M.cols) if not M.col(j).is_zero_matrix]
