@@ -21,6 +21,7 @@ import sys
 from dataclasses import dataclass
 from typing import Iterator
 
+from .arguments import check_public
 from .errors import BudgetError, InputError
 
 
@@ -103,3 +104,5 @@ def check(cap: str, estimate: int, entry: str, what: str) -> None:
     if estimate > bound:
         raise BudgetError(f"{entry}: {what} is {estimate}, above the cap {bound}; raise it with "
                           f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
+
+check_public(globals())

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
 
 
+from .arguments import check_public
 from . import __version__, budget, output
 from .errors import SymkfError
 from .progress import still_working
@@ -582,6 +583,8 @@ def _too_many_digits(command: Command, args: argparse.Namespace) -> int:
 def _digits_exceeded(exc: ValueError) -> bool:
     """Whether ``exc`` is Python's refusal to convert an integer of too many digits to text."""
     return "integer string conversion" in str(exc)
+
+check_public(globals())
 
 
 if __name__ == "__main__":  # pragma: no cover

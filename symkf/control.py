@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 import numpy as np
 import sympy as sp
 
+from .arguments import check_public
 from .errors import InputError, ShapeError, require_extra
 from .exact.numbers import as_matrix
 from .model import Sensor, System
@@ -141,3 +142,5 @@ def float_matrix(M: sp.MatrixBase, entry: str) -> np.ndarray:
         raise InputError(f"{entry}: complex entries; python-control needs a real system "
                          "(symkf.filtering.real_form gives one with the same tr P_k)")
     return np.array([[v.real for v in row] for row in values])
+
+check_public(globals())

@@ -32,6 +32,7 @@ import numpy as np  # outside counts from BlockRows.inside
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
+from .arguments import check_public
 from .errors import AperiodicError, InputError
 from .exact import perron
 from .exact.algebraic import AlgebraicNumber
@@ -247,3 +248,5 @@ def probability_rank_deficient(system: System, loss: LossModel, N: int) -> tuple
             p = loss.chain.sequence_probability(pattern)
             totals = [t + p if f else t for t, f in zip(totals, flags)]
     return tuple(sympify(sp.expand(t)) for t in totals)
+
+check_public(globals())

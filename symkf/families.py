@@ -42,6 +42,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from .arguments import check_public
 from . import budget, files
 from .errors import AssumptionError, FileFormatError, SymkfError
 from .exact.algebraic import AlgebraicNumber
@@ -373,3 +374,5 @@ def _substitute(template: dict, texts: dict[str, str]) -> dict:
         if out["loss"] is not None:
             out["loss"] = {k: v * copies if isinstance(v, list) else v for k, v in out["loss"].items()}
     return out
+
+check_public(globals())

@@ -44,6 +44,7 @@ from decimal import Decimal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
+from .arguments import check_public
 from . import budget
 from .errors import FileFormatError, SymkfError
 from .exact.numbers import to_exact
@@ -351,3 +352,5 @@ def _fusion(data: dict, source: str, rationalize: bool) -> "FusionModel":
                               "(give A, Q for discrete time or Ac, Bc, noise_variance, Ts for a zero-order hold)")
     values = [_exact(_get(table, key, where), f"{where} {key}", rationalize) for key in keys + ("arrival",)]
     return _built(lambda: build(*values[:-1], sensors, values[-1]), "[fusion]")
+
+check_public(globals())

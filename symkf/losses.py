@@ -18,6 +18,7 @@ import flint
 import numpy as np  # float chains for simulation (LossModel.numeric)
 import sympy as sp
 
+from .arguments import check_public
 from . import budget
 from .errors import AssumptionError, InputError, ProbabilityError
 from .exact.algebraic import sign
@@ -486,3 +487,5 @@ def _stationary(P: sp.Matrix) -> sp.Matrix:
     if system * sol != rhs and sp.simplify(system * sol - rhs) != sp.zeros(S + 1, 1):
         raise InputError("initial: the chain has no unique stationary law; give initial")
     return sol.T
+
+check_public(globals())

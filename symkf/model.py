@@ -13,6 +13,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from .arguments import check_public
 from . import budget
 from .errors import InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, SymkfError, UnobservableError
 from .exact.algebraic import sign
@@ -352,3 +353,5 @@ class System:
         """This system as a python-control ``StateSpace``: :func:`symkf.control.to_statespace`."""
         from .control import to_statespace
         return to_statespace(self, B, D, dt)
+
+check_public(globals())

@@ -23,6 +23,7 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
+from .arguments import check_public
 from . import budget
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
@@ -864,3 +865,5 @@ def mean_trace_curve(system: System, loss: LossModel, horizon: int, paths: int, 
             for j, k in enumerate(ks)]
     return MeanTraceCurve(ks, np.array([r.log_mean for r in runs]), np.array([r.rel_stderr for r in runs]),
                           confidence, paths, seed, runs[0].sampling)
+
+check_public(globals())

@@ -29,6 +29,7 @@ import flint
 import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
 import sympy as sp
 
+from .arguments import check_public
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, nullspace_rows, rank_rows
 from .exact.numbers import sympify
@@ -559,3 +560,5 @@ def block_deficient(system: System, pattern: Sequence[Sequence[int]]) -> tuple[b
 def project(pattern: Sequence[Sequence[int]], period: int) -> frozenset[Element]:
     """Algorithm 1: the elements (sensor, k mod period) received at least once."""
     return frozenset(Element(j, k % period) for k, vec in enumerate(pattern) for j, g in enumerate(vec) if g)
+
+check_public(globals())

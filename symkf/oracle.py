@@ -41,6 +41,7 @@ import sympy as sp
 from sympy.polys.constructor import construct_domain
 from sympy.polys.matrices import DomainMatrix
 
+from .arguments import check_public
 from .exact.numbers import sympify, to_exact_matrix
 
 Pair = tuple[int, int]  # (time k, sensor j)
@@ -121,3 +122,5 @@ def decay_slope(A: Any, Cs: Sequence[Any], weights: Sequence[int], N: int, G: in
     Equal values ``s`` witness a decay rate ``x^(s/G)`` of ``P(O_N U deficient)`` per step."""
     L = [RawRegression(A, Cs, N + t * G, subspace).least_lost_weight(weights) for t in range(3)]
     return L[1] - L[0], L[2] - L[1]
+
+check_public(globals())

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Callable, Iterable
 
+from .arguments import check_public
 from .errors import OutputError
 
 #: image formats matplotlib writes, by extension; any other extension is written as PNG
@@ -110,3 +111,5 @@ def _same(a: Path, b: Path) -> bool:
         return a.exists() and b.exists() and os.path.samefile(a, b)
     except OSError:
         return a.resolve() == b.resolve()
+
+check_public(globals())

@@ -25,6 +25,7 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
+from .arguments import check_public
 from .errors import ExtraNotInstalledError, InputError, SymkfError
 from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel
@@ -274,3 +275,5 @@ def critical_angle_figure(scale: Any = 2, *, max_denominator: int = 6, C: Sequen
            title=f"A = {sp.sstr(scale)} R($\\theta$), C = {[list(r) for r in C]}: exact critical loss")
     ax.legend(fontsize="small", loc="lower right")
     return _finish(fig, path)
+
+check_public(globals())

@@ -26,6 +26,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from .arguments import check_public
 from .decay import ge_rate, outside_counts
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber, sign, sympy_to_fmpz
@@ -358,3 +359,5 @@ def stable_set(candidates: Sequence[AlgebraicNumber], stable_at: Any
         else:
             out.append((lo, hi))
     return tuple(out)
+
+check_public(globals())

@@ -45,6 +45,7 @@ from typing import Any, Literal
 
 import sympy as sp
 
+from .arguments import check_public
 from .errors import AperiodicError, AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber
 from .exact.field import Elem, NumberField
@@ -523,3 +524,5 @@ def reproduce_sui_theorem12(outdir: str | None = None) -> dict:
         results["figure"] = path
     return reproduction("sui-theorem12", "seed 001 (Sui-You-Fu), Section 4, Definition 1, eqs. (37)-(38), "
                         "Theorem 12", results, checks, discrepancies)
+
+check_public(globals())

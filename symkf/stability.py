@@ -16,6 +16,7 @@ from typing import Any, Sequence
 import flint
 import sympy as sp
 
+from .arguments import check_public
 from .decay import BlockRate, block_rate, outside_counts
 from .errors import AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber, _with_prec, identify
@@ -461,3 +462,5 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
         if stability(system, model.subs({q: below})).stable or not stability(system, model.subs({q: above})).stable:
             raise AssertionError(f"certificate failed around q_c = {qc}")  # pragma: no cover
     return qc
+
+check_public(globals())

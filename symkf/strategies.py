@@ -35,6 +35,7 @@ from typing import Any, NamedTuple, Sequence
 
 import sympy as sp
 
+from .arguments import check_public
 from .errors import require_extra
 
 require_extra("hypothesis", "strategies", "symkf.strategies")
@@ -290,3 +291,5 @@ def loss_rates_near(critical: Any, margin: Any, side: str, max_denominator: int 
 
 __all__ = ["Drawn", "Rotation", "jordan_systems", "complex_diagonal_systems", "diagonalizable_systems", "gilbert_elliott_losses",
            "iid_losses", "loss_rates_near", "rational_angles", "rotation_systems"]
+
+check_public(globals())

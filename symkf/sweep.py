@@ -24,6 +24,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Sequence, TypeVar
 
+from .arguments import check_public
 from . import budget
 from .errors import InputError
 from .progress import progress as progress_bar
@@ -163,3 +164,5 @@ def _on_client(client: Any, function: Callable, tasks: Sequence, progress: bool 
         for _ in distributed.as_completed(futures):
             bar.update()
     return client.gather(futures)
+
+check_public(globals())

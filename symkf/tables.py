@@ -28,6 +28,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from .arguments import check_public
 from . import examples
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber
@@ -431,3 +432,4 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
     return Table(caption, caption_text, Cell.text("system"), columns, tuple(rows), None, "tab:verdicts", metadata,
                  r"\small\setlength{\tabcolsep}{4pt}")
 
+check_public(globals())

@@ -59,6 +59,7 @@ from typing import Any
 
 import sympy as sp
 
+from .arguments import check_public
 from .errors import AssumptionError, FileFormatError, NumericalBreakdownError, SymkfError
 from .exact.algebraic import AlgebraicNumber
 from .families import Member, load_family
@@ -292,3 +293,5 @@ def family_summary(reports: list[dict[str, Any]]) -> str:
     counts = [f"{sum(r['outcome'] == o for r in reports)} {o}" for o in (*OUTCOMES, INAPPLICABLE, BREAKDOWN)]
     lines.append(f"{len(reports)} members: " + ", ".join(counts))
     return "\n".join(lines)
+
+check_public(globals())

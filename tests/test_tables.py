@@ -99,7 +99,7 @@ def test_template_family_angle_alpha(angle_alpha):
             assert sp.simplify(_exact(angle_alpha, row, col) - exact(alpha) ** sp.Rational(-2 * g, g - 1)) == 0
     assert _exact(angle_alpha, 0, 0) == sp.Rational(16, 81)
     assert _exact(angle_alpha, 2, 0) == 4 * sp.sqrt(6) / 27               # (2/3)^(5/2)
-    assert angle_alpha.to_json()["rows"][2]["cells"][0]["governing_periods"] == [5]
+    assert angle_alpha.to_json()["rows"][2]["cells"][0]["class_periods"] == [5]
 
 
 def test_stability_family_matches_the_system_file(ge_recovery):

@@ -57,6 +57,7 @@ import flint
 import numpy as np
 import sympy as sp
 
+from ..arguments import check_public
 from ..errors import InputError, NotPositiveDefiniteError
 from ..exact.linalg import rank
 from ..losses import IID
@@ -204,3 +205,5 @@ def mare_converges(system: System, loss: IID) -> bool | None:
     if not unit_circle_condition(system):
         return False
     return mare_stabilizable(system, loss).holds
+
+check_public(globals())

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from ..arguments import check_public
 from ..losses import IID
 from ..model import Sensor, System
 from ..reproduction import reproduction
@@ -121,3 +122,5 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
         plt.close(fig)
         results["figure"] = path
     return reproduction("yang-example1", SOURCE, results, checks)
+
+check_public(globals())

@@ -28,6 +28,7 @@ import flint
 import sympy as sp
 from sympy.polys.polyerrors import NotAlgebraic
 
+from ..arguments import check_public
 from ..errors import InputError
 from .numbers import sympify, to_exact, to_rational
 
@@ -711,3 +712,5 @@ def sign(expr: Any) -> int:
     if expr.free_symbols:
         raise InputError(f"{expr}: the sign of a symbolic expression is not determined")
     return AlgebraicNumber.from_expr(expr)._compare(0)
+
+check_public(globals())

@@ -28,6 +28,7 @@ from typing import Iterable, Sequence
 import flint
 import sympy as sp
 
+from ..arguments import check_public
 from ..errors import InputError
 from .algebraic import _with_prec, identify, root_ball, root_of
 from .embedding import Integral, adjoin, integral_scale, interpolate, vanishes
@@ -357,3 +358,5 @@ def _member_of_q(expr: sp.Expr) -> Elem | None:
 
 
 QQ_FIELD = NumberField()
+
+check_public(globals())

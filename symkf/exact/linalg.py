@@ -13,6 +13,7 @@ from typing import Sequence
 import flint
 import sympy as sp
 
+from ..arguments import check_public
 from .field import Elem, NumberField, QQ_FIELD
 from .numbers import as_matrix, sympify
 
@@ -89,3 +90,5 @@ def nullspace_rows(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -
             h[pc] = -A[i][fc]
         basis.append(h)
     return basis
+
+check_public(globals())

@@ -31,7 +31,6 @@ import contextvars
 import math
 import numbers
 import re
-import reprlib
 import warnings
 from dataclasses import dataclass, field
 from decimal import Decimal
@@ -40,6 +39,7 @@ from typing import Any, Collection, Iterable, Iterator, Mapping, NamedTuple, Seq
 
 import sympy as sp
 
+from ..arguments import check_public, described
 from .. import budget
 from ..errors import InexactInputError, InputError, ShapeError
 
@@ -360,16 +360,6 @@ def to_rational(value: Any, entry: str) -> sp.Rational:
     return out
 
 
-def described(value: Any) -> str:
-    """``value`` for an error message: its type and a short repr (a hostile ``__repr__`` is never
-    needed to build the message)."""
-    try:
-        shown = reprlib.repr(value)
-    except Exception:  # noqa: BLE001 - any failure of the caller's __repr__ just hides the value
-        shown = "..."
-    return f"{type(value).__name__} {shown if isinstance(shown, str) else '...'}"
-
-
 def as_matrix(value: Any, entry: str) -> sp.Matrix:
     """A sympy matrix as it is (its entries are sympy objects already); anything else, e.g. rows
     of user entries, through :func:`to_exact_matrix` (sympy's Matrix would parse strings)."""
@@ -599,3 +589,5 @@ def decimal_matrix(rows: Any, entry: str) -> sp.ImmutableMatrix:
         return to_exact_matrix(rows, entry, rationalize=True)
     finally:
         _ACTIVE.reset(token)
+
+check_public(globals())

@@ -21,6 +21,7 @@ import flint
 import sympy as sp
 from sympy.polys.polyerrors import PolynomialError
 
+from ..arguments import check_public
 from ..errors import InputError
 from .algebraic import AlgebraicNumber, _real_roots, sympy_to_fmpz, x
 
@@ -153,3 +154,5 @@ def perron_root(rows: Rows, n: int) -> AlgebraicNumber:
         if cand is not None and (best is None or cand > best):
             best = cand
     return best if best is not None and best > 0 else AlgebraicNumber.from_expr(0)
+
+check_public(globals())

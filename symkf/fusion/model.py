@@ -31,6 +31,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from ..arguments import check_public
 from ..errors import AssumptionError, InputError, ProbabilityError
 from ..exact.algebraic import sympy_to_fmpz
 from ..exact.numbers import sympify, to_exact, to_exact_matrix
@@ -230,3 +231,5 @@ class FusionModel:
         Q = float(sigma2) * B @ B.T
         return cls._build(Ac_exact, A, Q, sensors, arrival, Bc_exact, Ts_exact,
                           f"zero-order hold of a continuous-time model, Ts = {Ts_exact}")
+
+check_public(globals())

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from ..arguments import check_public
 from ..model import Sensor
 from ..reproduction import discrepancy, reproduction
 from .covariance import fusion_sigma, remote_error_covariance, unbiasedness_matrix
@@ -182,6 +183,8 @@ def reproduce_fusion_pendulum(outdir: str | None = None, paths: int = 50, horizo
     }
     return reproduction("fusion-pendulum", "seed 003 (arXiv 2012.04896), Section 4, Figs. 2-3",
                         results, checks, discrepancies)
+
+check_public(globals())
 
 
 if __name__ == "__main__":

@@ -33,6 +33,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
+from ..arguments import check_public
 from ..errors import AssumptionError, InputError, NotPositiveDefiniteError, ShapeError
 
 __all__ = ["optimal_weights", "fused_covariance", "METHODS"]
@@ -183,3 +184,5 @@ def fused_covariance(Sigma: np.ndarray, W: np.ndarray) -> np.ndarray:
     """``P = W' Sigma W`` (eq. 19), the error covariance of the fused estimate."""
     P = W.T @ Sigma @ W
     return (P + P.T) / 2
+
+check_public(globals())

@@ -35,6 +35,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from ..arguments import check_public
 from ..decay import restricted_transfer
 from ..errors import AssumptionError
 from ..exact.algebraic import AlgebraicNumber
@@ -256,3 +257,5 @@ def markdown_table(comparisons: Sequence[Comparison], digits: int = 6) -> str:
                      f"{describe(c.theorem2, digits)} | {describe(c.exact, digits)} | {fmt(s)} / {fmt(e)} | "
                      f"{gap} | {cov} | {'yes' if c.sufficient_inside_exact else 'NO'} |")
     return "\n".join(lines)
+
+check_public(globals())

@@ -26,6 +26,7 @@ from typing import Any, Callable, Sequence
 import mpmath
 import sympy as sp
 
+from ..arguments import check_public
 from ..errors import InputError
 from ..exact.numbers import to_exact
 
@@ -201,3 +202,5 @@ def threshold_success(threshold: Any) -> Callable[[Any, Any], Any]:
     """The outage model ``f(s, b) = 1{s >= threshold(b)}``; ``threshold`` is a number or a function of ``b``."""
     th = threshold if callable(threshold) else (lambda b, c=threshold: c)
     return lambda s, b: 1 if s >= mpmath.mpf(th(b)) else 0
+
+check_public(globals())

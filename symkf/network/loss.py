@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import sympy as sp
 
+from ..arguments import check_public
 from ..errors import AssumptionError, InputError
 from ..exact.numbers import substitution
 from ..losses import LossChain, LossModel, MarkovLoss, _probability
@@ -253,3 +254,5 @@ def induced_loss(loss: NetworkLoss, dynamics: PeriodicDynamics | None = None) ->
         return loss.as_markov_loss()
     except AssumptionError:
         return loss
+
+check_public(globals())

@@ -14,6 +14,7 @@ from typing import Any, Mapping, Sequence
 
 import sympy as sp
 
+from ..arguments import check_public
 from ..errors import InputError, ProbabilityError
 from ..exact.numbers import substitution, sympify
 from ..losses import _probability
@@ -148,3 +149,5 @@ class SemiMarkovNetworkState:
 
     def __repr__(self) -> str:
         return f"SemiMarkovNetworkState(q={self.q.tolist()}, sigma={self.sigma})"
+
+check_public(globals())
