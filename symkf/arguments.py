@@ -9,17 +9,17 @@ an :class:`~symkf.errors.InputError` naming the function, the parameter and the 
 What an annotation asks (resolved lazily, on the first call, so forward references work):
 
 * a class: an instance of it (a symkf class: of its symkf root class, so that the function names
-  the assumption a sibling fails, e.g. an i.i.d. theorem given a Gilbert-Elliott model;
-  ``float`` takes any real number, a path
-  takes ``str`` or ``os.PathLike``, a sympy expression also takes a number or a string, which the
-  function reads through :mod:`symkf.exact.numbers`; a matrix also takes rows);
+  the assumption a sibling fails, e.g. an i.i.d. theorem given a Gilbert-Elliott model; any
+  sympy matrix for a sympy matrix class; ``float`` and mpmath's ``mpf`` take any real number, a path
+  takes ``str`` or ``os.PathLike``);
 * ``X | None``, unions, ``Literal[...]`` (one of the values), ``Callable``;
-* ``Sequence``/``list``/``tuple`` (a list or tuple), ``Mapping``/``dict``, ``set``/``frozenset``,
-  ``Iterable``/``Collection`` (any iterable but a string): the container, not its elements,
-  which the function validates with its own entry names;
+* ``Sequence[X]``/``list[X]``/``tuple[X, ...]`` (a list or tuple), ``set[X]``/``frozenset[X]``,
+  ``Iterable[X]``/``Collection[X]`` (any iterable but a string), each with its elements checked
+  when it is a list, tuple or set; ``tuple[A, B]`` element by element; ``Mapping``/``dict``;
 * ``Any``, type variables and anything unresolvable: not checked.
 
-A parameter left at its default is not checked.
+A parameter left at its default is not checked, and neither is a call from symkf itself: the
+checks guard the boundary, where outside data comes in, and cost nothing inside the engine.
 """
 
 from __future__ import annotations
@@ -30,11 +30,12 @@ import inspect
 import numbers
 import os
 import reprlib
+import sys
 import types
 import typing
-from decimal import Decimal
-from fractions import Fraction
 from typing import Any, Callable
+
+import numpy as np
 
 from .errors import InputError
 
@@ -51,11 +52,6 @@ def described(value: Any) -> str:
     return f"{type(value).__name__} {shown if isinstance(shown, str) else '...'}"
 
 
-def _number_like(value: Any) -> bool:
-    return isinstance(value, (numbers.Number, Fraction, Decimal, str)) and not isinstance(value, bool) \
-        or hasattr(type(value), "_sympy_")
-
-
 def _test(hint: Any) -> tuple[Callable[[Any], bool], str] | None:
     """(predicate, words) for an annotation, or None when it asks nothing checkable."""
     origin, args = typing.get_origin(hint), typing.get_args(hint)
@@ -69,20 +65,31 @@ def _test(hint: Any) -> tuple[Callable[[Any], bool], str] | None:
         return (lambda v: (none and v is None) or any(t(v) for t, _ in tests),
                 " or ".join([w for _, w in tests] + ["None"] * none))
     if origin is typing.Literal:
-        return (lambda v: any(v == a and type(v) is type(a) for a in args)), "one of " + ", ".join(map(repr, args))
+        return (lambda v: any(type(v) is type(a) and v == a for a in args)), "one of " + ", ".join(map(repr, args))
     if origin is not None:
         hint = origin
     if not isinstance(hint, type):
         return None
     if hint in (abc.Callable,):
         return callable, "a callable"
-    if hint in (list, tuple, abc.Sequence, abc.MutableSequence):
-        return (lambda v: isinstance(v, (list, tuple))), "a list or tuple"
+    if hint is tuple and args and args[-1] is not Ellipsis:  # tuple[A, B, C]: one element each
+        parts = [_test(a) or (lambda v: True, "anything") for a in args]
+        return (lambda v: isinstance(v, (list, tuple)) and len(v) == len(parts)
+                and all(t(e) for (t, _), e in zip(parts, v))), f"a tuple ({', '.join(w for _, w in parts)})"
+    if hint in (list, tuple, abc.Sequence, abc.MutableSequence, set, frozenset, abc.Set, abc.MutableSet,
+                abc.Iterable, abc.Collection):
+        # the elements of a list, tuple, set or dict (its keys) are checked; a generator is left to the function
+        kind = ((list, tuple), "a list or tuple") if hint in (list, tuple, abc.Sequence, abc.MutableSequence) else \
+            ((set, frozenset), "a set") if hint in (set, frozenset, abc.Set, abc.MutableSet) else (None, "an iterable")
+        container = (lambda v: isinstance(v, kind[0])) if kind[0] else _iterable
+        inner = _test(args[0]) if args and (len(args) == 1 or args[1] is Ellipsis) else None
+        if inner is None:
+            return container, kind[1]
+        return (lambda v: container(v) and (not isinstance(v, (list, tuple, set, frozenset, dict, np.ndarray))
+                                            or all(inner[0](e) for e in v))), f"{kind[1]} of {inner[1]}"
     if hint in (dict, abc.Mapping, abc.MutableMapping):
         return (lambda v: isinstance(v, abc.Mapping)), "a mapping"
-    if hint in (set, frozenset, abc.Set, abc.MutableSet):
-        return (lambda v: isinstance(v, (set, frozenset))), "a set"
-    if hint in (abc.Iterable, abc.Collection, abc.Iterator):
+    if hint is abc.Iterator:
         return _iterable, "an iterable"
     if hint is bool:
         return (lambda v: isinstance(v, bool) or type(v).__name__ == "bool_"), "a bool"
@@ -98,12 +105,11 @@ def _test(hint: Any) -> tuple[Callable[[Any], bool], str] | None:
         return (lambda v: isinstance(v, (str, os.PathLike))), "a path"
     module = hint.__module__.split(".")[0]
     if module == "sympy" and hasattr(hint, "is_Matrix") and issubclass(hint, _sympy_matrix()):
-        return (lambda v: isinstance(v, (hint, list, tuple)) or type(v).__name__ == "ndarray"), \
-            f"a {hint.__name__} or a list of rows"
-    if module == "sympy":
-        return (lambda v: isinstance(v, hint) or _number_like(v)), f"a {hint.__name__} or an exact number"
-    if module == "numpy" and hint.__name__ == "ndarray":
-        return (lambda v: isinstance(v, (hint, list, tuple))), "an array or a list"
+        return (lambda v: isinstance(v, _sympy_matrix())), "a sympy matrix"
+    if hint is np.ndarray:  # of numbers: numpy's kernels do not take objects or text
+        return (lambda v: isinstance(v, np.ndarray) and v.dtype.kind in "biufc"), "a numeric array"
+    if module == "mpmath":
+        return (lambda v: isinstance(v, (hint, numbers.Real)) and not isinstance(v, bool)), "a real number"
     if module == "symkf":  # a sibling of the same symkf root (e.g. any loss model) is the function's to refuse
         root = [c for c in hint.__mro__ if c.__module__.split(".")[0] == "symkf"][-1]
         return (lambda v: isinstance(v, root)), f"a {root.__name__}"
@@ -128,13 +134,14 @@ def _sympy_matrix() -> type:
 def _tests(fn: Callable) -> list[tuple[int, str, Callable[[Any], bool], str, Any]]:
     """(position, name, predicate, words, default) per checked parameter of ``fn``."""
     signature = inspect.signature(fn)
+    names = {**_symkf_classes(), **vars(sys.modules[fn.__module__])}  # the module's own names first
     out = []
     for position, (name, p) in enumerate(signature.parameters.items()):
         if p.annotation is p.empty or p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD):
             continue
         try:
             probe = type("Probe", (), {"__annotations__": {name: p.annotation}, "__module__": fn.__module__})
-            hint = typing.get_type_hints(probe)[name]
+            hint = typing.get_type_hints(probe, localns=names)[name]
         except Exception:  # noqa: BLE001 - an annotation we cannot resolve asks nothing checkable
             continue
         test = _test(hint)
@@ -144,6 +151,26 @@ def _tests(fn: Callable) -> list[tuple[int, str, Callable[[Any], bool], str, Any
     return out
 
 
+def _symkf_classes() -> dict[str, type]:
+    """The public classes of the symkf modules imported so far, by name: annotations that name a
+    class imported only for type checking resolve through them."""
+    out: dict[str, type] = {}
+    for name, module in list(sys.modules.items()):
+        if name.startswith("symkf.") and module is not None:
+            out.update({k: v for k, v in vars(module).items()
+                        if isinstance(v, type) and not k.startswith("_") and v.__module__.startswith("symkf.")})
+    return out
+
+
+def float_array(value: Any, entry: str) -> np.ndarray:
+    """``value`` as a float64 array, or an :class:`InputError` naming ``entry`` (numpy's
+    ``asarray`` raises ValueError or TypeError for text, objects and ragged rows)."""
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{entry}: expected real numbers (an array or rows), got {described(value)}") from None
+
+
 def checked(fn: Callable) -> Callable:
     """``fn`` with its annotated arguments checked first (module docstring)."""
     tests: list | None = None
@@ -151,8 +178,10 @@ def checked(fn: Callable) -> Callable:
     @functools.wraps(fn)
     def call(*args, **kwargs):
         nonlocal tests
+        if sys._getframe(1).f_globals.get("__name__", "").startswith("symkf."):
+            return fn(*args, **kwargs)  # symkf's own calls pass what it built: the checks guard the boundary
         if tests is None:
-            tests = _tests(fn)
+            tests = _tests(getattr(fn, "py_func", fn))  # a numba kernel: its Python function's annotations
         for position, name, test, words, default in tests:
             value = args[position] if 0 <= position < len(args) else kwargs.get(name, _ABSENT)
             if value is _ABSENT or value is default:
@@ -162,21 +191,31 @@ def checked(fn: Callable) -> Callable:
         return fn(*args, **kwargs)
 
     call.__symkf_checked__ = True
+    for attr in ("cache_clear", "cache_info"):  # an lru_cache stays clearable
+        if hasattr(fn, attr):
+            setattr(call, attr, getattr(fn, attr))
     return call
 
 
 def check_public(namespace: dict) -> None:
     """Wrap every public function and public method defined in the module whose globals are
     ``namespace`` with :func:`checked`."""
+    if not isinstance(namespace, dict) or not isinstance(namespace.get("__name__"), str):
+        raise InputError(f"namespace: expected a module's globals(), got {described(namespace)}")
     module = namespace["__name__"]
     for name, obj in list(namespace.items()):
         if name.startswith("_") or getattr(obj, "__module__", None) != module:
             continue
-        if inspect.isfunction(obj) and not getattr(obj, "__symkf_checked__", False):
+        # plain functions, and the ones behind functools.lru_cache or a numba kernel
+        if (inspect.isfunction(obj) or callable(obj) and (hasattr(obj, "__wrapped__") or hasattr(obj, "py_func"))) \
+                and not isinstance(obj, type) and not getattr(obj, "__symkf_checked__", False):
             namespace[name] = checked(obj)
         elif isinstance(obj, type):
             for attr, member in list(vars(obj).items()):
-                if attr.startswith("_"):
+                # a hand-written __init__ is checked; a dataclass's generated one (code from
+                # "<string>") only stores the fields
+                if attr.startswith("_") and not (attr == "__init__" and inspect.isfunction(member)
+                                                 and member.__code__.co_filename != "<string>"):
                     continue
                 if inspect.isfunction(member):
                     setattr(obj, attr, checked(member))

@@ -27,6 +27,7 @@ from .progress import still_working
 
 if TYPE_CHECKING:
     from .exact.algebraic import AlgebraicNumber
+    from .losses import LossModel
 
 
 # name -> (module, function, keyword arguments of --quick); each function returns
@@ -91,7 +92,7 @@ def _blocks_json(A: Any) -> list[dict[str, Any]]:
             for b in eigen_blocks(A)]
 
 
-def loss_json(loss: Any) -> dict[str, Any]:
+def loss_json(loss: "LossModel") -> dict[str, Any]:
     """A loss model as a JSON object: ``kind`` (as in a system file's ``[loss]`` table) and its
     parameters as exact strings; a Markov or network model also gives its lifted chain."""
     from .losses import IID, GilbertElliott

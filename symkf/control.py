@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 import numpy as np
 import sympy as sp
 
-from .arguments import check_public
+from .arguments import check_public, float_array
 from .errors import InputError, ShapeError, require_extra
 from .exact.numbers import as_matrix
 from .model import Sensor, System
@@ -129,8 +129,8 @@ def to_statespace(system: System, B: Any = None, D: Any = None, dt: float | bool
     A, C = float_matrix(system.A, "A"), float_matrix(system.C, "C")
     n, p = A.shape[0], C.shape[0]
     # python-control mishandles empty (p, 0) feedthroughs, so "no input" is one input that does not act
-    B = np.zeros((n, 1)) if B is None else np.asarray(B, dtype=float)
-    D = np.zeros((p, B.shape[1])) if D is None else np.asarray(D, dtype=float)
+    B = np.zeros((n, 1)) if B is None else float_array(B, "B")
+    D = np.zeros((p, B.shape[1])) if D is None else float_array(D, "D")
     labels = [s.name if s.m == 1 else f"{s.name}[{j}]" for s in system.sensors for j in range(s.m)]
     return ct.ss(A, B, C, D, dt, outputs=labels, name=system.name)
 

@@ -9,7 +9,7 @@ definite exactly (Sylvester's criterion with certified signs).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import sympy as sp
 
@@ -18,6 +18,9 @@ from . import budget
 from .errors import InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, SymkfError, UnobservableError
 from .exact.algebraic import sign
 from .exact.numbers import as_matrix, decimal_matrix, rationalization, sympify, to_exact_matrix
+
+if TYPE_CHECKING:
+    from .spectral import Eigenvalue
 
 
 def _compare_periods(A: sp.MatrixBase, decimal_A: Any) -> str:
@@ -257,7 +260,7 @@ class System:
         """The sensors' names, in order."""
         return tuple(s.name for s in self.sensors)
 
-    def unseen(self, lam: Any) -> bool:
+    def unseen(self, lam: "Eigenvalue") -> bool:
         """PBH test: whether the eigenvalue ``lam`` (a :class:`~symkf.spectral.Eigenvalue` of A)
         has an eigenvector in the kernel of every C_i (:func:`symkf.spectral.unseen`, cached)."""
         cached = self._cache.get("unseen")

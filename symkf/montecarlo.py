@@ -18,12 +18,12 @@ import functools
 import math
 from dataclasses import dataclass
 from statistics import NormalDist
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 import sympy as sp
 
-from .arguments import check_public
+from .arguments import check_public, float_array
 from . import budget
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
@@ -34,6 +34,9 @@ from .losses import IID, GilbertElliott, LossModel, require_numbers
 from .model import System
 from .progress import progress
 from .sweep import sweep
+
+if TYPE_CHECKING:
+    from .stability import Verdict
 
 #: paths per batch: bounds memory and drives the progress bar
 CHUNK = 50_000
@@ -165,6 +168,7 @@ class TraceEstimate:
 
     def covers(self, values: np.ndarray) -> np.ndarray:
         """Which steps' intervals contain ``values``."""
+        values = float_array(values, "values")
         return (self.low <= values) & (values <= self.high)
 
 
@@ -212,7 +216,7 @@ def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...],
     return phases, sympify(cert.modulus) ** (2 * cert.class_period)
 
 
-def exact_growth_rate(verdict) -> AlgebraicNumber:
+def exact_growth_rate(verdict: "Verdict") -> AlgebraicNumber:
     """The exact per-step growth rate of ``E[tr P_k]``: ``max_i alpha_i^2 rho_i`` when unstable,
     else 1 (bounded), as an AlgebraicNumber."""
     return max(verdict.margins) if not verdict.stable else AlgebraicNumber.from_expr(sp.Integer(1))
@@ -719,6 +723,8 @@ def polynomial_allowance(horizons: Sequence[int], degree: int = 1) -> float:
     (``benchmarks/float_resolution.py``) the estimate is +0.008 %, inside the lower half.
     :func:`float_horizon` now keeps the horizons where float64 resolves every path.
     """
+    if len(horizons) != 3 or not 0 < horizons[0] < horizons[1]:
+        raise InputError(f"horizons: expected three increasing horizons (k, k + h, k + 2h), got {horizons!r}")
     k, k1, _ = horizons
     h = k1 - k
     return degree * math.log((k + 2 * h) / (k + h)) / h

@@ -73,6 +73,10 @@ class RawRegression:
 
     def rank(self, received: Sequence[Pair]) -> int:
         """Rank of ``O_N U`` for the received pairs."""
+        received = [tuple(p) for p in received]
+        unknown = [p for p in received if p not in self.rows]
+        if unknown:
+            raise InputError(f"received: {unknown[0]!r} is not a pair (k, j) with k < N = {self.N} and a sensor j")
         rows = [row for p in received for row in self.rows[p]]
         if not rows:
             return 0

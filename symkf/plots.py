@@ -17,6 +17,7 @@ lazily; without it :class:`PlotExtraError` (exit status 2 on the command line).
 
 from __future__ import annotations
 
+import os
 import sys
 from fractions import Fraction
 from math import gcd
@@ -236,7 +237,7 @@ def rational_angles(max_denominator: int) -> list[Fraction]:
 
 
 def critical_angle_figure(scale: Any = 2, *, max_denominator: int = 6, C: Sequence[Sequence[Any]] = ((1, 0),),
-                          path: Any = None) -> Any:
+                          path: str | os.PathLike | None = None) -> Any:
     """The exact critical common loss rate of ``A = scale R(pi p/q)`` against the angle ``pi p/q``.
 
     At a rational angle the block is periodic and rows ``C A^k`` repeat

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, Sequence
+from typing import Any, Iterable, Sequence
 
 import sympy as sp
 
@@ -187,7 +187,7 @@ class StabilityRegion:
         return min(values)
 
 
-def distinct(values) -> list[AlgebraicNumber]:
+def distinct(values: Iterable[AlgebraicNumber]) -> list[AlgebraicNumber]:
     """The values sorted, exact duplicates removed."""
     out: list[AlgebraicNumber] = []
     for v in sorted(values):

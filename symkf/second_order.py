@@ -41,7 +41,7 @@ naming the assumption and pointing to the general engine, :mod:`symkf.stability`
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Literal, Sequence
 
 import sympy as sp
 
@@ -94,7 +94,7 @@ class CongruentSets:
         """The period in (38): ``tau`` as printed, ``g`` corrected; None when infinite."""
         return self.tau if period == "tau" else self.governing_period
 
-    def p_star(self, arrival: Any) -> tuple[sp.Expr, ...]:
+    def p_star(self, arrival: Sequence[Any]) -> tuple[sp.Expr, ...]:
         """eq. (37) for the merged sensors, from the original sensors' arrival rates."""
         miss = merged_losses(self, [1 - to_exact(p, f"arrival[{i}]", symbols=True) for i, p in enumerate(arrival)])
         return tuple(sp.Mul(*[miss[j] for j in sorted(J)]) for J in self.sets)

@@ -60,7 +60,7 @@ from typing import Any
 import sympy as sp
 
 from .arguments import check_public
-from .errors import AssumptionError, FileFormatError, NumericalBreakdownError, SymkfError
+from .errors import AssumptionError, FileFormatError, InputError, NumericalBreakdownError, SymkfError
 from .exact.algebraic import AlgebraicNumber
 from .families import Member, load_family
 from .files import read_toml
@@ -200,6 +200,8 @@ def _divergence_json(r: DivergenceResult, requested: int) -> dict[str, Any]:
 
 def summary(report: dict[str, Any]) -> str:
     """The report as a few lines of plain text."""
+    if not {"theory", "simulation"} <= set(report):
+        raise InputError("report: expected a report of symkf.verify.verify (keys 'theory' and 'simulation')")
     t, s = report["theory"], report["simulation"]
     lines = [f"theory:     {'stable' if t['stable'] else 'NOT stable'} ({t['theorem']})",
              "            margins alpha_i^2 rho_i: " + ", ".join(

@@ -9,8 +9,10 @@ in every required one.  The walk asserts
   guard of ``conftest.py`` turns that into :class:`conftest.StringEvaluation`);
 * no untranslated exception.  The rule: a public callable given bad input raises a
   :class:`symkf.errors.SymkfError` (which names the argument); nothing else counts as an answer.
-  Exempt by contract: ``KeyboardInterrupt`` (never raised by a payload) and ``SystemExit`` from
-  ``symkf.cli.main``'s argument parser, which is the command line's exit status.  A call that
+  Exempt by contract: ``KeyboardInterrupt`` (never raised by a payload), ``SystemExit`` from
+  ``symkf.cli.main``'s argument parser (the command line's exit status), and hypothesis's
+  ``InvalidArgument`` from :mod:`symkf.strategies` (the contract of a hypothesis strategy's
+  arguments; its message names the argument).  A call that
   runs out of its CPU budget (:data:`CPU_PER_CALL`: a payload was accepted as legitimate data
   by a parameter that takes anything, and real work started) is a skip, counted and reported.
 
@@ -215,13 +217,21 @@ def _call(fn: Callable, params: list[inspect.Parameter], target: inspect.Paramet
 
 
 def _allowed(qualname: str, exc: BaseException) -> bool:
-    return isinstance(exc, (SymkfError, KeyboardInterrupt)) or isinstance(exc, SystemExit) and qualname == "symkf.cli.main"
+    from hypothesis.errors import InvalidArgument
+    return isinstance(exc, (SymkfError, KeyboardInterrupt)) or \
+        isinstance(exc, SystemExit) and qualname == "symkf.cli.main" or \
+        isinstance(exc, InvalidArgument) and qualname.startswith("symkf.strategies.")
 
 
 def walk(mark: Path, select: Callable[[str, str, str, int], bool]) -> dict:
     """Run the walk over the (callable, parameter, form, payload index) that ``select`` keeps;
     returns the figures and the findings."""
     callables = public_callables()
+    for module in ("cvxpy", "control", "matplotlib.pyplot", "distributed"):  # no timer may stop an import halfway
+        try:
+            importlib.import_module(module)
+        except ImportError:
+            pass
     figures = collections.Counter()
     executions, reached, untranslated, skips = [], [], collections.Counter(), []
     examples: dict = {}

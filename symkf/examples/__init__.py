@@ -18,6 +18,7 @@ from __future__ import annotations
 from importlib.resources import files
 from pathlib import Path
 
+from ..arguments import check_public
 from ..errors import InputError
 
 __all__ = ["directory", "systems", "families", "system", "family"]
@@ -54,3 +55,6 @@ def _named(folder: Path, name: str) -> Path:
         known = sorted(str(p.relative_to(folder).with_suffix("")) for p in folder.rglob("*.toml"))
         raise InputError(f"no example {name!r} in {folder.name}/; known: {', '.join(known)}")
     return path
+
+
+check_public(globals())

@@ -37,7 +37,7 @@ import sympy as sp
 
 from ..arguments import check_public
 from ..decay import restricted_transfer
-from ..errors import AssumptionError
+from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import sympify
 from ..losses import LossModel
@@ -235,7 +235,7 @@ def example(name: str) -> NetworkExample:
     for ex in FAMILY:
         if ex.name == name:
             return ex
-    raise KeyError(name)
+    raise InputError(f"name: {name!r} is not an example of the family; one of {', '.join(ex.name for ex in FAMILY)}")
 
 
 def markdown_table(comparisons: Sequence[Comparison], digits: int = 6) -> str:
