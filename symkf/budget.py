@@ -21,7 +21,7 @@ import sys
 from dataclasses import dataclass
 from typing import Iterator
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .errors import BudgetError, InputError
 
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
 
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from . import __version__, budget, output
 from .errors import SymkfError
 from .progress import still_working

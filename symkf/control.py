@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 import numpy as np
 import sympy as sp
 
-from .arguments import check_public, float_array
+from .exact.arguments import check_public, float_array
 from .errors import InputError, ShapeError, require_extra
 from .exact.numbers import as_matrix
 from .model import Sensor, System

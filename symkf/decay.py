@@ -32,7 +32,7 @@ import numpy as np  # outside counts from BlockRows.inside
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .errors import AperiodicError, InputError
 from .exact import perron
 from .exact.algebraic import AlgebraicNumber

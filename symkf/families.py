@@ -42,7 +42,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from . import budget, files
 from .errors import AssumptionError, FileFormatError, SymkfError
 from .exact.algebraic import AlgebraicNumber

@@ -44,7 +44,7 @@ from decimal import Decimal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from . import budget
 from .errors import FileFormatError, SymkfError
 from .exact.numbers import to_exact

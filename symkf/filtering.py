@@ -32,7 +32,7 @@ from typing import Sequence
 import numpy as np
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .errors import InputError, NumericalBreakdownError, ShapeError
 from .losses import LossModel
 from .model import System

@@ -18,7 +18,7 @@ import flint
 import numpy as np  # float chains for simulation (LossModel.numeric)
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from . import budget
 from .errors import AssumptionError, InputError, ProbabilityError
 from .exact.algebraic import sign

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any, Sequence
 
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from . import budget
 from .errors import InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, SymkfError, UnobservableError
 from .exact.algebraic import sign

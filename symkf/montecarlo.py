@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any, Sequence
 import numpy as np
 import sympy as sp
 
-from .arguments import check_public, float_array
+from .exact.arguments import check_public, float_array
 from . import budget
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber

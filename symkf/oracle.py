@@ -41,7 +41,7 @@ import sympy as sp
 from sympy.polys.constructor import construct_domain
 from sympy.polys.matrices import DomainMatrix
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .exact.numbers import sympify, to_exact_matrix
 
 Pair = tuple[int, int]  # (time k, sensor j)

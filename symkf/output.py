@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Callable, Iterable
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .errors import OutputError
 
 #: image formats matplotlib writes, by extension; any other extension is written as PNG

@@ -26,7 +26,7 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .errors import ExtraNotInstalledError, InputError, SymkfError
 from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel

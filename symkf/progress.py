@@ -11,7 +11,7 @@ from typing import Iterator
 
 from tqdm.auto import tqdm
 
-from .arguments import check_public
+from .exact.arguments import check_public
 
 
 def progress(total: int, desc: str, *, enabled: bool | None = None) -> tqdm:

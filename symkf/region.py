@@ -26,7 +26,7 @@ from typing import Any, Iterable, Sequence
 
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .decay import ge_rate, outside_counts
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber, sign, sympy_to_fmpz

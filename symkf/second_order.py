@@ -45,7 +45,7 @@ from typing import Any, Literal, Sequence
 
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .errors import AperiodicError, AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber
 from .exact.field import Elem, NumberField

@@ -29,7 +29,7 @@ from typing import Any, Sequence
 import flint
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .exact.algebraic import (AlgebraicNumber, _complex_roots, _with_prec, crootof_ball, fmpz_to_sympy, identify,
                               real_from_ball, root_ball)
 from .exact import nfpoly

@@ -48,7 +48,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .arguments import check_public
+from .exact.arguments import check_public
 
 #: paths per block, a compile-time constant: the path loops have a fixed trip count (no remainder
 #: loops, no per-entry set-up); 64 measured faster than 32 and as fast as 128 at n = 2..8

@@ -16,7 +16,7 @@ from typing import Any, Sequence
 import flint
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .decay import BlockRate, block_rate, outside_counts
 from .errors import AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber, _with_prec, identify

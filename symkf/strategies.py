@@ -35,7 +35,7 @@ from typing import Any, NamedTuple, Sequence
 
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .errors import require_extra
 
 require_extra("hypothesis", "strategies", "symkf.strategies")

@@ -24,7 +24,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Sequence, TypeVar
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from . import budget
 from .errors import InputError
 from .progress import progress as progress_bar

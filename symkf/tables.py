@@ -28,7 +28,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from . import examples
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber

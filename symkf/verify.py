@@ -59,7 +59,7 @@ from typing import Any
 
 import sympy as sp
 
-from .arguments import check_public
+from .exact.arguments import check_public
 from .errors import AssumptionError, FileFormatError, InputError, NumericalBreakdownError, SymkfError
 from .exact.algebraic import AlgebraicNumber
 from .families import Member, load_family

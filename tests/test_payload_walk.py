@@ -340,3 +340,43 @@ def test_guard_refuses_string_evaluation():
         sp.sympify("1+1")
     with pytest.raises(StringEvaluation):
         sp.Matrix([["1"]])
+
+
+def _confirmed_holes(p: str) -> dict[str, Callable[[], Any]]:
+    """The calls of issue 26 that created the marker file on main, each with its form."""
+    from symkf import control, model, oracle, region, strategies
+    from symkf.exact import algebraic, field
+    from symkf.exact.numbers import sympify
+    x = algebraic.x
+    return {
+        "numbers.sympify tuple": lambda: sympify((p,)),
+        "numbers.sympify dict": lambda: sympify({p: p}),
+        "numbers.sympify set": lambda: sympify({p}),
+        "AlgebraicNumber(poly={...})": lambda: algebraic.AlgebraicNumber({p: 1}, 0),
+        "AlgebraicNumber.from_root tuple": lambda: algebraic.AlgebraicNumber.from_root((p,), 0, 1),
+        "AlgebraicNumber.from_root dict": lambda: algebraic.AlgebraicNumber.from_root({p: 1}, 0, 1),
+        "AlgebraicNumber.from_root lo": lambda: algebraic.AlgebraicNumber.from_root(sp.Poly(x ** 2 - 2, x), [p], 2),
+        "AlgebraicNumber.refine(width=[...])": lambda: algebraic.AlgebraicNumber.from_expr(sp.sqrt(2)).refine([p]),
+        "exact.algebraic.sign": lambda: algebraic.sign((p,)),
+        "sympy_to_fmpz": lambda: algebraic.sympy_to_fmpz({p: 1}),
+        "NumberField.convert": lambda: field.NumberField([sp.sqrt(2)]).convert((p,)),
+        "check_positive_definite": lambda: model.check_positive_definite(np.array([[p]], dtype=object), "M"),
+        "control.float_matrix": lambda: control.float_matrix(np.array([[p]], dtype=object), "M"),
+        "gilbert_elliott_losses": lambda: strategies.gilbert_elliott_losses(1, max_denominator=[p]),
+        "roots_in_unit": lambda: region.roots_in_unit((p,), sp.Symbol("t")),
+        "iid_probability": lambda: oracle.iid_probability([(p,)]),
+    }
+
+
+@pytest.mark.parametrize("name", list(_confirmed_holes("")))
+def test_confirmed_holes_are_refused_without_running(mark, name):
+    """Each with the guard lifted, as on a user's machine: the payload never runs and the call
+    is refused with symkf's error (hypothesis's InvalidArgument for the strategy)."""
+    from hypothesis.errors import InvalidArgument
+    import sympy.parsing.sympy_parser as parser
+    with pytest.MonkeyPatch.context() as m:
+        for evaluator in ("parse_expr", "eval_expr"):
+            m.setattr(parser, evaluator, ORIGINAL[evaluator])
+        with pytest.raises((SymkfError, InvalidArgument)):
+            _confirmed_holes(PAYLOADS[0].format(mark=mark))[name]()
+    assert not mark.exists()

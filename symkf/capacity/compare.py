@@ -21,7 +21,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..exact.algebraic import AlgebraicNumber
 from ..losses import IID
 from ..model import System

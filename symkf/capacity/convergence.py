@@ -57,7 +57,7 @@ import flint
 import numpy as np
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..errors import InputError, NotPositiveDefiniteError
 from ..exact.linalg import rank
 from ..losses import IID

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..losses import IID
 from ..model import Sensor, System
 from ..reproduction import reproduction

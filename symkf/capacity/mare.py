@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..errors import AssumptionError
 from ..losses import IID
 from ..model import System

@@ -24,7 +24,7 @@ from typing import Any
 
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import sympify, to_exact_matrix

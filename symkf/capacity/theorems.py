@@ -31,7 +31,7 @@ from typing import Any
 
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.linalg import rank

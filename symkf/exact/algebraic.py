@@ -28,7 +28,7 @@ import flint
 import sympy as sp
 from sympy.polys.polyerrors import NotAlgebraic
 
-from ..arguments import check_public
+from .arguments import check_public
 from ..errors import InputError
 from .numbers import sympify, to_exact, to_rational
 

@@ -36,7 +36,7 @@ from typing import Callable
 
 import flint
 
-from ..arguments import check_public
+from .arguments import check_public
 from ..errors import InputError
 from .algebraic import _with_prec
 

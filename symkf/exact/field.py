@@ -23,12 +23,12 @@ from __future__ import annotations
 
 from functools import lru_cache
 from math import gcd
-from typing import Iterable, Sequence
+from typing import Any, Iterable, Sequence
 
 import flint
 import sympy as sp
 
-from ..arguments import check_public
+from .arguments import check_public
 from ..errors import InputError
 from .algebraic import _with_prec, identify, root_ball, root_of
 from .embedding import Integral, adjoin, integral_scale, interpolate, vanishes
@@ -306,7 +306,7 @@ class NumberField:
         return f"Q(theta), theta = {self.theta}, minpoly of degree {self.degree}"
 
     # -- conversion -------------------------------------------------------------
-    def convert(self, expr: sp.Expr) -> Elem:
+    def convert(self, expr: Any) -> Elem:
         """The element of this field equal to ``expr`` (raises if it is not in the field)."""
         expr = sympify(expr, "expr")
         if expr.is_Rational:

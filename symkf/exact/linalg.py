@@ -13,7 +13,7 @@ from typing import Sequence
 import flint
 import sympy as sp
 
-from ..arguments import check_public
+from .arguments import check_public
 from .field import Elem, NumberField, QQ_FIELD
 from .numbers import as_matrix, sympify
 

@@ -39,7 +39,7 @@ from typing import Any, Collection, Iterable, Iterator, Mapping, NamedTuple, Seq
 
 import sympy as sp
 
-from ..arguments import check_public, described
+from .arguments import check_public, described
 from .. import budget
 from ..errors import InexactInputError, InputError, ShapeError
 

@@ -21,7 +21,7 @@ import flint
 import sympy as sp
 from sympy.polys.polyerrors import PolynomialError
 
-from ..arguments import check_public
+from .arguments import check_public
 from ..errors import InputError
 from .algebraic import AlgebraicNumber, _real_roots, sympy_to_fmpz, x
 

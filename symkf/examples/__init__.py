@@ -18,7 +18,7 @@ from __future__ import annotations
 from importlib.resources import files
 from pathlib import Path
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..errors import InputError
 
 __all__ = ["directory", "systems", "families", "system", "family"]

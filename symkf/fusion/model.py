@@ -31,7 +31,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..errors import AssumptionError, InputError, ProbabilityError
 from ..exact.algebraic import sympy_to_fmpz
 from ..exact.numbers import sympify, to_exact, to_exact_matrix

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import solve_discrete_are
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..errors import InputError
 from .covariance import HoldingTimeCovariance
 from .local_filters import LocalFilters

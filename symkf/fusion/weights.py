@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from ..arguments import check_public, float_array
+from ..exact.arguments import check_public, float_array
 from ..errors import AssumptionError, InputError, NotPositiveDefiniteError, ShapeError
 
 __all__ = ["optimal_weights", "fused_covariance", "METHODS"]

@@ -35,7 +35,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..decay import restricted_transfer
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber

@@ -13,7 +13,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..errors import InputError, ShapeError
 from ..exact.algebraic import AlgebraicNumber, sign
 from ..exact.numbers import as_matrix, to_exact_matrix

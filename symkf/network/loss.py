@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..errors import AssumptionError, InputError
 from ..exact.numbers import substitution
 from ..losses import LossChain, LossModel, MarkovLoss, _probability

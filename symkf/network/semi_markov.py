@@ -32,7 +32,7 @@ from typing import Sequence
 import flint
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..errors import AssumptionError
 from ..exact.linalg import rank
 from .dynamics import PeriodicDynamics, certified_less_than_one, interval_sum, spectral_norm_squared

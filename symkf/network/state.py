@@ -14,7 +14,7 @@ from typing import Any, Mapping, Sequence
 
 import sympy as sp
 
-from ..arguments import check_public
+from ..exact.arguments import check_public
 from ..errors import InputError, ProbabilityError
 from ..exact.numbers import substitution, sympify
 from ..losses import _probability
