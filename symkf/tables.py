@@ -162,10 +162,9 @@ class Table:
                 "rows": [{"label": r.plain, "cells": [c.data for c in cells]} for r, cells in self.rows]}
 
     def write(self, path: str | Path) -> Path:
-        """Write :meth:`to_latex` to ``path``; returns the path."""
-        path = Path(path)
-        path.write_text(self.to_latex(), encoding="utf-8")
-        return path
+        """Write :meth:`to_latex` to ``path`` (atomically, never over a directory); returns the path."""
+        from .output import plan
+        return plan(path, "path", force=True).write_text(self.to_latex())
 
 
 # -- families -------------------------------------------------------------------------------
