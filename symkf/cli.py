@@ -1,7 +1,7 @@
 """The ``symkf`` command: plain text for people, ``--json`` for machines.
 
 Exit status 0 on success, 2 on bad input or usage (one line, no traceback),
-3 when a theorem's assumptions fail for the given system, 130 when interrupted (Ctrl-C).
+3 when a theorem's assumptions fail for the given system, 130 when interrupted (Ctrl-C), 143 on SIGTERM.
 Output files are checked before any work and written atomically (:mod:`symkf.output`); the
 resource caps of :mod:`symkf.budget` are raised with ``--max-degree`` and friends.
 """
@@ -14,7 +14,10 @@ import importlib
 import json
 import os
 import re
+import signal
 import sys
+import textwrap
+import threading
 import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
@@ -51,10 +54,21 @@ SCHEMA_VERSION = 1
 INTERNAL_ERROR = 70
 #: exit status after Ctrl-C (128 + SIGINT, as shells report it)
 INTERRUPTED = 130
+#: exit status after SIGTERM (128 + SIGTERM)
+TERMINATED = 143
 
 
 class UsageError(SymkfError):
     """Bad command-line usage."""
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread like Ctrl-C so that the same clean-up runs (worker
+    processes stopped, queued work cancelled, temporary files removed)."""
+
+
+def _raise_terminated(signum: int, frame: Any) -> None:
+    raise Terminated()
 
 
 @dataclass(frozen=True)
@@ -127,12 +141,13 @@ def cmd_demo(args: argparse.Namespace) -> dict[str, Any]:
 
 def _print_demo(res: dict[str, Any]) -> None:
     for e in res["examples"]:
-        print(f"== {e['system']}: A = {e['A']}")
+        print("\n".join(textwrap.wrap(f"== {e['system']}: A = {e['A']}", 100, subsequent_indent="      ")))
         for i, b in enumerate(e["blocks"]):
-            print(f"   block {i}: |lambda| = {b['modulus']}, eigenvalues {b['eigenvalues']}")
+            print(f"   block {i}: |lambda| = {b['modulus']}, eigenvalues {', '.join(b['eigenvalues'])}")
             print(f"            period tau = {b['tau']}, governing period = {b['governing_period']}")
             if b["tau"] is None or b["governing_period"] is None:
-                print(f"            proof: {b['proof']}")
+                print("\n".join(textwrap.wrap(f"proof: {b['proof']}", 100, initial_indent=" " * 12,
+                                               subsequent_indent=" " * 14)))
         c = e["critical_loss_rate"]
         print(f"   critical common i.i.d. loss rate = {c['exact']} ~ {c['decimal']}")
 
@@ -225,17 +240,17 @@ def _check_simulation_memory(args: argparse.Namespace, n: int) -> None:
 
 
 def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
-    from .verify import family_summary, is_family_file, summary, verify, verify_family
+    from .verify import is_family_file, verify, verify_family
     if is_family_file(args.file):
-        reports = verify_family(args.file, jobs=args.jobs, scheduler=args.scheduler, seed=args.seed,
-                                paths=args.paths, horizon=args.horizon)
-        return {"family": str(args.file), "members": reports, "_text": family_summary(reports),
-                "_status": 1 if any(r["outcome"] == "contradiction" for r in reports) else 0}
+        family = verify_family(args.file, jobs=args.jobs, scheduler=args.scheduler, seed=args.seed,
+                               paths=args.paths, horizon=args.horizon)
+        return {"family": str(args.file), "members": family.to_json(), "_text": str(family),
+                "_status": 1 if family.counts()["contradiction"] else 0}
     system, loss = _needs_loss(args)
-    report = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon, jobs=args.jobs)
+    result = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon, jobs=args.jobs)
     # exit status 1 (and "outcome": "contradiction") when simulation contradicts the theory
-    return {"system": str(args.file), "loss": loss_json(loss), **report, "_text": summary(report),
-            "_status": 1 if report["outcome"] == "contradiction" else 0}
+    return {"system": str(args.file), "loss": loss_json(loss), **result.to_json(), "_text": str(result),
+            "_status": 1 if result.outcome == "contradiction" else 0}
 
 
 def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
@@ -252,47 +267,24 @@ def _args_verify(p: argparse.ArgumentParser) -> None:
     _args_sweep(p, "family members, or a single system's simulated paths: ")
 
 
-def _mean_trace_rows(est: Any, points: int = 8) -> list[dict[str, Any]]:
-    """(k, mean, interval) at ``points`` evenly spread steps."""
-    count = min(points, est.horizon)
-    ks = sorted({round(i * (est.horizon - 1) / max(count - 1, 1)) for i in range(count)})
-    return [{"k": k, "mean": float(est.mean[k]), "low": float(est.low[k]), "high": float(est.high[k])} for k in ks]
-
-
 def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
-    from .montecarlo import estimate_mean_trace
+    from .simulation import simulate
     target = None
-    if args.plot:
+    if args.plot is not None:
         from .plots import require_matplotlib
         require_matplotlib()
         target = output.plan(args.plot, "--plot", inputs=[args.file], force=args.force)
     system, loss = _needs_loss(args)
-    est = estimate_mean_trace(system, loss, args.horizon, args.paths, seed=args.seed)
-    res: dict[str, Any] = {
-        "system": str(args.file), "loss": loss_json(loss), "quantity": "E[tr P_{k|k-1}], k = 0..horizon-1",
-        "method": "plain Monte Carlo (estimate_mean_trace)", "horizon": est.horizon, "paths": est.paths,
-        "seed": est.seed, "confidence": est.confidence, "summary": _mean_trace_rows(est),
-        "mean": est.mean.tolist(), "low": est.low.tolist(), "high": est.high.tolist()}
+    sim = simulate(system, loss, args.horizon, args.paths, seed=args.seed, curve=target is not None)
+    res: dict[str, Any] = {"system": str(args.file), "loss": loss_json(loss), **sim.to_json(), "_text": str(sim)}
     if target is not None:
-        from .montecarlo import mean_trace_curve
-        from .plots import mean_trace_figure
-        curve = mean_trace_curve(system, loss, args.horizon, args.paths, seed=args.seed)
-        res["growth_curve"] = {"method": curve.sampling, "k": curve.ks.tolist(),
-                               "log_mean": curve.log_mean.tolist(), "rel_stderr": curve.rel_stderr.tolist()}
-        fig = mean_trace_figure(system, loss, curve)
-        res["plot"] = str(target.write(lambda f: fig.savefig(f, format=target.image_format, dpi=110)))
+        fig = sim.figure()
+        res["plot"] = str(target.put_figure(fig, dpi=110))
     return res
 
 
 def _print_simulate(res: dict[str, Any]) -> None:
-    print(f"{res['quantity']}: {res['method']}, {res['paths']} paths, seed {res['seed']}")
-    print(f"{'k':>6} {'mean':>12}  {100 * res['confidence']:g}% interval")
-    for r in res["summary"]:
-        print(f"{r['k']:>6} {r['mean']:>12.6g}  [{r['low']:.6g}, {r['high']:.6g}]")
-    if "growth_curve" in res:
-        c = res["growth_curve"]
-        print(f"log10 E[tr P_k] by {c['method']}:")
-        print("  " + ", ".join(f"k = {k}: {m / 2.302585092994046:.4g}" for k, m in zip(c["k"], c["log_mean"])))
+    print(res["_text"])
     if "plot" in res:
         print(f"figure written to {res['plot']}")
 
@@ -325,6 +317,38 @@ def _print_reproduce(res: dict[str, Any]) -> None:
         _print_plain(res)
 
 
+def cmd_examples(args: argparse.Namespace) -> dict[str, Any]:
+    from . import examples
+    if args.name is None:
+        return {"examples": [{"name": e.name, "kind": e.kind, "summary": e.summary, "file": str(e.path)}
+                             for e in examples.catalog()]}
+    found = {e.name: e.path for e in examples.catalog()}
+    if args.name not in found:
+        raise UsageError(f"no shipped example {args.name!r}; known: {', '.join(found)}")
+    source = found[args.name]
+    # a copy is the user's to edit, not an output symkf regenerates: never replaced without --force
+    target = output.plan(source.name, "NAME", inputs=[source], force=args.force, keep_existing=True)
+    return {"example": source.stem, "copied": str(target.put_text(source.read_text(encoding="utf-8")))}
+
+
+def _print_examples(res: dict[str, Any]) -> None:
+    if "copied" in res:
+        print(f"{res['example']} copied to {res['copied']}; edit it, then give its path to any command")
+        return
+    width = max(len(e["name"]) for e in res["examples"])
+    for kind in dict.fromkeys(e["kind"] for e in res["examples"]):
+        print(f"{kind} files:" if kind != "family" else "families (symkf table, symkf verify):")
+        for e in res["examples"]:
+            if e["kind"] == kind:
+                print(f"  {e['name']:<{width}}  {e['summary']}")
+    print("Every command takes these names where it takes a file; symkf examples NAME copies one here.")
+
+
+def _args_examples(p: argparse.ArgumentParser) -> None:
+    p.add_argument("name", nargs="?", metavar="NAME", help="copy this example into the working directory")
+    p.add_argument("--force", action="store_true", help="replace an existing (perhaps edited) copy")
+
+
 def _args_critical(p: argparse.ArgumentParser) -> None:
     p.add_argument("file")
     p.add_argument("--vary", default="common", help="common | sensor=NAME | alpha | recovery")
@@ -348,7 +372,8 @@ def _args_simulate(p: argparse.ArgumentParser) -> None:
 
 
 def _args_force(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--force", action="store_true", help="replace an existing output file (never an input file)")
+    p.add_argument("--force", action="store_true", help="replace the output file even if it appeared or changed "
+                   "while this run was computing (an existing output is replaced anyway; an input file never)")
 
 
 def _args_reproduce(p: argparse.ArgumentParser) -> None:
@@ -361,11 +386,11 @@ def _args_reproduce(p: argparse.ArgumentParser) -> None:
 
 def cmd_table(args: argparse.Namespace) -> dict[str, Any]:
     from . import tables
-    target = output.plan(args.latex, "--latex", inputs=[args.file], force=args.force) if args.latex else None
+    target = None if args.latex is None else output.plan(args.latex, "--latex", inputs=[args.file], force=args.force)
     table = tables.family_table(args.file, jobs=args.jobs, scheduler=args.scheduler)
     res: dict[str, Any] = {"family": str(args.file), **table.to_json(), "_text": str(table)}
     if target is not None:
-        res["latex"] = str(target.write_text(table.to_latex()))
+        res["latex"] = str(target.put_text(table.to_latex()))
     return res
 
 
@@ -439,6 +464,8 @@ register(Command("table", "exact critical values over a parameter family as a La
                  _args_table, cmd_table, _print_table))
 register(Command("simulate", "Monte Carlo E[tr P_k] with confidence intervals", _args_simulate,
                  cmd_simulate, _print_simulate))
+register(Command("examples", "the shipped example systems and families; NAME copies one into the working directory",
+                 _args_examples, cmd_examples, _print_examples))
 register(Command("reproduce", "reproduce a paper's example: " + ", ".join(sorted(REPRODUCE)), _args_reproduce,
                  cmd_reproduce, _print_reproduce))
 
@@ -447,52 +474,110 @@ class _Parser(argparse.ArgumentParser):
     """argparse that reports usage errors in one line (exit status 2) instead of the usage block."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        print(f"{self.prog}: {message}", file=sys.stderr)
-        raise SystemExit(2)
+        raise UsageError(f"{self.prog}: {message}")
 
 
 def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog="symkf", description="Exact stability of multi-sensor Kalman filtering over lossy "
                 "networks (Sui-You-Fu; Quevedo et al.; Yang et al.).",
-                epilog="exit status: 0 success, 1 verify: theory and simulation disagree, "
-                "2 bad input or usage, 3 a theorem's assumptions fail for the system, 70 internal error (a bug)")
+                epilog="Every command takes --json (one JSON document on stdout, errors included: "
+                '{"error": {...}}) and --quiet (no progress bars); FILE is a TOML file or the name of a '
+                "shipped example (symkf examples lists them). Exit status: 0 success, 1 verify: theory and "
+                "simulation disagree, 2 bad input or usage, 3 a theorem's assumptions fail for the system, "
+                "70 internal error (a bug)")
     p.add_argument("--version", action="version", version=f"symkf {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for c in COMMANDS.values():
         s = sub.add_parser(c.name, help=c.help, description=c.help)
         c.configure(s)
-        s.add_argument("--json", action="store_true", help="machine-readable output")
+        for action in s._actions:   # the input file: one help text for every command
+            if action.dest == "file" and action.help is None:
+                action.help = FILE_HELP
+        s.add_argument("--json", action="store_true", help="machine-readable output (errors too, as {\"error\": ...})")
         s.add_argument("--quiet", action="store_true", help="no progress bars (as TQDM_DISABLE=1)")
         _args_caps(s)
         s.set_defaults(command_spec=c)
     return p
 
 
+#: help of every command's input file
+FILE_HELP = "a system or family file (TOML), or the name of a shipped example (symkf examples lists them)"
+
+
+def _input_file(file: str) -> str:
+    """``file``, or the shipped example of that name when no such file exists (symkf.examples)."""
+    from . import examples
+    try:
+        return str(examples.resolve(file))
+    except SymkfError:
+        raise UsageError(f"{file}: no such file; shipped examples are taken by name "
+                         "(symkf examples lists them)") from None
+
+
 def _print_plain(res: dict[str, Any]) -> None:
+    """A result for people: eigen-blocks and the command's own text when it has one, else every
+    key in words (:func:`_words`), never JSON."""
+    for b in res.get("blocks", []):
+        print(f"block: |lambda| = {b['modulus']}, eigenvalues {', '.join(b['eigenvalues'])}, "
+              f"tau = {b['tau']}, governing period = {b['governing_period']}")
     if "_text" in res:
-        for b in res.get("blocks", []):
-            print(f"block: |lambda| = {b['modulus']}, eigenvalues {b['eigenvalues']}, "
-                  f"tau = {b['tau']}, governing period = {b['governing_period']}")
         print(res["_text"])
         return
     for k, v in res.items():
-        if isinstance(v, dict) and "exact" in v:
+        if isinstance(v, dict) and "exact" in v and "interval" in v:
             print(f"{k} = {v['exact']}\n  ~ {v['decimal']}\n  in [{v['interval'][0]}, {v['interval'][1]}]"
                   f"\n  minimal polynomial {v['minpoly']}")
-        elif not k.startswith("_"):
-            print(f"{k}: {json.dumps(v, default=str) if isinstance(v, (dict, list)) else v}")
+        elif not k.startswith("_") and k != "blocks":
+            print("\n".join(_words(k, v)))
+
+
+def _words(key: str, value: Any, indent: str = "", width: int = 100) -> list[str]:
+    """``key: value`` as indented lines of words: nested tables as sections, lists of tables as
+    numbered items, exact numbers as ``exact ~ decimal``, true/false as yes/no; long text wrapped."""
+    if isinstance(value, dict) and "exact" in value and "decimal" in value:
+        value = f"{value['exact']} ~ {value['decimal']}"
+    if isinstance(value, dict):
+        return [f"{indent}{key}:"] + [line for k, v in value.items() for line in _words(k, v, indent + "  ", width)]
+    if isinstance(value, list) and any(isinstance(v, dict) for v in value):
+        return [f"{indent}{key}:"] + [line for i, v in enumerate(value, 1) for line in _words(str(i), v, indent + "  ", width)]
+    text = (", ".join(_scalar(v) for v in value) or "none") if isinstance(value, list) else _scalar(value)
+    return textwrap.wrap(f"{key}: {text}", width, initial_indent=indent, subsequent_indent=indent + "    ",
+                         break_long_words=False, break_on_hyphens=False) or [f"{indent}{key}:"]
+
+
+def _scalar(value: Any) -> str:
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (list, tuple)):
+        return "(" + ", ".join(_scalar(v) for v in value) + ")"
+    return "none" if value is None else str(value)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``symkf`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if not argv:
+        _parser().print_help()
+        return 2
     try:
         args = _parser().parse_args(argv)
-    except SystemExit as exc:
+    except SystemExit as exc:   # --help, --version
         return exc.code if isinstance(exc.code, int) else 2
+    except KeyboardInterrupt:
+        print("symkf: interrupted", file=sys.stderr)
+        return INTERRUPTED
+    except UsageError as exc:   # one line; with --json also as a JSON error (the command line is not parsed)
+        print(exc, file=sys.stderr)
+        if "--json" in argv:
+            print(json.dumps(_error_document("UsageError", str(exc), 2), indent=2))
+        return 2
     command: Command = args.command_spec
     try:
+        if isinstance(getattr(args, "file", None), str):
+            args.file = _input_file(args.file)
         _cap_jobs(args, command.name)
         with warnings.catch_warnings(record=True) as caught, _quiet(args.quiet), budget.limits(**_caps(args)), \
+                _sigterm_interrupts(), output.run(), \
                 still_working(f"symkf {command.name}", enabled=False if args.quiet else None):
             warnings.simplefilter("always")
             res = command.run(args)
@@ -502,24 +587,21 @@ def main(argv: Sequence[str] | None = None) -> int:
             if not issubclass(w.category, RuntimeWarning):
                 print(f"symkf {command.name}: note: {_one_line(w.message)}", file=sys.stderr)
     except SymkfError as exc:
-        print(f"symkf {command.name}: {_located(_one_line(exc), args)}", file=sys.stderr)
-        return exc.exit_status
+        return _fail(args, type(exc).__name__, _located(_one_line(exc), args), exc.exit_status)
     except ValueError as exc:
         if not _digits_exceeded(exc):
-            return _internal(command, exc)
-        return _too_many_digits(command, args)
+            return _internal(args, exc)
+        return _too_many_digits(args)
     except RecursionError:
-        print(f"symkf {command.name}: input too deeply nested", file=sys.stderr)
-        return 2
+        return _fail(args, "InputError", "input too deeply nested", 2)
+    except Terminated:
+        return _fail(args, "Terminated", "terminated (SIGTERM)", TERMINATED)
     except KeyboardInterrupt:
-        print(f"symkf {command.name}: interrupted", file=sys.stderr)
-        return INTERRUPTED
+        return _fail(args, "KeyboardInterrupt", "interrupted", INTERRUPTED)
     except MemoryError:  # an estimate let through work that did not fit: input, not a bug
-        print(f"symkf {command.name}: out of memory; lower the input's size or the caps of symkf.budget",
-              file=sys.stderr)
-        return 2
+        return _fail(args, "MemoryError", "out of memory; lower the input's size or the caps of symkf.budget", 2)
     except Exception as exc:  # a bug, not bad input: one line and a status of its own
-        return _internal(command, exc)
+        return _internal(args, exc)
     try:
         if args.json:
             doc = {"schema_version": SCHEMA_VERSION, **{k: v for k, v in res.items() if not k.startswith("_")}}
@@ -531,9 +613,35 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stdout = open(os.devnull, "w")
     except ValueError as exc:
         if not _digits_exceeded(exc):
-            return _internal(command, exc)
-        return _too_many_digits(command, args)
+            return _internal(args, exc)
+        return _too_many_digits(args)
     return res.get("_status", 0)
+
+
+def _fail(args: argparse.Namespace, kind: str, message: str, status: int) -> int:
+    """Report a failure in one line on stderr and, with ``--json``, as ``{"error": ...}`` on stdout."""
+    print(f"symkf {args.command}: {message}", file=sys.stderr)
+    if args.json:
+        print(json.dumps(_error_document(kind, message, status), indent=2))
+    return status
+
+
+def _error_document(kind: str, message: str, status: int) -> dict[str, Any]:
+    return {"schema_version": SCHEMA_VERSION, "error": {"type": kind, "message": message, "exit_status": status}}
+
+
+@contextlib.contextmanager
+def _sigterm_interrupts() -> Iterator[None]:
+    """SIGTERM raises :class:`Terminated` during the command (in the main thread only: a signal
+    handler cannot be installed elsewhere), and is restored afterwards."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 @contextlib.contextmanager
@@ -551,10 +659,9 @@ def _quiet(quiet: bool) -> Iterator[None]:
             os.environ["TQDM_DISABLE"] = previous
 
 
-def _internal(command: Command, exc: Exception) -> int:
-    print(f"symkf {command.name}: internal error ({type(exc).__name__}: {_one_line(exc)}); "
-          "please report it", file=sys.stderr)
-    return INTERNAL_ERROR
+def _internal(args: argparse.Namespace, exc: Exception) -> int:
+    return _fail(args, "InternalError", f"internal error ({type(exc).__name__}: {_one_line(exc)}); "
+                 "please report it", INTERNAL_ERROR)
 
 
 def _one_line(exc: BaseException) -> str:
@@ -573,12 +680,11 @@ def _located(message: str, args: argparse.Namespace) -> str:
     return message if file is None or str(file) in message else f"{file}: {message}"
 
 
-def _too_many_digits(command: Command, args: argparse.Namespace) -> int:
+def _too_many_digits(args: argparse.Namespace) -> int:
     message = (f"a number computed from the input has more than {sys.get_int_max_str_digits()} digits, the most "
                f"converted to text under {budget.OPTIONS['max_digits']} {budget.LIMITS.max_digits}")
-    print(f"symkf {command.name}: {_located(message, args)}; give smaller numbers or raise "
-          f"{budget.OPTIONS['max_digits']}", file=sys.stderr)
-    return 2
+    return _fail(args, "BudgetError", f"{_located(message, args)}; give smaller numbers or raise "
+                 f"{budget.OPTIONS['max_digits']}", 2)
 
 
 def _digits_exceeded(exc: ValueError) -> bool:

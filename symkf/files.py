@@ -1,4 +1,4 @@
-"""System files (TOML) as specified in DESIGN.md; errors name the file and the key.
+"""System files (TOML) as described in the docs' formats page; errors name the file and the key.
 
 A system file holds ``[system]`` (``A``, optional ``Q``, ``P0``, ``name``), a list
 ``[[sensors]]`` (``C``, optional ``R``, ``name``) and an optional ``[loss]`` table whose
@@ -45,7 +45,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
 from .exact.arguments import check_public
-from . import budget
+from . import budget, output
 from .errors import FileFormatError, SymkfError
 from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel, MarkovLoss
@@ -106,6 +106,7 @@ def read_toml(path: str | Path) -> dict:
     """The TOML document at ``path``, decimals as :class:`~decimal.Decimal` (exact); at most
     ``max_file_size`` bytes are read (``/dev/zero`` or a huge file is refused, not exhausted)."""
     path = Path(path)
+    output.note_input(path)
     cap = budget.LIMITS.max_file_size
     try:
         if path.is_dir():

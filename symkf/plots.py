@@ -27,6 +27,7 @@ import numpy as np
 import sympy as sp
 
 from .exact.arguments import check_public
+from . import output
 from .errors import ExtraNotInstalledError, InputError, SymkfError
 from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel
@@ -68,7 +69,7 @@ def _inline_in_jupyter(figure_type: type) -> None:
 
 def _finish(fig: Any, path: Any) -> Any:
     if path is not None:
-        fig.savefig(path, dpi=110)
+        output.save_figure(fig, path, "path", dpi=110)
     return fig
 
 
@@ -194,6 +195,8 @@ def mean_trace_figure(system: System, loss: LossModel, curve: MeanTraceCurve, *,
                       f"({'stable' if v.stable else 'not stable'})")
     except SymkfError as exc:
         notes.append(f"no exact rate: {exc}".splitlines()[0][:70])
+    if curve.float_cap is not None:
+        notes.append(f"stops at k = {int(k[-1])} of {curve.requested}: float64 limit (montecarlo.float_horizon)")
     if isinstance(loss, IID):
         try:
             G, V = yang_bounds(system, loss, int(k[-1]) + 1)

@@ -29,7 +29,7 @@ from typing import Any, Sequence
 import sympy as sp
 
 from .exact.arguments import check_public
-from . import examples
+from . import examples, output
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber
 from .families import Family, Inapplicable, Member, Outcome, load_family
@@ -162,9 +162,10 @@ class Table:
                 "rows": [{"label": r.plain, "cells": [c.data for c in cells]} for r, cells in self.rows]}
 
     def write(self, path: str | Path) -> Path:
-        """Write :meth:`to_latex` to ``path`` (atomically, never over a directory); returns the path."""
-        from .output import plan
-        return plan(path, "path", force=True).write_text(self.to_latex())
+        """Write :meth:`to_latex` to ``path`` atomically (:mod:`symkf.output`: never over the
+        table's input files); returns the path."""
+        inputs = [self.metadata["file"]] if "file" in self.metadata else self.metadata.get("files", [])
+        return output.plan(path, "path", inputs=inputs).put_text(self.to_latex())
 
 
 # -- families -------------------------------------------------------------------------------
@@ -193,7 +194,7 @@ def _periods_summary(outcomes: Sequence[Outcome]) -> str:
     return ", ".join(map(str, periods)) if periods else "none"
 
 
-def family_table(path: str | Path, *, jobs: int = 1, scheduler: Any = None,
+def family_table(path: str | Path | Family, *, jobs: int = 1, scheduler: Any = None,
                  progress: bool | None = None) -> Table:
     """The table of a family file: rows the first grid axis, columns the second (if any).
 
@@ -201,8 +202,9 @@ def family_table(path: str | Path, *, jobs: int = 1, scheduler: Any = None,
 
     Parameters
     ----------
-    path : str or pathlib.Path
-        A family file (:func:`symkf.families.load_family`).
+    path : str, pathlib.Path or Family
+        A family file (:func:`symkf.families.load_family`), or a family built in memory
+        (:func:`symkf.families.grid_family`, :func:`symkf.families.systems_family`).
     jobs : int, default 1
         Local worker processes.
     scheduler : str or distributed.Client, optional
@@ -248,7 +250,7 @@ def family_table(path: str | Path, *, jobs: int = 1, scheduler: Any = None,
     True
     >>> tmp.cleanup()
     """
-    family = load_family(path)
+    family = path if isinstance(path, Family) else load_family(path)
     return family_table_of(family, family.evaluate(jobs=jobs, scheduler=scheduler, progress=progress))
 
 

@@ -10,6 +10,7 @@ import numpy as np
 import sympy as sp
 
 from ..exact.arguments import check_public
+from .. import output
 from ..losses import IID
 from ..model import Sensor, System
 from ..reproduction import reproduction
@@ -105,7 +106,6 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        os.makedirs(outdir, exist_ok=True)
         k = np.arange(1, horizon + 1)
         fig, ax = plt.subplots(figsize=(6, 4))
         ax.plot(k, results["trace_V"], label="upper bound tr $V_k$ (Theorem 3)")
@@ -117,10 +117,9 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
         ax.set_title("Yang et al. Example 1 (Fig. 2)")
         ax.legend()
         fig.tight_layout()
-        path = os.path.join(outdir, "yang_example1.png")
-        fig.savefig(path, dpi=120)
+        path = os.path.join(output.plan_directory(outdir, "outdir"), "yang_example1.png")
+        results["figure"] = str(output.save_figure(fig, path, "outdir", dpi=120))
         plt.close(fig)
-        results["figure"] = path
     return reproduction("yang-example1", SOURCE, results, checks)
 
 check_public(globals())

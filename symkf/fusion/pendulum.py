@@ -17,6 +17,7 @@ import numpy as np
 import sympy as sp
 
 from ..exact.arguments import check_public
+from .. import output
 from ..model import Sensor
 from ..reproduction import discrepancy, reproduction
 from .covariance import fusion_sigma, remote_error_covariance, unbiasedness_matrix
@@ -70,7 +71,7 @@ def _plots(outdir: str, t: np.ndarray, curves: dict[str, np.ndarray], sub: dict[
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    os.makedirs(outdir, exist_ok=True)
+    output.plan_directory(outdir, "outdir")
     fig, ax = plt.subplots(figsize=(7, 4.2))
     for label, y in curves.items():
         ax.plot(t, y, label=label, lw=1.2)
@@ -80,8 +81,7 @@ def _plots(outdir: str, t: np.ndarray, curves: dict[str, np.ndarray], sub: dict[
     ax.set_title("Inverted pendulum, arXiv:2012.04896 Fig. 2: estimation error")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig2_path = os.path.join(outdir, "fusion_pendulum_fig2.png")
-    fig.savefig(fig2_path, dpi=120)
+    fig2_path = str(output.save_figure(fig, os.path.join(outdir, "fusion_pendulum_fig2.png"), "outdir", dpi=120))
     plt.close(fig)
 
     fig, axes = plt.subplots(2, 5, figsize=(15, 5.5), sharex=True)
@@ -95,8 +95,7 @@ def _plots(outdir: str, t: np.ndarray, curves: dict[str, np.ndarray], sub: dict[
         ax.set_xlabel("time (s)")
     fig.suptitle(r"arXiv:2012.04896 Fig. 3: mean $\|V_{i,o}' e_k\|$ on each sensor's observable subspace")
     fig.tight_layout()
-    fig3_path = os.path.join(outdir, "fusion_pendulum_fig3.png")
-    fig.savefig(fig3_path, dpi=120)
+    fig3_path = str(output.save_figure(fig, os.path.join(outdir, "fusion_pendulum_fig3.png"), "outdir", dpi=120))
     plt.close(fig)
     return [fig2_path, fig3_path]
 
@@ -181,8 +180,8 @@ def reproduce_fusion_pendulum(outdir: str | None = None, paths: int = 50, horizo
             bool(last <= 1.5 * first and mean_sq_late <= 1.2 * prop1.bound),
         "Proposition 1's printed bound is above the simulated tr E[P*]": bool(prop1.printed_bound >= mean_trP_late),
     }
-    return reproduction("fusion-pendulum", "seed 003 (arXiv 2012.04896), Section 4, Figs. 2-3",
-                        results, checks, discrepancies)
+    return reproduction("fusion-pendulum", "Optimal linear sensor fusion over lossy channels with collective "
+                        "observability (arXiv:2012.04896), Section 4, Figs. 2-3", results, checks, discrepancies)
 
 check_public(globals())
 
