@@ -675,9 +675,12 @@ _DIGIT_RUN = re.compile(r"\d{31,}")
 
 def _located(message: str, args: argparse.Namespace) -> str:
     """``message`` prefixed by the command's input file when it does not name it already (an
-    error found while computing, e.g. a theorem's assumption, after the file was read)."""
+    error found while computing, e.g. a theorem's assumption, after the file was read); an error
+    about an output or a scheduler names its option instead."""
     file = getattr(args, "file", None)
-    return message if file is None or str(file) in message else f"{file}: {message}"
+    if file is None or str(file) in message or message.startswith(("--", "scheduler")):
+        return message
+    return f"{file}: {message}"
 
 
 def _too_many_digits(args: argparse.Namespace) -> int:
