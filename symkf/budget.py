@@ -21,7 +21,8 @@ import sys
 from dataclasses import dataclass
 from typing import Iterator
 
-from .errors import BudgetError
+from .exact.arguments import check_public
+from .errors import BudgetError, InputError
 
 
 @dataclass
@@ -76,14 +77,24 @@ OPTIONS = {f.name: "--" + f.name.replace("_", "-") for f in dataclasses.fields(L
 #: the limits in force
 LIMITS = Limits()
 
+#: the largest ``max_digits``: :func:`limits` lets Python convert integers of twice that many
+#: digits to text, and Python's limit is a C int
+MAX_DIGITS_CAP = (2 ** 31 - 1) // 2
+
 
 @contextlib.contextmanager
 def limits(**caps: int) -> Iterator[Limits]:
     """Raise (or lower) caps inside a ``with`` block, e.g. ``limits(max_degree=128)``; Python's
     limit on int <-> str conversion follows ``max_digits``."""
-    unknown = sorted(set(caps) - set(OPTIONS))
+    unknown = sorted(map(str, set(caps) - set(OPTIONS)))
     if unknown:
-        raise TypeError(f"unknown cap(s) {unknown}; caps are {sorted(OPTIONS)}")
+        raise InputError(f"unknown cap(s) {unknown}; caps are {sorted(OPTIONS)}")
+    for name, value in caps.items():
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise InputError(f"{name}: expected a positive integer, got {type(value).__name__}")
+    if caps.get("max_digits", 1) > MAX_DIGITS_CAP:
+        raise InputError(f"max_digits: {caps['max_digits']} is above {MAX_DIGITS_CAP}, the most digits "
+                         "Python converts between integers and text")
     saved, digits = dataclasses.asdict(LIMITS), sys.get_int_max_str_digits()
     for name, value in caps.items():
         setattr(LIMITS, name, value)
@@ -102,3 +113,5 @@ def check(cap: str, estimate: int, entry: str, what: str) -> None:
     if estimate > bound:
         raise BudgetError(f"{entry}: {what} is {estimate}, above the cap {bound}; raise it with "
                           f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
+
+check_public(globals())

@@ -13,6 +13,7 @@ import contextlib
 import importlib
 import json
 import os
+import re
 import signal
 import sys
 import textwrap
@@ -22,12 +23,14 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
 
 
+from .exact.arguments import check_public
 from . import __version__, budget, output
 from .errors import SymkfError
 from .progress import still_working
 
 if TYPE_CHECKING:
     from .exact.algebraic import AlgebraicNumber
+    from .losses import LossModel
 
 
 # name -> (module, function, keyword arguments of --quick); each function returns
@@ -44,7 +47,7 @@ REPRODUCE: dict[str, tuple[str, str, dict[str, Any]]] = {
 
 
 #: version of every ``--json`` document; raised when a field is renamed or removed
-#: (1: blocks carry ``tau`` and ``governing_period``, certificates ``governing_period``,
+#: (1: blocks carry ``tau`` and ``governing_period``, certificates ``class_period``,
 #: losses are structured objects, reproduce separates ``checks`` from ``discrepancies``)
 SCHEMA_VERSION = 1
 
@@ -104,7 +107,7 @@ def _blocks_json(A: Any) -> list[dict[str, Any]]:
             for b in eigen_blocks(A)]
 
 
-def loss_json(loss: Any) -> dict[str, Any]:
+def loss_json(loss: "LossModel") -> dict[str, Any]:
     """A loss model as a JSON object: ``kind`` (as in a system file's ``[loss]`` table) and its
     parameters as exact strings; a Markov or network model also gives its lifted chain
     (:meth:`symkf.losses.LossModel.to_json`)."""
@@ -149,7 +152,7 @@ def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
         res["verdict"] = {"stable": v.stable, "theorem": v.theorem,
                           "margins": [_number(m, 12) for m in v.margins], "limiting_block": v.limiting_block,
                           "assumptions": list(v.assumptions),
-                          "certificate": [{"modulus": str(c.modulus), "governing_period": c.governing_period,
+                          "certificate": [{"modulus": str(c.modulus), "class_period": c.class_period,
                                            "decisive_received": [list(e) for e in c.decisive_elements],
                                            "alpha^(2g) rho^g": str(c.margin_power)} for c in v.certificate]}
         res["_text"] = f"{v}\n  loss model: {loss.words()}"
@@ -427,7 +430,7 @@ def _bounded_int(text: str, low: int, high: int = 10 ** 9) -> int:
     if value is None:
         raise argparse.ArgumentTypeError(f"expected an integer, got {text[:40]!r}")
     if value < low or value > high:
-        raise argparse.ArgumentTypeError(f"expected an integer in [{low}, {high:.0e}], got {value}")
+        raise argparse.ArgumentTypeError(f"expected an integer in [{low}, {high}], got {value}")
     return value
 
 
@@ -435,7 +438,9 @@ def _args_caps(p: argparse.ArgumentParser) -> None:
     """The caps of :mod:`symkf.budget`, one option each (documented there)."""
     group = p.add_argument_group("resource caps (symkf.budget; an input above one is refused at once)")
     for name, option in budget.OPTIONS.items():
-        group.add_argument(option, dest=f"cap_{name}", type=lambda t: _bounded_int(t, 1, 10 ** 15), default=None,
+        group.add_argument(option, dest=f"cap_{name}", default=None,
+                           type=lambda t, high=budget.MAX_DIGITS_CAP if name == "max_digits" else 10 ** 15:
+                           _bounded_int(t, 1, high),
                            metavar="N", help=f"default {getattr(budget.Limits, name)}")
 
 
@@ -591,7 +596,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             if not issubclass(w.category, RuntimeWarning):
                 print(f"symkf {command.name}: note: {_one_line(w.message)}", file=sys.stderr)
     except SymkfError as exc:
-        return _fail(args, type(exc).__name__, _one_line(exc), exc.exit_status)
+        return _fail(args, type(exc).__name__, _located(_one_line(exc), args), exc.exit_status)
+    except ValueError as exc:
+        if not _digits_exceeded(exc):
+            return _internal(args, exc)
+        return _too_many_digits(args)
     except RecursionError:
         return _fail(args, "InputError", "input too deeply nested", 2)
     except Terminated:
@@ -601,8 +610,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except MemoryError:  # an estimate let through work that did not fit: input, not a bug
         return _fail(args, "MemoryError", "out of memory; lower the input's size or the caps of symkf.budget", 2)
     except Exception as exc:  # a bug, not bad input: one line and a status of its own
-        return _fail(args, "InternalError", f"internal error ({type(exc).__name__}: {_one_line(exc)}); "
-                     "please report it", INTERNAL_ERROR)
+        return _internal(args, exc)
     try:
         if args.json:
             doc = {"schema_version": SCHEMA_VERSION, **{k: v for k, v in res.items() if not k.startswith("_")}}
@@ -612,6 +620,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stdout.flush()
     except BrokenPipeError:  # e.g. `symkf demo | head`: the reader left; not an error of ours
         sys.stdout = open(os.devnull, "w")
+    except ValueError as exc:
+        if not _digits_exceeded(exc):
+            return _internal(args, exc)
+        return _too_many_digits(args)
     return res.get("_status", 0)
 
 
@@ -656,9 +668,42 @@ def _quiet(quiet: bool) -> Iterator[None]:
             os.environ["TQDM_DISABLE"] = previous
 
 
+def _internal(args: argparse.Namespace, exc: Exception) -> int:
+    return _fail(args, "InternalError", f"internal error ({type(exc).__name__}: {_one_line(exc)}); "
+                 "please report it", INTERNAL_ERROR)
+
+
 def _one_line(exc: BaseException) -> str:
-    text = " ".join(str(exc).split())
+    text = _DIGIT_RUN.sub(lambda m: f"{m.group()[:6]}...({len(m.group())} digits)", " ".join(str(exc).split()))
     return text if len(text) <= 400 else text[:397] + "..."
+
+
+#: a run of digits too long to show in a one-line message
+_DIGIT_RUN = re.compile(r"\d{31,}")
+
+
+def _located(message: str, args: argparse.Namespace) -> str:
+    """``message`` prefixed by the command's input file when it does not name it already (an
+    error found while computing, e.g. a theorem's assumption, after the file was read); an error
+    about an output or a scheduler names its option instead."""
+    file = getattr(args, "file", None)
+    if file is None or str(file) in message or message.startswith(("--", "scheduler")):
+        return message
+    return f"{file}: {message}"
+
+
+def _too_many_digits(args: argparse.Namespace) -> int:
+    message = (f"a number computed from the input has more than {sys.get_int_max_str_digits()} digits, the most "
+               f"converted to text under {budget.OPTIONS['max_digits']} {budget.LIMITS.max_digits}")
+    return _fail(args, "BudgetError", f"{_located(message, args)}; give smaller numbers or raise "
+                 f"{budget.OPTIONS['max_digits']}", 2)
+
+
+def _digits_exceeded(exc: ValueError) -> bool:
+    """Whether ``exc`` is Python's refusal to convert an integer of too many digits to text."""
+    return "integer string conversion" in str(exc)
+
+check_public(globals())
 
 
 if __name__ == "__main__":  # pragma: no cover

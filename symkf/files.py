@@ -43,6 +43,7 @@ from decimal import Decimal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
+from .exact.arguments import check_public
 from . import budget, output
 from .errors import FileFormatError, SymkfError
 from .exact.numbers import to_exact
@@ -197,8 +198,10 @@ def read_loss(table: dict, where: str, d: int, rationalize: bool = False) -> Los
     and ignored),
     for ``d`` sensors; ``where`` prefixes errors."""
     table = {k: v for k, v in table.items() if k not in ("chain", "words")}
-    kind = table.get("kind", "iid")
     kinds = LossModel.KINDS
+    if "kind" not in table:
+        raise FileFormatError(f"{where}: key 'kind' missing; it is required, one of {', '.join(map(repr, kinds))}")
+    kind = table["kind"]
     if not isinstance(kind, str) or kind not in kinds:
         raise FileFormatError(f"{where} kind {kind!r} is not one of {', '.join(map(repr, kinds))}")
     _check_keys(table, kinds[kind].keys, where)
@@ -258,3 +261,5 @@ def _fusion(data: dict, source: str, rationalize: bool) -> "FusionModel":
                               "(give A, Q for discrete time or Ac, Bc, noise_variance, Ts for a zero-order hold)")
     values = [_exact(_get(table, key, where), f"{where} {key}", rationalize) for key in keys + ("arrival",)]
     return _built(lambda: build(*values[:-1], sensors, values[-1]), "[fusion]")
+
+check_public(globals())

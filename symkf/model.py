@@ -9,14 +9,18 @@ definite exactly (Sylvester's criterion with certified signs).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import sympy as sp
 
+from .exact.arguments import check_public
 from . import budget
 from .errors import InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, SymkfError, UnobservableError
 from .exact.algebraic import sign
-from .exact.numbers import decimal_matrix, rationalization, to_exact_matrix
+from .exact.numbers import as_matrix, decimal_matrix, rationalization, sympify, to_exact_matrix
+
+if TYPE_CHECKING:
+    from .spectral import Eigenvalue
 
 
 def _compare_periods(A: sp.MatrixBase, decimal_A: Any) -> str:
@@ -41,6 +45,7 @@ def _identity(n: int) -> sp.ImmutableMatrix:
 
 def check_positive_definite(M: sp.MatrixBase, entry: str) -> None:
     """Raise unless ``M`` is Hermitian positive definite (exact leading minors)."""
+    M = as_matrix(M, entry)
     if M.shape[0] != M.shape[1]:
         raise ShapeError(f"{entry}: covariance must be square, got {M.shape[0]}x{M.shape[1]}")
     for i in range(M.shape[0]):
@@ -255,7 +260,7 @@ class System:
         """The sensors' names, in order."""
         return tuple(s.name for s in self.sensors)
 
-    def unseen(self, lam: Any) -> bool:
+    def unseen(self, lam: "Eigenvalue") -> bool:
         """PBH test: whether the eigenvalue ``lam`` (a :class:`~symkf.spectral.Eigenvalue` of A)
         has an eigenvector in the kernel of every C_i (:func:`symkf.spectral.unseen`, cached)."""
         cached = self._cache.get("unseen")
@@ -270,7 +275,7 @@ class System:
         over Q, else no eigenvalue unseen (Hautus), decided per diagonal block of A in its own field."""
         cached = self._cache.get("observable")
         if cached is None:
-            if all(sp.sympify(v).is_Rational for M in (self.A, self.C) for v in M):
+            if all(sympify(v).is_Rational for M in (self.A, self.C) for v in M):
                 from .exact.linalg import rank
                 cached = rank(sp.Matrix.vstack(*[self.C * self.A ** k for k in range(self.n)])) == self.n
             else:
@@ -351,3 +356,5 @@ class System:
         """This system as a python-control ``StateSpace``: :func:`symkf.control.to_statespace`."""
         from .control import to_statespace
         return to_statespace(self, B, D, dt)
+
+check_public(globals())

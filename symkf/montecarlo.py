@@ -18,7 +18,7 @@ import functools
 import math
 from dataclasses import dataclass
 from statistics import NormalDist
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 import sympy as sp
@@ -26,14 +26,18 @@ import sympy as sp
 from . import budget, receptions
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
+from .exact.arguments import check_public, float_array
 from .exact.perron import perron_float
-from .exact.numbers import to_exact
+from .exact.numbers import sympify, to_exact
 from .filtering import FloatSystem, _positive, _run, exact_covariances, log_traces, real_form, receival_table
 from .losses import LossModel, checked
 from .receptions import LossFactor, chain_states, cumulative, emit_into, groups
 from .model import System
 from .progress import progress
 from .sweep import sweep
+
+if TYPE_CHECKING:
+    from .stability import Verdict
 
 #: paths per batch: bounds memory and drives the progress bar
 CHUNK = 50_000
@@ -180,6 +184,7 @@ class TraceEstimate:
 
     def covers(self, values: np.ndarray) -> np.ndarray:
         """Which steps' intervals contain ``values``."""
+        values = float_array(values, "values")
         return (self.low <= values) & (values <= self.high)
 
 
@@ -215,7 +220,7 @@ def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...],
     """The limiting block's decisive loss pattern, one tuple of lost sensors per phase, and its growth.
 
     ``verdict`` is :func:`symkf.stability.stability`'s: in the limiting eigen-block
-    (largest margin ``alpha_i^2 rho_i``, Sui-You-Fu eq. 36) with governing period ``g``,
+    (largest margin ``alpha_i^2 rho_i``, Sui-You-Fu eq. 36) with class period ``g``,
     the decisive hyperplane lists the elements (sensor, phase) that may be received while
     ``O_N^i`` stays rank deficient.  Returns, per phase ``0..g-1``, the sensors that must
     be lost (the elements outside the hyperplane), and the exact growth ``alpha_i^(2g)``
@@ -226,11 +231,11 @@ def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...],
     cert = verdict.certificate[verdict.limiting_block]
     received = set(cert.decisive_elements)
     phases = tuple(tuple(j for j, name in enumerate(system.sensor_names) if (name, phase) not in received)
-                   for phase in range(cert.governing_period))
-    return phases, sp.sympify(cert.modulus) ** (2 * cert.governing_period)
+                   for phase in range(cert.class_period))
+    return phases, sympify(cert.modulus) ** (2 * cert.class_period)
 
 
-def exact_growth_rate(verdict) -> AlgebraicNumber:
+def exact_growth_rate(verdict: "Verdict") -> AlgebraicNumber:
     """The exact per-step growth rate of ``E[tr P_k]``: ``max_i alpha_i^2 rho_i`` when unstable,
     else 1 (bounded), as an AlgebraicNumber."""
     return max(verdict.margins) if not verdict.stable else AlgebraicNumber.from_expr(sp.Integer(1))
@@ -381,11 +386,11 @@ def verdict_plan(system: System, verdict, loss: LossModel | None = None) -> Burs
         return plan
     from .observability import block_rows  # the engine imports nothing from simulation
     br = block_rows(system)[verdict.limiting_block]
-    if len(br.hyperplanes) > MAX_TIE_SEARCH or br.period != plan.period:
+    if len(br.hyperplanes) > MAX_TIE_SEARCH or br.class_period != plan.period:
         return plan
     masks = []
     for H in br.hyperplanes:
-        a = np.zeros((br.period, system.d), bool)
+        a = np.zeros((br.class_period, system.d), bool)
         for i in H:
             a[br.elements[i].phase, br.elements[i].sensor] = True
         masks.append(a)
@@ -646,6 +651,8 @@ def polynomial_allowance(horizons: Sequence[int], degree: int = 1) -> float:
     (``benchmarks/float_resolution.py``) the estimate is +0.008 %, inside the lower half.
     :func:`float_horizon` now keeps the horizons where float64 resolves every path.
     """
+    if len(horizons) != 3 or not 0 < horizons[0] < horizons[1]:
+        raise InputError(f"horizons: expected three increasing horizons (k, k + h, k + 2h), got {horizons!r}")
     k, k1, _ = horizons
     h = k1 - k
     return degree * math.log((k + 2 * h) / (k + h)) / h
@@ -804,3 +811,6 @@ def mean_trace_curve(system: System, loss: LossModel, horizon: int, paths: int, 
     return MeanTraceCurve(ks, np.array([r.log_mean for r in runs]), np.array([r.rel_stderr for r in runs]),
                           confidence, paths, seed, runs[0].sampling, requested,
                           cap if cap is not None and cap < requested else None)
+
+
+check_public(globals())

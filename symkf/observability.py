@@ -30,8 +30,10 @@ import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
 import sympy as sp
 
 from . import hyperplane_screen
+from .exact.arguments import check_public
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, nullspace_rows, rank_rows
+from .exact.numbers import sympify
 from .model import System
 from .spectral import EigenBlock, eigenvalue_key, factors_in, support
 
@@ -50,7 +52,7 @@ class BlockRows:
 
     block: EigenBlock
     K: NumberField
-    period: int
+    class_period: int  # the block's class period (EigenBlock.class_period): the elements' phases
     elements: tuple[Element, ...]
     generators: tuple[tuple[tuple[Elem, ...], ...], ...]  # per element
     size: int
@@ -147,7 +149,7 @@ class BlockRows:
                 continue
             out = set()
             for c in closures:
-                for _ in range(self.period if shift is not None else 1):
+                for _ in range(self.class_period if shift is not None else 1):
                     out.add(frozenset(live[i] for i in c) | frozenset(always))
                     c = shift[c] if shift is not None else c
             return list(out)
@@ -159,11 +161,11 @@ class BlockRows:
         (:attr:`phase_shift`): the generator of ``(j, r + 1)`` is then that of ``(j, r)`` times
         ``D_i``, parallel to it at ``r = g - 1`` (``D_i^g`` is scalar on each class), so shifts map
         hyperplanes to hyperplanes; else None."""
-        if self.period < 2 or not self.phase_shift:
+        if self.class_period < 2 or not self.phase_shift:
             return None
         at = {(e.sensor, e.phase): i for i, e in enumerate(self.elements)}
         position = {e: i for i, e in enumerate(live)}
-        nxt = [at[(self.elements[e].sensor, (self.elements[e].phase + 1) % self.period)] for e in live]
+        nxt = [at[(self.elements[e].sensor, (self.elements[e].phase + 1) % self.class_period)] for e in live]
         return np.array([position[e] for e in nxt])
 
     def _parallel_orbits(self, X: np.ndarray, p: int, orbits: list[list[int]], vectors) -> set[int]:
@@ -577,7 +579,7 @@ def is_conjugate_pair(system: System, block: EigenBlock) -> bool:
     of the first's (the generic case of a dense real matrix)."""
     return (len(block.members) == 2 and len(block.classes) == 2
             and all(e.multiplicity == 1 for e in block.members)
-            and all(sp.sympify(v).is_real for M in (system.A, *(s.C for s in system.sensors)) for v in M))
+            and all(sympify(v).is_real for M in (system.A, *(s.C for s in system.sensors)) for v in M))
 
 
 def _block_rows(system: System, block: EigenBlock) -> BlockRows:
@@ -700,3 +702,5 @@ def block_deficient(system: System, pattern: Sequence[Sequence[int]]) -> tuple[b
 def project(pattern: Sequence[Sequence[int]], period: int) -> frozenset[Element]:
     """Algorithm 1: the elements (sensor, k mod period) received at least once."""
     return frozenset(Element(j, k % period) for k, vec in enumerate(pattern) for j, g in enumerate(vec) if g)
+
+check_public(globals())

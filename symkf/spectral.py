@@ -30,6 +30,7 @@ from typing import Any, Sequence
 import flint
 import sympy as sp
 
+from .exact.arguments import check_public
 from .exact.algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, _with_prec, crootof_ball,
                               fmpz_to_sympy, identify, real_from_ball, root_ball)
 from .exact import nfpoly
@@ -733,3 +734,5 @@ def _block(members: list[Eigenvalue]) -> EigenBlock:
         proofs.append(("", f"A_i^{governing} is a scalar multiple of I and A_i^{tau} = alpha^{tau} I"))
     return EigenBlock(members[0].modulus, tuple(members), tau, governing, tuple(proofs),
                       tuple(tuple(c) for c in classes), class_period)
+
+check_public(globals())

@@ -78,7 +78,7 @@ def assert_clean(code: int, err: str) -> None:
 
 def system_file(tmp: Path, entry: str, loss: str = "1/2", name: str = "s.toml") -> Path:
     path = tmp / name
-    path.write_text(f'[system]\nA = [["{entry}"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nloss = ["{loss}"]\n')
+    path.write_text(f'[system]\nA = [["{entry}"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "iid"\nloss = ["{loss}"]\n')
     return path
 
 

@@ -57,6 +57,7 @@ import flint
 import numpy as np
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import InputError, NotPositiveDefiniteError, require_extra
 from ..exact.algebraic import expr_ball
 from ..exact.linalg import rank
@@ -235,3 +236,5 @@ def mare_converges(system: System, loss: IID) -> bool | None:
     if not unit_circle_condition(system):
         return False
     return mare_stabilizable(system, loss).holds
+
+check_public(globals())

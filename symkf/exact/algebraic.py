@@ -28,8 +28,9 @@ import flint
 import sympy as sp
 from sympy.polys.polyerrors import NotAlgebraic
 
+from .arguments import check_public
 from ..errors import InputError
-from .numbers import sympify, to_exact
+from .numbers import sympify, to_exact, to_rational
 
 x = sp.Symbol("x")
 
@@ -457,7 +458,9 @@ class AlgebraicNumber:
     @classmethod
     def from_root(cls, poly: Any, lo: Any, hi: Any, exact: sp.Expr | None = None) -> "AlgebraicNumber":
         """The unique real root of ``poly`` (integer or rational, sympy or flint) in ``[lo, hi]``."""
-        lo, hi = sp.Rational(lo), sp.Rational(hi)
+        lo, hi = to_rational(lo, "lo"), to_rational(hi, "hi")
+        if exact is not None:
+            exact = to_exact(exact, "exact")
         inside = [a for a in _real_roots(_as_fmpz(poly)) if a >= lo and a <= hi]  # exact: ours, not sympy's
         if len(inside) != 1:
             raise InputError(f"[{lo}, {hi}] holds {len(inside)} distinct real roots of {poly}, not one")
@@ -513,7 +516,9 @@ class AlgebraicNumber:
 
     def refine(self, width: Any) -> "AlgebraicNumber":
         """Shrink the isolating interval below ``width``; returns self."""
-        width = sp.Rational(width)
+        width = to_rational(width, "width")
+        if width <= 0:
+            raise InputError(f"width: {width} is not positive")
         while self._hi - self._lo > width:
             self._prec *= 2
             self._lo, self._hi = _arb_interval(root_ball(self._poly, self._index, self._prec).real)
@@ -785,9 +790,11 @@ def real_from_ball(poly: flint.fmpz_poly, index: int) -> AlgebraicNumber:
 
 def sign(expr: Any) -> int:
     """Exact sign (-1, 0, 1) of a real algebraic number given as a sympy expression."""
-    expr = sympify(expr)
+    expr = sympify(expr, "expr")
     if expr.is_Rational:
         return int(sp.sign(expr))
     if expr.free_symbols:
         raise InputError(f"{expr}: the sign of a symbolic expression is not determined")
     return AlgebraicNumber.from_expr(expr)._compare(0)
+
+check_public(globals())

@@ -36,6 +36,7 @@ from typing import Callable
 
 import flint
 
+from .arguments import check_public
 from ..errors import InputError
 from .algebraic import _complex_roots, _with_prec
 
@@ -220,3 +221,5 @@ def vanishes(poly: flint.fmpz_poly, p: flint.fmpq_poly, modulus: flint.fmpq_poly
     for c in reversed(poly.coeffs()):
         acc = (acc * p + c) % modulus
     return acc.is_zero()
+
+check_public(globals())

@@ -41,6 +41,7 @@ from typing import Any, Collection, Iterable, Iterator, Mapping, NamedTuple, Seq
 
 import sympy as sp
 
+from .arguments import check_public, described
 from .. import budget
 from ..errors import InexactInputError, InputError, ShapeError
 from .blocks import diagonal_blocks
@@ -348,14 +349,29 @@ def _float(value: float, entry: str, rationalize: bool | str) -> sp.Expr:
 
 
 def sympify(value: Any, entry: str = "value") -> sp.Basic:
-    """sympy's ``sympify`` without its string parser (which evaluates Python): a string goes
-    through :func:`parse_exact`, anything else must be a type sympy converts explicitly."""
-    if isinstance(value, str):
-        return parse_exact(value, entry)
-    try:
-        return sp.sympify(value, strict=True)
-    except sp.SympifyError:
-        raise InputError(f"{entry}: {type(value).__name__} {value!r} is not a number") from None
+    """One number from outside as a sympy object, without sympy's own ``sympify`` (which
+    evaluates strings as Python, also inside tuples, dicts and sets, and calls ``str`` of unknown
+    objects): a sympy object is kept, an object with ``_sympy_`` (an AlgebraicNumber) gives its
+    sympy value, a string goes through :func:`parse_exact` and any other number through
+    :func:`to_exact` (transcendental values allowed).  Containers and other objects are refused
+    with an :class:`InputError` naming ``entry``."""
+    if isinstance(value, sp.Basic):
+        return value
+    convert = getattr(type(value), "_sympy_", None)
+    if convert is not None:
+        out = convert(value)
+        if isinstance(out, sp.Basic):
+            return out
+    return to_exact(value, entry, algebraic=False)
+
+
+def to_rational(value: Any, entry: str) -> sp.Rational:
+    """``value`` (an int, Fraction, exact float, string such as ``"1/3"``, sympy Rational, ...)
+    as a sympy Rational; anything else is an :class:`InputError` naming ``entry``."""
+    out = sympify(value, entry)
+    if not isinstance(out, sp.Rational):
+        raise InputError(f"{entry}: expected a rational number, got {described(value)}")
+    return out
 
 
 def as_matrix(value: Any, entry: str) -> sp.Matrix:
@@ -452,14 +468,18 @@ def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
             if not rationalize:
                 raise InexactInputError(f"{entry}: {value} contains a sympy Float; give it exactly "
                                         "or set rationalize=True")
-            value = sp.nsimplify(value, rational=True)
+            value = value.xreplace({f: sp.Rational(str(f)) for f in value.atoms(sp.Float)})
         _check_sympy(value, entry)
         out = value
     else:
-        raise InputError(f"{entry}: {type(value).__name__} {value!r} is not an exact number "
+        raise InputError(f"{entry}: {described(value)} is not an exact number "
                          "(give an int, Fraction, Decimal, a string like '5/4' or '0.1', or a sympy expression)")
     if out.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
-        raise InputError(f"{entry}: {value!r} is not a finite number")
+        raise InputError(f"{entry}: {described(value)} is not a finite number")
+    # what the parser's estimates let through is measured once evaluated: no later conversion
+    # to text (Python's limit follows max_digits) meets a longer integer
+    budget.check("max_digits", max((_digits(r) for r in out.atoms(sp.Rational)), default=0), entry,
+                 "the number of digits (about) of a rational in its value")
     if out.free_symbols and not symbols:
         raise InputError(f"{entry}: symbol(s) {sorted(map(str, out.free_symbols))} are not "
                          "allowed here; give a number")
@@ -467,6 +487,10 @@ def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
         raise InputError(f"{entry}: {out} is transcendental; symkf needs algebraic numbers "
                          "to decide exactly")
     return out
+
+
+def _digits(r: sp.Rational) -> int:
+    return math.ceil(max(int(r.p).bit_length(), int(r.q).bit_length()) * math.log10(2))
 
 
 def substitution(values: Mapping[Any, Any], entry: str, known: Collection[sp.Symbol] = ()) -> dict[sp.Symbol, sp.Expr]:
@@ -578,3 +602,5 @@ def decimal_matrix(rows: Any, entry: str) -> sp.ImmutableMatrix:
         return to_exact_matrix(rows, entry, rationalize=True)
     finally:
         _ACTIVE.reset(token)
+
+check_public(globals())

@@ -21,6 +21,7 @@ import flint
 import sympy as sp
 from sympy.polys.polyerrors import PolynomialError
 
+from .arguments import check_public
 from ..errors import InputError
 from .algebraic import AlgebraicNumber, _real_roots, sympy_to_fmpz, x
 
@@ -162,3 +163,4 @@ def perron_float(M: Any) -> tuple[float, Any]:
     w, V = np.linalg.eig(M)
     i = int(np.argmax(w.real))
     return max(float(w[i].real), 0.0), np.abs(V[:, i].real)
+check_public(globals())
