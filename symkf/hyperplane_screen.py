@@ -23,6 +23,8 @@ from typing import Sequence
 
 import numpy as np
 
+from .exact.arguments import check_public
+
 _BLOCK = 1 << 21  # entries of one vectorised block of flats x points (about 16 MB per int64 array)
 
 
@@ -189,3 +191,6 @@ def _lines_through_points(reps: np.ndarray, members: list[np.ndarray], w: np.nda
         if b0 + rows == C:  # the last class has no later class: its flat alone
             screen.offer(base + w[C - 1], [*flat, *members[C - 1].tolist()])
         b0 += rows
+
+
+check_public(globals())

@@ -30,6 +30,7 @@ from .errors import AssumptionError, InputError, ProbabilityError, ShapeError
 from .exact.algebraic import sign
 from .exact.arguments import check_public
 from .exact.numbers import rationalization, substitution, sympify, to_exact
+from .model import System
 from .receptions import LossFactor
 
 Vector = tuple[int, ...]
@@ -313,7 +314,7 @@ class LossModel:
                                   assumption=assumption, applies_instead=applies_instead)
         return self.bernoulli
 
-    def stability_conditions(self, system: Any) -> sp.Basic:
+    def stability_conditions(self, system: System) -> sp.Basic:
         """Mean-square stability as conditions in the model's symbols (:func:`symkf.region.stability_conditions`)."""
         raise InputError(f"loss: stability conditions are given for IID and GilbertElliott, not {self.words()}; "
                          "substitute numbers and use symkf.stability.stability")
@@ -477,7 +478,7 @@ class IID(LossModel):
     def assumption(self) -> str:
         return "i.i.d. (Assumption 4)"
 
-    def stability_conditions(self, system: Any) -> sp.Basic:
+    def stability_conditions(self, system: System) -> sp.Basic:
         from .region import stability_region
         return stability_region(system).conditions(self.loss)
 
@@ -622,7 +623,7 @@ class GilbertElliott(LossModel):
         from .decay import ge_rate
         return ge_rate(br, H, self)
 
-    def stability_conditions(self, system: Any) -> sp.Basic:
+    def stability_conditions(self, system: System) -> sp.Basic:
         from .region import _condition, ge_margins
         return sp.And(*[_condition(m) for m in ge_margins(system, self)])
 

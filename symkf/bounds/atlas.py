@@ -13,6 +13,7 @@ from typing import Any, Callable
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..losses import LossModel
@@ -262,3 +263,6 @@ def _exact_cell(q: Quantity) -> Cell:
 
 
 __all__ = ["Atlas", "bounds", "quantity", "RESULTS"]
+
+
+check_public(globals())

@@ -21,6 +21,7 @@ from typing import Any
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..capacity.quantities import mahler_measure
 from ..model import Sensor, System
 from ..reproduction import reproduction
@@ -62,3 +63,6 @@ def reproduce_you_2011_counterexample(outdir: str | None = None, steps: int = si
         "eps_c strictly between Sinopoli's two bounds": number(hi) < exact < lower_arrival,
     }
     return reproduction("you-2011-counterexample", SOURCE, results, checks)
+
+
+check_public(globals())

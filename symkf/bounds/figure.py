@@ -13,6 +13,7 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..model import System
 from ..plots import _figure, _finish, rational_angles, rotation_system
 from ..progress import progress
@@ -71,3 +72,6 @@ def atlas_figure(family: Sequence[tuple[float, System]] | None = None, *, parame
     ax.set(xlabel=parameter, ylabel="critical common i.i.d. loss probability", title=title, ylim=(0, None))
     ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3)
     return _finish(fig, path)
+
+
+check_public(globals())

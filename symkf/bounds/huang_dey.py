@@ -14,6 +14,7 @@ available to check.
 
 from __future__ import annotations
 
+from ..exact.arguments import check_public
 from ..model import System
 from . import hypotheses as hyp
 from .row import SUFFICIENT, Quantity, Row, number, row
@@ -34,3 +35,6 @@ def peak_covariance(system: System, quantity: Quantity) -> Row:
 
 
 ROWS = (peak_covariance,)
+
+
+check_public(globals())

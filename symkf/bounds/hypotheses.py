@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.linalg import nullspace_rows, rank
 from ..model import System
@@ -110,3 +111,6 @@ def non_degenerate(system: System) -> Hypothesis:
 
 def second_order(system: System) -> Hypothesis:
     return Hypothesis("second order", system.n == 2, f"n = {system.n}")
+
+
+check_public(globals())

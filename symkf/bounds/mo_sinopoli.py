@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..exact.linalg import rank
 from ..model import System
 from . import hypotheses as hyp
@@ -92,3 +93,6 @@ def degenerate(system: System, quantity: Quantity) -> Row:
 
 
 ROWS = (non_degenerate, gilbert_elliott, degenerate)
+
+
+check_public(globals())

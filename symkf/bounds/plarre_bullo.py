@@ -10,6 +10,7 @@ subspace" is read in the observability decomposition ``C = [C_o, 0]``: ``C_o`` i
 
 from __future__ import annotations
 
+from ..exact.arguments import check_public
 from ..model import System
 from . import hypotheses as hyp
 from .row import EXACT, Quantity, Row, row
@@ -29,3 +30,6 @@ def critical_value(system: System, quantity: Quantity) -> Row:
 
 
 ROWS = (critical_value,)
+
+
+check_public(globals())

@@ -25,6 +25,7 @@ from typing import Any, Callable, Sequence
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import AssumptionError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import to_exact
@@ -182,3 +183,6 @@ def row(key: str, result: str, citation: str, statement: str, claim: str,
         return Row(**base, hypotheses=hyps + (Hypothesis(exc.assumption, False, str(exc)),))
     relation, gap = compare(claim, stable, quantity.stable)
     return Row(**base, hypotheses=hyps, stable=tuple(stable), value=value, relation=relation, gap=gap)
+
+
+check_public(globals())

@@ -31,6 +31,7 @@ from typing import Callable
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..capacity.convergence import mare_stabilizable
 from ..errors import ExtraNotInstalledError
 from ..losses import IID
@@ -140,3 +141,6 @@ def at_rates(system: System, rates: tuple, relation: str) -> tuple[str, str]:
 
 
 ROWS = (lower_bound, lmi, invertible_c)
+
+
+check_public(globals())

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from .. import second_order as sui
 from ..capacity.compare import theorem5_common_threshold
 from ..model import System
@@ -112,3 +113,6 @@ def fusion_assumption2(system: System, quantity: Quantity) -> Row:
 
 
 ROWS = (sui_theorem12, quevedo_theorem1, yang_theorem2, yang_theorem5, fusion_assumption2)
+
+
+check_public(globals())

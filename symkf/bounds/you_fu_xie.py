@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..model import System
 from ..region import stable_intervals
 from . import hypotheses as hyp
@@ -77,3 +78,6 @@ def second_order(system: System, quantity: Quantity) -> Row:
 
 
 ROWS = (second_order,)
+
+
+check_public(globals())

@@ -188,6 +188,9 @@ class FlintRoot(sp.Expr):
     is_commutative = True
 
     def __new__(cls, poly: flint.fmpz_poly, index: int) -> "FlintRoot":
+        if not isinstance(poly, flint.fmpz_poly) or isinstance(index, bool) or not isinstance(index, int):
+            raise InputError(f"FlintRoot: expected a flint fmpz_poly and an int root index, got "
+                             f"{type(poly).__name__} and {type(index).__name__}")
         return sp.Expr.__new__(cls, sp.Tuple(*[sp.Integer(int(c)) for c in poly.coeffs()]), sp.Integer(index))
 
     @property
