@@ -89,16 +89,35 @@ def check_degree(generic: bool, degree: int, entry: str, what: str) -> None:
         budget.check("max_cyclotomic_degree", degree, entry, f"the cyclotomic degree (bound) of {what}")
 
 
+def rational_bits(r: sp.Rational | Fraction) -> float:
+    """The height in bits of a rational ``p/q`` in lowest terms: ``log2 max(|p|, q)``, the bits of the
+    larger of its numerator and denominator (2^-1074: 1074)."""
+    p, q = (r.p, r.q) if isinstance(r, sp.Rational) else (r.numerator, r.denominator)
+    return math.log2(max(abs(p), q))
+
+
+def check_bits(bits: float, entry: str, what: str) -> None:
+    """Refuse a number whose bit size (height bound) exceeds ``max_bits``, before it is built."""
+    budget.check("max_bits", math.ceil(bits), entry, f"the bit size (height bound) of {what}")
+
+
+#: height bounds in bits of the trigonometric constants: cos t = (z + 1/z)/2 with z a root of unity
+#: (height 0), and h(x + y) <= h(x) + h(y) + 1, h(x y) <= h(x) + h(y); tan = sin/cos
+_ANGLE_BITS = {"cos": 2, "sin": 2, "tan": 4, "exp": 0}
+
+
 @dataclass(frozen=True)
 class _Num:
     """A parsed value with what bounds its cost: ``gens`` maps each radical to a bound on its
     degree over Q, and :data:`_CYCLOTOMIC` to the order of a cyclotomic field holding its
     trigonometric constants (:func:`_degree` bounds the value's degree); ``depth`` is the
-    nesting of radicals."""
+    nesting of radicals; ``bits`` bounds its absolute logarithmic height in bits (exact for a
+    rational; :func:`check_bits`), known before the value is evaluated."""
 
     expr: sp.Expr
     gens: dict = field(default_factory=dict)
     depth: int = 0
+    bits: float = 0.0
 
 
 class _Parser:
@@ -127,14 +146,17 @@ class _Parser:
             return self.name(n.id)
         if isinstance(n, ast.UnaryOp) and isinstance(n.op, (ast.UAdd, ast.USub)):
             x = self.node(n.operand)
-            return _Num(-x.expr if isinstance(n.op, ast.USub) else x.expr, x.gens, x.depth)
+            return _Num(-x.expr if isinstance(n.op, ast.USub) else x.expr, x.gens, x.depth, x.bits)
         if isinstance(n, ast.BinOp) and isinstance(n.op, (ast.Add, ast.Sub, ast.Mult, ast.Div)):
             a, b = self.node(n.left), self.node(n.right)
             if isinstance(n.op, ast.Div) and b.expr == 0:
                 raise self.fail("division by zero")
             op = {ast.Add: sp.Add, ast.Sub: lambda x, y: x - y, ast.Mult: sp.Mul,
                   ast.Div: lambda x, y: x / y}[type(n.op)]
-            return self.combine(op(a.expr, b.expr), a, b)
+            # Weil heights: h(x +- y) <= h(x) + h(y) + 1 bit, h(x y), h(x / y) <= h(x) + h(y)
+            bits = a.bits + b.bits + isinstance(n.op, (ast.Add, ast.Sub))
+            check_bits(bits, self.entry, repr(self.text))
+            return self.combine(op(a.expr, b.expr), a, b, bits=bits)
         if isinstance(n, ast.BinOp) and isinstance(n.op, ast.Pow):
             return self.power(self.node(n.left), self.node(n.right).expr)
         if isinstance(n, ast.Call):
@@ -151,7 +173,9 @@ class _Parser:
         digits = len(mantissa.replace(".", "").lstrip("0"))
         budget.check("max_digits", digits + abs(int(exponent or 0)), self.entry,
                      f"the number of digits of the literal {text[:20]!r}")
-        return _Num(sp.Rational(Fraction(text)))
+        value = Fraction(text)
+        check_bits(rational_bits(value), self.entry, f"the literal {text[:20]!r}")
+        return _Num(sp.Rational(value), bits=rational_bits(value))
 
     def name(self, name: str) -> _Num:
         if name in CONSTANTS:
@@ -168,14 +192,16 @@ class _Parser:
         return _Num(sp.Symbol(name, positive=True))
 
     def combine(self, expr: sp.Expr, *parts: _Num, gen: tuple[Any, int] | None = None,
-                depth: int = 0) -> _Num:
+                depth: int = 0, bits: float = 0.0) -> _Num:
         gens = _merge(*(p.gens for p in parts))
+        if expr.is_Rational:   # evaluated already: its exact size replaces the bound
+            bits = rational_bits(expr)
         if gen is not None and not (expr.is_Rational or expr.free_symbols):
             gens = _merge(gens, {gen[0]: gen[1]})
         # one trigonometric constant (times and plus rationals) is cheap; sums and products of
         # several, and radicals, need sympy's minimal_polynomial
         check_degree(_radical(gens) > 1 or field_cost([expr]).atoms > 1, _degree(gens), self.entry, repr(self.text))
-        return _Num(expr, gens, max([depth, *(p.depth for p in parts)]))
+        return _Num(expr, gens, max([depth, *(p.depth for p in parts)]), bits)
 
     def power(self, base: _Num, exp: sp.Expr) -> _Num:
         if not exp.is_Rational:
@@ -186,15 +212,15 @@ class _Parser:
             budget.check("max_nesting", base.depth + 1, self.entry, f"the radical nesting of {self.text!r}")
         if base.expr == 0 and exp < 0:
             raise self.fail("division by zero")
-        if not base.expr.free_symbols and base.expr != 0:
-            size = abs(complex(sp.N(base.expr, 15)))
-            budget.check("max_digits", math.ceil(abs(exp) * abs(math.log10(size))), self.entry,
-                         f"the number of digits of a power in {self.text!r}")
+        # the height of x^(p/q) is |p/q| h(x): its size, not its magnitude ((1 + 10^-999)^10000 is
+        # near 1 and has 33 million bits), known before sympy evaluates the power
+        bits = float(abs(exp)) * base.bits
+        check_bits(bits, self.entry, f"a power in {self.text!r}")
         value = base.expr ** exp
         if exp.q == 1:
-            return self.combine(value, base)
+            return self.combine(value, base, bits=bits)
         degree = exp.q * _degree(base.gens)
-        return self.combine(value, gen=(value, degree), depth=base.depth + 1)
+        return self.combine(value, gen=(value, degree), depth=base.depth + 1, bits=bits)
 
     def call(self, n: ast.Call) -> _Num:
         name = n.func.id if isinstance(n.func, ast.Name) else None
@@ -211,20 +237,21 @@ class _Parser:
             if not k.is_Integer or k == 0 or name == "root" and k < 1 or not args[0].expr.is_Integer \
                     and name == "Rational":
                 raise self.fail(f"{name} needs {'an integer index' if name == 'root' else 'two integers'}")
-            return self.power(args[0], 1 / k) if name == "root" else _Num(args[0].expr / k)
+            return self.power(args[0], 1 / k) if name == "root" else \
+                _Num(args[0].expr / k, bits=rational_bits(args[0].expr / k))
         return self.angle(name, args[0])
 
     def angle(self, name: str, arg: _Num) -> _Num:
         fn = getattr(sp, name)
         if arg.expr.free_symbols:
-            return _Num(fn(arg.expr), arg.gens, arg.depth)
+            return _Num(fn(arg.expr), arg.gens, arg.depth, arg.bits)
         unit = sp.pi * sp.I if name == "exp" else sp.pi
         r = sp.expand(arg.expr / unit)
         if not r.is_Rational:
             raise self.fail(f"the argument of {name} must be a rational multiple of "
                             f"{'pi*I' if name == 'exp' else 'pi'}, got {arg.expr}")
         budget.check("max_angle_denominator", r.q, self.entry, f"the denominator of the angle in {self.text!r}")
-        return self.combine(fn(r * unit), arg, gen=(_CYCLOTOMIC, 4 * r.q), depth=arg.depth)
+        return self.combine(fn(r * unit), arg, gen=(_CYCLOTOMIC, 4 * r.q), depth=arg.depth, bits=_ANGLE_BITS[name])
 
 
 def parse_exact(text: str, entry: str, *, symbols: bool | Collection[str] = ()) -> sp.Expr:
@@ -327,6 +354,7 @@ def _float(value: float, entry: str, rationalize: bool | str) -> sp.Expr:
     out = _nearby(value) if rationalize == "nearby" else None
     how = f"nearby constant within {NEARBY_TOLERANCE:g}" if out is not None else "shortest decimal"
     if out is None:
+        check_bits(rational_bits(decimal), entry, f"the decimal {repr(value)!r}")
         out = sp.Rational(decimal.numerator, decimal.denominator)
     with rationalization(entry) as record:
         record.changes.append((entry, value, out, how))
@@ -390,8 +418,23 @@ def field_cost(exprs: Iterable[sp.Expr]) -> FieldCost:
                      len(atoms))
 
 
+def expr_bits(expr: sp.Basic) -> float:
+    """A bound on the height in bits of a sympy number, by the parser's rules: exact for a
+    rational, ``|p/q| h(x)`` for ``x**(p/q)`` (an unevaluated power is bounded, not built), sums
+    ``h(x_1) + ... + h(x_k) + log2 k``, products the sum of the heights."""
+    if expr.is_Rational:
+        return rational_bits(expr)
+    if expr.is_Pow and expr.exp.is_Rational:
+        return float(abs(expr.exp)) * expr_bits(expr.base)
+    if isinstance(expr, (sp.cos, sp.sin, sp.tan, sp.exp)) and not expr.args[0].free_symbols:
+        return _ANGLE_BITS[type(expr).__name__]
+    parts = sum(expr_bits(a) for a in expr.args)
+    return parts + math.log2(len(expr.args)) if expr.is_Add else parts
+
+
 def _check_sympy(expr: sp.Basic, entry: str) -> None:
     """The budget checks of the parser, applied to a sympy expression given directly."""
+    check_bits(expr_bits(expr), entry, f"the sympy number {str(expr)[:40]}")
     for node in sp.preorder_traversal(expr):
         if node.is_Pow and node.exp.is_Rational:
             budget.check("max_exponent", abs(node.exp.p), entry, f"an exponent of {expr}")
@@ -418,14 +461,17 @@ def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
         value = int(value)
         budget.check("max_digits", math.ceil(value.bit_length() * math.log10(2)), entry,
                      "the number of digits (about) of an integer")
+        check_bits(value.bit_length(), entry, "an integer")
         out: sp.Expr = sp.Integer(value)
     elif isinstance(value, (Fraction, Decimal)):
         if isinstance(value, Decimal) and not value.is_finite():
             raise InputError(f"{entry}: {value} is not a finite number")
         if isinstance(value, Decimal):
-            budget.check("max_digits", len(value.as_tuple().digits) + abs(value.as_tuple().exponent), entry,
-                         "the number of digits of a decimal")
+            digits, exponent = len(value.as_tuple().digits), value.as_tuple().exponent
+            budget.check("max_digits", digits + abs(exponent), entry, "the number of digits of a decimal")
+            check_bits(max(digits + exponent, -exponent) * math.log2(10), entry, "a decimal")
         f = Fraction(value)
+        check_bits(rational_bits(f), entry, f"the {type(value).__name__}")
         out = sp.Rational(f.numerator, f.denominator)
     elif isinstance(value, numbers.Real) and not isinstance(value, sp.Basic):
         out = _float(float(value), entry, rationalize)
