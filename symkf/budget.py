@@ -61,7 +61,9 @@ class Limits:
     max_markov_states: int = 128
     #: members of a family file
     max_members: int = 2000
-    #: bytes of the float64 arrays of one Monte Carlo run (paths x horizon x n^2 x 8)
+    #: bytes of the arrays one Monte Carlo run allocates at its peak, as estimated by
+    #: symkf.montecarlo.memory_estimate (traces, receptions, kernel lanes, likelihood ratios,
+    #: per-step records; within 1.5x of measured peak RSS)
     max_memory: int = 2 * 1024 ** 3
     #: bytes of an input file
     max_file_size: int = 1024 ** 2
