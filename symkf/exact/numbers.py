@@ -28,6 +28,7 @@ from __future__ import annotations
 import ast
 import contextlib
 import contextvars
+import functools
 import math
 import numbers
 import re
@@ -278,26 +279,72 @@ def parse_exact(text: str, entry: str, *, symbols: bool | Collection[str] = ()) 
 NEARBY_TOLERANCE = 1e-12
 #: the largest denominator of the rational factor q of a nearby constant q*c
 NEARBY_DENOMINATOR = 120
-#: the constants c of ``rationalize="nearby"``: square roots of square-free integers up to 30 and
-#: cos(pi*a/b) for the small b whose values are not already q*sqrt(k)
+#: the radicals c of ``rationalize="nearby"``: square roots of square-free integers up to 30
 NEARBY_CONSTANTS: tuple[sp.Expr, ...] = (
-    sp.Integer(1), *(sp.sqrt(k) for k in (2, 3, 5, 6, 7, 10, 11, 13, 14, 15, 17, 19, 21, 22, 23, 26, 29, 30)),
-    *sorted({sp.cos(sp.pi * a / b) for b in (5, 7, 9, 10, 12, 16, 24) for a in range(1, b)
-             if math.gcd(a, b) == 1 and 2 * a < b}, key=sp.default_sort_key))
+    sp.Integer(1), *(sp.sqrt(k) for k in (2, 3, 5, 6, 7, 10, 11, 13, 14, 15, 17, 19, 21, 22, 23, 26, 29, 30)))
 _NEARBY_VALUES = tuple(float(c) for c in NEARBY_CONSTANTS)
+#: the largest denominator M of an angle pi k/M whose cosine ``"nearby"`` recognises: the sine of
+#: pi k/m is the cosine of pi (m - 2k)/(2m), so every cosine and sine of an angle pi k/m with
+#: m <= 60 is covered (cos(pi k/M) for M in 1, 2, 3, 4, 6 is rational or q sqrt(2), q sqrt(3))
+NEARBY_ANGLE_DENOMINATOR = 120
+#: the largest denominator of the rational factor q of a nearby cosine q cos(pi k/M)
+NEARBY_COSINE_DENOMINATOR = 12
+
+
+@functools.lru_cache(maxsize=1)
+def _cosines() -> tuple[Any, tuple[tuple[int, int], ...]]:
+    """cos(pi k/M) as floats with their (k, M), 0 < 2k < M <= :data:`NEARBY_ANGLE_DENOMINATOR`,
+    gcd(k, M) = 1, M not in 1, 2, 3, 4, 6 (about 2 200 values; built at the first use, in ms)."""
+    import numpy as np
+    angles = tuple((k, M) for M in range(5, NEARBY_ANGLE_DENOMINATOR + 1) if M != 6
+                   for k in range(1, (M + 1) // 2) if 2 * k < M and math.gcd(k, M) == 1)
+    return np.cos(np.pi * np.array([k / M for k, M in angles])), angles
 
 
 def _nearby(x: float) -> sp.Expr | None:
     """The simplest q*c within :data:`NEARBY_TOLERANCE` of ``x`` (smallest denominator, then
-    numerator), or None."""
-    best: tuple[int, int, sp.Expr] | None = None
+    numerator; radicals before cosines), c a radical of :data:`NEARBY_CONSTANTS` or a cosine
+    cos(pi k/M) (:func:`_cosines`), or None."""
+    import numpy as np
+    if x == 0:
+        return sp.Integer(0)
+    tol = NEARBY_TOLERANCE * abs(x)
+    best: tuple[int, int, int, sp.Expr] | None = None
     for c, cf in zip(NEARBY_CONSTANTS, _NEARBY_VALUES):
         q = Fraction(x / cf).limit_denominator(NEARBY_DENOMINATOR)
-        if abs(float(q) * cf - x) <= NEARBY_TOLERANCE * max(abs(x), 1e-300) or x == 0:
-            key = (q.denominator, abs(q.numerator))
-            if best is None or key < best[:2]:
+        if abs(float(q) * cf - x) <= tol:
+            key = (q.denominator, abs(q.numerator), 0)
+            if best is None or key < best[:3]:
                 best = (*key, sp.Rational(q.numerator, q.denominator) * c)
-    return None if best is None else best[2]
+    values, angles = _cosines()
+    t = x / values
+    for den in range(1, NEARBY_COSINE_DENOMINATOR + 1):
+        if best is not None and best[0] <= den:
+            break
+        num = np.rint(t * den)
+        hits = np.flatnonzero((num != 0) & (np.abs(num / den * values - x) <= tol))
+        if hits.size:
+            i = int(hits[np.argmin(np.abs(num[hits]))])
+            k, M = angles[i]
+            best = (den, int(abs(num[i])), 1, sp.Rational(int(num[i]), den) * sp.cos(sp.pi * k / M))
+    return None if best is None else best[3]
+
+
+def _nearby_rotation(a: float, b: float) -> tuple[sp.Expr, sp.Expr] | None:
+    """Exact ``(r cos t, r sin t)`` for the float pair ``(a, b)`` of a scaled rotation, recognised
+    jointly: ``r^2 = a^2 + b^2`` a rational with a small denominator, ``t = atan2(b, a)`` a rational
+    multiple of pi with denominator at most :data:`NEARBY_ANGLE_DENOMINATOR`, and both entries
+    within :data:`NEARBY_TOLERANCE` (relative to r) of the exact values; or None."""
+    r2 = a * a + b * b
+    R2 = Fraction(r2).limit_denominator(NEARBY_DENOMINATOR)
+    turn = Fraction(math.atan2(b, a) / math.pi).limit_denominator(NEARBY_ANGLE_DENOMINATOR)
+    if R2 == 0 or abs(float(R2) - r2) > 2 * NEARBY_TOLERANCE * r2 or \
+            abs(float(turn) * math.pi - math.atan2(b, a)) > NEARBY_TOLERANCE * max(1.0, abs(math.atan2(b, a))):
+        return None
+    r, angle = sp.sqrt(sp.Rational(R2.numerator, R2.denominator)), sp.pi * sp.Rational(turn.numerator, turn.denominator)
+    exact = (r * sp.cos(angle), r * sp.sin(angle))
+    tol = NEARBY_TOLERANCE * math.sqrt(r2)
+    return exact if all(abs(float(e) - f) <= tol for e, f in zip(exact, (a, b))) else None
 
 
 @dataclass
@@ -307,6 +354,9 @@ class _Conversions:
     what: str
     changes: list = field(default_factory=list)
     notes: list = field(default_factory=list)
+    #: matrices whose diagonal blocks ``"nearby"`` recognised only in part, as that partial
+    #: reading (by entry name): they were read as decimals instead
+    partial: dict = field(default_factory=dict)
 
 
 _ACTIVE: contextvars.ContextVar[_Conversions | None] = contextvars.ContextVar("symkf_rationalize", default=None)
@@ -546,9 +596,14 @@ def to_exact_matrix(rows: Any, entry: str, *, rationalize: bool | str = False,
     if want_r is not None and len(rows) != want_r or want_c is not None and width != want_c:
         raise ShapeError(f"{entry}: shape {len(rows)}x{width}, expected "
                          f"{want_r if want_r is not None else 'any'}x{want_c if want_c is not None else 'any'}")
-    with rationalization(entry):
-        M = sp.ImmutableMatrix([[to_exact(v, f"{entry}[{i}][{j}]", rationalize=rationalize)
-                                 for j, v in enumerate(r)] for i, r in enumerate(rows)])
+    with rationalization(entry) as record:
+        start = len(record.changes)
+        pairs = _rotation_pairs(rows, entry, record) if rationalize == "nearby" else {}
+        cells = [[pairs[i, j] if (i, j) in pairs else to_exact(v, f"{entry}[{i}][{j}]", rationalize=rationalize)
+                  for j, v in enumerate(r)] for i, r in enumerate(rows)]
+        if rationalize == "nearby":
+            _whole_blocks(cells, entry, record, start)
+        M = sp.ImmutableMatrix(cells)
     if not M.is_square:
         cost = field_cost(M)
         check_degree(cost.radical > 1 or cost.atoms > 1, cost.radical * cost.cyclotomic, entry, "its entries' field")
@@ -570,6 +625,65 @@ def to_exact_matrix(rows: Any, entry: str, *, rationalize: bool | str = False,
             check_degree(True, cost.radical * cost.cyclotomic * len(index), entry,
                          f"the eigenvalues of its diagonal block {_rows(index)} (entries' field times size {len(index)})")
     return M
+
+
+def _is_float(v: Any) -> bool:
+    return isinstance(v, numbers.Real) and not isinstance(v, (numbers.Integral, sp.Basic, Fraction, Decimal))
+
+
+def _rotation_pairs(rows: Sequence[Sequence[Any]], entry: str, record: _Conversions) -> dict[tuple[int, int], sp.Expr]:
+    """Entries of float rotation blocks ``[[a, -b], [b, a]]`` (rows and columns ``i, j``) recognised
+    jointly as ``r R(t)`` (:func:`_nearby_rotation`), recorded as changes: the sine is never read
+    apart from its cosine."""
+    out: dict[tuple[int, int], sp.Expr] = {}
+    n = len(rows)
+    for i in range(n):
+        for j in range(i + 1, n):
+            if any((p, q) in out for p in (i, j) for q in (i, j)):
+                continue
+            a, mb, b, d = rows[i][i], rows[i][j], rows[j][i], rows[j][j]
+            if not all(_is_float(v) and math.isfinite(v) for v in (a, mb, b, d)) or a != d or mb != -b or b == 0 \
+                    or all(Fraction(repr(float(v))) == Fraction(float(v)) for v in (a, b)):
+                continue
+            found = _nearby_rotation(float(a), float(b))
+            if found is None:
+                continue
+            c, s = found
+            how = f"rotation pair (r cos t, r sin t) within {NEARBY_TOLERANCE:g}"
+            for (p, q), value, exact in (((i, i), a, c), ((i, j), mb, -s), ((j, i), b, s), ((j, j), d, c)):
+                out[p, q] = exact
+                record.changes.append((f"{entry}[{p}][{q}]", value, exact, how))
+    return out
+
+
+def _whole_blocks(cells: list[list[sp.Expr]], entry: str, record: _Conversions, start: int) -> None:
+    """Never a block half recognised: in each diagonal block of a square matrix (the whole matrix
+    otherwise), unless ``"nearby"`` recognised every float that is not exact, or none, its
+    recognised floats are read as decimals too, and a note says so (the partial reading is kept in
+    ``record.partial`` for the comparison of periods)."""
+    from ..spectral import diagonal_blocks
+    where = {}
+    for k, (name, value, out, how) in enumerate(record.changes[start:], start):
+        i, j = (int(x) for x in name[len(entry) + 1:-1].split("]["))
+        if how == "shortest decimal" or out != Fraction(repr(float(value))):   # 0.3 -> 3/10 is neutral
+            where[i, j] = (k, value, how != "shortest decimal")
+    partial = sp.ImmutableMatrix(cells)
+    square = len(cells) == len(cells[0])
+    blocks = diagonal_blocks(partial) if square else [list(range(len(cells)))]
+    for index in blocks:
+        inside = {ij: w for ij, w in where.items() if ij[0] in index and (ij[1] in index or not square)}
+        recognised = [ij for ij, w in inside.items() if w[2]]
+        if 0 < len(recognised) < len(inside):
+            for i, j in recognised:
+                k, value, _ = inside[i, j]
+                decimal = Fraction(repr(float(value)))
+                cells[i][j] = sp.Rational(decimal.numerator, decimal.denominator)
+                record.changes[k] = (record.changes[k][0], value, cells[i][j], "shortest decimal")
+            record.partial[entry] = partial
+            place = f"its diagonal block {_rows(index)}" if square else "its entries"
+            record.notes.append(f"{entry}: only {len(recognised)} of the {len(inside)} inexact floats of {place} "
+                                "are near constants, so none is taken (a block is read one way): all are read as "
+                                "decimals")
 
 
 def _unit_multiple(v: sp.Expr) -> bool:
