@@ -38,6 +38,11 @@ class Limits:
     #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap
     #: (2R(2 pi/97): 192, 1.6 CPU-s; 2R(2 pi/127): 252, 2.6 CPU-s)
     max_cyclotomic_degree: int = 256
+    #: bit size 4 d^3 b of the resultant of degree 2 d^2 that gives the modulus of a complex
+    #: eigenvalue of degree d with b-bit minimal polynomial (Res_y(f(y), y^d f(z^2/y))), checked once
+    #: d and b are known; its cost grows like d^7.5 b^1.55 (d = 16, b = 70: 1.15e6 bits, 1.2 CPU-s;
+    #: d = 20, b = 70: 2.2e6, 6.7 CPU-s; d = 32, b = 70, a 16x16 A over Q(sqrt 2): 9.2e6, ~220 CPU-s)
+    max_resultant_bits: int = 2 ** 21
     #: nesting depth of radicals (sqrt(2 + sqrt(3)) has depth 2)
     max_nesting: int = 4
     #: denominator q of an angle p*pi/q inside cos, sin, tan or exp (degree grows like q)

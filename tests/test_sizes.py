@@ -17,7 +17,7 @@ from symkf import budget, cli
 from symkf.errors import BudgetError
 from symkf.exact.numbers import expr_bits, parse_exact
 
-from test_limits import limited, system_file
+from test_limits import library, limited, system_file
 
 HOSTILE_A = ["1e-400", "(1+10**-999)**10000", "2*cos(pi/180)**9999", "2**-1074"]
 
@@ -83,3 +83,19 @@ def test_non_regular_input_files_refused(tmp_path, kind):
     for command in ("analyze", "critical"):
         code, err = limited(cli.main, [command, str(path)])
         assert code == 2 and err.count("\n") == 1 and f"{path}: {what}" in err, err
+
+
+def _sqrt2_matrix() -> list[list[str]]:
+    import random
+    rng = random.Random(0)
+    return [[rng.choice(["sqrt(2)", "-sqrt(2)", "1", "1/2", "0"]) for _ in range(16)] for _ in range(16)]
+
+
+def test_modulus_resultant_is_sized_before_it_is_built():
+    """A 16x16 A with entries in {+-sqrt 2, 1, 1/2, 0} (degree bound 32, under max_degree) ran past
+    60 CPU-s in the resultant of degree 2 d^2 = 2048 giving |lambda| (d = 32, b = 70 bits: about
+    220 CPU-s measured by the d^7.5 b^1.55 fit); refused once d and b are known, in about a second."""
+    code, err = limited(library, lambda: sk.System(A=_sqrt2_matrix(), sensors=[sk.Sensor(C=[[1] * 16])]))
+    assert code == 2, err
+    with pytest.raises(BudgetError, match=r"degree d = 32 with b = 70-bit coefficients is 9175040.*--max-resultant-bits"):
+        sk.System(A=_sqrt2_matrix(), sensors=[sk.Sensor(C=[[1] * 16])])
