@@ -33,6 +33,7 @@ from .exact.algebraic import (AlgebraicNumber, _complex_roots, _with_prec, croot
                               real_from_ball, root_ball)
 from .exact import nfpoly
 from .exact.field import Elem, NumberField
+from .exact.blocks import diagonal_blocks
 from .exact.linalg import field_of, rank, rank_rows
 from . import budget
 from .errors import InputError, ShapeError
@@ -425,30 +426,6 @@ def _geometric_multiplicities(A: sp.MatrixBase, K: NumberField, factors) -> list
     Ak = K.matrix(A)
     return [None if e == 1 else (n - rank_rows(K, _poly_at(K, Ak, h), n)) // (len(h) - 1)
             for h, e, _ in factors]
-
-
-def diagonal_blocks(A: sp.MatrixBase) -> list[list[int]]:
-    """The index sets of the diagonal blocks of ``A`` up to a symmetric permutation: the connected
-    components of the graph with an edge ``i - j`` when ``A_ij != 0`` or ``A_ji != 0``.  ``A`` is
-    their direct sum, so its eigenvalues, eigenspaces and Jordan chains are theirs, and each block
-    is decided in the field of its own entries instead of the compositum of all of them (a stack of
-    rotations in four cyclotomic fields)."""
-    n = A.shape[0]
-    parent = list(range(n))
-
-    def root(i: int) -> int:
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-    for i in range(n):
-        for j in range(i + 1, n):
-            if A[i, j] != 0 or A[j, i] != 0:
-                parent[root(i)] = root(j)
-    groups: dict[int, list[int]] = {}
-    for i in range(n):
-        groups.setdefault(root(i), []).append(i)
-    return list(groups.values())
 
 
 def eigenvalue_key(f: flint.fmpz_poly, i: int) -> tuple[tuple[int, ...], int]:

@@ -109,3 +109,14 @@ def test_strategies_without_hypothesis_name_the_extra(monkeypatch):
     with pytest.raises(ExtraNotInstalledError, match=r"symkf.strategies needs hypothesis: pip install "
                                                      r"'symkf\[strategies\]'"):
         import symkf.strategies  # noqa: F401
+
+
+def test_exact_layer_imports_nothing_above_it():
+    """symkf/exact/ is the substrate: its modules import each other, budget and errors only."""
+    import ast
+    allowed = {"budget", "errors"}
+    for path in (ROOT / "symkf" / "exact").glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level >= 2:
+                names = {node.module.split(".")[0]} if node.module else {a.name for a in node.names}
+                assert names <= allowed, f"{path.name} imports {names - allowed} from above the exact layer"

@@ -42,6 +42,7 @@ import sympy as sp
 
 from .. import budget
 from ..errors import InexactInputError, InputError, ShapeError
+from .blocks import diagonal_blocks
 
 #: the names a string may use besides declared symbols: functions, then constants
 FUNCTIONS = ("sqrt", "cbrt", "root", "Rational", "cos", "sin", "tan", "exp")
@@ -612,7 +613,6 @@ def to_exact_matrix(rows: Any, entry: str, *, rationalize: bool | str = False,
     # 1x1 block of one trigonometric constant, or of a scaled rotation r R(t), stays in the
     # cyclotomic field Q(zeta_m) with a rational or real modulus; other eigenvalues lie in a
     # generic extension of degree <= the block's size, and a complex one's modulus needs a resultant
-    from ..spectral import diagonal_blocks
     for index in diagonal_blocks(M):
         sub = M.extract(index, index)
         cost = field_cost(sub)
