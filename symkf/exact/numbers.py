@@ -661,7 +661,6 @@ def _whole_blocks(cells: list[list[sp.Expr]], entry: str, record: _Conversions, 
     otherwise), unless ``"nearby"`` recognised every float that is not exact, or none, its
     recognised floats are read as decimals too, and a note says so (the partial reading is kept in
     ``record.partial`` for the comparison of periods)."""
-    from ..spectral import diagonal_blocks
     where = {}
     for k, (name, value, out, how) in enumerate(record.changes[start:], start):
         i, j = (int(x) for x in name[len(entry) + 1:-1].split("]["))
