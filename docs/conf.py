@@ -5,14 +5,21 @@ nbclient), so its LaTeX results and figures are those of the current code. The A
 is autodoc with napoleon (numpydoc-style ``Parameters`` / ``Returns`` / ``Examples`` sections).
 """
 
+import sys
+from pathlib import Path
+
 import symkf
+
+sys.path.insert(0, str(Path(__file__).parent))   # docs/offline.py, the extension below
 
 project = "symkf"
 author = "The symkf developers"
 copyright = "2026, The symkf developers"
 release = version = symkf.__version__
 
-extensions = ["myst_nb", "sphinx.ext.autodoc", "sphinx.ext.napoleon", "sphinx.ext.mathjax"]
+# offline: MathJax served from the site itself, and the build fails if a page loads an asset
+# from another host (docs/offline.py)
+extensions = ["myst_nb", "sphinx.ext.autodoc", "sphinx.ext.napoleon", "sphinx.ext.mathjax", "offline"]
 myst_enable_extensions = ["dollarmath", "amsmath"]
 myst_heading_anchors = 3
 exclude_patterns = ["_build", "jupyter_execute"]

@@ -2,10 +2,10 @@
 
 Usage: python examples/critical_table.py [OUT.tex] [--family FAMILY.toml] [--jobs N] [--scheduler ADDRESS]
 
-The default family, symkf/examples/families/rotation-periods.toml (A = 2 R(pi/g), governing
-period g = 2..12, 1..4 identical sensors), takes about two minutes serially; --jobs 2
-halves that.  OUT.tex holds two ``table`` environments; ``\\input`` it in a document
-that loads booktabs.
+The default family is the shipped rotation-periods (A = 2 R(pi/g), governing period
+g = 2..12, 1..4 identical sensors; ``symkf table rotation-periods`` prints the same table);
+--jobs N evaluates its members in N processes.  OUT.tex holds two ``table`` environments;
+``\\input`` it in a document that loads booktabs.
 """
 
 import argparse

@@ -1,4 +1,4 @@
-"""Reproduce seed 003, Section 4 (inverted pendulum, 10 smart sensors, lossy channels).
+"""Reproduce the fusion paper (arXiv:2012.04896), Section 4 (inverted pendulum, 10 smart sensors, lossy channels).
 
 Usage: python examples/fusion_pendulum.py [OUTDIR]   (writes the Fig. 2 / Fig. 3 PNGs to OUTDIR)
 """

@@ -1,4 +1,4 @@
-"""Seed 002: Theorems 1-2 against the exact verdict, as a markdown table.
+"""Quevedo et al.: Theorems 1-2 against the exact verdict, as a markdown table.
 
 Usage: python examples/quevedo_compare.py [NAME ...]   (default: the whole family)
 """

@@ -1,4 +1,4 @@
-"""Reproduce seed 002 (Quevedo, Ahlén, Johansson): `symkf reproduce quevedo-example3`.
+"""Reproduce Quevedo, Ahlén, Johansson: `symkf reproduce quevedo-example3`.
 
 Usage: python examples/quevedo_example3.py [OUTDIR]   (prints the JSON report; writes the figure to OUTDIR)
 """

@@ -1,4 +1,4 @@
-"""Reproduce seed 002 (Quevedo, Ahlén, Johansson): `symkf reproduce quevedo-robot`.
+"""Reproduce Quevedo, Ahlén, Johansson: `symkf reproduce quevedo-robot`.
 
 Usage: python examples/quevedo_robot.py [OUTDIR]   (prints the JSON report; writes the figure to OUTDIR)
 """

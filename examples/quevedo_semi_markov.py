@@ -1,4 +1,4 @@
-"""Reproduce seed 002 (Quevedo, Ahlén, Johansson): `symkf reproduce quevedo-semi-markov`.
+"""Reproduce Quevedo, Ahlén, Johansson: `symkf reproduce quevedo-semi-markov`.
 
 Usage: python examples/quevedo_semi_markov.py [OUTDIR]   (prints the JSON report; writes the figure to OUTDIR)
 """

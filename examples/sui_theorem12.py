@@ -1,4 +1,4 @@
-"""Theorem 12 of Sui-You-Fu (seed 001) as printed and corrected: `symkf reproduce sui-theorem12`.
+"""Theorem 12 of Sui-You-Fu as printed and corrected: `symkf reproduce sui-theorem12`.
 
 Usage: python examples/sui_theorem12.py [OUTDIR]   (prints the JSON report; writes the figure to OUTDIR)
 Its checks (the corrected statement) are all true; where the printed statement fails, the

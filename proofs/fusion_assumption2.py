@@ -1,6 +1,6 @@
-"""Claim checked: Assumption 2 for the inverted pendulum of seed 003, Section 4.
+"""Claim checked: Assumption 2 for the inverted pendulum of the fusion paper (arXiv:2012.04896), Section 4.
 
-Source: seed 003 (arXiv 2012.04896), Section 4: "(1 - min lambda_i) rho^2(A) = 0.5 x 1.00042 < 1".
+Source: Optimal linear sensor fusion over lossy channels (arXiv:2012.04896), Section 4: "(1 - min lambda_i) rho^2(A) = 0.5 x 1.00042 < 1".
 
 Finding: Assumption 2 holds, but the number is ``exp(2 s / 1000) / 2`` with
 ``s`` the largest real root of ``3505 x^3 + 501 x^2 - 686 x - 98`` (the unstable

@@ -1,6 +1,6 @@
-"""Claim: Theorem 2 of seed 003 (via Lemma 5, Albert 1973) solves Problem 1.
+"""Claim: Theorem 2 of the fusion paper (arXiv:2012.04896) (via Lemma 5, Albert 1973) solves Problem 1.
 
-Source: seed 003 (arXiv 2012.04896), Problem 1 and eq. (27):
+Source: Optimal linear sensor fusion over lossy channels (arXiv:2012.04896), Problem 1 and eq. (27):
 ``W* = [I - (M Sigma M)^+ M Sigma] (V_o')^+``, ``M = I - V_o V_o^+``, is a
 minimiser of ``tr(W' Sigma W)`` subject to ``W' V_o = I`` for singular PSD
 ``Sigma`` and full-column-rank ``V_o``.

@@ -1,6 +1,6 @@
-"""Claim checked: seed 003's eq. (18) for the cross covariance P^(ij)_k of remote errors.
+"""Claim checked: the fusion paper's (arXiv:2012.04896) eq. (18) for the cross covariance P^(ij)_k of remote errors.
 
-Source: seed 003 (arXiv 2012.04896), eq. (18):
+Source: Optimal linear sensor fusion over lossy channels (arXiv:2012.04896), eq. (18):
 ``P^(ij) = A_i^tau_i Gamma_ij A_j'^tau_j + sum_{t<min(tau_i,tau_j)} A_i^t V_i' Q V_j A_j'^t``.
 
 Finding: false whenever ``tau_i != tau_j``.  The local errors in it are taken

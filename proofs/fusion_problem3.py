@@ -1,6 +1,6 @@
-"""Claim checked: what seed 003's Problem 3 ("Transformed linear programming") really is.
+"""Claim checked: what the fusion paper's (arXiv:2012.04896) Problem 3 ("Transformed linear programming") really is.
 
-Source: seed 003 (arXiv 2012.04896), Problem 3 (eq. 22) and Theorem 1, Appendix D:
+Source: Optimal linear sensor fusion over lossy channels (arXiv:2012.04896), Problem 3 (eq. 22) and Theorem 1, Appendix D:
 ``max 1/2 tr(Lambda_1)`` s.t. ``W' V_o = I``, ``2 Sigma W = V_o Lambda_1'``,
 said to be the dual of Problem 2 and a linear program.
 

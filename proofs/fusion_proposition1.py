@@ -1,6 +1,6 @@
-"""Claim checked: the bound in the proof of Proposition 1 of seed 003.
+"""Claim checked: the bound in the proof of Proposition 1 of the fusion paper (arXiv:2012.04896).
 
-Source: seed 003 (arXiv 2012.04896), Appendix E:
+Source: Optimal linear sensor fusion over lossy channels (arXiv:2012.04896), Appendix E:
 ``tr E[P*_k] <= m sum_i n_i,o { E[rho_i^(2 tau)] (tr Pbar_i - tr Q~_i/(1 - rho_i^2)) + tr Q~_i/(1 - rho_i^2) }``
 with ``m > sigma_max(W)^2``.  Its last step bounds ``tr(A^t X A'^t)`` by
 ``n rho(A)^(2t) tr X``, which fails for non-normal A.

@@ -1,4 +1,4 @@
-"""Quevedo-Ahlén-Johansson (seed 002), Corollary 1 (eq. 24) and its reductions in Sec. VI.
+"""Quevedo-Ahlén-Johansson, Corollary 1 (eq. 24) and its reductions in Sec. VI.
 
 Claims:
 (a) one sensor with C_1 of full column rank: Theorem 1's nu_i ||A||^2 equals

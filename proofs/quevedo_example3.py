@@ -1,4 +1,4 @@
-"""Quevedo-Ahlén-Johansson (seed 002), Example 3: the set J and Pr{r(k) = 1 | Xi = j}.
+"""Quevedo-Ahlén-Johansson, Example 3: the set J and Pr{r(k) = 1 | Xi = j}.
 
 Claim: for the tree of Fig. 4 (S1, S2 -> S0; S3 -> S1; S4, S5 -> S2) and the
 rule "C(k) is full rank iff at least three of y1..y5 reach the gateway",

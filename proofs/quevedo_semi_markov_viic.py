@@ -1,4 +1,4 @@
-"""Quevedo-Ahlén-Johansson (seed 002), Sec. VII-C: the semi-Markov example's claims.
+"""Quevedo-Ahlén-Johansson, Sec. VII-C: the semi-Markov example's claims.
 
 Claims, for A = [[5/4, 0], [1, 11/10]], C1 = [1 1], holding times uniform on
 1..5 (state 1) and 1..7 (state 2):

@@ -1,4 +1,4 @@
-"""Quevedo-Ahlén-Johansson (seed 002), end of the proof of Theorem 1: the constants in (18).
+"""Quevedo-Ahlén-Johansson, end of the proof of Theorem 1: the constants in (18).
 
 Claim: from (43), E{V_k} <= rho^k V_0 + beta_bar (1 - rho^k)/(1 - rho), "(18) holds
 with alpha = rho V_0 and beta = beta_bar/(1 - rho)".

@@ -1,4 +1,4 @@
-"""Quevedo-Ahlén-Johansson (seed 002), Theorem 1 (eq. 22) is sufficient: it implies exact stability.
+"""Quevedo-Ahlén-Johansson, Theorem 1 (eq. 22) is sufficient: it implies exact stability.
 
 Claim: for a Markov network state (Assumption 1) and a time-invariant A, if
 max_i nu_i ||A||^2 < 1 (eq. 22) then the Kalman filter is stable -- so the set of
@@ -9,7 +9,7 @@ Theorem 2 (eq. 32, corrected) with psi_j(1) = 1 gives the same set as Theorem 1
 (Sec. VII-B), and the exact stable sets of `symkf.network.compare` agree with the
 engine pointwise.
 
-Source: seed 002, Sec. V (Theorem 1, eqs. 20-22), Sec. VI (Corollary 1), Sec. VII-B.
+Source: Quevedo, Ahlén, Johansson, Sec. V (Theorem 1, eqs. 20-22), Sec. VI (Corollary 1), Sec. VII-B.
 
 Method: exhaustive check over the stated finite family
 `symkf.network.compare.FAMILY` (nine sensor-network examples: scalar and 2x2 and

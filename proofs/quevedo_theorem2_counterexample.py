@@ -1,4 +1,4 @@
-"""Quevedo-Ahlén-Johansson (seed 002), Theorem 2 (eq. 32) with mu_i from eq. (31): a counterexample.
+"""Quevedo-Ahlén-Johansson, Theorem 2 (eq. 32) with mu_i from eq. (31): a counterexample.
 
 Claim (Theorem 2): under Assumptions 2-3 with Delta_l <= sigma, if
 max_i sum_delta mu_i(delta) sum_j psi_j(delta) q_ij ||Phi(k_l + delta, k_l)||^2 <= rho^sigma

@@ -1,4 +1,4 @@
-"""Sui-You-Fu (seed 001), eq. (35): P(R_{N g}) = u M^N v, checked on examples against enumeration.
+"""Sui-You-Fu, eq. (35): P(R_{N g}) = u M^N v, checked on examples against enumeration.
 
 Claim: with ``M`` the matrix of eqs. (33)-(34) over (rank-deficient projected
 pattern, loss-chain state), the probability that the regression matrix

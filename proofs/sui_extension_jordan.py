@@ -1,4 +1,4 @@
-"""symkf's extension of Sui-You-Fu (seed 001) to Jordan chains, singular A and detectable pairs.
+"""symkf's extension of Sui-You-Fu to Jordan chains, singular A and detectable pairs.
 
 Claim (docs/sui.md, "Beyond Sui-You-Fu"): for an eigen-block with Jordan chains the decay rate
 ``rho_i`` of ``P(R_N(i))`` is ``max_H rho_H`` over the hyperplanes of the generators

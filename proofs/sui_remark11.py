@@ -1,4 +1,4 @@
-"""Sui-You-Fu (seed 001), Remark 11: dependent sensors merge into one with arrival 1 - (1 - p_i)(1 - p_j).
+"""Sui-You-Fu, Remark 11: dependent sensors merge into one with arrival 1 - (1 - p_i)(1 - p_j).
 
 Claim: if ``rank col{C_i, C_j} = 1`` (both nonzero), receiving sensor ``i`` is
 equivalent to receiving sensor ``j``; the pair can be replaced by one sensor

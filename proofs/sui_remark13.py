@@ -1,4 +1,4 @@
-"""Sui-You-Fu (seed 001), Remark 13: for d = 1 Theorem 12 is the single-sensor result of You, Fu and Xie (2011).
+"""Sui-You-Fu, Remark 13: for d = 1 Theorem 12 is the single-sensor result of You, Fu and Xie (2011).
 
 Claim: substituting ``d = 1`` into Theorem 12 gives the i.i.d. case of Theorem 7
 of You, Fu and Xie (2011) for second-order systems.  We could not consult that

@@ -1,4 +1,4 @@
-"""Sui-You-Fu (seed 001), Theorem 12, eq. (38): refuted as printed; corrected statement checked.
+"""Sui-You-Fu, Theorem 12, eq. (38): refuted as printed; corrected statement checked.
 
 Claim (as printed): under Assumptions 4-6 the estimator of a second-order
 system is stable iff ``alpha^(2 tau) prod_i (1 - p_i)^tau / min_j p_j^* < 1``,

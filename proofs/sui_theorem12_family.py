@@ -1,4 +1,4 @@
-"""Sui-You-Fu (seed 001), Theorem 12 / eq. (38) with Definition 1 and eq. (37): cross-check on a family.
+"""Sui-You-Fu, Theorem 12 / eq. (38) with Definition 1 and eq. (37): cross-check on a family.
 
 Claim checked: the corrected Theorem 12 (``symkf.second_order``: exponent the
 governing period ``g`` instead of ``tau``, rank-one congruent sets, Remark 11

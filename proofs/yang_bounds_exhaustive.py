@@ -1,4 +1,4 @@
-"""Yang et al. (seed 004): Proposition 1, Theorem 3 and Remark 3 by exhaustive enumeration of losses.
+"""Yang et al.: Proposition 1, Theorem 3 and Remark 3 by exhaustive enumeration of losses.
 
 Claims: for i.i.d. arrivals ``lambda_i`` and every k,
 * Proposition 1: ``G_k <= E[P_k^-]`` (``G_1 = 0``, ``G_{k+1} = prod(1 - lambda_i) A G_k A' + Q``);

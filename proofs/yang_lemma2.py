@@ -1,4 +1,4 @@
-"""Yang et al. (seed 004), Lemma 2 and Corollary 2: when do the critical capacities meet?
+"""Yang et al., Lemma 2 and Corollary 2: when do the critical capacities meet?
 
 Claim (Lemma 2): "When A has only one unstable eigenvalue, ln rho(A) = h(A)"
 (the lower critical capacity, eq. 16, equals the upper, eq. 29).

@@ -1,4 +1,4 @@
-"""Yang et al. (seed 004), Section III-E: the single-sensor reduction lambda_bar = 1 - 1/M(A)^2.
+"""Yang et al., Section III-E: the single-sensor reduction lambda_bar = 1 - 1/M(A)^2.
 
 Claim: for N = 1 the MARE (18) reduces to Sinopoli's (32) and Theorem 5 turns
 the LMI upper bound on the critical arrival rate into the closed form

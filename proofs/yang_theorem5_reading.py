@@ -1,4 +1,4 @@
-"""Yang et al. (seed 004), Theorems 5 and 6: "if C > h(A), {V_k} converges" needs the existential reading.
+"""Yang et al., Theorems 5 and 6: "if C > h(A), {V_k} converges" needs the existential reading.
 
 Claim (Theorem 5, eq. 28): "In particular, if C > h(A), {V_k} converges."  The
 appendix proves: for a capacity C above sum_i max_j h(A_ij) there is *some*

@@ -26,7 +26,9 @@ if TYPE_CHECKING:
     from .spectral import eigen_blocks, eigenvalues
     from .stability import (Verdict, critical_alpha, critical_loss_rate, critical_recovery_rate, stability,
                             stable_recovery_intervals)
+    from .simulation import Simulation, simulate
     from .sweep import sweep
+    from .verify import FamilyVerification, Verification, verify, verify_family
 
 __version__ = "0.1.0"
 
@@ -38,12 +40,15 @@ _LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "losses", "GilbertElliott"
          "eigenvalues": "spectral", "Verdict": "stability", "critical_alpha": "stability",
          "critical_loss_rate": "stability", "critical_recovery_rate": "stability", "stability": "stability",
          "stable_recovery_intervals": "stability", "load_family": "families", "StabilityRegion": "region",
-         "stability_conditions": "region", "stability_region": "region", "sweep": "sweep"}
+         "stability_conditions": "region", "stability_region": "region", "sweep": "sweep",
+         "verify": "verify", "verify_family": "verify", "Verification": "verify", "FamilyVerification": "verify",
+         "simulate": "simulation", "Simulation": "simulation"}
 
 __all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLoss", "AlgebraicNumber",
            "eigen_blocks", "eigenvalues", "stability", "Verdict", "critical_loss_rate", "critical_alpha",
            "critical_recovery_rate", "stable_recovery_intervals", "stability_region", "stability_conditions",
-           "StabilityRegion", "sweep", "load_family",
+           "StabilityRegion", "sweep", "load_family", "verify", "verify_family", "Verification",
+           "FamilyVerification", "simulate", "Simulation",
            "capacity", "fusion", "montecarlo", "network", "second_order", "tables"]
 
 def __getattr__(name: str) -> Any:
@@ -58,7 +63,8 @@ def __getattr__(name: str) -> Any:
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | _SUBMODULES | set(_LAZY))
+    """The public API only (not this module's own imports)."""
+    return sorted({*__all__, *_SUBMODULES, *_LAZY, "__version__"})
 
 
 class _Package(types.ModuleType):

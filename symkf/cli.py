@@ -14,6 +14,7 @@ import importlib
 import json
 import os
 import sys
+import textwrap
 import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
@@ -124,12 +125,13 @@ def cmd_demo(args: argparse.Namespace) -> dict[str, Any]:
 
 def _print_demo(res: dict[str, Any]) -> None:
     for e in res["examples"]:
-        print(f"== {e['system']}: A = {e['A']}")
+        print("\n".join(textwrap.wrap(f"== {e['system']}: A = {e['A']}", 100, subsequent_indent="      ")))
         for i, b in enumerate(e["blocks"]):
-            print(f"   block {i}: |lambda| = {b['modulus']}, eigenvalues {b['eigenvalues']}")
+            print(f"   block {i}: |lambda| = {b['modulus']}, eigenvalues {', '.join(b['eigenvalues'])}")
             print(f"            period tau = {b['tau']}, governing period = {b['governing_period']}")
             if b["tau"] is None or b["governing_period"] is None:
-                print(f"            proof: {b['proof']}")
+                print("\n".join(textwrap.wrap(f"proof: {b['proof']}", 100, initial_indent=" " * 12,
+                                               subsequent_indent=" " * 14)))
         c = e["critical_loss_rate"]
         print(f"   critical common i.i.d. loss rate = {c['exact']} ~ {c['decimal']}")
 
@@ -215,17 +217,17 @@ def _needs_loss(args: argparse.Namespace) -> tuple[Any, Any]:
 
 
 def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
-    from .verify import family_summary, is_family_file, summary, verify, verify_family
+    from .verify import is_family_file, verify, verify_family
     if is_family_file(args.file):
-        reports = verify_family(args.file, jobs=args.jobs, scheduler=args.scheduler, seed=args.seed,
-                                paths=args.paths, horizon=args.horizon)
-        return {"family": str(args.file), "members": reports, "_text": family_summary(reports),
-                "_status": 1 if any(r["outcome"] == "contradiction" for r in reports) else 0}
+        family = verify_family(args.file, jobs=args.jobs, scheduler=args.scheduler, seed=args.seed,
+                               paths=args.paths, horizon=args.horizon)
+        return {"family": str(args.file), "members": family.to_json(), "_text": str(family),
+                "_status": 1 if family.counts()["contradiction"] else 0}
     system, loss = _needs_loss(args)
-    report = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon, jobs=args.jobs)
+    result = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon, jobs=args.jobs)
     # exit status 1 (and "outcome": "contradiction") when simulation contradicts the theory
-    return {"system": str(args.file), "loss": loss_json(loss), **report, "_text": summary(report),
-            "_status": 1 if report["outcome"] == "contradiction" else 0}
+    return {"system": str(args.file), "loss": loss_json(loss), **result.to_json(), "_text": str(result),
+            "_status": 1 if result.outcome == "contradiction" else 0}
 
 
 def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
@@ -242,15 +244,8 @@ def _args_verify(p: argparse.ArgumentParser) -> None:
     _args_sweep(p, "family members, or a single system's simulated paths: ")
 
 
-def _mean_trace_rows(est: Any, points: int = 8) -> list[dict[str, Any]]:
-    """(k, mean, interval) at ``points`` evenly spread steps."""
-    count = min(points, est.horizon)
-    ks = sorted({round(i * (est.horizon - 1) / max(count - 1, 1)) for i in range(count)})
-    return [{"k": k, "mean": float(est.mean[k]), "low": float(est.low[k]), "high": float(est.high[k])} for k in ks]
-
-
 def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
-    from .montecarlo import estimate_mean_trace
+    from .simulation import simulate
     target = None
     if args.plot:
         from .plots import require_matplotlib
@@ -263,32 +258,16 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
     budget.check("max_memory", memory_estimate(system, loss, args.horizon, args.paths,
                                                records="json" if args.json else "text"), "--paths x --horizon",
                  f"the bytes (estimate) of a simulation of {args.paths} paths over {args.horizon} steps")
-    est = estimate_mean_trace(system, loss, args.horizon, args.paths, seed=args.seed)
-    res: dict[str, Any] = {
-        "system": str(args.file), "loss": loss_json(loss), "quantity": "E[tr P_{k|k-1}], k = 0..horizon-1",
-        "method": "plain Monte Carlo (estimate_mean_trace)", "horizon": est.horizon, "paths": est.paths,
-        "seed": est.seed, "confidence": est.confidence, "summary": _mean_trace_rows(est),
-        "mean": est.mean.tolist(), "low": est.low.tolist(), "high": est.high.tolist()}
+    sim = simulate(system, loss, args.horizon, args.paths, seed=args.seed, curve=target is not None)
+    res: dict[str, Any] = {"system": str(args.file), "loss": loss_json(loss), **sim.to_json(), "_text": str(sim)}
     if target is not None:
-        from .montecarlo import mean_trace_curve
-        from .plots import mean_trace_figure
-        curve = mean_trace_curve(system, loss, args.horizon, args.paths, seed=args.seed)
-        res["growth_curve"] = {"method": curve.sampling, "k": curve.ks.tolist(),
-                               "log_mean": curve.log_mean.tolist(), "rel_stderr": curve.rel_stderr.tolist()}
-        fig = mean_trace_figure(system, loss, curve)
+        fig = sim.figure()
         res["plot"] = str(target.write(lambda f: fig.savefig(f, format=target.image_format, dpi=110)))
     return res
 
 
 def _print_simulate(res: dict[str, Any]) -> None:
-    print(f"{res['quantity']}: {res['method']}, {res['paths']} paths, seed {res['seed']}")
-    print(f"{'k':>6} {'mean':>12}  {100 * res['confidence']:g}% interval")
-    for r in res["summary"]:
-        print(f"{r['k']:>6} {r['mean']:>12.6g}  [{r['low']:.6g}, {r['high']:.6g}]")
-    if "growth_curve" in res:
-        c = res["growth_curve"]
-        print(f"log10 E[tr P_k] by {c['method']}:")
-        print("  " + ", ".join(f"k = {k}: {m / 2.302585092994046:.4g}" for k, m in zip(c["k"], c["log_mean"])))
+    print(res["_text"])
     if "plot" in res:
         print(f"figure written to {res['plot']}")
 
@@ -319,6 +298,37 @@ def _print_reproduce(res: dict[str, Any]) -> None:
         print("\n".join(res["examples"]))
     else:
         _print_plain(res)
+
+
+def cmd_examples(args: argparse.Namespace) -> dict[str, Any]:
+    from . import examples
+    if args.name is None:
+        return {"examples": [{"name": e.name, "kind": e.kind, "summary": e.summary, "file": str(e.path)}
+                             for e in examples.catalog()]}
+    found = {e.name: e.path for e in examples.catalog()}
+    if args.name not in found:
+        raise UsageError(f"no shipped example {args.name!r}; known: {', '.join(found)}")
+    source = found[args.name]
+    target = output.plan(source.name, "NAME", inputs=[source], force=args.force)
+    return {"example": source.stem, "copied": str(target.write_text(source.read_text(encoding="utf-8")))}
+
+
+def _print_examples(res: dict[str, Any]) -> None:
+    if "copied" in res:
+        print(f"{res['example']} copied to {res['copied']}; edit it, then give its path to any command")
+        return
+    width = max(len(e["name"]) for e in res["examples"])
+    for kind in dict.fromkeys(e["kind"] for e in res["examples"]):
+        print(f"{kind} files:" if kind != "family" else "families (symkf table, symkf verify):")
+        for e in res["examples"]:
+            if e["kind"] == kind:
+                print(f"  {e['name']:<{width}}  {e['summary']}")
+    print("Every command takes these names where it takes a file; symkf examples NAME copies one here.")
+
+
+def _args_examples(p: argparse.ArgumentParser) -> None:
+    p.add_argument("name", nargs="?", metavar="NAME", help="copy this example into the working directory")
+    _args_force(p)
 
 
 def _args_critical(p: argparse.ArgumentParser) -> None:
@@ -433,6 +443,8 @@ register(Command("table", "exact critical values over a parameter family as a La
                  _args_table, cmd_table, _print_table))
 register(Command("simulate", "Monte Carlo E[tr P_k] with confidence intervals", _args_simulate,
                  cmd_simulate, _print_simulate))
+register(Command("examples", "the shipped example systems and families; NAME copies one into the working directory",
+                 _args_examples, cmd_examples, _print_examples))
 register(Command("reproduce", "reproduce a paper's example: " + ", ".join(sorted(REPRODUCE)), _args_reproduce,
                  cmd_reproduce, _print_reproduce))
 
@@ -441,50 +453,104 @@ class _Parser(argparse.ArgumentParser):
     """argparse that reports usage errors in one line (exit status 2) instead of the usage block."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        print(f"{self.prog}: {message}", file=sys.stderr)
-        raise SystemExit(2)
+        raise UsageError(f"{self.prog}: {message}")
 
 
 def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog="symkf", description="Exact stability of multi-sensor Kalman filtering over lossy "
                 "networks (Sui-You-Fu; Quevedo et al.; Yang et al.).",
-                epilog="exit status: 0 success, 1 verify: theory and simulation disagree, "
-                "2 bad input or usage, 3 a theorem's assumptions fail for the system, 70 internal error (a bug)")
+                epilog="Every command takes --json (one JSON document on stdout, errors included: "
+                '{"error": {...}}) and --quiet (no progress bars); FILE is a TOML file or the name of a '
+                "shipped example (symkf examples lists them). Exit status: 0 success, 1 verify: theory and "
+                "simulation disagree, 2 bad input or usage, 3 a theorem's assumptions fail for the system, "
+                "70 internal error (a bug)")
     p.add_argument("--version", action="version", version=f"symkf {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for c in COMMANDS.values():
         s = sub.add_parser(c.name, help=c.help, description=c.help)
         c.configure(s)
-        s.add_argument("--json", action="store_true", help="machine-readable output")
+        for action in s._actions:   # the input file: one help text for every command
+            if action.dest == "file" and action.help is None:
+                action.help = FILE_HELP
+        s.add_argument("--json", action="store_true", help="machine-readable output (errors too, as {\"error\": ...})")
         s.add_argument("--quiet", action="store_true", help="no progress bars (as TQDM_DISABLE=1)")
         _args_caps(s)
         s.set_defaults(command_spec=c)
     return p
 
 
+#: help of every command's input file
+FILE_HELP = "a system or family file (TOML), or the name of a shipped example (symkf examples lists them)"
+
+
+def _input_file(file: str) -> str:
+    """``file``, or the shipped example of that name when no such file exists (symkf.examples)."""
+    from . import examples
+    try:
+        return str(examples.resolve(file))
+    except SymkfError:
+        raise UsageError(f"{file}: no such file; shipped examples are taken by name "
+                         "(symkf examples lists them)") from None
+
+
 def _print_plain(res: dict[str, Any]) -> None:
+    """A result for people: eigen-blocks and the command's own text when it has one, else every
+    key in words (:func:`_words`), never JSON."""
+    for b in res.get("blocks", []):
+        print(f"block: |lambda| = {b['modulus']}, eigenvalues {', '.join(b['eigenvalues'])}, "
+              f"tau = {b['tau']}, governing period = {b['governing_period']}")
     if "_text" in res:
-        for b in res.get("blocks", []):
-            print(f"block: |lambda| = {b['modulus']}, eigenvalues {b['eigenvalues']}, "
-                  f"tau = {b['tau']}, governing period = {b['governing_period']}")
         print(res["_text"])
         return
     for k, v in res.items():
-        if isinstance(v, dict) and "exact" in v:
+        if isinstance(v, dict) and "exact" in v and "interval" in v:
             print(f"{k} = {v['exact']}\n  ~ {v['decimal']}\n  in [{v['interval'][0]}, {v['interval'][1]}]"
                   f"\n  minimal polynomial {v['minpoly']}")
-        elif not k.startswith("_"):
-            print(f"{k}: {json.dumps(v, default=str) if isinstance(v, (dict, list)) else v}")
+        elif not k.startswith("_") and k != "blocks":
+            print("\n".join(_words(k, v)))
+
+
+def _words(key: str, value: Any, indent: str = "", width: int = 100) -> list[str]:
+    """``key: value`` as indented lines of words: nested tables as sections, lists of tables as
+    numbered items, exact numbers as ``exact ~ decimal``, true/false as yes/no; long text wrapped."""
+    if isinstance(value, dict) and "exact" in value and "decimal" in value:
+        value = f"{value['exact']} ~ {value['decimal']}"
+    if isinstance(value, dict):
+        return [f"{indent}{key}:"] + [line for k, v in value.items() for line in _words(k, v, indent + "  ", width)]
+    if isinstance(value, list) and any(isinstance(v, dict) for v in value):
+        return [f"{indent}{key}:"] + [line for i, v in enumerate(value, 1) for line in _words(str(i), v, indent + "  ", width)]
+    text = (", ".join(_scalar(v) for v in value) or "none") if isinstance(value, list) else _scalar(value)
+    return textwrap.wrap(f"{key}: {text}", width, initial_indent=indent, subsequent_indent=indent + "    ",
+                         break_long_words=False, break_on_hyphens=False) or [f"{indent}{key}:"]
+
+
+def _scalar(value: Any) -> str:
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (list, tuple)):
+        return "(" + ", ".join(_scalar(v) for v in value) + ")"
+    return "none" if value is None else str(value)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``symkf`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if not argv:
+        _parser().print_help()
+        return 2
     try:
         args = _parser().parse_args(argv)
-    except SystemExit as exc:
+    except SystemExit as exc:   # --help, --version
         return exc.code if isinstance(exc.code, int) else 2
+    except UsageError as exc:   # one line; with --json also as a JSON error (the command line is not parsed)
+        print(exc, file=sys.stderr)
+        if "--json" in argv:
+            print(json.dumps(_error_document("UsageError", str(exc), 2), indent=2))
+        return 2
     command: Command = args.command_spec
     try:
+        if isinstance(getattr(args, "file", None), str):
+            args.file = _input_file(args.file)
         _cap_jobs(args, command.name)
         with warnings.catch_warnings(record=True) as caught, _quiet(args.quiet), budget.limits(**_caps(args)), \
                 still_working(f"symkf {command.name}", enabled=False if args.quiet else None):
@@ -496,22 +562,16 @@ def main(argv: Sequence[str] | None = None) -> int:
             if not issubclass(w.category, RuntimeWarning):
                 print(f"symkf {command.name}: note: {_one_line(w.message)}", file=sys.stderr)
     except SymkfError as exc:
-        print(f"symkf {command.name}: {_one_line(exc)}", file=sys.stderr)
-        return exc.exit_status
+        return _fail(args, type(exc).__name__, _one_line(exc), exc.exit_status)
     except RecursionError:
-        print(f"symkf {command.name}: input too deeply nested", file=sys.stderr)
-        return 2
+        return _fail(args, "InputError", "input too deeply nested", 2)
     except KeyboardInterrupt:
-        print(f"symkf {command.name}: interrupted", file=sys.stderr)
-        return INTERRUPTED
+        return _fail(args, "KeyboardInterrupt", "interrupted", INTERRUPTED)
     except MemoryError:  # an estimate let through work that did not fit: input, not a bug
-        print(f"symkf {command.name}: out of memory; lower the input's size or the caps of symkf.budget",
-              file=sys.stderr)
-        return 2
+        return _fail(args, "MemoryError", "out of memory; lower the input's size or the caps of symkf.budget", 2)
     except Exception as exc:  # a bug, not bad input: one line and a status of its own
-        print(f"symkf {command.name}: internal error ({type(exc).__name__}: {_one_line(exc)}); "
-              "please report it", file=sys.stderr)
-        return INTERNAL_ERROR
+        return _fail(args, "InternalError", f"internal error ({type(exc).__name__}: {_one_line(exc)}); "
+                     "please report it", INTERNAL_ERROR)
     try:
         if args.json:
             doc = {"schema_version": SCHEMA_VERSION, **{k: v for k, v in res.items() if not k.startswith("_")}}
@@ -522,6 +582,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # e.g. `symkf demo | head`: the reader left; not an error of ours
         sys.stdout = open(os.devnull, "w")
     return res.get("_status", 0)
+
+
+def _fail(args: argparse.Namespace, kind: str, message: str, status: int) -> int:
+    """Report a failure in one line on stderr and, with ``--json``, as ``{"error": ...}`` on stdout."""
+    print(f"symkf {args.command}: {message}", file=sys.stderr)
+    if args.json:
+        print(json.dumps(_error_document(kind, message, status), indent=2))
+    return status
+
+
+def _error_document(kind: str, message: str, status: int) -> dict[str, Any]:
+    return {"schema_version": SCHEMA_VERSION, "error": {"type": kind, "message": message, "exit_status": status}}
 
 
 @contextlib.contextmanager

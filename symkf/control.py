@@ -97,7 +97,7 @@ def _sensor_rows(sensors: Mapping[str, Sequence[int]] | Sequence[str] | None, la
     return groups
 
 
-def to_statespace(system: System, B: Any = None, D: Any = None, dt: float | bool = True) -> "control.StateSpace":
+def to_statespace(system: System, B: Any = None, D: Any = None, dt: float | bool = 1) -> "control.StateSpace":
     """``system`` as a python-control ``StateSpace`` (float64), outputs named after the sensors.
 
     Parameters
@@ -105,9 +105,10 @@ def to_statespace(system: System, B: Any = None, D: Any = None, dt: float | bool
     system : System
         A real system (python-control has no complex state spaces).
     B, D : array_like, optional
-        Input and feedthrough matrices (default: one input that does not act, ``B = 0``, ``D = 0``).
-    dt : float or True
-        Sampling time (``True``: discrete, unspecified).
+        Input and feedthrough matrices.  The papers' systems have no input, so the default is
+        one input that does not act, ``B = 0`` and ``D = 0``, labelled ``no_input``.
+    dt : float or True, default 1
+        Sampling time: 1, one step of ``x_{k+1} = A x_k + w_k`` (``True``: discrete, unspecified).
 
     Returns
     -------
@@ -120,17 +121,19 @@ def to_statespace(system: System, B: Any = None, D: Any = None, dt: float | bool
     --------
     >>> import symkf as sk
     >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
-    >>> to_statespace(S).output_labels
-    ['s1']
+    >>> G = to_statespace(S)
+    >>> G.output_labels, G.input_labels, G.dt
+    (['s1'], ['no_input'], 1)
     """
     ct = require_extra("control", "control", "to_statespace")
     A, C = float_matrix(system.A, "A"), float_matrix(system.C, "C")
     n, p = A.shape[0], C.shape[0]
     # python-control mishandles empty (p, 0) feedthroughs, so "no input" is one input that does not act
+    inputs = ["no_input"] if B is None else None
     B = np.zeros((n, 1)) if B is None else np.asarray(B, dtype=float)
     D = np.zeros((p, B.shape[1])) if D is None else np.asarray(D, dtype=float)
     labels = [s.name if s.m == 1 else f"{s.name}[{j}]" for s in system.sensors for j in range(s.m)]
-    return ct.ss(A, B, C, D, dt, outputs=labels, name=system.name)
+    return ct.ss(A, B, C, D, dt, outputs=labels, inputs=inputs, name=system.name)
 
 
 def float_matrix(M: sp.MatrixBase, entry: str) -> np.ndarray:

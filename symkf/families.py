@@ -1,6 +1,6 @@
 """Parameter families of systems (TOML), the input of ``symkf table``.
 
-A family file is a system file (see DESIGN.md) whose string entries may name
+A family file is a system file (:mod:`symkf.files`, the docs' formats page) whose string entries may name
 parameters, plus a grid of exact parameter values::
 
     [family]
@@ -28,6 +28,10 @@ equivalent system file.  ``kind = "rotation"`` builds ``A = alpha R(theta)`` wit
 
 Bad files raise :class:`~symkf.errors.FileFormatError` (or another
 :class:`~symkf.errors.InputError`) naming file, key and problem in one line.
+
+From Python a family needs no file: :func:`grid_family` calls a builder at every point of a
+grid, :func:`systems_family` takes a list of systems; both give a :class:`Family` that
+:func:`symkf.tables.family_table` and :func:`symkf.verify.verify_family` take like a path.
 """
 
 from __future__ import annotations
@@ -38,12 +42,12 @@ import re
 from dataclasses import dataclass
 from decimal import Decimal
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 import sympy as sp
 
 from . import budget, files
-from .errors import AssumptionError, FileFormatError, SymkfError
+from .errors import AssumptionError, FileFormatError, InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
 from .exact.numbers import RESERVED, field_cost, parse_exact, to_exact, to_exact_matrix
 from .model import System
@@ -90,6 +94,32 @@ class Member:
         if self.tables["loss"] is not None:
             data["loss"] = self.tables["loss"]
         return files.parse(data, f"{self.source}: at {self.label}")
+
+    @property
+    def has_loss(self) -> bool:
+        return self.tables["loss"] is not None
+
+
+@dataclass(frozen=True)
+class BuiltMember:
+    """A member built in memory: ``build(**point)`` returns its System or ``(System, loss)``."""
+
+    label: str
+    point: tuple[tuple[str, Any], ...]
+    build: Callable[..., Any]
+    compute: str
+
+    def system(self) -> tuple[System, Any]:
+        out = self.build(**dict(self.point))
+        system, loss = out if isinstance(out, tuple) else (out, None)
+        if not isinstance(system, System):
+            raise InputError(f"family member {self.label}: the builder returned {type(system).__name__}, "
+                             "expected a System or (System, loss)")
+        return system, loss
+
+    @property
+    def has_loss(self) -> bool:
+        return self.system()[1] is not None
 
 
 @dataclass(frozen=True)
@@ -139,10 +169,12 @@ def evaluate(member: Member) -> Outcome:
         return Outcome(Inapplicable(str(exc)), ())
 
 
-def _cost(member: Member) -> int:
+def _cost(member: Member | BuiltMember) -> int:
     """An a-priori proxy for a member's work, to start the costliest first: the degree bound of
     its A's entries' field (:func:`symkf.exact.numbers.field_cost`) times n times the sensors;
-    0 when A does not parse (the member then fails quickly)."""
+    0 when A does not parse (the member then fails quickly) or the member is built in memory."""
+    if not isinstance(member, Member):
+        return 0
     try:
         A = to_exact_matrix(member.tables["system"].get("A"), "A")
     except SymkfError:
@@ -249,6 +281,59 @@ def load_family(path: str | Path) -> Family:
                               _substitute(template, texts), str(path), rationalize, compute))
     return Family(str(path), name, description, kind, compute, digits, axes, tuple(fixed.items()),
                   tuple(members))
+
+
+def grid_family(build: Callable[..., Any], grid: Mapping[str, Sequence[Any]], *, name: str = "family",
+                compute: str = "critical_loss_rate", description: str = "", digits: int = 6,
+                labels: Mapping[str, str] | None = None) -> Family:
+    """A family from a builder: ``build(**point)`` (a System, or ``(System, loss)`` for
+    ``compute = "stability"`` and verify) at every point of ``grid`` (one or two axes: rows,
+    then columns; values taken exactly).  For ``jobs > 1`` the builder must be picklable
+    (a module-level function).
+
+    >>> import symkf as sk, sympy as sp
+    >>> from symkf import tables
+    >>> def rotation(g):
+    ...     c, s = sp.cos(sp.pi / g), sp.sin(sp.pi / g)
+    ...     return sk.System(A=[[2 * c, -2 * s], [2 * s, 2 * c]], sensors=[sk.Sensor(C=[[1, 0]])])
+    >>> table = tables.family_table(grid_family(rotation, {"g": [2, 3]}), progress=False)
+    >>> [row["cells"][0]["exact"] for row in table.to_json()["rows"]]
+    ['1/16', '1/8']
+    """
+    compute = _choice(compute, COMPUTE, Path(name), "compute")
+    if not 1 <= len(grid) <= 2:
+        raise InputError(f"grid: one or two parameters (rows, then columns), got {len(grid)}")
+    axes = []
+    for key, values in grid.items():
+        exact = tuple(to_exact(v, f"grid {key}[{i}]") for i, v in enumerate(values))
+        if not exact:
+            raise InputError(f"grid {key}: no values")
+        axes.append(Axis(key, exact, tuple(str(v) for v in exact),
+                         (labels or {}).get(key, _DEFAULT_LABELS.get(key, f"${sp.latex(sp.Symbol(key))}$"))))
+    budget.check("max_members", math.prod(len(a.values) for a in axes), name, "the number of family members")
+    members = tuple(BuiltMember(", ".join(f"{a.name} = {a.texts[i]}" for a, i in zip(axes, combo)),
+                                tuple((a.name, a.values[i]) for a, i in zip(axes, combo)), build, compute)
+                    for combo in itertools.product(*[range(len(a.values)) for a in axes]))
+    return Family(name, name, description, "template", compute, digits, tuple(axes), (), members)
+
+
+def systems_family(systems: Sequence[Any], *, name: str = "systems", compute: str = "critical_loss_rate",
+                   description: str = "", digits: int = 6) -> Family:
+    """A one-column family of the given systems (each a System, or ``(System, loss)``), one row
+    each, labelled by the row number."""
+    items = tuple(systems)
+    return grid_family(_Listed(items), {"system": list(range(1, len(items) + 1))}, name=name, compute=compute,
+                       description=description, digits=digits, labels={"system": "system"})
+
+
+@dataclass(frozen=True)
+class _Listed:
+    """The builder of :func:`systems_family`: member ``system = i`` is the ``i``-th item."""
+
+    items: tuple[Any, ...]
+
+    def __call__(self, system: Any) -> Any:
+        return self.items[int(system) - 1]
 
 
 def _choice(value: Any, allowed: Sequence[str], path: Path, key: str) -> str:

@@ -1,4 +1,4 @@
-"""System files (TOML) as specified in DESIGN.md; errors name the file and the key.
+"""System files (TOML) as described in the docs' formats page; errors name the file and the key.
 
 A system file holds ``[system]`` (``A``, optional ``Q``, ``P0``, ``name``), a list
 ``[[sensors]]`` (``C``, optional ``R``, ``name``) and an optional ``[loss]`` table whose

@@ -36,12 +36,25 @@ def _probability(value: Any, entry: str, rationalize: bool | str = False) -> sp.
     return p
 
 
-def _probabilities(values: Any, entry: str, rationalize: bool | str = False) -> tuple[sp.Expr, ...]:
-    if isinstance(values, (str, bytes)) or not isinstance(values, Iterable):
-        raise InputError(f"{entry}: expected a list with one probability per sensor")
+def _scalar(values: Any) -> bool:
+    return isinstance(values, (str, bytes)) or not isinstance(values, Iterable) or getattr(values, "ndim", 1) == 0
+
+
+def _probabilities(values: Any, entry: str, rationalize: bool | str = False,
+                   d: int | None = None) -> tuple[sp.Expr, ...]:
+    """One exact probability per sensor; a single value is every sensor's when ``d`` sensors are given."""
+    if d is not None and (isinstance(d, bool) or not isinstance(d, int) or d < 1):
+        raise InputError(f"d: expected a positive number of sensors, got {d!r}")
+    if _scalar(values):
+        if d is None:
+            raise InputError(f"{entry}: a single probability needs d, the number of sensors it applies to "
+                             f"(e.g. d=2), or give a list with one probability per sensor")
+        values = [values] * d
     if hasattr(values, "tolist"):  # a numpy array: its scalars as Python numbers
         values = values.tolist()
     values = list(values)
+    if d is not None and len(values) != d:
+        raise InputError(f"{entry}: {len(values)} probabilities for d = {d} sensors")
     budget.check("max_sensors", len(values), entry, "the number of sensors")
     out = tuple(_probability(v, f"{entry}[{i}]", rationalize) for i, v in enumerate(values))
     if not out:
@@ -168,10 +181,13 @@ class IID(LossModel):
 
     Parameters
     ----------
-    loss : sequence
+    loss : sequence or number
         One loss probability per sensor: exact numbers in ``[0, 1]`` (ints, Fractions, sympy
         numbers, strings such as ``"1/10"``) or sympy symbols
-        (:func:`symkf.region.stability_conditions`).
+        (:func:`symkf.region.stability_conditions`); a single number is every sensor's and
+        needs ``d``.
+    d : int, optional
+        The number of sensors: ``IID("1/10", d=3)`` is ``IID(["1/10"] * 3)``.
 
     Raises
     ------
@@ -186,15 +202,17 @@ class IID(LossModel):
     >>> loss = sk.IID(["1/10", "1/5"])
     >>> loss.d, loss.arrival
     (2, (9/10, 4/5))
+    >>> sk.IID("1/10", d=3).loss
+    (1/10, 1/10, 1/10)
     >>> sk.IID(["3/2"])
     Traceback (most recent call last):
     ...
     symkf.errors.ProbabilityError: loss[0]: 3/2 is not a probability (must lie in [0, 1])
     """
 
-    def __init__(self, loss: Sequence[Any], *, rationalize: bool | str = False):
+    def __init__(self, loss: Sequence[Any] | Any, *, d: int | None = None, rationalize: bool | str = False):
         with rationalization("IID"):
-            self.loss = _probabilities(loss, "loss", rationalize)
+            self.loss = _probabilities(loss, "loss", rationalize, d)
         self.d = len(self.loss)
 
     @property
@@ -238,12 +256,17 @@ class GilbertElliott(LossModel):
 
     Parameters
     ----------
-    fail : sequence
-        ``P(lost | received last)`` per sensor (exact numbers in ``[0, 1]`` or sympy symbols).
-    recover : sequence
-        ``P(received | lost last)`` per sensor, as many as ``fail``.
+    fail : sequence or number
+        ``P(lost | received last)`` per sensor (exact numbers in ``[0, 1]`` or sympy symbols);
+        a single number is every sensor's.
+    recover : sequence or number
+        ``P(received | lost last)`` per sensor, as many as ``fail``; a single number is every
+        sensor's.
     initial_received : sequence, optional
         ``P(gamma_0^i = 1)`` per sensor; needed when ``fail[i] = recover[i] = 0``.
+    d : int, optional
+        The number of sensors, needed when both ``fail`` and ``recover`` are single numbers:
+        ``GilbertElliott("1/4", "1/2", d=2)``.
 
     Raises
     ------
@@ -268,11 +291,15 @@ class GilbertElliott(LossModel):
     [  1/2,  1/2]])
     """
 
-    def __init__(self, fail: Sequence[Any], recover: Sequence[Any],
-                 initial_received: Sequence[Any] | None = None, *, rationalize: bool | str = False):
+    def __init__(self, fail: Sequence[Any] | Any, recover: Sequence[Any] | Any,
+                 initial_received: Sequence[Any] | None = None, *, d: int | None = None,
+                 rationalize: bool | str = False):
+        # a single fail or recover value is every sensor's: d sensors, or as many as the other list
+        lists = [len(list(v)) for v in (fail, recover) if not _scalar(v)]
+        d = d if d is not None or not lists else lists[0]
         with rationalization("GilbertElliott"):
-            self.fail = _probabilities(fail, "fail", rationalize)
-            self.recover = _probabilities(recover, "recover", rationalize)
+            self.fail = _probabilities(fail, "fail", rationalize, d)
+            self.recover = _probabilities(recover, "recover", rationalize, d)
             if initial_received is not None:
                 initial_received = _probabilities(initial_received, "initial_received", rationalize)
         if len(self.fail) != len(self.recover):

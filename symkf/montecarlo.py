@@ -38,6 +38,11 @@ from .sweep import sweep
 CHUNK = 50_000
 #: largest number of receival sequences enumerated exactly
 MAX_PATTERNS = 2 ** 20
+#: plain Monte Carlo resolves E[tr P_k] at step k when the relative standard error is at most
+#: this and no single path carries more than MAX_PATH_SHARE of the sum (a diverging filter's
+#: mean sits on bursts too rare for the sample; the intervals of those steps mean nothing)
+MAX_REL_STDERR = 0.25
+MAX_PATH_SHARE = 0.1
 
 
 def _progress(total: int, work: int, desc: str):
@@ -199,11 +204,14 @@ def simulate_traces(system: System, loss: LossModel, horizon: int, paths: int,
 
 @dataclass(frozen=True)
 class TraceEstimate:
-    """An estimate of ``E[tr P_{k|k-1}]``, k = 0..horizon-1, with normal confidence intervals.
+    """An estimate of ``E[tr P_{k|k-1}]``, k = 0..horizon-1, with confidence intervals on the log
+    scale (delta method: ``mean * exp(+-z stderr / mean)``, positive like the trace itself).
 
-    Plain Monte Carlo: intervals are trustworthy only while the mean is not
-    carried by bursts too rare for ``paths`` (see :func:`log_mean_trace`).
-    ``sampling`` names the law the paths were drawn from.
+    Plain Monte Carlo: a step is ``resolved`` when its relative standard error is at most
+    :data:`MAX_REL_STDERR` and no path carries more than :data:`MAX_PATH_SHARE` of the sum;
+    elsewhere the mean is carried by bursts too rare for ``paths`` (a diverging filter: use
+    :func:`log_mean_trace`) and ``low``, ``high`` are NaN.  ``sampling`` names the law the
+    paths were drawn from.
     """
 
     mean: np.ndarray
@@ -215,6 +223,8 @@ class TraceEstimate:
     horizon: int
     seed: int | None
     sampling: str
+    resolved: np.ndarray
+
 
     def covers(self, values: np.ndarray) -> np.ndarray:
         """Which steps' intervals contain ``values``."""
@@ -235,8 +245,11 @@ def estimate_mean_trace(system: System, loss: LossModel, horizon: int, paths: in
     f = _simulate(system, loss, horizon, paths, seed)
     mean = f.mean(axis=0)
     stderr = f.std(axis=0, ddof=1) / math.sqrt(len(f)) if len(f) > 1 else np.full_like(mean, np.inf)
-    return TraceEstimate(mean, mean - z * stderr, mean + z * stderr, stderr, confidence,
-                         len(f), f.shape[1], seed, repr(loss))
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        rel = stderr / mean
+        resolved = np.isfinite(mean) & (rel <= MAX_REL_STDERR) & (f.max(axis=0) <= MAX_PATH_SHARE * f.sum(axis=0))
+        low, high = (np.where(resolved, mean * np.exp(s * z * rel), np.nan) for s in (-1, 1))
+    return TraceEstimate(mean, low, high, stderr, confidence, len(f), f.shape[1], seed, repr(loss), resolved)
 
 
 # ------------------------------------------------------------------ patterns
@@ -416,9 +429,9 @@ class BurstPlan:
 
     def describe(self, names: Sequence[str]) -> str:
         """The plan in words: the sensors lost at each phase, and the number of shifts."""
-        lost = [[names[j] for j in range(len(names)) if not a[j]] for a in self.allowed[0]]
-        return (f"final bursts losing {lost} per phase (and {len(self.allowed) - 1} shifted or tied "
-                "pattern(s))")
+        lost = "; ".join(f"{', '.join(names[j] for j in range(len(names)) if not a[j])} at phase {k}"
+                         for k, a in enumerate(self.allowed[0]) if not a.all()) or "nothing"
+        return f"final bursts losing {lost} (and {len(self.allowed) - 1} shifted or tied pattern(s))"
 
 
 def burst_plan(system: System, pattern: Any, growth: Any) -> BurstPlan:
@@ -897,6 +910,17 @@ class MeanTraceCurve:
     paths: int
     seed: int | None
     sampling: str
+    requested: int = 0            # the horizon asked for
+    float_cap: int | None = None  # float_horizon's cap when it stopped the curve before ``requested``
+
+    @property
+    def stop_reason(self) -> str | None:
+        """Why the curve stops before the requested horizon, in words (None when it does not)."""
+        if self.float_cap is None:
+            return None
+        return (f"the importance-sampled curve stops at k = {int(self.ks[-1])} of {self.requested}: beyond "
+                f"k = {self.float_cap} float64 cannot follow the covariance through a burst of the decisive "
+                "pattern (montecarlo.float_horizon)")
 
     def band(self) -> tuple[np.ndarray, np.ndarray]:
         """``log E`` minus and plus ``z`` relative standard errors (delta method)."""
@@ -918,10 +942,11 @@ def mean_trace_curve(system: System, loss: LossModel, horizon: int, paths: int, 
         except SymkfError:
             plan = None
     g = plan.period if plan is not None else 1
-    cap = float_horizon(system, plan)
+    cap, requested = float_horizon(system, plan), horizon
     horizon = horizon if cap is None else min(horizon, cap)
     ks = np.unique(np.maximum(g, g * np.round(np.linspace(g, horizon, points) / g))).astype(int)
     runs = [log_mean_trace(system, loss, int(k), paths, None if seed is None else seed + j, plan)
             for j, k in enumerate(ks)]
     return MeanTraceCurve(ks, np.array([r.log_mean for r in runs]), np.array([r.rel_stderr for r in runs]),
-                          confidence, paths, seed, runs[0].sampling)
+                          confidence, paths, seed, runs[0].sampling, requested,
+                          cap if cap is not None and cap < requested else None)

@@ -192,6 +192,8 @@ def mean_trace_figure(system: System, loss: LossModel, curve: MeanTraceCurve, *,
                       f"({'stable' if v.stable else 'not stable'})")
     except SymkfError as exc:
         notes.append(f"no exact rate: {exc}".splitlines()[0][:70])
+    if curve.float_cap is not None:
+        notes.append(f"stops at k = {int(k[-1])} of {curve.requested}: float64 limit (montecarlo.float_horizon)")
     if isinstance(loss, IID):
         try:
             G, V = yang_bounds(system, loss, int(k[-1]) + 1)

@@ -1,4 +1,9 @@
-"""Progress bars (tqdm) for long work: shown on a terminal or in a notebook, quiet otherwise."""
+"""Progress bars (tqdm) for long work: shown on a terminal or in a notebook, quiet otherwise.
+
+In a Jupyter kernel the bar is a widget when ipywidgets is installed; without it there is no
+bar at all (tqdm's text fallback would put ``IProgress not found`` warnings and text bars on
+the notebook's stderr).
+"""
 
 from __future__ import annotations
 
@@ -9,7 +14,7 @@ import threading
 import time
 from typing import Iterator
 
-from tqdm.auto import tqdm
+from tqdm.std import tqdm
 
 
 def progress(total: int, desc: str, *, enabled: bool | None = None) -> tqdm:
@@ -17,7 +22,21 @@ def progress(total: int, desc: str, *, enabled: bool | None = None) -> tqdm:
     (``None``, the default) when stderr is a terminal or a Jupyter kernel runs, unless the
     environment sets ``TQDM_DISABLE`` (as ``symkf --quiet`` does)."""
     show = _interactive() if enabled is None else enabled
-    return tqdm(total=total, desc=desc, disable=not show, leave=False)
+    bar = _bar_class()
+    return (bar or tqdm)(total=total, desc=desc, disable=not show or bar is None, leave=False)
+
+
+def _bar_class() -> type[tqdm] | None:
+    """The bar for where we run: a widget in a Jupyter kernel with ipywidgets, none in a kernel
+    without it, tqdm's text bar elsewhere."""
+    if "ipykernel" not in sys.modules:
+        return tqdm
+    try:
+        import ipywidgets  # noqa: F401
+    except ImportError:
+        return None
+    from tqdm.notebook import tqdm as widget
+    return widget
 
 
 def _interactive() -> bool:

@@ -521,5 +521,5 @@ def reproduce_sui_theorem12(outdir: str | None = None) -> dict:
         fig.savefig(path, dpi=120)
         plt.close(fig)
         results["figure"] = path
-    return reproduction("sui-theorem12", "seed 001 (Sui-You-Fu), Section 4, Definition 1, eqs. (37)-(38), "
+    return reproduction("sui-theorem12", "Sui-You-Fu, Section 4, Definition 1, eqs. (37)-(38), "
                         "Theorem 12", results, checks, discrepancies)

@@ -257,7 +257,7 @@ class EigenBlock:
 
     modulus: AlgebraicNumber
     members: tuple[Eigenvalue, ...]
-    period: int | None             # the papers' tau (DESIGN.md's name; also ``.tau``)
+    period: int | None             # the papers' tau (the public name; also ``.tau``)
     governing_period: int | None   # g: least k with A_i^k a scalar multiple of I
     evidence: tuple[tuple[str, Any], ...] = field(repr=False)  # (claim, its RatioEvidence or text)
     classes: tuple[tuple[int, ...], ...] = field(repr=False)
@@ -270,7 +270,7 @@ class EigenBlock:
 
     @property
     def tau(self) -> int | None:
-        """The papers' tau (``period`` is the same value under DESIGN.md's contract name)."""
+        """The papers' tau (``period`` is the same value under its public name)."""
         return self.period
 
     @property

@@ -8,10 +8,11 @@ with 1.  Margin exactly 1 is not stable.
 
 from __future__ import annotations
 
+import textwrap
 from dataclasses import dataclass, field
 from decimal import Decimal, localcontext
 from fractions import Fraction
-from typing import Any, Sequence
+from typing import Any, Iterable, Sequence
 
 import flint
 import sympy as sp
@@ -36,6 +37,30 @@ class BlockCertificate:
     rate_per_period: sp.Expr                         # rho_i^g
     margin_power: sp.Expr                            # alpha_i^(2g) rho_i^g, compared with 1
     interval: tuple[Any, Any]                        # exact rational bounds of the margin
+
+
+def pattern_words(elements: Iterable[tuple[str, int]]) -> str:
+    """A decisive loss pattern in words: the (sensor, phase) elements received in each period,
+    every other packet lost (``[("s1", 0)]`` reads "s1 received at phase 0 only").
+
+    >>> pattern_words([("s1", 0)]), pattern_words([])
+    ('s1 received at phase 0 only', 'nothing received')
+    >>> pattern_words([("a", 0), ("b", 1), ("a", 1)])
+    'a received at phases 0 and 1, b at phase 1, nothing else'
+    """
+    phases: dict[str, list[int]] = {}
+    for name, phase in elements:
+        phases.setdefault(name, []).append(phase)
+    if not phases:
+        return "nothing received"
+
+    def at(ks: list[int]) -> str:
+        ks = sorted(ks)
+        return f"phase {ks[0]}" if len(ks) == 1 else f"phases {', '.join(map(str, ks[:-1]))} and {ks[-1]}"
+
+    parts = [f"{name} at {at(ks)}" for name, ks in phases.items()]
+    first = parts[0].replace(" at ", " received at ", 1)
+    return f"{first} only" if len(parts) == 1 else ", ".join([first, *parts[1:]]) + ", nothing else"
 
 
 def _readable(expr: sp.Expr, margin: AlgebraicNumber, i: int) -> str:
@@ -119,11 +144,12 @@ class Verdict:
             lines.append(f"  block {i}: alpha = {c.modulus}, governing period g = {c.governing_period}, "
                          f"margin alpha^2 rho = {_readable(m.exact, m, i)} "
                          f"in [{_approx(lo)}, {_approx(hi)}]{'  <- limiting' if i == self.limiting_block else ''}")
-            lines.append(f"    decisive pattern: only {list(c.decisive_elements) or 'nothing'} received; "
+            lines.append(f"    decisive pattern: {pattern_words(c.decisive_elements)}; "
                          f"alpha^{2 * c.governing_period} * rho^{c.governing_period} = {_readable(c.margin_power, m, i)}")
         for eigenvalues, why in self.set_aside:
             lines.append(f"  set aside: {', '.join(eigenvalues)} ({why})")
-        lines.append("  assumptions checked: " + "; ".join(self.assumptions))
+        lines += textwrap.wrap("assumptions checked: " + "; ".join(self.assumptions), 100, initial_indent="  ",
+                               subsequent_indent="    ", break_long_words=False, break_on_hyphens=False)
         return "\n".join(lines)
 
     def _repr_latex_(self) -> str:

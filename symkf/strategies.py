@@ -8,7 +8,7 @@ A user's own property test, checking simulation against the hand-derived
 critical loss rate of a single sensor ``C = [1, 0]`` watching ``A = r R(pi
 p/q)``: rows ``C A^k`` are parallel exactly when ``q | k``, so the cheapest
 blinding pattern loses ``q - 1`` packets per ``q`` steps while ``P`` grows by
-``r^(2q)``, and ``eps_c = r^(-2q/(q-1))`` (``1/16`` for the DESIGN example
+``r^(2q)``, and ``eps_c = r^(-2q/(q-1))`` (``1/16`` for the ``design-rotation`` example
 ``r = 2``, ``q = 2``)::
 
     from hypothesis import given, settings
@@ -35,7 +35,7 @@ from typing import Any, NamedTuple, Sequence
 
 import sympy as sp
 
-from .errors import require_extra
+from .errors import InexactInputError, require_extra
 
 require_extra("hypothesis", "strategies", "symkf.strategies")
 from hypothesis import strategies as st  # noqa: E402
@@ -50,8 +50,12 @@ from .model import Sensor, System  # noqa: E402
 def _exact(value: Any, name: str) -> sp.Expr:
     try:
         return to_exact(value, name)
+    except InexactInputError:   # strategies take no rationalize=: say what they do take
+        raise InvalidArgument(f"{name}: the float {value!r} is not exact; give the string {str(value)!r}, "
+                              "a Fraction or a Decimal") from None
     except Exception as exc:
-        raise InvalidArgument(f"{name}: {exc}") from None
+        text = str(exc)
+        raise InvalidArgument(text if text.startswith(f"{name}:") else f"{name}: {text}") from None
 
 
 def _check_int(value: Any, name: str, low: int, high: int) -> int:

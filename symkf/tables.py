@@ -192,7 +192,7 @@ def _periods_summary(outcomes: Sequence[Outcome]) -> str:
     return ", ".join(map(str, periods)) if periods else "none"
 
 
-def family_table(path: str | Path, *, jobs: int = 1, scheduler: Any = None,
+def family_table(path: str | Path | Family, *, jobs: int = 1, scheduler: Any = None,
                  progress: bool | None = None) -> Table:
     """The table of a family file: rows the first grid axis, columns the second (if any).
 
@@ -200,8 +200,9 @@ def family_table(path: str | Path, *, jobs: int = 1, scheduler: Any = None,
 
     Parameters
     ----------
-    path : str or pathlib.Path
-        A family file (:func:`symkf.families.load_family`).
+    path : str, pathlib.Path or Family
+        A family file (:func:`symkf.families.load_family`), or a family built in memory
+        (:func:`symkf.families.grid_family`, :func:`symkf.families.systems_family`).
     jobs : int, default 1
         Local worker processes.
     scheduler : str or distributed.Client, optional
@@ -247,7 +248,7 @@ def family_table(path: str | Path, *, jobs: int = 1, scheduler: Any = None,
     True
     >>> tmp.cleanup()
     """
-    family = load_family(path)
+    family = path if isinstance(path, Family) else load_family(path)
     return family_table_of(family, family.evaluate(jobs=jobs, scheduler=scheduler, progress=progress))
 
 

@@ -53,15 +53,18 @@ reason; the run continues.
 from __future__ import annotations
 
 import functools
+import html
 import math
+import textwrap
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterator, Sequence
 
 import sympy as sp
 
 from .errors import AssumptionError, FileFormatError, NumericalBreakdownError, SymkfError
 from .exact.algebraic import AlgebraicNumber
-from .families import Member, load_family
+from .families import Family, Member, load_family
 from .files import read_toml
 from .losses import LossModel
 from .model import System
@@ -85,30 +88,90 @@ def number_json(a: AlgebraicNumber | sp.Expr, digits: int = 12) -> dict[str, Any
             "minpoly": str(a.minpoly.as_expr())}
 
 
-def verify(system: System, loss: LossModel, *, seed: int = 0, paths: int = 20_000, horizon: int = 120,
-           tolerance: float = 0.01, confidence: float = 0.999, jobs: int = 1) -> dict[str, Any]:
-    """Run the exact verdict and a Monte Carlo test on ``(system, loss)``; JSON-serialisable report.
+@dataclass(frozen=True, repr=False)
+class Verification:
+    """Theory against simulation for one system (:func:`verify`, ``sk.verify``).
 
-    Keys: ``theory`` (verdict, theorem, margins ``alpha_i^2 rho_i``, the exact growth rate
-    ``max(1, max_i alpha_i^2 rho_i)`` of ``E[tr P_k]``, the critical common i.i.d. loss
-    rate), ``simulation`` (method, verdict, the margin ``rate`` with its ``rate_interval``
-    or None when not resolved, the finite-horizon ``growth`` with its interval, seeds,
-    horizons, paths), ``outcome`` (one of :data:`OUTCOMES`), ``reason`` (why, in words) and
-    ``rate_consistent`` (exact margin inside the simulated margin interval; None when that
-    is not resolved).  ``jobs``: worker processes for the simulated paths.
+    ``verdict`` is the exact :class:`~symkf.stability.Verdict`; ``growth_rate`` the exact growth
+    rate ``max(1, max_i alpha_i^2 rho_i)`` of ``E[tr P_k]`` and ``critical_common_loss_rate``
+    the critical common i.i.d. loss rate (both :class:`~symkf.exact.algebraic.AlgebraicNumber`);
+    ``simulation`` the Monte Carlo half in JSON form (floats: ``verdict``, the margin ``rate``
+    with its ``rate_interval`` or None when not resolved, the finite-horizon ``growth`` with
+    its interval, seeds, horizons, paths); ``outcome`` one of :data:`OUTCOMES`, ``reason`` why
+    in words, ``rate_consistent`` whether the exact margin lies in the simulated interval (None
+    when that is not resolved).  ``str()`` is the ``symkf verify`` report, ``to_json()`` its
+    ``--json`` document (without ``system`` and ``loss``).
+    """
+
+    verdict: Verdict
+    growth_rate: AlgebraicNumber
+    critical_common_loss_rate: AlgebraicNumber
+    simulation: dict[str, Any]
+    outcome: str
+    reason: str
+    rate_consistent: bool | None
+
+    @property
+    def stable(self) -> bool:
+        return self.verdict.stable
+
+    @property
+    def margin(self) -> AlgebraicNumber:
+        """The exact limiting margin ``max_i alpha_i^2 rho_i``."""
+        return self.verdict.limiting_margin
+
+    @property
+    def simulated_margin(self) -> tuple[float, float, float] | None:
+        """``(estimate, low, high)`` of the simulated margin, None when not resolved."""
+        s = self.simulation
+        return None if s["rate_interval"] is None else (s["rate"], *s["rate_interval"])
+
+    def to_json(self) -> dict[str, Any]:
+        v = self.verdict
+        theory = {"stable": v.stable, "theorem": v.theorem, "assumptions": list(v.assumptions),
+                  "margins": [number_json(m) for m in v.margins], "limiting_block": v.limiting_block,
+                  "growth_rate": number_json(self.growth_rate),
+                  "critical_common_loss_rate": number_json(self.critical_common_loss_rate)}
+        return {"theory": theory, "simulation": self.simulation, "outcome": self.outcome,
+                "rate_consistent": self.rate_consistent, "reason": self.reason}
+
+    def __str__(self) -> str:
+        return summary(self.to_json())
+
+    def __repr__(self) -> str:
+        sim = self.simulated_margin
+        simulated = "not resolved" if sim is None else f"{sim[0]:.5g} in [{sim[1]:.5g}, {sim[2]:.5g}]"
+        return (f"<Verification {self.outcome}: exact margin {self.margin.exact} ~ {float(self.margin):.6g} "
+                f"({'stable' if self.stable else 'not stable'}), simulated {simulated}, "
+                f"{self.simulation['paths']} paths per run>")
+
+    def _repr_html_(self) -> str:
+        return f"<pre>{html.escape(str(self))}</pre>"
+
+    def _repr_latex_(self) -> str:
+        m = self.margin
+        state = "stable" if self.stable else "not stable"
+        return (rf"$\max_i \alpha_i^2\rho_i = {sp.latex(m.exact)} \approx {m.evalf(6)}\ (\text{{{state}}});\quad"
+                rf"\text{{simulation: {self.simulation['verdict']}; outcome: {self.outcome}}}$")
+
+
+def verify(system: System, loss: LossModel, *, seed: int = 0, paths: int = 20_000, horizon: int = 120,
+           tolerance: float = 0.01, confidence: float = 0.999, jobs: int = 1) -> Verification:
+    """Run the exact verdict and a Monte Carlo test on ``(system, loss)`` (:class:`Verification`).
+
+    ``seed``: the simulation's first seed (three runs take ``seed`` .. ``seed + 2``); ``paths``
+    per run; ``horizon``: the longest horizon (capped where float64 stops resolving paths);
+    ``tolerance`` and ``confidence``: the rules of the module docstring; ``jobs``: worker
+    processes for the simulated paths.
     """
     with progress(2, "verify") as bar:
         v = stability(system, loss)
-        growth_exact = exact_growth_rate(v)
-        theory = {"stable": v.stable, "theorem": v.theorem, "assumptions": list(v.assumptions),
-                  "margins": [number_json(m) for m in v.margins], "limiting_block": v.limiting_block,
-                  "growth_rate": number_json(growth_exact),
-                  "critical_common_loss_rate": number_json(critical_loss_rate(system))}
+        growth_exact, critical = exact_growth_rate(v), critical_loss_rate(system)
         bar.update()
         sim = simulated_verdict(system, loss, v, seed=seed, paths=paths, horizon=horizon, tolerance=tolerance,
                                 confidence=confidence, jobs=jobs)
         bar.update()
-    return {"theory": theory, "simulation": sim, **judge(v, sim)}
+    return Verification(v, growth_exact, critical, sim, **judge(v, sim))
 
 
 def judge(v: Verdict, sim: dict[str, Any]) -> dict[str, Any]:
@@ -217,14 +280,17 @@ def summary(report: dict[str, Any]) -> str:
         lines.append(f"            exact margin {'inside' if report['rate_consistent'] else 'OUTSIDE'} "
                      "the simulated margin interval")
     lines.append(f"outcome:    {report['outcome'].upper()}: {report['reason']}")
-    return "\n".join(lines)
+    return "\n".join(wrapped for line in lines for wrapped in textwrap.wrap(
+        line, 100, subsequent_indent=" " * 14, break_long_words=False, break_on_hyphens=False))
 
 
-def _interval_text(s: dict[str, Any]) -> str:
-    """The simulated margin with its interval, or why there is none."""
+def _interval_text(s: dict[str, Any], short: bool = False) -> str:
+    """The simulated margin with its interval, or why there is none (``short``: for a table row)."""
     if s["rate_interval"] is None:
-        return "not resolved (E_k changes less than its noise between the horizons)"
+        return "not resolved" + ("" if short else " (E_k changes less than its noise between the horizons)")
     low, high = s["rate_interval"]
+    if short:
+        return f"{s['rate']:.5g} in [{low:.5g}, {high:.5g}]"
     return f"{s['rate']:.5g}, {100 * s['confidence']:g}% interval [{low:.5g}, {high:.5g}] with the allowance"
 
 
@@ -236,7 +302,65 @@ def is_family_file(path: str | Path) -> bool:
         return False  # the system-file reader reports the problem
 
 
-def verify_member(task: tuple[int, Member, int], **kw: Any) -> dict[str, Any]:
+@dataclass(frozen=True)
+class MemberVerification:
+    """One member of a verified family: its ``label``, ``index``, grid ``point`` (name, exact
+    value) pairs, ``seed``, ``outcome`` and ``reason``; ``verification`` is None when the
+    member is inapplicable or its simulation broke down."""
+
+    label: str
+    index: int
+    point: tuple[tuple[str, Any], ...]
+    seed: int
+    outcome: str
+    reason: str
+    verification: Verification | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        head = {"member": self.label, "index": self.index, "point": {k: str(v) for k, v in self.point},
+                "seed": self.seed}
+        if self.verification is None:
+            return {**head, "outcome": self.outcome, "reason": self.reason}
+        return {**head, **self.verification.to_json()}
+
+
+@dataclass(frozen=True, repr=False)
+class FamilyVerification(Sequence[MemberVerification]):
+    """:func:`verify` over a family (:func:`verify_family`): a sequence of
+    :class:`MemberVerification` in the family's order.  ``str()`` is the ``symkf verify`` table,
+    ``to_json()`` the members' ``--json`` documents."""
+
+    name: str
+    members: tuple[MemberVerification, ...]
+
+    def __getitem__(self, i):  # type: ignore[override]
+        return self.members[i]
+
+    def __len__(self) -> int:
+        return len(self.members)
+
+    def __iter__(self) -> Iterator[MemberVerification]:
+        return iter(self.members)
+
+    def counts(self) -> dict[str, int]:
+        """How many members have each outcome."""
+        return {o: sum(m.outcome == o for m in self.members) for o in (*OUTCOMES, INAPPLICABLE, BREAKDOWN)}
+
+    def to_json(self) -> list[dict[str, Any]]:
+        return [m.to_json() for m in self.members]
+
+    def __str__(self) -> str:
+        return family_summary(self.to_json())
+
+    def __repr__(self) -> str:
+        counts = ", ".join(f"{n} {o}" for o, n in self.counts().items() if n)
+        return f"<FamilyVerification {self.name}: {len(self)} members, {counts}>"
+
+    def _repr_html_(self) -> str:
+        return f"<pre>{html.escape(str(self))}</pre>"
+
+
+def verify_member(task: tuple[int, Member, int], **kw: Any) -> MemberVerification:
     """:func:`verify` on member ``(index, member, seed)`` of a family (runs on sweep workers).
 
     A member whose theorem assumptions fail gets outcome ``"inapplicable"``, one whose
@@ -244,36 +368,37 @@ def verify_member(task: tuple[int, Member, int], **kw: Any) -> dict[str, Any]:
     member, so one such member does not stop a campaign.
     """
     index, member, seed = task
-    head = {"member": member.label, "index": index, "point": {k: str(v) for k, v in member.point},
-            "seed": seed}
+    head = (member.label, index, tuple(member.point), seed)
     system, loss = member.system()
     try:
-        return {**head, **verify(system, loss, seed=seed, **kw)}
+        result = verify(system, loss, seed=seed, **kw)
     except AssumptionError as exc:
-        return {**head, "outcome": INAPPLICABLE, "reason": str(exc)}
+        return MemberVerification(*head, INAPPLICABLE, str(exc))
     except NumericalBreakdownError as exc:
-        return {**head, "outcome": BREAKDOWN, "reason": f"member {member.label}: {exc}"}
+        return MemberVerification(*head, BREAKDOWN, f"member {member.label}: {exc}")
+    return MemberVerification(*head, result.outcome, result.reason, result)
 
 
-def verify_family(path: str | Path, jobs: int = 1, scheduler: Any = None, *, seed: int = 0,
-                  progress: bool | None = None, **kw: Any) -> list[dict[str, Any]]:
+def verify_family(path: str | Path | Family, jobs: int = 1, scheduler: Any = None, *, seed: int = 0,
+                  progress: bool | None = None, **kw: Any) -> FamilyVerification:
     """:func:`verify` on every member of the family file ``path``, in the family's order.
 
     The family needs a ``[loss]`` template.  Member ``i`` uses ``seed + 3i`` (its three
     simulation runs take ``seed + 3i`` .. ``seed + 3i + 2``, so no two runs share a random
     stream), which makes the reports identical for ``jobs=1``, ``jobs=N`` and a Dask
     ``scheduler`` (see :func:`symkf.sweep.sweep`).  ``kw`` goes to :func:`verify`
-    (``paths``, ``horizon``, ``tolerance``, ``confidence``).  Each report is
-    :func:`verify`'s plus ``member`` (label), ``index``, ``point`` (grid coordinates) and
-    ``seed``; a member whose assumptions fail has ``outcome = "inapplicable"`` and ``reason``.
+    (``paths``, ``horizon``, ``tolerance``, ``confidence``).  Each member is a
+    :class:`MemberVerification`: label, index, grid point, seed and :func:`verify`'s result; a
+    member whose assumptions fail has ``outcome = "inapplicable"`` and its ``reason``.
     """
-    family = load_family(path)
-    if family.members[0].tables["loss"] is None:
-        raise FileFormatError(f"{path}: [loss]: verify needs a loss model; give the family a [loss] "
+    family = path if isinstance(path, Family) else load_family(path)
+    if not family.members[0].has_loss:
+        raise FileFormatError(f"{family.path}: [loss]: verify needs a loss model; give the family a [loss] "
                               "template, e.g. kind = \"iid\", loss = [\"eps\"] with eps in [grid]")
     tasks = [(i, m, seed + 3 * i) for i, m in enumerate(family.members)]
-    return sweep(functools.partial(verify_member, **kw), tasks, jobs=jobs, scheduler=scheduler,
-                 progress=progress, desc=f"verify {family.name}")
+    return FamilyVerification(family.name, tuple(sweep(functools.partial(verify_member, **kw), tasks, jobs=jobs,
+                                                       scheduler=scheduler, progress=progress,
+                                                       desc=f"verify {family.name}")))
 
 
 def family_summary(reports: list[dict[str, Any]]) -> str:
@@ -287,7 +412,7 @@ def family_summary(reports: list[dict[str, Any]]) -> str:
         t, s = r["theory"], r["simulation"]
         lines.append(f"{r['member']:<{width}}  theory {'stable' if t['stable'] else 'NOT stable':<10} "
                      f"growth {t['growth_rate']['exact']} ~ {float(t['growth_rate']['decimal']):.5g}; "
-                     f"simulation {s['verdict']:<9} margin {_interval_text(s)}, "
+                     f"simulation {s['verdict']:<9} margin {_interval_text(s, short=True)}, "
                      f"seeds {s['seeds']}; {r['outcome'].upper()}")
     counts = [f"{sum(r['outcome'] == o for r in reports)} {o}" for o in (*OUTCOMES, INAPPLICABLE, BREAKDOWN)]
     lines.append(f"{len(reports)} members: " + ", ".join(counts))

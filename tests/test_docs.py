@@ -9,6 +9,8 @@ from __future__ import annotations
 import inspect
 import json
 import re
+import subprocess
+import sys
 import tomllib
 from pathlib import Path
 from urllib.parse import unquote
@@ -143,3 +145,37 @@ def test_link_checker_sees_broken_links(tmp_path):
                     "[ref]: missing/ref.md\n[web](https://example.org/x.md)\n")
     assert _broken(page) == ["nope.md (no such file)", "fig.png (no such file)",
                              "#nowhere (no anchor #nowhere in page.md)", "missing/ref.md (no such file)"]
+
+
+def test_architecture_page_names_every_module():
+    import pkgutil
+
+    import symkf.exact
+    page = (DOCS / "architecture.md").read_text(encoding="utf-8")
+    modules = [m.name for m in pkgutil.iter_modules(symkf.__path__) if m.name != "__main__"]
+    assert [m for m in modules if f"symkf.{m}" not in page] == []
+    exact = [m.name for m in pkgutil.iter_modules(symkf.exact.__path__)]
+    assert [m for m in exact if f"`{m}`" not in page and f"symkf.exact.{m}" not in page] == []
+    assert "architecture" in (DOCS / "index.md").read_text(encoding="utf-8")
+
+
+@pytest.mark.full
+def test_docs_build_offline_with_math(tmp_path):
+    # the site's MathJax is its own: no page loads a script or style from another host
+    # (docs/offline.py fails the build otherwise), and the tutorial's math is MathJax's to render
+    for module in ("sphinx", "myst_nb", "sphinx-mathjax-offline"):
+        pytest.importorskip(module)
+    out = tmp_path / "html"
+    run = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", DOCS, out],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr[-3000:]
+    sys.path.insert(0, str(DOCS))
+    try:
+        from offline import external_assets
+    finally:
+        sys.path.remove(str(DOCS))
+    assert external_assets(out) == []
+    tutorial = (out / "tutorial.html").read_text(encoding="utf-8")
+    assert 'src="_static/mathjax/tex-chtml.js"' in tutorial and (out / "_static/mathjax/tex-chtml.js").is_file()
+    assert tutorial.count("math notranslate nohighlight") >= 4   # the LaTeX results, for MathJax
+    assert "IProgress" not in tutorial and "TQDM_DISABLE" not in tutorial

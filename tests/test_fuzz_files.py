@@ -63,7 +63,8 @@ def test_corpus(capsys, path):
 def test_corpus_subprocess_no_traceback(path):
     proc = subprocess.run([sys.executable, "-m", "symkf", "critical", str(path), "--json"],
                           capture_output=True, text=True, cwd=ROOT, timeout=120)
-    assert_bad(proc.returncode, proc.stdout, proc.stderr, path)
+    assert json.loads(proc.stdout)["error"]["exit_status"] == 2     # --json: the error as JSON too
+    assert_bad(proc.returncode, "", proc.stderr, path)
 
 
 def test_subprocess_bad_usage_no_traceback():

@@ -57,7 +57,7 @@ import flint
 import numpy as np
 import sympy as sp
 
-from ..errors import InputError, NotPositiveDefiniteError
+from ..errors import InputError, NotPositiveDefiniteError, require_extra
 from ..exact.linalg import rank
 from ..losses import IID
 from ..model import System, check_positive_definite
@@ -145,7 +145,7 @@ def _to_numpy(M: sp.Matrix) -> np.ndarray:
 
 def mare_stabilizable(system: System, loss: IID) -> LMIVerdict:
     """Decide Theorem 4's condition 1) (eq. 22) by the convex reformulation above, with exact certificates."""
-    import cvxpy as cp
+    cp = require_extra("cvxpy", "sdp", "mare_stabilizable, the LMI of Yang et al. (Theorem 4),")
 
     if not capacity_exceeds(loss, spectral_radius(system.A)):
         return LMIVerdict(False, "C <= ln rho(A): rho(T) >= prod(1 - lambda_i) rho(A)^2 >= 1 (exact)",

@@ -31,7 +31,9 @@ import contextvars
 import functools
 import math
 import numbers
+import os
 import re
+import sys
 import warnings
 from dataclasses import dataclass, field
 from decimal import Decimal
@@ -383,7 +385,18 @@ def rationalization(what: str) -> Iterator[_Conversions]:
         more = f"; and {len(record.changes) - 12} more" if len(record.changes) > 12 else ""
         warnings.warn(f"{what}: {len(record.changes)} float(s) rationalized: {shown}{more}. Periods and "
                       "critical values can jump under rounding" + "".join(f"; {n}" for n in record.notes),
-                      stacklevel=4)
+                      stacklevel=_caller_level())
+
+
+def _caller_level() -> int:
+    """The ``stacklevel`` that points a warning at the caller's line: the first frame outside
+    symkf, contextlib and dataclass-generated ``__init__`` code (``System(...)``)."""
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    frame, level = sys._getframe(1), 1
+    while frame is not None and (frame.f_code.co_filename.startswith(package) or
+                                 frame.f_code.co_filename in ("<string>", contextlib.__file__)):
+        frame, level = frame.f_back, level + 1
+    return level
 
 
 def _float(value: float, entry: str, rationalize: bool | str) -> sp.Expr:

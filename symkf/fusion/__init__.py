@@ -8,14 +8,18 @@ Assumption 2), :mod:`.local_filters` (Lemmas 1-2), :mod:`.covariance`
 :mod:`.pendulum` (Section 4).
 """
 
+from ..errors import require_extra
+
+require_extra("scipy", "fusion", "symkf.fusion (the local filters' Riccati and Lyapunov equations)")
+
 from .covariance import (expected_remote_covariance, fusion_sigma, remote_error_covariance,
-                         unbiasedness_matrix)
-from .local_filters import local_filters
-from .model import FusionModel
-from .pendulum import pendulum_model, reproduce_fusion_pendulum
-from .remote import simulate
-from .stability import proposition1_bound
-from .weights import fused_covariance, optimal_weights
+                         unbiasedness_matrix)  # noqa: E402
+from .local_filters import local_filters  # noqa: E402
+from .model import FusionModel  # noqa: E402
+from .pendulum import pendulum_model, reproduce_fusion_pendulum  # noqa: E402
+from .remote import simulate  # noqa: E402
+from .stability import proposition1_bound  # noqa: E402
+from .weights import fused_covariance, optimal_weights  # noqa: E402
 
 __all__ = ["FusionModel", "local_filters", "remote_error_covariance", "fusion_sigma", "unbiasedness_matrix",
            "expected_remote_covariance", "optimal_weights", "fused_covariance", "proposition1_bound",

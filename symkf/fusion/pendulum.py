@@ -180,8 +180,8 @@ def reproduce_fusion_pendulum(outdir: str | None = None, paths: int = 50, horizo
             bool(last <= 1.5 * first and mean_sq_late <= 1.2 * prop1.bound),
         "Proposition 1's printed bound is above the simulated tr E[P*]": bool(prop1.printed_bound >= mean_trP_late),
     }
-    return reproduction("fusion-pendulum", "seed 003 (arXiv 2012.04896), Section 4, Figs. 2-3",
-                        results, checks, discrepancies)
+    return reproduction("fusion-pendulum", "Optimal linear sensor fusion over lossy channels with collective "
+                        "observability (arXiv:2012.04896), Section 4, Figs. 2-3", results, checks, discrepancies)
 
 
 if __name__ == "__main__":

@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from ..errors import AssumptionError, InputError, NotPositiveDefiniteError, ShapeError
+from ..errors import AssumptionError, InputError, NotPositiveDefiniteError, ShapeError, require_extra
 
 __all__ = ["optimal_weights", "fused_covariance", "METHODS"]
 
@@ -99,7 +99,7 @@ def _problem3(Sigma: np.ndarray, Vo: np.ndarray) -> np.ndarray:
 
 
 def _sdp(Sigma: np.ndarray, Vo: np.ndarray) -> np.ndarray:
-    import cvxpy as cp
+    cp = require_extra("cvxpy", "sdp", 'optimal_weights(method="sdp"), Problem 2 of arXiv:2012.04896,')
 
     nN, n = Vo.shape
     S = Sigma / max(np.abs(Sigma).max(), np.finfo(float).tiny)   # same minimiser, better scaled

@@ -98,7 +98,7 @@ class NetworkLoss(LossModel):
 
     @property
     def applies_without_positivity(self) -> str:
-        """Seed 002's sufficient condition for this network state (the exact engine needs Assumption 2)."""
+        """Quevedo et al.'s sufficient condition for this network state (the exact engine needs Assumption 2)."""
         n = 2 if isinstance(self.state, SemiMarkovNetworkState) else 1
         return f"Theorem {n} of Quevedo et al. (sufficient): symkf.network.theorem{n}(loss, PeriodicDynamics(A, [C_1, ..., C_M]))"
 

@@ -24,7 +24,7 @@ from .semi_markov import rank_deficiency_probabilities, rank_deficiency_probabil
 from .state import MarkovNetworkState, SemiMarkovNetworkState
 from .tree import SensorTree
 
-SEED = "seeds/002_60046686342994c5.txt (Quevedo, Ahlén, Johansson)"
+PAPER = "Quevedo, Ahlén, Johansson, State estimation over sensor networks with correlated wireless fading channels"
 
 #: Example 3 as printed: J and Pr{r = 1 | Xi = j} (phi_m stands for phi_{m|j}).
 EXAMPLE3_J = ((0, 1, 0, 1, 1), (0, 1, 1, 1, 1), (1, 1, 0, 0, 1), (1, 1, 0, 1, 0), (1, 1, 0, 1, 1),
@@ -111,7 +111,7 @@ def reproduce_quevedo_example3(outdir: str | None = None) -> dict:
 
     png = _plot(outdir, "quevedo_example3.png", draw)
     return reproduction(
-        "quevedo-example3", f"{SEED}, Sec. V, Example 3 and Fig. 4",
+        "quevedo-example3", f"{PAPER}, Sec. V, Example 3 and Fig. 4",
         {
             "tree_parents": list(tree.parents),
             "configurations": [list(g) for g in J_rank],
@@ -185,7 +185,7 @@ def reproduce_quevedo_robot(outdir: str | None = None) -> dict:
 
     png = _plot(outdir, "quevedo_robot.png", draw)
     return reproduction(
-        "quevedo-robot", f"{SEED}, Sec. VII-A, Example 4 and Fig. 1 (sensor network stated by symkf)",
+        "quevedo-robot", f"{PAPER}, Sec. VII-A, Example 4 and Fig. 1 (sensor network stated by symkf)",
         {
             "q": ROBOT_Q,
             "holding": {str(i + 1): {str(d): _s(p) for d, p in h.items()} for i, h in enumerate(state.holding)},
@@ -342,7 +342,7 @@ def reproduce_quevedo_semi_markov(outdir: str | None = None, simulate: bool = Tr
     }
     if simulate:
         results["simulation"], checks["bounded E[tr P] where the corrected condition holds"] = viic_simulation(dyn)
-    return reproduction("quevedo-semi-markov", f"{SEED}, Sec. VII-C, eqs. (33)-(34), Fig. 6", results, checks)
+    return reproduction("quevedo-semi-markov", f"{PAPER}, Sec. VII-C, eqs. (33)-(34), Fig. 6", results, checks)
 
 
 def viic_simulation(dyn: PeriodicDynamics) -> tuple[dict, bool]:
