@@ -15,7 +15,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from symkf import examples  # noqa: E402
+from symkf import examples, output  # noqa: E402
 from symkf.tables import family_table, verdict_table  # noqa: E402
 
 if __name__ == "__main__":
@@ -25,10 +25,11 @@ if __name__ == "__main__":
     parser.add_argument("--jobs", type=int, default=1)
     parser.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")
     args = parser.parse_args()
+    # symkf's writer, checked before the work: atomic, never over the family file nor through a link
+    target = output.plan(args.out, "OUT.tex", inputs=[args.family])
     family = family_table(args.family, jobs=args.jobs, scheduler=args.scheduler)
     verdicts = verdict_table(jobs=args.jobs, scheduler=args.scheduler)
-    out = Path(args.out)
-    out.write_text(family.to_latex() + "\n" + verdicts.to_latex(), encoding="utf-8")
+    out = target.put_text(family.to_latex() + "\n" + verdicts.to_latex())
     print(family)
     print()
     print(verdicts)

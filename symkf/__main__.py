@@ -1,3 +1,18 @@
-from .cli import main
+"""``python -m symkf`` and the ``symkf`` command (its entry point is :func:`run`)."""
 
-raise SystemExit(main())
+import sys
+
+
+def run() -> int:
+    """:func:`symkf.cli.main`; a Ctrl-C while the command line is still being imported is one line
+    and exit status 130 too, not a traceback."""
+    try:
+        from .cli import main
+    except KeyboardInterrupt:
+        print("symkf: interrupted", file=sys.stderr)
+        return 130
+    return main()
+
+
+if __name__ == "__main__":
+    raise SystemExit(run())

@@ -72,6 +72,8 @@ class Limits:
     max_memory: int = 2 * 1024 ** 3
     #: bytes of an input file
     max_file_size: int = 1024 ** 2
+    #: seconds a Dask scheduler may take to answer, and to have a worker (symkf.scheduler)
+    scheduler_timeout: int = 20
 
 
 #: the command-line option that raises each cap

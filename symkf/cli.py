@@ -1,7 +1,7 @@
 """The ``symkf`` command: plain text for people, ``--json`` for machines.
 
 Exit status 0 on success, 2 on bad input or usage (one line, no traceback),
-3 when a theorem's assumptions fail for the given system, 130 when interrupted (Ctrl-C).
+3 when a theorem's assumptions fail for the given system, 130 when interrupted (Ctrl-C), 143 on SIGTERM.
 Output files are checked before any work and written atomically (:mod:`symkf.output`); the
 resource caps of :mod:`symkf.budget` are raised with ``--max-degree`` and friends.
 """
@@ -13,8 +13,10 @@ import contextlib
 import importlib
 import json
 import os
+import signal
 import sys
 import textwrap
+import threading
 import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
@@ -49,10 +51,21 @@ SCHEMA_VERSION = 1
 INTERNAL_ERROR = 70
 #: exit status after Ctrl-C (128 + SIGINT, as shells report it)
 INTERRUPTED = 130
+#: exit status after SIGTERM (128 + SIGTERM)
+TERMINATED = 143
 
 
 class UsageError(SymkfError):
     """Bad command-line usage."""
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread like Ctrl-C so that the same clean-up runs (worker
+    processes stopped, queued work cancelled, temporary files removed)."""
+
+
+def _raise_terminated(signum: int, frame: Any) -> None:
+    raise Terminated()
 
 
 @dataclass(frozen=True)
@@ -247,7 +260,7 @@ def _args_verify(p: argparse.ArgumentParser) -> None:
 def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
     from .simulation import simulate
     target = None
-    if args.plot:
+    if args.plot is not None:
         from .plots import require_matplotlib
         require_matplotlib()
         target = output.plan(args.plot, "--plot", inputs=[args.file], force=args.force)
@@ -262,7 +275,7 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
     res: dict[str, Any] = {"system": str(args.file), "loss": loss_json(loss), **sim.to_json(), "_text": str(sim)}
     if target is not None:
         fig = sim.figure()
-        res["plot"] = str(target.write(lambda f: fig.savefig(f, format=target.image_format, dpi=110)))
+        res["plot"] = str(target.put_figure(fig, dpi=110))
     return res
 
 
@@ -309,8 +322,9 @@ def cmd_examples(args: argparse.Namespace) -> dict[str, Any]:
     if args.name not in found:
         raise UsageError(f"no shipped example {args.name!r}; known: {', '.join(found)}")
     source = found[args.name]
-    target = output.plan(source.name, "NAME", inputs=[source], force=args.force)
-    return {"example": source.stem, "copied": str(target.write_text(source.read_text(encoding="utf-8")))}
+    # a copy is the user's to edit, not an output symkf regenerates: never replaced without --force
+    target = output.plan(source.name, "NAME", inputs=[source], force=args.force, keep_existing=True)
+    return {"example": source.stem, "copied": str(target.put_text(source.read_text(encoding="utf-8")))}
 
 
 def _print_examples(res: dict[str, Any]) -> None:
@@ -328,7 +342,7 @@ def _print_examples(res: dict[str, Any]) -> None:
 
 def _args_examples(p: argparse.ArgumentParser) -> None:
     p.add_argument("name", nargs="?", metavar="NAME", help="copy this example into the working directory")
-    _args_force(p)
+    p.add_argument("--force", action="store_true", help="replace an existing (perhaps edited) copy")
 
 
 def _args_critical(p: argparse.ArgumentParser) -> None:
@@ -354,7 +368,8 @@ def _args_simulate(p: argparse.ArgumentParser) -> None:
 
 
 def _args_force(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--force", action="store_true", help="replace an existing output file (never an input file)")
+    p.add_argument("--force", action="store_true", help="replace the output file even if it appeared or changed "
+                   "while this run was computing (an existing output is replaced anyway; an input file never)")
 
 
 def _args_reproduce(p: argparse.ArgumentParser) -> None:
@@ -367,11 +382,11 @@ def _args_reproduce(p: argparse.ArgumentParser) -> None:
 
 def cmd_table(args: argparse.Namespace) -> dict[str, Any]:
     from . import tables
-    target = output.plan(args.latex, "--latex", inputs=[args.file], force=args.force) if args.latex else None
+    target = None if args.latex is None else output.plan(args.latex, "--latex", inputs=[args.file], force=args.force)
     table = tables.family_table(args.file, jobs=args.jobs, scheduler=args.scheduler)
     res: dict[str, Any] = {"family": str(args.file), **table.to_json(), "_text": str(table)}
     if target is not None:
-        res["latex"] = str(target.write_text(table.to_latex()))
+        res["latex"] = str(target.put_text(table.to_latex()))
     return res
 
 
@@ -542,6 +557,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = _parser().parse_args(argv)
     except SystemExit as exc:   # --help, --version
         return exc.code if isinstance(exc.code, int) else 2
+    except KeyboardInterrupt:
+        print("symkf: interrupted", file=sys.stderr)
+        return INTERRUPTED
     except UsageError as exc:   # one line; with --json also as a JSON error (the command line is not parsed)
         print(exc, file=sys.stderr)
         if "--json" in argv:
@@ -553,6 +571,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             args.file = _input_file(args.file)
         _cap_jobs(args, command.name)
         with warnings.catch_warnings(record=True) as caught, _quiet(args.quiet), budget.limits(**_caps(args)), \
+                _sigterm_interrupts(), output.run(), \
                 still_working(f"symkf {command.name}", enabled=False if args.quiet else None):
             warnings.simplefilter("always")
             res = command.run(args)
@@ -565,6 +584,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _fail(args, type(exc).__name__, _one_line(exc), exc.exit_status)
     except RecursionError:
         return _fail(args, "InputError", "input too deeply nested", 2)
+    except Terminated:
+        return _fail(args, "Terminated", "terminated (SIGTERM)", TERMINATED)
     except KeyboardInterrupt:
         return _fail(args, "KeyboardInterrupt", "interrupted", INTERRUPTED)
     except MemoryError:  # an estimate let through work that did not fit: input, not a bug
@@ -594,6 +615,20 @@ def _fail(args: argparse.Namespace, kind: str, message: str, status: int) -> int
 
 def _error_document(kind: str, message: str, status: int) -> dict[str, Any]:
     return {"schema_version": SCHEMA_VERSION, "error": {"type": kind, "message": message, "exit_status": status}}
+
+
+@contextlib.contextmanager
+def _sigterm_interrupts() -> Iterator[None]:
+    """SIGTERM raises :class:`Terminated` during the command (in the main thread only: a signal
+    handler cannot be installed elsewhere), and is restored afterwards."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 @contextlib.contextmanager

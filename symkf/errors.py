@@ -37,7 +37,13 @@ class BudgetError(InputError):
 
 
 class OutputError(InputError):
-    """An output path cannot be written safely (missing directory, an input file, exists without --force)."""
+    """An output path cannot be written safely (an input file, a symbolic link, a missing directory, a
+    file another run wrote meanwhile, an error of the operating system); the message names it."""
+
+
+class SchedulerError(InputError):
+    """A Dask scheduler cannot be used: unreachable, silent, not a scheduler, without workers, or
+    lost mid-run; the message names its address."""
 
 
 class ShapeError(InputError):

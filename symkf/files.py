@@ -46,7 +46,7 @@ from decimal import Decimal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
-from . import budget
+from . import budget, output
 from .errors import FileFormatError, SymkfError
 from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel, MarkovLoss
@@ -108,6 +108,7 @@ def read_toml(path: str | Path) -> dict:
     ``max_file_size`` bytes are read (a huge file is refused, not exhausted) from a regular file
     (a FIFO, directory or device such as ``/dev/zero`` is refused without waiting on it)."""
     path = Path(path)
+    output.note_input(path)
     cap = budget.LIMITS.max_file_size
     try:
         # opened without blocking (a FIFO with no writer would wait forever), then refused unless

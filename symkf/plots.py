@@ -25,6 +25,7 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
+from . import output
 from .errors import ExtraNotInstalledError, InputError, SymkfError
 from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel
@@ -66,7 +67,7 @@ def _inline_in_jupyter(figure_type: type) -> None:
 
 def _finish(fig: Any, path: Any) -> Any:
     if path is not None:
-        fig.savefig(path, dpi=110)
+        output.save_figure(fig, path, "path", dpi=110)
     return fig
 
 

@@ -45,6 +45,7 @@ from typing import Any, Literal
 
 import sympy as sp
 
+from . import output
 from .errors import AperiodicError, AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber
 from .exact.field import Elem, NumberField
@@ -516,10 +517,8 @@ def reproduce_sui_theorem12(outdir: str | None = None) -> dict:
         ax.set_ylabel("critical loss rate")
         ax.legend()
         fig.tight_layout()
-        os.makedirs(outdir, exist_ok=True)
-        path = os.path.join(outdir, "sui_theorem12.png")
-        fig.savefig(path, dpi=120)
+        path = os.path.join(output.plan_directory(outdir, "outdir"), "sui_theorem12.png")
+        results["figure"] = str(output.save_figure(fig, path, "outdir", dpi=120))
         plt.close(fig)
-        results["figure"] = path
     return reproduction("sui-theorem12", "Sui-You-Fu, Section 4, Definition 1, eqs. (37)-(38), "
                         "Theorem 12", results, checks, discrepancies)

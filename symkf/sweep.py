@@ -6,7 +6,11 @@ of ``tasks`` whichever way it runs:
 * ``jobs=1`` (default): in this process;
 * ``jobs=N``: ``N`` local worker processes (:class:`concurrent.futures.ProcessPoolExecutor`);
 * ``scheduler="tcp://host:port"`` or a ``distributed.Client``: on a Dask
-  distributed cluster (the optional ``dask`` extra, imported only here).
+  distributed cluster (:mod:`symkf.scheduler`, the optional ``dask`` extra).
+
+Ctrl-C or SIGTERM (which the command line raises as an exception) cancels the queued tasks and
+stops the workers before it propagates; workers ignore Ctrl-C themselves and die with their
+parent, so a killed parent leaves no orphan computing.
 
 Values are exact, so the three modes return equal results (tested).  Tasks and
 results cross process boundaries by plain pickle (symkf's algebraic numbers, systems
@@ -18,11 +22,17 @@ of one).  Progress is shown with tqdm when stderr is a terminal.
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
 import dataclasses
-import re
+import os
+import signal
+import sys
+import threading
+import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
-from typing import Any, Callable, Iterable, Sequence, TypeVar
+from typing import Any, Callable, Iterable, Iterator, Sequence, TypeVar
 
 from . import budget
 from .errors import InputError
@@ -92,7 +102,9 @@ def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, sche
     if scheduler is not None and jobs != 1:
         raise InputError("jobs and scheduler: give one of them (local processes or a Dask cluster), not both")
     if scheduler is not None:
-        return _dask(_Limited(function, dataclasses.asdict(budget.LIMITS)), tasks, scheduler, progress, desc)
+        from .scheduler import run_on_scheduler
+        return run_on_scheduler(_Limited(function, dataclasses.asdict(budget.LIMITS)), tasks, scheduler, progress,
+                                desc)
     if jobs == 1 or len(tasks) <= 1:
         out = []
         with progress_bar(len(tasks), desc, enabled=progress) as bar:
@@ -119,47 +131,98 @@ class _Limited:
 
 def _processes(function: Callable, tasks: Sequence, order: Iterable[int], jobs: int, progress: bool | None,
                desc: str) -> list:
-    """The tasks submitted in ``order`` (workers take them first come, first served)."""
+    """The tasks submitted in ``order`` (workers take them first come, first served).  Whatever
+    ends the wait early (Ctrl-C, SIGTERM raised as an exception, a task's error) cancels the
+    queued tasks and kills the workers before it propagates: none is left computing."""
     results: list[Any] = [None] * len(tasks)
-    with ProcessPoolExecutor(max_workers=min(jobs, len(tasks))) as pool, \
-            progress_bar(len(tasks), desc, enabled=progress) as bar:
-        futures = {pool.submit(function, tasks[i]): i for i in order}
-        for f in as_completed(futures):
-            results[futures[f]] = f.result()
-            bar.update()
+    pool = ProcessPoolExecutor(max_workers=min(jobs, len(tasks)), initializer=_worker_started,
+                               initargs=(os.getpid(),))
+    try:
+        with progress_bar(len(tasks), desc, enabled=progress) as bar:
+            futures = {pool.submit(function, tasks[i]): i for i in order}
+            for f in as_completed(futures):
+                results[futures[f]] = f.result()
+                bar.update()
+    except BaseException:
+        _stop(pool)
+        raise
+    pool.shutdown()
     return results
 
 
-#: a scheduler address, ``[protocol://]host:port`` (a DNS name, IPv4 or bracketed IPv6 host): anything
-#: else is refused before distributed sees it (a Client that fails half-built can deadlock the next one
-#: when the garbage collector closes it)
-_ADDRESS = re.compile(r"(?:(?:tcp|tls|ucx|ws|wss)://)?"
-                      r"(?:[A-Za-z0-9](?:[A-Za-z0-9-]*[A-Za-z0-9])?(?:\.[A-Za-z0-9](?:[A-Za-z0-9-]*[A-Za-z0-9])?)*"
-                      r"|\[[0-9A-Fa-f:.]+\]):\d{1,5}")
+def _stop(pool: ProcessPoolExecutor) -> None:
+    """Cancel the queued tasks and kill the workers (SIGKILL: they write no files and hold nothing
+    the parent needs).  The executor has no public call for this before Python 3.14
+    (``kill_workers``); its process table is read directly."""
+    workers = list((getattr(pool, "_processes", None) or {}).values())
+    with _interrupts_ignored():
+        pool.shutdown(wait=False, cancel_futures=True)
+        for worker in workers:
+            worker.kill()
+        for worker in workers:
+            worker.join(5)
 
 
-def _dask(function: Callable, tasks: Sequence, scheduler: Any, progress: bool | None, desc: str) -> list:
+@contextlib.contextmanager
+def _interrupts_ignored() -> Iterator[None]:
+    """A second Ctrl-C (or SIGTERM) while the workers are being stopped is dropped: the run is
+    ending already, and the clean-up must not be cut short (signal handlers belong to the main
+    thread; elsewhere nothing is changed)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    saved = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    saved = {s: h for s, h in saved.items() if h is not None}   # None: a handler not set from Python
+    for s in saved:
+        signal.signal(s, signal.SIG_IGN)
     try:
-        import distributed
-    except ImportError:
-        raise InputError("scheduler: Dask is not installed; install the extra: pip install 'symkf[dask]'") from None
-    if isinstance(scheduler, distributed.Client):
-        return _on_client(scheduler, function, tasks, progress, desc)
-    if not isinstance(scheduler, str) or not _ADDRESS.fullmatch(scheduler):
-        raise InputError(f"scheduler: expected a Dask scheduler address such as 'tcp://host:8786' "
-                         f"or a distributed.Client, got {scheduler!r}")
+        yield
+    finally:
+        for s, handler in saved.items():
+            signal.signal(s, handler)
+
+
+#: prctl(2) option: the signal a process receives when its parent dies
+_PR_SET_PDEATHSIG = 1
+
+
+def _worker_started(parent: int) -> None:
+    """A worker leaves shutdown to its parent: it ignores Ctrl-C (which the terminal sends to the
+    whole process group), takes SIGTERM's default action (not a handler inherited by fork), and
+    dies with its parent, so that a parent killed by SIGKILL leaves no orphan computing."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if os.getppid() == parent and _kill_on_parent_death():
+        if os.getppid() != parent:  # the parent died before prctl took effect
+            os._exit(1)
+        return
+    if os.name != "posix":  # os.kill(pid, 0) would terminate the parent on Windows
+        return
+    threading.Thread(target=_watch_parent, args=(parent,), name="symkf parent watch", daemon=True).start()
+
+
+def _kill_on_parent_death() -> bool:
+    """Linux: ask the kernel for SIGKILL when the parent dies; False where that is not available."""
+    if not sys.platform.startswith("linux"):
+        return False
     try:
-        client = distributed.Client(scheduler, timeout="20s")
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise InputError(f"scheduler: cannot connect to the Dask scheduler at {scheduler!r} ({exc})") from None
-    with client:
-        return _on_client(client, function, tasks, progress, desc)
+        libc = ctypes.CDLL(None, use_errno=True)
+        return libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) == 0
+    except (OSError, AttributeError):
+        return False
 
 
-def _on_client(client: Any, function: Callable, tasks: Sequence, progress: bool | None, desc: str) -> list:
-    import distributed
-    futures = client.map(function, tasks, pure=False)
-    with progress_bar(len(tasks), desc, enabled=progress) as bar:
-        for _ in distributed.as_completed(futures):
-            bar.update()
-    return client.gather(futures)
+def _watch_parent(parent: int) -> None:
+    """Elsewhere (or under a fork server, whose child this worker is): poll for the parent, which
+    is gone when this process is reparented or the parent's process id is free."""
+    ppid = os.getppid()
+    while True:
+        try:
+            os.kill(parent, 0)
+        except ProcessLookupError:
+            os._exit(1)
+        except PermissionError:
+            pass
+        if os.getppid() != ppid:
+            os._exit(1)
+        time.sleep(1)

@@ -27,7 +27,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from . import examples
+from . import examples, output
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber
 from .families import Family, Inapplicable, Member, Outcome, load_family
@@ -160,10 +160,10 @@ class Table:
                 "rows": [{"label": r.plain, "cells": [c.data for c in cells]} for r, cells in self.rows]}
 
     def write(self, path: str | Path) -> Path:
-        """Write :meth:`to_latex` to ``path``; returns the path."""
-        path = Path(path)
-        path.write_text(self.to_latex(), encoding="utf-8")
-        return path
+        """Write :meth:`to_latex` to ``path`` atomically (:mod:`symkf.output`: never over the
+        table's input files); returns the path."""
+        inputs = [self.metadata["file"]] if "file" in self.metadata else self.metadata.get("files", [])
+        return output.plan(path, "path", inputs=inputs).put_text(self.to_latex())
 
 
 # -- families -------------------------------------------------------------------------------

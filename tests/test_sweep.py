@@ -98,6 +98,7 @@ def test_worker_errors_are_reraised_exactly():
     ({"scheduler": 42}, "scheduler: expected a Dask scheduler address"),
     ({"scheduler": "__builtins__"}, "scheduler: expected a Dask scheduler address"),   # never reaches distributed
     ({"scheduler": "tcp://host:8786/x"}, "scheduler: expected a Dask scheduler address"),
+    ({"scheduler": "tcp://127.0.0.1:99999"}, "scheduler: expected a Dask scheduler address"),  # port above 65535
 ])
 def test_bad_arguments(kwargs, message):
     with pytest.raises(InputError, match=message):

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from .. import output
 from ..losses import IID
 from ..model import Sensor, System
 from ..reproduction import reproduction
@@ -104,7 +105,6 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        os.makedirs(outdir, exist_ok=True)
         k = np.arange(1, horizon + 1)
         fig, ax = plt.subplots(figsize=(6, 4))
         ax.plot(k, results["trace_V"], label="upper bound tr $V_k$ (Theorem 3)")
@@ -116,8 +116,7 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
         ax.set_title("Yang et al. Example 1 (Fig. 2)")
         ax.legend()
         fig.tight_layout()
-        path = os.path.join(outdir, "yang_example1.png")
-        fig.savefig(path, dpi=120)
+        path = os.path.join(output.plan_directory(outdir, "outdir"), "yang_example1.png")
+        results["figure"] = str(output.save_figure(fig, path, "outdir", dpi=120))
         plt.close(fig)
-        results["figure"] = path
     return reproduction("yang-example1", SOURCE, results, checks)

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from .. import output
 from ..model import Sensor
 from ..reproduction import discrepancy, reproduction
 from .covariance import fusion_sigma, remote_error_covariance, unbiasedness_matrix
@@ -69,7 +70,7 @@ def _plots(outdir: str, t: np.ndarray, curves: dict[str, np.ndarray], sub: dict[
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    os.makedirs(outdir, exist_ok=True)
+    output.plan_directory(outdir, "outdir")
     fig, ax = plt.subplots(figsize=(7, 4.2))
     for label, y in curves.items():
         ax.plot(t, y, label=label, lw=1.2)
@@ -79,8 +80,7 @@ def _plots(outdir: str, t: np.ndarray, curves: dict[str, np.ndarray], sub: dict[
     ax.set_title("Inverted pendulum, arXiv:2012.04896 Fig. 2: estimation error")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig2_path = os.path.join(outdir, "fusion_pendulum_fig2.png")
-    fig.savefig(fig2_path, dpi=120)
+    fig2_path = str(output.save_figure(fig, os.path.join(outdir, "fusion_pendulum_fig2.png"), "outdir", dpi=120))
     plt.close(fig)
 
     fig, axes = plt.subplots(2, 5, figsize=(15, 5.5), sharex=True)
@@ -94,8 +94,7 @@ def _plots(outdir: str, t: np.ndarray, curves: dict[str, np.ndarray], sub: dict[
         ax.set_xlabel("time (s)")
     fig.suptitle(r"arXiv:2012.04896 Fig. 3: mean $\|V_{i,o}' e_k\|$ on each sensor's observable subspace")
     fig.tight_layout()
-    fig3_path = os.path.join(outdir, "fusion_pendulum_fig3.png")
-    fig.savefig(fig3_path, dpi=120)
+    fig3_path = str(output.save_figure(fig, os.path.join(outdir, "fusion_pendulum_fig3.png"), "outdir", dpi=120))
     plt.close(fig)
     return [fig2_path, fig3_path]
 

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from .. import output
 from ..exact.linalg import rank
 from ..model import Sensor, System
 from ..reproduction import reproduction
@@ -56,12 +57,10 @@ def _plot(outdir: str | None, name: str, draw) -> str | None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    os.makedirs(outdir, exist_ok=True)
     fig, ax = plt.subplots(figsize=(5, 4))
     draw(ax)
-    path = os.path.join(outdir, name)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    path = str(output.save_figure(fig, os.path.join(output.plan_directory(outdir, "outdir"), name), "outdir", dpi=120))
     plt.close(fig)
     return path
 

@@ -1,0 +1,208 @@
+"""Interrupts and parallel work (issue 26, section 4): Ctrl-C and SIGTERM cancel the queued work,
+stop the workers and end with one line (exit 130 / 143), a killed parent leaves no orphan, and
+no partial file is left."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from symkf import cli
+from symkf.sweep import sweep
+
+ROOT = Path(__file__).resolve().parent.parent
+#: members of about 10 CPU-s each (2 R(2 pi/g) for primes g > 200, under raised caps): every
+#: signal arrives while both workers compute
+SLOW_FAMILY = ('[family]\nname = "slow"\nkind = "rotation"\n[grid]\nperiod = [211, 223, 227, 229]\nsensors = [1]\n'
+               '[constants]\nalpha = "2"\n')
+CAPS = ["--max-cyclotomic-degree", "2000", "--max-angle-denominator", "1000", "--max-degree", "1000"]
+
+
+def _processes() -> dict[int, tuple[int, int, str]]:
+    """pid -> (parent pid, process group, state) of every process (psutil if installed, else /proc)."""
+    try:
+        import psutil
+    except ImportError:
+        psutil = None
+    out = {}
+    if psutil is not None:
+        for p in psutil.process_iter(["ppid", "status"]):
+            try:
+                out[p.pid] = (p.info["ppid"], os.getpgid(p.pid), "Z" if p.info["status"] == psutil.STATUS_ZOMBIE else "R")
+            except (ProcessLookupError, psutil.Error):
+                pass
+        return out
+    for entry in Path("/proc").iterdir():
+        try:
+            fields = (entry / "stat").read_text().rpartition(")")[2].split()
+        except (OSError, ValueError):
+            continue
+        if entry.name.isdigit():
+            out[int(entry.name)] = (int(fields[1]), int(fields[2]), fields[0])
+    return out
+
+
+def children(pid: int) -> list[int]:
+    return [p for p, (ppid, _, state) in _processes().items() if ppid == pid and state != "Z"]
+
+
+def living_in_group(group: int) -> list[int]:
+    """Processes of the process group ``group`` still alive (zombies excepted: they compute nothing)."""
+    return [p for p, (_, pgid, state) in _processes().items() if pgid == group and state != "Z"]
+
+
+def wait_for(condition, timeout: float, what: str) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            pytest.fail(f"timed out after {timeout} s waiting for {what}")
+        time.sleep(0.05)
+
+
+def cpu_seconds(pid: int) -> float:
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rpartition(")")[2].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _started_with_workers(argv: list[str], cwd: Path, workers: int = 2, busy: bool = False) -> subprocess.Popen:
+    """``argv`` in a session of its own, once ``workers`` child processes run (``busy``: once each
+    has computed for 0.3 CPU-s, i.e. is inside a task whatever the machine's load)."""
+    if not Path("/proc").is_dir():
+        pytest.skip("needs /proc (Linux) to watch the worker processes")
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=cwd,
+                            start_new_session=True)
+    wait_for(lambda: len(children(proc.pid)) >= workers or proc.poll() is not None, 60, "the worker processes")
+    assert proc.poll() is None, proc.communicate()
+    if busy:
+        wait_for(lambda: all(cpu_seconds(p) >= 0.3 for p in children(proc.pid)) or proc.poll() is not None, 60,
+                 "the workers to compute")
+    else:
+        time.sleep(0.3)   # the workers are inside their first task
+    return proc
+
+
+def table_run(tmp_path: Path) -> subprocess.Popen:
+    family = tmp_path / "slow.toml"
+    family.write_text(SLOW_FAMILY)
+    return _started_with_workers([sys.executable, "-m", "symkf", "table", str(family), "--jobs", "2",
+                                  "--latex", str(tmp_path / "out.tex"), *CAPS], tmp_path, busy=True)
+
+
+def finished(proc: subprocess.Popen, timeout: float = 15) -> tuple[int, str, str, float]:
+    start = time.monotonic()
+    out, err = proc.communicate(timeout=timeout)
+    return proc.returncode, out, err, time.monotonic() - start
+
+
+def assert_nothing_left(proc: subprocess.Popen, tmp_path: Path | None = None) -> None:
+    """No process of the run's group computes on, and no table or partial file was written."""
+    wait_for(lambda: not living_in_group(proc.pid), 10, "the workers to end")
+    if tmp_path is not None:
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["slow.toml"]
+
+
+@pytest.mark.parametrize("signum, to, status, message", [
+    (signal.SIGINT, "group", 130, "symkf table: interrupted\n"),        # Ctrl-C in a terminal
+    pytest.param(signal.SIGINT, "parent", 130, "symkf table: interrupted\n", marks=pytest.mark.full),
+    pytest.param(signal.SIGTERM, "parent", 143, "symkf table: terminated (SIGTERM)\n", marks=pytest.mark.full),
+    pytest.param(signal.SIGKILL, "parent", -signal.SIGKILL, "", marks=pytest.mark.full),
+])
+def test_a_signal_stops_the_table_and_its_workers(tmp_path, signum, to, status, message):
+    """Issue 26: `symkf table FAMILY --jobs 2` did not stop on SIGINT (to the parent or the whole
+    group) within 40 s, SIGTERM ended it without a message, and after SIGKILL of the parent its
+    two workers kept computing as orphans."""
+    proc = table_run(tmp_path)
+    (os.killpg if to == "group" else os.kill)(proc.pid, signum)
+    code, out, err, seconds = finished(proc)
+    assert (code, out, err) == (status, "", message) and seconds < 10
+    assert_nothing_left(proc, tmp_path)
+
+
+SLEEPERS = ("import importlib, time\nsweep = importlib.import_module('symkf.sweep')\n"
+            "{}sweep.sweep(time.sleep, [30] * 4, jobs=2)\n")
+
+
+@pytest.mark.parametrize("watch", ["prctl", "watchdog"])
+def test_workers_die_with_their_parent(watch):
+    """The same without the exact engine's CPU time: workers sleeping in a task, parent killed;
+    by the kernel's parent-death signal (Linux) or by the workers' watchdog thread (elsewhere)."""
+    without_prctl = "sweep._kill_on_parent_death = lambda: False\n" if watch == "watchdog" else ""
+    proc = _started_with_workers([sys.executable, "-c", SLEEPERS.format(without_prctl)], ROOT)
+    proc.kill()
+    finished(proc)
+    assert_nothing_left(proc)
+
+
+def _sleep_or_fail(seconds: float) -> float:
+    if seconds < 0:
+        raise ValueError("this task fails")
+    time.sleep(seconds)
+    return seconds
+
+
+def _interrupt_the_parent(seconds: float) -> float:
+    if seconds < 0:      # one task only: a signal arriving after the test has caught its interrupt would stop pytest
+        os.kill(os.getppid(), signal.SIGINT)
+    time.sleep(abs(seconds))
+    return seconds
+
+
+def _no_workers_left() -> None:
+    import multiprocessing
+    wait_for(lambda: not multiprocessing.active_children(), 5, "the workers to end")
+
+
+def test_a_failing_task_cancels_the_queued_ones():
+    """A task's error ends the sweep at once: the queued tasks are cancelled and the worker still
+    sleeping is stopped (before, the pool waited for every queued task)."""
+    start = time.monotonic()
+    with pytest.raises(ValueError, match="this task fails"):
+        sweep(_sleep_or_fail, [30, -1, 30, 30], jobs=2, progress=False)
+    assert time.monotonic() - start < 10
+    _no_workers_left()
+
+
+def test_ctrl_c_in_the_caller_stops_the_workers():
+    """KeyboardInterrupt in the caller (here sent by a worker to its parent) stops the workers,
+    which ignore SIGINT themselves."""
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        sweep(_interrupt_the_parent, [-30, 30, 30], jobs=2, progress=False)
+    assert time.monotonic() - start < 10
+    _no_workers_left()
+
+
+def test_ctrl_c_while_the_command_line_is_imported(monkeypatch, capsys):
+    """`symkf` (and `python -m symkf`) interrupted before symkf.cli is even imported: one line,
+    exit 130, no traceback (simulated: an import that raises KeyboardInterrupt)."""
+    import importlib.abc
+
+    import symkf.__main__ as entry
+
+    class Interrupting(importlib.abc.MetaPathFinder):
+        def find_spec(self, name, path=None, target=None):
+            if name == "symkf.cli":
+                raise KeyboardInterrupt
+    monkeypatch.delitem(sys.modules, "symkf.cli")
+    monkeypatch.setattr(sys, "meta_path", [Interrupting(), *sys.meta_path])
+    assert entry.run() == 130
+    assert capsys.readouterr().err == "symkf: interrupted\n"
+
+
+def test_sigterm_is_raised_like_ctrl_c_during_a_command():
+    previous = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(cli.Terminated):
+        with cli._sigterm_interrupts():
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(5)
+    assert signal.getsignal(signal.SIGTERM) is previous
+    assert issubclass(cli.Terminated, KeyboardInterrupt)    # every clean-up of Ctrl-C runs for it
