@@ -38,7 +38,6 @@ zero-order hold, :meth:`FusionModel.zoh <symkf.fusion.FusionModel.zoh>`).
 from __future__ import annotations
 
 import itertools
-import os
 import re
 import stat
 import tomllib
@@ -111,16 +110,14 @@ def read_toml(path: str | Path) -> dict:
     output.note_input(path)
     cap = budget.LIMITS.max_file_size
     try:
-        # opened without blocking (a FIFO with no writer would wait forever), then refused unless
-        # it is a regular file: a directory, FIFO, socket or device is not a system file
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
-        mode = os.fstat(fd).st_mode
+        # refused before it is opened unless it is a regular file (opening a FIFO with no writer
+        # waits forever): a directory, FIFO, socket or device is not a system file
+        mode = path.stat().st_mode
         if not stat.S_ISREG(mode):
-            os.close(fd)
             kind = "a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else \
                 "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "a special file"
             raise FileFormatError(f"{path}: is {kind}, not a TOML file")
-        with os.fdopen(fd, "rb") as f:
+        with path.open("rb") as f:
             raw = f.read(cap + 1)
         budget.check("max_file_size", len(raw), str(path), "the size in bytes (at least)")
         return tomllib.loads(raw.decode("utf-8"), parse_float=Decimal)
