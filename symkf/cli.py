@@ -105,23 +105,9 @@ def _blocks_json(A: Any) -> list[dict[str, Any]]:
 
 def loss_json(loss: Any) -> dict[str, Any]:
     """A loss model as a JSON object: ``kind`` (as in a system file's ``[loss]`` table) and its
-    parameters as exact strings; a Markov or network model also gives its lifted chain."""
-    from .losses import IID, GilbertElliott
-    from .network.loss import NetworkLoss
-    if isinstance(loss, IID):
-        return {"kind": "iid", "loss": [str(e) for e in loss.loss]}
-    if isinstance(loss, GilbertElliott):
-        return {"kind": "gilbert-elliott", "fail": [str(e) for e in loss.fail],
-                "recover": [str(e) for e in loss.recover]}
-    chain = loss.chain
-    out: dict[str, Any] = {"kind": "markov", "order": getattr(loss, "order", 1)}
-    if isinstance(loss, NetworkLoss):
-        out = {"kind": "network", "parents": list(loss.tree.parents),
-               "phi": [[str(p) for p in loss.phi.row(m)] for m in range(loss.d)]}
-    shown = {p: str(p) for p in chain.P.values()} | {0: "0"}  # lifted chains: 10^5 entries, few values
-    return {**out, "chain": {"states": [str(s) for s in chain.states], "emit": [list(v) for v in chain.emit],
-                             "P": [[shown[p] for p in row] for row in chain.P.tolist()],
-                             "initial": [str(p) for p in chain.initial]}}
+    parameters as exact strings; a Markov or network model also gives its lifted chain
+    (:meth:`symkf.losses.LossModel.to_json`)."""
+    return loss.to_json()
 
 
 def cmd_demo(args: argparse.Namespace) -> dict[str, Any]:
@@ -165,7 +151,7 @@ def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
                           "certificate": [{"modulus": str(c.modulus), "governing_period": c.governing_period,
                                            "decisive_received": [list(e) for e in c.decisive_elements],
                                            "alpha^(2g) rho^g": str(c.margin_power)} for c in v.certificate]}
-        res["_text"] = str(v)
+        res["_text"] = f"{v}\n  loss model: {loss.words()}"
     return res
 
 
@@ -175,15 +161,14 @@ def _vary_common(system: Any, loss: Any, value: str, file: str) -> tuple[str, Al
 
 
 def _iid(loss: Any, file: str, option: str) -> Any:
-    from .losses import IID
-    if not isinstance(loss, IID):
-        raise UsageError(f"{file}: {option} needs an i.i.d. [loss] giving the sensors' rates")
+    if loss.bernoulli is None:
+        raise UsageError(f"{file}: {option} needs an i.i.d. [loss] giving the sensors' rates, not {loss.words()}")
     return loss
 
 
 def _vary_sensor(system: Any, loss: Any, name: str, file: str) -> tuple[str, AlgebraicNumber, str]:
     from .stability import critical_loss_rate
-    others = list(_iid(loss, file, "--vary sensor=NAME").loss)
+    others = list(_iid(loss, file, "--vary sensor=NAME").bernoulli)
     return ("critical_loss_rate", critical_loss_rate(system, name, others=others),
             f"loss of sensor {name}, others fixed at the file's rates")
 
@@ -196,7 +181,7 @@ def _vary_alpha(system: Any, loss: Any, value: str, file: str) -> tuple[str, Alg
 def _vary_recovery(system: Any, loss: Any, value: str, file: str) -> tuple[str, AlgebraicNumber, str]:
     from .losses import GilbertElliott
     from .stability import critical_recovery_rate
-    if not isinstance(loss, GilbertElliott):
+    if loss.kind != GilbertElliott.kind:
         raise UsageError(f"{file}: --vary recovery needs a [loss] table of kind 'gilbert-elliott' giving 'fail'")
     return ("critical_recovery_rate", critical_recovery_rate(system, loss.fail),
             "common Gilbert-Elliott recovery probability P(received | lost last), fail fixed; stable iff above")
@@ -239,8 +224,8 @@ def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
     system, loss = _needs_loss(args)
     result = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon, jobs=args.jobs)
     # exit status 1 (and "outcome": "contradiction") when simulation contradicts the theory
-    return {"system": str(args.file), "loss": loss_json(loss), **result.to_json(), "_text": str(result),
-            "_status": 1 if result.outcome == "contradiction" else 0}
+    return {"system": str(args.file), "loss": loss_json(loss), **result.to_json(),
+            "_text": f"{result}\nloss model: {loss.words()}", "_status": 1 if result.outcome == "contradiction" else 0}
 
 
 def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
@@ -272,7 +257,8 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
                                                records="json" if args.json else "text"), "--paths x --horizon",
                  f"the bytes (estimate) of a simulation of {args.paths} paths over {args.horizon} steps")
     sim = simulate(system, loss, args.horizon, args.paths, seed=args.seed, curve=target is not None)
-    res: dict[str, Any] = {"system": str(args.file), "loss": loss_json(loss), **sim.to_json(), "_text": str(sim)}
+    res: dict[str, Any] = {"system": str(args.file), "loss": loss_json(loss), **sim.to_json(),
+                           "_text": f"{sim}\nloss model: {loss.words()}"}
     if target is not None:
         fig = sim.figure()
         res["plot"] = str(target.put_figure(fig, dpi=110))

@@ -17,6 +17,11 @@ sets (hyperplanes, :mod:`symkf.observability`):
   irrational angles) ``g = 1`` and the decisive ``H`` is typically empty, the
   rate of the chain restricted to "everything lost".
 
+Neither maximum lists every hyperplane when a screen applies: :func:`outside_counts` (i.i.d.),
+:func:`markov_search` (Markov losses, per independent factor of the model) and
+:func:`least_iid_bound` (critical loss rates along a ray or of one sensor) reduce them to
+:meth:`~symkf.observability.BlockRows.heaviest`, each with its no-miss argument.
+
 The full M (eqs. 33-34) over (projected pattern, chain state) is built only
 for checking ``P(R_{Ng}) = u M^N v`` (eq. 35) against enumeration.
 """
@@ -24,27 +29,31 @@ for checking ``P(R_{Ng}) = u M^N v`` (eq. 35) against enumeration.
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Any, Callable, Sequence
 
 import flint
 import numpy as np  # outside counts from BlockRows.inside
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
+from . import budget
 from .errors import AperiodicError, InputError
 from .exact import perron
 from .exact.algebraic import AlgebraicNumber
-from .losses import IID, GilbertElliott, LossModel
+from .losses import Factor, GilbertElliott, LossModel, checked
 from .model import System
-from .observability import BlockRows, _set, block_deficient, block_rows
+from .exact.linalg import nullspace_rows, rank_rows
+from .observability import BlockRows, _distinct, _key, _set, block_deficient, block_rows
 
 
 @dataclass(frozen=True)
 class BlockRate:
     """``rho_i^g`` for one block: the exact value, the decisive hyperplane and the candidates compared
     exactly (under i.i.d. losses only the near-heaviest hyperplanes when :meth:`BlockRows.heaviest`
-    applies, else one hyperplane per exponent vector or every hyperplane)."""
+    applies, else one hyperplane per exponent vector; under Markov losses the hyperplanes whose
+    float rate is within its proved error of the largest, :func:`markov_search`)."""
 
     per_period: sp.Expr
     hyperplane: frozenset[int]
@@ -70,23 +79,8 @@ def perron_root(M: sp.MatrixBase) -> sp.Expr:
     return perron.perron_root(rows, M.shape[0]).exact
 
 
-def _received_ok(br: BlockRows, H: frozenset[int], vec: Sequence[int], phase: int) -> bool:
-    return all(not g or br.elements.index(_el(br, j, phase)) in H for j, g in enumerate(vec))
-
-
 def _el(br: BlockRows, j: int, phase: int):
     return br.elements[j * br.period + phase]
-
-
-def _outside(br: BlockRows, H: frozenset[int], sensor: int) -> int:
-    return sum(1 for i, e in enumerate(br.elements) if e.sensor == sensor and i not in H)
-
-
-def _maximum(candidates: list[tuple[frozenset[int], sp.Expr]]) -> tuple[frozenset[int], sp.Expr]:
-    if any(v.free_symbols for _, v in candidates):
-        raise InputError("loss: symbolic loss parameters have no numeric decay rate; "
-                         "use symkf.region.stability_conditions for the stability region as conditions")
-    return max(candidates, key=lambda hv: AlgebraicNumber.from_expr(hv[1]))
 
 
 def outside_counts(br: BlockRows, weights: Sequence[float] | None = None) -> dict[tuple[int, ...], frozenset[int]]:
@@ -104,7 +98,17 @@ def outside_counts(br: BlockRows, weights: Sequence[float] | None = None) -> dic
         heaviest = br.heaviest([weights[e.sensor] for e in br.elements])
         if heaviest is not None:
             return _outside_vectors(br, sorted(heaviest, key=sorted))
-    return _outside_vectors(br, br.inside)
+    return _outside_vectors(br, listed_hyperplanes(br))
+
+
+def listed_hyperplanes(br: BlockRows) -> np.ndarray:
+    """:attr:`BlockRows.inside` (every hyperplane), refused up front when their estimated number
+    ``C(V, n - 1)`` (V distinct generators) exceeds ``budget.Limits.max_hyperplanes``."""
+    if "inside" not in br.__dict__ and br.size > 1:
+        V = len({_key(g) for gs in br.generators for g in gs})
+        budget.check("max_hyperplanes", math.comb(V, br.size - 1), f"eigen-block of modulus {br.block.modulus}",
+                     f"the estimated number of hyperplanes to list (C({V}, {br.size - 1}); no screen applies)")
+    return br.inside
 
 
 def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[int]]:
@@ -122,37 +126,404 @@ def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[i
     return {tuple(outside[h].tolist()): _set(inside[h]) for h in sorted(first.tolist())}
 
 
-def _weights(loss: IID) -> list[float] | None:
-    """``-log loss_j`` per sensor: the slowest-decaying hyperplane maximises ``sum_{e in H} -log
-    loss_(sensor e)``; None when a loss is 0 or symbolic (then every hyperplane is compared)."""
-    if loss.symbols or any(e == 0 for e in loss.loss):
+def _weights(loss: LossModel) -> list[float] | None:
+    """``-log loss_j`` per sensor of i.i.d. losses: the slowest-decaying hyperplane maximises ``sum_{e
+    in H} -log loss_(sensor e)``; None when a loss is 0 or symbolic (then every hyperplane is compared)."""
+    if loss.symbols or any(e == 0 for e in loss.bernoulli):
         return None
-    return [-float(sp.log(e).evalf(20)) for e in loss.loss]
+    return [-float(sp.log(e).evalf(20)) for e in loss.bernoulli]
 
 
 def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
-    """``rho_i^g`` (per projection period) for one block, exactly (eq. 36)."""
-    if isinstance(loss, IID):
+    """``rho_i^g`` (per projection period) for one block, exactly (eq. 36).
+
+    i.i.d. losses: the heaviest hyperplanes (:func:`outside_counts`).  Markov losses: the
+    product over the model's independent factors of their restricted transfers' Perron roots,
+    maximised by :func:`markov_search` (aperiodic blocks too: their elements' generators are
+    class projections, docs/sui.md)."""
+    if loss.bernoulli is not None:   # i.i.d.: the rate depends on the exponent vector only
         counts = outside_counts(br, _weights(loss))
-        cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.loss, ks)])) for ks, H in counts.items()]
-    else:  # aperiodic blocks too: their elements' generators are class projections (docs/sui.md)
-        cands = [(H, sp.sympify(ge_rate(br, H, loss) if isinstance(loss, GilbertElliott)
-                                else perron_root(restricted_transfer(br, H, loss)))) for H in br.hyperplanes]
+        cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.bernoulli, ks)])) for ks, H in counts.items()]
+        H, best = _maximum(cands)
+        return BlockRate(best, H, tuple(cands))
+    if loss.symbols:
+        raise _symbolic()
+    return markov_search(br, factor_rates(br, loss))
+
+
+def _symbolic() -> InputError:
+    return InputError("loss: symbolic loss parameters have no numeric decay rate; "
+                      "use symkf.region.stability_conditions for the stability region as conditions")
+
+
+def _maximum(candidates: list[tuple[frozenset[int], sp.Expr]]) -> tuple[frozenset[int], sp.Expr]:
+    if any(v.free_symbols for _, v in candidates):
+        raise _symbolic()
+    return max(candidates, key=lambda hv: AlgebraicNumber.from_expr(hv[1]))
+
+
+def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[sp.Expr]],
+                    bound: Callable[[tuple[int, ...]], sp.Expr | None], start: AlgebraicNumber,
+                    growth: sp.Expr) -> AlgebraicNumber | None:
+    """``min(start, min_H x_H)`` without listing every hyperplane, or None when the screen
+    declines (then list them: :func:`outside_counts`).
+
+    ``losses(x)`` are the i.i.d. losses at the parameter ``x`` (each non-decreasing in ``x``);
+    ``bound(k)`` is ``x_H`` for a hyperplane whose exponent vector is ``k``: the ``x`` at which
+    its margin ``growth * prod_j loss_j(x)^(k_j)`` reaches 1 (None when it never does).
+
+    Why no hyperplane is missed.  With weights ``w_e(x) = -log loss_(sensor e)(x) >= 0`` the
+    margin of ``H`` is ``log growth - T(x) + sum_(e in H) w_e(x)`` (``T`` the total weight), and
+    it increases with ``x``; so ``x_H <= x`` iff that margin is ``>= 0`` at ``x``, i.e. iff ``H``
+    weighs at least ``T(x) - log growth``.  Take ``x`` = the least ``x_H`` over a few hyperplanes
+    spanned by the heaviest generators (:func:`_spanned`; exact) or, when none lies below
+    ``start``, one step of Dinkelbach's iteration (the heaviest hyperplanes at ``start``: if none
+    has ``x_H < start``, every margin is at most 1 there and ``start`` is the answer).  Then
+    ``heaviest(w(x), floor=T(x) - log growth)`` returns every hyperplane with ``x_H <= x``
+    (its no-miss argument for a floor), and the least of their ``x_H`` is the minimum: one screen
+    when the guess is good.  Declines (None) when a loss is 0 or above 1 at ``start`` (a weight
+    would be infinite or negative) or the screen does not apply."""
+    def weights(x: AlgebraicNumber) -> list[float] | None:
+        values = [sp.sympify(v) for v in losses(x)]
+        if any(v == 0 or AlgebraicNumber.from_expr(v) > 1 for v in values):
+            return None
+        per_sensor = [-float(sp.log(v).evalf(20)) for v in values]
+        return [per_sensor[e.sensor] for e in br.elements]
+
+    def least(sets) -> AlgebraicNumber | None:
+        found = [AlgebraicNumber.from_expr(b) for b in
+                 (bound(ks) for ks in _outside_vectors(br, sorted(sets, key=sorted))) if b is not None]
+        return min(found, default=None)
+
+    w = weights(start)
+    if w is None:
+        return None
+    x = least(_spanned(br, w))
+    if x is None or not x < start:
+        sets = br.heaviest(w)
+        if sets is None:
+            return None
+        x = least(sets)
+        if x is None or not x < start:
+            return start
+    w = weights(x)
+    if w is None:
+        return None
+    floor = sum(w[e] for e, gs in enumerate(br.generators) if gs) - float(sp.log(growth).evalf(20))
+    sets = br.heaviest(w, floor=floor - 1e-9 * (1 + abs(floor)))
+    if sets is None:
+        return None
+    found = least(sets)
+    return x if found is None or not found < x else found
+
+
+def _spanned(br: BlockRows, weights: Sequence[float], count: int = 9) -> list[frozenset[int]]:
+    """The hyperplanes spanned by ``n - 1`` of the ``count`` heaviest generators (exact): a cheap
+    guess of a heavy hyperplane."""
+    n, K = br.size, br.K
+    gens = _distinct([g for gs in br.generators for g in gs])
+    weight = {_key(g): 0.0 for g in gens}
+    for e, gs in enumerate(br.generators):
+        for g in gs:
+            weight[_key(g)] += weights[e]
+    top = sorted(gens, key=lambda g: -weight[_key(g)])[:count]
+    out = []
+    for rows in itertools.combinations(top, n - 1):
+        if n < 2 or rank_rows(K, rows, n) < n - 1:
+            continue
+        (normal,) = nullspace_rows(K, rows, n)
+        out.append(frozenset(e for e, gs in enumerate(br.generators)
+                             if all(K.dot(g, normal).is_zero() for g in gs)))
+    return out
+
+
+# -- restricted transfers per independent factor ----------------------------------------
+_U = 2.0 ** -53  # unit roundoff of float64
+
+
+class FactorRates:
+    """Perron roots of one factor's one-period transfers restricted to phase patterns, cached.
+
+    A pattern gives per phase ``r`` the mask of the factor's sensors whose element ``(j, r)``
+    lies in ``H``; a state may be visited at phase ``r`` iff every sensor it receives is in the
+    mask: ``M = prod_r P D_r`` (the phases in cyclic order; a rotation has the same spectrum).
+    When one state ``z`` emits "everything lost" (a Gilbert-Elliott channel's lost state, the
+    all-zero receival vector of a joint chain), ``D_r = e_z e_z^T`` at every phase with mask 0,
+    so ``M`` is a product of rank-one factors and ``rho(M) = prod_segments e_z^T (prod_{r in
+    segment} P D_r) P e_z``, one scalar per run of non-zero masks ("word") between consecutive
+    zero masks: the probability of passing the run inside ``H`` from lost to lost.  Words are
+    cached; for a Gilbert-Elliott channel a run of length ``m`` gives ``(P^(m+1))_(lost, lost)``.
+    Rational chains compute in flint's ``fmpq`` (exact) with a float64 twin whose error is
+    proved (:meth:`error`); other chains (several all-lost states, algebraic or symbolic
+    probabilities, or a pattern without a zero mask) go through the exact transfer and
+    :func:`perron_root`.
+    """
+
+    def __init__(self, factor: Factor, period: int):
+        ch = factor.chain
+        self.factor, self.g, self.S = factor, period, len(ch.states)
+        self.received = [sum(1 << i for i, x in enumerate(v) if x) for v in ch.emit]
+        lost = [s for s, m in enumerate(self.received) if m == 0]
+        self.rational = all(v.is_Rational for v in ch.P)
+        self.z = lost[0] if len(lost) == 1 else None
+        self.P = flint.fmpq_mat([[flint.fmpq(int(v.p), int(v.q)) for v in ch.P.row(i)] for i in range(self.S)]) \
+            if self.rational else ch.P
+        self.Pf = np.array([[float(v) for v in row] for row in self.P.tolist()]) if self.rational else None
+        self._words: dict[tuple[int, ...], tuple[Any, float]] = {}
+        self._patterns: dict[tuple[int, ...], Any] = {}  # patterns without a zero mask
+
+    @property
+    def screened(self) -> bool:
+        """Whether rates come as exact rationals with a proved float twin (the segment form)."""
+        return self.rational and self.z is not None
+
+    def _word(self, word: tuple[int, ...]) -> tuple[Any, float]:
+        hit = self._words.get(word)
+        if hit is None:
+            z, S = self.z, self.S
+            if self.rational:
+                row = flint.fmpq_mat(1, S, [1 if s == z else 0 for s in range(S)])
+                rowf = np.zeros(S)
+                rowf[z] = 1.0
+                for m in word:
+                    keep = [s for s in range(S) if self.received[s] & ~m == 0]
+                    row, rowf = row * self.P, rowf @ self.Pf
+                    row = flint.fmpq_mat(1, S, [row[0, s] if s in keep else 0 for s in range(S)])
+                    rowf = np.where(np.isin(np.arange(S), keep), rowf, 0.0)
+                exact, value = (row * self.P)[0, z], float(rowf @ self.Pf[:, z])
+            else:
+                row = sp.Matrix([[1 if s == z else 0 for s in range(S)]])
+                for m in word:
+                    row = (row * self.P).applyfunc(sp.expand)
+                    row = sp.Matrix([[row[s] if self.received[s] & ~m == 0 else 0 for s in range(S)]])
+                exact, value = sp.expand((row * self.P)[z]), np.nan
+            hit = self._words[word] = (exact, np.log(value) if value > 0 else -np.inf)
+        return hit
+
+    def _runs(self, masks: dict[int, int]) -> list[tuple[int, ...]] | None:
+        """The words (runs of non-zero masks, cyclically) of a pattern given by its non-zero
+        masks ``{phase: mask}``; None when no mask is zero (or no single all-lost state)."""
+        if self.z is None or len(masks) == self.g:
+            return None
+        out = []
+        for p in masks:
+            if (p - 1) % self.g not in masks:
+                word, q = [], p
+                while q in masks:
+                    word.append(masks[q])
+                    q = (q + 1) % self.g
+                out.append(tuple(word))
+        return out
+
+    def log_rate(self, masks: dict[int, int]) -> float:
+        """``log rho(M)`` in float64 (NaN without a twin); error at most :meth:`error` of its
+        ``g - len(masks)`` words."""
+        if not self.rational:
+            return np.nan
+        runs = self._runs(masks)
+        if runs is None:
+            return float(np.log(float(self.rate(masks)))) if self.rate(masks) else -np.inf
+        return (self.g - len(masks) - len(runs)) * self._word(())[1] + sum(self._word(w)[1] for w in runs)
+
+    def rate(self, masks: dict[int, int]) -> Any:
+        """``rho(M)`` exactly (``fmpq`` for rational chains, else sympy) of the pattern given by
+        its non-zero masks ``{phase: mask}``."""
+        runs = self._runs(masks)
+        if runs is not None:
+            out = self._word(())[0] ** (self.g - len(masks) - len(runs))
+            for w in runs:
+                out *= self._word(w)[0]
+            return out if self.rational else sp.expand(out)
+        pattern = tuple(masks.get(r, 0) for r in range(self.g))
+        hit = self._patterns.get(pattern)
+        if hit is None:
+            if all(self.received[s] & ~m == 0 for m in pattern for s in range(self.S)):  # P^g: stochastic
+                hit = flint.fmpq(1) if self.rational else sp.Integer(1)
+            else:
+                rho = perron_root(self.transfer(pattern))
+                hit = flint.fmpq(int(rho.p), int(rho.q)) if self.rational and rho.is_Rational else rho
+            self._patterns[pattern] = hit
+        return hit
+
+    def transfer(self, pattern: tuple[int, ...]) -> sp.Matrix:
+        """The exact one-period transfer ``prod_r P D_r`` (sparse: lifted chains have hundreds of states)."""
+        ch = self.factor.chain
+        P = DomainMatrix.from_Matrix(ch.P).to_sparse()
+        K = P.domain
+        M = DomainMatrix.eye(self.S, K).to_sparse()
+        for r in range(1, self.g + 1):
+            m = pattern[r % self.g]
+            D = DomainMatrix.diag([K.one if self.received[s] & ~m == 0 else K.zero for s in range(self.S)], K)
+            M = M * P * D.to_sparse()
+        return M.to_Matrix()
+
+    def error(self, terms: int) -> float:
+        """A bound on ``|log rho - float log|`` summed over ``terms`` words: a word is a sum of
+        products of at most ``g + 1`` entries of P, all non-negative, so its float value has
+        relative error at most ``gamma_k = k u / (1 - k u)`` with ``k = (g + 1)(S + 1)`` (each
+        entry rounded once, each dot product of S terms), the log adds ``u |log|``, and the sum
+        of ``terms`` logs ``terms u`` times their magnitude (at most ``-log`` of the least word)."""
+        k = (self.g + 1) * (self.S + 1)
+        gamma = k * _U / (1 - k * _U)
+        return terms * (2 * gamma + 4 * _U * (1 + self.g * (1 + abs(np.log(max(self.Pf.min(initial=1.0), 1e-300))))))
+
+    def gain_bound(self, elements: int) -> tuple[float, list[float]]:
+        """``(C, b)`` with ``log rho(M) <= C + sum_(elements (j, r) inside) b[j]`` for every pattern,
+        ``b >= 0``: of three proved bounds (floats rounded outwards) the least at ``elements``
+        elements inside.  With ``a_l = (P^l)_(z, z)``, a word of length ``l - 1`` is at most
+        ``a_l`` (``D_r <= I``); ``n`` phases with a non-zero mask hold at least ``n`` elements.
+
+        * Lost runs: ``rho(M) <= c^(g - n)``, ``c = max_(l <= g) a_l``: ``C = g log c``,
+          ``b_j = -log c``.
+        * Run lengths: ``rho(M) <= prod_segments a_l <= a_1^g kappa^n`` with ``kappa`` the largest
+          of ``(a_l / a_1^l)^(1/(l - 1))`` and ``1 / a_1`` (no zero mask: ``rho <= 1``):
+          ``C = g log a_1``, ``b_j = log kappa``.
+        * Row sums: ``rho(M) <= ||M||_inf <= prod_r mu(m_r)`` with ``mu(m) = max_s sum_(t allowed
+          by m) P_(s, t)``, and ``log mu(m) <= log mu(0) + sum_(j in m) b_j`` with ``b_j`` the
+          largest increase of ``log mu`` from adding ``j`` to a mask (telescoping).
+        """
+        pad, k, g = 1 + 4 * self.error(1), len(self.factor.sensors), self.g
+        a, Pl = [], np.eye(self.S)
+        for _ in range(g):
+            Pl = Pl @ self.Pf
+            a.append(min(1.0, Pl[self.z, self.z] * pad))
+        mu = [min(1.0, pad * max(self.Pf[s, [t for t in range(self.S) if self.received[t] & ~m == 0]].sum()
+                                 for s in range(self.S))) for m in range(1 << k)]
+        if min(a[0], min(mu)) <= 0:
+            return -np.inf, [np.inf] * k
+        a1 = a[0] / pad ** 2
+        kappa = max([1 / a1] + [(a[l - 1] / a1 ** l) ** (1 / (l - 1)) for l in range(2, g + 1)]) * pad
+        rows = [max(np.log(mu[m]) - np.log(mu[m & ~(1 << j)]) for m in range(1 << k) if m >> j & 1) * pad
+                for j in range(k)]
+        bounds = [(g * np.log(max(a)), [-np.log(max(a))] * k), (g * np.log(a1), [np.log(kappa)] * k),
+                  (g * np.log(mu[0]), rows)]
+        return min(bounds, key=lambda cb: cb[0] + elements * max(cb[1]))
+
+
+def factor_rates(br: BlockRows, loss: LossModel) -> tuple[FactorRates, ...]:
+    """One :class:`FactorRates` per independent factor of ``loss`` for the block's period."""
+    return tuple(FactorRates(f, br.period) for f in loss.factors)
+
+
+class _Patterns:
+    """The phase patterns of hyperplanes, per factor: ``{phase: mask}`` of its non-zero masks."""
+
+    def __init__(self, br: BlockRows, rates: Sequence[FactorRates]):
+        self.g, self.rates = br.period, rates
+        where = {j: (f, i) for f, r in enumerate(rates) for i, j in enumerate(r.factor.sensors)}
+        self.of = [(where[e.sensor][0], 1 << where[e.sensor][1], e.phase) for e in br.elements]
+        self.word_error = 2 * max(r.error(1) for r in rates) if all(r.screened for r in rates) else np.nan
+
+    def of_set(self, H) -> list[dict[int, int]]:
+        masks: list[dict[int, int]] = [{} for _ in self.rates]
+        for e in H:
+            f, bit, phase = self.of[e]
+            masks[f][phase] = masks[f].get(phase, 0) | bit
+        return masks
+
+    def log_rate(self, H) -> tuple[float, float]:
+        """``log rho(M_H)`` in float64 and a proved bound on its error (NaN without twins)."""
+        masks = self.of_set(H)
+        log = sum(r.log_rate(m) for r, m in zip(self.rates, masks))
+        return log, self.word_error * (1 + sum(self.g - len(m) for m in masks))
+
+    def rate(self, H) -> Any:
+        out = 1
+        for r, m in zip(self.rates, self.of_set(H)):
+            out = out * r.rate(m)
+        return out
+
+
+def _exact(value: Any) -> sp.Expr:
+    return sp.Rational(int(value.p), int(value.q)) if isinstance(value, flint.fmpq) else sp.sympify(value)
+
+
+def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
+    """``max_H prod_f rho(M_(H, f))`` over the hyperplanes ``H``, exactly, without listing them
+    when every factor is in the segment form (:class:`FactorRates`) and the block's elements
+    have one generator each (:meth:`BlockRows.heaviest` applies).
+
+    Why no maximiser is missed.  ``rho(M_H)`` is monotone in ``H`` (a larger set allows more
+    states: the restricted transfer grows entrywise), so the maximum over rank-deficient sets
+    is attained at hyperplanes.  Two screens:
+
+    1. ``heaviest(gamma)`` with ``gamma_e = log rho({e}) - log rho({})``, the gain of ``e``
+       alone (>= 0 by monotonicity): its sets are hyperplanes, rated exactly; the largest
+       gives a proved lower bound ``tau`` of the maximum (float log less its error bound).
+    2. Per factor ``f``, ``rho_f(H) <= c_f^(g - n_f(H)) <= c_f^g prod_(e in H, e of f) c_f^(-1)``
+       with ``c_f = max_l (P^l)_(z, z)`` (:meth:`FactorRates.lost_bound`) and ``n_f(H) <= |H_f|``
+       the phases where ``H`` holds an element of ``f``: an additive upper bound with weights
+       ``beta_e = -log c_f >= 0``.  A maximiser ``H*`` has ``C + sum_(e in H*) beta_e >= log
+       rho(H*) >= tau`` (``C = sum_f g log c_f``), so ``heaviest(beta, floor=tau - C)``, which
+       returns every hyperplane whose weight reaches the floor (its no-miss argument), holds it.
+
+    Every returned hyperplane is rated; those whose float log is within the proved errors of the
+    largest are compared exactly (rationals), and the first maximum in lexicographic order is
+    the enumeration's.  Otherwise (or when a screen declines) every hyperplane is listed
+    (:func:`listed_hyperplanes`, capped) and screened the same way in floats when the factors
+    have twins, else compared exactly.
+    """
+    patterns = _Patterns(br, rates)
+    sets = _screened(br, rates, patterns) if all(r.screened for r in rates) else None
+    if sets is None:
+        sets = [_set(row) for row in listed_hyperplanes(br)]
+    return _decide(sets, patterns)
+
+
+def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns) -> list[frozenset[int]] | None:
+    """The hyperplanes of :func:`markov_search`'s two screens; None when a screen declines or the
+    bound cannot rule out the generic hyperplanes (``n - 1`` elements: then listing is cheaper)."""
+    empty = [r.log_rate({}) for r in rates]
+    gains = [max(0.0, rates[f].log_rate({phase: bit}) - empty[f]) for f, bit, phase in patterns.of]
+    if not all(np.isfinite(gains)):
+        return None
+    first = br.heaviest(gains)
+    if first is None:
+        return None
+    tau = max(lg - err for lg, err in map(patterns.log_rate, first))
+    bounds = [r.gain_bound(br.size - 1) for r in rates]
+    if not np.isfinite(tau) or not all(np.isfinite(C) for C, _ in bounds):
+        return None
+    beta = [bounds[f][1][rates[f].factor.sensors.index(br.elements[e].sensor)]
+            for e, (f, _, _) in enumerate(patterns.of)]
+    C = sum(C for C, _ in bounds)
+    floor = tau - C
+    if sum(sorted(beta)[-(br.size - 1):]) >= floor:
+        return None
+    second = br.heaviest(beta, floor=floor - 1e-9 * (1 + abs(floor) + abs(C)))
+    if second is None:
+        return None
+    return list({*first, *second})
+
+
+def _decide(sets: list[frozenset[int]], patterns: _Patterns) -> BlockRate:
+    """The first exact maximum (lexicographic order) of the rates of ``sets``; with float twins
+    only the sets within the proved errors of the largest float are compared exactly."""
+    sets = sorted(sets, key=sorted)
+    if np.isfinite(patterns.word_error):
+        rated = [patterns.log_rate(H) for H in sets]
+        top = max(lg - err for lg, err in rated)
+        sets = [H for H, (lg, err) in zip(sets, rated) if lg + err >= top]
+    cands = [(H, patterns.rate(H)) for H in sets]
+    if all(isinstance(v, flint.fmpq) for _, v in cands):
+        H, best = max(cands, key=lambda hv: hv[1])
+        return BlockRate(_exact(best), H, tuple((H, _exact(v)) for H, v in cands))
+    cands = [(H, _exact(v)) for H, v in cands]
     H, best = _maximum(cands)
     return BlockRate(best, H, tuple(cands))
 
 
 def ge_rate(br: BlockRows, H: frozenset[int], loss: GilbertElliott) -> sp.Expr:
     """``rho(M_H)`` for independent Gilbert-Elliott channels: the product over sensors of the
-    Perron roots of their 2x2 restricted transfers.  A sensor with an element outside ``H``
-    has a singular factor ``P diag(0, 1)`` in its transfer, so its Perron root is the trace,
-    a polynomial in (fail, recover); a sensor entirely inside ``H`` has transfer ``P^g``
+    Perron roots of their 2x2 restricted transfers, each a product over the runs of the
+    sensor's phases inside ``H`` of ``(P^(m+1))_(lost, lost)`` (:class:`FactorRates`), a
+    polynomial in (fail, recover); a sensor entirely inside ``H`` has transfer ``P^g``
     (stochastic), rate 1."""
-    rates = []
-    for j in range(loss.d):
-        M = _restricted_sensor_transfer(br, H, loss, j)
-        rates.append(sp.expand(M.trace()) if _outside(br, H, j) else sp.Integer(1))
-    return sp.Mul(*rates)
+    key = ("ge_rates", id(loss))
+    cache = br.__dict__.setdefault("_rates", {})
+    if cache.get(key, (None,))[0] is not loss:
+        cache[key] = (loss, _Patterns(br, factor_rates(br, loss)))
+    return sp.expand(_exact(cache[key][1].rate(H)))
 
 
 def _aperiodic(br: BlockRows) -> AperiodicError:
@@ -162,30 +533,10 @@ def _aperiodic(br: BlockRows) -> AperiodicError:
 
 
 def restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Matrix:
-    """One-period transfer of the loss chain restricted to steps received inside ``H``.
-
-    Sparse (sympy's DomainMatrix): lifted semi-Markov chains have hundreds of states."""
-    ch = loss.chain
-    S = len(ch.states)
-    P = DomainMatrix.from_Matrix(ch.P).to_sparse()
-    K = P.domain
-    M = DomainMatrix.eye(S, K).to_sparse()
-    for r in range(1, br.period + 1):
-        phase = r % br.period
-        D = DomainMatrix.diag([K.one if _received_ok(br, H, ch.emit[s], phase) else K.zero for s in range(S)], K)
-        M = M * P * D.to_sparse()
-    return M.to_Matrix()
-
-
-def _restricted_sensor_transfer(br: BlockRows, H: frozenset[int], loss: GilbertElliott, j: int) -> sp.Matrix:
-    """Gilbert-Elliott channels are independent, so the transfer factorises over sensors."""
-    P = loss.sensor_matrix(j)
-    M = sp.eye(2)
-    for r in range(1, br.period + 1):
-        phase = r % br.period
-        inside = br.elements.index(_el(br, j, phase)) in H
-        M = M * P * sp.diag(1 if inside else 0, 1)  # states (received, lost)
-    return M
+    """One-period transfer of the loss chain restricted to steps received inside ``H``."""
+    rates = FactorRates(Factor(tuple(range(loss.d)), loss.chain), br.period)
+    masks = _Patterns(br, [rates]).of_set(H)[0]
+    return rates.transfer(tuple(masks.get(r, 0) for r in range(br.period)))
 
 
 # -- the full M matrix and brute force ------------------------------------------------
@@ -235,14 +586,13 @@ def m_matrix(br: BlockRows, loss: LossModel) -> tuple[sp.Matrix, list]:
 
 def probability_rank_deficient(system: System, loss: LossModel, N: int) -> tuple[sp.Expr, ...]:
     """``P(R_N(i))`` per eigen-block by enumerating all ``2^(dN)`` receival patterns (brute force)."""
-    if loss.d != system.d:
-        raise InputError(f"loss model has {loss.d} sensors, the system {system.d}")
+    checked(loss, system)
     if loss.d * N > 18:
         raise InputError(f"enumeration of 2^{loss.d * N} patterns is too large; use m_matrix")
     totals = [sp.Integer(0)] * len(block_rows(system))
     for pattern in itertools.product(itertools.product((1, 0), repeat=loss.d), repeat=N):
         flags = block_deficient(system, pattern) if N else (True,) * len(totals)
         if any(flags):
-            p = loss.chain.sequence_probability(pattern)
+            p = loss.sequence_probability(pattern)
             totals = [t + p if f else t for t, f in zip(totals, flags)]
     return tuple(sp.sympify(sp.expand(t)) for t in totals)

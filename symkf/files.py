@@ -10,11 +10,11 @@ for older files and changes nothing.  A file larger than ``symkf.budget`` ``max_
 (1 MiB, option ``--max-file-size``) is refused before it is parsed.
 
 * ``kind = "iid"``: ``loss = [...]``, one loss probability per sensor (:class:`~symkf.losses.IID`);
-* ``kind = "gilbert-elliott"``: ``fail = [...]``, ``recover = [...]``
-  (:class:`~symkf.losses.GilbertElliott`);
+* ``kind = "gilbert-elliott"``: ``fail = [...]``, ``recover = [...]``, optional
+  ``initial_received = [...]`` (default: stationary; :class:`~symkf.losses.GilbertElliott`);
 * ``kind = "markov"``: a joint chain of order ``order`` (default 1) on the receival vectors
-  (:class:`~symkf.losses.MarkovLoss`).  ``states`` lists every 0/1 vector of length ``d``
-  once (1 = received); ``P[a][b]`` is the probability that the next vector is ``states[b]``
+  (:class:`~symkf.losses.MarkovLoss`).  ``states`` lists the 0/1 vectors of length ``d`` the
+  chain lives on, each once (1 = received; all ``2^d`` of them, or those that can occur); ``P[a][b]`` is the probability that the next vector is ``states[b]``
   after the history ``a``, the histories being the ``order``-tuples of ``states`` (oldest
   first) in the order of ``itertools.product(states, repeat=order)``; optional
   ``initial[a]`` is the law of the first history (default: the stationary law).
@@ -38,7 +38,6 @@ zero-order hold, :meth:`FusionModel.zoh <symkf.fusion.FusionModel.zoh>`).
 from __future__ import annotations
 
 import itertools
-import re
 import stat
 import tomllib
 from decimal import Decimal
@@ -48,7 +47,8 @@ from typing import TYPE_CHECKING, Any, Callable
 from . import budget, output
 from .errors import FileFormatError, SymkfError
 from .exact.numbers import to_exact
-from .losses import IID, GilbertElliott, LossModel, MarkovLoss
+from .losses import LossModel
+from .network.loss import NetworkLoss  # noqa: F401  (registers the [loss] kind "network")
 from .model import Sensor, System
 
 if TYPE_CHECKING:
@@ -67,9 +67,8 @@ def _get(table: dict, key: str, where: str, required: bool = True) -> Any:
 #: other key is refused (a misspelt optional key would otherwise be silently replaced by
 #: its default)
 KEYS = {"": {"system", "sensors", "loss", "rationalize"}, "[system]": {"A", "Q", "P0", "name"},
-        "sensors": {"name", "C", "R"}, "iid": {"kind", "loss"}, "gilbert-elliott": {"kind", "fail", "recover"},
-        "markov": {"kind", "order", "states", "P", "initial"},
-        "network": {"kind", "parents", "phi", "P", "q", "holding", "initial"},
+        "sensors": {"name", "C", "R"},
+        **{kind: set(model.keys) for kind, model in LossModel.KINDS.items()},   # [loss] of each kind
         "fusion file": {"fusion", "sensors", "rationalize"},
         "[fusion]": {"arrival", "A", "Q", "Ac", "Bc", "noise_variance", "Ts"}}
 
@@ -182,7 +181,7 @@ def _system_and_loss(data: dict, source: str, rationalize: bool) -> tuple[System
     system = System(A=_get(sysdata, "A", f"{source}: [system]"), sensors=sensors, Q=sysdata.get("Q"),
                     P0=sysdata.get("P0"), rationalize=rationalize,
                     name=_name(sysdata.get("name"), f"{source}: [system]") or Path(source).stem)
-    return system, _loss(data.get("loss"), source, system, rationalize)
+    return system, _loss(data.get("loss"), source, system.d, rationalize)
 
 
 def _located(exc: SymkfError, where: str) -> SymkfError:
@@ -191,19 +190,28 @@ def _located(exc: SymkfError, where: str) -> SymkfError:
     return exc
 
 
-def _loss(table: Any, source: str, system: System, rationalize: bool) -> LossModel | None:
+def _loss(table: Any, source: str, d: int, rationalize: bool) -> LossModel | None:
     if table is None:
         return None
     if not isinstance(table, dict):
         raise FileFormatError(f"{source}: [loss] must be a table")
-    where = f"{source}: [loss]"
+    return read_loss(table, f"{source}: [loss]", d, rationalize)
+
+
+def read_loss(table: dict, where: str, d: int, rationalize: bool = False) -> LossModel:
+    """The loss model of a ``[loss]`` table, or of its JSON object (:meth:`LossModel.to_json
+    <symkf.losses.LossModel.to_json>`: a lifted ``chain`` and the ``words`` of a report are derived,
+    and ignored),
+    for ``d`` sensors; ``where`` prefixes errors."""
+    table = {k: v for k, v in table.items() if k not in ("chain", "words")}
     kind = table.get("kind", "iid")
-    if not isinstance(kind, str) or kind not in LOSS_KINDS:
-        raise FileFormatError(f"{where} kind {kind!r} is not one of {', '.join(map(repr, LOSS_KINDS))}")
-    _check_keys(table, KEYS[kind], where)
-    model = _built(lambda: LOSS_KINDS[kind](table, where, system, rationalize), "[loss]")
-    if model.d != system.d:
-        raise FileFormatError(f"{where} gives {model.d} value(s) for {system.d} sensor(s)")
+    kinds = LossModel.KINDS
+    if not isinstance(kind, str) or kind not in kinds:
+        raise FileFormatError(f"{where} kind {kind!r} is not one of {', '.join(map(repr, kinds))}")
+    _check_keys(table, kinds[kind].keys, where)
+    model = _built(lambda: kinds[kind].read_table(table, where, d, rationalize), "[loss]")
+    if model.d != d:
+        raise FileFormatError(f"{where} gives {model.d} value(s) for {d} sensor(s)")
     return model
 
 
@@ -218,110 +226,10 @@ def _built(build: Callable[[], Any], where: str) -> Any:
         raise _located(exc, where) from None
 
 
-def _iid(table: dict, where: str, system: System, rationalize: bool) -> IID:
-    return IID(_exact(_get(table, "loss", where), f"{where} loss", rationalize))
-
-
-def _gilbert_elliott(table: dict, where: str, system: System, rationalize: bool) -> GilbertElliott:
-    fail, recover = (_exact(_get(table, key, where), f"{where} {key}", rationalize) for key in ("fail", "recover"))
-    return GilbertElliott(fail, recover)
-
-
 def _positive_int(value: Any, entry: str) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < 1:
         raise FileFormatError(f"{entry} must be a positive integer, got {value!r}")
     return value
-
-
-def _markov(table: dict, where: str, system: System, rationalize: bool) -> MarkovLoss:
-    order = _positive_int(table.get("order", 1), f"{where} key 'order'")
-    states = _get(table, "states", where)
-    d = system.d
-    if not isinstance(states, list) or any(
-            not isinstance(v, list) or len(v) != d or any(type(g) is not int or g not in (0, 1) for g in v)
-            for v in states):
-        raise FileFormatError(f"{where} key 'states': expected a list of 0/1 receival vectors of length {d} "
-                              "(one entry per sensor, 1 = received)")
-    vectors = [tuple(v) for v in states]
-    seen: set[tuple[int, ...]] = set()
-    for v in vectors:
-        if v in seen:
-            raise FileFormatError(f"{where} key 'states': {list(v)} is listed twice")
-        seen.add(v)
-    if len(vectors) != 2 ** d:  # then a missing vector is among the first len(vectors) + 1
-        missing = next(v for v in itertools.product((1, 0), repeat=d) if v not in seen)
-        raise FileFormatError(f"{where} key 'states': {list(missing)} is missing; list each of the "
-                              f"2^{d} vectors once")
-    P = _exact(_get(table, "P", where), f"{where} P", rationalize)
-    rows = len(P) if isinstance(P, list) else 0
-    # len(vectors) >= 2 rows per step of order: an order above rows.bit_length() cannot fit
-    if order > rows.bit_length() or rows != len(vectors) ** order or any(
-            not isinstance(row, list) or len(row) != len(vectors) for row in P):
-        raise FileFormatError(f"{where} key 'P': expected {len(vectors)}^{order} rows (one per history) of "
-                              f"{len(vectors)} probabilities (one per next vector in 'states')")
-    histories = list(itertools.product(vectors, repeat=order))
-    initial = table.get("initial")
-    if initial is not None:
-        initial = _exact(initial, f"{where} initial", rationalize)
-        if not isinstance(initial, list) or len(initial) != len(histories):
-            raise FileFormatError(f"{where} key 'initial': expected {len(histories)} probabilities, one per "
-                                  "history (the rows of 'P')")
-        initial = dict(zip(histories, initial))
-    model = _built(lambda: MarkovLoss({h: dict(zip(vectors, row)) for h, row in zip(histories, P)}, order,
-                                      initial), "key 'P'")
-    _built(lambda: model.chain, "key 'initial'")  # the initial law is checked when the chain is built
-    return model
-
-
-def _holding(value: Any, where: str, rationalize: bool) -> list[Any]:
-    """Holding-time laws as lists ``[psi(1), ...]`` or tables ``{delta: psi(delta)}`` (TOML keys are text)."""
-    if not isinstance(value, list):
-        raise FileFormatError(f"{where} key 'holding': expected a list of holding-time laws, one per network state")
-    laws = []
-    for i, law in enumerate(value, start=1):
-        if isinstance(law, dict):
-            bad = [k for k in law if not re.fullmatch(r"[1-9][0-9]{0,5}", k)]
-            if bad:
-                raise FileFormatError(f"{where} key 'holding[{i}]': holding time {bad[0]!r} is not a positive "
-                                      "integer below 10^6")
-            law = {int(k): _exact(p, f"{where} holding[{i}][{k}]", rationalize) for k, p in law.items()}
-        laws.append(_exact(law, f"{where} holding[{i}]", rationalize, start=1) if isinstance(law, list) else law)
-    return laws
-
-
-def _network(table: dict, where: str, system: System, rationalize: bool):
-    from .network import MarkovNetworkState, NetworkLoss, SemiMarkovNetworkState, SensorTree
-    parents = _get(table, "parents", where)
-    if not isinstance(parents, list):
-        raise FileFormatError(f"{where} key 'parents': expected a list, parents[m-1] = Par(S_m) (0 = gateway)")
-    tree = SensorTree(parents)
-    if tree.M != system.d:
-        raise FileFormatError(f"{where} key 'parents': the tree has {tree.M} sensor node(s), the system has "
-                              f"{system.d} sensor(s); sensor m of [[sensors]] is node S_m")
-    markov, semi = "P" in table, "q" in table or "holding" in table
-    if markov == semi:
-        raise FileFormatError(f"{where}: give 'P' (Markov network state, Assumption 1) or 'q' and 'holding' "
-                              "(semi-Markov, Assumption 3), not " + ("both" if markov else "neither"))
-    initial = table.get("initial")
-    initial = None if initial is None else _exact(initial, f"{where} initial", rationalize, start=1)
-    if markov:
-        state = MarkovNetworkState(_exact(table["P"], f"{where} P", rationalize, start=1), initial)
-        hidden = state.B
-    else:
-        q = _exact(_get(table, "q", where), f"{where} q", rationalize, start=1)
-        holding = _holding(_get(table, "holding", where), where, rationalize)
-        state = SemiMarkovNetworkState(q, holding, initial)
-        hidden = sum(max(h) for h in state.holding)
-    if hidden * 2 ** tree.M > MAX_NETWORK_CHAIN:
-        raise FileFormatError(f"{where} key '{'P' if markov else 'holding'}': the lifted chain would have up to "
-                              f"{hidden} x 2^{tree.M} states; files are limited to {MAX_NETWORK_CHAIN}")
-    phi = _exact(_get(table, "phi", where), f"{where} phi", rationalize, start=1)
-    return NetworkLoss(tree, state, phi)
-
-
-#: ``[loss] kind`` -> reader(table, where, system, rationalize)
-LOSS_KINDS: dict[str, Callable[[dict, str, System, bool], LossModel]] = {
-    "iid": _iid, "gilbert-elliott": _gilbert_elliott, "markov": _markov, "network": _network}
 
 
 def load_fusion(path: str | Path) -> "FusionModel":

@@ -16,8 +16,8 @@ later (``P_{0|0} = Pi``, eqs. 4-5), which is a shift of the index.
 * :func:`exact_covariances` is the oracle: eq. (9) verbatim, with the gain
   ``K_k = P C^* Upsilon (Upsilon C P C^* Upsilon + R)^{-1}`` in exact sympy
   arithmetic, for short horizons.
-* :func:`sample_receptions` draws receival sequences of any loss model from
-  its float chain (:meth:`~symkf.losses.LossModel.numeric`), vectorised across paths.
+* :func:`sample_receptions` draws receival sequences of any loss model per independent
+  factor (:meth:`~symkf.losses.LossModel.sample`), vectorised across paths.
 
 Complex systems (``x in C^n`` with circular noise) are simulated through
 their real form (:func:`real_form`), which has the same ``tr P_k``.
@@ -33,7 +33,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import InputError, NumericalBreakdownError, ShapeError
-from .losses import LossModel
+from .losses import LossModel, checked
 from .model import System
 
 
@@ -333,9 +333,8 @@ def simulate_trajectories(system: System, loss: LossModel, horizon: int, paths: 
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     model = real_form(system)
     rng = np.random.default_rng(seed)
-    states = sample_states(_checked(loss, model.d), horizon, paths, rng)
-    emit = loss.numeric()[2]
-    gamma = emit[states.T]
+    gamma = sample_receptions(loss, horizon, paths, rng, model.d)
+    states, emit = _codes(gamma, model.d)
     n, m = model.n, model.H.shape[0]
     LQ, LP = np.linalg.cholesky(model.Q), np.linalg.cholesky(model.P0)
     x = np.empty((paths, horizon, n))
@@ -356,44 +355,11 @@ def _positive(value: int, name: str) -> int:
 
 # ------------------------------------------------------------- receival draws
 
-def _checked(loss: LossModel, d: int | None = None) -> LossModel:
-    """``loss``, refused unless it is a symkf loss model of ``d`` sensors."""
-    if not isinstance(loss, LossModel):
-        raise InputError(f"loss: expected a symkf loss model, got {type(loss).__name__}")
-    if d is not None and loss.d != d:
-        raise ShapeError(f"loss: models {loss.d} sensor(s), the system has {d}")
-    return loss
-
-
-def _inverse_cdf(cum: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """Index ``s`` with ``cum[s-1] <= u < cum[s]``: a few comparisons beat searchsorted for small S."""
-    idx = np.zeros(u.shape, np.uint8 if len(cum) < 256 else np.intp)
-    for c in cum[:-1]:
-        np.add(idx, u >= c, out=idx, casting="unsafe")
-    return idx
-
-
-def sample_states(loss: LossModel, horizon: int, paths: int, rng: np.random.Generator) -> np.ndarray:
-    """Chain states ``X_k`` as an int array (horizon, paths), vectorised across paths (float
-    chain of :meth:`LossModel.numeric`: independent sensors never build the exact joint chain)."""
-    P, init, _ = loss.numeric()
-    u = rng.random((horizon, paths))
-    if np.array_equal(P, np.broadcast_to(init, P.shape)):
-        return _inverse_cdf(np.cumsum(init), u)   # i.i.d. states: one draw for all times
-    cum = np.cumsum(P, axis=1)
-    cum[:, -1] = np.inf
-    states = np.empty((horizon, paths), dtype=np.intp)
-    states[0] = _inverse_cdf(np.cumsum(init), u[0])
-    for k in range(1, horizon):
-        states[k] = (u[k][:, None] >= cum[states[k - 1]]).sum(axis=1)
-    return states
-
-
 def sample_receptions(loss: LossModel, horizon: int, paths: int, rng: np.random.Generator,
                       d: int | None = None) -> np.ndarray:
-    """Receival vectors ``gamma_k`` as a bool array (paths, horizon, d), 1 = received."""
-    loss = _checked(loss, d)
-    return loss.numeric()[2][sample_states(loss, horizon, paths, rng).T]
+    """Receival vectors ``gamma_k`` as a bool array (paths, horizon, d), 1 = received, drawn per
+    independent factor of ``loss`` (:meth:`~symkf.losses.LossModel.sample`)."""
+    return checked(loss, d).sample(horizon, paths, rng).transpose(1, 0, 2)
 
 
 # ---------------------------------------------------------------- exact oracle

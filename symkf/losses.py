@@ -1,27 +1,35 @@
-"""Packet-loss models (Sui-You-Fu Assumptions 2 and 4).
+"""Packet-loss models (Sui-You-Fu Assumptions 2 and 4) behind one interface, :class:`LossModel`.
 
-Every model is exposed to the rest of symkf as a :class:`LossChain`: a
-first-order finite Markov chain whose state ``X_k`` determines the receival
-vector ``(gamma_k^1, ..., gamma_k^d)`` (``1`` = packet received).  A joint
-chain of order ``nu`` is lifted to windows of its last ``nu`` receival vectors
-(Remark 3).  Parameters are exact numbers or sympy symbols.
+A model is a product of independent :class:`Factor` s, each a first-order finite Markov
+chain (:class:`LossChain`) whose state determines the receivals of its sensors (``1`` =
+packet received): one two-state chain per sensor for :class:`IID` and
+:class:`GilbertElliott`, one joint chain for :class:`MarkovLoss` and the network losses
+(:mod:`symkf.network.loss`).  A joint chain of order ``nu`` is lifted to windows of its last
+``nu`` receival vectors (Remark 3).  Parameters are exact numbers or sympy symbols.  What a
+model does (its factors, the exact rate of a hyperplane class, its check against a system,
+its sampling, its file form and its words) is asked of the model: docs/losses.md shows how to
+add one.
 """
 
 from __future__ import annotations
 
 import itertools
+import json
+import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any, ClassVar, Iterable, Mapping, Sequence
 
 import flint
 import numpy as np  # float chains for simulation (LossModel.numeric)
 import sympy as sp
+from sympy.polys.matrices import DomainMatrix
 
-from . import budget
-from .errors import AssumptionError, InputError, ProbabilityError
+from . import budget, receptions
+from .errors import AssumptionError, InputError, ProbabilityError, ShapeError
 from .exact.algebraic import sign
 from .exact.numbers import rationalization, substitution, to_exact
+from .receptions import LossFactor
 
 Vector = tuple[int, ...]
 
@@ -110,31 +118,120 @@ def _floats(M: sp.MatrixBase) -> np.ndarray:
                       for v in M.row(i)] for i in range(M.shape[0])], dtype=float).reshape(M.shape)
 
 
-def _independent_numeric(matrices: Sequence[sp.MatrixBase], initial: Sequence[sp.Expr]) \
-        -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Float (P, initial, emit) of independent two-state sensors on states (received, lost):
-    the joint chain on ``itertools.product((1, 0), repeat=d)`` is the Kronecker product
-    of the sensors' chains, built in float64 without the 2^d x 2^d exact matrix."""
-    require_numbers(set().union(*(M.free_symbols for M in matrices), *(sp.sympify(q).free_symbols for q in initial)))
-    P, init = np.ones((1, 1)), np.ones(1)
-    for M, q in zip(matrices, initial):
-        P = np.kron(P, _floats(M))
-        init = np.kron(init, _floats(sp.Matrix([[q, 1 - q]])).ravel())
-    emit = np.array(list(itertools.product((1, 0), repeat=len(matrices))), dtype=bool)
-    return P, init, emit
+def stationary_law(P: sp.MatrixBase, entry: str) -> sp.ImmutableMatrix:
+    """The unique stationary row vector ``pi = pi P`` of a stochastic matrix, exactly (a null space
+    of ``P^T - I``: over the rationals by :class:`~sympy.polys.matrices.DomainMatrix`, with
+    symbols by sympy); raises naming ``entry`` when it is not unique."""
+    S = P.shape[0]
+    M = sp.Matrix(P).T - sp.eye(S)
+    if not M.free_symbols:
+        dm = DomainMatrix.from_Matrix(M).to_field()
+        null = [sp.Matrix(v) for v in dm.nullspace().to_Matrix().tolist()]
+    else:
+        null = M.nullspace(simplify=True)
+    if len(null) != 1:
+        raise InputError(f"{entry}: the chain has {len(null)} stationary laws; give `initial`")
+    v = null[0]
+    total = sum(v)
+    return sp.ImmutableMatrix([[sp.simplify(x / total) if M.free_symbols else x / total for x in v]])
+
+
+@dataclass(frozen=True)
+class Factor:
+    """An independent factor of a loss model: the exact chain of the receptions of ``sensors``.
+
+    ``chain.emit[s]`` lists those sensors' receivals in state ``s``.  i.i.d. and
+    Gilbert-Elliott sensors are one two-state factor each (states: received, lost), a joint
+    Markov or network model is one factor on its :class:`LossChain`.
+    """
+
+    sensors: tuple[int, ...]
+    chain: LossChain
+
+    def numeric(self) -> LossFactor:
+        """The float view, for simulation (:mod:`symkf.receptions`)."""
+        P, init, emit = self.chain.numeric()
+        return LossFactor(self.sensors, P, init, emit)
+
+    def sequence_probability(self, seq: Sequence[Vector]) -> sp.Expr:
+        """Exact probability of ``seq`` (full receival vectors) restricted to this factor's sensors."""
+        return self.chain.sequence_probability([tuple(v[j] for j in self.sensors) for v in seq])
+
+
+_TWO = ((1,), (0,))  # a sensor's states: received, lost
+
+
+def _sensor_factor(j: int, P: sp.MatrixBase, received: sp.Expr) -> Factor:
+    return Factor((j,), LossChain(_TWO, _TWO, sp.ImmutableMatrix(P), sp.ImmutableMatrix([[received, 1 - received]])))
+
+
+def checked(loss: Any, system: Any = None, *, numbers: bool = False, positive: bool = False) -> "LossModel":
+    """The one check of a loss model against a system (or a sensor count ``d``).
+
+    Raises :class:`~symkf.errors.InputError` when ``loss`` is no symkf loss model,
+    :class:`~symkf.errors.ShapeError` when its sensor count is not the system's, ``InputError``
+    when ``numbers`` and it has free symbols, :class:`~symkf.errors.AssumptionError` when
+    ``positive`` and Sui-You-Fu Assumption 2 fails (the model names what applies instead)."""
+    if not isinstance(loss, LossModel):
+        raise InputError("loss: expected a symkf loss model (IID, GilbertElliott, MarkovLoss or a network "
+                         f"loss), got {type(loss).__name__}")
+    if system is not None:
+        d = system if isinstance(system, int) else system.d
+        if loss.d != d:
+            names = "" if isinstance(system, int) else f" ({', '.join(system.sensor_names)})"
+            raise ShapeError(f"loss: the model has {loss.d} sensor(s), the system has {d}{names}")
+    if numbers:
+        require_numbers(loss.symbols)
+    if positive:
+        loss.require_positive()
+    return loss
 
 
 class LossModel:
-    """Base class: subclasses build :attr:`chain`."""
+    """The loss-model interface: everything the rest of symkf asks of a packet-loss process.
 
+    A model answers for itself, so that a new one is added in one place (docs/losses.md):
+
+    * :attr:`factors`: its independent factors as exact chains (per-sensor two-state chains,
+      or one joint chain); :attr:`chain`, the joint chain, only where a query needs it (refused
+      beyond ``budget`` ``max_markov_states`` before it is built);
+    * :meth:`hyperplane_rate`: the exact decay rate of a hyperplane class (Sui-You-Fu eq. 36),
+      through the rate functions of :mod:`symkf.decay`; :attr:`bernoulli` for the i.i.d. screen;
+    * :func:`checked` / :meth:`require_positive` / :meth:`require_bernoulli`: its check against a system;
+    * :meth:`sample`: receptions drawn per factor (memory linear in ``d``);
+    * :attr:`kind`, :meth:`to_table`, :meth:`to_json`, :func:`from_table`: its file and JSON form;
+    * :meth:`words`, :attr:`label`, :meth:`fields`, :attr:`assumption`: its words for reports,
+      tables and figures.
+    """
+
+    #: the ``[loss] kind`` of system files and JSON documents
+    kind: ClassVar[str] = ""
+    #: (LaTeX, plain) name for tables
+    label: ClassVar[tuple[str, str]] = ("", "")
+    #: kind -> model class, filled as the classes are defined
+    KINDS: ClassVar[dict[str, type["LossModel"]]] = {}
+    #: the keys of its ``[loss]`` table
+    keys: ClassVar[frozenset[str]] = frozenset()
     d: int
 
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if "kind" in cls.__dict__:
+            LossModel.KINDS[cls.kind] = cls
+
+    # -- chains ------------------------------------------------------------------------
     @cached_property
     def chain(self) -> LossChain:
+        """The joint first-order chain whose states emit the receival vectors (exact)."""
         return self._build_chain()
 
     def _build_chain(self) -> LossChain:  # pragma: no cover - abstract
         raise NotImplementedError
+
+    @cached_property
+    def factors(self) -> tuple[Factor, ...]:
+        """The independent factors (one joint chain unless a subclass knows better)."""
+        return (Factor(tuple(range(self.d)), self.chain),)
 
     @property
     def symbols(self) -> set[sp.Symbol]:
@@ -142,12 +239,47 @@ class LossModel:
         return set(self.chain.P.free_symbols | self.chain.initial.free_symbols)
 
     def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Float (P, initial, emit) of :attr:`chain` for simulation; refuses free symbols."""
-        return self.chain.numeric()
+        """Float (P, initial, emit) of the joint chain, for exact enumeration in float64; refuses
+        free symbols.  Independent factors are multiplied out (Kronecker products) only after the
+        size is checked against ``budget`` ``max_memory``."""
+        require_numbers(self.symbols)
+        if len(self.factors) == 1:
+            return self.chain.numeric()
+        size = math.prod(len(f.chain.states) for f in self.factors)
+        budget.check("max_memory", 8 * size * size, "loss", f"the bytes of the joint {size}-state float chain "
+                     "of independent sensors (simulation samples per sensor and never needs it)")
+        P, init, emit = np.ones((1, 1)), np.ones(1), np.ones((1, 0), bool)
+        for f in self.factors:   # sensor order: factors cover 0..d-1 in order
+            fP, finit, femit = f.chain.numeric()
+            P, init = np.kron(P, fP), np.kron(init, finit)
+            emit = np.hstack([np.repeat(emit, len(femit), axis=0), np.tile(femit, (len(emit), 1))])
+        return P, init, emit
+
+    def sequence_probability(self, seq: Sequence[Vector]) -> sp.Expr:
+        """Exact probability that the first ``len(seq)`` receival vectors equal ``seq`` (per factor)."""
+        return sp.expand(sp.Mul(*[f.sequence_probability(seq) for f in self.factors]))
 
     def subs(self, values: Mapping[Any, Any]) -> "LossModel":
         """A copy with symbols replaced by exact values."""
         raise NotImplementedError
+
+    # -- the exact engine ----------------------------------------------------------------
+    @property
+    def bernoulli(self) -> tuple[sp.Expr, ...] | None:
+        """Per-sensor loss probabilities when receptions are independent Bernoulli across sensors
+        and time (Sui-You-Fu Assumption 4), else None."""
+        return None
+
+    def hyperplane_rate(self, br: Any, H: frozenset[int]) -> sp.Expr:
+        """``rho(M_H)``: the exact decay rate per period of "received only inside ``H``" for the
+        block rows ``br`` (Sui-You-Fu eq. 36), the Perron root of the restricted transfer."""
+        from .decay import perron_root, restricted_transfer
+        return perron_root(restricted_transfer(br, H, self))
+
+    @property
+    def assumption(self) -> str:
+        """What :func:`symkf.stability.stability` checked of this loss process (its verdict says it)."""
+        return "Markov with positive transitions (Assumption 2)"
 
     def positivity_failure(self) -> str | None:
         """Why Assumption 2's positivity fails, or None when every transition is positive."""
@@ -171,6 +303,85 @@ class LossModel:
         if why:
             raise AssumptionError(why, assumption="Assumption 2 (Sui-You-Fu)",
                                   applies_instead=self.applies_without_positivity)
+
+    def require_bernoulli(self, assumption: str, applies_instead: str | None) -> tuple[sp.Expr, ...]:
+        """The per-sensor loss probabilities, or :class:`~symkf.errors.AssumptionError` naming
+        ``assumption`` (a theorem for i.i.d. losses only) and what applies instead."""
+        if self.bernoulli is None:
+            raise AssumptionError(f"the loss model is {self.words()}, not independent Bernoulli (i.i.d.) losses",
+                                  assumption=assumption, applies_instead=applies_instead)
+        return self.bernoulli
+
+    def stability_conditions(self, system: Any) -> sp.Basic:
+        """Mean-square stability as conditions in the model's symbols (:func:`symkf.region.stability_conditions`)."""
+        raise InputError(f"loss: stability conditions are given for IID and GilbertElliott, not {self.words()}; "
+                         "substitute numbers and use symkf.stability.stability")
+
+    # -- simulation ----------------------------------------------------------------------
+    def sample(self, horizon: int, paths: int, rng: np.random.Generator) -> np.ndarray:
+        """Receptions (horizon, paths, d) bool, 1 = received, drawn per factor (:func:`symkf.receptions.sample`)."""
+        checked(self, numbers=True)
+        return receptions.sample([f.numeric() for f in self.factors], horizon, paths, self.d, rng)
+
+    # -- words and file form ---------------------------------------------------------------
+    def words(self) -> str:
+        """The model as reports and figure titles say it."""
+        return self.label[1] + " losses"
+
+    def fields(self) -> tuple[tuple[str, str, tuple[sp.Expr, ...]], ...]:
+        """(key, LaTeX symbol, values) of the parameters a table shows."""
+        return ()
+
+    def to_table(self) -> dict[str, Any]:
+        """The ``[loss]`` table of a system file (numbers as exact strings); read back by :func:`from_table`."""
+        raise NotImplementedError
+
+    def to_toml(self) -> str:
+        """The ``[loss]`` table of a system file as TOML text (:meth:`to_table`)."""
+        return "[loss]\n" + "".join(f"{k} = {_toml(v)}\n" for k, v in self.to_table().items())
+
+    def to_json(self) -> dict[str, Any]:
+        """The JSON object of the model: :meth:`to_table` (joint chains add their lifted chain)."""
+        return self.to_table()
+
+    def _with_chain(self, out: dict[str, Any]) -> dict[str, Any]:
+        """``out`` with the joint chain (states, receival vectors, P, initial law) as exact strings."""
+        chain = self.chain
+        shown = {p: str(p) for p in chain.P.values()} | {0: "0"}  # lifted chains: 10^5 entries, few values
+        return {**out, "chain": {"states": [str(s) for s in chain.states], "emit": [list(v) for v in chain.emit],
+                                 "P": [[shown[p] for p in row] for row in chain.P.tolist()],
+                                 "initial": [str(p) for p in chain.initial]}}
+
+
+    @classmethod
+    def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "LossModel":
+        """The model of a ``[loss]`` table of kind :attr:`kind` (checked against :attr:`keys`)."""
+        raise NotImplementedError
+
+
+def from_table(table: Mapping[str, Any], d: int, where: str = "loss") -> LossModel:
+    """The loss model of a ``[loss]`` table or its JSON object (:meth:`LossModel.to_json`) for ``d``
+    sensors: the reader of system files (:mod:`symkf.files`), so files and JSON share one codec."""
+    from .files import read_loss
+    return read_loss(dict(table), where, d)
+
+
+def _strings(values: Iterable[Any]) -> list[str]:
+    return [str(v) for v in values]
+
+
+def _toml(value: Any) -> str:
+    """A TOML value of :meth:`LossModel.to_table`'s strings, integers, lists and tables (JSON
+    string escapes are TOML's)."""
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, int) and not isinstance(value, bool):
+        return str(value)
+    if isinstance(value, list):
+        return "[" + ", ".join(map(_toml, value)) + "]"
+    if isinstance(value, dict):
+        return "{ " + ", ".join(f"{json.dumps(str(k))} = {_toml(v)}" for k, v in value.items()) + " }"
+    raise TypeError(f"no TOML form for {value!r}")   # pragma: no cover - to_table gives none
 
 
 class IID(LossModel):
@@ -220,10 +431,27 @@ class IID(LossModel):
         """Arrival probabilities ``p_i = 1 - loss_i`` (Assumption 4)."""
         return tuple(1 - e for e in self.loss)
 
+    kind = "iid"
+    label = ("i.i.d.", "i.i.d.")
+
+    #: the keys of its ``[loss]`` table
+    keys: ClassVar[frozenset[str]] = frozenset({"kind", "loss"})
+
+    @classmethod
+    def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "IID":
+        """The model of a ``[loss]`` table (or its JSON object) for ``d`` sensors; ``where`` names it in errors."""
+        from .files import _exact, _get
+        return cls(_exact(_get(table, "loss", where), f"{where} loss", rationalize))
+
     def _build_chain(self) -> LossChain:
+        _joint_cap(self.d)
         vecs = tuple(itertools.product((1, 0), repeat=self.d))
         row = [sp.Mul(*[(1 - e) if g else e for g, e in zip(v, self.loss)]) for v in vecs]
         return LossChain(vecs, vecs, sp.ImmutableMatrix([row] * len(vecs)), sp.ImmutableMatrix([row]))
+
+    @cached_property
+    def factors(self) -> tuple[Factor, ...]:
+        return tuple(_sensor_factor(j, [[1 - e, e], [1 - e, e]], 1 - e) for j, e in enumerate(self.loss))
 
     def positivity_failure(self) -> str | None:
         # Independence makes (27) of Sui-You-Fu hold with beta = epsilon = 1,
@@ -234,9 +462,32 @@ class IID(LossModel):
     def symbols(self) -> set[sp.Symbol]:
         return set().union(*(sp.sympify(e).free_symbols for e in self.loss))
 
-    def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        rows = [sp.Matrix([[1 - e, e], [1 - e, e]]) for e in self.loss]
-        return _independent_numeric(rows, self.arrival)
+    @property
+    def bernoulli(self) -> tuple[sp.Expr, ...]:
+        return self.loss
+
+    def hyperplane_rate(self, br: Any, H: frozenset[int]) -> sp.Expr:
+        """``prod_j loss_j^(k_j)``, ``k_j`` sensor ``j``'s elements outside ``H`` (every one lost)."""
+        from .decay import _outside_vectors
+        (ks,) = _outside_vectors(br, [H])
+        return sp.Mul(*[e ** k for e, k in zip(self.loss, ks)])
+
+    @property
+    def assumption(self) -> str:
+        return "i.i.d. (Assumption 4)"
+
+    def stability_conditions(self, system: Any) -> sp.Basic:
+        from .region import stability_region
+        return stability_region(system).conditions(self.loss)
+
+    def words(self) -> str:
+        return "i.i.d. losses " + ", ".join(map(str, self.loss))
+
+    def fields(self) -> tuple[tuple[str, str, tuple[sp.Expr, ...]], ...]:
+        return (("loss", r"\varepsilon", self.loss),)
+
+    def to_table(self) -> dict[str, Any]:
+        return {"kind": self.kind, "loss": _strings(self.loss)}
 
     def subs(self, values: Mapping[Any, Any]) -> "IID":
         values = substitution(values, "subs", self.symbols)
@@ -305,6 +556,7 @@ class GilbertElliott(LossModel):
         if len(self.fail) != len(self.recover):
             raise InputError(f"recover: {len(self.recover)} values for {len(self.fail)} sensors in fail")
         self.d = len(self.fail)
+        self._initial_given = initial_received is not None
         if initial_received is None:
             for i, (f, r) in enumerate(zip(self.fail, self.recover)):
                 if not (f + r).free_symbols and (f + r) == 0:
@@ -320,12 +572,32 @@ class GilbertElliott(LossModel):
         f, r = self.fail[i], self.recover[i]
         return sp.ImmutableMatrix([[1 - f, f], [r, 1 - r]])
 
+    kind = "gilbert-elliott"
+    label = ("Gilbert--Elliott", "Gilbert-Elliott")
+
+    #: the keys of its ``[loss]`` table
+    keys: ClassVar[frozenset[str]] = frozenset({"kind", "fail", "recover", "initial_received"})
+
+    @classmethod
+    def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "GilbertElliott":
+        """The model of a ``[loss]`` table (or its JSON object) for ``d`` sensors; ``where`` names it in errors."""
+        from .files import _exact, _get
+        fail, recover = (_exact(_get(table, key, where), f"{where} {key}", rationalize) for key in ("fail", "recover"))
+        initial = table.get("initial_received")
+        initial = None if initial is None else _exact(initial, f"{where} initial_received", rationalize)
+        return cls(fail, recover, initial)
+
     def _build_chain(self) -> LossChain:
+        _joint_cap(self.d)
         vecs = tuple(itertools.product((1, 0), repeat=self.d))
         P = [[sp.Mul(*[self.sensor_matrix(i)[1 - a[i], 1 - b[i]] for i in range(self.d)])
               for b in vecs] for a in vecs]
         init = [sp.Mul(*[q if g else 1 - q for g, q in zip(v, self.initial_received)]) for v in vecs]
         return LossChain(vecs, vecs, sp.ImmutableMatrix(P), sp.ImmutableMatrix([init]))
+
+    @cached_property
+    def factors(self) -> tuple[Factor, ...]:
+        return tuple(_sensor_factor(j, self.sensor_matrix(j), q) for j, q in enumerate(self.initial_received))
 
     @property
     def symbols(self) -> set[sp.Symbol]:
@@ -343,15 +615,34 @@ class GilbertElliott(LossModel):
                             "zero transitions; Assumption 2 needs every transition probability positive")
         return None
 
-    def numeric(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        return _independent_numeric([self.sensor_matrix(i) for i in range(self.d)], self.initial_received)
+    def hyperplane_rate(self, br: Any, H: frozenset[int]) -> sp.Expr:
+        """The product over sensors of their 2x2 restricted transfers' Perron roots (:func:`symkf.decay.ge_rate`)."""
+        from .decay import ge_rate
+        return ge_rate(br, H, self)
+
+    def stability_conditions(self, system: Any) -> sp.Basic:
+        from .region import _condition, ge_margins
+        return sp.And(*[_condition(m) for m in ge_margins(system, self)])
+
+    def words(self) -> str:
+        return (f"Gilbert-Elliott channels, fail {', '.join(map(str, self.fail))}, "
+                f"recover {', '.join(map(str, self.recover))}")
+
+    def fields(self) -> tuple[tuple[str, str, tuple[sp.Expr, ...]], ...]:
+        return (("fail", "f", self.fail), ("recover", "q", self.recover))
+
+    def to_table(self) -> dict[str, Any]:
+        out = {"kind": self.kind, "fail": _strings(self.fail), "recover": _strings(self.recover)}
+        if self._initial_given:
+            out["initial_received"] = _strings(self.initial_received)
+        return out
 
     def subs(self, values: Mapping[Any, Any]) -> "GilbertElliott":
         values = substitution(values, "subs", self.symbols)
 
         def s(xs):
             return [sp.sympify(x).subs(values) for x in xs]
-        return GilbertElliott(s(self.fail), s(self.recover), s(self.initial_received))
+        return GilbertElliott(s(self.fail), s(self.recover), s(self.initial_received) if self._initial_given else None)
 
     def __repr__(self) -> str:
         return (f"GilbertElliott(fail={[str(x) for x in self.fail]}, "
@@ -467,7 +758,7 @@ class MarkovLoss(LossModel):
             for nxt, p in self.table[w].items():
                 P[index[w], index[w[1:] + (nxt,)]] += p
         if self._initial is None:
-            init = _stationary(P)
+            init = stationary_law(P, "initial")
         else:
             init = sp.zeros(1, len(windows))
             for key, p in self._initial.items():
@@ -480,9 +771,76 @@ class MarkovLoss(LossModel):
         return LossChain(windows, tuple(w[-1] for w in windows), sp.ImmutableMatrix(P),
                          sp.ImmutableMatrix(init))
 
+    kind = "markov"
+    label = ("joint Markov", "joint Markov")
+
+    #: the keys of its ``[loss]`` table
+    keys: ClassVar[frozenset[str]] = frozenset({"kind", "order", "states", "P", "initial"})
+
+    @classmethod
+    def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "MarkovLoss":
+        """The model of a ``[loss]`` table (or its JSON object) for ``d`` sensors; ``where`` names it in errors."""
+        from .errors import FileFormatError
+        from .files import _built, _exact, _get, _positive_int
+        order = _positive_int(table.get("order", 1), f"{where} key 'order'")
+        states = _get(table, "states", where)
+        if not isinstance(states, list) or any(
+                not isinstance(v, list) or len(v) != d or any(type(g) is not int or g not in (0, 1) for g in v)
+                for v in states):
+            raise FileFormatError(f"{where} key 'states': expected a list of 0/1 receival vectors of length {d} "
+                                  "(one entry per sensor, 1 = received)")
+        vectors = [tuple(v) for v in states]
+        seen: set[tuple[int, ...]] = set()
+        for v in vectors:
+            if v in seen:
+                raise FileFormatError(f"{where} key 'states': {list(v)} is listed twice")
+            seen.add(v)
+        P = _exact(_get(table, "P", where), f"{where} P", rationalize)
+        rows = len(P) if isinstance(P, list) else 0
+        if rows and isinstance(P[0], list) and len(vectors) < len(P[0]) <= 2 ** d:   # a vector left out of 'states'
+            missing = next(v for v in itertools.product((1, 0), repeat=d) if v not in seen)
+            raise FileFormatError(f"{where} key 'states': {list(missing)} is missing; 'P' has {len(P[0])} columns, "
+                                  "one per vector of 'states'")
+        # len(vectors) >= 2 rows per step of order: an order above rows.bit_length() cannot fit
+        if order > rows.bit_length() or rows != len(vectors) ** order or any(
+                not isinstance(row, list) or len(row) != len(vectors) for row in P):
+            raise FileFormatError(f"{where} key 'P': expected {len(vectors)}^{order} rows (one per history) of "
+                                  f"{len(vectors)} probabilities (one per next vector in 'states')")
+        histories = list(itertools.product(vectors, repeat=order))
+        initial = table.get("initial")
+        if initial is not None:
+            initial = _exact(initial, f"{where} initial", rationalize)
+            if not isinstance(initial, list) or len(initial) != len(histories):
+                raise FileFormatError(f"{where} key 'initial': expected {len(histories)} probabilities, one per "
+                                      "history (the rows of 'P')")
+            initial = dict(zip(histories, initial))
+        model = _built(lambda: cls({h: dict(zip(vectors, row)) for h, row in zip(histories, P)}, order,
+                                          initial), "key 'P'")
+        _built(lambda: model.chain, "key 'initial'")  # the initial law is checked when the chain is built
+        return model
+
     def _reachable(self, r: int, s: int) -> bool:
         w, v = self.chain.states[r], self.chain.states[s]
         return w[1:] == v[:-1]
+
+    def words(self) -> str:
+        return f"a joint Markov chain of order {self.order} on {len(self.vectors)} receival vectors"
+
+    def fields(self) -> tuple[tuple[str, str, tuple[sp.Expr, ...]], ...]:
+        return (("order", r"\nu", (sp.Integer(self.order),)), ("vectors", r"|\Upsilon|", (sp.Integer(len(self.vectors)),)))
+
+    def to_table(self) -> dict[str, Any]:
+        histories = list(itertools.product(self.vectors, repeat=self.order))
+        out = {"kind": self.kind, "order": self.order, "states": [list(v) for v in self.vectors],
+               "P": [[str(self.table[h].get(v, 0)) for v in self.vectors] for h in histories]}
+        if self._initial is not None:
+            given = {(tuple(k),) if self.order == 1 and _is_vector(k) else tuple(map(tuple, k)): p
+                     for k, p in self._initial.items()}
+            out["initial"] = [str(given.get(h, 0)) for h in histories]
+        return out
+
+    def to_json(self) -> dict[str, Any]:
+        return self._with_chain(self.to_table())
 
     def subs(self, values: Mapping[Any, Any]) -> "MarkovLoss":
         values = substitution(values, "subs", self.symbols)
@@ -499,16 +857,7 @@ def _is_vector(key: Any) -> bool:
     return isinstance(key, tuple) and all(isinstance(v, int) for v in key)
 
 
-def _stationary(P: sp.Matrix) -> sp.Matrix:
-    """The unique stationary row vector of ``P`` (exact)."""
-    S = P.shape[0]
-    system = (P.T - sp.eye(S)).col_join(sp.ones(1, S))
-    rhs = sp.zeros(S, 1).col_join(sp.Matrix([1]))
-    try:
-        sol = system.solve_least_squares(rhs) if S > 0 else None
-        sol = sp.simplify(sol)
-    except Exception:
-        raise InputError("initial: the chain has no unique stationary law; give initial") from None
-    if system * sol != rhs and sp.simplify(system * sol - rhs) != sp.zeros(S + 1, 1):
-        raise InputError("initial: the chain has no unique stationary law; give initial")
-    return sol.T
+def _joint_cap(d: int) -> None:
+    """Refuse the exact joint chain of ``d`` independent sensors before its ``2^d`` states are built."""
+    budget.check("max_markov_states", 2 ** d, "loss", f"the number of states of the joint chain of {d} "
+                 "independent sensors (symkf decides and samples them per sensor; this query needs the joint chain)")

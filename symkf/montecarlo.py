@@ -23,13 +23,14 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
-from . import budget
+from . import budget, receptions
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
+from .exact.perron import perron_float
 from .exact.numbers import to_exact
-from .filtering import (FloatSystem, _checked, _positive, _run, exact_covariances, log_traces, real_form,
-                        receival_table, sample_states)
-from .losses import IID, GilbertElliott, LossModel, require_numbers
+from .filtering import FloatSystem, _positive, _run, exact_covariances, log_traces, real_form, receival_table
+from .losses import LossModel, checked
+from .receptions import LossFactor, chain_states, cumulative, emit_into, groups
 from .model import System
 from .progress import progress
 from .sweep import sweep
@@ -87,14 +88,14 @@ def exact_mean_covariances(system: System, loss: LossModel, horizon: int,
     :meth:`LossChain.sequence_probability` per sequence (small cases only).
     """
     horizon = _positive(horizon, "horizon")
-    chain = _checked(loss, system.d).chain
+    loss = checked(loss, system)
     codes = _patterns(system.d, horizon - 1)
     table = receival_table(system.d)
     if exact:
         total = [sp.zeros(system.n, system.n) for _ in range(horizon)]
         for col in codes.T:
             seq = [tuple(int(g) for g in table[c]) for c in col]
-            p = chain.sequence_probability(seq) if seq else sp.Integer(1)
+            p = loss.sequence_probability(seq) if seq else sp.Integer(1)
             if p != 0:
                 for k, Pk in enumerate(exact_covariances(system, seq)):
                     total[k] += p * Pk
@@ -146,17 +147,15 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     ``tests/test_memory_estimate.py``.
     """
     d, K = system.d, horizon
-    P_chain, init, _ = loss.numeric()
-    iid = np.array_equal(P_chain, np.broadcast_to(init, P_chain.shape))
     if components is None:
-        def chunk(m: int) -> int:
+        def chunk(m: int) -> int:   # chain states (one byte per sensor and step), receptions, kernel
             P = _padded(m)
-            states = (1 if iid and len(init) < 256 else 8) * K * m
-            return states + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + 16 * (K + 1) * (P + m))
-        full, last = min(paths, CHUNK), paths % CHUNK or min(paths, CHUNK)
+            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + 16 * (K + 1) * (P + m))
+        size = _trace_chunk(K, d)
+        full, last = min(paths, size), paths % size or min(paths, size)
         # the traces are resident as far as the chunks before the current one filled them
         phases = [chunk(full), 8 * (paths - last) * K + chunk(last), 16 * paths * K]
-        if paths > CHUNK + last:
+        if paths > size + last:
             phases.append(8 * (paths - last - full) * K + chunk(full))
         if records is not None:
             phases.append(K * (32 + 3 * RECORD_BYTES[records]))
@@ -172,23 +171,31 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     return min(jobs, -(-paths // m)) * (held + max(kernel, tails, 24 * K * m)) + 72 * paths
 
 
+def _trace_chunk(horizon: int, d: int) -> int:
+    """Paths per chunk of :func:`_simulate`: a chunk's receptions and chain states take 2 horizon x
+    paths x d bytes, about 32 MB, in whole blocks of the kernel's 64 lanes (a partial block is
+    padded, i.e. copied)."""
+    return min(CHUNK, max(64, 2 ** 24 // (horizon * d) // 64 * 64))
+
+
 def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None) -> np.ndarray:
-    """tr P_{k|k-1} (paths, horizon), receptions drawn from ``loss``."""
+    """tr P_{k|k-1} (paths, horizon), receptions drawn from ``loss`` per factor (:meth:`LossModel.sample`)."""
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     # refused before numpy tries to allocate the arrays
     budget.check("max_memory", memory_estimate(system, loss, horizon, paths), "paths x horizon",
                  f"the bytes (estimate) of a simulation of {paths} paths over {horizon} steps")
     model = real_form(system)
-    emit = _checked(loss, system.d).numeric()[2]
+    factors = loss_factors(loss, system.d)
     rng = np.random.default_rng(seed)
     traces = np.empty((paths, horizon))
-    chunks = range(0, paths, CHUNK)
+    chunk = _trace_chunk(horizon, system.d)
+    chunks = range(0, paths, chunk)
     with _progress(len(chunks), paths * horizon, "simulate") as bar:
         for start in chunks:
-            stop = min(start + CHUNK, paths)
-            states = sample_states(loss, horizon, stop - start, rng)
+            stop = min(start + chunk, paths)
+            received = receptions.sample(factors, horizon, stop - start, system.d, rng)
             with np.errstate(over="ignore"):   # tr P beyond float64 is inf here; log_mean_trace keeps logs
-                traces[start:stop] = np.exp(log_traces(model, emit[states])[:, :horizon])
+                traces[start:stop] = np.exp(log_traces(model, received)[:, :horizon])
             bar.update()
     return traces
 
@@ -197,7 +204,9 @@ def simulate_traces(system: System, loss: LossModel, horizon: int, paths: int,
                     seed: int | None = None) -> np.ndarray:
     """``tr P_{k|k-1}`` as an array (paths, horizon), k = 0..horizon-1 (Sui-You-Fu eq. 9).
 
-    Receival sequences are drawn from ``loss`` with ``numpy.random.default_rng(seed)``.
+    Receival sequences are drawn from ``loss`` with ``numpy.random.default_rng(seed)``, factor by
+    factor (:meth:`~symkf.losses.LossModel.sample`: independent sensors never build the joint
+    ``2^d`` chain; memory is linear in ``d``).
     """
     return _simulate(system, loss, horizon, paths, seed)
 
@@ -306,50 +315,9 @@ def _template(pattern: Any, d: int) -> tuple[tuple[int, ...], ...]:
 
 # ------------------------------------------------------------------ final bursts, any loss model
 
-@dataclass(frozen=True)
-class LossFactor:
-    """An independent piece of a loss model: a chain on ``P`` (float) driving ``sensors``.
-
-    i.i.d. and Gilbert-Elliott sensors are independent, one two-state factor each
-    (states: received, lost); joint Markov and network losses are one factor on
-    their :class:`~symkf.losses.LossChain`.  ``emit[s]`` are the factor's sensors'
-    receivals in state ``s``.
-    """
-
-    sensors: tuple[int, ...]
-    P: np.ndarray
-    init: np.ndarray
-    emit: np.ndarray
-
-
 def loss_factors(loss: LossModel, d: int) -> list[LossFactor]:
-    """The loss model as independent factors (never the joint 2^d chain of independent sensors)."""
-    _chain_free(loss, d)
-    two = np.array([[True], [False]])
-    if isinstance(loss, IID):
-        return [LossFactor((j,), np.array([[1 - e, e]] * 2), np.array([1 - e, e]), two)
-                for j, e in enumerate(float(x) for x in loss.loss)]
-    if isinstance(loss, GilbertElliott):
-        return [LossFactor((j,), np.array([[1 - f, f], [r, 1 - r]]), np.array([q, 1 - q]), two)
-                for j, (f, r, q) in enumerate(zip(*(map(float, xs) for xs in
-                                                     (loss.fail, loss.recover, loss.initial_received))))]
-    P, init, emit = loss.numeric()
-    return [LossFactor(tuple(range(d)), P, init, emit)]
-
-
-def _chain_free(loss: LossModel, d: int) -> None:
-    if not isinstance(loss, LossModel):
-        raise InputError(f"loss: expected a symkf loss model, got {type(loss).__name__}")
-    if loss.d != d:
-        raise InputError(f"loss: models {loss.d} sensor(s), the system has {d}")
-    require_numbers(loss.symbols)   # IID and GilbertElliott name their symbols without the joint chain
-
-
-def _perron(M: np.ndarray) -> tuple[float, np.ndarray]:
-    """Spectral radius and a non-negative right eigenvector of a non-negative matrix (float)."""
-    w, V = np.linalg.eig(M)
-    i = int(np.argmax(w.real))
-    return max(float(w[i].real), 0.0), np.abs(V[:, i].real)
+    """The loss model's independent factors in float64 (never the joint 2^d chain of independent sensors)."""
+    return [f.numeric() for f in checked(loss, d, numbers=True).factors]
 
 
 #: weight of the original law at each step inside a burst: keeps every ratio p/q below 1/DEFENSIVE.
@@ -372,12 +340,6 @@ class _Tilt:
     rate: float
 
 
-def _cumulative(P: np.ndarray) -> np.ndarray:
-    cum = np.cumsum(P, axis=-1)
-    cum[..., -1] = np.inf
-    return cum
-
-
 def _factor_tilt(f: LossFactor, allowed: np.ndarray) -> _Tilt:
     """The chain conditioned to stay in the pattern (Doob h-transform of the restricted
     transfer ``M_H``, Sui-You-Fu eq. 36), mixed with ``DEFENSIVE`` of the original law.
@@ -392,7 +354,7 @@ def _factor_tilt(f: LossFactor, allowed: np.ndarray) -> _Tilt:
     M = np.eye(len(f.P))
     for r in range(1, g + 1):
         M = M @ f.P * D[r % g]
-    rate, v0 = _perron(M)
+    rate, v0 = perron_float(M)
     v = [v0] * g
     for r in range(g - 1, 0, -1):
         nxt = f.P @ (D[(r + 1) % g] * v[(r + 1) % g])
@@ -409,7 +371,7 @@ def _factor_tilt(f: LossFactor, allowed: np.ndarray) -> _Tilt:
     with np.errstate(divide="ignore", invalid="ignore"):
         logr_init = np.where(f.init > 0, np.log(q_init) - np.log(f.init), 0.0)
         logr = np.where(f.P[None] > 0, np.log(q) - np.log(f.P)[None], 0.0)
-    return _Tilt(_cumulative(q_init), _cumulative(q), logr_init, logr, rate)
+    return _Tilt(cumulative(q_init), cumulative(q), logr_init, logr, rate)
 
 
 @dataclass(frozen=True)
@@ -576,18 +538,14 @@ def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tup
         g, table = 1, None
     received = np.empty((K, m, model.d), bool)
     lr = np.zeros((C, K, m))
-    # sensors on independent two-state chains are sampled together, a joint chain on its own
-    groups = [[f for f in factors if len(f.P) == 2 and len(f.sensors) == 1]]
-    groups += [[f] for f in factors if f not in groups[0]]
-    for group in filter(None, groups):
+    for group in groups(factors):
         index = [factors.index(f) for f in group]
-        sensors = [f.sensors for f in group]
         # first[t, j, s], step[t, j, x, s]: cumulative law of the first state / next state under law t
-        first = np.stack([np.stack([_cumulative(f.init) for f in group])]
+        first = np.stack([np.stack([cumulative(f.init) for f in group])]
                          + [np.stack([tilt[i].cum_init for i in index]) for tilt in tilts for _ in range(g)])
-        step = np.stack([np.stack([_cumulative(f.P) for f in group])]
+        step = np.stack([np.stack([cumulative(f.P) for f in group])]
                         + [np.stack([tilt[i].cum[r] for i in index]) for tilt in tilts for r in range(g)])
-        x = _chain_states(first, step, table, rng, (K, m, len(group)))
+        x = chain_states(first, step, table, rng, (K, m, len(group)))
         for j, i in enumerate(index if tilts else ()):
             if all(np.abs(t[i].logr).max() < 1e-12 and np.abs(t[i].logr_init).max() < 1e-12 for t in tilts):
                 continue        # a sensor free in every component: its burst law is the loss law
@@ -597,15 +555,7 @@ def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tup
             for c, tilt in enumerate(tilts):
                 lr[c, 0] += tilt[i].logr_init[x[0, :, j]]
                 lr[c, 1:] += tilt[i].logr.ravel().take(at)
-        if all(len(f.P) == 2 for f in group):   # state 0 = received (loss_factors' convention)
-            cols = [f.sensors[0] for f in group]
-            if cols == list(range(model.d)):
-                np.equal(x, 0, out=received)
-            else:
-                received[:, :, cols] = x == 0
-        else:
-            for j, f in enumerate(group):
-                received[:, :, list(sensors[j])] = f.emit[x[:, :, j]]
+        emit_into(received, group, x)
     logtr = log_traces(model, received)[:, K]
     if plan is None:
         return logtr, np.zeros(m)
@@ -614,38 +564,6 @@ def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tup
     top = terms.max(axis=0)                                  # log-sum-exp, shifted by the largest term
     np.exp(terms - top, out=terms)
     return logtr, math.log(C) - top - np.log(terms.sum(axis=0))
-
-
-def _chain_states(first: np.ndarray, step: np.ndarray, table: np.ndarray | None, rng: np.random.Generator,
-                  shape: tuple[int, int, int]) -> np.ndarray:
-    """States (K, paths, chains) of independent chains by inverse CDFs: ``first[t, j]`` and
-    ``step[t, j, x]`` are cumulative laws under law ``t`` (``table[k, p]``; None: law 0 always).
-    The uniforms are drawn one step at a time (the same stream as one (K, paths, chains) draw,
-    without holding it: 26 MB per thousand paths at K = 100, d = 16)."""
-    K, m, J = shape
-    j = np.arange(J)[None, :]
-    if step.shape[-1] == 2:         # two states: one comparison with P(state 0), states as uint8
-        x = np.empty((K, m, J), np.uint8)
-        if table is None and np.array_equal(step[0, :, :, 0], np.broadcast_to(first[0, :, :1], (J, 2))):
-            for k in range(K):                                               # i.i.d.: no dependence
-                np.greater_equal(rng.random((m, J)), first[0, :, 0], out=x[k].view(bool))
-            return x
-        # P(next state 0) under law t, of chain j, from state s, at flat index (t J + j) 2 + s:
-        # one take per step (multi-array fancy indexing costs twice as much)
-        stay = np.ascontiguousarray(step[..., 0]).ravel()
-        row = np.broadcast_to(2 * j, (m, J)) if table is None else None
-        x[0] = rng.random((m, J)) >= first[0 if table is None else table[0][:, None], j, 0]
-        for k in range(1, K):
-            at = row if table is None else 2 * (table[k][:, None] * J + j)
-            np.greater_equal(rng.random((m, J)), stay.take(at + x[k - 1]), out=x[k].view(bool))
-        return x
-    x = np.empty((K, m, J), np.intp)
-    t = np.zeros((m, 1), np.intp) if table is None else None
-    x[0] = (rng.random((m, J))[..., None] >= first[t if table is None else table[0][:, None], j]).sum(axis=-1)
-    for k in range(1, K):
-        tk = t if table is None else table[k][:, None]
-        x[k] = (rng.random((m, J))[..., None] >= step[tk, j, x[k - 1]]).sum(axis=-1)
-    return x
 
 
 def log_mean_trace(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None = None,

@@ -91,7 +91,7 @@ class BlockRows:
             sets = np.concatenate([sets, partial[keep]])
         return sets[_lex_order(sets)]
 
-    def heaviest(self, weights: Sequence[float]) -> list[frozenset[int]] | None:
+    def heaviest(self, weights: Sequence[float], floor: float | None = None) -> list[frozenset[int]] | None:
         """The hyperplanes (element sets, as in :attr:`hyperplanes`) whose weight ``sum_{e in H}
         weights[e]`` may be maximal, without enumerating every hyperplane; None when the fast
         path does not apply (then enumerate).
@@ -99,7 +99,9 @@ class BlockRows:
         Weights are floats >= 0 (``-log loss``) used only to screen; every set whose screened
         weight is within ``1e-9 (1 + total weight)`` of the screened maximum is confirmed exactly
         (rank ``n - 1`` over K) and returned, and the caller decides among them exactly (float
-        sums of at most E correctly rounded terms err by far less than the tolerance).
+        sums of at most E correctly rounded terms err by far less than the tolerance).  With
+        ``floor``, every set whose screened weight is at least ``min(floor, maximum)`` (less the
+        tolerance) is returned: all hyperplanes that an additive upper bound cannot rule out.
 
         Why no maximiser is missed: the search visits the flat ``Z_p`` spanned mod p by every
         (n - 2)-set ``c`` of generators and scores ``Z_p`` plus each of its lines (:func:`_line_keys`).
@@ -149,8 +151,9 @@ class BlockRows:
             score = np.add.reduceat(vw[order].ravel(), starts) + flat_weight[rows]
             score[line == p + 1] = -np.inf  # the flat itself is no hyperplane
             best = max(best, score.max(initial=-np.inf))
-            kept = {S: w for S, w in kept.items() if w >= best - tol}
-            for i in np.flatnonzero(score >= best - tol):
+            bar = best - tol if floor is None else min(best, floor) - tol
+            kept = {S: w for S, w in kept.items() if w >= bar}
+            for i in np.flatnonzero(score >= bar):
                 member = key[rows[i]]
                 kept[frozenset(np.flatnonzero((member == p + 1) | (member == line[i])).tolist())] = score[i]
         out = []

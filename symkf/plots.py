@@ -28,7 +28,7 @@ import sympy as sp
 from . import output
 from .errors import ExtraNotInstalledError, InputError, SymkfError
 from .exact.numbers import to_exact
-from .losses import IID, GilbertElliott, LossModel
+from .losses import IID, LossModel
 from .model import Sensor, System
 from .montecarlo import MeanTraceCurve
 from .progress import progress
@@ -195,7 +195,7 @@ def mean_trace_figure(system: System, loss: LossModel, curve: MeanTraceCurve, *,
         notes.append(f"no exact rate: {exc}".splitlines()[0][:70])
     if curve.float_cap is not None:
         notes.append(f"stops at k = {int(k[-1])} of {curve.requested}: float64 limit (montecarlo.float_horizon)")
-    if isinstance(loss, IID):
+    if loss.bernoulli is not None:
         try:
             G, V = yang_bounds(system, loss, int(k[-1]) + 1)
             with np.errstate(divide="ignore", invalid="ignore"):
@@ -207,22 +207,12 @@ def mean_trace_figure(system: System, loss: LossModel, curve: MeanTraceCurve, *,
         notes.append("Yang's bounds need i.i.d. losses")
     name = system.name or "the system"
     ax.set(xlabel="step k", ylabel=r"$\log_{10}$ E[tr $P_{k|k-1}$]",
-           title="\n".join(["Growth of the expected error covariance:", f"{name} under {_in_words(loss)}",
+           title="\n".join(["Growth of the expected error covariance:", f"{name} under {loss.words()}",
                              "importance sampling of final loss bursts" if "burst" in curve.sampling
                              else "plain Monte Carlo"] + notes))
     ax.title.set_fontsize("small")
     ax.legend(fontsize="small")
     return _finish(fig, path)
-
-
-def _in_words(loss: LossModel) -> str:
-    """A loss model as a figure title says it."""
-    if isinstance(loss, IID):
-        return "i.i.d. losses " + ", ".join(map(str, loss.loss))
-    if isinstance(loss, GilbertElliott):
-        return (f"Gilbert-Elliott channels, fail {', '.join(map(str, loss.fail))}, "
-                f"recover {', '.join(map(str, loss.recover))}")
-    return "a joint Markov loss process"
 
 
 def rotation_system(scale: Any, angle: Any, C: Sequence[Sequence[Any]] = ((1, 0),)) -> System:

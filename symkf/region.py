@@ -26,11 +26,11 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from .decay import ge_rate, outside_counts
+from .decay import ge_rate, listed_hyperplanes, outside_counts
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber, sign, sympy_to_fmpz
 from .exact.numbers import sympify, to_exact
-from .losses import IID, GilbertElliott, LossModel
+from .losses import GilbertElliott, LossModel, checked
 from .model import System
 from .observability import block_rows
 
@@ -238,6 +238,7 @@ def ge_margins(system: System, loss: GilbertElliott) -> list[sp.Expr]:
     for br in block_rows(system):
         growth = sp.sympify(br.block.modulus.exact ** (2 * br.period))
         seen = set()
+        listed_hyperplanes(br)  # refused up front when too many
         for H in br.hyperplanes:
             m = sp.expand(growth * ge_rate(br, H, loss))
             if m not in seen:
@@ -267,9 +268,11 @@ def stability_conditions(system: System, loss: LossModel) -> sp.Basic:
 
     Raises
     ------
+    ShapeError
+        The loss model's sensor count differs from the system's.
     InputError
-        The loss model's sensor count differs from the system's, or it is a
-        :class:`~symkf.losses.MarkovLoss`.
+        The model gives no conditions (a joint Markov or network loss:
+        :meth:`~symkf.losses.LossModel.stability_conditions`).
 
     Examples
     --------
@@ -285,14 +288,7 @@ def stability_conditions(system: System, loss: LossModel) -> sp.Basic:
     >>> sk.stability_conditions(S, sk.IID(["1/5"]))  # 4/5 < 1
     True
     """
-    if loss.d != system.d:
-        raise InputError(f"loss: the model has {loss.d} sensor(s), the system has {system.d}")
-    if isinstance(loss, IID):
-        return stability_region(system).conditions(loss.loss)
-    if isinstance(loss, GilbertElliott):
-        return sp.And(*[_condition(m) for m in ge_margins(system, loss)])
-    raise InputError(f"loss: stability conditions are given for IID and GilbertElliott, not {type(loss).__name__}; "
-                     "substitute numbers and use symkf.stability.stability")
+    return checked(loss, system).stability_conditions(system)
 
 
 def between(a: AlgebraicNumber, b: AlgebraicNumber) -> sp.Rational:

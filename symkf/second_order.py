@@ -51,7 +51,7 @@ from .exact.algebraic import AlgebraicNumber
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, rank_rows
 from .exact.numbers import to_exact
-from .losses import IID, LossModel
+from .losses import IID, LossModel, checked
 from .model import Sensor, System
 from .spectral import eigen_blocks
 from .stability import BlockCertificate, Verdict
@@ -264,19 +264,13 @@ def _candidates(cs: CongruentSets, miss: list[sp.Expr], P: int, period: Period) 
     return out
 
 
-def _require_iid(system: System, loss: LossModel) -> IID:
-    if not isinstance(loss, LossModel):
-        raise InputError(f"loss: expected symkf.IID, got {type(loss).__name__}")
-    if not isinstance(loss, IID):
-        raise AssumptionError(f"the loss model is {type(loss).__name__}, not independent Bernoulli",
-                              assumption="Assumption 4 (Sui-You-Fu)", applies_instead="symkf.stability.stability")
-    if loss.d != system.d:
-        raise InputError(f"loss: the model has {loss.d} sensor(s), the system has {system.d}")
-    free = set().union(*[sp.sympify(e).free_symbols for e in loss.loss])
-    if free:
-        raise InputError(f"loss: symbols {sorted(map(str, free))} have no value; use threshold(system) "
+def _require_iid(system: System, loss: LossModel) -> tuple[sp.Expr, ...]:
+    """The per-sensor loss probabilities of i.i.d. ``loss`` (Assumption 4), checked against ``system``."""
+    losses = checked(loss, system).require_bernoulli("Assumption 4 (Sui-You-Fu)", "symkf.stability.stability")
+    if loss.symbols:
+        raise InputError(f"loss: symbols {sorted(map(str, loss.symbols))} have no value; use threshold(system) "
                          "for the condition in symbols")
-    return loss
+    return losses
 
 
 def theorem12(system: System, loss: IID, period: Period = "governing") -> Verdict:
@@ -288,17 +282,17 @@ def theorem12(system: System, loss: IID, period: Period = "governing") -> Verdic
     :class:`~symkf.stability.Verdict` as the engine, margin ``alpha^2 rho``.
     """
     _check_period(period)
-    loss = _require_iid(system, loss)
+    losses = _require_iid(system, loss)
     cs, alpha, tau, g, _ = _analysis(system)
     P = tau if period == "tau" else g
     assumptions = ["A similar to alpha diag(e^{i theta_1}, e^{i theta_2}), theta_1 != theta_2 (Assumption 5)",
                    "i.i.d. independent losses (Assumption 4)",
                    "(A, C_i) observable for every sensor (Assumption 6)"]
     if P is None:
-        miss = loss.loss
+        miss = losses
         power, rate, elements, P_cert = alpha ** 2 * sp.Mul(*miss), sp.Mul(*miss), (), 1
     else:
-        miss = merged_losses(cs, loss.loss)
+        miss = merged_losses(cs, losses)
         cands = _candidates(cs, miss, P, period)
         i, rate = max(cands, key=lambda c: AlgebraicNumber.from_expr(c[1]))
         names = system.sensor_names
@@ -434,13 +428,13 @@ def critical_alpha_expr(system: System, period: Period = "governing") -> sp.Expr
 
 def critical_alpha(system: System, loss: IID, period: Period = "governing") -> AlgebraicNumber:
     """The critical modulus for the given losses, eigen-directions fixed (exact)."""
-    loss = _require_iid(system, loss)
+    losses = _require_iid(system, loss)
     cs, _, tau, g, _ = _analysis(system)
     P = tau if period == "tau" else g
     if P is None:
-        rate, P = sp.Mul(*loss.loss), 1
+        rate, P = sp.Mul(*losses), 1
     else:
-        rate = max((r for _, r in _candidates(cs, merged_losses(cs, loss.loss), P, period)),
+        rate = max((r for _, r in _candidates(cs, merged_losses(cs, losses), P, period)),
                    key=AlgebraicNumber.from_expr)
     if rate == 0:
         raise InputError("loss: the decisive pattern has probability 0, so no alpha destabilises the filter")

@@ -17,11 +17,11 @@ from typing import Any, Iterable, Sequence
 import flint
 import sympy as sp
 
-from .decay import BlockRate, block_rate, outside_counts
+from .decay import BlockRate, block_rate, least_iid_bound, outside_counts
 from .errors import AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber, _with_prec, identify
 from .exact.numbers import to_exact
-from .losses import IID, GilbertElliott, LossModel
+from .losses import IID, GilbertElliott, LossModel, checked
 from .model import System
 from .observability import BlockRows, block_rows
 from .region import ge_margins, stable_intervals
@@ -160,20 +160,14 @@ class Verdict:
 
 
 def _check_loss(system: System, loss: LossModel) -> list[str]:
-    if not isinstance(loss, LossModel):
-        raise InputError(f"loss: expected an IID, GilbertElliott or MarkovLoss, got {type(loss).__name__}")
-    if loss.d != system.d:
-        raise InputError(f"loss: the model has {loss.d} sensor(s), the system has {system.d} "
-                         f"({', '.join(system.sensor_names)})")
-    loss.require_positive()
+    checked(loss, system, positive=True)
     brs = block_rows(system)
     out = [("A" if not system.set_aside() else "the decided blocks") + " diagonalizable (Assumption 3)"
            if not any(br.block.defective for br in brs) else
            "Jordan chains on |lambda| >= 1 (symkf's extension of Assumption 3, docs/sui.md)",
            "(A, C) observable" if system.observable else "(A, C) detectable (PBH on |lambda| >= 1)",
-           "loss process " + ("i.i.d. (Assumption 4)" if isinstance(loss, IID) else
-                              getattr(loss, "chain_assumption", "Markov with positive transitions (Assumption 2)"))]
-    if not isinstance(loss, IID) and not all(br.block.is_periodic for br in brs):
+           "loss process " + loss.assumption]
+    if loss.bernoulli is None and not all(br.block.is_periodic for br in brs):
         out.append("aperiodic block under Markov losses (symkf's extension of Theorem 9, docs/sui.md)")
     return out
 
@@ -244,15 +238,13 @@ def stability(system: System, loss: LossModel) -> Verdict:
     return Verdict(stable, tuple(margins), limiting, theorem, tuple(assumptions), tuple(certs), aside)
 
 
-def _vectors(system: System, common: bool = False) -> list[tuple[sp.Expr, tuple[int, ...]]]:
-    """``(alpha_i^(2g), (k_1, ..., k_d))`` for every block and distinct exponent vector.
-
-    ``common``: a common loss ``eps`` for every sensor, whose bound ``(alpha_i^(2g) eps^K)``
-    binds first at the fewest elements ``K`` outside: only the hyperplanes holding the most
-    elements (:func:`symkf.decay.outside_counts` with equal weights) are needed."""
-    weights = [1.0] * system.d if common else None
+def _vectors(system: System) -> list[tuple[sp.Expr, tuple[int, ...]]]:
+    """``(alpha_i^(2g), (k_1, ..., k_d))`` for every block and the exponent vectors that matter
+    for a common loss ``eps``: its bound ``(alpha_i^(2g) eps^K)`` binds first at the fewest
+    elements ``K`` outside, so only the hyperplanes holding the most elements
+    (:func:`symkf.decay.outside_counts` with equal weights) are needed."""
     return [(sp.sympify(br.block.modulus.exact ** (2 * br.period)), ks)
-            for br in block_rows(system) for ks in outside_counts(br, weights)]
+            for br in block_rows(system) for ks in outside_counts(br, [1.0] * system.d)]
 
 
 def critical_loss_rate(system: System, sensor: str | None = None, *, others: Sequence[Any] | None = None,
@@ -298,25 +290,39 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
         w = [to_exact(v, f"ray[{j}]") for j, v in enumerate(ray)] if ray is not None else [sp.Integer(1)] * d
         if len(w) != d:
             raise InputError(f"ray: {len(w)} weights for {d} sensors")
-        bounds = []
-        for a2g, ks in _vectors(system, common=len(set(w)) == 1):
-            W = sp.Mul(*[wj ** k for wj, k in zip(w, ks)])
-            if W != 0:
-                bounds.append(sp.root(1 / (a2g * W), sum(ks)))
-        return _min_capped(bounds)
+        if len(set(w)) == 1:
+            return _min_capped([b for a2g, ks in _vectors(system) if (b := _ray_bound(a2g, ks, w)) is not None])
+        return _least(system, lambda x: [x * wj for wj in w], lambda a2g, ks: _ray_bound(a2g, ks, w))
     j = system.sensor_index(sensor)
     if others is None or len(others) != d:
         raise InputError(f"others: give the {d} loss probabilities of all sensors (entry {j} is ignored)")
     fixed = [to_exact(v, f"others[{i}]") if i != j else sp.Integer(1) for i, v in enumerate(others)]
-    bounds = []
-    for a2g, ks in _vectors(system):
+
+    def bound(a2g: sp.Expr, ks: tuple[int, ...]) -> sp.Expr | None:
         rest = sp.Mul(*[f ** k for i, (f, k) in enumerate(zip(fixed, ks)) if i != j])
         if ks[j] == 0:
-            if AlgebraicNumber.from_expr(a2g * rest) >= 1:
-                return AlgebraicNumber.from_expr(0)
-        elif rest != 0:
-            bounds.append(sp.root(1 / (a2g * rest), ks[j]))
-    return _min_capped(bounds)
+            return sp.Integer(0) if AlgebraicNumber.from_expr(a2g * rest) >= 1 else None
+        return sp.root(1 / (a2g * rest), ks[j]) if rest != 0 else None
+    return _least(system, lambda x: [x if i == j else f for i, f in enumerate(fixed)], bound)
+
+
+def _ray_bound(a2g: sp.Expr, ks: tuple[int, ...], w: Sequence[sp.Expr]) -> sp.Expr | None:
+    """``eps`` at which ``alpha^(2g) prod_j (eps w_j)^(k_j)`` reaches 1, None when it is 0."""
+    W = sp.Mul(*[wj ** k for wj, k in zip(w, ks)])
+    return sp.root(1 / (a2g * W), sum(ks)) if W != 0 else None
+
+
+def _least(system: System, losses, bound) -> AlgebraicNumber:
+    """The least hyperplane bound over every block, capped at 1: per block by the screened
+    iteration (:func:`symkf.decay.least_iid_bound`), else over every exponent vector."""
+    one = AlgebraicNumber.from_expr(1)
+    values = []
+    for br in block_rows(system):
+        a2g = sp.sympify(br.block.modulus.exact ** (2 * br.period))
+        v = least_iid_bound(br, losses, lambda ks: bound(a2g, ks), one, a2g)
+        values.append(v if v is not None else
+                      _min_capped([b for ks in outside_counts(br) if (b := bound(a2g, ks)) is not None]))
+    return min(values, default=one)
 
 
 def _min_capped(bounds: list[sp.Expr]) -> AlgebraicNumber:

@@ -314,26 +314,20 @@ def _math_label(label: str) -> str:
 # -- the papers' example verdicts -------------------------------------------------------------
 
 def _file_verdict(path: str) -> tuple[str, Any, Verdict | None, tuple[int, ...]]:
-    """(system name, loss model as (kind, fields), verdict, governing periods) of one system file."""
+    """(system name, loss model's table cell, verdict, governing periods) of one system file."""
     from .files import load
-    from .losses import IID
     from .observability import block_rows
     from .stability import stability
     system, loss = load(path)
     periods = tuple(br.period for br in block_rows(system))
     if loss is None:
         return system.name, None, None, periods
-    fields = (("iid", (("loss", loss.loss),)) if isinstance(loss, IID) else
-              ("gilbert-elliott", (("fail", loss.fail), ("recover", loss.recover))))
-    return system.name, fields, stability(system, loss), periods
+    return system.name, _loss_cell(loss), stability(system, loss), periods
 
 
-_LOSS_NAMES = {"iid": ("i.i.d.", "i.i.d."), "gilbert-elliott": ("Gilbert--Elliott", "Gilbert-Elliott")}
-_FIELD_SYMBOLS = {"loss": r"\varepsilon", "fail": "f", "recover": "q"}
-
-
-def _loss_cell(kind: str, fields: tuple[tuple[str, tuple[sp.Expr, ...]], ...]) -> Cell:
-    """A loss model's parameters, one vector per field (a scalar when all sensors share it)."""
+def _loss_cell(loss: Any) -> Cell:
+    """A loss model's name and parameters (:meth:`LossModel.fields <symkf.losses.LossModel.fields>`),
+    one vector per field (a scalar when all sensors share it); its data is the model's file form."""
     def show(values: tuple[sp.Expr, ...], fmt: Any) -> str:
         """``= v``, ``= (v_1, ..., v_d)``, or for many sensors ``in [min, max]`` to 3 digits (all in to_json())."""
         if len(set(values)) == 1:
@@ -342,10 +336,11 @@ def _loss_cell(kind: str, fields: tuple[tuple[str, tuple[sp.Expr, ...]], ...]) -
             lo, hi = (f"{float(v):.3g}" for v in (min(values), max(values)))
             return rf"\in [{lo},\ {hi}]" if fmt is sp.latex else f"in [{lo}, {hi}]"
         return "= (" + ", ".join(map(fmt, values)) + ")"
-    math = r",\ ".join(f"{_FIELD_SYMBOLS[k]} {show(v, sp.latex)}" for k, v in fields)
-    plain = ", ".join(f"{k} {show(v, str)}" for k, v in fields)
-    latex_name, plain_name = _LOSS_NAMES[kind]
-    data = {"kind": kind, **{k: [str(x) for x in v] for k, v in fields}}
+    fields = loss.fields()
+    math = r",\ ".join(f"{symbol} {show(v, sp.latex)}" for _, symbol, v in fields)
+    plain = ", ".join(f"{k} {show(v, str)}" for k, _, v in fields)
+    latex_name, plain_name = loss.label
+    data = loss.to_table()
     return Cell(f"{plain_name}: {plain}", _stack(latex_name, f"${math}$"),
                 rf"\text{{{plain_name}: }} {math}", data)
 
@@ -403,10 +398,10 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
     if not results:
         raise InputError("verdict_table: none of the system files has a [loss] table")
     rows = []
-    for name, (kind, fields), verdict, periods in results:
+    for name, cell, verdict, periods in results:
         period = "-" if verdict.limiting_block is None else periods[verdict.limiting_block]
         rows.append((Cell.text(name), (
-            _loss_cell(kind, fields),
+            cell,
             Cell.text("stable" if verdict.stable else "unstable"),
             Cell.formula(str(period), str(period)),
             Cell.number(verdict.limiting_margin, digits),
@@ -418,7 +413,9 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
     caption = (r"Mean-square stability of the example systems with their loss models: the limiting "
                r"eigen-block's margin $\alpha_i^2\rho_i$ (stable iff every margin is below~1) and its governing "
                r"period $g$; i.i.d.\ loss probabilities $\varepsilon$, Gilbert--Elliott failure $f$ and recovery "
-               r"$q$ probabilities (one value when all sensors share it); theorem: Sui--You--Fu Theorem~4 (one "
+               r"$q$ probabilities (one value when all sensors share it), joint Markov chains by their order $\nu$ "
+               r"and receival vectors $|\Upsilon|$, network losses by their link success probabilities $\phi$ and "
+               r"network states $|B|$; theorem: Sui--You--Fu Theorem~4 (one "
                rf"eigen-block) or~7. Computed exactly by {_ENGINE}. Margins: exact value and decimal to {digits} "
                "significant digits; a starred decimal marks an exact form too long to print (it is in the JSON "
                "output).")

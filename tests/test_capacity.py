@@ -44,8 +44,10 @@ def test_capacity_values_and_remark1():
 
 
 def test_capacity_refuses_other_loss_models():
-    with pytest.raises(InputError, match="i.i.d."):
+    # one error type per failure (symkf.losses.checked): a theorem for Bernoulli losses only
+    with pytest.raises(AssumptionError, match="i.i.d.") as info:
         transmission_capacity(GilbertElliott(fail=["1/2"], recover=["1/2"]))
+    assert "Yang et al." in str(info.value) and "symkf.stability.stability" in str(info.value)
 
 
 @pytest.mark.parametrize("A, M", [

@@ -202,8 +202,11 @@ def test_simulate_says_where_and_why_the_curve_stops(capsys):
 
 
 def test_a_stable_simulation_is_resolved_throughout():
+    # losses 1/1000: a path carrying 10 % of the sum needs three alternating losses (the period-2
+    # blind pattern, tr P x 4^3), 8e-9 per path, 3e-4 over these 20 x 2000 paths; at 1/100 it is
+    # 8e-6 per path, 27 % over 20 seeds (seeds 14 and 19 of the per-sensor sampler have one)
     for seed in range(20):
-        sim = sk.simulate(DESIGN, sk.IID(["1/100"]), horizon=12, paths=2000, seed=seed)
+        sim = sk.simulate(DESIGN, sk.IID(["1/1000"]), horizon=12, paths=2000, seed=seed)
         assert sim.resolved_until == 12 and sim.notes() == []
         assert np.all(sim.estimate.low > 0) and np.all(sim.estimate.low <= sim.estimate.mean)
 

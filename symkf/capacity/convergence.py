@@ -79,7 +79,7 @@ class LMIVerdict:
 def _basis(system: System, loss: IID) -> tuple[list[sp.Matrix], int, list[tuple[int, int, int]]]:
     """Exact basis matrices F_k of the linear map (Y, Z) -> F, the number of Y coordinates, Z indices."""
     n = system.n
-    arrival = [1 - e for e in _require_iid(loss).loss]
+    arrival = [1 - e for e in _require_iid(loss)]
     if len(arrival) != system.d:
         raise InputError(f"loss: {len(arrival)} rates for {system.d} sensors")
     live = [i for i, a in enumerate(arrival) if a != 0]

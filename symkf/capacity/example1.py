@@ -59,15 +59,12 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
     Monte Carlo standard errors.  A PNG like Fig. 2 (traces, 95% band) is
     written to ``outdir`` when given.
     """
-    from ..filtering import predicted_covariances
+    from ..filtering import predicted_covariances, sample_receptions
 
     system, loss = example1_system()
     G = lower_bound_sequence(system, loss, horizon)
     V = MARE(system, loss).sequence(horizon)
-    rng = np.random.default_rng(seed)
-    # i.i.d. Bernoulli receivals drawn directly: the 2^8-state LossChain of IID is slow to evaluate
-    arrival = np.array([float(1 - e) for e in loss.loss])
-    gamma = rng.random((paths, horizon, system.d)) < arrival
+    gamma = sample_receptions(loss, horizon, paths, np.random.default_rng(seed))   # per sensor
     P = predicted_covariances(system, gamma, keep="all")  # (paths, K, n, n): P_{k|k-1}
     lower_gaps = [_loewner_gap(G[k], P[:, k]) for k in range(horizon)]
     upper_gaps = [_loewner_gap(-V[k], -P[:, k]) for k in range(horizon)]

@@ -33,7 +33,7 @@ from .quantities import _require_iid, capacity_exceeds, spectral_radius
 
 def loss_product(loss: IID) -> sp.Expr:
     """``c = prod_i (1 - lambda_i)``, the probability that all packets of one step are lost."""
-    return sp.Mul(*_require_iid(loss).loss)
+    return sp.Mul(*_require_iid(loss))
 
 
 def _m(X: Any, c: Any, A: Any, Q: Any) -> Any:
@@ -113,7 +113,7 @@ def information_lower_bound_sequence(system: System, loss: IID, horizon: int,
     A = np.array(system.A.evalf(30), dtype=float)
     Q = np.array(system.Q.evalf(30), dtype=float)
     S = sum(float(1 - e) * np.array((s.C.T * s.R.inv() * s.C).evalf(30), dtype=float)
-            for s, e in zip(system.sensors, _require_iid(loss).loss))
+            for s, e in zip(system.sensors, _require_iid(loss)))
     F = np.array(system.P0.evalf(30), dtype=float) if P1 is None else np.asarray(P1, float)
     out = [F]
     for _ in range(horizon - 1):

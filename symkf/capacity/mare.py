@@ -40,7 +40,7 @@ def hadamard_weight(loss: IID, dims: list[int]) -> sp.ImmutableMatrix:
 
     ``dims`` are the measurement dimensions ``p_i``; every ``lambda_i`` must be positive.
     """
-    arrival = [1 - e for e in _require_iid(loss).loss]
+    arrival = [1 - e for e in _require_iid(loss)]
     if any(a == 0 for a in arrival):
         raise AssumptionError("a sensor with lambda_i = 0 has D_SNR^{-1} infinite",
                               assumption="lambda_i > 0 in W (Yang et al., eq. 19)",
@@ -58,7 +58,7 @@ class MARE:
     """``g_lambda`` of eq. 18 for one system and arrival rates, in floats (Remark 4 form, see module doc)."""
 
     def __init__(self, system: System, loss: IID):
-        losses = _require_iid(loss).loss
+        losses = _require_iid(loss)
         if len(losses) != system.d:
             raise AssumptionError(f"loss has {len(losses)} rates for {system.d} sensors",
                                   assumption="one arrival rate per sensor")

@@ -27,28 +27,25 @@ import sympy as sp
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import to_exact_matrix
-from ..losses import IID
+from ..losses import IID, checked
 from ..spectral import eigenvalues
 
 
-def _require_iid(loss: Any) -> IID:
-    if not isinstance(loss, IID):
-        raise InputError(f"loss: Yang et al.'s capacities are defined for Bernoulli (i.i.d.) losses, "
-                         f"got {type(loss).__name__}; give symkf.IID(loss=[...])")
-    free = set().union(*(sp.sympify(e).free_symbols for e in loss.loss))
-    if free:
-        raise InputError(f"loss: symbols {sorted(map(str, free))} have no value; substitute numbers")
-    return loss
+def _require_iid(loss: Any) -> tuple[sp.Expr, ...]:
+    """The per-sensor loss probabilities of Bernoulli (i.i.d.) ``loss``, without symbols."""
+    losses = checked(loss, numbers=True).require_bernoulli(
+        "Bernoulli (i.i.d.) losses (Yang et al., Sec. II)", "symkf.stability.stability (exact, any loss model)")
+    return losses
 
 
 def snr(loss: IID) -> tuple[sp.Expr, ...]:
     """``q_i = lambda_i / (1 - lambda_i)`` (eq. 11, Remark 1); ``oo`` for a lossless channel."""
-    return tuple(sp.oo if e == 0 else sp.cancel((1 - e) / e) for e in _require_iid(loss).loss)
+    return tuple(sp.oo if e == 0 else sp.cancel((1 - e) / e) for e in _require_iid(loss))
 
 
 def individual_capacities(loss: IID) -> tuple[sp.Expr, ...]:
     """``C_i = -1/2 ln(1 - lambda_i) = -1/2 ln(loss_i)`` (eq. 11 and Remark 1), exact."""
-    return tuple(sp.oo if e == 0 else -sp.log(e) / 2 for e in _require_iid(loss).loss)
+    return tuple(sp.oo if e == 0 else -sp.log(e) / 2 for e in _require_iid(loss))
 
 
 def transmission_capacity(loss: IID) -> sp.Expr:
@@ -67,7 +64,9 @@ def transmission_capacity(loss: IID) -> sp.Expr:
     Raises
     ------
     InputError
-        ``loss`` is not an :class:`~symkf.losses.IID`, or has free symbols.
+        ``loss`` is no loss model, or has free symbols.
+    AssumptionError
+        ``loss`` is not i.i.d. (:meth:`~symkf.losses.LossModel.require_bernoulli`).
 
     Examples
     --------
@@ -84,7 +83,7 @@ def transmission_capacity(loss: IID) -> sp.Expr:
 
 def capacity_exponential(loss: IID) -> sp.Expr:
     """``exp(2 C) = prod_i 1 / (1 - lambda_i)``: the algebraic number behind every capacity test."""
-    losses = _require_iid(loss).loss
+    losses = _require_iid(loss)
     return sp.oo if any(e == 0 for e in losses) else 1 / sp.Mul(*losses)
 
 

@@ -103,7 +103,7 @@ def theorem5_sufficient(system: System, loss: IID, order: list[tuple[int, int]] 
 
     ``C_i > ln x`` iff ``1 / loss_i > x^2``.
     """
-    losses = _require_iid(loss).loss
+    losses = _require_iid(loss)
     dec = wonham_decomposition(system, order)
     return all(e == 0 or AlgebraicNumber.from_expr(1 / e) > AlgebraicNumber.from_expr(dec.requirement(i).exact ** 2)
                for i, e in enumerate(losses))
@@ -135,7 +135,7 @@ def theorem7_necessary(system: System, loss: IID) -> bool:
     det = sp.Matrix(system.A).det()
     if det == 0:
         raise AssumptionError("A has a zero eigenvalue", assumption="A invertible (Yang et al., Theorem 7)")
-    losses = _require_iid(loss).loss
+    losses = _require_iid(loss)
     if any(e == 0 for e in losses):
         return True
     lhs = sp.Mul(*[e ** -s.m for e, s in zip(losses, system.sensors)])

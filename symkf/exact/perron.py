@@ -153,3 +153,12 @@ def perron_root(rows: Rows, n: int) -> AlgebraicNumber:
         if cand is not None and (best is None or cand > best):
             best = cand
     return best if best is not None and best > 0 else AlgebraicNumber.from_expr(0)
+
+
+def perron_float(M: Any) -> tuple[float, Any]:
+    """The float twin of :func:`perron_root`, for simulation only (tilted burst laws): the spectral
+    radius of a non-negative float64 matrix and a non-negative right Perron vector (``numpy.linalg.eig``)."""
+    import numpy as np   # floats: the exact layer's only use of numpy
+    w, V = np.linalg.eig(M)
+    i = int(np.argmax(w.real))
+    return max(float(w[i].real), 0.0), np.abs(V[:, i].real)

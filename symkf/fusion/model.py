@@ -34,6 +34,7 @@ import sympy as sp
 from ..errors import AssumptionError, InputError, ProbabilityError
 from ..exact.algebraic import sympy_to_fmpz
 from ..exact.numbers import to_exact, to_exact_matrix
+from ..losses import IID
 from ..model import Sensor, check_positive_definite
 from .decomposition import LocalModel, check_collective_observability, check_reachability, local_model
 
@@ -152,6 +153,12 @@ class FusionModel:
     def N(self) -> int:
         """Number of sensors ``N``."""
         return len(self.local)
+
+    @property
+    def loss(self) -> IID:
+        """The packet arrivals as a symkf loss model: i.i.d., sensor ``i`` lost with probability
+        ``1 - lambda_i`` (arXiv:2012.04896, eq. 9); the simulation draws them from it."""
+        return IID([1 - lam for lam in self.arrival])
 
     @property
     def names(self) -> tuple[str, ...]:

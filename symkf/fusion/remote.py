@@ -97,7 +97,7 @@ def simulate(lf: LocalFilters, horizon: int, paths: int, seed: int) -> Simulatio
     Cc, Rc = m.C, m.R
     sq_Q, sq_Rc = _sqrt_psd(m.Q), _sqrt_psd(Rc)
     rows = np.cumsum([0] + [s.m for s in m.sensors])
-    lam = np.array([float(x) for x in m.arrival])
+    arrivals = m.loss.sample(horizon, paths, rng)     # (horizon, paths, N), drawn per sensor
     locs, filt, off = m.local, lf.filters, lf.offsets
 
     x = np.zeros((paths, n))
@@ -131,7 +131,7 @@ def simulate(lf: LocalFilters, horizon: int, paths: int, seed: int) -> Simulatio
             local[i] = pred + (y[:, rows[i]:rows[i + 1]] - pred @ loc.C.T) @ f.K.T
         pred = xc @ m.A.T
         xc = pred + (y - pred @ Cc.T) @ Kc.T
-        arrived = rng.random((paths, N)) < lam
+        arrived = arrivals[k - 1]
         tau = np.where(arrived, 0, tau + 1)
         for i, loc in enumerate(locs):
             remote[i] = np.where(arrived[:, [i]], local[i], remote[i] @ loc.A.T)

@@ -20,6 +20,7 @@ an exact lumping.
 from __future__ import annotations
 
 import itertools
+import re
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
@@ -89,8 +90,48 @@ class NetworkLoss(LossModel):
                         f"the state {self.chain.states[0]}: the lifted semi-Markov chain is not irreducible")
         return None
 
+    kind = "network"
+    label = ("network", "network")
+
+    #: the keys of its ``[loss]`` table
+    keys: ClassVar[frozenset[str]] = frozenset({"kind", "parents", "phi", "P", "q", "holding", "initial"})
+
+    @classmethod
+    def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "NetworkLoss":
+        """The model of a ``[loss]`` table (or its JSON object) for ``d`` sensors; ``where`` names it in errors."""
+        from ..errors import FileFormatError
+        from ..files import MAX_NETWORK_CHAIN, _exact, _get
+        from .state import MarkovNetworkState, SemiMarkovNetworkState
+        from .tree import SensorTree
+        parents = _get(table, "parents", where)
+        if not isinstance(parents, list):
+            raise FileFormatError(f"{where} key 'parents': expected a list, parents[m-1] = Par(S_m) (0 = gateway)")
+        tree = SensorTree(parents)
+        if tree.M != d:
+            raise FileFormatError(f"{where} key 'parents': the tree has {tree.M} sensor node(s), the system has "
+                                  f"{d} sensor(s); sensor m of [[sensors]] is node S_m")
+        markov, semi = "P" in table, "q" in table or "holding" in table
+        if markov == semi:
+            raise FileFormatError(f"{where}: give 'P' (Markov network state, Assumption 1) or 'q' and 'holding' "
+                                  "(semi-Markov, Assumption 3), not " + ("both" if markov else "neither"))
+        initial = table.get("initial")
+        initial = None if initial is None else _exact(initial, f"{where} initial", rationalize, start=1)
+        if markov:
+            state = MarkovNetworkState(_exact(table["P"], f"{where} P", rationalize, start=1), initial)
+            hidden = state.B
+        else:
+            q = _exact(_get(table, "q", where), f"{where} q", rationalize, start=1)
+            holding = _holding(_get(table, "holding", where), where, rationalize)
+            state = SemiMarkovNetworkState(q, holding, initial)
+            hidden = sum(max(h) for h in state.holding)
+        if hidden * 2 ** tree.M > MAX_NETWORK_CHAIN:
+            raise FileFormatError(f"{where} key '{'P' if markov else 'holding'}': the lifted chain would have up to "
+                                  f"{hidden} x 2^{tree.M} states; files are limited to {MAX_NETWORK_CHAIN}")
+        phi = _exact(_get(table, "phi", where), f"{where} phi", rationalize, start=1)
+        return cls(tree, state, phi)
+
     @property
-    def chain_assumption(self) -> str:
+    def assumption(self) -> str:
         """What :func:`symkf.stability.stability` checked of this loss process (its verdict says it)."""
         if isinstance(self.state, SemiMarkovNetworkState):
             return "semi-Markov network state with an irreducible lifted chain (symkf's extension, docs/quevedo.md)"
@@ -231,8 +272,49 @@ class NetworkLoss(LossModel):
         phi = [[p.subs(values) for p in self.phi.row(m)] for m in range(self.d)]
         return NetworkLoss(self.tree, self.state.subs(values), phi)
 
+    def words(self) -> str:
+        kind = "semi-Markov" if isinstance(self.state, SemiMarkovNetworkState) else "Markov"
+        return (f"a sensor tree of {self.d} links over a {kind} network state with {self.state.B} states "
+                "(Quevedo et al.)")
+
+    def fields(self) -> tuple[tuple[str, str, tuple[sp.Expr, ...]], ...]:
+        return (("phi", r"\phi", tuple(self.phi.values()) or (sp.Integer(0),)), ("states", "|B|", (sp.Integer(self.state.B),)))
+
+    def to_table(self) -> dict[str, Any]:
+        def rows(M: sp.MatrixBase) -> list[list[str]]:
+            return [[str(p) for p in M.row(i)] for i in range(M.shape[0])]
+        out: dict[str, Any] = {"kind": self.kind, "parents": list(self.tree.parents), "phi": rows(self.phi)}
+        if isinstance(self.state, SemiMarkovNetworkState):
+            out["q"] = rows(self.state.q)
+            out["holding"] = [{str(k): str(p) for k, p in h.items()} for h in self.state.holding]
+        else:
+            out["P"] = rows(self.state.P)
+        out["initial"] = [str(p) for p in self.state.initial]
+        return out
+
+    def to_json(self) -> dict[str, Any]:
+        return self._with_chain(self.to_table())
+
     def __repr__(self) -> str:
         return f"NetworkLoss({self.tree!r}, {self.state!r})"
+
+
+def _holding(value: Any, where: str, rationalize: bool) -> list[Any]:
+    from ..errors import FileFormatError
+    from ..files import _exact
+    """Holding-time laws as lists ``[psi(1), ...]`` or tables ``{delta: psi(delta)}`` (TOML keys are text)."""
+    if not isinstance(value, list):
+        raise FileFormatError(f"{where} key 'holding': expected a list of holding-time laws, one per network state")
+    laws = []
+    for i, law in enumerate(value, start=1):
+        if isinstance(law, dict):
+            bad = [k for k in law if not re.fullmatch(r"[1-9][0-9]{0,5}", k)]
+            if bad:
+                raise FileFormatError(f"{where} key 'holding[{i}]': holding time {bad[0]!r} is not a positive "
+                                      "integer below 10^6")
+            law = {int(k): _exact(p, f"{where} holding[{i}][{k}]", rationalize) for k, p in law.items()}
+        laws.append(_exact(law, f"{where} holding[{i}]", rationalize, start=1) if isinstance(law, list) else law)
+    return laws
 
 
 def induced_loss(loss: NetworkLoss, dynamics: PeriodicDynamics | None = None) -> LossModel:

@@ -16,7 +16,7 @@ import sympy as sp
 
 from ..errors import InputError, ProbabilityError
 from ..exact.numbers import substitution
-from ..losses import _probability
+from ..losses import _probability, stationary_law
 
 
 def stochastic_matrix(rows: Any, entry: str) -> sp.ImmutableMatrix:
@@ -36,16 +36,6 @@ def stochastic_matrix(rows: Any, entry: str) -> sp.ImmutableMatrix:
             raise ProbabilityError(f"{entry}: row {i} sums to {total}, not 1")
         out.append(probs)
     return sp.ImmutableMatrix(out)
-
-
-def stationary_law(P: sp.MatrixBase, entry: str) -> sp.ImmutableMatrix:
-    """The unique stationary row vector of ``P`` (exact); raises when it is not unique."""
-    S = P.shape[0]
-    null = (sp.Matrix(P).T - sp.eye(S)).nullspace(simplify=True)
-    if len(null) != 1:
-        raise InputError(f"{entry}: the chain has {len(null)} stationary laws; give `initial`")
-    v = null[0]
-    return sp.ImmutableMatrix([[sp.simplify(x / sum(v)) for x in v]])
 
 
 def _initial(initial: Any, B: int, default: sp.MatrixBase, entry: str) -> sp.ImmutableMatrix:

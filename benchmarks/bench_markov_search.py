@@ -1,0 +1,192 @@
+"""Issue 22, item 2: Markov-loss, ray and per-sensor queries without listing every hyperplane.
+
+The 4-dim eigen-block diag(2R(pi/6), 2R(pi/4)) (modulus 2, governing period 24) with d integer
+sensor rows drawn from -2..2 (fixed seed); rows and targets:
+
+* Gilbert-Elliott (fail 1/10, recover 1/2 per sensor), ``stability``, d = 8 / 16: <= 5 / 20 CPU-s;
+* ``critical_recovery_rate``, Gilbert-Elliott (fail 1/10), d = 8: <= 10 CPU-s;
+* a joint Markov chain over two correlated sensor pairs (d = 4, 16 receival vectors): <= 5 CPU-s;
+* ``critical_loss_rate(ray=...)`` and ``(sensor=..., others=...)``, d = 16: <= 2x the common query;
+* peak memory of every row <= 500 MB.
+
+Each measurement is a fresh interpreter (cold caches) printing the CPU seconds of the computation
+(``time.process_time``), its peak RSS and a digest of the exact result.  The baseline is today's
+``main`` from a separate worktree (``--main``, default /work/wt/main-ref; create it with
+``git worktree add /work/wt/main-ref main``), run once per row in the same run under a time limit
+(``--limit``, reported as ``> limit``) and an address-space cap of 4 GB (``> 4 GB``).  Medians over
+REPEATS runs of this checkout.
+
+Usage: python bench_markov_search.py [REPEATS] [--main PATH] [--limit SECONDS]
+Child mode: python bench_markov_search.py --child ROW
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import itertools
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import time
+from fractions import Fraction
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+MEMORY_CAP = 4 * 1024 ** 3
+
+ROWS = {  # name: (what, d, target CPU-s or None)
+    "G-E stability, d = 8": ("ge", 8, 5),
+    "G-E stability, d = 16": ("ge", 16, 20),
+    "G-E critical_recovery_rate, d = 8": ("recovery", 8, 10),
+    "joint chain, two correlated pairs, d = 4": ("pairs", 4, 5),
+    "common critical_loss_rate, d = 8": ("common", 8, None),
+    "critical_loss_rate(ray=w), d = 8": ("ray", 8, None),
+    "critical_loss_rate(sensor=s1, others), d = 8": ("sensor", 8, None),
+    "common critical_loss_rate, d = 16": ("common", 16, None),
+    "critical_loss_rate(ray=w), d = 16": ("ray", 16, "2x common"),
+    "critical_loss_rate(sensor=s1, others), d = 16": ("sensor", 16, "2x common"),
+}
+
+#: a correlated channel of two sensors on (received, received), (received, lost), ...
+PAIR = {(1, 1): {(1, 1): Fraction(4, 5), (1, 0): Fraction(1, 20), (0, 1): Fraction(1, 20), (0, 0): Fraction(1, 10)},
+        (1, 0): {(1, 1): Fraction(1, 2), (1, 0): Fraction(1, 5), (0, 1): Fraction(1, 10), (0, 0): Fraction(1, 5)},
+        (0, 1): {(1, 1): Fraction(1, 2), (1, 0): Fraction(1, 10), (0, 1): Fraction(1, 5), (0, 0): Fraction(1, 5)},
+        (0, 0): {(1, 1): Fraction(2, 5), (1, 0): Fraction(1, 10), (0, 1): Fraction(1, 10), (0, 0): Fraction(2, 5)}}
+
+
+def system(d: int):
+    import numpy as np
+    import sympy as sp
+    import symkf as sk
+
+    def rotation(angle):
+        return 2 * sp.Matrix([[sp.cos(angle), -sp.sin(angle)], [sp.sin(angle), sp.cos(angle)]])
+    rng = np.random.default_rng(0)
+    rows = []
+    while len(rows) < d:
+        r = [int(v) for v in rng.integers(-2, 3, 4)]
+        if any(r):
+            rows.append(r)
+    return sk.System(A=sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)),
+                     sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)])
+
+
+def pairs(k: int):
+    """The joint MarkovLoss of k independent correlated pairs (d = 2k sensors, 4^k receival vectors)."""
+    import symkf as sk
+    table = {}
+    for hist in itertools.product(PAIR, repeat=k):
+        table[sum(hist, ())] = {sum(nxt, ()): _product(PAIR[h][n] for h, n in zip(hist, nxt))
+                                for nxt in itertools.product(PAIR, repeat=k)}
+    return sk.MarkovLoss(table)
+
+
+def _product(values) -> Fraction:
+    out = Fraction(1)
+    for v in values:
+        out *= v
+    return out
+
+
+def _compute(what: str, d: int) -> str:
+    import symkf as sk
+    S = system(d)
+    if what == "ge":
+        v = sk.stability(S, sk.GilbertElliott(["1/10"] * d, ["1/2"] * d))
+        return f"{v.stable} {[str(m.exact) for m in v.margins]}"
+    if what == "pairs":
+        v = sk.stability(S, pairs(d // 2))
+        return f"{v.stable} {[str(m.exact) for m in v.margins]}"
+    if what == "recovery":
+        return str(sk.critical_recovery_rate(S, fail=["1/10"] * d).exact)
+    if what == "common":
+        return str(sk.critical_loss_rate(S).exact)
+    if what == "ray":
+        return str(sk.critical_loss_rate(S, ray=(["1", "9/10"] * d)[:d]).exact)
+    return str(sk.critical_loss_rate(S, "s1", others=["9/10"] * d).exact)
+
+
+def _child(row: str) -> None:
+    what, d, _ = ROWS[row]
+    system(d)  # imports and field set-up outside the timing, as in every row
+    start = time.process_time()
+    try:
+        result, error = _compute(what, d), None
+    except Exception as exc:  # a refusal (BudgetError) is a result of the row
+        result, error = "", f"{type(exc).__name__}: {str(exc)[:160]}"
+    cpu = time.process_time() - start
+    print(json.dumps({"cpu": cpu, "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+                      "digest": hashlib.sha1(result.encode()).hexdigest()[:12], "error": error}))
+
+
+def _cap() -> None:
+    resource.setrlimit(resource.RLIMIT_AS, (MEMORY_CAP, MEMORY_CAP))
+
+
+def _run(tree: Path, row: str, limit: float) -> dict:
+    env = {**os.environ, "PYTHONPATH": str(tree), "OPENBLAS_NUM_THREADS": "1"}
+    try:
+        proc = subprocess.run([sys.executable, __file__, "--child", row], env=env, capture_output=True, text=True,
+                              timeout=limit, cwd=tree, preexec_fn=_cap)
+    except subprocess.TimeoutExpired:
+        return {"cpu": None, "why": f"> {limit:.0f} s"}
+    if proc.returncode != 0 or not proc.stdout.strip():
+        memory = "MemoryError" in proc.stderr or proc.returncode < 0
+        return {"cpu": None, "why": "> 4 GB" if memory else f"failed: {proc.stderr.strip()[-120:]}"}
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    if out["error"] and "MemoryError" in out["error"]:
+        return {"cpu": None, "why": "> 4 GB"}
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("repeats", nargs="?", type=int, default=3)
+    ap.add_argument("--main", default="/work/wt/main-ref", type=Path)
+    ap.add_argument("--limit", default=120.0, type=float)
+    ap.add_argument("--rows", default=None, help="substrings selecting rows, separated by |")
+    args = ap.parse_args()
+    rows = [r for r in ROWS if args.rows is None or any(k in r for k in args.rows.split("|"))]
+    print(f"{__doc__.splitlines()[0]}\nCPU seconds (medians of {args.repeats}, fresh interpreter each), peak RSS; "
+          f"main = {args.main} (once, limit {args.limit:.0f} s, 4 GB); load {os.getloadavg()[0]:.1f}")
+    print(f"  {'row':48s} {'this CPU-s':>10s} {'RSS MB':>7s} {'main CPU-s':>11s} {'main MB':>8s} "
+          f"{'ratio':>8s}  target")
+    common = {}
+    for row in rows:
+        what, d, target = ROWS[row]
+        runs = [_run(ROOT, row, 600) for _ in range(args.repeats)]
+        if any(r["cpu"] is None or r["error"] for r in runs):
+            bad = next(r for r in runs if r["cpu"] is None or r["error"])
+            print(f"  {row:48s} {bad.get('error') or bad.get('why')}")
+            continue
+        new = statistics.median(r["cpu"] for r in runs)
+        rss = max(r["rss_mb"] for r in runs)
+        base = _run(args.main, row, args.limit)
+        if base["cpu"] is None or base.get("error"):
+            old, old_rss, ratio = base.get("why") or base["error"][:30], "", f"> {args.limit / new:.1f}x"
+        else:
+            same = base["digest"] == runs[0]["digest"]
+            old, old_rss = f"{base['cpu']:.2f}", f"{base['rss_mb']:.0f}"
+            ratio = f"{base['cpu'] / new:.1f}x" + ("" if same else " (RESULT DIFFERS)")
+        if what == "common":
+            common[d] = new
+        if target == "2x common" and d in common:
+            goal = f"<= 2x common ({new / common[d]:.2f}x): {'met' if new <= 2 * common[d] else 'NOT met'}"
+        elif target is not None:
+            goal = f"<= {target}: {'met' if new <= target else 'NOT met'}"
+        else:
+            goal = "(reference)"
+        memory = "" if rss <= 500 else "  RSS above 500 MB"
+        print(f"  {row:48s} {new:10.2f} {rss:7.0f} {old:>11s} {old_rss:>8s} {ratio:>8s}  {goal}{memory}")
+
+
+if __name__ == "__main__":
+    if sys.argv[1:2] == ["--child"]:
+        _child(sys.argv[2])
+    else:
+        main()

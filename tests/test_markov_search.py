@@ -1,0 +1,178 @@
+"""The Markov-loss rate search and the screened ray / per-sensor critical loss rates (issue 22)
+against full enumeration: every hyperplane's restricted transfer of the joint chain, its Perron
+root, the first maximum (ties, unequal losses, parallel rows, multi-row sensors, periods 2-24),
+hypothesis-drawn channels, and the decisive pattern checked on the raw regression rows."""
+
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+
+import symkf as sk
+from symkf import budget, decay
+from symkf.errors import BudgetError
+from symkf.exact.algebraic import AlgebraicNumber
+from symkf.observability import block_rows
+from symkf.oracle import RawRegression
+from symkf.stability import _min_capped, _ray_bound
+from symkf.strategies import gilbert_elliott_losses, iid_losses
+
+
+def _rotation(angle, scale=2):
+    c, s = sp.cos(angle), sp.sin(angle)
+    return scale * sp.Matrix([[c, -s], [s, c]])
+
+
+def _system(A, rows):
+    return sk.System(A=A, sensors=[sk.Sensor(C=r if isinstance(r[0], list) else [r], name=f"s{j + 1}")
+                                   for j, r in enumerate(rows)])
+
+
+PAIR = sk.MarkovLoss({(1, 1): {(1, 1): "4/5", (1, 0): "1/20", (0, 1): "1/20", (0, 0): "1/10"},
+                      (1, 0): {(1, 1): "1/2", (1, 0): "1/5", (0, 1): "1/10", (0, 0): "1/5"},
+                      (0, 1): {(1, 1): "1/2", (1, 0): "1/10", (0, 1): "1/5", (0, 0): "1/5"},
+                      (0, 0): {(1, 1): "2/5", (1, 0): "1/10", (0, 1): "1/10", (0, 0): "2/5"}})
+ORDER2 = sk.MarkovLoss({((1,), (1,)): {(1,): "1/2", (0,): "1/2"}, ((1,), (0,)): {(1,): "1/3", (0,): "2/3"},
+                        ((0,), (1,)): {(1,): "3/4", (0,): "1/4"}, ((0,), (0,)): {(1,): "1/5", (0,): "4/5"}},
+                       order=2)  # two lifted states emit "lost": the exact path
+GE = sk.GilbertElliott
+CASES = {
+    "period 2, ties": (_rotation(sp.pi / 2), [[1, 0], [1, 1]], GE(["1/10"] * 2, ["1/2"] * 2)),
+    "period 2, unequal": (_rotation(sp.pi / 2), [[1, 0], [1, 1]], GE(["1/10", "1/3"], ["1/2", "1/4"])),
+    "period 6, parallel rows": (_rotation(sp.pi / 3), [[1, 0], [2, 0], [0, 1]],
+                                GE(["1/5", "1/5", "1/2"], ["1/2", "1/3", "1/3"])),
+    "period 8": (_rotation(sp.pi / 4), [[1, 0], [1, 2]], GE(["1/10", "1/4"], ["1/2", "2/3"])),
+    "period 12, mixed": (_rotation(sp.pi / 6), [[1, 0], [1, 1], [0, 1]],
+                         GE(["9/10", "1/10", "4/5"], ["7/10", "1/2", "9/10"])),
+    "period 12, anti-correlated": (_rotation(sp.pi / 6), [[1, 0], [1, 1], [0, 1]],
+                                   GE(["9/10", "4/5", "9/10"], ["7/10", "9/10", "4/5"])),
+    "period 8, anti-correlated": (_rotation(sp.pi / 4), [[1, 0], [1, 1]], GE(["4/5", "9/10"], ["9/10", "3/5"])),
+    "period 12, bursty": (_rotation(sp.pi / 6), [[1, 0], [1, 1], [1, -1]], GE(["1/20"] * 3, ["1/10"] * 3)),
+    "period 6, 3-dim block": (sp.diag(_rotation(sp.pi / 3), -2), [[1, 0, 1], [0, 1, 1]],
+                              GE(["1/10", "1/2"], ["1/2", "1/2"])),
+    "multi-row sensor": (_rotation(sp.pi / 3), [[[1, 0], [0, 1]], [1, 1]], GE(["1/10", "1/3"], ["1/2", "1/2"])),
+    "joint pair chain": (_rotation(sp.pi / 3), [[1, 0], [1, 1]], PAIR),
+    "joint pair chain, period 12": (_rotation(sp.pi / 6), [[1, 0], [0, 1]], PAIR),
+    "order-2 chain": (_rotation(sp.pi / 3), [[1, 0]], ORDER2),
+}
+
+
+def _enumerated(br, loss):
+    """The first maximiser of rho(M_H) over every hyperplane, from the joint chain's transfer."""
+    best = None
+    for H in br.hyperplanes:
+        v = AlgebraicNumber.from_expr(decay.perron_root(decay.restricted_transfer(br, H, loss)))
+        if best is None or v > best[1]:
+            best = (H, v)
+    return best
+
+
+def _check(A, rows, loss):
+    (br,) = block_rows(_system(A, rows))
+    got = decay.block_rate(br, loss)
+    (full,) = block_rows(_system(A, rows))
+    H, value = _enumerated(full, loss)
+    assert sp.simplify(got.per_period - value.exact) == 0
+    assert got.hyperplane == H
+    return br, got
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_markov_rate_equals_enumeration(name):
+    _check(*CASES[name])
+
+
+def test_decisive_pattern_on_the_raw_rows():
+    """The decisive hyperplane is rank deficient on the rows C_j A^k themselves (the oracle shares no
+    engine code), and every element outside it restores full rank: a maximal deficient pattern."""
+    A, rows, loss = CASES["period 12, bursty"]
+    br, rate = _check(A, rows, loss)
+    raw = RawRegression(A, [[r] for r in rows], br.period)
+    inside = [(br.elements[e].phase, br.elements[e].sensor) for e in rate.hyperplane]
+    assert raw.rank(inside) == 1
+    for e, el in enumerate(br.elements):
+        if e not in rate.hyperplane:
+            assert raw.rank(inside + [(el.phase, el.sensor)]) == 2
+
+
+@pytest.mark.parametrize("name", ["period 12, anti-correlated", "period 8, anti-correlated"])
+def test_the_screens_decide_without_listing(name):
+    """Where the lost-state bound prunes the generic hyperplanes the two screens decide: their sets
+    hold the enumeration's maximiser, and no hyperplane is listed."""
+    A, rows, loss = CASES[name]
+    (br,) = block_rows(_system(A, rows))
+    rates = decay.factor_rates(br, loss)
+    sets = decay._screened(br, rates, decay._Patterns(br, rates))
+    assert sets is not None and len(sets) < 20 and "inside" not in br.__dict__
+    (full,) = block_rows(_system(A, rows))
+    assert _enumerated(full, loss)[0] in sets
+
+
+@pytest.mark.full
+def test_period_24_block_equals_enumeration():
+    """The 4-dim block diag(2R(pi/6), 2R(pi/4)) (period 24, 970 hyperplanes for one sensor)."""
+    A = sp.diag(_rotation(sp.pi / 6), _rotation(sp.pi / 4))
+    _check(A, [[1, 2, 0, -1]], GE(["1/10"], ["1/2"]))
+    _check(A, [[1, 0, 1, 0]], GE(["4/5"], ["9/10"]))
+
+
+def test_a_listing_beyond_the_cap_is_refused_up_front():
+    A, rows, loss = CASES["multi-row sensor"]
+    (br,) = block_rows(_system(A, rows))
+    with budget.limits(max_hyperplanes=5), pytest.raises(BudgetError, match="max_hyperplanes"):
+        decay.block_rate(br, loss)
+    assert "inside" not in br.__dict__
+
+
+@settings(derandomize=True, max_examples=12, deadline=None)
+@given(gilbert_elliott_losses(3, max_denominator=10))
+def test_hypothesis_channels_equal_enumeration(loss):
+    _check(_rotation(sp.pi / 6), [[1, 0], [1, 1], [2, -1]], loss)
+
+
+# -- ray and per-sensor critical loss rates ------------------------------------------
+def _listed(system, losses, bound):
+    """The same minimum over every exponent vector of every block (no screen)."""
+    out = []
+    for br in block_rows(system):
+        a2g = sp.sympify(br.block.modulus.exact ** (2 * br.period))
+        out.append(_min_capped([b for ks in decay.outside_counts(br) if (b := bound(a2g, ks)) is not None]))
+    return min(out)
+
+
+RAYS = [  # (A, rows, weights): ties, unequal weights, parallel rows, two blocks, period 24
+    (_rotation(sp.pi / 2), [[1, 0], [1, 1]], ["1", "1/2"]),
+    (_rotation(sp.pi / 6), [[1, 0], [1, 1], [2, 2]], ["1", "1", "3/5"]),
+    (_rotation(sp.pi / 6), [[1, 0], [1, 1], [0, 1]], ["1", "9/10", "1/3"]),
+    (sp.diag(_rotation(sp.pi / 3), _rotation(sp.pi / 4, 3)), [[1, 0, 1, 0], [0, 1, 1, 1]], ["1", "1/4"]),
+    (sp.diag(_rotation(sp.pi / 6), _rotation(sp.pi / 4)), [[1, 0, 1, 0], [1, 2, 0, -1]], ["1/2", "1"]),
+]
+
+
+@pytest.mark.parametrize("A, rows, w", RAYS)
+def test_ray_critical_rate_equals_listing(A, rows, w):
+    w = [sp.Rational(x) for x in w]
+    bound = lambda a2g, ks: _ray_bound(a2g, ks, w)  # noqa: E731
+    losses = lambda x: [x * v for v in w]  # noqa: E731
+    got = sk.critical_loss_rate(_system(A, rows), ray=w)
+    assert got == _listed(_system(A, rows), losses, bound)
+    for br in block_rows(_system(A, rows)):  # the screen decided (it applies to one-row sensors)
+        a2g = br.block.modulus.exact ** (2 * br.period)
+        assert decay.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g) \
+            is not None and "inside" not in br.__dict__
+
+
+@settings(derandomize=True, max_examples=15, deadline=None)
+@given(iid_losses(3, low="1/10", high="9/10", max_denominator=10))
+def test_sensor_critical_rate_equals_listing(others):
+    """``sensor=s2`` with the others fixed: screened iteration against every exponent vector,
+    including values 0 (the others alone destabilise) and 1 (nothing below 1 does)."""
+    S = _system(_rotation(sp.pi / 6, sp.Rational(3, 2)), [[1, 0], [1, 1], [0, 1]])
+    fixed = [e if i != 1 else sp.Integer(1) for i, e in enumerate(others.loss)]
+
+    def bound(a2g, ks):
+        rest = sp.Mul(*[f ** k for i, (f, k) in enumerate(zip(fixed, ks)) if i != 1])
+        if ks[1] == 0:
+            return sp.Integer(0) if AlgebraicNumber.from_expr(a2g * rest) >= 1 else None
+        return sp.root(1 / (a2g * rest), ks[1])
+    losses = lambda x: [x if i == 1 else f for i, f in enumerate(fixed)]  # noqa: E731
+    assert sk.critical_loss_rate(S, "s2", others=others.loss) == _listed(S, losses, bound)
