@@ -39,6 +39,11 @@ class Limits:
     #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and its
     #: roots come from Euler's formula (2R(2 pi/401): 800, 3.2 CPU-s; 2R(2 pi/509): 1016, 6 CPU-s)
     max_cyclotomic_degree: int = 1024
+    #: bit size 4 d^3 b of the resultant of degree 2 d^2 that gives the modulus of a complex
+    #: eigenvalue of degree d with b-bit minimal polynomial (Res_y(f(y), y^d f(z^2/y))), checked once
+    #: d and b are known; its cost grows like d^7.5 b^1.55 (d = 16, b = 70: 1.15e6 bits, 1.2 CPU-s;
+    #: d = 20, b = 70: 2.2e6, 6.7 CPU-s; d = 32, b = 70, a 16x16 A over Q(sqrt 2): 9.2e6, ~220 CPU-s)
+    max_resultant_bits: int = 2 ** 21
     #: nesting depth of radicals (sqrt(2 + sqrt(3)) has depth 2)
     max_nesting: int = 4
     #: denominator q of an angle p*pi/q inside cos, sin, tan or exp (degree grows like q; the
@@ -47,6 +52,12 @@ class Limits:
     #: modulus of an integer exponent (x**e) and decimal digits of any number
     max_exponent: int = 10_000
     max_digits: int = 1000
+    #: bit size (height) of an exact number, estimated before it is evaluated: the larger of a
+    #: rational's numerator and denominator bits; for an algebraic number a bound on its
+    #: absolute logarithmic (Weil) height in bits, the size that the engine's polynomial arithmetic
+    #: and root isolation pay for (a rotation block with an entry 10^-230, 764 bits: 1.7 CPU-s;
+    #: 10^-350, 1163 bits: 34 CPU-s; 2^-1074: 21 CPU-s)
+    max_bits: int = 768
     #: rows or columns of a matrix (state dimension n, measurement channels; a dense random
     #: integer 32 x 32 system with 3 sensors: critical loss rate in about 8 CPU-s, 36 x 36: 25)
     max_dimension: int = 32
@@ -63,7 +74,9 @@ class Limits:
     max_hyperplanes: int = 300_000
     #: members of a family file
     max_members: int = 2000
-    #: bytes of the float64 arrays of one Monte Carlo run (paths x horizon x n^2 x 8)
+    #: bytes of the arrays one Monte Carlo run allocates at its peak, as estimated by
+    #: symkf.montecarlo.memory_estimate (traces, receptions, kernel lanes, likelihood ratios,
+    #: per-step records; within 1.5x of measured peak RSS)
     max_memory: int = 2 * 1024 ** 3
     #: bytes of an input file
     max_file_size: int = 1024 ** 2

@@ -215,14 +215,7 @@ def _needs_loss(args: argparse.Namespace) -> tuple[Any, Any]:
     system, loss = files.load(args.file)
     if loss is None:
         raise UsageError(f"{args.file}: key 'loss' missing; {args.command} needs a [loss] table")
-    _check_simulation_memory(args, system.n)
     return system, loss
-
-
-def _check_simulation_memory(args: argparse.Namespace, n: int) -> None:
-    """--paths x --horizon x n^2 float64 values: refused before numpy tries to allocate them."""
-    budget.check("max_memory", 8 * args.paths * args.horizon * n * n, "--paths x --horizon",
-                 f"the bytes of a simulation of {args.paths} paths, {args.horizon} steps, n = {n}")
 
 
 def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
@@ -260,7 +253,13 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
         from .plots import require_matplotlib
         require_matplotlib()
         target = output.plan(args.plot, "--plot", inputs=[args.file], force=args.force)
+    from .montecarlo import memory_estimate
     system, loss = _needs_loss(args)
+    # the run and its per-step records, refused before numpy allocates them (verify's burst
+    # samples are checked where their chunks are sized: montecarlo.burst_sample)
+    budget.check("max_memory", memory_estimate(system, loss, args.horizon, args.paths,
+                                               records="json" if args.json else "text"), "--paths x --horizon",
+                 f"the bytes (estimate) of a simulation of {args.paths} paths over {args.horizon} steps")
     sim = simulate(system, loss, args.horizon, args.paths, seed=args.seed, curve=target is not None)
     res: dict[str, Any] = {"system": str(args.file), "loss": loss_json(loss), **sim.to_json(),
                            "_text": f"{sim}\nloss model: {loss.words()}"}

@@ -38,6 +38,7 @@ zero-order hold, :meth:`FusionModel.zoh <symkf.fusion.FusionModel.zoh>`).
 from __future__ import annotations
 
 import itertools
+import stat
 import tomllib
 from decimal import Decimal
 from pathlib import Path
@@ -103,13 +104,19 @@ def _exact(value: Any, entry: str, rationalize: bool, start: int = 0) -> Any:
 
 def read_toml(path: str | Path) -> dict:
     """The TOML document at ``path``, decimals as :class:`~decimal.Decimal` (exact); at most
-    ``max_file_size`` bytes are read (``/dev/zero`` or a huge file is refused, not exhausted)."""
+    ``max_file_size`` bytes are read (a huge file is refused, not exhausted) from a regular file
+    (a FIFO, directory or device such as ``/dev/zero`` is refused without waiting on it)."""
     path = Path(path)
     output.note_input(path)
     cap = budget.LIMITS.max_file_size
     try:
-        if path.is_dir():
-            raise FileFormatError(f"{path}: is a directory, not a TOML file")
+        # refused before it is opened unless it is a regular file (opening a FIFO with no writer
+        # waits forever): a directory, FIFO, socket or device is not a system file
+        mode = path.stat().st_mode
+        if not stat.S_ISREG(mode):
+            kind = "a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else \
+                "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "a special file"
+            raise FileFormatError(f"{path}: is {kind}, not a TOML file")
         with path.open("rb") as f:
             raw = f.read(cap + 1)
         budget.check("max_file_size", len(raw), str(path), "the size in bytes (at least)")

@@ -23,20 +23,25 @@ if TYPE_CHECKING:
     from .spectral import Eigenvalue
 
 
-def _compare_periods(A: sp.MatrixBase, decimal_A: Any) -> str:
+def _compare_periods(A: sp.MatrixBase, decimal_A: Any, partial: sp.MatrixBase | None = None) -> str:
     """Whether reading the floats of A as nearby constants rather than as decimals changed its
-    governing periods (they decide the critical values, Sui-You-Fu Theorem 7)."""
+    governing periods (they decide the critical values, Sui-You-Fu Theorem 7).  ``partial``: the
+    reading with the constants recognised in part of a block, which was not taken (A is then read
+    as decimals there); its periods are given beside the decimals'."""
     from .spectral import eigen_blocks
 
     def periods(M: Any) -> str:
         return str(tuple(b.governing_period for b in eigen_blocks(M)))
+    decimal_M = decimal_A()
     try:
-        exact, decimal = periods(A), periods(decimal_A())
+        exact, decimal = periods(A if partial is None else partial), periods(decimal_M)
     except SymkfError as exc:
         return f"governing periods not compared ({exc})"
-    verdict = "they DIFFER, so the critical values may too" if exact != decimal else "the same"
-    return (f"governing periods of A: {exact} with the recognised constants, {decimal} with the plain "
-            f"decimals ({verdict}; None = aperiodic)")
+    first = "the recognised constants" if partial is None else "the constants recognised in part (not taken)"
+    verdict = "they DIFFER, so the critical values may too" if exact != decimal else "equal"
+    taken = "" if partial is None and A != decimal_M else "; A is read with the plain decimals"
+    return (f"governing periods of A: {exact} with {first}, {decimal} with the plain decimals ({verdict}; "
+            f"None = aperiodic){taken}")
 
 
 def _identity(n: int) -> sp.ImmutableMatrix:
@@ -208,7 +213,7 @@ class System:
         raw = self.A
         A = to_exact_matrix(raw, "A", rationalize=self.rationalize)
         if self.rationalize == "nearby" and any(e == "A" or e.startswith("A[") for e, *_ in record.changes):
-            record.notes.append(_compare_periods(A, lambda: decimal_matrix(raw, "A")))
+            record.notes.append(_compare_periods(A, lambda: decimal_matrix(raw, "A"), record.partial.get("A")))
         if A.shape[0] != A.shape[1]:
             raise ShapeError(f"A: must be square, got {A.shape[0]}x{A.shape[1]}")
         n = A.shape[0]

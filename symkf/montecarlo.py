@@ -123,19 +123,76 @@ def exact_mean_trace(system: System, loss: LossModel, horizon: int) -> np.ndarra
 
 # ------------------------------------------------------------------ Monte Carlo
 
+#: bytes per value of a per-step record of the command line: a Python float in a list (32), and
+#: with ``--json`` its share of ``json.dumps(..., indent=2)``'s chunks and text (measured: 152)
+RECORD_BYTES = {"text": 40, "json": 152}
+
+
+def _padded(paths: int) -> int:
+    from .square_root import LANES   # the kernel runs whole blocks of LANES paths
+    return -(-paths // LANES) * LANES
+
+
+def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *, components: int | None = None,
+                    records: str | None = None, jobs: int = 1) -> int:
+    """Peak bytes of the arrays one simulation allocates, phase by phase (the largest phase counts).
+
+    ``components is None``: :func:`simulate_traces` / :func:`estimate_mean_trace` (plain Monte
+    Carlo, chunks of :data:`CHUNK` paths) and, with ``records`` (``"text"`` or ``"json"``), the
+    command line's per-step records of the mean and its interval (:data:`RECORD_BYTES`).  Otherwise
+    :func:`burst_sample` with that many burst components, on ``jobs`` processes.  Counted, per
+    chunk of ``m`` paths and ``K`` steps (``P`` = ``m`` padded to the kernel's lanes, which for one
+    path is 64 times its size): the receptions and chain states; the kernel's trace and exponent
+    ``16 (K + 1) P`` and the log-trace temporaries ``16 (K + 1) m`` (:func:`symkf.filtering.log_traces`;
+    numpy elides the third); for bursts the law table, the likelihood ratios ``8 C K m`` and their
+    tail sums (three more of that size at once), and the log-trace rows; the traces ``8 paths K`` kept whole (resident as
+    the chunks fill them) and the standard deviation's copy of them; per path results ``72 paths``
+    for bursts.  Checked against measured peak RSS in
+    ``tests/test_memory_estimate.py``.
+    """
+    d, K = system.d, horizon
+    if components is None:
+        def chunk(m: int) -> int:   # chain states (one byte per sensor and step), receptions, kernel
+            P = _padded(m)
+            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + 16 * (K + 1) * (P + m))
+        size = _trace_chunk(K, d)
+        full, last = min(paths, size), paths % size or min(paths, size)
+        # the traces are resident as far as the chunks before the current one filled them
+        phases = [chunk(full), 8 * (paths - last) * K + chunk(last), 16 * paths * K]
+        if paths > size + last:
+            phases.append(8 * (paths - last - full) * K + chunk(full))
+        if records is not None:
+            phases.append(K * (32 + 3 * RECORD_BYTES[records]))
+        return max(phases)
+    m = min(paths, _burst_chunk_size(components, K))
+    P = _padded(m)
+    two_state = all(len(f.P) == 2 for f in loss_factors(loss, d))
+    # held to the chunk's end: law table, last transition index, log-trace rows (logtr is a view of
+    # them), receptions, chain states, likelihood ratios
+    held = 24 * (K + 1) * m + d * K * m + (d if two_state else 8) * K * m + 8 * components * K * m
+    kernel = (d * K * P if P != m else 0) + 16 * (K + 1) * P + 24 * (K + 1) * m
+    tails = 24 * components * (K + 1) * m
+    return min(jobs, -(-paths // m)) * (held + max(kernel, tails, 24 * K * m)) + 72 * paths
+
+
+def _trace_chunk(horizon: int, d: int) -> int:
+    """Paths per chunk of :func:`_simulate`: a chunk's receptions and chain states take 2 horizon x
+    paths x d bytes, about 32 MB, in whole blocks of the kernel's 64 lanes (a partial block is
+    padded, i.e. copied)."""
+    return min(CHUNK, max(64, 2 ** 24 // (horizon * d) // 64 * 64))
+
+
 def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None) -> np.ndarray:
     """tr P_{k|k-1} (paths, horizon), receptions drawn from ``loss`` per factor (:meth:`LossModel.sample`)."""
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
-    # the traces are kept whole: refused before numpy tries to allocate them
-    budget.check("max_memory", 8 * paths * horizon, "paths x horizon",
-                 f"the bytes of the traces of {paths} paths over {horizon} steps")
+    # refused before numpy tries to allocate the arrays
+    budget.check("max_memory", memory_estimate(system, loss, horizon, paths), "paths x horizon",
+                 f"the bytes (estimate) of a simulation of {paths} paths over {horizon} steps")
     model = real_form(system)
     factors = loss_factors(loss, system.d)
     rng = np.random.default_rng(seed)
     traces = np.empty((paths, horizon))
-    # a chunk's receptions and chain states take 2 horizon x paths x d bytes: about 32 MB, in
-    # whole blocks of the kernel's 64 lanes (a partial block is padded, i.e. copied)
-    chunk = min(CHUNK, max(64, 2 ** 24 // (horizon * system.d) // 64 * 64))
+    chunk = _trace_chunk(horizon, system.d)
     chunks = range(0, paths, chunk)
     with _progress(len(chunks), paths * horizon, "simulate") as bar:
         for start in chunks:
@@ -448,16 +505,23 @@ def burst_sample(system: System, loss: LossModel, horizon: int, paths: int, seed
     model = real_form(system)
     factors = loss_factors(loss, system.d)
     tilts = tuple(tuple(_factor_tilt(f, a) for f in factors) for a in plan.allowed) if plan is not None else ()
-    # a chunk holds components x horizon x paths likelihood ratios: about 1.6e7 floats at most;
-    # 32768 paths at most, so that jobs = 2 has two chunks from 32769 paths on (the chunks,
-    # not jobs, fix the random streams: default runs of 20 000 paths are one chunk as before)
-    chunk = max(1024, min(32768, 2 ** 24 // (max(len(tilts), 1) * horizon)))
+    budget.check("max_memory", memory_estimate(system, loss, horizon, paths, components=max(len(tilts), 1), jobs=jobs),
+                 "paths x horizon", f"the bytes (estimate) of a burst sample of {paths} paths over {horizon} steps")
+    chunk = _burst_chunk_size(max(len(tilts), 1), horizon)
     sizes = [min(chunk, paths - start) for start in range(0, paths, chunk)]
     seeds = np.random.SeedSequence(seed).spawn(len(sizes))
     chunk = functools.partial(_burst_chunk, model, tuple(factors), tilts,
                               None if plan is None else (plan.period, plan.growth), horizon)
     parts = sweep(chunk, list(zip(sizes, seeds)), jobs=jobs, progress=False)
     return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+
+
+def _burst_chunk_size(components: int, horizon: int) -> int:
+    """Paths per chunk of :func:`burst_sample`.  A chunk holds components x horizon x paths
+    likelihood ratios: about 1.6e7 floats at most; 32768 paths at most, so that jobs = 2 has two
+    chunks from 32769 paths on (the chunks, not jobs, fix the random streams: default runs of
+    20 000 paths are one chunk as before)."""
+    return max(1024, min(32768, 2 ** 24 // (components * horizon)))
 
 
 def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tuple, plan: tuple[int, float] | None,

@@ -37,6 +37,7 @@ from .exact import nfpoly
 from .exact.field import Elem, NumberField
 from .exact.blocks import diagonal_blocks
 from .exact.linalg import field_of, rank, rank_rows
+from . import budget
 from .errors import InputError, ShapeError
 from .exact.numbers import to_exact_matrix
 
@@ -216,7 +217,12 @@ class Eigenvalue:
         rho = _rational_norm(self)
         if rho is not None:
             return AlgebraicNumber(flint.fmpz_poly([-rho.numerator, 0, rho.denominator]), 1)
-        poly, idx = identify(_abs_poly(tuple(int(c) for c in f.coeffs())),
+        coeffs = tuple(int(c) for c in f.coeffs())
+        d, b = len(coeffs) - 1, max(abs(c).bit_length() for c in coeffs)
+        budget.check("max_resultant_bits", 4 * d ** 3 * b, "A", f"the bit size (2 d^2 + 1 coefficients of about "
+                     f"2 d b bits) of the resultant giving |lambda| for an eigenvalue of degree d = {d} with "
+                     f"b = {b}-bit coefficients")
+        poly, idx = identify(_abs_poly(coeffs),
                              lambda prec: flint.acb(abs(self.ball(prec))), "modulus")
         return real_from_ball(poly, idx)
 
