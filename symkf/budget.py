@@ -39,11 +39,11 @@ class Limits:
     #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and its
     #: roots come from Euler's formula (2R(2 pi/401): 800, 3.2 CPU-s; 2R(2 pi/509): 1016, 6 CPU-s)
     max_cyclotomic_degree: int = 1024
-    #: bit size 4 d^3 b of the resultant of degree 2 d^2 that gives the modulus of a complex
-    #: eigenvalue of degree d with b-bit minimal polynomial (Res_y(f(y), y^d f(z^2/y))), checked once
-    #: d and b are known; its cost grows like d^7.5 b^1.55 (d = 16, b = 70: 1.15e6 bits, 1.2 CPU-s;
-    #: d = 20, b = 70: 2.2e6, 6.7 CPU-s; d = 32, b = 70, a 16x16 A over Q(sqrt 2): 9.2e6, ~220 CPU-s)
-    max_resultant_bits: int = 2 ** 21
+    #: bit size (2D + 1) D b, D = d(d+1)/2, of the polynomial of |lambda| (power sums of the
+    #: products of conjugates, symkf.spectral._abs_poly) for a complex eigenvalue of degree d with
+    #: b-bit minimal polynomial: its factorisation is the cost (a dense random integer 32 x 32 A,
+    #: d = 32: 11 CPU-s in all; a 16 x 16 A over Q(sqrt 2), d = 32, b = 70, 3.9e7 bits: 37 CPU-s)
+    max_modulus_bits: int = 2 ** 26
     #: nesting depth of radicals (sqrt(2 + sqrt(3)) has depth 2)
     max_nesting: int = 4
     #: denominator q of an angle p*pi/q inside cos, sin, tan or exp (degree grows like q; the

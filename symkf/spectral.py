@@ -219,9 +219,10 @@ class Eigenvalue:
             return AlgebraicNumber(flint.fmpz_poly([-rho.numerator, 0, rho.denominator]), 1)
         coeffs = tuple(int(c) for c in f.coeffs())
         d, b = len(coeffs) - 1, max(abs(c).bit_length() for c in coeffs)
-        budget.check("max_resultant_bits", 4 * d ** 3 * b, "A", f"the bit size (2 d^2 + 1 coefficients of about "
-                     f"2 d b bits) of the resultant giving |lambda| for an eigenvalue of degree d = {d} with "
-                     f"b = {b}-bit coefficients")
+        D = d * (d + 1) // 2
+        budget.check("max_modulus_bits", (2 * D + 1) * D * b, "A", f"the bit size (2 D + 1 coefficients of about "
+                     f"D b bits, D = d(d+1)/2) of the polynomial giving |lambda| for an eigenvalue of degree d = {d} "
+                     f"with b = {b}-bit coefficients")
         poly, idx = identify(_abs_poly(coeffs),
                              lambda prec: flint.acb(abs(self.ball(prec))), "modulus")
         return real_from_ball(poly, idx)

@@ -239,12 +239,12 @@ def stability(system: System, loss: LossModel) -> Verdict:
     return Verdict(stable, tuple(margins), limiting, theorem, tuple(assumptions), tuple(certs), aside)
 
 
-def _vectors(system: System) -> list[tuple[sp.Expr, tuple[int, ...]]]:
-    """``(alpha_i^(2g), (k_1, ..., k_d))`` for every block and the exponent vectors that matter
+def _vectors(system: System) -> list[tuple[AlgebraicNumber, int, tuple[int, ...]]]:
+    """``(alpha_i, 2g, (k_1, ..., k_d))`` for every block and the exponent vectors that matter
     for a common loss ``eps``: its bound ``(alpha_i^(2g) eps^K)`` binds first at the fewest
     elements ``K`` outside, so only the hyperplanes holding the most elements
     (:func:`symkf.decay.outside_counts` with equal weights) are needed."""
-    return [(sympify(br.block.modulus.exact ** (2 * br.class_period)), ks)
+    return [(br.block.modulus, 2 * br.class_period, ks)
             for br in block_rows(system) for ks in outside_counts(br, [1.0] * system.d)]
 
 
@@ -292,7 +292,8 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
         if len(w) != d:
             raise InputError(f"ray: {len(w)} weights for {d} sensors")
         if len(set(w)) == 1:
-            return _min_capped([b for a2g, ks in _vectors(system) if (b := _ray_bound(a2g, ks, w)) is not None])
+            return _min_capped([_Bound(alpha, power, w[0] ** sum(ks), sum(ks)) for alpha, power, ks in _vectors(system)
+                                if w[0] != 0 and sum(ks)])
         return _least(system, lambda x: [x * wj for wj in w], lambda a2g, ks: _ray_bound(a2g, ks, w))
     j = system.sensor_index(sensor)
     if others is None or len(others) != d:
@@ -326,8 +327,51 @@ def _least(system: System, losses, bound) -> AlgebraicNumber:
     return min(values, default=one)
 
 
-def _min_capped(bounds: list[sp.Expr]) -> AlgebraicNumber:
-    values = [AlgebraicNumber.from_expr(b) for b in set(map(sympify, bounds))]
+class _Bound:
+    """A candidate critical value ``(alpha^power c)^(-1/k)`` (``alpha > 0`` a block's modulus,
+    ``c > 0``, ``k >= 1``): a certified ball, and the exact value only when asked (from flint's
+    minimal polynomial of ``alpha`` for rational ``c``: sympy's minimal polynomial of a root of a
+    high-degree ``CRootOf``, and its real-root isolation, cost seconds each)."""
+
+    def __init__(self, alpha: AlgebraicNumber, power: int, c: sp.Expr, k: int) -> None:
+        self.alpha, self.power, self.c, self.k = alpha, power, sympify(c), k
+        self.key = (alpha, power, self.c, k)
+
+    def expr(self) -> sp.Expr:
+        return sympify(sp.root(1 / (sympify(self.alpha.exact ** self.power) * self.c), self.k))
+
+    def ball(self, prec: int) -> flint.arb:
+        if not self.c.is_Rational:
+            return self.value()._ball(prec).real
+        c = flint.fmpq(int(self.c.p), int(self.c.q))
+        return _with_prec(prec, lambda: ((self.alpha._ball(prec).real ** self.power * c).log() / -self.k).exp())
+
+    def value(self) -> AlgebraicNumber:
+        if not self.c.is_Rational or self.alpha.is_rational:
+            return AlgebraicNumber.from_expr(self.expr())
+        gamma = 1 / (self.alpha ** self.power * AlgebraicNumber.from_expr(self.c))
+        if self.k == 1:
+            return AlgebraicNumber._irreducible(gamma._poly, gamma._index, self.expr())
+        coeffs = [0] * (self.k * gamma._poly.degree() + 1)  # p(x^k) for the minimal polynomial p of gamma
+        for i, a in enumerate(gamma._poly.coeffs()):
+            coeffs[self.k * i] = int(a)
+        f, index = identify(flint.fmpz_poly(coeffs), lambda prec: flint.acb(self.ball(prec)), "critical value")
+        return AlgebraicNumber._irreducible(f, index, self.expr())
+
+
+def _min_capped(bounds: list[_Bound | sp.Expr]) -> AlgebraicNumber:
+    """The least bound, or 1 when none is below 1.  :class:`_Bound` candidates are compared by
+    certified balls first, and only those the balls cannot separate from the least are made exact
+    (the first least bound wins)."""
+    values = [AlgebraicNumber.from_expr(b) for b in {sympify(b) for b in bounds if not isinstance(b, _Bound)}]
+    cands = list({b.key: b for b in bounds if isinstance(b, _Bound)}.values())
+    one = flint.arb(1)
+    for prec in (64, 256, 1024):
+        balls = [b.ball(prec) for b in cands] + [v._ball(prec).real for v in values]
+        cands = [b for b, z in zip(cands, balls) if not any(y < z for y in balls) and not one < z]
+        if len(cands) <= 1:
+            break
+    values += [b.value() for b in cands]
     best = min(values, default=AlgebraicNumber.from_expr(1))
     return best if best < 1 else AlgebraicNumber.from_expr(1)
 

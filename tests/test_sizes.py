@@ -91,11 +91,12 @@ def _sqrt2_matrix() -> list[list[str]]:
     return [[rng.choice(["sqrt(2)", "-sqrt(2)", "1", "1/2", "0"]) for _ in range(16)] for _ in range(16)]
 
 
-def test_modulus_resultant_is_sized_before_it_is_built():
-    """A 16x16 A with entries in {+-sqrt 2, 1, 1/2, 0} (degree bound 32, under max_degree) ran past
-    60 CPU-s in the resultant of degree 2 d^2 = 2048 giving |lambda| (d = 32, b = 70 bits: about
-    220 CPU-s measured by the d^7.5 b^1.55 fit); refused once d and b are known, in about a second."""
-    code, err = limited(library, lambda: sk.System(A=_sqrt2_matrix(), sensors=[sk.Sensor(C=[[1] * 16])]))
-    assert code == 2, err
-    with pytest.raises(BudgetError, match=r"degree d = 32 with b = 70-bit coefficients is 9175040.*--max-resultant-bits"):
-        sk.System(A=_sqrt2_matrix(), sensors=[sk.Sensor(C=[[1] * 16])])
+def test_modulus_polynomial_is_sized_before_it_is_built():
+    """The polynomial of |lambda| of a 16x16 A with entries in {+-sqrt 2, 1, 1/2, 0} (d = 32, b = 70
+    bits: D = 528, 3.9e7 bits) is sized once d and b are known: under the default cap it is built
+    (37 CPU-s in all), under a lower one refused at once, naming the cap."""
+    with budget.limits(max_modulus_bits=2 ** 24):
+        code, err = limited(library, lambda: sk.System(A=_sqrt2_matrix(), sensors=[sk.Sensor(C=[[1] * 16])]))
+        assert code == 2, err
+        with pytest.raises(BudgetError, match=r"degree d = 32 with b = 70-bit coefficients is 39066720.*--max-modulus-bits"):
+            sk.System(A=_sqrt2_matrix(), sensors=[sk.Sensor(C=[[1] * 16])])

@@ -60,6 +60,7 @@ import sympy as sp
 from ..exact.arguments import check_public
 from ..errors import InputError, NotPositiveDefiniteError, require_extra
 from ..exact.algebraic import expr_ball
+from ..exact.numbers import sympify
 from ..exact.linalg import rank
 from ..losses import IID
 from ..model import System, check_positive_definite
@@ -145,7 +146,7 @@ def _positive_definite_by_balls(M: sp.Matrix, prec: int = 256) -> bool | None:
     True or False when every leading minor's sign is decided, None otherwise (the exact
     determinants of irrational entries cost minutes; the balls, milliseconds)."""
     k = M.shape[0]
-    entries = [[expr_ball(sp.sympify(v), prec).real for v in row] for row in M.tolist()]
+    entries = [[expr_ball(sympify(v), prec).real for v in row] for row in M.tolist()]
     for m in range(1, k + 1):
         minor = flint.arb_mat([row[:m] for row in entries[:m]]).det()
         if not minor > 0:
