@@ -33,12 +33,13 @@ def one_line(err: str) -> str:
 
 def test_huge_rational_loss_is_exit_2_naming_file_and_key(capsys, tmp_path):
     """(1 - 1/10^6)^10000 has 60 001 digits: Python refused to print it (ValueError, exit 70).
-    Now the value is measured once parsed and refused under max_digits."""
+    Now its height (10000 times the base's 20 bits) is estimated before it is evaluated and
+    refused under max_bits."""
     path = tmp_path / "s.toml"
     path.write_text(ROTATION + '[loss]\nkind = "iid"\nloss = ["(1-1/10**6)**10000"]\n')
     status, out, err = run(capsys, "analyze", path)
     assert status == 2 and out == ""
-    assert f"{path}: [loss] loss[0]" in one_line(err) and "60001, above the cap 1000" in err and "--max-digits" in err
+    assert f"{path}: [loss] loss[0]" in one_line(err) and "above the cap 768" in err and "--max-bits" in err
 
 
 def test_digits_beyond_python_are_a_usage_error(capsys, tmp_path):
@@ -64,12 +65,14 @@ def test_too_long_output_name_is_exit_2(capsys, tmp_path):
 
 
 def test_number_field_failure_names_the_file_and_elides_digits(capsys, tmp_path):
-    """A = [[1e400, -2], [2, 0]]: the refusal named no file and printed 2 900 digits."""
+    """A = [[1e400, -2], [2, 0]]: the refusal named no file and printed 2 900 digits.  Now its
+    1329-bit height is refused before any field is built, naming the file, the entry and the cap,
+    with the literal elided."""
     path = tmp_path / "big.toml"
     path.write_text(ROTATION.replace('"0", "-2"', '"1e400", "-2"'))
     status, _, err = run(capsys, "critical", path)
     assert status == 2 and one_line(err).startswith(f"symkf critical: {path}: ")
-    assert "(400 digits)" in err and "0" * 40 not in err
+    assert f"{path}: A[0][0]" in err and "above the cap 768" in err and "0" * 40 not in err
 
 
 @pytest.mark.parametrize("change, key, transition", [
