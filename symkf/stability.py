@@ -24,6 +24,7 @@ from .exact.numbers import to_exact
 from .losses import IID, GilbertElliott, LossModel, checked
 from .model import System
 from .observability import BlockRows, block_rows
+from .recovery import monotone_critical_recovery
 from .region import ge_margins, stable_intervals
 
 
@@ -473,6 +474,13 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
     >>> [sk.stability(S, sk.GilbertElliott(["1/4"] * 2, [r] * 2)).stable for r in ("1/2", "3/4")]
     [False, True]
     """
+    if sensor is None:
+        q = sp.Symbol("q", positive=True)
+        model = _recovery_model(system, fail, recover, sensor, q)
+        _check_loss(system, model.subs({q: sp.Rational(1, 2)}))
+        qc = monotone_critical_recovery(system, model.fail)
+        if qc is not None:
+            return qc
     intervals = stable_recovery_intervals(system, fail, recover=recover, sensor=sensor)
     if not intervals:
         return AlgebraicNumber.from_expr(1)
