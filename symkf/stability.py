@@ -446,6 +446,12 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
     monotone in ``q`` in general; :func:`stable_recovery_intervals` gives the set).  Certified:
     the verdict of :func:`stability` is checked at rationals just outside the isolating interval.
 
+    A common ``q`` with rational ``fail`` in (0, 1) and single-row sensors first takes the path of
+    :mod:`symkf.recovery`, which lists no hyperplane: every margin is strictly decreasing for
+    ``q <= 1 - max fail`` (the chains are stochastically monotone there), and ``q`` above it is
+    proved stable only through the i.i.d. bound ``fail (1 + fail)``; where that bound or a
+    screen fails, every hyperplane is listed as before (capped by ``budget.Limits``).
+
     Parameters
     ----------
     system : System
