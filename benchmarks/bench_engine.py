@@ -66,9 +66,9 @@ def median_over(make, work, repeats):
 
 def main(repeats: int = 3) -> None:
     (br,) = block_rows(fourth_order_three_sensors(1))
-    assert br.period == 12 and br.size == 4, (br.period, br.size)
-    assert block_rows(rotation_four_sensors(1))[0].period == 12
-    assert block_rows(ge_period_six(1))[0].period == 6
+    assert br.class_period == 12 and br.size == 4, (br.class_period, br.size)
+    assert block_rows(rotation_four_sensors(1))[0].class_period == 12
+    assert block_rows(ge_period_six(1))[0].class_period == 6
 
     m, eps = median_over(rotation_four_sensors, critical_loss_rate, repeats)
     print(flush=True)

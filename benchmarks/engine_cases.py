@@ -77,3 +77,11 @@ def gilbert_elliott(d: int, seed: int = 0) -> tuple[sk.System, sk.GilbertElliott
             rows.append(r)
     system = sk.System(A=_rotation(sp.pi / 3, 2), sensors=_sensors(rows))
     return system, sk.GilbertElliott(["1/10"] * d, ["1/2"] * d)
+
+
+def cyclotomic_fields(k: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
+    """One eigen-block of modulus 2 over k cyclotomic fields: 2R(2 pi/5), 2R(2 pi/7), 2R(2 pi/9),
+    2R(2 pi/11) (the first k), with 2 random integer sensor rows (issue 23, row 3)."""
+    blocks = [_rotation(2 * sp.pi / q, 2) for q in (5, 7, 9, 11)][:k]
+    rng = np.random.default_rng(seed)
+    return sk.System(A=sp.diag(*blocks), sensors=_sensors(_random_rows(rng, 2, 2 * k))), sk.IID(["1/10"] * 2)

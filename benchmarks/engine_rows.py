@@ -6,7 +6,10 @@ Each measurement is a fresh interpreter (cold caches) that builds one system of
 branch of the same repository, exported with ``git archive`` to a temporary directory and
 run the same way in the same process (so load on the shared machine hits both alike); a
 baseline that exceeds its time cap is reported as ``> cap`` and the ratio as a lower bound.
-Medians over ``repeats`` runs; the digests must agree (no exact result changes).
+Medians over ``repeats`` runs; the digests must agree (no exact result changes).  Peak RSS is
+the child's ``ru_maxrss``.  ``SYMKF_BASELINE=DIR`` takes the baseline from a checkout of main
+(e.g. a worktree fixed at the day's main) instead of exporting ``main``; ``caps`` of a row are
+:func:`symkf.budget.limits` keywords raised in both children (main refuses rows past its defaults).
 
 Child mode: ``python engine_rows.py --child WHAT CASE ARG...``.
 """
@@ -16,6 +19,8 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import resource
+import signal
 import statistics
 import subprocess
 import sys
@@ -31,15 +36,24 @@ ROOT = HERE.parent
 
 def _child(what: str, case: str, args: list[str]) -> None:
     sys.path.insert(0, str(HERE))
-    try:  # every row runs within symkf.budget's defaults; a baseline older than the cost model
+    try:  # rows run within symkf.budget's defaults unless they name caps; a baseline older than the cost model
         from symkf import budget  # (max_cyclotomic_degree) refused prime rotations: raise its caps
         if not hasattr(budget.LIMITS, "max_cyclotomic_degree"):
             budget.LIMITS.max_degree, budget.LIMITS.max_sensors = 10 ** 6, 128
     except ImportError:  # a baseline older than symkf.budget
         pass
+    import contextlib
     import engine_cases
-    system, loss = getattr(engine_cases, case)(*[int(a) for a in args])
-    start = time.process_time()
+    caps = json.loads(os.environ.get("BENCH_CAPS", "{}"))
+    with (budget.limits(**caps) if caps else contextlib.nullcontext()):
+        system, loss = getattr(engine_cases, case)(*[int(a) for a in args])
+        start = time.process_time()
+        result = _compute(what, system, loss)
+        cpu = time.process_time() - start
+    print(cpu, hashlib.sha1(result.encode()).hexdigest()[:12], resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+
+
+def _compute(what: str, system, loss) -> str:
     if what == "critical":
         from symkf.stability import critical_loss_rate
         result = str(critical_loss_rate(system).exact)
@@ -51,8 +65,7 @@ def _child(what: str, case: str, args: list[str]) -> None:
         result = _analyze(system, loss)
     else:
         raise SystemExit(f"unknown computation {what}")
-    cpu = time.process_time() - start
-    print(cpu, hashlib.sha1(result.encode()).hexdigest()[:12])
+    return result
 
 
 def _analyze(system, loss) -> str:
@@ -77,44 +90,55 @@ def _analyze(system, loss) -> str:
 
 
 def _baseline_tree(tmp: str) -> str:
-    """``git archive main`` of this repository, unpacked: the reference implementation."""
+    """``$SYMKF_BASELINE``, else ``git archive main`` of this repository unpacked: the reference."""
+    if os.environ.get("SYMKF_BASELINE"):
+        return os.environ["SYMKF_BASELINE"]
     data = subprocess.run(["git", "-C", str(ROOT), "archive", "main", "symkf"], capture_output=True,
                           check=True).stdout
     tarfile.open(fileobj=BytesIO(data)).extractall(tmp)
     return tmp
 
 
-def _run(tree: str, what: str, case: str, args: list, cap: float) -> tuple[float | None, str]:
-    env = {**os.environ, "PYTHONPATH": tree, "OPENBLAS_NUM_THREADS": "1"}
+def _run(tree: str, what: str, case: str, args: list, cap: float, caps: dict) -> tuple[float | None, str, int]:
+    """One child run, capped at ``cap`` CPU seconds (RLIMIT_CPU: on the shared machine wall time
+    overstates the work); ``(None, "timeout", 0)`` when it does not finish."""
+    env = {**os.environ, "PYTHONPATH": tree, "OPENBLAS_NUM_THREADS": "1", "BENCH_CAPS": json.dumps(caps)}
+    limit = lambda: resource.setrlimit(resource.RLIMIT_CPU, (int(cap) + 1, int(cap) + 2))  # noqa: E731
     try:
         out = subprocess.run([sys.executable, __file__, "--child", what, case, *map(str, args)], env=env,
-                             capture_output=True, text=True, timeout=cap, check=True, cwd=tree).stdout.split()
-    except subprocess.TimeoutExpired:
-        return None, "timeout"
-    return float(out[0]), out[1]
+                             capture_output=True, text=True, timeout=50 * cap, check=True, cwd=tree,
+                             preexec_fn=limit).stdout.split()
+    except (subprocess.TimeoutExpired, subprocess.CalledProcessError) as exc:
+        if isinstance(exc, subprocess.CalledProcessError) and exc.returncode != -signal.SIGXCPU:
+            raise
+        return None, "timeout", 0
+    return float(out[0]), out[1], int(out[2])
 
 
-def compare(title: str, what: str, cases: list[tuple[str, list, float]], repeats: int = 3,
+def compare(title: str, what: str, cases: list[tuple], repeats: int = 3,
             baseline_cap: float = 120, baseline_repeats: int = 1) -> None:
-    """Print one line per case: CPU medians of this checkout and of main, the ratio, the target."""
+    """Print one line per case ``(case, args, target[, caps])``: CPU medians and peak RSS of this
+    checkout and of main, the ratio, the target, and whether the exact results agree."""
     print(f"{title}\n  CPU seconds (time.process_time of the computation, fresh interpreter each), "
-          f"medians; baseline = git main (cap {baseline_cap:.0f} s), load {os.getloadavg()[0]:.1f}")
+          f"medians; baseline = git main (cap {baseline_cap:.0f} CPU-s), load {os.getloadavg()[0]:.1f}")
     with tempfile.TemporaryDirectory() as tmp:
         main_tree = _baseline_tree(tmp)
-        for case, args, target in cases:
-            runs = [_run(str(ROOT), what, case, args, 600) for _ in range(repeats)]
-            new = statistics.median(t for t, _ in runs)
-            base = [_run(main_tree, what, case, args, baseline_cap) for _ in range(baseline_repeats)]
-            done = [t for t, _ in base if t is not None]
-            same = {d for _, d in runs} | {d for t, d in base if t is not None}
+        for case, args, target, *caps in cases:
+            caps = caps[0] if caps else {}
+            runs = [_run(str(ROOT), what, case, args, 600, caps) for _ in range(repeats)]
+            new = statistics.median(t for t, _, _ in runs)
+            rss = max(m for _, _, m in runs) / 1024
+            base = [_run(main_tree, what, case, args, baseline_cap, caps) for _ in range(baseline_repeats)]
+            done = [(t, m) for t, _, m in base if t is not None]
+            same = {d for _, d, _ in runs} | {d for t, d, _ in base if t is not None}
             if done:
-                old = statistics.median(done)
-                vs = f"main {old:8.2f}   ratio {old / new:7.1f}x"
+                old = statistics.median(t for t, _ in done)
+                vs = f"main {old:8.2f} s {max(m for _, m in done) / 1024:6.0f} MB   ratio {old / new:7.1f}x"
             else:
-                vs = f"main > {baseline_cap:6.0f}   ratio > {baseline_cap / new:5.1f}x"
-            print(f"  {case}{tuple(args)}: {new:7.2f}   {vs}   target <= {target} "
+                vs = f"main > {baseline_cap:6.0f} s            ratio > {baseline_cap / new:5.1f}x"
+            print(f"  {case}{tuple(args)}: {new:7.2f} s {rss:6.0f} MB   {vs}   target <= {target} "
                   f"{'met' if new <= target else 'NOT met'}   same exact result: "
-                  f"{len(same) == 1 if done else 'baseline did not finish'}")
+                  f"{len(same) == 1 if done else 'baseline did not finish'}   digest {runs[0][1]}", flush=True)
 
 
 if __name__ == "__main__":

@@ -65,8 +65,8 @@ def exact_mean_P(loss: NetworkLoss, horizon: int) -> list[sp.Rational]:
 def main() -> bool:
     loss, dyn = model()
     t2 = theorem2(loss, dyn)
-    printed = sp.nsimplify(t2.lhs_paper[(1, 0)])
-    corrected = sp.nsimplify(t2.lhs[(1, 0)])
+    printed = sp.simplify(t2.lhs_paper[(1, 0)])
+    corrected = sp.simplify(t2.lhs[(1, 0)])
     ok = printed == a ** 2 / 4 + a ** 4 / 4 == sp.Rational(549, 625) and t2.holds_paper is True
     print(("PASS" if ok else "FAIL") + f": (32) as printed gives {printed} < 1 (Theorem 2 would apply)")
     ok2 = corrected == a ** 4 / 2 == sp.Rational(648, 625) and t2.holds is False

@@ -45,7 +45,7 @@ def main() -> bool:
     for label, S, loss in CASES:
         (br,) = block_rows(S)
         M, _ = m_matrix(br, loss)
-        g = br.period
+        g = br.class_period
         power = sp.eye(M.shape[0])
         for N in range(1, 5):
             if S.d * N * g > 12:

@@ -59,7 +59,7 @@ FAMILY = [
 
 
 def engine_exponent(S: sk.System, weights: tuple[int, ...]) -> Fraction:
-    return min(Fraction(sum(w * k for w, k in zip(weights, ks)), br.period)
+    return min(Fraction(sum(w * k for w, k in zip(weights, ks)), br.class_period)
                for br in block_rows(S) if not br.block.is_stable for ks in outside_counts(br))
 
 
@@ -67,7 +67,7 @@ def main() -> bool:
     ok = True
     for name, A, Cs, U, w, N in FAMILY:
         S = sk.System(A=A, sensors=[sk.Sensor(C=C) for C in Cs])
-        G = lcm(*(br.period for br in block_rows(S) if not br.block.is_stable))
+        G = lcm(*(br.class_period for br in block_rows(S) if not br.block.is_stable))
         e = engine_exponent(S, w)
         slopes = decay_slope(A, Cs, w, N, G, U)
         good = slopes == (G * e, G * e)

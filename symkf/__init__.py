@@ -18,6 +18,7 @@ from .errors import SymkfError
 
 if TYPE_CHECKING:
     from . import capacity, control, examples, fusion, montecarlo, network, second_order, tables
+    from .bounds import bounds
     from .exact.algebraic import AlgebraicNumber
     from .families import load_family
     from .losses import IID, GilbertElliott, MarkovLoss
@@ -40,6 +41,7 @@ _LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "losses", "GilbertElliott"
          "eigenvalues": "spectral", "Verdict": "stability", "critical_alpha": "stability",
          "critical_loss_rate": "stability", "critical_recovery_rate": "stability", "stability": "stability",
          "stable_recovery_intervals": "stability", "load_family": "families", "StabilityRegion": "region",
+         "bounds": "bounds",
          "stability_conditions": "region", "stability_region": "region", "sweep": "sweep",
          "verify": "verify", "verify_family": "verify", "Verification": "verify", "FamilyVerification": "verify",
          "simulate": "simulation", "Simulation": "simulation"}
@@ -47,7 +49,7 @@ _LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "losses", "GilbertElliott"
 __all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLoss", "AlgebraicNumber",
            "eigen_blocks", "eigenvalues", "stability", "Verdict", "critical_loss_rate", "critical_alpha",
            "critical_recovery_rate", "stable_recovery_intervals", "stability_region", "stability_conditions",
-           "StabilityRegion", "sweep", "load_family", "verify", "verify_family", "Verification",
+           "StabilityRegion", "sweep", "load_family", "bounds", "verify", "verify_family", "Verification",
            "FamilyVerification", "simulate", "Simulation",
            "capacity", "fusion", "montecarlo", "network", "second_order", "tables"]
 

@@ -21,7 +21,8 @@ import sys
 from dataclasses import dataclass
 from typing import Iterator
 
-from .errors import BudgetError
+from .exact.arguments import check_public
+from .errors import BudgetError, InputError
 
 
 @dataclass
@@ -35,18 +36,31 @@ class Limits:
     max_degree: int = 64
     #: degree of the cyclotomic field Q(zeta_m) holding the trigonometric constants and I of a
     #: number or matrix without radicals (its real subfield for real entries), times the size of
-    #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap
-    #: (2R(2 pi/97): 192, 1.6 CPU-s; 2R(2 pi/127): 252, 2.6 CPU-s)
-    max_cyclotomic_degree: int = 256
+    #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and its
+    #: roots come from Euler's formula (2R(2 pi/401): 800, 3.2 CPU-s; 2R(2 pi/509): 1016, 6 CPU-s)
+    max_cyclotomic_degree: int = 1024
+    #: bit size 4 d^3 b of the resultant of degree 2 d^2 that gives the modulus of a complex
+    #: eigenvalue of degree d with b-bit minimal polynomial (Res_y(f(y), y^d f(z^2/y))), checked once
+    #: d and b are known; its cost grows like d^7.5 b^1.55 (d = 16, b = 70: 1.15e6 bits, 1.2 CPU-s;
+    #: d = 20, b = 70: 2.2e6, 6.7 CPU-s; d = 32, b = 70, a 16x16 A over Q(sqrt 2): 9.2e6, ~220 CPU-s)
+    max_resultant_bits: int = 2 ** 21
     #: nesting depth of radicals (sqrt(2 + sqrt(3)) has depth 2)
     max_nesting: int = 4
-    #: denominator q of an angle p*pi/q inside cos, sin, tan or exp (degree grows like q)
-    max_angle_denominator: int = 360
+    #: denominator q of an angle p*pi/q inside cos, sin, tan or exp (degree grows like q; the
+    #: cyclotomic cap bounds the field, this one a single constant: 2R(2 pi/509) passes both)
+    max_angle_denominator: int = 1024
     #: modulus of an integer exponent (x**e) and decimal digits of any number
     max_exponent: int = 10_000
     max_digits: int = 1000
-    #: rows or columns of a matrix (state dimension n, measurement channels)
-    max_dimension: int = 16
+    #: bit size (height) of an exact number, estimated before it is evaluated: the larger of a
+    #: rational's numerator and denominator bits; for an algebraic number a bound on its
+    #: absolute logarithmic (Weil) height in bits, the size that the engine's polynomial arithmetic
+    #: and root isolation pay for (a rotation block with an entry 10^-230, 764 bits: 1.7 CPU-s;
+    #: 10^-350, 1163 bits: 34 CPU-s; 2^-1074: 21 CPU-s)
+    max_bits: int = 768
+    #: rows or columns of a matrix (state dimension n, measurement channels; a dense random
+    #: integer 32 x 32 system with 3 sensors: critical loss rate in about 8 CPU-s, 36 x 36: 25)
+    max_dimension: int = 32
     #: sensors d of a system or loss model (independent sensors are decided per sensor, never
     #: through the joint 2^d-state chain: 50 Gilbert-Elliott sensors take about 3 CPU-s)
     max_sensors: int = 64
@@ -60,7 +74,9 @@ class Limits:
     max_hyperplanes: int = 300_000
     #: members of a family file
     max_members: int = 2000
-    #: bytes of the float64 arrays of one Monte Carlo run (paths x horizon x n^2 x 8)
+    #: bytes of the arrays one Monte Carlo run allocates at its peak, as estimated by
+    #: symkf.montecarlo.memory_estimate (traces, receptions, kernel lanes, likelihood ratios,
+    #: per-step records; within 1.5x of measured peak RSS)
     max_memory: int = 2 * 1024 ** 3
     #: bytes of an input file
     max_file_size: int = 1024 ** 2
@@ -74,14 +90,24 @@ OPTIONS = {f.name: "--" + f.name.replace("_", "-") for f in dataclasses.fields(L
 #: the limits in force
 LIMITS = Limits()
 
+#: the largest ``max_digits``: :func:`limits` lets Python convert integers of twice that many
+#: digits to text, and Python's limit is a C int
+MAX_DIGITS_CAP = (2 ** 31 - 1) // 2
+
 
 @contextlib.contextmanager
 def limits(**caps: int) -> Iterator[Limits]:
     """Raise (or lower) caps inside a ``with`` block, e.g. ``limits(max_degree=128)``; Python's
     limit on int <-> str conversion follows ``max_digits``."""
-    unknown = sorted(set(caps) - set(OPTIONS))
+    unknown = sorted(map(str, set(caps) - set(OPTIONS)))
     if unknown:
-        raise TypeError(f"unknown cap(s) {unknown}; caps are {sorted(OPTIONS)}")
+        raise InputError(f"unknown cap(s) {unknown}; caps are {sorted(OPTIONS)}")
+    for name, value in caps.items():
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise InputError(f"{name}: expected a positive integer, got {type(value).__name__}")
+    if caps.get("max_digits", 1) > MAX_DIGITS_CAP:
+        raise InputError(f"max_digits: {caps['max_digits']} is above {MAX_DIGITS_CAP}, the most digits "
+                         "Python converts between integers and text")
     saved, digits = dataclasses.asdict(LIMITS), sys.get_int_max_str_digits()
     for name, value in caps.items():
         setattr(LIMITS, name, value)
@@ -100,3 +126,5 @@ def check(cap: str, estimate: int, entry: str, what: str) -> None:
     if estimate > bound:
         raise BudgetError(f"{entry}: {what} is {estimate}, above the cap {bound}; raise it with "
                           f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
+
+check_public(globals())

@@ -13,6 +13,7 @@ import contextlib
 import importlib
 import json
 import os
+import re
 import signal
 import sys
 import textwrap
@@ -22,12 +23,14 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
 
 
+from .exact.arguments import check_public
 from . import __version__, budget, output
 from .errors import SymkfError
 from .progress import still_working
 
 if TYPE_CHECKING:
     from .exact.algebraic import AlgebraicNumber
+    from .losses import LossModel
 
 
 # name -> (module, function, keyword arguments of --quick); each function returns
@@ -39,11 +42,12 @@ REPRODUCE: dict[str, tuple[str, str, dict[str, Any]]] = {
     "yang-example1": ("symkf.capacity", "reproduce_yang_example1", {"horizon": 12, "paths": 2000}),
     "fusion-pendulum": ("symkf.fusion", "reproduce_fusion_pendulum", {"paths": 4, "horizon": 200}),
     "sui-theorem12": ("symkf.second_order", "reproduce_sui_theorem12", {}),
+    "you-2011-counterexample": ("symkf.bounds.counterexample", "reproduce_you_2011_counterexample", {"steps": 4}),
 }
 
 
 #: version of every ``--json`` document; raised when a field is renamed or removed
-#: (1: blocks carry ``tau`` and ``governing_period``, certificates ``governing_period``,
+#: (1: blocks carry ``tau`` and ``governing_period``, certificates ``class_period``,
 #: losses are structured objects, reproduce separates ``checks`` from ``discrepancies``)
 SCHEMA_VERSION = 1
 
@@ -103,7 +107,7 @@ def _blocks_json(A: Any) -> list[dict[str, Any]]:
             for b in eigen_blocks(A)]
 
 
-def loss_json(loss: Any) -> dict[str, Any]:
+def loss_json(loss: "LossModel") -> dict[str, Any]:
     """A loss model as a JSON object: ``kind`` (as in a system file's ``[loss]`` table) and its
     parameters as exact strings; a Markov or network model also gives its lifted chain
     (:meth:`symkf.losses.LossModel.to_json`)."""
@@ -148,7 +152,7 @@ def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
         res["verdict"] = {"stable": v.stable, "theorem": v.theorem,
                           "margins": [_number(m, 12) for m in v.margins], "limiting_block": v.limiting_block,
                           "assumptions": list(v.assumptions),
-                          "certificate": [{"modulus": str(c.modulus), "governing_period": c.governing_period,
+                          "certificate": [{"modulus": str(c.modulus), "class_period": c.class_period,
                                            "decisive_received": [list(e) for e in c.decisive_elements],
                                            "alpha^(2g) rho^g": str(c.margin_power)} for c in v.certificate]}
         res["_text"] = f"{v}\n  loss model: {loss.words()}"
@@ -211,14 +215,7 @@ def _needs_loss(args: argparse.Namespace) -> tuple[Any, Any]:
     system, loss = files.load(args.file)
     if loss is None:
         raise UsageError(f"{args.file}: key 'loss' missing; {args.command} needs a [loss] table")
-    _check_simulation_memory(args, system.n)
     return system, loss
-
-
-def _check_simulation_memory(args: argparse.Namespace, n: int) -> None:
-    """--paths x --horizon x n^2 float64 values: refused before numpy tries to allocate them."""
-    budget.check("max_memory", 8 * args.paths * args.horizon * n * n, "--paths x --horizon",
-                 f"the bytes of a simulation of {args.paths} paths, {args.horizon} steps, n = {n}")
 
 
 def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
@@ -256,7 +253,13 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
         from .plots import require_matplotlib
         require_matplotlib()
         target = output.plan(args.plot, "--plot", inputs=[args.file], force=args.force)
+    from .montecarlo import memory_estimate
     system, loss = _needs_loss(args)
+    # the run and its per-step records, refused before numpy allocates them (verify's burst
+    # samples are checked where their chunks are sized: montecarlo.burst_sample)
+    budget.check("max_memory", memory_estimate(system, loss, args.horizon, args.paths,
+                                               records="json" if args.json else "text"), "--paths x --horizon",
+                 f"the bytes (estimate) of a simulation of {args.paths} paths over {args.horizon} steps")
     sim = simulate(system, loss, args.horizon, args.paths, seed=args.seed, curve=target is not None)
     res: dict[str, Any] = {"system": str(args.file), "loss": loss_json(loss), **sim.to_json(),
                            "_text": f"{sim}\nloss model: {loss.words()}"}
@@ -390,6 +393,26 @@ def _args_table(p: argparse.ArgumentParser) -> None:
     _args_sweep(p)
 
 
+def cmd_bounds(args: argparse.Namespace) -> dict[str, Any]:
+    from . import files
+    from .bounds import bounds
+    target = None if args.latex is None else output.plan(args.latex, "--latex", inputs=[args.file], force=args.force)
+    system, loss = files.load(args.file)
+    atlas = bounds(system, loss, lmi_steps=args.lmi_steps)
+    res: dict[str, Any] = {"file": str(args.file), **atlas.to_json(), "_text": str(atlas)}
+    if target is not None:
+        res["latex"] = str(target.put_text(atlas.to_latex()))
+    return res
+
+
+def _args_bounds(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file", metavar="FILE.toml")
+    p.add_argument("--latex", default=None, metavar="OUT.tex", help="write the booktabs table here")
+    p.add_argument("--lmi-steps", type=lambda t: _bounded_int(t, 0, 60), default=8, metavar="N",
+                   help="bisection steps of Sinopoli et al.'s LMI threshold (default 8)")
+    _args_force(p)
+
+
 def _positive_int(text: str) -> int:
     return _bounded_int(text, 1)
 
@@ -406,7 +429,7 @@ def _bounded_int(text: str, low: int, high: int = 10 ** 9) -> int:
     if value is None:
         raise argparse.ArgumentTypeError(f"expected an integer, got {text[:40]!r}")
     if value < low or value > high:
-        raise argparse.ArgumentTypeError(f"expected an integer in [{low}, {high:.0e}], got {value}")
+        raise argparse.ArgumentTypeError(f"expected an integer in [{low}, {high}], got {value}")
     return value
 
 
@@ -414,7 +437,9 @@ def _args_caps(p: argparse.ArgumentParser) -> None:
     """The caps of :mod:`symkf.budget`, one option each (documented there)."""
     group = p.add_argument_group("resource caps (symkf.budget; an input above one is refused at once)")
     for name, option in budget.OPTIONS.items():
-        group.add_argument(option, dest=f"cap_{name}", type=lambda t: _bounded_int(t, 1, 10 ** 15), default=None,
+        group.add_argument(option, dest=f"cap_{name}", default=None,
+                           type=lambda t, high=budget.MAX_DIGITS_CAP if name == "max_digits" else 10 ** 15:
+                           _bounded_int(t, 1, high),
                            metavar="N", help=f"default {getattr(budget.Limits, name)}")
 
 
@@ -447,6 +472,8 @@ register(Command("simulate", "Monte Carlo E[tr P_k] with confidence intervals", 
                  cmd_simulate, _print_simulate))
 register(Command("examples", "the shipped example systems and families; NAME copies one into the working directory",
                  _args_examples, cmd_examples, _print_examples))
+register(Command("bounds", "every published bound and closed form for the critical rate beside the exact value",
+                 _args_bounds, cmd_bounds, _print_table))
 register(Command("reproduce", "reproduce a paper's example: " + ", ".join(sorted(REPRODUCE)), _args_reproduce,
                  cmd_reproduce, _print_reproduce))
 
@@ -568,7 +595,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             if not issubclass(w.category, RuntimeWarning):
                 print(f"symkf {command.name}: note: {_one_line(w.message)}", file=sys.stderr)
     except SymkfError as exc:
-        return _fail(args, type(exc).__name__, _one_line(exc), exc.exit_status)
+        return _fail(args, type(exc).__name__, _located(_one_line(exc), args), exc.exit_status)
+    except ValueError as exc:
+        if not _digits_exceeded(exc):
+            return _internal(args, exc)
+        return _too_many_digits(args)
     except RecursionError:
         return _fail(args, "InputError", "input too deeply nested", 2)
     except Terminated:
@@ -578,8 +609,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except MemoryError:  # an estimate let through work that did not fit: input, not a bug
         return _fail(args, "MemoryError", "out of memory; lower the input's size or the caps of symkf.budget", 2)
     except Exception as exc:  # a bug, not bad input: one line and a status of its own
-        return _fail(args, "InternalError", f"internal error ({type(exc).__name__}: {_one_line(exc)}); "
-                     "please report it", INTERNAL_ERROR)
+        return _internal(args, exc)
     try:
         if args.json:
             doc = {"schema_version": SCHEMA_VERSION, **{k: v for k, v in res.items() if not k.startswith("_")}}
@@ -589,6 +619,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stdout.flush()
     except BrokenPipeError:  # e.g. `symkf demo | head`: the reader left; not an error of ours
         sys.stdout = open(os.devnull, "w")
+    except ValueError as exc:
+        if not _digits_exceeded(exc):
+            return _internal(args, exc)
+        return _too_many_digits(args)
     return res.get("_status", 0)
 
 
@@ -633,9 +667,42 @@ def _quiet(quiet: bool) -> Iterator[None]:
             os.environ["TQDM_DISABLE"] = previous
 
 
+def _internal(args: argparse.Namespace, exc: Exception) -> int:
+    return _fail(args, "InternalError", f"internal error ({type(exc).__name__}: {_one_line(exc)}); "
+                 "please report it", INTERNAL_ERROR)
+
+
 def _one_line(exc: BaseException) -> str:
-    text = " ".join(str(exc).split())
+    text = _DIGIT_RUN.sub(lambda m: f"{m.group()[:6]}...({len(m.group())} digits)", " ".join(str(exc).split()))
     return text if len(text) <= 400 else text[:397] + "..."
+
+
+#: a run of digits too long to show in a one-line message
+_DIGIT_RUN = re.compile(r"\d{31,}")
+
+
+def _located(message: str, args: argparse.Namespace) -> str:
+    """``message`` prefixed by the command's input file when it does not name it already (an
+    error found while computing, e.g. a theorem's assumption, after the file was read); an error
+    about an output or a scheduler names its option instead."""
+    file = getattr(args, "file", None)
+    if file is None or str(file) in message or message.startswith(("--", "scheduler")):
+        return message
+    return f"{file}: {message}"
+
+
+def _too_many_digits(args: argparse.Namespace) -> int:
+    message = (f"a number computed from the input has more than {sys.get_int_max_str_digits()} digits, the most "
+               f"converted to text under {budget.OPTIONS['max_digits']} {budget.LIMITS.max_digits}")
+    return _fail(args, "BudgetError", f"{_located(message, args)}; give smaller numbers or raise "
+                 f"{budget.OPTIONS['max_digits']}", 2)
+
+
+def _digits_exceeded(exc: ValueError) -> bool:
+    """Whether ``exc`` is Python's refusal to convert an integer of too many digits to text."""
+    return "integer string conversion" in str(exc)
+
+check_public(globals())
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -20,7 +20,9 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 import numpy as np
 import sympy as sp
 
+from .exact.arguments import check_public, float_array
 from .errors import InputError, ShapeError, require_extra
+from .exact.numbers import as_matrix
 from .model import Sensor, System
 
 if TYPE_CHECKING:
@@ -130,16 +132,18 @@ def to_statespace(system: System, B: Any = None, D: Any = None, dt: float | bool
     n, p = A.shape[0], C.shape[0]
     # python-control mishandles empty (p, 0) feedthroughs, so "no input" is one input that does not act
     inputs = ["no_input"] if B is None else None
-    B = np.zeros((n, 1)) if B is None else np.asarray(B, dtype=float)
-    D = np.zeros((p, B.shape[1])) if D is None else np.asarray(D, dtype=float)
+    B = np.zeros((n, 1)) if B is None else float_array(B, "B")
+    D = np.zeros((p, B.shape[1])) if D is None else float_array(D, "D")
     labels = [s.name if s.m == 1 else f"{s.name}[{j}]" for s in system.sensors for j in range(s.m)]
     return ct.ss(A, B, C, D, dt, outputs=labels, inputs=inputs, name=system.name)
 
 
 def float_matrix(M: sp.MatrixBase, entry: str) -> np.ndarray:
     """The float64 array of a real exact matrix (correctly rounded entries)."""
-    values = [[complex(sp.N(v, 20)) for v in row] for row in M.tolist()]
+    values = [[complex(sp.N(v, 20)) for v in row] for row in as_matrix(M, entry).tolist()]
     if any(v.imag for row in values for v in row):
         raise InputError(f"{entry}: complex entries; python-control needs a real system "
                          "(symkf.filtering.real_form gives one with the same tr P_k)")
     return np.array([[v.real for v in row] for row in values])
+
+check_public(globals())

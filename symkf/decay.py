@@ -42,6 +42,8 @@ from . import budget
 from .errors import AperiodicError, InputError
 from .exact import perron
 from .exact.algebraic import AlgebraicNumber
+from .exact.arguments import check_public
+from .exact.numbers import sympify
 from .losses import Factor, GilbertElliott, LossModel, checked
 from .model import System
 from .exact.linalg import nullspace_rows, rank_rows
@@ -66,7 +68,7 @@ def perron_root(M: sp.MatrixBase) -> sp.Expr:
     Rational matrices go through :func:`symkf.exact.perron.perron_root` (sparse: strongly
     connected components, merged identical rows, flint characteristic polynomials)."""
     if M.shape == (1, 1):
-        return sp.sympify(M[0, 0])
+        return sympify(M[0, 0])
     dm = DomainMatrix.from_Matrix(M).to_sparse()
     if dm.domain.is_QQ or dm.domain.is_ZZ:
         K = dm.domain
@@ -80,7 +82,7 @@ def perron_root(M: sp.MatrixBase) -> sp.Expr:
 
 
 def _el(br: BlockRows, j: int, phase: int):
-    return br.elements[j * br.period + phase]
+    return br.elements[j * br.class_period + phase]
 
 
 def outside_counts(br: BlockRows, weights: Sequence[float] | None = None) -> dict[tuple[int, ...], frozenset[int]]:
@@ -184,7 +186,7 @@ def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[
     when the guess is good.  Declines (None) when a loss is 0 or above 1 at ``start`` (a weight
     would be infinite or negative) or the screen does not apply."""
     def weights(x: AlgebraicNumber) -> list[float] | None:
-        values = [sp.sympify(v) for v in losses(x)]
+        values = [sympify(v) for v in losses(x)]
         if any(v == 0 or AlgebraicNumber.from_expr(v) > 1 for v in values):
             return None
         per_sensor = [-float(sp.log(v).evalf(20)) for v in values]
@@ -402,14 +404,14 @@ class FactorRates:
 
 def factor_rates(br: BlockRows, loss: LossModel) -> tuple[FactorRates, ...]:
     """One :class:`FactorRates` per independent factor of ``loss`` for the block's period."""
-    return tuple(FactorRates(f, br.period) for f in loss.factors)
+    return tuple(FactorRates(f, br.class_period) for f in loss.factors)
 
 
 class _Patterns:
     """The phase patterns of hyperplanes, per factor: ``{phase: mask}`` of its non-zero masks."""
 
     def __init__(self, br: BlockRows, rates: Sequence[FactorRates]):
-        self.g, self.rates = br.period, rates
+        self.g, self.rates = br.class_period, rates
         where = {j: (f, i) for f, r in enumerate(rates) for i, j in enumerate(r.factor.sensors)}
         self.of = [(where[e.sensor][0], 1 << where[e.sensor][1], e.phase) for e in br.elements]
         self.word_error = 2 * max(r.error(1) for r in rates) if all(r.screened for r in rates) else np.nan
@@ -435,7 +437,7 @@ class _Patterns:
 
 
 def _exact(value: Any) -> sp.Expr:
-    return sp.Rational(int(value.p), int(value.q)) if isinstance(value, flint.fmpq) else sp.sympify(value)
+    return sp.Rational(int(value.p), int(value.q)) if isinstance(value, flint.fmpq) else sympify(value)
 
 
 def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
@@ -571,9 +573,9 @@ def _aperiodic(br: BlockRows) -> AperiodicError:
 
 def restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Matrix:
     """One-period transfer of the loss chain restricted to steps received inside ``H``."""
-    rates = FactorRates(Factor(tuple(range(loss.d)), loss.chain), br.period)
+    rates = FactorRates(Factor(tuple(range(loss.d)), loss.chain), br.class_period)
     masks = _Patterns(br, [rates]).of_set(H)[0]
-    return rates.transfer(tuple(masks.get(r, 0) for r in range(br.period)))
+    return rates.transfer(tuple(masks.get(r, 0) for r in range(br.class_period)))
 
 
 # -- the full M matrix and brute force ------------------------------------------------
@@ -595,7 +597,7 @@ def m_matrix(br: BlockRows, loss: LossModel) -> tuple[sp.Matrix, list]:
     while frontier:
         state = frontier.pop()
         dist = {state: sp.Integer(1)}
-        for phase in range(br.period):
+        for phase in range(br.class_period):
             nxt: dict[tuple, sp.Expr] = {}
             for (pat, x), p in dist.items():
                 row = ch.initial.row(0) if x is None else ch.P.row(x)
@@ -632,4 +634,6 @@ def probability_rank_deficient(system: System, loss: LossModel, N: int) -> tuple
         if any(flags):
             p = loss.sequence_probability(pattern)
             totals = [t + p if f else t for t, f in zip(totals, flags)]
-    return tuple(sp.sympify(sp.expand(t)) for t in totals)
+    return tuple(sympify(sp.expand(t)) for t in totals)
+
+check_public(globals())

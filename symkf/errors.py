@@ -102,6 +102,8 @@ class ExtraNotInstalledError(SymkfError, ImportError):
 
 def require_extra(module: str, extra: str, needed_for: str) -> ModuleType:
     """Import and return ``module``, or raise :class:`ExtraNotInstalledError` naming the extra."""
+    if not all(isinstance(a, str) for a in (module, extra, needed_for)):
+        raise InputError(f"require_extra: module, extra and needed_for must be strings, got {module!r}, {extra!r}")
     try:
         return importlib.import_module(module)
     except ImportError:

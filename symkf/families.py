@@ -46,6 +46,7 @@ from typing import Any, Callable, Mapping, Sequence
 
 import sympy as sp
 
+from .exact.arguments import check_public
 from . import budget, files
 from .errors import AssumptionError, FileFormatError, InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
@@ -131,7 +132,7 @@ class Inapplicable:
 
 @dataclass(frozen=True)
 class Outcome:
-    """What one member evaluates to, with the projection (governing) periods the engine used."""
+    """What one member evaluates to, with the class periods (one per eigen-block) the engine used."""
 
     value: AlgebraicNumber | Verdict | Inapplicable
     periods: tuple[int, ...]
@@ -164,7 +165,7 @@ def evaluate(member: Member) -> Outcome:
             value: Any = critical_loss_rate(system)
         else:
             value = stability(system, loss)
-        return Outcome(value, tuple(br.period for br in block_rows(system)))
+        return Outcome(value, tuple(br.class_period for br in block_rows(system)))
     except AssumptionError as exc:
         return Outcome(Inapplicable(str(exc)), ())
 
@@ -458,3 +459,5 @@ def _substitute(template: dict, texts: dict[str, str]) -> dict:
         if out["loss"] is not None:
             out["loss"] = {k: v * copies if isinstance(v, list) else v for k, v in out["loss"].items()}
     return out
+
+check_public(globals())

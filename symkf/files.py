@@ -38,11 +38,13 @@ zero-order hold, :meth:`FusionModel.zoh <symkf.fusion.FusionModel.zoh>`).
 from __future__ import annotations
 
 import itertools
+import stat
 import tomllib
 from decimal import Decimal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
+from .exact.arguments import check_public
 from . import budget, output
 from .errors import FileFormatError, SymkfError
 from .exact.numbers import to_exact
@@ -102,13 +104,19 @@ def _exact(value: Any, entry: str, rationalize: bool, start: int = 0) -> Any:
 
 def read_toml(path: str | Path) -> dict:
     """The TOML document at ``path``, decimals as :class:`~decimal.Decimal` (exact); at most
-    ``max_file_size`` bytes are read (``/dev/zero`` or a huge file is refused, not exhausted)."""
+    ``max_file_size`` bytes are read (a huge file is refused, not exhausted) from a regular file
+    (a FIFO, directory or device such as ``/dev/zero`` is refused without waiting on it)."""
     path = Path(path)
     output.note_input(path)
     cap = budget.LIMITS.max_file_size
     try:
-        if path.is_dir():
-            raise FileFormatError(f"{path}: is a directory, not a TOML file")
+        # refused before it is opened unless it is a regular file (opening a FIFO with no writer
+        # waits forever): a directory, FIFO, socket or device is not a system file
+        mode = path.stat().st_mode
+        if not stat.S_ISREG(mode):
+            kind = "a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else \
+                "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "a special file"
+            raise FileFormatError(f"{path}: is {kind}, not a TOML file")
         with path.open("rb") as f:
             raw = f.read(cap + 1)
         budget.check("max_file_size", len(raw), str(path), "the size in bytes (at least)")
@@ -197,8 +205,10 @@ def read_loss(table: dict, where: str, d: int, rationalize: bool = False) -> Los
     and ignored),
     for ``d`` sensors; ``where`` prefixes errors."""
     table = {k: v for k, v in table.items() if k not in ("chain", "words")}
-    kind = table.get("kind", "iid")
     kinds = LossModel.KINDS
+    if "kind" not in table:
+        raise FileFormatError(f"{where}: key 'kind' missing; it is required, one of {', '.join(map(repr, kinds))}")
+    kind = table["kind"]
     if not isinstance(kind, str) or kind not in kinds:
         raise FileFormatError(f"{where} kind {kind!r} is not one of {', '.join(map(repr, kinds))}")
     _check_keys(table, kinds[kind].keys, where)
@@ -258,3 +268,5 @@ def _fusion(data: dict, source: str, rationalize: bool) -> "FusionModel":
                               "(give A, Q for discrete time or Ac, Bc, noise_variance, Ts for a zero-order hold)")
     values = [_exact(_get(table, key, where), f"{where} {key}", rationalize) for key in keys + ("arrival",)]
     return _built(lambda: build(*values[:-1], sensors, values[-1]), "[fusion]")
+
+check_public(globals())

@@ -32,6 +32,7 @@ from typing import Sequence
 import numpy as np
 import sympy as sp
 
+from .exact.arguments import check_public
 from .errors import InputError, NumericalBreakdownError, ShapeError
 from .losses import LossModel, checked
 from .model import System
@@ -389,3 +390,5 @@ def exact_covariances(system: System, receptions: Sequence[Sequence[int]]) -> li
 
 def _simplify(e: sp.Expr) -> sp.Expr:
     return e if e.is_Rational else sp.radsimp(sp.expand(e, complex=True))
+
+check_public(globals())

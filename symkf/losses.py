@@ -28,7 +28,9 @@ from sympy.polys.matrices import DomainMatrix
 from . import budget, receptions
 from .errors import AssumptionError, InputError, ProbabilityError, ShapeError
 from .exact.algebraic import sign
-from .exact.numbers import rationalization, substitution, to_exact
+from .exact.arguments import check_public
+from .exact.numbers import rationalization, substitution, sympify, to_exact
+from .model import System
 from .receptions import LossFactor
 
 Vector = tuple[int, ...]
@@ -312,7 +314,7 @@ class LossModel:
                                   assumption=assumption, applies_instead=applies_instead)
         return self.bernoulli
 
-    def stability_conditions(self, system: Any) -> sp.Basic:
+    def stability_conditions(self, system: System) -> sp.Basic:
         """Mean-square stability as conditions in the model's symbols (:func:`symkf.region.stability_conditions`)."""
         raise InputError(f"loss: stability conditions are given for IID and GilbertElliott, not {self.words()}; "
                          "substitute numbers and use symkf.stability.stability")
@@ -460,7 +462,7 @@ class IID(LossModel):
 
     @property
     def symbols(self) -> set[sp.Symbol]:
-        return set().union(*(sp.sympify(e).free_symbols for e in self.loss))
+        return set().union(*(sympify(e).free_symbols for e in self.loss))
 
     @property
     def bernoulli(self) -> tuple[sp.Expr, ...]:
@@ -476,7 +478,7 @@ class IID(LossModel):
     def assumption(self) -> str:
         return "i.i.d. (Assumption 4)"
 
-    def stability_conditions(self, system: Any) -> sp.Basic:
+    def stability_conditions(self, system: System) -> sp.Basic:
         from .region import stability_region
         return stability_region(system).conditions(self.loss)
 
@@ -601,7 +603,7 @@ class GilbertElliott(LossModel):
 
     @property
     def symbols(self) -> set[sp.Symbol]:
-        return set().union(*(sp.sympify(v).free_symbols for v in self.fail + self.recover + self.initial_received))
+        return set().union(*(sympify(v).free_symbols for v in self.fail + self.recover + self.initial_received))
 
     def positivity_failure(self) -> str | None:
         # the joint transition is the product of the sensors' (independent channels), so it is
@@ -611,8 +613,9 @@ class GilbertElliott(LossModel):
             for r, s in itertools.product(range(2), repeat=2):
                 if not P[r, s].free_symbols and sign(P[r, s]) <= 0:
                     state = ("received", "lost")
-                    return (f"sensor {i}: P(next {state[s]} | {state[r]}) = {P[r, s]}, so the joint chain has "
-                            "zero transitions; Assumption 2 needs every transition probability positive")
+                    key = f"fail[{i}] = {self.fail[i]}" if r == 0 else f"recover[{i}] = {self.recover[i]}"
+                    return (f"{key} (sensor {i}): P(next {state[s]} | {state[r]}) = {P[r, s]}, so the joint "
+                            "chain has zero transitions; Assumption 2 needs every transition probability positive")
         return None
 
     def hyperplane_rate(self, br: Any, H: frozenset[int]) -> sp.Expr:
@@ -620,7 +623,7 @@ class GilbertElliott(LossModel):
         from .decay import ge_rate
         return ge_rate(br, H, self)
 
-    def stability_conditions(self, system: Any) -> sp.Basic:
+    def stability_conditions(self, system: System) -> sp.Basic:
         from .region import _condition, ge_margins
         return sp.And(*[_condition(m) for m in ge_margins(system, self)])
 
@@ -641,7 +644,7 @@ class GilbertElliott(LossModel):
         values = substitution(values, "subs", self.symbols)
 
         def s(xs):
-            return [sp.sympify(x).subs(values) for x in xs]
+            return [sympify(x).subs(values) for x in xs]
         return GilbertElliott(s(self.fail), s(self.recover), s(self.initial_received) if self._initial_given else None)
 
     def __repr__(self) -> str:
@@ -844,9 +847,9 @@ class MarkovLoss(LossModel):
 
     def subs(self, values: Mapping[Any, Any]) -> "MarkovLoss":
         values = substitution(values, "subs", self.symbols)
-        table = {h: {n: sp.sympify(p).subs(values) for n, p in row.items()} for h, row in self.table.items()}
+        table = {h: {n: sympify(p).subs(values) for n, p in row.items()} for h, row in self.table.items()}
         init = None if self._initial is None else {
-            k: sp.sympify(p).subs(values) for k, p in self._initial.items()}
+            k: sympify(p).subs(values) for k, p in self._initial.items()}
         return MarkovLoss(table, self.order, init)
 
     def __repr__(self) -> str:
@@ -861,3 +864,6 @@ def _joint_cap(d: int) -> None:
     """Refuse the exact joint chain of ``d`` independent sensors before its ``2^d`` states are built."""
     budget.check("max_markov_states", 2 ** d, "loss", f"the number of states of the joint chain of {d} "
                  "independent sensors (symkf decides and samples them per sensor; this query needs the joint chain)")
+
+
+check_public(globals())

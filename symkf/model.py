@@ -9,30 +9,39 @@ definite exactly (Sylvester's criterion with certified signs).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import sympy as sp
 
+from .exact.arguments import check_public
 from . import budget
 from .errors import InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, SymkfError, UnobservableError
 from .exact.algebraic import sign
-from .exact.numbers import decimal_matrix, rationalization, to_exact_matrix
+from .exact.numbers import as_matrix, decimal_matrix, rationalization, sympify, to_exact_matrix
+
+if TYPE_CHECKING:
+    from .spectral import Eigenvalue
 
 
-def _compare_periods(A: sp.MatrixBase, decimal_A: Any) -> str:
+def _compare_periods(A: sp.MatrixBase, decimal_A: Any, partial: sp.MatrixBase | None = None) -> str:
     """Whether reading the floats of A as nearby constants rather than as decimals changed its
-    governing periods (they decide the critical values, Sui-You-Fu Theorem 7)."""
+    governing periods (they decide the critical values, Sui-You-Fu Theorem 7).  ``partial``: the
+    reading with the constants recognised in part of a block, which was not taken (A is then read
+    as decimals there); its periods are given beside the decimals'."""
     from .spectral import eigen_blocks
 
     def periods(M: Any) -> str:
         return str(tuple(b.governing_period for b in eigen_blocks(M)))
+    decimal_M = decimal_A()
     try:
-        exact, decimal = periods(A), periods(decimal_A())
+        exact, decimal = periods(A if partial is None else partial), periods(decimal_M)
     except SymkfError as exc:
         return f"governing periods not compared ({exc})"
-    verdict = "they DIFFER, so the critical values may too" if exact != decimal else "the same"
-    return (f"governing periods of A: {exact} with the recognised constants, {decimal} with the plain "
-            f"decimals ({verdict}; None = aperiodic)")
+    first = "the recognised constants" if partial is None else "the constants recognised in part (not taken)"
+    verdict = "they DIFFER, so the critical values may too" if exact != decimal else "equal"
+    taken = "" if partial is None and A != decimal_M else "; A is read with the plain decimals"
+    return (f"governing periods of A: {exact} with {first}, {decimal} with the plain decimals ({verdict}; "
+            f"None = aperiodic){taken}")
 
 
 def _identity(n: int) -> sp.ImmutableMatrix:
@@ -41,6 +50,7 @@ def _identity(n: int) -> sp.ImmutableMatrix:
 
 def check_positive_definite(M: sp.MatrixBase, entry: str) -> None:
     """Raise unless ``M`` is Hermitian positive definite (exact leading minors)."""
+    M = as_matrix(M, entry)
     if M.shape[0] != M.shape[1]:
         raise ShapeError(f"{entry}: covariance must be square, got {M.shape[0]}x{M.shape[1]}")
     for i in range(M.shape[0]):
@@ -203,7 +213,7 @@ class System:
         raw = self.A
         A = to_exact_matrix(raw, "A", rationalize=self.rationalize)
         if self.rationalize == "nearby" and any(e == "A" or e.startswith("A[") for e, *_ in record.changes):
-            record.notes.append(_compare_periods(A, lambda: decimal_matrix(raw, "A")))
+            record.notes.append(_compare_periods(A, lambda: decimal_matrix(raw, "A"), record.partial.get("A")))
         if A.shape[0] != A.shape[1]:
             raise ShapeError(f"A: must be square, got {A.shape[0]}x{A.shape[1]}")
         n = A.shape[0]
@@ -255,7 +265,7 @@ class System:
         """The sensors' names, in order."""
         return tuple(s.name for s in self.sensors)
 
-    def unseen(self, lam: Any) -> bool:
+    def unseen(self, lam: "Eigenvalue") -> bool:
         """PBH test: whether the eigenvalue ``lam`` (a :class:`~symkf.spectral.Eigenvalue` of A)
         has an eigenvector in the kernel of every C_i (:func:`symkf.spectral.unseen`, cached)."""
         cached = self._cache.get("unseen")
@@ -270,7 +280,7 @@ class System:
         over Q, else no eigenvalue unseen (Hautus), decided per diagonal block of A in its own field."""
         cached = self._cache.get("observable")
         if cached is None:
-            if all(sp.sympify(v).is_Rational for M in (self.A, self.C) for v in M):
+            if all(sympify(v).is_Rational for M in (self.A, self.C) for v in M):
                 from .exact.linalg import rank
                 cached = rank(sp.Matrix.vstack(*[self.C * self.A ** k for k in range(self.n)])) == self.n
             else:
@@ -351,3 +361,5 @@ class System:
         """This system as a python-control ``StateSpace``: :func:`symkf.control.to_statespace`."""
         from .control import to_statespace
         return to_statespace(self, B, D, dt)
+
+check_public(globals())

@@ -18,7 +18,7 @@ import functools
 import math
 from dataclasses import dataclass
 from statistics import NormalDist
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 import sympy as sp
@@ -26,14 +26,18 @@ import sympy as sp
 from . import budget, receptions
 from .errors import InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
+from .exact.arguments import check_public, float_array
 from .exact.perron import perron_float
-from .exact.numbers import to_exact
+from .exact.numbers import sympify, to_exact
 from .filtering import FloatSystem, _positive, _run, exact_covariances, log_traces, real_form, receival_table
 from .losses import LossModel, checked
 from .receptions import LossFactor, chain_states, cumulative, emit_into, groups
 from .model import System
 from .progress import progress
 from .sweep import sweep
+
+if TYPE_CHECKING:
+    from .stability import Verdict
 
 #: paths per batch: bounds memory and drives the progress bar
 CHUNK = 50_000
@@ -119,19 +123,76 @@ def exact_mean_trace(system: System, loss: LossModel, horizon: int) -> np.ndarra
 
 # ------------------------------------------------------------------ Monte Carlo
 
+#: bytes per value of a per-step record of the command line: a Python float in a list (32), and
+#: with ``--json`` its share of ``json.dumps(..., indent=2)``'s chunks and text (measured: 152)
+RECORD_BYTES = {"text": 40, "json": 152}
+
+
+def _padded(paths: int) -> int:
+    from .square_root import LANES   # the kernel runs whole blocks of LANES paths
+    return -(-paths // LANES) * LANES
+
+
+def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *, components: int | None = None,
+                    records: str | None = None, jobs: int = 1) -> int:
+    """Peak bytes of the arrays one simulation allocates, phase by phase (the largest phase counts).
+
+    ``components is None``: :func:`simulate_traces` / :func:`estimate_mean_trace` (plain Monte
+    Carlo, chunks of :data:`CHUNK` paths) and, with ``records`` (``"text"`` or ``"json"``), the
+    command line's per-step records of the mean and its interval (:data:`RECORD_BYTES`).  Otherwise
+    :func:`burst_sample` with that many burst components, on ``jobs`` processes.  Counted, per
+    chunk of ``m`` paths and ``K`` steps (``P`` = ``m`` padded to the kernel's lanes, which for one
+    path is 64 times its size): the receptions and chain states; the kernel's trace and exponent
+    ``16 (K + 1) P`` and the log-trace temporaries ``16 (K + 1) m`` (:func:`symkf.filtering.log_traces`;
+    numpy elides the third); for bursts the law table, the likelihood ratios ``8 C K m`` and their
+    tail sums (three more of that size at once), and the log-trace rows; the traces ``8 paths K`` kept whole (resident as
+    the chunks fill them) and the standard deviation's copy of them; per path results ``72 paths``
+    for bursts.  Checked against measured peak RSS in
+    ``tests/test_memory_estimate.py``.
+    """
+    d, K = system.d, horizon
+    if components is None:
+        def chunk(m: int) -> int:   # chain states (one byte per sensor and step), receptions, kernel
+            P = _padded(m)
+            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + 16 * (K + 1) * (P + m))
+        size = _trace_chunk(K, d)
+        full, last = min(paths, size), paths % size or min(paths, size)
+        # the traces are resident as far as the chunks before the current one filled them
+        phases = [chunk(full), 8 * (paths - last) * K + chunk(last), 16 * paths * K]
+        if paths > size + last:
+            phases.append(8 * (paths - last - full) * K + chunk(full))
+        if records is not None:
+            phases.append(K * (32 + 3 * RECORD_BYTES[records]))
+        return max(phases)
+    m = min(paths, _burst_chunk_size(components, K))
+    P = _padded(m)
+    two_state = all(len(f.P) == 2 for f in loss_factors(loss, d))
+    # held to the chunk's end: law table, last transition index, log-trace rows (logtr is a view of
+    # them), receptions, chain states, likelihood ratios
+    held = 24 * (K + 1) * m + d * K * m + (d if two_state else 8) * K * m + 8 * components * K * m
+    kernel = (d * K * P if P != m else 0) + 16 * (K + 1) * P + 24 * (K + 1) * m
+    tails = 24 * components * (K + 1) * m
+    return min(jobs, -(-paths // m)) * (held + max(kernel, tails, 24 * K * m)) + 72 * paths
+
+
+def _trace_chunk(horizon: int, d: int) -> int:
+    """Paths per chunk of :func:`_simulate`: a chunk's receptions and chain states take 2 horizon x
+    paths x d bytes, about 32 MB, in whole blocks of the kernel's 64 lanes (a partial block is
+    padded, i.e. copied)."""
+    return min(CHUNK, max(64, 2 ** 24 // (horizon * d) // 64 * 64))
+
+
 def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None) -> np.ndarray:
     """tr P_{k|k-1} (paths, horizon), receptions drawn from ``loss`` per factor (:meth:`LossModel.sample`)."""
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
-    # the traces are kept whole: refused before numpy tries to allocate them
-    budget.check("max_memory", 8 * paths * horizon, "paths x horizon",
-                 f"the bytes of the traces of {paths} paths over {horizon} steps")
+    # refused before numpy tries to allocate the arrays
+    budget.check("max_memory", memory_estimate(system, loss, horizon, paths), "paths x horizon",
+                 f"the bytes (estimate) of a simulation of {paths} paths over {horizon} steps")
     model = real_form(system)
     factors = loss_factors(loss, system.d)
     rng = np.random.default_rng(seed)
     traces = np.empty((paths, horizon))
-    # a chunk's receptions and chain states take 2 horizon x paths x d bytes: about 32 MB, in
-    # whole blocks of the kernel's 64 lanes (a partial block is padded, i.e. copied)
-    chunk = min(CHUNK, max(64, 2 ** 24 // (horizon * system.d) // 64 * 64))
+    chunk = _trace_chunk(horizon, system.d)
     chunks = range(0, paths, chunk)
     with _progress(len(chunks), paths * horizon, "simulate") as bar:
         for start in chunks:
@@ -180,6 +241,7 @@ class TraceEstimate:
 
     def covers(self, values: np.ndarray) -> np.ndarray:
         """Which steps' intervals contain ``values``."""
+        values = float_array(values, "values")
         return (self.low <= values) & (values <= self.high)
 
 
@@ -215,7 +277,7 @@ def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...],
     """The limiting block's decisive loss pattern, one tuple of lost sensors per phase, and its growth.
 
     ``verdict`` is :func:`symkf.stability.stability`'s: in the limiting eigen-block
-    (largest margin ``alpha_i^2 rho_i``, Sui-You-Fu eq. 36) with governing period ``g``,
+    (largest margin ``alpha_i^2 rho_i``, Sui-You-Fu eq. 36) with class period ``g``,
     the decisive hyperplane lists the elements (sensor, phase) that may be received while
     ``O_N^i`` stays rank deficient.  Returns, per phase ``0..g-1``, the sensors that must
     be lost (the elements outside the hyperplane), and the exact growth ``alpha_i^(2g)``
@@ -226,11 +288,11 @@ def burst_pattern(system: System, verdict) -> tuple[tuple[tuple[int, ...], ...],
     cert = verdict.certificate[verdict.limiting_block]
     received = set(cert.decisive_elements)
     phases = tuple(tuple(j for j, name in enumerate(system.sensor_names) if (name, phase) not in received)
-                   for phase in range(cert.governing_period))
-    return phases, sp.sympify(cert.modulus) ** (2 * cert.governing_period)
+                   for phase in range(cert.class_period))
+    return phases, sympify(cert.modulus) ** (2 * cert.class_period)
 
 
-def exact_growth_rate(verdict) -> AlgebraicNumber:
+def exact_growth_rate(verdict: "Verdict") -> AlgebraicNumber:
     """The exact per-step growth rate of ``E[tr P_k]``: ``max_i alpha_i^2 rho_i`` when unstable,
     else 1 (bounded), as an AlgebraicNumber."""
     return max(verdict.margins) if not verdict.stable else AlgebraicNumber.from_expr(sp.Integer(1))
@@ -381,11 +443,11 @@ def verdict_plan(system: System, verdict, loss: LossModel | None = None) -> Burs
         return plan
     from .observability import block_rows  # the engine imports nothing from simulation
     br = block_rows(system)[verdict.limiting_block]
-    if len(br.hyperplanes) > MAX_TIE_SEARCH or br.period != plan.period:
+    if len(br.hyperplanes) > MAX_TIE_SEARCH or br.class_period != plan.period:
         return plan
     masks = []
     for H in br.hyperplanes:
-        a = np.zeros((br.period, system.d), bool)
+        a = np.zeros((br.class_period, system.d), bool)
         for i in H:
             a[br.elements[i].phase, br.elements[i].sensor] = True
         masks.append(a)
@@ -443,16 +505,23 @@ def burst_sample(system: System, loss: LossModel, horizon: int, paths: int, seed
     model = real_form(system)
     factors = loss_factors(loss, system.d)
     tilts = tuple(tuple(_factor_tilt(f, a) for f in factors) for a in plan.allowed) if plan is not None else ()
-    # a chunk holds components x horizon x paths likelihood ratios: about 1.6e7 floats at most;
-    # 32768 paths at most, so that jobs = 2 has two chunks from 32769 paths on (the chunks,
-    # not jobs, fix the random streams: default runs of 20 000 paths are one chunk as before)
-    chunk = max(1024, min(32768, 2 ** 24 // (max(len(tilts), 1) * horizon)))
+    budget.check("max_memory", memory_estimate(system, loss, horizon, paths, components=max(len(tilts), 1), jobs=jobs),
+                 "paths x horizon", f"the bytes (estimate) of a burst sample of {paths} paths over {horizon} steps")
+    chunk = _burst_chunk_size(max(len(tilts), 1), horizon)
     sizes = [min(chunk, paths - start) for start in range(0, paths, chunk)]
     seeds = np.random.SeedSequence(seed).spawn(len(sizes))
     chunk = functools.partial(_burst_chunk, model, tuple(factors), tilts,
                               None if plan is None else (plan.period, plan.growth), horizon)
     parts = sweep(chunk, list(zip(sizes, seeds)), jobs=jobs, progress=False)
     return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+
+
+def _burst_chunk_size(components: int, horizon: int) -> int:
+    """Paths per chunk of :func:`burst_sample`.  A chunk holds components x horizon x paths
+    likelihood ratios: about 1.6e7 floats at most; 32768 paths at most, so that jobs = 2 has two
+    chunks from 32769 paths on (the chunks, not jobs, fix the random streams: default runs of
+    20 000 paths are one chunk as before)."""
+    return max(1024, min(32768, 2 ** 24 // (components * horizon)))
 
 
 def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tuple, plan: tuple[int, float] | None,
@@ -646,6 +715,8 @@ def polynomial_allowance(horizons: Sequence[int], degree: int = 1) -> float:
     (``benchmarks/float_resolution.py``) the estimate is +0.008 %, inside the lower half.
     :func:`float_horizon` now keeps the horizons where float64 resolves every path.
     """
+    if len(horizons) != 3 or not 0 < horizons[0] < horizons[1]:
+        raise InputError(f"horizons: expected three increasing horizons (k, k + h, k + 2h), got {horizons!r}")
     k, k1, _ = horizons
     h = k1 - k
     return degree * math.log((k + 2 * h) / (k + h)) / h
@@ -804,3 +875,6 @@ def mean_trace_curve(system: System, loss: LossModel, horizon: int, paths: int, 
     return MeanTraceCurve(ks, np.array([r.log_mean for r in runs]), np.array([r.rel_stderr for r in runs]),
                           confidence, paths, seed, runs[0].sampling, requested,
                           cap if cap is not None and cap < requested else None)
+
+
+check_public(globals())

@@ -29,8 +29,11 @@ import flint
 import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
 import sympy as sp
 
+from . import hyperplane_screen
+from .exact.arguments import check_public
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, nullspace_rows, rank_rows
+from .exact.numbers import sympify
 from .model import System
 from .spectral import EigenBlock, eigenvalue_key, factors_in, support
 
@@ -49,12 +52,13 @@ class BlockRows:
 
     block: EigenBlock
     K: NumberField
-    period: int
+    class_period: int  # the block's class period (EigenBlock.class_period): the elements' phases
     elements: tuple[Element, ...]
     generators: tuple[tuple[tuple[Elem, ...], ...], ...]  # per element
     size: int
     T: list = field(repr=False)      # modal eigenvector columns (n x n_i over K; see modal_form's conjugate_pair)
     diag: list = field(repr=False)   # the block's eigenvalues in K, repeated by multiplicity
+    phase_shift: bool = False        # generators are the class parts of C_j T D^phase (not Jordan chains)
 
     @cached_property
     def hyperplanes(self) -> tuple[frozenset[int], ...]:
@@ -103,70 +107,125 @@ class BlockRows:
         ``floor``, every set whose screened weight is at least ``min(floor, maximum)`` (less the
         tolerance) is returned: all hyperplanes that an additive upper bound cannot rule out.
 
-        Why no maximiser is missed: the search visits the flat ``Z_p`` spanned mod p by every
-        (n - 2)-set ``c`` of generators and scores ``Z_p`` plus each of its lines (:func:`_line_keys`).
-        An exact hyperplane ``H`` holds such a ``c``, independent over K and so mod p (checked);
-        its other generators lie in ``Z_p`` or, by Cramer with an (n - 1)-minor of ``c`` and one
-        of them nonzero mod p, on one line: that screened set contains ``H``, and weights are
-        >= 0.  So if every set near the screened maximum confirms, that maximum is exact and
-        every exact maximiser is among the returned sets; a failed confirmation returns None.
-        Applies to elements with at most one generator (single-row sensors) and generators
-        spanning K^n mod p.
+        The screen (:mod:`symkf.hyperplane_screen`) works mod p, stage by stage: each orbit of
+        elements under the phase shift ``(j, r) -> (j, r + 1 mod g)`` (a symmetry of the hyperplanes
+        when the generator of ``(j, r + 1)`` is that of ``(j, r)`` times ``D_i``, by construction in
+        :func:`_block_rows`; else every element is its own orbit) contributes the hyperplanes through its first
+        element ``a`` that hold no element of an earlier orbit; every hyperplane is a shift of one
+        of those.  Within a stage, a hyperplane ``H`` is visited at the flat ``Z_p`` spanned mod p
+        by ``a`` and its first ``n - 3`` classes independent mod ``a`` (independent over K, as
+        independent mod p), with the line of the later classes of ``H``: every later element of
+        ``H`` lies in ``Z_p`` or, by Cramer with an (n - 1)-minor nonzero mod p, on that one line,
+        so the screened set (``Z_p`` alone when no later class is left) contains ``H``, and weights
+        are >= 0.  Each kept set is closed mod p (every element on the mod-p span of its normal)
+        and confirmed exactly (rank ``n - 1`` over K): the closure is then an exact hyperplane, no
+        lighter than the set, so the screened maximum is the exact one and every exact maximiser
+        is among the closures' shifts.  A failed confirmation (a merge mod p that is not exact, or
+        a representative vanishing mod p) repeats the screen with the next prime, then returns
+        None.  Applies to elements with at most one generator (single-row sensors) and
+        generators spanning K^n mod p.
         """
         n = self.size
         if n < 2 or any(len(gs) > 1 for gs in self.generators):
             return None
-        vectors = _distinct([gs[0] for gs in self.generators if gs])
-        index = {_key(v): i for i, v in enumerate(vectors)}
-        owner = np.array([index[_key(gs[0])] if gs else -1 for gs in self.generators])
-        vw = np.bincount(owner[owner >= 0], weights=np.asarray(weights, dtype=float)[owner >= 0],
-                         minlength=len(vectors))
-        p, images = _reduction(self.K, vectors)
-        if flint.nmod_mat(images, p).rank() < n:
-            return None
-        W = np.array(images, dtype=np.int64)
-        V, tol = len(vectors), 1e-9 * (1 + vw.sum())
-        best, kept = -np.inf, {}  # screened sets (vector indices) within tol of the best so far: score
-        combos = itertools.combinations(range(V), n - 2)
-        while chunk := list(itertools.islice(combos, 2048)):
-            batch, normals = [], []
-            for c in chunk:
-                N = _normals(images, c, p, n)
-                if N is not None:
-                    batch.append(c)
-                    normals.append(N)
-                elif rank_rows(self.K, [vectors[i] for i in c], n) == n - 2:
-                    return None  # independent over K, not mod p
-            if not batch:
+        live = [e for e, gs in enumerate(self.generators) if gs]
+        always = [e for e, gs in enumerate(self.generators) if not gs]
+        vectors = [self.generators[e][0] for e in live]
+        w = np.asarray(weights, dtype=float)
+        shift = self._shift(live)
+        orbits = _orbits(len(live), shift)
+        p, tol = 1 << 27, 1e-9 * (1 + w.sum())
+        for _ in range(3):
+            p, images = _reduction(self.K, vectors, p)
+            if flint.nmod_mat(images, p).rank() < n:
+                return None
+            X = np.array(images, dtype=np.int64)
+            screen = hyperplane_screen.Screen(tol, floor)
+            if not hyperplane_screen.search(X, w[live], p, orbits, self._parallel_orbits(X, p, orbits, vectors),
+                                            screen):
                 continue
-            XY = np.einsum("vn,bnk->bvk", W, np.stack(normals)) % p
-            key = _line_keys(XY[..., 0], XY[..., 1], p)                      # batch x V
-            flat_weight = np.where(key == p + 1, vw, 0).sum(axis=1)
-            order = np.argsort(key, axis=1)  # per flat, its lines as runs of equal keys
-            keys = np.take_along_axis(key, order, axis=1)
-            run = np.ones_like(keys, dtype=bool)
-            run[:, 1:] = keys[:, 1:] != keys[:, :-1]
-            starts = np.flatnonzero(run)
-            rows, line = starts // V, keys.ravel()[starts]
-            score = np.add.reduceat(vw[order].ravel(), starts) + flat_weight[rows]
-            score[line == p + 1] = -np.inf  # the flat itself is no hyperplane
-            best = max(best, score.max(initial=-np.inf))
-            bar = best - tol if floor is None else min(best, floor) - tol
-            kept = {S: w for S, w in kept.items() if w >= bar}
-            for i in np.flatnonzero(score >= bar):
-                member = key[rows[i]]
-                kept[frozenset(np.flatnonzero((member == p + 1) | (member == line[i])).tolist())] = score[i]
-        out = []
-        for S in kept:
-            if rank_rows(self.K, [vectors[i] for i in S], n) != n - 1:
-                return None  # a false merge mod p
-            out.append(frozenset(np.flatnonzero((owner < 0) | np.isin(owner, list(S))).tolist()))
+            closures = [self._closure(X, p, sorted(S), vectors) for S in screen.kept]
+            if any(c is None for c in closures):
+                continue
+            out = set()
+            for c in closures:
+                for _ in range(self.class_period if shift is not None else 1):
+                    out.add(frozenset(live[i] for i in c) | frozenset(always))
+                    c = shift[c] if shift is not None else c
+            return list(out)
+        return None
+
+    def _shift(self, live: list[int]) -> np.ndarray | None:
+        """The phase shift on live elements (positions in ``live``): the position of ``(j, r + 1 mod
+        g)`` for each ``(j, r)``, when the generators are the class parts of ``C_j T D^r``
+        (:attr:`phase_shift`): the generator of ``(j, r + 1)`` is then that of ``(j, r)`` times
+        ``D_i``, parallel to it at ``r = g - 1`` (``D_i^g`` is scalar on each class), so shifts map
+        hyperplanes to hyperplanes; else None."""
+        if self.class_period < 2 or not self.phase_shift:
+            return None
+        at = {(e.sensor, e.phase): i for i, e in enumerate(self.elements)}
+        position = {e: i for i, e in enumerate(live)}
+        nxt = [at[(self.elements[e].sensor, (self.elements[e].phase + 1) % self.class_period)] for e in live]
+        return np.array([position[e] for e in nxt])
+
+    def _parallel_orbits(self, X: np.ndarray, p: int, orbits: list[list[int]], vectors) -> set[int]:
+        """Orbits whose first element is parallel over K to an element of an earlier orbit (every
+        hyperplane through it holds that element: the stage finds nothing new)."""
+        _, classes, _ = hyperplane_screen._classes(X, p)
+        label = np.empty(len(X), dtype=np.int64)
+        for c, members in enumerate(classes):
+            label[members] = c
+        stage = np.empty(len(X), dtype=np.int64)
+        for o, orbit in enumerate(orbits):
+            stage[orbit] = o
+        out = set()
+        for o, orbit in enumerate(orbits):
+            a = orbit[0]
+            earlier = [i for i in classes[label[a]] if stage[i] < o]
+            if earlier and _parallel(self.K, vectors[a], vectors[earlier[0]]):
+                out.add(o)
         return out
+
+    def _closure(self, X: np.ndarray, p: int, S: list[int], vectors) -> np.ndarray | None:
+        """Every element on the mod-p hyperplane spanned by ``S``, if that set has rank ``n - 1``
+        mod p and over K (then it is the exact hyperplane through ``S``); else None."""
+        null, nullity = flint.nmod_mat(X[S].tolist(), p).nullspace()
+        if nullity != 1:
+            return None
+        normal = np.array([int(null[i, 0]) for i in range(self.size)], dtype=np.int64)
+        members = np.flatnonzero(X @ normal % p == 0)
+        if rank_rows(self.K, _distinct([vectors[i] for i in members]), self.size) != self.size - 1:
+            return None
+        return members
 
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
         rows = [g for e in pattern for g in self.generators[e]]
         return rank_rows(self.K, rows, self.size) < self.size
+
+
+def _orbits(count: int, shift: np.ndarray | None) -> list[list[int]]:
+    """The cycles of ``shift`` on ``range(count)`` (each element alone without it), each from its
+    least element, in the order of those."""
+    if shift is None:
+        return [[i] for i in range(count)]
+    seen = np.zeros(count, dtype=bool)
+    out = []
+    for i in range(count):
+        if not seen[i]:
+            cycle, j = [], i
+            while not seen[j]:
+                seen[j] = True
+                cycle.append(j)
+                j = int(shift[j])
+            out.append(sorted(cycle))
+    return out
+
+
+def _parallel(K: NumberField, u: Sequence[Elem], v: Sequence[Elem]) -> bool:
+    """Whether the nonzero vectors ``u`` and ``v`` over K are parallel (all 2 x 2 minors vanish)."""
+    k = next(i for i, a in enumerate(u) if not a.is_zero())
+    return all(K.mul(a, v[k]) == K.mul(b, u[k]) for a, b in zip(u, v))
 
 
 def _set(row: np.ndarray) -> frozenset[int]:
@@ -205,21 +264,58 @@ def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]], start: int = 1
     p = start  # below 2^30: products of two residues, summed n times, stay in int64
     elements = [a for v in vectors for a in v]
     denominators = int(np.lcm.reduce([int(a.denom()) for a in elements] + [int(K.modulus.denom())], dtype=object))
+    m = _conductor(K.modulus)
     while True:
-        p = int(sp.nextprime(p))
+        p = int(sp.nextprime(p)) if not m else _next_prime_1_mod(p, m)
         if denominators % p == 0 or int(K.modulus.coeffs()[-1].p) % p == 0:
             continue
         f = flint.nmod_poly([int(c.p) * pow(int(c.q), -1, p) % p for c in K.modulus.coeffs()], p)
-        x = flint.nmod_poly([0, 1], p)
-        split = f.gcd(x.pow_mod(p, f) - x)  # the linear factors of f: finding them all costs far more
-        if split.degree() < 1:
+        r = _cyclotomic_root(f, p, m) if m else _some_root(f, p)
+        if r is None:
             continue
-        roots = split.roots()
-        r = int(roots[0][0])
 
         def phi(a: Elem) -> int:
             return int(flint.nmod_poly([int(c) for c in a.numer().coeffs()], p)(r)) * pow(int(a.denom()), -1, p) % p
         return p, [[phi(a) for a in v] for v in vectors]
+
+
+def _some_root(f: flint.nmod_poly, p: int) -> int | None:
+    x = flint.nmod_poly([0, 1], p)
+    split = f.gcd(x.pow_mod(p, f) - x)  # the linear factors of f: finding them all costs far more
+    return int(split.roots()[0][0]) if split.degree() >= 1 else None
+
+
+def _conductor(modulus: Elem) -> int:
+    """m when ``modulus`` is the cyclotomic ``Phi_m`` or the minimal polynomial of ``2 cos(2 pi/m)``
+    (the presentations of :mod:`symkf.exact.field`), else 0: both split mod every prime
+    ``p = 1 mod m``, where a root is a power ``a^((p - 1)/m)`` (no search over primes, whose
+    density with a root is ``1/phi(m)``)."""
+    if modulus.denom() != 1 or modulus.degree() < 2:
+        return 0
+    f = flint.fmpz_poly([int(c) for c in modulus.coeffs()])
+    if m := int(f.is_cyclotomic()):
+        return m
+    d, t, x = f.degree(), flint.fmpz_poly([1, 0, 1]), flint.fmpz_poly([0, 1])  # x^d f(x + 1/x)
+    h = sum((int(c) * t ** k * x ** (d - k) for k, c in enumerate(f.coeffs())), flint.fmpz_poly([]))
+    return int(h.is_cyclotomic())
+
+
+def _next_prime_1_mod(p: int, m: int) -> int:
+    q = p + 1 + (-p) % m  # the next q = 1 mod m above p
+    while not sp.isprime(q):
+        q += m
+    return q
+
+
+def _cyclotomic_root(f: flint.nmod_poly, p: int, m: int) -> int | None:
+    """A root of ``f`` (``Phi_m`` or the polynomial of ``2 cos(2 pi/m)`` mod ``p = 1 mod m``):
+    ``zeta = a^((p - 1)/m)`` is a primitive m-th root of unity for some small ``a``."""
+    for a in range(2, 200):
+        z = pow(a, (p - 1) // m, p)
+        for r in (z, (z + pow(z, -1, p)) % p):
+            if int(f(r)) == 0:
+                return r
+    return None
 
 
 def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n: int) -> list[frozenset[int]]:
@@ -296,29 +392,8 @@ def _normals(images: Sequence[Sequence[int]], c: tuple[int, ...], p: int, n: int
 def _line_keys(x: np.ndarray, y: np.ndarray, p: int) -> np.ndarray:
     """The point ``(x : y)`` of the projective line over F_p as ``x / y`` in ``0..p-1``, ``p`` for
     ``y = 0``, and ``p + 1`` for ``x = y = 0`` (the vector lies in the flat)."""
-    inv = _inverses(np.where(y != 0, y, 1), p)
+    inv = hyperplane_screen.inverses(np.where(y != 0, y, 1), p)
     return np.where(y != 0, x * inv % p, np.where(x != 0, p, p + 1))
-
-
-def _inverses(y: np.ndarray, p: int) -> np.ndarray:
-    """Inverses mod p of the (nonzero) entries of ``y`` (B x V), with Montgomery's batch trick
-    along each row: prefix products, one Fermat power per row, and a backward pass."""
-    prefix = np.empty_like(y)
-    prefix[:, 0] = y[:, 0]
-    for j in range(1, y.shape[1]):
-        prefix[:, j] = prefix[:, j - 1] * y[:, j] % p
-    inv_all, base, e = np.ones_like(prefix[:, -1]), prefix[:, -1].copy(), p - 2  # squarings stay below 2^54
-    while e:
-        if e & 1:
-            inv_all = inv_all * base % p
-        base = base * base % p
-        e >>= 1
-    out = np.empty_like(y)
-    for j in range(y.shape[1] - 1, 0, -1):  # inv_all = 1 / (y_0 ... y_j)
-        out[:, j] = inv_all * prefix[:, j - 1] % p
-        inv_all = inv_all * y[:, j] % p
-    out[:, 0] = inv_all
-    return out
 
 
 def _hyperplanes_through(c: tuple[int, ...], key: np.ndarray, p: int, n: int, flat) \
@@ -393,6 +468,8 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
     # the eigenvectors live on the diagonal blocks of A holding the members (spectral.support); a
     # block with Jordan chains keeps all of A, which _jordan_block_rows multiplies by
     index = list(range(n)) if block.defective else support(A, block.members)
+    if not block.defective and len({tuple(support(A, [e])) for e in members}) > 1:
+        return _split_modal_form(A, members, extra, index)
     sub = A.extract(index, index)
     K = field_of(sub, *extra)
     # an eigenvalue with a linear factor over the entries' field is an element of it already
@@ -400,17 +477,18 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
               for f, i in roots}
     own = all(e.key in inside for e in members)
     if not own:
-        K = NumberField([*K.generators, *(e.expr for e in members if not e.expr.is_Rational)])
+        K = NumberField([*K.generators, *(e.root for e in members if not e.root.is_Rational)])
     Ak = K.matrix(sub)
     m = len(index)
     cols: list[list[Elem]] = []
     diag: list[Elem] = []
     for ev in members:
-        lam = inside[ev.key] if own else K.convert(ev.expr)
+        lam = inside[ev.key] if own else K.convert(ev.root)
         shifted = [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(m)] for i in range(m)]
         if ev.defective:
             shifted = _matpow(K, shifted, ev.multiplicity)
-        basis = nullspace_rows(K, shifted, m)
+        basis = _krylov_eigenvector(K, sub, lam) if ev.multiplicity == 1 else None
+        basis = basis or nullspace_rows(K, shifted, m)
         if len(basis) != ev.multiplicity:
             raise AssertionError("generalized eigenspace dimension mismatch")  # pragma: no cover
         cols.extend(basis)
@@ -419,6 +497,66 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
     zero = flint.fmpq_poly([])
     T = [[cols[c][row_of[i]] if i in row_of else zero for c in range(len(cols))] for i in range(n)]
     return K, T, diag
+
+
+def _split_modal_form(A: sp.MatrixBase, members: Sequence, extra: Sequence[sp.MatrixBase], index: list[int]) \
+        -> tuple[NumberField, list[list[Elem]], list[Elem]]:
+    """:func:`modal_form` of a block whose eigenvalues live on different diagonal blocks of ``A``
+    (rotations of one modulus from several cyclotomic fields): each eigenvector is found on the
+    diagonal blocks holding its eigenvalue only (it vanishes elsewhere), without factoring the
+    characteristic polynomial over the compositum of all entries (most of the time before)."""
+    K = NumberField([*field_of(A.extract(index, index), *extra).generators,
+                     *(e.root for e in members if not e.root.is_Rational)])
+    n, zero = A.shape[0], flint.fmpq_poly([])
+    cols: list[list[Elem]] = []
+    diag: list[Elem] = []
+    for ev in members:
+        own = support(A, [ev])
+        sub = A.extract(own, own)
+        lam = K.convert(ev.root)
+        basis = _krylov_eigenvector(K, sub, lam) if ev.multiplicity == 1 else None
+        if not basis:
+            Ak = K.matrix(sub)
+            basis = nullspace_rows(K, [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(len(own))]
+                                       for i in range(len(own))], len(own))
+        if len(basis) != ev.multiplicity:
+            raise AssertionError("eigenspace dimension mismatch")  # pragma: no cover
+        row_of = {i: r for r, i in enumerate(own)}
+        cols.extend([[v[row_of[i]] if i in row_of else zero for i in range(n)] for v in basis])
+        diag.extend([lam] * ev.multiplicity)
+    return K, [[col[i] for col in cols] for i in range(n)], diag
+
+
+def _krylov_eigenvector(K: NumberField, A: sp.MatrixBase, lam: Elem) -> list[list[Elem]] | None:
+    """``[v]`` with ``A v = lam v``, ``v != 0``, for a rational ``A`` and a simple eigenvalue ``lam``
+    in K, from the adjugate instead of an echelon form over K (whose coefficients swell: most of
+    the time of a dense 20 x 20 system): ``adj(lam I - A) = sum_j q_j(lam) A^j`` with
+    ``q(x, y) = (chi(x) - chi(y)) / (x - y) = sum_j q_j(x) y^j``, of rank 1, so a nonzero column
+    ``sum_j q_j(lam) A^j e_k`` spans the eigenspace (checked exactly); None when A is not rational."""
+    if not all(v.is_Rational for v in A):
+        return None
+    n = A.shape[0]
+    M = flint.fmpq_mat([[flint.fmpq(int(v.p), int(v.q)) for v in A.row(i)] for i in range(n)])
+    chi = M.charpoly().coeffs()
+    q = [flint.fmpq_poly([chi[n]])]  # q_(n-1) = chi_n; q_j = lam q_(j+1) + chi_(j+1)
+    for j in range(n - 2, -1, -1):
+        q.append(K.mul(lam, q[-1]) + chi[j + 1])
+    q.reverse()
+    for k in range(n):
+        w = flint.fmpq_mat(n, 1, [1 if i == k else 0 for i in range(n)])
+        v = [flint.fmpq_poly([]) for _ in range(n)]
+        for j in range(n):
+            for i in range(n):
+                if w[i, 0] != 0:
+                    v[i] += q[j] * w[i, 0]
+            w = M * w
+        if any(not a.is_zero() for a in v):
+            for i in range(n):  # (A - lam I) v = 0 exactly
+                if not (sum((v[j] * M[i, j] for j in range(n) if M[i, j] != 0), flint.fmpq_poly([]))
+                        - K.mul(lam, v[i])) % K.modulus == 0:
+                    raise AssertionError("adjugate eigenvector check failed")  # pragma: no cover
+            return [v]
+    return None
 
 
 def _matmul(K: NumberField, X: Sequence[Sequence[Elem]], Y: Sequence[Sequence[Elem]]) -> list[list[Elem]]:
@@ -441,7 +579,7 @@ def is_conjugate_pair(system: System, block: EigenBlock) -> bool:
     of the first's (the generic case of a dense real matrix)."""
     return (len(block.members) == 2 and len(block.classes) == 2
             and all(e.multiplicity == 1 for e in block.members)
-            and all(sp.sympify(v).is_real for M in (system.A, *(s.C for s in system.sensors)) for v in M))
+            and all(sympify(v).is_real for M in (system.A, *(s.C for s in system.sensors)) for v in M))
 
 
 def _block_rows(system: System, block: EigenBlock) -> BlockRows:
@@ -454,9 +592,10 @@ def _block_rows(system: System, block: EigenBlock) -> BlockRows:
     elements, generators = [], []
     for j, sensor in enumerate(system.sensors):
         CT = [K.vecmat(K.matrix(sensor.C)[r], T) for r in range(sensor.m)]
-        for phase in range(g):
-            powers = [K.pow(lam, phase) for lam in diag]
-            rows = [[K.mul(a, p) for a, p in zip(row, powers)] for row in CT]
+        rows = CT
+        for phase in range(g):  # rows C_j T D^phase
+            if phase:
+                rows = [[K.mul(a, lam) for a, lam in zip(row, diag)] for row in rows]
             gens = []
             for c in range(len(block.classes)):
                 for row in rows:
@@ -465,7 +604,7 @@ def _block_rows(system: System, block: EigenBlock) -> BlockRows:
                         gens.append(v)
             elements.append(Element(j, phase))
             generators.append(tuple(_independent(K, gens, block.size)))
-    return BlockRows(block, K, g, tuple(elements), tuple(generators), block.size, T, diag)
+    return BlockRows(block, K, g, tuple(elements), tuple(generators), block.size, T, diag, phase_shift=True)
 
 
 def _jordan_block_rows(system: System, block: EigenBlock, K: NumberField, T: list, diag: list) -> BlockRows:
@@ -510,6 +649,8 @@ def _jordan_block_rows(system: System, block: EigenBlock, K: NumberField, T: lis
 
 def _independent(K: NumberField, vectors: list[tuple[Elem, ...]], n: int) -> list[tuple[Elem, ...]]:
     """A maximal independent subset (generators of the same span, fewer rank tests later)."""
+    if len(vectors) == 1:  # nonzero
+        return list(vectors)
     out: list[tuple[Elem, ...]] = []
     for v in vectors:
         if rank_rows(K, out + [v], n) > len(out):
@@ -561,3 +702,5 @@ def block_deficient(system: System, pattern: Sequence[Sequence[int]]) -> tuple[b
 def project(pattern: Sequence[Sequence[int]], period: int) -> frozenset[Element]:
     """Algorithm 1: the elements (sensor, k mod period) received at least once."""
     return frozenset(Element(j, k % period) for k, vec in enumerate(pattern) for j, g in enumerate(vec) if g)
+
+check_public(globals())

@@ -41,6 +41,7 @@ import sympy as sp
 from sympy.polys.constructor import construct_domain
 from sympy.polys.matrices import DomainMatrix
 
+from .exact.arguments import check_public
 from .exact.numbers import sympify, to_exact_matrix
 
 Pair = tuple[int, int]  # (time k, sensor j)
@@ -55,8 +56,7 @@ class RawRegression:
         n = A.shape[0]
         U = sp.eye(n) if subspace is None else sp.Matrix(to_exact_matrix(subspace, "subspace"))
         entries = [*A, *U, *(v for C in Cs for v in C)]
-        K, values = construct_domain([sp.nsimplify(v) if isinstance(v, float) else v for v in entries],
-                                     extension=True)
+        K, values = construct_domain(entries, extension=True)
         it = iter(values)
 
         def take(rows: int, cols: int) -> DomainMatrix:
@@ -73,6 +73,10 @@ class RawRegression:
 
     def rank(self, received: Sequence[Pair]) -> int:
         """Rank of ``O_N U`` for the received pairs."""
+        received = [tuple(p) for p in received]
+        unknown = [p for p in received if p not in self.rows]
+        if unknown:
+            raise InputError(f"received: {unknown[0]!r} is not a pair (k, j) with k < N = {self.N} and a sensor j")
         rows = [row for p in received for row in self.rows[p]]
         if not rows:
             return 0
@@ -122,3 +126,5 @@ def decay_slope(A: Any, Cs: Sequence[Any], weights: Sequence[int], N: int, G: in
     Equal values ``s`` witness a decay rate ``x^(s/G)`` of ``P(O_N U deficient)`` per step."""
     L = [RawRegression(A, Cs, N + t * G, subspace).least_lost_weight(weights) for t in range(3)]
     return L[1] - L[0], L[2] - L[1]
+
+check_public(globals())

@@ -117,6 +117,8 @@ class Planned:
     def write(self, fill: Callable[[IO[bytes]], None]) -> Path:
         """Write what ``fill`` writes to a binary file object into :attr:`path`, atomically."""
         where = f"{self.option} {_shown(self.path)}"
+        if not callable(fill):
+            raise OutputError(f"{where}: expected a function filling the file, got {type(fill).__name__}")
         try:
             fd, tmp = _temporary(self.path)
         except OSError as exc:
@@ -160,10 +162,14 @@ class Planned:
 
     def put_text(self, text: str) -> Path:
         """Write ``text`` (UTF-8) into :attr:`path`, atomically."""
+        if not isinstance(text, str):
+            raise OutputError(f"{self.option} {_shown(self.path)}: expected text, got {type(text).__name__}")
         return self.write(lambda f: f.write(text.encode("utf-8")))
 
     def put_figure(self, figure: Any, **savefig: Any) -> Path:
         """Write a matplotlib ``figure`` into :attr:`path` in :attr:`image_format`, atomically."""
+        if not callable(getattr(figure, "savefig", None)):
+            raise OutputError(f"{self.option} {self.path}: expected a matplotlib figure, got {type(figure).__name__}")
         return self.write(lambda f: figure.savefig(f, format=self.image_format, **savefig))
 
 

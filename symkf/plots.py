@@ -17,6 +17,7 @@ lazily; without it :class:`PlotExtraError` (exit status 2 on the command line).
 
 from __future__ import annotations
 
+import os
 import sys
 from fractions import Fraction
 from math import gcd
@@ -25,6 +26,7 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
+from .exact.arguments import check_public
 from . import output
 from .errors import ExtraNotInstalledError, InputError, SymkfError
 from .exact.numbers import to_exact
@@ -228,7 +230,7 @@ def rational_angles(max_denominator: int) -> list[Fraction]:
 
 
 def critical_angle_figure(scale: Any = 2, *, max_denominator: int = 6, C: Sequence[Sequence[Any]] = ((1, 0),),
-                          path: Any = None) -> Any:
+                          path: str | os.PathLike | None = None) -> Any:
     """The exact critical common loss rate of ``A = scale R(pi p/q)`` against the angle ``pi p/q``.
 
     At a rational angle the block is periodic and rows ``C A^k`` repeat
@@ -267,3 +269,5 @@ def critical_angle_figure(scale: Any = 2, *, max_denominator: int = 6, C: Sequen
            title=f"A = {sp.sstr(scale)} R($\\theta$), C = {[list(r) for r in C]}: exact critical loss")
     ax.legend(fontsize="small", loc="lower right")
     return _finish(fig, path)
+
+check_public(globals())

@@ -16,6 +16,8 @@ from typing import Iterator
 
 from tqdm.std import tqdm
 
+from .exact.arguments import check_public
+
 
 def progress(total: int, desc: str, *, enabled: bool | None = None) -> tqdm:
     """A tqdm bar over ``total`` steps on stderr (a widget in Jupyter): shown when ``enabled``, or
@@ -70,3 +72,5 @@ def still_working(desc: str, *, after: float = 2.0, every: float = 10.0,
         done.set()
         if thread is not None:
             thread.join()
+
+check_public(globals())

@@ -14,6 +14,8 @@ from typing import Sequence
 
 import numpy as np
 
+from .exact.arguments import check_public
+
 
 @dataclass(frozen=True)
 class LossFactor:
@@ -153,3 +155,6 @@ def sample(factors: Sequence[LossFactor], horizon: int, paths: int, d: int,
         step = np.stack([cumulative(f.P) for f in group])[None]
         emit_into(received, group, chain_states(first, step, None, rng, (horizon, paths, len(group))))
     return received
+
+
+check_public(globals())

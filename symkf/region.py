@@ -22,10 +22,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, Sequence
+from typing import Any, Iterable, Sequence
 
 import sympy as sp
 
+from .exact.arguments import check_public
 from .decay import ge_rate, listed_hyperplanes, outside_counts
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber, sign, sympy_to_fmpz
@@ -55,7 +56,7 @@ def iid_constraints(system: System) -> tuple[Constraint, ...]:
     if cached is None:
         out = []
         for i, br in enumerate(block_rows(system)):
-            growth = sp.sympify(br.block.modulus.exact ** (2 * br.period))
+            growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
             vectors = outside_counts(br)
             for ks, H in vectors.items():
                 if not any(o != ks and all(a <= b for a, b in zip(o, ks)) for o in vectors):
@@ -66,11 +67,11 @@ def iid_constraints(system: System) -> tuple[Constraint, ...]:
 
 def _holds(expr: sp.Expr) -> bool:
     """Exact ``expr < 1`` for a numeric algebraic ``expr``."""
-    return sign(sp.sympify(expr) - 1) < 0
+    return sign(sympify(expr) - 1) < 0
 
 
 def _condition(margin: sp.Expr) -> sp.Basic:
-    margin = sp.sympify(margin)
+    margin = sympify(margin)
     return sp.Lt(margin, 1) if margin.free_symbols else sp.true if _holds(margin) else sp.false
 
 
@@ -186,7 +187,7 @@ class StabilityRegion:
         return min(values)
 
 
-def distinct(values) -> list[AlgebraicNumber]:
+def distinct(values: Iterable[AlgebraicNumber]) -> list[AlgebraicNumber]:
     """The values sorted, exact duplicates removed."""
     out: list[AlgebraicNumber] = []
     for v in sorted(values):
@@ -236,7 +237,7 @@ def ge_margins(system: System, loss: GilbertElliott) -> list[sp.Expr]:
     """Per block and hyperplane, ``alpha^(2g) rho(M_H)``: polynomials in (fail, recover)."""
     out = []
     for br in block_rows(system):
-        growth = sp.sympify(br.block.modulus.exact ** (2 * br.period))
+        growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
         seen = set()
         listed_hyperplanes(br)  # refused up front when too many
         for H in br.hyperplanes:
@@ -336,7 +337,7 @@ def stable_intervals(margins: Sequence[sp.Expr], t: sp.Symbol) -> tuple[tuple[Al
 
     The margins are polynomials in ``t``; the set changes only at real roots of ``margin - 1``."""
     return stable_set([r for m in margins for r in roots_in_unit(m - 1, t)],
-                      lambda v: all(_holds(sp.sympify(m).subs(t, v)) for m in margins))
+                      lambda v: all(_holds(sympify(m).subs(t, v)) for m in margins))
 
 
 def stable_set(candidates: Sequence[AlgebraicNumber], stable_at: Any
@@ -354,3 +355,5 @@ def stable_set(candidates: Sequence[AlgebraicNumber], stable_at: Any
         else:
             out.append((lo, hi))
     return tuple(out)
+
+check_public(globals())

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from typing import Any, Iterable
 
+from .exact.arguments import check_public
+
 
 def discrepancy(claim: str, printed: Any, computed: Any, note: str = "") -> dict[str, str]:
     """One printed value against the computed one (both as exact text where they are exact)."""
@@ -24,3 +26,5 @@ def reproduction(example: str, source: str, results: dict[str, Any], checks: dic
     """``{"example", "source", "results", "checks", "discrepancies"}``; checks are plain bools."""
     return {"example": example, "source": source, "results": results,
             "checks": {claim: bool(ok) for claim, ok in checks.items()}, "discrepancies": list(discrepancies)}
+
+check_public(globals())

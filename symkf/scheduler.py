@@ -31,6 +31,7 @@ import threading
 from typing import Any, Callable, Iterator, Sequence
 
 from . import __version__, budget
+from .exact.arguments import check_public
 from .errors import InputError, SchedulerError, require_extra
 from .progress import progress as progress_bar
 
@@ -205,3 +206,6 @@ def _quiet_distributed() -> Iterator[None]:
 def _why(exc: BaseException) -> str:
     text = " ".join(str(exc).split())
     return f"{type(exc).__name__}: {text[:200]}" if text else type(exc).__name__
+
+
+check_public(globals())

@@ -41,16 +41,17 @@ naming the assumption and pointing to the general engine, :mod:`symkf.stability`
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Literal, Sequence
 
 import sympy as sp
 
+from .exact.arguments import check_public
 from . import output
 from .errors import AperiodicError, AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, rank_rows
-from .exact.numbers import to_exact
+from .exact.numbers import sympify, to_exact
 from .losses import IID, LossModel, checked
 from .model import Sensor, System
 from .spectral import eigen_blocks
@@ -94,7 +95,7 @@ class CongruentSets:
         """The period in (38): ``tau`` as printed, ``g`` corrected; None when infinite."""
         return self.tau if period == "tau" else self.governing_period
 
-    def p_star(self, arrival: Any) -> tuple[sp.Expr, ...]:
+    def p_star(self, arrival: Sequence[Any]) -> tuple[sp.Expr, ...]:
         """eq. (37) for the merged sensors, from the original sensors' arrival rates."""
         miss = merged_losses(self, [1 - to_exact(p, f"arrival[{i}]", symbols=True) for i, p in enumerate(arrival)])
         return tuple(sp.Mul(*[miss[j] for j in sorted(J)]) for J in self.sets)
@@ -301,9 +302,9 @@ def theorem12(system: System, loss: IID, period: Period = "governing") -> Verdic
         power, P_cert = alpha ** (2 * P) * rate, P
         merged = ", ".join(name for name, grp in zip(cs.names, cs.groups) if len(grp) > 1)
         assumptions += [f"Remark 11: merged sensors {merged} (arrival 1 - prod(1 - p_j))"] if cs.merges else []
-    power = sp.sympify(power)
+    power = sympify(power)
     margin = AlgebraicNumber.from_expr(sp.root(power, P_cert) if P_cert > 1 else power)
-    cert = BlockCertificate(alpha, P_cert, elements, sp.sympify(rate), power,
+    cert = BlockCertificate(alpha, P_cert, elements, sympify(rate), power,
                             margin.refine(sp.Rational(1, 10 ** 12)).interval)
     name = ("Theorem 12 (Sui-You-Fu) as printed: period tau" if period == "tau"
             else "Theorem 12 (Sui-You-Fu), corrected: governing period g, rank-one congruent sets")
@@ -381,7 +382,7 @@ def critical_loss_rate(system: System, period: Period = "governing") -> Algebrai
     1/4
     """
     alpha = _analysis(system)[1]
-    return AlgebraicNumber.from_expr(sp.sympify(critical_loss_expr(system, period).subs(ALPHA, alpha)))
+    return AlgebraicNumber.from_expr(sympify(critical_loss_expr(system, period).subs(ALPHA, alpha)))
 
 
 def arrival_symbols(system: System) -> tuple[sp.Symbol, ...]:
@@ -438,7 +439,7 @@ def critical_alpha(system: System, loss: IID, period: Period = "governing") -> A
                    key=AlgebraicNumber.from_expr)
     if rate == 0:
         raise InputError("loss: the decisive pattern has probability 0, so no alpha destabilises the filter")
-    return AlgebraicNumber.from_expr(sp.root(1 / sp.sympify(rate), 2 * P))
+    return AlgebraicNumber.from_expr(sp.root(1 / sympify(rate), 2 * P))
 
 
 def counterexamples() -> list[tuple[str, System]]:
@@ -516,3 +517,5 @@ def reproduce_sui_theorem12(outdir: str | None = None) -> dict:
         plt.close(fig)
     return reproduction("sui-theorem12", "Sui-You-Fu, Section 4, Definition 1, eqs. (37)-(38), "
                         "Theorem 12", results, checks, discrepancies)
+
+check_public(globals())

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from .errors import InputError, SymkfError
+from .exact.arguments import check_public
 from .exact.algebraic import AlgebraicNumber
 from .losses import LossModel
 from .model import System
@@ -203,3 +204,6 @@ def simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: in
         growth, stable = None, None
     sampled = mean_trace_curve(system, loss, horizon, paths, seed=seed, confidence=confidence) if curve else None
     return Simulation(system, loss, estimate, sampled, growth, stable)
+
+
+check_public(globals())

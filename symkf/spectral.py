@@ -21,6 +21,7 @@ bound).  ``None`` means aperiodic and comes with that proof.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+import math
 from fractions import Fraction
 from functools import cached_property, lru_cache
 from math import gcd
@@ -29,12 +30,14 @@ from typing import Any, Sequence
 import flint
 import sympy as sp
 
-from .exact.algebraic import (AlgebraicNumber, _complex_roots, _with_prec, crootof_ball, fmpz_to_sympy, identify,
-                              real_from_ball, root_ball)
+from .exact.arguments import check_public
+from .exact.algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, _with_prec, crootof_ball,
+                              fmpz_to_sympy, identify, real_from_ball, root_ball)
 from .exact import nfpoly
 from .exact.field import Elem, NumberField
 from .exact.blocks import diagonal_blocks
 from .exact.linalg import field_of, rank, rank_rows
+from . import budget
 from .errors import InputError, ShapeError
 from .exact.numbers import to_exact_matrix
 
@@ -67,9 +70,26 @@ def _ratio_poly(fa: tuple[int, ...], fb: tuple[int, ...]) -> flint.fmpz_poly:
 
 @lru_cache(maxsize=512)
 def _abs_poly(f: tuple[int, ...]) -> flint.fmpz_poly:
-    """Roots include ``|lambda|`` for every root of the real ``f``: Res_y(f(y), y^d f(z^2/y))."""
-    d = len(f) - 1
-    return _resultant_y(f, {(d - k, 2 * k): c for k, c in enumerate(f) if c})
+    """Roots include ``|lambda|`` for every root of the real ``f`` (degree d, leading coefficient
+    a): ``H(a^2 x^2)`` with ``H`` the polynomial of the products ``mu_i mu_j``, i <= j, of the
+    roots ``mu = a lambda`` of the monic integer ``a^(d-1) f(x/a)``, among them ``a^2 lambda
+    conj(lambda)`` (and ``a^2 lambda^2`` for a real root).  ``H`` comes from power sums (Newton's
+    identities, exact integers: ``sum_(i<=j) (mu_i mu_j)^k = (p_k^2 + p_2k) / 2``), of degree
+    ``d(d+1)/2``; the resultant ``Res_y(f(y), y^d f(x^2/y))`` of degree ``2 d^2`` costs far more."""
+    d, lead = len(f) - 1, f[-1]
+    c = [f[k] * lead ** (d - 1 - k) for k in range(d)] + [1]
+    D = d * (d + 1) // 2
+    p = [d] + [0] * (2 * D)  # power sums of the mu
+    for k in range(1, 2 * D + 1):
+        p[k] = -sum(c[d - i] * p[k - i] for i in range(1, min(k - 1, d) + 1)) - (k * c[d - k] if k <= d else 0)
+    s = [0] + [(p[k] * p[k] + p[2 * k]) // 2 for k in range(1, D + 1)]
+    e = [1] + [0] * D  # elementary symmetric functions of the products (Newton)
+    for k in range(1, D + 1):
+        e[k] = sum((-1) ** (i - 1) * e[k - i] * s[i] for i in range(1, k + 1)) // k
+    coeffs = [0] * (2 * D + 1)
+    for j in range(D + 1):  # H = sum_j (-1)^(D-j) e_(D-j) z^j at z = a^2 x^2
+        coeffs[2 * j] = (-1) ** (D - j) * e[D - j] * lead ** (2 * j)
+    return flint.fmpz_poly(coeffs)
 
 
 def _negated_index(f: flint.fmpz_poly, index: int) -> int:
@@ -135,12 +155,28 @@ class Eigenvalue:
         """The eigenvalue as an exact sympy expression (``alpha exp(2 pi i k/m)`` when periodic)."""
         f = self.minpoly
         if f.degree() > 2 and not f.is_cyclotomic() and not _cosine_order(f):
-            m, _ = _phase_order(self)
-            if m is not None:
-                alpha = self.modulus.exact
-                return _match(root_ball(f, self.root_index, 128),
-                              [alpha * sp.exp(2 * sp.pi * sp.I * sp.Rational(k, m)) for k in range(m)])
+            m, _ = self.phase
+            if m is not None:  # lambda = alpha exp(2 pi i k/m): k from the ball of m arg(lambda) / (2 pi)
+                ball = root_ball(f, self.root_index, 128)
+                lo, hi = _arb_interval(_with_prec(128, lambda: ball.arg() * m / (2 * flint.arb.pi())))
+                near = range(math.floor(lo), math.ceil(hi) + 1) if hi - lo < 1 else range(m)
+                return _match(ball, [self.modulus.exact * sp.exp(2 * sp.pi * sp.I * sp.Rational(j % m, m)) for j in near])
         return _nice_expr(f, self.root_index)
+
+    @cached_property
+    def root(self) -> sp.Expr:
+        """The eigenvalue as a number field's generator: :attr:`expr` when that is a closed form
+        (a rational, quadratic, trigonometric or ``alpha exp(2 pi i k/m)`` form), else a
+        :class:`~symkf.exact.algebraic.FlintRoot` (a ``CRootOf`` would cost sympy's root isolation)."""
+        f = self.minpoly
+        if f.degree() <= 2 or f.is_cyclotomic() or _cosine_order(f) or self.phase[0] is not None:
+            return self.expr
+        return FlintRoot(f, self.root_index)
+
+    @cached_property
+    def phase(self) -> tuple[int | None, "RatioEvidence"]:
+        """:func:`_phase_order`: the order of ``lambda / |lambda|`` as a root of unity, with its proof."""
+        return _phase_order(self)
 
     def ball(self, prec: int) -> flint.acb:
         """A certified complex ball (flint ``acb``) around the eigenvalue at ``prec`` bits."""
@@ -181,7 +217,12 @@ class Eigenvalue:
         rho = _rational_norm(self)
         if rho is not None:
             return AlgebraicNumber(flint.fmpz_poly([-rho.numerator, 0, rho.denominator]), 1)
-        poly, idx = identify(_abs_poly(tuple(int(c) for c in f.coeffs())),
+        coeffs = tuple(int(c) for c in f.coeffs())
+        d, b = len(coeffs) - 1, max(abs(c).bit_length() for c in coeffs)
+        budget.check("max_resultant_bits", 4 * d ** 3 * b, "A", f"the bit size (2 d^2 + 1 coefficients of about "
+                     f"2 d b bits) of the resultant giving |lambda| for an eigenvalue of degree d = {d} with "
+                     f"b = {b}-bit coefficients")
+        poly, idx = identify(_abs_poly(coeffs),
                              lambda prec: flint.acb(abs(self.ball(prec))), "modulus")
         return real_from_ball(poly, idx)
 
@@ -192,13 +233,28 @@ class Eigenvalue:
 
 @dataclass(frozen=True)
 class RatioEvidence:
-    """Why ``num / den`` (or ``num / conj(den)``) is, or is not, a root of unity of order ``order``."""
+    """Why ``num / den`` (or ``num / conj(den)``) is, or is not, a root of unity of order ``order``;
+    the ratio's minimal polynomial is found when first asked for (an aperiodicity decided by
+    :func:`_arg_denominator` needs none)."""
 
     num: "Eigenvalue"
     den: "Eigenvalue"
     conj_den: bool
-    minpoly: flint.fmpz_poly
     order: int | None
+    known: flint.fmpz_poly | None = None
+
+    @cached_property
+    def minpoly(self) -> flint.fmpz_poly:
+        """The ratio's minimal polynomial over Q."""
+        if self.known is not None:
+            return self.known
+        fa, fb = (tuple(int(c) for c in e.minpoly.coeffs()) for e in (self.num, self.den))
+        return identify(_ratio_poly(fa, fb), self.ball, "eigenvalue ratio")[0]
+
+    def ball(self, prec: int) -> flint.acb:
+        """A certified ball around the ratio at ``prec`` bits."""
+        d = self.den.ball(prec)
+        return _with_prec(prec, lambda: self.num.ball(prec) / (d.conjugate() if self.conj_den else d))
 
     def __str__(self) -> str:
         label = f"({self.num.label})/{'conj' if self.conj_den else ''}({self.den.label})"
@@ -215,16 +271,66 @@ def root_of_unity_order(num: Eigenvalue, den: Eigenvalue, conj_den: bool = False
     """
     if num.is_real and den.is_real and num.modulus == den.modulus:  # num/den = +-1, no resultant
         sign = 1 if (num.ball(64).real > 0) == (den.ball(64).real > 0) else -1
-        return RatioEvidence(num, den, conj_den, flint.fmpz_poly([-sign, 1]), 1 if sign > 0 else 2)
-    fa = tuple(int(c) for c in num.minpoly.coeffs())
-    fb = tuple(int(c) for c in den.minpoly.coeffs())
+        return RatioEvidence(num, den, conj_den, 1 if sign > 0 else 2, flint.fmpz_poly([-sign, 1]))
+    evidence = RatioEvidence(num, den, conj_den, None)
+    q = _arg_denominator(evidence.ball, num.minpoly.degree() * den.minpoly.degree())
+    if q == 0:
+        return evidence
+    if q is not None and _equal_powers(num.minpoly, den.minpoly, q):
+        return RatioEvidence(num, den, conj_den, q, flint.fmpz_poly.cyclotomic(q))
+    return RatioEvidence(num, den, conj_den, int(evidence.minpoly.is_cyclotomic()) or None, evidence.minpoly)
 
-    def ball(prec: int) -> flint.acb:
-        d = den.ball(prec)
-        return num.ball(prec) / (d.conjugate() if conj_den else d)
 
-    poly, _ = identify(_ratio_poly(fa, fb), ball, "eigenvalue ratio")
-    return RatioEvidence(num, den, conj_den, poly, int(poly.is_cyclotomic()) or None)
+def _arg_denominator(ball_at, degree: int) -> int | None:
+    """For the number in the balls ``ball_at(prec)``, algebraic of degree at most ``degree``: 0 when
+    it is proved not a root of unity without its minimal polynomial (a resultant of that degree),
+    else the least denominator q of a fraction in the certified interval of ``arg / (2 pi)`` (its
+    order if it is a root of unity; None when undecided).  A primitive m-th root of unity has
+    degree ``phi(m) >= sqrt(m/2)``, so ``m <= 2 degree^2``, and ``arg / (2 pi)`` is a fraction of
+    denominator m: none up to that bound in the interval proves the number no root of unity; and
+    no fraction of denominator below q there means no order below q."""
+    bound, q = 2 * degree * degree, None
+    for prec in (64, 128, 256):
+        z = ball_at(prec)
+        if z.contains(0):
+            continue
+        t = _with_prec(prec, lambda: z.arg() / (2 * flint.arb.pi()))
+        lo, hi = (Fraction(int(v.p), int(v.q)) for v in _arb_interval(t))
+        q = _least_denominator(lo, hi)
+        if q > bound:
+            return 0
+    return q
+
+
+def _equal_powers(fa: flint.fmpz_poly, fb: flint.fmpz_poly, q: int) -> bool:
+    """Whether ``x^q`` is one rational constant modulo both ``fa`` and ``fb``: then every root of
+    either has the same q-th power, and every ratio of two of them (or of one and a conjugate)
+    is a q-th root of unity (``2 exp(2 pi i k/m)``: ``x^m = 2^m``), exactly."""
+    powers = []
+    for f in (fa, fb):
+        f = flint.fmpq_poly(f)
+        out, base, e = flint.fmpq_poly([1]), flint.fmpq_poly([0, 1]) % f, q
+        while e:
+            if e & 1:
+                out = out * base % f
+            base = base * base % f
+            e >>= 1
+        if out.degree() > 0:
+            return False
+        powers.append(out)
+    return powers[0] == powers[1]
+
+
+def _least_denominator(lo: Fraction, hi: Fraction) -> int:
+    """The least q such that some p/q lies in [lo, hi] (exact continued fractions): with the
+    fractions of the interval written ``(p1 x + p0) / (q1 x + q0)``, x in [a, b], an integer x
+    there gives the least denominator at ``x = ceil(a)``; else ``x = floor(a) + 1/y``."""
+    q0, q1, a, b = 1, 0, lo, hi
+    while True:
+        f = math.floor(a)
+        if f == a or f + 1 <= b:
+            return q1 * math.ceil(a) + q0
+        q0, q1, a, b = q1, f * q1 + q0, 1 / (b - f), 1 / (a - f)
 
 
 def _phase_order(lam: Eigenvalue) -> tuple[int | None, RatioEvidence]:
@@ -373,34 +479,32 @@ def _factor_charpoly(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Elem],
         roots = []
         for g, _ in nfpoly.norm(K, coeffs).factor()[1]:
             g = g.numer() // g.numer().content()
-            for i in range(g.degree()):
-                if _maybe_root(coeffs, theta_poly, K.theta_index, g, i):
-                    roots.append((g if g.leading_coefficient() > 0 else -g, i))
+            g = g if g.leading_coefficient() > 0 else -g
+            roots.extend((g, i) for i in range(g.degree()))
+        # the roots of the irreducible h are deg h distinct roots of its norm, never excluded: once
+        # exactly deg h remain, they are h's (the others are excluded at the least precision)
+        for prec in (64, 256, 1024):
+            balls = _coefficient_balls(coeffs, theta_poly, K.theta_index, prec)
+            roots = [(g, i) for g, i in roots if _maybe_root(balls, g, i, prec)]
+            if len(roots) == len(coeffs) - 1:
+                break
         if len(roots) != len(coeffs) - 1:
             raise RuntimeError("eigenvalue selection failed")  # pragma: no cover
         out.append((coeffs, e, roots))
     return out
 
 
-def _maybe_root(h: list[Elem], mpoly: flint.fmpz_poly, t_idx: int, g: flint.fmpz_poly, i: int) -> bool:
-    """False when interval arithmetic proves h(root_i(g)) != 0; True otherwise."""
-    for prec in (64, 256, 1024):
-        theta = root_ball(mpoly, t_idx, prec)
-        r = root_ball(g, i, prec)
-        old = flint.ctx.prec
-        flint.ctx.prec = prec
-        try:
-            val = flint.acb(0)
-            for k, a in enumerate(h):
-                ca = flint.acb(0)
-                for j, c in enumerate(a.coeffs()):
-                    ca += flint.acb(flint.arb(flint.fmpq(c))) * theta ** j
-                val += ca * r ** k
-        finally:
-            flint.ctx.prec = old
-        if not val.contains(0):
-            return False
-    return True
+def _maybe_root(h: list[flint.acb], g: flint.fmpz_poly, i: int, prec: int) -> bool:
+    """False when interval arithmetic at ``prec`` bits proves h(root_i(g)) != 0 (``h``: balls of the
+    coefficients at ``theta``, :func:`_coefficient_balls`); True otherwise."""
+    r = root_ball(g, i, prec)
+    return _with_prec(prec, lambda: sum((c * r ** k for k, c in enumerate(h)), flint.acb(0)).contains(0))
+
+
+def _coefficient_balls(h: list[Elem], mpoly: flint.fmpz_poly, t_idx: int, prec: int) -> list[flint.acb]:
+    """Balls of the coefficients of ``h`` (polynomials in ``theta``) at ``prec`` bits."""
+    theta = root_ball(mpoly, t_idx, prec)
+    return _with_prec(prec, lambda: [flint.acb_poly([flint.acb(flint.arb(c)) for c in a.coeffs()])(theta) for a in h])
 
 
 def _poly_at(K: NumberField, Ak: list[list[Elem]], h: list[Elem]) -> list[list[Elem]]:
@@ -605,7 +709,7 @@ def _block(members: list[Eigenvalue]) -> EigenBlock:
     proofs = []
     tau: int | None = 1
     for ev in members:
-        m, proof = _phase_order(ev)
+        m, proof = ev.phase
         if m is None:
             tau = None
             proofs.append(("tau", proof))
@@ -636,3 +740,5 @@ def _block(members: list[Eigenvalue]) -> EigenBlock:
         proofs.append(("", f"A_i^{governing} is a scalar multiple of I and A_i^{tau} = alpha^{tau} I"))
     return EigenBlock(members[0].modulus, tuple(members), tau, governing, tuple(proofs),
                       tuple(tuple(c) for c in classes), class_period)
+
+check_public(globals())

@@ -48,6 +48,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .exact.arguments import check_public
+
 #: paths per block, a compile-time constant: the path loops have a fixed trip count (no remainder
 #: loops, no per-entry set-up); 64 measured faster than 32 and as fast as 128 at n = 2..8
 LANES = 64
@@ -225,3 +227,5 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
         for j in range(n):
             for p in range(LANES):
                 S[i, j, p] = X[j, i, p] if j <= i else 0.0
+
+check_public(globals())

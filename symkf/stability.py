@@ -20,7 +20,8 @@ import sympy as sp
 from .decay import BlockRate, block_rate, least_iid_bound, outside_counts
 from .errors import AssumptionError, InputError
 from .exact.algebraic import AlgebraicNumber, _with_prec, identify
-from .exact.numbers import to_exact
+from .exact.arguments import check_public
+from .exact.numbers import sympify, to_exact
 from .losses import IID, GilbertElliott, LossModel, checked
 from .model import System
 from .observability import BlockRows, block_rows
@@ -33,7 +34,7 @@ class BlockCertificate:
     """What a reader needs to re-check one block's margin."""
 
     modulus: sp.Expr
-    governing_period: int                            # g: least k with A_i^k a scalar multiple of I
+    class_period: int                                # g: the block's class period (its governing period when periodic)
     decisive_elements: tuple[tuple[str, int], ...]  # (sensor name, phase) inside the decisive hyperplane
     rate_per_period: sp.Expr                         # rho_i^g
     margin_power: sp.Expr                            # alpha_i^(2g) rho_i^g, compared with 1
@@ -116,7 +117,7 @@ class Verdict:
     >>> bool(v), v.theorem, v.limiting_margin.exact
     (True, 'Theorem 4 with eq. (36)', sqrt(10)/25)
     >>> c = v.certificate[0]
-    >>> c.governing_period, c.decisive_elements, c.margin_power
+    >>> c.class_period, c.decisive_elements, c.margin_power
     (2, (('s1', 0),), 2/125)
     """
 
@@ -142,11 +143,11 @@ class Verdict:
         lines = [f"{'stable' if self.stable else 'NOT stable'} ({self.theorem})"]
         for i, (m, c) in enumerate(zip(self.margins, self.certificate)):
             lo, hi = c.interval
-            lines.append(f"  block {i}: alpha = {c.modulus}, governing period g = {c.governing_period}, "
+            lines.append(f"  block {i}: alpha = {c.modulus}, class period g = {c.class_period}, "
                          f"margin alpha^2 rho = {_readable(m.exact, m, i)} "
                          f"in [{_approx(lo)}, {_approx(hi)}]{'  <- limiting' if i == self.limiting_block else ''}")
             lines.append(f"    decisive pattern: {pattern_words(c.decisive_elements)}; "
-                         f"alpha^{2 * c.governing_period} * rho^{c.governing_period} = {_readable(c.margin_power, m, i)}")
+                         f"alpha^{2 * c.class_period} * rho^{c.class_period} = {_readable(c.margin_power, m, i)}")
         for eigenvalues, why in self.set_aside:
             lines.append(f"  set aside: {', '.join(eigenvalues)} ({why})")
         lines += textwrap.wrap("assumptions checked: " + "; ".join(self.assumptions), 100, initial_indent="  ",
@@ -154,7 +155,7 @@ class Verdict:
         return "\n".join(lines)
 
     def _repr_latex_(self) -> str:
-        rows = " \\\\ ".join(f"{i} & {sp.latex(c.modulus)} & {c.governing_period} & {sp.latex(m.exact)} \\approx {m.evalf(6)}"
+        rows = " \\\\ ".join(f"{i} & {sp.latex(c.modulus)} & {c.class_period} & {sp.latex(m.exact)} \\approx {m.evalf(6)}"
                              for i, (m, c) in enumerate(zip(self.margins, self.certificate)))
         return (f"$\\text{{{'stable' if self.stable else 'not stable'} ({self.theorem})}}\\quad"
                 f"\\begin{{array}}{{cccc}} i & \\alpha_i & g_i & \\alpha_i^2\\rho_i \\\\ \\hline {rows}\\end{{array}}$")
@@ -175,16 +176,16 @@ def _check_loss(system: System, loss: LossModel) -> list[str]:
 
 def _margin(br: BlockRows, rate: BlockRate) -> tuple[AlgebraicNumber, sp.Expr]:
     alpha = br.block.modulus.exact
-    power = sp.sympify(alpha ** (2 * br.period) * rate.per_period)
-    if br.period > 1 and power.is_Rational and max(abs(power.p), power.q).bit_length() > 512:
+    power = sympify(alpha ** (2 * br.class_period) * rate.per_period)
+    if br.class_period > 1 and power.is_Rational and max(abs(power.p), power.q).bit_length() > 512:
         # sympy's root of a huge rational overflows a float in its perfect-power test (Gilbert-
         # Elliott losses at rationals near a critical recovery rate): the positive root of q x^g - p
-        g, num, den = br.period, int(power.p), int(power.q)
+        g, num, den = br.class_period, int(power.p), int(power.q)
         poly, index = identify(flint.fmpz_poly([-num] + [0] * (g - 1) + [den]),
                                lambda prec: _with_prec(prec, lambda: flint.acb(
                                    flint.arb(flint.fmpq(num, den)).root(g))), "margin")
         return AlgebraicNumber(poly, index), power
-    return AlgebraicNumber.from_expr(sp.root(power, br.period) if br.period > 1 else power), power
+    return AlgebraicNumber.from_expr(sp.root(power, br.class_period) if br.class_period > 1 else power), power
 
 
 def stability(system: System, loss: LossModel) -> Verdict:
@@ -228,7 +229,7 @@ def stability(system: System, loss: LossModel) -> Verdict:
         margins.append(margin)
         names = system.sensor_names
         certs.append(BlockCertificate(
-            br.block.modulus.exact, br.period,
+            br.block.modulus.exact, br.class_period,
             tuple((names[br.elements[e].sensor], br.elements[e].phase) for e in sorted(rate.hyperplane)),
             rate.per_period, power, margin.refine(sp.Rational(1, 10 ** 12)).interval))
     limiting = max(range(len(margins)), key=lambda i: margins[i]) if margins else None
@@ -244,7 +245,7 @@ def _vectors(system: System) -> list[tuple[sp.Expr, tuple[int, ...]]]:
     for a common loss ``eps``: its bound ``(alpha_i^(2g) eps^K)`` binds first at the fewest
     elements ``K`` outside, so only the hyperplanes holding the most elements
     (:func:`symkf.decay.outside_counts` with equal weights) are needed."""
-    return [(sp.sympify(br.block.modulus.exact ** (2 * br.period)), ks)
+    return [(sympify(br.block.modulus.exact ** (2 * br.class_period)), ks)
             for br in block_rows(system) for ks in outside_counts(br, [1.0] * system.d)]
 
 
@@ -319,7 +320,7 @@ def _least(system: System, losses, bound) -> AlgebraicNumber:
     one = AlgebraicNumber.from_expr(1)
     values = []
     for br in block_rows(system):
-        a2g = sp.sympify(br.block.modulus.exact ** (2 * br.period))
+        a2g = sympify(br.block.modulus.exact ** (2 * br.class_period))
         v = least_iid_bound(br, losses, lambda ks: bound(a2g, ks), one, a2g)
         values.append(v if v is not None else
                       _min_capped([b for ks in outside_counts(br) if (b := bound(a2g, ks)) is not None]))
@@ -327,7 +328,7 @@ def _least(system: System, losses, bound) -> AlgebraicNumber:
 
 
 def _min_capped(bounds: list[sp.Expr]) -> AlgebraicNumber:
-    values = [AlgebraicNumber.from_expr(b) for b in set(map(sp.sympify, bounds))]
+    values = [AlgebraicNumber.from_expr(b) for b in set(map(sympify, bounds))]
     best = min(values, default=AlgebraicNumber.from_expr(1))
     return best if best < 1 else AlgebraicNumber.from_expr(1)
 
@@ -367,7 +368,7 @@ def critical_alpha(system: System, loss: IID) -> AlgebraicNumber:
     rate = block_rate(br, loss)
     if rate.per_period == 0:
         raise InputError("every decisive pattern has probability 0: no critical alpha exists")
-    return AlgebraicNumber.from_expr(sp.sympify(sp.root(1 / rate.per_period, 2 * br.period)))
+    return AlgebraicNumber.from_expr(sympify(sp.root(1 / rate.per_period, 2 * br.class_period)))
 
 
 def _recovery_model(system: System, fail: Sequence[Any], recover: Sequence[Any] | None,
@@ -507,3 +508,5 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
         if stability(system, model.subs({q: below})).stable or not stability(system, model.subs({q: above})).stable:
             raise AssertionError(f"certificate failed around q_c = {qc}")  # pragma: no cover
     return qc
+
+check_public(globals())

@@ -35,6 +35,7 @@ from typing import Any, NamedTuple, Sequence
 
 import sympy as sp
 
+from .exact.arguments import check_public
 from .errors import InexactInputError, require_extra
 
 require_extra("hypothesis", "strategies", "symkf.strategies")
@@ -249,6 +250,7 @@ def iid_losses(d: int, low: Any = 0, high: Any = "9/10", max_denominator: int = 
 def gilbert_elliott_losses(d: int, max_denominator: int = 20) -> st.SearchStrategy[GilbertElliott]:
     """``GilbertElliott`` models with fail and recover probabilities in (0, 1)."""
     _check_int(d, "d", 1, 8)
+    _check_int(max_denominator, "max_denominator", 2, 10 ** 6)
     p = _rationals_between(sp.Rational(1, max_denominator), 1 - sp.Rational(1, max_denominator), max_denominator)
     return st.tuples(st.lists(p, min_size=d, max_size=d), st.lists(p, min_size=d, max_size=d)).map(
         lambda fr: GilbertElliott(fail=fr[0], recover=fr[1]))
@@ -293,3 +295,5 @@ def loss_rates_near(critical: Any, margin: Any, side: str, max_denominator: int 
 
 __all__ = ["Drawn", "Rotation", "jordan_systems", "complex_diagonal_systems", "diagonalizable_systems", "gilbert_elliott_losses",
            "iid_losses", "loss_rates_near", "rational_angles", "rotation_systems"]
+
+check_public(globals())

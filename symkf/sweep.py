@@ -34,6 +34,7 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Iterator, Sequence, TypeVar
 
+from .exact.arguments import check_public
 from . import budget
 from .errors import InputError
 from .progress import progress as progress_bar
@@ -226,3 +227,6 @@ def _watch_parent(parent: int) -> None:
         if os.getppid() != ppid:
             os._exit(1)
         time.sleep(1)
+
+
+check_public(globals())

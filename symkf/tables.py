@@ -14,7 +14,8 @@ certified isolating interval.
 
 The engine is Sui-You-Fu Theorems 4 and 7 with eq. (36) in hyperplane form
 (:mod:`symkf.stability`), with the rows ``C_j A^k`` grouped over each eigen-block's
-governing period (least ``k`` with ``A_i^k`` a scalar multiple of ``I``).
+class period (its governing period, the least ``k`` with ``A_i^k`` a scalar multiple of ``I``,
+when the block is periodic).
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from .exact.arguments import check_public
 from . import examples, output
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber
@@ -35,8 +37,8 @@ from .stability import Verdict
 from .sweep import sweep
 
 _ENGINE = ("symkf (Sui--You--Fu Theorems~4 and~7 with eq.~(36), hyperplane form; the rows "
-           "$C_jA^k$ of each eigen-block are grouped over its governing period $g$, the least $k$ "
-           "with $A_i^k$ a scalar multiple of $I$, and margins are compared with~1 exactly)")
+           "$C_jA^k$ of each eigen-block are grouped over its class period $g$ (the governing period, the least "
+           "$k$ with $A_i^k$ a scalar multiple of $I$, when the block is periodic), and margins are compared with~1 exactly)")
 _LATEX_SPECIAL = {"&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_", "{": r"\{", "}": r"\}",
                   "~": r"\textasciitilde{}", "^": r"\textasciicircum{}", "\\": r"\textbackslash{}"}
 
@@ -171,7 +173,7 @@ class Table:
 def _value_cell(outcome: Outcome, member: Member, digits: int) -> Cell:
     """A family cell; its JSON data also records the grid point and the periods the engine used."""
     value = outcome.value
-    where = {"point": {k: str(v) for k, v in member.point}, "governing_periods": list(outcome.periods)}
+    where = {"point": {k: str(v) for k, v in member.point}, "class_periods": list(outcome.periods)}
     if isinstance(value, Inapplicable):
         return Cell("---", "---", r"\text{---}", {**where, "inapplicable": value.reason})
     if isinstance(value, Verdict):
@@ -275,7 +277,7 @@ def family_table_of(family: Family, outcomes: Sequence[Outcome]) -> Table:
     caption = (f"{what_latex} for the family \\texttt{{{escape(family.name)}}}"
                + (f": {family.description}" if family.description else "")
                + (f" (fixed: {escape(constants)})" if constants else "")
-               + f". Computed exactly by {_ENGINE}; governing periods occurring: {periods}. "
+               + f". Computed exactly by {_ENGINE}; class periods occurring: {periods}. "
                + f"Each cell: the exact value and its decimal to {family.digits} significant digits."
                + (f" ---: the theorem's assumptions fail ({escape(missing[0])}"
                   + (f"; and {len(missing) - 1} more, see the JSON output" if len(missing) > 1 else "") + ")."
@@ -284,8 +286,8 @@ def family_table_of(family: Family, outcomes: Sequence[Outcome]) -> Table:
                     + (f": {family.description}" if family.description else "")
                     + (f" (fixed: {constants})" if constants else "")
                     + ". Computed exactly by symkf (Sui-You-Fu Theorems 4 and 7 with eq. (36), hyperplane "
-                    "form; rows C_j A^k grouped over each eigen-block's governing period g, the least k with "
-                    f"A_i^k a scalar multiple of I); governing periods occurring: {periods}."
+                    "form; rows C_j A^k grouped over each eigen-block's class period g, its governing period "
+                    f"when the block is periodic); class periods occurring: {periods}."
                     + (" ---: assumptions fail (see JSON)." if missing else ""))
     if cols_axis:
         columns = tuple(_axis_cell(v, t) for v, t in zip(cols_axis.values, cols_axis.texts))
@@ -295,7 +297,7 @@ def family_table_of(family: Family, outcomes: Sequence[Outcome]) -> Table:
         spanner = None
     stub = Cell(_plain_label(rows_axis.label), rows_axis.label, _math_label(rows_axis.label))
     metadata = {"table": "family", "family": family.name, "file": family.path, "compute": family.compute,
-                "engine": "Sui-You-Fu Theorems 4/7 with eq. (36), hyperplane form, governing periods",
+                "engine": "Sui-You-Fu Theorems 4/7 with eq. (36), hyperplane form, class periods",
                 "axes": [a.name for a in family.axes], "constants": dict(family.constants)}
     return Table(caption, caption_text, stub, columns, rows, spanner,
                  f"tab:{re.sub(r'[^A-Za-z0-9:-]', '-', family.name)}", metadata)
@@ -314,12 +316,12 @@ def _math_label(label: str) -> str:
 # -- the papers' example verdicts -------------------------------------------------------------
 
 def _file_verdict(path: str) -> tuple[str, Any, Verdict | None, tuple[int, ...]]:
-    """(system name, loss model's table cell, verdict, governing periods) of one system file."""
+    """(system name, loss model's table cell, verdict, class periods) of one system file."""
     from .files import load
     from .observability import block_rows
     from .stability import stability
     system, loss = load(path)
-    periods = tuple(br.period for br in block_rows(system))
+    periods = tuple(br.class_period for br in block_rows(system))
     if loss is None:
         return system.name, None, None, periods
     return system.name, _loss_cell(loss), stability(system, loss), periods
@@ -365,7 +367,7 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
     Returns
     -------
     Table
-        One row per system: loss model, verdict, governing period of the limiting block, its
+        One row per system: loss model, verdict, class period of the limiting block, its
         margin ``alpha_i^2 rho_i`` and the theorem.
 
     Raises
@@ -411,7 +413,7 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
                Cell("margin alpha^2 rho", r"$\alpha_i^2\rho_i$", r"\alpha_i^2\rho_i", "margin alpha^2 rho"),
                Cell.text("Thm."))
     caption = (r"Mean-square stability of the example systems with their loss models: the limiting "
-               r"eigen-block's margin $\alpha_i^2\rho_i$ (stable iff every margin is below~1) and its governing "
+               r"eigen-block's margin $\alpha_i^2\rho_i$ (stable iff every margin is below~1) and its class "
                r"period $g$; i.i.d.\ loss probabilities $\varepsilon$, Gilbert--Elliott failure $f$ and recovery "
                r"$q$ probabilities (one value when all sensors share it), joint Markov chains by their order $\nu$ "
                r"and receival vectors $|\Upsilon|$, network losses by their link success probabilities $\phi$ and "
@@ -420,11 +422,12 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
                "significant digits; a starred decimal marks an exact form too long to print (it is in the JSON "
                "output).")
     caption_text = ("Mean-square stability of the example systems with their loss models: the limiting "
-                    "eigen-block's margin alpha_i^2 rho_i (stable iff every margin is below 1) and its governing "
+                    "eigen-block's margin alpha_i^2 rho_i (stable iff every margin is below 1) and its class "
                     "period g; theorem: Sui-You-Fu Theorem 4 (one eigen-block) or 7. Computed exactly by symkf "
-                    "(Sui-You-Fu Theorems 4 and 7 with eq. (36), hyperplane form, governing periods).")
+                    "(Sui-You-Fu Theorems 4 and 7 with eq. (36), hyperplane form, class periods).")
     metadata = {"table": "verdicts", "files": [str(p) for p in paths],
-                "engine": "Sui-You-Fu Theorems 4/7 with eq. (36), hyperplane form, governing periods"}
+                "engine": "Sui-You-Fu Theorems 4/7 with eq. (36), hyperplane form, class periods"}
     return Table(caption, caption_text, Cell.text("system"), columns, tuple(rows), None, "tab:verdicts", metadata,
                  r"\small\setlength{\tabcolsep}{4pt}")
 
+check_public(globals())

@@ -62,7 +62,8 @@ from typing import Any, Iterator, Sequence
 
 import sympy as sp
 
-from .errors import AssumptionError, FileFormatError, NumericalBreakdownError, SymkfError
+from .exact.arguments import check_public
+from .errors import AssumptionError, FileFormatError, InputError, NumericalBreakdownError, SymkfError
 from .exact.algebraic import AlgebraicNumber
 from .families import Family, Member, load_family
 from .files import read_toml
@@ -262,6 +263,8 @@ def _divergence_json(r: DivergenceResult, requested: int) -> dict[str, Any]:
 
 def summary(report: dict[str, Any]) -> str:
     """The report as a few lines of plain text."""
+    if not {"theory", "simulation"} <= set(report):
+        raise InputError("report: expected a report of symkf.verify.verify (keys 'theory' and 'simulation')")
     t, s = report["theory"], report["simulation"]
     lines = [f"theory:     {'stable' if t['stable'] else 'NOT stable'} ({t['theorem']})",
              "            margins alpha_i^2 rho_i: " + ", ".join(
@@ -417,3 +420,5 @@ def family_summary(reports: list[dict[str, Any]]) -> str:
     counts = [f"{sum(r['outcome'] == o for r in reports)} {o}" for o in (*OUTCOMES, INAPPLICABLE, BREAKDOWN)]
     lines.append(f"{len(reports)} members: " + ", ".join(counts))
     return "\n".join(lines)
+
+check_public(globals())

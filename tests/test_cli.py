@@ -80,7 +80,7 @@ def test_verify_long_bursts_do_not_break_down(capsys, tmp_path):
     # horizon had to be halved); the square-root filter with a log-scale decides up to the horizon
     # where float64 resolves every sampled path (montecarlo.float_horizon: alpha = 2, 40 steps)
     path = tmp_path / "two.toml"
-    path.write_text(GE.read_text().split("[loss]")[0] + '[loss]\nloss = ["1/2", "1/6"]\n')
+    path.write_text(GE.read_text().split("[loss]")[0] + '[loss]\nkind = "iid"\nloss = ["1/2", "1/6"]\n')
     status, out, _ = run(capsys, "verify", path, "--json", "--paths", "50000", "--horizon", "60", "--seed", SEED)
     rep = json.loads(out)
     assert status == 0 and rep["theory"]["stable"] is True and rep["theory"]["margins"][0]["exact"] == "sqrt(6)/3"
@@ -200,7 +200,7 @@ def test_toml_decimals_are_exact_without_notes(capsys, tmp_path):
     for head in ("", "rationalize = true\n"):
         path = tmp_path / "r.toml"
         path.write_text(head + '[system]\nA = [[0, -2.0], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n'
-                        '[loss]\nloss = [0.05]\n')
+                        '[loss]\nkind = "iid"\nloss = [0.05]\n')
         status, out, err = run(capsys, "critical", path, "--vary", "sensor=s1", "--json")
         assert status == 0 and json.loads(out)["critical_loss_rate"]["exact"] == "1/16" and err == ""
 
@@ -266,6 +266,6 @@ def test_closed_pipe_is_not_a_traceback():
 def test_analyze_prints_margins_beyond_the_float_range(tmp_path, capsys):
     # A = 10^200, loss 1/2: margin alpha^2 rho = 10^400 / 2 = 5 x 10^399, past float64's 1.8e308
     path = tmp_path / "huge.toml"
-    path.write_text('[system]\nA = [["1E200"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nloss = ["1/2"]\n')
+    path.write_text('[system]\nA = [["1E200"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "iid"\nloss = ["1/2"]\n')
     assert cli.main(["analyze", str(path)]) == 0
     assert "in [5.00000E+399, 5.00000E+399]" in capsys.readouterr().out

@@ -5,6 +5,7 @@ import pytest
 import sympy as sp
 from hypothesis import assume, given, settings, strategies as st
 
+from symkf.exact.numbers import sympify as exact
 import symkf as sk
 from symkf.decay import block_rate, m_matrix
 from symkf.exact.algebraic import AlgebraicNumber
@@ -81,7 +82,7 @@ def test_ge_hyperplane_rate_equals_spectral_radius_of_full_m(angle, scale, c, pa
     # angle pi makes A a multiple of I: unobservable unless c is independent of [1, 0]
     assume(angle != (1, 2) or c[1] != 0)
     t = 2 * sp.pi * angle[0] / angle[1]
-    A = sp.sympify(scale) * sp.Matrix([[sp.cos(t), -sp.sin(t)], [sp.sin(t), sp.cos(t)]])
+    A = exact(scale) * sp.Matrix([[sp.cos(t), -sp.sin(t)], [sp.sin(t), sp.cos(t)]])
     S = sk.System(A=A, sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[c])])
     loss = sk.GilbertElliott(params[:2], params[2:])
     (br,) = block_rows(S)
@@ -179,12 +180,12 @@ def test_critical_loss_decreases_with_alpha(angle, scale, c):
     t = 2 * sp.pi * angle[0] / angle[1]
     R = sp.Matrix([[sp.cos(t), -sp.sin(t)], [sp.sin(t), sp.cos(t)]])
     sensors = [sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[c])]
-    small = sk.System(A=sp.sympify(scale) * R, sensors=sensors)
-    large = sk.System(A=sp.sympify(scale) * sp.Rational(11, 10) * R, sensors=sensors)
+    small = sk.System(A=exact(scale) * R, sensors=sensors)
+    large = sk.System(A=exact(scale) * sp.Rational(11, 10) * R, sensors=sensors)
     assert critical_loss_rate(large) < critical_loss_rate(small)
     loss = sk.IID(["1/10", "1/10"])
     alpha_c = critical_alpha(small, loss)
-    assert stability(small, loss).stable is (AlgebraicNumber.from_expr(sp.sympify(scale)) < alpha_c)
+    assert stability(small, loss).stable is (AlgebraicNumber.from_expr(exact(scale)) < alpha_c)
 
 
 @settings(derandomize=True, max_examples=10, deadline=None)

@@ -7,7 +7,7 @@ import sympy as sp
 
 import symkf as sk
 from symkf.errors import UnobservableError
-from symkf.spectral import _abs_poly, _cosine_order, diagonal_blocks, eigen_blocks, eigenvalues
+from symkf.spectral import _abs_poly, _resultant_y, _cosine_order, diagonal_blocks, eigen_blocks, eigenvalues
 from symkf.exact.algebraic import identify, real_from_ball
 
 
@@ -59,10 +59,15 @@ def test_an_eigenvalue_of_two_blocks_is_tested_jointly():
 ])
 def test_moduli_agree_with_the_resultant(A, modulus):
     """Each eigenvalue's modulus (fast path or not) is the root of the resultant Res_y(f(y),
-    y^d f(z^2/y)) that the ball |lambda| picks, and equals the value derived by hand."""
+    y^d f(z^2/y)) that the ball |lambda| picks, as of the power-sum polynomial spectral._abs_poly,
+    and equals the value derived by hand."""
     for ev in eigenvalues(A):
         f = tuple(int(c) for c in ev.minpoly.coeffs())
-        poly, idx = identify(_abs_poly(f), lambda prec: flint.acb(abs(ev.ball(prec))), "modulus")
+        d = len(f) - 1
+        resultant = _resultant_y(f, {(d - k, 2 * k): c for k, c in enumerate(f) if c})
+        ball = lambda prec: flint.acb(abs(ev.ball(prec)))  # noqa: E731
+        poly, idx = identify(resultant, ball, "modulus")
+        assert identify(_abs_poly(f), ball, "modulus") == (poly, idx)
         assert ev.modulus == real_from_ball(poly, idx)
         if abs(complex(ev.ball(64).mid())) > 1e-9 and abs(abs(complex(ev.ball(64).mid())) - float(modulus)) < 1e-9:
             assert ev.modulus == modulus

@@ -29,10 +29,10 @@ def test_eq35_against_enumeration(system, loss):
     for i, br in enumerate(block_rows(system)):
         M, _ = m_matrix(br, loss)
         v = sp.Matrix([1] + [0] * (M.shape[0] - 1))
-        for N in range(0, 9 // (br.period * system.d) + 2):
-            if br.period * N * system.d > 12:
+        for N in range(0, 9 // (br.class_period * system.d) + 2):
+            if br.class_period * N * system.d > 12:
                 break
-            assert sp.expand(sum(M ** N * v)) == probability_rank_deficient(system, loss, br.period * N)[i]
+            assert sp.expand(sum(M ** N * v)) == probability_rank_deficient(system, loss, br.class_period * N)[i]
 
 
 def test_design_example_critical_is_one_sixteenth():

@@ -169,11 +169,11 @@ def test_projection_decides_rank_for_every_pattern(A, Cs):
     import itertools
     S = sk.System(A=A, sensors=[sk.Sensor(C=C) for C in Cs])
     brs = block_rows(S)
-    N = max(br.period for br in brs) + 2
+    N = max(br.class_period for br in brs) + 2
     for pattern in itertools.product(itertools.product((1, 0), repeat=S.d), repeat=N):
         direct = block_deficient(S, pattern)
         for br, flag in zip(brs, direct):
-            proj = project(pattern, br.period)
+            proj = project(pattern, br.class_period)
             idx = frozenset(br.elements.index(e) for e in proj)
             assert br.deficient(idx) == flag
 

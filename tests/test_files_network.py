@@ -19,6 +19,7 @@ import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from symkf.exact.numbers import sympify as exact, to_exact_matrix
 from symkf import cli, examples, files
 from symkf.errors import FileFormatError, InputError, SymkfError
 from symkf.losses import MarkovLoss
@@ -59,7 +60,7 @@ def test_example3_file_is_the_reproduction_data():
     assert system.A == dyn.A[0] and [s.C for s in system.sensors] == list(dyn.C)
     assert loss.state.P == sp.Matrix([[R(9, 10), R(1, 10)], [R(3, 10), R(7, 10)]])
     phi = [["19/20", "1/2"], ["19/20", "1/2"], ["19/20", "19/20"], ["19/20", "19/20"], ["19/20", "19/20"]]
-    assert loss.phi == sp.Matrix(phi).applyfunc(sp.Rational)
+    assert loss.phi == to_exact_matrix(phi, "phi")
     assert loss.state.initial == sp.Matrix([[R(3, 4), R(1, 4)]])     # stationary law of P
 
 
@@ -95,15 +96,15 @@ def test_robot_file_is_the_reproduction_data():
     tree, dyn, phi = rep.robot_network()
     assert isinstance(loss.state, SemiMarkovNetworkState)
     assert loss.tree == tree and system.A == dyn.A[0] and [s.C for s in system.sensors] == list(dyn.C)
-    assert loss.phi == sp.Matrix(phi).applyfunc(sp.Rational)
-    assert loss.state.q == sp.Matrix(rep.ROBOT_Q).applyfunc(sp.Rational)
+    assert loss.phi == to_exact_matrix(phi, "phi")
+    assert loss.state.q == to_exact_matrix(rep.ROBOT_Q, "rep.ROBOT_Q")
     assert loss.state.holding == tuple(rep.ROBOT_HOLDING) and loss.state.sigma == 30
 
 
 def test_semi_markov_network_file_is_the_reproduction_instance():
     system, loss = files.load(NETWORK / "quevedo-semi-markov-network.toml")
-    assert system.A == sp.Matrix(rep.VIIC_A).applyfunc(sp.Rational)
-    assert system.sensors[0].C == sp.Matrix(rep.VIIC_C1)
+    assert system.A == to_exact_matrix(rep.VIIC_A, "rep.VIIC_A")
+    assert system.sensors[0].C == to_exact_matrix(rep.VIIC_C1, "C1")
     assert loss.tree.parents == (0,) and loss.phi == sp.Matrix([[R(19, 20), R(19, 20)]])
     assert loss.state.q == sp.Matrix([[R(1, 2)] * 2] * 2) and loss.state.holding == tuple(rep.VIIC_HOLDING)
     # the instance viic_simulation checks: Theorem 2 (corrected and as printed) holds
@@ -133,7 +134,7 @@ def test_markov_example_margin_is_hand_derived():
 def test_critical_exits_0(capsys, name, critical):
     status, out, err = run(capsys, "critical", NETWORK / f"{name}.toml", "--json")
     assert status == 0, err
-    assert sp.simplify(sp.sympify(json.loads(out)["critical_loss_rate"]["exact"]) - critical) == 0
+    assert sp.simplify(exact(json.loads(out)["critical_loss_rate"]["exact"]) - critical) == 0
 
 
 @pytest.mark.parametrize("name", ["quevedo-example3", "markov-shared-channel"])

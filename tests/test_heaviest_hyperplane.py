@@ -8,7 +8,7 @@ import sympy as sp
 import symkf as sk
 from symkf.decay import _weights, block_rate
 from symkf.stability import critical_loss_rate
-from symkf.observability import block_rows
+from symkf.observability import BlockRows, block_rows
 
 
 def _rotation(angle, scale):
@@ -62,3 +62,34 @@ def test_common_critical_loss_rate_from_the_heaviest_hyperplanes(name, rows):
     a = critical_loss_rate(fast)
     assert "inside" not in br_fast.__dict__  # the screen answered
     assert a == critical_loss_rate(full)
+
+
+FIVE = sp.diag(_rotation(sp.pi / 3, 2), _rotation(sp.pi / 2, 2), 2)  # one block of dimension 5, period 12
+FULL = pytest.mark.full
+FOUR = BLOCKS["diag(21/20 R(pi/3), 21/20 R(pi/4))"]
+RANDOM = [  # (A, rows, losses, shifted): random rows, parallel rows, repeated losses; more in the full tier
+    (FOUR, [[2, -2, 0, -2], [1, 1, 1, 1]], ["1/10", "1/3"], True),
+    (FOUR, [[2, -2, 0, -2], [1, 1, 1, 1]], ["1/10", "1/3"], False),
+    (FIVE, [[-1, 2, -2, 0, -2], [-2, 4, -4, 0, -4]], ["1/10", "1/3"], True),
+    pytest.param(FIVE, [[1, 1, -2, 0, 2], [1, 1, 0, 1, 0]], ["1/5", "1/5"], False, marks=FULL),
+    pytest.param(FOUR, [[1, -2, 0, 2], [1, 1, 0, 1], [2, -4, 0, 4]], ["1/5", "1/10", "1/2"], True, marks=FULL),
+    pytest.param(FOUR, [[0, 2, -2, 1], [-1, -2, -1, -2], [0, 1, -1, 1]], ["1/5", "1/10", "1/5"], False, marks=FULL),
+]
+
+
+@pytest.mark.parametrize("A, rows, losses, shifted", RANDOM)
+def test_heaviest_with_and_without_the_phase_shift(A, rows, losses, shifted, monkeypatch):
+    """The screen by orbits of the phase shift, and element by element (no symmetry used), against
+    full enumeration, on blocks of dimension 4 and 5 (the recursive flats)."""
+    if not shifted:
+        monkeypatch.setattr(BlockRows, "_shift", lambda self, live: None)
+    loss = sk.IID(losses)
+    fast, full = (sk.System(A=A, sensors=[sk.Sensor(C=[r]) for r in rows]) for _ in range(2))
+    (br_fast,), (br_full,) = block_rows(fast), block_rows(full)
+    assert (br_fast._shift([e for e, gs in enumerate(br_fast.generators) if gs]) is not None) == shifted
+    weights = _weights(loss)
+    heavy = br_fast.heaviest([weights[e.sensor] for e in br_fast.elements])
+    assert heavy is not None and set(heavy) <= set(br_full.hyperplanes)
+    a, b = block_rate(br_fast, loss), block_rate(br_full, loss)
+    assert sp.simplify(a.per_period - b.per_period) == 0 and a.hyperplane == b.hyperplane
+    assert critical_loss_rate(fast) == critical_loss_rate(full)

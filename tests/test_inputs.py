@@ -54,7 +54,7 @@ def test_decimal_text_is_exact(text, value):
 def test_toml_decimal_is_exact(tmp_path):
     """tomllib reads 0.1 with parse_float=Decimal: exactly 1/10, no float in between."""
     path = tmp_path / "s.toml"
-    path.write_text('[system]\nA = [[0, -2], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n[loss]\nloss = [0.1]\n')
+    path.write_text('[system]\nA = [[0, -2], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n[loss]\nkind = "iid"\nloss = [0.1]\n')
     system, loss = files.load(path)
     assert loss.loss == (R(1, 10),)
     assert to_exact(Decimal("0.1"), "x") == R(1, 10) and to_exact(Fraction(1, 10), "x") == R(1, 10)

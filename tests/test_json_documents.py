@@ -47,15 +47,15 @@ def test_analyze_json_has_one_name_per_period(capsys) -> None:
     assert doc["schema_version"] == cli.SCHEMA_VERSION == 1
     assert "period" not in keys(doc)
     assert (doc["blocks"][0]["tau"], doc["blocks"][0]["governing_period"]) == (4, 2)
-    assert doc["verdict"]["certificate"][0]["governing_period"] == 2
+    assert doc["verdict"]["certificate"][0]["class_period"] == 2  # one class: the governing period
     assert doc["loss"] == {"kind": "iid", "loss": ["1/20"]}
 
 
-def test_certificate_and_verdict_text_use_governing_period() -> None:
+def test_certificate_and_verdict_text_use_the_class_period() -> None:
     S = sk.System([[0, -2], [2, 0]], [sk.Sensor([[1, 0]])])
     v = sk.stability(S, sk.IID(["1/20"]))
-    assert v.certificate[0].governing_period == 2 and not hasattr(v.certificate[0], "period")
-    assert "governing period g = 2" in str(v) and "alpha^4 * rho^2" in str(v)
+    assert v.certificate[0].class_period == 2 and not hasattr(v.certificate[0], "period")
+    assert "class period g = 2" in str(v) and "alpha^4 * rho^2" in str(v)
 
 
 def test_losses_are_structured_objects(capsys) -> None:

@@ -78,7 +78,7 @@ def assert_clean(code: int, err: str) -> None:
 
 def system_file(tmp: Path, entry: str, loss: str = "1/2", name: str = "s.toml") -> Path:
     path = tmp / name
-    path.write_text(f'[system]\nA = [["{entry}"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nloss = ["{loss}"]\n')
+    path.write_text(f'[system]\nA = [["{entry}"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "iid"\nloss = ["{loss}"]\n')
     return path
 
 
@@ -103,9 +103,9 @@ def test_issue_hang_strings_end_at_once_everywhere(tmp_path, text):
     (["critical", "{sys}", "--digits", "1000000000"], "--max-digits"),
     (["critical", "{sys}", "--digits", "100000"], "--max-digits"),
     (["simulate", "{sys}", "--paths", "1000000000", "--horizon", "80"], "--max-memory"),
-    (["analyze", "/dev/zero"], "--max-file-size"),
+    (["analyze", "/dev/zero"], "is a device"),
     (["table", "{dir}"], "is a directory"),
-    (["verify", "/dev/zero"], "--max-file-size"),
+    (["verify", "/dev/zero"], "is a device"),
     (["analyze", "{cos}"], "rational multiple of pi"),
 ])
 def test_cli_values_it_cannot_serve_are_exit_2(tmp_path, argv, message):

@@ -86,7 +86,7 @@ def test_decisive_pattern_on_the_raw_rows():
     engine code), and every element outside it restores full rank: a maximal deficient pattern."""
     A, rows, loss = CASES["period 12, bursty"]
     br, rate = _check(A, rows, loss)
-    raw = RawRegression(A, [[r] for r in rows], br.period)
+    raw = RawRegression(A, [[r] for r in rows], br.class_period)
     inside = [(br.elements[e].phase, br.elements[e].sensor) for e in rate.hyperplane]
     assert raw.rank(inside) == 1
     for e, el in enumerate(br.elements):
@@ -134,7 +134,7 @@ def _listed(system, losses, bound):
     """The same minimum over every exponent vector of every block (no screen)."""
     out = []
     for br in block_rows(system):
-        a2g = sp.sympify(br.block.modulus.exact ** (2 * br.period))
+        a2g = sp.sympify(br.block.modulus.exact ** (2 * br.class_period))
         out.append(_min_capped([b for ks in decay.outside_counts(br) if (b := bound(a2g, ks)) is not None]))
     return min(out)
 
@@ -156,7 +156,7 @@ def test_ray_critical_rate_equals_listing(A, rows, w):
     got = sk.critical_loss_rate(_system(A, rows), ray=w)
     assert got == _listed(_system(A, rows), losses, bound)
     for br in block_rows(_system(A, rows)):  # the screen decided (it applies to one-row sensors)
-        a2g = br.block.modulus.exact ** (2 * br.period)
+        a2g = br.block.modulus.exact ** (2 * br.class_period)
         assert decay.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g) \
             is not None and "inside" not in br.__dict__
 

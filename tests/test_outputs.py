@@ -17,7 +17,7 @@ from symkf import cli
 
 ROOT = Path(__file__).resolve().parent.parent
 #: A = 2 R(pi/2) watched by [1 0] with i.i.d. loss 1/2
-SYSTEM_TEXT = '[system]\nA = [[0, -2], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n[loss]\nloss = ["1/2"]\n'
+SYSTEM_TEXT = '[system]\nA = [[0, -2], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n[loss]\nkind = "iid"\nloss = ["1/2"]\n'
 
 
 def run(capsys, *argv) -> tuple[int, str, str]:

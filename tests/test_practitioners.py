@@ -30,13 +30,13 @@ def system(A, *Cs):
 def engine_exponent(S, weights):
     """Per-step exponent e of the slowest unstable block, rho = x^e for losses eps_j = x^(w_j):
     min over blocks with alpha >= 1 and hyperplanes H of sum_j w_j k_j(H) / g."""
-    return min(Fraction(sum(w * k for w, k in zip(weights, ks)), br.period)
+    return min(Fraction(sum(w * k for w, k in zip(weights, ks)), br.class_period)
                for br in block_rows(S) if not br.block.is_stable for ks in outside_counts(br))
 
 
 def assert_oracle_agrees(S, subspace=None, weights=(1,), N=None):
     """The oracle's slope of the least lost weight L(N) equals the engine's exponent."""
-    G = lcm(*(br.period for br in block_rows(S) if not br.block.is_stable))
+    G = lcm(*(br.class_period for br in block_rows(S) if not br.block.is_stable))
     N = N or 2 * S.n + 1
     e = engine_exponent(S, weights)
     Cs = [s.C for s in S.sensors]

@@ -14,6 +14,7 @@ import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from symkf.exact.numbers import sympify as exact
 import symkf as sk
 from symkf import second_order as so
 from symkf.errors import AperiodicError, AssumptionError, InputError
@@ -185,6 +186,6 @@ def test_reproduce_sui_theorem12(tmp_path):
     assert len(rep["discrepancies"]) == 4 + 11
     first = rep["discrepancies"][0]
     assert "2R(pi/2), C = [1, 0]" in first["claim"] and first["computed"] == "1/16"
-    assert sp.sympify(first["printed"]) == 2 ** R(-8, 3)  # eq. (38) with tau = 4 (proofs/sui_theorem12.py)
+    assert exact(first["printed"]) == 2 ** R(-8, 3)  # eq. (38) with tau = 4 (proofs/sui_theorem12.py)
     rows = rep["results"]["rotations_2R(pi/g)"]
     assert [r["corrected"]["exact"] for r in rows[:2]] == ["1/16", "1/8"]  # 2^(-2g/(g-1)), g = 2, 3

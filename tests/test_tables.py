@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
+from symkf.exact.numbers import sympify as exact
 from symkf import GilbertElliott, examples, files
 from symkf.errors import FileFormatError, InputError
 from symkf.exact.algebraic import AlgebraicNumber
@@ -59,7 +60,7 @@ def verdicts():
 
 
 def _exact(table, row, col):
-    return sp.sympify(table.to_json()["rows"][row]["cells"][col]["exact"])
+    return exact(table.to_json()["rows"][row]["cells"][col]["exact"])
 
 
 # -- values -------------------------------------------------------------------------------------
@@ -95,10 +96,10 @@ def test_template_family_angle_alpha(angle_alpha):
     assert [r.plain for r, _ in angle_alpha.rows] == ["pi/2", "pi/3", "2*pi/5", "pi/6"]
     for row, g in enumerate((2, 3, 5, 6)):
         for col, alpha in enumerate((sp.Rational(3, 2), 2, 3)):
-            assert sp.simplify(_exact(angle_alpha, row, col) - sp.sympify(alpha) ** sp.Rational(-2 * g, g - 1)) == 0
+            assert sp.simplify(_exact(angle_alpha, row, col) - exact(alpha) ** sp.Rational(-2 * g, g - 1)) == 0
     assert _exact(angle_alpha, 0, 0) == sp.Rational(16, 81)
     assert _exact(angle_alpha, 2, 0) == 4 * sp.sqrt(6) / 27               # (2/3)^(5/2)
-    assert angle_alpha.to_json()["rows"][2]["cells"][0]["governing_periods"] == [5]
+    assert angle_alpha.to_json()["rows"][2]["cells"][0]["class_periods"] == [5]
 
 
 def test_stability_family_matches_the_system_file(ge_recovery):
@@ -107,13 +108,13 @@ def test_stability_family_matches_the_system_file(ge_recovery):
     v = stability(system, loss)
     assert rows[2]["label"] == "1/2"
     assert rows[2]["cells"][0]["stable"] is v.stable is False
-    assert sp.sympify(rows[2]["cells"][0]["margin"]["exact"]) == v.margins[0].exact
+    assert exact(rows[2]["cells"][0]["margin"]["exact"]) == v.margins[0].exact
     # every member against the engine called directly (no template, no file)
     for row in rows:
         q = row["label"]
         direct = stability(system, GilbertElliott(["1/4", "1/4"], [q, q]))
         assert row["cells"][0]["stable"] is direct.stable
-        assert sp.sympify(row["cells"][0]["margin"]["exact"]) == direct.margins[direct.limiting_block].exact
+        assert exact(row["cells"][0]["margin"]["exact"]) == direct.margins[direct.limiting_block].exact
 
 
 def test_verdict_table_of_the_examples(verdicts):
@@ -121,7 +122,7 @@ def test_verdict_table_of_the_examples(verdicts):
     by_name = {r["label"]: r["cells"] for r in data["rows"]}
     assert "aperiodic-rotation" not in by_name                               # no [loss]
     # design-rotation: A = 2R(pi/2), loss 1/20: alpha^4 eps = 4/5 per period 2, margin sqrt(4/5)
-    assert sp.sympify(by_name["design-rotation"][3]["exact"]) == 2 * sp.sqrt(5) / 5
+    assert exact(by_name["design-rotation"][3]["exact"]) == 2 * sp.sqrt(5) / 5
     assert by_name["design-rotation"][1] == "stable" and by_name["design-rotation"][2] == "2"
     assert by_name["rotation-pi12-four-sensors"][2] == "12"
     for path in sorted((examples.directory() / "systems").glob("*.toml")):
@@ -250,7 +251,7 @@ def test_bad_family_files_name_file_key_and_problem(tmp_path, text, message):
 @pytest.mark.parametrize("text, pieces", [
     (GOOD_TEMPLATE.replace('"a/2"', '"a/"'), ["A[1][1]: not a well-formed expression"]),
     (GOOD_TEMPLATE.replace('C = [["1", "1"]]', 'C = [["1", "1", "1"]]'), ["sensor 0 C: has 3 columns"]),
-    (GOOD_TEMPLATE.replace("[[sensors]]", "[loss]\nloss = [\"1/2\", \"1/2\"]\n[[sensors]]"),
+    (GOOD_TEMPLATE.replace("[[sensors]]", "[loss]\nkind = \"iid\"\nloss = [\"1/2\", \"1/2\"]\n[[sensors]]"),
      ["[loss] gives 2 value(s) for 1 sensor(s)"]),
     # members are read as system files, so their guards apply: no 370-million-digit numbers
     (GOOD_TEMPLATE.replace('"a/2"', '"a^9^9^9"'), ["A[1][1]: the exponent in '(2)^9^9^9' is 387420489, above the cap 10000"]),
@@ -277,6 +278,6 @@ def test_template_substitutes_exact_values(tmp_path):
 
 def test_sensor_copies_repeat_names_and_losses(tmp_path):
     text = GOOD_TEMPLATE.replace("a = [\"2\", \"3\"]", "a = [\"2\"]\nsensors = [2]").replace(
-        "[[sensors]]", "[loss]\nloss = [\"1/3\"]\n[[sensors]]\nname = \"s\"")
+        "[[sensors]]", "[loss]\nkind = \"iid\"\nloss = [\"1/3\"]\n[[sensors]]\nname = \"s\"")
     system, loss = load_family(_write(tmp_path, text)).members[0].system()
     assert system.sensor_names == ("s_1", "s_2") and loss.loss == (sp.Rational(1, 3),) * 2

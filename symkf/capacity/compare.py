@@ -21,6 +21,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..exact.algebraic import AlgebraicNumber
 from ..losses import IID
 from ..model import System
@@ -95,3 +96,5 @@ def comparison_table(rows: Sequence[dict[str, Any]]) -> str:
         out.append(f"| {r['system']} | {r['sensors']} | {r['exact']['exact']} ≈ {r['exact']['decimal']:.4g} | "
                    f"{cell(r, 'ln_rho')} | {cell(r, 'entropy')} | {cell(r, 'theorem5')} |")
     return "\n".join(out)
+
+check_public(globals())

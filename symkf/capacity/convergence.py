@@ -57,7 +57,9 @@ import flint
 import numpy as np
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import InputError, NotPositiveDefiniteError, require_extra
+from ..exact.algebraic import expr_ball
 from ..exact.linalg import rank
 from ..losses import IID
 from ..model import System, check_positive_definite
@@ -128,11 +130,41 @@ def _positive_definite(M: sp.Matrix) -> bool:
         k = M.shape[0]
         return all(flint.fmpq_mat([[F[i, j] for j in range(m)] for i in range(m)]).det() > 0
                    for m in range(1, k + 1))
+    decided = _positive_definite_by_balls(M)
+    if decided is not None:
+        return decided
     try:
         check_positive_definite(M, "certificate")
     except NotPositiveDefiniteError:
         return False
     return True
+
+
+def _positive_definite_by_balls(M: sp.Matrix, prec: int = 256) -> bool | None:
+    """Sylvester's criterion on certified balls (python-flint ``arb``) around algebraic entries:
+    True or False when every leading minor's sign is decided, None otherwise (the exact
+    determinants of irrational entries cost minutes; the balls, milliseconds)."""
+    k = M.shape[0]
+    entries = [[expr_ball(sp.sympify(v), prec).real for v in row] for row in M.tolist()]
+    for m in range(1, k + 1):
+        minor = flint.arb_mat([row[:m] for row in entries[:m]]).det()
+        if not minor > 0:
+            return False if minor < 0 else None
+    return True
+
+
+def _solve(G: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
+    """``G x = b`` exactly; with algebraic entries over their number field (sympy's
+    ``construct_domain`` with ``extension=True``), not over generic expressions (minutes)."""
+    if all(v.is_Rational for v in (*G, *b)):
+        return G.LUsolve(b)
+    from sympy.polys.constructor import construct_domain
+    from sympy.polys.matrices import DomainMatrix
+    n = G.shape[0]
+    K, elems = construct_domain([*G, *b], extension=True)
+    M = DomainMatrix([elems[i * n:(i + 1) * n] for i in range(n)], (n, n), K)
+    rhs = DomainMatrix([[e] for e in elems[n * n:]], (n, 1), K)
+    return M.lu_solve(rhs).to_Matrix()
 
 
 def _frobenius(P: sp.Matrix, Q: sp.Matrix) -> sp.Expr:
@@ -180,7 +212,7 @@ def mare_stabilizable(system: System, loss: IID) -> LMIVerdict:
     if s_val > 0:
         Wr = sp.Matrix(size, size, lambda i, j: sp.Rational(_dyadic((W.value[i, j] + W.value[j, i]) / 2)))
         gram = sp.Matrix(len(basis), len(basis), lambda i, j: _frobenius(basis[i], basis[j]))
-        coef = gram.LUsolve(sp.Matrix([_frobenius(B, Wr) for B in basis]))
+        coef = _solve(gram, sp.Matrix([_frobenius(B, Wr) for B in basis]))
         Wp = Wr - sum((coef[k] * basis[k] for k in range(len(basis))), sp.zeros(size, size))
         if _positive_definite(Wp):
             return LMIVerdict(False, "W > 0 with <F_k, W> = 0 for every k verified exactly "
@@ -204,3 +236,5 @@ def mare_converges(system: System, loss: IID) -> bool | None:
     if not unit_circle_condition(system):
         return False
     return mare_stabilizable(system, loss).holds
+
+check_public(globals())

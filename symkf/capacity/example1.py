@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from ..exact.arguments import check_public
 from .. import output
 from ..losses import IID
 from ..model import Sensor, System
@@ -117,3 +118,5 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
         results["figure"] = str(output.save_figure(fig, path, "outdir", dpi=120))
         plt.close(fig)
     return reproduction("yang-example1", SOURCE, results, checks)
+
+check_public(globals())

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import AssumptionError
 from ..exact.linalg import rank
 from ..losses import IID
@@ -120,3 +121,5 @@ def information_lower_bound_sequence(system: System, loss: IID, horizon: int,
         F = A @ np.linalg.solve(np.linalg.inv(F) + S, A.T) + Q
         out.append(F)
     return out
+
+check_public(globals())

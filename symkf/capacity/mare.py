@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import AssumptionError
 from ..losses import IID
 from ..model import System
@@ -113,3 +114,5 @@ class MARE:
         raise AssumptionError("the iteration V_{k+1} = g_lambda(V_k) from 0 does not converge",
                               assumption="Theorem 4's condition 1) (Yang et al.)",
                               applies_instead="convergence.mare_converges to decide it")
+
+check_public(globals())

@@ -24,6 +24,7 @@ from typing import Any
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import to_exact_matrix
@@ -179,3 +180,5 @@ def critical_capacities(A: Any) -> tuple[sp.Expr, sp.Expr]:
     A = to_exact_matrix(A, "A")
     rho = spectral_radius(A)
     return (sp.log(rho.exact) if rho > 0 else -sp.oo), topological_entropy(A)
+
+check_public(globals())

@@ -31,6 +31,7 @@ from typing import Any
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.linalg import rank
@@ -189,3 +190,4 @@ def single_sensor_rates(A: Any) -> tuple[AlgebraicNumber, AlgebraicNumber]:
     return (AlgebraicNumber.from_expr(sp.radsimp(1 - 1 / rho.exact ** 2)),
             AlgebraicNumber.from_expr(sp.radsimp(1 - 1 / M.exact ** 2)))
 
+check_public(globals())

@@ -28,8 +28,9 @@ import flint
 import sympy as sp
 from sympy.polys.polyerrors import NotAlgebraic
 
+from .arguments import check_public
 from ..errors import InputError
-from .numbers import sympify, to_exact
+from .numbers import sympify, to_exact, to_rational
 
 x = sp.Symbol("x")
 
@@ -89,8 +90,41 @@ def root_ball(poly: flint.fmpz_poly, index: int, prec: int) -> flint.acb:
 
 @lru_cache(maxsize=512)
 def _complex_roots(coeffs: tuple[int, ...], prec: int) -> tuple[flint.acb, ...]:
-    # isolating all roots dominates (degree 2(p-1) for a rotation by 2 pi/p); callers ask root by root
+    """Isolating balls of all roots of the integer polynomial ``coeffs``, in flint's ordering (real
+    roots first, ascending), except that roots known in closed form come without isolation
+    (:func:`_known_roots`; isolating the roots of degree-800 cyclotomic polynomials dominated a
+    rotation by 2 pi/401).  This is the one ordering of root indices in symkf.exact."""
+    known = _known_roots(coeffs)
+    if known is not None:
+        return _with_prec(prec, lambda: tuple(scale * flint.acb(flint.arb(flint.fmpq(2 * j, m))).exp_pi_i()
+                                              if kind == "unit" else flint.acb(2 * flint.arb(flint.fmpq(2 * j, m)).cos_pi())
+                                              for kind, scale, j, m in known))
     return _with_prec(prec, lambda: tuple(r for r, _ in flint.fmpz_poly(list(coeffs)).complex_roots()))
+
+
+@lru_cache(maxsize=512)
+def _known_roots(coeffs: tuple[int, ...]) -> list[tuple[str, int, int, int]] | None:
+    """The roots of ``c^d Phi_m(x / c)`` (``m >= 3``, integer ``c >= 1``: ``c exp(2 pi i j/m)``,
+    none real, listed ``j, -j`` for ``j = 1 .. m/2`` prime to m) and of the minimal polynomial of
+    ``2 cos(2 pi/m)`` (``x^d f(x + 1/x) = Phi_m``: the real ``2 cos(2 pi j/m)``, ascending as in
+    flint), as ``(kind, c, j, m)``; None for other polynomials."""
+    d, a = len(coeffs) - 1, coeffs
+    if d < 2 or a[d] != 1:
+        return None
+    c, exact = sp.integer_nthroot(abs(a[0]), d)
+    c = int(c)
+    if a[0] > 0 and exact and all(a[k] % c ** (d - k) == 0 for k in range(d + 1)):
+        m = int(flint.fmpz_poly([a[k] // c ** (d - k) for k in range(d + 1)]).is_cyclotomic())
+        if m >= 3:
+            return [("unit", c, j, m) for k in range(1, (m + 1) // 2) if math.gcd(k, m) == 1 for j in (k, m - k)]
+    if any(abs(a[d - k]) > math.comb(d, k) << k for k in range(d + 1)):
+        return None  # roots in [-2, 2] bound the coefficients: most polynomials end here, cheaply
+    f, t, x = flint.fmpz_poly(list(a)), flint.fmpz_poly([1, 0, 1]), flint.fmpz_poly([0, 1])
+    h = sum((int(v) * t ** k * x ** (d - k) for k, v in enumerate(f.coeffs())), flint.fmpz_poly([]))
+    m = int(h.is_cyclotomic())
+    if m:  # 2 cos(2 pi j/m) ascends as j descends from m/2
+        return [("cos", 1, j, m) for j in range((m - 1) // 2 + (m % 2 == 0), 0, -1) if math.gcd(j, m) == 1]
+    return None
 
 
 def _arb_interval(b: flint.arb) -> tuple[sp.Rational, sp.Rational]:
@@ -109,7 +143,7 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
     bits.  The answer is the unique root, over all factors, whose isolating
     ball meets it; precision grows until exactly one does.
     """
-    factors = [f if f.leading_coefficient() > 0 else -f for f, _ in poly.factor()[1] if f.degree() > 0]
+    factors = _factors(tuple(int(c) for c in poly.coeffs()))
     for prec in (64, 128, 256, 512, 1024, 4096):
         def hits() -> list[tuple[flint.fmpz_poly, int]]:
             z = ball_at(prec)
@@ -120,6 +154,17 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
         if len(found) == 1:
             return found[0]
     raise InputError(f"cannot identify the {what} among the roots of {poly}")  # pragma: no cover
+
+
+@lru_cache(maxsize=512)
+def _factors(coeffs: tuple[int, ...]) -> list[flint.fmpz_poly]:
+    """The irreducible factors (positive leading coefficient) of a nonconstant integer polynomial,
+    cached: the moduli and phase orders of all eigenvalues of one minimal polynomial share one
+    resultant of degree up to ``2 d^2``."""
+    if _known_roots(coeffs) is not None:  # c^d Phi_m(x/c) and the polynomial of 2 cos(2 pi/m) are irreducible
+        return [flint.fmpz_poly(list(coeffs))]
+    return [f if f.leading_coefficient() > 0 else -f for f, _ in flint.fmpz_poly(list(coeffs)).factor()[1]
+            if f.degree() > 0]
 
 
 def crootof_ball(expr: sp.CRootOf) -> flint.acb:
@@ -133,11 +178,52 @@ def crootof_ball(expr: sp.CRootOf) -> flint.acb:
     return flint.acb(arb(sp.Rational(xlo), sp.Rational(xhi)), arb(sp.Rational(ylo), sp.Rational(yhi)))
 
 
+class FlintRoot(sp.Expr):
+    """Root ``index`` (python-flint's ``complex_roots`` ordering) of the irreducible primitive
+    integer polynomial ``poly``: an algebraic number known by its minimal polynomial and its
+    isolating ball, so a number field can adjoin it without sympy's pure-Python root isolation
+    (which a ``CRootOf`` needs for its own index: most of the time of a dense 16 x 16 system)."""
+
+    is_number = True
+    is_commutative = True
+
+    def __new__(cls, poly: flint.fmpz_poly, index: int) -> "FlintRoot":
+        if not isinstance(poly, flint.fmpz_poly) or isinstance(index, bool) or not isinstance(index, int):
+            raise InputError(f"FlintRoot: expected a flint fmpz_poly and an int root index, got "
+                             f"{type(poly).__name__} and {type(index).__name__}")
+        return sp.Expr.__new__(cls, sp.Tuple(*[sp.Integer(int(c)) for c in poly.coeffs()]), sp.Integer(index))
+
+    @property
+    def poly(self) -> flint.fmpz_poly:
+        return flint.fmpz_poly([int(c) for c in self.args[0]])
+
+    @property
+    def index(self) -> int:
+        return int(self.args[1])
+
+    def _eval_is_extended_real(self) -> bool:
+        return root_ball(self.poly, self.index, 64).imag == 0
+
+    def _eval_is_finite(self) -> bool:
+        return True
+
+    def _eval_evalf(self, prec: int) -> sp.Expr:
+        b = root_ball(self.poly, self.index, prec + 16)
+        digits = int(prec / 3.32) + 2
+        part = lambda a: sp.Float(a.mid().str(digits, radius=False), digits)  # noqa: E731
+        return part(b.real) + sp.I * part(b.imag) if b.imag != 0 else part(b.real)
+
+    def _sympystr(self, printer: Any) -> str:
+        return f"FlintRoot({fmpz_to_sympy(self.poly).as_expr()}, {self.index})"
+
+
 def expr_ball(expr: sp.Expr, prec: int) -> flint.acb:
     """A ball around the value of the sympy number ``expr`` at about ``prec`` bits (sympy's evalf;
     for a ``CRootOf``, its isolating interval, which separates it from the other roots)."""
     if isinstance(expr, sp.CRootOf):
         return crootof_ball(expr)
+    if isinstance(expr, FlintRoot):
+        return root_ball(expr.poly, expr.index, prec)
     digits = prec // 3 + 10
     v = sp.N(expr, digits)
     re_, im_ = sp.re(v), sp.im(v)
@@ -151,6 +237,8 @@ def root_of(expr: sp.Expr) -> tuple[flint.fmpz_poly, int]:
     (sympy's ``minimal_polynomial``) and root index (flint's ordering), cached."""
     if expr.free_symbols:
         raise InputError(f"{expr}: has free symbols, not a number")
+    if isinstance(expr, FlintRoot):
+        return expr.poly, expr.index
     poly = _root_of_unity_poly(expr)
     if poly is None:
         poly = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))
@@ -373,7 +461,9 @@ class AlgebraicNumber:
     @classmethod
     def from_root(cls, poly: Any, lo: Any, hi: Any, exact: sp.Expr | None = None) -> "AlgebraicNumber":
         """The unique real root of ``poly`` (integer or rational, sympy or flint) in ``[lo, hi]``."""
-        lo, hi = sp.Rational(lo), sp.Rational(hi)
+        lo, hi = to_rational(lo, "lo"), to_rational(hi, "hi")
+        if exact is not None:
+            exact = to_exact(exact, "exact")
         inside = [a for a in _real_roots(_as_fmpz(poly)) if a >= lo and a <= hi]  # exact: ours, not sympy's
         if len(inside) != 1:
             raise InputError(f"[{lo}, {hi}] holds {len(inside)} distinct real roots of {poly}, not one")
@@ -429,7 +519,9 @@ class AlgebraicNumber:
 
     def refine(self, width: Any) -> "AlgebraicNumber":
         """Shrink the isolating interval below ``width``; returns self."""
-        width = sp.Rational(width)
+        width = to_rational(width, "width")
+        if width <= 0:
+            raise InputError(f"width: {width} is not positive")
         while self._hi - self._lo > width:
             self._prec *= 2
             self._lo, self._hi = _arb_interval(root_ball(self._poly, self._index, self._prec).real)
@@ -701,9 +793,11 @@ def real_from_ball(poly: flint.fmpz_poly, index: int) -> AlgebraicNumber:
 
 def sign(expr: Any) -> int:
     """Exact sign (-1, 0, 1) of a real algebraic number given as a sympy expression."""
-    expr = sympify(expr)
+    expr = sympify(expr, "expr")
     if expr.is_Rational:
         return int(sp.sign(expr))
     if expr.free_symbols:
         raise InputError(f"{expr}: the sign of a symbolic expression is not determined")
     return AlgebraicNumber.from_expr(expr)._compare(0)
+
+check_public(globals())

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import sympy as sp
 
+from .arguments import check_public
+
 
 def diagonal_blocks(A: sp.MatrixBase) -> list[list[int]]:
     """The index sets of the diagonal blocks of ``A`` up to a symmetric permutation: the connected
@@ -28,3 +30,6 @@ def diagonal_blocks(A: sp.MatrixBase) -> list[list[int]]:
     for i in range(n):
         groups.setdefault(root(i), []).append(i)
     return list(groups.values())
+
+
+check_public(globals())

@@ -36,8 +36,9 @@ from typing import Callable
 
 import flint
 
+from .arguments import check_public
 from ..errors import InputError
-from .algebraic import _with_prec
+from .algebraic import _complex_roots, _with_prec
 
 _PRECS = (128, 256, 512, 1024, 2048, 4096, 8192, 16384)
 
@@ -69,7 +70,7 @@ class Integral:
 
 @lru_cache(maxsize=256)
 def _roots(coeffs: tuple[int, ...], prec: int) -> list[flint.acb]:
-    return _with_prec(prec, lambda: [r for r, _ in flint.fmpz_poly(list(coeffs)).complex_roots()])
+    return list(_complex_roots(coeffs, prec))
 
 
 def integral_scale(poly: flint.fmpz_poly) -> tuple[int, flint.fmpz_poly]:
@@ -171,7 +172,7 @@ def _adjunction(theta: Integral, beta: Integral, k: int, prec: int) -> Adjunctio
                                                for j, s in enumerate(row) if f(s).contains(0)))
         if len(pairs) != f.degree():
             continue
-        roots = _with_prec(prec, lambda: [r for r, _ in f.complex_roots()])
+        roots = _complex_roots(tuple(int(c) for c in f.coeffs()), prec)
         idx = [i for i, r in enumerate(roots) if r.overlaps(target)]
         if len(idx) == 1:
             return Adjunction(theta, beta, k, Integral.of(f, idx[0]), pairs)
@@ -220,3 +221,5 @@ def vanishes(poly: flint.fmpz_poly, p: flint.fmpq_poly, modulus: flint.fmpq_poly
     for c in reversed(poly.coeffs()):
         acc = (acc * p + c) % modulus
     return acc.is_zero()
+
+check_public(globals())

@@ -23,11 +23,12 @@ from __future__ import annotations
 
 from functools import lru_cache
 from math import gcd
-from typing import Iterable, Sequence
+from typing import Any, Iterable, Sequence
 
 import flint
 import sympy as sp
 
+from .arguments import check_public
 from ..errors import InputError
 from .algebraic import _with_prec, identify, root_ball, root_of
 from .embedding import Integral, adjoin, integral_scale, interpolate, vanishes
@@ -270,7 +271,7 @@ class NumberField:
     def __init__(self, generators: Iterable[sp.Expr] = ()):
         gens = []
         for g in generators:
-            g = sympify(g)
+            g = sympify(g, "generators")
             if not g.is_Rational and g not in gens:
                 gens.append(g)
         self.generators = tuple(gens)
@@ -305,9 +306,9 @@ class NumberField:
         return f"Q(theta), theta = {self.theta}, minpoly of degree {self.degree}"
 
     # -- conversion -------------------------------------------------------------
-    def convert(self, expr: sp.Expr) -> Elem:
+    def convert(self, expr: Any) -> Elem:
         """The element of this field equal to ``expr`` (raises if it is not in the field)."""
-        expr = sympify(expr)
+        expr = sympify(expr, "expr")
         if expr.is_Rational:
             return _rational(expr)
         out = _express(self._state, expr) if not self.is_rational else _member_of_q(expr)
@@ -357,3 +358,5 @@ def _member_of_q(expr: sp.Expr) -> Elem | None:
 
 
 QQ_FIELD = NumberField()
+
+check_public(globals())

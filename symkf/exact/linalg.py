@@ -13,6 +13,7 @@ from typing import Sequence
 import flint
 import sympy as sp
 
+from .arguments import check_public
 from .field import Elem, NumberField, QQ_FIELD
 from .numbers import as_matrix, sympify
 
@@ -22,7 +23,7 @@ def field_of(*matrices: sp.MatrixBase) -> NumberField:
     gens: list[sp.Expr] = []
     for M in matrices:
         for v in M:
-            v = sympify(v)
+            v = sympify(v, "entry")
             if not v.is_Rational and v not in gens:
                 gens.append(v)
     return NumberField(gens) if gens else QQ_FIELD
@@ -89,3 +90,5 @@ def nullspace_rows(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -
             h[pc] = -A[i][fc]
         basis.append(h)
     return basis
+
+check_public(globals())

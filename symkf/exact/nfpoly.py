@@ -14,6 +14,7 @@ from itertools import count
 
 import flint
 
+from .arguments import check_public
 from .field import Elem, NumberField
 
 Poly = list[Elem]
@@ -134,3 +135,5 @@ def charpoly(K: NumberField, M: list[list[Elem]]) -> Poly:
         tr = sum((K.dot(M[i], [Mk[r][i] for r in range(n)]) for i in range(n)), zero)
         c[n - k] = (-tr / k) % K.modulus
     return c
+
+check_public(globals())

@@ -28,6 +28,7 @@ from __future__ import annotations
 import ast
 import contextlib
 import contextvars
+import functools
 import math
 import numbers
 import os
@@ -41,6 +42,7 @@ from typing import Any, Collection, Iterable, Iterator, Mapping, NamedTuple, Seq
 
 import sympy as sp
 
+from .arguments import check_public, described
 from .. import budget
 from ..errors import InexactInputError, InputError, ShapeError
 from .blocks import diagonal_blocks
@@ -92,16 +94,35 @@ def check_degree(generic: bool, degree: int, entry: str, what: str) -> None:
         budget.check("max_cyclotomic_degree", degree, entry, f"the cyclotomic degree (bound) of {what}")
 
 
+def rational_bits(r: sp.Rational | Fraction) -> float:
+    """The height in bits of a rational ``p/q`` in lowest terms: ``log2 max(|p|, q)``, the bits of the
+    larger of its numerator and denominator (2^-1074: 1074)."""
+    p, q = (r.p, r.q) if isinstance(r, sp.Rational) else (r.numerator, r.denominator)
+    return math.log2(max(abs(p), q))
+
+
+def check_bits(bits: float, entry: str, what: str) -> None:
+    """Refuse a number whose bit size (height bound) exceeds ``max_bits``, before it is built."""
+    budget.check("max_bits", math.ceil(bits), entry, f"the bit size (height bound) of {what}")
+
+
+#: height bounds in bits of the trigonometric constants: cos t = (z + 1/z)/2 with z a root of unity
+#: (height 0), and h(x + y) <= h(x) + h(y) + 1, h(x y) <= h(x) + h(y); tan = sin/cos
+_ANGLE_BITS = {"cos": 2, "sin": 2, "tan": 4, "exp": 0}
+
+
 @dataclass(frozen=True)
 class _Num:
     """A parsed value with what bounds its cost: ``gens`` maps each radical to a bound on its
     degree over Q, and :data:`_CYCLOTOMIC` to the order of a cyclotomic field holding its
     trigonometric constants (:func:`_degree` bounds the value's degree); ``depth`` is the
-    nesting of radicals."""
+    nesting of radicals; ``bits`` bounds its absolute logarithmic height in bits (exact for a
+    rational; :func:`check_bits`), known before the value is evaluated."""
 
     expr: sp.Expr
     gens: dict = field(default_factory=dict)
     depth: int = 0
+    bits: float = 0.0
 
 
 class _Parser:
@@ -130,14 +151,17 @@ class _Parser:
             return self.name(n.id)
         if isinstance(n, ast.UnaryOp) and isinstance(n.op, (ast.UAdd, ast.USub)):
             x = self.node(n.operand)
-            return _Num(-x.expr if isinstance(n.op, ast.USub) else x.expr, x.gens, x.depth)
+            return _Num(-x.expr if isinstance(n.op, ast.USub) else x.expr, x.gens, x.depth, x.bits)
         if isinstance(n, ast.BinOp) and isinstance(n.op, (ast.Add, ast.Sub, ast.Mult, ast.Div)):
             a, b = self.node(n.left), self.node(n.right)
             if isinstance(n.op, ast.Div) and b.expr == 0:
                 raise self.fail("division by zero")
             op = {ast.Add: sp.Add, ast.Sub: lambda x, y: x - y, ast.Mult: sp.Mul,
                   ast.Div: lambda x, y: x / y}[type(n.op)]
-            return self.combine(op(a.expr, b.expr), a, b)
+            # Weil heights: h(x +- y) <= h(x) + h(y) + 1 bit, h(x y), h(x / y) <= h(x) + h(y)
+            bits = a.bits + b.bits + isinstance(n.op, (ast.Add, ast.Sub))
+            check_bits(bits, self.entry, repr(self.text))
+            return self.combine(op(a.expr, b.expr), a, b, bits=bits)
         if isinstance(n, ast.BinOp) and isinstance(n.op, ast.Pow):
             return self.power(self.node(n.left), self.node(n.right).expr)
         if isinstance(n, ast.Call):
@@ -154,7 +178,9 @@ class _Parser:
         digits = len(mantissa.replace(".", "").lstrip("0"))
         budget.check("max_digits", digits + abs(int(exponent or 0)), self.entry,
                      f"the number of digits of the literal {text[:20]!r}")
-        return _Num(sp.Rational(Fraction(text)))
+        value = Fraction(text)
+        check_bits(rational_bits(value), self.entry, f"the literal {text[:20]!r}")
+        return _Num(sp.Rational(value), bits=rational_bits(value))
 
     def name(self, name: str) -> _Num:
         if name in CONSTANTS:
@@ -171,14 +197,16 @@ class _Parser:
         return _Num(sp.Symbol(name, positive=True))
 
     def combine(self, expr: sp.Expr, *parts: _Num, gen: tuple[Any, int] | None = None,
-                depth: int = 0) -> _Num:
+                depth: int = 0, bits: float = 0.0) -> _Num:
         gens = _merge(*(p.gens for p in parts))
+        if expr.is_Rational:   # evaluated already: its exact size replaces the bound
+            bits = rational_bits(expr)
         if gen is not None and not (expr.is_Rational or expr.free_symbols):
             gens = _merge(gens, {gen[0]: gen[1]})
         # one trigonometric constant (times and plus rationals) is cheap; sums and products of
         # several, and radicals, need sympy's minimal_polynomial
         check_degree(_radical(gens) > 1 or field_cost([expr]).atoms > 1, _degree(gens), self.entry, repr(self.text))
-        return _Num(expr, gens, max([depth, *(p.depth for p in parts)]))
+        return _Num(expr, gens, max([depth, *(p.depth for p in parts)]), bits)
 
     def power(self, base: _Num, exp: sp.Expr) -> _Num:
         if not exp.is_Rational:
@@ -189,15 +217,15 @@ class _Parser:
             budget.check("max_nesting", base.depth + 1, self.entry, f"the radical nesting of {self.text!r}")
         if base.expr == 0 and exp < 0:
             raise self.fail("division by zero")
-        if not base.expr.free_symbols and base.expr != 0:
-            size = abs(complex(sp.N(base.expr, 15)))
-            budget.check("max_digits", math.ceil(abs(exp) * abs(math.log10(size))), self.entry,
-                         f"the number of digits of a power in {self.text!r}")
+        # the height of x^(p/q) is |p/q| h(x): its size, not its magnitude ((1 + 10^-999)^10000 is
+        # near 1 and has 33 million bits), known before sympy evaluates the power
+        bits = float(abs(exp)) * base.bits
+        check_bits(bits, self.entry, f"a power in {self.text!r}")
         value = base.expr ** exp
         if exp.q == 1:
-            return self.combine(value, base)
+            return self.combine(value, base, bits=bits)
         degree = exp.q * _degree(base.gens)
-        return self.combine(value, gen=(value, degree), depth=base.depth + 1)
+        return self.combine(value, gen=(value, degree), depth=base.depth + 1, bits=bits)
 
     def call(self, n: ast.Call) -> _Num:
         name = n.func.id if isinstance(n.func, ast.Name) else None
@@ -214,20 +242,21 @@ class _Parser:
             if not k.is_Integer or k == 0 or name == "root" and k < 1 or not args[0].expr.is_Integer \
                     and name == "Rational":
                 raise self.fail(f"{name} needs {'an integer index' if name == 'root' else 'two integers'}")
-            return self.power(args[0], 1 / k) if name == "root" else _Num(args[0].expr / k)
+            return self.power(args[0], 1 / k) if name == "root" else \
+                _Num(args[0].expr / k, bits=rational_bits(args[0].expr / k))
         return self.angle(name, args[0])
 
     def angle(self, name: str, arg: _Num) -> _Num:
         fn = getattr(sp, name)
         if arg.expr.free_symbols:
-            return _Num(fn(arg.expr), arg.gens, arg.depth)
+            return _Num(fn(arg.expr), arg.gens, arg.depth, arg.bits)
         unit = sp.pi * sp.I if name == "exp" else sp.pi
         r = sp.expand(arg.expr / unit)
         if not r.is_Rational:
             raise self.fail(f"the argument of {name} must be a rational multiple of "
                             f"{'pi*I' if name == 'exp' else 'pi'}, got {arg.expr}")
         budget.check("max_angle_denominator", r.q, self.entry, f"the denominator of the angle in {self.text!r}")
-        return self.combine(fn(r * unit), arg, gen=(_CYCLOTOMIC, 4 * r.q), depth=arg.depth)
+        return self.combine(fn(r * unit), arg, gen=(_CYCLOTOMIC, 4 * r.q), depth=arg.depth, bits=_ANGLE_BITS[name])
 
 
 def parse_exact(text: str, entry: str, *, symbols: bool | Collection[str] = ()) -> sp.Expr:
@@ -254,26 +283,72 @@ def parse_exact(text: str, entry: str, *, symbols: bool | Collection[str] = ()) 
 NEARBY_TOLERANCE = 1e-12
 #: the largest denominator of the rational factor q of a nearby constant q*c
 NEARBY_DENOMINATOR = 120
-#: the constants c of ``rationalize="nearby"``: square roots of square-free integers up to 30 and
-#: cos(pi*a/b) for the small b whose values are not already q*sqrt(k)
+#: the radicals c of ``rationalize="nearby"``: square roots of square-free integers up to 30
 NEARBY_CONSTANTS: tuple[sp.Expr, ...] = (
-    sp.Integer(1), *(sp.sqrt(k) for k in (2, 3, 5, 6, 7, 10, 11, 13, 14, 15, 17, 19, 21, 22, 23, 26, 29, 30)),
-    *sorted({sp.cos(sp.pi * a / b) for b in (5, 7, 9, 10, 12, 16, 24) for a in range(1, b)
-             if math.gcd(a, b) == 1 and 2 * a < b}, key=sp.default_sort_key))
+    sp.Integer(1), *(sp.sqrt(k) for k in (2, 3, 5, 6, 7, 10, 11, 13, 14, 15, 17, 19, 21, 22, 23, 26, 29, 30)))
 _NEARBY_VALUES = tuple(float(c) for c in NEARBY_CONSTANTS)
+#: the largest denominator M of an angle pi k/M whose cosine ``"nearby"`` recognises: the sine of
+#: pi k/m is the cosine of pi (m - 2k)/(2m), so every cosine and sine of an angle pi k/m with
+#: m <= 60 is covered (cos(pi k/M) for M in 1, 2, 3, 4, 6 is rational or q sqrt(2), q sqrt(3))
+NEARBY_ANGLE_DENOMINATOR = 120
+#: the largest denominator of the rational factor q of a nearby cosine q cos(pi k/M)
+NEARBY_COSINE_DENOMINATOR = 12
+
+
+@functools.lru_cache(maxsize=1)
+def _cosines() -> tuple[Any, tuple[tuple[int, int], ...]]:
+    """cos(pi k/M) as floats with their (k, M), 0 < 2k < M <= :data:`NEARBY_ANGLE_DENOMINATOR`,
+    gcd(k, M) = 1, M not in 1, 2, 3, 4, 6 (about 2 200 values; built at the first use, in ms)."""
+    import numpy as np
+    angles = tuple((k, M) for M in range(5, NEARBY_ANGLE_DENOMINATOR + 1) if M != 6
+                   for k in range(1, (M + 1) // 2) if 2 * k < M and math.gcd(k, M) == 1)
+    return np.cos(np.pi * np.array([k / M for k, M in angles])), angles
 
 
 def _nearby(x: float) -> sp.Expr | None:
     """The simplest q*c within :data:`NEARBY_TOLERANCE` of ``x`` (smallest denominator, then
-    numerator), or None."""
-    best: tuple[int, int, sp.Expr] | None = None
+    numerator; radicals before cosines), c a radical of :data:`NEARBY_CONSTANTS` or a cosine
+    cos(pi k/M) (:func:`_cosines`), or None."""
+    import numpy as np
+    if x == 0:
+        return sp.Integer(0)
+    tol = NEARBY_TOLERANCE * abs(x)
+    best: tuple[int, int, int, sp.Expr] | None = None
     for c, cf in zip(NEARBY_CONSTANTS, _NEARBY_VALUES):
         q = Fraction(x / cf).limit_denominator(NEARBY_DENOMINATOR)
-        if abs(float(q) * cf - x) <= NEARBY_TOLERANCE * max(abs(x), 1e-300) or x == 0:
-            key = (q.denominator, abs(q.numerator))
-            if best is None or key < best[:2]:
+        if abs(float(q) * cf - x) <= tol:
+            key = (q.denominator, abs(q.numerator), 0)
+            if best is None or key < best[:3]:
                 best = (*key, sp.Rational(q.numerator, q.denominator) * c)
-    return None if best is None else best[2]
+    values, angles = _cosines()
+    t = x / values
+    for den in range(1, NEARBY_COSINE_DENOMINATOR + 1):
+        if best is not None and best[0] <= den:
+            break
+        num = np.rint(t * den)
+        hits = np.flatnonzero((num != 0) & (np.abs(num / den * values - x) <= tol))
+        if hits.size:
+            i = int(hits[np.argmin(np.abs(num[hits]))])
+            k, M = angles[i]
+            best = (den, int(abs(num[i])), 1, sp.Rational(int(num[i]), den) * sp.cos(sp.pi * k / M))
+    return None if best is None else best[3]
+
+
+def _nearby_rotation(a: float, b: float) -> tuple[sp.Expr, sp.Expr] | None:
+    """Exact ``(r cos t, r sin t)`` for the float pair ``(a, b)`` of a scaled rotation, recognised
+    jointly: ``r^2 = a^2 + b^2`` a rational with a small denominator, ``t = atan2(b, a)`` a rational
+    multiple of pi with denominator at most :data:`NEARBY_ANGLE_DENOMINATOR`, and both entries
+    within :data:`NEARBY_TOLERANCE` (relative to r) of the exact values; or None."""
+    r2 = a * a + b * b
+    R2 = Fraction(r2).limit_denominator(NEARBY_DENOMINATOR)
+    turn = Fraction(math.atan2(b, a) / math.pi).limit_denominator(NEARBY_ANGLE_DENOMINATOR)
+    if R2 == 0 or abs(float(R2) - r2) > 2 * NEARBY_TOLERANCE * r2 or \
+            abs(float(turn) * math.pi - math.atan2(b, a)) > NEARBY_TOLERANCE * max(1.0, abs(math.atan2(b, a))):
+        return None
+    r, angle = sp.sqrt(sp.Rational(R2.numerator, R2.denominator)), sp.pi * sp.Rational(turn.numerator, turn.denominator)
+    exact = (r * sp.cos(angle), r * sp.sin(angle))
+    tol = NEARBY_TOLERANCE * math.sqrt(r2)
+    return exact if all(abs(float(e) - f) <= tol for e, f in zip(exact, (a, b))) else None
 
 
 @dataclass
@@ -283,6 +358,9 @@ class _Conversions:
     what: str
     changes: list = field(default_factory=list)
     notes: list = field(default_factory=list)
+    #: matrices whose diagonal blocks ``"nearby"`` recognised only in part, as that partial
+    #: reading (by entry name): they were read as decimals instead
+    partial: dict = field(default_factory=dict)
 
 
 _ACTIVE: contextvars.ContextVar[_Conversions | None] = contextvars.ContextVar("symkf_rationalize", default=None)
@@ -341,6 +419,7 @@ def _float(value: float, entry: str, rationalize: bool | str) -> sp.Expr:
     out = _nearby(value) if rationalize == "nearby" else None
     how = f"nearby constant within {NEARBY_TOLERANCE:g}" if out is not None else "shortest decimal"
     if out is None:
+        check_bits(rational_bits(decimal), entry, f"the decimal {repr(value)!r}")
         out = sp.Rational(decimal.numerator, decimal.denominator)
     with rationalization(entry) as record:
         record.changes.append((entry, value, out, how))
@@ -348,14 +427,29 @@ def _float(value: float, entry: str, rationalize: bool | str) -> sp.Expr:
 
 
 def sympify(value: Any, entry: str = "value") -> sp.Basic:
-    """sympy's ``sympify`` without its string parser (which evaluates Python): a string goes
-    through :func:`parse_exact`, anything else must be a type sympy converts explicitly."""
-    if isinstance(value, str):
-        return parse_exact(value, entry)
-    try:
-        return sp.sympify(value, strict=True)
-    except sp.SympifyError:
-        raise InputError(f"{entry}: {type(value).__name__} {value!r} is not a number") from None
+    """One number from outside as a sympy object, without sympy's own ``sympify`` (which
+    evaluates strings as Python, also inside tuples, dicts and sets, and calls ``str`` of unknown
+    objects): a sympy object is kept, an object with ``_sympy_`` (an AlgebraicNumber) gives its
+    sympy value, a string goes through :func:`parse_exact` and any other number through
+    :func:`to_exact` (transcendental values allowed).  Containers and other objects are refused
+    with an :class:`InputError` naming ``entry``."""
+    if isinstance(value, sp.Basic):
+        return value
+    convert = getattr(type(value), "_sympy_", None)
+    if convert is not None:
+        out = convert(value)
+        if isinstance(out, sp.Basic):
+            return out
+    return to_exact(value, entry, algebraic=False)
+
+
+def to_rational(value: Any, entry: str) -> sp.Rational:
+    """``value`` (an int, Fraction, exact float, string such as ``"1/3"``, sympy Rational, ...)
+    as a sympy Rational; anything else is an :class:`InputError` naming ``entry``."""
+    out = sympify(value, entry)
+    if not isinstance(out, sp.Rational):
+        raise InputError(f"{entry}: expected a rational number, got {described(value)}")
+    return out
 
 
 def as_matrix(value: Any, entry: str) -> sp.Matrix:
@@ -404,8 +498,23 @@ def field_cost(exprs: Iterable[sp.Expr]) -> FieldCost:
                      len(atoms))
 
 
+def expr_bits(expr: sp.Basic) -> float:
+    """A bound on the height in bits of a sympy number, by the parser's rules: exact for a
+    rational, ``|p/q| h(x)`` for ``x**(p/q)`` (an unevaluated power is bounded, not built), sums
+    ``h(x_1) + ... + h(x_k) + log2 k``, products the sum of the heights."""
+    if expr.is_Rational:
+        return rational_bits(expr)
+    if expr.is_Pow and expr.exp.is_Rational:
+        return float(abs(expr.exp)) * expr_bits(expr.base)
+    if isinstance(expr, (sp.cos, sp.sin, sp.tan, sp.exp)) and not expr.args[0].free_symbols:
+        return _ANGLE_BITS[type(expr).__name__]
+    parts = sum(expr_bits(a) for a in expr.args)
+    return parts + math.log2(len(expr.args)) if expr.is_Add else parts
+
+
 def _check_sympy(expr: sp.Basic, entry: str) -> None:
     """The budget checks of the parser, applied to a sympy expression given directly."""
+    check_bits(expr_bits(expr), entry, f"the sympy number {str(expr)[:40]}")
     for node in sp.preorder_traversal(expr):
         if node.is_Pow and node.exp.is_Rational:
             budget.check("max_exponent", abs(node.exp.p), entry, f"an exponent of {expr}")
@@ -432,14 +541,17 @@ def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
         value = int(value)
         budget.check("max_digits", math.ceil(value.bit_length() * math.log10(2)), entry,
                      "the number of digits (about) of an integer")
+        check_bits(value.bit_length(), entry, "an integer")
         out: sp.Expr = sp.Integer(value)
     elif isinstance(value, (Fraction, Decimal)):
         if isinstance(value, Decimal) and not value.is_finite():
             raise InputError(f"{entry}: {value} is not a finite number")
         if isinstance(value, Decimal):
-            budget.check("max_digits", len(value.as_tuple().digits) + abs(value.as_tuple().exponent), entry,
-                         "the number of digits of a decimal")
+            digits, exponent = len(value.as_tuple().digits), value.as_tuple().exponent
+            budget.check("max_digits", digits + abs(exponent), entry, "the number of digits of a decimal")
+            check_bits(max(digits + exponent, -exponent) * math.log2(10), entry, "a decimal")
         f = Fraction(value)
+        check_bits(rational_bits(f), entry, f"the {type(value).__name__}")
         out = sp.Rational(f.numerator, f.denominator)
     elif isinstance(value, numbers.Real) and not isinstance(value, sp.Basic):
         out = _float(float(value), entry, rationalize)
@@ -452,14 +564,18 @@ def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
             if not rationalize:
                 raise InexactInputError(f"{entry}: {value} contains a sympy Float; give it exactly "
                                         "or set rationalize=True")
-            value = sp.nsimplify(value, rational=True)
+            value = value.xreplace({f: sp.Rational(str(f)) for f in value.atoms(sp.Float)})
         _check_sympy(value, entry)
         out = value
     else:
-        raise InputError(f"{entry}: {type(value).__name__} {value!r} is not an exact number "
+        raise InputError(f"{entry}: {described(value)} is not an exact number "
                          "(give an int, Fraction, Decimal, a string like '5/4' or '0.1', or a sympy expression)")
     if out.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
-        raise InputError(f"{entry}: {value!r} is not a finite number")
+        raise InputError(f"{entry}: {described(value)} is not a finite number")
+    # what the parser's estimates let through is measured once evaluated: no later conversion
+    # to text (Python's limit follows max_digits) meets a longer integer
+    budget.check("max_digits", max((_digits(r) for r in out.atoms(sp.Rational)), default=0), entry,
+                 "the number of digits (about) of a rational in its value")
     if out.free_symbols and not symbols:
         raise InputError(f"{entry}: symbol(s) {sorted(map(str, out.free_symbols))} are not "
                          "allowed here; give a number")
@@ -467,6 +583,10 @@ def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
         raise InputError(f"{entry}: {out} is transcendental; symkf needs algebraic numbers "
                          "to decide exactly")
     return out
+
+
+def _digits(r: sp.Rational) -> int:
+    return math.ceil(max(int(r.p).bit_length(), int(r.q).bit_length()) * math.log10(2))
 
 
 def substitution(values: Mapping[Any, Any], entry: str, known: Collection[sp.Symbol] = ()) -> dict[sp.Symbol, sp.Expr]:
@@ -514,9 +634,14 @@ def to_exact_matrix(rows: Any, entry: str, *, rationalize: bool | str = False,
     if want_r is not None and len(rows) != want_r or want_c is not None and width != want_c:
         raise ShapeError(f"{entry}: shape {len(rows)}x{width}, expected "
                          f"{want_r if want_r is not None else 'any'}x{want_c if want_c is not None else 'any'}")
-    with rationalization(entry):
-        M = sp.ImmutableMatrix([[to_exact(v, f"{entry}[{i}][{j}]", rationalize=rationalize)
-                                 for j, v in enumerate(r)] for i, r in enumerate(rows)])
+    with rationalization(entry) as record:
+        start = len(record.changes)
+        pairs = _rotation_pairs(rows, entry, record) if rationalize == "nearby" else {}
+        cells = [[pairs[i, j] if (i, j) in pairs else to_exact(v, f"{entry}[{i}][{j}]", rationalize=rationalize)
+                  for j, v in enumerate(r)] for i, r in enumerate(rows)]
+        if rationalize == "nearby":
+            _whole_blocks(cells, entry, record, start)
+        M = sp.ImmutableMatrix(cells)
     if not M.is_square:
         cost = field_cost(M)
         check_degree(cost.radical > 1 or cost.atoms > 1, cost.radical * cost.cyclotomic, entry, "its entries' field")
@@ -537,6 +662,64 @@ def to_exact_matrix(rows: Any, entry: str, *, rationalize: bool | str = False,
             check_degree(True, cost.radical * cost.cyclotomic * len(index), entry,
                          f"the eigenvalues of its diagonal block {_rows(index)} (entries' field times size {len(index)})")
     return M
+
+
+def _is_float(v: Any) -> bool:
+    return isinstance(v, numbers.Real) and not isinstance(v, (numbers.Integral, sp.Basic, Fraction, Decimal))
+
+
+def _rotation_pairs(rows: Sequence[Sequence[Any]], entry: str, record: _Conversions) -> dict[tuple[int, int], sp.Expr]:
+    """Entries of float rotation blocks ``[[a, -b], [b, a]]`` (rows and columns ``i, j``) recognised
+    jointly as ``r R(t)`` (:func:`_nearby_rotation`), recorded as changes: the sine is never read
+    apart from its cosine."""
+    out: dict[tuple[int, int], sp.Expr] = {}
+    n = len(rows)
+    for i in range(n):
+        for j in range(i + 1, n):
+            if any((p, q) in out for p in (i, j) for q in (i, j)):
+                continue
+            a, mb, b, d = rows[i][i], rows[i][j], rows[j][i], rows[j][j]
+            if not all(_is_float(v) and math.isfinite(v) for v in (a, mb, b, d)) or a != d or mb != -b or b == 0 \
+                    or all(Fraction(repr(float(v))) == Fraction(float(v)) for v in (a, b)):
+                continue
+            found = _nearby_rotation(float(a), float(b))
+            if found is None:
+                continue
+            c, s = found
+            how = f"rotation pair (r cos t, r sin t) within {NEARBY_TOLERANCE:g}"
+            for (p, q), value, exact in (((i, i), a, c), ((i, j), mb, -s), ((j, i), b, s), ((j, j), d, c)):
+                out[p, q] = exact
+                record.changes.append((f"{entry}[{p}][{q}]", value, exact, how))
+    return out
+
+
+def _whole_blocks(cells: list[list[sp.Expr]], entry: str, record: _Conversions, start: int) -> None:
+    """Never a block half recognised: in each diagonal block of a square matrix (the whole matrix
+    otherwise), unless ``"nearby"`` recognised every float that is not exact, or none, its
+    recognised floats are read as decimals too, and a note says so (the partial reading is kept in
+    ``record.partial`` for the comparison of periods)."""
+    where = {}
+    for k, (name, value, out, how) in enumerate(record.changes[start:], start):
+        i, j = (int(x) for x in name[len(entry) + 1:-1].split("]["))
+        if how == "shortest decimal" or out != Fraction(repr(float(value))):   # 0.3 -> 3/10 is neutral
+            where[i, j] = (k, value, how != "shortest decimal")
+    partial = sp.ImmutableMatrix(cells)
+    square = len(cells) == len(cells[0])
+    blocks = diagonal_blocks(partial) if square else [list(range(len(cells)))]
+    for index in blocks:
+        inside = {ij: w for ij, w in where.items() if ij[0] in index and (ij[1] in index or not square)}
+        recognised = [ij for ij, w in inside.items() if w[2]]
+        if 0 < len(recognised) < len(inside):
+            for i, j in recognised:
+                k, value, _ = inside[i, j]
+                decimal = Fraction(repr(float(value)))
+                cells[i][j] = sp.Rational(decimal.numerator, decimal.denominator)
+                record.changes[k] = (record.changes[k][0], value, cells[i][j], "shortest decimal")
+            record.partial[entry] = partial
+            place = f"its diagonal block {_rows(index)}" if square else "its entries"
+            record.notes.append(f"{entry}: only {len(recognised)} of the {len(inside)} inexact floats of {place} "
+                                "are near constants, so none is taken (a block is read one way): all are read as "
+                                "decimals")
 
 
 def _unit_multiple(v: sp.Expr) -> bool:
@@ -578,3 +761,5 @@ def decimal_matrix(rows: Any, entry: str) -> sp.ImmutableMatrix:
         return to_exact_matrix(rows, entry, rationalize=True)
     finally:
         _ACTIVE.reset(token)
+
+check_public(globals())

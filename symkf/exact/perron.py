@@ -21,6 +21,7 @@ import flint
 import sympy as sp
 from sympy.polys.polyerrors import PolynomialError
 
+from .arguments import check_public, float_array
 from ..errors import InputError
 from .algebraic import AlgebraicNumber, _real_roots, sympy_to_fmpz, x
 
@@ -159,6 +160,12 @@ def perron_float(M: Any) -> tuple[float, Any]:
     """The float twin of :func:`perron_root`, for simulation only (tilted burst laws): the spectral
     radius of a non-negative float64 matrix and a non-negative right Perron vector (``numpy.linalg.eig``)."""
     import numpy as np   # floats: the exact layer's only use of numpy
+    M = float_array(M, "M")
+    if M.ndim != 2 or M.shape[0] != M.shape[1] or M.size == 0:
+        raise InputError(f"M: expected a non-empty square matrix, got shape {M.shape}")
     w, V = np.linalg.eig(M)
     i = int(np.argmax(w.real))
     return max(float(w[i].real), 0.0), np.abs(V[:, i].real)
+
+
+check_public(globals())

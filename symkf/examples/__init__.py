@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
 
+from ..exact.arguments import check_public
 from ..errors import InputError
 
 __all__ = ["directory", "systems", "families", "system", "family", "Example", "catalog", "resolve"]
@@ -102,3 +103,6 @@ def _summary(path: Path, width: int = 88) -> str:
     first = path.read_text(encoding="utf-8").partition("\n")[0]
     text = first.lstrip("#").strip() if first.startswith("#") else ""
     return text if len(text) <= width else text[:text.rfind(" ", 0, width - 3)].rstrip(",;:") + " ..."
+
+
+check_public(globals())

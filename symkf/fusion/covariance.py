@@ -33,6 +33,7 @@ from typing import Sequence
 import numpy as np
 from scipy.linalg import block_diag
 
+from ..exact.arguments import check_public
 from ..errors import InputError
 from .local_filters import LocalFilters
 
@@ -199,3 +200,5 @@ def expected_remote_covariance(lf: LocalFilters) -> np.ndarray:
             Y[j, i] = Y[i, j].T
     P = np.block([[Y[i, j] for j in range(N)] for i in range(N)])
     return (P + P.T) / 2
+
+check_public(globals())

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import AssumptionError, ShapeError
 from ..exact.linalg import rank
 from ..exact.numbers import as_matrix
@@ -137,3 +138,5 @@ def local_model(name: str, A_exact: sp.MatrixBase, A: np.ndarray, Q: np.ndarray,
     Cf = np.array(sp.Matrix(C).evalf(30).tolist(), dtype=float)
     return LocalModel(name=name, exact_basis=basis, V=V, A=V.T @ A @ V, C=Cf @ V,
                       Q=V.T @ Q @ V, R=np.atleast_2d(np.asarray(R, dtype=float)))
+
+check_public(globals())

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import block_diag, solve_discrete_are, solve_discrete_lyapunov
 
+from ..exact.arguments import check_public
 from ..errors import AssumptionError
 from .decomposition import LocalModel
 from .model import FusionModel
@@ -93,3 +94,5 @@ def lemma2_iteration(lf: LocalFilters, i: int, j: int, steps: int) -> np.ndarray
     for _ in range(steps):
         X = fi.G @ (li.A @ X @ lj.A.T + Qij) @ fj.G.T
     return X
+
+check_public(globals())

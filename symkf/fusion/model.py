@@ -31,9 +31,10 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import AssumptionError, InputError, ProbabilityError
 from ..exact.algebraic import sympy_to_fmpz
-from ..exact.numbers import to_exact, to_exact_matrix
+from ..exact.numbers import sympify, to_exact, to_exact_matrix
 from ..losses import IID
 from ..model import Sensor, check_positive_definite
 from .decomposition import LocalModel, check_collective_observability, check_reachability, local_model
@@ -78,7 +79,7 @@ def _assumption2(A_exact: sp.Matrix, Ts: sp.Rational | None, loss_max: sp.Ration
     maximum of the balls' ``|r|^2`` (or ``exp(2 Ts Re r)``) lies between the
     largest lower and the largest upper end point.
     """
-    if any(not sp.sympify(v).is_Rational for v in A_exact):
+    if any(not sympify(v).is_Rational for v in A_exact):
         raise InputError("A: the exact Assumption 2 check needs rational entries "
                          "(the spectral radius is then algebraic, or exp of an algebraic number)")
     lam = sp.Symbol("lam")
@@ -237,3 +238,5 @@ class FusionModel:
         Q = float(sigma2) * B @ B.T
         return cls._build(Ac_exact, A, Q, sensors, arrival, Bc_exact, Ts_exact,
                           f"zero-order hold of a continuous-time model, Ts = {Ts_exact}")
+
+check_public(globals())

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from ..exact.arguments import check_public
 from .. import output
 from ..model import Sensor
 from ..reproduction import discrepancy, reproduction
@@ -181,6 +182,8 @@ def reproduce_fusion_pendulum(outdir: str | None = None, paths: int = 50, horizo
     }
     return reproduction("fusion-pendulum", "Optimal linear sensor fusion over lossy channels with collective "
                         "observability (arXiv:2012.04896), Section 4, Figs. 2-3", results, checks, discrepancies)
+
+check_public(globals())
 
 
 if __name__ == "__main__":

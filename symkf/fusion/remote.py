@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import solve_discrete_are
 
+from ..exact.arguments import check_public
 from ..errors import InputError
 from .covariance import HoldingTimeCovariance
 from .local_filters import LocalFilters
@@ -139,3 +140,5 @@ def simulate(lf: LocalFilters, horizon: int, paths: int, seed: int) -> Simulatio
     swap = lambda a: np.swapaxes(a, 0, 1)
     return Simulation(fused=swap(fused_err), centralized=swap(central_err), single=swap(single_err),
                       trace_P=swap(trace_P), seed=seed)
+
+check_public(globals())

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..exact.arguments import check_public
 from ..errors import AssumptionError
 from .covariance import expected_remote_covariance, fusion_sigma, unbiasedness_matrix
 from .local_filters import LocalFilters
@@ -59,3 +60,5 @@ def proposition1_bound(lf: LocalFilters) -> Proposition1:
         stat = np.trace(loc.Q) / (1 - rho2)
         total += loc.n_o * (e_rho * (np.trace(f.P) - stat) + stat)
     return Proposition1(bound=bound, printed_bound=m * total, trace_expected_sigma=float(np.trace(ES)), weights=W)
+
+check_public(globals())

@@ -33,6 +33,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
+from ..exact.arguments import check_public, float_array
 from ..errors import AssumptionError, InputError, NotPositiveDefiniteError, ShapeError, require_extra
 
 __all__ = ["optimal_weights", "fused_covariance", "METHODS"]
@@ -44,8 +45,8 @@ _RTOL = 1e-9
 
 
 def _validate(Sigma: np.ndarray, Vo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    Sigma = np.asarray(Sigma, dtype=float)
-    Vo = np.asarray(Vo, dtype=float)
+    Sigma = float_array(Sigma, "Sigma")
+    Vo = float_array(Vo, "Vo")
     if Sigma.ndim != 2 or Sigma.shape[0] != Sigma.shape[1]:
         raise ShapeError(f"Sigma: must be square (nN x nN), got shape {Sigma.shape}")
     if Vo.ndim != 2 or Vo.shape[0] != Sigma.shape[0] or Vo.shape[1] > Vo.shape[0]:
@@ -181,5 +182,10 @@ def optimal_weights(Sigma: np.ndarray, Vo: np.ndarray, method: str = "closed-for
 
 def fused_covariance(Sigma: np.ndarray, W: np.ndarray) -> np.ndarray:
     """``P = W' Sigma W`` (eq. 19), the error covariance of the fused estimate."""
+    Sigma, W = float_array(Sigma, "Sigma"), float_array(W, "W")
+    if Sigma.ndim != 2 or W.ndim != 2 or Sigma.shape[0] != Sigma.shape[1] or W.shape[0] != Sigma.shape[0]:
+        raise ShapeError(f"Sigma {Sigma.shape}, W {W.shape}: expected Sigma nN x nN and W nN x n")
     P = W.T @ Sigma @ W
     return (P + P.T) / 2
+
+check_public(globals())

@@ -35,9 +35,11 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..decay import restricted_transfer
-from ..errors import AssumptionError
+from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
+from ..exact.numbers import sympify
 from ..losses import LossModel
 from ..model import Sensor, System
 from ..observability import block_rows
@@ -163,7 +165,7 @@ def exact_candidates(example: NetworkExample) -> tuple[AlgebraicNumber, ...]:
     loss = example.engine_loss
     roots = []
     for br in block_rows(example.system):
-        growth = sp.sympify(br.block.modulus.exact ** (2 * br.period))
+        growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
         for H in br.hyperplanes:
             M = restricted_transfer(br, H, loss).applyfunc(sp.expand)
             keep = [j for j in range(M.cols) if not M.col(j).is_zero_matrix]
@@ -233,7 +235,7 @@ def example(name: str) -> NetworkExample:
     for ex in FAMILY:
         if ex.name == name:
             return ex
-    raise KeyError(name)
+    raise InputError(f"name: {name!r} is not an example of the family; one of {', '.join(ex.name for ex in FAMILY)}")
 
 
 def markdown_table(comparisons: Sequence[Comparison], digits: int = 6) -> str:
@@ -255,3 +257,5 @@ def markdown_table(comparisons: Sequence[Comparison], digits: int = 6) -> str:
                      f"{describe(c.theorem2, digits)} | {describe(c.exact, digits)} | {fmt(s)} / {fmt(e)} | "
                      f"{gap} | {cov} | {'yes' if c.sufficient_inside_exact else 'NO'} |")
     return "\n".join(lines)
+
+check_public(globals())

@@ -19,6 +19,7 @@ from typing import Callable, Sequence
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.linalg import rank
@@ -127,3 +128,5 @@ def corollary1_lhs(P: sp.MatrixBase, phi: Sequence[sp.Expr], A: sp.MatrixBase) -
     a = spectral_norm_squared(A).exact if not A.free_symbols else sp.Symbol("normA2", positive=True)
     B = P.shape[0]
     return tuple(sp.expand(a * sum(P[i, j] * (1 - phi[j]) for j in range(B))) for i in range(B))
+
+check_public(globals())

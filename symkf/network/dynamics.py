@@ -13,6 +13,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import InputError, ShapeError
 from ..exact.algebraic import AlgebraicNumber, sign
 from ..exact.numbers import as_matrix, to_exact_matrix
@@ -122,3 +123,5 @@ def interval_sum(coeffs: Sequence[sp.Expr], values: Sequence[AlgebraicNumber],
              Fraction(0))
     hi = sum((Fraction(int(c.p), int(c.q)) * v.interval[1] for c, v in zip(coeffs, values)), Fraction(0))
     return lo, hi
+
+check_public(globals())

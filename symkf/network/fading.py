@@ -26,6 +26,7 @@ from typing import Any, Callable, Sequence
 import mpmath
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import InputError
 from ..exact.numbers import to_exact
 
@@ -34,14 +35,14 @@ _TAIL = mpmath.mpf(10) ** -22
 _DIGITS = 20
 
 
-def _positive(value: Any, entry: str) -> mpmath.mpf:
+def _positive(value: Any, entry: str, zero: bool = False) -> mpmath.mpf:
     if isinstance(value, bool) or not isinstance(value, (int, float, str, sp.Basic, mpmath.mpf)):
         raise InputError(f"{entry}: expected a positive number, got {value!r}")
     with mpmath.workdps(_DPS):
         v = mpmath.mpf(value) if isinstance(value, float) else mpmath.mpf(
             sp.N(value if isinstance(value, mpmath.mpf) else to_exact(value, entry, algebraic=False), _DPS))
-    if not v > 0:
-        raise InputError(f"{entry}: must be positive, got {value!r}")
+    if not (v > 0 or zero and v == 0):
+        raise InputError(f"{entry}: must be {'non-negative' if zero else 'positive'}, got {value!r}")
     return v
 
 
@@ -70,10 +71,10 @@ class Rayleigh(GainDistribution):
     def __init__(self, mean: Any):
         self.mean = _positive(mean, "Rayleigh mean")
 
-    def pdf(self, h):
+    def pdf(self, h: mpmath.mpf) -> mpmath.mpf:
         return mpmath.exp(-h / self.mean) / self.mean
 
-    def tail(self, H):
+    def tail(self, H: mpmath.mpf) -> mpmath.mpf:
         return mpmath.exp(-H / self.mean)
 
     def __repr__(self) -> str:
@@ -89,11 +90,11 @@ class Nakagami(GainDistribution):
             raise InputError(f"Nakagami m = {m}: the shape parameter must be at least 1/2")
         self.omega = _positive(omega, "Nakagami omega")
 
-    def pdf(self, h):
+    def pdf(self, h: mpmath.mpf) -> mpmath.mpf:
         m, w = self.m, self.omega
         return (m / w) ** m * h ** (m - 1) * mpmath.exp(-m * h / w) / mpmath.gamma(m)
 
-    def tail(self, H):
+    def tail(self, H: mpmath.mpf) -> mpmath.mpf:
         return mpmath.gammainc(self.m, self.m * H / self.omega, mpmath.inf, regularized=True)
 
     def __repr__(self) -> str:
@@ -104,15 +105,15 @@ class Rician(GainDistribution):
     """Rician fading with K-factor ``K`` and mean power ``mean`` (non-central chi-square, 2 dof)."""
 
     def __init__(self, K: Any, mean: Any):
-        self.K = mpmath.mpf(0) if K == 0 else _positive(K, "Rician K")
+        self.K = _positive(K, "Rician K", zero=True)
         self.mean = _positive(mean, "Rician mean")
 
-    def pdf(self, h):
+    def pdf(self, h: mpmath.mpf) -> mpmath.mpf:
         K, w = self.K, self.mean
         return ((K + 1) / w * mpmath.exp(-K - (K + 1) * h / w)
                 * mpmath.besseli(0, 2 * mpmath.sqrt(K * (K + 1) * h / w)))
 
-    def tail(self, H):
+    def tail(self, H: mpmath.mpf) -> mpmath.mpf:
         # Chernoff: Pr{h > H} <= E[e^{th}] e^{-tH}, with the moment generating
         # function (1+K)/(1+K-tw) exp(K t w/(1+K-tw)) at t = (1+K)/(2w).
         K, w = self.K, self.mean
@@ -131,10 +132,10 @@ class UserGain(GainDistribution):
             raise InputError("UserGain: pdf and tail must be callables h -> mpmath number")
         self._pdf, self._tail = pdf, tail
 
-    def pdf(self, h):
+    def pdf(self, h: mpmath.mpf) -> mpmath.mpf:
         return mpmath.mpf(self._pdf(h))
 
-    def tail(self, H):
+    def tail(self, H: mpmath.mpf) -> mpmath.mpf:
         return mpmath.mpf(self._tail(H))
 
 
@@ -201,3 +202,5 @@ def threshold_success(threshold: Any) -> Callable[[Any, Any], Any]:
     """The outage model ``f(s, b) = 1{s >= threshold(b)}``; ``threshold`` is a number or a function of ``b``."""
     th = threshold if callable(threshold) else (lambda b, c=threshold: c)
     return lambda s, b: 1 if s >= mpmath.mpf(th(b)) else 0
+
+check_public(globals())

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import AssumptionError, InputError
 from ..exact.numbers import substitution
 from ..losses import LossChain, LossModel, MarkovLoss, _probability
@@ -335,3 +336,5 @@ def induced_loss(loss: NetworkLoss, dynamics: PeriodicDynamics | None = None) ->
         return loss.as_markov_loss()
     except AssumptionError:
         return loss
+
+check_public(globals())

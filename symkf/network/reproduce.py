@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from ..exact.arguments import check_public
 from .. import output
 from ..exact.linalg import rank
 from ..model import Sensor, System
@@ -364,3 +365,5 @@ def viic_simulation(dyn: PeriodicDynamics) -> tuple[dict, bool]:
             "mean_trace_k100_200": early, "mean_trace_k300_400": late}
     out.update({"q": "1/2", "horizon": horizon, "paths": paths, "seed": seed})
     return out, verdicts["19/20"] == (True, True)
+
+check_public(globals())

@@ -32,6 +32,7 @@ from typing import Sequence
 import flint
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import AssumptionError
 from ..exact.linalg import rank
 from .dynamics import PeriodicDynamics, certified_less_than_one, interval_sum, spectral_norm_squared
@@ -165,3 +166,5 @@ def smallest_rho(bounds: dict, sigma: int) -> tuple[float, float]:
     lo = max(b[0] for b in bounds.values())
     hi = max(b[1] for b in bounds.values())
     return float(Fraction(lo)) ** (1 / sigma), float(Fraction(hi)) ** (1 / sigma)
+
+check_public(globals())

@@ -14,8 +14,9 @@ from typing import Any, Mapping, Sequence
 
 import sympy as sp
 
+from ..exact.arguments import check_public
 from ..errors import InputError, ProbabilityError
-from ..exact.numbers import substitution
+from ..exact.numbers import substitution, sympify
 from ..losses import _probability, stationary_law
 
 
@@ -133,8 +134,10 @@ class SemiMarkovNetworkState:
     def subs(self, values: Mapping[Any, Any]) -> "SemiMarkovNetworkState":
         """A copy with symbols in ``q``, the holding laws and the initial law replaced by exact values."""
         values = substitution(values, "subs", self.q.free_symbols | self.initial.free_symbols)
-        holding = [{d: sp.sympify(p).subs(values) for d, p in h.items()} for h in self.holding]
+        holding = [{d: sympify(p).subs(values) for d, p in h.items()} for h in self.holding]
         return SemiMarkovNetworkState(self.q.subs(values), holding, initial=list(self.initial.subs(values)))
 
     def __repr__(self) -> str:
         return f"SemiMarkovNetworkState(q={self.q.tolist()}, sigma={self.sigma})"
+
+check_public(globals())

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Mapping, Sequence
 
+from ..exact.arguments import check_public
 from ..errors import InputError
 
 Vector = tuple[int, ...]
@@ -94,3 +95,5 @@ class SensorTree:
 
     def __repr__(self) -> str:
         return f"SensorTree(parents={list(self.parents)})"
+
+check_public(globals())

@@ -1,0 +1,268 @@
+"""The atlas: every implemented published result on one system, beside the exact stable set.
+
+:func:`bounds` builds the :class:`Quantity` (the varied channel parameter and its exact stable
+set from the engine) and one :class:`~symkf.bounds.row.Row` per result, in the order of
+:data:`RESULTS`.  :class:`Atlas` renders as text, JSON (exact numbers as
+:func:`symkf.verify.number_json` objects) and a booktabs table (:class:`symkf.tables.Table`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import sympy as sp
+
+from ..exact.arguments import check_public
+from ..errors import InputError
+from ..exact.algebraic import AlgebraicNumber
+from ..losses import LossModel
+from ..model import System
+from ..stability import critical_loss_rate, stable_recovery_intervals
+from ..tables import Cell, Table, escape
+from ..verify import number_json
+from . import huang_dey, mo_sinopoli, plarre_bullo, sinopoli, sources, you_fu_xie
+from .row import EQUAL, HOLDS, INSIDE, NOT_COMPARED, VIOLATED, Quantity, Row, number
+
+#: the results, in the order of the table (each a function (system, quantity) -> Row; the LMI's
+#: also takes its bisection steps)
+RESULTS: tuple[Callable[[System, Quantity], Row], ...] = (
+    *sinopoli.ROWS, *plarre_bullo.ROWS, *mo_sinopoli.ROWS, *you_fu_xie.ROWS, *huang_dey.ROWS, *sources.ROWS)
+
+
+def quantity(system: System, loss: LossModel | None = None) -> tuple[Quantity, str]:
+    """The parameter the rows speak about, with the exact stable set, and a note on ``loss``.
+
+    A Gilbert-Elliott model (it has ``fail`` and ``recover``) selects the common recovery
+    probability at its failure rates; any other model, or none, the common i.i.d. loss
+    probability; an i.i.d. model's own rates are kept for the multi-sensor LMI's verdict at
+    those rates (every other row is about a threshold)."""
+    fail = getattr(loss, "fail", None)
+    if fail is not None and hasattr(loss, "recover"):
+        stable = stable_recovery_intervals(system, list(fail))
+        one = len(stable) == 1 and stable[0][1] == 1
+        return (Quantity("gilbert-elliott", "q", "common Gilbert-Elliott recovery probability q = P(received | "
+                         f"lost last), fail = {[str(f) for f in fail]}", stable, stable[0][0] if one else None,
+                         tuple(fail)), "")
+    eps = critical_loss_rate(system)
+    note = "" if loss is None or hasattr(loss, "loss") else (
+        f"the loss model ({type(loss).__name__}) is neither i.i.d. nor Gilbert-Elliott; the atlas compares "
+        "the common i.i.d. critical loss probability")
+    zero = number(0)
+    rates = tuple(getattr(loss, "loss", ()))
+    return Quantity("iid", "eps", "common i.i.d. loss probability eps of every sensor",
+                    ((zero, eps),) if eps > 0 else (), eps, rates=rates), note
+
+
+@dataclass(frozen=True)
+class Atlas:
+    """The rows of :func:`bounds` on one system."""
+
+    system: System
+    quantity: Quantity
+    rows: tuple[Row, ...]
+    note: str = ""
+
+    def row(self, key: str) -> Row:
+        """The row of result ``key`` (e.g. ``"sinopoli-lmi"``)."""
+        for r in self.rows:
+            if r.key == key:
+                return r
+        raise InputError(f"key: no row {key!r}; rows: {', '.join(r.key for r in self.rows)}")
+
+    @property
+    def violations(self) -> tuple[Row, ...]:
+        """Rows whose hypotheses hold and whose claim fails (findings)."""
+        return tuple(r for r in self.rows if r.relation == VIOLATED)
+
+    def to_json(self) -> dict[str, Any]:
+        q = self.quantity
+        out = {"system": self.system.name or "", "quantity": {"kind": q.kind, "parameter": q.symbol, "words": q.words,
+                                                               "stable_set": _intervals_json(q.stable),
+                                                               "critical": _num(q.critical)},
+               "rows": [_row_json(r) for r in self.rows], "violations": [r.key for r in self.violations]}
+        if self.note:
+            out["note"] = self.note
+        return out
+
+    def __str__(self) -> str:
+        q = self.quantity
+        lines = [f"parameter: {q.words}", f"exact (symkf engine): stable for {q.symbol} in {_intervals_text(q.stable)}"]
+        if self.note:
+            lines.append(f"note: {self.note}")
+        for r in self.rows:
+            lines.append(f"- {r.result}: {r.statement}")
+            if not r.applies:
+                lines.append(f"    does not apply: {r.failed}")
+                continue
+            lines.append(f"    value: {_value_text(r, q)}; relation: {_relation_text(r)}")
+        return "\n".join(lines)
+
+    def table(self) -> Table:
+        """A booktabs table for a related-work section: result, claim, value, relation."""
+        q = self.quantity
+        name = self.system.name or "the system"
+        caption_text = (f"Published results on {name} beside the exact stable set of {q.symbol} "
+                        f"({q.words}; symkf: {_intervals_text(q.stable)}).")
+        columns = (Cell.text("claim"), Cell.text("value"), Cell.text("relation"))
+        rows = [(Cell.text(r.result), (Cell.text(r.claim), _value_cell(r, q), Cell.text(_relation_short(r))))
+                for r in self.rows]
+        exact = _exact_cell(q)
+        rows.append((Cell.text("exact (symkf)"), (Cell.text("exact"), exact, Cell.text(""))))
+        return Table(escape(caption_text), caption_text, Cell.text("result"), columns, tuple(rows),
+                     label="tab:bounds-atlas", size=r"\footnotesize", metadata={"system": self.system.name or ""})
+
+    def to_latex(self) -> str:
+        return self.table().to_latex()
+
+
+def bounds(system: System, loss: LossModel | None = None, *, lmi_steps: int = sinopoli.LMI_STEPS) -> Atlas:
+    """Every implemented published result for ``system`` beside the exact critical value.
+
+    Parameters
+    ----------
+    system : System
+    loss : LossModel, optional
+        A Gilbert-Elliott model makes the rows speak about the common recovery probability at
+        its failure rates; otherwise (default) about the common i.i.d. loss probability.
+    lmi_steps : int
+        Bisection steps of Sinopoli et al.'s LMI threshold (each halves its certified bracket).
+
+    Returns
+    -------
+    Atlas
+        One :class:`~symkf.bounds.row.Row` per result: hypotheses checked exactly (the first
+        failing one named), the result's value (exact, or a certified bracket for the LMI),
+        and its relation to the exact value (``equal``, ``holds`` with the gap, ``violated``).
+
+    Examples
+    --------
+    ``A = 2R(pi/2)``, ``C = [1 0]``: the exact critical loss is ``1/16`` (Sui-You-Fu); Sinopoli
+    et al.'s necessary bound ``1/rho(A)^2 = 1/4`` holds with gap ``3/16``, and the system is
+    degenerate in Mo and Sinopoli's sense (``p = 2``: ``2^(-4) = 1/16``):
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
+    >>> atlas = sk.bounds(S, lmi_steps=2)
+    >>> atlas.quantity.critical.exact
+    1/16
+    >>> r = atlas.row("sinopoli-lower"); r.relation, r.gap["exact"]
+    ('holds', 3/16)
+    >>> atlas.row("mo-sinopoli").failed.name
+    'non-degenerate'
+    >>> atlas.row("mo-sinopoli-degenerate").relation
+    'equal'
+    """
+    if not isinstance(system, System):
+        raise InputError(f"system: expected a symkf.System, got {type(system).__name__}")
+    if loss is not None and not isinstance(loss, LossModel):
+        raise InputError(f"loss: expected a symkf loss model or None, got {type(loss).__name__}")
+    if not isinstance(lmi_steps, int) or not 0 <= lmi_steps <= 60:
+        raise InputError(f"lmi_steps: expected an integer in [0, 60], got {lmi_steps!r}")
+    q, note = quantity(system, loss)
+    rows = tuple(result(system, q, lmi_steps) if result is sinopoli.lmi else result(system, q) for result in RESULTS)
+    return Atlas(system, q, rows, note)
+
+
+def _num(a: AlgebraicNumber | None) -> dict | None:
+    return None if a is None else number_json(a)
+
+
+def _intervals_json(intervals: Any) -> list | None:
+    return None if intervals is None else [[number_json(lo), number_json(hi)] for lo, hi in intervals]
+
+
+def _intervals_text(intervals: Any) -> str:
+    if not intervals:
+        return "no value in (0, 1)"
+    return " u ".join(f"({lo.exact}, {hi.exact})" for lo, hi in intervals)
+
+
+def _row_json(r: Row) -> dict[str, Any]:
+    failed = r.failed
+    return {"key": r.key, "result": r.result, "citation": r.citation, "statement": r.statement, "claim": r.claim,
+            "applies": r.applies, "hypotheses": [{"name": h.name, "holds": h.holds, "detail": h.detail}
+                                                 for h in r.hypotheses],
+            "failed": None if failed is None else {"name": failed.name, "detail": failed.detail},
+            "value": _num(r.value), "stable_set": _intervals_json(r.stable),
+            "bracket": None if r.bracket is None else [str(v) for v in r.bracket],
+            "relation": r.relation,
+            "gap": None if r.gap is None else {"exact": None if r.gap["exact"] is None else str(r.gap["exact"]),
+                                               "interval": [str(v) for v in r.gap["interval"]]},
+            "certificate": list(r.certificate), "note": r.note}
+
+
+def _value_text(r: Row, q: Quantity) -> str:
+    if r.bracket is not None:
+        lo, hi = r.bracket
+        return f"threshold in [{lo}, {hi}] (certified) ~ [{float(lo):.6g}, {float(hi):.6g}]"
+    if r.value is not None and r.stable is not None and len(r.stable) <= 1:
+        side = "<" if q.iid else ">"
+        return f"stable for {q.symbol} {side} {r.value.exact} ~ {float(r.value):.6g}"
+    if not r.stable:
+        return f"stable for no {q.symbol} in (0, 1)"
+    return f"stable for {q.symbol} in {_intervals_text(r.stable)}"
+
+
+def _gap_text(r: Row) -> str:
+    """The gap in words: exact when it is rational, else a decimal read off its certified bounds."""
+    if not r.gap:
+        return ""
+    lo, hi = r.gap["interval"]
+    exact = r.gap["exact"]
+    if exact is not None and exact.is_Rational:
+        return f", gap {exact}"
+    if exact is not None:
+        return f", gap approx. {float((lo + hi) / 2):.4g}"
+    return f", gap in [{float(lo):.4g}, {float(hi):.4g}]"
+
+
+def _relation_text(r: Row) -> str:
+    words = {EQUAL: "equal to the exact value", HOLDS: f"{r.claim} condition holds", VIOLATED: "VIOLATED (a finding)",
+             INSIDE: "the exact value lies inside the certified bracket", NOT_COMPARED: f"not compared: {r.note}"}
+    return words.get(r.relation, r.relation) + _gap_text(r)
+
+
+def _relation_short(r: Row) -> str:
+    if not r.applies:
+        return f"n/a: {r.failed.name.split(' (')[0]}"
+    if r.relation == HOLDS and r.gap["exact"] is None:
+        return f"holds, gap <= {float(r.gap['interval'][1]):.3g}"
+    if r.relation == HOLDS:
+        return "holds" + _gap_text(r)
+    return {NOT_COMPARED: "another estimator", INSIDE: "exact value inside bracket"}.get(r.relation, r.relation)
+
+
+def _value_cell(r: Row, q: Quantity) -> Cell:
+    if not r.applies:
+        return Cell.text("---")
+    if r.bracket is not None:
+        lo, hi = r.bracket
+        return Cell.formula(rf"[{sp.latex(lo)},\ {sp.latex(hi)}]", f"[{lo}, {hi}]")
+    if r.value is not None and r.stable is not None and len(r.stable) <= 1:
+        return _number_cell(r.value)
+    return Cell.text(_intervals_text(r.stable) if r.stable else "empty")
+
+
+def _number_cell(value: AlgebraicNumber) -> Cell:
+    """Exact over its decimal when the exact form is short; else the decimal (exact in the JSON)."""
+    if value.exact.has(sp.CRootOf) or len(sp.latex(value.exact)) > MAX_EXACT_CELL:
+        decimal = str(value.evalf(4))
+        return Cell.formula(rf"\approx {decimal}", f"~ {decimal}")
+    return Cell.number(value, 4)
+
+
+#: longer exact forms than this (LaTeX characters) are shown as decimals in the table
+MAX_EXACT_CELL = 24
+
+
+def _exact_cell(q: Quantity) -> Cell:
+    if q.critical is not None:
+        return _number_cell(q.critical)
+    return Cell.text(_intervals_text(q.stable))
+
+
+__all__ = ["Atlas", "bounds", "quantity", "RESULTS"]
+
+
+check_public(globals())

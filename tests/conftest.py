@@ -1,0 +1,61 @@
+"""Shared test set-up.
+
+The string guard: sympy evaluates a string as Python (``parse_expr`` -> ``eval_expr`` -> ``eval``)
+whenever ``sympify``, ``S``, ``Matrix``, ``Poly``, ``Tuple``, ... meet one, also inside a tuple,
+dict or set.  symkf reads outside strings only through its own parser
+(:func:`symkf.exact.numbers.parse_exact`), so for the whole test run the evaluators raise
+:class:`StringEvaluation`: any path of symkf that reaches them fails whatever test exercises it.
+It is a BaseException, so no ``except Exception`` in the code under test can swallow it.
+"""
+
+from __future__ import annotations
+
+import importlib
+import traceback
+
+import sympy
+import sympy.parsing.sympy_parser as sympy_parser
+import sympy.physics.units  # noqa: F401  imported lazily by simplify; it sympifies constant strings of its own
+
+
+#: the module (``sympy.core.sympify`` as an attribute is the function)
+_sympify_module = importlib.import_module("sympy.core.sympify")
+
+
+class StringEvaluation(BaseException):
+    """sympy was asked to evaluate a string as Python."""
+
+
+#: the evaluators as sympy defines them (test_payload_walk lifts the guard to show its detector works)
+ORIGINAL = {"parse_expr": sympy_parser.parse_expr, "eval_expr": sympy_parser.eval_expr,
+            "kernS": _sympify_module.kernS}
+
+#: sympy functions that sympify strings they build themselves from numbers (nsimplify writes
+#: mpmath's identification of a float, e.g. '((6+sqrt(20))/2)', and parses it; simplify and
+#: radsimp call it): no outside text reaches them
+_OWN_STRINGS = frozenset({"nsimplify_real"})
+
+
+def _short(path: str) -> str:
+    return "symkf/" + path.rsplit("/symkf/", 1)[1] if "/symkf/" in path else path.rsplit("/", 1)[-1]
+
+
+def _refuse(name: str):
+    original = ORIGINAL[name]
+
+    def refuse(*args, **kwargs):
+        stack = traceback.extract_stack()[:-1]
+        if any(f.name in _OWN_STRINGS and "/sympy/" in f.filename for f in stack[-6:]):
+            return original(*args, **kwargs)
+        callers = [f"{_short(f.filename)}:{f.lineno} ({f.name})" for f in stack
+                   if "/sympy/" not in f.filename and ("/symkf/" in f.filename or "/tests/" in f.filename)]
+        raise StringEvaluation(f"sympy's {name} reached with {args[:1]!r} from {callers[-1:]}: outside data "
+                               "must go through symkf.exact.numbers (parse_exact / sympify)")
+    return refuse
+
+
+# sympify imports parse_expr from sympy_parser at each call, so patching the module suffices;
+# the top-level re-export and kernS (sympify of a string without the parser's import) too
+sympy_parser.parse_expr, sympy_parser.eval_expr = _refuse("parse_expr"), _refuse("eval_expr")
+sympy.parse_expr = sympy_parser.parse_expr
+_sympify_module.kernS = _refuse("kernS")

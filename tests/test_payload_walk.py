@@ -1,0 +1,382 @@
+"""The payload walk (issue 26): every public callable of symkf, every parameter, ten input forms.
+
+Each call passes a payload that would create the file ``MARK`` (in a temporary directory) if
+any part of it were evaluated as Python, in one of :data:`FORMS` (a bare string, containers of
+it, a numpy object array, objects whose dunder methods return it), in the target parameter and
+in every required one.  The walk asserts
+
+* no marker file (no execution) and no call reaching sympy's string evaluator (the session
+  guard of ``conftest.py`` turns that into :class:`conftest.StringEvaluation`);
+* no untranslated exception.  The rule: a public callable given bad input raises a
+  :class:`symkf.errors.SymkfError` (which names the argument); nothing else counts as an answer.
+  Exempt by contract: ``KeyboardInterrupt`` (never raised by a payload), ``SystemExit`` from
+  ``symkf.cli.main``'s argument parser (the command line's exit status), and hypothesis's
+  ``InvalidArgument`` from :mod:`symkf.strategies` (the contract of a hypothesis strategy's
+  arguments; its message names the argument).  A call that
+  runs out of its CPU budget (:data:`CPU_PER_CALL`: a payload was accepted as legitimate data
+  by a parameter that takes anything, and real work started) is a skip, counted and reported.
+
+The full walk (every callable x parameter x form x payload) runs in the ``full`` tier; the fast
+tier walks a deterministic sample: every callable, each parameter with one form (rotating).
+"""
+
+from __future__ import annotations
+
+import collections
+import importlib
+import inspect
+import pkgutil
+import signal
+import time
+import zlib
+from fractions import Fraction
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import symkf as sk
+from symkf.errors import SymkfError
+
+from conftest import ORIGINAL, StringEvaluation
+
+#: code that would create ``{mark}`` if evaluated as Python (by sympify or eval)
+PAYLOADS = (
+    "__import__('os').system('touch {mark}')",
+    "open('{mark}', 'w')",
+)
+
+
+class StrPayload:
+    """An object that prints as the payload."""
+
+    def __init__(self, payload: str):
+        self.payload = payload
+
+    def __str__(self) -> str:
+        return self.payload
+
+    __repr__ = __str__
+
+    def __format__(self, spec: str) -> str:
+        return self.payload
+
+
+class NumberPayload:
+    """An object that claims to be a number and returns the payload when asked for one."""
+
+    def __init__(self, payload: str):
+        self.payload = payload
+
+    def __float__(self):
+        return self.payload
+
+    __index__ = __int__ = __complex__ = __float__
+
+
+#: the ten input forms
+FORMS: dict[str, Callable[[str], Any]] = {
+    "string": lambda p: p,
+    "list": lambda p: [p, p],
+    "nested list": lambda p: [[p, p], [p, p]],
+    "tuple": lambda p: (p, p),
+    "dict": lambda p: {p: p, "x": p},
+    "set": lambda p: {p},
+    "numpy object array": lambda p: np.array([[p, p], [p, p]], dtype=object),
+    "str/repr/format object": StrPayload,
+    "float/index object": NumberPayload,
+    "nested mix": lambda p: {"k": (frozenset({p}), [p, {p: (p,)}])},
+}
+
+#: CPU seconds one call may take before it is stopped and counted as a skip
+CPU_PER_CALL = 1.0
+
+
+def _system() -> sk.System:
+    return sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+
+
+def _samples() -> dict[type, Callable[[], Any]]:
+    """A valid instance of each class whose methods the walk calls, built on first use."""
+    from symkf import examples, families, montecarlo, observability, oracle, output, region, second_order, \
+        spectral, strategies, tables
+    from symkf.capacity import mare, theorems
+    from symkf.exact import algebraic, field
+    from symkf.fusion import covariance, model as fmodel, pendulum, remote
+    from symkf.fusion.local_filters import LocalFilters, local_filters
+    from symkf.network import compare, dynamics, fading, loss as nloss, state, tree
+    S = _system()
+    iid = lambda: sk.IID(["1/10", "1/5"])  # noqa: E731
+    ge = lambda: sk.GilbertElliott(["1/20", "1/20"], ["1/2", "1/2"])  # noqa: E731
+    lf = lambda: local_filters(pendulum.pendulum_model())  # noqa: E731
+    markov = lambda: state.MarkovNetworkState([["9/10", "1/10"], ["3/10", "7/10"]])  # noqa: E731
+    return {
+        sk.System: _system, sk.IID: iid, sk.GilbertElliott: ge,
+        sk.MarkovLoss: lambda: sk.MarkovLoss({(1,): {(1,): "1/2", (0,): "1/2"}, (0,): {(1,): "1/2", (0,): "1/2"}}),
+        sk.losses.LossChain: lambda: iid().chain,
+        algebraic.AlgebraicNumber: lambda: algebraic.AlgebraicNumber.from_expr(sp.sqrt(2)),
+        field.NumberField: lambda: field.NumberField([sp.sqrt(2)]),
+        region.StabilityRegion: lambda: region.stability_region(S),
+        region.Constraint: lambda: region.stability_region(S).constraints[0],
+        second_order.CongruentSets: lambda: second_order.congruent_sets(
+            sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])),
+        oracle.RawRegression: lambda: oracle.RawRegression(S.A, [s.C for s in S.sensors], 2),
+        observability.BlockRows: lambda: observability.block_rows(S)[0],
+        spectral.Eigenvalue: lambda: spectral.eigenvalues(S.A)[0],
+        mare.MARE: lambda: mare.MARE(S, iid()),
+        theorems.WonhamDecomposition: lambda: theorems.wonham_decomposition(S),
+        families.Family: lambda: families.load_family(examples.family("rotation-periods")),
+        families.Member: lambda: families.load_family(examples.family("rotation-periods")).members[0],
+        tables.Table: lambda: tables.family_table(examples.family("rotation-periods")),
+        tables.Cell: lambda: tables.Cell.text("a"),
+        montecarlo.BurstPlan: lambda: montecarlo.verdict_plan(S, sk.stability(S, iid())),
+        montecarlo.TraceEstimate: lambda: montecarlo.estimate_mean_trace(S, iid(), 3, 4, seed=1),
+        montecarlo.MeanTraceCurve: lambda: montecarlo.mean_trace_curve(S, iid(), 3, 4, seed=1),
+        output.Planned: lambda: output.plan(Path("walk-out.txt"), "--out"),
+        strategies.Rotation: lambda: strategies.Rotation(S, sp.Integer(2), Fraction(1, 4)),
+        fmodel.FusionModel: pendulum.pendulum_model,
+        LocalFilters: lf,
+        covariance.HoldingTimeCovariance: lambda: covariance.HoldingTimeCovariance(lf()),
+        remote.RemoteFusion: lambda: remote.RemoteFusion(lf()),
+        tree.SensorTree: lambda: tree.SensorTree([0, 1]),
+        dynamics.PeriodicDynamics: lambda: dynamics.PeriodicDynamics.from_system(S),
+        state.MarkovNetworkState: markov,
+        state.SemiMarkovNetworkState: lambda: state.SemiMarkovNetworkState(
+            [["0", "1"], ["1", "0"]], [{1: "1"}, {1: "1/2", 2: "1/2"}]),
+        nloss.NetworkLoss: lambda: nloss.NetworkLoss(tree.SensorTree([0, 1]), markov(), [["1/2", "1/2"]] * 2),
+        compare.NetworkExample: lambda: compare.example("iid-scalar"),
+        fading.Rayleigh: lambda: fading.Rayleigh(1),
+        fading.Nakagami: lambda: fading.Nakagami(1, 1),
+        fading.Rician: lambda: fading.Rician(1, 1),
+        fading.UserGain: lambda: fading.UserGain(lambda g: sp.exp(-g), lambda g: sp.exp(-g)),
+    }
+
+
+def public_callables() -> list[tuple[str, Callable]]:
+    """(qualified name, callable): every public function and class of every symkf module, and
+    the public methods, class methods and static methods of each class (bound to a sample
+    instance where the walk has one, see :func:`_samples`)."""
+    samples = _samples()
+    seen, out = set(), []
+    for info in pkgutil.walk_packages(sk.__path__, "symkf."):
+        if info.name.endswith("__main__"):
+            continue
+        module = importlib.import_module(info.name)
+        for name, obj in vars(module).items():
+            if name.startswith("_") or not callable(obj) or getattr(obj, "__module__", "") != module.__name__:
+                continue
+            if id(obj) in seen or isinstance(obj, type) and issubclass(obj, BaseException):
+                continue
+            seen.add(id(obj))
+            qual = f"{module.__name__}.{name}"
+            out.append((qual, obj))
+            if not isinstance(obj, type):
+                continue
+            instance = None
+            for attr, member in vars(obj).items():
+                if attr.startswith("_"):
+                    continue
+                if isinstance(member, (classmethod, staticmethod)):
+                    out.append((f"{qual}.{attr}", getattr(obj, attr)))
+                elif inspect.isfunction(member) and obj in samples:
+                    if instance is None:
+                        instance = samples[obj]()
+                    out.append((f"{qual}.{attr}", getattr(instance, attr)))
+    return out
+
+
+class _Timeout(BaseException):
+    """Not an Exception: code under test that catches Exception cannot swallow it."""
+
+
+def _alarm(signum, frame):
+    raise _Timeout
+
+
+def _parameters(fn: Callable) -> list[inspect.Parameter] | None:
+    try:
+        return [p for p in inspect.signature(fn).parameters.values()
+                if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+    except (TypeError, ValueError):
+        return None
+
+
+def _call(fn: Callable, params: list[inspect.Parameter], target: inspect.Parameter, value: Any) -> None:
+    """``fn`` with ``value`` in ``target`` and in every required parameter."""
+    args, kwargs = [], {}
+    for p in params:
+        if p is not target and p.default is not p.empty:
+            continue
+        if p.kind == p.KEYWORD_ONLY:
+            kwargs[p.name] = value
+        else:
+            args.append(value)
+    fn(*args, **kwargs)
+
+
+def _allowed(qualname: str, exc: BaseException) -> bool:
+    from hypothesis.errors import InvalidArgument
+    return isinstance(exc, (SymkfError, KeyboardInterrupt)) or \
+        isinstance(exc, SystemExit) and qualname == "symkf.cli.main" or \
+        isinstance(exc, InvalidArgument) and qualname.startswith("symkf.strategies.")
+
+
+def walk(mark: Path, select: Callable[[str, str, str, int], bool]) -> dict:
+    """Run the walk over the (callable, parameter, form, payload index) that ``select`` keeps;
+    returns the figures and the findings."""
+    callables = public_callables()
+    for module in ("cvxpy", "control", "matplotlib.pyplot", "distributed"):  # no timer may stop an import halfway
+        try:
+            importlib.import_module(module)
+        except ImportError:
+            pass
+    figures = collections.Counter()
+    executions, reached, untranslated, skips = [], [], collections.Counter(), []
+    examples: dict = {}
+    walked = set()
+    old = signal.signal(signal.SIGPROF, _alarm)
+    t0 = time.process_time()
+    try:
+        for qualname, fn in callables:
+            params = _parameters(fn)
+            if params is None:
+                continue
+            figures["callables"] += 1
+            figures["parameters"] += len(params)
+            targets = params or [None]
+            for target in targets:
+                for form, make in FORMS.items():
+                    for k, payload in enumerate(PAYLOADS):
+                        if not select(qualname, target.name if target else "", form, k):
+                            continue
+                        walked.add(qualname)
+                        value = make(payload.format(mark=mark))
+                        figures["calls"] += 1
+                        signal.setitimer(signal.ITIMER_PROF, CPU_PER_CALL)
+                        try:
+                            _call(fn, params, target, value) if target else fn()
+                        except _Timeout:
+                            skips.append(f"{qualname}({target.name if target else ''}) {form}")
+                        except StringEvaluation:
+                            reached.append(f"{qualname}({target.name}) {form}")
+                        except BaseException as exc:  # noqa: BLE001 - the walk classifies every outcome
+                            if not _allowed(qualname, exc):
+                                key = (qualname, target.name if target else "", type(exc).__name__)
+                                untranslated[key] += 1
+                                examples.setdefault(key, f"{form}: {str(exc)[:160]}")
+                        finally:
+                            signal.setitimer(signal.ITIMER_PROF, 0)
+                        if mark.exists():
+                            executions.append(f"{qualname}({target.name}) {form}")
+                            mark.unlink()
+    finally:
+        signal.signal(signal.SIGPROF, old)
+    figures["walked callables"] = len(walked)
+    figures["forms"] = len(FORMS)
+    figures["payloads"] = len(PAYLOADS)
+    figures["executions"] = len(executions)
+    figures["string evaluations reached"] = len(reached)
+    figures["untranslated"] = sum(untranslated.values())
+    figures["skips"] = len(skips)
+    figures["cpu"] = round(time.process_time() - t0, 1)
+    return {"figures": figures, "executions": executions, "reached": reached, "untranslated": untranslated,
+            "examples": examples, "skips": skips}
+
+
+def _report(result: dict) -> str:
+    lines = [", ".join(f"{k} {v}" for k, v in result["figures"].items())]
+    lines += [f"EXECUTED {e}" for e in result["executions"]]
+    lines += [f"REACHED {e}" for e in result["reached"][:50]]
+    lines += [f"{n} x {q}({p}) {t}: {result['examples'][(q, p, t)]}"
+              for (q, p, t), n in sorted(result["untranslated"].items())]
+    lines += [f"skip {s}" for s in result["skips"]]
+    return "\n".join(lines)
+
+
+@pytest.fixture
+def mark(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # a payload writing a relative path, or an output, lands here
+    return tmp_path / "MARK"
+
+
+def _check(result: dict) -> None:
+    print(_report(result))
+    assert not result["executions"] and not result["reached"] and not result["untranslated"], _report(result)
+
+
+def _sample(qualname: str, param: str, form: str, k: int) -> bool:
+    """The fast tier's deterministic sample: the first payload, one form per parameter, rotating
+    over the forms by a hash of the callable and parameter names."""
+    names = list(FORMS)
+    return k == 0 and names[zlib.crc32(f"{qualname}.{param}".encode()) % len(names)] == form
+
+
+def test_walk_sample(mark):
+    result = walk(mark, _sample)
+    assert result["figures"]["callables"] > 400
+    _check(result)
+
+
+@pytest.mark.full
+def test_walk_full(mark):
+    result = walk(mark, lambda *_: True)
+    _check(result)
+
+
+def test_the_walk_can_see_an_execution(mark, monkeypatch):
+    """The detector works: with the session guard lifted, sympy's own sympify of a tuple (not
+    strict inside containers) runs the payload and the marker appears."""
+    import sympy.parsing.sympy_parser as parser
+    for name in ("parse_expr", "eval_expr"):
+        monkeypatch.setattr(parser, name, ORIGINAL[name])
+    sp.sympify((PAYLOADS[1].format(mark=mark),), strict=True)
+    assert mark.exists()
+
+
+def test_guard_refuses_string_evaluation():
+    with pytest.raises(StringEvaluation):
+        sp.sympify("1+1")
+    with pytest.raises(StringEvaluation):
+        sp.Matrix([["1"]])
+
+
+def _confirmed_holes(p: str) -> dict[str, Callable[[], Any]]:
+    """The calls of issue 26 that created the marker file on main, each with its form."""
+    from symkf import control, model, oracle, region, strategies
+    from symkf.exact import algebraic, field
+    from symkf.exact.numbers import sympify
+    x = algebraic.x
+    return {
+        "numbers.sympify tuple": lambda: sympify((p,)),
+        "numbers.sympify dict": lambda: sympify({p: p}),
+        "numbers.sympify set": lambda: sympify({p}),
+        "AlgebraicNumber(poly={...})": lambda: algebraic.AlgebraicNumber({p: 1}, 0),
+        "AlgebraicNumber.from_root tuple": lambda: algebraic.AlgebraicNumber.from_root((p,), 0, 1),
+        "AlgebraicNumber.from_root dict": lambda: algebraic.AlgebraicNumber.from_root({p: 1}, 0, 1),
+        "AlgebraicNumber.from_root lo": lambda: algebraic.AlgebraicNumber.from_root(sp.Poly(x ** 2 - 2, x), [p], 2),
+        "AlgebraicNumber.refine(width=[...])": lambda: algebraic.AlgebraicNumber.from_expr(sp.sqrt(2)).refine([p]),
+        "exact.algebraic.sign": lambda: algebraic.sign((p,)),
+        "sympy_to_fmpz": lambda: algebraic.sympy_to_fmpz({p: 1}),
+        "NumberField.convert": lambda: field.NumberField([sp.sqrt(2)]).convert((p,)),
+        "check_positive_definite": lambda: model.check_positive_definite(np.array([[p]], dtype=object), "M"),
+        "control.float_matrix": lambda: control.float_matrix(np.array([[p]], dtype=object), "M"),
+        "gilbert_elliott_losses": lambda: strategies.gilbert_elliott_losses(1, max_denominator=[p]),
+        "roots_in_unit": lambda: region.roots_in_unit((p,), sp.Symbol("t")),
+        "iid_probability": lambda: oracle.iid_probability([(p,)]),
+    }
+
+
+@pytest.mark.parametrize("name", list(_confirmed_holes("")))
+def test_confirmed_holes_are_refused_without_running(mark, name):
+    """Each with the guard lifted, as on a user's machine: the payload never runs and the call
+    is refused with symkf's error (hypothesis's InvalidArgument for the strategy)."""
+    from hypothesis.errors import InvalidArgument
+    import sympy.parsing.sympy_parser as parser
+    with pytest.MonkeyPatch.context() as m:
+        for evaluator in ("parse_expr", "eval_expr"):
+            m.setattr(parser, evaluator, ORIGINAL[evaluator])
+        with pytest.raises((SymkfError, InvalidArgument)):
+            _confirmed_holes(PAYLOADS[0].format(mark=mark))[name]()
+    assert not mark.exists()
