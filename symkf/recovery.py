@@ -52,7 +52,7 @@ _GAP = Fraction(1, 10 ** 12)  # how far the rational point sits below the crossi
 
 
 def _growth(br: BlockRows) -> sp.Rational | None:
-    g = sp.nsimplify(br.block.modulus.exact ** (2 * br.period))
+    g = sp.nsimplify(br.block.modulus.exact ** (2 * br.class_period))
     return g if g.is_Rational else None
 
 
@@ -81,7 +81,7 @@ def _margin_poly(br: BlockRows, H: frozenset[int], fail: Sequence[Fraction], pat
         if runs is None:  # the sensor is inside H at every phase: rate 1
             continue
         f = fail[rates.factor.sensors[0]]
-        out *= _run_term(f, 1) ** (br.period - len(masks) - len(runs))
+        out *= _run_term(f, 1) ** (br.class_period - len(masks) - len(runs))
         for w in runs:
             out *= _run_term(f, len(w) + 1)
     return out
