@@ -475,14 +475,25 @@ def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
 def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns) -> list[frozenset[int]] | None:
     """The hyperplanes of :func:`markov_search`'s two screens; None when a screen declines or the
     bound cannot rule out the generic hyperplanes (``n - 1`` elements: then listing is cheaper)."""
-    empty = [r.log_rate({}) for r in rates]
-    gains = [max(0.0, rates[f].log_rate({phase: bit}) - empty[f]) for f, bit, phase in patterns.of]
-    if not all(np.isfinite(gains)):
-        return None
-    first = br.heaviest(gains)
+    first = _first_screen(br, rates, patterns)
     if first is None:
         return None
     tau = max(lg - err for lg, err in map(patterns.log_rate, first))
+    second = _reaching(br, rates, patterns, tau)
+    return None if second is None else list({*first, *second})
+
+
+def _first_screen(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns) -> list[frozenset[int]] | None:
+    """Screen 1 of :func:`markov_search`: the hyperplanes heaviest in the gains of single elements."""
+    empty = [r.log_rate({}) for r in rates]
+    gains = [max(0.0, rates[f].log_rate({phase: bit}) - empty[f]) for f, bit, phase in patterns.of]
+    return br.heaviest(gains) if all(np.isfinite(gains)) else None
+
+
+def _reaching(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns, tau: float
+              ) -> list[frozenset[int]] | None:
+    """Every hyperplane whose rate may reach ``exp(tau)`` (screen 2 of :func:`markov_search`);
+    None when the additive bound cannot rule out the generic hyperplanes or a screen declines."""
     bounds = [r.gain_bound(br.size - 1) for r in rates]
     if not np.isfinite(tau) or not all(np.isfinite(C) for C, _ in bounds):
         return None
@@ -492,10 +503,36 @@ def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns) 
     floor = tau - C
     if sum(sorted(beta)[-(br.size - 1):]) >= floor:
         return None
-    second = br.heaviest(beta, floor=floor - 1e-9 * (1 + abs(floor) + abs(C)))
-    if second is None:
+    return br.heaviest(beta, floor=floor - 1e-9 * (1 + abs(floor) + abs(C)))
+
+
+def first_screen(br: BlockRows, loss: LossModel) -> list[frozenset[int]]:
+    """Hyperplanes of large rate under ``loss`` (screen 1 of :func:`markov_search`, no claim of
+    the maximum); empty when the screen declines."""
+    rates = factor_rates(br, loss)
+    if not all(r.screened for r in rates):
+        return []
+    return _first_screen(br, rates, _Patterns(br, rates)) or []
+
+
+def rates_reaching(br: BlockRows, loss: LossModel, floor: sp.Rational) -> list[tuple[frozenset[int], sp.Rational]] | None:
+    """Every hyperplane ``H`` with ``rho(M_H) >= floor`` and its exact rate, without listing the
+    hyperplanes: screen 2 of :func:`markov_search` with ``tau`` the float log of ``floor`` less a
+    margin (an additive upper bound rules out every set it leaves), then each returned set rated
+    exactly; when a screen declines, every hyperplane (:func:`listed_hyperplanes`, capped).  None
+    when the factors are not in the segment form."""
+    rates = factor_rates(br, loss)
+    if not all(r.screened for r in rates) or floor <= 0:
         return None
-    return list({*first, *second})
+    patterns = _Patterns(br, rates)
+    tau = math.log(floor.p) - math.log(floor.q)
+    tau -= 1e-6 * (1 + abs(tau))
+    sets = _reaching(br, rates, patterns, tau)
+    if sets is None:
+        sets = [_set(row) for row in listed_hyperplanes(br)]
+    sets = [H for H in sets if sum(patterns.log_rate(H)) >= tau]  # float log plus its proved error
+    rated = ((H, _exact(patterns.rate(H))) for H in sets)
+    return [(H, v) for H, v in rated if v >= floor]
 
 
 def _decide(sets: list[frozenset[int]], patterns: _Patterns) -> BlockRate:

@@ -25,6 +25,7 @@ from .exact.numbers import sympify, to_exact
 from .losses import IID, GilbertElliott, LossModel, checked
 from .model import System
 from .observability import BlockRows, block_rows
+from .recovery import monotone_critical_recovery
 from .region import ge_margins, stable_intervals
 
 
@@ -490,6 +491,12 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
     monotone in ``q`` in general; :func:`stable_recovery_intervals` gives the set).  Certified:
     the verdict of :func:`stability` is checked at rationals just outside the isolating interval.
 
+    A common ``q`` with rational ``fail`` in (0, 1) and single-row sensors first takes the path of
+    :mod:`symkf.recovery`, which lists no hyperplane: every margin is strictly decreasing for
+    ``q <= 1 - max fail`` (the chains are stochastically monotone there), and ``q`` above it is
+    proved stable only through the i.i.d. bound ``fail (1 + fail)``; where that bound or a
+    screen fails, every hyperplane is listed as before (capped by ``budget.Limits``).
+
     Parameters
     ----------
     system : System
@@ -518,6 +525,13 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
     >>> [sk.stability(S, sk.GilbertElliott(["1/4"] * 2, [r] * 2)).stable for r in ("1/2", "3/4")]
     [False, True]
     """
+    if sensor is None:
+        q = sp.Symbol("q", positive=True)
+        model = _recovery_model(system, fail, recover, sensor, q)
+        _check_loss(system, model.subs({q: sp.Rational(1, 2)}))
+        qc = monotone_critical_recovery(system, model.fail)
+        if qc is not None:
+            return qc
     intervals = stable_recovery_intervals(system, fail, recover=recover, sensor=sensor)
     if not intervals:
         return AlgebraicNumber.from_expr(1)
