@@ -41,6 +41,7 @@ from typing import Sequence
 import flint
 import sympy as sp
 
+from .exact.arguments import check_public
 from .decay import _Patterns, block_rate, factor_rates, first_screen, rates_reaching
 from .exact.algebraic import AlgebraicNumber
 from .losses import IID, GilbertElliott
@@ -146,3 +147,6 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational]) -> A
                 return None
             crossings.append(r)
     return max(crossings)
+
+
+check_public(globals())
