@@ -44,6 +44,7 @@ import sympy as sp
 from .exact.arguments import check_public
 from .decay import _Patterns, block_rate, factor_rates, first_screen, rates_reaching
 from .exact.algebraic import AlgebraicNumber
+from .exact.numbers import sympify
 from .losses import IID, GilbertElliott
 from .model import System
 from .observability import BlockRows, block_rows
@@ -53,7 +54,7 @@ _GAP = Fraction(1, 10 ** 12)  # how far the rational point sits below the crossi
 
 
 def _growth(br: BlockRows) -> sp.Rational | None:
-    g = sp.nsimplify(br.block.modulus.exact ** (2 * br.class_period))
+    g = sp.expand(sympify(br.block.modulus.exact ** (2 * br.class_period)))
     return g if g.is_Rational else None
 
 
