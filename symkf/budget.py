@@ -39,7 +39,7 @@ class Limits:
     #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and its
     #: roots come from Euler's formula (2R(2 pi/401): 800, 3.2 CPU-s; 2R(2 pi/509): 1016, 6 CPU-s)
     max_cyclotomic_degree: int = 1024
-    #: bit size (2D + 1) D b, D = d(d+1)/2, of the polynomial of |lambda| (power sums of the
+    #: bit size (2D + 1) D b, D = d(d+1)/2, of the polynomial of the modulus (power sums of the
     #: products of conjugates, symkf.spectral._abs_poly) for a complex eigenvalue of degree d with
     #: b-bit minimal polynomial: its factorisation is the cost (a dense random integer 32 x 32 A,
     #: d = 32: 11 CPU-s in all; a 16 x 16 A over Q(sqrt 2), d = 32, b = 70, 3.9e7 bits: 37 CPU-s)

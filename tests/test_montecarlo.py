@@ -169,7 +169,7 @@ def test_verdicts_over_seeds(seed):
     for A, sensors in (([["3/2", 1], [0, "1/2"]], [Sensor(C=[[1, 0], [0, 1]])]),
                        ([["5/4", 0], [0, "6/5"]], [Sensor(C=[[1, 0]]), Sensor(C=[[0, 1]])])):
         S = System(A=A, sensors=sensors)
-        eps_c = 1 / sp.Matrix(A)[0, 0] ** 2
+        eps_c = 1 / S.A[0, 0] ** 2
         assert _verdict(S, eps_c * sp.Rational(3, 4), seed).verdict == "stable"
         assert _verdict(S, eps_c * sp.Rational(5, 4), seed).verdict == "unstable"
 

@@ -377,11 +377,11 @@ def test_two_runs_writing_the_same_new_table(tmp_path):
     """Two `symkf table` processes on one new --latex file: the quick run writes it, the slow one
     (started first, finishing last) refuses instead of silently replacing it."""
     slow = tmp_path / "slow.toml"
-    slow.write_text('[family]\nkind = "rotation"\n[grid]\nperiod = [89, 97, 101]\nsensors = [1]\n'
+    slow.write_text('[family]\nkind = "rotation"\n[grid]\nperiod = [401, 409, 419]\nsensors = [3]\n'
                     '[constants]\nalpha = "2"\n')
     (tmp_path / "fam.toml").write_text(FAMILY_TEXT)
     out = tmp_path / "table.tex"
-    caps = ["--max-cyclotomic-degree", "1000", "--max-angle-denominator", "1000"]
+    caps = ["--max-cyclotomic-degree", "2000", "--max-angle-denominator", "2000"]
     first = subprocess.Popen([sys.executable, "-m", "symkf", "table", str(slow), "--latex", str(out), *caps],
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
     second = subprocess.run([sys.executable, "-m", "symkf", "table", str(tmp_path / "fam.toml"), "--latex", str(out)],
