@@ -270,7 +270,7 @@ class FactorRates:
         self.z = lost[0] if len(lost) == 1 else None
         self.P = flint.fmpq_mat([[flint.fmpq(int(v.p), int(v.q)) for v in ch.P.row(i)] for i in range(self.S)]) \
             if self.rational else ch.P
-        self.Pf = np.array([[float(v) for v in row] for row in self.P.tolist()]) if self.rational else None
+        self.Pf = np.array([[int(v.p) / int(v.q) for v in row] for row in self.P.tolist()]) if self.rational else None
         self._words: dict[tuple[int, ...], tuple[Any, float]] = {}
         self._patterns: dict[tuple[int, ...], Any] = {}  # patterns without a zero mask
 
@@ -324,7 +324,8 @@ class FactorRates:
             return np.nan
         runs = self._runs(masks)
         if runs is None:
-            return float(np.log(float(self.rate(masks)))) if self.rate(masks) else -np.inf
+            rate = self.rate(masks)
+            return float(np.log(_to_float(rate))) if rate else -np.inf
         return (self.g - len(masks) - len(runs)) * self._word(())[1] + sum(self._word(w)[1] for w in runs)
 
     def rate(self, masks: dict[int, int]) -> Any:
@@ -434,6 +435,12 @@ class _Patterns:
         for r, m in zip(self.rates, self.of_set(H)):
             out = out * r.rate(m)
         return out
+
+
+def _to_float(value: Any) -> float:
+    """float64 of an exact rate (python-flint 0.7's ``fmpq`` has no ``__float__``; the integer
+    quotient is correctly rounded)."""
+    return int(value.p) / int(value.q) if isinstance(value, flint.fmpq) else float(value)
 
 
 def _exact(value: Any) -> sp.Expr:
