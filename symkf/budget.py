@@ -72,6 +72,12 @@ class Limits:
     #: distinct generators in K^n: each costs about 10 us and E bytes (a 4-dim block with 8
     #: sensors of period 24 has 1.2 million, 12 CPU-s and past 2.8 GB in all)
     max_hyperplanes: int = 300_000
+    #: receival sequences ``2^(d (horizon - 1))`` that the exact mean trace enumerates
+    #: (symkf.montecarlo.exact_mean_covariances and exact_mean_trace; estimate_mean_trace simulates)
+    max_patterns: int = 2 ** 20
+    #: states of the lifted chain of a network loss read from a file, bounded before it is built by
+    #: (network states, or the sum over states of the longest holding time) times 2^M link outcomes
+    max_network_chain: int = 4096
     #: members of a family file
     max_members: int = 2000
     #: bytes of the arrays one Monte Carlo run allocates at its peak, as estimated by

@@ -183,11 +183,11 @@ def _vary_alpha(system: Any, loss: Any, value: str, file: str) -> tuple[str, Alg
 
 
 def _vary_recovery(system: Any, loss: Any, value: str, file: str) -> tuple[str, AlgebraicNumber, str]:
-    from .losses import GilbertElliott
     from .stability import critical_recovery_rate
-    if loss.kind != GilbertElliott.kind:
-        raise UsageError(f"{file}: --vary recovery needs a [loss] table of kind 'gilbert-elliott' giving 'fail'")
-    return ("critical_recovery_rate", critical_recovery_rate(system, loss.fail),
+    if loss.channel_fail is None:
+        raise UsageError(f"{file}: --vary recovery needs Gilbert-Elliott channels ([loss] of kind 'gilbert-elliott' "
+                         f"giving 'fail'), not {loss.words()}")
+    return ("critical_recovery_rate", critical_recovery_rate(system, loss.channel_fail),
             "common Gilbert-Elliott recovery probability P(received | lost last), fail fixed; stable iff above")
 
 

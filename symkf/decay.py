@@ -103,14 +103,28 @@ def outside_counts(br: BlockRows, weights: Sequence[float] | None = None) -> dic
     return _outside_vectors(br, listed_hyperplanes(br))
 
 
+def hyperplane_estimate(br: BlockRows) -> int:
+    """An upper bound on the number of hyperplanes of the block: ``C(V, n - 1)`` for V distinct
+    generators (each hyperplane is spanned by ``n - 1`` of them); their number once listed."""
+    if "inside" in br.__dict__ or br.size < 2:
+        return len(br.inside)
+    return math.comb(len({_key(g) for gs in br.generators for g in gs}), br.size - 1)
+
+
 def listed_hyperplanes(br: BlockRows) -> np.ndarray:
     """:attr:`BlockRows.inside` (every hyperplane), refused up front when their estimated number
-    ``C(V, n - 1)`` (V distinct generators) exceeds ``budget.Limits.max_hyperplanes``."""
+    (:func:`hyperplane_estimate`) exceeds ``budget.Limits.max_hyperplanes``."""
     if "inside" not in br.__dict__ and br.size > 1:
         V = len({_key(g) for gs in br.generators for g in gs})
-        budget.check("max_hyperplanes", math.comb(V, br.size - 1), f"eigen-block of modulus {br.block.modulus}",
+        budget.check("max_hyperplanes", hyperplane_estimate(br), f"eigen-block of modulus {br.block.modulus}",
                      f"the estimated number of hyperplanes to list (C({V}, {br.size - 1}); no screen applies)")
     return br.inside
+
+
+def capped_hyperplanes(br: BlockRows) -> tuple[frozenset[int], ...]:
+    """:attr:`BlockRows.hyperplanes` (index sets), refused up front as :func:`listed_hyperplanes`."""
+    listed_hyperplanes(br)
+    return br.hyperplanes
 
 
 def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[int]]:
@@ -302,7 +316,7 @@ class FactorRates:
             hit = self._words[word] = (exact, np.log(value) if value > 0 else -np.inf)
         return hit
 
-    def _runs(self, masks: dict[int, int]) -> list[tuple[int, ...]] | None:
+    def runs(self, masks: dict[int, int]) -> list[tuple[int, ...]] | None:
         """The words (runs of non-zero masks, cyclically) of a pattern given by its non-zero
         masks ``{phase: mask}``; None when no mask is zero (or no single all-lost state)."""
         if self.z is None or len(masks) == self.g:
@@ -322,7 +336,7 @@ class FactorRates:
         ``g - len(masks)`` words."""
         if not self.rational:
             return np.nan
-        runs = self._runs(masks)
+        runs = self.runs(masks)
         if runs is None:
             rate = self.rate(masks)
             return float(np.log(_to_float(rate))) if rate else -np.inf
@@ -331,7 +345,7 @@ class FactorRates:
     def rate(self, masks: dict[int, int]) -> Any:
         """``rho(M)`` exactly (``fmpq`` for rational chains, else sympy) of the pattern given by
         its non-zero masks ``{phase: mask}``."""
-        runs = self._runs(masks)
+        runs = self.runs(masks)
         if runs is not None:
             out = self._word(())[0] ** (self.g - len(masks) - len(runs))
             for w in runs:
@@ -408,7 +422,7 @@ def factor_rates(br: BlockRows, loss: LossModel) -> tuple[FactorRates, ...]:
     return tuple(FactorRates(f, br.class_period) for f in loss.factors)
 
 
-class _Patterns:
+class Patterns:
     """The phase patterns of hyperplanes, per factor: ``{phase: mask}`` of its non-zero masks."""
 
     def __init__(self, br: BlockRows, rates: Sequence[FactorRates]):
@@ -472,14 +486,14 @@ def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
     (:func:`listed_hyperplanes`, capped) and screened the same way in floats when the factors
     have twins, else compared exactly.
     """
-    patterns = _Patterns(br, rates)
+    patterns = Patterns(br, rates)
     sets = _screened(br, rates, patterns) if all(r.screened for r in rates) else None
     if sets is None:
-        sets = [_set(row) for row in listed_hyperplanes(br)]
+        sets = list(capped_hyperplanes(br))
     return _decide(sets, patterns)
 
 
-def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns) -> list[frozenset[int]] | None:
+def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
     """The hyperplanes of :func:`markov_search`'s two screens; None when a screen declines or the
     bound cannot rule out the generic hyperplanes (``n - 1`` elements: then listing is cheaper)."""
     first = _first_screen(br, rates, patterns)
@@ -490,14 +504,14 @@ def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns) 
     return None if second is None else list({*first, *second})
 
 
-def _first_screen(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns) -> list[frozenset[int]] | None:
+def _first_screen(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
     """Screen 1 of :func:`markov_search`: the hyperplanes heaviest in the gains of single elements."""
     empty = [r.log_rate({}) for r in rates]
     gains = [max(0.0, rates[f].log_rate({phase: bit}) - empty[f]) for f, bit, phase in patterns.of]
     return br.heaviest(gains) if all(np.isfinite(gains)) else None
 
 
-def _reaching(br: BlockRows, rates: Sequence[FactorRates], patterns: _Patterns, tau: float
+def _reaching(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns, tau: float
               ) -> list[frozenset[int]] | None:
     """Every hyperplane whose rate may reach ``exp(tau)`` (screen 2 of :func:`markov_search`);
     None when the additive bound cannot rule out the generic hyperplanes or a screen declines."""
@@ -519,7 +533,7 @@ def first_screen(br: BlockRows, loss: LossModel) -> list[frozenset[int]]:
     rates = factor_rates(br, loss)
     if not all(r.screened for r in rates):
         return []
-    return _first_screen(br, rates, _Patterns(br, rates)) or []
+    return _first_screen(br, rates, Patterns(br, rates)) or []
 
 
 def rates_reaching(br: BlockRows, loss: LossModel, floor: sp.Rational) -> list[tuple[frozenset[int], sp.Rational]] | None:
@@ -531,18 +545,18 @@ def rates_reaching(br: BlockRows, loss: LossModel, floor: sp.Rational) -> list[t
     rates = factor_rates(br, loss)
     if not all(r.screened for r in rates) or floor <= 0:
         return None
-    patterns = _Patterns(br, rates)
+    patterns = Patterns(br, rates)
     tau = math.log(floor.p) - math.log(floor.q)
     tau -= 1e-6 * (1 + abs(tau))
     sets = _reaching(br, rates, patterns, tau)
     if sets is None:
-        sets = [_set(row) for row in listed_hyperplanes(br)]
+        sets = list(capped_hyperplanes(br))
     sets = [H for H in sets if sum(patterns.log_rate(H)) >= tau]  # float log plus its proved error
     rated = ((H, _exact(patterns.rate(H))) for H in sets)
     return [(H, v) for H, v in rated if v >= floor]
 
 
-def _decide(sets: list[frozenset[int]], patterns: _Patterns) -> BlockRate:
+def _decide(sets: list[frozenset[int]], patterns: Patterns) -> BlockRate:
     """The first exact maximum (lexicographic order) of the rates of ``sets``; with float twins
     only the sets within the proved errors of the largest float are compared exactly."""
     sets = sorted(sets, key=sorted)
@@ -568,7 +582,7 @@ def ge_rate(br: BlockRows, H: frozenset[int], loss: GilbertElliott) -> sp.Expr:
     key = ("ge_rates", id(loss))
     cache = br.__dict__.setdefault("_rates", {})
     if cache.get(key, (None,))[0] is not loss:
-        cache[key] = (loss, _Patterns(br, factor_rates(br, loss)))
+        cache[key] = (loss, Patterns(br, factor_rates(br, loss)))
     return sp.expand(_exact(cache[key][1].rate(H)))
 
 
@@ -581,7 +595,7 @@ def _aperiodic(br: BlockRows) -> AperiodicError:
 def restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Matrix:
     """One-period transfer of the loss chain restricted to steps received inside ``H``."""
     rates = FactorRates(Factor(tuple(range(loss.d)), loss.chain), br.class_period)
-    masks = _Patterns(br, [rates]).of_set(H)[0]
+    masks = Patterns(br, [rates]).of_set(H)[0]
     return rates.transfer(tuple(masks.get(r, 0) for r in range(br.class_period)))
 
 

@@ -73,10 +73,6 @@ KEYS = {"": {"system", "sensors", "loss", "rationalize"}, "[system]": {"A", "Q",
         "fusion file": {"fusion", "sensors", "rationalize"},
         "[fusion]": {"arrival", "A", "Q", "Ac", "Bc", "noise_variance", "Ts"}}
 
-#: the largest lifted chain of a network loss a file may ask for: (network states, or the
-#: sum over states of the longest holding time) times 2^M link outcomes
-MAX_NETWORK_CHAIN = 4096
-
 
 def _check_keys(table: dict, allowed: set[str], where: str) -> None:
     unknown = sorted(set(table) - allowed)

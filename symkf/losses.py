@@ -272,6 +272,13 @@ class LossModel:
         and time (Sui-You-Fu Assumption 4), else None."""
         return None
 
+    @property
+    def channel_fail(self) -> tuple[sp.Expr, ...] | None:
+        """Per-sensor ``P(lost | received last)`` when the sensors are independent two-state
+        Gilbert-Elliott channels: what :func:`symkf.stability.critical_recovery_rate` holds fixed
+        while it varies the recovery probability; else None."""
+        return None
+
     def hyperplane_rate(self, br: Any, H: frozenset[int]) -> sp.Expr:
         """``rho(M_H)``: the exact decay rate per period of "received only inside ``H``" for the
         block rows ``br`` (Sui-You-Fu eq. 36), the Perron root of the restricted transfer."""
@@ -617,6 +624,10 @@ class GilbertElliott(LossModel):
                     return (f"{key} (sensor {i}): P(next {state[s]} | {state[r]}) = {P[r, s]}, so the joint "
                             "chain has zero transitions; Assumption 2 needs every transition probability positive")
         return None
+
+    @property
+    def channel_fail(self) -> tuple[sp.Expr, ...]:
+        return self.fail
 
     def hyperplane_rate(self, br: Any, H: frozenset[int]) -> sp.Expr:
         """The product over sensors of their 2x2 restricted transfers' Perron roots (:func:`symkf.decay.ge_rate`)."""

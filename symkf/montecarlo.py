@@ -41,8 +41,6 @@ if TYPE_CHECKING:
 
 #: paths per batch: bounds memory and drives the progress bar
 CHUNK = 50_000
-#: largest number of receival sequences enumerated exactly
-MAX_PATTERNS = 2 ** 20
 #: plain Monte Carlo resolves E[tr P_k] at step k when the relative standard error is at most
 #: this and no single path carries more than MAX_PATH_SHARE of the sum (a diverging filter's
 #: mean sits on bursts too rare for the sample; the intervals of those steps mean nothing)
@@ -60,9 +58,8 @@ def _progress(total: int, work: int, desc: str):
 def _patterns(d: int, length: int) -> np.ndarray:
     """All receival-code sequences of ``length`` steps as (length, 2^(d length)) codes."""
     count = 2 ** (d * length)
-    if count > MAX_PATTERNS:
-        raise InputError(f"horizon: {count} receival sequences (2^(d (horizon-1))) exceed the "
-                         f"exact-enumeration limit {MAX_PATTERNS}; use estimate_mean_trace instead")
+    budget.check("max_patterns", count, "horizon", f"the number of receival sequences 2^(d (horizon-1)) to "
+                 "enumerate (estimate_mean_trace simulates instead)")
     p = np.arange(count)
     return (p[None, :] >> (d * np.arange(length))[:, None]) & (2 ** d - 1)
 
@@ -441,9 +438,11 @@ def verdict_plan(system: System, verdict, loss: LossModel | None = None) -> Burs
     plan = burst_plan(system, phases if any(phases) else [list(range(system.d))], growth)
     if loss is None:
         return plan
-    from .observability import block_rows  # the engine imports nothing from simulation
+    from .decay import hyperplane_estimate  # the engine imports nothing from simulation
+    from .observability import block_rows
     br = block_rows(system)[verdict.limiting_block]
-    if len(br.hyperplanes) > MAX_TIE_SEARCH or br.class_period != plan.period:
+    if hyperplane_estimate(br) > budget.LIMITS.max_hyperplanes or len(br.hyperplanes) > MAX_TIE_SEARCH \
+            or br.class_period != plan.period:  # no ties searched where listing would be refused
         return plan
     masks = []
     for H in br.hyperplanes:

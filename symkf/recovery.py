@@ -42,13 +42,13 @@ import flint
 import sympy as sp
 
 from .exact.arguments import check_public
-from .decay import _Patterns, block_rate, factor_rates, first_screen, rates_reaching
+from .decay import Patterns, block_rate, factor_rates, first_screen, rates_reaching
 from .exact.algebraic import AlgebraicNumber
 from .exact.numbers import sympify
 from .losses import IID, GilbertElliott
 from .model import System
 from .observability import BlockRows, block_rows
-from .region import _simplest
+from .region import simplest
 
 _GAP = Fraction(1, 10 ** 12)  # how far the rational point sits below the crossing
 
@@ -74,12 +74,12 @@ def _run_term(f: Fraction, ell: int) -> flint.fmpq_poly:
     return row[1]
 
 
-def _margin_poly(br: BlockRows, H: frozenset[int], fail: Sequence[Fraction], patterns: _Patterns) -> flint.fmpq_poly:
+def _margin_poly(br: BlockRows, H: frozenset[int], fail: Sequence[Fraction], patterns: Patterns) -> flint.fmpq_poly:
     """``m_H(q) = alpha^(2g) rho(M_H)(q)``: per sensor a ``T_(m+1)`` per run of ``m`` phases inside
     ``H`` between lost phases and a ``T_1`` per further lost phase (:class:`symkf.decay.FactorRates`)."""
     out = flint.fmpq_poly([_fmpq(_growth(br))])
     for rates, masks in zip(patterns.rates, patterns.of_set(H)):
-        runs = rates._runs(masks)
+        runs = rates.runs(masks)
         if runs is None:  # the sensor is inside H at every phase: rate 1
             continue
         f = fail[rates.factor.sensors[0]]
@@ -123,7 +123,7 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational]) -> A
     loss = GilbertElliott(list(fail), [sp.Rational(t.numerator, t.denominator)] * d)
     lower = []
     for br in blocks:
-        patterns = _Patterns(br, factor_rates(br, loss))
+        patterns = Patterns(br, factor_rates(br, loss))
         for H in first_screen(br, loss) or [block_rate(br, loss).hyperplane]:
             m = _margin_poly(br, H, fr, patterns)
             r = _crossing(m, Fraction(0), t) if m(_fmpq(t)) < 1 else _crossing(m, t, qmax)
@@ -132,7 +132,7 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational]) -> A
     if not lower:
         return None
     lo, _ = max(lower).refine(sp.Rational(_GAP) / 4).interval
-    a = _simplest(lo - _GAP, lo)
+    a = simplest(lo - _GAP, lo)
     if a <= 0:
         return None
     loss = GilbertElliott(list(fail), [sp.Rational(a.numerator, a.denominator)] * d)
@@ -141,7 +141,7 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational]) -> A
         found = rates_reaching(br, loss, 1 / _growth(br))
         if found is None:
             return None
-        patterns = _Patterns(br, factor_rates(br, loss))
+        patterns = Patterns(br, factor_rates(br, loss))
         for H, _ in found:
             r = _crossing(_margin_poly(br, H, fr, patterns), a, qmax)
             if r is None:

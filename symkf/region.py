@@ -27,7 +27,7 @@ from typing import Any, Iterable, Sequence
 import sympy as sp
 
 from .exact.arguments import check_public
-from .decay import ge_rate, listed_hyperplanes, outside_counts
+from .decay import capped_hyperplanes, ge_rate, outside_counts
 from .errors import InputError
 from .exact.algebraic import AlgebraicNumber, sign, sympy_to_fmpz
 from .exact.numbers import sympify, to_exact
@@ -239,8 +239,7 @@ def ge_margins(system: System, loss: GilbertElliott) -> list[sp.Expr]:
     for br in block_rows(system):
         growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
         seen = set()
-        listed_hyperplanes(br)  # refused up front when too many
-        for H in br.hyperplanes:
+        for H in capped_hyperplanes(br):
             m = sp.expand(growth * ge_rate(br, H, loss))
             if m not in seen:
                 seen.add(m)
@@ -298,10 +297,10 @@ def between(a: AlgebraicNumber, b: AlgebraicNumber) -> sp.Rational:
         a.refine(sp.Rational(a.interval[1] - a.interval[0]) / 4 or sp.Rational(1, 10 ** 30))
         b.refine(sp.Rational(b.interval[1] - b.interval[0]) / 4 or sp.Rational(1, 10 ** 30))
     lo, hi = a.interval[1], b.interval[0]
-    return sp.Rational(_simplest(lo, hi))
+    return sp.Rational(simplest(lo, hi))
 
 
-def _simplest(lo: Fraction, hi: Fraction) -> Fraction:
+def simplest(lo: Fraction, hi: Fraction) -> Fraction:
     """The rational with least denominator in the open interval ``(lo, hi)``."""
     q = 1
     while True:

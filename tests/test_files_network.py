@@ -20,8 +20,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from symkf.exact.numbers import sympify as exact, to_exact_matrix
-from symkf import cli, examples, files
-from symkf.errors import FileFormatError, InputError, SymkfError
+from symkf import budget, cli, examples, files
+from symkf.errors import BudgetError, FileFormatError, InputError, SymkfError
 from symkf.losses import MarkovLoss
 from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SemiMarkovNetworkState, SensorTree,
                            theorem1, theorem2)
@@ -215,8 +215,12 @@ def test_holding_as_list_or_table_and_rationalize(tmp_path):
 def test_network_chain_limit(tmp_path):
     base = '[system]\nA = [["2"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "network"\nparents = [0]\n'
     path = write(tmp_path, base + 'q = [["1"]]\nholding = [{ 999999 = "1" }]\nphi = [["1/2"]]\n')
-    with pytest.raises(FileFormatError, match=r"key 'holding'.*limited to 4096"):
+    with pytest.raises(BudgetError, match=r"key 'holding'.*999999 x 2\^1.*is 1999998, above the cap 4096.*--max-network-chain"):
         files.load(path)
+    small = write(tmp_path, base + 'q = [["1"]]\nholding = [{ 3 = "1" }]\nphi = [["1/2"]]\n', "small.toml")
+    files.load(small)
+    with budget.limits(max_network_chain=5), pytest.raises(BudgetError, match="3 x 2\\^1.*is 6, above the cap 5"):
+        files.load(small)
 
 
 # -- fusion files --------------------------------------------------------------------------------

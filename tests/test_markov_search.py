@@ -101,7 +101,7 @@ def test_the_screens_decide_without_listing(name):
     A, rows, loss = CASES[name]
     (br,) = block_rows(_system(A, rows))
     rates = decay.factor_rates(br, loss)
-    sets = decay._screened(br, rates, decay._Patterns(br, rates))
+    sets = decay._screened(br, rates, decay.Patterns(br, rates))
     assert sets is not None and len(sets) < 20 and "inside" not in br.__dict__
     (full,) = block_rows(_system(A, rows))
     assert _enumerated(full, loss)[0] in sets

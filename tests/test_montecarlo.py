@@ -366,3 +366,17 @@ def test_kernel_is_exact_on_sampled_bursts_within_float_resolution(monkeypatch, 
         trace = sp.Rational(exact_covariances(system, received[:, p].astype(int).tolist())[-1].trace())
         exact = math.log(trace.p) - math.log(trace.q)      # big integers: math.log, not float()
         assert abs(logtr[p] - exact) < 1e-3, (p, logtr[p], exact)
+
+
+def test_enumeration_is_capped_by_max_patterns():
+    """2^(d (horizon - 1)) receival sequences: d = 2, horizon 11 gives 2^20, the default cap;
+    one more step is refused naming the cap, and raising it lets a small case through."""
+    from symkf import budget
+    from symkf.errors import BudgetError
+    S = System(A=[[2]], sensors=[Sensor(C=[[1]]), Sensor(C=[[1]])], Q=[[1]])
+    with pytest.raises(BudgetError, match=r"2\^\(d \(horizon-1\)\).*is 4194304, above the cap 1048576.*--max-patterns"):
+        exact_mean_trace(S, IID(["1/10"] * 2), 12)
+    with budget.limits(max_patterns=8), pytest.raises(BudgetError, match="is 16, above the cap 8"):
+        exact_mean_trace(S, IID(["1/10"] * 2), 3)
+    with budget.limits(max_patterns=16):
+        assert len(exact_mean_trace(S, IID(["1/10"] * 2), 3)) == 3

@@ -36,7 +36,7 @@ from typing import Any, Sequence
 import sympy as sp
 
 from ..exact.arguments import check_public
-from ..decay import restricted_transfer
+from ..decay import capped_hyperplanes, restricted_transfer
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import sympify
@@ -166,7 +166,7 @@ def exact_candidates(example: NetworkExample) -> tuple[AlgebraicNumber, ...]:
     roots = []
     for br in block_rows(example.system):
         growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
-        for H in br.hyperplanes:
+        for H in capped_hyperplanes(br):  # symbolic t: no screen; refused up front when too many
             M = restricted_transfer(br, H, loss).applyfunc(sp.expand)
             keep = [j for j in range(M.cols) if not M.col(j).is_zero_matrix]
             if keep:

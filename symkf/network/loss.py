@@ -101,7 +101,8 @@ class NetworkLoss(LossModel):
     def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "NetworkLoss":
         """The model of a ``[loss]`` table (or its JSON object) for ``d`` sensors; ``where`` names it in errors."""
         from ..errors import FileFormatError
-        from ..files import MAX_NETWORK_CHAIN, _exact, _get
+        from .. import budget
+        from ..files import _exact, _get
         from .state import MarkovNetworkState, SemiMarkovNetworkState
         from .tree import SensorTree
         parents = _get(table, "parents", where)
@@ -125,9 +126,8 @@ class NetworkLoss(LossModel):
             holding = _holding(_get(table, "holding", where), where, rationalize)
             state = SemiMarkovNetworkState(q, holding, initial)
             hidden = sum(max(h) for h in state.holding)
-        if hidden * 2 ** tree.M > MAX_NETWORK_CHAIN:
-            raise FileFormatError(f"{where} key '{'P' if markov else 'holding'}': the lifted chain would have up to "
-                                  f"{hidden} x 2^{tree.M} states; files are limited to {MAX_NETWORK_CHAIN}")
+        budget.check("max_network_chain", hidden * 2 ** tree.M, f"{where} key '{'P' if markov else 'holding'}'",
+                     f"the bound {hidden} x 2^{tree.M} on the states of the lifted chain")
         phi = _exact(_get(table, "phi", where), f"{where} phi", rationalize, start=1)
         return cls(tree, state, phi)
 
