@@ -180,52 +180,81 @@ def _maximum(candidates: list[tuple[frozenset[int], sp.Expr]]) -> tuple[frozense
 
 def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[sp.Expr]],
                     bound: Callable[[tuple[int, ...]], sp.Expr | None], start: AlgebraicNumber,
-                    growth: sp.Expr) -> AlgebraicNumber | None:
+                    growth: sp.Expr, safe: AlgebraicNumber | None = None) -> AlgebraicNumber | None:
     """``min(start, min_H x_H)`` without listing every hyperplane, or None when the screen
     declines (then list them: :func:`outside_counts`).
 
-    ``losses(x)`` are the i.i.d. losses at the parameter ``x`` (each non-decreasing in ``x``);
-    ``bound(k)`` is ``x_H`` for a hyperplane whose exponent vector is ``k``: the ``x`` at which
-    its margin ``growth * prod_j loss_j(x)^(k_j)`` reaches 1 (None when it never does).
+    ``losses(x)`` are the i.i.d. losses at the parameter ``x`` (each non-decreasing in ``x``, at
+    most 1 up to ``safe``, default ``start``); ``bound(k)`` is ``x_H`` for a hyperplane whose
+    exponent vector is ``k``: the ``x`` at which its margin ``growth * prod_j loss_j(x)^(k_j)``
+    reaches 1 (None when it never does).
 
-    Why no hyperplane is missed.  With weights ``w_e(x) = -log loss_(sensor e)(x) >= 0`` the
-    margin of ``H`` is ``log growth - T(x) + sum_(e in H) w_e(x)`` (``T`` the total weight), and
-    it increases with ``x``; so ``x_H <= x`` iff that margin is ``>= 0`` at ``x``, i.e. iff ``H``
-    weighs at least ``T(x) - log growth``.  Take ``x`` = the least ``x_H`` over a few hyperplanes
-    spanned by the heaviest generators (:func:`_spanned`; exact) or, when none lies below
-    ``start``, one step of Dinkelbach's iteration (the heaviest hyperplanes at ``start``: if none
-    has ``x_H < start``, every margin is at most 1 there and ``start`` is the answer).  Then
-    ``heaviest(w(x), floor=T(x) - log growth)`` returns every hyperplane with ``x_H <= x``
-    (its no-miss argument for a floor), and the least of their ``x_H`` is the minimum: one screen
-    when the guess is good.  Declines (None) when a loss is 0 or above 1 at ``start`` (a weight
-    would be infinite or negative) or the screen does not apply."""
-    def weights(x: AlgebraicNumber) -> list[float] | None:
+    Why no hyperplane is missed.  With weights ``w_e(x) = -log loss_(sensor e)(x)`` the margin of
+    ``H`` is ``log growth - T(x) + sum_(e in H) w_e(x)`` (``T`` the total weight of the elements
+    with a generator; the others lie in every hyperplane), and it increases with ``x``; so ``x_H
+    <= x`` iff that margin is ``>= 0`` at ``x``, i.e. iff ``H`` weighs at least ``T(x) - log
+    growth``.  Take ``x`` = the least ``x_H`` over a few hyperplanes spanned by the heaviest
+    generators (:func:`_spanned`; exact) or, when none lies below ``start``, one step of
+    Dinkelbach's iteration at ``safe`` (the heaviest hyperplanes there: their least ``x_H``, or
+    ``start`` when none lies below it, is an upper bound of the answer).  Then ``heaviest(w(x),
+    floor=T(x) - log growth)`` returns every hyperplane with ``x_H <= x`` (its no-miss argument
+    for a floor), and the least of their ``x_H`` is the minimum: one screen when the guess is
+    good.  Weights the screen cannot take directly are made admissible without losing a set:
+
+    * a loss of 0 (weight infinite): the weight ``B = T_finite + |log growth| + 1``.  A hyperplane
+      missing such an element has rate 0 and never binds; one holding all ``Z`` of them weighs
+      ``Z B`` plus its finite weight, and every set missing one weighs less than ``Z B``, so the
+      floor ``Z B + T_finite - log growth`` keeps exactly the hyperplanes that may bind (and the
+      heaviest hold them all when any does);
+    * a loss above 1 (``x`` above ``safe``, weight negative): every weight is raised by ``c``, the
+      most negative's size; a hyperplane holds at least ``n - 1`` elements with a generator (it has
+      rank ``n - 1``), so its raised weight is at least its weight plus ``c (n - 1)``, and the
+      floor raised by ``c (n - 1)`` still keeps it (with more sets, rated exactly and discarded).
+
+    Declines (None) when a loss is symbolic or the screen does not apply."""
+    live = [e for e, gs in enumerate(br.generators) if gs]
+    log_growth = float(sp.log(growth).evalf(20))
+
+    def weights(x: AlgebraicNumber) -> tuple[list[float], float, float] | None:
+        """The admissible weights at ``x``, the floor of the hyperplanes binding at ``x`` and the
+        raise ``c`` (above)."""
         values = [sympify(v) for v in losses(x)]
-        if any(v == 0 or AlgebraicNumber.from_expr(v) > 1 for v in values):
+        if any(v.free_symbols or not v.is_real or v < 0 for v in values):
             return None
-        per_sensor = [-float(sp.log(v).evalf(20)) for v in values]
-        return [per_sensor[e.sensor] for e in br.elements]
+        raw = [np.inf if v == 0 else -float(sp.log(v).evalf(20)) for v in values]
+        finite = [raw[br.elements[e].sensor] for e in live if raw[br.elements[e].sensor] < np.inf]
+        zeros = len(live) - len(finite)
+        c = max(0.0, -min(finite, default=0.0))
+        big = 2 * sum(v + c for v in finite) + abs(sum(finite)) + 2 * abs(log_growth) + 1
+        w = [big if raw[e.sensor] == np.inf else raw[e.sensor] + c for e in br.elements]
+        return w, sum(finite) - log_growth + zeros * big + c * max(0, br.size - 1 - zeros), c
 
     def least(sets) -> AlgebraicNumber | None:
         found = [AlgebraicNumber.from_expr(b) for b in
                  (bound(ks) for ks in _outside_vectors(br, sorted(sets, key=sorted))) if b is not None]
         return min(found, default=None)
 
-    w = weights(start)
-    if w is None:
+    at = start if safe is None or not safe < start else safe
+    first = weights(start)
+    if first is None:
         return None
-    x = least(_spanned(br, w))
+    x = least(_spanned(br, first[0]))
     if x is None or not x < start:
-        sets = br.heaviest(w)
+        step = weights(at)
+        if step is None or step[2] > 0:   # Dinkelbach needs losses <= 1: the heaviest bind first
+            return None
+        sets = br.heaviest(step[0])
         if sets is None:
             return None
         x = least(sets)
         if x is None or not x < start:
-            return start
-    w = weights(x)
-    if w is None:
+            if at == start:   # every margin is at most 1 at start
+                return start
+            x = start
+    final = weights(x)
+    if final is None:
         return None
-    floor = sum(w[e] for e, gs in enumerate(br.generators) if gs) - float(sp.log(growth).evalf(20))
+    w, floor, _ = final
     sets = br.heaviest(w, floor=floor - 1e-9 * (1 + abs(floor)))
     if sets is None:
         return None

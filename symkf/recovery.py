@@ -14,10 +14,12 @@ so every margin ``m_H(q) = alpha^(2g) rho(M_H)(q)`` is strictly decreasing on ``
 ``q_max = 1 - max_j f_j``.
 
 Above it.  For ``1 - f <= q < 1``, ``|lambda| <= f``: ``T_1 = 1 - q <= f``, ``T_l <= f/(f + q) <= f``
-for odd ``l`` and ``T_l <= f + |lambda|^l <= f (1 + f)`` for even ``l >= 2``.  A hyperplane's rate is
-a product of one term per lost run and of ``1 - q`` per further lost phase, so it is at most the
-i.i.d. rate ``prod_j (f_j (1 + f_j))^(phases of j outside H)``: if the filter is stable under
-i.i.d. losses ``f_j (1 + f_j)`` (decided by the i.i.d. screen), it is stable on all of ``[q_max, 1)``.
+for odd ``l`` and ``T_l <= f + |lambda|^l <= f (1 + f)`` for even ``l >= 2``.  For ``q_max <= q <= 1 - f``
+(a sensor whose ``f`` is below the largest), ``lambda >= 0`` and ``T_l <= T_1 = 1 - q <= 1 - q_max``.
+A hyperplane's rate is a product of one term per lost run and of ``1 - q`` per further lost phase,
+so it is at most the i.i.d. rate ``prod_j c_j^(phases of j outside H)``, ``c_j = max(f_j (1 + f_j),
+1 - q_max)``: if the filter is stable under i.i.d. losses ``c_j`` (decided by the screened search),
+it is stable on all of ``[q_max, 1)``.
 
 Then the stable set is ``(q_c, 1)`` and ``q_c = max_H r_H``, ``r_H`` the crossing of ``m_H = 1``.
 The search: at the rational ``t = q_max / 2`` the screened Markov search
@@ -45,7 +47,7 @@ from .exact.arguments import check_public
 from .decay import Patterns, block_rate, factor_rates, first_screen, rates_reaching
 from .exact.algebraic import AlgebraicNumber
 from .exact.numbers import sympify
-from .losses import IID, GilbertElliott
+from .losses import GilbertElliott
 from .model import System
 from .observability import BlockRows, block_rows
 from .region import simplest
@@ -74,15 +76,21 @@ def _run_term(f: Fraction, ell: int) -> flint.fmpq_poly:
     return row[1]
 
 
-def _margin_poly(br: BlockRows, H: frozenset[int], fail: Sequence[Fraction], patterns: Patterns) -> flint.fmpq_poly:
-    """``m_H(q) = alpha^(2g) rho(M_H)(q)``: per sensor a ``T_(m+1)`` per run of ``m`` phases inside
-    ``H`` between lost phases and a ``T_1`` per further lost phase (:class:`symkf.decay.FactorRates`)."""
+def _margin_poly(br: BlockRows, H: frozenset[int], fail: Sequence[Fraction], varying: frozenset[int],
+                 patterns: Patterns) -> flint.fmpq_poly:
+    """``m_H(q) = alpha^(2g) rho(M_H)(q)``: per varying sensor a ``T_(m+1)`` per run of ``m`` phases
+    inside ``H`` between lost phases and a ``T_1`` per further lost phase, per fixed sensor its
+    exact rate (:class:`symkf.decay.FactorRates`)."""
     out = flint.fmpq_poly([_fmpq(_growth(br))])
     for rates, masks in zip(patterns.rates, patterns.of_set(H)):
+        j = rates.factor.sensors[0]
+        if j not in varying:
+            out *= rates.rate(masks)
+            continue
         runs = rates.runs(masks)
         if runs is None:  # the sensor is inside H at every phase: rate 1
             continue
-        f = fail[rates.factor.sensors[0]]
+        f = fail[j]
         out *= _run_term(f, 1) ** (br.class_period - len(masks) - len(runs))
         for w in runs:
             out *= _run_term(f, len(w) + 1)
@@ -103,50 +111,103 @@ def _crossing(poly: flint.fmpq_poly, lo: Fraction, hi: Fraction) -> AlgebraicNum
     return roots[0] if len(roots) == 1 else None
 
 
-def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational]) -> AlgebraicNumber | None:
-    """``q_c`` with the filter stable iff the common recovery rate exceeds it, by the argument of
-    this module; None when the argument does not apply (a fail rate not rational in (0, 1), a
-    sensor with several rows, an irrational ``alpha^(2g)``, the i.i.d. bound above ``q_max``
-    unstable, no crossing below ``q_max / 2``): then the caller lists every hyperplane."""
+def _zero(blocks: Sequence[BlockRows], model, fail: Sequence[sp.Rational], varying: frozenset[int]
+          ) -> AlgebraicNumber | None:
+    """0 when every margin at ``q = 0`` is below 1, else None.  At ``q = 0`` a varying channel,
+    once lost, stays lost: ``T_l(0) = 1``, its factor of every rate is 1, the rate of a channel
+    with fail 1 and recovery 0 (a Gilbert-Elliott factor in the segment form, decided by the
+    screened search without Assumption 2's positivity, which only the verdict asks).  With ``m_H(0)
+    < 1`` and ``m_H`` non-increasing, every ``q`` in ``(0, q_max]`` is stable (a common rate has
+    ``m_H(0) = alpha^(2g) > 1``: never 0)."""
+    stuck = GilbertElliott([1 if i in varying else f for i, f in enumerate(fail)],
+                           [0 if i in varying else r for i, r in enumerate(model(0).recover)])
+    for br in blocks:
+        if not _growth(br) * block_rate(br, stuck).per_period < 1:
+            return None
+    return AlgebraicNumber.from_expr(0)
+
+
+class _Unstable(Exception):
+    """A margin that does not depend on the varying recovery rate is at least 1: no rate is stable."""
+
+
+def _rational(values: Sequence[sp.Expr]) -> list[Fraction] | None:
+    if not all(v.is_Rational and 0 < v < 1 for v in values):
+        return None
+    return [Fraction(int(v.p), int(v.q)) for v in values]
+
+
+def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational], recover: Sequence[sp.Rational] | None = None,
+                               sensor: int | None = None) -> AlgebraicNumber | None:
+    """``q_c`` with the filter stable iff the recovery rate exceeds it, by the argument of this
+    module; None when the argument does not apply (a fail or fixed recovery rate not rational in
+    (0, 1), a sensor with several rows, an irrational ``alpha^(2g)``, the bound above ``q_max``
+    unstable, no crossing below ``q_max / 2``): then the caller lists every hyperplane.
+
+    The rate is common to all sensors, or (``sensor = j``) only sensor ``j``'s, the others'
+    given by ``recover`` (entry ``j`` ignored).  A margin then holds the fixed channels' exact
+    rates as constant factors: it is still non-increasing in ``q`` on ``(0, q_max]`` (``q_max = 1
+    - fail_j``), strictly where sensor ``j`` has a lost phase outside ``H``, and constant where
+    ``H`` holds every element of ``j``; above ``q_max`` sensor ``j``'s factor is at most that of
+    i.i.d. losses ``fail_j (1 + fail_j)`` (``1 - q_max = fail_j``), a Gilbert-Elliott channel with ``fail + recover = 1``
+    beside the fixed ones.  A constant margin at least 1 (found by the search at ``q_max / 2`` or
+    by the certificate's screen) is unstable at every ``q``: the answer is 1, as with the listing."""
     from .stability import stability
     d = system.d
-    if not all(f.is_Rational and 0 < f < 1 for f in fail):
+    varying = frozenset(range(d)) if sensor is None else frozenset({sensor})
+    fr = _rational(fail)
+    fixed = [sp.Rational(1, 2)] * d if sensor is None else [sp.sympify(r) for r in recover]
+    if fr is None or _rational([r for i, r in enumerate(fixed) if i not in varying]) is None:
         return None
-    fr = [Fraction(int(f.p), int(f.q)) for f in fail]
     blocks = block_rows(system)
     if any(_growth(br) is None for br in blocks) or any(s.m != 1 for s in system.sensors):
         return None
-    if not stability(system, IID([f * (1 + f) for f in fail])).stable:
-        return None
-    qmax = 1 - max(fr)
+
+    def model(q) -> GilbertElliott:
+        return GilbertElliott(list(fail), [q if i in varying else r for i, r in enumerate(fixed)])
+
+    def margins(q: Fraction, br: BlockRows, sets) -> list[flint.fmpq_poly]:
+        patterns = Patterns(br, factor_rates(br, model(sp.Rational(q.numerator, q.denominator))))
+        polys = [_margin_poly(br, H, fr, varying, patterns) for H in sets]
+        if any(m.degree() < 1 and m(0) >= 1 for m in polys):
+            raise _Unstable
+        return [m for m in polys if m.degree() >= 1]
+
+    qmax = 1 - max(fr[j] for j in varying)
     t = qmax / 2
-    loss = GilbertElliott(list(fail), [sp.Rational(t.numerator, t.denominator)] * d)
-    lower = []
-    for br in blocks:
-        patterns = Patterns(br, factor_rates(br, loss))
-        for H in first_screen(br, loss) or [block_rate(br, loss).hyperplane]:
-            m = _margin_poly(br, H, fr, patterns)
-            r = _crossing(m, Fraction(0), t) if m(_fmpq(t)) < 1 else _crossing(m, t, qmax)
-            if r is not None:
-                lower.append(r)
-    if not lower:
-        return None
-    lo, _ = max(lower).refine(sp.Rational(_GAP) / 4).interval
-    a = simplest(lo - _GAP, lo)
-    if a <= 0:
-        return None
-    loss = GilbertElliott(list(fail), [sp.Rational(a.numerator, a.denominator)] * d)
-    crossings = []
-    for br in blocks:
-        found = rates_reaching(br, loss, 1 / _growth(br))
-        if found is None:
+    try:
+        lower = []
+        for br in blocks:
+            loss = model(sp.Rational(t.numerator, t.denominator))
+            for m in margins(t, br, first_screen(br, loss) or [block_rate(br, loss).hyperplane]):
+                r = _crossing(m, Fraction(0), t) if m(_fmpq(t)) < 1 else _crossing(m, t, qmax)
+                if r is not None:
+                    lower.append(r)
+        bound = [max(f * (1 + f), 1 - sp.Rational(qmax.numerator, qmax.denominator)) for f in fail]
+        if any(b >= 1 for i, b in enumerate(bound) if i in varying):
             return None
-        patterns = Patterns(br, factor_rates(br, loss))
-        for H, _ in found:
-            r = _crossing(_margin_poly(br, H, fr, patterns), a, qmax)
-            if r is None:
+        iid = GilbertElliott([b if i in varying else f for i, (f, b) in enumerate(zip(fail, bound))],
+                             [1 - b if i in varying else r for i, (b, r) in enumerate(zip(bound, fixed))])
+        if not stability(system, iid).stable:
+            return None
+        if not lower:
+            return _zero(blocks, model, fail, varying)
+        lo, _ = max(lower).refine(sp.Rational(_GAP) / 4).interval
+        a = simplest(lo - _GAP, lo)
+        if a <= 0:
+            return None
+        crossings = []
+        for br in blocks:
+            found = rates_reaching(br, model(sp.Rational(a.numerator, a.denominator)), 1 / _growth(br))
+            if found is None:
                 return None
-            crossings.append(r)
+            for m in margins(a, br, [H for H, _ in found]):
+                r = _crossing(m, a, qmax)
+                if r is None:
+                    return None
+                crossings.append(r)
+    except _Unstable:
+        return AlgebraicNumber.from_expr(1)
     return max(crossings)
 
 

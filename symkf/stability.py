@@ -295,7 +295,9 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
         if len(set(w)) == 1:
             return _min_capped([_Bound(alpha, power, w[0] ** sum(ks), sum(ks)) for alpha, power, ks in _vectors(system)
                                 if w[0] != 0 and sum(ks)])
-        return _least(system, lambda x: [x * wj for wj in w], lambda a2g, ks: _ray_bound(a2g, ks, w))
+        top = max((AlgebraicNumber.from_expr(wj) for wj in w), default=None)
+        safe = 1 / top if top is not None and top > 1 else None   # losses above 1 beyond it
+        return _least(system, lambda x: [x * wj for wj in w], lambda a2g, ks: _ray_bound(a2g, ks, w), safe)
     j = system.sensor_index(sensor)
     if others is None or len(others) != d:
         raise InputError(f"others: give the {d} loss probabilities of all sensors (entry {j} is ignored)")
@@ -315,14 +317,15 @@ def _ray_bound(a2g: sp.Expr, ks: tuple[int, ...], w: Sequence[sp.Expr]) -> sp.Ex
     return sp.root(1 / (a2g * W), sum(ks)) if W != 0 else None
 
 
-def _least(system: System, losses, bound) -> AlgebraicNumber:
+def _least(system: System, losses, bound, safe: AlgebraicNumber | None = None) -> AlgebraicNumber:
     """The least hyperplane bound over every block, capped at 1: per block by the screened
-    iteration (:func:`symkf.decay.least_iid_bound`), else over every exponent vector."""
+    iteration (:func:`symkf.decay.least_iid_bound`; ``safe``: where the losses stop being at most
+    1), else over every exponent vector (capped: :func:`symkf.decay.listed_hyperplanes`)."""
     one = AlgebraicNumber.from_expr(1)
     values = []
     for br in block_rows(system):
         a2g = sympify(br.block.modulus.exact ** (2 * br.class_period))
-        v = least_iid_bound(br, losses, lambda ks: bound(a2g, ks), one, a2g)
+        v = least_iid_bound(br, losses, lambda ks: bound(a2g, ks), one, a2g, safe)
         values.append(v if v is not None else
                       _min_capped([b for ks in outside_counts(br) if (b := bound(a2g, ks)) is not None]))
     return min(values, default=one)
@@ -491,11 +494,12 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
     monotone in ``q`` in general; :func:`stable_recovery_intervals` gives the set).  Certified:
     the verdict of :func:`stability` is checked at rationals just outside the isolating interval.
 
-    A common ``q`` with rational ``fail`` in (0, 1) and single-row sensors first takes the path of
-    :mod:`symkf.recovery`, which lists no hyperplane: every margin is strictly decreasing for
-    ``q <= 1 - max fail`` (the chains are stochastically monotone there), and ``q`` above it is
-    proved stable only through the i.i.d. bound ``fail (1 + fail)``; where that bound or a
-    screen fails, every hyperplane is listed as before (capped by ``budget.Limits``).
+    With rational ``fail`` (and fixed ``recover``) in (0, 1) and single-row sensors, the common
+    ``q`` and one sensor's ``q`` first take the path of :mod:`symkf.recovery`, which lists no
+    hyperplane: every margin is non-increasing for ``q <= 1 - max fail`` of the varying sensors
+    (their chains are stochastically monotone there), and ``q`` above it is proved stable only
+    through an i.i.d. bound; where that bound or a screen fails, every hyperplane is listed as
+    before (capped by ``budget.Limits``).
 
     Parameters
     ----------
@@ -525,13 +529,13 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
     >>> [sk.stability(S, sk.GilbertElliott(["1/4"] * 2, [r] * 2)).stable for r in ("1/2", "3/4")]
     [False, True]
     """
-    if sensor is None:
-        q = sp.Symbol("q", positive=True)
-        model = _recovery_model(system, fail, recover, sensor, q)
-        _check_loss(system, model.subs({q: sp.Rational(1, 2)}))
-        qc = monotone_critical_recovery(system, model.fail)
-        if qc is not None:
-            return qc
+    q = sp.Symbol("q", positive=True)
+    model = _recovery_model(system, fail, recover, sensor, q)
+    _check_loss(system, model.subs({q: sp.Rational(1, 2)}))
+    j = None if sensor is None else system.sensor_index(sensor)
+    qc = monotone_critical_recovery(system, model.fail, None if j is None else model.recover, j)
+    if qc is not None:
+        return qc
     intervals = stable_recovery_intervals(system, fail, recover=recover, sensor=sensor)
     if not intervals:
         return AlgebraicNumber.from_expr(1)

@@ -6,6 +6,7 @@ hypothesis-drawn channels, and the decisive pattern checked on the raw regressio
 import pytest
 import sympy as sp
 from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import symkf as sk
 from symkf import budget, decay
@@ -176,3 +177,106 @@ def test_sensor_critical_rate_equals_listing(others):
         return sp.root(1 / (a2g * rest), ks[1])
     losses = lambda x: [x if i == 1 else f for i, f in enumerate(fixed)]  # noqa: E731
     assert sk.critical_loss_rate(S, "s2", others=others.loss) == _listed(S, losses, bound)
+
+
+# -- losses of 0 and above 1: admissible weights (decay.least_iid_bound) ----------------------
+BLOCK2 = sp.diag(_rotation(sp.pi / 2), _rotation(sp.pi / 3))
+EXTREMES = [  # (A, rows): a sensor of 0 loss that sees one rotation only keeps some hyperplanes
+    (_rotation(sp.pi / 6), [[1, 0], [1, 1], [0, 1]]),
+    (_rotation(sp.pi / 2), [[1, 0], [1, 0], [1, 1]]),                       # parallel rows
+    (BLOCK2, [[1, 0, 0, 0], [0, 0, 1, 0], [1, 1, 1, 1]]),
+    (sp.diag(_rotation(sp.pi / 6), _rotation(sp.pi / 4)), [[1, 0, 0, 0], [0, 1, 1, 0], [1, 2, 0, -1]]),
+]
+WEIGHTS = st.lists(st.sampled_from(["0", "1/3", "1/2", "1", "3/2", "2", "5"]), min_size=3, max_size=3)
+
+
+def _screened(S, losses, bound, safe=None):
+    """The screen's value per block, asserting it decided without listing."""
+    out = []
+    for br in block_rows(S):
+        a2g = sp.sympify(br.block.modulus.exact ** (2 * br.class_period))
+        v = decay.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g, safe)
+        assert v is not None and "inside" not in br.__dict__
+        out.append(v)
+    return min(out)
+
+
+@settings(derandomize=True, max_examples=12, deadline=None)
+@given(st.sampled_from(range(len(EXTREMES))), WEIGHTS)
+def test_ray_with_zero_and_large_weights_equals_listing(case, w):
+    """Ray weights of 0 (a sensor that never loses: only hyperplanes holding all of it bind) and
+    above 1 (losses above 1 past 1/max w: weights raised by c, the floor by c (n - 1)): the screen
+    decides, and agrees with every exponent vector."""
+    S = _system(*EXTREMES[case])
+    w = [sp.Rational(x) for x in w]
+    bound = lambda a2g, ks: _ray_bound(a2g, ks, w)  # noqa: E731
+    losses = lambda x: [x * v for v in w]  # noqa: E731
+    top = max(w)
+    safe = AlgebraicNumber.from_expr(1 / top) if top > 1 else None
+    expected = _listed(_system(*EXTREMES[case]), losses, bound)
+    assert min(_screened(S, losses, bound, safe), AlgebraicNumber.from_expr(1)) == expected
+    assert sk.critical_loss_rate(_system(*EXTREMES[case]), ray=w) == expected
+
+
+def _sensor_bound(fixed, j):
+    def bound(a2g, ks):
+        rest = sp.Mul(*[f ** k for i, (f, k) in enumerate(zip(fixed, ks)) if i != j])
+        if ks[j] == 0:
+            return sp.Integer(0) if AlgebraicNumber.from_expr(a2g * rest) >= 1 else None
+        return sp.root(1 / (a2g * rest), ks[j]) if rest != 0 else None
+    return bound
+
+
+@settings(derandomize=True, max_examples=12, deadline=None)
+@given(st.sampled_from(range(len(EXTREMES))), st.lists(st.sampled_from(["0", "1/10", "1/2", "9/10", "1"]),
+                                                       min_size=3, max_size=3), st.integers(0, 2))
+def test_sensor_with_zero_losses_equals_listing(case, others, j):
+    """Others of loss 0 and 1: the screen decides and agrees with every exponent vector."""
+    S = _system(*EXTREMES[case])
+    fixed = [sp.Rational(e) if i != j else sp.Integer(1) for i, e in enumerate(others)]
+    bound = _sensor_bound(fixed, j)
+    losses = lambda x: [x if i == j else f for i, f in enumerate(fixed)]  # noqa: E731
+    expected = _listed(_system(*EXTREMES[case]), losses, bound)
+    assert min(_screened(S, losses, bound), AlgebraicNumber.from_expr(1)) == expected
+    assert sk.critical_loss_rate(_system(*EXTREMES[case]), f"s{j + 1}", others=others) == expected
+
+
+def _oracle_critical(A, rows, losses_of, g):
+    """The critical value from the raw rows alone (symkf.oracle, no engine code): with ``A^g``
+    scalar, receiving ``(j, r + k g)`` is receiving ``(j, r)``, so the filter is stable iff
+    ``alpha^(2g) prod_((r, j) lost) loss_j(x) < 1`` for every maximal deficient set of one period;
+    the least ``x`` at which one reaches 1 (closed form per set), capped at 1."""
+    raw = RawRegression(A, [[r] for r in rows], g)
+    sets = raw.deficient_sets
+    maximal = [D for D in sets if not any(D < E for E in sets)]
+    growth = sp.Abs(sp.Matrix(A).det()) ** sp.Rational(2 * g, sp.Matrix(A).shape[0])
+    return min([losses_of(growth, [sum(1 for r in range(g) if (r, j) not in D) for j in range(len(rows))])
+                for D in maximal] + [sp.Integer(1)], key=lambda v: AlgebraicNumber.from_expr(v))
+
+
+@pytest.mark.parametrize("angle, rows, w", [
+    (sp.pi / 2, [[1, 0], [1, 1], [0, 1]], ["2", "0", "1/2"]),
+    (sp.pi / 3, [[1, 0], [1, 2], [1, 0]], ["1", "3", "1/3"]),
+    (sp.pi / 4, [[1, 0], [2, -1]], ["5", "1/2"]),
+    (sp.pi / 6, [[1, 0], [1, 1]], ["0", "1"]),
+])
+def test_ray_and_sensor_forms_against_the_raw_oracle(angle, rows, w):
+    """``critical_loss_rate(ray=...)`` and ``(sensor=..., others=...)`` with zero and large
+    weights against the rank of the rows ``C_j A^k`` themselves (symkf.oracle)."""
+    A = _rotation(angle)
+    g = next(k for k in range(1, 25) if (A ** k).is_diagonal() and len(set((A ** k).diagonal())) == 1)
+    w = [sp.Rational(x) for x in w]
+
+    def ray(growth, ks):
+        W = sp.Mul(*[x ** k for x, k in zip(w, ks)])
+        return sp.root(1 / (growth * W), sum(ks)) if W != 0 and sum(ks) else sp.Integer(1)
+    assert sk.critical_loss_rate(_system(A, rows), ray=w) == AlgebraicNumber.from_expr(_oracle_critical(A, rows, ray, g))
+    others = [min(x, sp.Integer(1)) for x in w]
+
+    def one(growth, ks):
+        rest = sp.Mul(*[f ** k for i, (f, k) in enumerate(zip(others, ks)) if i != 0])
+        if ks[0] == 0:
+            return sp.Integer(0) if growth * rest >= 1 else sp.Integer(1)
+        return sp.root(1 / (growth * rest), ks[0]) if rest != 0 else sp.Integer(1)
+    assert sk.critical_loss_rate(_system(A, rows), "s1", others=others) == \
+        AlgebraicNumber.from_expr(_oracle_critical(A, rows, one, g))

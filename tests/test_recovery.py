@@ -4,8 +4,11 @@ unequal fail rates, tied sensors), and the hand-checkable two-sensor example."""
 
 import pytest
 import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import symkf as sk
+from symkf.exact.algebraic import AlgebraicNumber
 from symkf.files import load
 from symkf.recovery import monotone_critical_recovery
 from symkf.stability import stable_recovery_intervals
@@ -73,3 +76,77 @@ def test_equals_listing_benchmark_block():
         sub = _system(S.A, rows[:d])
         fail = [sp.Rational(1, 10)] * d
         assert monotone_critical_recovery(sub, fail) == _listed(sub, fail)
+
+
+# -- one sensor's recovery rate, the others fixed --------------------------------------------
+def _listed_one(S, fail, recover, j):
+    """``critical_recovery_rate``'s value from the listing of every hyperplane: 1 when no ``q`` is
+    stable, None when the stable set is not an interval ``(q_c, 1)``."""
+    intervals = stable_recovery_intervals(S, fail, recover=recover, sensor=f"s{j + 1}")
+    if not intervals:
+        return AlgebraicNumber.from_expr(1)
+    (lo, hi), = intervals
+    assert hi == 1
+    return lo
+
+
+BLOCK = sp.diag(_rotation(sp.pi / 2), _rotation(sp.pi / 3))
+ONE = [  # (A, rows, fail, recover, sensor, expected kind): interior values, 0 and 1 (a margin without q)
+    (_rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["1/10", "1/5", "1/8"], ["1/2"] * 3, 0, "interior"),
+    (_rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["1/10", "1/5", "1/8"], ["1/2"] * 3, 1, "interior"),
+    (_rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["1/10", "1/5", "1/8"], ["1/3", "3/4", "1/5"], 2, "interior"),
+    (_rotation(sp.pi / 2), [[1, 0], [1, 1]], ["1/4", "1/4"], ["9/10", "9/10"], 1, "interior"),
+    (_rotation(sp.pi / 2), [[1, 0], [1, 0]], ["1/5", "1/5"], ["1/3", "3/4"], 0, "interior"),  # parallel rows
+    (_rotation(2 * sp.pi / 3), [[1, 0], [1, 2]], ["1/6", "1/3"], ["9/10", "9/10"], 1, "interior"),
+    (_rotation(sp.pi / 3), [[1, 0], [2, -1]], ["1/7", "1/10"], ["1/10", "1/10"], 1, "interior"),
+    (_rotation(sp.pi / 4), [[1, 0]], ["1/10"], ["1/2"], 0, "interior"),
+    (BLOCK, [[1, 0, 0, 0], [0, 0, 1, 0], [1, 1, 1, 1]], ["1/10"] * 3, ["9/10"] * 3, 0, "interior"),
+    (BLOCK, [[1, 0, 0, 0], [0, 0, 1, 0], [1, 1, 1, 1]], ["1/10"] * 3, ["9/10"] * 3, 1, "zero"),
+    (BLOCK, [[1, 0, 0, 0], [0, 0, 1, 0]], ["1/3"] * 2, ["1/20"] * 2, 0, "one"),
+    (BLOCK, [[1, 1, 0, 0], [1, 0, 1, 0], [0, 1, 0, 1]], ["1/10"] * 3, ["9/10"] * 3, 2, "zero"),
+]
+
+
+@pytest.mark.parametrize("A, rows, fail, recover, j, kind", ONE)
+def test_one_sensor_equals_listing(A, rows, fail, recover, j, kind):
+    """Periods 2-12, unequal channels, parallel rows; the answer 0 (the others alone keep the
+    filter stable), 1 (a hyperplane holding every element of the sensor has margin >= 1) and
+    values inside: the monotone search decides and agrees with the listing."""
+    S = _system(A, rows)
+    fast = monotone_critical_recovery(S, [sp.Rational(f) for f in fail], [sp.Rational(r) for r in recover], j)
+    assert fast is not None
+    listed = _listed_one(S, fail, recover, j)
+    assert fast == listed and {"zero": fast == 0, "one": fast == 1, "interior": 0 < fast < 1}[kind]
+    assert sk.critical_recovery_rate(S, fail=fail, recover=recover, sensor=f"s{j + 1}") == fast
+
+
+@settings(derandomize=True, max_examples=12, deadline=None)
+@given(st.lists(st.sampled_from(["1/20", "1/10", "1/5", "1/3"]), min_size=3, max_size=3),
+       st.lists(st.sampled_from(["1/10", "1/2", "4/5", "19/20"]), min_size=3, max_size=3),
+       st.integers(0, 2), st.sampled_from([2, 3, 6]))
+def test_one_sensor_hypothesis_against_listing(fail, recover, j, q):
+    """Hypothesis-drawn channels on three sensors of 2R(pi/q): whenever the monotone search
+    answers, the listing of every hyperplane gives the same exact number."""
+    S = _system(_rotation(sp.pi / q), [[1, 0], [1, 1], [2, -1]])
+    fast = monotone_critical_recovery(S, [sp.Rational(f) for f in fail], [sp.Rational(r) for r in recover], j)
+    if fast is not None:
+        assert fast == _listed_one(S, fail, recover, j)
+
+
+def test_one_sensor_without_listing_at_period_24():
+    """The 4-dim block of period 24 with 8 sensors: the listing is refused (C(192, 3) hyperplanes
+    estimated), the monotone search answers 0 (the other seven channels keep it stable, by the
+    screened search at q = 0) and 1/2 is stable, as it must be."""
+    import numpy as np
+    from symkf.errors import BudgetError
+    rng = np.random.default_rng(0)
+    rows = []
+    while len(rows) < 8:
+        r = [int(v) for v in rng.integers(-2, 3, 4)]
+        if any(r):
+            rows.append(r)
+    S = _system(sp.diag(_rotation(sp.pi / 6), _rotation(sp.pi / 4)), rows)
+    with pytest.raises(BudgetError, match="max_hyperplanes"):
+        stable_recovery_intervals(S, ["1/10"] * 8, recover=["1/2"] * 8, sensor="s1")
+    assert sk.critical_recovery_rate(S, fail=["1/10"] * 8, recover=["1/2"] * 8, sensor="s1") == 0
+    assert sk.stability(S, sk.GilbertElliott(["1/10"] * 8, ["1/100"] + ["1/2"] * 7)).stable
