@@ -4,19 +4,21 @@ The 4-dim eigen-block diag(2R(pi/6), 2R(pi/4)) (modulus 2, governing period 24) 
 sensor rows drawn from -2..2 (fixed seed); rows and targets:
 
 * Gilbert-Elliott (fail 1/10, recover 1/2 per sensor), ``stability``, d = 8 / 16: <= 5 / 20 CPU-s;
-* ``critical_recovery_rate``, Gilbert-Elliott (fail 1/10), d = 8: <= 10 CPU-s;
+* ``critical_recovery_rate``, Gilbert-Elliott (fail 1/10), d = 8: <= 10 CPU-s; the same with only
+  sensor s1's rate varying (the others recover at 1/2; main lists every hyperplane and is refused);
 * a joint Markov chain over two correlated sensor pairs (d = 4, 16 receival vectors): <= 5 CPU-s;
-* ``critical_loss_rate(ray=...)`` and ``(sensor=..., others=...)``, d = 16: <= 2x the common query;
+* ``critical_loss_rate(ray=...)`` and ``(sensor=..., others=...)``, d = 16: <= 2x the common query,
+  also with ray weights 0 and above 1 and others of loss 0 (main lists every hyperplane: refused);
 * peak memory of every row <= 500 MB.
 
 Each measurement is a fresh interpreter (cold caches) printing the CPU seconds of the computation
 (``time.process_time``), its peak RSS and a digest of the exact result.  The baseline is today's
-``main`` from a separate worktree (``--main``, default /work/wt/main-ref; create it with
-``git worktree add /work/wt/main-ref main``), run once per row in the same run under a time limit
+``main`` from a separate checkout (``--main``, default /work/main, run by ``--main-python``,
+default that checkout's .venv/bin/python), run once per row in the same run under a time limit
 (``--limit``, reported as ``> limit``) and an address-space cap of 4 GB (``> 4 GB``).  Medians over
 REPEATS runs of this checkout.
 
-Usage: python bench_markov_search.py [REPEATS] [--main PATH] [--limit SECONDS]
+Usage: python bench_markov_search.py [REPEATS] [--main PATH] [--main-python PYTHON] [--limit SECONDS] [--rows A|B]
 Child mode: python bench_markov_search.py --child ROW
 """
 
@@ -43,6 +45,7 @@ ROWS = {  # name: (what, d, target CPU-s or None)
     "G-E stability, d = 8": ("ge", 8, 5),
     "G-E stability, d = 16": ("ge", 16, 20),
     "G-E critical_recovery_rate, d = 8": ("recovery", 8, 10),
+    "G-E critical_recovery_rate(sensor=s1), d = 8": ("recovery-sensor", 8, 10),
     "joint chain, two correlated pairs, d = 4": ("pairs", 4, 5),
     "common critical_loss_rate, d = 8": ("common", 8, None),
     "critical_loss_rate(ray=w), d = 8": ("ray", 8, None),
@@ -50,6 +53,8 @@ ROWS = {  # name: (what, d, target CPU-s or None)
     "common critical_loss_rate, d = 16": ("common", 16, None),
     "critical_loss_rate(ray=w), d = 16": ("ray", 16, "2x common"),
     "critical_loss_rate(sensor=s1, others), d = 16": ("sensor", 16, "2x common"),
+    "critical_loss_rate(ray=w, w in {0, 2, 9/10}), d = 16": ("ray-extremes", 16, "2x common"),
+    "critical_loss_rate(sensor=s1, others with 0), d = 16": ("sensor-zero", 16, "2x common"),
 }
 
 #: a correlated channel of two sensors on (received, received), (received, lost), ...
@@ -104,6 +109,12 @@ def _compute(what: str, d: int) -> str:
         return f"{v.stable} {[str(m.exact) for m in v.margins]}"
     if what == "recovery":
         return str(sk.critical_recovery_rate(S, fail=["1/10"] * d).exact)
+    if what == "recovery-sensor":
+        return str(sk.critical_recovery_rate(S, fail=["1/10"] * d, recover=["1/2"] * d, sensor="s1").exact)
+    if what == "ray-extremes":
+        return str(sk.critical_loss_rate(S, ray=(["2", "0", "9/10"] * d)[:d]).exact)
+    if what == "sensor-zero":
+        return str(sk.critical_loss_rate(S, "s1", others=(["9/10", "0", "1/2"] * d)[:d]).exact)
     if what == "common":
         return str(sk.critical_loss_rate(S).exact)
     if what == "ray":
@@ -128,10 +139,10 @@ def _cap() -> None:
     resource.setrlimit(resource.RLIMIT_AS, (MEMORY_CAP, MEMORY_CAP))
 
 
-def _run(tree: Path, row: str, limit: float) -> dict:
+def _run(tree: Path, row: str, limit: float, python: str = sys.executable) -> dict:
     env = {**os.environ, "PYTHONPATH": str(tree), "OPENBLAS_NUM_THREADS": "1"}
     try:
-        proc = subprocess.run([sys.executable, __file__, "--child", row], env=env, capture_output=True, text=True,
+        proc = subprocess.run([python, __file__, "--child", row], env=env, capture_output=True, text=True,
                               timeout=limit, cwd=tree, preexec_fn=_cap)
     except subprocess.TimeoutExpired:
         return {"cpu": None, "why": f"> {limit:.0f} s"}
@@ -147,14 +158,15 @@ def _run(tree: Path, row: str, limit: float) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("repeats", nargs="?", type=int, default=3)
-    ap.add_argument("--main", default="/work/wt/main-ref", type=Path)
+    ap.add_argument("--main", default="/work/main", type=Path)
+    ap.add_argument("--main-python", default=None, help="default: MAIN/.venv/bin/python")
     ap.add_argument("--limit", default=120.0, type=float)
     ap.add_argument("--rows", default=None, help="substrings selecting rows, separated by |")
     args = ap.parse_args()
     rows = [r for r in ROWS if args.rows is None or any(k in r for k in args.rows.split("|"))]
     print(f"{__doc__.splitlines()[0]}\nCPU seconds (medians of {args.repeats}, fresh interpreter each), peak RSS; "
           f"main = {args.main} (once, limit {args.limit:.0f} s, 4 GB); load {os.getloadavg()[0]:.1f}")
-    print(f"  {'row':48s} {'this CPU-s':>10s} {'RSS MB':>7s} {'main CPU-s':>11s} {'main MB':>8s} "
+    print(f"  {'row':52s} {'this CPU-s':>10s} {'RSS MB':>7s} {'main CPU-s':>11s} {'main MB':>8s} "
           f"{'ratio':>8s}  target")
     common = {}
     for row in rows:
@@ -162,13 +174,15 @@ def main() -> None:
         runs = [_run(ROOT, row, 600) for _ in range(args.repeats)]
         if any(r["cpu"] is None or r["error"] for r in runs):
             bad = next(r for r in runs if r["cpu"] is None or r["error"])
-            print(f"  {row:48s} {bad.get('error') or bad.get('why')}")
+            print(f"  {row:52s} {bad.get('error') or bad.get('why')}")
             continue
         new = statistics.median(r["cpu"] for r in runs)
         rss = max(r["rss_mb"] for r in runs)
-        base = _run(args.main, row, args.limit)
+        base = _run(args.main, row, args.limit, args.main_python or str(args.main / ".venv" / "bin" / "python"))
         if base["cpu"] is None or base.get("error"):
-            old, old_rss, ratio = base.get("why") or base["error"][:30], "", f"> {args.limit / new:.1f}x"
+            refused = (base.get("error") or "").startswith("BudgetError")
+            old, old_rss = "refused" if refused else base.get("why") or base["error"][:30], ""
+            ratio = "(cap)" if refused else f"> {args.limit / new:.1f}x"
         else:
             same = base["digest"] == runs[0]["digest"]
             old, old_rss = f"{base['cpu']:.2f}", f"{base['rss_mb']:.0f}"
@@ -182,7 +196,7 @@ def main() -> None:
         else:
             goal = "(reference)"
         memory = "" if rss <= 500 else "  RSS above 500 MB"
-        print(f"  {row:48s} {new:10.2f} {rss:7.0f} {old:>11s} {old_rss:>8s} {ratio:>8s}  {goal}{memory}")
+        print(f"  {row:52s} {new:10.2f} {rss:7.0f} {old:>11s} {old_rss:>8s} {ratio:>8s}  {goal}{memory}")
 
 
 if __name__ == "__main__":

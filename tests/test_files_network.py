@@ -114,7 +114,7 @@ def test_semi_markov_network_file_is_the_reproduction_instance():
 
 def test_markov_example_margin_is_hand_derived():
     system, loss = files.load(NETWORK / "markov-shared-channel.toml")
-    assert isinstance(loss, MarkovLoss) and loss.order == 1
+    assert type(loss) is MarkovLoss and loss.order == 1
     P = loss.chain.P
     assert loss.chain.emit == ((1, 1), (1, 0), (0, 1), (0, 0))
     # g = 2; rank is lost iff both packets are lost at every step of one phase:
@@ -329,7 +329,7 @@ def test_induced_loss_lives_on_the_vectors_the_tree_can_produce():
     S, L = files.load(NETWORK / "quevedo-example3.toml")
     net = NetworkLoss(L.tree, MarkovNetworkState([[1]]), [["9/10"]] * 5)
     lumped = induced_loss(net)
-    assert isinstance(lumped, MarkovLoss) and len(lumped.vectors) == 15
+    assert type(lumped) is MarkovLoss and len(lumped.vectors) == 15
     expected = [sp.Rational(121, 10000), sp.Rational(1, 100), sp.Rational(81, 10000)]
     assert [m.exact for m in stability(S, lumped).margins] == [m.exact for m in stability(S, net).margins] == expected
 

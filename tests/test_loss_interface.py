@@ -276,3 +276,18 @@ def test_hyperplane_rate_of_independent_sensors_is_the_joint_chains(name):
     (H,) = [H for H in br.hyperplanes if [br.elements[i].sensor for i in H] == [0]][:1]
     if name == "iid":   # sensor 0 received at one phase: 1/10 (its other phase) * (1/4)^2 (sensor 1's two)
         assert loss.hyperplane_rate(br, H) == R(1, 10) * R(1, 16)
+
+
+@pytest.mark.parametrize("name", MODELS)
+def test_channel_fail_is_asked_of_the_model(name, capsys):
+    """``critical --vary recovery`` asks the model for its channels' fail rates: Gilbert-Elliott
+    channels give theirs, every other model None (and the command says what it needs)."""
+    loss = MODELS[name]()
+    assert loss.channel_fail == ((R(1, 10), R(1, 3)) if name.startswith("gilbert") else None)
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[1, 1]])])
+    if loss.channel_fail is None:
+        with pytest.raises(cli.UsageError, match="needs Gilbert-Elliott channels.*not " + loss.words()[:12]):
+            cli.VARY["recovery"](S, loss, "", "f.toml")
+    else:
+        key, value, _ = cli.VARY["recovery"](S, loss, "", "f.toml")
+        assert key == "critical_recovery_rate" and value == sk.critical_recovery_rate(S, fail=["1/10", "1/3"])
