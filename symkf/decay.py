@@ -47,7 +47,7 @@ from .exact.numbers import sympify
 from .losses import Factor, GilbertElliott, LossModel, checked
 from .model import System
 from .exact.linalg import nullspace_rows, rank_rows
-from .observability import BlockRows, _distinct, _key, _set, block_deficient, block_rows
+from .observability import BlockRows, _key, _set, block_deficient, block_rows
 
 
 @dataclass(frozen=True)
@@ -264,22 +264,22 @@ def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[
 
 def _spanned(br: BlockRows, weights: Sequence[float], count: int = 9) -> list[frozenset[int]]:
     """The hyperplanes spanned by ``n - 1`` of the ``count`` heaviest generators (exact): a cheap
-    guess of a heavy hyperplane."""
+    guess of a heavy hyperplane (:meth:`BlockRows.on_hyperplanes`)."""
     n, K = br.size, br.K
-    gens = _distinct([g for gs in br.generators for g in gs])
-    weight = {_key(g): 0.0 for g in gens}
+    weight: dict[str, float] = {}
+    first: dict[str, Any] = {}   # distinct generators by key, in order
     for e, gs in enumerate(br.generators):
         for g in gs:
-            weight[_key(g)] += weights[e]
-    top = sorted(gens, key=lambda g: -weight[_key(g)])[:count]
-    out = []
+            k = _key(g)
+            weight[k] = weight.get(k, 0.0) + weights[e]
+            first.setdefault(k, g)
+    top = [first[k] for k in sorted(first, key=lambda k: -weight[k])[:count]]
+    normals = []
     for rows in itertools.combinations(top, n - 1):
         if n < 2 or rank_rows(K, rows, n) < n - 1:
             continue
-        (normal,) = nullspace_rows(K, rows, n)
-        out.append(frozenset(e for e, gs in enumerate(br.generators)
-                             if all(K.dot(g, normal).is_zero() for g in gs)))
-    return out
+        normals.extend(nullspace_rows(K, rows, n))
+    return br.on_hyperplanes(normals) if normals else []
 
 
 # -- restricted transfers per independent factor ----------------------------------------
@@ -348,6 +348,9 @@ class FactorRates:
     def runs(self, masks: dict[int, int]) -> list[tuple[int, ...]] | None:
         """The words (runs of non-zero masks, cyclically) of a pattern given by its non-zero
         masks ``{phase: mask}``; None when no mask is zero (or no single all-lost state)."""
+        return self._runs(masks)
+
+    def _runs(self, masks: dict[int, int]) -> list[tuple[int, ...]] | None:  # unchecked: per hyperplane
         if self.z is None or len(masks) == self.g:
             return None
         out = []
@@ -365,7 +368,7 @@ class FactorRates:
         ``g - len(masks)`` words."""
         if not self.rational:
             return np.nan
-        runs = self.runs(masks)
+        runs = self._runs(masks)
         if runs is None:
             rate = self.rate(masks)
             return float(np.log(_to_float(rate))) if rate else -np.inf
@@ -374,7 +377,7 @@ class FactorRates:
     def rate(self, masks: dict[int, int]) -> Any:
         """``rho(M)`` exactly (``fmpq`` for rational chains, else sympy) of the pattern given by
         its non-zero masks ``{phase: mask}``."""
-        runs = self.runs(masks)
+        runs = self._runs(masks)
         if runs is not None:
             out = self._word(())[0] ** (self.g - len(masks) - len(runs))
             for w in runs:

@@ -155,6 +155,27 @@ class BlockRows:
             return list(out)
         return None
 
+    def on_hyperplanes(self, normals: Sequence[Sequence[Elem]]) -> list[frozenset[int]]:
+        """Per normal vector ``v`` (in K^n), the elements all of whose generators ``g`` have ``g . v =
+        0`` (an element without generators lies on every hyperplane).  Screened mod p, vectorised: a
+        dot product that vanishes over K vanishes mod p, so only the generators vanishing mod p are
+        confirmed exactly."""
+        owner = [e for e, gs in enumerate(self.generators) for _ in gs]
+        flat = [g for gs in self.generators for g in gs]
+        if not flat:
+            return [frozenset(range(len(self.generators)))] * len(normals)
+        p, images = _reduction(self.K, [*flat, *normals])
+        G, N = np.array(images[:len(flat)], dtype=np.int64), np.array(images[len(flat):], dtype=np.int64)
+        dots = np.zeros((len(flat), len(normals)), dtype=np.int64)
+        for k in range(self.size):  # residues below 2^31: a product fits in int64 before reduction
+            dots = (dots + G[:, k:k + 1] * N[None, :, k] % p) % p
+        out = []
+        for h, normal in enumerate(normals):
+            off = {owner[i] for i in range(len(flat))
+                   if dots[i, h] != 0 or not self.K.dot(flat[i], normal).is_zero()}
+            out.append(frozenset(e for e in range(len(self.generators)) if e not in off))
+        return out
+
     def _shift(self, live: list[int]) -> np.ndarray | None:
         """The phase shift on live elements (positions in ``live``): the position of ``(j, r + 1 mod
         g)`` for each ``(j, r)``, when the generators are the class parts of ``C_j T D^r``
