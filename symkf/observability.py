@@ -120,7 +120,8 @@ class BlockRows:
         are >= 0.  Each kept set is closed mod p (every element on the mod-p span of its normal)
         and confirmed exactly (rank ``n - 1`` over K): the closure is then an exact hyperplane, no
         lighter than the set, so the screened maximum is the exact one and every exact maximiser
-        is among the closures' shifts.  A failed confirmation (a merge mod p that is not exact, or
+        is among the closures' shifts.  A kept set of rank below ``n - 1`` over K (a flat that a
+        low ``floor`` lets through) holds no hyperplane and is dropped.  A failed confirmation (a merge mod p that is not exact, or
         a representative vanishing mod p) repeats the screen with the next prime, then returns
         None.  Applies to elements with at most one generator (single-row sensors) and
         generators spanning K^n mod p.
@@ -149,6 +150,8 @@ class BlockRows:
                 continue
             out = set()
             for c in closures:
+                if not len(c):  # a flat that holds no hyperplane
+                    continue
                 for _ in range(self.class_period if shift is not None else 1):
                     out.add(frozenset(live[i] for i in c) | frozenset(always))
                     c = shift[c] if shift is not None else c
@@ -209,9 +212,12 @@ class BlockRows:
 
     def _closure(self, X: np.ndarray, p: int, S: list[int], vectors) -> np.ndarray | None:
         """Every element on the mod-p hyperplane spanned by ``S``, if that set has rank ``n - 1``
-        mod p and over K (then it is the exact hyperplane through ``S``); else None."""
+        mod p and over K (then it is the exact hyperplane through ``S``); no element when ``S`` has
+        rank below ``n - 1`` over K (it holds no hyperplane: a flat a low floor kept); else None."""
         null, nullity = flint.nmod_mat(X[S].tolist(), p).nullspace()
         if nullity != 1:
+            if nullity > 1 and rank_rows(self.K, _distinct([vectors[i] for i in S]), self.size) < self.size - 1:
+                return np.zeros(0, dtype=np.int64)
             return None
         normal = np.array([int(null[i, 0]) for i in range(self.size)], dtype=np.int64)
         members = np.flatnonzero(X @ normal % p == 0)

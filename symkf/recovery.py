@@ -156,7 +156,7 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational], reco
     d = system.d
     varying = frozenset(range(d)) if sensor is None else frozenset({sensor})
     fr = _rational(fail)
-    fixed = [sp.Rational(1, 2)] * d if sensor is None else [sp.sympify(r) for r in recover]
+    fixed = [sp.Rational(1, 2)] * d if sensor is None else [sympify(r) for r in recover]
     if fr is None or _rational([r for i, r in enumerate(fixed) if i not in varying]) is None:
         return None
     blocks = block_rows(system)

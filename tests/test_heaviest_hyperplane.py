@@ -93,3 +93,19 @@ def test_heaviest_with_and_without_the_phase_shift(A, rows, losses, shifted, mon
     a, b = block_rate(br_fast, loss), block_rate(br_full, loss)
     assert sp.simplify(a.per_period - b.per_period) == 0 and a.hyperplane == b.hyperplane
     assert critical_loss_rate(fast) == critical_loss_rate(full)
+
+
+@pytest.mark.parametrize("A, rows", [
+    (sp.diag(_rotation(sp.pi / 6, 2), _rotation(sp.pi / 4, 2)), [[-2, 1, 0, 2]]),   # period 24, 970 hyperplanes
+    (sp.diag(_rotation(sp.pi / 2, 2), _rotation(sp.pi / 3, 2)), [[1, 0, 0, 0], [0, 0, 1, 0], [1, 1, 1, 1]]),
+])
+def test_a_floor_below_every_weight_returns_every_hyperplane(A, rows):
+    """With ``floor = 0`` no additive bound rules anything out: the screen keeps lower flats too
+    (rank below n - 1, holding no hyperplane), drops them, and returns exactly the listing."""
+    import numpy as np
+    S = sk.System(A=A, sensors=[sk.Sensor(C=[r]) for r in rows])
+    br = block_rows(S)[0]
+    w = np.random.default_rng(1).random(len(br.elements)).tolist()
+    got = br.heaviest(w, floor=0.0)
+    assert got is not None and "inside" not in br.__dict__
+    assert set(got) == set(br.hyperplanes)
