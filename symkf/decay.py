@@ -46,7 +46,7 @@ from .exact.arguments import check_public
 from .exact.numbers import sympify
 from .losses import Factor, GilbertElliott, LossModel, checked
 from .model import System
-from .exact.linalg import nullspace_rows, rank_rows
+from .exact.linalg import nullspace_rows
 from .observability import BlockRows, _key, _set, block_deficient, block_rows
 
 
@@ -276,9 +276,9 @@ def _spanned(br: BlockRows, weights: Sequence[float], count: int = 9) -> list[fr
     top = [first[k] for k in sorted(first, key=lambda k: -weight[k])[:count]]
     normals = []
     for rows in itertools.combinations(top, n - 1):
-        if n < 2 or rank_rows(K, rows, n) < n - 1:
-            continue
-        normals.extend(nullspace_rows(K, rows, n))
+        normal = nullspace_rows(K, rows, n) if n > 1 else []
+        if len(normal) == 1:   # rank n - 1
+            normals.extend(normal)
     return br.on_hyperplanes(normals) if normals else []
 
 
