@@ -1,4 +1,4 @@
-"""The critical common recovery rate of Gilbert-Elliott channels without listing every hyperplane.
+"""The critical recovery rate of Gilbert-Elliott channels (common, or one sensor's) without listing every hyperplane.
 
 With ``P = [[1 - f, f], [q, 1 - q]]`` (received, lost), ``lambda = 1 - f - q`` and a run of
 ``l >= 1`` phases from lost to lost (:class:`symkf.decay.FactorRates`),
@@ -137,7 +137,8 @@ def _rational(values: Sequence[sp.Expr]) -> list[Fraction] | None:
     return [Fraction(int(v.p), int(v.q)) for v in values]
 
 
-def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational], recover: Sequence[sp.Rational] | None = None,
+def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
+                               recover: Sequence[sp.Rational] | None = None,
                                sensor: int | None = None) -> AlgebraicNumber | None:
     """``q_c`` with the filter stable iff the recovery rate exceeds it, by the argument of this
     module; None when the argument does not apply (a fail or fixed recovery rate not rational in
@@ -149,8 +150,8 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational], reco
     rates as constant factors: it is still non-increasing in ``q`` on ``(0, q_max]`` (``q_max = 1
     - fail_j``), strictly where sensor ``j`` has a lost phase outside ``H``, and constant where
     ``H`` holds every element of ``j``; above ``q_max`` sensor ``j``'s factor is at most that of
-    i.i.d. losses ``fail_j (1 + fail_j)`` (``1 - q_max = fail_j``), a Gilbert-Elliott channel with ``fail + recover = 1``
-    beside the fixed ones.  A constant margin at least 1 (found by the search at ``q_max / 2`` or
+    i.i.d. losses ``fail_j (1 + fail_j)`` (``1 - q_max = fail_j``), a Gilbert-Elliott channel with
+    ``fail + recover = 1`` beside the fixed ones.  A constant margin at least 1 (found by the search at ``q_max / 2`` or
     by the certificate's screen) is unstable at every ``q``: the answer is 1, as with the listing."""
     from .stability import stability
     d = system.d

@@ -215,7 +215,8 @@ def test_holding_as_list_or_table_and_rationalize(tmp_path):
 def test_network_chain_limit(tmp_path):
     base = '[system]\nA = [["2"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "network"\nparents = [0]\n'
     path = write(tmp_path, base + 'q = [["1"]]\nholding = [{ 999999 = "1" }]\nphi = [["1/2"]]\n')
-    with pytest.raises(BudgetError, match=r"key 'holding'.*999999 x 2\^1.*is 1999998, above the cap 4096.*--max-network-chain"):
+    with pytest.raises(BudgetError,
+                       match=r"key 'holding'.*999999 x 2\^1.*is 1999998, above the cap 4096.*--max-network-chain"):
         files.load(path)
     small = write(tmp_path, base + 'q = [["1"]]\nholding = [{ 3 = "1" }]\nphi = [["1/2"]]\n', "small.toml")
     files.load(small)
