@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import math
 import sys
 from dataclasses import dataclass
 from typing import Iterator
@@ -72,6 +73,12 @@ class Limits:
     #: distinct generators in K^n: each costs about 10 us and E bytes (a 4-dim block with 8
     #: sensors of period 24 has 1.2 million, 12 CPU-s and past 2.8 GB in all)
     max_hyperplanes: int = 300_000
+    #: point-line incidences the hyperplane screen (symkf.hyperplane_screen) tests, estimated
+    #: before it starts: ``C(C, n - 2)`` per stage for ``C`` classes in an n-dim block, plus
+    #: 10^4 per vectorised pass (0.15 us each: a 4-dim block with 64 sensors of period 24,
+    #: 2.3e7 and 2.5 CPU-s; a 6-dim one with 6 sensors of period 12, 6.3e7 and 9 CPU-s; eight
+    #: 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about 10^42)
+    max_screen_work: int = 1_000_000_000
     #: members of a family file
     max_members: int = 2000
     #: bytes of the arrays one Monte Carlo run allocates at its peak, as estimated by
@@ -124,7 +131,8 @@ def check(cap: str, estimate: int, entry: str, what: str) -> None:
     """Refuse when ``estimate`` of ``what`` for ``entry`` exceeds the cap named ``cap``."""
     bound = getattr(LIMITS, cap)
     if estimate > bound:
-        raise BudgetError(f"{entry}: {what} is {estimate}, above the cap {bound}; raise it with "
+        shown = estimate if estimate < 10 ** 15 else f"about 10^{math.floor(math.log10(estimate))}"
+        raise BudgetError(f"{entry}: {what} is {shown}, above the cap {bound}; raise it with "
                           f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
 
 check_public(globals())

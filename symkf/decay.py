@@ -108,8 +108,9 @@ def listed_hyperplanes(br: BlockRows) -> np.ndarray:
     ``C(V, n - 1)`` (V distinct generators) exceeds ``budget.Limits.max_hyperplanes``."""
     if "inside" not in br.__dict__ and br.size > 1:
         V = len({_key(g) for gs in br.generators for g in gs})
-        budget.check("max_hyperplanes", math.comb(V, br.size - 1), f"eigen-block of modulus {br.block.modulus}",
-                     f"the estimated number of hyperplanes to list (C({V}, {br.size - 1}); no screen applies)")
+        if math.comb(V, br.size - 1) > budget.LIMITS.max_hyperplanes:  # the modulus named only then
+            budget.check("max_hyperplanes", math.comb(V, br.size - 1), f"eigen-block of modulus {br.block.modulus}",
+                         f"the estimated number of hyperplanes to list (C({V}, {br.size - 1}); no screen applies)")
     return br.inside
 
 
