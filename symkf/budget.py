@@ -75,9 +75,10 @@ class Limits:
     max_hyperplanes: int = 300_000
     #: point-line incidences the hyperplane screen (symkf.hyperplane_screen) tests, estimated
     #: before it starts: ``C(C, n - 2)`` per stage for ``C`` classes in an n-dim block, plus
-    #: 10^4 per vectorised pass (0.15 us each: a 4-dim block with 64 sensors of period 24,
-    #: 2.3e7 and 2.5 CPU-s; a 6-dim one with 6 sensors of period 12, 6.3e7 and 9 CPU-s; eight
-    #: 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about 10^42)
+    #: 10^4 per vectorised pass (0.15-0.2 us each: a 4-dim block with 64 sensors of period 24,
+    #: 1.1e7 and 2.2 CPU-s per screen, with 128 sensors 3.1e7; a 6-dim one with 6 sensors of
+    #: period 12, 6.3e7 and 9.5 CPU-s; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64
+    #: sensors: about 10^42)
     max_screen_work: int = 1_000_000_000
     #: members of a family file
     max_members: int = 2000

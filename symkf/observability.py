@@ -123,7 +123,9 @@ class BlockRows:
         is among the closures' shifts.  A failed confirmation (a merge mod p that is not exact, or
         a representative vanishing mod p) repeats the screen with the next prime, then returns
         None.  Applies to elements with at most one generator (single-row sensors) and
-        generators spanning K^n mod p.
+        generators spanning K^n mod p.  The screen's work (:func:`symkf.hyperplane_screen.work`,
+        about ``C(C, n - 2)`` incidences per stage) is estimated before it starts and refused
+        (:class:`~symkf.errors.BudgetError`) above ``budget.Limits.max_screen_work``.
         """
         n = self.size
         if n < 2 or any(len(gs) > 1 for gs in self.generators):
