@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import math
 import sys
 from dataclasses import dataclass
 from typing import Iterator
@@ -78,6 +79,13 @@ class Limits:
     #: states of the lifted chain of a network loss read from a file, bounded before it is built by
     #: (network states, or the sum over states of the longest holding time) times 2^M link outcomes
     max_network_chain: int = 4096
+    #: point-line incidences the hyperplane screen (symkf.hyperplane_screen) tests, estimated
+    #: before it starts: ``C(C, n - 2)`` per stage for ``C`` classes in an n-dim block, plus
+    #: 10^4 per vectorised pass (0.15-0.2 us each: a 4-dim block with 64 sensors of period 24,
+    #: 1.1e7 and 2.2 CPU-s per screen, with 128 sensors 3.1e7; a 6-dim one with 6 sensors of
+    #: period 12, 6.3e7 and 9.5 CPU-s; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64
+    #: sensors: about 10^42)
+    max_screen_work: int = 1_000_000_000
     #: members of a family file
     max_members: int = 2000
     #: bytes of the arrays one Monte Carlo run allocates at its peak, as estimated by
@@ -130,7 +138,8 @@ def check(cap: str, estimate: int, entry: str, what: str) -> None:
     """Refuse when ``estimate`` of ``what`` for ``entry`` exceeds the cap named ``cap``."""
     bound = getattr(LIMITS, cap)
     if estimate > bound:
-        raise BudgetError(f"{entry}: {what} is {estimate}, above the cap {bound}; raise it with "
+        shown = estimate if estimate < 10 ** 15 else f"about 10^{math.floor(math.log10(estimate))}"
+        raise BudgetError(f"{entry}: {what} is {shown}, above the cap {bound}; raise it with "
                           f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
 
 check_public(globals())

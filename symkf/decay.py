@@ -116,8 +116,10 @@ def listed_hyperplanes(br: BlockRows) -> np.ndarray:
     (:func:`hyperplane_estimate`) exceeds ``budget.Limits.max_hyperplanes``."""
     if "inside" not in br.__dict__ and br.size > 1:
         V = len({_key(g) for gs in br.generators for g in gs})
-        budget.check("max_hyperplanes", hyperplane_estimate(br), f"eigen-block of modulus {br.block.modulus}",
-                     f"the estimated number of hyperplanes to list (C({V}, {br.size - 1}); no screen applies)")
+        estimate = hyperplane_estimate(br)
+        if estimate > budget.LIMITS.max_hyperplanes:  # the modulus named only then
+            budget.check("max_hyperplanes", estimate, f"eigen-block of modulus {br.block.modulus}",
+                         f"the estimated number of hyperplanes to list (C({V}, {br.size - 1}); no screen applies)")
     return br.inside
 
 

@@ -14,18 +14,24 @@ it): see :meth:`symkf.observability.BlockRows.heaviest`.
 
 Only sets whose weight is within ``tol`` of the best so far are kept; the caller confirms them
 exactly.  Cost at ``n = 4`` and ``V`` points in ``d`` orbits: about ``V^3 / (6 d)`` point-line
-incidences, numpy-vectorised per block of flats (all ``C(V, 2)`` flats times ``V`` before).
+incidences, numpy-vectorised per block of flats (all ``C(V, 2)`` flats times ``V`` before).  In
+general a stage with ``C`` classes visits about ``C(C, n - 3)`` flats, each tested against the
+``C`` classes: :func:`work` estimates this before the search starts.
 """
 
 from __future__ import annotations
 
-from typing import Sequence
+import math
+from typing import Iterator, Sequence
 
 import numpy as np
 
 from .exact.arguments import check_public
 
 _BLOCK = 1 << 21  # entries of one vectorised block of flats x points (about 16 MB per int64 array)
+#: incidences one vectorised pass of :func:`_lines_through_points` costs beyond its own (numpy's
+#: per-call overhead and the offers of tied sets: about 1.4 ms against 0.15 us per incidence)
+PASS = 10_000
 
 
 class Screen:
@@ -104,19 +110,44 @@ def _classes(X: np.ndarray, p: int) -> tuple[np.ndarray, list[np.ndarray], np.nd
     return np.flatnonzero(~nonzero), members, canon[first[order]]
 
 
+def _stages(orbits: Sequence[Sequence[int]], skip: set[int]) -> Iterator[tuple[int, np.ndarray]]:
+    """Per orbit not in ``skip``: its first point and the points after it (its own, later orbits')."""
+    later = np.concatenate([np.asarray(o, dtype=np.int64) for o in orbits])
+    start = 0
+    for o, orbit in enumerate(orbits):
+        points, start = later[start + 1:], start + len(orbit)
+        if o not in skip:
+            yield orbit[0], points
+
+
+def _stage_work(C: int, n: int) -> int:
+    """Incidences of one stage with ``C`` classes in ``F_p^n / <a>`` (at most: deeper quotients
+    merge classes): ``C(C, n - 3)`` flats each against ``C`` classes, about ``C(C, n - 2)``, and
+    ``C(C, n - 4)`` vectorised passes (none without classes)."""
+    if n < 4 or not C:
+        return C
+    return math.comb(C, n - 2) + PASS * math.comb(C, n - 4)
+
+
+def work(images: np.ndarray, p: int, orbits: Sequence[Sequence[int]], skip: set[int], cap: int) -> int:
+    """An upper bound of the incidences :func:`search` tests (:func:`_stage_work` per stage), from
+    the stages' numbers of points; when that exceeds ``cap``, from their classes mod the stage's
+    point (parallel and collinear points merged; a stage whose point vanishes mod p is left out:
+    the search then fails)."""
+    n = images.shape[1]
+    rough = sum(_stage_work(len(points), n) for _, points in _stages(orbits, skip))
+    if rough <= cap:
+        return rough
+    return sum(_stage_work(len(_classes(_quotient(images[points], images[a], p), p)[1]), n)
+               for a, points in _stages(orbits, skip) if images[a].any())
+
+
 def search(images: np.ndarray, weights: np.ndarray, p: int, orbits: Sequence[Sequence[int]],
            skip: set[int], screen: Screen) -> bool:
     """Offer to ``screen`` every screened hyperplane through each orbit's first point that holds
     no point of an earlier orbit (orbits listed in order, their points ascending; ``skip``: orbits
     with nothing new).  False when a representative vanishes mod p (choose another prime)."""
-    n = images.shape[1]
-    later = np.concatenate([np.asarray(o, dtype=np.int64) for o in orbits])
-    start = 0
-    for o, orbit in enumerate(orbits):
-        points, start = later[start + 1:], start + len(orbit)
-        a = orbit[0]
-        if o in skip:
-            continue
+    for a, points in _stages(orbits, skip):
         if not images[a].any():
             return False
         if weights[a] + weights[points].sum() < screen.bar:

@@ -29,7 +29,7 @@ import flint
 import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
 import sympy as sp
 
-from . import hyperplane_screen
+from . import budget, hyperplane_screen
 from .exact.arguments import check_public
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, nullspace_rows, rank_rows
@@ -124,7 +124,9 @@ class BlockRows:
         low ``floor`` lets through) holds no hyperplane and is dropped.  A failed confirmation (a merge mod p that is not exact, or
         a representative vanishing mod p) repeats the screen with the next prime, then returns
         None.  Applies to elements with at most one generator (single-row sensors) and
-        generators spanning K^n mod p.
+        generators spanning K^n mod p.  The screen's work (:func:`symkf.hyperplane_screen.work`,
+        about ``C(C, n - 2)`` incidences per stage) is estimated before it starts and refused
+        (:class:`~symkf.errors.BudgetError`) above ``budget.Limits.max_screen_work``.
         """
         n = self.size
         if n < 2 or any(len(gs) > 1 for gs in self.generators):
@@ -141,9 +143,15 @@ class BlockRows:
             if flint.nmod_mat(images, p).rank() < n:
                 return None
             X = np.array(images, dtype=np.int64)
+            skip = self._parallel_orbits(X, p, orbits, vectors)
+            work = hyperplane_screen.work(X, p, orbits, skip, budget.LIMITS.max_screen_work)
+            if work > budget.LIMITS.max_screen_work:  # the modulus named only then
+                budget.check("max_screen_work", work, f"eigen-block of modulus {self.block.modulus}",
+                             f"the estimated work of the hyperplane screen ({len(live)} elements in dimension {n}, "
+                             f"{len(orbits) - len(skip)} orbits: point-line incidences, about C(C, {n - 2}) per "
+                             "orbit for C classes)")
             screen = hyperplane_screen.Screen(tol, floor)
-            if not hyperplane_screen.search(X, w[live], p, orbits, self._parallel_orbits(X, p, orbits, vectors),
-                                            screen):
+            if not hyperplane_screen.search(X, w[live], p, orbits, skip, screen):
                 continue
             closures = [self._closure(X, p, sorted(S), vectors) for S in screen.kept]
             if any(c is None for c in closures):
@@ -302,7 +310,7 @@ def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]], start: int = 1
             continue
 
         def phi(a: Elem) -> int:
-            return int(flint.nmod_poly([int(c) for c in a.numer().coeffs()], p)(r)) * pow(int(a.denom()), -1, p) % p
+            return int(flint.nmod_poly(a.numer(), p)(r)) * pow(int(a.denom()), -1, p) % p
         return p, [[phi(a) for a in v] for v in vectors]
 
 

@@ -6,6 +6,7 @@ no file); each child here runs under a 10 CPU-s limit and must end with exit 2 i
 from __future__ import annotations
 
 import os
+import resource
 from decimal import Decimal
 from fractions import Fraction
 
@@ -14,7 +15,7 @@ import sympy as sp
 
 import symkf as sk
 from symkf import budget, cli
-from symkf.errors import BudgetError
+from symkf.errors import BudgetError, InexactInputError
 from symkf.exact.numbers import expr_bits, parse_exact
 
 from test_limits import library, limited, system_file
@@ -100,3 +101,124 @@ def test_modulus_polynomial_is_sized_before_it_is_built():
         assert code == 2, err
         with pytest.raises(BudgetError, match=r"degree d = 32 with b = 70-bit coefficients is 39066720.*--max-modulus-bits"):
             sk.System(A=_sqrt2_matrix(), sensors=[sk.Sensor(C=[[1] * 16])])
+
+
+def _screen_config(n: int, count: int, seed: int = 0, p: int = 10007):
+    import numpy as np
+    rng = np.random.default_rng(seed)
+    return rng.integers(0, p, (count, n)).astype(np.int64), p
+
+
+@pytest.mark.parametrize("n, count", [(4, 30), (5, 16), (6, 12)])
+def test_screen_work_estimate_bounds_the_search(monkeypatch, n, count):
+    """hyperplane_screen.work bounds what search does: per call of _lines_through_points with C
+    classes, C(C, 2) incidences plus one pass, counted here by wrapping it; equality at n = 4
+    (no deeper quotient merges classes, weights 0 prune nothing), and the bound from the stages'
+    point counts is never below the one from their classes."""
+    import math
+    from symkf import hyperplane_screen as hs
+    X, p = _screen_config(n, count)
+    orbits = [[i] for i in range(count)]
+    counted = [0]
+    inner = hs._lines_through_points
+
+    def counting(reps, *args):
+        counted[0] += math.comb(len(reps), 2) + hs.PASS
+        return inner(reps, *args)
+    monkeypatch.setattr(hs, "_lines_through_points", counting)
+    import numpy as np
+    assert hs.search(X, np.zeros(count), p, orbits, set(), hs.Screen(1e-9))
+    exact = hs.work(X, p, orbits, set(), cap=0)
+    rough = hs.work(X, p, orbits, set(), cap=10 ** 30)
+    assert counted[0] <= exact <= rough
+    if n == 4:
+        assert counted[0] == exact
+
+
+def _rotation_pair(rows):
+    c6, s6, c3, s3 = sp.cos(sp.pi / 6), sp.sin(sp.pi / 6), sp.cos(sp.pi / 3), sp.sin(sp.pi / 3)
+    A = sp.diag(2 * sp.Matrix([[c6, -s6], [s6, c6]]), 2 * sp.Matrix([[c3, -s3], [s3, c3]]))
+    return sk.System(A=A, sensors=[sk.Sensor(C=[r]) for r in rows])
+
+
+def test_screen_work_refused_up_front_naming_the_cap():
+    """One 4-dim eigen-block of modulus 2 (period 12) with 3 sensors: 36 elements, 3 orbits; the
+    screen's estimate sum C(C, 2) + 10^4 per stage is far above a cap of 1000, so the decay rate is
+    refused before the screen runs (under the default cap it runs: tests/test_heaviest_hyperplane)."""
+    S = _rotation_pair([[1, 0, 1, 0], [0, 1, 1, 1], [1, 2, 0, 1]])
+    with budget.limits(max_screen_work=1000):
+        with pytest.raises(BudgetError, match=r"eigen-block of modulus 2: the estimated work of the hyperplane "
+                                              r"screen \(36 elements in dimension 4, 3 orbits.*--max-screen-work"):
+            sk.stability(S, sk.IID(["1/10"] * 3))
+    assert sk.stability(S, sk.IID(["1/10"] * 3)).stable
+
+
+def _eight_rotations_file(tmp_path):
+    """Eight 2R(pi/97) blocks (one 16-dim eigen-block: every eigenvalue 2 exp(+-i pi/97), each
+    eight times) with 64 Gilbert-Elliott sensors, random rows in -3..3 (fixed seed)."""
+    import random
+    rng = random.Random(0)
+    c, s = "2*cos(pi/97)", "2*sin(pi/97)"
+    A = [["0"] * 16 for _ in range(16)]
+    for b in range(8):
+        i = 2 * b
+        A[i][i], A[i][i + 1], A[i + 1][i], A[i + 1][i + 1] = c, f"-{s}", s, c
+    rows = "\n".join("[[sensors]]\nC = [[" + ", ".join(f'"{rng.randint(-3, 3)}"' for _ in range(16)) + "]]"
+                     for _ in range(64))
+    fail = ", ".join(f'"{rng.randint(1, 9)}/10"' for _ in range(64))
+    recover = ", ".join(f'"{rng.randint(1, 9)}/10"' for _ in range(64))
+    path = tmp_path / "eight.toml"
+    path.write_text("[system]\nA = [" + ", ".join("[" + ", ".join(f'"{v}"' for v in r) + "]" for r in A) + "]\n"
+                    + rows + f'\n[loss]\nkind = "gilbert-elliott"\nfail = [{fail}]\nrecover = [{recover}]\n')
+    return path
+
+
+@pytest.mark.full
+def test_eight_identical_rotation_blocks_refused_naming_the_screen_cap(tmp_path):
+    """Issue 26: ran past 120 CPU-s in the screen's 13-level flat recursion (6208 elements in
+    dimension 16, 64 orbits: about 10^42 incidences); now refused once the block's elements are
+    reduced mod p (about 6 CPU-s, 4 of them the exact generators C_j T D^r over Q(zeta_388))."""
+    path = _eight_rotations_file(tmp_path)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    code, err = limited(cli.main, ["analyze", str(path)])
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    assert code == 2 and err.count("\n") == 1, err
+    assert "6208 elements in dimension 16, 64 orbits" in err and "about 10^42" in err and "--max-screen-work" in err, err
+    assert after.ru_utime - before.ru_utime < 15
+
+
+def test_inexact_float_message_is_short():
+    """5e-324 is 2^-1074: its fraction has 752 digits, once printed twice in the message; now the
+    entry, the float, its binary value as a power of two and the string to pass instead."""
+    from fractions import Fraction
+    with pytest.raises(InexactInputError) as info:
+        sk.IID([5e-324])
+    text = str(info.value)
+    assert text.startswith("loss[0]: the float 5e-324 is not exact (its binary value is 2^-1074); "
+                           "give the string '5e-324',") and len(text) < 300, text
+    assert Fraction(5e-324) == Fraction(1, 2 ** 1074)
+    with pytest.raises(InexactInputError, match=r"A\[0\]\[0\]: .* is 1681218273811815 \* 2\^946\)"):
+        sk.System(A=[[1e300]], sensors=[sk.Sensor(C=[[1]])])
+    assert Fraction(1e300) == 1681218273811815 * 2 ** 946
+    with pytest.raises(InexactInputError, match=r"3602879701896397/36028797018963968\); give the string '0.1' or '1/10'"):
+        sk.IID([0.1])
+
+
+def test_a_billion_digits_refused_at_once(tmp_path):
+    """`critical --digits 1e9` with --max-digits raised ran for minutes (conversions quadratic in
+    the digits); its memory (64 bytes per digit at least: 6.4e10) is refused naming the cap."""
+    path = system_file(tmp_path, "2")
+    code, err = limited(cli.main, ["critical", str(path), "--digits", "1000000000", "--max-digits", "1000000000"])
+    assert code == 2 and err.count("\n") == 1 and "--digits" in err and "--max-memory" in err, err
+
+
+def test_tiny_entry_in_a_rotation_block():
+    """A = [[e, -2], [2, e]], e = 10^-100 (333 bits, under the cap): eigenvalues e +- 2i, modulus
+    sqrt(4 + e^2) (a binomial's root, on which sympy's perfect-power extraction raised ValueError);
+    no period, so the critical loss rate is 1/|lambda|^2 = 1/(4 + 10^-200)."""
+    e = sp.Rational(1, 10 ** 100)
+    S = sk.System(A=[["1e-100", -2], [2, "1e-100"]], sensors=[sk.Sensor(C=[[1, 1]])])
+    assert sp.simplify(sk.critical_loss_rate(S).exact - 1 / (4 + e ** 2)) == 0
+    assert not sk.stability(S, sk.IID(["1/2"])).stable
+    (block,) = sk.eigen_blocks(S.A)
+    assert sp.simplify(block.modulus.exact ** 2 - (4 + e ** 2)) == 0

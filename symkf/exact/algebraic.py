@@ -495,7 +495,11 @@ class AlgebraicNumber:
             return sp.Rational(-c[1], c[0])
         if all(v == 0 for v in c[1:-1]):  # binomial: a real k-th root
             base = sp.Rational(-c[-1], c[0])
-            for cand in (sp.root(abs(base), k), -sp.root(abs(base), k)):
+            try:  # sympy pulls perfect powers out of the radicand by partial factoring
+                radical = sp.root(abs(base), k)
+            except ValueError:  # which fails on some large radicands ((4 + 10^-200)^(1/2), sympy 1.14)
+                radical = sp.Pow(abs(base), sp.Rational(1, k), evaluate=False)
+            for cand in (radical, -radical):
                 if self._contains(cand):
                     return cand
         if k == 2:

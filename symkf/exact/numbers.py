@@ -400,6 +400,18 @@ def _caller_level() -> int:
     return level
 
 
+def _binary(value: float) -> str:
+    """The binary value of a finite float: its fraction when short, else ``m * 2^e`` with m odd
+    (5e-324 is 2^-1074, whose fraction has 752 digits)."""
+    text = str(Fraction(value))
+    if len(text) <= 40:
+        return text
+    m, q = value.as_integer_ratio()
+    e = -(q.bit_length() - 1) if q > 1 else (m & -m).bit_length() - 1
+    m = m >> e if e > 0 else m
+    return f"2^{e}" if m == 1 else f"{m} * 2^{e}"
+
+
 def _float(value: float, entry: str, rationalize: bool | str) -> sp.Expr:
     if not math.isfinite(value):
         raise InputError(f"{entry}: {value!r} is not a finite number")
@@ -411,9 +423,10 @@ def _float(value: float, entry: str, rationalize: bool | str) -> sp.Expr:
         where = f"{active.what}(..., rationalize=...)" if active else "rationalize=..."
         if rationalize is not False:
             raise InputError(f"{entry}: rationalize={rationalize!r}; expected False, True, 'decimal' or 'nearby'")
+        exact = [repr(repr(value))] + ([repr(str(decimal))] if len(str(decimal)) <= 40 else [])
         raise InexactInputError(
-            f"{entry}: the float {value!r} is not exact (its binary value is {Fraction(value)}); give "
-            f"the string {repr(value)!r} or {str(decimal)!r}, a Fraction or Decimal, or pass "
+            f"{entry}: the float {value!r} is not exact (its binary value is {_binary(value)}); give "
+            f"the string {' or '.join(exact)}, a Fraction or Decimal, or pass "
             f"{where} with True (its shortest decimal) or 'nearby' (a nearby exact constant such as "
             "sqrt(3)/2)")
     out = _nearby(value) if rationalize == "nearby" else None
