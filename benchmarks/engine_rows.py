@@ -61,6 +61,9 @@ def _compute(what: str, system, loss) -> str:
         from symkf.stability import stability
         v = stability(system, loss)
         result = f"{v.stable} {[str(m.exact) for m in v.margins]}"
+    elif what == "perron":  # the case is a non-negative matrix: its exact Perron root
+        from symkf.decay import perron_root
+        result = str(perron_root(system))
     elif what == "analyze":  # the CLI command on a TOML file of the system (JSON output captured)
         result = _analyze(system, loss)
     else:
