@@ -108,3 +108,12 @@ def radical_matrix(seed: int, n: int = 6, density: float = 0.7) -> sp.Matrix:
 def radical_perron(seed: int, n: int = 6) -> tuple[sp.Matrix, None]:
     """:func:`radical_matrix` as a benchmark case (a matrix, no loss model): its Perron root."""
     return radical_matrix(seed, n), None
+
+
+def two_rotations(d: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
+    """One eigen-block of modulus 2 and dimension 4, diag(2R(pi/6), 2R(pi/4)) (period 24), with d
+    random non-zero integer sensor rows and losses 1/10 (issue 23: d = 64 and 128)."""
+    rows = np.random.default_rng(600 + seed).integers(-2, 3, (d, 4))
+    rows[np.all(rows == 0, axis=1), 0] = 1
+    A = sp.diag(_rotation(sp.pi / 6, 2), _rotation(sp.pi / 4, 2))
+    return sk.System(A=A, sensors=_sensors([[int(v) for v in r] for r in rows])), sk.IID(["1/10"] * d)
