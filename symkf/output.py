@@ -206,7 +206,7 @@ def plan(path: str | os.PathLike, option: str, *, inputs: Iterable[str | os.Path
     started = _RUN.started_ns
     if (before is not None and not force and started is not None and before.ctime_ns > started
             and before not in _RUN.written):
-        raise _concurrent(where, "changed after this run started")
+        raise _concurrent(where, "was created or changed after this run started")
     return Planned(target, option, before, force)
 
 

@@ -65,14 +65,15 @@ def pattern_words(elements: Iterable[tuple[str, int]]) -> str:
     return f"{first} only" if len(parts) == 1 else ", ".join([first, *parts[1:]]) + ", nothing else"
 
 
-def _readable(expr: sp.Expr, margin: AlgebraicNumber, i: int) -> str:
+def _readable(expr: sp.Expr, pointer: str, degree: int | None = None) -> str:
     """``expr`` as text, or a pointer to the exact data when it is a root too long to read
-    (the Perron root of a large lifted chain: a ``CRootOf`` of degree 56 for Example 4's robot)."""
+    (the Perron root of a large lifted chain: a ``CRootOf`` of degree 56 for Example 4's robot;
+    the modulus ``cos(pi/211)``: 40-digit coefficients of degree 105)."""
     text = str(expr)
     if len(text) <= 200:
         return text
-    return (f"a root of a degree-{margin.minpoly.degree()} polynomial "
-            f"(exact: Verdict.margins[{i}].exact and .minpoly, or --json)")
+    what = f"a root of a degree-{degree} polynomial" if degree else f"a closed form of {len(text)} characters"
+    return f"{what} (exact: {pointer}, or --json)"
 
 
 def _approx(q: Any) -> str:
@@ -143,16 +144,21 @@ class Verdict:
         lines = [f"{'stable' if self.stable else 'NOT stable'} ({self.theorem})"]
         for i, (m, c) in enumerate(zip(self.margins, self.certificate)):
             lo, hi = c.interval
-            lines.append(f"  block {i}: alpha = {c.modulus}, class period g = {c.class_period}, "
-                         f"margin alpha^2 rho = {_readable(m.exact, m, i)} "
+            alpha = _readable(c.modulus, f"Verdict.certificate[{i}].modulus",
+                              c.modulus.poly.degree() if isinstance(c.modulus, sp.CRootOf) else None)
+            lines.append(f"  block {i}: alpha = {alpha}, class period g = {c.class_period}, "
+                         f"margin alpha^2 rho = {_readable(m.exact, f'Verdict.margins[{i}].exact and .minpoly', m.minpoly.degree())} "
                          f"in [{_approx(lo)}, {_approx(hi)}]{'  <- limiting' if i == self.limiting_block else ''}")
             lines.append(f"    decisive pattern: {pattern_words(c.decisive_elements)}; "
-                         f"alpha^{2 * c.class_period} * rho^{c.class_period} = {_readable(c.margin_power, m, i)}")
+                         f"alpha^{2 * c.class_period} * rho^{c.class_period} = "
+                         f"{_readable(c.margin_power, f'Verdict.certificate[{i}].margin_power')}")
         for eigenvalues, why in self.set_aside:
             lines.append(f"  set aside: {', '.join(eigenvalues)} ({why})")
-        lines += textwrap.wrap("assumptions checked: " + "; ".join(self.assumptions), 100, initial_indent="  ",
-                               subsequent_indent="    ", break_long_words=False, break_on_hyphens=False)
-        return "\n".join(lines)
+        lines.append("  assumptions checked: " + "; ".join(self.assumptions))
+        return "\n".join(wrapped for line in lines for wrapped in textwrap.wrap(
+            line.lstrip(), 100, initial_indent=line[:len(line) - len(line.lstrip())],
+            subsequent_indent=line[:len(line) - len(line.lstrip())] + "    ",
+            break_long_words=False, break_on_hyphens=False))
 
     def _repr_latex_(self) -> str:
         rows = " \\\\ ".join(f"{i} & {sp.latex(c.modulus)} & {c.class_period} & {sp.latex(m.exact)} \\approx {m.evalf(6)}"
@@ -175,17 +181,11 @@ def _check_loss(system: System, loss: LossModel) -> list[str]:
 
 
 def _margin(br: BlockRows, rate: BlockRate) -> tuple[AlgebraicNumber, sp.Expr]:
-    alpha = br.block.modulus.exact
-    power = sympify(alpha ** (2 * br.class_period) * rate.per_period)
-    if br.class_period > 1 and power.is_Rational and max(abs(power.p), power.q).bit_length() > 512:
-        # sympy's root of a huge rational overflows a float in its perfect-power test (Gilbert-
-        # Elliott losses at rationals near a critical recovery rate): the positive root of q x^g - p
-        g, num, den = br.class_period, int(power.p), int(power.q)
-        poly, index = identify(flint.fmpz_poly([-num] + [0] * (g - 1) + [den]),
-                               lambda prec: _with_prec(prec, lambda: flint.acb(
-                                   flint.arb(flint.fmpq(num, den)).root(g))), "margin")
-        return AlgebraicNumber(poly, index), power
-    return AlgebraicNumber.from_expr(sp.root(power, br.class_period) if br.class_period > 1 else power), power
+    """The block's margin ``alpha^2 rho = (alpha^(2g) rho^g)^(1/g)`` (Sui-You-Fu eq. 36) and the
+    power ``alpha^(2g) rho^g``, in flint's arithmetic of algebraic numbers (:class:`_Bound`)."""
+    g = br.class_period
+    power = sympify(br.block.modulus.exact ** (2 * g) * rate.per_period)
+    return _Bound(br.block.modulus, 2 * g, rate.per_period, g, sign=1).value(), power
 
 
 def stability(system: System, loss: LossModel) -> Verdict:
@@ -329,35 +329,44 @@ def _least(system: System, losses, bound) -> AlgebraicNumber:
 
 
 class _Bound:
-    """A candidate critical value ``(alpha^power c)^(-1/k)`` (``alpha > 0`` a block's modulus,
-    ``c > 0``, ``k >= 1``): a certified ball, and the exact value only when asked (from flint's
-    minimal polynomial of ``alpha`` for rational ``c``: sympy's minimal polynomial of a root of a
-    high-degree ``CRootOf``, and its real-root isolation, cost seconds each)."""
+    """``(alpha^power c)^(sign/k)`` (``alpha > 0`` a block's modulus, ``c > 0``, ``k >= 1``): a
+    critical value (``sign = -1``) or a margin (``sign = 1``).  A certified ball, and the exact
+    value only when asked, from flint's minimal polynomials for rational ``c`` (sympy's minimal
+    polynomial of a root of a high-degree ``CRootOf``, and its real-root isolation, cost seconds
+    each: 8 s of the margin of ``A = cos(pi/211)``)."""
 
-    def __init__(self, alpha: AlgebraicNumber, power: int, c: sp.Expr, k: int) -> None:
-        self.alpha, self.power, self.c, self.k = alpha, power, sympify(c), k
-        self.key = (alpha, power, self.c, k)
+    def __init__(self, alpha: AlgebraicNumber, power: int, c: sp.Expr, k: int, sign: int = -1) -> None:
+        self.alpha, self.power, self.c, self.k, self.sign = alpha, power, sympify(c), k, sign
+        self.key = (alpha, power, self.c, k, sign)
 
     def expr(self) -> sp.Expr:
-        return sympify(sp.root(1 / (sympify(self.alpha.exact ** self.power) * self.c), self.k))
+        base = sympify(self.alpha.exact ** self.power) * self.c
+        return sympify(sp.root(base if self.sign > 0 else 1 / base, self.k))
 
     def ball(self, prec: int) -> flint.arb:
         if not self.c.is_Rational:
             return self.value()._ball(prec).real
         c = flint.fmpq(int(self.c.p), int(self.c.q))
-        return _with_prec(prec, lambda: ((self.alpha._ball(prec).real ** self.power * c).log() / -self.k).exp())
+        return _with_prec(prec, lambda: ((self.alpha._ball(prec).real ** self.power * c).log()
+                                         * self.sign / self.k).exp())
 
     def value(self) -> AlgebraicNumber:
-        if not self.c.is_Rational or self.alpha.is_rational:
+        if not self.c.is_Rational:
             return AlgebraicNumber.from_expr(self.expr())
-        gamma = 1 / (self.alpha ** self.power * AlgebraicNumber.from_expr(self.c))
+        gamma = self.alpha ** self.power * AlgebraicNumber.from_expr(self.c)
+        gamma = gamma if self.sign > 0 else 1 / gamma
+        # sympy's root of a huge rational overflows a float in its perfect-power test (Gilbert-
+        # Elliott losses at rationals near a critical recovery rate): no closed form then
+        huge = gamma.is_rational and max(abs(gamma._value().numerator), gamma._value().denominator).bit_length() > 512
+        exact = None if huge and self.k > 1 else self.expr()
         if self.k == 1:
-            return AlgebraicNumber._irreducible(gamma._poly, gamma._index, self.expr())
+            return AlgebraicNumber._irreducible(gamma._poly, gamma._index, exact)
         coeffs = [0] * (self.k * gamma._poly.degree() + 1)  # p(x^k) for the minimal polynomial p of gamma
         for i, a in enumerate(gamma._poly.coeffs()):
             coeffs[self.k * i] = int(a)
-        f, index = identify(flint.fmpz_poly(coeffs), lambda prec: flint.acb(self.ball(prec)), "critical value")
-        return AlgebraicNumber._irreducible(f, index, self.expr())
+        f, index = identify(flint.fmpz_poly(coeffs), lambda prec: flint.acb(self.ball(prec)),
+                            "margin" if self.sign > 0 else "critical value")
+        return AlgebraicNumber._irreducible(f, index, exact)
 
 
 def _min_capped(bounds: list[_Bound | sp.Expr]) -> AlgebraicNumber:

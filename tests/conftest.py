@@ -11,12 +11,19 @@ It is a BaseException, so no ``except Exception`` in the code under test can swa
 from __future__ import annotations
 
 import importlib
+import signal
 import traceback
 
 import sympy
 import sympy.parsing.sympy_parser as sympy_parser
 import sympy.physics.units  # noqa: F401  imported lazily by simplify; it sympifies constant strings of its own
 
+
+# A test run started in the background of a non-interactive shell inherits SIGINT ignored, and so
+# would every symkf it starts (Python installs no KeyboardInterrupt handler then): the interrupt
+# tests would send Ctrl-C into the void.  A Python handler is reset to the default on exec.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 #: the module (``sympy.core.sympify`` as an attribute is the function)
 _sympify_module = importlib.import_module("sympy.core.sympify")

@@ -17,7 +17,7 @@ import pytest
 import sympy as sp
 
 import symkf as sk
-from symkf import cli, examples
+from symkf import cli, examples, files
 from symkf.errors import ExtraNotInstalledError, InputError
 from symkf.families import grid_family, systems_family
 from symkf.stability import pattern_words
@@ -137,6 +137,36 @@ def test_text_output_is_words(capsys):
         assert _readable(out) == [], argv
     assert _readable("ok\n{\"modulus\": \"2\"}\nonly [('s1', 0)] received\n" + "x" * 121) == [
         "{\"modulus\": \"2\"}", "only [('s1', 0)] received", "x" * 121]
+
+
+def test_a_high_degree_modulus_is_shown_by_its_decimal_and_degree(capsys, tmp_path):
+    """``A = cos(pi/211)``: the modulus's minimal polynomial has degree 105 and 40-digit
+    coefficients; the report names the degree and where the exact data is instead of printing it,
+    and the margin is exact: ``cos(pi/211)^2 * 1/2`` (no packet received, loss 1/2)."""
+    path = tmp_path / "s.toml"
+    path.write_text('[system]\nA = [["cos(pi/211)"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "iid"\nloss = ["1/2"]\n')
+    status, out, _ = run(capsys, "analyze", path, "--quiet")
+    assert status == 0 and _readable(out) == [] and max(map(len, out.splitlines())) < 300, out
+    assert "a root of a degree-105 polynomial" in out and "0.9998891599" in out
+    status, out, _ = run(capsys, "analyze", path, "--json")
+    doc = json.loads(out)
+    assert doc["blocks"][0]["modulus_degree"] == 105 and len(doc["blocks"][0]["modulus"]) > 4000
+    S, loss = files.load(path)
+    m = sk.stability(S, loss).margins[0]
+    lo, hi = map(sp.Rational, m.refine(sp.Rational(1, 10 ** 30)).interval)
+    value = sp.cos(sp.pi / 211) ** 2 / 2
+    assert m.minpoly.degree() == 105 and sp.N(value - lo, 20) >= 0 and sp.N(hi - value, 20) >= 0 and hi - lo < 1e-30
+
+
+def test_the_margin_of_a_cosine_is_its_square_over_the_loss():
+    """``A = cos(pi/23)``, one sensor, loss 1/3: margin ``cos(pi/23)^2 / 3``, whose minimal
+    polynomial sympy computes on its own (an independent witness of flint's arithmetic)."""
+    S = sk.System(A=[["cos(pi/23)"]], sensors=[sk.Sensor(C=[[1]])])
+    m = sk.stability(S, sk.IID(["1/3"])).margins[0]
+    x = sp.Symbol("x")
+    assert sp.Poly(m.minpoly, x).monic() == sp.Poly(sp.minimal_polynomial(sp.cos(sp.pi / 23) ** 2 / 3, x), x).monic()
+    lo, hi = map(sp.Rational, m.refine(sp.Rational(1, 10 ** 20)).interval)
+    assert sp.N(sp.cos(sp.pi / 23) ** 2 / 3 - lo, 20) >= 0 and sp.N(hi - sp.cos(sp.pi / 23) ** 2 / 3, 20) >= 0
 
 
 def test_patterns_in_words():
