@@ -85,3 +85,35 @@ def cyclotomic_fields(k: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
     blocks = [_rotation(2 * sp.pi / q, 2) for q in (5, 7, 9, 11)][:k]
     rng = np.random.default_rng(seed)
     return sk.System(A=sp.diag(*blocks), sensors=_sensors(_random_rows(rng, 2, 2 * k))), sk.IID(["1/10"] * 2)
+
+
+def radical_matrix(seed: int, n: int = 6, density: float = 0.7) -> sp.Matrix:
+    """A non-negative n x n matrix over Q(sqrt 2, sqrt 3, sqrt 5): each entry is 0 (probability
+    1 - density) or ``a + b sqrt 2 + c sqrt 3 + d sqrt 5`` with ``a`` in 0..3, ``b, c, d`` in
+    {-1, -1/2, 0, 1/2, 1} (their conjugates may be negative), redrawn until it is >= 1/100."""
+    rng = np.random.default_rng(seed)
+    roots = (sp.sqrt(2), sp.sqrt(3), sp.sqrt(5))
+    halves = [sp.Rational(k, 2) for k in range(-2, 3)]
+
+    def entry() -> sp.Expr:
+        if rng.random() >= density:
+            return sp.Integer(0)
+        while True:
+            v = int(rng.integers(0, 4)) + sum(halves[int(rng.integers(0, 5))] * r for r in roots)
+            if v.evalf(30) >= sp.Rational(1, 100):
+                return v
+    return sp.Matrix(n, n, [entry() for _ in range(n * n)])
+
+
+def radical_perron(seed: int, n: int = 6) -> tuple[sp.Matrix, None]:
+    """:func:`radical_matrix` as a benchmark case (a matrix, no loss model): its Perron root."""
+    return radical_matrix(seed, n), None
+
+
+def two_rotations(d: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
+    """One eigen-block of modulus 2 and dimension 4, diag(2R(pi/6), 2R(pi/4)) (period 24), with d
+    random non-zero integer sensor rows and losses 1/10 (issue 23: d = 64 and 128)."""
+    rows = np.random.default_rng(600 + seed).integers(-2, 3, (d, 4))
+    rows[np.all(rows == 0, axis=1), 0] = 1
+    A = sp.diag(_rotation(sp.pi / 6, 2), _rotation(sp.pi / 4, 2))
+    return sk.System(A=A, sensors=_sensors([[int(v) for v in r] for r in rows])), sk.IID(["1/10"] * d)

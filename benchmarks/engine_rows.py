@@ -61,6 +61,9 @@ def _compute(what: str, system, loss) -> str:
         from symkf.stability import stability
         v = stability(system, loss)
         result = f"{v.stable} {[str(m.exact) for m in v.margins]}"
+    elif what == "perron":  # the case is a non-negative matrix: its exact Perron root
+        from symkf.decay import perron_root
+        result = str(perron_root(system))
     elif what == "analyze":  # the CLI command on a TOML file of the system (JSON output captured)
         result = _analyze(system, loss)
     else:
@@ -116,16 +119,21 @@ def _run(tree: str, what: str, case: str, args: list, cap: float, caps: dict) ->
 
 
 def compare(title: str, what: str, cases: list[tuple], repeats: int = 3,
-            baseline_cap: float = 120, baseline_repeats: int = 1) -> None:
+            baseline_cap: float = 120, baseline_repeats: int = 1, cap: float = 600) -> None:
     """Print one line per case ``(case, args, target[, caps])``: CPU medians and peak RSS of this
-    checkout and of main, the ratio, the target, and whether the exact results agree."""
+    checkout (each run capped at ``cap`` CPU seconds) and of main, the ratio, the target, and
+    whether the exact results agree."""
     print(f"{title}\n  CPU seconds (time.process_time of the computation, fresh interpreter each), "
           f"medians; baseline = git main (cap {baseline_cap:.0f} CPU-s), load {os.getloadavg()[0]:.1f}")
     with tempfile.TemporaryDirectory() as tmp:
         main_tree = _baseline_tree(tmp)
         for case, args, target, *caps in cases:
             caps = caps[0] if caps else {}
-            runs = [_run(str(ROOT), what, case, args, 600, caps) for _ in range(repeats)]
+            runs = [_run(str(ROOT), what, case, args, cap, caps) for _ in range(repeats)]
+            if any(t is None for t, _, _ in runs):
+                print(f"  {case}{tuple(args)}: > {cap:.0f} s (this checkout did not finish; main not run)   "
+                      f"target <= {target} NOT met", flush=True)
+                continue
             new = statistics.median(t for t, _, _ in runs)
             rss = max(m for _, _, m in runs) / 1024
             base = [_run(main_tree, what, case, args, baseline_cap, caps) for _ in range(baseline_repeats)]

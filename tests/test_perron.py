@@ -2,6 +2,7 @@
 
 import flint
 import numpy as np
+import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -9,7 +10,8 @@ from hypothesis import strategies as st
 from symkf import files
 from symkf.decay import perron_root, restricted_transfer
 from symkf import examples
-from symkf.exact import perron
+from symkf.exact import perron, perron_field
+from symkf.exact.algebraic import AlgebraicNumber
 from symkf.observability import block_rows
 
 R = sp.Rational
@@ -93,3 +95,69 @@ def test_algebraic_entries_against_lapack(entries):
     M = sp.Matrix(n, n, entries)
     lapack = max(abs(np.linalg.eigvals(np.array(M.evalf(20), dtype=float))))
     assert abs(float(perron_root(M)) - lapack) < 1e-9
+
+
+def _radical_matrix(seed, n):
+    """The benchmarks' deterministic generator (non-negative, over Q(sqrt 2, sqrt 3, sqrt 5))."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    try:
+        from engine_cases import radical_matrix
+    finally:
+        sys.path.pop(0)
+    return radical_matrix(seed, n)
+
+
+def _norm_by_sympy(M: sp.Matrix) -> sp.Poly:
+    """Independent of flint and of symkf.exact.field: the entries as polynomials in the primitive
+    element theta = sqrt 2 + sqrt 3 + sqrt 5 (sympy's to_number_field), det(x I - M(t)) over Q[t, x],
+    and the norm as the resultant with theta's minimal polynomial m(t)."""
+    t, x = sp.symbols("t x")
+    theta = sp.sqrt(2) + sp.sqrt(3) + sp.sqrt(5)
+    m = sp.minimal_polynomial(theta, t)
+    reps = {r: sp.Poly(sp.to_number_field(r, theta).coeffs(), t).as_expr() for r in (sp.sqrt(2), sp.sqrt(3), sp.sqrt(5))}
+    assert all(sp.simplify(e.subs(t, theta) - r) == 0 for r, e in reps.items())
+    chi = sp.expand((x * sp.eye(M.shape[0]) - M.subs(reps)).det(method="berkowitz"))
+    return sp.Poly(sp.resultant(sp.Poly(m, t, x), sp.Poly(sp.rem(chi, m, t), t, x), t), x)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_radical_entries_against_sympy_norm_and_lapack(seed):
+    # 3 x 3 over Q(sqrt 2, sqrt 3, sqrt 5): the root's minimal polynomial is the one factor of the
+    # independently computed norm with a root at LAPACK's spectral radius, and the values agree
+    M = _radical_matrix(seed, 3)
+    lapack = max(abs(np.linalg.eigvals(np.array(M.evalf(30), dtype=float))))
+    root = AlgebraicNumber.from_expr(perron_root(M))
+    x = sp.Symbol("x")
+    factors = [sp.Poly(f, x) for f, _ in sp.factor_list(_norm_by_sympy(M).as_expr(), x)[1]
+               if any(abs(complex(r) - lapack) < 1e-9 for r in sp.Poly(f, x).nroots(n=30))]
+    assert len(factors) == 1 and factors[0].monic() == root.minpoly.monic()
+    assert abs(float(root) - lapack) < 1e-9 * lapack
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_radical_6x6_roots_by_the_norm_enclosure(seed):
+    # 6 x 6 (the benchmark's size): the enclosure singles out one root of the degree-48 norm (the
+    # fast path applies), which is LAPACK's spectral radius and a root of chi_M itself
+    M = _radical_matrix(seed, 6)
+    root = perron_field.field_perron_root(M)
+    assert root is not None
+    lapack = max(abs(np.linalg.eigvals(np.array(M.evalf(30), dtype=float))))
+    assert abs(float(root) - lapack) < 1e-9 * lapack
+    # an eigenvalue of M itself, not of a conjugate matrix: det(rho I - M) at rho to 60 digits is ~0
+    # (a conjugate's root would leave it far from 0), and the minimal polynomial divides the norm
+    lo, hi = root.refine(sp.Rational(1, 10 ** 60)).interval
+    rho = sp.Float(sp.Rational(lo.numerator, lo.denominator), 80)
+    assert abs((rho * sp.eye(6) - M.evalf(80)).det(method="berkowitz")) < 1e-40
+    K = perron_field.field_of(M)
+    norm = perron_field.norm_charpoly(K, K.matrix(M))
+    assert norm.degree() == 48 and norm % flint.fmpz_poly([int(c) for c in reversed(root.minpoly.all_coeffs())]) == 0
+
+
+def test_norm_charpoly_is_the_norm_of_chi():
+    # 2 x 2 over Q(sqrt 2): [[q, 1], [1, 0]] with q = sqrt 2: chi = x^2 - q x - 1, its conjugate
+    # x^2 + q x - 1, product x^4 - 4 x^2 + 1 (by hand)
+    K = perron_field.field_of(sp.Matrix([[sp.sqrt(2)]]))
+    M = K.matrix(sp.Matrix([[sp.sqrt(2), 1], [1, 0]]))
+    assert perron_field.norm_charpoly(K, M) == flint.fmpz_poly([1, 0, -4, 0, 1])

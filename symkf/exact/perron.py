@@ -10,7 +10,8 @@ Loss chains lifted by a hidden state (holding counters, network states) have man
 rows, since the next law depends on the hidden state only.  The root itself is the largest real
 root of the factors of an exact characteristic polynomial (python-flint), certified by
 :class:`~symkf.exact.algebraic.AlgebraicNumber`'s isolating intervals; with entries in a number
-field, the root of the norm polynomial that is an eigenvalue.
+field, the root of the norm polynomial inside a certified enclosure (:mod:`symkf.exact.perron_field`),
+else the root of the norm polynomial at which the characteristic polynomial vanishes.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from sympy.polys.polyerrors import PolynomialError
 from .arguments import check_public, float_array
 from ..errors import InputError
 from .algebraic import AlgebraicNumber, _real_roots, sympy_to_fmpz, x
+from .perron_field import field_perron_root
 
 Rows = Mapping[int, Mapping[int, Any]]
 
@@ -124,6 +126,12 @@ def _block_root(block: dict[int, dict[int, Any]]) -> AlgebraicNumber | None:
                          "numeric decay rate; use symkf.region.stability_conditions for the stability region")
     if len(block) == 1:
         return AlgebraicNumber.from_expr(M[0, 0])
+    try:
+        root = field_perron_root(M)
+    except InputError:  # entries that are not algebraic numbers: refused below, naming the block
+        root = None
+    if root is not None:
+        return root
     try:
         chi = sp.Poly(M.charpoly(x).as_expr(), x, extension=True)
     except (PolynomialError, NotImplementedError):
