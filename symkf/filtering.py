@@ -284,11 +284,12 @@ def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
     S0 = np.linalg.qr(_psd_factor(model.P0).T, mode="r").T
     UQ = np.linalg.qr(_psd_factor(model.Q).T, mode="r")
     trace = np.empty((horizon + 1, padded))
-    exponent = np.empty((horizon + 1, padded), np.int64)
+    log_scale = np.empty((horizon + 1, padded))
     c = np.ascontiguousarray
-    log_trace_paths(c(model.A), c(UQ), c(model.H), c(model.row_sensor), c(S0), received, trace, exponent)
-    trace, exponent = trace[:, :paths], exponent[:, :paths]
-    return (exponent * math.log(2) + np.log(trace)).T
+    log_trace_paths(c(model.A), c(UQ), c(model.H), c(model.row_sensor), c(S0), received, trace, log_scale)
+    np.log(trace, out=trace)   # in place: no temporaries of the (horizon + 1, paths) size
+    trace += log_scale
+    return trace[:, :paths].T
 
 
 def predicted_covariances(system: System | FloatSystem, receptions: np.ndarray, keep: str = "trace",

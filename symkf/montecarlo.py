@@ -199,7 +199,7 @@ def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: i
             stop = min(start + chunk, paths)
             received = receptions.sample(factors, horizon, stop - start, system.d, rng)
             with np.errstate(over="ignore"):   # tr P beyond float64 is inf here; log_mean_trace keeps logs
-                traces[start:stop] = np.exp(log_traces(model, received)[:, :horizon])
+                np.exp(log_traces(model, received)[:, :horizon], out=traces[start:stop])
             bar.update()
     return traces
 
