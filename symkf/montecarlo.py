@@ -29,7 +29,7 @@ from .exact.algebraic import AlgebraicNumber
 from .exact.arguments import check_public, float_array
 from .exact.perron import perron_float
 from .exact.numbers import sympify, to_exact
-from .filtering import FloatSystem, _positive, _run, exact_covariances, log_traces, real_form, receival_table
+from .filtering import FloatSystem, _positive, _run, exact_covariances, log_traces, real_form, receival_table, traces_into
 from .losses import LossModel, checked
 from .receptions import LossFactor, chain_states, cumulative, emit_into, groups
 from .model import System
@@ -198,8 +198,7 @@ def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: i
         for start in chunks:
             stop = min(start + chunk, paths)
             received = receptions.sample(factors, horizon, stop - start, system.d, rng)
-            with np.errstate(over="ignore"):   # tr P beyond float64 is inf here; log_mean_trace keeps logs
-                np.exp(log_traces(model, received)[:, :horizon], out=traces[start:stop])
+            traces_into(model, received, traces[start:stop])   # tr P beyond float64 is inf; log_mean_trace keeps logs
             bar.update()
     return traces
 

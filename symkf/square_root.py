@@ -99,20 +99,43 @@ def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, scale: np.ndarray) -> 
                 S[i, j, p] *= scale[p]
 
 
+@_compiled
+def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, log_scale: np.ndarray,
+           linear: bool) -> None:
+    """Step ``k`` of the block at ``start``: ``trace[k, p] = t``, ``log_scale[k, p] = E ln 2``, or with
+    ``linear`` ``trace[p, k] = t 2^E`` (two exact power-of-two factors: inf only beyond float64)
+    for the paths and steps ``trace`` has."""
+    if linear:
+        if k < trace.shape[1]:
+            for p in range(min(LANES, trace.shape[0] - start)):
+                half = E[p] // 2
+                trace[start + p, k] = t[p] * _pow2(half) * _pow2(E[p] - half)
+        return
+    trace_k = trace[k, start:start + LANES]            # views: an index p + start would not vectorise
+    log_scale_k = log_scale[k, start:start + LANES]
+    for p in range(LANES):
+        trace_k[p] = t[p]
+        log_scale_k[p] = E[p] * LN2
+
+
 def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
-                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray) -> None:
+                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray,
+                    linear: bool = False) -> None:
     """``tr P_{k|k-1} = 2^E trace[k, p]``, ``log_scale[k, p] = E ln 2`` (k = 0..horizon) for receptions
     ``received[k, p, i]`` (sensor ``i``), from ``P_0 = S0 S0^T`` (``S0`` lower triangular);
-    the number of paths is a multiple of ``LANES``.  Up to :data:`STRAIGHT_MAX` states by the
-    straight-line kernel of that size (:func:`_straight`), beyond by the loops of :func:`_loops`."""
+    the number of paths is a multiple of ``LANES``.  ``linear``: ``trace[p, k] = tr P_{k|k-1}``
+    for the paths and steps of ``trace`` instead (``log_scale`` unused).  Up to
+    :data:`STRAIGHT_MAX` states by the straight-line kernel of that size (:func:`_straight`),
+    beyond by the loops of :func:`_loops`."""
     n = A.shape[0]
     kernel = _straight(n) if n <= STRAIGHT_MAX else _loops
-    kernel(A, UQ, H, row_sensor, S0, received, trace, log_scale)
+    kernel(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear)
 
 
 @_compiled
 def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
-           S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray) -> None:
+           S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray,
+           linear: bool) -> None:
     """:func:`log_trace_paths` for any ``n``: loops over the entries, the lane loop innermost."""
     horizon, paths, _ = received.shape
     n = A.shape[0]
@@ -136,9 +159,7 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
             E[p] = 0
         _rescale(S, E, t, f2)
         for k in range(horizon + 1):
-            for p in range(LANES):
-                trace[k, start + p] = t[p]
-                log_scale[k, start + p] = E[p] * LN2
+            _store(k, start, t, E, trace, log_scale, linear)
             if k == horizon:
                 break
             for p in range(LANES):
@@ -252,7 +273,7 @@ def _straight_source(n: int) -> str:
     L = []
     w = L.append
     R = range(n)
-    w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, log_scale):")
+    w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):")
     w("    horizon, paths, d = received.shape")
     w("    block = np.empty((horizon, d, LANES), np.bool_)")   # a block's receptions, sensor-major
     w("    rows = H.shape[0]")
@@ -282,8 +303,6 @@ def _straight_source(n: int) -> str:
     w("                    into[p] = column[p]")
     w("        for k in range(horizon + 1):")
     # --- rescale (as _rescale) and the trace of step k
-    w("            trace_k = trace[k, start:start + LANES]")      # views: p + start would not vectorise
-    w("            log_scale_k = log_scale[k, start:start + LANES]")
     w("            for p in range(LANES):")
     w("                tp = 0.0")
     for i in R:
@@ -294,15 +313,18 @@ def _straight_source(n: int) -> str:
     w("                e -= e & 1")
     w("                Ep = E[p] + e")
     w("                E[p] = Ep")
-    w("                tp *= _pow2(-e)")
+    # e and E are even: 2^-e and 2^-E are squares of the halves, exactly (a power of two rounds to
+    # itself, or to 0 or inf where the table has 0 or inf), so two table look-ups (gathers) do
     w("                scale = _pow2(-(e // 2))")
+    w("                tp *= scale * scale")
     for i in R:
         for j in range(i + 1):
             w(f"                S[{i}, {j}, p] *= scale")
-    w("                trace_k[p] = tp")
-    w("                log_scale_k[p] = Ep * LN2")
-    w("                noise[p] = _pow2(-Ep)")
-    w("                half[p] = _pow2(-(Ep // 2))")
+    w("                t[p] = tp")
+    w("                root = _pow2(-(Ep // 2))")
+    w("                half[p] = root")
+    w("                noise[p] = root * root")
+    w("            _store(k, start, t, E, trace, log_scale, linear)")
     w("            if k == horizon:")
     w("                break")
     # --- Potter, one row at a time
@@ -383,7 +405,7 @@ def _straight_source(n: int) -> str:
 def _straight(n: int):
     """The compiled straight-line kernel for ``n`` states, generated once per process and compiled
     once per installation (numba's cache, keyed on this file: the source is a function of it)."""
-    namespace = {"__name__": __name__, "np": np, "math": math, "LANES": LANES, "LN2": LN2, "_pow2": _pow2}
+    namespace = {"__name__": __name__, "np": np, "math": math, "LANES": LANES, "_pow2": _pow2, "_store": _store}
     exec(compile(_straight_source(n), __file__, "exec"), namespace)
     return _compiled(namespace[f"_paths_{n}"])
 
