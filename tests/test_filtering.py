@@ -214,3 +214,12 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         E = np.round(out[0][1] / np.log(2)).astype(int)
         with np.errstate(over="ignore"):
             np.testing.assert_array_equal(out[0][2], np.ldexp(out[0][0], E)[:600, :150].T)
+
+
+def test_the_straight_line_kernels_module_is_the_generators_output():
+    # symkf/straight_kernels.py is generated (symkf.square_root._straight_module): never edited by hand
+    from pathlib import Path
+
+    import symkf.straight_kernels as generated
+    from symkf.square_root import _straight_module
+    assert Path(generated.__file__).read_text(encoding="utf-8") == _straight_module()
