@@ -29,7 +29,7 @@ from .exact.algebraic import AlgebraicNumber
 from .exact.arguments import check_public, float_array
 from .exact.perron import perron_float
 from .exact.numbers import sympify, to_exact
-from .filtering import FloatSystem, _positive, _run, exact_covariances, log_traces, real_form, receival_table, traces_into
+from .filtering import FloatSystem, _positive, _run, exact_covariances, log_traces, real_form, receival_table
 from .losses import LossModel, checked
 from .receptions import LossFactor, chain_states, cumulative, emit_into, groups
 from .model import System
@@ -142,9 +142,9 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     command line's per-step records of the mean and its interval (:data:`RECORD_BYTES`).  Otherwise
     :func:`burst_sample` with that many burst components, on ``jobs`` processes.  Counted, per
     chunk of ``m`` paths and ``K`` steps (``P`` = ``m`` padded to the kernel's lanes, which for one
-    path is 64 times its size): the receptions and chain states; the kernel's trace and exponent
-    ``16 (K + 1) P`` and the log-trace temporaries ``16 (K + 1) m`` (:func:`symkf.filtering.log_traces`;
-    numpy elides the third); for bursts the law table, the likelihood ratios ``8 C K m`` and their
+    path is 64 times its size): the receptions and chain states; the kernel's trace and log-scale
+    ``16 (K + 1) P`` (:func:`symkf.filtering.log_traces` takes the log in place) and, plain Monte
+    Carlo, its block of receptions ``d K LANES``; for bursts the law table, the likelihood ratios ``8 C K m`` and their
     tail sums (three more of that size at once), and the log-trace rows; the traces ``8 paths K`` kept whole (resident as
     the chunks fill them) and the standard deviation's copy of them; per path results ``72 paths``
     for bursts.  Checked against measured peak RSS in
@@ -154,7 +154,7 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     if components is None:
         def chunk(m: int) -> int:   # chain states (one byte per sensor and step), receptions, kernel
             P = _padded(m)
-            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + 16 * (K + 1) * (P + m))
+            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + 16 * (K + 1) * P + d * K * _padded(1))
         size = _trace_chunk(K, d)
         full, last = min(paths, size), paths % size or min(paths, size)
         # the traces are resident as far as the chunks before the current one filled them
@@ -198,7 +198,8 @@ def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: i
         for start in chunks:
             stop = min(start + chunk, paths)
             received = receptions.sample(factors, horizon, stop - start, system.d, rng)
-            traces_into(model, received, traces[start:stop])   # tr P beyond float64 is inf; log_mean_trace keeps logs
+            with np.errstate(over="ignore"):   # tr P beyond float64 is inf here; log_mean_trace keeps logs
+                np.exp(log_traces(model, received)[:, :horizon], out=traces[start:stop])
             bar.update()
     return traces
 
