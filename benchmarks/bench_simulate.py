@@ -9,21 +9,29 @@ measured in the same process.  Printed: CPU seconds (time.process_time, medians)
 path-steps per CPU second, the ratio, the set-up cost of one call (paths = 2, horizon = 1)
 and, for ``jobs = 2``, wall and CPU (with the workers') against ``jobs = 1``.
 
-A second baseline at n = 2, d = 3 (i.i.d. and Gilbert-Elliott): the plain float64
-covariance-form filter, batched (:func:`symkf.filtering.predicted_covariances`, no PSD
-checks), against the square-root kernel (:func:`symkf.filtering.log_traces`) on the same
-receptions.  Set-up of the compiled kernel: a fresh process's first call with numba's
+Second, ``simulate_traces`` (receptions sampled per sensor, then the kernel) against the
+vectorised NumPy covariance-form filter over all paths at once (``batch_filter.py``, BLAS on
+one thread, drawing its own receptions), for n = 2, 4, 8, 16 x d = 1, 3, 8 under i.i.d. and
+Gilbert-Elliott losses, and against the kernel alone (:func:`symkf.filtering.log_traces` and
+the exp, on receptions drawn beforehand): CPU seconds (medians), the ratios of the same run,
+and the process's peak RSS (per fresh process for many sensors: ``bench_loss_sampling.py``).
+Targets (issue 23): baseline / simulate >= 2 in every cell, simulate / kernel <= 1.5.
+Set-up of the compiled kernel: a fresh process's first call with numba's
 cache present, and with an empty cache (``NUMBA_CACHE_DIR``: the first call ever).
 Targets (issue 18): ratio >= 100 at every size, >= 1e7 path-steps/s at n = 2, d = 3,
 set-up <= 1 s, both cores used with jobs = 2.
 
-    nice -n 10 python benchmarks/bench_simulate.py [--quick]
+    nice -n 10 python benchmarks/bench_simulate.py [--quick] [--grid]
 """
 
 from __future__ import annotations
 
-import argparse
 import os
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):   # before numpy: one BLAS thread
+    os.environ[_var] = "1"
+
+import argparse
 import resource
 import statistics
 import subprocess
@@ -34,10 +42,13 @@ import time
 import numpy as np
 import sympy as sp
 
-from symkf.filtering import log_traces, predicted_covariances, real_form, sample_receptions
+from symkf.filtering import log_traces, real_form, sample_receptions
 from symkf.losses import IID, GilbertElliott
 from symkf.model import Sensor, System
-from symkf.montecarlo import BurstPlan, burst_sample
+from symkf.montecarlo import BurstPlan, burst_sample, simulate_traces
+
+from batch_filter import trace_batch
+from timing import peak_rss_mb
 
 HORIZON = 100
 
@@ -81,18 +92,31 @@ def cpu(fn, repeats: int) -> float:
     return statistics.median(times)
 
 
-def covariance_form(paths: int, repeats: int) -> None:
-    """Square-root kernel against the plain float64 covariance-form filter, same receptions."""
-    S = system(2, 3)
-    model = real_form(S)
-    for name, loss in (("i.i.d. 0.3", IID(["3/10"] * 3)), ("Gilbert-Elliott", GilbertElliott(["1/4"] * 3, ["1/2"] * 3))):
-        gamma = sample_receptions(loss, HORIZON, paths, np.random.default_rng(0))        # (paths, horizon, d)
-        received = np.ascontiguousarray(gamma.transpose(1, 0, 2))
-        root = cpu(lambda r: log_traces(model, received), repeats)
-        plain = cpu(lambda r: predicted_covariances(model, gamma, "trace", check_every=0), repeats)
-        print(f" 2   3 {name:<22} kernel alone: square-root {paths * HORIZON / root:.3e} path-steps/s "
-              f"({root:.3f} CPU s), float64 covariance form {paths * HORIZON / plain:.3e} ({plain:.3f} CPU s), "
-              f"ratio {plain / root:.2f}", flush=True)
+GRID_PATHS = {2: 16384, 4: 8192, 8: 2048, 16: 1024}
+
+
+def numpy_grid(repeats: int, quick: bool) -> None:
+    """simulate_traces against the NumPy batch filter and against the kernel alone, n x d x losses."""
+    print(f"{'n':>2} {'d':>2} {'losses':<16} {'paths':>6} {'simulate s':>10} {'numpy s':>8} {'numpy/sim':>9} "
+          f"{'kernel s':>8} {'sim/kernel':>10}")
+    for n in (2, 4, 8, 16):
+        for d in (1, 3, 8):
+            S = system(n, d)
+            model = real_form(S)
+            paths = GRID_PATHS[n] // (4 if quick else 1)
+            for name, loss, stay, back in (("i.i.d. 0.3", IID(["3/10"] * d), 0.7, 0.7),
+                                           ("Gilbert-Elliott", GilbertElliott(["1/4"] * d, ["1/2"] * d), 0.75, 0.5)):
+                law = [np.full(d, x) for x in (stay, back, stay)]
+                simulate_traces(S, loss, 2, 64, seed=0)                  # compiled kernel loaded
+                sim = cpu(lambda r: simulate_traces(S, loss, HORIZON, paths, seed=r), repeats)
+                base = cpu(lambda r: trace_batch(model.A, model.Q, model.P0, model.H, model.row_sensor,
+                                                 HORIZON, paths, *law, r), repeats)
+                gamma = sample_receptions(loss, HORIZON, paths, np.random.default_rng(0))   # (paths, horizon, d)
+                received = np.ascontiguousarray(gamma.transpose(1, 0, 2))
+                kern = cpu(lambda r: np.exp(log_traces(model, received)[:, :HORIZON]), repeats)
+                print(f"{n:>2} {d:>2} {name:<16} {paths:>6} {sim:>10.4f} {base:>8.4f} {base / sim:>9.2f} "
+                      f"{kern:>8.4f} {sim / kern:>10.2f}", flush=True)
+    print(f"peak RSS of this process {peak_rss_mb():.0f} MB")
 
 
 SETUP = ("import time, numpy as np, sympy as sp; from symkf.losses import IID; from symkf.model import Sensor, System; "
@@ -113,12 +137,15 @@ def compiled_setup() -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer paths and repeats")
+    ap.add_argument("--grid", action="store_true", help="only the set-up and the grid against NumPy")
     args = ap.parse_args()
     paths, loop_paths, repeats = (4096, 10, 1) if args.quick else (16384, 20, 3)
     print(f"horizon {HORIZON}; batched {paths} paths, loop {loop_paths} paths; CPU seconds, medians of {repeats}")
     compiled_setup()
     burst_sample(system(2, 1), IID(["3/10"]), 1, 2, 0, None)   # this process loads the compiled kernel once
-    covariance_form(paths, repeats)
+    numpy_grid(repeats, args.quick)
+    if args.grid:
+        return
     print(f"{'n':>2} {'d':>3} {'losses':<22} {'set-up s':>8} {'batched CPU s':>13} {'path-steps/s':>12} "
           f"{'loop path-steps/s':>17} {'ratio':>6}")
     for n in (2, 4, 8):

@@ -1,5 +1,6 @@
-"""Shared timing helper of the benchmark scripts (imported from the script's own directory)."""
+"""Shared timing helpers of the benchmark scripts (imported from the script's own directory)."""
 
+import resource
 import statistics
 import time
 
@@ -12,3 +13,18 @@ def median_time(fn, repeats: int = 3) -> float:
         fn()
         times.append(time.perf_counter() - t)
     return statistics.median(times)
+
+
+def median_cpu(fn, repeats: int = 3) -> float:
+    """Median CPU seconds (``time.process_time``) of ``repeats`` calls of ``fn(r)``, r = 0..repeats-1."""
+    times = []
+    for r in range(repeats):
+        t = time.process_time()
+        fn(r)
+        times.append(time.process_time() - t)
+    return statistics.median(times)
+
+
+def peak_rss_mb() -> float:
+    """Peak resident set size of this process so far, MB."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024

@@ -25,7 +25,6 @@ their real form (:func:`real_form`), which has the same ``tr P_k``.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -257,17 +256,9 @@ def _psd_factor(M: np.ndarray) -> np.ndarray:
     return U * np.sqrt(np.clip(w, 0.0, None))
 
 
-def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
-    """``log tr P_{k|k-1}`` (paths, horizon + 1), k = 0..horizon, for receptions ``received``
-    (horizon, paths, d) bool.
-
-    Square-root filter with a running power-of-two scale per path (Potter measurement
-    updates one whitened row at a time, Yang et al. eq. 8; Householder time update,
-    Sui-You-Fu eq. 9), compiled: :mod:`symkf.square_root`.  ``log tr P`` is available over
-    any dynamic range (thousands of unstable steps), and ``P`` stays positive semidefinite
-    by construction.
-    """
-    from .square_root import LANES, log_trace_paths   # numba: loaded only when a simulation runs
+def _kernel_arguments(model: FloatSystem, received: np.ndarray) -> tuple:
+    """Checked receptions, padded to whole blocks of the kernel's lanes, and the kernel's factors."""
+    from .square_root import LANES   # numba: loaded only when a simulation runs
     received = np.asarray(received, bool)
     if received.ndim != 3:
         raise ShapeError(f"receptions: expected an array (horizon, paths, d), got shape {received.shape}")
@@ -283,12 +274,30 @@ def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
     # triangular factors: S0 S0^T = P0 (lower), U_Q^T U_Q = Q (upper), from QR of any square root
     S0 = np.linalg.qr(_psd_factor(model.P0).T, mode="r").T
     UQ = np.linalg.qr(_psd_factor(model.Q).T, mode="r")
-    trace = np.empty((horizon + 1, padded))
-    exponent = np.empty((horizon + 1, padded), np.int64)
     c = np.ascontiguousarray
-    log_trace_paths(c(model.A), c(UQ), c(model.H), c(model.row_sensor), c(S0), received, trace, exponent)
-    trace, exponent = trace[:, :paths], exponent[:, :paths]
-    return (exponent * math.log(2) + np.log(trace)).T
+    return c(model.A), c(UQ), c(model.H), c(model.row_sensor), c(S0), received
+
+
+def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
+    """``log tr P_{k|k-1}`` (paths, horizon + 1), k = 0..horizon, for receptions ``received``
+    (horizon, paths, d) bool.
+
+    Square-root filter with a running power-of-two scale per path (Potter measurement
+    updates one whitened row at a time, Yang et al. eq. 8; Householder time update,
+    Sui-You-Fu eq. 9), compiled: :mod:`symkf.square_root`.  ``log tr P`` is available over
+    any dynamic range (thousands of unstable steps), and ``P`` stays positive semidefinite
+    by construction.
+    """
+    from .square_root import log_trace_paths
+    arguments = _kernel_arguments(model, received)
+    horizon, padded, _ = arguments[-1].shape
+    paths = np.shape(received)[1]
+    trace = np.empty((horizon + 1, padded))
+    log_scale = np.empty((horizon + 1, padded))
+    log_trace_paths(*arguments, trace, log_scale)
+    np.log(trace, out=trace)   # in place: no temporaries of the (horizon + 1, paths) size
+    trace += log_scale
+    return trace[:, :paths].T
 
 
 def predicted_covariances(system: System | FloatSystem, receptions: np.ndarray, keep: str = "trace",

@@ -139,9 +139,9 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     command line's per-step records of the mean and its interval (:data:`RECORD_BYTES`).  Otherwise
     :func:`burst_sample` with that many burst components, on ``jobs`` processes.  Counted, per
     chunk of ``m`` paths and ``K`` steps (``P`` = ``m`` padded to the kernel's lanes, which for one
-    path is 64 times its size): the receptions and chain states; the kernel's trace and exponent
-    ``16 (K + 1) P`` and the log-trace temporaries ``16 (K + 1) m`` (:func:`symkf.filtering.log_traces`;
-    numpy elides the third); for bursts the law table, the likelihood ratios ``8 C K m`` and their
+    path is 64 times its size): the receptions and chain states; the kernel's trace and log-scale
+    ``16 (K + 1) P`` (:func:`symkf.filtering.log_traces` takes the log in place) and, plain Monte
+    Carlo, its block of receptions ``d K LANES``; for bursts the law table, the likelihood ratios ``8 C K m`` and their
     tail sums (three more of that size at once), and the log-trace rows; the traces ``8 paths K`` kept whole (resident as
     the chunks fill them) and the standard deviation's copy of them; per path results ``72 paths``
     for bursts.  Checked against measured peak RSS in
@@ -151,7 +151,7 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     if components is None:
         def chunk(m: int) -> int:   # chain states (one byte per sensor and step), receptions, kernel
             P = _padded(m)
-            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + 16 * (K + 1) * (P + m))
+            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + 16 * (K + 1) * P + d * K * _padded(1))
         size = _trace_chunk(K, d)
         full, last = min(paths, size), paths % size or min(paths, size)
         # the traces are resident as far as the chunks before the current one filled them
@@ -196,7 +196,7 @@ def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: i
             stop = min(start + chunk, paths)
             received = receptions.sample(factors, horizon, stop - start, system.d, rng)
             with np.errstate(over="ignore"):   # tr P beyond float64 is inf here; log_mean_trace keeps logs
-                traces[start:stop] = np.exp(log_traces(model, received)[:, :horizon])
+                np.exp(log_traces(model, received)[:, :horizon], out=traces[start:stop])
             bar.update()
     return traces
 

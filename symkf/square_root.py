@@ -43,6 +43,7 @@ simulation runs, so ``import symkf`` and the exact engine never pay for it.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -57,6 +58,8 @@ LANES = 64
 # No fastmath, not even FMA contraction: a fused S - Su f^T does not cancel to the same
 # rounding as the product it subtracts; on A = 2 R(pi/2) (exact in float64) that lost 32 of
 # log tr P's 2773 over a 2000-step periodic burst (float_horizon fell from None to 45)
+#: ln 2 as numpy's ``exponent * math.log(2)`` rounds it (the kernel returns E ln 2, not E)
+LN2 = math.log(2)
 _compiled = njit(cache=True, nogil=True, error_model="numpy")
 
 
@@ -97,11 +100,30 @@ def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, scale: np.ndarray) -> 
 
 
 @_compiled
+def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, log_scale: np.ndarray) -> None:
+    """Step ``k`` of the block at ``start``: ``trace[k, p] = t``, ``log_scale[k, p] = E ln 2``."""
+    trace_k = trace[k, start:start + LANES]            # views: an index p + start would not vectorise
+    log_scale_k = log_scale[k, start:start + LANES]
+    for p in range(LANES):
+        trace_k[p] = t[p]
+        log_scale_k[p] = E[p] * LN2
+
+
 def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
-                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, exponent: np.ndarray) -> None:
-    """``tr P_{k|k-1} = 2^exponent[k, p] trace[k, p]`` (k = 0..horizon) for receptions
+                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray) -> None:
+    """``tr P_{k|k-1} = 2^E trace[k, p]``, ``log_scale[k, p] = E ln 2`` (k = 0..horizon) for receptions
     ``received[k, p, i]`` (sensor ``i``), from ``P_0 = S0 S0^T`` (``S0`` lower triangular);
-    the number of paths is a multiple of ``LANES``."""
+    the number of paths is a multiple of ``LANES``.  Up to :data:`STRAIGHT_MAX` states by the straight-line kernel of that size (:func:`_straight`),
+    beyond by the loops of :func:`_loops`."""
+    n = A.shape[0]
+    kernel = _straight(n) if n <= STRAIGHT_MAX else _loops
+    kernel(A, UQ, H, row_sensor, S0, received, trace, log_scale)
+
+
+@_compiled
+def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
+           S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray) -> None:
+    """:func:`log_trace_paths` for any ``n``: loops over the entries, the lane loop innermost."""
     horizon, paths, _ = received.shape
     n = A.shape[0]
     rows = H.shape[0]
@@ -124,9 +146,7 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
             E[p] = 0
         _rescale(S, E, t, f2)
         for k in range(horizon + 1):
-            for p in range(LANES):
-                trace[k, start + p] = t[p]
-                exponent[k, start + p] = E[p]
+            _store(k, start, t, E, trace, log_scale)
             if k == horizon:
                 break
             for p in range(LANES):
@@ -227,5 +247,166 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
         for j in range(n):
             for p in range(LANES):
                 S[i, j, p] = X[j, i, p] if j <= i else 0.0
+
+
+#: largest state dimension with a straight-line kernel (compile time and code size grow like n^3)
+STRAIGHT_MAX = 8
+
+
+def _straight_source(n: int) -> str:
+    """Source of ``_paths_{n}``: log_trace_paths for n states, every per-path operation of one
+    step written out (the same operations in the same order as the loops of
+    log_trace_paths / _time_update / _rescale), the lane loop innermost."""
+    L = []
+    w = L.append
+    R = range(n)
+    w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, log_scale):")
+    w("    horizon, paths, d = received.shape")
+    w("    block = np.empty((horizon, d, LANES), np.bool_)")   # a block's receptions, sensor-major
+    w("    rows = H.shape[0]")
+    w(f"    S = np.zeros(({n}, {n}, LANES))")
+    w("    t = np.empty(LANES)")
+    w("    bits = t.view(np.int64)")
+    w("    E = np.zeros(LANES, np.int64)")
+    w("    noise = np.empty(LANES)")
+    w("    half = np.empty(LANES)")
+    for i in R:
+        for l in R:
+            w(f"    a{i}_{l} = A[{i}, {l}]")
+    for i in R:
+        for j in range(i, n):
+            w(f"    q{i}_{j} = UQ[{i}, {j}]")
+    w("    for start in range(0, paths, LANES):")
+    w("        for p in range(LANES):")
+    w("            E[p] = 0")
+    for i in R:
+        for j in R:
+            w(f"            S[{i}, {j}, p] = S0[{i}, {j}]")
+    w("        for k in range(horizon):")
+    w("            for i in range(d):")
+    w("                column = received[k, start:start + LANES, i]")
+    w("                into = block[k, i]")
+    w("                for p in range(LANES):")
+    w("                    into[p] = column[p]")
+    w("        for k in range(horizon + 1):")
+    # --- rescale (as _rescale) and the trace of step k
+    w("            for p in range(LANES):")
+    w("                tp = 0.0")
+    for i in R:
+        for j in range(i + 1):
+            w(f"                tp += S[{i}, {j}, p] * S[{i}, {j}, p]")
+    w("                t[p] = tp")
+    w("                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0")
+    w("                e -= e & 1")
+    w("                Ep = E[p] + e")
+    w("                E[p] = Ep")
+    # e and E are even: 2^-e and 2^-E are squares of the halves, exactly (a power of two rounds to
+    # itself, or to 0 or inf where the table has 0 or inf), so two table look-ups (gathers) do
+    w("                scale = _pow2(-(e // 2))")
+    w("                tp *= scale * scale")
+    for i in R:
+        for j in range(i + 1):
+            w(f"                S[{i}, {j}, p] *= scale")
+    w("                t[p] = tp")
+    w("                root = _pow2(-(Ep // 2))")
+    w("                half[p] = root")
+    w("                noise[p] = root * root")
+    w("            _store(k, start, t, E, trace, log_scale)")
+    w("            if k == horizon:")
+    w("                break")
+    # --- Potter, one row at a time
+    w("            for r in range(rows):")
+    w("                got = block[k, row_sensor[r]]")
+    for i in R:
+        w(f"                h{i} = H[r, {i}]")
+    w("                for p in range(LANES):")
+    for i in R:
+        for j in R:
+            w(f"                    s{i}_{j} = S[{i}, {j}, p]")
+    w("                    ff = 0.0")
+    for j in R:
+        w(f"                    f{j} = 0.0")
+        for i in R:
+            w(f"                    f{j} += s{i}_{j} * h{i}")
+        w(f"                    ff += f{j} * f{j}")
+    w("                    nz = noise[p]")
+    w("                    a = ff + nz")
+    w("                    denom = a + math.sqrt(a * nz)")
+    w("                    coef = ff / denom if got[p] and denom > 0.0 else 0.0")
+    w("                    su = math.sqrt(ff) if ff > 0.0 else math.inf")
+    for j in R:
+        w(f"                    f{j} /= su")
+        w(f"                    g{j} = f{j} * coef")
+    for i in R:
+        w(f"                    u{i} = 0.0")
+        for j in R:
+            w(f"                    u{i} += s{i}_{j} * f{j}")
+    for i in R:
+        for j in R:
+            w(f"                    S[{i}, {j}, p] = s{i}_{j} - u{i} * g{j}")
+    # --- time update (as _time_update): X[j][i] = (A S)[i, j], rows n.. = beta UQ
+    w("            for p in range(LANES):")
+    for i in R:
+        for j in R:
+            w(f"                s{i}_{j} = S[{i}, {j}, p]")
+    X = {}
+    for i in R:
+        for j in R:
+            X[j, i] = f"x{j}_{i}"
+            w(f"                x{j}_{i} = 0.0")
+            for l in R:
+                w(f"                x{j}_{i} += a{i}_{l} * s{l}_{j}")
+    w("                beta = half[p]")
+    for i in R:
+        for j in range(i, n):
+            X[n + i, j] = f"x{n + i}_{j}"
+            w(f"                x{n + i}_{j} = beta * q{i}_{j}")
+    for j in R:
+        rowsj = range(j, n + j + 1)
+        w("                sq = 0.0")
+        for i in rowsj:
+            w(f"                sq += {X[i, j]} * {X[i, j]}")
+        w("                norm = math.sqrt(sq)")
+        w(f"                x0 = {X[j, j]}")
+        w("                head = norm if x0 >= 0.0 else -norm")
+        if j < n - 1:   # the last column's reflector is never applied: only its pivot -head is kept
+            w(f"                {X[j, j]} = x0 + head")
+            w("                length = math.sqrt(2.0 * norm * (norm + abs(x0)))")
+            w("                beta = length if length > 0.0 else math.inf")
+            for i in rowsj:
+                w(f"                {X[i, j]} /= beta")
+            for k in range(j + 1, n):
+                w("                dot = 0.0")
+                for i in rowsj:
+                    w(f"                dot += {X[i, j]} * {X[i, k]}")
+                for i in rowsj:
+                    w(f"                {X[i, k]} -= 2.0 * dot * {X[i, j]}")
+        w(f"                {X[j, j]} = -head")
+    for i in R:
+        for j in R:
+            w(f"                S[{i}, {j}, p] = {X[j, i] if j <= i else '0.0'}")
+    return "\n".join(L) + "\n"
+
+
+def _straight_module() -> str:
+    """The text of :mod:`symkf.straight_kernels`: :func:`_straight_source` for n = 1..STRAIGHT_MAX
+    (regenerate it after changing the template: ``python -c "from symkf.square_root import
+    _straight_module as m; print(m(), end='')" > symkf/straight_kernels.py``; a test compares)."""
+    head = ('"""Straight-line square-root filter kernels (Potter updates, Yang et al. eq. 8; Householder time\n'
+            'update, Sui-You-Fu eq. 9) for n = 1..%d states, the lane loop innermost: generated by\n'
+            ':func:`symkf.square_root._straight_module` (do not edit; a test compares it with the generator)."""\n\n'
+            "import math\n\nimport numpy as np\n\n"
+            "from .exact.arguments import check_public\n"
+            "from .square_root import LANES, _pow2, _store\n\n\n" % STRAIGHT_MAX)
+    return head + "\n\n".join(_straight_source(n) for n in range(1, STRAIGHT_MAX + 1)) + "\n\ncheck_public(globals())\n"
+
+
+@functools.lru_cache(maxsize=None)
+def _straight(n: int):
+    """The compiled straight-line kernel for ``n`` states (:mod:`symkf.straight_kernels`, compiled
+    on first use, once per installation: numba's cache)."""
+    from . import straight_kernels
+    return _compiled(getattr(straight_kernels, f"_paths_{n}"))
+
 
 check_public(globals())

@@ -180,3 +180,41 @@ def test_log_traces_keep_the_exact_structure_of_a_float_exact_burst():
     received = np.zeros((2000, 1, 2), bool)
     received[::2, 0, 1] = True
     np.testing.assert_allclose(log_traces(model, received)[0], expected, rtol=1e-12)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4, 8])
+def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
+    # symkf.square_root writes the filter out per state dimension (up to STRAIGHT_MAX); the
+    # loop kernel does the same operations in the same order, so every output bit must agree:
+    # dense and sparse (integer, block-diagonal) A and H, two-row sensors, paths that receive
+    # nothing or everything, and a 600-step stretch of mostly lost steps (wide scales)
+    from symkf.square_root import STRAIGHT_MAX, _loops, _straight
+    assert n <= STRAIGHT_MAX
+    rng = np.random.default_rng(n)
+    dense = rng.normal(size=(n, n))
+    for A, H in ((dense * 1.5 / np.abs(np.linalg.eigvals(dense)).max(), rng.normal(size=(3, n))),
+                 (np.kron(np.eye(-(-n // 2)), [[0.0, -2.0], [2.0, 0.0]])[:n, :n] + np.diag([0.0] * (n - 1) + [1.5 * (n % 2)]),
+                  rng.integers(-1, 2, (3, n)).astype(float))):
+        M = rng.normal(size=(n, n))
+        UQ = np.linalg.qr(M.T, mode="r")
+        S0 = np.linalg.qr(rng.normal(size=(n, n)).T, mode="r").T
+        rows = np.array([0, 1, 1])
+        received = rng.random((600, 192, 2)) < 0.3
+        received[:, :64] = False
+        received[:, 64:128] = True
+        out = []
+        for kernel in (_straight(n), _loops):
+            trace, log_scale = np.empty((601, 192)), np.empty((601, 192))
+            kernel(A, UQ, H, rows, S0, received, trace, log_scale)
+            out.append((trace, log_scale))
+        assert all(np.array_equal(x, y) for x, y in zip(*out))
+        assert np.all(np.isfinite(out[0][0])) and np.ptp(out[0][1]) > 100
+
+
+def test_the_straight_line_kernels_module_is_the_generators_output():
+    # symkf/straight_kernels.py is generated (symkf.square_root._straight_module): never edited by hand
+    from pathlib import Path
+
+    import symkf.straight_kernels as generated
+    from symkf.square_root import _straight_module
+    assert Path(generated.__file__).read_text(encoding="utf-8") == _straight_module()

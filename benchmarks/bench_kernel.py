@@ -1,0 +1,181 @@
+"""The square-root filter kernel's share of one core's floating-point peak, n = 2, 4, 8, 16 states.
+
+The kernel is :func:`symkf.filtering.log_traces` on receptions drawn beforehand (i.i.d. 0.3
+losses, ``d`` single-row sensors, systems of ``bench_simulate.system``).  Work per path-step
+is counted by the yardstick ``4 n^3 + 4 d n^2`` flop (time update ~ ``4 n^3``: ``A S`` and
+the Householder reflections; Potter ~ ``4 n^2`` per row), whatever the kernel skips.
+
+Peak: derived from ``lscpu`` (FMA pipes x doubles per pipe x 2 flop x clock; AMD family 25,
+Zen 3/4, has two 256-bit FMA pipes, AVX-512 is double-pumped) and measured in this process
+with a numba FMA loop (``fastmath={"contract"}`` there only; the kernel has no contraction).
+Division and square-root throughput are measured the same way: the kernel rounds like the
+loops it replaced only with true ``/`` and ``sqrt`` (no reciprocals), so each path-step costs
+at least ``div / div-rate + sqrt / sqrt-rate`` (they share the divider), which bounds the share
+of peak at small ``n``; that bound is printed next to the measured share.
+
+``--main DIR``: the same cells timed with the checkout in ``DIR`` (e.g. ``/work/main``) in a
+subprocess, for the same-run ratio against main's kernel.
+
+    nice -n 10 python benchmarks/bench_kernel.py [--quick] [--main /work/main]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+
+import numpy as np
+from numba import njit
+
+from timing import median_cpu, peak_rss_mb
+
+HORIZON = 100
+CELLS = [(n, d) for n in (2, 4, 8, 16) for d in (1, 3, 8)]
+
+CASE = r"""
+import json, sys, time
+import numpy as np
+sys.path.insert(0, sys.argv[1])
+from bench_simulate import system
+from symkf.filtering import log_traces, real_form
+horizon, repeats, cells = int(sys.argv[2]), int(sys.argv[3]), json.loads(sys.argv[4])
+out = []
+for n, d, paths in cells:
+    model = real_form(system(n, d))
+    received = np.random.default_rng(0).random((horizon, paths, d)) >= 0.3
+    log_traces(model, received[:2, :64])                    # compiled kernel loaded before timing
+    times = []
+    for r in range(repeats):
+        t = time.process_time()
+        log_traces(model, received)
+        times.append(time.process_time() - t)
+    out.append(sorted(times)[len(times) // 2])
+print(json.dumps(out))
+"""
+
+
+def paths_for(n: int, quick: bool) -> int:
+    return max(1024, (2 ** 15 if quick else 2 ** 17) // n ** 2 // 64 * 64)
+
+
+def derived_peak() -> tuple[float | None, str]:
+    """GFLOP/s of one core from lscpu, with the derivation in words."""
+    text = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
+    field = lambda name: (re.search(rf"^{name}:\s*(.+)$", text, re.M) or [None, None])[1]
+    flags = set((field("Flags") or "").split())
+    model, family = field("Model name"), field("CPU family")
+    mhz = field("CPU max MHz")
+    clock, clock_note = (float(mhz) / 1e3, "CPU max MHz") if mhz else (
+        (float(field("BogoMIPS")) / 2e3, "BogoMIPS / 2 (the TSC base clock; no max MHz listed)") if field("BogoMIPS") else (None, ""))
+    if "fma" not in flags or clock is None:
+        return None, f"{model}: no FMA flag or no clock in lscpu"
+    width = 512 if "avx512f" in flags else 256
+    pipe = 256 if ("AMD" in (field("Vendor ID") or "") and family in ("25", "26") and width == 512) else width
+    lanes = pipe // 64
+    peak = 2 * lanes * 2 * clock
+    return peak, (f"{model} (family {family}), flags {'avx512f ' if 'avx512f' in flags else ''}avx2 fma: "
+                  f"2 FMA pipes x {lanes} doubles ({pipe}-bit{' datapath, AVX-512 double-pumped' if pipe < width else ''})"
+                  f" x 2 flop x {clock:.3f} GHz ({clock_note}) = {peak:.1f} GFLOP/s")
+
+
+@njit(fastmath={"contract"}, error_model="numpy")
+def _fma_loop(acc, iters, m, c):
+    for _ in range(iters):
+        for p in range(acc.size):
+            x = acc[p]
+            for _ in range(16):
+                x = x * m + c
+            acc[p] = x
+
+
+@njit(error_model="numpy")
+def _div_loop(acc, iters, m):
+    for _ in range(iters):
+        for p in range(acc.size):
+            x = acc[p]
+            for _ in range(16):
+                x = m / x
+            acc[p] = x
+
+
+@njit(error_model="numpy")
+def _sqrt_loop(acc, iters, m):
+    for _ in range(iters):
+        for p in range(acc.size):
+            x = acc[p]
+            for _ in range(16):
+                x = np.sqrt(x) * m
+            acc[p] = x
+
+
+def measured_rates(repeats: int) -> tuple[float, float, float]:
+    """(GFLOP/s of FMAs, G divisions/s, G square roots/s) of vectorised independent chains."""
+    acc = np.full(256, 1.5)
+    _fma_loop(acc, 1, 0.999, 1e-3), _div_loop(acc, 1, 2.0), _sqrt_loop(acc, 1, 1.0)
+    fma = 2 * 16 * 256 * 40_000 / median_cpu(lambda r: _fma_loop(acc, 40_000, 0.9999999, 1e-9), repeats) / 1e9
+    acc[:] = 1.5
+    div = 16 * 256 * 4_000 / median_cpu(lambda r: _div_loop(acc, 4_000, 2.0), repeats) / 1e9
+    acc[:] = 1.5
+    sqrt = 16 * 256 * 4_000 / median_cpu(lambda r: _sqrt_loop(acc, 4_000, 1.0), repeats) / 1e9
+    return fma, div, sqrt
+
+
+def divider_work(n: int, rows: int) -> tuple[int, int]:
+    """Divisions and square roots per path-step the kernel cannot avoid (:mod:`symkf.square_root`):
+    per Potter row ``|f|``, ``sqrt(a r)``, ``|f|^2 / denom`` and ``n`` divisions ``f / |f|``; per
+    Householder column the norm, and but for the last column (never applied) ``|v|`` and
+    ``n + 1`` divisions."""
+    return rows * (n + 1) + (n - 1) * (n + 1), rows * 2 + n + (n - 1)
+
+
+def run_cells(python: str, root: str, horizon: int, repeats: int, cells: list, env: dict) -> list[float]:
+    out = subprocess.run([python, "-c", CASE, os.path.dirname(os.path.abspath(__file__)), str(horizon), str(repeats),
+                          json.dumps(cells)], capture_output=True, text=True, cwd="/tmp", env=env, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer paths and repeats")
+    ap.add_argument("--main", default=None, metavar="DIR", help="a checkout of main, timed in a subprocess")
+    args = ap.parse_args()
+    repeats = 3 if args.quick else 5
+    peak, how = derived_peak()
+    fma, div, sqrt = measured_rates(repeats)
+    print(f"peak (lscpu): {how}")
+    print(f"peak (measured, numba FMA loop, one core): {fma:.1f} GFLOP/s; vector division {div:.2f} G/s, "
+          f"square root {sqrt:.2f} G/s (CPU seconds, medians of {repeats})")
+    cells = [(n, d, paths_for(n, args.quick)) for n, d in CELLS]
+    here = run_cells(sys.executable, "", HORIZON, repeats, cells, dict(os.environ))
+    old = None
+    if args.main:
+        env = dict(os.environ, PYTHONPATH=os.path.abspath(args.main))
+        old = run_cells(sys.executable, args.main, HORIZON, repeats, cells, env)
+    print(f"horizon {HORIZON}; yardstick 4n^3 + 4dn^2 flop per path-step; % of the measured peak "
+          f"({fma:.1f}) and, in brackets, of the lscpu peak ({peak:.1f}); bound: the divider's limit on that share")
+    print(f"{'n':>3} {'d':>2} {'paths':>6} {'CPU s':>7} {'path-steps/s':>12} {'GFLOP/s':>8} {'% peak':>13} "
+          f"{'bound %':>8}" + (f" {'main CPU s':>10} {'speed-up':>8}" if old else ""))
+    for j, (n, d, paths) in enumerate(cells):
+        t = here[j]
+        flop = (4 * n ** 3 + 4 * d * n ** 2) * paths * HORIZON
+        ndiv, nsqrt = divider_work(n, d)
+        floor = ndiv / div + nsqrt / sqrt                      # ns per path-step
+        bound = (4 * n ** 3 + 4 * d * n ** 2) / floor / fma * 100
+        line = (f"{n:>3} {d:>2} {paths:>6} {t:>7.3f} {paths * HORIZON / t:>12.3e} {flop / t / 1e9:>8.2f} "
+                f"{flop / t / 1e9 / fma * 100:>5.1f} ({flop / t / 1e9 / peak * 100:>5.1f}) {min(bound, 100):>8.1f}")
+        if old:
+            line += f" {old[j]:>10.3f} {old[j] / t:>8.2f}"
+        print(line, flush=True)
+    print(f"division/square-root floor at n = 2: {divider_work(2, 1)[0]} divisions + {divider_work(2, 1)[1]} square roots "
+          f"per path-step (d = 1) = {divider_work(2, 1)[0] / div + divider_work(2, 1)[1] / sqrt:.2f} ns, "
+          f"i.e. at most {48 / (divider_work(2, 1)[0] / div + divider_work(2, 1)[1] / sqrt) / fma * 100:.1f} % of peak")
+    print(f"peak RSS of this process {peak_rss_mb():.0f} MB")
+
+
+if __name__ == "__main__":
+    main()
