@@ -200,3 +200,34 @@ def test_irrational_arithmetic_matches_sympy(m: int, n: int, q: Fraction) -> Non
     assert s.minpoly == sp.Poly(sp.minimal_polynomial(expr, x), x)
     assert s == expr and abs(float(s) - float(expr)) < 1e-12
     assert a * b == sp.sqrt(m * n)
+
+
+@pytest.mark.parametrize("m", [7, 15, 22, 60, 97])
+def test_the_roots_of_a_cosine_polynomial_are_known_in_flints_order(m):
+    """The minimal polynomial of cos(2 pi/m) (leading coefficient a power of 2): its roots are the
+    cos(2 pi j/m), given without isolation, in the order and within the balls of flint's own
+    isolation (an independent computation of the same roots)."""
+    from symkf.exact.algebraic import _complex_roots, _known_roots, sympy_to_fmpz
+    p = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(sp.cos(2 * sp.pi / m), x), x))
+    coeffs = tuple(int(c) for c in p.coeffs())
+    assert p.leading_coefficient() > 1 and _known_roots(coeffs) is not None
+    known = _complex_roots(coeffs, 64)
+    isolated = [r for r, _ in p.complex_roots()]
+    assert len(known) == len(isolated) == p.degree()
+    assert all(k.overlaps(r) for k, r in zip(known, isolated))
+
+
+def test_triangular_eigenvalues_need_no_norm():
+    """A triangular A over a cyclotomic field: the eigenvalues are its diagonal entries, found by
+    their own minimal polynomials (cos(pi/211) has degree 105) with no norm over the field, and the
+    degree cap is the field's, not a generic extension's (420 = 105 x 2 x 2 was refused at 64)."""
+    S = sk.System(A=[["cos(pi/211)", "1"], ["0", "2"]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[0, 1]])])
+    eigenvalues = [e for b in S.eigen_blocks() for e in b.members]
+    assert sorted(e.minpoly.degree() for e in eigenvalues) == [1, 105]
+    assert sorted(float(b.modulus) for b in S.eigen_blocks()) == pytest.approx([math.cos(math.pi / 211), 2.0], abs=1e-15)
+    # the mode of 2 (eigenvector (1, 2 - cos(pi/211))) is seen by both sensors, so it grows only
+    # when both are lost: margin 2^2 * (1/2)^2 = 1, not stable; the mode of cos(pi/211) (eigenvector
+    # (1, 0)) is seen by s1 alone: cos(pi/211)^2 * 1/2
+    v = sk.stability(S, sk.IID(["1/2", "1/2"]))
+    assert not v.stable and 1 in v.margins
+    assert sorted(map(float, v.margins)) == pytest.approx([math.cos(math.pi / 211) ** 2 / 2, 1.0], abs=1e-15)

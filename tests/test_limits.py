@@ -12,14 +12,15 @@ import tempfile
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import Phase, given, settings
 from hypothesis import strategies as st
 
 import symkf as sk
 from symkf import cli
 
-#: CPU seconds and extra address space (over the parent's) of one case
-CPU_SECONDS = 20
+#: CPU seconds and extra address space (over the parent's) of one case: a hang, not slow work
+#: (the entry cos(pi/517), a degree-230 algebraic number, is decided in about 33 CPU-s)
+CPU_SECONDS = 60
 EXTRA_MEMORY = 1536 * 1024 ** 2
 
 
@@ -140,7 +141,8 @@ def test_fuzz_under_limits(tmp_path_factory, entry, where):
 
 
 @pytest.mark.full
-@settings(derandomize=True, max_examples=300, deadline=None)
+@settings(derandomize=True, max_examples=300, deadline=None,  # no shrinking: each case may take a minute
+          phases=[Phase.explicit, Phase.reuse, Phase.generate])
 @given(entry=ENTRY, where=st.sampled_from(["A", "loss"]))
 def test_fuzz_under_limits_long(tmp_path_factory, entry, where):
     _fuzz(tmp_path_factory, entry, where)

@@ -97,7 +97,8 @@ def _complex_roots(coeffs: tuple[int, ...], prec: int) -> tuple[flint.acb, ...]:
     known = _known_roots(coeffs)
     if known is not None:
         return _with_prec(prec, lambda: tuple(scale * flint.acb(flint.arb(flint.fmpq(2 * j, m))).exp_pi_i()
-                                              if kind == "unit" else flint.acb(2 * flint.arb(flint.fmpq(2 * j, m)).cos_pi())
+                                              if kind == "unit" else
+                                              flint.acb(flint.arb(flint.fmpq(2, scale)) * flint.arb(flint.fmpq(2 * j, m)).cos_pi())
                                               for kind, scale, j, m in known))
     return _with_prec(prec, lambda: tuple(r for r, _ in flint.fmpz_poly(list(coeffs)).complex_roots()))
 
@@ -107,8 +108,14 @@ def _known_roots(coeffs: tuple[int, ...]) -> list[tuple[str, int, int, int]] | N
     """The roots of ``c^d Phi_m(x / c)`` (``m >= 3``, integer ``c >= 1``: ``c exp(2 pi i j/m)``,
     none real, listed ``j, -j`` for ``j = 1 .. m/2`` prime to m) and of the minimal polynomial of
     ``2 cos(2 pi/m)`` (``x^d f(x + 1/x) = Phi_m``: the real ``2 cos(2 pi j/m)``, ascending as in
-    flint), as ``(kind, c, j, m)``; None for other polynomials."""
+    flint) or of ``cos(2 pi/m)`` (the same polynomial at ``2x``, times ``2^-d``: the entry
+    ``cos(pi/517)``, degree 230, whose isolation cost seconds), as ``(kind, c, j, m)`` (a cosine
+    root is ``(2/c) cos(2 pi j/m)``); None for other polynomials."""
     d, a = len(coeffs) - 1, coeffs
+    if d >= 2 and a[d] > 1 and a[d] & (a[d] - 1) == 0 and all(a[k] * 2 ** (d - k) % a[d] == 0 for k in range(d + 1)):
+        doubled = _known_roots(tuple(a[k] * 2 ** (d - k) // a[d] for k in range(d + 1)))  # 2^d p(x/2), monic
+        if doubled is not None and doubled[0][0] == "cos":
+            return [("cos", 2, j, m) for _, _, j, m in doubled]
     if d < 2 or a[d] != 1:
         return None
     c, exact = sp.integer_nthroot(abs(a[0]), d)
@@ -507,8 +514,10 @@ class AlgebraicNumber:
                 if r.is_real and self._contains(r):
                     return r
         if all(v == 0 for v in c[1::2]) and self._lo >= 0:  # p(x) = q(x^2): a square root
-            inner = AlgebraicNumber.from_root(sp.Poly(c[::2], x), self._lo ** 2, self._hi ** 2)
-            return sp.sqrt(inner.exact)
+            # of the root of q at self^2, identified by its ball (not among all real roots of q:
+            # 230 of them for |sin(2 pi/517)|, 32 CPU-s)
+            f, index = identify(flint.fmpz_poly(c[::2][::-1]), lambda prec: self._ball(prec) ** 2, f"({self})^2")
+            return sp.sqrt(AlgebraicNumber._irreducible(f, index).exact)
         return sp.CRootOf(self.minpoly.as_expr(), x, self._index)
 
     def _contains(self, expr: sp.Expr) -> bool:

@@ -671,6 +671,9 @@ def to_exact_matrix(rows: Any, entry: str, *, rationalize: bool | str = False,
             check_degree(False, cost.own, entry, f"its entry {_rows(index)}")
         elif cost.radical == 1 and len(index) == 2 and _scaled_rotation(sub):
             check_degree(False, cost.cyclotomic, entry, f"the eigenvalues of its rotation block {_rows(index)}")
+        elif sub.is_upper or sub.is_lower:  # the eigenvalues are the diagonal entries, in their field
+            check_degree(cost.radical > 1 or cost.atoms > 1, cost.radical * cost.cyclotomic, entry,
+                         f"the eigenvalues (the diagonal entries) of its triangular block {_rows(index)}")
         else:
             check_degree(True, cost.radical * cost.cyclotomic * len(index), entry,
                          f"the eigenvalues of its diagonal block {_rows(index)} (entries' field times size {len(index)})")
