@@ -95,7 +95,7 @@ def _abs_poly(f: tuple[int, ...]) -> flint.fmpz_poly:
 def _negated_index(f: flint.fmpz_poly, index: int) -> int:
     """Index of ``-r`` among the roots of ``f(-x)`` for the real root ``r`` of index ``index`` of
     ``f``: flint lists real roots first, ascending, so negation reverses them."""
-    reals = sum(1 for r, _ in f.complex_roots() if r.imag == 0)
+    reals = sum(1 for r in _complex_roots(tuple(int(c) for c in f.coeffs()), 64) if r.imag == 0)
     return reals - 1 - index
 
 

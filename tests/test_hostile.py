@@ -252,14 +252,18 @@ def test_field_of_a_matrix_is_budgeted_per_diagonal_block():
     """Six distinct square roots on a diagonal: six 1x1 blocks, each decided in its own field of
     degree 2, so the system is accepted; its critical loss rate is 1/13 (one sensor sees every
     mode; the largest |lambda|^2 = 13 decides: 13 * loss < 1).  Coupled by a superdiagonal of
-    ones the six form one block: the entries' field 2^6 = 64 times size 6 is 384 > 64.  A rotation
-    by pi/7 (cos and sin in Q(zeta_28), phi(28) = 12) is a rotation block of cyclotomic degree 12."""
+    ones the six form one triangular block, whose eigenvalues are still its diagonal entries: the
+    entries' field of degree 2^6 = 64 is the cap, and the value is the same.  Closed into a cycle
+    (a one in the corner) the block is not triangular: the entries' field 64 times size 6 is 384 > 64.
+    A rotation by pi/7 (cos and sin in Q(zeta_28), phi(28) = 12) is a rotation block of cyclotomic
+    degree 12."""
     primes = (2, 3, 5, 7, 11, 13)
-    S = sk.System([[f"sqrt({p})" if i == j else 0 for j in range(6)] for i, p in enumerate(primes)],
-                  [sk.Sensor([[1] * 6])])
-    assert sk.critical_loss_rate(S).exact == sp.Rational(1, 13)
+    for coupling in (0, 1):
+        S = sk.System([[f"sqrt({p})" if i == j else coupling * int(j == i + 1) for j in range(6)]
+                       for i, p in enumerate(primes)], [sk.Sensor([[1] * 6])])
+        assert sk.critical_loss_rate(S).exact == sp.Rational(1, 13)
     with pytest.raises(BudgetError, match=r"diagonal block rows 1-6 .* is 384, above the cap 64.*--max-degree"):
-        sk.System([[f"sqrt({p})" if i == j else int(j == i + 1) for j in range(6)] for i, p in enumerate(primes)],
+        sk.System([[f"sqrt({p})" if i == j else int(j == (i + 1) % 6) for j in range(6)] for i, p in enumerate(primes)],
                   [sk.Sensor([[1] * 6])])
     S = sk.System([["2*cos(pi/7)", "-2*sin(pi/7)"], ["2*sin(pi/7)", "2*cos(pi/7)"]], [sk.Sensor([[1, 0]])])
     assert S.n == 2

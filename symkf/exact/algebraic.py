@@ -254,7 +254,11 @@ def root_of(expr: sp.Expr) -> tuple[flint.fmpz_poly, int]:
 
 def _root_of_unity_poly(expr: sp.Expr) -> flint.fmpz_poly | None:
     """An integer polynomial vanishing at ``exp(i pi r)``, ``cos(pi r)``, ``sin(pi r)`` (``r``
-    rational), from flint's cyclotomic and ``2 cos(2 pi k/n)`` minimal polynomials; else None."""
+    rational), or their negatives (sympy writes ``sin(-x)`` as ``-sin(x)``), from flint's
+    cyclotomic and ``2 cos(2 pi k/n)`` minimal polynomials; else None."""
+    if expr.is_Mul and expr.args[0] == -1 and len(expr.args) == 2:
+        poly = _root_of_unity_poly(expr.args[1])
+        return None if poly is None else flint.fmpz_poly([(-1) ** k * int(c) for k, c in enumerate(poly.coeffs())])
     if not isinstance(expr, (sp.exp, sp.cos, sp.sin)):
         return None
     r = expr.args[0] / (sp.I * sp.pi if isinstance(expr, sp.exp) else sp.pi)
