@@ -259,6 +259,13 @@ class RatioEvidence:
         label = f"({self.num.label})/{'conj' if self.conj_den else ''}({self.den.label})"
         if self.order:
             return f"{label} has minimal polynomial Phi_{self.order}, a primitive {self.order}-th root of unity"
+        d = self.num.minpoly.degree() * self.den.minpoly.degree()
+        t = _with_prec(256, lambda: self.ball(256).arg() / (2 * flint.arb.pi()))
+        lo, hi = (Fraction(int(v.p), int(v.q)) for v in _arb_interval(t))
+        if self.known is None and _least_denominator(lo, hi) > 2 * d * d:  # as _arg_denominator decided: no resultant
+            return (f"{label} has arg/(2 pi) in {t.str(20)} (certified), an interval "
+                    f"holding no fraction of denominator <= 2 d^2 = {2 * d * d}, while a root of unity of degree "
+                    f"<= d = {d} has order <= 2 d^2, so it is not a root of unity (aperiodic)")
         return (f"{label} has modulus 1 and minimal polynomial {fmpz_to_sympy(self.minpoly).as_expr()}, "
                 "which is not cyclotomic, so it is not a root of unity (aperiodic)")
 

@@ -287,3 +287,18 @@ def test_sqrt2_matrix_analyze_shows_eigenvalues_without_crootof(tmp_path, capsys
     shown = [e for b in doc["blocks"] for e in b["eigenvalues"]]
     assert len(shown) == 16 and sum(e.startswith("FlintRoot") for e in shown) >= 2
     assert sum(sum(b["eigenvalue_degrees"]) for b in doc["blocks"]) >= 16
+
+
+def test_aperiodicity_proof_printed_without_the_ratio_polynomial(monkeypatch):
+    """(3 + 4i)/(3 - 4i) = (-7 + 24 i)/25 is not a root of unity (not an algebraic integer); the
+    proof is decided from the certified arg / (2 pi) ~ 0.2952 (no fraction of denominator <= 32
+    there) and printed the same way, without the ratio's resultant (for the 16 x 16 system above,
+    a degree-1024 resultant that took most of what remained of ``analyze``'s time)."""
+    from symkf import spectral
+
+    def refuse(*args):
+        raise AssertionError("ratio polynomial built")
+    monkeypatch.setattr(spectral, "_ratio_poly", refuse)
+    (block,) = sk.eigen_blocks([["3/5", "-4/5"], ["4/5", "3/5"]])
+    assert block.tau is None and "has arg/(2 pi) in [0.2951672353" in block.proof
+    assert "denominator <= 2 d^2 = 32" in block.proof and "not a root of unity (aperiodic)" in block.proof
