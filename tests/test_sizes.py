@@ -275,9 +275,10 @@ def test_long_eigenvalues_abbreviated_in_text(tmp_path, capsys, no_sympy_complex
 @pytest.mark.full
 def test_sqrt2_matrix_analyze_shows_eigenvalues_without_crootof(tmp_path, capsys, no_sympy_complex_isolation):
     """The 16 x 16 A with entries in {+-sqrt 2, 1, 1/2, 0} (eigenvalues of degree 32, no closed
-    form), one sensor: ``analyze`` ran 182 CPU-s, most of it sympy isolating all 32 ``CRootOf``
-    candidates of each eigenvalue to print it; now the eigenvalues are ``FlintRoot`` s, the block
-    lines abbreviate them, and the whole command takes about as long as ``critical``."""
+    form), one sensor: ``analyze`` ran 181 CPU-s, printing the blocks: sympy isolated the 32
+    ``CRootOf`` candidates of each eigenvalue (24 s) and degree-1024 resultants were built only to
+    print aperiodicity proofs; now the eigenvalues are ``FlintRoot`` s, the block lines abbreviate
+    them, the proofs state the certified argument, and the command takes 52 CPU-s, same verdict."""
     rows = ", ".join("[" + ", ".join(f'"{v}"' for v in row) + "]" for row in _sqrt2_matrix())
     path = tmp_path / "sqrt2.toml"
     path.write_text(f'[system]\nA = [{rows}]\n[[sensors]]\nC = [[{", ".join(["1"] * 16)}]]\n'
