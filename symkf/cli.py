@@ -100,9 +100,12 @@ def _number(a: AlgebraicNumber, digits: int) -> dict[str, Any]:
 
 
 def _blocks_json(A: Any) -> list[dict[str, Any]]:
+    import sympy as sp
     from .spectral import eigen_blocks
     return [{"modulus": str(b.modulus), "modulus_decimal": str(b.modulus.evalf(10)), "modulus_degree": b.modulus.minpoly.degree(),
              "eigenvalues": [str(e) for e in b.eigenvalues],
+             "eigenvalues_decimal": [str(sp.N(e, 10)) for e in b.eigenvalues],
+             "eigenvalue_degrees": [e.minpoly.degree() for e in b.members for _ in range(e.multiplicity)],
              "tau": b.tau, "governing_period": b.governing_period, "proof": b.proof,
              "jordan_chains": b.defective}
             for b in eigen_blocks(A)]
@@ -130,16 +133,29 @@ def cmd_demo(args: argparse.Namespace) -> dict[str, Any]:
 def _modulus_words(block: dict[str, Any]) -> str:
     """A block's modulus for people: its closed form, or its decimal and degree when the form is too
     long to read (``cos(pi/211)``: a degree-105 polynomial with 40-digit coefficients)."""
-    if len(block["modulus"]) <= 200:
-        return block["modulus"]
-    return f"≈{block['modulus_decimal']} (a root of a degree-{block['modulus_degree']} polynomial; --json gives it)"
+    return _exact_words(block["modulus"], block["modulus_decimal"], block["modulus_degree"])
+
+
+def _eigenvalue_words(block: dict[str, Any]) -> str:
+    """A block's eigenvalues for people, each as :func:`_exact_words` shows it (a ``FlintRoot`` of
+    a degree-32 polynomial runs to thousands of characters)."""
+    return ", ".join(_exact_words(*e) for e in zip(block["eigenvalues"], block["eigenvalues_decimal"],
+                                                     block["eigenvalue_degrees"]))
+
+
+def _exact_words(exact: str, decimal: str, degree: int) -> str:
+    """An exact number's closed form when it is short enough to read, else its decimal and the
+    degree of its minimal polynomial (the JSON output keeps the exact form)."""
+    if len(exact) <= 200:
+        return exact
+    return f"≈{decimal} (a root of a degree-{degree} polynomial; --json gives it)"
 
 
 def _print_demo(res: dict[str, Any]) -> None:
     for e in res["examples"]:
         print("\n".join(textwrap.wrap(f"== {e['system']}: A = {e['A']}", 100, subsequent_indent="      ")))
         for i, b in enumerate(e["blocks"]):
-            print(f"   block {i}: |lambda| = {_modulus_words(b)}, eigenvalues {', '.join(b['eigenvalues'])}")
+            print(f"   block {i}: |lambda| = {_modulus_words(b)}, eigenvalues {_eigenvalue_words(b)}")
             print(f"            period tau = {b['tau']}, governing period = {b['governing_period']}")
             if b["tau"] is None or b["governing_period"] is None:
                 print("\n".join(textwrap.wrap(f"proof: {b['proof']}", 100, initial_indent=" " * 12,
@@ -543,7 +559,7 @@ def _print_plain(res: dict[str, Any]) -> None:
     """A result for people: eigen-blocks and the command's own text when it has one, else every
     key in words (:func:`_words`), never JSON."""
     for b in res.get("blocks", []):
-        print("\n".join(textwrap.wrap(f"block: |lambda| = {_modulus_words(b)}, eigenvalues {', '.join(b['eigenvalues'])}, "
+        print("\n".join(textwrap.wrap(f"block: |lambda| = {_modulus_words(b)}, eigenvalues {_eigenvalue_words(b)}, "
                                       f"tau = {b['tau']}, governing period = {b['governing_period']}", 100,
                                       subsequent_indent="    ", break_long_words=False, break_on_hyphens=False)))
     if "_text" in res:

@@ -512,13 +512,13 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
               for f, i in roots}
     own = all(e.key in inside for e in members)
     if not own:
-        K = NumberField([*K.generators, *(e.root for e in members if not e.root.is_Rational)])
+        K = NumberField([*K.generators, *(e.expr for e in members if not e.expr.is_Rational)])
     Ak = K.matrix(sub)
     m = len(index)
     cols: list[list[Elem]] = []
     diag: list[Elem] = []
     for ev in members:
-        lam = inside[ev.key] if own else K.convert(ev.root)
+        lam = inside[ev.key] if own else K.convert(ev.expr)
         shifted = [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(m)] for i in range(m)]
         if ev.defective:
             shifted = _matpow(K, shifted, ev.multiplicity)
@@ -541,14 +541,14 @@ def _split_modal_form(A: sp.MatrixBase, members: Sequence, extra: Sequence[sp.Ma
     diagonal blocks holding its eigenvalue only (it vanishes elsewhere), without factoring the
     characteristic polynomial over the compositum of all entries (most of the time before)."""
     K = NumberField([*field_of(A.extract(index, index), *extra).generators,
-                     *(e.root for e in members if not e.root.is_Rational)])
+                     *(e.expr for e in members if not e.expr.is_Rational)])
     n, zero = A.shape[0], flint.fmpq_poly([])
     cols: list[list[Elem]] = []
     diag: list[Elem] = []
     for ev in members:
         own = support(A, [ev])
         sub = A.extract(own, own)
-        lam = K.convert(ev.root)
+        lam = K.convert(ev.expr)
         basis = _krylov_eigenvector(K, sub, lam) if ev.multiplicity == 1 else None
         if not basis:
             Ak = K.matrix(sub)

@@ -31,7 +31,7 @@ import flint
 import sympy as sp
 
 from .exact.arguments import check_public
-from .exact.algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, _with_prec, crootof_ball,
+from .exact.algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, _with_prec,
                               fmpz_to_sympy, identify, real_from_ball, root_ball, root_of)
 from .exact import nfpoly
 from .exact.field import Elem, NumberField
@@ -152,26 +152,24 @@ class Eigenvalue:
 
     @cached_property
     def expr(self) -> sp.Expr:
-        """The eigenvalue as an exact sympy expression (``alpha exp(2 pi i k/m)`` when periodic)."""
+        """The eigenvalue as an exact sympy expression: a rational, a quadratic radical,
+        ``exp(2 pi i k/m)``, ``cos(2 pi k/m)`` or ``alpha exp(2 pi i k/m)`` (periodic) when it has
+        that closed form, else a :class:`~symkf.exact.algebraic.FlintRoot` (root ``root_index`` of
+        ``minpoly`` in flint's ordering; a ``CRootOf`` would cost sympy's root isolation, minutes
+        at degree 32, and its index cannot be read off flint's balls: sympy orders its complex
+        roots by the corners of its own isolating rectangles).  Also the generator a number
+        field adjoins for it (:mod:`symkf.observability`)."""
         f = self.minpoly
-        if f.degree() > 2 and not f.is_cyclotomic() and not _cosine_order(f):
-            m, _ = self.phase
-            if m is not None:  # lambda = alpha exp(2 pi i k/m): k from the ball of m arg(lambda) / (2 pi)
-                ball = root_ball(f, self.root_index, 128)
-                lo, hi = _arb_interval(_with_prec(128, lambda: ball.arg() * m / (2 * flint.arb.pi())))
-                near = range(math.floor(lo), math.ceil(hi) + 1) if hi - lo < 1 else range(m)
-                return _match(ball, [self.modulus.exact * sp.exp(2 * sp.pi * sp.I * sp.Rational(j % m, m)) for j in near])
-        return _nice_expr(f, self.root_index)
-
-    @cached_property
-    def root(self) -> sp.Expr:
-        """The eigenvalue as a number field's generator: :attr:`expr` when that is a closed form
-        (a rational, quadratic, trigonometric or ``alpha exp(2 pi i k/m)`` form), else a
-        :class:`~symkf.exact.algebraic.FlintRoot` (a ``CRootOf`` would cost sympy's root isolation)."""
-        f = self.minpoly
-        if f.degree() <= 2 or f.is_cyclotomic() or _cosine_order(f) or self.phase[0] is not None:
-            return self.expr
-        return FlintRoot(f, self.root_index)
+        if f.degree() <= 2 or f.is_cyclotomic() or _cosine_order(f):
+            return _nice_expr(f, self.root_index)
+        m, _ = self.phase
+        if m is None:
+            return FlintRoot(f, self.root_index)
+        # lambda = alpha exp(2 pi i k/m): k from the ball of m arg(lambda) / (2 pi)
+        ball = root_ball(f, self.root_index, 128)
+        lo, hi = _arb_interval(_with_prec(128, lambda: ball.arg() * m / (2 * flint.arb.pi())))
+        near = range(math.floor(lo), math.ceil(hi) + 1) if hi - lo < 1 else range(m)
+        return _match(ball, [self.modulus.exact * sp.exp(2 * sp.pi * sp.I * sp.Rational(j % m, m)) for j in near])
 
     @cached_property
     def phase(self) -> tuple[int | None, "RatioEvidence"]:
@@ -232,6 +230,12 @@ class Eigenvalue:
         return f"Eigenvalue({self.expr}, multiplicity={self.multiplicity}{jordan})"
 
 
+PROOF_RESULTANT_DEGREE = 64
+"""Above this degree of the ratio's polynomial, an aperiodicity that :func:`_arg_denominator` proved
+is printed as that proof, not by the ratio's minimal polynomial (a resultant of that degree:
+1024 for the degree-32 eigenvalues of a dense 16 x 16 system, minutes only to be printed)."""
+
+
 @dataclass(frozen=True)
 class RatioEvidence:
     """Why ``num / den`` (or ``num / conj(den)``) is, or is not, a root of unity of order ``order``;
@@ -261,6 +265,13 @@ class RatioEvidence:
         label = f"({self.num.label})/{'conj' if self.conj_den else ''}({self.den.label})"
         if self.order:
             return f"{label} has minimal polynomial Phi_{self.order}, a primitive {self.order}-th root of unity"
+        d = self.num.minpoly.degree() * self.den.minpoly.degree()
+        t = _with_prec(256, lambda: self.ball(256).arg() / (2 * flint.arb.pi()))
+        lo, hi = (Fraction(int(v.p), int(v.q)) for v in _arb_interval(t))
+        if self.known is None and d > PROOF_RESULTANT_DEGREE and _least_denominator(lo, hi) > 2 * d * d:
+            return (f"{label} has arg/(2 pi) in {t.str(20)} (certified), an interval "
+                    f"holding no fraction of denominator <= 2 d^2 = {2 * d * d}, while a root of unity of degree "
+                    f"<= d = {d} has order <= 2 d^2, so it is not a root of unity (aperiodic)")
         return (f"{label} has modulus 1 and minimal polynomial {fmpz_to_sympy(self.minpoly).as_expr()}, "
                 "which is not cyclotomic, so it is not a root of unity (aperiodic)")
 
@@ -406,12 +417,9 @@ class EigenBlock:
 
 # -- eigenvalues ------------------------------------------------------------------
 def _nice_expr(f: flint.fmpz_poly, idx: int) -> sp.Expr:
-    """A readable exact expression for root ``idx`` of the irreducible ``f``.
-
-    Rationals, quadratic radicals and ``exp(2 pi i k/m)`` where sympy has them,
-    otherwise a ``CRootOf``; the choice among the roots is checked against the
-    certified ball of the root.
-    """
+    """The closed form of root ``idx`` of the irreducible ``f`` of degree at most 2, cyclotomic or
+    of a cosine (:func:`_cosine_order`): a rational, a quadratic radical, ``exp(2 pi i k/m)`` or
+    ``cos(2 pi k/m)``, the choice among the roots checked against the certified ball of the root."""
     p = fmpz_to_sympy(f)
     if p.degree() == 1:
         return -p.nth(0) / p.nth(1)
@@ -421,10 +429,9 @@ def _nice_expr(f: flint.fmpz_poly, idx: int) -> sp.Expr:
         cands = [sp.exp(2 * sp.pi * sp.I * sp.Rational(k, m)) for k in range(m) if gcd(k, m) == 1]
     elif p.degree() == 2:
         cands = list(sp.roots(p, x))
-    elif m := _cosine_order(f):
-        cands = [sp.cos(2 * sp.pi * sp.Rational(k, m)) for k in range(m // 2 + 1) if gcd(k, m) == 1]
     else:
-        cands = [sp.CRootOf(p.as_expr(), x, k) for k in range(p.degree())]
+        m = _cosine_order(f)
+        cands = [sp.cos(2 * sp.pi * sp.Rational(k, m)) for k in range(m // 2 + 1) if gcd(k, m) == 1]
     return _match(target, cands)
 
 
@@ -447,11 +454,7 @@ def _cosine_order(f: flint.fmpz_poly) -> int:
 
 
 def _match(target: flint.acb, cands: list[sp.Expr]) -> sp.Expr:
-    """The candidate (exact, distinct) whose value lies in the certified ball ``target``."""
-    if all(isinstance(c, sp.CRootOf) for c in cands):  # disjoint isolating intervals: no evalf
-        hits = [c for c in cands if target.overlaps(crootof_ball(c))]
-        if len(hits) == 1:
-            return hits[0]
+    """The candidate (exact, distinct closed forms) whose value lies in the certified ball ``target``."""
     for c in cands:
         v = complex(c.evalf(40))
         tol = 1e-10 * (1 + abs(v))  # float rounding of v, far below root separation

@@ -222,3 +222,85 @@ def test_tiny_entry_in_a_rotation_block():
     assert not sk.stability(S, sk.IID(["1/2"])).stable
     (block,) = sk.eigen_blocks(S.A)
     assert sp.simplify(block.modulus.exact ** 2 - (4 + e ** 2)) == 0
+
+
+def _companion(a: list[int]) -> sp.Matrix:
+    """The companion matrix of the monic ``x^n + a[n-1] x^(n-1) + ... + a[0]``."""
+    n = len(a)
+    return sp.Matrix(n, n, lambda i, j: (1 if i == j + 1 else 0) + (-a[i] if j == n - 1 else 0))
+
+
+@pytest.fixture
+def no_sympy_complex_isolation(monkeypatch):
+    """Fail on sympy's isolation of complex roots (what a ``CRootOf`` of a non-real root needs: for
+    the degree-32 eigenvalues of the 16 x 16 system below it took over 130 of ``analyze``'s CPU-s)."""
+    from sympy.polys.rootoftools import ComplexRootOf
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("sympy isolated complex roots")
+    monkeypatch.setattr(ComplexRootOf, "_get_complexes", classmethod(refuse))
+
+
+def test_generic_eigenvalues_are_flint_roots(no_sympy_complex_isolation):
+    """x^3 - x - 1 (the plastic number rho ~ 1.3247 and two complex roots of product 1/rho and sum
+    -rho, by Vieta): the real root keeps its ``CRootOf``, the complex pair, with no closed form, is
+    ``FlintRoot`` 1 and 2 (flint's ordering: positive imaginary part first), never isolated by sympy."""
+    blocks = cli._blocks_json(_companion([-1, -1, 0]))
+    assert [b["eigenvalues"] for b in blocks] == [["CRootOf(x**3 - x - 1, 0)"],
+                                                  ["FlintRoot(x**3 - x - 1, 1)", "FlintRoot(x**3 - x - 1, 2)"]]
+    assert blocks[1]["eigenvalues_decimal"] == ["-0.6623589786 + 0.5622795121*I", "-0.6623589786 - 0.5622795121*I"]
+    rho = sp.CRootOf(sp.Symbol("x") ** 3 - sp.Symbol("x") - 1, 0)
+    z1, z2 = (e.expr for e in sk.eigen_blocks(_companion([-1, -1, 0]))[1].members)
+    assert abs(sp.N(z1 * z2 - 1 / rho, 50)) < 1e-45 and abs(sp.N(z1 + z2 + rho, 50)) < 1e-45
+
+
+def test_long_eigenvalues_abbreviated_in_text(tmp_path, capsys, no_sympy_complex_isolation):
+    """x^5 + x^4 - (5 10^60 + 3) x^3 + (3 10^60 + 1) x^2 - (10^60 + 7) x + 5 (irreducible: three
+    real roots, about -+sqrt(5) 10^30 and 10^-60, and a complex pair near 0.3 +- 0.33 i): the exact
+    forms run past 200 characters, so the block line shows each as its decimal and degree, the way
+    it shows a long modulus; the JSON keeps the exact ``FlintRoot``."""
+    big = 10 ** 60
+    a = [5, -(big + 7), 3 * big + 1, -(5 * big + 3), 1]
+    rows = ", ".join("[" + ", ".join(f'"{v}"' for v in row) + "]" for row in _companion(a).tolist())
+    path = tmp_path / "long.toml"
+    path.write_text(f'[system]\nA = [{rows}]\n[[sensors]]\nC = [["0", "0", "0", "0", "1"]]\n')
+    assert cli.main(["analyze", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "≈0.3 + 0.331662479*I (a root of a degree-5 polynomial; --json gives it)" in text
+    assert "FlintRoot" not in text and "CRootOf" not in text and max(map(len, text.splitlines())) <= 100
+    pair = [e for b in cli._blocks_json(_companion(a)) for e in b["eigenvalues"] if e.startswith("FlintRoot")]
+    assert len(pair) == 2 and all(e.endswith(f"{k})") and f"- {5 * big + 3}*x**3" in e for e, k in zip(pair, (3, 4)))
+
+
+@pytest.mark.full
+def test_sqrt2_matrix_analyze_shows_eigenvalues_without_crootof(tmp_path, capsys, no_sympy_complex_isolation):
+    """The 16 x 16 A with entries in {+-sqrt 2, 1, 1/2, 0} (eigenvalues of degree 32, no closed
+    form), one sensor: ``analyze`` ran 181 CPU-s, printing the blocks: sympy isolated the 32
+    ``CRootOf`` candidates of each eigenvalue (24 s) and degree-1024 resultants were built only to
+    print aperiodicity proofs; now the eigenvalues are ``FlintRoot`` s, the block lines abbreviate
+    them, the proofs state the certified argument, and the command takes 52 CPU-s, same verdict."""
+    rows = ", ".join("[" + ", ".join(f'"{v}"' for v in row) + "]" for row in _sqrt2_matrix())
+    path = tmp_path / "sqrt2.toml"
+    path.write_text(f'[system]\nA = [{rows}]\n[[sensors]]\nC = [[{", ".join(["1"] * 16)}]]\n'
+                    '[loss]\nkind = "iid"\nloss = ["1/2"]\n')
+    assert cli.main(["analyze", "--json", str(path)]) in (0, 1)
+    doc = __import__("json").loads(capsys.readouterr().out)
+    shown = [e for b in doc["blocks"] for e in b["eigenvalues"]]
+    assert len(shown) == 16 and sum(e.startswith("FlintRoot") for e in shown) >= 2
+    assert sum(sum(b["eigenvalue_degrees"]) for b in doc["blocks"]) >= 16
+
+
+def test_aperiodicity_proof_printed_without_the_ratio_polynomial(monkeypatch):
+    """(3 + 4i)/(3 - 4i) = (-7 + 24 i)/25 is not a root of unity (not an algebraic integer); the
+    proof is decided from the certified arg / (2 pi) ~ 0.2952 (no fraction of denominator <= 32
+    there) and printed the same way, without the ratio's resultant (for the 16 x 16 system above,
+    a degree-1024 resultant that took most of what remained of ``analyze``'s time)."""
+    from symkf import spectral
+
+    def refuse(*args):
+        raise AssertionError("ratio polynomial built")
+    monkeypatch.setattr(spectral, "_ratio_poly", refuse)
+    monkeypatch.setattr(spectral, "PROOF_RESULTANT_DEGREE", 2)  # below it (4) the proof prints the minimal polynomial
+    (block,) = sk.eigen_blocks([["3/5", "-4/5"], ["4/5", "3/5"]])
+    assert block.tau is None and "has arg/(2 pi) in [0.2951672353" in block.proof
+    assert "denominator <= 2 d^2 = 32" in block.proof and "not a root of unity (aperiodic)" in block.proof
