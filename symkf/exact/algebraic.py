@@ -520,7 +520,7 @@ class AlgebraicNumber:
         if all(v == 0 for v in c[1::2]) and self._lo >= 0:  # p(x) = q(x^2): a square root
             # of the root of q at self^2, identified by its ball (not among all real roots of q:
             # 230 of them for |sin(2 pi/517)|, 32 CPU-s)
-            f, index = identify(flint.fmpz_poly(c[::2][::-1]), lambda prec: self._ball(prec) ** 2, f"({self})^2")
+            f, index = identify(flint.fmpz_poly(c[::2][::-1]), lambda prec: self._ball(prec) ** 2, "square of a root")
             return sp.sqrt(AlgebraicNumber._irreducible(f, index).exact)
         return sp.CRootOf(self.minpoly.as_expr(), x, self._index)
 
