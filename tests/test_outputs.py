@@ -12,6 +12,7 @@ import time
 from pathlib import Path
 
 import pytest
+from test_interrupts import cpu_seconds
 
 from symkf import cli
 
@@ -104,18 +105,13 @@ def test_jobs_capped_at_the_cpu_count(capsys, monkeypatch, family):
     assert seen["jobs"] == 1000
 
 
-def _cpu_seconds(pid: int) -> float:
-    fields = Path(f"/proc/{pid}/stat").read_text().rpartition(")")[2].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-
-
 def test_ctrl_c_is_one_line_and_exit_130(system):
     """Ctrl-C inside the simulation: the signal is sent once the process has used 2.5 CPU-s (its
     imports take well under that), not after a wall-clock delay that a loaded machine stretches."""
     proc = subprocess.Popen([sys.executable, "-m", "symkf", "simulate", str(system), "--paths", "600000",
                              "--horizon", "100"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
     deadline = time.monotonic() + 120
-    while _cpu_seconds(proc.pid) < 2.5 and proc.poll() is None and time.monotonic() < deadline:
+    while cpu_seconds(proc.pid) < 2.5 and proc.poll() is None and time.monotonic() < deadline:
         time.sleep(0.05)
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=60)
