@@ -33,7 +33,6 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):   # 
 
 import argparse
 import resource
-import statistics
 import subprocess
 import sys
 import tempfile
@@ -48,7 +47,7 @@ from symkf.model import Sensor, System
 from symkf.montecarlo import BurstPlan, burst_sample, simulate_traces
 
 from batch_filter import trace_batch
-from timing import peak_rss_mb
+from timing import median_cpu as cpu, peak_rss_mb
 
 HORIZON = 100
 
@@ -81,15 +80,6 @@ def naive(S: System, eps: float, paths: int, seed: int) -> None:
                 K = P @ H.T @ np.linalg.inv(H @ P @ H.T + np.eye(int(got.sum())))
                 P = P - K @ H @ P
             P = A @ P @ A.T + np.eye(n)
-
-
-def cpu(fn, repeats: int) -> float:
-    times = []
-    for r in range(repeats):
-        t = time.process_time()
-        fn(r)
-        times.append(time.process_time() - t)
-    return statistics.median(times)
 
 
 GRID_PATHS = {2: 16384, 4: 8192, 8: 2048, 16: 1024}
