@@ -14,6 +14,7 @@ import importlib
 import signal
 import traceback
 
+import pytest
 import sympy
 import sympy.parsing.sympy_parser as sympy_parser
 import sympy.physics.units  # noqa: F401  imported lazily by simplify; it sympifies constant strings of its own
@@ -66,3 +67,13 @@ def _refuse(name: str):
 sympy_parser.parse_expr, sympy_parser.eval_expr = _refuse("parse_expr"), _refuse("eval_expr")
 sympy.parse_expr = sympy_parser.parse_expr
 _sympify_module.kernS = _refuse("kernS")
+
+
+@pytest.fixture(scope="session")
+def dask_cluster():
+    """One local dask cluster of two worker processes for the whole run (starting one, its workers
+    importing symkf, costs seconds)."""
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        yield cluster

@@ -56,12 +56,12 @@ def test_processes_match_serial(family, serial):
     assert _same(family.evaluate(jobs=2), serial)
 
 
-def test_dask_local_cluster_matches_serial(family, serial):
-    distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+def test_dask_local_cluster_matches_serial(family, serial, dask_cluster):
+    import distributed
+
+    with distributed.Client(dask_cluster) as client:
         assert _same(family.evaluate(scheduler=client), serial)
-        assert _same(family.evaluate(scheduler=cluster.scheduler_address), serial)
+        assert _same(family.evaluate(scheduler=dask_cluster.scheduler_address), serial)
         # a symkf error raised on a worker comes back with its type and attributes
         with pytest.raises(AssumptionError, match="Assumption 1") as info:
             sweep(functools.partial(critical_alpha, loss=IID(["1/2"])),

@@ -74,11 +74,8 @@ def test_processes_match_serial(path, serial):
     assert verify_family(path, jobs=2, seed=SEED, **RUN).to_json() == serial
 
 
-def test_dask_local_cluster_matches_serial(path, serial):
-    distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
-        assert verify_family(path, scheduler=cluster.scheduler_address, seed=SEED, **RUN).to_json() == serial
+def test_dask_local_cluster_matches_serial(path, serial, dask_cluster):
+    assert verify_family(path, scheduler=dask_cluster.scheduler_address, seed=SEED, **RUN).to_json() == serial
 
 
 def test_family_needs_a_loss_template(tmp_path):
