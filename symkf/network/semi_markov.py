@@ -72,12 +72,12 @@ def rank_deficiency_probabilities(loss: NetworkLoss, dynamics: PeriodicDynamics,
     out = []
     for s in range(horizon):
         Phi = dynamics.Phi(phase + s, phase)
-        blocks = [dynamics.C[m] * Phi for m in range(dynamics.M)]
+        blocks = [(dynamics.C[m] * Phi).tolist() for m in range(dynamics.M)]
+        received = {t: [row for m in range(dynamics.M) if t[m] for row in blocks[m]] for t, _ in law}
         nxt: dict = {}
         for rows, p in spaces.items():
             for t, pt in law:
-                new = list(rows) + [list(blocks[m].row(i)) for m in range(dynamics.M) if t[m]
-                                    for i in range(blocks[m].rows)]
+                new = list(rows) + received[t]
                 key = _canonical(new, n) if new else ()
                 nxt[key] = nxt.get(key, sp.Integer(0)) + p * pt
         nxt.pop(FULL, None)  # full rank stays full: those paths leave the computation
