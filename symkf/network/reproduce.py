@@ -205,7 +205,7 @@ def reproduce_quevedo_robot(outdir: str | None = None) -> dict:
         },
         {
             "lifted chain (Xi, holding counter, theta) is stochastic":
-                all(sp.simplify(sum(loss.chain.P.row(r)) - 1) == 0 for r in range(len(loss.chain.states))),
+                all(sp.simplify(x - 1) == 0 for x in loss.chain.P * sp.ImmutableMatrix.ones(len(loss.chain.states), 1)),
             "sigma = 30 (psi_1 is a point mass at 30)": state.sigma == 30,
             "Sec. VII-B: with q = p and psi(1) = 1, (32) reduces to (22)": reduces and reduces_paper,
             "the exact verdict (irreducible lifted chain, 560 states) agrees: stable": exact.stable,
