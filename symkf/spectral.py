@@ -34,7 +34,7 @@ from .exact.arguments import check_public
 from .exact.algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, _with_prec,
                               fmpz_to_sympy, identify, real_from_ball, root_ball, root_of)
 from .exact import nfpoly
-from .exact.field import Elem, NumberField
+from .exact.field import Elem, NumberField, rational_value
 from .exact.blocks import diagonal_blocks
 from .exact.linalg import field_of, rank, rank_rows
 from . import budget
@@ -466,10 +466,9 @@ def _match(target: flint.acb, cands: list[sp.Expr]) -> sp.Expr:
 def _factor_charpoly(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Elem], int, list[tuple[flint.fmpz_poly, int]]]]:
     """Irreducible factors ``h`` of the characteristic polynomial over K with multiplicity,
     each with its roots as (Q-minimal polynomial, root index)."""
-    n = A.shape[0]
     if K.is_rational:
-        chi = flint.fmpq_mat([[flint.fmpq(int(sp.Rational(v).p), int(sp.Rational(v).q)) for v in A.row(i)]
-                              for i in range(n)]).charpoly()
+        # through the field's conversion: an entry may be rational without being written as one
+        chi = flint.fmpq_mat([[rational_value(a) for a in row] for row in K.matrix(A)]).charpoly()
         out = []
         for f, e in chi.factor()[1]:
             fz = flint.fmpz_poly([int(c) for c in (f * f.denom()).coeffs()])

@@ -115,3 +115,13 @@ def test_zeros_and_exact_floats_are_not_reported():
         warnings.simplefilter("always")
         sk.System(np.array([[0.0, -2.0], [2.0, 0.0]]), [sk.Sensor(C=[[1.0, 0.0]])], rationalize=True)
     assert caught == []
+
+
+def test_an_entry_rational_in_value_but_not_in_form():
+    """(1/2 + sqrt 5/2)^2 - sqrt 5/2 + 5/2 is 4: the field of the entries is Q, and the entry is
+    read through the field's conversion (a TypeError from sympy's Rational before)."""
+    four = "-sqrt(5)/2 + 5/2 + (1/2 + sqrt(5)/2)**2"
+    assert [(e.expr, e.multiplicity) for e in sk.eigenvalues([[four, 0], [0, 1]])] == [(4, 1), (1, 1)]
+    written = sk.System([[four, 1], [0, 3]], [sk.Sensor([[1, 0]])])
+    plain = sk.System([[4, 1], [0, 3]], [sk.Sensor([[1, 0]])])
+    assert sk.critical_loss_rate(written) == sk.critical_loss_rate(plain) == sp.Rational(1, 16)

@@ -60,6 +60,11 @@ def _rational(q: sp.Rational) -> Elem:
     return flint.fmpq_poly([flint.fmpq(int(q.p), int(q.q))])
 
 
+def rational_value(a: Elem) -> flint.fmpq:
+    """The rational an element of Q is (its constant coefficient)."""
+    return a[0] if a.length() else flint.fmpq(0)
+
+
 class _Presentation:
     """Mutable state shared by equal NumberFields: primitive element and converted elements.
 

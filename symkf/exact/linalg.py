@@ -14,7 +14,7 @@ import flint
 import sympy as sp
 
 from .arguments import check_public
-from .field import Elem, NumberField, QQ_FIELD
+from .field import Elem, NumberField, QQ_FIELD, rational_value
 from .numbers import as_matrix, sympify
 
 
@@ -36,7 +36,7 @@ def rank_rows(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int | None 
         return 0
     ncols = len(rows[0]) if ncols is None else ncols
     if K.is_rational:
-        return flint.fmpq_mat([[a[0] if a.length() else 0 for a in r] for r in rows]).rank()
+        return flint.fmpq_mat([[rational_value(a) for a in r] for r in rows]).rank()
     return len(_echelon(K, rows, ncols)[1])
 
 
