@@ -20,7 +20,7 @@ import dataclasses
 import math
 import sys
 from dataclasses import dataclass
-from typing import Iterator
+from typing import Callable, Iterator
 
 from .exact.arguments import check_public
 from .errors import BudgetError, InputError
@@ -134,10 +134,13 @@ def limits(**caps: int) -> Iterator[Limits]:
         sys.set_int_max_str_digits(digits)
 
 
-def check(cap: str, estimate: int, entry: str, what: str) -> None:
-    """Refuse when ``estimate`` of ``what`` for ``entry`` exceeds the cap named ``cap``."""
+def check(cap: str, estimate: int, entry: str, what: str | Callable[[], str]) -> None:
+    """Refuse when ``estimate`` of ``what`` for ``entry`` exceeds the cap named ``cap``
+    (``what`` may be a function giving the words, called only when refusing: writing a large
+    expression out costs more than checking it)."""
     bound = getattr(LIMITS, cap)
     if estimate > bound:
+        what = what if isinstance(what, str) else what()
         shown = estimate if estimate < 10 ** 15 else f"about 10^{math.floor(math.log10(estimate))}"
         raise BudgetError(f"{entry}: {what} is {shown}, above the cap {bound}; raise it with "
                           f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")

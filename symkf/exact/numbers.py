@@ -38,7 +38,7 @@ import warnings
 from dataclasses import dataclass, field
 from decimal import Decimal
 from fractions import Fraction
-from typing import Any, Collection, Iterable, Iterator, Mapping, NamedTuple, Sequence
+from typing import Any, Callable, Collection, Iterable, Iterator, Mapping, NamedTuple, Sequence
 
 import sympy as sp
 
@@ -101,9 +101,10 @@ def rational_bits(r: sp.Rational | Fraction) -> float:
     return math.log2(max(abs(p), q))
 
 
-def check_bits(bits: float, entry: str, what: str) -> None:
+def check_bits(bits: float, entry: str, what: str | Callable[[], str]) -> None:
     """Refuse a number whose bit size (height bound) exceeds ``max_bits``, before it is built."""
-    budget.check("max_bits", math.ceil(bits), entry, f"the bit size (height bound) of {what}")
+    budget.check("max_bits", math.ceil(bits), entry,
+                 lambda: f"the bit size (height bound) of {what if isinstance(what, str) else what()}")
 
 
 #: height bounds in bits of the trigonometric constants: cos t = (z + 1/z)/2 with z a root of unity
@@ -527,15 +528,15 @@ def expr_bits(expr: sp.Basic) -> float:
 
 def _check_sympy(expr: sp.Basic, entry: str) -> None:
     """The budget checks of the parser, applied to a sympy expression given directly."""
-    check_bits(expr_bits(expr), entry, f"the sympy number {str(expr)[:40]}")
+    check_bits(expr_bits(expr), entry, lambda: f"the sympy number {str(expr)[:40]}")
     for node in sp.preorder_traversal(expr):
         if node.is_Pow and node.exp.is_Rational:
-            budget.check("max_exponent", abs(node.exp.p), entry, f"an exponent of {expr}")
-            budget.check("max_degree", node.exp.q, entry, f"a root index of {expr}")
+            budget.check("max_exponent", abs(node.exp.p), entry, lambda: f"an exponent of {expr}")
+            budget.check("max_degree", node.exp.q, entry, lambda: f"a root index of {expr}")
         elif isinstance(node, (sp.cos, sp.sin, sp.tan, sp.exp)) and not node.args[0].free_symbols:
             r = node.args[0] / (sp.pi * sp.I if isinstance(node, sp.exp) else sp.pi)
             if r.is_Rational:
-                budget.check("max_angle_denominator", r.q, entry, f"the denominator of an angle of {expr}")
+                budget.check("max_angle_denominator", r.q, entry, lambda: f"the denominator of an angle of {expr}")
 
 
 def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
