@@ -53,6 +53,8 @@ class Limits:
     #: modulus of an integer exponent (x**e) and decimal digits of any number
     max_exponent: int = 10_000
     max_digits: int = 1000
+    #: characters of the text of one number
+    max_number_length: int = 1000
     #: bit size (height) of an exact number, estimated before it is evaluated: the larger of a
     #: rational's numerator and denominator bits; for an algebraic number a bound on its
     #: absolute logarithmic (Weil) height in bits, the size that the engine's polynomial arithmetic
@@ -74,8 +76,27 @@ class Limits:
     #: sensors of period 24 has 1.2 million, 12 CPU-s and past 2.8 GB in all)
     max_hyperplanes: int = 300_000
     #: receival sequences ``2^(d (horizon - 1))`` that the exact mean trace enumerates
-    #: (symkf.montecarlo.exact_mean_covariances and exact_mean_trace; estimate_mean_trace simulates)
+    #: (symkf.montecarlo.exact_mean_covariances and exact_mean_trace; estimate_mean_trace simulates),
+    #: and ``2^(d N)`` that the brute-force symkf.decay.probability_rank_deficient enumerates
     max_patterns: int = 2 ** 20
+    #: hyperplanes of the exact verdict's limiting block that a Monte Carlo plan
+    #: (symkf.montecarlo.verdict_plan) lists to find the bursts whose rate ties with the decisive
+    #: one; above it the plan keeps the decisive pattern and its shifts only (no refusal)
+    max_tie_search: int = 512
+    #: rows of all sensors up to which Theorem 5's common threshold (symkf.capacity.compare) is
+    #: maximised over every row order (r! Wonham decompositions: 6 rows, 720); above it the given
+    #: order only (no refusal)
+    max_order_rows: int = 6
+    #: degree of an eigenvalue ratio's polynomial (the product of the two eigenvalues' degrees)
+    #: up to which an aperiodicity proof prints the ratio's minimal polynomial, a resultant of that
+    #: degree (1024 for the degree-32 eigenvalues of a dense 16 x 16 system: minutes); above it,
+    #: when the certified argument already proves it, the proof is printed from the argument
+    max_proof_resultant_degree: int = 64
+    #: size ``n d`` of the rational matrix whose characteristic polynomial is the norm of an
+    #: n x n chain block's with entries in a number field of degree d (the exact Perron root,
+    #: symkf.exact.perron_field): its cost grows like (n d)^4 (6 x 6 to 48 x 48 blocks over
+    #: Q(sqrt 2, sqrt 3, sqrt 5): n d = 48, 0.1 CPU-s; 192, 3.3; 256, 9; 384, 41 and 390 MB)
+    max_norm_dimension: int = 256
     #: states of the lifted chain of a network loss read from a file, bounded before it is built by
     #: (network states, or the sum over states of the longest holding time) times 2^M link outcomes
     max_network_chain: int = 4096

@@ -422,10 +422,6 @@ def burst_plan(system: System, pattern: Any, growth: Any) -> BurstPlan:
     return BurstPlan(np.stack(shifts), growth_f)
 
 
-#: hyperplanes of the limiting block beyond which ties are not searched (enumeration cost)
-MAX_TIE_SEARCH = 512
-
-
 def verdict_plan(system: System, verdict, loss: LossModel | None = None) -> BurstPlan:
     """The :class:`BurstPlan` of the exact verdict's limiting block (its decisive hyperplane).
 
@@ -441,7 +437,7 @@ def verdict_plan(system: System, verdict, loss: LossModel | None = None) -> Burs
     from .decay import hyperplane_estimate  # the engine imports nothing from simulation
     from .observability import block_rows
     br = block_rows(system)[verdict.limiting_block]
-    if hyperplane_estimate(br) > budget.LIMITS.max_hyperplanes or len(br.hyperplanes) > MAX_TIE_SEARCH \
+    if hyperplane_estimate(br) > budget.LIMITS.max_hyperplanes or len(br.hyperplanes) > budget.LIMITS.max_tie_search \
             or br.class_period != plan.period:  # no ties searched where listing would be refused
         return plan
     masks = []

@@ -230,12 +230,6 @@ class Eigenvalue:
         return f"Eigenvalue({self.expr}, multiplicity={self.multiplicity}{jordan})"
 
 
-PROOF_RESULTANT_DEGREE = 64
-"""Above this degree of the ratio's polynomial, an aperiodicity that :func:`_arg_denominator` proved
-is printed as that proof, not by the ratio's minimal polynomial (a resultant of that degree:
-1024 for the degree-32 eigenvalues of a dense 16 x 16 system, minutes only to be printed)."""
-
-
 @dataclass(frozen=True)
 class RatioEvidence:
     """Why ``num / den`` (or ``num / conj(den)``) is, or is not, a root of unity of order ``order``;
@@ -268,7 +262,7 @@ class RatioEvidence:
         d = self.num.minpoly.degree() * self.den.minpoly.degree()
         t = _with_prec(256, lambda: self.ball(256).arg() / (2 * flint.arb.pi()))
         lo, hi = (Fraction(int(v.p), int(v.q)) for v in _arb_interval(t))
-        if self.known is None and d > PROOF_RESULTANT_DEGREE and _least_denominator(lo, hi) > 2 * d * d:
+        if self.known is None and d > budget.LIMITS.max_proof_resultant_degree and _least_denominator(lo, hi) > 2 * d * d:
             return (f"{label} has arg/(2 pi) in {t.str(20)} (certified), an interval "
                     f"holding no fraction of denominator <= 2 d^2 = {2 * d * d}, while a root of unity of degree "
                     f"<= d = {d} has order <= 2 d^2, so it is not a root of unity (aperiodic)")

@@ -12,7 +12,8 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings, strategies as st
 
-from symkf import GilbertElliott, IID, Sensor, System
+from symkf import GilbertElliott, IID, Sensor, System, budget
+from symkf.capacity.compare import theorem5_common_threshold
 from symkf.capacity import (MARE, capacity_bounds_meet, comparison_table, corollary1_critical_capacity,
                             critical_capacities, critical_loss_comparison, hadamard_weight,
                             individual_capacities, information_lower_bound_sequence, lower_bound_converges,
@@ -288,6 +289,18 @@ def test_comparison_against_hand_derived_critical_rates():
     assert table.count("\n") == 5 and "64/121" in table
     v = verdict_comparison(SCALAR2, IID(["1/10", "9/10"]), exact_stable=True)  # 4 * 9/100 < 1
     assert v["consistent"] and v["C_gt_ln_rho"] and v["theorem5_per_sensor"] is True
+
+
+def test_theorem5_row_orders_are_capped_by_max_order_rows():
+    """FULL_C (A = [[2, 1], [0, 3]], C = I): in the given row order the first row e1 observes all
+    of A, one Wonham block of Mahler measure 2 * 3 (common threshold 1/36); in the other order
+    e2 observes the eigenvalue 3 alone and the blocks are [3], [2] (largest 3: 1/9 = eps*).
+    With max_order_rows = 1 < 2 rows only the given order is tried."""
+    assert theorem5_common_threshold(FULL_C) == R(1, 9)
+    with budget.limits(max_order_rows=1):
+        assert theorem5_common_threshold(FULL_C) == R(1, 36)
+    with budget.limits(max_order_rows=2):
+        assert theorem5_common_threshold(FULL_C) == R(1, 9)
 
 
 def test_inconsistent_engine_value_is_flagged():

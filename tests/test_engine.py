@@ -35,6 +35,20 @@ def test_eq35_against_enumeration(system, loss):
             assert sp.expand(sum(M ** N * v)) == probability_rank_deficient(system, loss, br.class_period * N)[i]
 
 
+def test_enumeration_is_capped_by_max_patterns():
+    """TWO (class period 2), N = 4 steps: 2^(2 * 4) = 256 patterns, refused under max_patterns = 128
+    naming the cap; at 256 the enumeration runs and matches eq. 35, u M^2 v."""
+    from symkf import budget
+    from symkf.errors import BudgetError
+    loss = sk.IID(["1/3", "1/2"])
+    with budget.limits(max_patterns=128), pytest.raises(BudgetError, match=r"is 256, above the cap 128; .*--max-patterns"):
+        probability_rank_deficient(TWO, loss, 4)
+    (br,) = block_rows(TWO)
+    M, _ = m_matrix(br, loss)
+    with budget.limits(max_patterns=256):
+        assert probability_rank_deficient(TWO, loss, 4) == (sp.expand(sum(M ** 2 * sp.Matrix([1] + [0] * (M.shape[0] - 1)))),)
+
+
 def test_design_example_critical_is_one_sixteenth():
     eps = critical_loss_rate(DESIGN)
     assert eps.exact == sp.Rational(1, 16)

@@ -202,6 +202,17 @@ def test_issue_hangs_are_refused_at_once_naming_the_option(text, cap):
             call()
 
 
+def test_long_number_text_is_refused_naming_the_cap_and_its_option():
+    """"1+1+...+1" with 501 ones is 1001 characters: above max_number_length (1000) before it is
+    parsed; with the cap raised it parses to 501."""
+    text = "+".join(["1"] * 501)
+    with pytest.raises(BudgetError, match=r"x: the length of the number's text \(characters\) is 1001, "
+                                          r"above the cap 1000; .*max_number_length=.*--max-number-length"):
+        parse_exact(text, "x")
+    with budget.limits(max_number_length=1001):
+        assert parse_exact(text, "x") == 501
+
+
 def test_caps_can_be_raised_and_are_restored():
     """sum of 7 square roots of primes: degree 2^7 = 128 > 64 (default); with the cap raised it
     parses (and the cap returns to its default after the block)."""

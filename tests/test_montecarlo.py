@@ -229,6 +229,21 @@ def test_gilbert_elliott_growth_found_where_plain_monte_carlo_misses_it():
     assert plain.growth_high < 6 ** 0.5 / 2 - 0.1     # nothing to steer: the rare bursts are missed
 
 
+def test_tie_search_is_capped_by_max_tie_search():
+    # ge-two-sensors: the limiting block has 4 hyperplanes; the decisive pattern has 2 shifts and
+    # the tie search adds the 2 tied patterns through the other sensor; with fewer hyperplanes
+    # allowed than the block has, the plan is the decisive pattern's shifts alone
+    from symkf import budget
+    system, loss = _example("ge-two-sensors.toml")
+    v = stability(system, loss)
+    shifts = verdict_plan(system, v).allowed
+    assert shifts.shape == (2, 2, 2) and verdict_plan(system, v, loss).allowed.shape == (4, 2, 2)
+    with budget.limits(max_tie_search=4):
+        assert verdict_plan(system, v, loss).allowed.shape == (4, 2, 2)
+    with budget.limits(max_tie_search=3):
+        assert np.array_equal(verdict_plan(system, v, loss).allowed, shifts)
+
+
 def test_long_bursts_are_sampled_to_the_horizon():
     # ge-two-sensors, 2000 paths: log E[tr P_k] must keep growing like k ln(sqrt(6)/2) out to
     # k = 200 (with 5 % of the loss law mixed in at every burst step, almost no path held the

@@ -168,3 +168,30 @@ def test_against_sympy_algebraic_field(radicands, c):
 def test_non_algebraic_generators_refused(g):
     with pytest.raises(InputError, match="cannot build the number field"):
         NumberField([sp.sqrt(2), g])
+
+
+def test_radicals_of_cyclotomic_fields_join_the_cyclotomic_presentation():
+    """sympy writes cos(2 pi/5) = (sqrt 5 - 1)/4 and sin(2 pi/5) = sqrt(sqrt 5/8 + 5/8): by hand
+    sqrt 5 = 1 + 4 cos(2 pi/5) = 1 + 2 t (t = 2 cos(2 pi/5), the real subfield of Q(zeta_5)) and
+    sin(2 pi/5) = cos(2 pi/20) = u/2 (u = 2 cos(2 pi/20)).  With the rotations by 2 pi/7, 2 pi/9
+    and the eigenvalue exp(2 pi i/5) the field is Q(zeta_1260) (degree phi(1260) = 288), presented
+    by its cyclotomic polynomial, not by a generic primitive element (minutes, before, to decide
+    that sqrt 5 lies in it); sqrt 7 (in Q(zeta_28)^+ of degree 6) and cbrt 2 (not abelian) are not
+    recognised."""
+    from symkf.exact.field import _cyclotomic_radicals
+    c5, s5 = sp.cos(2 * sp.pi / 5), sp.sin(2 * sp.pi / 5)
+    assert not c5.has(sp.cos) and not s5.has(sp.sin)  # sympy's radicals
+    found = _cyclotomic_radicals([c5, s5, sp.sqrt(7), sp.cbrt(2)])
+    assert found.keys() == {sp.sqrt(5), s5}
+    assert found[sp.sqrt(5)][:2] == (5, True) and found[sp.sqrt(5)][2] == flint.fmpq_poly([1, 2])
+    assert found[s5][:2] == (20, True) and found[s5][2] == flint.fmpq_poly([0, flint.fmpq(1, 2)])
+    gens = [c5, s5, sp.cos(2 * sp.pi / 7), sp.sin(2 * sp.pi / 7), sp.cos(2 * sp.pi / 9), sp.sin(2 * sp.pi / 9),
+            sp.exp(2 * sp.pi * sp.I / 5)]
+    K = NumberField(gens)
+    assert K.degree == 288 and K.modulus == flint.fmpq_poly(flint.fmpz_poly.cyclotomic(1260))
+    C, S, E = (K.convert(v) for v in (c5, s5, sp.exp(2 * sp.pi * sp.I / 5)))
+    assert K.mul(C, C) + K.mul(S, S) == K.convert(1)
+    assert K.mul(K.convert(sp.sqrt(5)), K.convert(sp.sqrt(5))) == K.convert(5)
+    assert 2 * C == E + K.inv(E)  # 2 cos(2 pi/5) = zeta_5 + zeta_5^-1: the intended conjugate
+    for g in gens[2:]:  # the trigonometric atoms, by Euler's formula independently of symkf
+        assert vanishes_cyclotomic(K.to_sympy(K.convert(g)) - g, 630)

@@ -161,3 +161,19 @@ def test_norm_charpoly_is_the_norm_of_chi():
     K = perron_field.field_of(sp.Matrix([[sp.sqrt(2)]]))
     M = K.matrix(sp.Matrix([[sp.sqrt(2), 1], [1, 0]]))
     assert perron_field.norm_charpoly(K, M) == flint.fmpz_poly([1, 0, -4, 0, 1])
+
+
+def test_norm_dimension_is_capped_by_max_norm_dimension():
+    # [[sqrt 2, 1], [1, 0]]: n = 2 states over Q(sqrt 2) (d = 2), a rational norm matrix of size
+    # n d = 4; chi = x^2 - sqrt 2 x - 1, Perron root (sqrt 2 + sqrt 6)/2 by hand.  Under a cap of 3
+    # it is refused by perron_root itself (not passed on to the costlier fallback over K)
+    from symkf import budget
+    from symkf.errors import BudgetError
+    M = sp.Matrix([[sp.sqrt(2), 1], [1, 0]])
+    with budget.limits(max_norm_dimension=3):
+        with pytest.raises(BudgetError, match=r"an irreducible block of 2 chain states: the size n d of the rational "
+                                              r"matrix of its norm \(n = 2 states, entries in a field of degree "
+                                              r"d = 2\) is 4, above the cap 3; .*--max-norm-dimension"):
+            perron_root(M)
+    with budget.limits(max_norm_dimension=4):
+        assert sp.simplify(perron_root(M) - (sp.sqrt(2) + sp.sqrt(6)) / 2) == 0

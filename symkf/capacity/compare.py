@@ -21,6 +21,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from .. import budget
 from ..exact.arguments import check_public
 from ..exact.algebraic import AlgebraicNumber
 from ..losses import IID
@@ -29,17 +30,14 @@ from .lower import lower_bound_converges
 from .quantities import capacity_exceeds, mahler_measure, spectral_radius
 from .theorems import theorem5_sufficient, wonham_decomposition
 
-MAX_ORDER_ROWS = 6  # all row orders are tried up to this many rows (6! = 720 decompositions)
-
-
 def _orders(system: System) -> list[list[tuple[int, int]] | None]:
     rows = [(i, r) for i, s in enumerate(system.sensors) for r in range(s.m)]
-    return [list(p) for p in itertools.permutations(rows)] if len(rows) <= MAX_ORDER_ROWS else [None]
+    return [list(p) for p in itertools.permutations(rows)] if len(rows) <= budget.LIMITS.max_order_rows else [None]
 
 
 def theorem5_common_threshold(system: System) -> AlgebraicNumber:
     """The largest common loss allowed by Theorem 5's per-sensor test, ``min_i max_j M(A_ij)^{-2}``,
-    maximised over row orders (all orders up to ``MAX_ORDER_ROWS`` rows, else the given one)."""
+    maximised over row orders (all orders up to ``budget.Limits.max_order_rows`` rows, else the given one)."""
     best = None
     for order in _orders(system):
         dec = wonham_decomposition(system, order)

@@ -132,27 +132,30 @@ def _start_cyclotomic(state: _Presentation, generators: Sequence[sp.Expr]) -> No
     generate the fixed field of ``H = {a : sigma_a fixes them}`` (``sigma_a: zeta -> zeta^a``),
     read off the exponents: ``zeta^k`` is fixed iff ``a k = k``, a cosine iff ``a k = +-k`` (mod m).
     Representations are exact by Euler's formula and Chebyshev's ``2 cos(k x) = V_k(2 cos x)``.
+    Radicals that generate a whole ``Q(zeta_n)^+`` or ``Q(zeta_n)`` (:func:`_cyclotomic_radicals`:
+    sympy writes ``cos(2 pi/5)`` as ``(sqrt 5 - 1)/4``) are atoms ``2 cos(2 pi/n)`` or ``zeta_n``
+    too, represented by their polynomial in that atom.
     Any other ``H`` (a smaller field), and other generators, go the generic way."""
-    atoms = _root_of_unity_atoms(generators)
+    if not _root_of_unity_atoms(generators):
+        return
+    radicals = _cyclotomic_radicals(generators)  # their own atoms (i in i sqrt 3) are not generators
+    atoms = _root_of_unity_atoms([g for g in generators if _core(g) not in radicals])
     m = 4
     for a, r in atoms.items():
         m = int(sp.ilcm(m, (r / 2).q))
+    for n, _, _ in radicals.values():
+        m = int(sp.ilcm(m, n))
     powers = {a: int(r * m / 2) for a, r in atoms.items() if not isinstance(a, (sp.cos, sp.sin))}
     cosines = {a: int(r * m / 2) if isinstance(a, sp.cos) else m // 4 - int(r * m / 2)
                for a, r in atoms.items() if isinstance(a, (sp.cos, sp.sin))}
+    exponents = [*powers.values(), *(m // n for n, real, _ in radicals.values() if not real)]
+    cosine_exponents = [*cosines.values(), *(m // n for n, real, _ in radicals.values() if real)]
     H = [a for a in range(1, m) if gcd(a, m) == 1
-         and all((a - 1) * k % m == 0 for k in powers.values())
-         and all((a - 1) * k % m == 0 or (a + 1) * k % m == 0 for k in cosines.values())]
+         and all((a - 1) * k % m == 0 for k in exponents)
+         and all((a - 1) * k % m == 0 or (a + 1) * k % m == 0 for k in cosine_exponents)]
     if not atoms or m <= 4 or H not in ([1], [1, m - 1]):
         return
-    if H == [1]:
-        poly = flint.fmpz_poly.cyclotomic(m)
-        theta, ball = sp.exp(2 * sp.pi * sp.I / m), lambda: flint.acb(flint.arb(flint.fmpq(2, m))).exp_pi_i()
-    else:
-        poly = flint.fmpz_poly.cos_minpoly(m)
-        theta, ball = 2 * sp.cos(2 * sp.pi / m), lambda: flint.acb(2 * flint.arb(flint.fmpq(2, m)).cos_pi())
-    _, index = identify(poly, lambda prec: _with_prec(prec, ball), str(theta))
-    state.prim, state.modulus, state.theta = Integral.of(poly, index), flint.fmpq_poly(poly), theta
+    state.prim, state.modulus, state.theta = _cyclotomic_generator(m, H == [1, m - 1])
     t = flint.fmpq_poly([0, 1])
     if H == [1]:
         def cos2(k: int) -> Elem:  # 2 cos(2 pi k/m) = zeta^k + zeta^-k
@@ -169,6 +172,83 @@ def _start_cyclotomic(state: _Presentation, generators: Sequence[sp.Expr]) -> No
             return V[min(k, m - k)]
     for a, k in cosines.items():
         state.reps[a] = cos2(k) / 2
+    for h, (n, real, p) in radicals.items():
+        atom = cos2(m // n) if real else _power(t, m // n, state.modulus)
+        state.reps[h] = _compose(p, atom, state.modulus)
+        state.atoms.add(h)  # certified with the others: not by Euler's formula
+
+
+def _cyclotomic_generator(m: int, real: bool) -> tuple[Integral, Elem, sp.Expr]:
+    """``zeta_m = exp(2 pi i/m)`` (or ``2 cos(2 pi/m)`` when ``real``) as an :class:`Integral`, its
+    minimal polynomial and sympy expression."""
+    if real:
+        poly = flint.fmpz_poly.cos_minpoly(m)
+        theta, ball = 2 * sp.cos(2 * sp.pi / m), lambda: flint.acb(2 * flint.arb(flint.fmpq(2, m)).cos_pi())
+    else:
+        poly = flint.fmpz_poly.cyclotomic(m)
+        theta, ball = sp.exp(2 * sp.pi * sp.I / m), lambda: flint.acb(flint.arb(flint.fmpq(2, m))).exp_pi_i()
+    _, index = identify(poly, lambda prec: _with_prec(prec, ball), str(theta))
+    return Integral.of(poly, index), flint.fmpq_poly(poly), theta
+
+
+def _cyclotomic_radicals(generators: Sequence[sp.Expr]) -> dict[sp.Expr, tuple[int, bool, Elem]]:
+    """The cores ``h`` (:func:`_core`) of generators without trigonometric atoms that generate a
+    whole cyclotomic field: per ``h``, ``(n, real, p)`` with ``h = p(2 cos(2 pi/n))`` (``real``,
+    ``Q(h) = Q(zeta_n)^+``) or ``h = p(zeta_n)`` (``Q(h) = Q(zeta_n)``); such as sympy's
+    ``sqrt(5)`` in ``cos(2 pi/5) = (sqrt 5 - 1)/4`` and ``sqrt(sqrt(5)/8 + 5/8) = sin(2 pi/5)``.
+
+    The candidates are the ``n`` (not 2 mod 4) with ``phi(n) = 2 deg h`` (real ``h``) or
+    ``phi(n) = deg h`` whose primes all divide the discriminant of ``h``'s minimal polynomial: each ramifies in ``Q(zeta_n)^+`` (its inertia group
+    ``{a = 1 mod n/p^k}`` has ``phi(p^k)`` elements and lies in ``{+-1}`` only for ``n`` = 3, 4, where
+    the degree is 1), and the field discriminant divides the polynomial's.  Membership is then
+    decided exactly in the small field (:func:`_member`: ``Q(zeta_n, h)`` has the degree of
+    ``Q(zeta_n)``), at a cost below that of deciding it in the whole field."""
+    out: dict[sp.Expr, tuple[int, bool, Elem]] = {}
+    for g in generators:
+        h = _core(g)
+        if h in out or h.has(sp.exp, sp.cos, sp.sin, sp.tan) or h.is_real is None:
+            continue
+        try:
+            beta, _ = _integral(h)
+        except _NOT_ALGEBRAIC:
+            continue
+        if beta.degree < 2:
+            continue
+        real, disc = bool(h.is_real), int(beta.poly.discriminant())
+        target = 2 * beta.degree if real else beta.degree
+        primes = [d + 1 for d in sp.divisors(target) if sp.isprime(d + 1) and disc % (d + 1) == 0]
+        for n in _with_totient(target, primes):
+            small = _Presentation()
+            small.prim, small.modulus, small.theta = _cyclotomic_generator(n, real)
+            p = _member(small, h)
+            if p is not None:
+                out[h] = (n, real, p)
+                break
+    return out
+
+
+def _with_totient(t: int, primes: Sequence[int]) -> list[int]:
+    """The ``n`` not 2 mod 4 with ``phi(n) = t`` whose prime factors are among ``primes``, ascending
+    (``phi(q^k) = (q - 1) q^(k - 1)`` per prime power, multiplicative)."""
+    out = []
+
+    def extend(n: int, rest: int, i: int) -> None:
+        if rest == 1:
+            if n % 4 != 2:
+                out.append(n)
+            return
+        for j in range(i, len(primes)):
+            q = primes[j]
+            if rest % (q - 1):
+                continue
+            n_q, rest_q = n * q, rest // (q - 1)
+            while True:
+                extend(n_q, rest_q, j + 1)
+                if rest_q % q:
+                    break
+                n_q, rest_q = n_q * q, rest_q // q
+    extend(1, t, 0)
+    return sorted(out)
 
 
 def _add_generator(state: _Presentation, g: sp.Expr) -> None:

@@ -52,9 +52,6 @@ FUNCTIONS = ("sqrt", "cbrt", "root", "Rational", "cos", "sin", "tan", "exp")
 CONSTANTS = {"pi": sp.pi, "I": sp.I, "E": sp.E}
 RESERVED = frozenset(FUNCTIONS) | frozenset(CONSTANTS)
 
-#: the longest string accepted as one number
-MAX_LENGTH = 1000
-
 _DECIMAL = re.compile(r"(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
 _SYMBOL = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,31}\Z")
 _EXAMPLES = "forms like '5/4', '0.1', 'sqrt(3)/2', 'cos(pi/3)'"
@@ -272,8 +269,7 @@ def parse_exact(text: str, entry: str, *, symbols: bool | Collection[str] = ()) 
         raise InputError(f"{entry}: expected a string, got {type(text).__name__}")
     if not text.strip():
         raise InputError(f"{entry}: empty string is not a number")
-    if len(text) > MAX_LENGTH:
-        raise InputError(f"{entry}: a number written with {len(text)} characters (at most {MAX_LENGTH})")
+    budget.check("max_number_length", len(text), entry, "the length of the number's text (characters)")
     return _Parser(text, entry, symbols).parse()
 
 

@@ -23,7 +23,7 @@ import sympy as sp
 from sympy.polys.polyerrors import PolynomialError
 
 from .arguments import check_public, float_array
-from ..errors import InputError
+from ..errors import BudgetError, InputError
 from .algebraic import AlgebraicNumber, _real_roots, sympy_to_fmpz, x
 from .perron_field import field_perron_root
 
@@ -128,6 +128,8 @@ def _block_root(block: dict[int, dict[int, Any]]) -> AlgebraicNumber | None:
         return AlgebraicNumber.from_expr(M[0, 0])
     try:
         root = field_perron_root(M)
+    except BudgetError:
+        raise
     except InputError:  # entries that are not algebraic numbers: refused below, naming the block
         root = None
     if root is not None:

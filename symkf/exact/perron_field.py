@@ -16,6 +16,12 @@ ball arithmetic with the entries' certified values and ``v`` a float Perron vect
 binary rationals).  When exactly one real root of ``N`` can lie in the enclosure, it is
 ``rho(M)``; otherwise (roots of ``N`` closer than the enclosure's width, or no positive
 float Perron vector) the caller falls back to the exact comparison of every real root.
+
+The rational matrix has ``n d`` rows; the cost of its characteristic polynomial grows like
+``(n d)^4`` (the dimension cubed, times the bits of its coefficients, which grow like ``n d``),
+so ``n d`` is capped by ``budget.Limits.max_norm_dimension`` before the matrix is built; the
+fallback over ``K`` (sympy's characteristic polynomial and norm) costs more still, so a block
+above the cap is refused, not passed on.
 """
 
 from __future__ import annotations
@@ -26,6 +32,7 @@ import flint
 import numpy as np  # the float Perron vector only: the enclosure around it is certified
 import sympy as sp
 
+from .. import budget
 from .algebraic import AlgebraicNumber, _arb_interval, _real_roots, _with_prec
 from .arguments import check_public
 from .field import NumberField
@@ -88,8 +95,14 @@ def _enclosure(B: list[list[flint.arb]]) -> tuple[Fraction, Fraction] | None:
 
 def field_perron_root(M: sp.MatrixBase) -> AlgebraicNumber | None:
     """``rho(M)`` of a non-negative square sympy matrix with algebraic entries, or None when the
-    enclosure does not single out one root of the norm (then compare every real root exactly)."""
+    enclosure does not single out one root of the norm (then compare every real root exactly).
+
+    Refused (:class:`~symkf.errors.BudgetError`) when ``n d`` (``n`` rows, ``d`` the degree of
+    the entries' field) is above ``budget.Limits.max_norm_dimension``."""
     K = field_of(M)
+    budget.check("max_norm_dimension", M.rows * K.degree, f"an irreducible block of {M.rows} chain states",
+                 f"the size n d of the rational matrix of its norm (n = {M.rows} states, entries in a field "
+                 f"of degree d = {K.degree})")
     E = K.matrix(M)
     B = _balls(K, E)
     if any(not (b == 0 or b > 0) for row in B for b in row):  # M >= 0 is what the bounds need
