@@ -44,11 +44,16 @@ def _child(what: str, case: str, args: list[str]) -> None:
         pass
     import contextlib
     import engine_cases
+    from symkf.errors import BudgetError
     caps = json.loads(os.environ.get("BENCH_CAPS", "{}"))
     with (budget.limits(**caps) if caps else contextlib.nullcontext()):
         system, loss = getattr(engine_cases, case)(*[int(a) for a in args])
         start = time.process_time()
-        result = _compute(what, system, loss)
+        try:
+            result = _compute(what, system, loss)
+        except BudgetError as exc:  # a refusal is a result of its own: the row says which cap and when
+            print("refused", time.process_time() - start, str(exc).replace("\n", " "))
+            return
         cpu = time.process_time() - start
     print(cpu, hashlib.sha1(result.encode()).hexdigest()[:12], resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
 
@@ -115,6 +120,8 @@ def _run(tree: str, what: str, case: str, args: list, cap: float, caps: dict) ->
         if isinstance(exc, subprocess.CalledProcessError) and exc.returncode != -signal.SIGXCPU:
             raise
         return None, "timeout", 0
+    if out[0] == "refused":
+        return None, f"refused after {float(out[1]):.1f} CPU-s: {' '.join(out[2:])}", 0
     return float(out[0]), out[1], int(out[2])
 
 
@@ -131,8 +138,9 @@ def compare(title: str, what: str, cases: list[tuple], repeats: int = 3,
             caps = caps[0] if caps else {}
             runs = [_run(str(ROOT), what, case, args, cap, caps) for _ in range(repeats)]
             if any(t is None for t, _, _ in runs):
-                print(f"  {case}{tuple(args)}: > {cap:.0f} s (this checkout did not finish; main not run)   "
-                      f"target <= {target} NOT met", flush=True)
+                why = next(d for t, d, _ in runs if t is None)
+                print(f"  {case}{tuple(args)}: " + (why if why != "timeout" else f"> {cap:.0f} s (did not finish)")
+                      + f"; main not run   target <= {target} NOT met", flush=True)
                 continue
             new = statistics.median(t for t, _, _ in runs)
             rss = max(m for _, _, m in runs) / 1024
@@ -142,6 +150,8 @@ def compare(title: str, what: str, cases: list[tuple], repeats: int = 3,
             if done:
                 old = statistics.median(t for t, _ in done)
                 vs = f"main {old:8.2f} s {max(m for _, m in done) / 1024:6.0f} MB   ratio {old / new:7.1f}x"
+            elif base[0][1] != "timeout":
+                vs = f"main {base[0][1]}"
             else:
                 vs = f"main > {baseline_cap:6.0f} s            ratio > {baseline_cap / new:5.1f}x"
             print(f"  {case}{tuple(args)}: {new:7.2f} s {rss:6.0f} MB   {vs}   target <= {target} "
