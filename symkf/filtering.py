@@ -300,6 +300,18 @@ def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
     return trace[:, :paths].T
 
 
+def traces_into(model: FloatSystem, received: np.ndarray, out: np.ndarray) -> None:
+    """``out[p, k] = tr P_{k|k-1}``, k = 0..horizon-1, by the filter of :func:`log_traces` for
+    ``received`` (horizon, paths, d): the exact product of its trace and power-of-two scale
+    (``inf`` where ``tr P`` exceeds float64), written by the kernel without a log."""
+    from .square_root import log_trace_paths
+    arguments = _kernel_arguments(model, received)
+    horizon, paths = np.shape(received)[:2]
+    if out.shape != (paths, horizon) or out.dtype != np.float64 or not out.flags.c_contiguous:
+        raise ShapeError(f"out: expected a C-contiguous float64 array {(paths, horizon)}, got {out.shape} {out.dtype}")
+    log_trace_paths(*arguments, out, np.empty((1, 1)), True)
+
+
 def predicted_covariances(system: System | FloatSystem, receptions: np.ndarray, keep: str = "trace",
                           check_every: int = 50) -> np.ndarray:
     """``P_{k|k-1}``, k = 0..horizon-1, for each receival sequence (Sui-You-Fu eq. 9).

@@ -204,11 +204,16 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         received[:, 64:128] = True
         out = []
         for kernel in (_straight(n), _loops):
-            trace, log_scale = np.empty((601, 192)), np.empty((601, 192))
-            kernel(A, UQ, H, rows, S0, received, trace, log_scale)
-            out.append((trace, log_scale))
+            trace, log_scale, linear = np.empty((601, 192)), np.empty((601, 192)), np.empty((150, 600))
+            kernel(A, UQ, H, rows, S0, received, trace, log_scale, False)
+            kernel(A, UQ, H, rows, S0, received, linear, log_scale[:1, :1], True)   # the first 150 paths
+            out.append((trace, log_scale, linear))
         assert all(np.array_equal(x, y) for x, y in zip(*out))
         assert np.all(np.isfinite(out[0][0])) and np.ptp(out[0][1]) > 100
+        # linear units: the trace times 2^E exactly (inf beyond float64)
+        E = np.round(out[0][1] / np.log(2)).astype(int)
+        with np.errstate(over="ignore"):
+            np.testing.assert_array_equal(out[0][2], np.ldexp(out[0][0], E)[:600, :150].T)
 
 
 def test_the_straight_line_kernels_module_is_the_generators_output():
