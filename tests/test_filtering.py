@@ -62,6 +62,17 @@ def test_receival_frequencies():
     assert after_loss.mean() == pytest.approx(0.25, abs=0.01)   # P(received | lost last) = recover
 
 
+def test_real_form_is_evaluated_once_per_system():
+    # equal systems share one FloatSystem (the sympy evaluation is the cost), whose arrays cannot
+    # be changed behind the cache's back; the complex system's real form is twice its size
+    twin = System(A=COMPLEX.A, sensors=COMPLEX.sensors, Q=COMPLEX.Q, P0=COMPLEX.P0)
+    assert twin == COMPLEX and twin is not COMPLEX and real_form(twin) is real_form(COMPLEX)
+    model = real_form(COMPLEX)
+    assert model.n == 2 * COMPLEX.n
+    with pytest.raises(ValueError, match="read-only"):
+        model.A[0, 0] = 1.0
+
+
 def test_bad_receptions_are_refused():
     with pytest.raises(ShapeError, match="receptions"):
         predicted_covariances(TRI, np.ones((2, 3, 3)))
