@@ -6,12 +6,16 @@ is counted by the yardstick ``4 n^3 + 4 d n^2`` flop (time update ~ ``4 n^3``: `
 the Householder reflections; Potter ~ ``4 n^2`` per row), whatever the kernel skips.
 
 Peak: derived from ``lscpu`` (FMA pipes x doubles per pipe x 2 flop x clock; AMD family 25,
-Zen 3/4, has two 256-bit FMA pipes, AVX-512 is double-pumped) and measured in this process
-with a numba FMA loop (``fastmath={"contract"}`` there only; the kernel has no contraction).
-Division and square-root throughput are measured the same way: the kernel rounds like the
-loops it replaced only with true ``/`` and ``sqrt`` (no reciprocals), so each path-step costs
-at least ``div / div-rate + sqrt / sqrt-rate`` (they share the divider), which bounds the share
-of peak at small ``n``; that bound is printed next to the measured share.
+Zen 3/4, has two 256-bit FMA pipes, AVX-512 is double-pumped; family 23 before model 0x30, Zen
+and Zen+, two 128-bit pipes) and measured in this process with a numba FMA loop
+(``fastmath={"contract"}`` there only; the kernel has no contraction).  Division and
+square-root throughput are measured the same way, on independent operands in [1, 2): the
+kernel rounds like the loops it replaced only with true ``/`` and ``sqrt`` (no reciprocals),
+so each path-step costs at least ``div / div-rate + sqrt / sqrt-rate`` (they share the
+divider: one of each takes the sum, printed), which bounds the share of peak at small ``n``;
+that bound is printed next to the measured share.  The counts are the compiled kernel's: the
+``vdivpd`` and ``vsqrtpd`` of each loop body of the straight-line kernels (n <= 8), checked
+against the count of the source (``divider_work``), which n = 16 uses.
 
 ``--main DIR``: the same cells timed with the checkout in ``DIR`` (e.g. ``/work/main``) in a
 subprocess, for the same-run ratio against main's kernel.
@@ -32,6 +36,7 @@ import time
 import numpy as np
 from numba import njit
 
+from symkf.square_root import STRAIGHT_MAX
 from timing import median_cpu, peak_rss_mb
 
 HORIZON = 100
@@ -75,11 +80,14 @@ def derived_peak() -> tuple[float | None, str]:
     if "fma" not in flags or clock is None:
         return None, f"{model}: no FMA flag or no clock in lscpu"
     width = 512 if "avx512f" in flags else 256
-    pipe = 256 if ("AMD" in (field("Vendor ID") or "") and family in ("25", "26") and width == 512) else width
+    amd = "AMD" in (field("Vendor ID") or "")
+    # AMD family 23 before model 0x30 (Zen, Zen+) splits 256-bit operations over 128-bit pipes
+    pipe = 256 if (amd and family in ("25", "26") and width == 512) else (
+        128 if amd and family == "23" and int(field("Model") or 0) < 0x30 else width)
     lanes = pipe // 64
     peak = 2 * lanes * 2 * clock
     return peak, (f"{model} (family {family}), flags {'avx512f ' if 'avx512f' in flags else ''}avx2 fma: "
-                  f"2 FMA pipes x {lanes} doubles ({pipe}-bit{' datapath, AVX-512 double-pumped' if pipe < width else ''})"
+                  f"2 FMA pipes x {lanes} doubles ({pipe}-bit{' datapath, wider operations double-pumped' if pipe < width else ''})"
                   f" x 2 flop x {clock:.3f} GHz ({clock_note}) = {peak:.1f} GFLOP/s")
 
 
@@ -94,35 +102,40 @@ def _fma_loop(acc, iters, m, c):
 
 
 @njit(error_model="numpy")
-def _div_loop(acc, iters, m):
+def _div_pass(x, y, iters, m):
     for _ in range(iters):
-        for p in range(acc.size):
-            x = acc[p]
-            for _ in range(16):
-                x = m / x
-            acc[p] = x
+        for p in range(x.size):
+            y[p] = m / x[p]
 
 
 @njit(error_model="numpy")
-def _sqrt_loop(acc, iters, m):
+def _sqrt_pass(x, y, iters):
     for _ in range(iters):
-        for p in range(acc.size):
-            x = acc[p]
-            for _ in range(16):
-                x = np.sqrt(x) * m
-            acc[p] = x
+        for p in range(x.size):
+            y[p] = np.sqrt(x[p])
 
 
-def measured_rates(repeats: int) -> tuple[float, float, float]:
-    """(GFLOP/s of FMAs, G divisions/s, G square roots/s) of vectorised independent chains."""
+@njit(error_model="numpy")
+def _both_pass(x, y, iters, m):
+    for _ in range(iters):
+        for p in range(x.size):
+            y[p] = m / x[p] + np.sqrt(x[p])
+
+
+def measured_rates(repeats: int) -> tuple[float, float, float, float]:
+    """(GFLOP/s of FMAs, G divisions/s, G square roots/s, ns of one division and one square root
+    together) of one core.  Division and square root: independent operations on 512 operands in
+    [1, 2) (throughput, not latency; the divider's time depends on the operand: ``sqrt(1.0)``,
+    which a chained loop converges to, is about twice as fast as a general one)."""
     acc = np.full(256, 1.5)
-    _fma_loop(acc, 1, 0.999, 1e-3), _div_loop(acc, 1, 2.0), _sqrt_loop(acc, 1, 1.0)
+    x = np.random.default_rng(0).random(512) + 1.0
+    y = np.empty_like(x)
+    _fma_loop(acc, 1, 0.999, 1e-3), _div_pass(x, y, 1, 3.0), _sqrt_pass(x, y, 1), _both_pass(x, y, 1, 3.0)
     fma = 2 * 16 * 256 * 40_000 / median_cpu(lambda r: _fma_loop(acc, 40_000, 0.9999999, 1e-9), repeats) / 1e9
-    acc[:] = 1.5
-    div = 16 * 256 * 4_000 / median_cpu(lambda r: _div_loop(acc, 4_000, 2.0), repeats) / 1e9
-    acc[:] = 1.5
-    sqrt = 16 * 256 * 4_000 / median_cpu(lambda r: _sqrt_loop(acc, 4_000, 1.0), repeats) / 1e9
-    return fma, div, sqrt
+    div = x.size * 40_000 / median_cpu(lambda r: _div_pass(x, y, 40_000, 3.0), repeats) / 1e9
+    sqrt = x.size * 40_000 / median_cpu(lambda r: _sqrt_pass(x, y, 40_000), repeats) / 1e9
+    both = median_cpu(lambda r: _both_pass(x, y, 40_000, 3.0), repeats) / (x.size * 40_000) * 1e9
+    return fma, div, sqrt, both
 
 
 def divider_work(n: int, rows: int) -> tuple[int, int]:
@@ -133,8 +146,27 @@ def divider_work(n: int, rows: int) -> tuple[int, int]:
     return rows * (n + 1) + (n - 1) * (n + 1), rows * 2 + n + (n - 1)
 
 
+def asm_divider_work(n: int) -> list[tuple[int, int]]:
+    """(vdivpd, vsqrtpd) on ymm registers (4 paths each) per loop body of the compiled straight-line
+    kernel for ``n`` states, the bodies that have any (compiled here without numba's cache, whose
+    code cannot be inspected): the Potter row loop and the time update's loop over the lanes."""
+    from symkf import straight_kernels
+    from symkf.square_root import LANES
+    kernel = njit(error_model="numpy")(getattr(straight_kernels, f"_paths_{n}"))
+    kernel(np.eye(n), np.eye(n), np.ones((1, n)), np.zeros(1, np.int64), np.eye(n), np.ones((1, LANES, 1), bool),
+           np.empty((LANES, 1)), np.empty((1, 1)), True)
+    asm = "\n".join(kernel.inspect_asm().values())
+    bodies = re.split(r"^\.LBB\w+:", asm, flags=re.M)
+    counts = [(len(re.findall(r"^\s*vdivpd\s.*%ymm", b, re.M)), len(re.findall(r"^\s*vsqrtpd\s.*%ymm", b, re.M)))
+              for b in bodies]
+    return [c for c in counts if any(c)]
+
+
 def run_cells(python: str, root: str, horizon: int, repeats: int, cells: list, env: dict) -> list[float]:
-    out = subprocess.run([python, "-c", CASE, os.path.dirname(os.path.abspath(__file__)), str(horizon), str(repeats),
+    """Median CPU seconds per cell, timed in a subprocess with the checkout ``root``'s benchmarks
+    (``""``: this one's)."""
+    here = os.path.join(os.path.abspath(root), "benchmarks") if root else os.path.dirname(os.path.abspath(__file__))
+    out = subprocess.run([python, "-c", CASE, here, str(horizon), str(repeats),
                           json.dumps(cells)], capture_output=True, text=True, cwd="/tmp", env=env, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -146,10 +178,17 @@ def main() -> None:
     args = ap.parse_args()
     repeats = 3 if args.quick else 5
     peak, how = derived_peak()
-    fma, div, sqrt = measured_rates(repeats)
+    fma, div, sqrt, both = measured_rates(repeats)
     print(f"peak (lscpu): {how}")
     print(f"peak (measured, numba FMA loop, one core): {fma:.1f} GFLOP/s; vector division {div:.2f} G/s, "
-          f"square root {sqrt:.2f} G/s (CPU seconds, medians of {repeats})")
+          f"square root {sqrt:.2f} G/s, one of each {both:.2f} ns (1/div + 1/sqrt = {1 / div + 1 / sqrt:.2f} ns: "
+          f"one divider) (CPU seconds, medians of {repeats})")
+    for n in sorted({n for n, _ in CELLS if n <= STRAIGHT_MAX}):
+        bodies = asm_divider_work(n)
+        total = tuple(map(sum, zip(*bodies)))
+        print(f"compiled kernel n = {n}: ymm vdivpd, vsqrtpd per loop body (4 paths) {bodies}; per path-step at d = 1 "
+              f"{total}, the source's count {divider_work(n, 1)}{'' if total == divider_work(n, 1) else ' DIFFERS'}; "
+              f"each further row adds {(n + 1, 2)}")
     cells = [(n, d, paths_for(n, args.quick)) for n, d in CELLS]
     here = run_cells(sys.executable, "", HORIZON, repeats, cells, dict(os.environ))
     old = None
@@ -171,9 +210,10 @@ def main() -> None:
         if old:
             line += f" {old[j]:>10.3f} {old[j] / t:>8.2f}"
         print(line, flush=True)
-    print(f"division/square-root floor at n = 2: {divider_work(2, 1)[0]} divisions + {divider_work(2, 1)[1]} square roots "
-          f"per path-step (d = 1) = {divider_work(2, 1)[0] / div + divider_work(2, 1)[1] / sqrt:.2f} ns, "
-          f"i.e. at most {48 / (divider_work(2, 1)[0] / div + divider_work(2, 1)[1] / sqrt) / fma * 100:.1f} % of peak")
+    ndiv, nsqrt = divider_work(2, 1)
+    floor = ndiv / div + nsqrt / sqrt
+    print(f"division/square-root floor at n = 2, d = 1: {ndiv} divisions + {nsqrt} square roots per path-step "
+          f"= {floor:.2f} ns, i.e. at most {48 / floor / fma * 100:.1f} % of the measured peak")
     print(f"peak RSS of this process {peak_rss_mb():.0f} MB")
 
 

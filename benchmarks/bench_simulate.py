@@ -12,8 +12,8 @@ and, for ``jobs = 2``, wall and CPU (with the workers') against ``jobs = 1``.
 Second, ``simulate_traces`` (receptions sampled per sensor, then the kernel) against the
 vectorised NumPy covariance-form filter over all paths at once (``batch_filter.py``, BLAS on
 one thread, drawing its own receptions), for n = 2, 4, 8, 16 x d = 1, 3, 8 under i.i.d. and
-Gilbert-Elliott losses, and against the kernel alone (:func:`symkf.filtering.log_traces` and
-the exp, on receptions drawn beforehand): CPU seconds (medians), the ratios of the same run,
+Gilbert-Elliott losses, and against the kernel alone (:func:`symkf.filtering.traces_into`, what
+``simulate_traces`` runs after drawing the receptions, on receptions drawn beforehand): CPU seconds (medians), the ratios of the same run,
 and the process's peak RSS (per fresh process for many sensors: ``bench_loss_sampling.py``).
 Targets (issue 23): baseline / simulate >= 2 in every cell, simulate / kernel <= 1.5.
 Set-up of the compiled kernel: a fresh process's first call with numba's
@@ -41,7 +41,7 @@ import time
 import numpy as np
 import sympy as sp
 
-from symkf.filtering import log_traces, real_form, sample_receptions
+from symkf.filtering import real_form, sample_receptions, traces_into
 from symkf.losses import IID, GilbertElliott
 from symkf.model import Sensor, System
 from symkf.montecarlo import BurstPlan, burst_sample, simulate_traces
@@ -103,7 +103,8 @@ def numpy_grid(repeats: int, quick: bool) -> None:
                                                  HORIZON, paths, *law, r), repeats)
                 gamma = sample_receptions(loss, HORIZON, paths, np.random.default_rng(0))   # (paths, horizon, d)
                 received = np.ascontiguousarray(gamma.transpose(1, 0, 2))
-                kern = cpu(lambda r: np.exp(log_traces(model, received)[:, :HORIZON]), repeats)
+                out = np.empty((paths, HORIZON))
+                kern = cpu(lambda r: traces_into(model, received, out), repeats)
                 print(f"{n:>2} {d:>2} {name:<16} {paths:>6} {sim:>10.4f} {base:>8.4f} {base / sim:>9.2f} "
                       f"{kern:>8.4f} {sim / kern:>10.2f}", flush=True)
     print(f"peak RSS of this process {peak_rss_mb():.0f} MB")

@@ -29,7 +29,7 @@ from .exact.algebraic import AlgebraicNumber
 from .exact.arguments import check_public, float_array
 from .exact.perron import perron_float
 from .exact.numbers import sympify, to_exact
-from .filtering import FloatSystem, _positive, _run, exact_covariances, log_traces, real_form, receival_table
+from .filtering import FloatSystem, _positive, _run, exact_covariances, log_traces, real_form, receival_table, traces_into
 from .losses import LossModel, checked
 from .receptions import LossFactor, chain_states, cumulative, emit_into, groups
 from .model import System
@@ -120,9 +120,12 @@ def exact_mean_trace(system: System, loss: LossModel, horizon: int) -> np.ndarra
 
 # ------------------------------------------------------------------ Monte Carlo
 
-#: bytes per value of a per-step record of the command line: a Python float in a list (32), and
-#: with ``--json`` its share of ``json.dumps(..., indent=2)``'s chunks and text (measured: 152)
-RECORD_BYTES = {"text": 40, "json": 152}
+#: bytes per value of a per-step record of the command line (the step's mean, low and high; 32 more
+#: per step for the mean's float): ``Simulation.to_json``'s floats, tuples and lists, and with
+#: ``--json`` also ``json.dumps(..., indent=2)``'s chunks and text.  Measured above the simulation's
+#: own peak, all steps resolved: 160 / 177 bytes per step as text (K = 60 000 / 120 000), 337 / 448
+#: / 456 with --json (K = 30 000 / 120 000 / 240 000; the lists' and the text's growth)
+RECORD_BYTES = {"text": 52, "json": 152}
 
 
 def _padded(paths: int) -> int:
@@ -139,19 +142,21 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     command line's per-step records of the mean and its interval (:data:`RECORD_BYTES`).  Otherwise
     :func:`burst_sample` with that many burst components, on ``jobs`` processes.  Counted, per
     chunk of ``m`` paths and ``K`` steps (``P`` = ``m`` padded to the kernel's lanes, which for one
-    path is 64 times its size): the receptions and chain states; the kernel's trace and log-scale
-    ``16 (K + 1) P`` (:func:`symkf.filtering.log_traces` takes the log in place) and, plain Monte
-    Carlo, its block of receptions ``d K LANES``; for bursts the law table, the likelihood ratios ``8 C K m`` and their
-    tail sums (three more of that size at once), and the log-trace rows; the traces ``8 paths K`` kept whole (resident as
-    the chunks fill them) and the standard deviation's copy of them; per path results ``72 paths``
-    for bursts.  Checked against measured peak RSS in
+    path is 64 times its size): the receptions and chain states; plain Monte Carlo, the kernel's
+    block of receptions ``d K LANES`` (it writes ``tr P`` into the traces itself,
+    :func:`symkf.filtering.traces_into`); for bursts the kernel's trace and log-scale ``16 (K + 1)
+    P`` (:func:`symkf.filtering.log_traces` takes the log in place), the law table, the likelihood
+    ratios ``8 C K m`` and their tail sums (three more of that size at once), and the log-trace
+    rows; the traces ``8 paths K`` kept whole (resident as far as the chunks up to the current one
+    filled them) and the standard deviation's copy of them; per path results ``72 paths`` for
+    bursts.  Checked against measured peak RSS in
     ``tests/test_memory_estimate.py``.
     """
     d, K = system.d, horizon
     if components is None:
-        def chunk(m: int) -> int:   # chain states (one byte per sensor and step), receptions, kernel
+        def chunk(m: int) -> int:   # chain states (one byte per sensor and step), receptions, kernel, its traces
             P = _padded(m)
-            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + 16 * (K + 1) * P + d * K * _padded(1))
+            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + d * K * _padded(1)) + 8 * K * m
         size = _trace_chunk(K, d)
         full, last = min(paths, size), paths % size or min(paths, size)
         # the traces are resident as far as the chunks before the current one filled them
@@ -195,8 +200,7 @@ def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: i
         for start in chunks:
             stop = min(start + chunk, paths)
             received = receptions.sample(factors, horizon, stop - start, system.d, rng)
-            with np.errstate(over="ignore"):   # tr P beyond float64 is inf here; log_mean_trace keeps logs
-                np.exp(log_traces(model, received)[:, :horizon], out=traces[start:stop])
+            traces_into(model, received, traces[start:stop])   # tr P beyond float64 is inf; log_mean_trace keeps logs
             bar.update()
     return traces
 

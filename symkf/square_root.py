@@ -100,8 +100,17 @@ def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, scale: np.ndarray) -> 
 
 
 @_compiled
-def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, log_scale: np.ndarray) -> None:
-    """Step ``k`` of the block at ``start``: ``trace[k, p] = t``, ``log_scale[k, p] = E ln 2``."""
+def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, log_scale: np.ndarray,
+           linear: bool) -> None:
+    """Step ``k`` of the block at ``start``: ``trace[k, p] = t``, ``log_scale[k, p] = E ln 2``, or with
+    ``linear`` ``trace[p, k] = t 2^E`` (two exact power-of-two factors: inf only beyond float64)
+    for the paths and steps ``trace`` has."""
+    if linear:
+        if k < trace.shape[1]:
+            for p in range(min(LANES, trace.shape[0] - start)):
+                half = E[p] // 2
+                trace[start + p, k] = t[p] * _pow2(half) * _pow2(E[p] - half)
+        return
     trace_k = trace[k, start:start + LANES]            # views: an index p + start would not vectorise
     log_scale_k = log_scale[k, start:start + LANES]
     for p in range(LANES):
@@ -110,19 +119,23 @@ def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, 
 
 
 def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
-                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray) -> None:
+                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray,
+                    linear: bool = False) -> None:
     """``tr P_{k|k-1} = 2^E trace[k, p]``, ``log_scale[k, p] = E ln 2`` (k = 0..horizon) for receptions
     ``received[k, p, i]`` (sensor ``i``), from ``P_0 = S0 S0^T`` (``S0`` lower triangular);
-    the number of paths is a multiple of ``LANES``.  Up to :data:`STRAIGHT_MAX` states by the straight-line kernel of that size (:func:`_straight`),
+    the number of paths is a multiple of ``LANES``.  ``linear``: ``trace[p, k] = tr P_{k|k-1}``
+    for the paths and steps of ``trace`` instead (``log_scale`` unused).  Up to
+    :data:`STRAIGHT_MAX` states by the straight-line kernel of that size (:func:`_straight`),
     beyond by the loops of :func:`_loops`."""
     n = A.shape[0]
     kernel = _straight(n) if n <= STRAIGHT_MAX else _loops
-    kernel(A, UQ, H, row_sensor, S0, received, trace, log_scale)
+    kernel(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear)
 
 
 @_compiled
 def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
-           S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray) -> None:
+           S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray,
+           linear: bool) -> None:
     """:func:`log_trace_paths` for any ``n``: loops over the entries, the lane loop innermost."""
     horizon, paths, _ = received.shape
     n = A.shape[0]
@@ -146,7 +159,7 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
             E[p] = 0
         _rescale(S, E, t, f2)
         for k in range(horizon + 1):
-            _store(k, start, t, E, trace, log_scale)
+            _store(k, start, t, E, trace, log_scale, linear)
             if k == horizon:
                 break
             for p in range(LANES):
@@ -260,7 +273,7 @@ def _straight_source(n: int) -> str:
     L = []
     w = L.append
     R = range(n)
-    w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, log_scale):")
+    w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):")
     w("    horizon, paths, d = received.shape")
     w("    block = np.empty((horizon, d, LANES), np.bool_)")   # a block's receptions, sensor-major
     w("    rows = H.shape[0]")
@@ -311,7 +324,7 @@ def _straight_source(n: int) -> str:
     w("                root = _pow2(-(Ep // 2))")
     w("                half[p] = root")
     w("                noise[p] = root * root")
-    w("            _store(k, start, t, E, trace, log_scale)")
+    w("            _store(k, start, t, E, trace, log_scale, linear)")
     w("            if k == horizon:")
     w("                break")
     # --- Potter, one row at a time

@@ -10,7 +10,7 @@ from .exact.arguments import check_public
 from .square_root import LANES, _pow2, _store
 
 
-def _paths_1(A, UQ, H, row_sensor, S0, received, trace, log_scale):
+def _paths_1(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     horizon, paths, d = received.shape
     block = np.empty((horizon, d, LANES), np.bool_)
     rows = H.shape[0]
@@ -48,7 +48,7 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale)
+            _store(k, start, t, E, trace, log_scale, linear)
             if k == horizon:
                 break
             for r in range(rows):
@@ -86,7 +86,7 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 S[0, 0, p] = x0_0
 
 
-def _paths_2(A, UQ, H, row_sensor, S0, received, trace, log_scale):
+def _paths_2(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     horizon, paths, d = received.shape
     block = np.empty((horizon, d, LANES), np.bool_)
     rows = H.shape[0]
@@ -136,7 +136,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale)
+            _store(k, start, t, E, trace, log_scale, linear)
             if k == horizon:
                 break
             for r in range(rows):
@@ -232,7 +232,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 S[1, 1, p] = x1_1
 
 
-def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale):
+def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     horizon, paths, d = received.shape
     block = np.empty((horizon, d, LANES), np.bool_)
     rows = H.shape[0]
@@ -301,7 +301,7 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale)
+            _store(k, start, t, E, trace, log_scale, linear)
             if k == horizon:
                 break
             for r in range(rows):
@@ -499,7 +499,7 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 S[2, 2, p] = x2_2
 
 
-def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale):
+def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     horizon, paths, d = received.shape
     block = np.empty((horizon, d, LANES), np.bool_)
     rows = H.shape[0]
@@ -594,7 +594,7 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale)
+            _store(k, start, t, E, trace, log_scale, linear)
             if k == horizon:
                 break
             for r in range(rows):
@@ -950,7 +950,7 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 S[3, 3, p] = x3_3
 
 
-def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale):
+def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     horizon, paths, d = received.shape
     block = np.empty((horizon, d, LANES), np.bool_)
     rows = H.shape[0]
@@ -1078,7 +1078,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale)
+            _store(k, start, t, E, trace, log_scale, linear)
             if k == horizon:
                 break
             for r in range(rows):
@@ -1660,7 +1660,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 S[4, 4, p] = x4_4
 
 
-def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale):
+def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     horizon, paths, d = received.shape
     block = np.empty((horizon, d, LANES), np.bool_)
     rows = H.shape[0]
@@ -1828,7 +1828,7 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale)
+            _store(k, start, t, E, trace, log_scale, linear)
             if k == horizon:
                 break
             for r in range(rows):
@@ -2716,7 +2716,7 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 S[5, 5, p] = x5_5
 
 
-def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale):
+def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     horizon, paths, d = received.shape
     block = np.empty((horizon, d, LANES), np.bool_)
     rows = H.shape[0]
@@ -2931,7 +2931,7 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale)
+            _store(k, start, t, E, trace, log_scale, linear)
             if k == horizon:
                 break
             for r in range(rows):
@@ -4217,7 +4217,7 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 S[6, 6, p] = x6_6
 
 
-def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale):
+def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     horizon, paths, d = received.shape
     block = np.empty((horizon, d, LANES), np.bool_)
     rows = H.shape[0]
@@ -4486,7 +4486,7 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale)
+            _store(k, start, t, E, trace, log_scale, linear)
             if k == horizon:
                 break
             for r in range(rows):

@@ -62,6 +62,17 @@ def test_receival_frequencies():
     assert after_loss.mean() == pytest.approx(0.25, abs=0.01)   # P(received | lost last) = recover
 
 
+def test_real_form_is_evaluated_once_per_system():
+    # equal systems share one FloatSystem (the sympy evaluation is the cost), whose arrays cannot
+    # be changed behind the cache's back; the complex system's real form is twice its size
+    twin = System(A=COMPLEX.A, sensors=COMPLEX.sensors, Q=COMPLEX.Q, P0=COMPLEX.P0)
+    assert twin == COMPLEX and twin is not COMPLEX and real_form(twin) is real_form(COMPLEX)
+    model = real_form(COMPLEX)
+    assert model.n == 2 * COMPLEX.n
+    with pytest.raises(ValueError, match="read-only"):
+        model.A[0, 0] = 1.0
+
+
 def test_bad_receptions_are_refused():
     with pytest.raises(ShapeError, match="receptions"):
         predicted_covariances(TRI, np.ones((2, 3, 3)))
@@ -204,11 +215,16 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         received[:, 64:128] = True
         out = []
         for kernel in (_straight(n), _loops):
-            trace, log_scale = np.empty((601, 192)), np.empty((601, 192))
-            kernel(A, UQ, H, rows, S0, received, trace, log_scale)
-            out.append((trace, log_scale))
+            trace, log_scale, linear = np.empty((601, 192)), np.empty((601, 192)), np.empty((150, 600))
+            kernel(A, UQ, H, rows, S0, received, trace, log_scale, False)
+            kernel(A, UQ, H, rows, S0, received, linear, log_scale[:1, :1], True)   # the first 150 paths
+            out.append((trace, log_scale, linear))
         assert all(np.array_equal(x, y) for x, y in zip(*out))
         assert np.all(np.isfinite(out[0][0])) and np.ptp(out[0][1]) > 100
+        # linear units: the trace times 2^E exactly (inf beyond float64)
+        E = np.round(out[0][1] / np.log(2)).astype(int)
+        with np.errstate(over="ignore"):
+            np.testing.assert_array_equal(out[0][2], np.ldexp(out[0][0], E)[:600, :150].T)
 
 
 def test_the_straight_line_kernels_module_is_the_generators_output():

@@ -50,9 +50,9 @@ print(json.dumps({"code": code, "estimate": estimate, "measured": peak - base}))
 '''
 
 
-def measured(command: str, horizon: int, paths: int, *extra: str) -> tuple[int, int]:
+def measured(command: str, horizon: int, paths: int, *extra: str, path: str = str(example_path("ge-two-sensors"))
+             ) -> tuple[int, int]:
     """(estimate, measured peak RSS above the warmed-up process) in bytes."""
-    path = str(example_path("ge-two-sensors"))
     out = subprocess.run([sys.executable, "-c", CHILD, command, path, str(horizon), str(paths), *extra],
                          capture_output=True, text=True, check=True)
     res = json.loads(out.stdout.strip().splitlines()[-1])
@@ -65,14 +65,30 @@ def assert_within(estimate: int, peak: int, factor: float = 1.5) -> None:
 
 
 def test_one_long_path_estimate_matches_peak_rss():
-    """One path of 30 000 steps with --json: the kernel's 64 lanes dominate (about 35 MB)."""
-    assert_within(*measured("simulate", 30_000, 1, "--json"))
+    """One path of 30 000 steps: the kernel's 64 lanes dominate, its padded receptions and its
+    block of them (measured 7.6 MB, estimate 8.0 MB; 38 MB when the kernel also wrote a trace
+    and a log-scale per lane and step)."""
+    assert_within(*measured("simulate", 30_000, 1))
+
+
+def test_json_records_estimate_matches_peak_rss(tmp_path):
+    """16 paths of a stable scalar system over 60 000 steps with --json: every step resolves, so
+    every record holds three floats, and the records outweigh the kernel (measured 25.4 MB,
+    estimate 29.3 MB; with one path the intervals are null and the records take about half)."""
+    path = tmp_path / "scalar.toml"
+    path.write_text('[system]\nA = [["1/2"]]\n\n[[sensors]]\nname = "s"\nC = [["1"]]\n\n'
+                    '[loss]\nkind = "iid"\nloss = ["1/4"]\n', encoding="utf-8")
+    from symkf import files
+    system, loss = files.load(path)
+    estimate, peak = measured("simulate", 60_000, 16, "--json", path=str(path))
+    assert estimate == montecarlo.memory_estimate(system, loss, 60_000, 16, records="json") == 60_000 * (32 + 3 * 152)
+    assert_within(estimate, peak)
 
 
 @pytest.mark.full
 @pytest.mark.parametrize("command, horizon, paths, extra", [
-    ("simulate", 2000, 2000, ("--json",)),      # measured 146 MB, estimate 154 MB
-    ("simulate", 400, 60_000, ()),              # chunks of 20 928 paths: 417 MB, estimate 411 MB
+    ("simulate", 2000, 2000, ("--json",)),      # measured 64 MB, estimate 72 MB
+    ("simulate", 400, 60_000, ()),              # chunks of 20 928 paths: 384 MB, estimate 384 MB
     ("verify", 120, 100_000, ()),               # four burst chunks: 252 MB, estimate 195 MB
 ])
 def test_estimates_match_peak_rss(command, horizon, paths, extra):
@@ -81,10 +97,14 @@ def test_estimates_match_peak_rss(command, horizon, paths, extra):
 
 def test_long_runs_are_refused_before_allocation():
     """simulate --horizon 60 000 000 --paths 1 ran unrefused; --horizon 3 000 000 reached 3.66 GB
-    against an estimate of 96 MB.  Both are refused now; verify's 600 000 paths (refused before at
-    2.3 GB, measured 590 MB at 400 000) is estimated at its chunks' size."""
+    against an estimate of 96 MB, when the kernel wrote a trace and a log-scale per lane and step.
+    Now that it writes the traces themselves, one path's JSON records (488 bytes per step) outweigh
+    its kernel (about 270): 3 000 000 steps are estimated at 1.46 GB, under the cap, and 5 000 000
+    at 2.44 GB are refused; verify's 600 000 paths (refused before at 2.3 GB, measured 590 MB at
+    400 000) is estimated at its chunks' size."""
     from symkf import files
     system, loss = files.load(example_path("ge-two-sensors"))
-    for horizon in (60_000_000, 3_000_000):
+    assert montecarlo.memory_estimate(system, loss, 3_000_000, 1, records="json") == 3_000_000 * (32 + 3 * 152)
+    for horizon in (60_000_000, 5_000_000):
         assert montecarlo.memory_estimate(system, loss, horizon, 1, records="json") > budget.LIMITS.max_memory
     assert montecarlo.memory_estimate(system, loss, 36, 600_000, components=4) < 400 * 1024 ** 2
