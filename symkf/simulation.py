@@ -17,6 +17,7 @@ import html
 import math
 import textwrap
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -51,13 +52,17 @@ class Simulation:
     growth_rate: AlgebraicNumber | None
     stable: bool | None
 
-    @property
+    @cached_property
     def resolved(self) -> np.ndarray:
         """Per step, whether plain Monte Carlo resolves the mean (:class:`TraceEstimate`); for a
         diverging filter no step after the first unresolved one is (its mean outgrows every
-        sample: a later step that looks resolved has merely missed the bursts carrying it)."""
+        sample: a later step that looks resolved has merely missed the bursts carrying it).
+        Computed once (``interval(k)`` for every step made ``to_json`` quadratic in the horizon);
+        read-only."""
         ok = self.estimate.resolved
-        return np.logical_and.accumulate(ok) if self.stable is False else ok
+        out = np.logical_and.accumulate(ok) if self.stable is False else ok.copy()
+        out.flags.writeable = False
+        return out
 
     @property
     def resolved_until(self) -> int:

@@ -216,6 +216,8 @@ def test_simulate_never_prints_an_interval_the_data_cannot_support():
         assert all(sim.interval(k)[0] > 0 for k in range(r)) and sim.interval(r) is None
     doc = sim.to_json()
     assert doc["low"][r:] == [None] * (60 - r) and doc["resolved_until"] == r
+    # computed once per simulation (per call, to_json was quadratic in the horizon), and read-only
+    assert sim.resolved is sim.resolved and not sim.resolved.flags.writeable
     assert "the filter diverges (exact growth 9/8 ~ 1.125 per step)" in doc["notes"][0]
     assert "not resolved" in str(sim) and "[-" not in str(sim)
 
