@@ -214,7 +214,9 @@ def _cyclotomic_radicals(generators: Sequence[sp.Expr]) -> dict[sp.Expr, tuple[i
             continue
         if beta.degree < 2:
             continue
-        real, disc = bool(h.is_real), int(beta.poly.discriminant())
+        # sympy's discriminant: python-flint 0.7's fmpz_poly (our floor) has none
+        disc = int(sp.Poly([int(c) for c in reversed(beta.poly.coeffs())], sp.Dummy()).discriminant())
+        real = bool(h.is_real)
         target = 2 * beta.degree if real else beta.degree
         primes = [d + 1 for d in sp.divisors(target) if sp.isprime(d + 1) and disc % (d + 1) == 0]
         for n in _with_totient(target, primes):
