@@ -20,7 +20,6 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, ClassVar, Iterable, Mapping, Sequence
 
-import flint
 import numpy as np  # float chains for simulation (LossModel.numeric)
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
@@ -115,9 +114,10 @@ def require_numbers(free: set) -> None:
 
 
 def _floats(M: sp.MatrixBase) -> np.ndarray:
-    """Entries as float64: rationals through flint (correctly rounded), others by evalf(30)."""
-    return np.array([[float(flint.fmpq(int(v.p), int(v.q))) if v.is_Rational else float(v.evalf(30))
-                      for v in M.row(i)] for i in range(M.shape[0])], dtype=float).reshape(M.shape)
+    """Entries as float64: rationals by Python's int division (correctly rounded; python-flint 0.7's
+    fmpq has no float), others by evalf(30)."""
+    return np.array([[int(v.p) / int(v.q) if v.is_Rational else float(v.evalf(30)) for v in row]
+                     for row in M.tolist()], dtype=float).reshape(M.shape)
 
 
 def stationary_law(P: sp.MatrixBase, entry: str) -> sp.ImmutableMatrix:
