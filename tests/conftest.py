@@ -77,3 +77,17 @@ def dask_cluster():
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster:
         yield cluster
+
+
+#: the longest tests (a minute or more each on a 2-core runner) start first: with ``pytest -n auto``
+#: a long test collected last (test_wheel.py sorts last) leaves the other workers idle at the end
+LONGEST = ("test_wheel.py::test_readme_and_docs_run_verbatim", "test_fusion.py::test_reproduce_full",
+           "test_sizes.py::test_sqrt2_matrix_analyze", "test_payload_walk.py::test_walk_full",
+           "test_bounds.py::test_no_row_violated", "test_limits.py::test_fuzz_under_limits_long",
+           "test_second_order.py::test_full_family", "test_writer.py::test_two_runs_writing")
+
+
+def pytest_collection_modifyitems(items):
+    """The ``LONGEST`` tests in its order (longest first), then the others in collection order."""
+    rank = lambda item: next((i for i, name in enumerate(LONGEST) if name in item.nodeid), len(LONGEST))  # noqa: E731
+    items.sort(key=rank)
