@@ -20,8 +20,6 @@ from ..exact.numbers import as_matrix, to_exact_matrix
 from ..model import System
 from ..spectral import eigenvalues
 
-x = sp.Symbol("x")
-
 
 class PeriodicDynamics:
     """``A(k) = A[k mod T]`` and the sensor blocks ``C_1..C_M`` (relays: all-zero ``C``)."""
