@@ -62,7 +62,7 @@ def measured(command: str, horizon: int, paths: int, *extra: str, path: str = st
 
 def assert_within(estimate: int, peak: int, factor: float = 1.5, low: float | None = None) -> None:
     """``estimate / low <= peak <= estimate * factor`` (``low`` defaults to ``factor``)."""
-    assert estimate / (low or factor) <= peak <= estimate * factor, (estimate, peak, peak / estimate)
+    assert estimate / (factor if low is None else low) <= peak <= estimate * factor, (estimate, peak, peak / estimate)
 
 
 def test_one_long_path_estimate_matches_peak_rss():

@@ -30,7 +30,7 @@ import sympy as sp
 
 from .arguments import check_public
 from ..errors import InputError
-from .algebraic import _with_prec, identify, root_ball, root_of
+from .algebraic import _with_prec, fmpz_to_sympy, identify, root_ball, root_of
 from .embedding import Integral, adjoin, integral_scale, interpolate, vanishes
 from .numbers import sympify
 
@@ -215,7 +215,7 @@ def _cyclotomic_radicals(generators: Sequence[sp.Expr]) -> dict[sp.Expr, tuple[i
         if beta.degree < 2:
             continue
         # sympy's discriminant: python-flint 0.7's fmpz_poly (our floor) has none
-        disc = int(sp.Poly([int(c) for c in reversed(beta.poly.coeffs())], sp.Dummy()).discriminant())
+        disc = int(fmpz_to_sympy(beta.poly).discriminant())
         real = bool(h.is_real)
         target = 2 * beta.degree if real else beta.degree
         primes = [d + 1 for d in sp.divisors(target) if sp.isprime(d + 1) and disc % (d + 1) == 0]
