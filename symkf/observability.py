@@ -124,7 +124,11 @@ class BlockRows:
         low ``floor`` lets through) holds no hyperplane and is dropped.  A failed confirmation (a merge mod p that is not exact, or
         a representative vanishing mod p) repeats the screen with the next prime, then returns
         None.  Applies to elements with at most one generator (single-row sensors) and
-        generators spanning K^n mod p.  The screen's work (:func:`symkf.hyperplane_screen.work`,
+        generators spanning K^n mod p.  With the phase shift (and weights it preserves), the
+        cosets of shifts seed a lower bound of the heaviest weight, and every orbit becomes a stage
+        whose greedy bases come from a window of positions after its first element, when that is
+        the cheaper plan (:func:`symkf.hyperplane_screen._windowed`: the pigeonhole argument that
+        no hyperplane at the bound is missed).  The screen's work (:func:`symkf.hyperplane_screen.work`,
         about ``C(C, n - 2)`` incidences per stage) is estimated before it starts and refused
         (:class:`~symkf.errors.BudgetError`) above ``budget.Limits.max_screen_work``.
         """
@@ -137,6 +141,7 @@ class BlockRows:
         w = np.asarray(weights, dtype=float)
         shift = self._shift(live)
         orbits = _orbits(len(live), shift)
+        cycles = _cycles(orbits, shift) if shift is not None and np.array_equal(w[live][shift], w[live]) else None
         p, tol = 1 << 27, 1e-9 * (1 + w.sum())
         for _ in range(3):
             p, images = _reduction(self.K, vectors, p)
@@ -144,14 +149,17 @@ class BlockRows:
                 return None
             X = np.array(images, dtype=np.int64)
             skip = self._parallel_orbits(X, p, orbits, vectors)
-            work = hyperplane_screen.work(X, p, orbits, skip, budget.LIMITS.max_screen_work)
+            screen = hyperplane_screen.Screen(tol, floor)
+            if cycles is not None:
+                hyperplane_screen.seed(X, w[live], p, cycles, screen)
+            plan = hyperplane_screen.stages(X, w[live], p, orbits, skip, screen.bar, cycles)
+            work = hyperplane_screen.work(X, p, plan, budget.LIMITS.max_screen_work)
             if work > budget.LIMITS.max_screen_work:  # the modulus named only then
                 budget.check("max_screen_work", work, f"eigen-block of modulus {self.block.modulus}",
                              f"the estimated work of the hyperplane screen ({len(live)} elements in dimension {n}, "
-                             f"{len(orbits) - len(skip)} orbits: point-line incidences, about C(C, {n - 2}) per "
-                             "orbit for C classes)")
-            screen = hyperplane_screen.Screen(tol, floor)
-            if not hyperplane_screen.search(X, w[live], p, orbits, skip, screen):
+                             f"{len(orbits) - len(skip)} orbits, {len(plan)} stages: point-line incidences, about "
+                             f"C(C, {n - 2}) per stage for C classes, fewer in a window)")
+            if not hyperplane_screen.search(X, w[live], p, plan, screen):
                 continue
             closures = [self._closure(X, p, sorted(S), vectors) for S in screen.kept]
             if any(c is None for c in closures):
@@ -254,6 +262,17 @@ def _orbits(count: int, shift: np.ndarray | None) -> list[list[int]]:
                 cycle.append(j)
                 j = int(shift[j])
             out.append(sorted(cycle))
+    return out
+
+
+def _cycles(orbits: list[list[int]], shift: np.ndarray) -> list[list[int]]:
+    """Each orbit listed along ``shift`` from its first element."""
+    out = []
+    for orbit in orbits:
+        cycle = [orbit[0]]
+        while (nxt := int(shift[cycle[-1]])) != orbit[0]:
+            cycle.append(nxt)
+        out.append(cycle)
     return out
 
 

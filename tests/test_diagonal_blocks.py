@@ -85,3 +85,15 @@ def test_cosine_order():
     assert _cosine_order(flint.fmpz_poly([-1, -4, 4, 8])) == 7
     assert _cosine_order(flint.fmpz_poly([-2, 0, 1])) == 0
     assert _cosine_order(flint.fmpz_poly([-1, 0, 2])) == 8
+
+
+@pytest.mark.full
+def test_rotations_in_three_cyclotomic_fields_critical_loss_rate():
+    """diag(2R(2 pi/5), 2R(2 pi/7), 2R(2 pi/9)): one eigen-block of modulus 2, period 315, two
+    sensors whose rows are parallel on the 2R(2 pi/9) coordinates.  A normal h on those coordinates
+    has c_j A^k h = 2^k c_j^(9) R^k h^(9) = 0 at one residue k mod 9 (9 is odd: the angles 2 pi k / 9
+    are distinct mod pi) for both sensors: 35 + 35 = 70 of the 630 elements.  With that heaviest
+    weight the critical common loss rate is 2^(-2 * 315 / (630 - 70)) = 2^(-9/8)."""
+    A = sp.diag(*(rotation(2, 2 * sp.pi / q) for q in (5, 7, 9)))
+    S = sk.System(A=A, sensors=[sk.Sensor(C=[[2, 1, 0, -1, -1, -2]]), sk.Sensor(C=[[-2, -2, -2, 2, 1, 2]])])
+    assert sp.simplify(sk.critical_loss_rate(S).exact - 2 ** sp.Rational(-9, 8)) == 0

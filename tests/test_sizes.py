@@ -127,9 +127,10 @@ def test_screen_work_estimate_bounds_the_search(monkeypatch, n, count):
         return inner(reps, *args)
     monkeypatch.setattr(hs, "_lines_through_points", counting)
     import numpy as np
-    assert hs.search(X, np.zeros(count), p, orbits, set(), hs.Screen(1e-9))
-    exact = hs.work(X, p, orbits, set(), cap=0)
-    rough = hs.work(X, p, orbits, set(), cap=10 ** 30)
+    plan = hs.stages(X, np.zeros(count), p, orbits, set(), -np.inf)
+    assert hs.search(X, np.zeros(count), p, plan, hs.Screen(1e-9))
+    exact = hs.work(X, p, plan, cap=0)
+    rough = hs.work(X, p, plan, cap=10 ** 30)
     assert counted[0] <= exact <= rough
     if n == 4:
         assert counted[0] == exact
