@@ -644,12 +644,16 @@ def _block_rows(system: System, block: EigenBlock) -> BlockRows:
     class_of = [ci for ci, members in enumerate(block.classes)
                 for m in members for _ in range(block.members[m].multiplicity)]
     elements, generators = [], []
+    # rows C_j T D^phase scaled by lambda_1^-phase (parallel, so the same hyperplanes): the ratios
+    # lambda_k / lambda_1 are roots of unity within a class, and the rows' coefficients stay small
+    # (times 2^phase unscaled for modulus 2: 300-bit coefficients at phase 300)
+    step = [K.mul(lam, K.inv(diag[0])) for lam in diag]
     for j, sensor in enumerate(system.sensors):
         CT = [K.vecmat(K.matrix(sensor.C)[r], T) for r in range(sensor.m)]
         rows = CT
-        for phase in range(g):  # rows C_j T D^phase
+        for phase in range(g):
             if phase:
-                rows = [[K.mul(a, lam) for a, lam in zip(row, diag)] for row in rows]
+                rows = [[K.mul(a, lam) for a, lam in zip(row, step)] for row in rows]
             gens = []
             for c in range(len(block.classes)):
                 for row in rows:
