@@ -362,11 +362,21 @@ class _Bound:
         # Elliott losses at rationals near a critical recovery rate): no closed form then
         huge = gamma.is_rational and max(abs(gamma._value().numerator), gamma._value().denominator).bit_length() > 512
         exact = None if huge and self.k > 1 else self.expr()
-        if self.k == 1:
+        k = self.k
+        if gamma.is_rational and k > 1:  # gamma = delta^q (q | k): the k-th root is delta's (k/q)-th root
+            num, den = gamma._value().numerator, gamma._value().denominator
+            for q in sp.primefactors(k):
+                while k % q == 0:
+                    (a, exact_a), (b, exact_b) = sp.integer_nthroot(abs(num), q), sp.integer_nthroot(den, q)
+                    if not (exact_a and exact_b) or num < 0 and q == 2:
+                        break
+                    num, den, k = (a if num > 0 else -a), b, k // q
+            gamma = AlgebraicNumber.from_expr(sp.Rational(num, den))
+        if k == 1:
             return AlgebraicNumber._irreducible(gamma._poly, gamma._index, exact)
-        coeffs = [0] * (self.k * gamma._poly.degree() + 1)  # p(x^k) for the minimal polynomial p of gamma
+        coeffs = [0] * (k * gamma._poly.degree() + 1)  # p(x^k) for the minimal polynomial p of gamma
         for i, a in enumerate(gamma._poly.coeffs()):
-            coeffs[self.k * i] = int(a)
+            coeffs[k * i] = int(a)
         f, index = identify(flint.fmpz_poly(coeffs), lambda prec: flint.acb(self.ball(prec)),
                             "margin" if self.sign > 0 else "critical value")
         return AlgebraicNumber._irreducible(f, index, exact)

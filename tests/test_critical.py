@@ -206,3 +206,20 @@ def test_region_prints_and_renders_its_conditions():
     # every single element is a hyperplane: receiving one element in a period of g = 2 is deficient
     assert str(r) == "stable iff (16*eps_s1*eps_s2**2 < 1) & (16*eps_s1**2*eps_s2 < 1)"
     assert r._repr_latex_().startswith("$\\text{stable iff }") and "\\wedge" in r._repr_latex_()
+
+
+@pytest.mark.parametrize("power, k, sign, exponent, poly", [
+    (630, 560, -1, sp.Rational(-9, 8), [-1, 0, 0, 0, 0, 0, 0, 0, 512]),  # 2^-630 = (2^-9)^70, 560 = 8 * 70
+    (3, 2, 1, sp.Rational(3, 2), [-8, 0, 1]),                               # 2^3 is no square: x^2 - 8 as it is
+    (6, 4, 1, sp.Rational(3, 2), [-8, 0, 1]),                               # 2^6 = 8^2: x^2 - 8, not x^4 - 64
+])
+def test_critical_value_roots_of_rational_powers(power, k, sign, exponent, poly):
+    """A bound (alpha^power)^(sign/k) with alpha rational: the k-th root of a rational q-th power
+    (q | k) is reduced before its polynomial is factored; the value and its minimal polynomial are
+    those derived by hand."""
+    import flint
+    from symkf.exact.algebraic import AlgebraicNumber
+    from symkf.stability import _Bound
+    got = _Bound(AlgebraicNumber.from_expr(2), power, 1, k, sign).value()
+    assert sp.simplify(got.exact - sp.Integer(2) ** exponent) == 0
+    assert got._poly == flint.fmpz_poly(poly)
