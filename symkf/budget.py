@@ -38,7 +38,9 @@ class Limits:
     #: degree of the cyclotomic field Q(zeta_m) holding the trigonometric constants and I of a
     #: number or matrix without radicals (its real subfield for real entries), times the size of
     #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and its
-    #: roots come from Euler's formula (2R(2 pi/401): 800, 3.2 CPU-s; 2R(2 pi/509): 1016, 6 CPU-s)
+    #: roots come from Euler's formula (2R(2 pi/401): 800, 3.2 CPU-s; 2R(2 pi/509): 1016, 6 CPU-s);
+    #: also phi(g) for an eigen-block over several diagonal blocks, g its class period (its field
+    #: holds Q(zeta_g): four rotations 2R(2 pi/q), q = 5, 7, 9, 11, give phi(3465) = 1440)
     max_cyclotomic_degree: int = 1024
     #: bit size (2D + 1) D b, D = d(d+1)/2, of the polynomial of the modulus (power sums of the
     #: products of conjugates, symkf.spectral._abs_poly) for a complex eigenvalue of degree d with
@@ -101,7 +103,9 @@ class Limits:
     #: (network states, or the sum over states of the longest holding time) times 2^M link outcomes
     max_network_chain: int = 4096
     #: point-line incidences the hyperplane screen (symkf.hyperplane_screen) tests, estimated
-    #: before it starts: ``C(C, n - 2)`` per stage for ``C`` classes in an n-dim block, plus
+    #: before it starts: ``C(C, n - 2)`` per stage for ``C`` classes in an n-dim block (with a
+    #: window of ``W`` classes ``C(W, n - 4) (W C + 10^4)``: 1.9e7 for three rotations
+    #: 2R(2 pi/q), q = 5, 7, 9, with 2 sensors, against 9.3e9 without), plus
     #: 10^4 per vectorised pass (0.15-0.2 us each: a 4-dim block with 64 sensors of period 24,
     #: 1.1e7 and 2.2 CPU-s per screen, with 128 sensors 3.1e7; a 6-dim one with 6 sensors of
     #: period 12, 6.3e7 and 9.5 CPU-s; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64
