@@ -38,7 +38,8 @@ _BLOCK = 1 << 21  # entries of one vectorised block of flats x points (about 16 
 #: per-call overhead and the offers of tied sets: about 1.4 ms against 0.15 us per incidence)
 PASS = 10_000
 _BATCH = 2048  # entries from which inverses() batches (Montgomery) rather than powers each
-#: quotients :func:`_crowding` may take to bound a window (each a few tens of microseconds)
+#: quotients :func:`_crowding` may take over all stages to bound a window (each a few tens of
+#: microseconds)
 CROWDING = 10_000
 
 
@@ -213,7 +214,8 @@ def _windowed(images: np.ndarray, weights: np.ndarray, p: int, cycles: Sequence[
         M = L * V // need if need > L else V
         if M >= V - 1:
             return None
-        crowds = [_crowding(images[points[:M]], images[position[o]], p, n - 4) for o, points in enumerate(after)]
+        crowds = [_crowding(images[points[:M]], images[position[o]], p, n - 4, CROWDING // d)
+                  for o, points in enumerate(after)]
         if None in crowds:
             return None
         crowd = max(crowds)
@@ -222,11 +224,11 @@ def _windowed(images: np.ndarray, weights: np.ndarray, p: int, cycles: Sequence[
         L = crowd + 1
 
 
-def _crowding(Y: np.ndarray, a: np.ndarray, p: int, k: int) -> int | None:
+def _crowding(Y: np.ndarray, a: np.ndarray, p: int, k: int, calls: int) -> int | None:
     """The most rows of ``Y`` in one flat of rank ``k + 1`` through ``a`` (rows parallel to ``a``
-    in all of them), or None when finding it would take more than ``CROWDING`` quotients."""
+    in all of them), or None when finding it would take more than ``calls`` quotients."""
     label, reps = _labels(_quotient(Y, a, p), p)
-    if k > 1 and math.comb(len(reps), k - 1) > CROWDING:
+    if k > 1 and math.comb(len(reps), k - 1) > calls:
         return None
     return int((label < 0).sum()) + _most_in_span(reps, np.bincount(label[label >= 0], minlength=len(reps)), k, p)
 
