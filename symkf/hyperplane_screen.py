@@ -148,7 +148,8 @@ def seed(images: np.ndarray, weights: np.ndarray, p: int, cycles: Sequence[Seque
         for rows in [*(list(c[::q]) for c in cycles), [e for c in cycles for e in c[::q]]]:
             null, nullity = flint.nmod_mat(images[rows].tolist(), p).nullspace()
             if nullity:
-                N = np.array([[int(null[i, j]) for j in range(nullity)] for i in range(images.shape[1])], dtype=np.int64)
+                N = np.array([[int(null[i, j]) for j in range(nullity)] for i in range(images.shape[1])],
+                             dtype=np.int64)
                 on = np.flatnonzero(~(images @ N % p).any(axis=1))
                 screen.offer(float(weights[on].sum()), on.tolist())
 
@@ -243,7 +244,8 @@ def _most_in_span(reps: np.ndarray, sizes: np.ndarray, k: int, p: int) -> int:
     best = 0
     for b in range(len(reps)):
         label, sub = _labels(_quotient(reps[b + 1:], reps[b], p), p)
-        best = max(best, int(sizes[b]) + _most_in_span(sub, np.bincount(label, sizes[b + 1:], len(sub)).astype(np.int64), k - 1, p))
+        merged = np.bincount(label, sizes[b + 1:], len(sub)).astype(np.int64)
+        best = max(best, int(sizes[b]) + _most_in_span(sub, merged, k - 1, p))
     return best
 
 

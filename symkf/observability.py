@@ -527,7 +527,8 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
         # class period), so phi(g) bounds its degree from below: refused before minutes of field
         # arithmetic (2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9) + 2R(2 pi/11): phi(3465) = 1440 and the
         # field Q(zeta_13860) of degree 2880)
-        budget.check("max_cyclotomic_degree", int(sp.totient(block.class_period)), f"eigen-block of modulus {block.modulus}",
+        budget.check("max_cyclotomic_degree", int(sp.totient(block.class_period)),
+                     f"eigen-block of modulus {block.modulus}",
                      f"the degree of the field of its eigenvectors, at least phi({block.class_period}) "
                      f"(it holds the ratios of the eigenvalues: roots of unity of order {block.class_period})")
         return _split_modal_form(A, members, extra, index)
