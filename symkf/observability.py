@@ -141,7 +141,7 @@ class BlockRows:
         w = np.asarray(weights, dtype=float)
         shift = self._shift(live)
         orbits = _orbits(len(live), shift)
-        cycles = _cycles(orbits, shift) if shift is not None and np.array_equal(w[live][shift], w[live]) else None
+        cycles = _cycles(len(live), shift) if shift is not None and np.array_equal(w[live][shift], w[live]) else None
         p, tol = 1 << 27, 1e-9 * (1 + w.sum())
         for _ in range(3):
             p, images = _reduction(self.K, vectors, p)
@@ -248,10 +248,16 @@ class BlockRows:
 
 
 def _orbits(count: int, shift: np.ndarray | None) -> list[list[int]]:
-    """The cycles of ``shift`` on ``range(count)`` (each element alone without it), each from its
-    least element, in the order of those."""
+    """The cycles of ``shift`` on ``range(count)`` (each element alone without it), each sorted,
+    in the order of their least elements."""
     if shift is None:
         return [[i] for i in range(count)]
+    return [sorted(cycle) for cycle in _cycles(count, shift)]
+
+
+def _cycles(count: int, shift: np.ndarray) -> list[list[int]]:
+    """The cycles of ``shift`` on ``range(count)``, each listed along it from its least element, in
+    the order of those."""
     seen = np.zeros(count, dtype=bool)
     out = []
     for i in range(count):
@@ -261,18 +267,7 @@ def _orbits(count: int, shift: np.ndarray | None) -> list[list[int]]:
                 seen[j] = True
                 cycle.append(j)
                 j = int(shift[j])
-            out.append(sorted(cycle))
-    return out
-
-
-def _cycles(orbits: list[list[int]], shift: np.ndarray) -> list[list[int]]:
-    """Each orbit listed along ``shift`` from its first element."""
-    out = []
-    for orbit in orbits:
-        cycle = [orbit[0]]
-        while (nxt := int(shift[cycle[-1]])) != orbit[0]:
-            cycle.append(nxt)
-        out.append(cycle)
+            out.append(cycle)
     return out
 
 
