@@ -6,8 +6,8 @@ is counted by the yardstick ``4 n^3 + 4 d n^2`` flop (time update ~ ``4 n^3``: `
 the Householder reflections; Potter ~ ``4 n^2`` per row), whatever the kernel skips.
 
 Peak: derived from ``lscpu`` (FMA pipes x doubles per pipe x 2 flop x clock; AMD family 25,
-Zen 3/4, has two 256-bit FMA pipes, AVX-512 is double-pumped; family 23 before model 0x30, Zen
-and Zen+, two 128-bit pipes) and measured in this process with a numba FMA loop
+Zen 3/4, has two 256-bit FMA pipes, AVX-512 is double-pumped; family 26, Zen 5, two 512-bit
+pipes; family 23 before model 0x30, Zen and Zen+, two 128-bit pipes) and measured in this process with a numba FMA loop
 (``fastmath={"contract"}`` there only; the kernel has no contraction).  Division and
 square-root throughput are measured the same way, on independent operands in [1, 2): the
 kernel rounds like the loops it replaced only with true ``/`` and ``sqrt`` (no reciprocals),
@@ -81,8 +81,10 @@ def derived_peak() -> tuple[float | None, str]:
         return None, f"{model}: no FMA flag or no clock in lscpu"
     width = 512 if "avx512f" in flags else 256
     amd = "AMD" in (field("Vendor ID") or "")
-    # AMD family 23 before model 0x30 (Zen, Zen+) splits 256-bit operations over 128-bit pipes
-    pipe = 256 if (amd and family in ("25", "26") and width == 512) else (
+    # AMD family 25 (Zen 3/4) runs AVX-512 double-pumped on 256-bit pipes (Zen 5, family 26, has
+    # full 512-bit pipes: 94 GFLOP/s measured on a 2.6 GHz EPYC); family 23 before model 0x30
+    # (Zen, Zen+) splits 256-bit operations over 128-bit pipes
+    pipe = 256 if (amd and family == "25" and width == 512) else (
         128 if amd and family == "23" and int(field("Model") or 0) < 0x30 else width)
     lanes = pipe // 64
     peak = 2 * lanes * 2 * clock
@@ -147,19 +149,21 @@ def divider_work(n: int, rows: int) -> tuple[int, int]:
 
 
 def asm_divider_work(n: int) -> list[tuple[int, int]]:
-    """(vdivpd, vsqrtpd) on ymm registers (4 paths each) per loop body of the compiled straight-line
-    kernel for ``n`` states, the bodies that have any (compiled here without numba's cache, whose
-    code cannot be inspected): the Potter row loop and the time update's loop over the lanes."""
+    """(vdivpd, vsqrtpd) on vector registers of the widest width the compiler used (xmm, ymm or zmm:
+    2, 4 or 8 paths each) per loop body of the compiled straight-line kernel for ``n`` states, the
+    bodies that have any (compiled here without numba's cache, whose code cannot be inspected): the
+    Potter row loop and the time update's loop over the lanes; and that width's name."""
     from symkf import straight_kernels
     from symkf.square_root import LANES
     kernel = njit(error_model="numpy")(getattr(straight_kernels, f"_paths_{n}"))
     kernel(np.eye(n), np.eye(n), np.ones((1, n)), np.zeros(1, np.int64), np.eye(n), np.ones((1, LANES, 1), bool),
            np.empty((LANES, 1)), np.empty((1, 1)), True)
     asm = "\n".join(kernel.inspect_asm().values())
+    register = next(r for r in ("zmm", "ymm", "xmm") if re.search(rf"^\s*v(div|sqrt)pd\s.*%{r}", asm, re.M))
     bodies = re.split(r"^\.LBB\w+:", asm, flags=re.M)
-    counts = [(len(re.findall(r"^\s*vdivpd\s.*%ymm", b, re.M)), len(re.findall(r"^\s*vsqrtpd\s.*%ymm", b, re.M)))
-              for b in bodies]
-    return [c for c in counts if any(c)]
+    counts = [(len(re.findall(rf"^\s*vdivpd\s.*%{register}", b, re.M)),
+               len(re.findall(rf"^\s*vsqrtpd\s.*%{register}", b, re.M))) for b in bodies]
+    return [c for c in counts if any(c)], register
 
 
 def run_cells(python: str, root: str, horizon: int, repeats: int, cells: list, env: dict) -> list[float]:
@@ -184,9 +188,11 @@ def main() -> None:
           f"square root {sqrt:.2f} G/s, one of each {both:.2f} ns (1/div + 1/sqrt = {1 / div + 1 / sqrt:.2f} ns: "
           f"one divider) (CPU seconds, medians of {repeats})")
     for n in sorted({n for n, _ in CELLS if n <= STRAIGHT_MAX}):
-        bodies = asm_divider_work(n)
+        bodies, register = asm_divider_work(n)
         total = tuple(map(sum, zip(*bodies)))
-        print(f"compiled kernel n = {n}: ymm vdivpd, vsqrtpd per loop body (4 paths) {bodies}; per path-step at d = 1 "
+        width = {"xmm": 2, "ymm": 4, "zmm": 8}[register]
+        print(f"compiled kernel n = {n}: {register} vdivpd, vsqrtpd per loop body ({width} paths) {bodies}; "
+              f"per path-step at d = 1 "
               f"{total}, the source's count {divider_work(n, 1)}{'' if total == divider_work(n, 1) else ' DIFFERS'}; "
               f"each further row adds {(n + 1, 2)}")
     cells = [(n, d, paths_for(n, args.quick)) for n, d in CELLS]
