@@ -202,19 +202,40 @@ def test_irrational_arithmetic_matches_sympy(m: int, n: int, q: Fraction) -> Non
     assert a * b == sp.sqrt(m * n)
 
 
-@pytest.mark.parametrize("m", [7, 15, 22, 60, 97])
-def test_the_roots_of_a_cosine_polynomial_are_known_in_flints_order(m):
-    """The minimal polynomial of cos(2 pi/m) (leading coefficient a power of 2): its roots are the
-    cos(2 pi j/m), given without isolation, in the order and within the balls of flint's own
-    isolation (an independent computation of the same roots)."""
+@settings(derandomize=True, max_examples=40, deadline=None)
+@given(st.integers(5, 97).filter(lambda m: sp.totient(m) >= 4),
+       st.fractions(min_value=-3, max_value=3, max_denominator=7),
+       st.fractions(min_value=-4, max_value=4, max_denominator=5).filter(bool),
+       st.sampled_from(["alpha + beta 2cos", "sin^2", "cos(2 pi/m)"]))
+def test_the_roots_of_a_shifted_scaled_cosine_are_known_in_flints_order(m, alpha, beta, form):
+    """The minimal polynomial (sympy's) of alpha + beta 2 cos(2 pi/m), of sin^2(2 pi/m) = (1 - cos(4
+    pi/m)) / 2 or of cos(2 pi/m): its roots are given without isolation, in the order and within the
+    balls of flint's own isolation (an independent computation of the same roots)."""
     from symkf.exact.algebraic import _complex_roots, _known_roots, sympy_to_fmpz
-    p = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(sp.cos(2 * sp.pi / m), x), x))
+    t = 2 * sp.pi / m
+    expr = {"alpha + beta 2cos": R(alpha.numerator, alpha.denominator) + R(beta.numerator, beta.denominator) * 2 * sp.cos(t),
+            "sin^2": sp.sin(t) ** 2, "cos(2 pi/m)": sp.cos(t)}[form]
+    p = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))
     coeffs = tuple(int(c) for c in p.coeffs())
-    assert p.leading_coefficient() > 1 and _known_roots(coeffs) is not None
+    if p.degree() < 2:
+        assert _known_roots(coeffs) is None
+        return
+    assert _known_roots(coeffs) is not None
     known = _complex_roots(coeffs, 64)
     isolated = [r for r, _ in p.complex_roots()]
     assert len(known) == len(isolated) == p.degree()
     assert all(k.overlaps(r) for k, r in zip(known, isolated))
+
+
+@pytest.mark.parametrize("expr", [sp.root(2, 3), sp.sqrt(2) + sp.sqrt(3), 2 * sp.cos(2 * sp.pi / 7) + sp.sqrt(2),
+                                  sp.cos(2 * sp.pi / 7) ** 2 + 3 * sp.cos(2 * sp.pi / 7)])
+def test_other_polynomials_are_isolated(expr):
+    """No shortcut for polynomials whose roots are not alpha + beta 2 cos(2 pi j/m), among them one
+    of Q(cos(2 pi/7)) itself: c^2 + 3c = 1/2 + 3 cos(2 pi/7) + cos(4 pi/7) / 2 is no multiple of
+    one conjugate (2 c^2 + c = 1/2 - cos(6 pi/7) is, and is recognised)."""
+    from symkf.exact.algebraic import _known_roots, sympy_to_fmpz
+    p = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))
+    assert _known_roots(tuple(int(c) for c in p.coeffs())) is None
 
 
 def test_triangular_eigenvalues_need_no_norm():
@@ -231,3 +252,17 @@ def test_triangular_eigenvalues_need_no_norm():
     v = sk.stability(S, sk.IID(["1/2", "1/2"]))
     assert not v.stable and 1 in v.margins
     assert sorted(map(float, v.margins)) == pytest.approx([math.cos(math.pi / 211) ** 2 / 2, 1.0], abs=1e-15)
+
+
+def test_margin_of_a_sine_entry_is_a_known_cosine_image():
+    """A = sin(2 pi/517) (degree 230; its square's polynomial isolated all 230 roots twice, once for
+    the margin's closed form and once for its product with the loss rate): the margin sin^2 / 2 =
+    (1 - cos(4 pi/517)) / 4 is recognised as alpha + beta 2 cos(2 pi j/517) with alpha = 1/4,
+    beta = -1/8, and its value is right."""
+    from symkf.exact.algebraic import _known_roots
+    v = sk.stability(sk.System(A=[["sin(2*pi/517)"]], sensors=[sk.Sensor(C=[[1]])]), sk.IID(["1/2"]))
+    margin = v.margins[0]
+    assert v.stable and margin.minpoly.degree() == 230
+    kind, alpha, beta, _, m = _known_roots(tuple(int(c) for c in reversed(margin.minpoly.all_coeffs())))[0]
+    assert (kind, alpha, beta, m) == ("cos", Fraction(1, 4), Fraction(-1, 8), 517)
+    assert float(margin) == pytest.approx(math.sin(2 * math.pi / 517) ** 2 / 2, rel=1e-13)

@@ -19,9 +19,9 @@ import symkf as sk
 from symkf import cli
 
 #: CPU seconds and extra address space (over the parent's) of one case: a hang, not slow work
-#: (the entry cos(pi/517), a degree-230 algebraic number, is decided in about 33 CPU-s; the fuzzed
-#: sin(-14 pi/3619) = -sin(2 pi/517) took 60-61 CPU-s on a 2.0 GHz Zen 1 core, on this main and the
-#: last, in the square-root closed form of its margin: slow work, not a hang)
+#: (the entries cos(pi/517) and sin(-14 pi/3619) = -sin(2 pi/517), degree-230 algebraic numbers,
+#: took 33 and 60 CPU-s on a 2.0 GHz Zen 1 core in isolating the roots of their margins'
+#: polynomials; recognised as images of 2 cos(2 pi/517) they take 1.3 and 2.1 CPU-s on a Zen 5)
 CPU_SECONDS = 120
 EXTRA_MEMORY = 1536 * 1024 ** 2
 

@@ -25,6 +25,7 @@ from functools import lru_cache
 from typing import Any, Callable
 
 import flint
+import numpy as np
 import sympy as sp
 from sympy.polys.polyerrors import NotAlgebraic
 
@@ -96,42 +97,84 @@ def _complex_roots(coeffs: tuple[int, ...], prec: int) -> tuple[flint.acb, ...]:
     rotation by 2 pi/401).  This is the one ordering of root indices in symkf.exact."""
     known = _known_roots(coeffs)
     if known is not None:
-        return _with_prec(prec, lambda: tuple(scale * flint.acb(flint.arb(flint.fmpq(2 * j, m))).exp_pi_i()
-                                              if kind == "unit" else
-                                              flint.acb(flint.arb(flint.fmpq(2, scale)) * flint.arb(flint.fmpq(2 * j, m)).cos_pi())
-                                              for kind, scale, j, m in known))
+        def ball(kind: str, alpha: Fraction, beta: Fraction, j: int, m: int) -> flint.acb:
+            if kind == "unit":
+                return int(beta) * flint.acb(flint.arb(flint.fmpq(2 * j, m))).exp_pi_i()
+            cosine = 2 * flint.arb(flint.fmpq(2 * j, m)).cos_pi()
+            return flint.acb(flint.fmpq(alpha.numerator, alpha.denominator)
+                             + flint.fmpq(beta.numerator, beta.denominator) * cosine)
+        return _with_prec(prec, lambda: tuple(ball(*root) for root in known))
     return _with_prec(prec, lambda: tuple(r for r, _ in flint.fmpz_poly(list(coeffs)).complex_roots()))
 
 
+Root = tuple[str, Fraction, Fraction, int, int]
+
+
 @lru_cache(maxsize=512)
-def _known_roots(coeffs: tuple[int, ...]) -> list[tuple[str, int, int, int]] | None:
+def _known_roots(coeffs: tuple[int, ...]) -> list[Root] | None:
     """The roots of ``c^d Phi_m(x / c)`` (``m >= 3``, integer ``c >= 1``: ``c exp(2 pi i j/m)``,
-    none real, listed ``j, -j`` for ``j = 1 .. m/2`` prime to m) and of the minimal polynomial of
-    ``2 cos(2 pi/m)`` (``x^d f(x + 1/x) = Phi_m``: the real ``2 cos(2 pi j/m)``, ascending as in
-    flint) or of ``cos(2 pi/m)`` (the same polynomial at ``2x``, times ``2^-d``: the entry
-    ``cos(pi/517)``, degree 230, whose isolation cost seconds), as ``(kind, c, j, m)`` (a cosine
-    root is ``(2/c) cos(2 pi j/m)``); None for other polynomials."""
+    none real, listed ``j, -j`` for ``j = 1 .. m/2`` prime to m) as ``("unit", 0, c, j, m)``, and of
+    the minimal polynomials of ``alpha + beta 2 cos(2 pi/m)`` (rational ``alpha``, ``beta``: cosines
+    and sines, their squares ``(1 -+ cos 2t) / 2``, scaled and shifted) as ``("cos", alpha, beta, j,
+    m)``, real and ascending as in flint; None for other polynomials.  The entries ``cos(pi/517)``
+    and ``sin(2 pi/517)``, degree 230, spent seconds in isolating all roots of such polynomials."""
     d, a = len(coeffs) - 1, coeffs
-    if d >= 2 and a[d] > 1 and a[d] & (a[d] - 1) == 0 and all(a[k] * 2 ** (d - k) % a[d] == 0 for k in range(d + 1)):
-        doubled = _known_roots(tuple(a[k] * 2 ** (d - k) // a[d] for k in range(d + 1)))  # 2^d p(x/2), monic
-        if doubled is not None and doubled[0][0] == "cos":
-            return [("cos", 2, j, m) for _, _, j, m in doubled]
-    if d < 2 or a[d] != 1:
+    if d < 2:
         return None
-    c, exact = sp.integer_nthroot(abs(a[0]), d)
-    c = int(c)
-    if a[0] > 0 and exact and all(a[k] % c ** (d - k) == 0 for k in range(d + 1)):
-        m = int(flint.fmpz_poly([a[k] // c ** (d - k) for k in range(d + 1)]).is_cyclotomic())
-        if m >= 3:
-            return [("unit", c, j, m) for k in range(1, (m + 1) // 2) if math.gcd(k, m) == 1 for j in (k, m - k)]
-    if any(abs(a[d - k]) > math.comb(d, k) << k for k in range(d + 1)):
-        return None  # roots in [-2, 2] bound the coefficients: most polynomials end here, cheaply
-    f, t, x = flint.fmpz_poly(list(a)), flint.fmpz_poly([1, 0, 1]), flint.fmpz_poly([0, 1])
-    h = sum((int(v) * t ** k * x ** (d - k) for k, v in enumerate(f.coeffs())), flint.fmpz_poly([]))
-    m = int(h.is_cyclotomic())
-    if m:  # 2 cos(2 pi j/m) ascends as j descends from m/2
-        return [("cos", 1, j, m) for j in range((m - 1) // 2 + (m % 2 == 0), 0, -1) if math.gcd(j, m) == 1]
+    if a[d] == 1:
+        c, exact = sp.integer_nthroot(abs(a[0]), d)
+        c = int(c)
+        if a[0] > 0 and exact and all(a[k] % c ** (d - k) == 0 for k in range(d + 1)):
+            m = int(flint.fmpz_poly([a[k] // c ** (d - k) for k in range(d + 1)]).is_cyclotomic())
+            if m >= 3:
+                return [("unit", Fraction(0), Fraction(c), j, m)
+                        for k in range(1, (m + 1) // 2) if math.gcd(k, m) == 1 for j in (k, m - k)]
+    return _affine_cosine_roots(a)
+
+
+def _affine_cosine_roots(a: tuple[int, ...]) -> list[Root] | None:
+    """:func:`_known_roots` for ``p(alpha + beta y) ~ psi_m(y)``, ``psi_m`` the minimal polynomial
+    of ``2 cos(2 pi/m)`` (degree ``d = phi(m)/2``).  Its roots' sum is ``mu(m)`` and the sum of
+    their squares ``2d + c_m(2)`` (Ramanujan's sum: ``(2 cos t)^2 = 2 + 2 cos 2t``), so the mean
+    and variance of ``p``'s roots (its two leading coefficients) give ``beta^2`` and ``alpha``;
+    the identity of polynomials decides."""
+    d = len(a) - 1
+    s1 = Fraction(-a[d - 1], a[d])
+    squares = s1 * s1 - 2 * Fraction(a[d - 2], a[d])
+    spread = squares - s1 * s1 / d
+    if spread <= 0:
+        return None
+    p = flint.fmpq_poly(list(a))
+    for m in _inverse_totient(2 * d):
+        mu = int(sp.mobius(m))
+        g = math.gcd(m, 2)
+        ramanujan = int(sp.mobius(m // g)) * int(sp.totient(m)) // int(sp.totient(m // g))
+        ratio = spread / (2 * d + ramanujan - Fraction(mu * mu, d))
+        top, top_exact = sp.integer_nthroot(ratio.numerator, 2)
+        bottom, bottom_exact = sp.integer_nthroot(ratio.denominator, 2)
+        if not (top_exact and bottom_exact):
+            continue
+        psi = flint.fmpq_poly(flint.fmpz_poly.cos_minpoly(m))
+        for beta in (Fraction(int(top), int(bottom)), -Fraction(int(top), int(bottom))):
+            alpha = (s1 - beta * mu) / d
+            image = p(flint.fmpq_poly([flint.fmpq(alpha.numerator, alpha.denominator),
+                                       flint.fmpq(beta.numerator, beta.denominator)]))
+            if image == psi * image[d]:  # 2 cos(2 pi j/m) ascends as j descends from m/2
+                js = [j for j in range((m - 1) // 2 + (m % 2 == 0), 0, -1) if math.gcd(j, m) == 1]
+                return [("cos", alpha, beta, j, m) for j in (js if beta > 0 else js[::-1])]
     return None
+
+
+@lru_cache(maxsize=64)
+def _inverse_totient(t: int) -> tuple[int, ...]:
+    """Every ``m >= 3`` with ``phi(m) = t``, from a totient sieve up to ``6 t``: ``m / phi(m) < 6``
+    below ``2 3 5 ... 23 = 223092870`` (the product of ``p / (p - 1)`` over those primes is 6.1),
+    far beyond the degrees met (a missed ``m`` only costs :func:`_known_roots` its shortcut)."""
+    phi = np.arange(6 * t + 1)
+    for q in range(2, 6 * t + 1):
+        if phi[q] == q:  # q is prime: no smaller prime has reduced it
+            phi[q::q] -= phi[q::q] // q
+    return tuple(int(m) for m in np.flatnonzero(phi == t) if m >= 3)
 
 
 def _arb_interval(b: flint.arb) -> tuple[sp.Rational, sp.Rational]:
