@@ -148,7 +148,7 @@ def _affine_cosine_roots(a: tuple[int, ...]) -> list[Root] | None:
     for m in _inverse_totient(2 * d):
         mu = int(sp.mobius(m))
         g = math.gcd(m, 2)
-        ramanujan = int(sp.mobius(m // g)) * int(sp.totient(m)) // int(sp.totient(m // g))
+        ramanujan = int(sp.mobius(m // g)) * 2 * d // int(sp.totient(m // g))  # phi(m) = 2d
         ratio = spread / (2 * d + ramanujan - Fraction(mu * mu, d))
         top, top_exact = sp.integer_nthroot(ratio.numerator, 2)
         bottom, bottom_exact = sp.integer_nthroot(ratio.denominator, 2)
