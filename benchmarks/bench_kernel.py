@@ -18,7 +18,9 @@ that bound is printed next to the measured share.  The counts are the compiled k
 against the count of the source (``divider_work``), which n = 16 uses.
 
 ``--main DIR``: the same cells timed with the checkout in ``DIR`` (e.g. ``/work/main``) in a
-subprocess, for the same-run ratio against main's kernel.
+subprocess, for the same-run ratio against main's kernel: three rounds per cell, this checkout and
+``DIR`` in turn, the speed-up the median of the three pairs' ratios (the machine is shared and its
+speed drifts between runs).
 
     nice -n 10 python benchmarks/bench_kernel.py [--quick] [--main /work/main]
 """
@@ -152,7 +154,9 @@ def asm_divider_work(n: int) -> list[tuple[int, int]]:
     """(vdivpd, vsqrtpd) on vector registers of the widest width the compiler used (xmm, ymm or zmm:
     2, 4 or 8 paths each) per loop body of the compiled straight-line kernel for ``n`` states, the
     bodies that have any (compiled here without numba's cache, whose code cannot be inspected): the
-    Potter row loop and the time update's loop over the lanes; and that width's name."""
+    Potter row loop and the time update's loops over the lanes; and that width's name.  A lane loop
+    the compiler unrolled whole (its ``LANES / width`` vectors in one body: both counts multiples
+    of that, as for the last Householder column's single square root) is counted per vector."""
     from symkf import straight_kernels
     from symkf.square_root import LANES
     kernel = njit(error_model="numpy")(getattr(straight_kernels, f"_paths_{n}"))
@@ -163,7 +167,9 @@ def asm_divider_work(n: int) -> list[tuple[int, int]]:
     bodies = re.split(r"^\.LBB\w+:", asm, flags=re.M)
     counts = [(len(re.findall(rf"^\s*vdivpd\s.*%{register}", b, re.M)),
                len(re.findall(rf"^\s*vsqrtpd\s.*%{register}", b, re.M))) for b in bodies]
-    return [c for c in counts if any(c)], register
+    vectors = LANES // {"xmm": 2, "ymm": 4, "zmm": 8}[register]
+    whole = lambda c: all(x % vectors == 0 for x in c)
+    return [tuple(x // vectors for x in c) if whole(c) else c for c in counts if any(c)], register
 
 
 def run_cells(python: str, root: str, horizon: int, repeats: int, cells: list, env: dict) -> list[float]:
@@ -196,11 +202,18 @@ def main() -> None:
               f"{total}, the source's count {divider_work(n, 1)}{'' if total == divider_work(n, 1) else ' DIFFERS'}; "
               f"each further row adds {(n + 1, 2)}")
     cells = [(n, d, paths_for(n, args.quick)) for n, d in CELLS]
-    here = run_cells(sys.executable, "", HORIZON, repeats, cells, dict(os.environ))
-    old = None
-    if args.main:
-        env = dict(os.environ, PYTHONPATH=os.path.abspath(args.main))
-        old = run_cells(sys.executable, args.main, HORIZON, repeats, cells, env)
+    rounds = 3 if args.main else 1
+    here, old = [[] for _ in cells], [[] for _ in cells]
+    for j, cell in enumerate(cells):       # this checkout and main in turn, cell by cell: the ratio of each pair
+        for _ in range(rounds):
+            here[j] += run_cells(sys.executable, "", HORIZON, repeats, [cell], dict(os.environ))
+            if args.main:
+                env = dict(os.environ, PYTHONPATH=os.path.abspath(args.main))
+                old[j] += run_cells(sys.executable, args.main, HORIZON, repeats, [cell], env)
+    median = lambda v: sorted(v)[len(v) // 2]
+    ratio = [median([b / a for a, b in zip(h, o)]) for h, o in zip(here, old)] if args.main else None
+    here = [median(h) for h in here]
+    old = [median(o) for o in old] if args.main else None
     print(f"horizon {HORIZON}; yardstick 4n^3 + 4dn^2 flop per path-step; % of the measured peak "
           f"({fma:.1f}) and, in brackets, of the lscpu peak ({peak:.1f}); bound: the divider's limit on that share")
     print(f"{'n':>3} {'d':>2} {'paths':>6} {'CPU s':>7} {'path-steps/s':>12} {'GFLOP/s':>8} {'% peak':>13} "
@@ -214,7 +227,7 @@ def main() -> None:
         line = (f"{n:>3} {d:>2} {paths:>6} {t:>7.3f} {paths * HORIZON / t:>12.3e} {flop / t / 1e9:>8.2f} "
                 f"{flop / t / 1e9 / fma * 100:>5.1f} ({flop / t / 1e9 / peak * 100:>5.1f}) {min(bound, 100):>8.1f}")
         if old:
-            line += f" {old[j]:>10.3f} {old[j] / t:>8.2f}"
+            line += f" {old[j]:>10.3f} {ratio[j]:>8.2f}"
         print(line, flush=True)
     ndiv, nsqrt = divider_work(2, 1)
     floor = ndiv / div + nsqrt / sqrt

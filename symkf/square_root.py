@@ -47,7 +47,9 @@ import functools
 import math
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic
 
 from .exact.arguments import check_public
 
@@ -63,15 +65,22 @@ LN2 = math.log(2)
 _compiled = njit(cache=True, nogil=True, error_model="numpy")
 
 
-with np.errstate(over="ignore"):
-    #: 2^e for |e| <= 1100 (0 and inf beyond the float range): a table lookup vectorises, ldexp does not
-    _POW2 = np.ldexp(1.0, np.arange(-1100, 1101))
+@intrinsic
+def _float_bits(typingctx, bits):
+    """The float64 whose IEEE bits are the int64 ``bits`` (a register move: it vectorises)."""
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.DoubleType())
+    return types.float64(types.int64), codegen
 
 
 @_compiled
 def _pow2(e: int) -> float:
-    """``2^e`` (0 below 2^-1100, inf above 2^1100)."""
-    return _POW2[min(max(e + 1100, 0), 2200)]
+    """``2^e`` rounded as ``ldexp(1, e)`` (0 for e <= -1075, inf for e >= 1024): the product of two
+    normal powers of two built from their exponent bits, ``e`` clamped to their range first
+    (a table look-up is a gather, paid on every path-step of the lane loops)."""
+    e = min(max(e, -2044), 2046)
+    half = e >> 1
+    return _float_bits((half + 1023) << 52) * _float_bits((e - half + 1023) << 52)
 
 
 @_compiled
@@ -140,8 +149,11 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
     horizon, paths, _ = received.shape
     n = A.shape[0]
     rows = H.shape[0]
-    S = np.zeros((n, n, LANES))
-    X = np.zeros((2 * n, n, LANES))
+    # rows an odd number of lane slots (of 512 bytes) apart: at n = 16 a column's 17 rows would be
+    # 8 KiB apart, all in the same 8 of the L1 cache's 64 sets (12 ways); padded, they spread over all
+    cols = n | 1
+    S = np.zeros((n, cols, LANES))
+    X = np.zeros((2 * n, cols, LANES))
     f = np.empty((n, LANES))
     Su = np.empty((n, LANES))
     g = np.empty((n, LANES))
@@ -264,6 +276,14 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
 
 #: largest state dimension with a straight-line kernel (compile time and code size grow like n^3)
 STRAIGHT_MAX = 8
+#: up to this n the straight-line time update runs one lane loop per Householder column
+PHASED_MAX = 5
+
+
+def _live(X: dict, j: int, n: int) -> list:
+    """The entries of the time update's ``X`` that the steps from column ``j`` on read (rows
+    ``j..n+j-1``, columns ``j..``: row ``n + j`` has not entered yet)."""
+    return sorted(key for key in X if key[1] >= j and j <= key[0] < n + j)
 
 
 def _straight_source(n: int) -> str:
@@ -283,6 +303,8 @@ def _straight_source(n: int) -> str:
     w("    E = np.zeros(LANES, np.int64)")
     w("    noise = np.empty(LANES)")
     w("    half = np.empty(LANES)")
+    if n <= PHASED_MAX:   # the time update's live entries between its lane loops
+        w(f"    X = np.empty(({2 * n}, {n}, LANES))")
     for i in R:
         for l in R:
             w(f"    a{i}_{l} = A[{i}, {l}]")
@@ -313,8 +335,8 @@ def _straight_source(n: int) -> str:
     w("                e -= e & 1")
     w("                Ep = E[p] + e")
     w("                E[p] = Ep")
-    # e and E are even: 2^-e and 2^-E are squares of the halves, exactly (a power of two rounds to
-    # itself, or to 0 or inf where the table has 0 or inf), so two table look-ups (gathers) do
+    # e and E are even: 2^-e and 2^-E are squares of the halves, exactly (a power of two squares to
+    # itself, or rounds to 0 or inf where 2^-E does), so two powers of two do for the three
     w("                scale = _pow2(-(e // 2))")
     w("                tp *= scale * scale")
     for i in R:
@@ -357,47 +379,54 @@ def _straight_source(n: int) -> str:
     for i in R:
         for j in R:
             w(f"                    S[{i}, {j}, p] = s{i}_{j} - u{i} * g{j}")
-    # --- time update (as _time_update): X[j][i] = (A S)[i, j], rows n.. = beta UQ
-    w("            for p in range(LANES):")
-    for i in R:
-        for j in R:
-            w(f"                s{i}_{j} = S[{i}, {j}, p]")
-    X = {}
-    for i in R:
-        for j in R:
-            X[j, i] = f"x{j}_{i}"
-            w(f"                x{j}_{i} = 0.0")
-            for l in R:
-                w(f"                x{j}_{i} += a{i}_{l} * s{l}_{j}")
-    w("                beta = half[p]")
-    for i in R:
-        for j in range(i, n):
-            X[n + i, j] = f"x{n + i}_{j}"
-            w(f"                x{n + i}_{j} = beta * q{i}_{j}")
-    for j in R:
-        rowsj = range(j, n + j + 1)
-        w("                sq = 0.0")
-        for i in rowsj:
-            w(f"                sq += {X[i, j]} * {X[i, j]}")
-        w("                norm = math.sqrt(sq)")
-        w(f"                x0 = {X[j, j]}")
-        w("                head = norm if x0 >= 0.0 else -norm")
-        if j < n - 1:   # the last column's reflector is never applied: only its pivot -head is kept
-            w(f"                {X[j, j]} = x0 + head")
-            w("                length = math.sqrt(2.0 * norm * (norm + abs(x0)))")
-            w("                beta = length if length > 0.0 else math.inf")
+    # --- time update (as _time_update): X[j][i] = (A S)[i, j], rows n.. = 2^(-E/2) UQ; for small n
+    # one lane loop per Householder column (the live entries kept in X between them), else one loop
+    X = {(j, i): f"x{j}_{i}" for i in R for j in R}
+    X.update({(n + i, j): f"x{n + i}_{j}" for i in R for j in range(i, n)})
+    phases = [[j] for j in R] if n <= PHASED_MAX else [list(R)]
+    for cols in phases:
+        w("            for p in range(LANES):")
+        if cols[0] == 0:
+            for i in R:
+                for j in R:
+                    w(f"                s{i}_{j} = S[{i}, {j}, p]")
+            for i in R:
+                for j in R:
+                    w(f"                {X[j, i]} = 0.0")
+                    for l in R:
+                        w(f"                {X[j, i]} += a{i}_{l} * s{l}_{j}")
+        else:
+            for key in _live(X, cols[0], n):
+                w(f"                {X[key]} = X[{key[0]}, {key[1]}, p]")
+        w("                root = half[p]")
+        for j in cols:
+            for k in range(j, n):        # row n + j enters at step j (its entries left of j are zero)
+                w(f"                {X[n + j, k]} = root * q{j}_{k}")
+            rowsj = range(j, n + j + 1)
+            w("                sq = 0.0")
             for i in rowsj:
-                w(f"                {X[i, j]} /= beta")
-            for k in range(j + 1, n):
-                w("                dot = 0.0")
+                w(f"                sq += {X[i, j]} * {X[i, j]}")
+            w("                norm = math.sqrt(sq)")
+            w(f"                x0 = {X[j, j]}")
+            w("                head = norm if x0 >= 0.0 else -norm")
+            if j < n - 1:   # the last column's reflector is never applied: only its pivot -head is kept
+                w(f"                {X[j, j]} = x0 + head")
+                w("                length = math.sqrt(2.0 * norm * (norm + abs(x0)))")
+                w("                beta = length if length > 0.0 else math.inf")
                 for i in rowsj:
-                    w(f"                dot += {X[i, j]} * {X[i, k]}")
-                for i in rowsj:
-                    w(f"                {X[i, k]} -= 2.0 * dot * {X[i, j]}")
-        w(f"                {X[j, j]} = -head")
-    for i in R:
-        for j in R:
-            w(f"                S[{i}, {j}, p] = {X[j, i] if j <= i else '0.0'}")
+                    w(f"                {X[i, j]} /= beta")
+                for k in range(j + 1, n):
+                    w("                dot = 0.0")
+                    for i in rowsj:
+                        w(f"                dot += {X[i, j]} * {X[i, k]}")
+                    for i in rowsj:
+                        w(f"                {X[i, k]} -= 2.0 * dot * {X[i, j]}")
+            w(f"                {X[j, j]} = -head")
+            for i in R:          # row j of R is final: column j of S = R^T
+                w(f"                S[{i}, {j}, p] = {X[j, i] if j <= i else '0.0'}")
+        if cols[-1] < n - 1:
+            for key in _live(X, cols[-1] + 1, n):
+                w(f"                X[{key[0]}, {key[1]}, p] = {X[key]}")
     return "\n".join(L) + "\n"
 
 

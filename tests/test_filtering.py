@@ -193,7 +193,7 @@ def test_log_traces_keep_the_exact_structure_of_a_float_exact_burst():
     np.testing.assert_allclose(log_traces(model, received)[0], expected, rtol=1e-12)
 
 
-@pytest.mark.parametrize("n", [1, 2, 3, 4, 8])
+@pytest.mark.parametrize("n", [1, 2, 3, 4, 5, 8])   # 5: the last phased time update (PHASED_MAX)
 def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
     # symkf.square_root writes the filter out per state dimension (up to STRAIGHT_MAX); the
     # loop kernel does the same operations in the same order, so every output bit must agree:
@@ -225,6 +225,25 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         E = np.round(out[0][1] / np.log(2)).astype(int)
         with np.errstate(over="ignore"):
             np.testing.assert_array_equal(out[0][2], np.ldexp(out[0][0], E)[:600, :150].T)
+
+
+def test_the_kernels_power_of_two_rounds_as_ldexp_at_every_exponent():
+    # the lane loops build 2^e from exponent bits (no table): every e a path's scale can reach,
+    # the subnormal range, the underflow to 0 (ties to even at 2^-1075) and the overflow to inf
+    from numba import njit
+
+    from symkf.square_root import _pow2
+
+    @njit
+    def powers(es):
+        out = np.empty(es.size)
+        for i in range(es.size):
+            out[i] = _pow2(es[i])
+        return out
+    es = np.concatenate([np.arange(-5000, 5001), [-2 ** 62, 2 ** 62]])
+    with np.errstate(over="ignore"):
+        expected = np.ldexp(1.0, np.clip(es, -5000, 5000))
+    assert np.array_equal(powers(es).view(np.int64), expected.view(np.int64))
 
 
 def test_the_straight_line_kernels_module_is_the_generators_output():
