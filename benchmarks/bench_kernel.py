@@ -67,7 +67,7 @@ print(json.dumps(out))
 
 
 def paths_for(n: int, quick: bool) -> int:
-    return max(1024, (2 ** 15 if quick else 2 ** 17) // n ** 2 // 64 * 64)
+    return max(2048, (2 ** 15 if quick else 2 ** 17) // n ** 2 // 128 * 128)
 
 
 def derived_peak() -> tuple[float | None, str]:

@@ -269,7 +269,7 @@ def _psd_factor(M: np.ndarray) -> np.ndarray:
 
 def _kernel_arguments(model: FloatSystem, received: np.ndarray) -> tuple:
     """Checked receptions, padded to whole blocks of the kernel's lanes, and the kernel's factors."""
-    from .square_root import LANES   # numba: loaded only when a simulation runs
+    from .square_root import lanes   # numba: loaded only when a simulation runs
     received = np.asarray(received, bool)
     if received.ndim != 3:
         raise ShapeError(f"receptions: expected an array (horizon, paths, d), got shape {received.shape}")
@@ -278,8 +278,9 @@ def _kernel_arguments(model: FloatSystem, received: np.ndarray) -> tuple:
         raise ShapeError(f"receptions: {d} sensor(s) given, the system has {model.d}")
     if not np.any(model.P0):
         raise InputError("P0: the prior covariance is zero; log tr P_0 is undefined")
-    # the kernel runs whole blocks of LANES paths: pad with paths that receive nothing
-    padded = -(-paths // LANES) * LANES
+    # the kernel runs whole blocks of paths: pad with paths that receive nothing
+    block = lanes(model.n)
+    padded = -(-paths // block) * block
     if padded != paths or not received.flags.c_contiguous:
         received = np.concatenate([received, np.zeros((horizon, padded - paths, d), bool)], axis=1)
     # triangular factors: S0 S0^T = P0 (lower), U_Q^T U_Q = Q (upper), from QR of any square root

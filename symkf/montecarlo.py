@@ -128,9 +128,9 @@ def exact_mean_trace(system: System, loss: LossModel, horizon: int) -> np.ndarra
 RECORD_BYTES = {"text": 52, "json": 152}
 
 
-def _padded(paths: int) -> int:
-    from .square_root import LANES   # the kernel runs whole blocks of LANES paths
-    return -(-paths // LANES) * LANES
+def _padded(paths: int, n: int) -> int:
+    from .square_root import lanes   # the kernel runs whole blocks of paths
+    return -(-paths // lanes(n)) * lanes(n)
 
 
 def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *, components: int | None = None,
@@ -142,8 +142,8 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     command line's per-step records of the mean and its interval (:data:`RECORD_BYTES`).  Otherwise
     :func:`burst_sample` with that many burst components, on ``jobs`` processes.  Counted, per
     chunk of ``m`` paths and ``K`` steps (``P`` = ``m`` padded to the kernel's lanes, which for one
-    path is 64 times its size): the receptions and chain states; plain Monte Carlo, the kernel's
-    block of receptions ``d K LANES`` (it writes ``tr P`` into the traces itself,
+    path is 64 times its size, 128 beyond 8 states): the receptions and chain states; plain Monte
+    Carlo, the kernel's block of receptions ``d K`` times its lanes (it writes ``tr P`` into the traces itself,
     :func:`symkf.filtering.traces_into`); for bursts the kernel's trace and log-scale ``16 (K + 1)
     P`` (:func:`symkf.filtering.log_traces` takes the log in place), the law table, the likelihood
     ratios ``8 C K m`` and their tail sums (three more of that size at once), and the log-trace
@@ -155,8 +155,8 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     d, K = system.d, horizon
     if components is None:
         def chunk(m: int) -> int:   # chain states (one byte per sensor and step), receptions, kernel, its traces
-            P = _padded(m)
-            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + d * K * _padded(1)) + 8 * K * m
+            P = _padded(m, system.n)
+            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + d * K * _padded(1, system.n)) + 8 * K * m
         size = _trace_chunk(K, d)
         full, last = min(paths, size), paths % size or min(paths, size)
         # the traces are resident as far as the chunks before the current one filled them
@@ -167,7 +167,7 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
             phases.append(K * (32 + 3 * RECORD_BYTES[records]))
         return max(phases)
     m = min(paths, _burst_chunk_size(components, K))
-    P = _padded(m)
+    P = _padded(m, system.n)
     two_state = all(len(f.P) == 2 for f in loss_factors(loss, d))
     # held to the chunk's end: law table, last transition index, log-trace rows (logtr is a view of
     # them), receptions, chain states, likelihood ratios

@@ -51,11 +51,16 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
+from .errors import ShapeError
 from .exact.arguments import check_public
 
-#: paths per block, a compile-time constant: the path loops have a fixed trip count (no remainder
-#: loops, no per-entry set-up); 64 measured faster than 32 and as fast as 128 at n = 2..8
+#: paths per block of the straight-line kernels, a compile-time constant: the path loops have a
+#: fixed trip count (no remainder loops, no per-entry set-up); 64 measured faster than 32 and 128
+#: at n = 2..8 (128: 0.67x at n = 8 with 8 sensors)
 LANES = 64
+#: paths per block of the loop kernel (n > STRAIGHT_MAX), whose lane loops are many and short: 128
+#: halves their set-up per path (1.3-1.4x over 64 at n = 12 and 16; 256 measured 0.94-1.16x)
+LOOP_LANES = 128
 # error_model="numpy": divisions need no Python zero check, so the path loops vectorise.
 # No fastmath, not even FMA contraction: a fused S - Su f^T does not cancel to the same
 # rounding as the product it subtracts; on A = 2 R(pi/2) (exact in float64) that lost 32 of
@@ -88,14 +93,14 @@ def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, scale: np.ndarray) -> 
     """Scale every ``S`` (n, n, paths) by a power of two so that ``tr S S^T`` is in [1/2, 2),
     adding the (even) exponent taken out to ``E``; ``t`` receives the new trace."""
     n = S.shape[0]
-    for p in range(LANES):
+    for p in range(LOOP_LANES):
         t[p] = 0.0
     for i in range(n):
         for j in range(i + 1):
-            for p in range(LANES):
+            for p in range(LOOP_LANES):
                 t[p] += S[i, j, p] * S[i, j, p]
     bits = t.view(np.int64)
-    for p in range(LANES):
+    for p in range(LOOP_LANES):
         # t = m 2^e with m in [1/2, 1): e from the exponent field (frexp's, without a call)
         e = ((bits[p] >> 52) & 2047) - 1022 if t[p] > 0.0 else 0
         e -= e & 1
@@ -104,7 +109,7 @@ def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, scale: np.ndarray) -> 
         scale[p] = _pow2(-(e // 2))
     for i in range(n):
         for j in range(i + 1):
-            for p in range(LANES):
+            for p in range(LOOP_LANES):
                 S[i, j, p] *= scale[p]
 
 
@@ -114,17 +119,23 @@ def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, 
     """Step ``k`` of the block at ``start``: ``trace[k, p] = t``, ``log_scale[k, p] = E ln 2``, or with
     ``linear`` ``trace[p, k] = t 2^E`` (two exact power-of-two factors: inf only beyond float64)
     for the paths and steps ``trace`` has."""
+    width = t.size   # the block's lanes
     if linear:
         if k < trace.shape[1]:
-            for p in range(min(LANES, trace.shape[0] - start)):
+            for p in range(min(width, trace.shape[0] - start)):
                 half = E[p] // 2
                 trace[start + p, k] = t[p] * _pow2(half) * _pow2(E[p] - half)
         return
-    trace_k = trace[k, start:start + LANES]            # views: an index p + start would not vectorise
-    log_scale_k = log_scale[k, start:start + LANES]
-    for p in range(LANES):
+    trace_k = trace[k, start:start + width]            # views: an index p + start would not vectorise
+    log_scale_k = log_scale[k, start:start + width]
+    for p in range(width):
         trace_k[p] = t[p]
         log_scale_k[p] = E[p] * LN2
+
+
+def lanes(n: int) -> int:
+    """Paths per block of the kernel for ``n`` states (the paths given to it are a multiple)."""
+    return LANES if n <= STRAIGHT_MAX else LOOP_LANES
 
 
 def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
@@ -132,11 +143,13 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
                     linear: bool = False) -> None:
     """``tr P_{k|k-1} = 2^E trace[k, p]``, ``log_scale[k, p] = E ln 2`` (k = 0..horizon) for receptions
     ``received[k, p, i]`` (sensor ``i``), from ``P_0 = S0 S0^T`` (``S0`` lower triangular);
-    the number of paths is a multiple of ``LANES``.  ``linear``: ``trace[p, k] = tr P_{k|k-1}``
+    the number of paths is a multiple of :func:`lanes` ``(n)``.  ``linear``: ``trace[p, k] = tr P_{k|k-1}``
     for the paths and steps of ``trace`` instead (``log_scale`` unused).  Up to
     :data:`STRAIGHT_MAX` states by the straight-line kernel of that size (:func:`_straight`),
     beyond by the loops of :func:`_loops`."""
     n = A.shape[0]
+    if received.shape[1] % lanes(n):    # the compiled loops do not check bounds
+        raise ShapeError(f"receptions: {received.shape[1]} paths, not whole blocks of {lanes(n)}")
     kernel = _straight(n) if n <= STRAIGHT_MAX else _loops
     kernel(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear)
 
@@ -152,44 +165,44 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
     # rows an odd number of lane slots (of 512 bytes) apart: at n = 16 a column's 17 rows would be
     # 8 KiB apart, all in the same 8 of the L1 cache's 64 sets (12 ways); padded, they spread over all
     cols = n | 1
-    S = np.zeros((n, cols, LANES))
-    X = np.zeros((2 * n, cols, LANES))
-    f = np.empty((n, LANES))
-    Su = np.empty((n, LANES))
-    g = np.empty((n, LANES))
-    f2 = np.empty(LANES)
-    coef = np.empty(LANES)
-    noise = np.empty(LANES)
-    E = np.empty(LANES, np.int64)
-    t = np.empty(LANES)
-    for start in range(0, paths, LANES):
+    S = np.zeros((n, cols, LOOP_LANES))
+    X = np.zeros((2 * n, cols, LOOP_LANES))
+    f = np.empty((n, LOOP_LANES))
+    Su = np.empty((n, LOOP_LANES))
+    g = np.empty((n, LOOP_LANES))
+    f2 = np.empty(LOOP_LANES)
+    coef = np.empty(LOOP_LANES)
+    noise = np.empty(LOOP_LANES)
+    E = np.empty(LOOP_LANES, np.int64)
+    t = np.empty(LOOP_LANES)
+    for start in range(0, paths, LOOP_LANES):
         for i in range(n):
             for j in range(n):
-                for p in range(LANES):
+                for p in range(LOOP_LANES):
                     S[i, j, p] = S0[i, j]
-        for p in range(LANES):
+        for p in range(LOOP_LANES):
             E[p] = 0
         _rescale(S, E, t, f2)
         for k in range(horizon + 1):
             _store(k, start, t, E, trace, log_scale, linear)
             if k == horizon:
                 break
-            for p in range(LANES):
+            for p in range(LOOP_LANES):
                 noise[p] = _pow2(-E[p])
             for r in range(rows):                   # Potter, one whitened row at a time
                 sensor = row_sensor[r]
-                for p in range(LANES):
+                for p in range(LOOP_LANES):
                     f2[p] = 0.0
                 for j in range(n):
-                    for p in range(LANES):
+                    for p in range(LOOP_LANES):
                         f[j, p] = 0.0
                     for i in range(n):
                         if H[r, i] != 0.0:          # integer sensor rows are often sparse
-                            for p in range(LANES):
+                            for p in range(LOOP_LANES):
                                 f[j, p] += S[i, j, p] * H[r, i]
-                    for p in range(LANES):
+                    for p in range(LOOP_LANES):
                         f2[p] += f[j, p] * f[j, p]
-                for p in range(LANES):
+                for p in range(LOOP_LANES):
                     a = f2[p] + noise[p]
                     denom = a + math.sqrt(a * noise[p])
                     got = received[k, start + p, sensor]
@@ -197,18 +210,17 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
                     coef[p] = f2[p] / denom if got and denom > 0.0 else 0.0
                     Su[0, p] = math.sqrt(f2[p]) if f2[p] > 0.0 else math.inf
                 for j in range(n):
-                    for p in range(LANES):
+                    for p in range(LOOP_LANES):
                         f[j, p] /= Su[0, p]
                         g[j, p] = f[j, p] * coef[p]
-                for i in range(n):
-                    for p in range(LANES):
+                for i in range(n):                   # row i of S u, then row i of S: it is still in L1
+                    for p in range(LOOP_LANES):
                         Su[i, p] = 0.0
                     for j in range(n):
-                        for p in range(LANES):
+                        for p in range(LOOP_LANES):
                             Su[i, p] += S[i, j, p] * f[j, p]
-                for i in range(n):
                     for j in range(n):
-                        for p in range(LANES):
+                        for p in range(LOOP_LANES):
                             S[i, j, p] -= Su[i, p] * g[j, p]
             _time_update(S, A, UQ, E, X, f2, coef, noise)
             _rescale(S, E, t, f2)
@@ -225,25 +237,25 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
     n = A.shape[0]
     for i in range(n):           # X[j, i] = (A S)[i, j] = sum_l A[i, l] S[l, j], S full
         for j in range(n):
-            for p in range(LANES):
+            for p in range(LOOP_LANES):
                 X[j, i, p] = 0.0
             for l in range(n):
                 if A[i, l] != 0.0:                  # block-diagonal A: skip its zero blocks
-                    for p in range(LANES):
+                    for p in range(LOOP_LANES):
                         X[j, i, p] += A[i, l] * S[l, j, p]
-    for p in range(LANES):
+    for p in range(LOOP_LANES):
         beta[p] = _pow2(-(E[p] // 2))
     for i in range(n):
         for j in range(n):
-            for p in range(LANES):
+            for p in range(LOOP_LANES):
                 X[n + i, j, p] = beta[p] * UQ[i, j]
     for j in range(n):
-        for p in range(LANES):
+        for p in range(LOOP_LANES):
             sq[p] = 0.0
         for i in range(j, n + j + 1):
-            for p in range(LANES):
+            for p in range(LOOP_LANES):
                 sq[p] += X[i, j, p] * X[i, j, p]
-        for p in range(LANES):
+        for p in range(LOOP_LANES):
             norm = math.sqrt(sq[p])
             x0 = X[j, j, p]
             head = norm if x0 >= 0.0 else -norm
@@ -255,22 +267,22 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
             beta[p] = length if length > 0.0 else math.inf
             sq[p] = -head
         for i in range(j, n + j + 1):
-            for p in range(LANES):
+            for p in range(LOOP_LANES):
                 X[i, j, p] /= beta[p]
         for k in range(j + 1, n):
-            for p in range(LANES):
+            for p in range(LOOP_LANES):
                 dot[p] = 0.0
             for i in range(j, n + j + 1):
-                for p in range(LANES):
+                for p in range(LOOP_LANES):
                     dot[p] += X[i, j, p] * X[i, k, p]
             for i in range(j, n + j + 1):
-                for p in range(LANES):
+                for p in range(LOOP_LANES):
                     X[i, k, p] -= 2.0 * dot[p] * X[i, j, p]
-        for p in range(LANES):
+        for p in range(LOOP_LANES):
             X[j, j, p] = sq[p]
     for i in range(n):
         for j in range(n):
-            for p in range(LANES):
+            for p in range(LOOP_LANES):
                 S[i, j, p] = X[j, i, p] if j <= i else 0.0
 
 

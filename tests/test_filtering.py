@@ -210,12 +210,12 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         UQ = np.linalg.qr(M.T, mode="r")
         S0 = np.linalg.qr(rng.normal(size=(n, n)).T, mode="r").T
         rows = np.array([0, 1, 1])
-        received = rng.random((600, 192, 2)) < 0.3
+        received = rng.random((600, 256, 2)) < 0.3   # whole blocks of both kernels' lanes (64, 128)
         received[:, :64] = False
         received[:, 64:128] = True
         out = []
         for kernel in (_straight(n), _loops):
-            trace, log_scale, linear = np.empty((601, 192)), np.empty((601, 192)), np.empty((150, 600))
+            trace, log_scale, linear = np.empty((601, 256)), np.empty((601, 256)), np.empty((150, 600))
             kernel(A, UQ, H, rows, S0, received, trace, log_scale, False)
             kernel(A, UQ, H, rows, S0, received, linear, log_scale[:1, :1], True)   # the first 150 paths
             out.append((trace, log_scale, linear))
