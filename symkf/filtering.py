@@ -316,12 +316,12 @@ def traces_into(model: FloatSystem, received: np.ndarray, out: np.ndarray) -> No
     """``out[p, k] = tr P_{k|k-1}``, k = 0..horizon-1, by the filter of :func:`log_traces` for
     ``received`` (horizon, paths, d): the exact product of its trace and power-of-two scale
     (``inf`` where ``tr P`` exceeds float64), written by the kernel without a log."""
-    from .square_root import log_trace_paths
+    from .square_root import BUFFER_STEPS, lanes, log_trace_paths
     arguments = _kernel_arguments(model, received)
     horizon, paths = np.shape(received)[:2]
     if out.shape != (paths, horizon) or out.dtype != np.float64 or not out.flags.c_contiguous:
         raise ShapeError(f"out: expected a C-contiguous float64 array {(paths, horizon)}, got {out.shape} {out.dtype}")
-    log_trace_paths(*arguments, out, np.empty((1, 1)), True)
+    log_trace_paths(*arguments, out, np.empty((BUFFER_STEPS, lanes(model.n))), True)   # the kernel's block buffer
 
 
 def predicted_covariances(system: System | FloatSystem, receptions: np.ndarray, keep: str = "trace",

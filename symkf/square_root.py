@@ -61,6 +61,8 @@ LANES = 64
 #: paths per block of the loop kernel (n > STRAIGHT_MAX), whose lane loops are many and short: 128
 #: halves their set-up per path (1.3-1.4x over 64 at n = 12 and 16; 256 measured 0.94-1.16x)
 LOOP_LANES = 128
+#: steps of one block's linear traces held before they are written along the steps (64 x 128 lanes: 64 KiB)
+BUFFER_STEPS = 64
 # error_model="numpy": divisions need no Python zero check, so the path loops vectorise.
 # No fastmath, not even FMA contraction: a fused S - Su f^T does not cancel to the same
 # rounding as the product it subtracts; on A = 2 R(pi/2) (exact in float64) that lost 32 of
@@ -118,13 +120,24 @@ def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, 
            linear: bool) -> None:
     """Step ``k`` of the block at ``start``: ``trace[k, p] = t``, ``log_scale[k, p] = E ln 2``, or with
     ``linear`` ``trace[p, k] = t 2^E`` (two exact power-of-two factors: inf only beyond float64)
-    for the paths and steps ``trace`` has."""
+    for the paths and steps ``trace`` has, through ``log_scale`` (w, lanes) as the block's buffer
+    of ``w`` steps: the products are stored along the lanes, and every ``w`` steps the buffer goes
+    into the block's rows of ``trace`` along the steps (stores across paths, 8 ``horizon`` bytes
+    apart, cost 2.5 ns a path-step at n = 2, a third of the kernel)."""
     width = t.size   # the block's lanes
     if linear:
-        if k < trace.shape[1]:
-            for p in range(min(width, trace.shape[0] - start)):
+        steps, w = trace.shape[1], log_scale.shape[0]
+        if k < steps:
+            row = log_scale[k % w]
+            for p in range(width):
                 half = E[p] // 2
-                trace[start + p, k] = t[p] * _pow2(half) * _pow2(E[p] - half)
+                row[p] = t[p] * _pow2(half) * _pow2(E[p] - half)
+            if k % w == w - 1 or k == steps - 1:
+                first = k - k % w
+                for p in range(min(width, trace.shape[0] - start)):
+                    out = trace[start + p]
+                    for j in range(first, k + 1):
+                        out[j] = log_scale[j - first, p]
         return
     trace_k = trace[k, start:start + width]            # views: an index p + start would not vectorise
     log_scale_k = log_scale[k, start:start + width]
@@ -144,12 +157,16 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     """``tr P_{k|k-1} = 2^E trace[k, p]``, ``log_scale[k, p] = E ln 2`` (k = 0..horizon) for receptions
     ``received[k, p, i]`` (sensor ``i``), from ``P_0 = S0 S0^T`` (``S0`` lower triangular);
     the number of paths is a multiple of :func:`lanes` ``(n)``.  ``linear``: ``trace[p, k] = tr P_{k|k-1}``
-    for the paths and steps of ``trace`` instead (``log_scale`` unused).  Up to
+    for the paths and steps of ``trace`` instead (``log_scale`` a buffer of (w, lanes), w >= 1:
+    :data:`BUFFER_STEPS`).  Up to
     :data:`STRAIGHT_MAX` states by the straight-line kernel of that size (:func:`_straight`),
     beyond by the loops of :func:`_loops`."""
     n = A.shape[0]
-    if received.shape[1] % lanes(n):    # the compiled loops do not check bounds
-        raise ShapeError(f"receptions: {received.shape[1]} paths, not whole blocks of {lanes(n)}")
+    horizon, paths, _ = received.shape
+    if paths % lanes(n):    # the compiled loops do not check bounds
+        raise ShapeError(f"receptions: {paths} paths, not whole blocks of {lanes(n)}")
+    if linear and (log_scale.shape[0] < 1 or log_scale.shape[1] < lanes(n)):
+        raise ShapeError(f"linear traces need a buffer of (steps, {lanes(n)}), got {log_scale.shape}")
     kernel = _straight(n) if n <= STRAIGHT_MAX else _loops
     kernel(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear)
 
