@@ -150,26 +150,37 @@ def divider_work(n: int, rows: int) -> tuple[int, int]:
     return rows * (n + 1) + (n - 1) * (n + 1), rows * 2 + n + (n - 1)
 
 
+def loop_divider_work(n: int) -> set[tuple[int, int]]:
+    """(divisions, square roots) per path of each lane loop of the straight-line kernel that has
+    any: a Potter row (its gain), and the time update, one loop per Householder column up to
+    ``PHASED_MAX`` states (the last column only its norm), else one loop."""
+    from symkf.square_root import PHASED_MAX
+    if n <= PHASED_MAX:
+        return {(n + 1, 2), (0, 1)}
+    return {(n + 1, 2), ((n - 1) * (n + 1), 2 * n - 1)}
+
+
 def asm_divider_work(n: int) -> list[tuple[int, int]]:
     """(vdivpd, vsqrtpd) on vector registers of the widest width the compiler used (xmm, ymm or zmm:
     2, 4 or 8 paths each) per loop body of the compiled straight-line kernel for ``n`` states, the
-    bodies that have any (compiled here without numba's cache, whose code cannot be inspected): the
-    Potter row loop and the time update's loops over the lanes; and that width's name.  A lane loop
-    the compiler unrolled whole (its ``LANES / width`` vectors in one body: both counts multiples
-    of that, as for the last Householder column's single square root) is counted per vector."""
+    bodies that have any (compiled here without numba's cache, whose code cannot be inspected), per
+    vector; and that width's name.  A body the compiler unrolled (2, 4 or 8 vectors at once: up to
+    the whole lane loop) holds that multiple of one of :func:`loop_divider_work`'s counts and is
+    divided by it; a body matching none is kept whole, so the total then differs from the source's."""
     from symkf import straight_kernels
     from symkf.square_root import LANES
     kernel = njit(error_model="numpy")(getattr(straight_kernels, f"_paths_{n}"))
     kernel(np.eye(n), np.eye(n), np.ones((1, n)), np.zeros(1, np.int64), np.eye(n), np.ones((1, LANES, 1), bool),
-           np.empty((LANES, 1)), np.empty((1, 1)), True)
+           np.empty((LANES, 1)), np.empty((1, LANES)), True)
     asm = "\n".join(kernel.inspect_asm().values())
     register = next(r for r in ("zmm", "ymm", "xmm") if re.search(rf"^\s*v(div|sqrt)pd\s.*%{r}", asm, re.M))
     bodies = re.split(r"^\.LBB\w+:", asm, flags=re.M)
     counts = [(len(re.findall(rf"^\s*vdivpd\s.*%{register}", b, re.M)),
                len(re.findall(rf"^\s*vsqrtpd\s.*%{register}", b, re.M))) for b in bodies]
-    vectors = LANES // {"xmm": 2, "ymm": 4, "zmm": 8}[register]
-    whole = lambda c: all(x % vectors == 0 for x in c)
-    return [tuple(x // vectors for x in c) if whole(c) else c for c in counts if any(c)], register
+    source = loop_divider_work(n)
+    per_vector = lambda c: next((tuple(x // u for x in c) for u in (1, 2, 4, 8)
+                                 if all(x % u == 0 for x in c) and tuple(x // u for x in c) in source), c)
+    return [per_vector(c) for c in counts if any(c)], register
 
 
 def run_cells(python: str, root: str, horizon: int, repeats: int, cells: list, env: dict) -> list[float]:

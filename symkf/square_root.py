@@ -1,7 +1,7 @@
 """The compiled square-root filter kernel behind :func:`symkf.filtering.log_traces`.
 
 numba-compiled loops (``cache=True``: compiled once per installation, then
-loaded from ``__pycache__``) over blocks of ``LANES`` paths, the innermost loop
+loaded from ``__pycache__``) over blocks of :func:`lanes` paths, the innermost loop
 running across the paths of a block so that the compiler vectorises it (every
 path does the same arithmetic; a lost row is an update divided by infinity,
 not a branch).
