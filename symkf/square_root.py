@@ -325,6 +325,11 @@ def _straight_source(n: int) -> str:
     L = []
     w = L.append
     R = range(n)
+
+    def load_S(indent: str) -> None:   # the lane's S into locals s{i}_{j}
+        for i in R:
+            for j in R:
+                w(f"{indent}s{i}_{j} = S[{i}, {j}, p]")
     w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):")
     w("    horizon, paths, d = received.shape")
     w("    block = np.empty((horizon, d, LANES), np.bool_)")   # a block's receptions, sensor-major
@@ -389,9 +394,7 @@ def _straight_source(n: int) -> str:
     for i in R:
         w(f"                h{i} = H[r, {i}]")
     w("                for p in range(LANES):")
-    for i in R:
-        for j in R:
-            w(f"                    s{i}_{j} = S[{i}, {j}, p]")
+    load_S(" " * 20)
     w("                    ff = 0.0")
     for j in R:
         w(f"                    f{j} = 0.0")
@@ -411,9 +414,7 @@ def _straight_source(n: int) -> str:
             w(f"                    F[{j}, p] = f{j}")
             w(f"                    G[{j}, p] = g{j}")
         w("                for p in range(LANES):")
-        for i in R:
-            for j in R:
-                w(f"                    s{i}_{j} = S[{i}, {j}, p]")
+        load_S(" " * 20)
         for j in R:
             w(f"                    f{j} = F[{j}, p]")
             w(f"                    g{j} = G[{j}, p]")
@@ -432,9 +433,7 @@ def _straight_source(n: int) -> str:
     for cols in phases:
         w("            for p in range(LANES):")
         if cols[0] == 0:
-            for i in R:
-                for j in R:
-                    w(f"                s{i}_{j} = S[{i}, {j}, p]")
+            load_S(" " * 16)
             for i in R:
                 for j in R:
                     w(f"                {X[j, i]} = 0.0")
