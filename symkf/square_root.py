@@ -162,7 +162,7 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     :data:`STRAIGHT_MAX` states by the straight-line kernel of that size (:func:`_straight`),
     beyond by the loops of :func:`_loops`."""
     n = A.shape[0]
-    horizon, paths, _ = received.shape
+    paths = received.shape[1]
     if paths % lanes(n):    # the compiled loops do not check bounds
         raise ShapeError(f"receptions: {paths} paths, not whole blocks of {lanes(n)}")
     if linear and (log_scale.shape[0] < 1 or log_scale.shape[1] < lanes(n)):
