@@ -48,7 +48,7 @@ import math
 
 import numpy as np
 from llvmlite import ir
-from numba import njit, types
+from numba import cfunc, njit, types
 from numba.extending import intrinsic
 
 from .errors import ShapeError
@@ -158,24 +158,30 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     ``received[k, p, i]`` (sensor ``i``), from ``P_0 = S0 S0^T`` (``S0`` lower triangular);
     the number of paths is a multiple of :func:`lanes` ``(n)``.  ``linear``: ``trace[p, k] = tr P_{k|k-1}``
     for the paths and steps of ``trace`` instead (``log_scale`` a buffer of (w, lanes), w >= 1:
-    :data:`BUFFER_STEPS`).  Up to
-    :data:`STRAIGHT_MAX` states by the straight-line kernel of that size (:func:`_straight`),
-    beyond by the loops of :func:`_loops`."""
+    :data:`BUFFER_STEPS`).  By :func:`_kernel` ``(n)``."""
     n = A.shape[0]
     paths = received.shape[1]
     if paths % lanes(n):    # the compiled loops do not check bounds
         raise ShapeError(f"receptions: {paths} paths, not whole blocks of {lanes(n)}")
     if linear and (log_scale.shape[0] < 1 or log_scale.shape[1] < lanes(n)):
         raise ShapeError(f"linear traces need a buffer of (steps, {lanes(n)}), got {log_scale.shape}")
-    kernel = _straight(n) if n <= STRAIGHT_MAX else _loops
-    kernel(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear)
+    _kernel(n)(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear)
+
+
+def _kernel(n: int):
+    """The compiled kernel for ``n`` states: :func:`_straight` up to :data:`STRAIGHT_MAX`, beyond the
+    loops of :func:`_loops` with the Householder kernel of that ``n`` (:func:`_householder`)."""
+    if n <= STRAIGHT_MAX:
+        return _straight(n)
+    return functools.partial(_loops, householder=_householder(n))
 
 
 @_compiled
 def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
            S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray,
-           linear: bool) -> None:
-    """:func:`log_trace_paths` for any ``n``: loops over the entries, the lane loop innermost."""
+           linear: bool, householder) -> None:
+    """:func:`log_trace_paths` for any ``n``: loops over the entries, the lane loop innermost, and
+    ``householder`` (:func:`_householder` ``(n)``) for the time update's triangularisation."""
     horizon, paths, _ = received.shape
     n = A.shape[0]
     rows = H.shape[0]
@@ -184,6 +190,7 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
     cols = n | 1
     S = np.zeros((n, cols, LOOP_LANES))
     X = np.zeros((2 * n, cols, LOOP_LANES))
+    V = np.empty((n + 3) * LOOP_LANES)
     f = np.empty((n, LOOP_LANES))
     Su = np.empty((n, LOOP_LANES))
     g = np.empty((n, LOOP_LANES))
@@ -239,18 +246,15 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
                     for j in range(n):
                         for p in range(LOOP_LANES):
                             S[i, j, p] -= Su[i, p] * g[j, p]
-            _time_update(S, A, UQ, E, X, f2, coef, noise)
+            _time_update(S, A, UQ, E, X, V, f2, householder)
             _rescale(S, E, t, f2)
 
 
 @_compiled
 def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X: np.ndarray,
-                 sq: np.ndarray, beta: np.ndarray, dot: np.ndarray) -> None:
-    """``S <- R^T`` with ``R^T R = X^T X``, ``X = [(A S)^T; 2^(-E/2) U_Q]`` (Householder QR).
-
-    Row ``n + i`` of ``X`` is zero left of column ``i`` and stays so until step ``i``
-    (a reflection leaves rows with a zero pivot-column entry alone), so step ``j`` only
-    touches rows ``j..n-1`` and ``n..n+j``."""
+                 V: np.ndarray, beta: np.ndarray, householder) -> None:
+    """``S <- R^T`` with ``R^T R = X^T X``, ``X = [(A S)^T; 2^(-E/2) U_Q]`` (Householder QR by
+    ``householder``, :func:`_householder` ``(n)``, its reflectors in ``V``)."""
     n = A.shape[0]
     for i in range(n):           # X[j, i] = (A S)[i, j] = sum_l A[i, l] S[l, j], S full
         for j in range(n):
@@ -266,41 +270,136 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
         for j in range(n):
             for p in range(LOOP_LANES):
                 X[n + i, j, p] = beta[p] * UQ[i, j]
-    for j in range(n):
-        for p in range(LOOP_LANES):
-            sq[p] = 0.0
-        for i in range(j, n + j + 1):
-            for p in range(LOOP_LANES):
-                sq[p] += X[i, j, p] * X[i, j, p]
-        for p in range(LOOP_LANES):
-            norm = math.sqrt(sq[p])
-            x0 = X[j, j, p]
-            head = norm if x0 >= 0.0 else -norm
-            X[j, j, p] = x0 + head                 # v = x + sign(x0) |x| e_1, |v|^2 = 2 |x| (|x| + |x0|)
-            # |v| as one square root and u = v / |v| by division: sqrt(2|x|) sqrt(|x| + |x0|) or
-            # a reciprocal round differently and broke exact cancellations of A = 2 R(pi/2)
-            # (log tr P 35 low after an 80-step burst); inf turns u into 0
-            length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-            beta[p] = length if length > 0.0 else math.inf
-            sq[p] = -head
-        for i in range(j, n + j + 1):
-            for p in range(LOOP_LANES):
-                X[i, j, p] /= beta[p]
-        for k in range(j + 1, n):
-            for p in range(LOOP_LANES):
-                dot[p] = 0.0
-            for i in range(j, n + j + 1):
-                for p in range(LOOP_LANES):
-                    dot[p] += X[i, j, p] * X[i, k, p]
-            for i in range(j, n + j + 1):
-                for p in range(LOOP_LANES):
-                    X[i, k, p] -= 2.0 * dot[p] * X[i, j, p]
-        for p in range(LOOP_LANES):
-            X[j, j, p] = sq[p]
+    householder(_data(X), _data(V), n)
     for i in range(n):
         for j in range(n):
             for p in range(LOOP_LANES):
                 S[i, j, p] = X[j, i, p] if j <= i else 0.0
+
+
+#: the signature of the Householder kernels (:func:`_householder`): pointers to ``X`` (2n, n | 1,
+#: LOOP_LANES) and to ``V`` (n + 3, LOOP_LANES: the reflector's n + 1 rows, two of scratch), and n
+HOUSEHOLDER = types.void(types.CPointer(types.float64), types.CPointer(types.float64), types.int64)
+_compiled_householder = cfunc(HOUSEHOLDER, cache=True, nogil=True, error_model="numpy")
+#: largest n whose Householder kernel is written out in :mod:`symkf.householder_kernels`; beyond,
+#: :func:`_columns_loops` (numba compiles no source made at run time: symkf runs no exec)
+HOUSEHOLDER_MAX = 32
+
+
+@intrinsic
+def _data(typingctx, array):
+    """The data pointer of a C-contiguous ``array``."""
+    def codegen(context, builder, signature, args):
+        return context.make_array(array)(context, builder, args[0]).data
+    return types.CPointer(array.dtype)(array), codegen
+
+
+def _columns_loops(X, V, n):
+    """The operations of :func:`_householder_source` ``(n)`` in its order, for any ``n``, as loops
+    over the rows (its sums through the scratch rows of ``V``: a test compares every bit)."""
+    L, st = LOOP_LANES, (n | 1) * LOOP_LANES
+    beta, acc = (n + 1) * L, (n + 2) * L
+    for j in range(n):
+        b = j * (st + L)
+        for p in range(L):
+            V[acc + p] = 0.0
+        for r in range(n + 1):
+            for p in range(L):
+                V[acc + p] += X[b + r * st + p] * X[b + r * st + p]
+        for p in range(L):
+            norm = math.sqrt(V[acc + p])
+            x0 = X[b + p]
+            head = norm if x0 >= 0.0 else -norm
+            length = math.sqrt(2.0 * norm * (norm + abs(x0)))
+            V[beta + p] = length if length > 0.0 else math.inf
+            V[p] = (x0 + head) / V[beta + p]
+            X[b + p] = -head
+        for r in range(1, n + 1):
+            for p in range(L):
+                V[r * L + p] = X[b + r * st + p] / V[beta + p]
+        for k in range(j + 1, n):
+            c = b + (k - j) * L
+            for p in range(L):
+                V[acc + p] = 0.0
+            for r in range(n + 1):
+                for p in range(L):
+                    V[acc + p] += V[r * L + p] * X[c + r * st + p]
+            for r in range(n + 1):
+                for p in range(L):
+                    X[c + r * st + p] -= 2.0 * V[acc + p] * V[r * L + p]
+
+
+def _householder_source(n: int) -> str:
+    """Source of ``_columns_{n}``: the Householder triangularisation of ``_time_update``'s ``X``
+    for ``n`` states, column ``j`` in one lane loop (norm, pivot, reflector ``v`` into ``V``; only
+    row ``j`` of ``X`` is read afterwards) and its reflection of each later column ``k`` in one
+    (``v^T x`` and ``x - 2 (v^T x) v`` over the rows ``j..n+j``, written out: the sum stays in a
+    register).  Row ``n + i`` of ``X`` is zero left of column ``i`` and stays so until step ``i``
+    (a reflection leaves rows with a zero pivot-column entry alone), so step ``j`` touches rows
+    ``j..n+j`` only: ``n + 1`` of them, ``st`` apart in the flat ``X``."""
+    L, st = LOOP_LANES, (n | 1) * LOOP_LANES
+    R = range(n + 1)
+    row = {r: f" + {r * st}" if r else "" for r in R}   # row j + r of X, from the pivot's
+    w = []
+    a = w.append
+    a(f"def _columns_{n}(X, V, n):")
+    a(f"    for j in range({n}):")
+    a(f"        b = j * {st + L}")                      # X[j, j, 0]
+    a(f"        for p in range({L}):")
+    for r in R:
+        a(f"            x{r} = X[b{row[r]} + p]")
+    a("            sq = 0.0")
+    for r in R:
+        a(f"            sq += x{r} * x{r}")
+    a("            norm = math.sqrt(sq)")
+    a("            head = norm if x0 >= 0.0 else -norm")
+    # v = x + sign(x0) |x| e_1, |v|^2 = 2 |x| (|x| + |x0|): |v| as one square root and u = v / |v|
+    # by division (a two-factor |v| or a reciprocal round differently: see the module's text);
+    # inf turns u into 0
+    a("            length = math.sqrt(2.0 * norm * (norm + abs(x0)))")
+    a("            beta = length if length > 0.0 else math.inf")
+    a("            x0 = x0 + head")
+    for r in R:
+        a(f"            V[{r * L} + p] = x{r} / beta" if r else "            V[p] = x0 / beta")
+    a("            X[b + p] = -head")
+    a(f"        for k in range(j + 1, {n}):")
+    a(f"            c = b + (k - j) * {L}")              # X[j, k, 0]
+    a(f"            for p in range({L}):")
+    for r in R:
+        a(f"                y{r} = X[c{row[r]} + p]")
+    a("                dot = 0.0")
+    for r in R:
+        a(f"                dot += V[{r * L} + p] * y{r}" if r else "                dot += V[p] * y0")
+    a("                twice = 2.0 * dot")
+    for r in R:
+        a(f"                X[c{row[r]} + p] = y{r} - twice * V[{r * L} + p]" if r else "                X[c + p] = y0 - twice * V[p]")
+    return "\n".join(w) + "\n"
+
+
+def _householder_module() -> str:
+    """The text of :mod:`symkf.householder_kernels`: :func:`_householder_source` for n =
+    1..HOUSEHOLDER_MAX (regenerate it after changing the template: ``python -c "from
+    symkf.square_root import _householder_module as m; print(m(), end='')" >
+    symkf/householder_kernels.py``; a test compares)."""
+    head = ('"""Householder time-update kernels of the loop filter kernel (:func:`symkf.square_root._time_update`)\n'
+            'for n = 1..%d states, the lane loop innermost: generated by\n'
+            ':func:`symkf.square_root._householder_module` (do not edit; a test compares it with the generator)."""\n\n'
+            "import math\n\n"
+            "from .exact.arguments import check_public\n\n\n" % HOUSEHOLDER_MAX)
+    return (head + "\n\n".join(_householder_source(n) for n in range(1, HOUSEHOLDER_MAX + 1))
+            + "\n\ncheck_public(globals())\n")
+
+
+@functools.lru_cache(maxsize=None)
+def _householder(n: int):
+    """The compiled Householder kernel for ``n`` states (a numba ``cfunc``: the loop kernel is
+    compiled once for its type, whatever ``n``); from :mod:`symkf.householder_kernels` up to
+    :data:`HOUSEHOLDER_MAX`, compiled on first use once per installation (numba's cache), beyond
+    :func:`_columns_loops`."""
+    if n > HOUSEHOLDER_MAX:
+        return _compiled_householder(_columns_loops)
+    from . import householder_kernels
+    return _compiled_householder(getattr(householder_kernels, f"_columns_{n}"))
 
 
 #: largest state dimension with a straight-line kernel (compile time and code size grow like n^3)

@@ -1,9 +1,12 @@
 """The batched float filter against the exact oracle (Sui-You-Fu eq. 9) and against its own simulation."""
 
+import functools
+
 import numpy as np
 import pytest
 import sympy as sp
 
+from symkf import budget
 from symkf.errors import InputError, ShapeError
 from symkf.filtering import (FloatSystem, exact_covariances, log_traces, predicted_covariances, real_form, sample_receptions,
                              simulate_trajectories)
@@ -109,27 +112,33 @@ def test_log_traces_follow_thousands_of_unstable_steps():
 
 
 def _rotations(n: int, modulus: str) -> sp.Matrix:
-    """n/2 rotation blocks of ``modulus`` by the rational angles of (3, 4, 5), (5, 12, 13), ..."""
+    """n/2 rotation blocks of ``modulus`` by the rational angles of (3, 4, 5), (5, 12, 13), ... in turn"""
     A = sp.zeros(n, n)
-    for b, (x, y, r) in enumerate([(3, 4, 5), (5, 12, 13), (8, 15, 17), (7, 24, 25)][:n // 2]):
+    for b in range(n // 2):
+        x, y, r = [(3, 4, 5), (5, 12, 13), (8, 15, 17), (7, 24, 25)][b % 4]
         A[2 * b:2 * b + 2, 2 * b:2 * b + 2] = sp.Rational(modulus) / r * sp.Matrix([[x, -y], [y, x]])
     return A
 
 
-@pytest.mark.parametrize("n, modulus, loss", [(2, "9/10", 0.5), (4, "6/5", 0.2), (8, "11/10", 0.3)])
+@pytest.mark.parametrize("n, modulus, loss", [(2, "9/10", 0.5), (4, "6/5", 0.2), (8, "11/10", 0.3),
+                                               (12, "21/20", 0.2), (34, "9/10", 0.3)])
 def test_log_traces_match_the_covariance_form_on_stable_runs(n, modulus, loss):
     # an independent computation: the float64 covariance recursion (information-form update,
     # predicted_covariances) is accurate while P stays moderate, here 300 steps of mean-square
-    # stable runs; 300 paths leave a partial block of the compiled kernel (blocks of 64 or 256).
+    # stable runs; 300 paths leave a partial block of the compiled kernel (blocks of 64 or 128).
+    # n = 12 runs the loop kernel with its Householder kernel from symkf.householder_kernels,
+    # n = 34 with one compiled from the generator at run time (beyond HOUSEHOLDER_MAX).
     # Two-row sensors with correlated noise exercise the whitening.
     rng = np.random.default_rng(n)
-    sensors = [Sensor(C=rng.integers(-2, 3, (2, n)).tolist(), R=[[2, 1], [1, 3]]),
-               Sensor(C=[[1] + [0] * (n - 1)])]
-    system = System(A=_rotations(n, modulus), sensors=sensors)
-    gamma = rng.random((300, 300, 2)) >= loss                 # (paths, horizon, d)
+    with budget.limits(max_dimension=max(n, budget.LIMITS.max_dimension)):
+        sensors = [Sensor(C=rng.integers(-2, 3, (2, n)).tolist(), R=[[2, 1], [1, 3]]),
+                   Sensor(C=[[1] + [0] * (n - 1)])]
+        system = System(A=_rotations(n, modulus), sensors=sensors)
+    paths = 300 if n <= 12 else 40                            # the reference's cost grows like n^3
+    gamma = rng.random((paths, 300, 2)) >= loss               # (paths, horizon, d)
     plain = predicted_covariances(system, gamma, check_every=0)
     logs = log_traces(real_form(system), gamma.transpose(1, 0, 2))
-    assert logs.shape == (300, 301)
+    assert logs.shape == (paths, 301)
     np.testing.assert_allclose(logs[:, :300], np.log(plain), rtol=1e-10)
 
 
@@ -199,8 +208,9 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
     # loop kernel does the same operations in the same order, so every output bit must agree:
     # dense and sparse (integer, block-diagonal) A and H, two-row sensors, paths that receive
     # nothing or everything, and a 600-step stretch of mostly lost steps (wide scales)
-    from symkf.square_root import STRAIGHT_MAX, _loops, _straight
+    from symkf.square_root import STRAIGHT_MAX, _householder, _loops, _straight
     assert n <= STRAIGHT_MAX
+    loops = functools.partial(_loops, householder=_householder(n))
     rng = np.random.default_rng(n)
     dense = rng.normal(size=(n, n))
     for A, H in ((dense * 1.5 / np.abs(np.linalg.eigvals(dense)).max(), rng.normal(size=(3, n))),
@@ -214,7 +224,7 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         received[:, :64] = False
         received[:, 64:128] = True
         out = []
-        for kernel in (_straight(n), _loops):
+        for kernel in (_straight(n), loops):
             trace, log_scale, linear = np.empty((601, 256)), np.empty((601, 256)), np.empty((150, 600))
             kernel(A, UQ, H, rows, S0, received, trace, log_scale, False)
             kernel(A, UQ, H, rows, S0, received, linear, np.empty((64, 128)), True)   # the first 150 paths
@@ -225,6 +235,37 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         E = np.round(out[0][1] / np.log(2)).astype(int)
         with np.errstate(over="ignore"):
             np.testing.assert_array_equal(out[0][2], np.ldexp(out[0][0], E)[:600, :150].T)
+
+
+@pytest.mark.parametrize("n", [1, 2, 9, 16, 32])   # 32: HOUSEHOLDER_MAX, the largest written out
+def test_the_written_out_householder_kernels_equal_the_loops_bit_for_bit(n):
+    # beyond 8 states the time update triangularises with symkf.householder_kernels (rows written
+    # out) and beyond HOUSEHOLDER_MAX with _columns_loops: the same operations in the same order.
+    # X as the time update builds it (U_Q's rows zero left of their diagonal), with a lane whose
+    # columns are zero (|v| = 0: the reflector divides by inf) and negative pivots; compared
+    # where the time update reads it afterwards (row j from column j on)
+    import ctypes
+
+    from symkf.square_root import LOOP_LANES, _compiled_householder, _columns_loops, _householder
+    rng = np.random.default_rng(n)
+    X = np.zeros((2 * n, n | 1, LOOP_LANES))
+    X[:n, :n] = rng.normal(size=(n, n, LOOP_LANES))
+    for i in range(n):
+        X[n + i, i:n] = rng.normal(size=(n - i, LOOP_LANES))
+    X[:, :, 0] = 0.0
+    outs = []
+    for kernel in (_householder(n), _compiled_householder(_columns_loops)):
+        Y, V = X.copy(), np.full((n + 3) * LOOP_LANES, np.nan)
+        pointer = ctypes.POINTER(ctypes.c_double)
+        kernel.ctypes(Y.ctypes.data_as(pointer), V.ctypes.data_as(pointer), n)
+        outs.append(Y)
+    upper = np.triu(np.ones((2 * n, n | 1), bool))[:, :, None] & (np.arange(2 * n) < n)[:, None, None]
+    upper = np.broadcast_to(upper, X.shape)
+    assert np.array_equal(outs[0][upper], outs[1][upper])
+    R = np.where(upper, outs[0], 0.0)[:n, :n]           # R^T R = X^T X in every lane
+    np.testing.assert_allclose(np.einsum("kip,kjp->ijp", R, R), np.einsum("kip,kjp->ijp", X[:, :n], X[:, :n]),
+                               atol=1e-9)
+    assert np.all(R[:, :, 0] == 0.0)
 
 
 def test_the_kernels_power_of_two_rounds_as_ldexp_at_every_exponent():
@@ -246,10 +287,14 @@ def test_the_kernels_power_of_two_rounds_as_ldexp_at_every_exponent():
     assert np.array_equal(powers(es).view(np.int64), expected.view(np.int64))
 
 
-def test_the_straight_line_kernels_module_is_the_generators_output():
-    # symkf/straight_kernels.py is generated (symkf.square_root._straight_module): never edited by hand
+@pytest.mark.parametrize("module, generator", [("straight_kernels", "_straight_module"),
+                                               ("householder_kernels", "_householder_module")])
+def test_the_generated_kernel_modules_are_the_generators_output(module, generator):
+    # symkf/straight_kernels.py and householder_kernels.py are generated (by symkf.square_root):
+    # never edited by hand
+    import importlib
     from pathlib import Path
 
-    import symkf.straight_kernels as generated
-    from symkf.square_root import _straight_module
-    assert Path(generated.__file__).read_text(encoding="utf-8") == _straight_module()
+    import symkf.square_root
+    generated = importlib.import_module(f"symkf.{module}")
+    assert Path(generated.__file__).read_text(encoding="utf-8") == getattr(symkf.square_root, generator)()
