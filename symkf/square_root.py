@@ -339,18 +339,19 @@ def _householder_source(n: int) -> str:
     ``j..n+j`` only: ``n + 1`` of them, ``st`` apart in the flat ``X``."""
     L, st = LOOP_LANES, (n | 1) * LOOP_LANES
     R = range(n + 1)
-    row = {r: f" + {r * st}" if r else "" for r in R}   # row j + r of X, from the pivot's
     w = []
     a = w.append
+
+    def per_row(line: str) -> None:   # line for each row j + r: {row} its offset in X past the pivot, {v} its V entry
+        w.extend(line.format(r=r, row=f" + {r * st}" if r else "", v=f"V[{r * L} + p]" if r else "V[p]")
+                 for r in R)
     a(f"def _columns_{n}(X, V, n):")
     a(f"    for j in range({n}):")
     a(f"        b = j * {st + L}")                      # X[j, j, 0]
     a(f"        for p in range({L}):")
-    for r in R:
-        a(f"            x{r} = X[b{row[r]} + p]")
+    per_row("            x{r} = X[b{row} + p]")
     a("            sq = 0.0")
-    for r in R:
-        a(f"            sq += x{r} * x{r}")
+    per_row("            sq += x{r} * x{r}")
     a("            norm = math.sqrt(sq)")
     a("            head = norm if x0 >= 0.0 else -norm")
     # v = x + sign(x0) |x| e_1, |v|^2 = 2 |x| (|x| + |x0|): |v| as one square root and u = v / |v|
@@ -359,20 +360,16 @@ def _householder_source(n: int) -> str:
     a("            length = math.sqrt(2.0 * norm * (norm + abs(x0)))")
     a("            beta = length if length > 0.0 else math.inf")
     a("            x0 = x0 + head")
-    for r in R:
-        a(f"            V[{r * L} + p] = x{r} / beta" if r else "            V[p] = x0 / beta")
+    per_row("            {v} = x{r} / beta")
     a("            X[b + p] = -head")
     a(f"        for k in range(j + 1, {n}):")
     a(f"            c = b + (k - j) * {L}")              # X[j, k, 0]
     a(f"            for p in range({L}):")
-    for r in R:
-        a(f"                y{r} = X[c{row[r]} + p]")
+    per_row("                y{r} = X[c{row} + p]")
     a("                dot = 0.0")
-    for r in R:
-        a(f"                dot += V[{r * L} + p] * y{r}" if r else "                dot += V[p] * y0")
+    per_row("                dot += {v} * y{r}")
     a("                twice = 2.0 * dot")
-    for r in R:
-        a(f"                X[c{row[r]} + p] = y{r} - twice * V[{r * L} + p]" if r else "                X[c + p] = y0 - twice * V[p]")
+    per_row("                X[c{row} + p] = y{r} - twice * {v}")
     return "\n".join(w) + "\n"
 
 
