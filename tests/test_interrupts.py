@@ -156,29 +156,35 @@ def _interrupt_the_parent(seconds: float) -> float:
     return seconds
 
 
-def _no_workers_left() -> None:
+def _children() -> set:
     import multiprocessing
-    wait_for(lambda: not multiprocessing.active_children(), 5, "the workers to end")
+    return set(multiprocessing.active_children())
+
+
+def _no_workers_left(before: set) -> None:
+    # the children that were there before the sweep (the session's dask cluster, when this pytest
+    # worker ran a test that started it) are not the sweep's
+    wait_for(lambda: _children() <= before, 5, "the workers to end")
 
 
 def test_a_failing_task_cancels_the_queued_ones():
     """A task's error ends the sweep at once: the queued tasks are cancelled and the worker still
     sleeping is stopped (before, the pool waited for every queued task)."""
-    start = time.monotonic()
+    start, before = time.monotonic(), _children()
     with pytest.raises(ValueError, match="this task fails"):
         sweep(_sleep_or_fail, [30, -1, 30, 30], jobs=2, progress=False)
     assert time.monotonic() - start < 10
-    _no_workers_left()
+    _no_workers_left(before)
 
 
 def test_ctrl_c_in_the_caller_stops_the_workers():
     """KeyboardInterrupt in the caller (here sent by a worker to its parent) stops the workers,
     which ignore SIGINT themselves."""
-    start = time.monotonic()
+    start, before = time.monotonic(), _children()
     with pytest.raises(KeyboardInterrupt):
         sweep(_interrupt_the_parent, [-30, 30, 30], jobs=2, progress=False)
     assert time.monotonic() - start < 10
-    _no_workers_left()
+    _no_workers_left(before)
 
 
 def test_ctrl_c_while_the_command_line_is_imported(monkeypatch, capsys):
