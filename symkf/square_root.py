@@ -170,18 +170,19 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
 
 def _kernel(n: int):
     """The compiled kernel for ``n`` states: :func:`_straight` up to :data:`STRAIGHT_MAX`, beyond the
-    loops of :func:`_loops` with the Householder kernel of that ``n`` (:func:`_householder`)."""
+    loops of :func:`_loops` with the unrolled kernels of that ``n`` (:func:`_unrolled`)."""
     if n <= STRAIGHT_MAX:
         return _straight(n)
-    return functools.partial(_loops, householder=_householder(n))
+    return functools.partial(_loops, householder=_unrolled("householder", n), potter=_unrolled("potter", n))
 
 
 @_compiled
 def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
            S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray,
-           linear: bool, householder) -> None:
+           linear: bool, householder, potter) -> None:
     """:func:`log_trace_paths` for any ``n``: loops over the entries, the lane loop innermost, and
-    ``householder`` (:func:`_householder` ``(n)``) for the time update's triangularisation."""
+    the kernels of :func:`_unrolled` for the time update's triangularisation (``householder``) and
+    Potter's rank-one update (``potter``)."""
     horizon, paths, _ = received.shape
     n = A.shape[0]
     rows = H.shape[0]
@@ -191,9 +192,8 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
     S = np.zeros((n, cols, LOOP_LANES))
     X = np.zeros((2 * n, cols, LOOP_LANES))
     V = np.empty((n + 3) * LOOP_LANES)
-    f = np.empty((n, LOOP_LANES))
-    Su = np.empty((n, LOOP_LANES))
-    g = np.empty((n, LOOP_LANES))
+    fg = np.empty((2 * n + 1, LOOP_LANES))   # Potter's f (rows 0..n-1), g (n..2n-1), a row of scratch
+    su = np.empty(LOOP_LANES)
     f2 = np.empty(LOOP_LANES)
     coef = np.empty(LOOP_LANES)
     noise = np.empty(LOOP_LANES)
@@ -219,33 +219,25 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
                     f2[p] = 0.0
                 for j in range(n):
                     for p in range(LOOP_LANES):
-                        f[j, p] = 0.0
+                        fg[j, p] = 0.0
                     for i in range(n):
                         if H[r, i] != 0.0:          # integer sensor rows are often sparse
                             for p in range(LOOP_LANES):
-                                f[j, p] += S[i, j, p] * H[r, i]
+                                fg[j, p] += S[i, j, p] * H[r, i]
                     for p in range(LOOP_LANES):
-                        f2[p] += f[j, p] * f[j, p]
+                        f2[p] += fg[j, p] * fg[j, p]
                 for p in range(LOOP_LANES):
                     a = f2[p] + noise[p]
                     denom = a + math.sqrt(a * noise[p])
                     got = received[k, start + p, sensor]
                     # S <- S - (S u) (u w)^T with u = f / |f| and w = |f|^2 / denom in [0, 1]
                     coef[p] = f2[p] / denom if got and denom > 0.0 else 0.0
-                    Su[0, p] = math.sqrt(f2[p]) if f2[p] > 0.0 else math.inf
+                    su[p] = math.sqrt(f2[p]) if f2[p] > 0.0 else math.inf
                 for j in range(n):
                     for p in range(LOOP_LANES):
-                        f[j, p] /= Su[0, p]
-                        g[j, p] = f[j, p] * coef[p]
-                for i in range(n):                   # row i of S u, then row i of S: it is still in L1
-                    for p in range(LOOP_LANES):
-                        Su[i, p] = 0.0
-                    for j in range(n):
-                        for p in range(LOOP_LANES):
-                            Su[i, p] += S[i, j, p] * f[j, p]
-                    for j in range(n):
-                        for p in range(LOOP_LANES):
-                            S[i, j, p] -= Su[i, p] * g[j, p]
+                        fg[j, p] /= su[p]
+                        fg[n + j, p] = fg[j, p] * coef[p]
+                potter(_data(S), _data(fg), n)
             _time_update(S, A, UQ, E, X, V, f2, householder)
             _rescale(S, E, t, f2)
 
@@ -254,7 +246,7 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
 def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X: np.ndarray,
                  V: np.ndarray, beta: np.ndarray, householder) -> None:
     """``S <- R^T`` with ``R^T R = X^T X``, ``X = [(A S)^T; 2^(-E/2) U_Q]`` (Householder QR by
-    ``householder``, :func:`_householder` ``(n)``, its reflectors in ``V``)."""
+    ``householder``, :func:`_unrolled` ``("householder", n)``, its reflectors in ``V``)."""
     n = A.shape[0]
     for i in range(n):           # X[j, i] = (A S)[i, j] = sum_l A[i, l] S[l, j], S full
         for j in range(n):
@@ -277,13 +269,17 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
                 S[i, j, p] = X[j, i, p] if j <= i else 0.0
 
 
-#: the signature of the Householder kernels (:func:`_householder`): pointers to ``X`` (2n, n | 1,
-#: LOOP_LANES) and to ``V`` (n + 3, LOOP_LANES: the reflector's n + 1 rows, two of scratch), and n
-HOUSEHOLDER = types.void(types.CPointer(types.float64), types.CPointer(types.float64), types.int64)
-_compiled_householder = cfunc(HOUSEHOLDER, cache=True, nogil=True, error_model="numpy")
-#: largest n whose Householder kernel is written out in :mod:`symkf.householder_kernels`; beyond,
-#: :func:`_columns_loops` (numba compiles no source made at run time: symkf runs no exec)
-HOUSEHOLDER_MAX = 32
+#: the signature of the unrolled kernels (:func:`_unrolled`): pointers to the array they update and
+#: to their vectors, and n.  Householder: ``X`` (2n, n | 1, LOOP_LANES) and ``V`` (n + 3,
+#: LOOP_LANES: the reflector's n + 1 rows, two of scratch); Potter: ``S`` (n, n | 1, LOOP_LANES)
+#: and ``f``, ``g`` (2n + 1, LOOP_LANES: f's n rows, g's, one of scratch)
+ROW_KERNEL = types.void(types.CPointer(types.float64), types.CPointer(types.float64), types.int64)
+_compiled_row_kernel = cfunc(ROW_KERNEL, cache=True, nogil=True, error_model="numpy")
+#: largest n whose kernels are written out in :mod:`symkf.unrolled_kernels`; beyond, the loops
+#: :func:`_householder_loops` and :func:`_potter_loops` (numba compiles no source made at run
+#: time: symkf runs no exec).  Potter's row of ``S`` stays in registers between ``(S f)_i`` and its
+#: update; beyond 16 the 32 vector registers spill (0.72x at n = 32; reading the row twice, 0.86-0.98x)
+UNROLLED_MAX = {"householder": 32, "potter": 16}
 
 
 @intrinsic
@@ -294,7 +290,7 @@ def _data(typingctx, array):
     return types.CPointer(array.dtype)(array), codegen
 
 
-def _columns_loops(X, V, n):
+def _householder_loops(X, V, n):
     """The operations of :func:`_householder_source` ``(n)`` in its order, for any ``n``, as loops
     over the rows (its sums through the scratch rows of ``V``: a test compares every bit)."""
     L, st = LOOP_LANES, (n | 1) * LOOP_LANES
@@ -329,8 +325,40 @@ def _columns_loops(X, V, n):
                     X[c + r * st + p] -= 2.0 * V[acc + p] * V[r * L + p]
 
 
+def _potter_loops(S, fg, n):
+    """The operations of :func:`_potter_source` ``(n)`` in its order, for any ``n``, as loops over the
+    entries (``(S f)_i`` through the scratch row of ``fg``: a test compares every bit)."""
+    L, st = LOOP_LANES, (n | 1) * LOOP_LANES
+    u = 2 * n * L
+    for i in range(n):
+        for p in range(L):
+            fg[u + p] = 0.0
+        for j in range(n):
+            for p in range(L):
+                fg[u + p] += S[i * st + j * L + p] * fg[j * L + p]
+        for j in range(n):
+            for p in range(L):
+                S[i * st + j * L + p] -= fg[u + p] * fg[(n + j) * L + p]
+
+
+def _potter_source(n: int) -> str:
+    """Source of ``_potter_{n}``: Potter's rank-one update ``S <- S - (S f) g^T`` (Yang et al. eq. 8
+    in square-root form, ``f = u``, ``g = u w``: the module's text) for ``n`` states, row ``i`` of
+    ``S f`` and of ``S`` in one lane loop, the row's ``n`` entries written out (the sum stays in a
+    register; every entry at a constant offset)."""
+    L, st = LOOP_LANES, (n | 1) * LOOP_LANES
+    s = [f"S[b + {j * L} + p]" if j else "S[b + p]" for j in range(n)]
+    f = [f"fg[{j * L} + p]" if j else "fg[p]" for j in range(2 * n)]
+    w = [f"def _potter_{n}(S, fg, n):", f"    for i in range({n}):", f"        b = i * {st}",
+         f"        for p in range({L}):"]
+    w += [f"            s{j} = {s[j]}" for j in range(n)]
+    w += ["            u = 0.0"] + [f"            u += s{j} * {f[j]}" for j in range(n)]
+    w += [f"            {s[j]} = s{j} - u * {f[n + j]}" for j in range(n)]
+    return "\n".join(w) + "\n"
+
+
 def _householder_source(n: int) -> str:
-    """Source of ``_columns_{n}``: the Householder triangularisation of ``_time_update``'s ``X``
+    """Source of ``_householder_{n}``: the Householder triangularisation of ``_time_update``'s ``X``
     for ``n`` states, column ``j`` in one lane loop (norm, pivot, reflector ``v`` into ``V``; only
     row ``j`` of ``X`` is read afterwards) and its reflection of each later column ``k`` in one
     (``v^T x`` and ``x - 2 (v^T x) v`` over the rows ``j..n+j``, written out: the sum stays in a
@@ -345,7 +373,7 @@ def _householder_source(n: int) -> str:
     def per_row(line: str) -> None:   # line for each row j + r: {row} its offset in X past the pivot, {v} its V entry
         w.extend(line.format(r=r, row=f" + {r * st}" if r else "", v=f"V[{r * L} + p]" if r else "V[p]")
                  for r in R)
-    a(f"def _columns_{n}(X, V, n):")
+    a(f"def _householder_{n}(X, V, n):")
     a(f"    for j in range({n}):")
     a(f"        b = j * {st + L}")                      # X[j, j, 0]
     a(f"        for p in range({L}):")
@@ -373,30 +401,35 @@ def _householder_source(n: int) -> str:
     return "\n".join(w) + "\n"
 
 
-def _householder_module() -> str:
-    """The text of :mod:`symkf.householder_kernels`: :func:`_householder_source` for n =
-    1..HOUSEHOLDER_MAX (regenerate it after changing the template: ``python -c "from
-    symkf.square_root import _householder_module as m; print(m(), end='')" >
-    symkf/householder_kernels.py``; a test compares)."""
-    head = ('"""Householder time-update kernels of the loop filter kernel (:func:`symkf.square_root._time_update`)\n'
-            'for n = 1..%d states, the lane loop innermost: generated by\n'
-            ':func:`symkf.square_root._householder_module` (do not edit; a test compares it with the generator)."""\n\n'
+#: each unrolled kernel's generator and its loops for any n
+_UNROLLED = {"householder": (_householder_source, _householder_loops), "potter": (_potter_source, _potter_loops)}
+
+
+def _unrolled_module() -> str:
+    """The text of :mod:`symkf.unrolled_kernels`: :func:`_householder_source` and
+    :func:`_potter_source` for n = 1.. :data:`UNROLLED_MAX` (regenerate it after changing a template:
+    ``python -c "from symkf.square_root import _unrolled_module as m; print(m(), end='')" >
+    symkf/unrolled_kernels.py``; a test compares)."""
+    head = ('"""The loop filter kernel\'s Householder time update and Potter update (:func:`symkf.square_root._loops`)\n'
+            'for n = 1..%d and 1..%d states, each row\'s entries written out, the lane loop innermost: generated by\n'
+            ':func:`symkf.square_root._unrolled_module` (do not edit; a test compares it with the generator)."""\n\n'
             "import math\n\n"
-            "from .exact.arguments import check_public\n\n\n" % HOUSEHOLDER_MAX)
-    return (head + "\n\n".join(_householder_source(n) for n in range(1, HOUSEHOLDER_MAX + 1))
-            + "\n\ncheck_public(globals())\n")
+            "from .exact.arguments import check_public\n\n\n" % (UNROLLED_MAX["householder"], UNROLLED_MAX["potter"]))
+    sources = (_UNROLLED[kind][0](n) for n in range(1, max(UNROLLED_MAX.values()) + 1)
+               for kind in UNROLLED_MAX if n <= UNROLLED_MAX[kind])
+    return head + "\n\n".join(sources) + "\n\ncheck_public(globals())\n"
 
 
 @functools.lru_cache(maxsize=None)
-def _householder(n: int):
-    """The compiled Householder kernel for ``n`` states (a numba ``cfunc``: the loop kernel is
-    compiled once for its type, whatever ``n``); from :mod:`symkf.householder_kernels` up to
-    :data:`HOUSEHOLDER_MAX`, compiled on first use once per installation (numba's cache), beyond
-    :func:`_columns_loops`."""
-    if n > HOUSEHOLDER_MAX:
-        return _compiled_householder(_columns_loops)
-    from . import householder_kernels
-    return _compiled_householder(getattr(householder_kernels, f"_columns_{n}"))
+def _unrolled(kind: str, n: int):
+    """The compiled ``kind`` (``"householder"`` or ``"potter"``) kernel for ``n`` states (a numba
+    ``cfunc``: the loop kernel is compiled once for its type, whatever ``n``); from
+    :mod:`symkf.unrolled_kernels` up to :data:`UNROLLED_MAX` ``[kind]``, compiled on first use once per
+    installation (numba's cache), beyond ``_{kind}_loops``."""
+    if n > UNROLLED_MAX[kind]:
+        return _compiled_row_kernel(_UNROLLED[kind][1])
+    from . import unrolled_kernels
+    return _compiled_row_kernel(getattr(unrolled_kernels, f"_{kind}_{n}"))
 
 
 #: largest state dimension with a straight-line kernel (compile time and code size grow like n^3)

@@ -126,8 +126,8 @@ def test_log_traces_match_the_covariance_form_on_stable_runs(n, modulus, loss):
     # an independent computation: the float64 covariance recursion (information-form update,
     # predicted_covariances) is accurate while P stays moderate, here 300 steps of mean-square
     # stable runs; 300 paths leave a partial block of the compiled kernel (blocks of 64 or 128).
-    # n = 12 runs the loop kernel with its Householder kernel from symkf.householder_kernels,
-    # n = 34 with one compiled from the generator at run time (beyond HOUSEHOLDER_MAX).
+    # n = 12 runs the loop kernel with its unrolled kernels (symkf.unrolled_kernels), n = 34 with
+    # the loops beyond UNROLLED_MAX.
     # Two-row sensors with correlated noise exercise the whitening.
     rng = np.random.default_rng(n)
     with budget.limits(max_dimension=max(n, budget.LIMITS.max_dimension)):
@@ -208,9 +208,9 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
     # loop kernel does the same operations in the same order, so every output bit must agree:
     # dense and sparse (integer, block-diagonal) A and H, two-row sensors, paths that receive
     # nothing or everything, and a 600-step stretch of mostly lost steps (wide scales)
-    from symkf.square_root import STRAIGHT_MAX, _householder, _loops, _straight
+    from symkf.square_root import STRAIGHT_MAX, _loops, _straight, _unrolled
     assert n <= STRAIGHT_MAX
-    loops = functools.partial(_loops, householder=_householder(n))
+    loops = functools.partial(_loops, householder=_unrolled("householder", n), potter=_unrolled("potter", n))
     rng = np.random.default_rng(n)
     dense = rng.normal(size=(n, n))
     for A, H in ((dense * 1.5 / np.abs(np.linalg.eigvals(dense)).max(), rng.normal(size=(3, n))),
@@ -237,16 +237,25 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
             np.testing.assert_array_equal(out[0][2], np.ldexp(out[0][0], E)[:600, :150].T)
 
 
-@pytest.mark.parametrize("n", [1, 2, 9, 16, 32])   # 32: HOUSEHOLDER_MAX, the largest written out
-def test_the_written_out_householder_kernels_equal_the_loops_bit_for_bit(n):
-    # beyond 8 states the time update triangularises with symkf.householder_kernels (rows written
-    # out) and beyond HOUSEHOLDER_MAX with _columns_loops: the same operations in the same order.
+def _row_kernel(kind: str, n: int, unrolled: bool, data: np.ndarray, vectors: np.ndarray) -> None:
+    """Run the unrolled kernel of ``kind`` for ``n`` (or the loops beyond UNROLLED_MAX) in place."""
+    import ctypes
+
+    from symkf import square_root
+    kernel = (square_root._unrolled(kind, n) if unrolled
+              else square_root._compiled_row_kernel(square_root._UNROLLED[kind][1]))
+    pointer = ctypes.POINTER(ctypes.c_double)
+    kernel.ctypes(data.ctypes.data_as(pointer), vectors.ctypes.data_as(pointer), n)
+
+
+@pytest.mark.parametrize("n", [1, 2, 9, 16, 32])   # 32: UNROLLED_MAX["householder"], the largest written out
+def test_the_unrolled_householder_kernels_equal_the_loops_bit_for_bit(n):
+    # beyond 8 states the time update triangularises with symkf.unrolled_kernels (rows written
+    # out) and beyond UNROLLED_MAX with _householder_loops: the same operations in the same order.
     # X as the time update builds it (U_Q's rows zero left of their diagonal), with a lane whose
     # columns are zero (|v| = 0: the reflector divides by inf) and negative pivots; compared
     # where the time update reads it afterwards (row j from column j on)
-    import ctypes
-
-    from symkf.square_root import LOOP_LANES, _compiled_householder, _columns_loops, _householder
+    from symkf.square_root import LOOP_LANES
     rng = np.random.default_rng(n)
     X = np.zeros((2 * n, n | 1, LOOP_LANES))
     X[:n, :n] = rng.normal(size=(n, n, LOOP_LANES))
@@ -254,10 +263,9 @@ def test_the_written_out_householder_kernels_equal_the_loops_bit_for_bit(n):
         X[n + i, i:n] = rng.normal(size=(n - i, LOOP_LANES))
     X[:, :, 0] = 0.0
     outs = []
-    for kernel in (_householder(n), _compiled_householder(_columns_loops)):
-        Y, V = X.copy(), np.full((n + 3) * LOOP_LANES, np.nan)
-        pointer = ctypes.POINTER(ctypes.c_double)
-        kernel.ctypes(Y.ctypes.data_as(pointer), V.ctypes.data_as(pointer), n)
+    for unrolled in (True, False):
+        Y = X.copy()
+        _row_kernel("householder", n, unrolled, Y, np.full((n + 3) * LOOP_LANES, np.nan))
         outs.append(Y)
     upper = np.triu(np.ones((2 * n, n | 1), bool))[:, :, None] & (np.arange(2 * n) < n)[:, None, None]
     upper = np.broadcast_to(upper, X.shape)
@@ -266,6 +274,26 @@ def test_the_written_out_householder_kernels_equal_the_loops_bit_for_bit(n):
     np.testing.assert_allclose(np.einsum("kip,kjp->ijp", R, R), np.einsum("kip,kjp->ijp", X[:, :n], X[:, :n]),
                                atol=1e-9)
     assert np.all(R[:, :, 0] == 0.0)
+
+
+@pytest.mark.parametrize("n", [1, 2, 9, 16, 17])   # 16: UNROLLED_MAX["potter"]; 17: the loops alone
+def test_the_unrolled_potter_kernels_equal_the_loops_bit_for_bit(n):
+    # S <- S - (S f) g^T, row by row: the written-out rows and _potter_loops agree in every bit
+    # and with numpy's product (to rounding); the padding column of S (n | 1 columns) is untouched
+    from symkf.square_root import LOOP_LANES
+    rng = np.random.default_rng(n)
+    S = rng.normal(size=(n, n | 1, LOOP_LANES))
+    fg = np.concatenate([rng.normal(size=(2 * n, LOOP_LANES)), np.full((1, LOOP_LANES), np.nan)])
+    outs = []
+    for unrolled in (True, False):
+        T = S.copy()
+        _row_kernel("potter", n, unrolled, T, fg.copy())
+        outs.append(T)
+    assert np.array_equal(outs[0], outs[1])
+    f, g = fg[:n], fg[n:2 * n]
+    expected = S[:, :n] - np.einsum("ijp,jp->ip", S[:, :n], f)[:, None, :] * g[None, :, :]
+    np.testing.assert_allclose(outs[0][:, :n], expected, atol=1e-12 * n)
+    assert np.array_equal(outs[0][:, n:], S[:, n:])
 
 
 def test_the_kernels_power_of_two_rounds_as_ldexp_at_every_exponent():
@@ -288,9 +316,9 @@ def test_the_kernels_power_of_two_rounds_as_ldexp_at_every_exponent():
 
 
 @pytest.mark.parametrize("module, generator", [("straight_kernels", "_straight_module"),
-                                               ("householder_kernels", "_householder_module")])
+                                               ("unrolled_kernels", "_unrolled_module")])
 def test_the_generated_kernel_modules_are_the_generators_output(module, generator):
-    # symkf/straight_kernels.py and householder_kernels.py are generated (by symkf.square_root):
+    # symkf/straight_kernels.py and unrolled_kernels.py are generated (by symkf.square_root):
     # never edited by hand
     import importlib
     from pathlib import Path
