@@ -169,10 +169,13 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
 
 
 def _kernel(n: int):
-    """The compiled kernel for ``n`` states: :func:`_straight` up to :data:`STRAIGHT_MAX`, beyond the
-    loops of :func:`_loops` with the unrolled kernels of that ``n`` (:func:`_unrolled`)."""
-    if n <= STRAIGHT_MAX:
-        return _straight(n)
+    """The compiled kernel for ``n`` states: :func:`_straight` up to :data:`STRAIGHT_MAX`, beyond
+    :func:`_loop_kernel`."""
+    return _straight(n) if n <= STRAIGHT_MAX else _loop_kernel(n)
+
+
+def _loop_kernel(n: int):
+    """:func:`_loops` with the unrolled kernels of ``n`` states (:func:`_unrolled`)."""
     return functools.partial(_loops, householder=_unrolled("householder", n), potter=_unrolled("potter", n))
 
 

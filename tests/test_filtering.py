@@ -1,7 +1,5 @@
 """The batched float filter against the exact oracle (Sui-You-Fu eq. 9) and against its own simulation."""
 
-import functools
-
 import numpy as np
 import pytest
 import sympy as sp
@@ -208,9 +206,8 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
     # loop kernel does the same operations in the same order, so every output bit must agree:
     # dense and sparse (integer, block-diagonal) A and H, two-row sensors, paths that receive
     # nothing or everything, and a 600-step stretch of mostly lost steps (wide scales)
-    from symkf.square_root import STRAIGHT_MAX, _loops, _straight, _unrolled
+    from symkf.square_root import STRAIGHT_MAX, _loop_kernel, _straight
     assert n <= STRAIGHT_MAX
-    loops = functools.partial(_loops, householder=_unrolled("householder", n), potter=_unrolled("potter", n))
     rng = np.random.default_rng(n)
     dense = rng.normal(size=(n, n))
     for A, H in ((dense * 1.5 / np.abs(np.linalg.eigvals(dense)).max(), rng.normal(size=(3, n))),
@@ -224,7 +221,7 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         received[:, :64] = False
         received[:, 64:128] = True
         out = []
-        for kernel in (_straight(n), loops):
+        for kernel in (_straight(n), _loop_kernel(n)):
             trace, log_scale, linear = np.empty((601, 256)), np.empty((601, 256)), np.empty((150, 600))
             kernel(A, UQ, H, rows, S0, received, trace, log_scale, False)
             kernel(A, UQ, H, rows, S0, received, linear, np.empty((64, 128)), True)   # the first 150 paths
@@ -238,7 +235,8 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
 
 
 def _row_kernel(kind: str, n: int, unrolled: bool, data: np.ndarray, vectors: np.ndarray) -> None:
-    """Run the unrolled kernel of ``kind`` for ``n`` (or the loops beyond UNROLLED_MAX) in place."""
+    """Run ``kind``'s kernel for ``n`` in place: the one the loop kernel uses (``unrolled``), or its
+    loops (which the loop kernel uses beyond UNROLLED_MAX)."""
     import ctypes
 
     from symkf import square_root
