@@ -425,13 +425,19 @@ def _unrolled_module() -> str:
 
 
 @functools.lru_cache(maxsize=None)
+def _row_loops(kind: str):
+    """``_{kind}_loops`` compiled (one ``cfunc`` for every ``n``)."""
+    return _compiled_row_kernel(_UNROLLED[kind][1])
+
+
+@functools.lru_cache(maxsize=None)
 def _unrolled(kind: str, n: int):
     """The compiled ``kind`` (``"householder"`` or ``"potter"``) kernel for ``n`` states (a numba
     ``cfunc``: the loop kernel is compiled once for its type, whatever ``n``); from
     :mod:`symkf.unrolled_kernels` up to :data:`UNROLLED_MAX` ``[kind]``, compiled on first use once per
-    installation (numba's cache), beyond ``_{kind}_loops``."""
+    installation (numba's cache), beyond :func:`_row_loops`."""
     if n > UNROLLED_MAX[kind]:
-        return _compiled_row_kernel(_UNROLLED[kind][1])
+        return _row_loops(kind)
     from . import unrolled_kernels
     return _compiled_row_kernel(getattr(unrolled_kernels, f"_{kind}_{n}"))
 

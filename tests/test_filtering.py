@@ -240,8 +240,7 @@ def _row_kernel(kind: str, n: int, unrolled: bool, data: np.ndarray, vectors: np
     import ctypes
 
     from symkf import square_root
-    kernel = (square_root._unrolled(kind, n) if unrolled
-              else square_root._compiled_row_kernel(square_root._UNROLLED[kind][1]))
+    kernel = square_root._unrolled(kind, n) if unrolled else square_root._row_loops(kind)
     pointer = ctypes.POINTER(ctypes.c_double)
     kernel.ctypes(data.ctypes.data_as(pointer), vectors.ctypes.data_as(pointer), n)
 
