@@ -7,8 +7,11 @@ the Householder reflections; Potter ~ ``4 n^2`` per row), whatever the kernel sk
 
 Peak: derived from ``lscpu`` (FMA pipes x doubles per pipe x 2 flop x clock; AMD family 25,
 Zen 3/4, has two 256-bit FMA pipes, AVX-512 is double-pumped; family 26, Zen 5, two 512-bit
-pipes; family 23 before model 0x30, Zen and Zen+, two 128-bit pipes) and measured in this process with a numba FMA loop
-(``fastmath={"contract"}`` there only; the kernel has no contraction).  Division and
+pipes; family 23 before model 0x30, Zen and Zen+, two 128-bit pipes) and measured with a numba FMA loop
+(``fastmath={"contract"}`` there only; the kernel has no contraction) just before each timed run of
+the kernel, in its process: the share of peak is the median of those paired ratios (the machine is
+shared; its speed drifts by a quarter between runs, and a peak measured once beforehand moved the
+shares with it).  Division and
 square-root throughput are measured the same way, on independent operands in [1, 2): the
 kernel rounds like the loops it replaced only with true ``/`` and ``sqrt`` (no reciprocals),
 so each path-step costs at least ``div / div-rate + sqrt / sqrt-rate`` (they share the
@@ -47,7 +50,12 @@ CELLS = [(n, d) for n in (2, 4, 8, 16) for d in (1, 3, 8)]
 CASE = r"""
 import json, sys, time
 import numpy as np
+import importlib.util
 sys.path.insert(0, sys.argv[1])
+spec = importlib.util.spec_from_file_location("kernel_peak", sys.argv[5])   # this checkout's FMA loop
+peak = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(peak)
+fma_rate = peak.fma_rate
 from bench_simulate import system
 from symkf.filtering import log_traces, real_form
 horizon, repeats, cells = int(sys.argv[2]), int(sys.argv[3]), json.loads(sys.argv[4])
@@ -56,12 +64,14 @@ for n, d, paths in cells:
     model = real_form(system(n, d))
     received = np.random.default_rng(0).random((horizon, paths, d)) >= 0.3
     log_traces(model, received[:2, :64])                    # compiled kernel loaded before timing
-    times = []
+    fma_rate()
+    times, peaks = [], []
     for r in range(repeats):
+        peaks.append(fma_rate())
         t = time.process_time()
         log_traces(model, received)
         times.append(time.process_time() - t)
-    out.append(sorted(times)[len(times) // 2])
+    out.append([times, peaks])
 print(json.dumps(out))
 """
 
@@ -126,6 +136,16 @@ def _both_pass(x, y, iters, m):
             y[p] = m / x[p] + np.sqrt(x[p])
 
 
+def fma_rate() -> float:
+    """GFLOP/s of one core's FMAs over about 4 ms: timed next to each kernel run, so that the share
+    of peak is a ratio of the same moment (this machine is shared: its speed drifts by 25 % between
+    runs, the FMA loop's and the kernel's alike)."""
+    acc = np.full(256, 1.5)
+    t = time.process_time()
+    _fma_loop(acc, 20_000, 0.9999999, 1e-9)
+    return 2 * 16 * 256 * 20_000 / (time.process_time() - t) / 1e9
+
+
 def measured_rates(repeats: int) -> tuple[float, float, float, float]:
     """(GFLOP/s of FMAs, G divisions/s, G square roots/s, ns of one division and one square root
     together) of one core.  Division and square root: independent operations on 512 operands in
@@ -183,13 +203,14 @@ def asm_divider_work(n: int) -> list[tuple[int, int]]:
     return [per_vector(c) for c in counts if any(c)], register
 
 
-def run_cells(python: str, root: str, horizon: int, repeats: int, cells: list, env: dict) -> list[float]:
-    """Median CPU seconds per cell, timed in a subprocess with the checkout ``root``'s benchmarks
-    (``""``: this one's)."""
+def run_cells(python: str, root: str, horizon: int, repeats: int, cells: list, env: dict) \
+        -> list[list[tuple[float, float]]]:
+    """Per cell, ``repeats`` pairs (CPU seconds of ``log_traces``, GFLOP/s of :func:`fma_rate` just
+    before it), timed in a subprocess with the checkout ``root``'s benchmarks (``""``: this one's)."""
     here = os.path.join(os.path.abspath(root), "benchmarks") if root else os.path.dirname(os.path.abspath(__file__))
-    out = subprocess.run([python, "-c", CASE, here, str(horizon), str(repeats),
-                          json.dumps(cells)], capture_output=True, text=True, cwd="/tmp", env=env, check=True)
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    out = subprocess.run([python, "-c", CASE, here, str(horizon), str(repeats), json.dumps(cells),
+                          os.path.abspath(__file__)], capture_output=True, text=True, cwd="/tmp", env=env, check=True)
+    return [list(zip(times, peaks)) for times, peaks in json.loads(out.stdout.strip().splitlines()[-1])]
 
 
 def main() -> None:
@@ -217,28 +238,28 @@ def main() -> None:
     here, old = [[] for _ in cells], [[] for _ in cells]
     for j, cell in enumerate(cells):       # this checkout and main in turn, cell by cell: the ratio of each pair
         for _ in range(rounds):
-            here[j] += run_cells(sys.executable, "", HORIZON, repeats, [cell], dict(os.environ))
+            here[j] += run_cells(sys.executable, "", HORIZON, repeats, [cell], dict(os.environ))[0]
             if args.main:
                 env = dict(os.environ, PYTHONPATH=os.path.abspath(args.main))
-                old[j] += run_cells(sys.executable, args.main, HORIZON, repeats, [cell], env)
+                old[j] += run_cells(sys.executable, args.main, HORIZON, repeats, [cell], env)[0]
     median = lambda v: sorted(v)[len(v) // 2]
-    ratio = [median([b / a for a, b in zip(h, o)]) for h, o in zip(here, old)] if args.main else None
-    here = [median(h) for h in here]
-    old = [median(o) for o in old] if args.main else None
-    print(f"horizon {HORIZON}; yardstick 4n^3 + 4dn^2 flop per path-step; % of the measured peak "
-          f"({fma:.1f}) and, in brackets, of the lscpu peak ({peak:.1f}); bound: the divider's limit on that share")
-    print(f"{'n':>3} {'d':>2} {'paths':>6} {'CPU s':>7} {'path-steps/s':>12} {'GFLOP/s':>8} {'% peak':>13} "
-          f"{'bound %':>8}" + (f" {'main CPU s':>10} {'speed-up':>8}" if old else ""))
+    ratio = [median([b[0] / a[0] for a, b in zip(h, o)]) for h, o in zip(here, old)] if args.main else None
+    print(f"horizon {HORIZON}; yardstick 4n^3 + 4dn^2 flop per path-step; % peak: the median over {len(here[0])} runs "
+          f"of each run's GFLOP/s over the FMA loop's just before it (peak: that loop's median) and, in "
+          f"brackets, of the lscpu peak ({peak:.1f}); bound: the divider's limit on that share")
+    print(f"{'n':>3} {'d':>2} {'paths':>6} {'CPU s':>7} {'path-steps/s':>12} {'GFLOP/s':>8} {'peak':>5} {'% peak':>13} "
+          f"{'bound %':>8}" + (f" {'main CPU s':>10} {'speed-up':>8}" if old[0] else ""))
     for j, (n, d, paths) in enumerate(cells):
-        t = here[j]
         flop = (4 * n ** 3 + 4 * d * n ** 2) * paths * HORIZON
+        t, paired = median([t for t, _ in here[j]]), median([p for _, p in here[j]])
+        share = median([flop / t_r / 1e9 / p_r * 100 for t_r, p_r in here[j]])
         ndiv, nsqrt = divider_work(n, d)
         floor = ndiv / div + nsqrt / sqrt                      # ns per path-step
-        bound = (4 * n ** 3 + 4 * d * n ** 2) / floor / fma * 100
-        line = (f"{n:>3} {d:>2} {paths:>6} {t:>7.3f} {paths * HORIZON / t:>12.3e} {flop / t / 1e9:>8.2f} "
-                f"{flop / t / 1e9 / fma * 100:>5.1f} ({flop / t / 1e9 / peak * 100:>5.1f}) {min(bound, 100):>8.1f}")
-        if old:
-            line += f" {old[j]:>10.3f} {ratio[j]:>8.2f}"
+        bound = (4 * n ** 3 + 4 * d * n ** 2) / floor / paired * 100
+        line = (f"{n:>3} {d:>2} {paths:>6} {t:>7.3f} {paths * HORIZON / t:>12.3e} {flop / t / 1e9:>8.2f} {paired:>5.1f} "
+                f"{share:>5.1f} ({flop / t / 1e9 / peak * 100:>5.1f}) {min(bound, 100):>8.1f}")
+        if old[0]:
+            line += f" {median([o for o, _ in old[j]]):>10.3f} {ratio[j]:>8.2f}"
         print(line, flush=True)
     ndiv, nsqrt = divider_work(2, 1)
     floor = ndiv / div + nsqrt / sqrt
