@@ -6,16 +6,23 @@ dict or set.  symkf reads outside strings only through its own parser
 (:func:`symkf.exact.numbers.parse_exact`), so for the whole test run the evaluators raise
 :class:`StringEvaluation`: any path of symkf that reaches them fails whatever test exercises it.
 It is a BaseException, so no ``except Exception`` in the code under test can swallow it.
+
+Hypothesis profiles: ``ci`` (derandomized: the same examples on every run, no example database),
+loaded when ``HYPOTHESIS_PROFILE=ci`` or ``CI`` is set (``.ci/run`` sets the former), and ``dev``
+otherwise: new random examples on every local run, failures kept in ``.hypothesis/`` and replayed
+first.  A test's own ``@settings`` give its number of examples, never its randomness.
 """
 
 from __future__ import annotations
 
 import importlib
+import os
 import signal
 import traceback
 
 import pytest
 import sympy
+from hypothesis import settings
 import sympy.parsing.sympy_parser as sympy_parser
 import sympy.physics.units  # noqa: F401  imported lazily by simplify; it sympifies constant strings of its own
 
@@ -25,6 +32,10 @@ import sympy.physics.units  # noqa: F401  imported lazily by simplify; it sympif
 # tests would send Ctrl-C into the void.  A Python handler is reset to the default on exec.
 if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
     signal.signal(signal.SIGINT, signal.default_int_handler)
+
+settings.register_profile("ci", derandomize=True, database=None, deadline=None, print_blob=True)
+settings.register_profile("dev", deadline=None, print_blob=True)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE") or ("ci" if os.environ.get("CI") else "dev"))
 
 #: the module (``sympy.core.sympify`` as an attribute is the function)
 _sympify_module = importlib.import_module("sympy.core.sympify")

@@ -180,7 +180,7 @@ def test_pickle_and_set_membership_survive_arithmetic() -> None:
     assert AlgebraicNumber.from_expr(1 + sp.sqrt(2)) in {s}  # built by sympy's minimal_polynomial
 
 
-@settings(derandomize=True, max_examples=60, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(st.fractions(max_denominator=50), st.fractions(max_denominator=50))
 def test_rational_arithmetic_matches_fraction(p: Fraction, q: Fraction) -> None:
     a, b = AlgebraicNumber.from_expr(p), AlgebraicNumber.from_expr(q)
@@ -190,7 +190,7 @@ def test_rational_arithmetic_matches_fraction(p: Fraction, q: Fraction) -> None:
         assert a / b == p / q
 
 
-@settings(derandomize=True, max_examples=25, deadline=None)
+@settings(max_examples=25, deadline=None)
 @given(st.integers(2, 7), st.integers(2, 7), st.fractions(min_value=-3, max_value=3, max_denominator=9))
 def test_irrational_arithmetic_matches_sympy(m: int, n: int, q: Fraction) -> None:
     """sqrt(m) + q sqrt(n) and sqrt(m) * sqrt(n): certified roots against sympy's minimal polynomials."""
@@ -202,7 +202,7 @@ def test_irrational_arithmetic_matches_sympy(m: int, n: int, q: Fraction) -> Non
     assert a * b == sp.sqrt(m * n)
 
 
-@settings(derandomize=True, max_examples=40, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(st.integers(5, 97).filter(lambda m: sp.totient(m) >= 4),
        st.fractions(min_value=-3, max_value=3, max_denominator=7),
        st.fractions(min_value=-4, max_value=4, max_denominator=5).filter(bool),

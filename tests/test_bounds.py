@@ -161,14 +161,14 @@ def _no_violation(S):
             assert not a.violations, [(r.key, r.stable, a.quantity.stable) for r in a.violations]
 
 
-@settings(derandomize=True, max_examples=3, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=3, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(diagonalizable_systems([("3/2", 2), ("5/4", 1)], sensors=2))
 def test_no_row_violated_on_drawn_systems(S):
     _no_violation(S)
 
 
 @pytest.mark.full
-@settings(derandomize=True, max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(diagonalizable_systems([("3/2", 2), ("5/4", 1), ("1/2", 1)], sensors=2))
 def test_no_row_violated_on_many_drawn_systems(S):
     _no_violation(S)

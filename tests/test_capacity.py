@@ -64,7 +64,7 @@ def test_critical_capacities():
     assert critical_capacities([[0, 1], [0, 0]])[0] == -sp.oo
 
 
-@settings(derandomize=True, max_examples=25, deadline=None)
+@settings(max_examples=25, deadline=None)
 @given(st.lists(st.integers(-3, 3), min_size=4, max_size=4))
 def test_mahler_measure_matches_numpy(entries):
     A = np.array(entries, dtype=float).reshape(2, 2)
@@ -142,7 +142,7 @@ MARE_EX = MARE(System(A=[[R(6, 5), 1], [0, R(-1, 2)]],
 ENTRIES = st.lists(st.floats(-3, 3, allow_nan=False), min_size=4, max_size=4)
 
 
-@settings(derandomize=True, max_examples=60, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(ENTRIES, ENTRIES, st.floats(0.05, 0.95))
 def test_lemma1_monotone_and_concave(a, b, alpha):
     X, D = _spd(a), _spd(b)

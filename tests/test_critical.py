@@ -74,7 +74,7 @@ def test_recovery_input_errors():
         critical_recovery_rate(TWO, ["1/4", "1/3"], sensor="s1")
 
 
-@settings(derandomize=True, max_examples=8, deadline=None)
+@settings(max_examples=8, deadline=None)
 @given(st.sampled_from([(1, 4), (1, 3), (1, 2)]), st.sampled_from(["3/2", "5/4", 2]),
        st.lists(st.integers(-2, 2), min_size=2, max_size=2).filter(lambda v: v != [0, 0]),
        st.lists(st.sampled_from(["1/5", "1/3", "1/2", "3/4"]), min_size=4, max_size=4))
@@ -118,7 +118,7 @@ def test_region_cut_where_one_sensor_alone_destabilises():
 
 
 @pytest.mark.parametrize("system", [TWO, TWO_BLOCKS])
-@settings(derandomize=True, max_examples=15, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(e1=rationals, e2=rationals)
 def test_region_agrees_with_stability(system, e1, e2):
     R = stability_region(system)
@@ -129,7 +129,7 @@ def test_region_agrees_with_stability(system, e1, e2):
 
 
 @pytest.mark.parametrize("system", [TWO, TWO_BLOCKS])
-@settings(derandomize=True, max_examples=10, deadline=None)
+@settings(max_examples=10, deadline=None)
 @given(e1=st.fractions(min_value=0, max_value=1, max_denominator=40))
 def test_region_boundary_is_the_critical_loss_of_sensor_two(system, e1):
     R = stability_region(system)
@@ -173,7 +173,7 @@ def test_numeric_conditions_are_decided_exactly():
 
 
 # -- acceptance properties --------------------------------------------------------------
-@settings(derandomize=True, max_examples=6, deadline=None)
+@settings(max_examples=6, deadline=None)
 @given(st.sampled_from([(1, 4), (1, 3), (1, 6)]), st.sampled_from(["5/4", "3/2", 2]),
        st.lists(st.integers(-2, 2), min_size=2, max_size=2).filter(lambda v: v != [0, 0]))
 def test_critical_loss_decreases_with_alpha(angle, scale, c):
@@ -188,7 +188,7 @@ def test_critical_loss_decreases_with_alpha(angle, scale, c):
     assert stability(small, loss).stable is (AlgebraicNumber.from_expr(exact(scale)) < alpha_c)
 
 
-@settings(derandomize=True, max_examples=10, deadline=None)
+@settings(max_examples=10, deadline=None)
 @given(st.lists(st.integers(-2, 2), min_size=2, max_size=2).filter(lambda v: v != [0, 0]),
        st.lists(st.sampled_from(["1/5", "1/3", "1/2", "2/3"]), min_size=4, max_size=4))
 def test_adding_a_sensor_never_destabilises_markov(extra, params):

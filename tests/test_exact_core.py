@@ -113,7 +113,7 @@ def test_algebraic_number_comparisons_are_exact():
     assert sign(sp.sqrt(2) - sp.Rational(99, 70)) == -1
 
 
-@settings(derandomize=True, max_examples=60, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(st.integers(1, 6), st.integers(1, 5), st.data())
 def test_exact_rank_agrees_with_svd_when_well_conditioned(rows, cols, data):
     M = np.array(data.draw(st.lists(st.lists(st.integers(-3, 3), min_size=cols, max_size=cols),
@@ -144,7 +144,7 @@ def test_rank_over_number_field():
 SQRT_FIELD = sp.QQ.algebraic_field(sp.sqrt(2), sp.sqrt(3))
 
 
-@settings(derandomize=True, max_examples=40, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(st.integers(1, 4), st.integers(1, 4), st.integers(0, 3), st.data())
 def test_rank_over_number_field_matches_sympy_domain_matrix(cols, free, dependent, data):
     """Elimination in Q(sqrt2 + sqrt3) against sympy's DomainMatrix over the same field, on

@@ -269,9 +269,9 @@ def test_a_fusion_file_is_not_a_system_file(capsys):
     assert status == 2 and "symkf.files.load_fusion" in err and str(FUSION / "pendulum.toml") in err
 
 
-# -- round trips and corruption of network files (hypothesis, derandomized) ----------------------
+# -- round trips and corruption of network files (hypothesis; derandomized in CI) ---------------
 
-PROPS = settings(derandomize=True, max_examples=25, deadline=None,
+PROPS = settings(max_examples=25, deadline=None,
                  suppress_health_check=[HealthCheck.function_scoped_fixture])
 
 

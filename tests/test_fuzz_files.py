@@ -22,7 +22,7 @@ from symkf.errors import FileFormatError, SymkfError
 
 ROOT = Path(__file__).resolve().parent.parent
 CORPUS = sorted((ROOT / "tests" / "corpus" / "bad").glob("*.toml"))
-FUZZ = settings(derandomize=True, max_examples=40, deadline=None,
+FUZZ = settings(max_examples=40, deadline=None,
                 suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 
 

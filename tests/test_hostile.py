@@ -153,7 +153,7 @@ def _grow(children):
 GRAMMAR = st.recursive(_ATOMS, _grow, max_leaves=6)
 
 
-@settings(derandomize=True, max_examples=150, deadline=None)
+@settings(max_examples=150, deadline=None)
 @given(GRAMMAR)
 def test_grammar_strings_parse_exactly_or_are_refused_cleanly(case):
     """Strings of the grammar give the same value as sympy's own evaluation of the same
@@ -171,7 +171,7 @@ def test_grammar_strings_parse_exactly_or_are_refused_cleanly(case):
     assert sp.simplify(value - trusted) == 0 or abs(complex(sp.N(value - trusted, 30))) < 1e-25
 
 
-@settings(derandomize=True, max_examples=300, deadline=None)
+@settings(max_examples=300, deadline=None)
 @given(st.text(alphabet=st.sampled_from(list("0123456789.+-*/^()eEjIpisqrtcoxn_,[]{}'\"=<>!@#$%&|~;: \\\n")),
                max_size=40))
 def test_strings_outside_the_grammar_are_input_errors(text):

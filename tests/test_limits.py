@@ -136,14 +136,14 @@ def _fuzz(tmp_path_factory, entry: str, where: str) -> None:
     assert_clean(code, err)
 
 
-@settings(derandomize=True, max_examples=15, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(entry=ENTRY, where=st.sampled_from(["A", "loss"]))
 def test_fuzz_under_limits(tmp_path_factory, entry, where):
     _fuzz(tmp_path_factory, entry, where)
 
 
 @pytest.mark.full
-@settings(derandomize=True, max_examples=100, deadline=None,  # no shrinking: each case may take a minute
+@settings(max_examples=100, deadline=None,  # no shrinking: each case may take a minute
           phases=[Phase.explicit, Phase.reuse, Phase.generate])
 @given(entry=ENTRY, where=st.sampled_from(["A", "loss"]))
 def test_fuzz_under_limits_long(tmp_path_factory, entry, where):

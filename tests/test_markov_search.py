@@ -124,7 +124,7 @@ def test_a_listing_beyond_the_cap_is_refused_up_front():
     assert "inside" not in br.__dict__
 
 
-@settings(derandomize=True, max_examples=12, deadline=None)
+@settings(max_examples=12, deadline=None)
 @given(gilbert_elliott_losses(3, max_denominator=10))
 def test_hypothesis_channels_equal_enumeration(loss):
     _check(_rotation(sp.pi / 6), [[1, 0], [1, 1], [2, -1]], loss)
@@ -162,7 +162,7 @@ def test_ray_critical_rate_equals_listing(A, rows, w):
             is not None and "inside" not in br.__dict__
 
 
-@settings(derandomize=True, max_examples=15, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(iid_losses(3, low="1/10", high="9/10", max_denominator=10))
 def test_sensor_critical_rate_equals_listing(others):
     """``sensor=s2`` with the others fixed: screened iteration against every exponent vector,
@@ -201,7 +201,7 @@ def _screened(S, losses, bound, safe=None):
     return min(out)
 
 
-@settings(derandomize=True, max_examples=12, deadline=None)
+@settings(max_examples=12, deadline=None)
 @given(st.sampled_from(range(len(EXTREMES))), WEIGHTS)
 def test_ray_with_zero_and_large_weights_equals_listing(case, w):
     """Ray weights of 0 (a sensor that never loses: only hyperplanes holding all of it bind) and
@@ -227,7 +227,7 @@ def _sensor_bound(fixed, j):
     return bound
 
 
-@settings(derandomize=True, max_examples=12, deadline=None)
+@settings(max_examples=12, deadline=None)
 @given(st.sampled_from(range(len(EXTREMES))), st.lists(st.sampled_from(["0", "1/10", "1/2", "9/10", "1"]),
                                                        min_size=3, max_size=3), st.integers(0, 2))
 def test_sensor_with_zero_losses_equals_listing(case, others, j):

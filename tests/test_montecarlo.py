@@ -103,7 +103,7 @@ def _verdict(system, eps, seed, **kw):
     return divergence_test(system, IID([eps] * system.d), seed=seed, **kw)
 
 
-SETTINGS = settings(derandomize=True, max_examples=4, deadline=None)
+SETTINGS = settings(max_examples=4, deadline=None)
 
 
 @SETTINGS

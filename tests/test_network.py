@@ -246,7 +246,7 @@ def test_theorem1_with_quadrature_uses_lower_bounds():
     assert t.nu[0] == 1 - phi.lower
 
 
-@settings(derandomize=True, max_examples=25, deadline=None)
+@settings(max_examples=25, deadline=None)
 @given(st.lists(st.sampled_from([0, R(1, 4), R(1, 2), R(3, 4), 1]), min_size=6, max_size=6))
 def test_nu_equals_one_step_probability_from_chain(values):
     # nu_i = Pr{C(k) rank deficient | Xi(k-1) = i} from the lifted chain, independently
@@ -274,7 +274,7 @@ def test_observability_matrix_shape_and_phi():
     assert O == sp.Matrix([[1, 0], [2, 0], [0, 0]])
 
 
-@settings(derandomize=True, max_examples=12, deadline=None)
+@settings(max_examples=12, deadline=None)
 @given(st.lists(st.integers(-2, 2), min_size=4, max_size=4),
        st.sampled_from([R(1, 3), R(1, 2), R(9, 10)]), st.integers(0, 1))
 def test_dp_matches_enumeration(a, p, phase):

@@ -151,7 +151,7 @@ def test_charpoly_and_norm():
 SQRTS = [2, 3, 5, 6, 7]
 
 
-@settings(derandomize=True, max_examples=25, deadline=None)
+@settings(max_examples=25, deadline=None)
 @given(st.lists(st.sampled_from(SQRTS), min_size=1, max_size=2, unique=True),
        st.lists(st.integers(-4, 4), min_size=3, max_size=3))
 def test_against_sympy_algebraic_field(radicands, c):

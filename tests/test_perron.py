@@ -30,13 +30,13 @@ def nonnegative(draw):
     return sp.Matrix(n, n, [draw(st.sampled_from(ENTRIES)) for _ in range(n * n)])
 
 
-@settings(derandomize=True, max_examples=150, deadline=None)
+@settings(max_examples=150, deadline=None)
 @given(nonnegative())
 def test_perron_root_agrees_with_sympy_real_roots(M):
     assert sp.simplify(perron_root(M) - sympy_spectral_radius(M)) == 0
 
 
-@settings(derandomize=True, max_examples=60, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(nonnegative(), st.integers(1, 3))
 def test_duplicated_states_keep_the_root(M, k):
     # lifting every state into k copies that share its row (columns split evenly) is M kron (J/k):
@@ -87,7 +87,7 @@ def test_algebraic_entries_hand_derived():
     assert perron_root(sp.Matrix([[0, Q], [0, Q]])) == Q
 
 
-@settings(derandomize=True, max_examples=40, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(st.integers(2, 3).flatmap(lambda n: st.lists(st.sampled_from([R(0), Q, 1 - Q, R(1, 2), 1 + Q]),
                                                     min_size=n * n, max_size=n * n)))
 def test_algebraic_entries_against_lapack(entries):

@@ -11,7 +11,7 @@ from symkf.exact.algebraic import AlgebraicNumber
 from symkf.exact.linalg import rank
 from symkf.model import Sensor, System
 
-FAST = settings(derandomize=True, max_examples=15, deadline=None)
+FAST = settings(max_examples=15, deadline=None)
 
 
 @FAST
@@ -57,7 +57,7 @@ def test_loss_models(iid, ge):
 
 
 # exact observability checks of complex systems are slow in sympy: few examples
-@settings(derandomize=True, max_examples=3, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=3, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(sks.complex_diagonal_systems(2, moduli=["3/2"], max_denominator=4))
 def test_complex_diagonal_systems(S):
     assert S.n == 2 and any(e.is_real is False for e in S.A)
@@ -79,7 +79,7 @@ def test_arguments_validated_up_front(call, name):
         call()
 
 
-@settings(derandomize=True, max_examples=15, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(sks.rotation_systems(scale="3/2", max_denominator=6))
 def test_hand_derived_rotation_threshold_equals_the_engine(rot):
     """The strategy's closed form r^(-2q/(q-1)) against the exact engine (hyperplanes over g = q)."""
