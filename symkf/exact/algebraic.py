@@ -208,11 +208,14 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
 
 @lru_cache(maxsize=512)
 def _factors(coeffs: tuple[int, ...]) -> list[flint.fmpz_poly]:
-    """The irreducible factors (positive leading coefficient) of a nonconstant integer polynomial,
-    cached: the moduli and phase orders of all eigenvalues of one minimal polynomial share one
-    resultant of degree up to ``2 d^2``."""
+    """The irreducible factors (primitive, positive leading coefficient: the minimal polynomials
+    that :class:`AlgebraicNumber` hashes and compares, and the spectrum keys its moduli by) of a
+    nonconstant integer polynomial, cached: the moduli and phase orders of all eigenvalues of one
+    minimal polynomial share one resultant of degree up to ``2 d^2``."""
     if _known_roots(coeffs) is not None:  # c^d Phi_m(x/c) and the polynomial of 2 cos(2 pi/m) are irreducible
-        return [flint.fmpz_poly(list(coeffs))]
+        f = flint.fmpz_poly(list(coeffs))   # up to its content (sqrt(2) / 2: 4x^2 - 2)
+        f = f / f.content()
+        return [f if f.leading_coefficient() > 0 else -f]
     return [f if f.leading_coefficient() > 0 else -f for f, _ in flint.fmpz_poly(list(coeffs)).factor()[1]
             if f.degree() > 0]
 
