@@ -6,7 +6,8 @@ new system times ``T^{-1}``, so every rank, hyperplane and loss pattern of Sui-Y
 the same, and so are the critical loss rate and every margin ``alpha_i^2 rho_i``.  A row
 ``c C_i`` (``c != 0``) spans the same lines; renumbering the sensors renumbers their losses.  The
 engine sees none of this: block-diagonal ``A`` with rotation blocks becomes a dense matrix over
-``Q(sqrt 2, sqrt 3)``, whose eigen-blocks, modal forms and number fields it finds afresh.
+``Q(sqrt 2, sqrt 3)``, whose eigen-blocks, Jordan chains, modal forms and number fields it finds
+afresh.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ import sympy as sp
 from hypothesis import assume, given, settings, strategies as st
 
 import symkf as sk
-from symkf.errors import SymkfError
+from symkf.errors import BudgetError, SymkfError
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.losses import IID, GilbertElliott
 
@@ -34,11 +35,13 @@ def rotation(r: sp.Expr, t: sp.Expr) -> sp.Matrix:
 
 @st.composite
 def changes_of_coordinates(draw):
-    """A detectable system (rotation blocks and perhaps a real eigenvalue, integer sensor rows), a
-    nonsingular integer ``T``, nonzero row scales and a permutation of the sensors."""
+    """A detectable system (rotation blocks and perhaps a real eigenvalue, alone or in a Jordan chain
+    of length 2; integer sensor rows), a nonsingular integer ``T``, nonzero row scales and a
+    permutation of the sensors."""
     blocks = [rotation(draw(st.sampled_from(MODULI)), draw(st.sampled_from(ANGLES)))
               for _ in range(draw(st.integers(1, 2)))]
-    blocks += [sp.Matrix([[r]]) for r in draw(st.lists(st.sampled_from(REALS), max_size=1))]
+    blocks += [sp.Matrix([[r, 1], [0, r]]) if draw(st.booleans()) else sp.Matrix([[r]])
+               for r in draw(st.lists(st.sampled_from(REALS), max_size=1))]
     A = sp.diag(*blocks)
     n = A.shape[0]
     d = draw(st.integers(1, 3))
@@ -71,7 +74,11 @@ def same_verdict(a: sk.Verdict, b: sk.Verdict) -> bool:
 def test_verdicts_do_not_depend_on_coordinates(case, data):
     system, moved, order = case
     d = len(order)
-    assert exactly_equal(sk.critical_loss_rate(system), sk.critical_loss_rate(moved))
+    try:
+        critical = sk.critical_loss_rate(system)
+    except BudgetError:   # a chain beside rotations of its modulus: hyperplanes listed, some beyond the cap
+        assume(False)
+    assert exactly_equal(critical, sk.critical_loss_rate(moved))
     losses = data.draw(st.lists(PROBABILITY, min_size=d, max_size=d))
     assert same_verdict(sk.stability(system, IID(losses)), sk.stability(moved, IID([losses[i] for i in order])))
     fail, recover = (data.draw(st.lists(PROBABILITY, min_size=d, max_size=d)) for _ in range(2))
