@@ -22,9 +22,9 @@ import traceback
 
 import pytest
 import sympy
-from hypothesis import settings
 import sympy.parsing.sympy_parser as sympy_parser
 import sympy.physics.units  # noqa: F401  imported lazily by simplify; it sympifies constant strings of its own
+from hypothesis import settings
 
 
 # A test run started in the background of a non-interactive shell inherits SIGINT ignored, and so
