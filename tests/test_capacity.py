@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -10,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 from symkf import GilbertElliott, IID, Sensor, System, budget
 from symkf.capacity.compare import theorem5_common_threshold
@@ -66,10 +67,16 @@ def test_critical_capacities():
 
 @settings(max_examples=25, deadline=None)
 @given(st.lists(st.integers(-3, 3), min_size=4, max_size=4))
-def test_mahler_measure_matches_numpy(entries):
-    A = np.array(entries, dtype=float).reshape(2, 2)
-    expected = np.prod([max(1.0, abs(z)) for z in np.linalg.eigvals(A)])
-    assert float(mahler_measure([entries[:2], entries[2:]])) == pytest.approx(expected, rel=1e-9)
+@example([3, 2, -2, -1])   # a random run: a double eigenvalue 1, which LAPACK returns as 1 +- 2e-8
+def test_mahler_measure_matches_the_quadratic_formula(entries):
+    """Against the eigenvalues ``(t +- sqrt(t^2 - 4 det)) / 2`` from the exact integer discriminant
+    (complex pairs: ``|lambda|^2 = det``), not LAPACK's, which at a Jordan block err by sqrt(eps)."""
+    a, b, c, d = entries
+    t, det = a + d, a * d - b * c
+    disc = t * t - 4 * det
+    moduli = [math.sqrt(det)] * 2 if disc < 0 else [abs(t + s * math.sqrt(disc)) / 2 for s in (1, -1)]
+    expected = math.prod(max(1.0, m) for m in moduli)
+    assert float(mahler_measure([entries[:2], entries[2:]])) == pytest.approx(expected, rel=1e-12)
 
 
 # ---------------------------------------------------------------- lower bound (Prop. 1, Thms 1-2)
