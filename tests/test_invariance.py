@@ -74,13 +74,13 @@ def same_verdict(a: sk.Verdict, b: sk.Verdict) -> bool:
 def test_verdicts_do_not_depend_on_coordinates(case, data):
     system, moved, order = case
     d = len(order)
+    losses, fail, recover = (data.draw(st.lists(PROBABILITY, min_size=d, max_size=d)) for _ in range(3))
+    renumbered = lambda values: [values[i] for i in order]
+    iid, ge = IID(losses), GilbertElliott(fail, recover)
     try:
-        critical = sk.critical_loss_rate(system)
+        answers = sk.critical_loss_rate(system), sk.stability(system, iid), sk.stability(system, ge)
     except BudgetError:   # a chain beside rotations of its modulus: hyperplanes listed, some beyond the cap
         assume(False)
-    assert exactly_equal(critical, sk.critical_loss_rate(moved))
-    losses = data.draw(st.lists(PROBABILITY, min_size=d, max_size=d))
-    assert same_verdict(sk.stability(system, IID(losses)), sk.stability(moved, IID([losses[i] for i in order])))
-    fail, recover = (data.draw(st.lists(PROBABILITY, min_size=d, max_size=d)) for _ in range(2))
-    assert same_verdict(sk.stability(system, GilbertElliott(fail, recover)),
-                        sk.stability(moved, GilbertElliott([fail[i] for i in order], [recover[i] for i in order])))
+    assert exactly_equal(answers[0], sk.critical_loss_rate(moved))
+    assert same_verdict(answers[1], sk.stability(moved, IID(renumbered(losses))))
+    assert same_verdict(answers[2], sk.stability(moved, GilbertElliott(renumbered(fail), renumbered(recover))))
