@@ -37,6 +37,12 @@ settings.register_profile("ci", derandomize=True, database=None, deadline=None, 
 settings.register_profile("dev", deadline=None, print_blob=True)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE") or ("ci" if os.environ.get("CI") else "dev"))
 
+def rotation(angle, scale=2) -> sympy.Matrix:
+    """``scale R(angle)``: the rotation blocks the tests build their systems from."""
+    c, s = sympy.cos(angle), sympy.sin(angle)
+    return scale * sympy.Matrix([[c, -s], [s, c]])
+
+
 #: the module (``sympy.core.sympify`` as an attribute is the function)
 _sympify_module = importlib.import_module("sympy.core.sympify")
 

@@ -6,13 +6,10 @@ import pytest
 import sympy as sp
 
 import symkf as sk
+from conftest import rotation
 from symkf.errors import UnobservableError
 from symkf.spectral import _abs_poly, _resultant_y, _cosine_order, diagonal_blocks, eigen_blocks, eigenvalues
 from symkf.exact.algebraic import identify, real_from_ball
-
-
-def rotation(r, t):
-    return sp.Matrix([[r * sp.cos(t), -r * sp.sin(t)], [r * sp.sin(t), r * sp.cos(t)]])
 
 
 def test_diagonal_blocks_are_the_components_of_the_pattern():
@@ -28,9 +25,9 @@ def test_four_field_stack_is_the_minimum_over_its_blocks():
     block's columns), each decided by the unchanged single-block path."""
     angles = [2 * sp.pi / 5, 2 * sp.pi / 7, sp.pi / 4, sp.pi / 6]
     rows = [[1, 0, -2, 1, 0, 2, 1, -1], [0, 1, 1, 0, 2, -1, 0, 1], [1, 1, 0, 0, 1, 0, -1, 2]]
-    A = sp.diag(*[rotation(k + 2, a) for k, a in enumerate(angles)])
+    A = sp.diag(*[rotation(a, k + 2) for k, a in enumerate(angles)])
     S = sk.System(A=A, sensors=[sk.Sensor(C=[r]) for r in rows])
-    parts = [sk.critical_loss_rate(sk.System(A=rotation(k + 2, a), sensors=[
+    parts = [sk.critical_loss_rate(sk.System(A=rotation(a, k + 2), sensors=[
         sk.Sensor(C=[r[2 * k:2 * k + 2]]) for r in rows if any(r[2 * k:2 * k + 2])])).exact
         for k, a in enumerate(angles)]
     assert sk.critical_loss_rate(S).exact == min(parts, key=lambda v: float(v))
@@ -41,7 +38,7 @@ def test_an_eigenvalue_of_two_blocks_is_tested_jointly():
     [1, 0, 1, 0] sees each block's eigenvectors, but not v = (u, -u) for an eigenvector u of R:
     C v = u_1 - u_1 = 0, so (A, C) is not detectable (|lambda| = 2).  Two sensors [1, 0, 0, 0] and
     [0, 0, 1, 0] see every eigenvector (u_1 != 0 for both eigenvectors of a rotation)."""
-    R = rotation(2, sp.pi / 3)
+    R = rotation(sp.pi / 3, 2)
     A = sp.diag(R, R)
     assert sorted(e.multiplicity for e in eigenvalues(A)) == [2, 2]
     with pytest.raises(UnobservableError, match="not seen by any sensor"):
@@ -74,7 +71,7 @@ def test_moduli_agree_with_the_resultant(A, modulus):
 
 
 def test_rotation_by_2pi_97_has_modulus_2():
-    (block,) = eigen_blocks(rotation(2, 2 * sp.pi / 97))
+    (block,) = eigen_blocks(rotation(2 * sp.pi / 97, 2))
     assert block.modulus == 2 and block.period == 97
 
 
@@ -95,6 +92,6 @@ def test_rotations_in_three_cyclotomic_fields_critical_loss_rate():
     are distinct mod pi) for both sensors: 35 + 35 = 70 of the 630 elements.  With that heaviest
     weight the critical common loss rate is 2^(-2 * 315 / (630 - 70)) = 2^(-9/8); the screen without
     windows (9.3e9 incidences, its cap raised) gave the same in 3660 CPU-s."""
-    A = sp.diag(*(rotation(2, 2 * sp.pi / q) for q in (5, 7, 9)))
+    A = sp.diag(*(rotation(2 * sp.pi / q, 2) for q in (5, 7, 9)))
     S = sk.System(A=A, sensors=[sk.Sensor(C=[[2, 1, 0, -1, -1, -2]]), sk.Sensor(C=[[-2, -2, -2, 2, 1, 2]])])
     assert sp.simplify(sk.critical_loss_rate(S).exact - 2 ** sp.Rational(-9, 8)) == 0

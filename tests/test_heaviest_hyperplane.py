@@ -6,21 +6,17 @@ import pytest
 import sympy as sp
 
 import symkf as sk
+from conftest import rotation
 from symkf.decay import _weights, block_rate
 from symkf.stability import critical_loss_rate
 from symkf.observability import BlockRows, block_rows
 
 
-def _rotation(angle, scale):
-    c, s = sp.cos(angle), sp.sin(angle)
-    return scale * sp.Matrix([[c, -s], [s, c]])
-
-
 BLOCKS = {  # each a single eigen-block (eigenvalue ratios are roots of unity) of dimension 2, 3, 4
-    "2R(pi/6)": _rotation(sp.pi / 6, 2),
-    "diag(2R(pi/3), -2)": sp.diag(_rotation(sp.pi / 3, 2), -2),
-    "diag(21/20 R(pi/3), 21/20 R(pi/4))": sp.diag(_rotation(sp.pi / 3, sp.Rational(21, 20)),
-                                                  _rotation(sp.pi / 4, sp.Rational(21, 20))),
+    "2R(pi/6)": rotation(sp.pi / 6, 2),
+    "diag(2R(pi/3), -2)": sp.diag(rotation(sp.pi / 3, 2), -2),
+    "diag(21/20 R(pi/3), 21/20 R(pi/4))": sp.diag(rotation(sp.pi / 3, sp.Rational(21, 20)),
+                                                  rotation(sp.pi / 4, sp.Rational(21, 20))),
 }
 CASES = [  # (block, sensor rows, losses): ties (equal losses) and unequal losses
     ("2R(pi/6)", [[1, 0], [1, 1]], ["1/10", "1/5"]),
@@ -64,7 +60,7 @@ def test_common_critical_loss_rate_from_the_heaviest_hyperplanes(name, rows):
     assert a == critical_loss_rate(full)
 
 
-FIVE = sp.diag(_rotation(sp.pi / 3, 2), _rotation(sp.pi / 2, 2), 2)  # one block of dimension 5, period 12
+FIVE = sp.diag(rotation(sp.pi / 3, 2), rotation(sp.pi / 2, 2), 2)  # one block of dimension 5, period 12
 FULL = pytest.mark.full
 FOUR = BLOCKS["diag(21/20 R(pi/3), 21/20 R(pi/4))"]
 RANDOM = [  # (A, rows, losses, shifted): random rows, parallel rows, repeated losses; more in the full tier
@@ -96,8 +92,8 @@ def test_heaviest_with_and_without_the_phase_shift(A, rows, losses, shifted, mon
 
 
 @pytest.mark.parametrize("A, rows", [
-    (sp.diag(_rotation(sp.pi / 6, 2), _rotation(sp.pi / 4, 2)), [[-2, 1, 0, 2]]),   # period 24, 970 hyperplanes
-    (sp.diag(_rotation(sp.pi / 2, 2), _rotation(sp.pi / 3, 2)), [[1, 0, 0, 0], [0, 0, 1, 0], [1, 1, 1, 1]]),
+    (sp.diag(rotation(sp.pi / 6, 2), rotation(sp.pi / 4, 2)), [[-2, 1, 0, 2]]),   # period 24, 970 hyperplanes
+    (sp.diag(rotation(sp.pi / 2, 2), rotation(sp.pi / 3, 2)), [[1, 0, 0, 0], [0, 0, 1, 0], [1, 1, 1, 1]]),
 ])
 def test_a_floor_below_every_weight_returns_every_hyperplane(A, rows):
     """With ``floor = 0`` no additive bound rules anything out: the screen keeps lower flats too

@@ -18,6 +18,7 @@ import sympy as sp
 from hypothesis import assume, given, settings, strategies as st
 
 import symkf as sk
+from conftest import rotation
 from symkf.errors import BudgetError, SymkfError
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.losses import IID, GilbertElliott
@@ -29,16 +30,12 @@ SCALES = [sp.Integer(-2), sp.Rational(-1, 2), sp.Rational(1, 3), sp.Integer(3)]
 PROBABILITY = st.fractions(Fraction(1, 20), Fraction(9, 10), max_denominator=20).map(str)
 
 
-def rotation(r: sp.Expr, t: sp.Expr) -> sp.Matrix:
-    return r * sp.Matrix([[sp.cos(t), -sp.sin(t)], [sp.sin(t), sp.cos(t)]])
-
-
 @st.composite
 def changes_of_coordinates(draw):
     """A detectable system (rotation blocks and perhaps a real eigenvalue, alone or in a Jordan chain
     of length 2; integer sensor rows), a nonsingular integer ``T``, nonzero row scales and a
     permutation of the sensors."""
-    blocks = [rotation(draw(st.sampled_from(MODULI)), draw(st.sampled_from(ANGLES)))
+    blocks = [rotation(scale=draw(st.sampled_from(MODULI)), angle=draw(st.sampled_from(ANGLES)))
               for _ in range(draw(st.integers(1, 2)))]
     blocks += [sp.Matrix([[r, 1], [0, r]]) if draw(st.booleans()) else sp.Matrix([[r]])
                for r in draw(st.lists(st.sampled_from(REALS), max_size=1))]

@@ -8,15 +8,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import symkf as sk
+from conftest import rotation
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.files import load
 from symkf.recovery import monotone_critical_recovery
 from symkf.stability import stable_recovery_intervals
-
-
-def _rotation(angle, scale=2):
-    c, s = sp.cos(angle), sp.sin(angle)
-    return scale * sp.Matrix([[c, -s], [s, c]])
 
 
 def _system(A, rows):
@@ -42,13 +38,13 @@ def test_two_sensor_example():
 
 
 CASES = [  # (A, rows, fail): periods 2, 3, 4, 6 and 24, tied and unequal channels
-    (_rotation(sp.pi / 2), [[1, 0], [1, 1]], ["1/4", "1/4"]),
-    (_rotation(sp.pi / 2), [[1, 0], [1, 0]], ["1/5", "1/5"]),          # parallel rows: ties
-    (_rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["1/10", "1/5", "1/8"]),
-    (_rotation(2 * sp.pi / 3), [[1, 0], [1, 2]], ["1/6", "1/3"]),
-    (_rotation(sp.pi / 4), [[1, 0]], ["1/10"]),
-    (_rotation(sp.pi / 3), [[1, 0], [2, -1]], ["1/7", "1/10"]),
-    (sp.diag(_rotation(sp.pi / 6), _rotation(sp.pi / 4)), [[1, 0, -1, 2]], ["1/10"]),
+    (rotation(sp.pi / 2), [[1, 0], [1, 1]], ["1/4", "1/4"]),
+    (rotation(sp.pi / 2), [[1, 0], [1, 0]], ["1/5", "1/5"]),          # parallel rows: ties
+    (rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["1/10", "1/5", "1/8"]),
+    (rotation(2 * sp.pi / 3), [[1, 0], [1, 2]], ["1/6", "1/3"]),
+    (rotation(sp.pi / 4), [[1, 0]], ["1/10"]),
+    (rotation(sp.pi / 3), [[1, 0], [2, -1]], ["1/7", "1/10"]),
+    (sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)), [[1, 0, -1, 2]], ["1/10"]),
 ]
 
 
@@ -71,7 +67,7 @@ def test_equals_listing_benchmark_block():
         r = [int(v) for v in rng.integers(-2, 3, 4)]
         if any(r):
             rows.append(r)
-    S = _system(sp.diag(_rotation(sp.pi / 6), _rotation(sp.pi / 4)), rows)
+    S = _system(sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)), rows)
     for d in (1, 2, 3):
         sub = _system(S.A, rows[:d])
         fail = [sp.Rational(1, 10)] * d
@@ -90,16 +86,16 @@ def _listed_one(S, fail, recover, j):
     return lo
 
 
-BLOCK = sp.diag(_rotation(sp.pi / 2), _rotation(sp.pi / 3))
+BLOCK = sp.diag(rotation(sp.pi / 2), rotation(sp.pi / 3))
 ONE = [  # (A, rows, fail, recover, sensor, expected kind): interior values, 0 and 1 (a margin without q)
-    (_rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["1/10", "1/5", "1/8"], ["1/2"] * 3, 0, "interior"),
-    (_rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["1/10", "1/5", "1/8"], ["1/2"] * 3, 1, "interior"),
-    (_rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["1/10", "1/5", "1/8"], ["1/3", "3/4", "1/5"], 2, "interior"),
-    (_rotation(sp.pi / 2), [[1, 0], [1, 1]], ["1/4", "1/4"], ["9/10", "9/10"], 1, "interior"),
-    (_rotation(sp.pi / 2), [[1, 0], [1, 0]], ["1/5", "1/5"], ["1/3", "3/4"], 0, "interior"),  # parallel rows
-    (_rotation(2 * sp.pi / 3), [[1, 0], [1, 2]], ["1/6", "1/3"], ["9/10", "9/10"], 1, "interior"),
-    (_rotation(sp.pi / 3), [[1, 0], [2, -1]], ["1/7", "1/10"], ["1/10", "1/10"], 1, "interior"),
-    (_rotation(sp.pi / 4), [[1, 0]], ["1/10"], ["1/2"], 0, "interior"),
+    (rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["1/10", "1/5", "1/8"], ["1/2"] * 3, 0, "interior"),
+    (rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["1/10", "1/5", "1/8"], ["1/2"] * 3, 1, "interior"),
+    (rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["1/10", "1/5", "1/8"], ["1/3", "3/4", "1/5"], 2, "interior"),
+    (rotation(sp.pi / 2), [[1, 0], [1, 1]], ["1/4", "1/4"], ["9/10", "9/10"], 1, "interior"),
+    (rotation(sp.pi / 2), [[1, 0], [1, 0]], ["1/5", "1/5"], ["1/3", "3/4"], 0, "interior"),  # parallel rows
+    (rotation(2 * sp.pi / 3), [[1, 0], [1, 2]], ["1/6", "1/3"], ["9/10", "9/10"], 1, "interior"),
+    (rotation(sp.pi / 3), [[1, 0], [2, -1]], ["1/7", "1/10"], ["1/10", "1/10"], 1, "interior"),
+    (rotation(sp.pi / 4), [[1, 0]], ["1/10"], ["1/2"], 0, "interior"),
     (BLOCK, [[1, 0, 0, 0], [0, 0, 1, 0], [1, 1, 1, 1]], ["1/10"] * 3, ["9/10"] * 3, 0, "interior"),
     (BLOCK, [[1, 0, 0, 0], [0, 0, 1, 0], [1, 1, 1, 1]], ["1/10"] * 3, ["9/10"] * 3, 1, "zero"),
     (BLOCK, [[1, 0, 0, 0], [0, 0, 1, 0]], ["1/3"] * 2, ["1/20"] * 2, 0, "one"),
@@ -127,7 +123,7 @@ def test_one_sensor_equals_listing(A, rows, fail, recover, j, kind):
 def test_one_sensor_hypothesis_against_listing(fail, recover, j, q):
     """Hypothesis-drawn channels on three sensors of 2R(pi/q): whenever the monotone search
     answers, the listing of every hyperplane gives the same exact number."""
-    S = _system(_rotation(sp.pi / q), [[1, 0], [1, 1], [2, -1]])
+    S = _system(rotation(sp.pi / q), [[1, 0], [1, 1], [2, -1]])
     fast = monotone_critical_recovery(S, [sp.Rational(f) for f in fail], [sp.Rational(r) for r in recover], j)
     if fast is not None:
         assert fast == _listed_one(S, fail, recover, j)
@@ -145,7 +141,7 @@ def test_one_sensor_without_listing_at_period_24():
         r = [int(v) for v in rng.integers(-2, 3, 4)]
         if any(r):
             rows.append(r)
-    S = _system(sp.diag(_rotation(sp.pi / 6), _rotation(sp.pi / 4)), rows)
+    S = _system(sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)), rows)
     with pytest.raises(BudgetError, match="max_hyperplanes"):
         stable_recovery_intervals(S, ["1/10"] * 8, recover=["1/2"] * 8, sensor="s1")
     assert sk.critical_recovery_rate(S, fail=["1/10"] * 8, recover=["1/2"] * 8, sensor="s1") == 0

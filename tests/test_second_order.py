@@ -16,15 +16,12 @@ from hypothesis import strategies as st
 
 from symkf.exact.numbers import sympify as exact
 import symkf as sk
+from conftest import rotation
 from symkf import second_order as so
 from symkf.errors import AperiodicError, AssumptionError, InputError
 
 R = sp.Rational
 PROOFS = Path(__file__).resolve().parents[1] / "proofs"
-
-
-def rotation(theta, alpha=2):
-    return sp.Matrix([[alpha * sp.cos(theta), -alpha * sp.sin(theta)], [alpha * sp.sin(theta), alpha * sp.cos(theta)]])
 
 
 def system(A, *rows):
