@@ -136,14 +136,14 @@ def _both_pass(x, y, iters, m):
             y[p] = m / x[p] + np.sqrt(x[p])
 
 
-def fma_rate() -> float:
-    """GFLOP/s of one core's FMAs over about 4 ms: timed next to each kernel run, so that the share
-    of peak is a ratio of the same moment (this machine is shared: its speed drifts by 25 % between
-    runs, the FMA loop's and the kernel's alike)."""
+def fma_rate(iters: int = 20_000) -> float:
+    """GFLOP/s of one core's FMAs over ``iters`` passes (20 000: about 4 ms, timed next to each kernel
+    run, so that the share of peak is a ratio of the same moment: this machine is shared, its speed
+    drifts by 25 % between runs, the FMA loop's and the kernel's alike)."""
     acc = np.full(256, 1.5)
     t = time.process_time()
-    _fma_loop(acc, 20_000, 0.9999999, 1e-9)
-    return 2 * 16 * 256 * 20_000 / (time.process_time() - t) / 1e9
+    _fma_loop(acc, iters, 0.9999999, 1e-9)
+    return 2 * 16 * 256 * iters / (time.process_time() - t) / 1e9
 
 
 def measured_rates(repeats: int) -> tuple[float, float, float, float]:
@@ -151,11 +151,10 @@ def measured_rates(repeats: int) -> tuple[float, float, float, float]:
     together) of one core.  Division and square root: independent operations on 512 operands in
     [1, 2) (throughput, not latency; the divider's time depends on the operand: ``sqrt(1.0)``,
     which a chained loop converges to, is about twice as fast as a general one)."""
-    acc = np.full(256, 1.5)
     x = np.random.default_rng(0).random(512) + 1.0
     y = np.empty_like(x)
-    _fma_loop(acc, 1, 0.999, 1e-3), _div_pass(x, y, 1, 3.0), _sqrt_pass(x, y, 1), _both_pass(x, y, 1, 3.0)
-    fma = 2 * 16 * 256 * 40_000 / median_cpu(lambda r: _fma_loop(acc, 40_000, 0.9999999, 1e-9), repeats) / 1e9
+    fma_rate(1), _div_pass(x, y, 1, 3.0), _sqrt_pass(x, y, 1), _both_pass(x, y, 1, 3.0)
+    fma = sorted(fma_rate(40_000) for _ in range(repeats))[repeats // 2]
     div = x.size * 40_000 / median_cpu(lambda r: _div_pass(x, y, 40_000, 3.0), repeats) / 1e9
     sqrt = x.size * 40_000 / median_cpu(lambda r: _sqrt_pass(x, y, 40_000), repeats) / 1e9
     both = median_cpu(lambda r: _both_pass(x, y, 40_000, 3.0), repeats) / (x.size * 40_000) * 1e9
@@ -248,7 +247,7 @@ def main() -> None:
           f"of each run's GFLOP/s over the FMA loop's just before it (peak: that loop's median) and, in "
           f"brackets, of the lscpu peak ({peak:.1f}); bound: the divider's limit on that share")
     print(f"{'n':>3} {'d':>2} {'paths':>6} {'CPU s':>7} {'path-steps/s':>12} {'GFLOP/s':>8} {'peak':>5} {'% peak':>13} "
-          f"{'bound %':>8}" + (f" {'main CPU s':>10} {'speed-up':>8}" if old[0] else ""))
+          f"{'bound %':>8}" + (f" {'main CPU s':>10} {'speed-up':>8}" if args.main else ""))
     for j, (n, d, paths) in enumerate(cells):
         flop = (4 * n ** 3 + 4 * d * n ** 2) * paths * HORIZON
         t, paired = median([t for t, _ in here[j]]), median([p for _, p in here[j]])
@@ -258,7 +257,7 @@ def main() -> None:
         bound = (4 * n ** 3 + 4 * d * n ** 2) / floor / paired * 100
         line = (f"{n:>3} {d:>2} {paths:>6} {t:>7.3f} {paths * HORIZON / t:>12.3e} {flop / t / 1e9:>8.2f} {paired:>5.1f} "
                 f"{share:>5.1f} ({flop / t / 1e9 / peak * 100:>5.1f}) {min(bound, 100):>8.1f}")
-        if old[0]:
+        if args.main:
             line += f" {median([o for o, _ in old[j]]):>10.3f} {ratio[j]:>8.2f}"
         print(line, flush=True)
     ndiv, nsqrt = divider_work(2, 1)
