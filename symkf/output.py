@@ -76,7 +76,9 @@ _RUN = _Run()
 @contextlib.contextmanager
 def run(inputs: Iterable[str | os.PathLike] = ()) -> Iterator[None]:
     """One run (a command): ``inputs`` and every file read inside are protected from being
-    written over, and a target that appears or changes after the start is refused."""
+    written over, and a target that appears or changes after the start is refused.  "After" is
+    read from the file's change time, which file systems stamp from a coarse clock: a change
+    within about a timer tick (1-10 ms on Linux) of the start may pass as before it."""
     global _RUN
     saved, _RUN = _RUN, _Run(started_ns=time.time_ns())
     try:

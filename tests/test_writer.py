@@ -11,6 +11,7 @@ import os
 import resource
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -146,7 +147,14 @@ def test_a_target_changed_after_the_run_started_is_not_replaced(tmp_path):
     run's own earlier outputs are replaced."""
     target = tmp_path / "figure.png"
     with output.run():
-        target.write_bytes(b"the other run's figure")
+        after_the_start = time.time_ns()
+        # file systems stamp changes from a coarse clock (the last timer tick, up to ms behind):
+        # the other run changes the file until its stamp is after this run's start
+        for _ in range(1000):
+            target.write_bytes(b"the other run's figure")
+            if target.stat().st_ctime_ns > after_the_start:
+                break
+            time.sleep(0.001)
         with pytest.raises(OutputError, match="changed after this run started"):
             output.plan(target, "outdir")
         assert output.plan(target, "outdir", force=True).put_text("ours") == target
