@@ -192,6 +192,9 @@ class _Timeout(BaseException):
 
 
 def _alarm(signum, frame):
+    # re-armed first: a raise inside a weakref callback or __del__ is printed as unraisable and
+    # lost, and the call would run on unbounded; the repeat comes 0.1 CPU-s later
+    signal.setitimer(signal.ITIMER_PROF, 0.1)
     raise _Timeout
 
 
