@@ -650,7 +650,8 @@ def _block_rows(system: System, block: EigenBlock) -> BlockRows:
     # rows C_j T D^phase scaled by lambda_1^-phase (parallel, so the same hyperplanes): the ratios
     # lambda_k / lambda_1 are roots of unity within a class, and the rows' coefficients stay small
     # (times 2^phase unscaled for modulus 2: 300-bit coefficients at phase 300)
-    step = [K.mul(lam, K.inv(diag[0])) for lam in diag]
+    first = K.inv(diag[0])  # once: an inverse in a field of degree 2880 costs seconds
+    step = [K.mul(lam, first) for lam in diag]
     for j, sensor in enumerate(system.sensors):
         CT = [K.vecmat(K.matrix(sensor.C)[r], T) for r in range(sensor.m)]
         rows = CT
