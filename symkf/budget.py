@@ -72,8 +72,8 @@ class Limits:
     #: states of a joint (lifted) Markov loss chain: the exact engine's work grows with their
     #: square (64 states: about 9 s, 128: 30 s, 256: past 60 CPU-s)
     max_markov_states: int = 128
-    #: hyperplanes a decay rate must list when no screen applies (multi-row sensors, chains with
-    #: several all-lost states, losses of 0), estimated before listing by ``C(V, n - 1)`` for V
+    #: hyperplanes a decay rate must list when no screen applies (chains with several all-lost
+    #: states, losses of 0, generators that do not span mod p), estimated before listing by ``C(V, n - 1)`` for V
     #: distinct generators in K^n: each costs about 10 us and E bytes (a 4-dim block with 8
     #: sensors of period 24 has 1.2 million, 12 CPU-s and past 2.8 GB in all)
     max_hyperplanes: int = 300_000

@@ -504,7 +504,8 @@ def _exact(value: Any) -> sp.Expr:
 def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
     """``max_H prod_f rho(M_(H, f))`` over the hyperplanes ``H``, exactly, without listing them
     when every factor is in the segment form (:class:`FactorRates`) and the block's elements
-    have one generator each (:meth:`BlockRows.heaviest` applies).
+    admit the screen (:meth:`BlockRows.heaviest`; elements of several generators through its
+    additive bound).
 
     Why no maximiser is missed.  ``rho(M_H)`` is monotone in ``H`` (a larger set allows more
     states: the restricted transfer grows entrywise), so the maximum over rank-deficient sets

@@ -21,9 +21,10 @@ rank-deficient patterns are the hyperplanes of the matroid of all generators.
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Sequence
+from typing import Callable, Sequence
 
 import flint
 import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
@@ -36,6 +37,13 @@ from .exact.linalg import field_of, nullspace_rows, rank_rows
 from .exact.numbers import sympify
 from .model import System
 from .spectral import EigenBlock, eigenvalue_key, factors_in, support
+
+
+#: with elements of several generators, :meth:`BlockRows.heaviest` leaves configurations with at
+#: most this many candidate hyperplanes (``C(V, n - 1)``, V distinct generators) to the listing,
+#: which is vectorised: measured about 10 us per candidate, where the screen's two passes cost
+#: 0.1-0.5 s on such small blocks (and both about 3 s at C(36, 5) = 376 992)
+LISTED_BELOW = 50_000
 
 
 @dataclass(frozen=True)
@@ -123,26 +131,89 @@ class BlockRows:
         is among the closures' shifts.  A kept set of rank below ``n - 1`` over K (a flat that a
         low ``floor`` lets through) holds no hyperplane and is dropped.  A failed confirmation (a merge mod p that is not exact, or
         a representative vanishing mod p) repeats the screen with the next prime, then returns
-        None.  Applies to elements with at most one generator (single-row sensors) and
-        generators spanning K^n mod p.  With the phase shift (and weights it preserves), the
+        None.  Applies when the generators span K^n mod p.  With the phase shift (and weights it preserves), the
         cosets of shifts seed a lower bound of the heaviest weight, and every orbit becomes a stage
         whose greedy bases come from a window of positions after its first element, when that is
         the cheaper plan (:func:`symkf.hyperplane_screen._windowed`: the pigeonhole argument that
         no hyperplane at the bound is missed).  The screen's work (:func:`symkf.hyperplane_screen.work`,
         about ``C(C, n - 2)`` incidences per stage) is estimated before it starts and refused
         (:class:`~symkf.errors.BudgetError`) above ``budget.Limits.max_screen_work``.
+
+        An element with several generators (a sensor of several rows, a Jordan chain's
+        ``w_(c, s)``) lies in ``H`` iff all of them do.  The screen then runs on the generators,
+        each carrying ``weights[e] / (its element's count)``: a hyperplane's screened weight is at
+        least the weight of the elements it holds, an additive upper bound.  A first screen's
+        maximisers give an exact lower bound ``L`` (the weight of the elements their closures
+        hold); a second screen with ``floor`` ``min(floor, L)`` returns every hyperplane whose
+        upper bound reaches it, which includes every exact maximiser (and every set ``floor``
+        asks for).  Of each closure the elements it holds are kept (their generators may span
+        less than it: a maximal set need not span a hyperplane), less the sets strictly inside
+        another kept one; elements whose generators span all of K^n lie in no hyperplane and are
+        left out of the screen.  More kept sets than
+        ``budget.Limits.max_hyperplanes`` return None (then enumerate, under the same cap).
         """
         n = self.size
-        if n < 2 or any(len(gs) > 1 for gs in self.generators):
+        if n < 2:
             return None
-        live = [e for e, gs in enumerate(self.generators) if gs]
-        always = [e for e, gs in enumerate(self.generators) if not gs]
-        vectors = [self.generators[e][0] for e in live]
+        live = [e for e, gs in enumerate(self.generators) if 0 < len(gs) < n]
+        owner = np.array([e for e in live for _ in self.generators[e]], dtype=np.int64)  # point -> element
+        vectors = [g for e in live for g in self.generators[e]]
+        count = np.array([len(gs) for gs in self.generators], dtype=np.int64)
         w = np.asarray(weights, dtype=float)
-        shift = self._shift(live)
-        orbits = _orbits(len(live), shift)
-        cycles = _cycles(len(live), shift) if shift is not None and np.array_equal(w[live][shift], w[live]) else None
-        p, tol = 1 << 27, 1e-9 * (1 + w.sum())
+        pw = w[owner] / count[owner]
+        shift = self._shift(owner)
+        tol = 1e-9 * (1 + w.sum())
+        single = bool((count <= 1).all())
+        if not single and math.comb(len(_distinct(vectors)), n - 1) <= LISTED_BELOW:
+            return None
+
+        def inside(c: np.ndarray) -> np.ndarray:  # the elements all of whose points are in c (no points: all)
+            return np.flatnonzero(np.bincount(owner[c], minlength=len(count)) == count)
+
+        moved = np.arange(len(count))  # the shift on elements (those without points stay)
+        if shift is not None:
+            moved[owner] = owner[shift]
+
+        def held(closures: list[np.ndarray]) -> set[frozenset[int]]:
+            out = set()
+            for c in closures:
+                members = inside(c)
+                for _ in range(self.class_period if shift is not None else 1):
+                    out.add(frozenset(members.tolist()))
+                    members = moved[members]
+            # a set held by one hyperplane and strictly inside another's is not maximal
+            return out if single else {H for H in out if not any(H < G for G in out)}
+
+        def held_weight(c: np.ndarray) -> float:  # the exact hyperplane's elements are among its mod-p closure's
+            return float(w[inside(c)].sum())
+
+        points = f"{len(live)} elements" if single else f"{len(live)} elements, {len(vectors)} generators"
+        closures = self._screened(vectors, pw, shift, tol, floor if single else None, points,
+                                  None if single else held_weight, first_only=not single)
+        if closures is None:
+            return None
+        if single:
+            return list(held(closures))
+        # an element's generators span less than K^n: some hyperplane holds it
+        lower = max([float(w[list(H)].sum()) for H in held(closures)] + [float(w[live].max(initial=0.0))])
+        closures = self._screened(vectors, pw, shift, tol, lower if floor is None else min(floor, lower), points,
+                                  held_weight)
+        return None if closures is None else list(held(closures))
+
+    def _screened(self, vectors: list, weights: np.ndarray, shift: np.ndarray | None, tol: float,
+                  floor: float | None, points: str, bound: Callable[[np.ndarray], float] | None = None,
+                  first_only: bool = False) -> list[np.ndarray] | None:
+        """The exact closures (point indices) of the sets :mod:`symkf.hyperplane_screen` keeps for
+        the points ``vectors`` with ``weights`` (see :meth:`heaviest`; ``points`` names them in a
+        refusal), or None.  ``bound``: an upper bound of the weight a hyperplane holds, given the
+        points of its mod-p closure; closures below the screen's bar are not confirmed.
+        ``first_only``: only the first mod-p closure, by ``bound`` descending, that is exact (or
+        none): one exact hyperplane, a lower bound of the heaviest."""
+        n = self.size
+        orbits = _orbits(len(vectors), shift)
+        cycles = _cycles(len(vectors), shift) if shift is not None and np.array_equal(weights[shift], weights) \
+            else None
+        p = 1 << 27
         for _ in range(3):
             p, images = _reduction(self.K, vectors, p)
             if flint.nmod_mat(images, p).rank() < n:
@@ -151,27 +222,32 @@ class BlockRows:
             skip = self._parallel_orbits(X, p, orbits, vectors)
             screen = hyperplane_screen.Screen(tol, floor)
             if cycles is not None:
-                hyperplane_screen.seed(X, w[live], p, cycles, screen)
-            plan = hyperplane_screen.stages(X, w[live], p, orbits, skip, screen.bar, cycles)
+                hyperplane_screen.seed(X, weights, p, cycles, screen)
+            plan = hyperplane_screen.stages(X, weights, p, orbits, skip, screen.bar, cycles)
             work = hyperplane_screen.work(X, p, plan, budget.LIMITS.max_screen_work)
             if work > budget.LIMITS.max_screen_work:  # the modulus named only then
                 budget.check("max_screen_work", work, f"eigen-block of modulus {self.block.modulus}",
-                             f"the estimated work of the hyperplane screen ({len(live)} elements in dimension {n}, "
+                             f"the estimated work of the hyperplane screen ({points} in dimension {n}, "
                              f"{len(orbits) - len(skip)} orbits, {len(plan)} stages: point-line incidences, about "
                              f"C(C, {n - 2}) per stage for C classes, fewer in a window)")
-            if not hyperplane_screen.search(X, w[live], p, plan, screen):
+            if not hyperplane_screen.search(X, weights, p, plan, screen):
                 continue
-            closures = [self._closure(X, p, sorted(S), vectors) for S in screen.kept]
-            if any(c is None for c in closures):
-                continue
-            out = set()
-            for c in closures:
-                if not len(c):  # a flat that holds no hyperplane
-                    continue
-                for _ in range(self.class_period if shift is not None else 1):
-                    out.add(frozenset(live[i] for i in c) | frozenset(always))
-                    c = shift[c] if shift is not None else c
-            return list(out)
+            if len(screen.kept) > budget.LIMITS.max_hyperplanes:
+                return None
+            mod_p = {}  # many kept sets share a closure, or one up to the shift (the caller shifts)
+            for S in screen.kept:
+                c = self._mod_p_closure(X, p, sorted(S), vectors)
+                if c is None:
+                    break
+                if len(c):
+                    mod_p.setdefault(_least_shift(c, shift, self.class_period), c)
+            else:
+                if first_only:
+                    ranked = sorted(mod_p.values(), key=bound, reverse=True)
+                    return next(([c] for c in ranked if self._exact(X, p, c, vectors)), [])
+                needed = [c for c in mod_p.values() if bound is None or bound(c) >= screen.bar]
+                if all(self._exact(X, p, c, vectors) for c in needed):
+                    return needed
         return None
 
     def on_hyperplanes(self, normals: Sequence[Sequence[Elem]]) -> list[frozenset[int]]:
@@ -195,18 +271,28 @@ class BlockRows:
             out.append(frozenset(e for e in range(len(self.generators)) if e not in off))
         return out
 
-    def _shift(self, live: list[int]) -> np.ndarray | None:
-        """The phase shift on live elements (positions in ``live``): the position of ``(j, r + 1 mod
-        g)`` for each ``(j, r)``, when the generators are the class parts of ``C_j T D^r``
-        (:attr:`phase_shift`): the generator of ``(j, r + 1)`` is then that of ``(j, r)`` times
-        ``D_i``, parallel to it at ``r = g - 1`` (``D_i^g`` is scalar on each class), so shifts map
-        hyperplanes to hyperplanes; else None."""
+    def _shift(self, owner: np.ndarray) -> np.ndarray | None:
+        """The phase shift on the points (generators; ``owner[k]`` the element of point ``k``, an
+        element's points consecutive): generator ``i`` of ``(j, r)`` goes to generator ``i`` of
+        ``(j, r + 1 mod g)``, when the generators are the class parts of ``C_j T D^r``
+        (:attr:`phase_shift`): those of ``(j, r + 1)`` are then those of ``(j, r)`` times ``D_i``
+        (chosen alike: an invertible diagonal map keeps which are independent), parallel to them
+        at ``r = g - 1`` (``D_i^g`` is scalar on each class), so shifts map hyperplanes to
+        hyperplanes; else None."""
         if self.class_period < 2 or not self.phase_shift:
             return None
         at = {(e.sensor, e.phase): i for i, e in enumerate(self.elements)}
-        position = {e: i for i, e in enumerate(live)}
-        nxt = [at[(self.elements[e].sensor, (self.elements[e].phase + 1) % self.class_period)] for e in live]
-        return np.array([position[e] for e in nxt])
+        first: dict[int, int] = {}
+        for k, e in enumerate(owner.tolist()):
+            first.setdefault(e, k)
+        out = []
+        for k, e in enumerate(owner.tolist()):
+            element = self.elements[e]
+            nxt = at[(element.sensor, (element.phase + 1) % self.class_period)]
+            if nxt not in first or len(self.generators[nxt]) != len(self.generators[e]):
+                return None  # pragma: no cover - the counts agree by construction
+            out.append(first[nxt] + k - first[e])
+        return np.array(out, dtype=np.int64)
 
     def _parallel_orbits(self, X: np.ndarray, p: int, orbits: list[list[int]], vectors) -> set[int]:
         """Orbits whose first element is parallel over K to an element of an earlier orbit (every
@@ -226,20 +312,27 @@ class BlockRows:
                 out.add(o)
         return out
 
-    def _closure(self, X: np.ndarray, p: int, S: list[int], vectors) -> np.ndarray | None:
-        """Every element on the mod-p hyperplane spanned by ``S``, if that set has rank ``n - 1``
-        mod p and over K (then it is the exact hyperplane through ``S``); no element when ``S`` has
-        rank below ``n - 1`` over K (it holds no hyperplane: a flat a low floor kept); else None."""
+    def _mod_p_closure(self, X: np.ndarray, p: int, S: list[int], vectors) -> np.ndarray | None:
+        """Every point on the mod-p hyperplane spanned by ``S``, if that set has rank ``n - 1`` mod p
+        (:meth:`_exact` then decides whether it is the exact hyperplane through ``S``); no point
+        when ``S`` has rank below ``n - 1`` over K (it holds no hyperplane: a flat a low floor
+        kept); else None."""
         null, nullity = flint.nmod_mat(X[S].tolist(), p).nullspace()
         if nullity != 1:
             if nullity > 1 and rank_rows(self.K, _distinct([vectors[i] for i in S]), self.size) < self.size - 1:
                 return np.zeros(0, dtype=np.int64)
             return None
         normal = np.array([int(null[i, 0]) for i in range(self.size)], dtype=np.int64)
-        members = np.flatnonzero(X @ normal % p == 0)
-        if rank_rows(self.K, _distinct([vectors[i] for i in members]), self.size) != self.size - 1:
-            return None
-        return members
+        return np.flatnonzero(X @ normal % p == 0)
+
+    def _exact(self, X: np.ndarray, p: int, members: np.ndarray, vectors) -> bool:
+        """Whether the points ``members`` (a mod-p closure: rank ``n - 1`` mod p, so at least that
+        over K) have rank ``n - 1`` over K: the exact normal of ``n - 1`` of them independent mod p
+        is orthogonal to every other one (a dot product each, where an echelon form of all of
+        them costs about n times more)."""
+        basis = _independent_mod_p(X[members], p)
+        normal, = nullspace_rows(self.K, [vectors[members[i]] for i in basis], self.size)
+        return all(self.K.dot(vectors[i], normal).is_zero() for i in np.delete(members, basis))
 
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
@@ -326,6 +419,28 @@ def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]], start: int = 1
         def phi(a: Elem) -> int:
             return int(flint.nmod_poly(a.numer(), p)(r)) * pow(int(a.denom()), -1, p) % p
         return p, [[phi(a) for a in v] for v in vectors]
+
+
+def _least_shift(points: np.ndarray, shift: np.ndarray | None, g: int) -> bytes:
+    """A key shared by the point sets that are shifts of one another: the least of the shifts'
+    sorted index lists (as bytes)."""
+    keys = [points.tobytes()]
+    for _ in range(g - 1 if shift is not None else 0):
+        points = np.sort(shift[points])
+        keys.append(points.tobytes())
+    return min(keys)
+
+
+def _independent_mod_p(rows: np.ndarray, p: int) -> list[int]:
+    """The indices of the greedy basis of ``rows`` mod p (the pivot columns of the transpose's
+    reduced echelon form)."""
+    R, rank = flint.nmod_mat(rows.T.tolist(), p).rref()
+    out, col = [], 0
+    for r in range(rank):
+        while int(R[r, col]) == 0:
+            col += 1
+        out.append(col)
+    return out
 
 
 def _some_root(f: flint.nmod_poly, p: int) -> int | None:
