@@ -87,6 +87,25 @@ def cyclotomic_fields(k: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
     return sk.System(A=sp.diag(*blocks), sensors=_sensors(_random_rows(rng, 2, 2 * k))), sk.IID(["1/10"] * 2)
 
 
+def tracker_oscillator(d: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
+    """A planar constant-velocity model at modulus 2 beside an oscillator of the same modulus,
+    diag(J_2(2), J_2(2), 2R(pi/3)) (one 6-dim eigen-block with Jordan chains, period 6), with d
+    random integer scalar sensors, losses 1/5."""
+    J = sp.Matrix([[2, 1], [0, 2]])
+    rng = np.random.default_rng(seed)
+    return (sk.System(A=sp.diag(J, J, _rotation(sp.pi / 3, 2)), sensors=_sensors(_random_rows(rng, d, 6))),
+            sk.IID(["1/5"] * d))
+
+
+def two_row_rotations(d: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
+    """The 4-dim block diag(2R(pi/6), 2R(pi/4)) (period 24) with d random integer sensors of two
+    rows each, losses 1/5."""
+    rng = np.random.default_rng(seed)
+    sensors = [sk.Sensor(C=_random_rows(rng, 2, 4), name=f"s{j + 1}") for j in range(d)]
+    return (sk.System(A=sp.diag(_rotation(sp.pi / 6, 2), _rotation(sp.pi / 4, 2)), sensors=sensors),
+            sk.IID(["1/5"] * d))
+
+
 def radical_matrix(seed: int, n: int = 6, density: float = 0.7) -> sp.Matrix:
     """A non-negative n x n matrix over Q(sqrt 2, sqrt 3, sqrt 5): each entry is 0 (probability
     1 - density) or ``a + b sqrt 2 + c sqrt 3 + d sqrt 5`` with ``a`` in 0..3, ``b, c, d`` in
