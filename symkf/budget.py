@@ -74,7 +74,8 @@ class Limits:
     max_markov_states: int = 128
     #: hyperplanes a decay rate must list when no screen applies (chains with several all-lost
     #: states, losses of 0, generators that do not span mod p), estimated before listing by ``C(V, n - 1)`` for V
-    #: distinct generators in K^n: each costs about 10 us and E bytes (a 4-dim block with 8
+    #: distinct generators in K^n, or fewer through the flats of elements of several generators
+    #: (BlockRows.listing_estimate): each costs about 10 us and E bytes (a 4-dim block with 8
     #: sensors of period 24 has 1.2 million, 12 CPU-s and past 2.8 GB in all)
     max_hyperplanes: int = 300_000
     #: receival sequences ``2^(d (horizon - 1))`` that the exact mean trace enumerates

@@ -104,22 +104,21 @@ def outside_counts(br: BlockRows, weights: Sequence[float] | None = None) -> dic
 
 
 def hyperplane_estimate(br: BlockRows) -> int:
-    """An upper bound on the number of hyperplanes of the block: ``C(V, n - 1)`` for V distinct
-    generators (each hyperplane is spanned by ``n - 1`` of them); their number once listed."""
+    """An upper bound on the number of hyperplanes of the block the listing finds
+    (:meth:`BlockRows.listing_estimate`); their number once listed."""
     if "inside" in br.__dict__ or br.size < 2:
         return len(br.inside)
-    return math.comb(len({_key(g) for gs in br.generators for g in gs}), br.size - 1)
+    return br.listing_estimate()[0]
 
 
 def listed_hyperplanes(br: BlockRows) -> np.ndarray:
     """:attr:`BlockRows.inside` (every hyperplane), refused up front when their estimated number
     (:func:`hyperplane_estimate`) exceeds ``budget.Limits.max_hyperplanes``."""
     if "inside" not in br.__dict__ and br.size > 1:
-        V = len({_key(g) for gs in br.generators for g in gs})
-        estimate = hyperplane_estimate(br)
+        estimate, formula = br.listing_estimate()
         if estimate > budget.LIMITS.max_hyperplanes:  # the modulus named only then
             budget.check("max_hyperplanes", estimate, f"eigen-block of modulus {br.block.modulus}",
-                         f"the estimated number of hyperplanes to list (C({V}, {br.size - 1}); no screen applies)")
+                         f"the estimated number of hyperplanes to list ({formula}; no screen applies)")
     return br.inside
 
 
@@ -536,7 +535,8 @@ def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
 
 def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
     """The hyperplanes of :func:`markov_search`'s two screens; None when a screen declines or the
-    bound cannot rule out the generic hyperplanes (``n - 1`` elements: then listing is cheaper)."""
+    bound cannot rule out the generic hyperplanes (through ``n - 1`` generators in general position,
+    :meth:`BlockRows.generic_weight`: then listing is cheaper)."""
     first = _first_screen(br, rates, patterns)
     if first is None:
         return None
@@ -563,7 +563,7 @@ def _reaching(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns, t
             for e, (f, _, _) in enumerate(patterns.of)]
     C = sum(C for C, _ in bounds)
     floor = tau - C
-    if sum(sorted(beta)[-(br.size - 1):]) >= floor:
+    if br.generic_weight(beta) >= floor:
         return None
     return br.heaviest(beta, floor=floor - 1e-9 * (1 + abs(floor) + abs(C)))
 

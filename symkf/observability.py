@@ -24,7 +24,7 @@ import itertools
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Callable, Sequence
+from typing import Callable, Iterator, Sequence
 
 import flint
 import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
@@ -81,12 +81,11 @@ class BlockRows:
         n, E = self.size, len(self.generators)
         if n == 1:
             return np.array([[not gs for gs in self.generators]], dtype=bool)
-        vectors = _distinct([g for gs in self.generators for g in gs])
-        index = {_key(v): i for i, v in enumerate(vectors)}
+        vectors, bases = self._bases
         member = np.zeros((E, len(vectors)), dtype=np.float32)  # small counts: exact, and BLAS
-        for e, gs in enumerate(self.generators):
-            member[e, [index[_key(g)] for g in gs]] = 1
-        found = _generator_hyperplanes(self.K, vectors, n)
+        for e, b in enumerate(bases):
+            member[e, list(b)] = 1
+        found = _generator_hyperplanes(self.K, vectors, n, _element_flats(bases, len(vectors), n))
         S = np.zeros((len(found), len(vectors)), dtype=np.float32)
         S[np.repeat(np.arange(len(found)), [len(hs) for hs in found]),
           np.fromiter(itertools.chain.from_iterable(found), dtype=np.int64)] = 1
@@ -102,6 +101,26 @@ class BlockRows:
             keep = [not (every[:, r].all(axis=1) & (sizes > r.sum())).any() for r in partial]
             sets = np.concatenate([sets, partial[keep]])
         return sets[_lex_order(sets)]
+
+    @cached_property
+    def _bases(self) -> tuple[list[tuple[Elem, ...]], list[tuple[int, ...]]]:
+        """The distinct generators and, per element, the indices of its own (independent) ones."""
+        vectors = _distinct([g for gs in self.generators for g in gs])
+        index = {_key(v): i for i, v in enumerate(vectors)}
+        return vectors, [tuple(index[_key(g)] for g in gs) for gs in self.generators]
+
+    def listing_estimate(self) -> tuple[int, str]:
+        """An upper bound on the number of hyperplanes :attr:`inside` lists, and its formula:
+        ``C(V, n - 1)`` for V distinct generators, or, when :func:`_element_flats` applies,
+        ``sum_e C(V, n - 1 - r_e)`` over the elements held by some hyperplane (``r_e`` independent
+        generators)."""
+        vectors, bases = self._bases
+        V, n = len(vectors), self.size
+        if _element_flats(bases, V, n) is None:
+            return math.comb(V, n - 1), f"C({V}, {n - 1}) for {V} generators in dimension {n}"
+        live = [len(b) for b in bases if 0 < len(b) < n]
+        return (sum(math.comb(V, n - 1 - r) for r in live),
+                f"the sum of C({V}, {n - 1} - r) over {len(live)} elements of r generators, in dimension {n}")
 
     def heaviest(self, weights: Sequence[float], floor: float | None = None) -> list[frozenset[int]] | None:
         """The hyperplanes (element sets, as in :attr:`hyperplanes`) whose weight ``sum_{e in H}
@@ -199,6 +218,14 @@ class BlockRows:
         closures = self._screened(vectors, pw, shift, tol, lower if floor is None else min(floor, lower), points,
                                   held_weight)
         return None if closures is None else list(held(closures))
+
+    def generic_weight(self, weights: Sequence[float]) -> float:
+        """The screened weight of a hyperplane through ``n - 1`` generators in general position (at
+        most the ``n - 1`` largest generator weights of :meth:`heaviest`, each element's weight split
+        among its generators): a ``floor`` at or below it lets the screen keep every such hyperplane."""
+        split = [w / len(gs) for w, gs in zip(weights, self.generators) if 0 < len(gs) < self.size
+                 for _ in gs]
+        return float(sum(sorted(split)[-(self.size - 1):]))
 
     def _screened(self, vectors: list, weights: np.ndarray, shift: np.ndarray | None, tol: float,
                   floor: float | None, points: str, bound: Callable[[np.ndarray], float] | None = None,
@@ -482,8 +509,36 @@ def _cyclotomic_root(f: flint.nmod_poly, p: int, m: int) -> int | None:
     return None
 
 
-def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n: int) -> list[frozenset[int]]:
-    """Every hyperplane spanned by ``vectors`` (distinct, in K^n, n >= 2), as the set of vectors it holds.
+def _element_flats(bases: Sequence[tuple[int, ...]], V: int, n: int) -> Iterator[tuple[int, ...]] | None:
+    """Bases of the flats of rank ``n - 2`` through which :func:`_generator_hyperplanes` finds every
+    hyperplane holding an element, when there are fewer of them than ``C(V, n - 2)``: each element's
+    independent generators ``b_e`` (``r_e`` of them, ``0 < r_e < n``) with every ``n - 2 - r_e``
+    further generators (the first ``n - 2`` of ``b_e`` when ``r_e = n - 1``); None otherwise.
+
+    Why nothing is missed.  A set of elements maximal among those a hyperplane holds spans, with
+    its generators, a flat ``W`` of rank at most ``n - 1``; generators span K^n, so ``W`` extends
+    by generators to a hyperplane ``H``, which holds the set and, the set being maximal, no more.
+    For ``e`` in the set, ``b_e`` extends by generators of ``H`` to a basis of a rank ``n - 2`` flat
+    inside ``H``, which is listed here; ``H`` is one of the hyperplanes through it."""
+    live = [b for b in bases if 0 < len(b) < n]
+    if not live or sum(math.comb(V, max(0, n - 2 - len(b))) for b in live) >= math.comb(V, n - 2):
+        return None
+
+    def flats() -> Iterator[tuple[int, ...]]:
+        for b in live:
+            if len(b) == n - 1:
+                yield b[:n - 2]
+                continue
+            for T in itertools.combinations([i for i in range(V) if i not in b], n - 2 - len(b)):
+                yield (*b, *T)
+    return flats()
+
+
+def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n: int,
+                           flats: Iterator[tuple[int, ...]] | None = None) -> list[frozenset[int]]:
+    """Every hyperplane spanned by ``vectors`` (distinct, in K^n, n >= 2), as the set of vectors it holds;
+    with ``flats``, every hyperplane through one of those flats (:func:`_element_flats`: the
+    hyperplanes holding an element).
 
     The hyperplanes through a flat ``Z`` of rank ``n - 2`` partition the vectors outside ``Z``
     by their direction in the plane ``K^n / Z``: with ``N`` a basis of the normals of ``Z``,
@@ -512,7 +567,8 @@ def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n:
         return exact[S]
 
     covered: set[tuple[int, ...]] = set()  # bases of visited flats are (n-2)-subsets of them
-    combos = itertools.combinations(range(V), n - 2)
+    every = flats is not None  # given flats: each visited in full (their greedy bases are elsewhere)
+    combos = flats if every else itertools.combinations(range(V), n - 2)
     while chunk := list(itertools.islice(combos, 2048)):
         batch = [c for c in chunk if c not in covered]
         normals: list[np.ndarray | None] = []
@@ -527,7 +583,7 @@ def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n:
                 key = next(lines)
                 if c in covered:
                     continue
-                out = _hyperplanes_through(c, key, p, n, flat)
+                out = _hyperplanes_through(c, key, p, n, flat, every)
             elif c in covered:
                 continue
             elif rank_rows(K, [vectors[i] for i in c], n) == n - 2:
@@ -538,7 +594,7 @@ def _generator_hyperplanes(K: NumberField, vectors: Sequence[Sequence[Elem]], n:
                 out = _hyperplanes_through_exact(K, vectors, c, n)
             Z, hyperplanes = out
             found.update(hyperplanes)
-            if len(Z) > n - 2:
+            if len(Z) > n - 2 and not every:
                 covered.update(itertools.combinations(sorted(Z), n - 2))
     return list(found)
 
@@ -560,15 +616,16 @@ def _line_keys(x: np.ndarray, y: np.ndarray, p: int) -> np.ndarray:
     return np.where(y != 0, x * inv % p, np.where(x != 0, p, p + 1))
 
 
-def _hyperplanes_through(c: tuple[int, ...], key: np.ndarray, p: int, n: int, flat) \
+def _hyperplanes_through(c: tuple[int, ...], key: np.ndarray, p: int, n: int, flat, every: bool = False) \
         -> tuple[frozenset[int], list[frozenset[int]]] | None:
     """The flat ``Z`` spanned by ``c`` and the hyperplanes through it whose greedy basis starts
-    with ``c``, from the mod-p line of every vector; None when an exact confirmation fails."""
+    with ``c`` (``every``: all of them), from the mod-p line of every vector; None when an exact
+    confirmation fails."""
     Z = frozenset(np.flatnonzero(key == p + 1).tolist())
     if not flat(Z, n - 2):
         return None
     outside = np.flatnonzero(key != p + 1)
-    last = c[-1] if c else -1
+    last = c[-1] if c and not every else -1
     order = np.argsort(key[outside], kind="stable")  # lines, each with ascending members
     keys, members = key[outside][order], outside[order].tolist()
     bounds = [0, *(np.flatnonzero(keys[1:] != keys[:-1]) + 1).tolist(), len(members)]
