@@ -161,6 +161,8 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
     if fr is None or _rational([r for i, r in enumerate(fixed) if i not in varying]) is None:
         return None
     blocks = block_rows(system)
+    # several rows: near the crossing screen 2's additive bound keeps every hyperplane holding one
+    # element, and the listing through the elements' flats (BlockRows.inside) is as fast or faster
     if any(_growth(br) is None for br in blocks) or any(s.m != 1 for s in system.sensors):
         return None
 
@@ -169,7 +171,9 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
 
     def margins(q: Fraction, br: BlockRows, sets) -> list[flint.fmpq_poly]:
         patterns = Patterns(br, factor_rates(br, model(sp.Rational(q.numerator, q.denominator))))
-        polys = [_margin_poly(br, H, fr, varying, patterns) for H in sets]
+        # shifted and tied hyperplanes share a margin: each distinct one is solved once
+        distinct = {tuple(m.coeffs()): m for m in (_margin_poly(br, H, fr, varying, patterns) for H in sets)}
+        polys = list(distinct.values())
         if any(m.degree() < 1 and m(0) >= 1 for m in polys):
             raise _Unstable
         return [m for m in polys if m.degree() >= 1]
