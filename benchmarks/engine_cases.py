@@ -106,6 +106,12 @@ def two_row_rotations(d: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
             sk.IID(["1/5"] * d))
 
 
+def two_row_rotations_ge(d: int, seed: int = 0) -> tuple[sk.System, sk.GilbertElliott]:
+    """:func:`two_row_rotations` under Gilbert-Elliott channels (fail 1/10, recover 1/2 each)."""
+    system, _ = two_row_rotations(d, seed)
+    return system, sk.GilbertElliott(["1/10"] * d, ["1/2"] * d)
+
+
 def radical_matrix(seed: int, n: int = 6, density: float = 0.7) -> sp.Matrix:
     """A non-negative n x n matrix over Q(sqrt 2, sqrt 3, sqrt 5): each entry is 0 (probability
     1 - density) or ``a + b sqrt 2 + c sqrt 3 + d sqrt 5`` with ``a`` in 0..3, ``b, c, d`` in

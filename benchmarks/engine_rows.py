@@ -66,6 +66,9 @@ def _compute(what: str, system, loss) -> str:
         from symkf.stability import stability
         v = stability(system, loss)
         result = f"{v.stable} {[str(m.exact) for m in v.margins]}"
+    elif what == "recovery":  # the case's loss is Gilbert-Elliott: its fail rates, a common recovery rate
+        from symkf.stability import critical_recovery_rate
+        result = str(critical_recovery_rate(system, fail=loss.fail).exact)
     elif what == "perron":  # the case is a non-negative matrix: its exact Perron root
         from symkf.decay import perron_root
         result = str(perron_root(system))
