@@ -577,24 +577,25 @@ def first_screen(br: BlockRows, loss: LossModel) -> list[frozenset[int]]:
     return _first_screen(br, rates, Patterns(br, rates)) or []
 
 
-def rates_reaching(br: BlockRows, loss: LossModel, floor: sp.Rational) -> list[tuple[frozenset[int], sp.Rational]] | None:
-    """Every hyperplane ``H`` with ``rho(M_H) >= floor`` and its exact rate, without listing the
+def rates_reaching(br: BlockRows, loss: LossModel, floor: AlgebraicNumber) -> list[tuple[frozenset[int], sp.Rational]] | None:
+    """Every hyperplane ``H`` with ``rho(M_H) >= floor`` (exact, > 0) and its exact rate, without listing the
     hyperplanes: screen 2 of :func:`markov_search` with ``tau`` the float log of ``floor`` less a
     margin (an additive upper bound rules out every set it leaves), then each returned set rated
     exactly; when a screen declines, every hyperplane (:func:`listed_hyperplanes`, capped).  None
     when the factors are not in the segment form."""
     rates = factor_rates(br, loss)
-    if not all(r.screened for r in rates) or floor <= 0:
+    if not all(r.screened for r in rates) or not floor > 0:
         return None
     patterns = Patterns(br, rates)
-    tau = math.log(floor.p) - math.log(floor.q)
+    low, _ = floor.interval
+    tau = math.log(low.numerator) - math.log(low.denominator) if low > 0 else math.log(float(floor))
     tau -= 1e-6 * (1 + abs(tau))
     sets = _reaching(br, rates, patterns, tau)
     if sets is None:
         sets = list(capped_hyperplanes(br))
     sets = [H for H in sets if sum(patterns.log_rate(H)) >= tau]  # float log plus its proved error
     rated = ((H, _exact(patterns.rate(H))) for H in sets)
-    return [(H, v) for H, v in rated if v >= floor]
+    return [(H, v) for H, v in rated if not floor > v]
 
 
 def _decide(sets: list[frozenset[int]], patterns: Patterns) -> BlockRate:

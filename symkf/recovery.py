@@ -45,7 +45,7 @@ import sympy as sp
 
 from .exact.arguments import check_public
 from .decay import Patterns, block_rate, factor_rates, first_screen, rates_reaching
-from .exact.algebraic import AlgebraicNumber
+from .exact.algebraic import AlgebraicNumber, decreasing_root
 from .exact.numbers import sympify
 from .losses import GilbertElliott
 from .model import System
@@ -55,9 +55,10 @@ from .region import simplest
 _GAP = Fraction(1, 10 ** 12)  # how far the rational point sits below the crossing
 
 
-def _growth(br: BlockRows) -> sp.Rational | None:
-    g = sp.expand(sympify(br.block.modulus.exact ** (2 * br.class_period)))
-    return g if g.is_Rational else None
+def _threshold(br: BlockRows) -> AlgebraicNumber:
+    """``gamma = alpha^(-2g)``: a margin ``alpha^(2g) rho_H(q)`` reaches 1 iff ``rho_H(q) >= gamma``
+    (exact; algebraic for the irrational moduli of dense systems)."""
+    return br.block.modulus ** (-2 * br.class_period)
 
 
 def _fmpq(x) -> flint.fmpq:
@@ -76,12 +77,12 @@ def _run_term(f: Fraction, ell: int) -> flint.fmpq_poly:
     return row[1]
 
 
-def _margin_poly(br: BlockRows, H: frozenset[int], fail: Sequence[Fraction], varying: frozenset[int],
-                 patterns: Patterns) -> flint.fmpq_poly:
-    """``m_H(q) = alpha^(2g) rho(M_H)(q)``: per varying sensor a ``T_(m+1)`` per run of ``m`` phases
-    inside ``H`` between lost phases and a ``T_1`` per further lost phase, per fixed sensor its
-    exact rate (:class:`symkf.decay.FactorRates`)."""
-    out = flint.fmpq_poly([_fmpq(_growth(br))])
+def _rate_poly(br: BlockRows, H: frozenset[int], fail: Sequence[Fraction], varying: frozenset[int],
+               patterns: Patterns) -> flint.fmpq_poly:
+    """``rho(M_H)(q)``: per varying sensor a ``T_(m+1)`` per run of ``m`` phases inside ``H``
+    between lost phases and a ``T_1`` per further lost phase, per fixed sensor its exact rate
+    (:class:`symkf.decay.FactorRates`); the margin is ``alpha^(2g)`` times it."""
+    out = flint.fmpq_poly([1])
     for rates, masks in zip(patterns.rates, patterns.of_set(H)):
         j = rates.factor.sensors[0]
         if j not in varying:
@@ -97,18 +98,9 @@ def _margin_poly(br: BlockRows, H: frozenset[int], fail: Sequence[Fraction], var
     return out
 
 
-def _crossing(poly: flint.fmpq_poly, lo: Fraction, hi: Fraction) -> AlgebraicNumber | None:
-    """The one root of ``poly(q) = 1`` in ``[lo, hi)`` (None when there is not exactly one)."""
-    num = (poly - 1).numer()
-    roots = []
-    for g, _ in num.factor()[1]:
-        g = g if g.coeffs()[-1] > 0 else -g
-        for i, (r, _) in enumerate(g.complex_roots()):
-            if r.imag == 0:
-                a = AlgebraicNumber(g, i)
-                if a >= sp.Rational(lo) and a < sp.Rational(hi):
-                    roots.append(a)
-    return roots[0] if len(roots) == 1 else None
+def _at(rho: flint.fmpq_poly, q: Fraction) -> Fraction:
+    v = rho(_fmpq(q))
+    return Fraction(int(v.p), int(v.q))
 
 
 def _zero(blocks: Sequence[BlockRows], model, fail: Sequence[sp.Rational], varying: frozenset[int]
@@ -122,7 +114,7 @@ def _zero(blocks: Sequence[BlockRows], model, fail: Sequence[sp.Rational], varyi
     stuck = GilbertElliott([1 if i in varying else f for i, f in enumerate(fail)],
                            [0 if i in varying else r for i, r in enumerate(model(0).recover)])
     for br in blocks:
-        if not _growth(br) * block_rate(br, stuck).per_period < 1:
+        if not _threshold(br) > block_rate(br, stuck).per_period:
             return None
     return AlgebraicNumber.from_expr(0)
 
@@ -142,8 +134,10 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
                                sensor: int | None = None) -> AlgebraicNumber | None:
     """``q_c`` with the filter stable iff the recovery rate exceeds it, by the argument of this
     module; None when the argument does not apply (a fail or fixed recovery rate not rational in
-    (0, 1), a sensor with several rows, an irrational ``alpha^(2g)``, the bound above ``q_max``
-    unstable, no crossing below ``q_max / 2``): then the caller lists every hyperplane.
+    (0, 1), a sensor with several rows, the bound above ``q_max`` unstable, no crossing below
+    ``q_max / 2``): then the caller lists every hyperplane.  An irrational ``alpha^(2g)`` (a dense
+    ``A``) is exact here: crossings are roots of ``rho_H(q) = alpha^(-2g)``
+    (:func:`symkf.exact.algebraic.decreasing_root`).
 
     The rate is common to all sensors, or (``sensor = j``) only sensor ``j``'s, the others'
     given by ``recover`` (entry ``j`` ignored).  A margin then holds the fixed channels' exact
@@ -163,8 +157,9 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
     blocks = block_rows(system)
     # several rows: near the crossing screen 2's additive bound keeps every hyperplane holding one
     # element, and the listing through the elements' flats (BlockRows.inside) is as fast or faster
-    if any(_growth(br) is None for br in blocks) or any(s.m != 1 for s in system.sensors):
+    if any(s.m != 1 for s in system.sensors):
         return None
+    gamma = {br: _threshold(br) for br in blocks}
 
     def model(q) -> GilbertElliott:
         return GilbertElliott(list(fail), [q if i in varying else r for i, r in enumerate(fixed)])
@@ -172,9 +167,9 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
     def margins(q: Fraction, br: BlockRows, sets) -> list[flint.fmpq_poly]:
         patterns = Patterns(br, factor_rates(br, model(sp.Rational(q.numerator, q.denominator))))
         # shifted and tied hyperplanes share a margin: each distinct one is solved once
-        distinct = {tuple(m.coeffs()): m for m in (_margin_poly(br, H, fr, varying, patterns) for H in sets)}
+        distinct = {tuple(m.coeffs()): m for m in (_rate_poly(br, H, fr, varying, patterns) for H in sets)}
         polys = list(distinct.values())
-        if any(m.degree() < 1 and m(0) >= 1 for m in polys):
+        if any(m.degree() < 1 and not gamma[br] > _at(m, Fraction(0)) for m in polys):
             raise _Unstable
         return [m for m in polys if m.degree() >= 1]
 
@@ -185,7 +180,7 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
         for br in blocks:
             loss = model(sp.Rational(t.numerator, t.denominator))
             for m in margins(t, br, first_screen(br, loss) or [block_rate(br, loss).hyperplane]):
-                r = _crossing(m, Fraction(0), t) if m(_fmpq(t)) < 1 else _crossing(m, t, qmax)
+                r = decreasing_root(m, gamma[br], Fraction(0), t) if gamma[br] > _at(m, t) else decreasing_root(m, gamma[br], t, qmax)
                 if r is not None:
                     lower.append(r)
         bound = [max(f * (1 + f), 1 - sp.Rational(qmax.numerator, qmax.denominator)) for f in fail]
@@ -203,11 +198,11 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
             return None
         crossings = []
         for br in blocks:
-            found = rates_reaching(br, model(sp.Rational(a.numerator, a.denominator)), 1 / _growth(br))
+            found = rates_reaching(br, model(sp.Rational(a.numerator, a.denominator)), gamma[br])
             if found is None:
                 return None
             for m in margins(a, br, [H for H, _ in found]):
-                r = _crossing(m, a, qmax)
+                r = decreasing_root(m, gamma[br], a, qmax)
                 if r is None:
                     return None
                 crossings.append(r)

@@ -45,6 +45,10 @@ CASES = [  # (A, rows, fail): periods 2, 3, 4, 6 and 24, tied and unequal channe
     (rotation(sp.pi / 4), [[1, 0]], ["1/10"]),
     (rotation(sp.pi / 3), [[1, 0], [2, -1]], ["1/7", "1/10"]),
     (sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)), [[1, 0, -1, 2]], ["1/10"]),
+    # irrational moduli: the crossings are roots of rho(q) = alpha^(-2g) with alpha^(2g) algebraic
+    ([[2, 1], [1, 1]], [[1, 0], [1, -1]], ["1/10", "1/4"]),                     # (3 + sqrt 5)/2
+    ([[1, -2, 0], [1, 1, 1], [0, 1, 2]], [[1, 0, 0], [0, 0, 1]], ["1/8", "1/5"]),  # a dense 3x3
+    (sp.diag(sp.sqrt(2) * rotation(sp.pi / 2, 1), [[3, 1], [1, 1]]), [[1, 0, 1, 0], [0, 1, 0, 1]], ["1/10", "1/10"]),
 ]
 
 
@@ -56,6 +60,18 @@ def test_equals_listing(A, rows, fail):
     assert fast is not None
     assert fast == _listed(S, fail)
     assert fast.minpoly == _listed(S, fail).minpoly
+
+
+def test_irrational_modulus_by_hand():
+    """A = [[2, 1], [1, 1]] with one sensor failing at 1/20: the unstable mode alpha = (3 + sqrt 5)/2 (the other,
+    1/alpha, decays) is seen at every step, so the decisive pattern is a run of losses, rate
+    ``1 - q`` per step: stable iff ``alpha^2 (1 - q) < 1``, ``q_c = 1 - alpha^(-2) = (3 sqrt 5 - 5)/2``
+    (``alpha^(-1) = (3 - sqrt 5)/2``: ``alpha^(-2) = (7 - 3 sqrt 5)/2``)."""
+    S = _system([[2, 1], [1, 1]], [[1, 0]])
+    fast = monotone_critical_recovery(S, [sp.Rational(1, 20)])
+    assert fast is not None and fast == (3 * sp.sqrt(5) - 5) / 2
+    assert sk.critical_recovery_rate(S, fail=["1/20"]) == fast
+    assert fast == _listed(S, ["1/20"])
 
 
 @pytest.mark.full

@@ -854,6 +854,47 @@ def real_from_ball(poly: flint.fmpz_poly, index: int) -> AlgebraicNumber:
     return AlgebraicNumber._irreducible(poly, index)
 
 
+def decreasing_root(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction, hi: Fraction) -> AlgebraicNumber | None:
+    """The root of ``poly(q) = value`` in ``[lo, hi)`` of a rational polynomial strictly decreasing
+    there; None when ``poly(lo) < value`` or ``poly(hi) >= value`` (there is none).
+
+    It is a root of ``mu(poly(q))`` (``mu`` the minimal polynomial of ``value``), identified by a
+    certified ball: bisection of ``[lo, hi]`` keeps ``poly(a) >= value > poly(b)`` (signs decided in
+    arb at the ball's precision, stopping where the balls cannot tell), so the root lies in ``[a,
+    b]``; the other roots of ``mu(poly)`` there, where ``poly`` meets another conjugate of ``value``,
+    are left outside the ball as its precision grows (:func:`identify`)."""
+    def at(q: Fraction) -> Fraction:
+        v = poly(flint.fmpq(q.numerator, q.denominator))
+        return Fraction(int(v.p), int(v.q))
+    if value > at(lo) or not value > at(hi):
+        return None
+    mu = [int(c) for c in value._poly.coeffs()]
+    composed = flint.fmpq_poly([mu[-1]])
+    for c in reversed(mu[:-1]):
+        composed = composed * poly + c
+    coeffs = poly.coeffs()
+
+    def sign(q: Fraction, prec: int) -> int:  # of poly(q) - value, 0 when the balls cannot tell
+        x, v = flint.arb(flint.fmpq(q.numerator, q.denominator)), flint.arb(0)
+        for c in reversed(coeffs):
+            v = v * x + flint.arb(c)
+        v -= value._ball(prec).real
+        return 1 if v > 0 else -1 if v < 0 else 0
+
+    def ball_at(prec: int) -> flint.acb:
+        a, b = lo, hi
+        for _ in range(prec + 8):
+            mid = (a + b) / 2
+            s = _with_prec(prec, lambda: sign(mid, prec))
+            if s == 0:
+                break
+            a, b = (mid, b) if s > 0 else (a, mid)
+        return _with_prec(prec, lambda: flint.acb(flint.arb(flint.fmpq(a.numerator, a.denominator)).union(
+            flint.arb(flint.fmpq(b.numerator, b.denominator)))))
+    f, index = identify(composed.numer(), ball_at, "root of a decreasing polynomial")
+    return AlgebraicNumber._irreducible(f, index)
+
+
 def sign(expr: Any) -> int:
     """Exact sign (-1, 0, 1) of a real algebraic number given as a sympy expression."""
     expr = sympify(expr, "expr")
