@@ -112,6 +112,36 @@ def two_row_rotations_ge(d: int, seed: int = 0) -> tuple[sk.System, sk.GilbertEl
     return system, sk.GilbertElliott(["1/10"] * d, ["1/2"] * d)
 
 
+def dense_ge(n: int, d: int = 3, seed: int = 0) -> tuple[sk.System, sk.GilbertElliott]:
+    """:func:`dense` under Gilbert-Elliott channels (fail 1/10, recover 1/2 each): irrational moduli."""
+    system, _ = dense(n, d, seed)
+    return system, sk.GilbertElliott(["1/10"] * d, ["1/2"] * d)
+
+
+def tracker_oscillator_ge(d: int, seed: int = 0) -> tuple[sk.System, sk.GilbertElliott]:
+    """:func:`tracker_oscillator` under Gilbert-Elliott channels (fail 1/10, recover 1/2 each)."""
+    system, _ = tracker_oscillator(d, seed)
+    return system, sk.GilbertElliott(["1/10"] * d, ["1/2"] * d)
+
+
+def multi_row_six(d: int, rows: int = 2, seed: int = 0) -> tuple[sk.System, sk.GilbertElliott]:
+    """The 6-dim block diag(2R(pi/6), 2R(pi/4), 2R(pi/3)) (period 24) with d random integer sensors of
+    ``rows`` rows each, on Gilbert-Elliott channels (fail 1/10, recover 1/2 each)."""
+    rng = np.random.default_rng(seed)
+    sensors = [sk.Sensor(C=_random_rows(rng, rows, 6), name=f"s{j + 1}") for j in range(d)]
+    A = sp.diag(_rotation(sp.pi / 6, 2), _rotation(sp.pi / 4, 2), _rotation(sp.pi / 3, 2))
+    return sk.System(A=A, sensors=sensors), sk.GilbertElliott(["1/10"] * d, ["1/2"] * d)
+
+
+def multi_row_eight(d: int, rows: int = 2, seed: int = 0) -> tuple[sk.System, sk.GilbertElliott]:
+    """The 8-dim block diag(2R(pi/6), 2R(pi/4), 2R(pi/3), 2R(pi/2)) (period 24) with d random integer
+    sensors of ``rows`` rows each, on Gilbert-Elliott channels (fail 1/10, recover 1/2 each)."""
+    rng = np.random.default_rng(seed)
+    sensors = [sk.Sensor(C=_random_rows(rng, rows, 8), name=f"s{j + 1}") for j in range(d)]
+    A = sp.diag(*[_rotation(a, 2) for a in (sp.pi / 6, sp.pi / 4, sp.pi / 3, sp.pi / 2)])
+    return sk.System(A=A, sensors=sensors), sk.GilbertElliott(["1/10"] * d, ["1/2"] * d)
+
+
 def radical_matrix(seed: int, n: int = 6, density: float = 0.7) -> sp.Matrix:
     """A non-negative n x n matrix over Q(sqrt 2, sqrt 3, sqrt 5): each entry is 0 (probability
     1 - density) or ``a + b sqrt 2 + c sqrt 3 + d sqrt 5`` with ``a`` in 0..3, ``b, c, d`` in

@@ -111,9 +111,15 @@ def hyperplane_estimate(br: BlockRows) -> int:
     return br.listing_estimate()[0]
 
 
-def listed_hyperplanes(br: BlockRows) -> np.ndarray:
-    """:attr:`BlockRows.inside` (every hyperplane), refused up front when their estimated number
-    (:func:`hyperplane_estimate`) exceeds ``budget.Limits.max_hyperplanes``."""
+def listed_hyperplanes(br: BlockRows) -> np.ndarray | list[frozenset[int]]:
+    """Every hyperplane: with elements of several generators the search through their flats at
+    floor 0 (:meth:`BlockRows.heaviest`, refused up front by its work estimate; index sets in
+    lexicographic order), else :attr:`BlockRows.inside`, refused up front when their estimated
+    number (:func:`hyperplane_estimate`) exceeds ``budget.Limits.max_hyperplanes``."""
+    if br.several_generators and "inside" not in br.__dict__:
+        sets = br.heaviest([0.0] * len(br.elements), floor=0.0)
+        if sets is not None:
+            return sorted(sets, key=sorted)
     if "inside" not in br.__dict__ and br.size > 1:
         estimate, formula = br.listing_estimate()
         if estimate > budget.LIMITS.max_hyperplanes:  # the modulus named only then
@@ -123,9 +129,9 @@ def listed_hyperplanes(br: BlockRows) -> np.ndarray:
 
 
 def capped_hyperplanes(br: BlockRows) -> tuple[frozenset[int], ...]:
-    """:attr:`BlockRows.hyperplanes` (index sets), refused up front as :func:`listed_hyperplanes`."""
-    listed_hyperplanes(br)
-    return br.hyperplanes
+    """Every hyperplane as index sets, by :func:`listed_hyperplanes` (refused up front as it is)."""
+    listed = listed_hyperplanes(br)
+    return br.hyperplanes if isinstance(listed, np.ndarray) else tuple(listed)
 
 
 def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[int]]:
@@ -535,8 +541,8 @@ def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
 
 def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
     """The hyperplanes of :func:`markov_search`'s two screens; None when a screen declines or the
-    bound cannot rule out the generic hyperplanes (through ``n - 1`` generators in general position,
-    :meth:`BlockRows.generic_weight`: then listing is cheaper)."""
+    bound cannot rule out the generic hyperplanes (through ``n - 1`` elements of one generator in
+    general position, :meth:`BlockRows.generic_weight`: then listing is cheaper)."""
     first = _first_screen(br, rates, patterns)
     if first is None:
         return None
@@ -563,7 +569,7 @@ def _reaching(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns, t
             for e, (f, _, _) in enumerate(patterns.of)]
     C = sum(C for C, _ in bounds)
     floor = tau - C
-    if br.generic_weight(beta) >= floor:
+    if not br.several_generators and br.generic_weight(beta) >= floor:
         return None
     return br.heaviest(beta, floor=floor - 1e-9 * (1 + abs(floor) + abs(C)))
 

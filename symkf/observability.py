@@ -30,20 +30,13 @@ import flint
 import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
 import sympy as sp
 
-from . import budget, hyperplane_screen
+from . import budget, flat_screen, hyperplane_screen
 from .exact.arguments import check_public
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, nullspace_rows, rank_rows
 from .exact.numbers import sympify
 from .model import System
 from .spectral import EigenBlock, eigenvalue_key, factors_in, support
-
-
-#: with elements of several generators, :meth:`BlockRows.heaviest` leaves configurations with at
-#: most this many candidate hyperplanes (``C(V, n - 1)``, V distinct generators) to the listing,
-#: which is vectorised: measured about 10 us per candidate, where the screen's two passes cost
-#: 0.1-0.5 s on such small blocks (and both about 3 s at C(36, 5) = 376 992)
-LISTED_BELOW = 50_000
 
 
 @dataclass(frozen=True)
@@ -159,73 +152,141 @@ class BlockRows:
         (:class:`~symkf.errors.BudgetError`) above ``budget.Limits.max_screen_work``.
 
         An element with several generators (a sensor of several rows, a Jordan chain's
-        ``w_(c, s)``) lies in ``H`` iff all of them do.  The screen then runs on the generators,
-        each carrying ``weights[e] / (its element's count)``: a hyperplane's screened weight is at
-        least the weight of the elements it holds, an additive upper bound.  A first screen's
-        maximisers give an exact lower bound ``L`` (the weight of the elements their closures
-        hold); a second screen with ``floor`` ``min(floor, L)`` returns every hyperplane whose
-        upper bound reaches it, which includes every exact maximiser (and every set ``floor``
-        asks for).  Of each closure the elements it holds are kept (their generators may span
-        less than it: a maximal set need not span a hyperplane), less the sets strictly inside
-        another kept one; elements whose generators span all of K^n lie in no hyperplane and are
-        left out of the screen.  More kept sets than
-        ``budget.Limits.max_hyperplanes`` return None (then enumerate, under the same cap).
+        ``w_(c, s)``) lies in ``H`` iff all of them do: then :meth:`_through_flats`.
         """
         n = self.size
         if n < 2:
             return None
         live = [e for e, gs in enumerate(self.generators) if 0 < len(gs) < n]
-        owner = np.array([e for e in live for _ in self.generators[e]], dtype=np.int64)  # point -> element
-        vectors = [g for e in live for g in self.generators[e]]
-        count = np.array([len(gs) for gs in self.generators], dtype=np.int64)
+        if not live:   # every hyperplane holds the same elements, those without generators
+            return [self._always]
+        if self.several_generators:
+            return self._through_flats(weights, floor)
+        owner = np.array(live, dtype=np.int64)  # point -> element
+        vectors = [self.generators[e][0] for e in live]
         w = np.asarray(weights, dtype=float)
-        pw = w[owner] / count[owner]
         shift = self._shift(owner)
-        tol = 1e-9 * (1 + w.sum())
-        single = bool((count <= 1).all())
-        if not single and math.comb(len(_distinct(vectors)), n - 1) <= LISTED_BELOW:
-            return None
-
-        def inside(c: np.ndarray) -> np.ndarray:  # the elements all of whose points are in c (no points: all)
-            return np.flatnonzero(np.bincount(owner[c], minlength=len(count)) == count)
-
-        moved = np.arange(len(count))  # the shift on elements (those without points stay)
+        moved = np.arange(len(self.generators))  # the shift on elements (those without points stay)
         if shift is not None:
             moved[owner] = owner[shift]
-
-        def held(closures: list[np.ndarray]) -> set[frozenset[int]]:
-            out = set()
-            for c in closures:
-                members = inside(c)
-                for _ in range(self.class_period if shift is not None else 1):
-                    out.add(frozenset(members.tolist()))
-                    members = moved[members]
-            # a set held by one hyperplane and strictly inside another's is not maximal
-            return out if single else {H for H in out if not any(H < G for G in out)}
-
-        def held_weight(c: np.ndarray) -> float:  # the exact hyperplane's elements are among its mod-p closure's
-            return float(w[inside(c)].sum())
-
-        points = f"{len(live)} elements" if single else f"{len(live)} elements, {len(vectors)} generators"
-        closures = self._screened(vectors, pw, shift, tol, floor if single else None, points,
-                                  None if single else held_weight, first_only=not single)
+        closures = self._screened(vectors, w[owner], shift, 1e-9 * (1 + w.sum()), floor, f"{len(live)} elements")
         if closures is None:
             return None
-        if single:
-            return list(held(closures))
-        # an element's generators span less than K^n: some hyperplane holds it
-        lower = max([float(w[list(H)].sum()) for H in held(closures)] + [float(w[live].max(initial=0.0))])
-        closures = self._screened(vectors, pw, shift, tol, lower if floor is None else min(floor, lower), points,
-                                  held_weight)
-        return None if closures is None else list(held(closures))
+        out = set()
+        for c in closures:
+            members = owner[c]
+            for _ in range(self.class_period if shift is not None else 1):
+                out.add(frozenset(members.tolist()) | self._always)
+                members = moved[members]
+        return list(out)
+
+    @cached_property
+    def _always(self) -> frozenset[int]:
+        """The elements without generators: in every hyperplane."""
+        return frozenset(e for e, gs in enumerate(self.generators) if not gs)
+
+    def _through_flats(self, weights: Sequence[float], floor: float | None) -> list[frozenset[int]] | None:
+        """:meth:`heaviest` for elements of several generators, by :mod:`symkf.flat_screen`: the
+        hyperplanes through the first flat element they hold (one stage per orbit under the phase
+        shift, when that is a symmetry of the weights), and those holding none through the points of
+        the elements of rank one.  Each kept set is closed mod p (every element inside the span of
+        its generators), its shifts added, sets strictly inside another dropped, and what remains
+        confirmed exactly: its generators have the same rank over K as mod p (at least as large
+        over K; equal, the span over K reduces to the span mod p, so exactly the same elements lie
+        in it, and it is deficient).  A maximal set over K lies in a hyperplane mod p that the
+        search visits with its full weight, so no kept set strictly inside it survives.  A failed
+        confirmation (a merge mod p) repeats the search with the next prime, then returns None."""
+        n, E = self.size, len(self.generators)
+        live = np.array([e for e, gs in enumerate(self.generators) if 0 < len(gs) < n], dtype=np.int64)
+        owner = np.array([e for e in live for _ in self.generators[e]], dtype=np.int64)
+        vectors = [g for e in live for g in self.generators[e]]
+        w = np.asarray(weights, dtype=float)
+        tol = 1e-9 * (1 + w.sum())
+        moved = np.arange(E)
+        shift = self._shift(owner)
+        if shift is not None:
+            moved[owner] = owner[shift]
+            if not np.array_equal(w[moved], w):
+                shift, moved = None, np.arange(E)
+        orbit = np.arange(E)   # per element the least element of its orbit
+        for e in live.tolist():
+            f = int(moved[e])
+            while f != e:
+                orbit[e] = min(orbit[e], f)
+                f = int(moved[f])
+        always = sorted(self._always)
+        base_weight = float(w[always].sum())
+        p = 1 << 27
+        for _ in range(3):
+            p, images = _reduction(self.K, vectors, p)
+            X = np.array(images, dtype=np.int64)
+            rank = {e: flint.nmod_mat(X[owner == e].tolist(), p).rank() for e in live.tolist()}
+            flats = [e for e in live.tolist() if rank[e] >= 2]
+            points = [e for e in live.tolist() if rank[e] == 1]
+            stages = [e for e in flats if orbit[e] == e]
+            classes = len(np.unique(hyperplane_screen._labels(X[np.isin(owner, points)], p)[1], axis=0))
+            work = flat_screen.work(n, list(rank.values()), len(stages), len(live)) + \
+                hyperplane_screen._stage_work(classes, n + 1)
+            if work > budget.LIMITS.max_screen_work:
+                budget.check("max_screen_work", work, f"eigen-block of modulus {self.block.modulus}",
+                             f"the estimated work of the hyperplane search through the flats of {len(flats)} elements "
+                             f"of several generators and {len(points)} of one, in dimension {n} ({len(stages)} stages)")
+            config = flat_screen.Configuration(X, owner, live, w)
+            screen = hyperplane_screen.Screen(tol, floor)
+            for a in stages:   # a hyperplane through a's flat and no flat element of an earlier orbit
+                keep = np.array([e for e in live.tolist() if e != a and not (e in rank and rank[e] >= 2
+                                 and orbit[e] < orbit[a])], dtype=np.int64)
+                flat_screen.stage(config.select(keep), X[owner == a], a, p, screen, always, base_weight)
+                if len(screen.kept) > budget.LIMITS.max_hyperplanes:   # the modulus named only then
+                    budget.check("max_hyperplanes", len(screen.kept), f"eigen-block of modulus {self.block.modulus}",
+                                 "the number of element sets kept by the search through the flats")
+            flat_screen.points_only(config.select(np.array(points, dtype=np.int64)), p, screen, always, base_weight)
+            sets = self._closed(X, owner, p, screen.kept, moved)
+            if sets is not None:
+                return sets
+        return None
+
+    def _closed(self, X: np.ndarray, owner: np.ndarray, p: int, kept, moved: np.ndarray) -> list[frozenset[int]] | None:
+        """The kept element sets of :meth:`_through_flats` closed mod p, shifted, maximal and confirmed
+        exactly; None when a confirmation fails."""
+        n = self.size
+        vectors = [g for e in sorted(set(owner.tolist())) for g in self.generators[e]]
+        closures: dict[frozenset[int], tuple[np.ndarray, int]] = {}
+        for S in kept:
+            rows = np.flatnonzero(np.isin(owner, list(S)))
+            N = flat_screen.normals(X[rows], p)
+            on = ~(X @ N % p).any(axis=1)
+            off = np.unique(owner[~on])
+            members = frozenset(np.setdiff1d(owner, off).tolist()) | self._always
+            closures.setdefault(members, (np.flatnonzero(on), n - N.shape[1]))
+        out: dict[frozenset[int], frozenset[int]] = {}   # each shift of a closure -> the closure confirmed
+        for members in closures:
+            shifted = members
+            for _ in range(self.class_period):
+                out.setdefault(shifted, members)
+                shifted = frozenset(moved[list(shifted)].tolist())
+        maximal = _maximal(list(out))
+        for members in {out[S] for S in maximal}:
+            on, rank = closures[members]
+            if rank == n - 1:
+                if not self._exact(X, p, on, vectors):
+                    return None
+            elif rank_rows(self.K, _distinct([vectors[i] for i in on]), n) != rank:
+                return None
+        return maximal
 
     def generic_weight(self, weights: Sequence[float]) -> float:
-        """The screened weight of a hyperplane through ``n - 1`` generators in general position (at
-        most the ``n - 1`` largest generator weights of :meth:`heaviest`, each element's weight split
-        among its generators): a ``floor`` at or below it lets the screen keep every such hyperplane."""
-        split = [w / len(gs) for w, gs in zip(weights, self.generators) if 0 < len(gs) < self.size
-                 for _ in gs]
-        return float(sum(sorted(split)[-(self.size - 1):]))
+        """The weight of a hyperplane through ``n - 1`` elements of one generator in general position
+        (the ``n - 1`` largest weights): a ``floor`` at or below it lets :meth:`heaviest` keep every
+        such hyperplane, ``C(E, n - 1)`` of them (with elements of several generators the search
+        goes through their flats, and every hyperplane it keeps holds its elements' full weight)."""
+        return float(sum(sorted(w for w, gs in zip(weights, self.generators) if len(gs) == 1)[-(self.size - 1):]))
+
+    @cached_property
+    def several_generators(self) -> bool:
+        """Whether some element that a hyperplane may hold has several generators (:meth:`heaviest`
+        then searches through the flats of such elements)."""
+        return any(1 < len(gs) < self.size for gs in self.generators)
 
     def _screened(self, vectors: list, weights: np.ndarray, shift: np.ndarray | None, tol: float,
                   floor: float | None, points: str, bound: Callable[[np.ndarray], float] | None = None,
@@ -365,6 +426,26 @@ class BlockRows:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
         rows = [g for e in pattern for g in self.generators[e]]
         return rank_rows(self.K, rows, self.size) < self.size
+
+
+def _maximal(sets: list[frozenset[int]]) -> list[frozenset[int]]:
+    """The sets not strictly inside another: each compared with the larger sets holding its rarest
+    element (listed largest first, so the scan stops at the first set no larger)."""
+    holding: dict[int, list[frozenset[int]]] = {}
+    for T in sorted(sets, key=len, reverse=True):
+        for e in T:
+            holding.setdefault(e, []).append(T)
+
+    def inside_another(S: frozenset[int]) -> bool:
+        if not S:
+            return any(sets)
+        for T in min((holding[e] for e in S), key=len):
+            if len(T) <= len(S):
+                return False
+            if S < T:
+                return True
+        return False
+    return [S for S in sets if not inside_another(S)]
 
 
 def _orbits(count: int, shift: np.ndarray | None) -> list[list[int]]:

@@ -134,7 +134,7 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
                                sensor: int | None = None) -> AlgebraicNumber | None:
     """``q_c`` with the filter stable iff the recovery rate exceeds it, by the argument of this
     module; None when the argument does not apply (a fail or fixed recovery rate not rational in
-    (0, 1), a sensor with several rows, the bound above ``q_max`` unstable, no crossing below
+    (0, 1), the bound above ``q_max`` unstable, no crossing below
     ``q_max / 2``): then the caller lists every hyperplane.  An irrational ``alpha^(2g)`` (a dense
     ``A``) is exact here: crossings are roots of ``rho_H(q) = alpha^(-2g)``
     (:func:`symkf.exact.algebraic.decreasing_root`).
@@ -155,10 +155,6 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
     if fr is None or _rational([r for i, r in enumerate(fixed) if i not in varying]) is None:
         return None
     blocks = block_rows(system)
-    # several rows: near the crossing screen 2's additive bound keeps every hyperplane holding one
-    # element, and the listing through the elements' flats (BlockRows.inside) is as fast or faster
-    if any(s.m != 1 for s in system.sensors):
-        return None
     gamma = {br: _threshold(br) for br in blocks}
 
     def model(q) -> GilbertElliott:

@@ -513,7 +513,7 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
     monotone in ``q`` in general; :func:`stable_recovery_intervals` gives the set).  Certified:
     the verdict of :func:`stability` is checked at rationals just outside the isolating interval.
 
-    With rational ``fail`` (and fixed ``recover``) in (0, 1) and single-row sensors, the common
+    With rational ``fail`` (and fixed ``recover``) in (0, 1), the common
     ``q`` and one sensor's ``q`` first take the path of :mod:`symkf.recovery`, which lists no
     hyperplane: every margin is non-increasing for ``q <= 1 - max fail`` of the varying sensors
     (their chains are stochastically monotone there), and ``q`` above it is proved stable only

@@ -57,17 +57,10 @@ MULTI = {  # one eigen-block each, elements of several generators: (A, each sens
 }
 
 
-@pytest.fixture
-def screened(monkeypatch):
-    """The screen even where the listing is cheaper (these blocks are small)."""
-    from symkf import observability
-    monkeypatch.setattr(observability, "LISTED_BELOW", 0)
-
-
 @pytest.mark.parametrize("name", MULTI)
-def test_elements_of_several_generators_screened_as_enumerated(name, screened):
+def test_elements_of_several_generators_screened_as_enumerated(name):
     """Two-row sensors and Jordan chains (an element is inside a hyperplane when all its
-    generators are): the two-pass screen gives the decay rate, decisive hyperplane and critical
+    generators are): the search through their flats gives the decay rate, decisive hyperplane and critical
     loss rate of the listing, with unequal losses."""
     A, rows = MULTI[name]
     loss = sk.IID(["1/10", "1/3", "1/2"][:len(rows)])
@@ -86,7 +79,7 @@ def test_elements_of_several_generators_screened_as_enumerated(name, screened):
 
 
 @pytest.mark.parametrize("name", MULTI)
-def test_elements_of_several_generators_with_a_zero_floor_give_every_hyperplane(name, screened):
+def test_elements_of_several_generators_with_a_zero_floor_give_every_hyperplane(name):
     """``floor = 0``: every maximal element set of the listing, and nothing else (the sets held
     by hyperplanes, less those strictly inside another)."""
     A, rows = MULTI[name]
@@ -111,7 +104,6 @@ FOUR_DIM = [sp.diag(rotation(sp.pi / 2, 2), rotation(sp.pi / 3, 2)), sp.diag(JOR
 def test_drawn_sensors_of_one_or_two_rows_screened_as_enumerated(A, sensors):
     """Drawn sensors of one or two rows on 4-dim blocks (rotations, Jordan chains): the screen's
     sets hold every maximiser of the listing, and the decay rates agree exactly."""
-    from symkf import observability
     try:
         fast, full = (sk.System(A=A, sensors=[sk.Sensor(C=r) for r, _ in sensors]) for _ in range(2))
     except sk.errors.UnobservableError:
@@ -120,11 +112,7 @@ def test_drawn_sensors_of_one_or_two_rows_screened_as_enumerated(A, sensors):
     (br_fast,), (br_full,) = block_rows(fast), block_rows(full)
     weights = _weights(loss)
     w = [weights[e.sensor] for e in br_fast.elements]
-    saved, observability.LISTED_BELOW = observability.LISTED_BELOW, 0
-    try:
-        heavy = br_fast.heaviest(w)
-    finally:
-        observability.LISTED_BELOW = saved
+    heavy = br_fast.heaviest(w)
     assume(heavy is not None)  # the generators span less than K^4 mod p: the listing's case
     best = max((sum(w[e] for e in H) for H in br_full.hyperplanes), default=0)
     assert {H for H in br_full.hyperplanes if sum(w[e] for e in H) > best - 1e-9} <= set(heavy)

@@ -54,6 +54,18 @@ CASES = {
     "joint pair chain": (_rotation(sp.pi / 3), [[1, 0], [1, 1]], PAIR),
     "joint pair chain, period 12": (_rotation(sp.pi / 6), [[1, 0], [0, 1]], PAIR),
     "order-2 chain": (_rotation(sp.pi / 3), [[1, 0]], ORDER2),
+    # elements of several generators: the search through their flats (symkf.flat_screen)
+    "two-row sensors, period 12": (sp.diag(_rotation(sp.pi / 2), _rotation(sp.pi / 3)),
+                                   [[[1, 0, 1, 0], [0, 1, 1, 1]], [[1, 2, 0, -1], [1, 0, 0, 0]]],
+                                   GE(["1/10", "1/3"], ["1/2", "1/4"])),
+    "two-row sensors, joint pair chain": (sp.diag(_rotation(sp.pi / 2), _rotation(sp.pi / 3)),
+                                          [[[1, 0, 1, 0], [0, 1, 1, 1]], [[1, 2, 0, -1], [1, 0, 0, 0]]], PAIR),
+    "Jordan chain beside a rotation": (sp.diag(sp.Matrix([[2, 1], [0, 2]]), _rotation(sp.pi / 3)),
+                                       [[1, 0, 1, 0], [0, 1, 1, 1], [2, -1, 0, 1]],
+                                       GE(["1/10", "1/5", "1/2"], ["1/2", "1/3", "1/2"])),
+    "one- and two-row sensors, period 6": (sp.diag(_rotation(sp.pi / 3), _rotation(2 * sp.pi / 3)),
+                                           [[1, 0, 0, 1], [[0, 1, 1, 1], [1, 0, -1, 2]], [2, 1, 0, -1]],
+                                           GE(["1/5", "1/10", "1/4"], ["1/2", "1/2", "2/3"])),
 }
 
 
@@ -93,6 +105,37 @@ def test_decisive_pattern_on_the_raw_rows():
     for e, el in enumerate(br.elements):
         if e not in rate.hyperplane:
             assert raw.rank(inside + [(el.phase, el.sensor)]) == 2
+
+
+def test_two_row_sensors_at_period_24_decided_through_their_flats():
+    """Eight two-row sensors on diag(2R(pi/6), 2R(pi/4)) (period 24, 192 elements of two
+    generators) on Gilbert-Elliott channels: both screens go through the elements' flats (no
+    hyperplane listed; the listing took 16 CPU-s and 0.8 GB at d = 3).  The decisive set is rank
+    deficient on the raw rows C_j A^k, and every element outside it restores full rank (the oracle
+    shares no engine code); with fail + recover = 1 the channels are i.i.d. losses, and the margin
+    equals the i.i.d. one."""
+    import numpy as np
+    rng = np.random.default_rng(3)
+    C = [[[int(v) for v in rng.integers(-2, 3, 4)] for _ in range(2)] for _ in range(8)]
+    A = sp.diag(_rotation(sp.pi / 6), _rotation(sp.pi / 4))
+    S, fresh = (_system(A, C) for _ in range(2))
+    (br,) = block_rows(S)
+    rate = decay.block_rate(br, GE(["1/10"] * 8, ["1/2"] * 8))
+    assert "inside" not in br.__dict__
+    raw = RawRegression(A, C, br.class_period)
+    inside = [(br.elements[e].phase, br.elements[e].sensor) for e in rate.hyperplane]
+    assert raw.rank(inside) == 3
+    assert all(raw.rank(inside + [(el.phase, el.sensor)]) == 4
+               for e, el in enumerate(br.elements) if e not in rate.hyperplane)
+    iid = sk.stability(fresh, sk.IID(["1/5"] * 8))
+    assert sk.stability(S, GE(["1/5"] * 8, ["4/5"] * 8)).margins[0] == iid.margins[0]
+
+
+def test_the_search_through_flats_is_refused_up_front():
+    A, rows, loss = CASES["two-row sensors, period 12"]
+    (br,) = block_rows(_system(A, rows))
+    with budget.limits(max_screen_work=10), pytest.raises(BudgetError, match="max_screen_work"):
+        decay.block_rate(br, loss)
 
 
 @pytest.mark.parametrize("name", ["period 12, anti-correlated", "period 8, anti-correlated"])

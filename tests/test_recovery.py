@@ -11,6 +11,7 @@ import symkf as sk
 from conftest import rotation
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.files import load
+from symkf.observability import block_rows
 from symkf.recovery import monotone_critical_recovery
 from symkf.stability import stable_recovery_intervals
 
@@ -60,6 +61,29 @@ def test_equals_listing(A, rows, fail):
     assert fast is not None
     assert fast == _listed(S, fail)
     assert fast.minpoly == _listed(S, fail).minpoly
+
+
+SEVERAL = [  # (A, sensors' rows, fail): elements of several generators, through their flats
+    (sp.diag(rotation(sp.pi / 2), rotation(sp.pi / 3)), [[[1, 0, 1, 0], [0, 1, 1, 1]], [[1, 2, 0, -1], [1, 0, 0, 0]]],
+     ["1/10", "1/8"]),
+    (sp.diag(sp.Matrix([[2, 1], [0, 2]]), rotation(sp.pi / 3)), [[[1, 0, 1, 0]], [[0, 1, 1, 1]], [[2, -1, 0, 1]]],
+     ["1/10", "1/5", "1/20"]),
+    (sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)), [[[1, -1, 0, 2], [0, 1, 2, 1]], [[2, 0, -1, 1], [1, 1, 0, 0]]],
+     ["1/10", "1/10"]),
+]
+
+
+@pytest.mark.parametrize("A, rows, fail", SEVERAL)
+def test_several_rows_and_jordan_chains_equal_listing(A, rows, fail):
+    """Two-row sensors and a Jordan chain: the monotone search (its screens through the elements'
+    flats) against every hyperplane of the generator listing (computed first on its own copy)."""
+    fast, full = (sk.System(A=A, sensors=[sk.Sensor(C=r) for r in rows]) for _ in range(2))
+    fail = [sp.Rational(f) for f in fail]
+    got = monotone_critical_recovery(fast, fail)
+    assert got is not None
+    for br in block_rows(full):
+        br.inside
+    assert got == _listed(full, fail)
 
 
 def test_irrational_modulus_by_hand():
