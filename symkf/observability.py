@@ -24,7 +24,7 @@ import itertools
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Callable, Iterator, Sequence
+from typing import Iterator, Sequence
 
 import flint
 import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
@@ -289,14 +289,10 @@ class BlockRows:
         return any(1 < len(gs) < self.size for gs in self.generators)
 
     def _screened(self, vectors: list, weights: np.ndarray, shift: np.ndarray | None, tol: float,
-                  floor: float | None, points: str, bound: Callable[[np.ndarray], float] | None = None,
-                  first_only: bool = False) -> list[np.ndarray] | None:
+                  floor: float | None, points: str) -> list[np.ndarray] | None:
         """The exact closures (point indices) of the sets :mod:`symkf.hyperplane_screen` keeps for
         the points ``vectors`` with ``weights`` (see :meth:`heaviest`; ``points`` names them in a
-        refusal), or None.  ``bound``: an upper bound of the weight a hyperplane holds, given the
-        points of its mod-p closure; closures below the screen's bar are not confirmed.
-        ``first_only``: only the first mod-p closure, by ``bound`` descending, that is exact (or
-        none): one exact hyperplane, a lower bound of the heaviest."""
+        refusal), or None."""
         n = self.size
         orbits = _orbits(len(vectors), shift)
         cycles = _cycles(len(vectors), shift) if shift is not None and np.array_equal(weights[shift], weights) \
@@ -330,12 +326,8 @@ class BlockRows:
                 if len(c):
                     mod_p.setdefault(_least_shift(c, shift, self.class_period), c)
             else:
-                if first_only:
-                    ranked = sorted(mod_p.values(), key=bound, reverse=True)
-                    return next(([c] for c in ranked if self._exact(X, p, c, vectors)), [])
-                needed = [c for c in mod_p.values() if bound is None or bound(c) >= screen.bar]
-                if all(self._exact(X, p, c, vectors) for c in needed):
-                    return needed
+                if all(self._exact(X, p, c, vectors) for c in mod_p.values()):
+                    return list(mod_p.values())
         return None
 
     def on_hyperplanes(self, normals: Sequence[Sequence[Elem]]) -> list[frozenset[int]]:
