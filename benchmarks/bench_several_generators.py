@@ -1,12 +1,17 @@
-"""Elements of several generators (sensors of several rows, Jordan chains) against main, the
-max_hyperplanes cap raised in both (past its default 300 000 the old listing refused every row).
+"""Elements of several generators (sensors of several rows, Jordan chains) and dense systems under
+Gilbert-Elliott channels, against main (``SYMKF_BASELINE=DIR`` for an older checkout), the
+max_hyperplanes cap raised in both (past its default 300 000 the listing refused most rows).
 
-* The heaviest-hyperplane screen: the critical common loss rate and the i.i.d. verdict (losses 1/5)
-  for a planar constant-velocity model beside an oscillator with 3, 4, 6 scalar sensors (C(36, 5)
-  to C(72, 5) hyperplanes), two-row sensors on a period-24 rotation block (C(192, 3), C(366, 3)).
-* The listing through the elements' flats: Gilbert-Elliott verdicts (fail 1/10, recover 1/2) and
-  the critical recovery rate of two-row sensors on the period-24 block, d = 2, 3, 4, 8.
+* i.i.d.: the critical common loss rate for a planar constant-velocity model beside an oscillator
+  (one 6-dim block, Jordan chains) with 8, 16, 32 scalar sensors, and two-row sensors on the
+  period-24 block diag(2R(pi/6), 2R(pi/4)) with 16, 64.
+* Gilbert-Elliott verdicts (fail 1/10, recover 1/2): two-row sensors on that block, d = 8, 16, 64;
+  the tracker beside the oscillator, d = 8, 16; two-row sensors on a 6-dim block of period 24,
+  d = 8, 32, and on an 8-dim one, d = 4.
+* The critical recovery rate (fail 1/10): two-row sensors, d = 4, 8, 16; the tracker, d = 8, 16;
+  dense random integer A (irrational moduli) with n = 8, d = 3 / 8 and n = 12, d = 3.
 
+Target (this machine, 2 cores): every row <= 10 CPU-s and <= 500 MB.
 Usage: python bench_several_generators.py [REPEATS [CAP]]"""
 
 import sys
@@ -16,14 +21,16 @@ from engine_rows import compare
 repeats = int(sys.argv[1]) if len(sys.argv) > 1 else 1
 cap = float(sys.argv[2]) if len(sys.argv) > 2 else 120
 listing = {"max_hyperplanes": 10 ** 9}
-for what, words in (("critical", "critical_loss_rate"), ("stability", "stability(S, IID(1/5))")):
-    compare(f"elements of several generators: {words}", what,
-            [("tracker_oscillator", [3], 30, listing), ("tracker_oscillator", [4], 30, listing),
-             ("tracker_oscillator", [6], 30, listing), ("two_row_rotations", [4], 30, listing),
-             ("two_row_rotations", [8], 30, listing)],
-            repeats=repeats, baseline_cap=cap, cap=cap)
-for what, words in (("stability", "stability(S, GilbertElliott(1/10, 1/2))"),
-                    ("recovery", "critical_recovery_rate(S, fail=1/10)")):
-    compare(f"two-row sensors, period 24: {words}", what,
-            [("two_row_rotations_ge", [d], 30, listing) for d in (2, 3, 4, 8)],
-            repeats=repeats, baseline_cap=cap, cap=cap)
+compare("elements of several generators: critical_loss_rate", "critical",
+        [("tracker_oscillator", [d], 10, listing) for d in (8, 16, 32)]
+        + [("two_row_rotations", [d], 10, listing) for d in (16, 64)], repeats=repeats, baseline_cap=cap, cap=cap)
+compare("elements of several generators: stability(S, GilbertElliott(1/10, 1/2))", "stability",
+        [("two_row_rotations_ge", [d], 10, listing) for d in (8, 16, 64)]
+        + [("tracker_oscillator_ge", [d], 10, listing) for d in (8, 16)]
+        + [("multi_row_six", [d], 10, listing) for d in (8, 32)] + [("multi_row_eight", [4], 10, listing)],
+        repeats=repeats, baseline_cap=cap, cap=cap)
+compare("critical_recovery_rate(S, fail=1/10)", "recovery",
+        [("two_row_rotations_ge", [d], 10, listing) for d in (4, 8, 16)]
+        + [("tracker_oscillator_ge", [d], 10, listing) for d in (8, 16)]
+        + [("dense_ge", [n, d], 10, listing) for n, d in ((8, 3), (8, 8), (12, 3))],
+        repeats=repeats, baseline_cap=cap, cap=cap)

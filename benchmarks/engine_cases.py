@@ -142,6 +142,21 @@ def multi_row_eight(d: int, rows: int = 2, seed: int = 0) -> tuple[sk.System, sk
     return sk.System(A=A, sensors=sensors), sk.GilbertElliott(["1/10"] * d, ["1/2"] * d)
 
 
+PAIR = {(1, 1): {(1, 1): "4/5", (1, 0): "1/20", (0, 1): "1/20", (0, 0): "1/10"},
+        (1, 0): {(1, 1): "1/2", (1, 0): "1/5", (0, 1): "1/10", (0, 0): "1/5"},
+        (0, 1): {(1, 1): "1/2", (1, 0): "1/10", (0, 1): "1/5", (0, 0): "1/5"},
+        (0, 0): {(1, 1): "2/5", (1, 0): "1/10", (0, 1): "1/10", (0, 0): "2/5"}}
+
+
+def correlated_pairs(d: int, seed: int = 0) -> tuple[sk.System, sk.Independent]:
+    """The 4-dim block diag(2R(pi/6), 2R(pi/4)) (period 24) with d random integer sensor rows in d/2
+    pairs, each pair on a bursty shared channel of its own (a joint Markov chain, :data:`PAIR`)."""
+    rng = np.random.default_rng(seed)
+    A = sp.diag(_rotation(sp.pi / 6, 2), _rotation(sp.pi / 4, 2))
+    return (sk.System(A=A, sensors=_sensors(_random_rows(rng, d, 4))),
+            sk.Independent([sk.MarkovLoss(PAIR) for _ in range(d // 2)]))
+
+
 def radical_matrix(seed: int, n: int = 6, density: float = 0.7) -> sp.Matrix:
     """A non-negative n x n matrix over Q(sqrt 2, sqrt 3, sqrt 5): each entry is 0 (probability
     1 - density) or ``a + b sqrt 2 + c sqrt 3 + d sqrt 5`` with ``a`` in 0..3, ``b, c, d`` in

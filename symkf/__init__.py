@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from .bounds import bounds
     from .exact.algebraic import AlgebraicNumber
     from .families import load_family
-    from .losses import IID, GilbertElliott, MarkovLoss
+    from .losses import IID, GilbertElliott, Independent, MarkovLoss
     from .model import Sensor, System
     from .region import StabilityRegion, stability_conditions, stability_region
     from .spectral import eigen_blocks, eigenvalues
@@ -37,7 +37,7 @@ __version__ = "0.1.0"
 _SUBMODULES = {"capacity", "control", "examples", "fusion", "montecarlo", "network", "second_order", "tables"}
 #: public names imported on first access, with the module that defines them
 _LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "losses", "GilbertElliott": "losses",
-         "MarkovLoss": "losses", "Sensor": "model", "System": "model", "eigen_blocks": "spectral",
+         "MarkovLoss": "losses", "Independent": "losses", "Sensor": "model", "System": "model", "eigen_blocks": "spectral",
          "eigenvalues": "spectral", "Verdict": "stability", "critical_alpha": "stability",
          "critical_loss_rate": "stability", "critical_recovery_rate": "stability", "stability": "stability",
          "stable_recovery_intervals": "stability", "load_family": "families", "StabilityRegion": "region",
@@ -46,7 +46,7 @@ _LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "losses", "GilbertElliott"
          "verify": "verify", "verify_family": "verify", "Verification": "verify", "FamilyVerification": "verify",
          "simulate": "simulation", "Simulation": "simulation"}
 
-__all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLoss", "AlgebraicNumber",
+__all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLoss", "Independent", "AlgebraicNumber",
            "eigen_blocks", "eigenvalues", "stability", "Verdict", "critical_loss_rate", "critical_alpha",
            "critical_recovery_rate", "stable_recovery_intervals", "stability_region", "stability_conditions",
            "StabilityRegion", "sweep", "load_family", "bounds", "verify", "verify_family", "Verification",

@@ -43,7 +43,7 @@ def _toml_snippets(page: str) -> list[str]:
 def test_every_format_snippet_loads(tmp_path):
     snippets = _toml_snippets("formats.md")
     kinds = {tomllib.loads(s).get("loss", {}).get("kind") for s in snippets}
-    assert {"iid", "gilbert-elliott", "markov", "network"} <= kinds
+    assert {"iid", "gilbert-elliott", "markov", "network", "independent"} <= kinds
     for i, text in enumerate(snippets):
         path = tmp_path / f"snippet{i}.toml"
         path.write_text(text, encoding="utf-8")

@@ -20,9 +20,10 @@ import symkf as sk
 from symkf import cli, examples, files, tables
 from symkf.errors import AssumptionError, BudgetError, InputError, ShapeError
 from symkf.filtering import sample_receptions
-from symkf.losses import IID, GilbertElliott, LossModel, MarkovLoss, checked, from_table
+from symkf.losses import IID, GilbertElliott, Independent, LossModel, MarkovLoss, checked, from_table
 from symkf.montecarlo import exact_mean_covariances, simulate_traces
 from symkf.network import MarkovNetworkState, NetworkLoss, SemiMarkovNetworkState, SensorTree
+from symkf.observability import block_rows
 
 R = sp.Rational
 
@@ -44,6 +45,7 @@ MODELS = {
                                    [["19/20", "1/2"], ["9/10", "3/4"]]),
     "semi-markov-network": lambda: NetworkLoss(SensorTree([0, 0]), SemiMarkovNetworkState(
         [["0", "1"], ["1", "0"]], [{1: "1/2", 2: "1/2"}, [1]]), [["9/10", "1/5"], ["4/5", "1/2"]]),
+    "independent": lambda: Independent([GilbertElliott(["1/10"], ["1/2"]), IID(["1/4"])]),
 }
 WORDS = {"iid": "i.i.d. losses 1/10, 1/4",
          "gilbert-elliott": "Gilbert-Elliott channels, fail 1/10, 1/3, recover 1/2, 1/5",
@@ -51,14 +53,16 @@ WORDS = {"iid": "i.i.d. losses 1/10, 1/4",
          "markov": "a joint Markov chain of order 1 on 4 receival vectors",
          "network": "a sensor tree of 2 links over a Markov network state with 2 states (Quevedo et al.)",
          "semi-markov-network": "a sensor tree of 2 links over a semi-Markov network state with 2 states "
-                                "(Quevedo et al.)"}
+                                "(Quevedo et al.)",
+         "independent": "independent parts: sensor 0 Gilbert-Elliott channels, fail 1/10, recover 1/2; "
+                        "sensor 1 i.i.d. losses 1/4"}
 SEQUENCES = list(itertools.product(itertools.product((1, 0), repeat=2), repeat=3))   # d = 2, 3 steps
 
 
 @pytest.mark.parametrize("name", MODELS)
 def test_factors_reproduce_the_joint_law(name):
     loss = MODELS[name]()
-    independent = loss.bernoulli is not None or loss.kind == "gilbert-elliott"
+    independent = loss.bernoulli is not None or loss.kind in ("gilbert-elliott", "independent")
     assert [f.sensors for f in loss.factors] == ([(0,), (1,)] if independent else [(0, 1)])
     for f in loss.factors:   # each factor a stochastic exact chain
         assert all(sum(f.chain.P.row(r)) == 1 for r in range(f.chain.P.rows)) and sum(f.chain.initial) == 1
@@ -178,7 +182,7 @@ def test_independent_sensors_never_build_the_joint_chain():
 # -- every loss kind through tables, reports and figures (issue 22, item 3) --------------------
 
 EXAMPLES = {"iid": "cv-three-sensors", "gilbert-elliott": "ge-two-sensors", "markov": "network/markov-shared-channel",
-            "network": "network/quevedo-example3"}
+            "network": "network/quevedo-example3", "independent": "paired-channels"}
 
 
 def test_verdict_table_of_a_joint_markov_loss():
@@ -198,7 +202,7 @@ def test_verdict_table_has_every_loss_kind():
     assert [c["kind"] for c in cells] == list(EXAMPLES)
     text, latex = str(table), table.to_latex()
     for plain, tex in (("i.i.d.:", "i.i.d."), ("Gilbert-Elliott:", "Gilbert--Elliott"), ("joint Markov:", r"\nu"),
-                       ("network:", r"\phi")):
+                       ("network:", r"\phi"), ("independent parts:", "d_i")):
         assert plain in text and tex in latex
 
 
@@ -291,3 +295,81 @@ def test_channel_fail_is_asked_of_the_model(name, capsys):
     else:
         key, value, _ = cli.VARY["recovery"](S, loss, "", "f.toml")
         assert key == "critical_recovery_rate" and value == sk.critical_recovery_rate(S, fail=["1/10", "1/3"])
+
+
+# -- independent parts: groups of sensors on channels of their own ---------------------------
+
+def _pair_of(ge: GilbertElliott) -> MarkovLoss:
+    """The joint chain of two independent Gilbert-Elliott channels, as one MarkovLoss."""
+    v = [(1, 1), (1, 0), (0, 1), (0, 0)]
+    P = [ge.sensor_matrix(0), ge.sensor_matrix(1)]
+    return MarkovLoss({a: {b: P[0][1 - a[0], 1 - b[0]] * P[1][1 - a[1], 1 - b[1]] for b in v} for a in v})
+
+
+def test_paired_channels_example_by_hand():
+    """The shipped example: 24/25 per step, derived in its comments ((P^2)[00, 00] = 6/25 per pair)."""
+    S, loss = files.load(examples.system("paired-channels"))
+    assert isinstance(loss, Independent) and [f.sensors for f in loss.factors] == [(0, 1), (2, 3)]
+    v = sk.stability(S, loss)
+    assert v.stable and v.margins[0].exact == R(24, 25) and v.certificate[0].margin_power == R(576, 625)
+    assert set(v.certificate[0].decisive_elements) in ({("x1", 0), ("x2", 0), ("y1", 1), ("y2", 1)},
+                                                       {("x1", 1), ("x2", 1), ("y1", 0), ("y2", 0)})
+
+
+def test_independent_pairs_are_the_sensors_channels():
+    """Sixteen sensors on the period-24 block, in eight pairs whose joint chains are products of two
+    Gilbert-Elliott channels: the same law as sixteen independent channels, so the same exact
+    margins, through joint factors of four states instead of two-state ones; the joint chain of all
+    sixteen (4^8 states) is never built."""
+    rng = np.random.default_rng(5)
+    A = sp.diag(2 * sp.Matrix([[sp.sqrt(3) / 2, -R(1, 2)], [R(1, 2), sp.sqrt(3) / 2]]),
+                2 * sp.Matrix([[sp.sqrt(2) / 2, -sp.sqrt(2) / 2], [sp.sqrt(2) / 2, sp.sqrt(2) / 2]]))
+    rows = [[int(x) for x in rng.integers(-2, 3, 4)] for _ in range(16)]
+    fail = [R(1, 10 + j % 3) for j in range(16)]
+    recover = [R(1, 2 + j % 2) for j in range(16)]
+    ge = GilbertElliott(fail, recover)
+    pairs = Independent([_pair_of(GilbertElliott(fail[j:j + 2], recover[j:j + 2])) for j in range(0, 16, 2)])
+    S1, S2 = (sk.System(A=A, sensors=[sk.Sensor(C=[r]) for r in rows]) for _ in range(2))
+    a, b = sk.stability(S1, ge), sk.stability(S2, pairs)
+    assert a.margins[0] == b.margins[0] and a.stable == b.stable
+    assert "chain" not in pairs.__dict__ and len(pairs.factors) == 8
+
+
+def test_independent_pairs_equal_the_joint_chain():
+    """Two correlated pairs on 2R(pi/3) (period 3): the Markov search over the two pair chains equals
+    the first maximum over every hyperplane of the joint chain's restricted transfer (16 states,
+    built here only as the reference)."""
+    from symkf.decay import block_rate, perron_root, restricted_transfer
+    from symkf.exact.algebraic import AlgebraicNumber
+    pair = MarkovLoss({(1, 1): {(1, 1): "4/5", (1, 0): "1/20", (0, 1): "1/20", (0, 0): "1/10"},
+                       (1, 0): {(1, 1): "1/2", (1, 0): "1/5", (0, 1): "1/10", (0, 0): "1/5"},
+                       (0, 1): {(1, 1): "1/2", (1, 0): "1/10", (0, 1): "1/5", (0, 0): "1/5"},
+                       (0, 0): {(1, 1): "2/5", (1, 0): "1/10", (0, 1): "1/10", (0, 0): "2/5"}})
+    loss = Independent([pair, markov()])
+    A = 2 * sp.Matrix([[R(1, 2), -sp.sqrt(3) / 2], [sp.sqrt(3) / 2, R(1, 2)]])
+    rows = ([1, 0], [0, 1], [1, 1], [1, -1])
+    (br,), (full,) = (block_rows(sk.System(A=A, sensors=[sk.Sensor(C=[r]) for r in rows])) for _ in range(2))
+    got = block_rate(br, loss)
+    best = None
+    for H in full.hyperplanes:
+        v = AlgebraicNumber.from_expr(perron_root(restricted_transfer(full, H, loss)))
+        if best is None or v > best[1]:
+            best = (H, v)
+    assert got.hyperplane == best[0] and sp.simplify(got.per_period - best[1].exact) == 0
+
+
+def test_independent_parts_are_checked_and_refused_in_one_line(tmp_path):
+    with pytest.raises(InputError, match=r"argument 'parts' must be a list or tuple of a LossModel"):
+        Independent([IID(["1/2"]), "1/2"])
+    with pytest.raises(InputError, match="at least one"):
+        Independent([])
+    bad = Independent([GilbertElliott(["1/10"], ["0"]), IID(["1/4"])])
+    with pytest.raises(AssumptionError, match=r"part 0 \(sensors 0 to 0\): recover\[0\] = 0"):
+        checked(bad, positive=True)
+    nested = Independent([Independent([IID(["1/4"])]), IID(["1/5"])])
+    assert len(nested.parts) == 2 and nested.bernoulli == (R(1, 4), R(1, 5))
+    path = tmp_path / "s.toml"
+    path.write_text('[system]\nA = [["2"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "independent"\n'
+                    '[[loss.parts]]\nkind = "iid"\nloss = ["1/2"]\n', encoding="utf-8")
+    with pytest.raises(sk.errors.FileFormatError, match=r"\[loss\] parts\[0\]: missing key 'sensors'"):
+        files.load(path)
