@@ -33,23 +33,23 @@ RESULTS: tuple[Callable[[System, Quantity], Row], ...] = (
 def quantity(system: System, loss: LossModel | None = None) -> tuple[Quantity, str]:
     """The parameter the rows speak about, with the exact stable set, and a note on ``loss``.
 
-    A Gilbert-Elliott model (it has ``fail`` and ``recover``) selects the common recovery
-    probability at its failure rates; any other model, or none, the common i.i.d. loss
-    probability; an i.i.d. model's own rates are kept for the multi-sensor LMI's verdict at
-    those rates (every other row is about a threshold)."""
-    fail = getattr(loss, "fail", None)
-    if fail is not None and hasattr(loss, "recover"):
+    Independent Gilbert-Elliott channels (the model's ``channel_fail``) select the common recovery
+    probability at their failure rates; any other model, or none, the common i.i.d. loss
+    probability; i.i.d. losses (the model's ``bernoulli``) keep their rates for the multi-sensor
+    LMI's verdict at those rates (every other row is about a threshold)."""
+    fail = None if loss is None else loss.channel_fail
+    if fail is not None:
         stable = stable_recovery_intervals(system, list(fail))
         one = len(stable) == 1 and stable[0][1] == 1
         return (Quantity("gilbert-elliott", "q", "common Gilbert-Elliott recovery probability q = P(received | "
                          f"lost last), fail = {[str(f) for f in fail]}", stable, stable[0][0] if one else None,
                          tuple(fail)), "")
     eps = critical_loss_rate(system)
-    note = "" if loss is None or hasattr(loss, "loss") else (
-        f"the loss model ({type(loss).__name__}) is neither i.i.d. nor Gilbert-Elliott; the atlas compares "
+    rates = () if loss is None or loss.bernoulli is None else tuple(loss.bernoulli)
+    note = "" if loss is None or rates else (
+        f"the loss model ({loss.words()}) is neither i.i.d. nor Gilbert-Elliott channels; the atlas compares "
         "the common i.i.d. critical loss probability")
     zero = number(0)
-    rates = tuple(getattr(loss, "loss", ()))
     return Quantity("iid", "eps", "common i.i.d. loss probability eps of every sensor",
                     ((zero, eps),) if eps > 0 else (), eps, rates=rates), note
 
