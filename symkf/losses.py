@@ -985,6 +985,8 @@ class Independent(LossModel):
         out = []
         for i, part in enumerate(parts):
             at = f"{where} parts[{i}]"
+            if part.get("kind") == cls.kind:   # parts flatten: a nested list says nothing more (and recurses)
+                raise FileFormatError(f"{at}: kind {cls.kind!r} cannot be a part; list its parts here instead")
             count = _positive_int(_get(part, "sensors", at), f"{at} key 'sensors'")
             out.append(read_loss({k: v for k, v in part.items() if k != "sensors"}, at, count, rationalize))
         return cls(out)

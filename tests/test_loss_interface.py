@@ -373,3 +373,8 @@ def test_independent_parts_are_checked_and_refused_in_one_line(tmp_path):
                     '[[loss.parts]]\nkind = "iid"\nloss = ["1/2"]\n', encoding="utf-8")
     with pytest.raises(sk.errors.FileFormatError, match=r"\[loss\] parts\[0\]: missing key 'sensors'"):
         files.load(path)
+    deep = {"kind": "iid", "loss": ["1/2"]}
+    for _ in range(3000):   # a JSON object nested past Python's recursion limit: one line, no RecursionError
+        deep = {"kind": "independent", "parts": [{"sensors": 1, **deep}]}
+    with pytest.raises(sk.errors.FileFormatError, match=r"parts\[0\]: kind 'independent' cannot be a part"):
+        from_table(deep, 1)
