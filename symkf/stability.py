@@ -303,18 +303,20 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
         raise InputError(f"others: give the {d} loss probabilities of all sensors (entry {j} is ignored)")
     fixed = [to_exact(v, f"others[{i}]") if i != j else sp.Integer(1) for i, v in enumerate(others)]
 
-    def bound(a2g: sp.Expr, ks: tuple[int, ...]) -> sp.Expr | None:
+    def bound(a2g: AlgebraicNumber, ks: tuple[int, ...]) -> AlgebraicNumber | None:
         rest = sp.Mul(*[f ** k for i, (f, k) in enumerate(zip(fixed, ks)) if i != j])
         if ks[j] == 0:
-            return sp.Integer(0) if AlgebraicNumber.from_expr(a2g * rest) >= 1 else None
-        return sp.root(1 / (a2g * rest), ks[j]) if rest != 0 else None
+            return AlgebraicNumber.from_expr(0) if _Bound(a2g, 1, rest, 1, sign=1).value() >= 1 else None
+        return _Bound(a2g, 1, rest, ks[j]).value() if rest != 0 else None
     return _least(system, lambda x: [x if i == j else f for i, f in enumerate(fixed)], bound)
 
 
-def _ray_bound(a2g: sp.Expr, ks: tuple[int, ...], w: Sequence[sp.Expr]) -> sp.Expr | None:
-    """``eps`` at which ``alpha^(2g) prod_j (eps w_j)^(k_j)`` reaches 1, None when it is 0."""
+def _ray_bound(a2g: Any, ks: tuple[int, ...], w: Sequence[sp.Expr]) -> AlgebraicNumber | None:
+    """``eps`` at which ``alpha^(2g) prod_j (eps w_j)^(k_j)`` reaches 1 (``a2g`` = ``alpha^(2g)``,
+    exact), None when it is 0: flint's minimal polynomial of ``(a2g W)^(-1/k)`` (:class:`_Bound`),
+    not sympy's."""
     W = sp.Mul(*[wj ** k for wj, k in zip(w, ks)])
-    return sp.root(1 / (a2g * W), sum(ks)) if W != 0 else None
+    return _Bound(AlgebraicNumber.from_expr(a2g), 1, W, sum(ks)).value() if W != 0 else None
 
 
 def _least(system: System, losses, bound, safe: AlgebraicNumber | None = None) -> AlgebraicNumber:
@@ -324,8 +326,8 @@ def _least(system: System, losses, bound, safe: AlgebraicNumber | None = None) -
     one = AlgebraicNumber.from_expr(1)
     values = []
     for br in block_rows(system):
-        a2g = sympify(br.block.modulus.exact ** (2 * br.class_period))
-        v = least_iid_bound(br, losses, lambda ks: bound(a2g, ks), one, a2g, safe)
+        a2g = br.block.modulus ** (2 * br.class_period)
+        v = least_iid_bound(br, losses, lambda ks: bound(a2g, ks), one, sympify(a2g), safe)
         values.append(v if v is not None else
                       _min_capped([b for ks in outside_counts(br) if (b := bound(a2g, ks)) is not None]))
     return min(values, default=one)
@@ -386,7 +388,8 @@ def _min_capped(bounds: list[_Bound | sp.Expr]) -> AlgebraicNumber:
     """The least bound, or 1 when none is below 1.  :class:`_Bound` candidates are compared by
     certified balls first, and only those the balls cannot separate from the least are made exact
     (the first least bound wins)."""
-    values = [AlgebraicNumber.from_expr(b) for b in {sympify(b) for b in bounds if not isinstance(b, _Bound)}]
+    values = [AlgebraicNumber.from_expr(b) for b in {b if isinstance(b, AlgebraicNumber) else sympify(b)
+                                                     for b in bounds if not isinstance(b, _Bound)}]
     cands = list({b.key: b for b in bounds if isinstance(b, _Bound)}.values())
     one = flint.arb(1)
     for prec in (64, 256, 1024):
