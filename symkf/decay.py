@@ -103,19 +103,11 @@ def outside_counts(br: BlockRows, weights: Sequence[float] | None = None) -> dic
     return _outside_vectors(br, listed_hyperplanes(br))
 
 
-def hyperplane_estimate(br: BlockRows) -> int:
-    """An upper bound on the number of hyperplanes of the block the listing finds
-    (:meth:`BlockRows.listing_estimate`); their number once listed."""
-    if "inside" in br.__dict__ or br.size < 2:
-        return len(br.inside)
-    return br.listing_estimate()[0]
-
-
 def listed_hyperplanes(br: BlockRows) -> np.ndarray | list[frozenset[int]]:
     """Every hyperplane: with elements of several generators the search through their flats at
     floor 0 (:meth:`BlockRows.heaviest`, refused up front by its work estimate; index sets in
     lexicographic order), else :attr:`BlockRows.inside`, refused up front when their estimated
-    number (:func:`hyperplane_estimate`) exceeds ``budget.Limits.max_hyperplanes``."""
+    number (:meth:`BlockRows.listing_estimate`) exceeds ``budget.Limits.max_hyperplanes``."""
     if br.several_generators and "inside" not in br.__dict__:
         sets = br.heaviest([0.0] * len(br.elements), floor=0.0)
         if sets is not None:

@@ -24,7 +24,7 @@ import numpy as np
 import sympy as sp
 
 from . import budget, receptions
-from .errors import InputError, SymkfError
+from .errors import BudgetError, InputError, SymkfError
 from .exact.algebraic import AlgebraicNumber
 from .exact.arguments import check_public, float_array
 from .exact.perron import perron_float
@@ -438,14 +438,19 @@ def verdict_plan(system: System, verdict, loss: LossModel | None = None) -> Burs
     plan = burst_plan(system, phases if any(phases) else [list(range(system.d))], growth)
     if loss is None:
         return plan
-    from .decay import hyperplane_estimate  # the engine imports nothing from simulation
+    from .decay import capped_hyperplanes  # the engine imports nothing from simulation
     from .observability import block_rows
     br = block_rows(system)[verdict.limiting_block]
-    if hyperplane_estimate(br) > budget.LIMITS.max_hyperplanes or len(br.hyperplanes) > budget.LIMITS.max_tie_search \
-            or br.class_period != plan.period:  # no ties searched where listing would be refused
+    if br.class_period != plan.period:
+        return plan
+    try:   # every hyperplane (through the elements' flats when they have several generators)
+        sets = capped_hyperplanes(br)
+    except BudgetError:   # no ties searched where listing is refused
+        return plan
+    if len(sets) > budget.LIMITS.max_tie_search:
         return plan
     masks = []
-    for H in br.hyperplanes:
+    for H in sets:
         a = np.zeros((br.class_period, system.d), bool)
         for i in H:
             a[br.elements[i].phase, br.elements[i].sensor] = True
