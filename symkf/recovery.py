@@ -44,7 +44,7 @@ import flint
 import sympy as sp
 
 from .exact.arguments import check_public
-from .decay import Patterns, block_rate, factor_rates, first_screen, rates_reaching
+from .decay import Patterns, block_rate, capped_hyperplanes, factor_rates, first_screen, rates_reaching
 from .exact.algebraic import AlgebraicNumber, decreasing_root
 from .exact.numbers import sympify
 from .losses import GilbertElliott
@@ -129,6 +129,55 @@ def _rational(values: Sequence[sp.Expr]) -> list[Fraction] | None:
     return [Fraction(int(v.p), int(v.q)) for v in values]
 
 
+class _Channels:
+    """Gilbert-Elliott channels whose recovery probability is the variable ``q`` on the ``varying``
+    sensors (all, or one), the others' fixed at ``fixed``; every rate rational."""
+
+    def __init__(self, fail: Sequence[sp.Expr], varying: frozenset[int], rational: list[Fraction],
+                 fixed: list[sp.Expr]):
+        self.original, self.varying, self.fail, self.fixed = list(fail), varying, rational, fixed
+
+    @classmethod
+    def of(cls, d: int, fail: Sequence[sp.Expr], recover: Sequence[sp.Expr] | None,
+           sensor: int | None) -> "_Channels | None":
+        """The channels of a query (``sensor``: the one varying; else all), None when a rate that
+        enters a margin is not a rational in (0, 1)."""
+        varying = frozenset(range(d)) if sensor is None else frozenset({sensor})
+        fr = _rational(fail)
+        fixed = [sp.Rational(1, 2)] * d if sensor is None else [sympify(r) for r in recover]
+        if fr is None or _rational([r for i, r in enumerate(fixed) if i not in varying]) is None:
+            return None
+        return cls(fail, varying, fr, fixed)
+
+    def model(self, q) -> GilbertElliott:
+        return GilbertElliott(self.original, [q if i in self.varying else r for i, r in enumerate(self.fixed)])
+
+    def rates(self, br: BlockRows, sets) -> list[flint.fmpq_poly]:
+        """The distinct ``rho(M_H)(q)`` of the hyperplanes ``sets`` (shifted and tied hyperplanes share
+        one: each is solved once); a pattern's runs do not depend on ``q``."""
+        patterns = Patterns(br, factor_rates(br, self.model(sp.Rational(1, 2))))
+        distinct = {tuple(m.coeffs()): m for m in (_rate_poly(br, H, self.fail, self.varying, patterns) for H in sets)}
+        return list(distinct.values())
+
+
+def listed_margins(system: System, fail: Sequence[sp.Rational], recover: Sequence[sp.Rational] | None,
+                   sensor: int | None, q: sp.Symbol) -> list[sp.Expr] | None:
+    """Every hyperplane's margin ``alpha^(2g) rho_H(q)`` as a polynomial in ``q`` (the hyperplanes
+    listed, capped: :func:`symkf.decay.capped_hyperplanes`), the distinct ones once, their rates
+    built in flint (sympy expanding the same products took 470 CPU-s for eight two-row sensors at
+    period 24); None when a rate is not rational (then :func:`symkf.region.ge_margins`)."""
+    channels = _Channels.of(system.d, fail, recover, sensor)
+    if channels is None:
+        return None
+    out = []
+    for br in block_rows(system):
+        growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
+        for m in channels.rates(br, capped_hyperplanes(br)):
+            rho = sp.Poly([sp.Rational(int(c.p), int(c.q)) for c in reversed(m.coeffs())], q).as_expr()
+            out.append(sp.expand(growth * rho))
+    return out
+
+
 def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
                                recover: Sequence[sp.Rational] | None = None,
                                sensor: int | None = None) -> AlgebraicNumber | None:
@@ -148,23 +197,15 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
     ``fail + recover = 1`` beside the fixed ones.  A constant margin at least 1 (found by the search at ``q_max / 2`` or
     by the certificate's screen) is unstable at every ``q``: the answer is 1, as with the listing."""
     from .stability import stability
-    d = system.d
-    varying = frozenset(range(d)) if sensor is None else frozenset({sensor})
-    fr = _rational(fail)
-    fixed = [sp.Rational(1, 2)] * d if sensor is None else [sympify(r) for r in recover]
-    if fr is None or _rational([r for i, r in enumerate(fixed) if i not in varying]) is None:
+    channels = _Channels.of(system.d, fail, recover, sensor)
+    if channels is None:
         return None
+    varying, fr, fixed, model = channels.varying, channels.fail, channels.fixed, channels.model
     blocks = block_rows(system)
     gamma = {br: _threshold(br) for br in blocks}
 
-    def model(q) -> GilbertElliott:
-        return GilbertElliott(list(fail), [q if i in varying else r for i, r in enumerate(fixed)])
-
     def margins(q: Fraction, br: BlockRows, sets) -> list[flint.fmpq_poly]:
-        patterns = Patterns(br, factor_rates(br, model(sp.Rational(q.numerator, q.denominator))))
-        # shifted and tied hyperplanes share a margin: each distinct one is solved once
-        distinct = {tuple(m.coeffs()): m for m in (_rate_poly(br, H, fr, varying, patterns) for H in sets)}
-        polys = list(distinct.values())
+        polys = channels.rates(br, sets)
         if any(m.degree() < 1 and not gamma[br] > _at(m, Fraction(0)) for m in polys):
             raise _Unstable
         return [m for m in polys if m.degree() >= 1]

@@ -25,7 +25,7 @@ from .exact.numbers import sympify, to_exact
 from .losses import IID, GilbertElliott, LossModel, checked
 from .model import System
 from .observability import BlockRows, block_rows
-from .recovery import monotone_critical_recovery
+from .recovery import listed_margins, monotone_critical_recovery
 from .region import ge_margins, stable_intervals
 
 
@@ -453,6 +453,23 @@ def _recovery_model(system: System, fail: Sequence[Any], recover: Sequence[Any] 
     return GilbertElliott(fail, [q if i == j else r for i, r in enumerate(recover)])
 
 
+def _monotone_recovery(system: System, fail: Sequence[Any], recover: Sequence[Any] | None,
+                       sensor: str | None) -> tuple[GilbertElliott, sp.Symbol, Any, AlgebraicNumber | None]:
+    """The checked model with symbol ``q``, a function giving the stable intervals from every
+    hyperplane's margin, and ``q_c`` by :mod:`symkf.recovery`'s argument (stable exactly for ``q >
+    q_c``), None where that argument does not apply."""
+    q = sp.Symbol("q", positive=True)
+    model = _recovery_model(system, fail, recover, sensor, q)
+    _check_loss(system, model.subs({q: sp.Rational(1, 2)}))
+    j = None if sensor is None else system.sensor_index(sensor)
+    fixed = None if j is None else model.recover
+
+    def listed() -> tuple[tuple[AlgebraicNumber, AlgebraicNumber], ...]:
+        margins = listed_margins(system, model.fail, fixed, j, q)
+        return stable_intervals(ge_margins(system, model) if margins is None else margins, q)
+    return model, q, listed, monotone_critical_recovery(system, model.fail, fixed, j)
+
+
 def stable_recovery_intervals(system: System, fail: Sequence[Any], *, recover: Sequence[Any] | None = None,
                               sensor: str | None = None) -> tuple[tuple[AlgebraicNumber, AlgebraicNumber], ...]:
     """The recovery probabilities ``q in (0, 1)`` that make Gilbert-Elliott channels stable, exactly.
@@ -460,7 +477,9 @@ def stable_recovery_intervals(system: System, fail: Sequence[Any], *, recover: S
     ``q`` is common to all sensors, or only sensor ``sensor``'s with the others' ``recover``
     fixed.  Each block and hyperplane gives the polynomial condition
     ``alpha^(2g) prod_j tr(M_{H,j}(q)) < 1`` (:func:`symkf.region.ge_margins`); the set is a
-    union of open intervals with algebraic end points.  It need not be an up-set: a channel
+    union of open intervals with algebraic end points.  Where the argument of
+    :mod:`symkf.recovery` applies (rational rates) the set is ``(q_c, 1)`` with ``q_c`` found
+    without listing the hyperplanes; otherwise every hyperplane's condition is solved.  It need not be an up-set: a channel
     that recovers faster also alternates more, which can lock its receptions onto one phase of
     the period (``proofs/sui_engine_ge_recovery_nonmonotone.py``).
 
@@ -499,10 +518,10 @@ def stable_recovery_intervals(system: System, fail: Sequence[Any], *, recover: S
     >>> [(lo.exact, hi.exact) for lo, hi in sk.stable_recovery_intervals(S, fail=["1/4"])]
     [(3/4, 1)]
     """
-    q = sp.Symbol("q", positive=True)
-    loss = _recovery_model(system, fail, recover, sensor, q)
-    _check_loss(system, loss.subs({q: sp.Rational(1, 2)}))
-    return stable_intervals(ge_margins(system, loss), q)
+    _, _, listed, qc = _monotone_recovery(system, fail, recover, sensor)
+    if qc is None:
+        return listed()
+    return () if qc == 1 else ((qc, AlgebraicNumber.from_expr(1)),)
 
 
 def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequence[Any] | None = None,
@@ -551,14 +570,10 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
     >>> [sk.stability(S, sk.GilbertElliott(["1/4"] * 2, [r] * 2)).stable for r in ("1/2", "3/4")]
     [False, True]
     """
-    q = sp.Symbol("q", positive=True)
-    model = _recovery_model(system, fail, recover, sensor, q)
-    _check_loss(system, model.subs({q: sp.Rational(1, 2)}))
-    j = None if sensor is None else system.sensor_index(sensor)
-    qc = monotone_critical_recovery(system, model.fail, None if j is None else model.recover, j)
+    model, q, listed, qc = _monotone_recovery(system, fail, recover, sensor)
     if qc is not None:
         return qc
-    intervals = stable_recovery_intervals(system, fail, recover=recover, sensor=sensor)
+    intervals = listed()
     if not intervals:
         return AlgebraicNumber.from_expr(1)
     if len(intervals) != 1 or intervals[0][1] != 1:
@@ -568,8 +583,6 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
                               applies_instead="symkf.stability.stable_recovery_intervals")
     qc = intervals[0][0]
     if qc > 0:
-        q = sp.Symbol("q", positive=True)
-        model = _recovery_model(system, fail, recover, sensor, q)
         lo, hi = qc.refine(min(sp.Rational(1, 10 ** 12), sp.Rational(qc.interval[0]) / 4 or 1)).interval
         while lo <= 0:
             lo, hi = qc.refine(sp.Rational(hi - lo) / 4).interval

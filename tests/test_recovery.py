@@ -12,16 +12,23 @@ from conftest import rotation
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.files import load
 from symkf.observability import block_rows
-from symkf.recovery import monotone_critical_recovery
-from symkf.stability import stable_recovery_intervals
+from symkf.recovery import listed_margins, monotone_critical_recovery
+from symkf.region import ge_margins, stable_intervals
+from symkf.stability import _recovery_model, stable_recovery_intervals
 
 
 def _system(A, rows):
     return sk.System(A=A, sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)])
 
 
+def _every_hyperplane(S, fail, recover=None, sensor=None):
+    """The stable set from every hyperplane's margin condition (symkf.region), not the monotone search."""
+    q = sp.Symbol("q", positive=True)
+    return stable_intervals(ge_margins(S, _recovery_model(S, fail, recover, sensor, q)), q)
+
+
 def _listed(S, fail):
-    (lo, hi), = stable_recovery_intervals(S, fail)
+    (lo, hi), = _every_hyperplane(S, fail)
     assert hi == 1
     return lo
 
@@ -61,6 +68,7 @@ def test_equals_listing(A, rows, fail):
     assert fast is not None
     assert fast == _listed(S, fail)
     assert fast.minpoly == _listed(S, fail).minpoly
+    assert stable_recovery_intervals(S, fail) == _every_hyperplane(S, fail) == ((fast, 1),)
 
 
 SEVERAL = [  # (A, sensors' rows, fail): elements of several generators, through their flats
@@ -84,6 +92,19 @@ def test_several_rows_and_jordan_chains_equal_listing(A, rows, fail):
     for br in block_rows(full):
         br.inside
     assert got == _listed(full, fail)
+
+
+@pytest.mark.parametrize("A, rows, fail", CASES[:4] + [SEVERAL[0]])
+def test_listed_margins_equal_sympys(A, rows, fail):
+    """The fallback's margins built in flint (recovery.listed_margins) are sympy's expansion of the
+    same products (region.ge_margins), exactly, common and one sensor's rate alike."""
+    S = sk.System(A=A, sensors=[sk.Sensor(C=r if isinstance(r[0], list) else [r]) for r in rows])
+    q = sp.Symbol("q", positive=True)
+    fail = [sp.Rational(f) for f in fail]
+    for sensor, recover in ((None, None), (0, [sp.Rational(1, 3)] * len(rows))):
+        model = _recovery_model(S, fail, recover, None if sensor is None else S.sensors[sensor].name, q)
+        got = listed_margins(S, fail, recover, sensor, q)
+        assert got is not None and set(got) == set(ge_margins(S, model))
 
 
 def test_irrational_modulus_by_hand():
@@ -118,7 +139,7 @@ def test_equals_listing_benchmark_block():
 def _listed_one(S, fail, recover, j):
     """``critical_recovery_rate``'s value from the listing of every hyperplane: 1 when no ``q`` is
     stable, None when the stable set is not an interval ``(q_c, 1)``."""
-    intervals = stable_recovery_intervals(S, fail, recover=recover, sensor=f"s{j + 1}")
+    intervals = _every_hyperplane(S, fail, recover, f"s{j + 1}")
     if not intervals:
         return AlgebraicNumber.from_expr(1)
     (lo, hi), = intervals
@@ -172,7 +193,7 @@ def test_one_sensor_hypothesis_against_listing(fail, recover, j, q):
 def test_one_sensor_without_listing_at_period_24():
     """The 4-dim block of period 24 with 8 sensors: the listing is refused (C(192, 3) hyperplanes
     estimated), the monotone search answers 0 (the other seven channels keep it stable, by the
-    screened search at q = 0) and 1/2 is stable, as it must be."""
+    screened search at q = 0), so the stable set is all of (0, 1), and 1/2 is stable, as it must be."""
     import numpy as np
     from symkf.errors import BudgetError
     rng = np.random.default_rng(0)
@@ -183,6 +204,7 @@ def test_one_sensor_without_listing_at_period_24():
             rows.append(r)
     S = _system(sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)), rows)
     with pytest.raises(BudgetError, match="max_hyperplanes"):
-        stable_recovery_intervals(S, ["1/10"] * 8, recover=["1/2"] * 8, sensor="s1")
+        _every_hyperplane(S, ["1/10"] * 8, ["1/2"] * 8, "s1")
     assert sk.critical_recovery_rate(S, fail=["1/10"] * 8, recover=["1/2"] * 8, sensor="s1") == 0
+    assert stable_recovery_intervals(S, ["1/10"] * 8, recover=["1/2"] * 8, sensor="s1") == ((0, 1),)
     assert sk.stability(S, sk.GilbertElliott(["1/10"] * 8, ["1/100"] + ["1/2"] * 7)).stable
