@@ -435,7 +435,9 @@ def verdict_plan(system: System, verdict, loss: LossModel | None = None) -> Burs
     other to rare, heavily weighted paths (seen: ge-two-sensors, run means 4 % low).
     """
     phases, growth = burst_pattern(system, verdict)
-    plan = burst_plan(system, phases if any(phases) else [list(range(system.d))], growth)
+    # the engine's own exact growth, only steering the sampling: a float (burst_plan's input caps
+    # are for numbers a user gives; a dense A's alpha^(2g) is a root of a degree-28 polynomial)
+    plan = burst_plan(system, phases if any(phases) else [list(range(system.d))], float(growth))
     if loss is None:
         return plan
     from .decay import capped_hyperplanes  # the engine imports nothing from simulation

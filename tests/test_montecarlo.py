@@ -244,6 +244,20 @@ def test_tie_search_is_capped_by_max_tie_search():
         assert np.array_equal(verdict_plan(system, v, loss).allowed, shifts)
 
 
+def test_plan_of_a_dense_system_takes_the_engines_growth():
+    """A dense random integer A (entries -3..3, n = 8): the limiting block's alpha^2 is a root of a
+    degree-28 polynomial whose sympy form is above the input cap max_bits; the plan's growth comes
+    from the engine, not from a user, and is taken as its float (verify refused it before)."""
+    rng = np.random.default_rng(0)
+    A = [[int(v) for v in row] for row in rng.integers(-3, 4, (8, 8))]
+    system = System(A=A, sensors=[Sensor(C=[[int(v) for v in rng.integers(-2, 3, 8)]]) for _ in range(2)])
+    loss = GilbertElliott(["1/10"] * 2, ["1/2"] * 2)
+    v = stability(system, loss)
+    growth = burst_pattern(system, v)[1]
+    plan = verdict_plan(system, v, loss)
+    assert plan.growth == pytest.approx(float(growth), rel=1e-12) and plan.growth > 1
+
+
 def test_long_bursts_are_sampled_to_the_horizon():
     # ge-two-sensors, 2000 paths: log E[tr P_k] must keep growing like k ln(sqrt(6)/2) out to
     # k = 200 (with 5 % of the loss law mixed in at every burst step, almost no path held the
