@@ -61,7 +61,7 @@ from ..exact.arguments import check_public
 from ..errors import InputError, NotPositiveDefiniteError, require_extra
 from ..exact.algebraic import expr_ball
 from ..exact.numbers import sympify
-from ..exact.linalg import field_of, nullspace_rows, rank
+from ..exact.linalg import field_of, rank, solve_rows
 from ..losses import IID
 from ..model import System, check_positive_definite
 from ..spectral import eigenvalues
@@ -155,17 +155,17 @@ def _positive_definite_by_balls(M: sp.Matrix, prec: int = 256) -> bool | None:
 
 
 def _solve(G: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
-    """``G x = b`` exactly (``G`` invertible); with algebraic entries by elimination in their number
-    field (:mod:`symkf.exact.linalg`: flint polynomials modulo the minimal polynomial), not over
-    sympy's algebraic domain (3.2 CPU-s for the 74 x 74 system of sixteen sensors) nor over
-    generic expressions (minutes)."""
+    """``G x = b`` exactly (``G`` invertible); with algebraic entries in their number field
+    (:func:`symkf.exact.linalg.solve_rows`, a rational system solved by flint), not over sympy's
+    algebraic domain (3.2 CPU-s for the 74 x 74 system of sixteen sensors at a simple rate, minutes
+    at the 156-bit rates of a bisection) nor over generic expressions (minutes)."""
     if all(v.is_Rational for v in (*G, *b)):
         return G.LUsolve(b)
     K = field_of(G, b)
     value: dict[sp.Expr, Any] = {}   # the Gram matrix repeats few distinct entries
-    rows = [[value.setdefault(v, K.convert(v)) for v in [*G.row(i), -b[i]]] for i in range(G.shape[0])]
-    (h,) = nullspace_rows(K, rows, G.shape[0] + 1)
-    return sp.Matrix([K.to_sympy(K.mul(a, K.inv(h[-1]))) for a in h[:-1]])
+    rows = [[value.setdefault(v, K.convert(v)) for v in G.row(i)] for i in range(G.shape[0])]
+    x = solve_rows(K, rows, [value.setdefault(v, K.convert(v)) for v in b])
+    return sp.Matrix([K.to_sympy(a) for a in x])
 
 
 def _entries(basis: list[sp.Matrix]) -> list[dict[tuple[int, int], sp.Expr]]:
