@@ -967,7 +967,7 @@ class Independent(LossModel):
         return "i.i.d. (Assumption 4)" if self.bernoulli is not None else super().assumption
 
     kind = "independent"
-    label = ("independent parts", "independent parts")
+    label = ("independent", "independent")
 
     #: the keys of its ``[loss]`` table; each part's table adds ``sensors``, its number of sensors
     keys: ClassVar[frozenset[str]] = frozenset({"kind", "parts"})

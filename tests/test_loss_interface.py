@@ -202,7 +202,7 @@ def test_verdict_table_has_every_loss_kind():
     assert [c["kind"] for c in cells] == list(EXAMPLES)
     text, latex = str(table), table.to_latex()
     for plain, tex in (("i.i.d.:", "i.i.d."), ("Gilbert-Elliott:", "Gilbert--Elliott"), ("joint Markov:", r"\nu"),
-                       ("network:", r"\phi"), ("independent parts:", "d_i")):
+                       ("network:", r"\phi"), ("independent:", "d_i")):
         assert plain in text and tex in latex
 
 
