@@ -100,6 +100,12 @@ class Limits:
     #: symkf.exact.perron_field): its cost grows like (n d)^4 (6 x 6 to 48 x 48 blocks over
     #: Q(sqrt 2, sqrt 3, sqrt 5): n d = 48, 0.1 CPU-s; 192, 3.3; 256, 9; 384, 41 and 390 MB)
     max_norm_dimension: int = 256
+    #: degree C(m, k) of the polynomial of a product of k of the m conjugate roots of an
+    #: eigenvalue's minimal polynomial (the Mahler measure of a dense A: its eigenvalues outside
+    #: the unit circle): generically that product's own degree (dense random integer A: 8 x 8 with
+    #: k = 4, 70, 0.01 CPU-s; 12 x 12 with k = 6, 924, 16 CPU-s, mostly isolating its roots; 14 x 14
+    #: with k = 7, 3432, over 2 CPU-min)
+    max_compound_degree: int = 1024
     #: states of the lifted chain of a network loss read from a file, bounded before it is built by
     #: (network states, or the sum over states of the longest holding time) times 2^M link outcomes
     max_network_chain: int = 4096

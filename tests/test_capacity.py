@@ -23,13 +23,15 @@ from symkf.capacity import (MARE, capacity_bounds_meet, comparison_table, coroll
                             theorem5_requirements, theorem5_sufficient, theorem6_allocation, theorem7_necessary,
                             transmission_capacity, unit_circle_condition, verdict_comparison,
                             wonham_decomposition)
-from symkf.errors import AssumptionError, InputError
+from symkf.errors import AssumptionError, BudgetError, InputError
 
 ROOT = Path(__file__).resolve().parents[1]
 R = sp.Rational
 ROTATION = System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]])], name="rotation")
 LOWER_TRI = System(A=[[R(5, 4), 0], [1, R(11, 10)]], sensors=[Sensor(C=[[1, 1]])], name="lower-tri")
 FULL_C = System(A=[[2, 1], [0, 3]], sensors=[Sensor(C=[[1, 0], [0, 1]])], name="full C")
+ROTATION_PI_4 = System(A=[[sp.sqrt(2), -sp.sqrt(2)], [sp.sqrt(2), sp.sqrt(2)]], sensors=[Sensor(C=[[1, 0]])])
+ROTATION_PI_6 = System(A=[[sp.sqrt(3), -1], [1, sp.sqrt(3)]], sensors=[Sensor(C=[[1, 0]])])
 SCALAR2 = System(A=[[2]], sensors=[Sensor(C=[[1]]), Sensor(C=[[1]])], name="scalar x2")
 
 
@@ -58,6 +60,42 @@ def test_capacity_refuses_other_loss_models():
     ([[1, 1], [-1, 1]], 2), ([[0, 0], [0, 0]], 1)])
 def test_mahler_measure_exact(A, M):
     assert mahler_measure(A) == M
+
+
+NINTH = sp.Matrix([[0, 0, -1], [1, 0, 3], [0, 1, 0]])   # companion of x^3 - 3x + 1: 2 cos(2 pi j/9), j = 1, 2, 4
+
+
+def test_mahler_measure_of_some_conjugate_roots():
+    """By hand: the roots 2 cos(2 pi/9), 2 cos(8 pi/9) lie outside the unit circle and
+    2 cos(4 pi/9) inside; their product is -1, so ``M = 1/(2 cos(4 pi/9))``; a double block squares it."""
+    M = 1 / (2 * sp.cos(4 * sp.pi / 9))
+    assert mahler_measure(NINTH) == M
+    assert mahler_measure(sp.diag(NINTH, NINTH)) == M ** 2
+    assert mahler_measure(sp.diag(NINTH, sp.Matrix([[2, 1], [0, 2]]))) == 4 * M
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(3, 6).flatmap(lambda n: st.lists(st.lists(st.integers(-3, 3), min_size=n, max_size=n),
+                                                     min_size=n, max_size=n)))
+def test_mahler_measure_against_mpmath(rows):
+    """The product of conjugate roots (one compound polynomial per minimal polynomial) against
+    mpmath's eigenvalues at 60 digits (no shared code: QR iterations on the matrix)."""
+    import mpmath
+    with mpmath.workdps(60):
+        values = mpmath.eig(mpmath.matrix(rows), left=False, right=False)
+        expected = mpmath.fprod(max(1, abs(v)) for v in values)
+        got = mahler_measure(rows)
+        assert abs(mpmath.mpf(got.refine(sp.Rational(1, 10 ** 50)).interval[0].numerator)
+                   / got.refine(sp.Rational(1, 10 ** 50)).interval[0].denominator - expected) < mpmath.mpf(10) ** -25
+
+
+def test_mahler_measure_degree_is_capped():
+    """x^3 (x - 5)(x - 6) + 1 is irreducible with two roots outside the unit circle: their
+    product has degree C(5, 2) = 10."""
+    A = sp.Matrix([[0, 0, 0, 0, -1], [1, 0, 0, 0, 0], [0, 1, 0, 0, 0], [0, 0, 1, 0, -30], [0, 0, 0, 1, 11]])
+    assert mahler_measure(A).minpoly.degree() == 10
+    with budget.limits(max_compound_degree=9), pytest.raises(BudgetError, match="max_compound_degree"):
+        mahler_measure(A)
 
 
 def test_critical_capacities():
@@ -179,6 +217,8 @@ def test_mare_fixed_point_and_divergence():
     (ROTATION, "1/20", "1/12"),                                             # loss < 1/M^2 = 1/16 (Elia)
     (FULL_C, "1/10", "1/8"),                                                # invertible C: loss < 1/rho^2 = 1/9
     (SCALAR2, "7/20", "9/20"),                                              # 4 < 1 + 2q: loss < 2/5
+    (ROTATION_PI_4, "1/17", "1/15"),                                        # certificates in Q(sqrt 2): 1/16 again
+    (ROTATION_PI_6, "1/17", "1/15"),                                        # and in Q(sqrt 3)
 ])
 def test_theorem4_condition1_known_thresholds(system, good, bad):
     yes, no = mare_stabilizable(system, IID([good] * system.d)), mare_stabilizable(system, IID([bad] * system.d))

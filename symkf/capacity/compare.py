@@ -43,7 +43,7 @@ def theorem5_common_threshold(system: System) -> AlgebraicNumber:
         dec = wonham_decomposition(system, order)
         worst = max(dec.requirement(i) for i in range(system.d))
         best = worst if best is None or worst < best else best
-    return AlgebraicNumber.from_expr(sp.radsimp(1 / best.exact ** 2))
+    return 1 / (best * best)  # in AlgebraicNumber arithmetic: best.exact may be a root of degree C(n, k)
 
 
 def _num(x: AlgebraicNumber) -> dict[str, Any]:

@@ -35,7 +35,8 @@ programs are solved with cvxpy (Clarabel):
 the primal ``max t : F(Y, Z) >= t I, Y <= I`` and the alternative
 ``max s : W >= s I, tr W = 1, <F_k, W> = 0`` for every basis matrix ``F_k`` of
 the map ``(Y, Z) -> F`` (a ``W >= 0, W != 0`` orthogonal to the range of ``F``
-proves infeasibility).  Neither answer is trusted as a float: the primal
+proves infeasibility; the primal's multiplier of ``F >= t I`` is such a ``W`` when the primal
+optimum is ``t = 0``, and is tried first).  Neither answer is trusted as a float: the primal
 solution is rounded to dyadic rationals and ``F > 0`` is verified exactly
 (Sylvester's criterion); the dual ``W`` is rounded, projected exactly onto
 ``{<F_k, W> = 0}`` and ``W > 0`` verified exactly.  Close to the boundary
@@ -59,8 +60,8 @@ import sympy as sp
 
 from ..exact.arguments import check_public
 from ..errors import InputError, NotPositiveDefiniteError, require_extra
-from ..exact.algebraic import expr_ball
-from ..exact.numbers import sympify
+from ..exact.algebraic import _with_prec
+from ..exact.field import Elem, NumberField
 from ..exact.linalg import field_of, rank, solve_rows
 from ..losses import IID
 from ..model import System, check_positive_definite
@@ -124,126 +125,148 @@ def _dyadic(v: float, bits: int = 40) -> Fraction:
     return Fraction(round(v * 2 ** bits), 2 ** bits)
 
 
-def _positive_definite(M: sp.Matrix) -> bool:
-    """Exact: Sylvester's criterion (python-flint over Q, certified signs otherwise)."""
-    if all(v.is_Rational for v in M):
-        F = flint.fmpq_mat([[flint.fmpq(int(v.p), int(v.q)) for v in row] for row in M.tolist()])
-        k = M.shape[0]
-        return all(flint.fmpq_mat([[F[i, j] for j in range(m)] for i in range(m)]).det() > 0
-                   for m in range(1, k + 1))
-    decided = _positive_definite_by_balls(M)
+Entries = list[dict[tuple[int, int], Elem]]
+
+
+def _positive_definite(K: NumberField, M: list[list[Elem]]) -> bool:
+    """Exact: Sylvester's criterion on a symmetric matrix over ``K``, decided by the pivots of
+    elimination without row exchanges (the leading minors are their running products) on certified
+    balls; over Q, when a ball's sign stays open, on the exact rationals; else by exact
+    determinants (:func:`symkf.model.check_positive_definite`)."""
+    decided = _with_prec(256, lambda: _pivots_positive(K.real_balls(M, 256)))
+    if decided is None and K.is_rational:
+        decided = _pivots_positive([[a[0] for a in row] for row in M])
     if decided is not None:
         return decided
     try:
-        check_positive_definite(M, "certificate")
+        check_positive_definite(sp.Matrix([[K.to_sympy(a) for a in row] for row in M]), "certificate")
     except NotPositiveDefiniteError:
         return False
     return True
 
 
-def _positive_definite_by_balls(M: sp.Matrix, prec: int = 256) -> bool | None:
-    """Sylvester's criterion on certified balls (python-flint ``arb``) around algebraic entries:
-    True or False when every leading minor's sign is decided, None otherwise (the exact
-    determinants of irrational entries cost minutes; the balls, milliseconds)."""
-    k = M.shape[0]
-    entries = [[expr_ball(sympify(v), prec).real for v in row] for row in M.tolist()]
-    for m in range(1, k + 1):
-        minor = flint.arb_mat([row[:m] for row in entries[:m]]).det()
-        if not minor > 0:
-            return False if minor < 0 else None
+def _pivots_positive(a: list[list[Any]]) -> bool | None:
+    """Whether every pivot of elimination without row exchanges is positive, in exact rationals
+    (``fmpq``) or certified balls (``arb``, at their precision): a negative pivot decides False, a
+    ball around zero leaves the answer open (None).  One elimination, not ``k`` determinants (the
+    80 leading minors of an 80 x 80 certificate took minutes)."""
+    k = len(a)
+    for i in range(k):
+        pivot = a[i][i]
+        if not pivot > 0:
+            return False if pivot < 0 else None
+        for r in range(i + 1, k):
+            f = a[r][i] / pivot
+            if f == 0:
+                continue
+            row, top = a[r], a[i]
+            for j in range(i + 1, k):
+                row[j] -= f * top[j]
     return True
 
 
-def _solve(G: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
-    """``G x = b`` exactly (``G`` invertible); with algebraic entries in their number field
-    (:func:`symkf.exact.linalg.solve_rows`, a rational system solved by flint), not over sympy's
-    algebraic domain (3.2 CPU-s for the 74 x 74 system of sixteen sensors at a simple rate, minutes
-    at the 156-bit rates of a bisection) nor over generic expressions (minutes)."""
-    if all(v.is_Rational for v in (*G, *b)):
-        return G.LUsolve(b)
-    K = field_of(G, b)
-    value: dict[sp.Expr, Any] = {}   # the Gram matrix repeats few distinct entries
-    rows = [[value.setdefault(v, K.convert(v)) for v in G.row(i)] for i in range(G.shape[0])]
-    x = solve_rows(K, rows, [value.setdefault(v, K.convert(v)) for v in b])
-    return sp.Matrix([K.to_sympy(a) for a in x])
+def _entries(K: NumberField, basis: list[sp.Matrix]) -> Entries:
+    """The nonzero entries of each basis matrix, as elements of ``K``: they hold a few dozen of
+    ``size^2``, and every product below runs over them (the Gram matrix of 74 dense 72 x 72 sympy
+    matrices, sixteen sensors, took 174 CPU-s; sympy's rationals in the combinations, minutes for a
+    dense 8-state ``A``)."""
+    value: dict[sp.Expr, Elem] = {}   # the basis repeats few distinct entries
+    return [{k: value.setdefault(v, K.convert(v)) for k, v in B.todok().items()} for B in basis]
 
 
-def _entries(basis: list[sp.Matrix]) -> list[dict[tuple[int, int], sp.Expr]]:
-    """The nonzero entries of each basis matrix: they hold a few dozen of ``size^2``, and products
-    over them cost that many sympy operations, not ``size^2`` (the Gram matrix of 74 dense 72 x 72
-    matrices, sixteen sensors, took 174 CPU-s)."""
-    return [dict(B.todok()) for B in basis]
-
-
-def _frobenius(P: dict[tuple[int, int], sp.Expr], Q: Any) -> sp.Expr:
-    """``<P, Q>`` for ``P`` given by its nonzero entries and ``Q`` a matrix or another such dict."""
+def _frobenius(K: NumberField, P: dict[tuple[int, int], Elem], Q: dict[tuple[int, int], Elem] | list[list[Elem]]
+               ) -> Elem:
+    """``<P, Q>`` for ``P`` given by its nonzero entries and ``Q`` a dense matrix or another such dict."""
     if isinstance(Q, dict):
-        return sp.Add(*[v * Q[k] for k, v in P.items() if k in Q])
-    return sp.Add(*[v * Q[k] for k, v in P.items()])
+        return K.dot([v for k, v in P.items() if k in Q], [Q[k] for k in P if k in Q])
+    return K.dot(list(P.values()), [Q[i][j] for i, j in P])
 
 
-def _combination(coefficients: Sequence[sp.Expr], entries: list[dict[tuple[int, int], sp.Expr]], size: int,
-                 start: sp.Matrix | None = None) -> sp.Matrix:
+def _combination(K: NumberField, coefficients: Sequence[Elem], entries: Entries, size: int,
+                 start: list[list[Elem]] | None = None) -> list[list[Elem]]:
     """``start + sum_k coefficients[k] F_k`` (``start`` default zero), over the basis' nonzero entries."""
-    out = sp.zeros(size, size) if start is None else start.copy()
+    zero = flint.fmpq_poly([])
+    out = [[zero] * size for _ in range(size)] if start is None else [list(row) for row in start]
+    touched = set()
     for c, F in zip(coefficients, entries):
-        if c != 0:
-            for k, v in F.items():
-                out[k] += c * v
+        if not c.is_zero():
+            for (i, j), v in F.items():
+                out[i][j] = out[i][j] + c * v
+                touched.add((i, j))
+    for i, j in touched:
+        out[i][j] = out[i][j] % K.modulus
     return out
 
 
-def _to_numpy(F: dict[tuple[int, int], sp.Expr], size: int) -> np.ndarray:
-    """A basis matrix given by its nonzero entries, in floats (each entry evaluated once)."""
+def _to_numpy(F: dict[tuple[int, int], Elem], K: NumberField, size: int) -> np.ndarray:
+    """A basis matrix given by its nonzero entries, in floats."""
     out = np.zeros((size, size))
-    for k, v in F.items():
-        out[k] = float(sp.N(v, 30))
+    balls = K.real_balls([list(F.values())], 64)[0] if F else []
+    for k, b in zip(F, balls):
+        out[k] = float(b.mid())
     return out
+
+
+def _orthogonal_positive(K: NumberField, entries: Entries, W: np.ndarray) -> bool:
+    """Whether the float ``W``, rounded to dyadic rationals and projected exactly onto
+    ``{<F_k, W> = 0 for every k}`` (the Gram system of the basis, in ``K``), is positive definite."""
+    size = W.shape[0]
+    Wr = [[_rational(_dyadic((W[i, j] + W[j, i]) / 2)) for j in range(size)] for i in range(size)]
+    gram = [[_frobenius(K, P, Q) for Q in entries] for P in entries]
+    coef = solve_rows(K, gram, [_frobenius(K, P, Wr) for P in entries])
+    return _positive_definite(K, _combination(K, [-c for c in coef], entries, size, Wr))
+
+
+def _rational(v: Fraction) -> Elem:
+    return flint.fmpq_poly([flint.fmpq(v.numerator, v.denominator)])
 
 
 def mare_stabilizable(system: System, loss: IID) -> LMIVerdict:
-    """Decide Theorem 4's condition 1) (eq. 22) by the convex reformulation above, with exact certificates."""
+    """Decide Theorem 4's condition 1) (eq. 22) by the convex reformulation above, with exact certificates.
+
+    The certificates are checked in the number field of ``A``, ``C_i`` and the loss rates
+    (python-flint elements; :func:`symkf.exact.linalg.solve_rows` for the projection's Gram system,
+    sympy's algebraic domain took minutes at the 156-bit rates of a bisection)."""
     cp = require_extra("cvxpy", "sdp", "mare_stabilizable, the LMI of Yang et al. (Theorem 4),")
 
     if not capacity_exceeds(loss, spectral_radius(system.A)):
         return LMIVerdict(False, "C <= ln rho(A): rho(T) >= prod(1 - lambda_i) rho(A)^2 >= 1 (exact)",
                           0.0, np.inf)
     basis, ny, zidx = _basis(system, loss)
-    entries = _entries(basis)
+    K = field_of(*basis)
+    entries = _entries(K, basis)
     size, n = basis[0].shape[0], system.n
-    num = [_to_numpy(F, size) for F in entries]
+    num = [_to_numpy(F, K, size) for F in entries]
 
     x, t = cp.Variable(len(num)), cp.Variable()
     F = sum(x[k] * num[k] for k in range(len(num)))
     Y = sum(x[k] * num[k][:n, :n] for k in range(ny))
-    primal = cp.Problem(cp.Maximize(t), [(F + F.T) / 2 >> t * np.eye(size), (Y + Y.T) / 2 << np.eye(n)])
+    positive = (F + F.T) / 2 >> t * np.eye(size)
+    primal = cp.Problem(cp.Maximize(t), [positive, (Y + Y.T) / 2 << np.eye(n)])
     primal.solve(solver=cp.CLARABEL)
     t_val = float(t.value) if t.value is not None else -np.inf
     if t_val > 0:
         xr = [_dyadic(v) for v in x.value]
-        Fx = _combination([sp.Rational(v.numerator, v.denominator) for v in xr], entries, size)
-        if _positive_definite(Fx):
-            Yx = Fx[:n, :n]
+        Fx = _combination(K, [_rational(v) for v in xr], entries, size)
+        if _positive_definite(K, Fx):
+            Yx = sp.Matrix([[K.to_sympy(a) for a in row[:n]] for row in Fx[:n]])
             Z = {}
             for v, (i, r, c) in zip(xr[ny:], zidx):
                 Z.setdefault(i, sp.zeros(n, system.sensors[i].m))[r, c] = sp.Rational(v.numerator, v.denominator)
             gain = sp.Matrix.hstack(*[Yx.inv() * Z.get(i, sp.zeros(n, s.m)) for i, s in enumerate(system.sensors)])
             return LMIVerdict(True, "F(Y, Z) > 0 verified exactly for rational (Y, Z)", t_val, -np.inf,
                               sp.ImmutableMatrix(gain))
-
+    infeasible = "W > 0 with <F_k, W> = 0 for every k verified exactly (no (Y, Z) gives F > 0)"
+    # the multiplier of F >= t I is such a W at t = 0 (the dual SDP below costs 12 CPU-s at an 80 x 80 F)
+    if positive.dual_value is not None and _orthogonal_positive(K, entries, positive.dual_value):
+        return LMIVerdict(False, infeasible, t_val, float(np.linalg.eigvalsh(positive.dual_value)[0]))
     W, s = cp.Variable((size, size), symmetric=True), cp.Variable()
     dual = cp.Problem(cp.Maximize(s), [W >> s * np.eye(size), cp.trace(W) == 1]
                       + [cp.sum(cp.multiply(B, W)) == 0 for B in num])
     dual.solve(solver=cp.CLARABEL)
     s_val = float(s.value) if s.value is not None else -np.inf
-    if s_val > 0:
-        Wr = sp.Matrix(size, size, lambda i, j: sp.Rational(_dyadic((W.value[i, j] + W.value[j, i]) / 2)))
-        gram = sp.Matrix(len(basis), len(basis), lambda i, j: _frobenius(entries[i], entries[j]))
-        coef = _solve(gram, sp.Matrix([_frobenius(F, Wr) for F in entries]))
-        Wp = _combination([-c for c in coef], entries, size, Wr)
-        if _positive_definite(Wp):
-            return LMIVerdict(False, "W > 0 with <F_k, W> = 0 for every k verified exactly "
-                              "(no (Y, Z) gives F > 0)", t_val, s_val)
+    if s_val > 0 and _orthogonal_positive(K, entries, W.value):
+        return LMIVerdict(False, infeasible, t_val, s_val)
     return LMIVerdict(None, "undecided: neither certificate verifies (too close to the boundary)", t_val, s_val)
 
 

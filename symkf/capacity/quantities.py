@@ -26,7 +26,7 @@ import sympy as sp
 
 from ..exact.arguments import check_public
 from ..errors import InputError
-from ..exact.algebraic import AlgebraicNumber
+from ..exact.algebraic import AlgebraicNumber, subset_product
 from ..exact.numbers import to_exact_matrix
 from ..losses import IID, checked
 from ..spectral import eigenvalues
@@ -135,8 +135,18 @@ def mahler_measure(A: Any) -> AlgebraicNumber:
     >>> sk.capacity.mahler_measure([[0, -2], [2, 0]]).exact
     4
     """
-    factors = [ev.modulus.exact ** ev.multiplicity for ev in eigenvalues(A) if ev.modulus > 1]
-    return AlgebraicNumber.from_expr(sp.Mul(*factors))
+    # |lambda| |conj lambda| = lambda conj lambda: M is the absolute value of the product of the
+    # eigenvalues outside the unit circle, taken per minimal polynomial (conjugation-closed sets)
+    # and per multiplicity level, each a product of distinct conjugate roots
+    outside: dict[tuple, tuple[Any, dict[int, int]]] = {}
+    for ev in eigenvalues(A):
+        if ev.modulus > 1:
+            outside.setdefault(ev.key[0], (ev.minpoly, {}))[1][ev.root_index] = ev.multiplicity
+    M = AlgebraicNumber.from_expr(1)
+    for poly, roots in outside.values():
+        for level in range(1, max(roots.values()) + 1):
+            M = M * subset_product(poly, sorted(i for i, m in roots.items() if m >= level))
+    return abs(M)
 
 
 def topological_entropy(A: Any) -> sp.Expr:

@@ -15,6 +15,7 @@ choice needs one isolating ball to meet the expression's value.
 from __future__ import annotations
 
 import copyreg
+import itertools
 import math
 import numbers
 import operator
@@ -29,6 +30,7 @@ import numpy as np
 import sympy as sp
 from sympy.polys.polyerrors import NotAlgebraic
 
+from .. import budget
 from .arguments import check_public
 from ..errors import InputError
 from .numbers import sympify, to_exact, to_rational
@@ -370,6 +372,59 @@ def _power_poly(p: flint.fmpz_poly, k: int) -> flint.fmpz_poly:
     """Vanishes at ``a^k`` for every root ``a`` of ``p``: ``Res_y(x - y^k, p(y))``."""
     X, Y = _XY.gens()
     return _eliminate(X - Y ** k, p)
+
+
+def _subset_product_poly(coeffs: tuple[int, ...], k: int) -> flint.fmpz_poly:
+    """``prod_S (x - c^k prod_{i in S} a_i)`` over the k-subsets ``S`` of the roots ``a_i`` of the
+    integer polynomial ``coeffs`` (leading coefficient ``c``): the characteristic polynomial of the
+    k-th compound matrix of ``c`` times a companion matrix, with integer coefficients (the ``c a_i``
+    are algebraic integers).  Expanded from certified balls of the products and read off as the
+    one integer in each coefficient's ball, the precision doubled until every ball holds one."""
+    m, c = len(coeffs) - 1, abs(coeffs[-1])
+    subsets = list(itertools.combinations(range(m), k))
+
+    def expand(prec: int) -> flint.fmpz_poly | None:
+        roots = [c * r for r in _complex_roots(coeffs, prec)]
+        products = [math.prod((roots[i] for i in S), start=flint.acb(1)) for S in subsets]
+        out = []
+        for a in flint.acb_poly.from_roots(products).coeffs():
+            z = a.real.unique_fmpz()
+            if z is None or not a.imag.contains(0):
+                return None
+            out.append(int(z))
+        return flint.fmpz_poly(out)
+
+    # a coefficient is at most prod_S (1 + |product|) <= prod_i (1 + |c a_i|)^C(m-1, k-1) in absolute
+    # value (1 + |x y| <= (1 + |x|)(1 + |y|)): its bits, plus guard bits
+    bits = _with_prec(64, lambda: sum(((1 + abs(c * r)).log() for r in _complex_roots(coeffs, 64)),
+                                      flint.arb(0)) / flint.arb(2).log())
+    prec = math.ceil(float(bits.upper()) * math.comb(m - 1, k - 1)) + 64
+    while (poly := _with_prec(prec, lambda: expand(prec))) is None:
+        prec *= 2
+    return poly
+
+
+def subset_product(poly: flint.fmpz_poly, indices: list[int], entry: str = "A") -> "AlgebraicNumber":
+    """``prod_{i in indices} a_i`` for distinct roots ``a_i`` of the irreducible integer ``poly``
+    (flint's ordering), a real number (``indices`` closed under complex conjugation): a root of
+    :func:`_subset_product_poly`, identified by its ball.  Its minimal polynomial has degree up to
+    ``C(deg, k)`` (that many k-subset products when the Galois group is the symmetric group),
+    capped by ``budget.Limits.max_compound_degree``; the product of all roots is rational."""
+    coeffs = tuple(int(c) for c in poly.coeffs())
+    m, k = len(coeffs) - 1, len(indices)
+    if k == m:
+        return AlgebraicNumber.from_expr(sp.Rational((-1) ** m * coeffs[0], coeffs[-1]))
+    if k == 0:
+        return AlgebraicNumber.from_expr(1)
+    budget.check("max_compound_degree", math.comb(m, k), entry,
+                 f"the degree C({m}, {k}) of the polynomial of a product of {k} of the {m} conjugate "
+                 f"eigenvalues of minimal polynomial {fmpz_to_sympy(poly).as_expr()} (their product's "
+                 f"degree for a generic Galois group)")
+    scale = abs(coeffs[-1]) ** k
+    f, idx = identify(_subset_product_poly(coeffs, k),
+                      lambda prec: scale * math.prod((root_ball(poly, i, prec) for i in indices), start=flint.acb(1)),
+                      "product of conjugate roots")
+    return AlgebraicNumber._irreducible(f, idx) / scale
 
 
 def _terminating_decimal(q: Fraction) -> Decimal | None:

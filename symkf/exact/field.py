@@ -387,6 +387,16 @@ class NumberField:
         """Certified isolating ball of ``theta`` at ``prec`` bits."""
         return self._state.prim.roots(prec)[self.theta_index] if self._state.prim else flint.acb(0)
 
+    def real_balls(self, M: Sequence[Sequence[Elem]], prec: int) -> list[list[flint.arb]]:
+        """Certified real balls (``prec`` bits) of real elements: their values at the embedding ``theta``."""
+        t = None if self.is_rational else self.theta_ball(prec)
+
+        def ball(a: Elem) -> flint.arb:
+            if t is None:
+                return flint.arb(a[0])
+            return flint.acb_poly([flint.acb(flint.arb(c)) for c in a.coeffs()])(t).real
+        return _with_prec(prec, lambda: [[ball(a) for a in row] for row in M])
+
     def __repr__(self) -> str:
         if self.is_rational:
             return "QQ"

@@ -68,15 +68,6 @@ def norm_charpoly(K: NumberField, M: list[list[flint.fmpq_poly]]) -> flint.fmpz_
     return flint.fmpz_poly([int(c) for c in (chi * chi.denom()).coeffs()])
 
 
-def _balls(K: NumberField, M: list[list[flint.fmpq_poly]]) -> list[list[flint.arb]]:
-    """Certified real balls of the entries (their values at the embedding ``theta``)."""
-    t = K.theta_ball(_PREC)
-
-    def ball(a: flint.fmpq_poly) -> flint.arb:
-        return flint.acb_poly([flint.acb(flint.arb(c)) for c in a.coeffs()])(t).real
-    return _with_prec(_PREC, lambda: [[ball(a) for a in row] for row in M])
-
-
 def _enclosure(B: list[list[flint.arb]]) -> tuple[Fraction, Fraction] | None:
     """Collatz-Wielandt bounds ``[lo, hi]`` of ``rho`` around a float Perron vector, or None when
     that vector is not positive (the bounds need ``v > 0``)."""
@@ -104,7 +95,7 @@ def field_perron_root(M: sp.MatrixBase) -> AlgebraicNumber | None:
                  f"the size n d of the rational matrix of its norm (n = {M.rows} states, entries in a field "
                  f"of degree d = {K.degree})")
     E = K.matrix(M)
-    B = _balls(K, E)
+    B = K.real_balls(E, _PREC)
     if any(not (b == 0 or b > 0) for row in B for b in row):  # M >= 0 is what the bounds need
         return None
     box = _enclosure(B)
