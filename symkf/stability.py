@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import textwrap
 from dataclasses import dataclass, field
+from functools import cached_property
 from decimal import Decimal, localcontext
 from fractions import Fraction
 from typing import Any, Iterable, Sequence
@@ -26,7 +27,7 @@ from .losses import IID, GilbertElliott, LossModel, checked
 from .model import System
 from .observability import BlockRows, block_rows
 from .recovery import listed_margins, monotone_critical_recovery
-from .region import ge_margins, stable_intervals
+from .region import ge_margins, simplest, stable_intervals
 
 
 @dataclass(frozen=True)
@@ -338,7 +339,8 @@ class _Bound:
     critical value (``sign = -1``) or a margin (``sign = 1``).  A certified ball, and the exact
     value only when asked, from flint's minimal polynomials for rational ``c`` (sympy's minimal
     polynomial of a root of a high-degree ``CRootOf``, and its real-root isolation, cost seconds
-    each: 8 s of the margin of ``A = cos(pi/211)``)."""
+    each: 8 s of the margin of ``A = cos(pi/211)``); an algebraic ``c`` enters as its own minimal
+    polynomial."""
 
     def __init__(self, alpha: AlgebraicNumber, power: int, c: sp.Expr, k: int, sign: int = -1) -> None:
         self.alpha, self.power, self.c, self.k, self.sign = alpha, power, sympify(c), k, sign
@@ -349,16 +351,18 @@ class _Bound:
         return sympify(sp.root(base if self.sign > 0 else 1 / base, self.k))
 
     def ball(self, prec: int) -> flint.arb:
-        if not self.c.is_Rational:
-            return self.value()._ball(prec).real
-        c = flint.fmpq(int(self.c.p), int(self.c.q))
+        c = flint.fmpq(int(self.c.p), int(self.c.q)) if self.c.is_Rational else self._c._ball(prec).real
         return _with_prec(prec, lambda: ((self.alpha._ball(prec).real ** self.power * c).log()
                                          * self.sign / self.k).exp())
 
+    @cached_property
+    def _c(self) -> AlgebraicNumber:
+        return AlgebraicNumber.from_expr(self.c)
+
     def value(self) -> AlgebraicNumber:
-        if not self.c.is_Rational:
-            return AlgebraicNumber.from_expr(self.expr())
-        gamma = self.alpha ** self.power * AlgebraicNumber.from_expr(self.c)
+        # the k-th root of gamma through p(x^k), also for algebraic c (a Gilbert-Elliott rate over
+        # Q(sqrt 2)): sympy's minimal polynomial of the root of the product took minutes at k = 24
+        gamma = self.alpha ** self.power * self._c
         gamma = gamma if self.sign > 0 else 1 / gamma
         # sympy's root of a huge rational overflows a float in its perfect-power test (Gilbert-
         # Elliott losses at rationals near a critical recovery rate): no closed form then
@@ -587,7 +591,10 @@ def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequ
         while lo <= 0:
             lo, hi = qc.refine(sp.Rational(hi - lo) / 4).interval
         width = min(sp.Rational(hi - lo), sp.Rational(lo) / 2) or min(sp.Rational(1, 10 ** 12), sp.Rational(lo) / 2)
-        below, above = sp.Rational(lo) - width, sp.Rational(hi) + width
+        # the simplest rationals there: the end points of a refined root of degree 48 have
+        # 4000-digit terms, and the verdict's exact rates at them grow with their height
+        below = sp.Rational(simplest(Fraction(sp.Rational(lo) - width), Fraction(lo)))
+        above = sp.Rational(simplest(Fraction(hi), Fraction(sp.Rational(hi) + width)))
         if stability(system, model.subs({q: below})).stable or not stability(system, model.subs({q: above})).stable:
             raise AssertionError(f"certificate failed around q_c = {qc}")  # pragma: no cover
     return qc

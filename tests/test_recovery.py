@@ -119,6 +119,28 @@ def test_irrational_modulus_by_hand():
     assert fast == _listed(S, ["1/20"])
 
 
+def test_irrational_fail_rate_by_hand():
+    """As above with fail = sqrt(2)/10: the run of losses' rate ``1 - q`` does not depend on it, so
+    ``q_c`` is the same; the hyperplanes are listed over Q(sqrt 2) (the monotone search takes
+    rational rates), and the certificate's verdicts are decided there."""
+    S = _system([[2, 1], [1, 1]], [[1, 0]])
+    assert sk.critical_recovery_rate(S, fail=["sqrt(2)/10"]) == (3 * sp.sqrt(5) - 5) / 2
+
+
+def test_irrational_fail_rates_against_verdicts():
+    """Two two-row sensors on the period-24 block, fail sqrt(2)/10: the listed margins' crossing
+    (degree 96) against the Markov search's verdicts just below and above it (the certificate's
+    rational points once had 4000-digit terms, which Python refused to print: ValueError)."""
+    S = sk.System(A=sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)),
+                  sensors=[sk.Sensor(C=[[2, 1, 0, -1], [-1, -2, -2, -2]], name="s1"),
+                           sk.Sensor(C=[[-2, 2, 1, 2], [0, 1, 2, 1]], name="s2")])
+    fail = ["sqrt(2)/10", "sqrt(2)/10"]
+    qc = sk.critical_recovery_rate(S, fail=fail)
+    lo, hi = qc.refine(sp.Rational(1, 10 ** 9)).interval
+    at = lambda q: sk.stability(S, sk.GilbertElliott(fail, [q, q])).stable  # noqa: E731
+    assert 0 < qc < 1 and not at(sp.Rational(lo) - sp.Rational(1, 10 ** 6)) and at(sp.Rational(hi) + sp.Rational(1, 10 ** 6))
+
+
 @pytest.mark.full
 def test_equals_listing_benchmark_block():
     import numpy as np

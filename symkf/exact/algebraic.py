@@ -188,7 +188,7 @@ def _arb_interval(b: flint.arb) -> tuple[sp.Rational, sp.Rational]:
 
 
 def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
-             what: str = "number") -> tuple[flint.fmpz_poly, int]:
+             what: str | Callable[[], str] = "number") -> tuple[flint.fmpz_poly, int]:
     """The irreducible factor of ``poly`` with a root in the ball, and that root's index.
 
     ``ball_at(prec)`` returns a certified acb ball for the number at ``prec``
@@ -205,6 +205,7 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
         found = _with_prec(prec, hits)
         if len(found) == 1:
             return found[0]
+    what = what if isinstance(what, str) else what()
     raise InputError(f"cannot identify the {what} among the roots of {poly}")  # pragma: no cover
 
 
@@ -297,7 +298,9 @@ def root_of(expr: sp.Expr) -> tuple[flint.fmpz_poly, int]:
     poly = _root_of_unity_poly(expr)
     if poly is None:
         poly = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))
-    return identify(poly, lambda prec: expr_ball(expr, prec), f"root denoted by {expr}")
+    # the words only on failure: printing a large expression costs more than identifying it,
+    # and Python refuses to print integers of more than 4300 digits
+    return identify(poly, lambda prec: expr_ball(expr, prec), lambda: f"root denoted by {expr}")
 
 
 def _root_of_unity_poly(expr: sp.Expr) -> flint.fmpz_poly | None:
@@ -749,7 +752,7 @@ class AlgebraicNumber:
             return AlgebraicNumber.from_expr(0)
         poly = (_sum_poly if op == "+" else _product_poly)(self._poly, other._poly)
         f, idx = identify(poly, lambda prec: self._ball(prec) + other._ball(prec) if op == "+"
-                          else self._ball(prec) * other._ball(prec), f"{self} {op} {other}")
+                          else self._ball(prec) * other._ball(prec), lambda: f"{self} {op} {other}")
         exact = None
         if self._exact is not None and other._exact is not None and f.degree() > 1:
             exact = self._exact + other._exact if op == "+" else self._exact * other._exact
@@ -761,7 +764,7 @@ class AlgebraicNumber:
         if self.is_rational:
             return AlgebraicNumber.from_expr(1 / self._value())
         rev = flint.fmpz_poly(list(reversed(self._poly.coeffs())))
-        f, idx = identify(rev, lambda prec: 1 / self._ball(prec), f"1/({self})")
+        f, idx = identify(rev, lambda prec: 1 / self._ball(prec), lambda: f"1/({self})")
         return AlgebraicNumber._irreducible(f, idx, None if self._exact is None else 1 / self._exact)
 
     def __neg__(self) -> "AlgebraicNumber":
@@ -825,7 +828,7 @@ class AlgebraicNumber:
             return AlgebraicNumber.from_expr(self._value() ** k)
         if k <= 1:
             return self if k == 1 else AlgebraicNumber.from_expr(1)
-        f, idx = identify(_power_poly(self._poly, k), lambda prec: self._ball(prec) ** k, f"({self})^{k}")
+        f, idx = identify(_power_poly(self._poly, k), lambda prec: self._ball(prec) ** k, lambda: f"({self})^{k}")
         return AlgebraicNumber._irreducible(f, idx, None if self._exact is None or f.degree() == 1
                                             else self._exact ** k)
 

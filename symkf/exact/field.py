@@ -45,7 +45,7 @@ def _integral(expr: sp.Expr) -> tuple[Integral, int]:
     """``c * expr`` as an algebraic integer, with the least such ``c > 0``."""
     poly, idx = root_of(expr)
     c, monic = integral_scale(poly)
-    _, index = identify(monic, lambda prec: c * root_ball(poly, idx, prec), f"{c} * ({expr})")
+    _, index = identify(monic, lambda prec: c * root_ball(poly, idx, prec), lambda: f"{c} * ({expr})")
     return Integral.of(monic, index), c
 
 
