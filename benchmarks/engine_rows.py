@@ -72,6 +72,10 @@ def _compute(what: str, system, loss) -> str:
     elif what == "perron":  # the case is a non-negative matrix: its exact Perron root
         from symkf.decay import perron_root
         result = str(perron_root(system))
+    elif what == "bounds":  # the atlas of published bounds beside the exact value, with its LMI bisection
+        from symkf import bounds
+        atlas = bounds(system, loss)
+        result = " ".join(f"{r.key}:{r.relation}:{r.value}:{r.bracket}" for r in atlas.rows)
     elif what == "analyze":  # the CLI command on a TOML file of the system (JSON output captured)
         result = _analyze(system, loss)
     else:
