@@ -165,13 +165,17 @@ def _pivots_positive(a: list[list[Any]]) -> bool | None:
     return True
 
 
-def _entries(K: NumberField, basis: list[sp.Matrix]) -> Entries:
-    """The nonzero entries of each basis matrix, as elements of ``K``: they hold a few dozen of
-    ``size^2``, and every product below runs over them (the Gram matrix of 74 dense 72 x 72 sympy
-    matrices, sixteen sensors, took 174 CPU-s; sympy's rationals in the combinations, minutes for a
-    dense 8-state ``A``)."""
-    value: dict[sp.Expr, Elem] = {}   # the basis repeats few distinct entries
-    return [{k: value.setdefault(v, K.convert(v)) for k, v in B.todok().items()} for B in basis]
+def _entries(basis: list[sp.Matrix]) -> tuple[NumberField, Entries]:
+    """The field of the basis' entries and each basis matrix's nonzero entries as its elements:
+    they hold a few dozen of ``size^2``, and every product below runs over them (the Gram matrix
+    of 74 dense 72 x 72 sympy matrices, sixteen sensors, took 174 CPU-s; sympy's rationals in the
+    combinations, minutes for a dense 8-state ``A``; the field of all ``size^2`` entries, read one
+    by one, half of the bounds atlas at sixteen sensors)."""
+    nonzero = [B.todok() for B in basis]
+    distinct = list({v: None for F in nonzero for v in F.values()})   # few: the basis repeats them
+    K = field_of(sp.Matrix(1, len(distinct), distinct))
+    value = {v: K.convert(v) for v in distinct}
+    return K, [{k: value[v] for k, v in F.items()} for F in nonzero]
 
 
 def _frobenius(K: NumberField, P: dict[tuple[int, int], Elem], Q: dict[tuple[int, int], Elem] | list[list[Elem]]
@@ -233,8 +237,7 @@ def mare_stabilizable(system: System, loss: IID) -> LMIVerdict:
         return LMIVerdict(False, "C <= ln rho(A): rho(T) >= prod(1 - lambda_i) rho(A)^2 >= 1 (exact)",
                           0.0, np.inf)
     basis, ny, zidx = _basis(system, loss)
-    K = field_of(*basis)
-    entries = _entries(K, basis)
+    K, entries = _entries(basis)
     size, n = basis[0].shape[0], system.n
     num = [_to_numpy(F, K, size) for F in entries]
 
