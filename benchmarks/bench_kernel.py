@@ -12,13 +12,12 @@ pipes; family 23 before model 0x30, Zen and Zen+, two 128-bit pipes) and measure
 the kernel, in its process: the share of peak is the median of those paired ratios (the machine is
 shared; its speed drifts by a quarter between runs, and a peak measured once beforehand moved the
 shares with it).  Division and
-square-root throughput are measured the same way, on independent operands in [1, 2): the
-kernel rounds like the loops it replaced only with true ``/`` and ``sqrt`` (no reciprocals),
-so each path-step costs at least ``div / div-rate + sqrt / sqrt-rate`` (they share the
-divider: one of each takes the sum, printed), which bounds the share of peak at small ``n``;
-that bound is printed next to the measured share.  The counts are the compiled kernel's: the
-``vdivpd`` and ``vsqrtpd`` of each loop body of the straight-line kernels (n <= 8), checked
-against the count of the source (``divider_work``), which n = 16 uses.
+square-root throughput are measured the same way, on independent operands in [1, 2): each
+path-step costs at least ``div / div-rate + sqrt / sqrt-rate`` (they share the divider: one of
+each takes the sum, printed), which bounds the share of peak at small ``n``; that bound is
+printed next to the measured share.  The counts are the compiled kernel's: the ``vdivpd`` and
+``vsqrtpd`` of each loop body of the straight-line kernels (n <= 8), checked against the count
+of the source (``divider_work``), which n = 16 uses.
 
 ``--main DIR``: the same cells timed with the checkout in ``DIR`` (e.g. ``/work/main``) in a
 subprocess, for the same-run ratio against main's kernel: three rounds per cell, this checkout and
@@ -163,43 +162,46 @@ def measured_rates(repeats: int) -> tuple[float, float, float, float]:
 
 def divider_work(n: int, rows: int) -> tuple[int, int]:
     """Divisions and square roots per path-step the kernel cannot avoid (:mod:`symkf.square_root`):
-    per Potter row ``|f|``, ``sqrt(a r)``, ``|f|^2 / denom`` and ``n`` divisions ``f / |f|``; per
-    Householder column the norm, and but for the last column (never applied) ``|v|`` and
-    ``n + 1`` divisions."""
-    return rows * (n + 1) + (n - 1) * (n + 1), rows * 2 + n + (n - 1)
+    per Potter row ``sqrt(a r)`` and ``1 / denom``; per Householder column the norm, and but for
+    the last column (never applied) ``1 / (|x| (|x| + |x_0|))``; the log of the trace, ``s = f /
+    (2 + f)``."""
+    return rows + n, rows + n
 
 
 def loop_divider_work(n: int) -> set[tuple[int, int]]:
     """(divisions, square roots) per path of each lane loop of the straight-line kernel that has
-    any: a Potter row (its gain), and the time update, one loop per Householder column up to
-    ``PHASED_MAX`` states (the last column only its norm), else one loop."""
+    any: a Potter row (its gain), the time update, one loop per Householder column up to
+    ``PHASED_MAX`` states (the last column only its norm), else one loop, and the log's loop."""
     from symkf.square_root import PHASED_MAX
     if n <= PHASED_MAX:
-        return {(n + 1, 2), (0, 1)}
-    return {(n + 1, 2), ((n - 1) * (n + 1), 2 * n - 1)}
+        return {(1, 1), (0, 1), (1, 0)}
+    return {(1, 1), (n - 1, n), (1, 0)}
 
 
 def asm_divider_work(n: int) -> list[tuple[int, int]]:
     """(vdivpd, vsqrtpd) on vector registers of the widest width the compiler used (xmm, ymm or zmm:
     2, 4 or 8 paths each) per loop body of the compiled straight-line kernel for ``n`` states, the
     bodies that have any (compiled here without numba's cache, whose code cannot be inspected), per
-    vector; and that width's name.  A body the compiler unrolled (2, 4 or 8 vectors at once: up to
+    vector; and that width's name.  A body the compiler unrolled (2, 4, 8 or 16 vectors at once: up to
     the whole lane loop) holds that multiple of one of :func:`loop_divider_work`'s counts and is
     divided by it; a body matching none is kept whole, so the total then differs from the source's."""
     from symkf import straight_kernels
-    from symkf.square_root import LANES
+    from symkf.square_root import lanes
     kernel = njit(error_model="numpy")(getattr(straight_kernels, f"_paths_{n}"))
-    kernel(np.eye(n), np.eye(n), np.ones((1, n)), np.zeros(1, np.int64), np.eye(n), np.ones((1, LANES, 1), bool),
-           np.empty((LANES, 1)), np.empty((1, LANES)), True)
+    kernel(np.eye(n), np.eye(n), np.ones((1, n)), np.zeros(1, np.int64), np.eye(n), np.ones((1, lanes(n), 1), bool),
+           np.empty((lanes(n), 1)), np.empty((1, lanes(n))), True)
     asm = "\n".join(kernel.inspect_asm().values())
     register = next(r for r in ("zmm", "ymm", "xmm") if re.search(rf"^\s*v(div|sqrt)pd\s.*%{r}", asm, re.M))
     bodies = re.split(r"^\.LBB\w+:", asm, flags=re.M)
     counts = [(len(re.findall(rf"^\s*vdivpd\s.*%{register}", b, re.M)),
                len(re.findall(rf"^\s*vsqrtpd\s.*%{register}", b, re.M))) for b in bodies]
     source = loop_divider_work(n)
-    per_vector = lambda c: next((tuple(x // u for x in c) for u in (1, 2, 4, 8)
+    per_vector = lambda c: next((tuple(x // u for x in c) for u in (1, 2, 4, 8, 16)
                                  if all(x % u == 0 for x in c) and tuple(x // u for x in c) in source), c)
-    return [per_vector(c) for c in counts if any(c)], register
+    bodies = [per_vector(c) for c in counts if any(c)]
+    # the log's loop is compiled twice, for whole blocks and for a partial last block: one runs
+    log = bodies.count((1, 0))
+    return [c for c in bodies if c != (1, 0)] + [(1, 0)] * min(log, 1), register
 
 
 def run_cells(python: str, root: str, horizon: int, repeats: int, cells: list, env: dict) \
@@ -231,7 +233,7 @@ def main() -> None:
         print(f"compiled kernel n = {n}: {register} vdivpd, vsqrtpd per loop body ({width} paths) {bodies}; "
               f"per path-step at d = 1 "
               f"{total}, the source's count {divider_work(n, 1)}{'' if total == divider_work(n, 1) else ' DIFFERS'}; "
-              f"each further row adds {(n + 1, 2)}")
+              f"each further row adds {(1, 1)}")
     cells = [(n, d, paths_for(n, args.quick)) for n, d in CELLS]
     rounds = 3 if args.main else 1
     here, old = [[] for _ in cells], [[] for _ in cells]

@@ -268,8 +268,7 @@ def _psd_factor(M: np.ndarray) -> np.ndarray:
 
 
 def _kernel_arguments(model: FloatSystem, received: np.ndarray) -> tuple:
-    """Checked receptions, padded to whole blocks of the kernel's lanes, and the kernel's factors."""
-    from .square_root import lanes   # numba: loaded only when a simulation runs
+    """Checked receptions and the kernel's factors."""
     received = np.asarray(received, bool)
     if received.ndim != 3:
         raise ShapeError(f"receptions: expected an array (horizon, paths, d), got shape {received.shape}")
@@ -278,11 +277,7 @@ def _kernel_arguments(model: FloatSystem, received: np.ndarray) -> tuple:
         raise ShapeError(f"receptions: {d} sensor(s) given, the system has {model.d}")
     if not np.any(model.P0):
         raise InputError("P0: the prior covariance is zero; log tr P_0 is undefined")
-    # the kernel runs whole blocks of paths: pad with paths that receive nothing
-    block = lanes(model.n)
-    padded = -(-paths // block) * block
-    if padded != paths or not received.flags.c_contiguous:
-        received = np.concatenate([received, np.zeros((horizon, padded - paths, d), bool)], axis=1)
+    received = np.ascontiguousarray(received)
     # triangular factors: S0 S0^T = P0 (lower), U_Q^T U_Q = Q (upper), from QR of any square root
     S0 = np.linalg.qr(_psd_factor(model.P0).T, mode="r").T
     UQ = np.linalg.qr(_psd_factor(model.Q).T, mode="r")
@@ -302,26 +297,22 @@ def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
     """
     from .square_root import log_trace_paths
     arguments = _kernel_arguments(model, received)
-    horizon, padded, _ = arguments[-1].shape
-    paths = np.shape(received)[1]
-    trace = np.empty((horizon + 1, padded))
-    log_scale = np.empty((horizon + 1, padded))
-    log_trace_paths(*arguments, trace, log_scale)
-    np.log(trace, out=trace)   # in place: no temporaries of the (horizon + 1, paths) size
-    trace += log_scale
-    return trace[:, :paths].T
+    horizon, paths, _ = arguments[-1].shape
+    trace = np.empty((horizon + 1, paths))
+    log_trace_paths(*arguments, trace)   # the kernel takes the log: one pass over the output
+    return trace.T
 
 
 def traces_into(model: FloatSystem, received: np.ndarray, out: np.ndarray) -> None:
     """``out[p, k] = tr P_{k|k-1}``, k = 0..horizon-1, by the filter of :func:`log_traces` for
     ``received`` (horizon, paths, d): the exact product of its trace and power-of-two scale
     (``inf`` where ``tr P`` exceeds float64), written by the kernel without a log."""
-    from .square_root import BUFFER_STEPS, lanes, log_trace_paths
+    from .square_root import log_trace_paths
     arguments = _kernel_arguments(model, received)
     horizon, paths = np.shape(received)[:2]
     if out.shape != (paths, horizon) or out.dtype != np.float64 or not out.flags.c_contiguous:
         raise ShapeError(f"out: expected a C-contiguous float64 array {(paths, horizon)}, got {out.shape} {out.dtype}")
-    log_trace_paths(*arguments, out, np.empty((BUFFER_STEPS, lanes(model.n))), True)   # the kernel's block buffer
+    log_trace_paths(*arguments, out, True)
 
 
 def predicted_covariances(system: System | FloatSystem, receptions: np.ndarray, keep: str = "trace",

@@ -128,11 +128,6 @@ def exact_mean_trace(system: System, loss: LossModel, horizon: int) -> np.ndarra
 RECORD_BYTES = {"text": 52, "json": 152}
 
 
-def _padded(paths: int, n: int) -> int:
-    from .square_root import lanes   # the kernel runs whole blocks of paths
-    return -(-paths // lanes(n)) * lanes(n)
-
-
 def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *, components: int | None = None,
                     records: str | None = None, jobs: int = 1) -> int:
     """Peak bytes of the arrays one simulation allocates, phase by phase (the largest phase counts).
@@ -141,11 +136,11 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     Carlo, chunks of :data:`CHUNK` paths) and, with ``records`` (``"text"`` or ``"json"``), the
     command line's per-step records of the mean and its interval (:data:`RECORD_BYTES`).  Otherwise
     :func:`burst_sample` with that many burst components, on ``jobs`` processes.  Counted, per
-    chunk of ``m`` paths and ``K`` steps (``P`` = ``m`` padded to the kernel's lanes, which for one
-    path is 64 times its size, 128 beyond 8 states): the receptions and chain states; plain Monte
-    Carlo, the kernel's block of receptions ``d K`` times its lanes (it writes ``tr P`` into the traces itself,
-    :func:`symkf.filtering.traces_into`); for bursts the kernel's trace and log-scale ``16 (K + 1)
-    P`` (:func:`symkf.filtering.log_traces` takes the log in place), the law table, the likelihood
+    chunk of ``m`` paths and ``K`` steps: the receptions and chain states; plain Monte Carlo, the
+    kernel writes ``tr P`` into the traces itself (:func:`symkf.filtering.traces_into`; its
+    buffers are one step's receptions and 64 steps' traces of a block of paths, under 64 KiB);
+    for bursts the kernel's log traces ``8 (K + 1) m``
+    (:func:`symkf.filtering.log_traces`: the kernel writes the logs), the law table, the likelihood
     ratios ``8 C K m`` and their tail sums (three more of that size at once), and the log-trace
     rows; the traces ``8 paths K`` kept whole (resident as far as the chunks up to the current one
     filled them) and the standard deviation's copy of them; per path results ``72 paths`` for
@@ -155,8 +150,7 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     d, K = system.d, horizon
     if components is None:
         def chunk(m: int) -> int:   # chain states (one byte per sensor and step), receptions, kernel, its traces
-            P = _padded(m, system.n)
-            return d * K * m + max(8 * K * m, d * K * m + (d * K * P if P != m else 0) + d * K * _padded(1, system.n)) + 8 * K * m
+            return d * K * m + max(8 * K * m, d * K * m) + 8 * K * m
         size = _trace_chunk(K, d)
         full, last = min(paths, size), paths % size or min(paths, size)
         # the traces are resident as far as the chunks before the current one filled them
@@ -167,20 +161,18 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
             phases.append(K * (32 + 3 * RECORD_BYTES[records]))
         return max(phases)
     m = min(paths, _burst_chunk_size(components, K))
-    P = _padded(m, system.n)
     two_state = all(len(f.P) == 2 for f in loss_factors(loss, d))
     # held to the chunk's end: law table, last transition index, log-trace rows (logtr is a view of
     # them), receptions, chain states, likelihood ratios
     held = 24 * (K + 1) * m + d * K * m + (d if two_state else 8) * K * m + 8 * components * K * m
-    kernel = (d * K * P if P != m else 0) + 16 * (K + 1) * P + 24 * (K + 1) * m
+    kernel = 8 * (K + 1) * m + 24 * (K + 1) * m
     tails = 24 * components * (K + 1) * m
     return min(jobs, -(-paths // m)) * (held + max(kernel, tails, 24 * K * m)) + 72 * paths
 
 
 def _trace_chunk(horizon: int, d: int) -> int:
     """Paths per chunk of :func:`_simulate`: a chunk's receptions and chain states take 2 horizon x
-    paths x d bytes, about 32 MB, in whole blocks of the kernel's 64 lanes (a partial block is
-    padded, i.e. copied)."""
+    paths x d bytes, about 32 MB, in whole blocks of 64 paths."""
     return min(CHUNK, max(64, 2 ** 24 // (horizon * d) // 64 * 64))
 
 

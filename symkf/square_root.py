@@ -3,8 +3,8 @@
 numba-compiled loops (``cache=True``: compiled once per installation, then
 loaded from ``__pycache__``) over blocks of :func:`lanes` paths, the innermost loop
 running across the paths of a block so that the compiler vectorises it (every
-path does the same arithmetic; a lost row is an update divided by infinity,
-not a branch).
+path does the same arithmetic; a lost row is an update by a zero gain, not a
+branch).
 
 Per path ``P_{k|k-1} = 2^E S S^T`` with an even integer ``E`` and ``tr(S S^T)``
 in ``[1/2, 2)``, so ``log tr P = E log 2 + log tr(S S^T)`` over any dynamic
@@ -13,30 +13,36 @@ measurement noise is ``2^-E`` and the process noise ``2^-E Q``.
 
 * Measurement update (Yang et al. eq. 8, rows independent with unit variance
   after whitening): Potter's square-root form, one received row ``h`` at a
-  time, ``S <- S - (S u)(u w)^T`` with ``f = S^T h``, ``u = f / |f|``, ``r =
-  2^-E``, ``a = |f|^2 + r`` and ``w = |f|^2 / (a + sqrt(a r))`` in [0, 1]
-  (``= S f f^T / (a + sqrt(a r))``): finite however far ``2^-E`` and ``|f|``
-  underflow.  The operations and their order are those of the numpy kernel
-  this replaced: on float-exact systems (``A = 2 R(pi/2)``) long bursts keep
-  their exact cancellations only as far as the rounding does (see below).
+  time, ``S <- S - (S f) g^T`` with ``f = S^T h``, ``r = 2^-E``, ``a = |f|^2 + r``
+  and ``g = f / (a + sqrt(a r))`` (``S S^T`` becomes ``P - P h h^T P / a``): one
+  square root and one division per row and path.  A lost row has ``g = 0``,
+  not a branch.
 * Time update (Sui-You-Fu eq. 9, ``P <- A P A^T + Q``): Householder
   triangularisation of the stacked ``[(A S)^T; 2^(-E/2) U_Q]`` (``U_Q``
   upper triangular, ``U_Q^T U_Q = Q``), giving a lower-triangular ``S`` with
   the same ``S S^T``; the triangular structure of both blocks is skipped.
+  Each reflector ``v = x + sign(x_0) |x| e_1`` stays unnormalised and is
+  applied as ``y - (v^T y) v / (|x| (|x| + |x_0|))`` (``|v|^2 = 2 |x| (|x| +
+  |x_0|)``): one square root per column and one division per applied column.
+
+The divider (division and square root share it) bounds the kernel at small
+``n``: these forms need ``rows + n - 1`` divisions and ``rows + n`` square roots
+per path-step, against ``rows (n + 1) + n^2 - 1`` and ``2 rows + 2n - 1`` for
+the normalised ``u = f / |f|`` and ``v / |v|`` of the numpy kernel this kernel
+replaced.  Below 2^-1022 a denominator is dropped (its reciprocal could
+overflow); what it would remove is below 2^-511 of ``S``'s scale.
 
 ``P`` stays positive semidefinite by construction, and errors in its small
 directions are ``~1e-16 ||S||``, i.e. ``1e-32 ||P||`` after squaring: once a
 path's scales are 1e32 apart (``log tr P`` beyond ~75 on a well-observed
-system) the float filter no longer resolves its small directions, for this
-kernel as for the numpy one before it (on ``ge-two-sensors`` with 80-step
-final bursts both miss the exact ``log tr P`` on ~30 of 75 paths checked,
-the largest and the most disagreeing, not the same ones; on the final-burst sample of
-``ge-recovery.toml``'s member recover = 1/4 it misses 2423 of 15 000 paths at ``k = 80``,
-``log E[tr P_80]`` by -0.14, which biases ``divergence_test``'s margin 0.4 % low at ``h = 40``:
-``benchmarks/float_resolution.py``).  Rounding matters
-there: FMA contraction, a reciprocal instead of a division, or a two-factor
-``|v|`` each moved which paths break and flipped the 2 % slope check of
-``test_plots``, so none is used.
+system) the float filter no longer resolves its small directions, whatever
+the rounding (``benchmarks/float_resolution.py`` measures where on
+``ge-two-sensors`` and ``ge-recovery.toml``).  Float-exact systems
+(``A = 2 R(pi/2)``) keep their exact cancellations over thousands of steps
+(tests in ``test_filtering``); FMA contraction broke them (a fused
+``S - S u w^T`` does not cancel to the same rounding as the product it
+subtracts: a 2000-step burst lost 32 of its ``log tr P`` of 2773), so none
+is used.
 This module imports numba; :mod:`symkf.filtering` imports it only when a
 simulation runs, so ``import symkf`` and the exact engine never pay for it.
 """
@@ -55,9 +61,12 @@ from .errors import ShapeError
 from .exact.arguments import check_public
 
 #: paths per block of the straight-line kernels, a compile-time constant: the path loops have a
-#: fixed trip count (no remainder loops, no per-entry set-up); 64 measured faster than 32 and 128
-#: at n = 2..8 (128: 0.67x at n = 8 with 8 sensors)
+#: fixed trip count (no remainder loops, no per-entry set-up).  Up to SMALL_MAX states a lane loop's
+#: set-up (the compiler's run-time checks that its arrays do not overlap) weighs on its few operations:
+#: SMALL_LANES there (1.1-1.2x over 64 at n = 2..4 with 1 to 8 sensors); 64 above (128: 0.75x at n = 8)
 LANES = 64
+SMALL_LANES = 128
+SMALL_MAX = 4
 #: paths per block of the loop kernel (n > STRAIGHT_MAX), whose lane loops are many and short: 128
 #: halves their set-up per path (1.3-1.4x over 64 at n = 12 and 16; 256 measured 0.94-1.16x)
 LOOP_LANES = 128
@@ -69,6 +78,9 @@ BUFFER_STEPS = 64
 # log tr P's 2773 over a 2000-step periodic burst (float_horizon fell from None to 45)
 #: ln 2 as numpy's ``exponent * math.log(2)`` rounds it (the kernel returns E ln 2, not E)
 LN2 = math.log(2)
+#: the smallest normal float64, 2^-1022: a Potter denominator or a Householder ``|v|^2 / 2`` below it
+#: is dropped (its reciprocal could overflow; what it would change is below 2^-511 of ``S``'s scale)
+NORMAL = float(np.finfo(np.float64).tiny)
 _compiled = njit(cache=True, nogil=True, error_model="numpy")
 
 
@@ -78,6 +90,46 @@ def _float_bits(typingctx, bits):
     def codegen(context, builder, signature, args):
         return builder.bitcast(args[0], ir.DoubleType())
     return types.float64(types.int64), codegen
+
+
+@intrinsic
+def _bits_of(typingctx, value):
+    """The IEEE bits of the float64 ``value`` as an int64 (a register move: it vectorises)."""
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.IntType(64))
+    return types.int64(types.float64), codegen
+
+
+#: fdlibm's e_log.c (Sun Microsystems, 1993): ln 2 split so that ``k ln2_hi`` is exact for
+#: |k| < 2^20, and the minimax coefficients of ``(log(1 + f) - f + f^2/2) / s`` in ``s^2``,
+#: ``s = f / (2 + f)``, error below 2^-58.7 on |s| <= 0.1716
+LN2_HI, LN2_LO = 6.93147180369123816490e-01, 1.90821492927058770002e-10
+LG = (6.666666666666735130e-01, 3.999999999940941908e-01, 2.857142874366239149e-01, 2.222219843214978396e-01,
+      1.818357216161805012e-01, 1.531383769920937332e-01, 1.479819860511658591e-01)
+
+
+@_compiled
+def _log_scaled(t: float, e: int) -> float:
+    """``log t + e ln 2`` for ``t`` zero or a normal float (-inf at 0, ``t`` itself if inf or nan), with
+    fdlibm's ``log`` (below one ulp): branch-free, so that a lane loop of it vectorises, where
+    ``math.log`` is a call per path.  ``t = m 2^k``, ``m`` in [sqrt(2)/2, sqrt(2)), ``f = m - 1``
+    exact; then ``log t = (k + e) ln 2 + f - f^2/2 + s (f^2/2 + R(s^2))``."""
+    bits = _bits_of(t)
+    k = ((bits >> 52) & 2047) - 1023
+    m = _float_bits((bits & 0xFFFFFFFFFFFFF) | 0x3FF0000000000000)   # [1, 2)
+    high = m > 1.4142135623730951
+    m = m * 0.5 if high else m
+    f = m - 1.0
+    s = f / (2.0 + f)
+    z = s * s
+    w = z * z
+    R = z * (LG[0] + w * (LG[2] + w * (LG[4] + w * LG[6]))) + w * (LG[1] + w * (LG[3] + w * LG[5]))
+    half_f2 = 0.5 * f * f
+    dk = float(k + (1 if high else 0) + e)
+    value = dk * LN2_HI - ((half_f2 - (s * (half_f2 + R) + dk * LN2_LO)) - f)
+    if 0.0 < t < math.inf:
+        return value
+    return -math.inf if t == 0.0 else t
 
 
 @_compiled
@@ -116,19 +168,19 @@ def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, scale: np.ndarray) -> 
 
 
 @_compiled
-def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, log_scale: np.ndarray,
+def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, buffer: np.ndarray,
            linear: bool) -> None:
-    """Step ``k`` of the block at ``start``: ``trace[k, p] = t``, ``log_scale[k, p] = E ln 2``, or with
-    ``linear`` ``trace[p, k] = t 2^E`` (two exact power-of-two factors: inf only beyond float64)
-    for the paths and steps ``trace`` has, through ``log_scale`` (w, lanes) as the block's buffer
-    of ``w`` steps: the products are stored along the lanes, and every ``w`` steps the buffer goes
-    into the block's rows of ``trace`` along the steps (stores across paths, 8 ``horizon`` bytes
-    apart, cost 2.5 ns a path-step at n = 2, a third of the kernel)."""
+    """Step ``k`` of the block at ``start``: ``trace[k, p] = log t + E ln 2`` (:func:`_log_scaled`,
+    a row along the lanes), or with ``linear`` ``trace[p, k] = t 2^E`` (two exact power-of-two
+    factors: inf only beyond float64) for the paths and steps ``trace`` has, through ``buffer``
+    (w, lanes), the block's ``w`` steps: the products are stored along the lanes, and every ``w``
+    steps the buffer goes into the block's rows of ``trace`` along the steps (stores across paths,
+    8 ``horizon`` bytes apart)."""
     width = t.size   # the block's lanes
     if linear:
-        steps, w = trace.shape[1], log_scale.shape[0]
+        steps, w = trace.shape[1], buffer.shape[0]
         if k < steps:
-            row = log_scale[k % w]
+            row = buffer[k % w]
             for p in range(width):
                 half = E[p] // 2
                 row[p] = t[p] * _pow2(half) * _pow2(E[p] - half)
@@ -137,35 +189,57 @@ def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, 
                 for p in range(min(width, trace.shape[0] - start)):
                     out = trace[start + p]
                     for j in range(first, k + 1):
-                        out[j] = log_scale[j - first, p]
+                        out[j] = buffer[j - first, p]
         return
-    trace_k = trace[k, start:start + width]            # views: an index p + start would not vectorise
-    log_scale_k = log_scale[k, start:start + width]
-    for p in range(width):
-        trace_k[p] = t[p]
-        log_scale_k[p] = E[p] * LN2
+    trace_k = trace[k, start:start + width]            # a view: an index p + start would not vectorise
+    if trace_k.size == width:
+        for p in range(width):
+            trace_k[p] = _log_scaled(t[p], E[p])
+    else:                                              # a partial last block
+        for p in range(trace_k.size):
+            trace_k[p] = _log_scaled(t[p], E[p])
+
+
+@_compiled
+def _receptions(received: np.ndarray, k: int, start: int, block: np.ndarray) -> None:
+    """``block[i, p] = received[k, start + p, i]``: step ``k``'s receptions of the block of paths at
+    ``start``, sensor-major (a lane loop reads them at unit stride); paths past the last receive
+    nothing (a partial last block needs no padded copy of the receptions)."""
+    d, width = block.shape
+    count = min(width, received.shape[1] - start)
+    for i in range(d):
+        into = block[i]
+        column = received[k, start:start + count, i]
+        for p in range(count):
+            into[p] = column[p]
+        for p in range(count, width):
+            into[p] = False
 
 
 def lanes(n: int) -> int:
-    """Paths per block of the kernel for ``n`` states (the paths given to it are a multiple)."""
+    """Paths per block of the kernel for ``n`` states."""
+    if n <= SMALL_MAX:
+        return SMALL_LANES
     return LANES if n <= STRAIGHT_MAX else LOOP_LANES
 
 
 def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
-                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray,
-                    linear: bool = False) -> None:
-    """``tr P_{k|k-1} = 2^E trace[k, p]``, ``log_scale[k, p] = E ln 2`` (k = 0..horizon) for receptions
-    ``received[k, p, i]`` (sensor ``i``), from ``P_0 = S0 S0^T`` (``S0`` lower triangular);
-    the number of paths is a multiple of :func:`lanes` ``(n)``.  ``linear``: ``trace[p, k] = tr P_{k|k-1}``
-    for the paths and steps of ``trace`` instead (``log_scale`` a buffer of (w, lanes), w >= 1:
-    :data:`BUFFER_STEPS`).  By :func:`_kernel` ``(n)``."""
+                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, linear: bool = False) -> None:
+    """``trace[k, p] = log tr P_{k|k-1}`` (k = 0..horizon) for receptions ``received[k, p, i]``
+    (sensor ``i``), from ``P_0 = S0 S0^T`` (``S0`` lower triangular), in blocks of :func:`lanes`
+    ``(n)`` paths (a partial last block included).
+    ``linear``: ``trace[p, k] = tr P_{k|k-1}`` for the paths and
+    steps of ``trace`` instead (through a block buffer of :data:`BUFFER_STEPS` steps).  By
+    :func:`_kernel` ``(n)``."""
     n = A.shape[0]
-    paths = received.shape[1]
-    if paths % lanes(n):    # the compiled loops do not check bounds
-        raise ShapeError(f"receptions: {paths} paths, not whole blocks of {lanes(n)}")
-    if linear and (log_scale.shape[0] < 1 or log_scale.shape[1] < lanes(n)):
-        raise ShapeError(f"linear traces need a buffer of (steps, {lanes(n)}), got {log_scale.shape}")
-    _kernel(n)(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear)
+    horizon, paths, _ = received.shape
+    # the compiled loops do not check bounds
+    if not linear and trace.shape != (horizon + 1, paths):
+        raise ShapeError(f"log traces: expected {(horizon + 1, paths)}, got {trace.shape}")
+    if linear and (trace.shape[0] > paths or trace.shape[1] > horizon):
+        raise ShapeError(f"traces: at most {(paths, horizon)}, got {trace.shape}")
+    buffer = np.empty((BUFFER_STEPS if linear else 1, lanes(n)))
+    _kernel(n)(A, UQ, H, row_sensor, S0, received, trace, buffer, linear)
 
 
 def _kernel(n: int):
@@ -181,12 +255,12 @@ def _loop_kernel(n: int):
 
 @_compiled
 def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
-           S0: np.ndarray, received: np.ndarray, trace: np.ndarray, log_scale: np.ndarray,
+           S0: np.ndarray, received: np.ndarray, trace: np.ndarray, buffer: np.ndarray,
            linear: bool, householder, potter) -> None:
     """:func:`log_trace_paths` for any ``n``: loops over the entries, the lane loop innermost, and
     the kernels of :func:`_unrolled` for the time update's triangularisation (``householder``) and
     Potter's rank-one update (``potter``)."""
-    horizon, paths, _ = received.shape
+    horizon, paths, d = received.shape
     n = A.shape[0]
     rows = H.shape[0]
     # rows an odd number of lane slots (of 512 bytes) apart: at n = 16 a column's 17 rows would be
@@ -196,12 +270,12 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
     X = np.zeros((2 * n, cols, LOOP_LANES))
     V = np.empty((n + 3) * LOOP_LANES)
     fg = np.empty((2 * n + 1, LOOP_LANES))   # Potter's f (rows 0..n-1), g (n..2n-1), a row of scratch
-    su = np.empty(LOOP_LANES)
     f2 = np.empty(LOOP_LANES)
     coef = np.empty(LOOP_LANES)
     noise = np.empty(LOOP_LANES)
     E = np.empty(LOOP_LANES, np.int64)
     t = np.empty(LOOP_LANES)
+    block = np.empty((d, LOOP_LANES), np.bool_)
     for start in range(0, paths, LOOP_LANES):
         for i in range(n):
             for j in range(n):
@@ -211,13 +285,14 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
             E[p] = 0
         _rescale(S, E, t, f2)
         for k in range(horizon + 1):
-            _store(k, start, t, E, trace, log_scale, linear)
+            _store(k, start, t, E, trace, buffer, linear)
             if k == horizon:
                 break
+            _receptions(received, k, start, block)
             for p in range(LOOP_LANES):
                 noise[p] = _pow2(-E[p])
             for r in range(rows):                   # Potter, one whitened row at a time
-                sensor = row_sensor[r]
+                got = block[row_sensor[r]]
                 for p in range(LOOP_LANES):
                     f2[p] = 0.0
                 for j in range(n):
@@ -232,13 +307,9 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
                 for p in range(LOOP_LANES):
                     a = f2[p] + noise[p]
                     denom = a + math.sqrt(a * noise[p])
-                    got = received[k, start + p, sensor]
-                    # S <- S - (S u) (u w)^T with u = f / |f| and w = |f|^2 / denom in [0, 1]
-                    coef[p] = f2[p] / denom if got and denom > 0.0 else 0.0
-                    su[p] = math.sqrt(f2[p]) if f2[p] > 0.0 else math.inf
+                    coef[p] = 1.0 / denom if got[p] and denom >= NORMAL else 0.0
                 for j in range(n):
                     for p in range(LOOP_LANES):
-                        fg[j, p] /= su[p]
                         fg[n + j, p] = fg[j, p] * coef[p]
                 potter(_data(S), _data(fg), n)
             _time_update(S, A, UQ, E, X, V, f2, householder)
@@ -309,13 +380,13 @@ def _householder_loops(X, V, n):
             norm = math.sqrt(V[acc + p])
             x0 = X[b + p]
             head = norm if x0 >= 0.0 else -norm
-            length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-            V[beta + p] = length if length > 0.0 else math.inf
-            V[p] = (x0 + head) / V[beta + p]
+            half_v2 = norm * (norm + abs(x0))
+            V[beta + p] = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
+            V[p] = x0 + head
             X[b + p] = -head
         for r in range(1, n + 1):
             for p in range(L):
-                V[r * L + p] = X[b + r * st + p] / V[beta + p]
+                V[r * L + p] = X[b + r * st + p]
         for k in range(j + 1, n):
             c = b + (k - j) * L
             for p in range(L):
@@ -325,7 +396,7 @@ def _householder_loops(X, V, n):
                     V[acc + p] += V[r * L + p] * X[c + r * st + p]
             for r in range(n + 1):
                 for p in range(L):
-                    X[c + r * st + p] -= 2.0 * V[acc + p] * V[r * L + p]
+                    X[c + r * st + p] -= V[beta + p] * V[acc + p] * V[r * L + p]
 
 
 def _potter_loops(S, fg, n):
@@ -385,13 +456,12 @@ def _householder_source(n: int) -> str:
     per_row("            sq += x{r} * x{r}")
     a("            norm = math.sqrt(sq)")
     a("            head = norm if x0 >= 0.0 else -norm")
-    # v = x + sign(x0) |x| e_1, |v|^2 = 2 |x| (|x| + |x0|): |v| as one square root and u = v / |v|
-    # by division (a two-factor |v| or a reciprocal round differently: see the module's text);
-    # inf turns u into 0
-    a("            length = math.sqrt(2.0 * norm * (norm + abs(x0)))")
-    a("            beta = length if length > 0.0 else math.inf")
+    # v = x + sign(x0) |x| e_1 unnormalised, 2 / |v|^2 = 1 / (|x| (|x| + |x0|)): one division and
+    # no second square root per column; below the normal range the reflection is dropped (tau = 0)
+    a("            half_v2 = norm * (norm + abs(x0))")
+    a(f"            V[{(n + 1) * L} + p] = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0")
     a("            x0 = x0 + head")
-    per_row("            {v} = x{r} / beta")
+    per_row("            {v} = x{r}")
     a("            X[b + p] = -head")
     a(f"        for k in range(j + 1, {n}):")
     a(f"            c = b + (k - j) * {L}")              # X[j, k, 0]
@@ -399,7 +469,7 @@ def _householder_source(n: int) -> str:
     per_row("                y{r} = X[c{row} + p]")
     a("                dot = 0.0")
     per_row("                dot += {v} * y{r}")
-    a("                twice = 2.0 * dot")
+    a(f"                twice = V[{(n + 1) * L} + p] * dot")
     per_row("                X[c{row} + p] = y{r} - twice * {v}")
     return "\n".join(w) + "\n"
 
@@ -418,7 +488,8 @@ def _unrolled_module() -> str:
             f'each row\'s entries written out, the lane loop innermost ({sizes} states): generated by\n'
             ':func:`symkf.square_root._unrolled_module` (do not edit; a test compares it with the generator)."""\n\n'
             "import math\n\n"
-            "from .exact.arguments import check_public\n\n\n")
+            "from .exact.arguments import check_public\n"
+            "from .square_root import NORMAL\n\n\n")
     sources = (_UNROLLED[kind][0](n) for n in range(1, max(UNROLLED_MAX.values()) + 1)
                for kind in UNROLLED_MAX if n <= UNROLLED_MAX[kind])
     return head + "\n\n".join(sources) + "\n\ncheck_public(globals())\n"
@@ -464,46 +535,41 @@ def _straight_source(n: int) -> str:
     L = []
     w = L.append
     R = range(n)
+    W = lanes(n)
 
     def load_S(indent: str) -> None:   # the lane's S into locals s{i}_{j}
         for i in R:
             for j in R:
                 w(f"{indent}s{i}_{j} = S[{i}, {j}, p]")
-    w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):")
+    w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):")
     w("    horizon, paths, d = received.shape")
-    w("    block = np.empty((horizon, d, LANES), np.bool_)")   # a block's receptions, sensor-major
+    w(f"    block = np.empty((d, {W}), np.bool_)")   # a step's receptions of the block, sensor-major
     w("    rows = H.shape[0]")
-    w(f"    S = np.zeros(({n}, {n}, LANES))")
-    w("    t = np.empty(LANES)")
+    w(f"    S = np.zeros(({n}, {n}, {W}))")
+    w(f"    t = np.empty({W})")
     w("    bits = t.view(np.int64)")
-    w("    E = np.zeros(LANES, np.int64)")
-    w("    noise = np.empty(LANES)")
-    w("    half = np.empty(LANES)")
+    w(f"    E = np.zeros({W}, np.int64)")
+    w(f"    noise = np.empty({W})")
+    w(f"    half = np.empty({W})")
     if n <= PHASED_MAX:   # the time update's live entries between its lane loops, and Potter's u, w
-        w(f"    X = np.empty(({2 * n}, {n}, LANES))")
-        w(f"    F = np.empty(({n}, LANES))")
-        w(f"    G = np.empty(({n}, LANES))")
+        w(f"    X = np.empty(({2 * n}, {n}, {W}))")
+        w(f"    F = np.empty(({n}, {W}))")
+        w(f"    G = np.empty(({n}, {W}))")
     for i in R:
         for l in R:
             w(f"    a{i}_{l} = A[{i}, {l}]")
     for i in R:
         for j in range(i, n):
             w(f"    q{i}_{j} = UQ[{i}, {j}]")
-    w("    for start in range(0, paths, LANES):")
-    w("        for p in range(LANES):")
+    w(f"    for start in range(0, paths, {W}):")
+    w(f"        for p in range({W}):")
     w("            E[p] = 0")
     for i in R:
         for j in R:
             w(f"            S[{i}, {j}, p] = S0[{i}, {j}]")
-    w("        for k in range(horizon):")
-    w("            for i in range(d):")
-    w("                column = received[k, start:start + LANES, i]")
-    w("                into = block[k, i]")
-    w("                for p in range(LANES):")
-    w("                    into[p] = column[p]")
     w("        for k in range(horizon + 1):")
     # --- rescale (as _rescale) and the trace of step k
-    w("            for p in range(LANES):")
+    w(f"            for p in range({W}):")
     w("                tp = 0.0")
     for i in R:
         for j in range(i + 1):
@@ -524,15 +590,16 @@ def _straight_source(n: int) -> str:
     w("                root = _pow2(-(Ep // 2))")
     w("                half[p] = root")
     w("                noise[p] = root * root")
-    w("            _store(k, start, t, E, trace, log_scale, linear)")
+    w("            _store(k, start, t, E, trace, buffer, linear)")
     w("            if k == horizon:")
     w("                break")
+    w("            _receptions(received, k, start, block)")
     # --- Potter, one row at a time
     w("            for r in range(rows):")
-    w("                got = block[k, row_sensor[r]]")
+    w("                got = block[row_sensor[r]]")
     for i in R:
         w(f"                h{i} = H[r, {i}]")
-    w("                for p in range(LANES):")
+    w(f"                for p in range({W}):")
     load_S(" " * 20)
     w("                    ff = 0.0")
     for j in R:
@@ -543,16 +610,14 @@ def _straight_source(n: int) -> str:
     w("                    nz = noise[p]")
     w("                    a = ff + nz")
     w("                    denom = a + math.sqrt(a * nz)")
-    w("                    coef = ff / denom if got[p] and denom > 0.0 else 0.0")
-    w("                    su = math.sqrt(ff) if ff > 0.0 else math.inf")
+    w("                    coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0")
     for j in R:
-        w(f"                    f{j} /= su")
         w(f"                    g{j} = f{j} * coef")
     if n <= PHASED_MAX:   # the row's update in a second lane loop: u and w through memory
         for j in R:
             w(f"                    F[{j}, p] = f{j}")
             w(f"                    G[{j}, p] = g{j}")
-        w("                for p in range(LANES):")
+        w(f"                for p in range({W}):")
         load_S(" " * 20)
         for j in R:
             w(f"                    f{j} = F[{j}, p]")
@@ -570,7 +635,7 @@ def _straight_source(n: int) -> str:
     X.update({(n + i, j): f"x{n + i}_{j}" for i in R for j in range(i, n)})
     phases = [[j] for j in R] if n <= PHASED_MAX else [list(R)]
     for cols in phases:
-        w("            for p in range(LANES):")
+        w(f"            for p in range({W}):")
         if cols[0] == 0:
             load_S(" " * 16)
             for i in R:
@@ -594,16 +659,15 @@ def _straight_source(n: int) -> str:
             w("                head = norm if x0 >= 0.0 else -norm")
             if j < n - 1:   # the last column's reflector is never applied: only its pivot -head is kept
                 w(f"                {X[j, j]} = x0 + head")
-                w("                length = math.sqrt(2.0 * norm * (norm + abs(x0)))")
-                w("                beta = length if length > 0.0 else math.inf")
-                for i in rowsj:
-                    w(f"                {X[i, j]} /= beta")
+                w("                half_v2 = norm * (norm + abs(x0))")
+                w("                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0")
                 for k in range(j + 1, n):
                     w("                dot = 0.0")
                     for i in rowsj:
                         w(f"                dot += {X[i, j]} * {X[i, k]}")
+                    w("                twice = tau * dot")
                     for i in rowsj:
-                        w(f"                {X[i, k]} -= 2.0 * dot * {X[i, j]}")
+                        w(f"                {X[i, k]} -= twice * {X[i, j]}")
             w(f"                {X[j, j]} = -head")
             for i in R:          # row j of R is final: column j of S = R^T
                 w(f"                S[{i}, {j}, p] = {X[j, i] if j <= i else '0.0'}")
@@ -622,7 +686,7 @@ def _straight_module() -> str:
             ':func:`symkf.square_root._straight_module` (do not edit; a test compares it with the generator)."""\n\n'
             "import math\n\nimport numpy as np\n\n"
             "from .exact.arguments import check_public\n"
-            "from .square_root import LANES, _pow2, _store\n\n\n" % STRAIGHT_MAX)
+            "from .square_root import NORMAL, _pow2, _receptions, _store\n\n\n" % STRAIGHT_MAX)
     return head + "\n\n".join(_straight_source(n) for n in range(1, STRAIGHT_MAX + 1)) + "\n\ncheck_public(globals())\n"
 
 

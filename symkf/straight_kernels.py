@@ -7,36 +7,30 @@ import math
 import numpy as np
 
 from .exact.arguments import check_public
-from .square_root import LANES, _pow2, _store
+from .square_root import NORMAL, _pow2, _receptions, _store
 
 
-def _paths_1(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
+def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
-    block = np.empty((horizon, d, LANES), np.bool_)
+    block = np.empty((d, 128), np.bool_)
     rows = H.shape[0]
-    S = np.zeros((1, 1, LANES))
-    t = np.empty(LANES)
+    S = np.zeros((1, 1, 128))
+    t = np.empty(128)
     bits = t.view(np.int64)
-    E = np.zeros(LANES, np.int64)
-    noise = np.empty(LANES)
-    half = np.empty(LANES)
-    X = np.empty((2, 1, LANES))
-    F = np.empty((1, LANES))
-    G = np.empty((1, LANES))
+    E = np.zeros(128, np.int64)
+    noise = np.empty(128)
+    half = np.empty(128)
+    X = np.empty((2, 1, 128))
+    F = np.empty((1, 128))
+    G = np.empty((1, 128))
     a0_0 = A[0, 0]
     q0_0 = UQ[0, 0]
-    for start in range(0, paths, LANES):
-        for p in range(LANES):
+    for start in range(0, paths, 128):
+        for p in range(128):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
-        for k in range(horizon):
-            for i in range(d):
-                column = received[k, start:start + LANES, i]
-                into = block[k, i]
-                for p in range(LANES):
-                    into[p] = column[p]
         for k in range(horizon + 1):
-            for p in range(LANES):
+            for p in range(128):
                 tp = 0.0
                 tp += S[0, 0, p] * S[0, 0, p]
                 t[p] = tp
@@ -51,13 +45,14 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale, linear)
+            _store(k, start, t, E, trace, buffer, linear)
             if k == horizon:
                 break
+            _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[k, row_sensor[r]]
+                got = block[row_sensor[r]]
                 h0 = H[r, 0]
-                for p in range(LANES):
+                for p in range(128):
                     s0_0 = S[0, 0, p]
                     ff = 0.0
                     f0 = 0.0
@@ -66,20 +61,18 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     nz = noise[p]
                     a = ff + nz
                     denom = a + math.sqrt(a * nz)
-                    coef = ff / denom if got[p] and denom > 0.0 else 0.0
-                    su = math.sqrt(ff) if ff > 0.0 else math.inf
-                    f0 /= su
+                    coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0
                     g0 = f0 * coef
                     F[0, p] = f0
                     G[0, p] = g0
-                for p in range(LANES):
+                for p in range(128):
                     s0_0 = S[0, 0, p]
                     f0 = F[0, p]
                     g0 = G[0, p]
                     u0 = 0.0
                     u0 += s0_0 * f0
                     S[0, 0, p] = s0_0 - u0 * g0
-            for p in range(LANES):
+            for p in range(128):
                 s0_0 = S[0, 0, p]
                 x0_0 = 0.0
                 x0_0 += a0_0 * s0_0
@@ -95,19 +88,19 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 S[0, 0, p] = x0_0
 
 
-def _paths_2(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
+def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
-    block = np.empty((horizon, d, LANES), np.bool_)
+    block = np.empty((d, 128), np.bool_)
     rows = H.shape[0]
-    S = np.zeros((2, 2, LANES))
-    t = np.empty(LANES)
+    S = np.zeros((2, 2, 128))
+    t = np.empty(128)
     bits = t.view(np.int64)
-    E = np.zeros(LANES, np.int64)
-    noise = np.empty(LANES)
-    half = np.empty(LANES)
-    X = np.empty((4, 2, LANES))
-    F = np.empty((2, LANES))
-    G = np.empty((2, LANES))
+    E = np.zeros(128, np.int64)
+    noise = np.empty(128)
+    half = np.empty(128)
+    X = np.empty((4, 2, 128))
+    F = np.empty((2, 128))
+    G = np.empty((2, 128))
     a0_0 = A[0, 0]
     a0_1 = A[0, 1]
     a1_0 = A[1, 0]
@@ -115,21 +108,15 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     q0_0 = UQ[0, 0]
     q0_1 = UQ[0, 1]
     q1_1 = UQ[1, 1]
-    for start in range(0, paths, LANES):
-        for p in range(LANES):
+    for start in range(0, paths, 128):
+        for p in range(128):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
             S[0, 1, p] = S0[0, 1]
             S[1, 0, p] = S0[1, 0]
             S[1, 1, p] = S0[1, 1]
-        for k in range(horizon):
-            for i in range(d):
-                column = received[k, start:start + LANES, i]
-                into = block[k, i]
-                for p in range(LANES):
-                    into[p] = column[p]
         for k in range(horizon + 1):
-            for p in range(LANES):
+            for p in range(128):
                 tp = 0.0
                 tp += S[0, 0, p] * S[0, 0, p]
                 tp += S[1, 0, p] * S[1, 0, p]
@@ -148,14 +135,15 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale, linear)
+            _store(k, start, t, E, trace, buffer, linear)
             if k == horizon:
                 break
+            _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[k, row_sensor[r]]
+                got = block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
-                for p in range(LANES):
+                for p in range(128):
                     s0_0 = S[0, 0, p]
                     s0_1 = S[0, 1, p]
                     s1_0 = S[1, 0, p]
@@ -172,17 +160,14 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     nz = noise[p]
                     a = ff + nz
                     denom = a + math.sqrt(a * nz)
-                    coef = ff / denom if got[p] and denom > 0.0 else 0.0
-                    su = math.sqrt(ff) if ff > 0.0 else math.inf
-                    f0 /= su
+                    coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0
                     g0 = f0 * coef
-                    f1 /= su
                     g1 = f1 * coef
                     F[0, p] = f0
                     G[0, p] = g0
                     F[1, p] = f1
                     G[1, p] = g1
-                for p in range(LANES):
+                for p in range(128):
                     s0_0 = S[0, 0, p]
                     s0_1 = S[0, 1, p]
                     s1_0 = S[1, 0, p]
@@ -201,7 +186,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     S[0, 1, p] = s0_1 - u0 * g1
                     S[1, 0, p] = s1_0 - u1 * g0
                     S[1, 1, p] = s1_1 - u1 * g1
-            for p in range(LANES):
+            for p in range(128):
                 s0_0 = S[0, 0, p]
                 s0_1 = S[0, 1, p]
                 s1_0 = S[1, 0, p]
@@ -229,24 +214,22 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x0_0
                 head = norm if x0 >= 0.0 else -norm
                 x0_0 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x0_0 /= beta
-                x1_0 /= beta
-                x2_0 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x0_0 * x0_1
                 dot += x1_0 * x1_1
                 dot += x2_0 * x2_1
-                x0_1 -= 2.0 * dot * x0_0
-                x1_1 -= 2.0 * dot * x1_0
-                x2_1 -= 2.0 * dot * x2_0
+                twice = tau * dot
+                x0_1 -= twice * x0_0
+                x1_1 -= twice * x1_0
+                x2_1 -= twice * x2_0
                 x0_0 = -head
                 S[0, 0, p] = x0_0
                 S[1, 0, p] = x0_1
                 X[1, 1, p] = x1_1
                 X[2, 1, p] = x2_1
-            for p in range(LANES):
+            for p in range(128):
                 x1_1 = X[1, 1, p]
                 x2_1 = X[2, 1, p]
                 root = half[p]
@@ -263,19 +246,19 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 S[1, 1, p] = x1_1
 
 
-def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
+def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
-    block = np.empty((horizon, d, LANES), np.bool_)
+    block = np.empty((d, 128), np.bool_)
     rows = H.shape[0]
-    S = np.zeros((3, 3, LANES))
-    t = np.empty(LANES)
+    S = np.zeros((3, 3, 128))
+    t = np.empty(128)
     bits = t.view(np.int64)
-    E = np.zeros(LANES, np.int64)
-    noise = np.empty(LANES)
-    half = np.empty(LANES)
-    X = np.empty((6, 3, LANES))
-    F = np.empty((3, LANES))
-    G = np.empty((3, LANES))
+    E = np.zeros(128, np.int64)
+    noise = np.empty(128)
+    half = np.empty(128)
+    X = np.empty((6, 3, 128))
+    F = np.empty((3, 128))
+    G = np.empty((3, 128))
     a0_0 = A[0, 0]
     a0_1 = A[0, 1]
     a0_2 = A[0, 2]
@@ -291,8 +274,8 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     q1_1 = UQ[1, 1]
     q1_2 = UQ[1, 2]
     q2_2 = UQ[2, 2]
-    for start in range(0, paths, LANES):
-        for p in range(LANES):
+    for start in range(0, paths, 128):
+        for p in range(128):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
             S[0, 1, p] = S0[0, 1]
@@ -303,14 +286,8 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
             S[2, 0, p] = S0[2, 0]
             S[2, 1, p] = S0[2, 1]
             S[2, 2, p] = S0[2, 2]
-        for k in range(horizon):
-            for i in range(d):
-                column = received[k, start:start + LANES, i]
-                into = block[k, i]
-                for p in range(LANES):
-                    into[p] = column[p]
         for k in range(horizon + 1):
-            for p in range(LANES):
+            for p in range(128):
                 tp = 0.0
                 tp += S[0, 0, p] * S[0, 0, p]
                 tp += S[1, 0, p] * S[1, 0, p]
@@ -335,15 +312,16 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale, linear)
+            _store(k, start, t, E, trace, buffer, linear)
             if k == horizon:
                 break
+            _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[k, row_sensor[r]]
+                got = block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
-                for p in range(LANES):
+                for p in range(128):
                     s0_0 = S[0, 0, p]
                     s0_1 = S[0, 1, p]
                     s0_2 = S[0, 2, p]
@@ -372,13 +350,9 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     nz = noise[p]
                     a = ff + nz
                     denom = a + math.sqrt(a * nz)
-                    coef = ff / denom if got[p] and denom > 0.0 else 0.0
-                    su = math.sqrt(ff) if ff > 0.0 else math.inf
-                    f0 /= su
+                    coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0
                     g0 = f0 * coef
-                    f1 /= su
                     g1 = f1 * coef
-                    f2 /= su
                     g2 = f2 * coef
                     F[0, p] = f0
                     G[0, p] = g0
@@ -386,7 +360,7 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     G[1, p] = g1
                     F[2, p] = f2
                     G[2, p] = g2
-                for p in range(LANES):
+                for p in range(128):
                     s0_0 = S[0, 0, p]
                     s0_1 = S[0, 1, p]
                     s0_2 = S[0, 2, p]
@@ -423,7 +397,7 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     S[2, 0, p] = s2_0 - u2 * g0
                     S[2, 1, p] = s2_1 - u2 * g1
                     S[2, 2, p] = s2_2 - u2 * g2
-            for p in range(LANES):
+            for p in range(128):
                 s0_0 = S[0, 0, p]
                 s0_1 = S[0, 1, p]
                 s0_2 = S[0, 2, p]
@@ -482,30 +456,28 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x0_0
                 head = norm if x0 >= 0.0 else -norm
                 x0_0 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x0_0 /= beta
-                x1_0 /= beta
-                x2_0 /= beta
-                x3_0 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x0_0 * x0_1
                 dot += x1_0 * x1_1
                 dot += x2_0 * x2_1
                 dot += x3_0 * x3_1
-                x0_1 -= 2.0 * dot * x0_0
-                x1_1 -= 2.0 * dot * x1_0
-                x2_1 -= 2.0 * dot * x2_0
-                x3_1 -= 2.0 * dot * x3_0
+                twice = tau * dot
+                x0_1 -= twice * x0_0
+                x1_1 -= twice * x1_0
+                x2_1 -= twice * x2_0
+                x3_1 -= twice * x3_0
                 dot = 0.0
                 dot += x0_0 * x0_2
                 dot += x1_0 * x1_2
                 dot += x2_0 * x2_2
                 dot += x3_0 * x3_2
-                x0_2 -= 2.0 * dot * x0_0
-                x1_2 -= 2.0 * dot * x1_0
-                x2_2 -= 2.0 * dot * x2_0
-                x3_2 -= 2.0 * dot * x3_0
+                twice = tau * dot
+                x0_2 -= twice * x0_0
+                x1_2 -= twice * x1_0
+                x2_2 -= twice * x2_0
+                x3_2 -= twice * x3_0
                 x0_0 = -head
                 S[0, 0, p] = x0_0
                 S[1, 0, p] = x0_1
@@ -516,7 +488,7 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 X[2, 2, p] = x2_2
                 X[3, 1, p] = x3_1
                 X[3, 2, p] = x3_2
-            for p in range(LANES):
+            for p in range(128):
                 x1_1 = X[1, 1, p]
                 x1_2 = X[1, 2, p]
                 x2_1 = X[2, 1, p]
@@ -535,21 +507,18 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x1_1
                 head = norm if x0 >= 0.0 else -norm
                 x1_1 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x1_1 /= beta
-                x2_1 /= beta
-                x3_1 /= beta
-                x4_1 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x1_1 * x1_2
                 dot += x2_1 * x2_2
                 dot += x3_1 * x3_2
                 dot += x4_1 * x4_2
-                x1_2 -= 2.0 * dot * x1_1
-                x2_2 -= 2.0 * dot * x2_1
-                x3_2 -= 2.0 * dot * x3_1
-                x4_2 -= 2.0 * dot * x4_1
+                twice = tau * dot
+                x1_2 -= twice * x1_1
+                x2_2 -= twice * x2_1
+                x3_2 -= twice * x3_1
+                x4_2 -= twice * x4_1
                 x1_1 = -head
                 S[0, 1, p] = 0.0
                 S[1, 1, p] = x1_1
@@ -557,7 +526,7 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 X[2, 2, p] = x2_2
                 X[3, 2, p] = x3_2
                 X[4, 2, p] = x4_2
-            for p in range(LANES):
+            for p in range(128):
                 x2_2 = X[2, 2, p]
                 x3_2 = X[3, 2, p]
                 x4_2 = X[4, 2, p]
@@ -577,19 +546,19 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 S[2, 2, p] = x2_2
 
 
-def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
+def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
-    block = np.empty((horizon, d, LANES), np.bool_)
+    block = np.empty((d, 128), np.bool_)
     rows = H.shape[0]
-    S = np.zeros((4, 4, LANES))
-    t = np.empty(LANES)
+    S = np.zeros((4, 4, 128))
+    t = np.empty(128)
     bits = t.view(np.int64)
-    E = np.zeros(LANES, np.int64)
-    noise = np.empty(LANES)
-    half = np.empty(LANES)
-    X = np.empty((8, 4, LANES))
-    F = np.empty((4, LANES))
-    G = np.empty((4, LANES))
+    E = np.zeros(128, np.int64)
+    noise = np.empty(128)
+    half = np.empty(128)
+    X = np.empty((8, 4, 128))
+    F = np.empty((4, 128))
+    G = np.empty((4, 128))
     a0_0 = A[0, 0]
     a0_1 = A[0, 1]
     a0_2 = A[0, 2]
@@ -616,8 +585,8 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     q2_2 = UQ[2, 2]
     q2_3 = UQ[2, 3]
     q3_3 = UQ[3, 3]
-    for start in range(0, paths, LANES):
-        for p in range(LANES):
+    for start in range(0, paths, 128):
+        for p in range(128):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
             S[0, 1, p] = S0[0, 1]
@@ -635,14 +604,8 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
             S[3, 1, p] = S0[3, 1]
             S[3, 2, p] = S0[3, 2]
             S[3, 3, p] = S0[3, 3]
-        for k in range(horizon):
-            for i in range(d):
-                column = received[k, start:start + LANES, i]
-                into = block[k, i]
-                for p in range(LANES):
-                    into[p] = column[p]
         for k in range(horizon + 1):
-            for p in range(LANES):
+            for p in range(128):
                 tp = 0.0
                 tp += S[0, 0, p] * S[0, 0, p]
                 tp += S[1, 0, p] * S[1, 0, p]
@@ -675,16 +638,17 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale, linear)
+            _store(k, start, t, E, trace, buffer, linear)
             if k == horizon:
                 break
+            _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[k, row_sensor[r]]
+                got = block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
                 h3 = H[r, 3]
-                for p in range(LANES):
+                for p in range(128):
                     s0_0 = S[0, 0, p]
                     s0_1 = S[0, 1, p]
                     s0_2 = S[0, 2, p]
@@ -729,15 +693,10 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     nz = noise[p]
                     a = ff + nz
                     denom = a + math.sqrt(a * nz)
-                    coef = ff / denom if got[p] and denom > 0.0 else 0.0
-                    su = math.sqrt(ff) if ff > 0.0 else math.inf
-                    f0 /= su
+                    coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0
                     g0 = f0 * coef
-                    f1 /= su
                     g1 = f1 * coef
-                    f2 /= su
                     g2 = f2 * coef
-                    f3 /= su
                     g3 = f3 * coef
                     F[0, p] = f0
                     G[0, p] = g0
@@ -747,7 +706,7 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     G[2, p] = g2
                     F[3, p] = f3
                     G[3, p] = g3
-                for p in range(LANES):
+                for p in range(128):
                     s0_0 = S[0, 0, p]
                     s0_1 = S[0, 1, p]
                     s0_2 = S[0, 2, p]
@@ -808,7 +767,7 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     S[3, 1, p] = s3_1 - u3 * g1
                     S[3, 2, p] = s3_2 - u3 * g2
                     S[3, 3, p] = s3_3 - u3 * g3
-            for p in range(LANES):
+            for p in range(128):
                 s0_0 = S[0, 0, p]
                 s0_1 = S[0, 1, p]
                 s0_2 = S[0, 2, p]
@@ -920,46 +879,44 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x0_0
                 head = norm if x0 >= 0.0 else -norm
                 x0_0 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x0_0 /= beta
-                x1_0 /= beta
-                x2_0 /= beta
-                x3_0 /= beta
-                x4_0 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x0_0 * x0_1
                 dot += x1_0 * x1_1
                 dot += x2_0 * x2_1
                 dot += x3_0 * x3_1
                 dot += x4_0 * x4_1
-                x0_1 -= 2.0 * dot * x0_0
-                x1_1 -= 2.0 * dot * x1_0
-                x2_1 -= 2.0 * dot * x2_0
-                x3_1 -= 2.0 * dot * x3_0
-                x4_1 -= 2.0 * dot * x4_0
+                twice = tau * dot
+                x0_1 -= twice * x0_0
+                x1_1 -= twice * x1_0
+                x2_1 -= twice * x2_0
+                x3_1 -= twice * x3_0
+                x4_1 -= twice * x4_0
                 dot = 0.0
                 dot += x0_0 * x0_2
                 dot += x1_0 * x1_2
                 dot += x2_0 * x2_2
                 dot += x3_0 * x3_2
                 dot += x4_0 * x4_2
-                x0_2 -= 2.0 * dot * x0_0
-                x1_2 -= 2.0 * dot * x1_0
-                x2_2 -= 2.0 * dot * x2_0
-                x3_2 -= 2.0 * dot * x3_0
-                x4_2 -= 2.0 * dot * x4_0
+                twice = tau * dot
+                x0_2 -= twice * x0_0
+                x1_2 -= twice * x1_0
+                x2_2 -= twice * x2_0
+                x3_2 -= twice * x3_0
+                x4_2 -= twice * x4_0
                 dot = 0.0
                 dot += x0_0 * x0_3
                 dot += x1_0 * x1_3
                 dot += x2_0 * x2_3
                 dot += x3_0 * x3_3
                 dot += x4_0 * x4_3
-                x0_3 -= 2.0 * dot * x0_0
-                x1_3 -= 2.0 * dot * x1_0
-                x2_3 -= 2.0 * dot * x2_0
-                x3_3 -= 2.0 * dot * x3_0
-                x4_3 -= 2.0 * dot * x4_0
+                twice = tau * dot
+                x0_3 -= twice * x0_0
+                x1_3 -= twice * x1_0
+                x2_3 -= twice * x2_0
+                x3_3 -= twice * x3_0
+                x4_3 -= twice * x4_0
                 x0_0 = -head
                 S[0, 0, p] = x0_0
                 S[1, 0, p] = x0_1
@@ -977,7 +934,7 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 X[4, 1, p] = x4_1
                 X[4, 2, p] = x4_2
                 X[4, 3, p] = x4_3
-            for p in range(LANES):
+            for p in range(128):
                 x1_1 = X[1, 1, p]
                 x1_2 = X[1, 2, p]
                 x1_3 = X[1, 3, p]
@@ -1004,35 +961,32 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x1_1
                 head = norm if x0 >= 0.0 else -norm
                 x1_1 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x1_1 /= beta
-                x2_1 /= beta
-                x3_1 /= beta
-                x4_1 /= beta
-                x5_1 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x1_1 * x1_2
                 dot += x2_1 * x2_2
                 dot += x3_1 * x3_2
                 dot += x4_1 * x4_2
                 dot += x5_1 * x5_2
-                x1_2 -= 2.0 * dot * x1_1
-                x2_2 -= 2.0 * dot * x2_1
-                x3_2 -= 2.0 * dot * x3_1
-                x4_2 -= 2.0 * dot * x4_1
-                x5_2 -= 2.0 * dot * x5_1
+                twice = tau * dot
+                x1_2 -= twice * x1_1
+                x2_2 -= twice * x2_1
+                x3_2 -= twice * x3_1
+                x4_2 -= twice * x4_1
+                x5_2 -= twice * x5_1
                 dot = 0.0
                 dot += x1_1 * x1_3
                 dot += x2_1 * x2_3
                 dot += x3_1 * x3_3
                 dot += x4_1 * x4_3
                 dot += x5_1 * x5_3
-                x1_3 -= 2.0 * dot * x1_1
-                x2_3 -= 2.0 * dot * x2_1
-                x3_3 -= 2.0 * dot * x3_1
-                x4_3 -= 2.0 * dot * x4_1
-                x5_3 -= 2.0 * dot * x5_1
+                twice = tau * dot
+                x1_3 -= twice * x1_1
+                x2_3 -= twice * x2_1
+                x3_3 -= twice * x3_1
+                x4_3 -= twice * x4_1
+                x5_3 -= twice * x5_1
                 x1_1 = -head
                 S[0, 1, p] = 0.0
                 S[1, 1, p] = x1_1
@@ -1046,7 +1000,7 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 X[4, 3, p] = x4_3
                 X[5, 2, p] = x5_2
                 X[5, 3, p] = x5_3
-            for p in range(LANES):
+            for p in range(128):
                 x2_2 = X[2, 2, p]
                 x2_3 = X[2, 3, p]
                 x3_2 = X[3, 2, p]
@@ -1068,24 +1022,20 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x2_2
                 head = norm if x0 >= 0.0 else -norm
                 x2_2 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x2_2 /= beta
-                x3_2 /= beta
-                x4_2 /= beta
-                x5_2 /= beta
-                x6_2 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x2_2 * x2_3
                 dot += x3_2 * x3_3
                 dot += x4_2 * x4_3
                 dot += x5_2 * x5_3
                 dot += x6_2 * x6_3
-                x2_3 -= 2.0 * dot * x2_2
-                x3_3 -= 2.0 * dot * x3_2
-                x4_3 -= 2.0 * dot * x4_2
-                x5_3 -= 2.0 * dot * x5_2
-                x6_3 -= 2.0 * dot * x6_2
+                twice = tau * dot
+                x2_3 -= twice * x2_2
+                x3_3 -= twice * x3_2
+                x4_3 -= twice * x4_2
+                x5_3 -= twice * x5_2
+                x6_3 -= twice * x6_2
                 x2_2 = -head
                 S[0, 2, p] = 0.0
                 S[1, 2, p] = 0.0
@@ -1095,7 +1045,7 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 X[4, 3, p] = x4_3
                 X[5, 3, p] = x5_3
                 X[6, 3, p] = x6_3
-            for p in range(LANES):
+            for p in range(128):
                 x3_3 = X[3, 3, p]
                 x4_3 = X[4, 3, p]
                 x5_3 = X[5, 3, p]
@@ -1118,19 +1068,19 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 S[3, 3, p] = x3_3
 
 
-def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
+def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
-    block = np.empty((horizon, d, LANES), np.bool_)
+    block = np.empty((d, 64), np.bool_)
     rows = H.shape[0]
-    S = np.zeros((5, 5, LANES))
-    t = np.empty(LANES)
+    S = np.zeros((5, 5, 64))
+    t = np.empty(64)
     bits = t.view(np.int64)
-    E = np.zeros(LANES, np.int64)
-    noise = np.empty(LANES)
-    half = np.empty(LANES)
-    X = np.empty((10, 5, LANES))
-    F = np.empty((5, LANES))
-    G = np.empty((5, LANES))
+    E = np.zeros(64, np.int64)
+    noise = np.empty(64)
+    half = np.empty(64)
+    X = np.empty((10, 5, 64))
+    F = np.empty((5, 64))
+    G = np.empty((5, 64))
     a0_0 = A[0, 0]
     a0_1 = A[0, 1]
     a0_2 = A[0, 2]
@@ -1171,8 +1121,8 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     q3_3 = UQ[3, 3]
     q3_4 = UQ[3, 4]
     q4_4 = UQ[4, 4]
-    for start in range(0, paths, LANES):
-        for p in range(LANES):
+    for start in range(0, paths, 64):
+        for p in range(64):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
             S[0, 1, p] = S0[0, 1]
@@ -1199,14 +1149,8 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
             S[4, 2, p] = S0[4, 2]
             S[4, 3, p] = S0[4, 3]
             S[4, 4, p] = S0[4, 4]
-        for k in range(horizon):
-            for i in range(d):
-                column = received[k, start:start + LANES, i]
-                into = block[k, i]
-                for p in range(LANES):
-                    into[p] = column[p]
         for k in range(horizon + 1):
-            for p in range(LANES):
+            for p in range(64):
                 tp = 0.0
                 tp += S[0, 0, p] * S[0, 0, p]
                 tp += S[1, 0, p] * S[1, 0, p]
@@ -1249,17 +1193,18 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale, linear)
+            _store(k, start, t, E, trace, buffer, linear)
             if k == horizon:
                 break
+            _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[k, row_sensor[r]]
+                got = block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
                 h3 = H[r, 3]
                 h4 = H[r, 4]
-                for p in range(LANES):
+                for p in range(64):
                     s0_0 = S[0, 0, p]
                     s0_1 = S[0, 1, p]
                     s0_2 = S[0, 2, p]
@@ -1324,17 +1269,11 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     nz = noise[p]
                     a = ff + nz
                     denom = a + math.sqrt(a * nz)
-                    coef = ff / denom if got[p] and denom > 0.0 else 0.0
-                    su = math.sqrt(ff) if ff > 0.0 else math.inf
-                    f0 /= su
+                    coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0
                     g0 = f0 * coef
-                    f1 /= su
                     g1 = f1 * coef
-                    f2 /= su
                     g2 = f2 * coef
-                    f3 /= su
                     g3 = f3 * coef
-                    f4 /= su
                     g4 = f4 * coef
                     F[0, p] = f0
                     G[0, p] = g0
@@ -1346,7 +1285,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     G[3, p] = g3
                     F[4, p] = f4
                     G[4, p] = g4
-                for p in range(LANES):
+                for p in range(64):
                     s0_0 = S[0, 0, p]
                     s0_1 = S[0, 1, p]
                     s0_2 = S[0, 2, p]
@@ -1437,7 +1376,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     S[4, 2, p] = s4_2 - u4 * g2
                     S[4, 3, p] = s4_3 - u4 * g3
                     S[4, 4, p] = s4_4 - u4 * g4
-            for p in range(LANES):
+            for p in range(64):
                 s0_0 = S[0, 0, p]
                 s0_1 = S[0, 1, p]
                 s0_2 = S[0, 2, p]
@@ -1630,14 +1569,8 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x0_0
                 head = norm if x0 >= 0.0 else -norm
                 x0_0 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x0_0 /= beta
-                x1_0 /= beta
-                x2_0 /= beta
-                x3_0 /= beta
-                x4_0 /= beta
-                x5_0 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x0_0 * x0_1
                 dot += x1_0 * x1_1
@@ -1645,12 +1578,13 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x3_0 * x3_1
                 dot += x4_0 * x4_1
                 dot += x5_0 * x5_1
-                x0_1 -= 2.0 * dot * x0_0
-                x1_1 -= 2.0 * dot * x1_0
-                x2_1 -= 2.0 * dot * x2_0
-                x3_1 -= 2.0 * dot * x3_0
-                x4_1 -= 2.0 * dot * x4_0
-                x5_1 -= 2.0 * dot * x5_0
+                twice = tau * dot
+                x0_1 -= twice * x0_0
+                x1_1 -= twice * x1_0
+                x2_1 -= twice * x2_0
+                x3_1 -= twice * x3_0
+                x4_1 -= twice * x4_0
+                x5_1 -= twice * x5_0
                 dot = 0.0
                 dot += x0_0 * x0_2
                 dot += x1_0 * x1_2
@@ -1658,12 +1592,13 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x3_0 * x3_2
                 dot += x4_0 * x4_2
                 dot += x5_0 * x5_2
-                x0_2 -= 2.0 * dot * x0_0
-                x1_2 -= 2.0 * dot * x1_0
-                x2_2 -= 2.0 * dot * x2_0
-                x3_2 -= 2.0 * dot * x3_0
-                x4_2 -= 2.0 * dot * x4_0
-                x5_2 -= 2.0 * dot * x5_0
+                twice = tau * dot
+                x0_2 -= twice * x0_0
+                x1_2 -= twice * x1_0
+                x2_2 -= twice * x2_0
+                x3_2 -= twice * x3_0
+                x4_2 -= twice * x4_0
+                x5_2 -= twice * x5_0
                 dot = 0.0
                 dot += x0_0 * x0_3
                 dot += x1_0 * x1_3
@@ -1671,12 +1606,13 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x3_0 * x3_3
                 dot += x4_0 * x4_3
                 dot += x5_0 * x5_3
-                x0_3 -= 2.0 * dot * x0_0
-                x1_3 -= 2.0 * dot * x1_0
-                x2_3 -= 2.0 * dot * x2_0
-                x3_3 -= 2.0 * dot * x3_0
-                x4_3 -= 2.0 * dot * x4_0
-                x5_3 -= 2.0 * dot * x5_0
+                twice = tau * dot
+                x0_3 -= twice * x0_0
+                x1_3 -= twice * x1_0
+                x2_3 -= twice * x2_0
+                x3_3 -= twice * x3_0
+                x4_3 -= twice * x4_0
+                x5_3 -= twice * x5_0
                 dot = 0.0
                 dot += x0_0 * x0_4
                 dot += x1_0 * x1_4
@@ -1684,12 +1620,13 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x3_0 * x3_4
                 dot += x4_0 * x4_4
                 dot += x5_0 * x5_4
-                x0_4 -= 2.0 * dot * x0_0
-                x1_4 -= 2.0 * dot * x1_0
-                x2_4 -= 2.0 * dot * x2_0
-                x3_4 -= 2.0 * dot * x3_0
-                x4_4 -= 2.0 * dot * x4_0
-                x5_4 -= 2.0 * dot * x5_0
+                twice = tau * dot
+                x0_4 -= twice * x0_0
+                x1_4 -= twice * x1_0
+                x2_4 -= twice * x2_0
+                x3_4 -= twice * x3_0
+                x4_4 -= twice * x4_0
+                x5_4 -= twice * x5_0
                 x0_0 = -head
                 S[0, 0, p] = x0_0
                 S[1, 0, p] = x0_1
@@ -1716,7 +1653,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 X[5, 2, p] = x5_2
                 X[5, 3, p] = x5_3
                 X[5, 4, p] = x5_4
-            for p in range(LANES):
+            for p in range(64):
                 x1_1 = X[1, 1, p]
                 x1_2 = X[1, 2, p]
                 x1_3 = X[1, 3, p]
@@ -1753,14 +1690,8 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x1_1
                 head = norm if x0 >= 0.0 else -norm
                 x1_1 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x1_1 /= beta
-                x2_1 /= beta
-                x3_1 /= beta
-                x4_1 /= beta
-                x5_1 /= beta
-                x6_1 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x1_1 * x1_2
                 dot += x2_1 * x2_2
@@ -1768,12 +1699,13 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x4_1 * x4_2
                 dot += x5_1 * x5_2
                 dot += x6_1 * x6_2
-                x1_2 -= 2.0 * dot * x1_1
-                x2_2 -= 2.0 * dot * x2_1
-                x3_2 -= 2.0 * dot * x3_1
-                x4_2 -= 2.0 * dot * x4_1
-                x5_2 -= 2.0 * dot * x5_1
-                x6_2 -= 2.0 * dot * x6_1
+                twice = tau * dot
+                x1_2 -= twice * x1_1
+                x2_2 -= twice * x2_1
+                x3_2 -= twice * x3_1
+                x4_2 -= twice * x4_1
+                x5_2 -= twice * x5_1
+                x6_2 -= twice * x6_1
                 dot = 0.0
                 dot += x1_1 * x1_3
                 dot += x2_1 * x2_3
@@ -1781,12 +1713,13 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x4_1 * x4_3
                 dot += x5_1 * x5_3
                 dot += x6_1 * x6_3
-                x1_3 -= 2.0 * dot * x1_1
-                x2_3 -= 2.0 * dot * x2_1
-                x3_3 -= 2.0 * dot * x3_1
-                x4_3 -= 2.0 * dot * x4_1
-                x5_3 -= 2.0 * dot * x5_1
-                x6_3 -= 2.0 * dot * x6_1
+                twice = tau * dot
+                x1_3 -= twice * x1_1
+                x2_3 -= twice * x2_1
+                x3_3 -= twice * x3_1
+                x4_3 -= twice * x4_1
+                x5_3 -= twice * x5_1
+                x6_3 -= twice * x6_1
                 dot = 0.0
                 dot += x1_1 * x1_4
                 dot += x2_1 * x2_4
@@ -1794,12 +1727,13 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x4_1 * x4_4
                 dot += x5_1 * x5_4
                 dot += x6_1 * x6_4
-                x1_4 -= 2.0 * dot * x1_1
-                x2_4 -= 2.0 * dot * x2_1
-                x3_4 -= 2.0 * dot * x3_1
-                x4_4 -= 2.0 * dot * x4_1
-                x5_4 -= 2.0 * dot * x5_1
-                x6_4 -= 2.0 * dot * x6_1
+                twice = tau * dot
+                x1_4 -= twice * x1_1
+                x2_4 -= twice * x2_1
+                x3_4 -= twice * x3_1
+                x4_4 -= twice * x4_1
+                x5_4 -= twice * x5_1
+                x6_4 -= twice * x6_1
                 x1_1 = -head
                 S[0, 1, p] = 0.0
                 S[1, 1, p] = x1_1
@@ -1821,7 +1755,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 X[6, 2, p] = x6_2
                 X[6, 3, p] = x6_3
                 X[6, 4, p] = x6_4
-            for p in range(LANES):
+            for p in range(64):
                 x2_2 = X[2, 2, p]
                 x2_3 = X[2, 3, p]
                 x2_4 = X[2, 4, p]
@@ -1852,14 +1786,8 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x2_2
                 head = norm if x0 >= 0.0 else -norm
                 x2_2 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x2_2 /= beta
-                x3_2 /= beta
-                x4_2 /= beta
-                x5_2 /= beta
-                x6_2 /= beta
-                x7_2 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x2_2 * x2_3
                 dot += x3_2 * x3_3
@@ -1867,12 +1795,13 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_2 * x5_3
                 dot += x6_2 * x6_3
                 dot += x7_2 * x7_3
-                x2_3 -= 2.0 * dot * x2_2
-                x3_3 -= 2.0 * dot * x3_2
-                x4_3 -= 2.0 * dot * x4_2
-                x5_3 -= 2.0 * dot * x5_2
-                x6_3 -= 2.0 * dot * x6_2
-                x7_3 -= 2.0 * dot * x7_2
+                twice = tau * dot
+                x2_3 -= twice * x2_2
+                x3_3 -= twice * x3_2
+                x4_3 -= twice * x4_2
+                x5_3 -= twice * x5_2
+                x6_3 -= twice * x6_2
+                x7_3 -= twice * x7_2
                 dot = 0.0
                 dot += x2_2 * x2_4
                 dot += x3_2 * x3_4
@@ -1880,12 +1809,13 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_2 * x5_4
                 dot += x6_2 * x6_4
                 dot += x7_2 * x7_4
-                x2_4 -= 2.0 * dot * x2_2
-                x3_4 -= 2.0 * dot * x3_2
-                x4_4 -= 2.0 * dot * x4_2
-                x5_4 -= 2.0 * dot * x5_2
-                x6_4 -= 2.0 * dot * x6_2
-                x7_4 -= 2.0 * dot * x7_2
+                twice = tau * dot
+                x2_4 -= twice * x2_2
+                x3_4 -= twice * x3_2
+                x4_4 -= twice * x4_2
+                x5_4 -= twice * x5_2
+                x6_4 -= twice * x6_2
+                x7_4 -= twice * x7_2
                 x2_2 = -head
                 S[0, 2, p] = 0.0
                 S[1, 2, p] = 0.0
@@ -1902,7 +1832,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 X[6, 4, p] = x6_4
                 X[7, 3, p] = x7_3
                 X[7, 4, p] = x7_4
-            for p in range(LANES):
+            for p in range(64):
                 x3_3 = X[3, 3, p]
                 x3_4 = X[3, 4, p]
                 x4_3 = X[4, 3, p]
@@ -1927,14 +1857,8 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x3_3
                 head = norm if x0 >= 0.0 else -norm
                 x3_3 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x3_3 /= beta
-                x4_3 /= beta
-                x5_3 /= beta
-                x6_3 /= beta
-                x7_3 /= beta
-                x8_3 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x3_3 * x3_4
                 dot += x4_3 * x4_4
@@ -1942,12 +1866,13 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_3 * x6_4
                 dot += x7_3 * x7_4
                 dot += x8_3 * x8_4
-                x3_4 -= 2.0 * dot * x3_3
-                x4_4 -= 2.0 * dot * x4_3
-                x5_4 -= 2.0 * dot * x5_3
-                x6_4 -= 2.0 * dot * x6_3
-                x7_4 -= 2.0 * dot * x7_3
-                x8_4 -= 2.0 * dot * x8_3
+                twice = tau * dot
+                x3_4 -= twice * x3_3
+                x4_4 -= twice * x4_3
+                x5_4 -= twice * x5_3
+                x6_4 -= twice * x6_3
+                x7_4 -= twice * x7_3
+                x8_4 -= twice * x8_3
                 x3_3 = -head
                 S[0, 3, p] = 0.0
                 S[1, 3, p] = 0.0
@@ -1959,7 +1884,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 X[6, 4, p] = x6_4
                 X[7, 4, p] = x7_4
                 X[8, 4, p] = x8_4
-            for p in range(LANES):
+            for p in range(64):
                 x4_4 = X[4, 4, p]
                 x5_4 = X[5, 4, p]
                 x6_4 = X[6, 4, p]
@@ -1985,16 +1910,16 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 S[4, 4, p] = x4_4
 
 
-def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
+def _paths_6(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
-    block = np.empty((horizon, d, LANES), np.bool_)
+    block = np.empty((d, 64), np.bool_)
     rows = H.shape[0]
-    S = np.zeros((6, 6, LANES))
-    t = np.empty(LANES)
+    S = np.zeros((6, 6, 64))
+    t = np.empty(64)
     bits = t.view(np.int64)
-    E = np.zeros(LANES, np.int64)
-    noise = np.empty(LANES)
-    half = np.empty(LANES)
+    E = np.zeros(64, np.int64)
+    noise = np.empty(64)
+    half = np.empty(64)
     a0_0 = A[0, 0]
     a0_1 = A[0, 1]
     a0_2 = A[0, 2]
@@ -2052,8 +1977,8 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     q4_4 = UQ[4, 4]
     q4_5 = UQ[4, 5]
     q5_5 = UQ[5, 5]
-    for start in range(0, paths, LANES):
-        for p in range(LANES):
+    for start in range(0, paths, 64):
+        for p in range(64):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
             S[0, 1, p] = S0[0, 1]
@@ -2091,14 +2016,8 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
             S[5, 3, p] = S0[5, 3]
             S[5, 4, p] = S0[5, 4]
             S[5, 5, p] = S0[5, 5]
-        for k in range(horizon):
-            for i in range(d):
-                column = received[k, start:start + LANES, i]
-                into = block[k, i]
-                for p in range(LANES):
-                    into[p] = column[p]
         for k in range(horizon + 1):
-            for p in range(LANES):
+            for p in range(64):
                 tp = 0.0
                 tp += S[0, 0, p] * S[0, 0, p]
                 tp += S[1, 0, p] * S[1, 0, p]
@@ -2153,18 +2072,19 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale, linear)
+            _store(k, start, t, E, trace, buffer, linear)
             if k == horizon:
                 break
+            _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[k, row_sensor[r]]
+                got = block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
                 h3 = H[r, 3]
                 h4 = H[r, 4]
                 h5 = H[r, 5]
-                for p in range(LANES):
+                for p in range(64):
                     s0_0 = S[0, 0, p]
                     s0_1 = S[0, 1, p]
                     s0_2 = S[0, 2, p]
@@ -2253,19 +2173,12 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     nz = noise[p]
                     a = ff + nz
                     denom = a + math.sqrt(a * nz)
-                    coef = ff / denom if got[p] and denom > 0.0 else 0.0
-                    su = math.sqrt(ff) if ff > 0.0 else math.inf
-                    f0 /= su
+                    coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0
                     g0 = f0 * coef
-                    f1 /= su
                     g1 = f1 * coef
-                    f2 /= su
                     g2 = f2 * coef
-                    f3 /= su
                     g3 = f3 * coef
-                    f4 /= su
                     g4 = f4 * coef
-                    f5 /= su
                     g5 = f5 * coef
                     u0 = 0.0
                     u0 += s0_0 * f0
@@ -2345,7 +2258,7 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     S[5, 3, p] = s5_3 - u5 * g3
                     S[5, 4, p] = s5_4 - u5 * g4
                     S[5, 5, p] = s5_5 - u5 * g5
-            for p in range(LANES):
+            for p in range(64):
                 s0_0 = S[0, 0, p]
                 s0_1 = S[0, 1, p]
                 s0_2 = S[0, 2, p]
@@ -2653,15 +2566,8 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x0_0
                 head = norm if x0 >= 0.0 else -norm
                 x0_0 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x0_0 /= beta
-                x1_0 /= beta
-                x2_0 /= beta
-                x3_0 /= beta
-                x4_0 /= beta
-                x5_0 /= beta
-                x6_0 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x0_0 * x0_1
                 dot += x1_0 * x1_1
@@ -2670,13 +2576,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x4_0 * x4_1
                 dot += x5_0 * x5_1
                 dot += x6_0 * x6_1
-                x0_1 -= 2.0 * dot * x0_0
-                x1_1 -= 2.0 * dot * x1_0
-                x2_1 -= 2.0 * dot * x2_0
-                x3_1 -= 2.0 * dot * x3_0
-                x4_1 -= 2.0 * dot * x4_0
-                x5_1 -= 2.0 * dot * x5_0
-                x6_1 -= 2.0 * dot * x6_0
+                twice = tau * dot
+                x0_1 -= twice * x0_0
+                x1_1 -= twice * x1_0
+                x2_1 -= twice * x2_0
+                x3_1 -= twice * x3_0
+                x4_1 -= twice * x4_0
+                x5_1 -= twice * x5_0
+                x6_1 -= twice * x6_0
                 dot = 0.0
                 dot += x0_0 * x0_2
                 dot += x1_0 * x1_2
@@ -2685,13 +2592,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x4_0 * x4_2
                 dot += x5_0 * x5_2
                 dot += x6_0 * x6_2
-                x0_2 -= 2.0 * dot * x0_0
-                x1_2 -= 2.0 * dot * x1_0
-                x2_2 -= 2.0 * dot * x2_0
-                x3_2 -= 2.0 * dot * x3_0
-                x4_2 -= 2.0 * dot * x4_0
-                x5_2 -= 2.0 * dot * x5_0
-                x6_2 -= 2.0 * dot * x6_0
+                twice = tau * dot
+                x0_2 -= twice * x0_0
+                x1_2 -= twice * x1_0
+                x2_2 -= twice * x2_0
+                x3_2 -= twice * x3_0
+                x4_2 -= twice * x4_0
+                x5_2 -= twice * x5_0
+                x6_2 -= twice * x6_0
                 dot = 0.0
                 dot += x0_0 * x0_3
                 dot += x1_0 * x1_3
@@ -2700,13 +2608,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x4_0 * x4_3
                 dot += x5_0 * x5_3
                 dot += x6_0 * x6_3
-                x0_3 -= 2.0 * dot * x0_0
-                x1_3 -= 2.0 * dot * x1_0
-                x2_3 -= 2.0 * dot * x2_0
-                x3_3 -= 2.0 * dot * x3_0
-                x4_3 -= 2.0 * dot * x4_0
-                x5_3 -= 2.0 * dot * x5_0
-                x6_3 -= 2.0 * dot * x6_0
+                twice = tau * dot
+                x0_3 -= twice * x0_0
+                x1_3 -= twice * x1_0
+                x2_3 -= twice * x2_0
+                x3_3 -= twice * x3_0
+                x4_3 -= twice * x4_0
+                x5_3 -= twice * x5_0
+                x6_3 -= twice * x6_0
                 dot = 0.0
                 dot += x0_0 * x0_4
                 dot += x1_0 * x1_4
@@ -2715,13 +2624,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x4_0 * x4_4
                 dot += x5_0 * x5_4
                 dot += x6_0 * x6_4
-                x0_4 -= 2.0 * dot * x0_0
-                x1_4 -= 2.0 * dot * x1_0
-                x2_4 -= 2.0 * dot * x2_0
-                x3_4 -= 2.0 * dot * x3_0
-                x4_4 -= 2.0 * dot * x4_0
-                x5_4 -= 2.0 * dot * x5_0
-                x6_4 -= 2.0 * dot * x6_0
+                twice = tau * dot
+                x0_4 -= twice * x0_0
+                x1_4 -= twice * x1_0
+                x2_4 -= twice * x2_0
+                x3_4 -= twice * x3_0
+                x4_4 -= twice * x4_0
+                x5_4 -= twice * x5_0
+                x6_4 -= twice * x6_0
                 dot = 0.0
                 dot += x0_0 * x0_5
                 dot += x1_0 * x1_5
@@ -2730,13 +2640,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x4_0 * x4_5
                 dot += x5_0 * x5_5
                 dot += x6_0 * x6_5
-                x0_5 -= 2.0 * dot * x0_0
-                x1_5 -= 2.0 * dot * x1_0
-                x2_5 -= 2.0 * dot * x2_0
-                x3_5 -= 2.0 * dot * x3_0
-                x4_5 -= 2.0 * dot * x4_0
-                x5_5 -= 2.0 * dot * x5_0
-                x6_5 -= 2.0 * dot * x6_0
+                twice = tau * dot
+                x0_5 -= twice * x0_0
+                x1_5 -= twice * x1_0
+                x2_5 -= twice * x2_0
+                x3_5 -= twice * x3_0
+                x4_5 -= twice * x4_0
+                x5_5 -= twice * x5_0
+                x6_5 -= twice * x6_0
                 x0_0 = -head
                 S[0, 0, p] = x0_0
                 S[1, 0, p] = x0_1
@@ -2761,15 +2672,8 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x1_1
                 head = norm if x0 >= 0.0 else -norm
                 x1_1 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x1_1 /= beta
-                x2_1 /= beta
-                x3_1 /= beta
-                x4_1 /= beta
-                x5_1 /= beta
-                x6_1 /= beta
-                x7_1 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x1_1 * x1_2
                 dot += x2_1 * x2_2
@@ -2778,13 +2682,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_1 * x5_2
                 dot += x6_1 * x6_2
                 dot += x7_1 * x7_2
-                x1_2 -= 2.0 * dot * x1_1
-                x2_2 -= 2.0 * dot * x2_1
-                x3_2 -= 2.0 * dot * x3_1
-                x4_2 -= 2.0 * dot * x4_1
-                x5_2 -= 2.0 * dot * x5_1
-                x6_2 -= 2.0 * dot * x6_1
-                x7_2 -= 2.0 * dot * x7_1
+                twice = tau * dot
+                x1_2 -= twice * x1_1
+                x2_2 -= twice * x2_1
+                x3_2 -= twice * x3_1
+                x4_2 -= twice * x4_1
+                x5_2 -= twice * x5_1
+                x6_2 -= twice * x6_1
+                x7_2 -= twice * x7_1
                 dot = 0.0
                 dot += x1_1 * x1_3
                 dot += x2_1 * x2_3
@@ -2793,13 +2698,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_1 * x5_3
                 dot += x6_1 * x6_3
                 dot += x7_1 * x7_3
-                x1_3 -= 2.0 * dot * x1_1
-                x2_3 -= 2.0 * dot * x2_1
-                x3_3 -= 2.0 * dot * x3_1
-                x4_3 -= 2.0 * dot * x4_1
-                x5_3 -= 2.0 * dot * x5_1
-                x6_3 -= 2.0 * dot * x6_1
-                x7_3 -= 2.0 * dot * x7_1
+                twice = tau * dot
+                x1_3 -= twice * x1_1
+                x2_3 -= twice * x2_1
+                x3_3 -= twice * x3_1
+                x4_3 -= twice * x4_1
+                x5_3 -= twice * x5_1
+                x6_3 -= twice * x6_1
+                x7_3 -= twice * x7_1
                 dot = 0.0
                 dot += x1_1 * x1_4
                 dot += x2_1 * x2_4
@@ -2808,13 +2714,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_1 * x5_4
                 dot += x6_1 * x6_4
                 dot += x7_1 * x7_4
-                x1_4 -= 2.0 * dot * x1_1
-                x2_4 -= 2.0 * dot * x2_1
-                x3_4 -= 2.0 * dot * x3_1
-                x4_4 -= 2.0 * dot * x4_1
-                x5_4 -= 2.0 * dot * x5_1
-                x6_4 -= 2.0 * dot * x6_1
-                x7_4 -= 2.0 * dot * x7_1
+                twice = tau * dot
+                x1_4 -= twice * x1_1
+                x2_4 -= twice * x2_1
+                x3_4 -= twice * x3_1
+                x4_4 -= twice * x4_1
+                x5_4 -= twice * x5_1
+                x6_4 -= twice * x6_1
+                x7_4 -= twice * x7_1
                 dot = 0.0
                 dot += x1_1 * x1_5
                 dot += x2_1 * x2_5
@@ -2823,13 +2730,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_1 * x5_5
                 dot += x6_1 * x6_5
                 dot += x7_1 * x7_5
-                x1_5 -= 2.0 * dot * x1_1
-                x2_5 -= 2.0 * dot * x2_1
-                x3_5 -= 2.0 * dot * x3_1
-                x4_5 -= 2.0 * dot * x4_1
-                x5_5 -= 2.0 * dot * x5_1
-                x6_5 -= 2.0 * dot * x6_1
-                x7_5 -= 2.0 * dot * x7_1
+                twice = tau * dot
+                x1_5 -= twice * x1_1
+                x2_5 -= twice * x2_1
+                x3_5 -= twice * x3_1
+                x4_5 -= twice * x4_1
+                x5_5 -= twice * x5_1
+                x6_5 -= twice * x6_1
+                x7_5 -= twice * x7_1
                 x1_1 = -head
                 S[0, 1, p] = 0.0
                 S[1, 1, p] = x1_1
@@ -2853,15 +2761,8 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x2_2
                 head = norm if x0 >= 0.0 else -norm
                 x2_2 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x2_2 /= beta
-                x3_2 /= beta
-                x4_2 /= beta
-                x5_2 /= beta
-                x6_2 /= beta
-                x7_2 /= beta
-                x8_2 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x2_2 * x2_3
                 dot += x3_2 * x3_3
@@ -2870,13 +2771,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_2 * x6_3
                 dot += x7_2 * x7_3
                 dot += x8_2 * x8_3
-                x2_3 -= 2.0 * dot * x2_2
-                x3_3 -= 2.0 * dot * x3_2
-                x4_3 -= 2.0 * dot * x4_2
-                x5_3 -= 2.0 * dot * x5_2
-                x6_3 -= 2.0 * dot * x6_2
-                x7_3 -= 2.0 * dot * x7_2
-                x8_3 -= 2.0 * dot * x8_2
+                twice = tau * dot
+                x2_3 -= twice * x2_2
+                x3_3 -= twice * x3_2
+                x4_3 -= twice * x4_2
+                x5_3 -= twice * x5_2
+                x6_3 -= twice * x6_2
+                x7_3 -= twice * x7_2
+                x8_3 -= twice * x8_2
                 dot = 0.0
                 dot += x2_2 * x2_4
                 dot += x3_2 * x3_4
@@ -2885,13 +2787,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_2 * x6_4
                 dot += x7_2 * x7_4
                 dot += x8_2 * x8_4
-                x2_4 -= 2.0 * dot * x2_2
-                x3_4 -= 2.0 * dot * x3_2
-                x4_4 -= 2.0 * dot * x4_2
-                x5_4 -= 2.0 * dot * x5_2
-                x6_4 -= 2.0 * dot * x6_2
-                x7_4 -= 2.0 * dot * x7_2
-                x8_4 -= 2.0 * dot * x8_2
+                twice = tau * dot
+                x2_4 -= twice * x2_2
+                x3_4 -= twice * x3_2
+                x4_4 -= twice * x4_2
+                x5_4 -= twice * x5_2
+                x6_4 -= twice * x6_2
+                x7_4 -= twice * x7_2
+                x8_4 -= twice * x8_2
                 dot = 0.0
                 dot += x2_2 * x2_5
                 dot += x3_2 * x3_5
@@ -2900,13 +2803,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_2 * x6_5
                 dot += x7_2 * x7_5
                 dot += x8_2 * x8_5
-                x2_5 -= 2.0 * dot * x2_2
-                x3_5 -= 2.0 * dot * x3_2
-                x4_5 -= 2.0 * dot * x4_2
-                x5_5 -= 2.0 * dot * x5_2
-                x6_5 -= 2.0 * dot * x6_2
-                x7_5 -= 2.0 * dot * x7_2
-                x8_5 -= 2.0 * dot * x8_2
+                twice = tau * dot
+                x2_5 -= twice * x2_2
+                x3_5 -= twice * x3_2
+                x4_5 -= twice * x4_2
+                x5_5 -= twice * x5_2
+                x6_5 -= twice * x6_2
+                x7_5 -= twice * x7_2
+                x8_5 -= twice * x8_2
                 x2_2 = -head
                 S[0, 2, p] = 0.0
                 S[1, 2, p] = 0.0
@@ -2929,15 +2833,8 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x3_3
                 head = norm if x0 >= 0.0 else -norm
                 x3_3 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x3_3 /= beta
-                x4_3 /= beta
-                x5_3 /= beta
-                x6_3 /= beta
-                x7_3 /= beta
-                x8_3 /= beta
-                x9_3 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x3_3 * x3_4
                 dot += x4_3 * x4_4
@@ -2946,13 +2843,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_3 * x7_4
                 dot += x8_3 * x8_4
                 dot += x9_3 * x9_4
-                x3_4 -= 2.0 * dot * x3_3
-                x4_4 -= 2.0 * dot * x4_3
-                x5_4 -= 2.0 * dot * x5_3
-                x6_4 -= 2.0 * dot * x6_3
-                x7_4 -= 2.0 * dot * x7_3
-                x8_4 -= 2.0 * dot * x8_3
-                x9_4 -= 2.0 * dot * x9_3
+                twice = tau * dot
+                x3_4 -= twice * x3_3
+                x4_4 -= twice * x4_3
+                x5_4 -= twice * x5_3
+                x6_4 -= twice * x6_3
+                x7_4 -= twice * x7_3
+                x8_4 -= twice * x8_3
+                x9_4 -= twice * x9_3
                 dot = 0.0
                 dot += x3_3 * x3_5
                 dot += x4_3 * x4_5
@@ -2961,13 +2859,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_3 * x7_5
                 dot += x8_3 * x8_5
                 dot += x9_3 * x9_5
-                x3_5 -= 2.0 * dot * x3_3
-                x4_5 -= 2.0 * dot * x4_3
-                x5_5 -= 2.0 * dot * x5_3
-                x6_5 -= 2.0 * dot * x6_3
-                x7_5 -= 2.0 * dot * x7_3
-                x8_5 -= 2.0 * dot * x8_3
-                x9_5 -= 2.0 * dot * x9_3
+                twice = tau * dot
+                x3_5 -= twice * x3_3
+                x4_5 -= twice * x4_3
+                x5_5 -= twice * x5_3
+                x6_5 -= twice * x6_3
+                x7_5 -= twice * x7_3
+                x8_5 -= twice * x8_3
+                x9_5 -= twice * x9_3
                 x3_3 = -head
                 S[0, 3, p] = 0.0
                 S[1, 3, p] = 0.0
@@ -2989,15 +2888,8 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x4_4
                 head = norm if x0 >= 0.0 else -norm
                 x4_4 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x4_4 /= beta
-                x5_4 /= beta
-                x6_4 /= beta
-                x7_4 /= beta
-                x8_4 /= beta
-                x9_4 /= beta
-                x10_4 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x4_4 * x4_5
                 dot += x5_4 * x5_5
@@ -3006,13 +2898,14 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x8_4 * x8_5
                 dot += x9_4 * x9_5
                 dot += x10_4 * x10_5
-                x4_5 -= 2.0 * dot * x4_4
-                x5_5 -= 2.0 * dot * x5_4
-                x6_5 -= 2.0 * dot * x6_4
-                x7_5 -= 2.0 * dot * x7_4
-                x8_5 -= 2.0 * dot * x8_4
-                x9_5 -= 2.0 * dot * x9_4
-                x10_5 -= 2.0 * dot * x10_4
+                twice = tau * dot
+                x4_5 -= twice * x4_4
+                x5_5 -= twice * x5_4
+                x6_5 -= twice * x6_4
+                x7_5 -= twice * x7_4
+                x8_5 -= twice * x8_4
+                x9_5 -= twice * x9_4
+                x10_5 -= twice * x10_4
                 x4_4 = -head
                 S[0, 4, p] = 0.0
                 S[1, 4, p] = 0.0
@@ -3041,16 +2934,16 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 S[5, 5, p] = x5_5
 
 
-def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
+def _paths_7(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
-    block = np.empty((horizon, d, LANES), np.bool_)
+    block = np.empty((d, 64), np.bool_)
     rows = H.shape[0]
-    S = np.zeros((7, 7, LANES))
-    t = np.empty(LANES)
+    S = np.zeros((7, 7, 64))
+    t = np.empty(64)
     bits = t.view(np.int64)
-    E = np.zeros(LANES, np.int64)
-    noise = np.empty(LANES)
-    half = np.empty(LANES)
+    E = np.zeros(64, np.int64)
+    noise = np.empty(64)
+    half = np.empty(64)
     a0_0 = A[0, 0]
     a0_1 = A[0, 1]
     a0_2 = A[0, 2]
@@ -3128,8 +3021,8 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     q5_5 = UQ[5, 5]
     q5_6 = UQ[5, 6]
     q6_6 = UQ[6, 6]
-    for start in range(0, paths, LANES):
-        for p in range(LANES):
+    for start in range(0, paths, 64):
+        for p in range(64):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
             S[0, 1, p] = S0[0, 1]
@@ -3180,14 +3073,8 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
             S[6, 4, p] = S0[6, 4]
             S[6, 5, p] = S0[6, 5]
             S[6, 6, p] = S0[6, 6]
-        for k in range(horizon):
-            for i in range(d):
-                column = received[k, start:start + LANES, i]
-                into = block[k, i]
-                for p in range(LANES):
-                    into[p] = column[p]
         for k in range(horizon + 1):
-            for p in range(LANES):
+            for p in range(64):
                 tp = 0.0
                 tp += S[0, 0, p] * S[0, 0, p]
                 tp += S[1, 0, p] * S[1, 0, p]
@@ -3256,11 +3143,12 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale, linear)
+            _store(k, start, t, E, trace, buffer, linear)
             if k == horizon:
                 break
+            _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[k, row_sensor[r]]
+                got = block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
@@ -3268,7 +3156,7 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 h4 = H[r, 4]
                 h5 = H[r, 5]
                 h6 = H[r, 6]
-                for p in range(LANES):
+                for p in range(64):
                     s0_0 = S[0, 0, p]
                     s0_1 = S[0, 1, p]
                     s0_2 = S[0, 2, p]
@@ -3385,21 +3273,13 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     nz = noise[p]
                     a = ff + nz
                     denom = a + math.sqrt(a * nz)
-                    coef = ff / denom if got[p] and denom > 0.0 else 0.0
-                    su = math.sqrt(ff) if ff > 0.0 else math.inf
-                    f0 /= su
+                    coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0
                     g0 = f0 * coef
-                    f1 /= su
                     g1 = f1 * coef
-                    f2 /= su
                     g2 = f2 * coef
-                    f3 /= su
                     g3 = f3 * coef
-                    f4 /= su
                     g4 = f4 * coef
-                    f5 /= su
                     g5 = f5 * coef
-                    f6 /= su
                     g6 = f6 * coef
                     u0 = 0.0
                     u0 += s0_0 * f0
@@ -3506,7 +3386,7 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     S[6, 4, p] = s6_4 - u6 * g4
                     S[6, 5, p] = s6_5 - u6 * g5
                     S[6, 6, p] = s6_6 - u6 * g6
-            for p in range(LANES):
+            for p in range(64):
                 s0_0 = S[0, 0, p]
                 s0_1 = S[0, 1, p]
                 s0_2 = S[0, 2, p]
@@ -3969,16 +3849,8 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x0_0
                 head = norm if x0 >= 0.0 else -norm
                 x0_0 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x0_0 /= beta
-                x1_0 /= beta
-                x2_0 /= beta
-                x3_0 /= beta
-                x4_0 /= beta
-                x5_0 /= beta
-                x6_0 /= beta
-                x7_0 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x0_0 * x0_1
                 dot += x1_0 * x1_1
@@ -3988,14 +3860,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_0 * x5_1
                 dot += x6_0 * x6_1
                 dot += x7_0 * x7_1
-                x0_1 -= 2.0 * dot * x0_0
-                x1_1 -= 2.0 * dot * x1_0
-                x2_1 -= 2.0 * dot * x2_0
-                x3_1 -= 2.0 * dot * x3_0
-                x4_1 -= 2.0 * dot * x4_0
-                x5_1 -= 2.0 * dot * x5_0
-                x6_1 -= 2.0 * dot * x6_0
-                x7_1 -= 2.0 * dot * x7_0
+                twice = tau * dot
+                x0_1 -= twice * x0_0
+                x1_1 -= twice * x1_0
+                x2_1 -= twice * x2_0
+                x3_1 -= twice * x3_0
+                x4_1 -= twice * x4_0
+                x5_1 -= twice * x5_0
+                x6_1 -= twice * x6_0
+                x7_1 -= twice * x7_0
                 dot = 0.0
                 dot += x0_0 * x0_2
                 dot += x1_0 * x1_2
@@ -4005,14 +3878,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_0 * x5_2
                 dot += x6_0 * x6_2
                 dot += x7_0 * x7_2
-                x0_2 -= 2.0 * dot * x0_0
-                x1_2 -= 2.0 * dot * x1_0
-                x2_2 -= 2.0 * dot * x2_0
-                x3_2 -= 2.0 * dot * x3_0
-                x4_2 -= 2.0 * dot * x4_0
-                x5_2 -= 2.0 * dot * x5_0
-                x6_2 -= 2.0 * dot * x6_0
-                x7_2 -= 2.0 * dot * x7_0
+                twice = tau * dot
+                x0_2 -= twice * x0_0
+                x1_2 -= twice * x1_0
+                x2_2 -= twice * x2_0
+                x3_2 -= twice * x3_0
+                x4_2 -= twice * x4_0
+                x5_2 -= twice * x5_0
+                x6_2 -= twice * x6_0
+                x7_2 -= twice * x7_0
                 dot = 0.0
                 dot += x0_0 * x0_3
                 dot += x1_0 * x1_3
@@ -4022,14 +3896,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_0 * x5_3
                 dot += x6_0 * x6_3
                 dot += x7_0 * x7_3
-                x0_3 -= 2.0 * dot * x0_0
-                x1_3 -= 2.0 * dot * x1_0
-                x2_3 -= 2.0 * dot * x2_0
-                x3_3 -= 2.0 * dot * x3_0
-                x4_3 -= 2.0 * dot * x4_0
-                x5_3 -= 2.0 * dot * x5_0
-                x6_3 -= 2.0 * dot * x6_0
-                x7_3 -= 2.0 * dot * x7_0
+                twice = tau * dot
+                x0_3 -= twice * x0_0
+                x1_3 -= twice * x1_0
+                x2_3 -= twice * x2_0
+                x3_3 -= twice * x3_0
+                x4_3 -= twice * x4_0
+                x5_3 -= twice * x5_0
+                x6_3 -= twice * x6_0
+                x7_3 -= twice * x7_0
                 dot = 0.0
                 dot += x0_0 * x0_4
                 dot += x1_0 * x1_4
@@ -4039,14 +3914,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_0 * x5_4
                 dot += x6_0 * x6_4
                 dot += x7_0 * x7_4
-                x0_4 -= 2.0 * dot * x0_0
-                x1_4 -= 2.0 * dot * x1_0
-                x2_4 -= 2.0 * dot * x2_0
-                x3_4 -= 2.0 * dot * x3_0
-                x4_4 -= 2.0 * dot * x4_0
-                x5_4 -= 2.0 * dot * x5_0
-                x6_4 -= 2.0 * dot * x6_0
-                x7_4 -= 2.0 * dot * x7_0
+                twice = tau * dot
+                x0_4 -= twice * x0_0
+                x1_4 -= twice * x1_0
+                x2_4 -= twice * x2_0
+                x3_4 -= twice * x3_0
+                x4_4 -= twice * x4_0
+                x5_4 -= twice * x5_0
+                x6_4 -= twice * x6_0
+                x7_4 -= twice * x7_0
                 dot = 0.0
                 dot += x0_0 * x0_5
                 dot += x1_0 * x1_5
@@ -4056,14 +3932,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_0 * x5_5
                 dot += x6_0 * x6_5
                 dot += x7_0 * x7_5
-                x0_5 -= 2.0 * dot * x0_0
-                x1_5 -= 2.0 * dot * x1_0
-                x2_5 -= 2.0 * dot * x2_0
-                x3_5 -= 2.0 * dot * x3_0
-                x4_5 -= 2.0 * dot * x4_0
-                x5_5 -= 2.0 * dot * x5_0
-                x6_5 -= 2.0 * dot * x6_0
-                x7_5 -= 2.0 * dot * x7_0
+                twice = tau * dot
+                x0_5 -= twice * x0_0
+                x1_5 -= twice * x1_0
+                x2_5 -= twice * x2_0
+                x3_5 -= twice * x3_0
+                x4_5 -= twice * x4_0
+                x5_5 -= twice * x5_0
+                x6_5 -= twice * x6_0
+                x7_5 -= twice * x7_0
                 dot = 0.0
                 dot += x0_0 * x0_6
                 dot += x1_0 * x1_6
@@ -4073,14 +3950,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x5_0 * x5_6
                 dot += x6_0 * x6_6
                 dot += x7_0 * x7_6
-                x0_6 -= 2.0 * dot * x0_0
-                x1_6 -= 2.0 * dot * x1_0
-                x2_6 -= 2.0 * dot * x2_0
-                x3_6 -= 2.0 * dot * x3_0
-                x4_6 -= 2.0 * dot * x4_0
-                x5_6 -= 2.0 * dot * x5_0
-                x6_6 -= 2.0 * dot * x6_0
-                x7_6 -= 2.0 * dot * x7_0
+                twice = tau * dot
+                x0_6 -= twice * x0_0
+                x1_6 -= twice * x1_0
+                x2_6 -= twice * x2_0
+                x3_6 -= twice * x3_0
+                x4_6 -= twice * x4_0
+                x5_6 -= twice * x5_0
+                x6_6 -= twice * x6_0
+                x7_6 -= twice * x7_0
                 x0_0 = -head
                 S[0, 0, p] = x0_0
                 S[1, 0, p] = x0_1
@@ -4108,16 +3986,8 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x1_1
                 head = norm if x0 >= 0.0 else -norm
                 x1_1 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x1_1 /= beta
-                x2_1 /= beta
-                x3_1 /= beta
-                x4_1 /= beta
-                x5_1 /= beta
-                x6_1 /= beta
-                x7_1 /= beta
-                x8_1 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x1_1 * x1_2
                 dot += x2_1 * x2_2
@@ -4127,14 +3997,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_1 * x6_2
                 dot += x7_1 * x7_2
                 dot += x8_1 * x8_2
-                x1_2 -= 2.0 * dot * x1_1
-                x2_2 -= 2.0 * dot * x2_1
-                x3_2 -= 2.0 * dot * x3_1
-                x4_2 -= 2.0 * dot * x4_1
-                x5_2 -= 2.0 * dot * x5_1
-                x6_2 -= 2.0 * dot * x6_1
-                x7_2 -= 2.0 * dot * x7_1
-                x8_2 -= 2.0 * dot * x8_1
+                twice = tau * dot
+                x1_2 -= twice * x1_1
+                x2_2 -= twice * x2_1
+                x3_2 -= twice * x3_1
+                x4_2 -= twice * x4_1
+                x5_2 -= twice * x5_1
+                x6_2 -= twice * x6_1
+                x7_2 -= twice * x7_1
+                x8_2 -= twice * x8_1
                 dot = 0.0
                 dot += x1_1 * x1_3
                 dot += x2_1 * x2_3
@@ -4144,14 +4015,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_1 * x6_3
                 dot += x7_1 * x7_3
                 dot += x8_1 * x8_3
-                x1_3 -= 2.0 * dot * x1_1
-                x2_3 -= 2.0 * dot * x2_1
-                x3_3 -= 2.0 * dot * x3_1
-                x4_3 -= 2.0 * dot * x4_1
-                x5_3 -= 2.0 * dot * x5_1
-                x6_3 -= 2.0 * dot * x6_1
-                x7_3 -= 2.0 * dot * x7_1
-                x8_3 -= 2.0 * dot * x8_1
+                twice = tau * dot
+                x1_3 -= twice * x1_1
+                x2_3 -= twice * x2_1
+                x3_3 -= twice * x3_1
+                x4_3 -= twice * x4_1
+                x5_3 -= twice * x5_1
+                x6_3 -= twice * x6_1
+                x7_3 -= twice * x7_1
+                x8_3 -= twice * x8_1
                 dot = 0.0
                 dot += x1_1 * x1_4
                 dot += x2_1 * x2_4
@@ -4161,14 +4033,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_1 * x6_4
                 dot += x7_1 * x7_4
                 dot += x8_1 * x8_4
-                x1_4 -= 2.0 * dot * x1_1
-                x2_4 -= 2.0 * dot * x2_1
-                x3_4 -= 2.0 * dot * x3_1
-                x4_4 -= 2.0 * dot * x4_1
-                x5_4 -= 2.0 * dot * x5_1
-                x6_4 -= 2.0 * dot * x6_1
-                x7_4 -= 2.0 * dot * x7_1
-                x8_4 -= 2.0 * dot * x8_1
+                twice = tau * dot
+                x1_4 -= twice * x1_1
+                x2_4 -= twice * x2_1
+                x3_4 -= twice * x3_1
+                x4_4 -= twice * x4_1
+                x5_4 -= twice * x5_1
+                x6_4 -= twice * x6_1
+                x7_4 -= twice * x7_1
+                x8_4 -= twice * x8_1
                 dot = 0.0
                 dot += x1_1 * x1_5
                 dot += x2_1 * x2_5
@@ -4178,14 +4051,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_1 * x6_5
                 dot += x7_1 * x7_5
                 dot += x8_1 * x8_5
-                x1_5 -= 2.0 * dot * x1_1
-                x2_5 -= 2.0 * dot * x2_1
-                x3_5 -= 2.0 * dot * x3_1
-                x4_5 -= 2.0 * dot * x4_1
-                x5_5 -= 2.0 * dot * x5_1
-                x6_5 -= 2.0 * dot * x6_1
-                x7_5 -= 2.0 * dot * x7_1
-                x8_5 -= 2.0 * dot * x8_1
+                twice = tau * dot
+                x1_5 -= twice * x1_1
+                x2_5 -= twice * x2_1
+                x3_5 -= twice * x3_1
+                x4_5 -= twice * x4_1
+                x5_5 -= twice * x5_1
+                x6_5 -= twice * x6_1
+                x7_5 -= twice * x7_1
+                x8_5 -= twice * x8_1
                 dot = 0.0
                 dot += x1_1 * x1_6
                 dot += x2_1 * x2_6
@@ -4195,14 +4069,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_1 * x6_6
                 dot += x7_1 * x7_6
                 dot += x8_1 * x8_6
-                x1_6 -= 2.0 * dot * x1_1
-                x2_6 -= 2.0 * dot * x2_1
-                x3_6 -= 2.0 * dot * x3_1
-                x4_6 -= 2.0 * dot * x4_1
-                x5_6 -= 2.0 * dot * x5_1
-                x6_6 -= 2.0 * dot * x6_1
-                x7_6 -= 2.0 * dot * x7_1
-                x8_6 -= 2.0 * dot * x8_1
+                twice = tau * dot
+                x1_6 -= twice * x1_1
+                x2_6 -= twice * x2_1
+                x3_6 -= twice * x3_1
+                x4_6 -= twice * x4_1
+                x5_6 -= twice * x5_1
+                x6_6 -= twice * x6_1
+                x7_6 -= twice * x7_1
+                x8_6 -= twice * x8_1
                 x1_1 = -head
                 S[0, 1, p] = 0.0
                 S[1, 1, p] = x1_1
@@ -4229,16 +4104,8 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x2_2
                 head = norm if x0 >= 0.0 else -norm
                 x2_2 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x2_2 /= beta
-                x3_2 /= beta
-                x4_2 /= beta
-                x5_2 /= beta
-                x6_2 /= beta
-                x7_2 /= beta
-                x8_2 /= beta
-                x9_2 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x2_2 * x2_3
                 dot += x3_2 * x3_3
@@ -4248,14 +4115,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_2 * x7_3
                 dot += x8_2 * x8_3
                 dot += x9_2 * x9_3
-                x2_3 -= 2.0 * dot * x2_2
-                x3_3 -= 2.0 * dot * x3_2
-                x4_3 -= 2.0 * dot * x4_2
-                x5_3 -= 2.0 * dot * x5_2
-                x6_3 -= 2.0 * dot * x6_2
-                x7_3 -= 2.0 * dot * x7_2
-                x8_3 -= 2.0 * dot * x8_2
-                x9_3 -= 2.0 * dot * x9_2
+                twice = tau * dot
+                x2_3 -= twice * x2_2
+                x3_3 -= twice * x3_2
+                x4_3 -= twice * x4_2
+                x5_3 -= twice * x5_2
+                x6_3 -= twice * x6_2
+                x7_3 -= twice * x7_2
+                x8_3 -= twice * x8_2
+                x9_3 -= twice * x9_2
                 dot = 0.0
                 dot += x2_2 * x2_4
                 dot += x3_2 * x3_4
@@ -4265,14 +4133,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_2 * x7_4
                 dot += x8_2 * x8_4
                 dot += x9_2 * x9_4
-                x2_4 -= 2.0 * dot * x2_2
-                x3_4 -= 2.0 * dot * x3_2
-                x4_4 -= 2.0 * dot * x4_2
-                x5_4 -= 2.0 * dot * x5_2
-                x6_4 -= 2.0 * dot * x6_2
-                x7_4 -= 2.0 * dot * x7_2
-                x8_4 -= 2.0 * dot * x8_2
-                x9_4 -= 2.0 * dot * x9_2
+                twice = tau * dot
+                x2_4 -= twice * x2_2
+                x3_4 -= twice * x3_2
+                x4_4 -= twice * x4_2
+                x5_4 -= twice * x5_2
+                x6_4 -= twice * x6_2
+                x7_4 -= twice * x7_2
+                x8_4 -= twice * x8_2
+                x9_4 -= twice * x9_2
                 dot = 0.0
                 dot += x2_2 * x2_5
                 dot += x3_2 * x3_5
@@ -4282,14 +4151,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_2 * x7_5
                 dot += x8_2 * x8_5
                 dot += x9_2 * x9_5
-                x2_5 -= 2.0 * dot * x2_2
-                x3_5 -= 2.0 * dot * x3_2
-                x4_5 -= 2.0 * dot * x4_2
-                x5_5 -= 2.0 * dot * x5_2
-                x6_5 -= 2.0 * dot * x6_2
-                x7_5 -= 2.0 * dot * x7_2
-                x8_5 -= 2.0 * dot * x8_2
-                x9_5 -= 2.0 * dot * x9_2
+                twice = tau * dot
+                x2_5 -= twice * x2_2
+                x3_5 -= twice * x3_2
+                x4_5 -= twice * x4_2
+                x5_5 -= twice * x5_2
+                x6_5 -= twice * x6_2
+                x7_5 -= twice * x7_2
+                x8_5 -= twice * x8_2
+                x9_5 -= twice * x9_2
                 dot = 0.0
                 dot += x2_2 * x2_6
                 dot += x3_2 * x3_6
@@ -4299,14 +4169,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_2 * x7_6
                 dot += x8_2 * x8_6
                 dot += x9_2 * x9_6
-                x2_6 -= 2.0 * dot * x2_2
-                x3_6 -= 2.0 * dot * x3_2
-                x4_6 -= 2.0 * dot * x4_2
-                x5_6 -= 2.0 * dot * x5_2
-                x6_6 -= 2.0 * dot * x6_2
-                x7_6 -= 2.0 * dot * x7_2
-                x8_6 -= 2.0 * dot * x8_2
-                x9_6 -= 2.0 * dot * x9_2
+                twice = tau * dot
+                x2_6 -= twice * x2_2
+                x3_6 -= twice * x3_2
+                x4_6 -= twice * x4_2
+                x5_6 -= twice * x5_2
+                x6_6 -= twice * x6_2
+                x7_6 -= twice * x7_2
+                x8_6 -= twice * x8_2
+                x9_6 -= twice * x9_2
                 x2_2 = -head
                 S[0, 2, p] = 0.0
                 S[1, 2, p] = 0.0
@@ -4332,16 +4203,8 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x3_3
                 head = norm if x0 >= 0.0 else -norm
                 x3_3 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x3_3 /= beta
-                x4_3 /= beta
-                x5_3 /= beta
-                x6_3 /= beta
-                x7_3 /= beta
-                x8_3 /= beta
-                x9_3 /= beta
-                x10_3 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x3_3 * x3_4
                 dot += x4_3 * x4_4
@@ -4351,14 +4214,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x8_3 * x8_4
                 dot += x9_3 * x9_4
                 dot += x10_3 * x10_4
-                x3_4 -= 2.0 * dot * x3_3
-                x4_4 -= 2.0 * dot * x4_3
-                x5_4 -= 2.0 * dot * x5_3
-                x6_4 -= 2.0 * dot * x6_3
-                x7_4 -= 2.0 * dot * x7_3
-                x8_4 -= 2.0 * dot * x8_3
-                x9_4 -= 2.0 * dot * x9_3
-                x10_4 -= 2.0 * dot * x10_3
+                twice = tau * dot
+                x3_4 -= twice * x3_3
+                x4_4 -= twice * x4_3
+                x5_4 -= twice * x5_3
+                x6_4 -= twice * x6_3
+                x7_4 -= twice * x7_3
+                x8_4 -= twice * x8_3
+                x9_4 -= twice * x9_3
+                x10_4 -= twice * x10_3
                 dot = 0.0
                 dot += x3_3 * x3_5
                 dot += x4_3 * x4_5
@@ -4368,14 +4232,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x8_3 * x8_5
                 dot += x9_3 * x9_5
                 dot += x10_3 * x10_5
-                x3_5 -= 2.0 * dot * x3_3
-                x4_5 -= 2.0 * dot * x4_3
-                x5_5 -= 2.0 * dot * x5_3
-                x6_5 -= 2.0 * dot * x6_3
-                x7_5 -= 2.0 * dot * x7_3
-                x8_5 -= 2.0 * dot * x8_3
-                x9_5 -= 2.0 * dot * x9_3
-                x10_5 -= 2.0 * dot * x10_3
+                twice = tau * dot
+                x3_5 -= twice * x3_3
+                x4_5 -= twice * x4_3
+                x5_5 -= twice * x5_3
+                x6_5 -= twice * x6_3
+                x7_5 -= twice * x7_3
+                x8_5 -= twice * x8_3
+                x9_5 -= twice * x9_3
+                x10_5 -= twice * x10_3
                 dot = 0.0
                 dot += x3_3 * x3_6
                 dot += x4_3 * x4_6
@@ -4385,14 +4250,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x8_3 * x8_6
                 dot += x9_3 * x9_6
                 dot += x10_3 * x10_6
-                x3_6 -= 2.0 * dot * x3_3
-                x4_6 -= 2.0 * dot * x4_3
-                x5_6 -= 2.0 * dot * x5_3
-                x6_6 -= 2.0 * dot * x6_3
-                x7_6 -= 2.0 * dot * x7_3
-                x8_6 -= 2.0 * dot * x8_3
-                x9_6 -= 2.0 * dot * x9_3
-                x10_6 -= 2.0 * dot * x10_3
+                twice = tau * dot
+                x3_6 -= twice * x3_3
+                x4_6 -= twice * x4_3
+                x5_6 -= twice * x5_3
+                x6_6 -= twice * x6_3
+                x7_6 -= twice * x7_3
+                x8_6 -= twice * x8_3
+                x9_6 -= twice * x9_3
+                x10_6 -= twice * x10_3
                 x3_3 = -head
                 S[0, 3, p] = 0.0
                 S[1, 3, p] = 0.0
@@ -4417,16 +4283,8 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x4_4
                 head = norm if x0 >= 0.0 else -norm
                 x4_4 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x4_4 /= beta
-                x5_4 /= beta
-                x6_4 /= beta
-                x7_4 /= beta
-                x8_4 /= beta
-                x9_4 /= beta
-                x10_4 /= beta
-                x11_4 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x4_4 * x4_5
                 dot += x5_4 * x5_5
@@ -4436,14 +4294,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x9_4 * x9_5
                 dot += x10_4 * x10_5
                 dot += x11_4 * x11_5
-                x4_5 -= 2.0 * dot * x4_4
-                x5_5 -= 2.0 * dot * x5_4
-                x6_5 -= 2.0 * dot * x6_4
-                x7_5 -= 2.0 * dot * x7_4
-                x8_5 -= 2.0 * dot * x8_4
-                x9_5 -= 2.0 * dot * x9_4
-                x10_5 -= 2.0 * dot * x10_4
-                x11_5 -= 2.0 * dot * x11_4
+                twice = tau * dot
+                x4_5 -= twice * x4_4
+                x5_5 -= twice * x5_4
+                x6_5 -= twice * x6_4
+                x7_5 -= twice * x7_4
+                x8_5 -= twice * x8_4
+                x9_5 -= twice * x9_4
+                x10_5 -= twice * x10_4
+                x11_5 -= twice * x11_4
                 dot = 0.0
                 dot += x4_4 * x4_6
                 dot += x5_4 * x5_6
@@ -4453,14 +4312,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x9_4 * x9_6
                 dot += x10_4 * x10_6
                 dot += x11_4 * x11_6
-                x4_6 -= 2.0 * dot * x4_4
-                x5_6 -= 2.0 * dot * x5_4
-                x6_6 -= 2.0 * dot * x6_4
-                x7_6 -= 2.0 * dot * x7_4
-                x8_6 -= 2.0 * dot * x8_4
-                x9_6 -= 2.0 * dot * x9_4
-                x10_6 -= 2.0 * dot * x10_4
-                x11_6 -= 2.0 * dot * x11_4
+                twice = tau * dot
+                x4_6 -= twice * x4_4
+                x5_6 -= twice * x5_4
+                x6_6 -= twice * x6_4
+                x7_6 -= twice * x7_4
+                x8_6 -= twice * x8_4
+                x9_6 -= twice * x9_4
+                x10_6 -= twice * x10_4
+                x11_6 -= twice * x11_4
                 x4_4 = -head
                 S[0, 4, p] = 0.0
                 S[1, 4, p] = 0.0
@@ -4484,16 +4344,8 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x5_5
                 head = norm if x0 >= 0.0 else -norm
                 x5_5 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x5_5 /= beta
-                x6_5 /= beta
-                x7_5 /= beta
-                x8_5 /= beta
-                x9_5 /= beta
-                x10_5 /= beta
-                x11_5 /= beta
-                x12_5 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x5_5 * x5_6
                 dot += x6_5 * x6_6
@@ -4503,14 +4355,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x10_5 * x10_6
                 dot += x11_5 * x11_6
                 dot += x12_5 * x12_6
-                x5_6 -= 2.0 * dot * x5_5
-                x6_6 -= 2.0 * dot * x6_5
-                x7_6 -= 2.0 * dot * x7_5
-                x8_6 -= 2.0 * dot * x8_5
-                x9_6 -= 2.0 * dot * x9_5
-                x10_6 -= 2.0 * dot * x10_5
-                x11_6 -= 2.0 * dot * x11_5
-                x12_6 -= 2.0 * dot * x12_5
+                twice = tau * dot
+                x5_6 -= twice * x5_5
+                x6_6 -= twice * x6_5
+                x7_6 -= twice * x7_5
+                x8_6 -= twice * x8_5
+                x9_6 -= twice * x9_5
+                x10_6 -= twice * x10_5
+                x11_6 -= twice * x11_5
+                x12_6 -= twice * x12_5
                 x5_5 = -head
                 S[0, 5, p] = 0.0
                 S[1, 5, p] = 0.0
@@ -4542,16 +4395,16 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 S[6, 6, p] = x6_6
 
 
-def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
+def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
-    block = np.empty((horizon, d, LANES), np.bool_)
+    block = np.empty((d, 64), np.bool_)
     rows = H.shape[0]
-    S = np.zeros((8, 8, LANES))
-    t = np.empty(LANES)
+    S = np.zeros((8, 8, 64))
+    t = np.empty(64)
     bits = t.view(np.int64)
-    E = np.zeros(LANES, np.int64)
-    noise = np.empty(LANES)
-    half = np.empty(LANES)
+    E = np.zeros(64, np.int64)
+    noise = np.empty(64)
+    half = np.empty(64)
     a0_0 = A[0, 0]
     a0_1 = A[0, 1]
     a0_2 = A[0, 2]
@@ -4652,8 +4505,8 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
     q6_6 = UQ[6, 6]
     q6_7 = UQ[6, 7]
     q7_7 = UQ[7, 7]
-    for start in range(0, paths, LANES):
-        for p in range(LANES):
+    for start in range(0, paths, 64):
+        for p in range(64):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
             S[0, 1, p] = S0[0, 1]
@@ -4719,14 +4572,8 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
             S[7, 5, p] = S0[7, 5]
             S[7, 6, p] = S0[7, 6]
             S[7, 7, p] = S0[7, 7]
-        for k in range(horizon):
-            for i in range(d):
-                column = received[k, start:start + LANES, i]
-                into = block[k, i]
-                for p in range(LANES):
-                    into[p] = column[p]
         for k in range(horizon + 1):
-            for p in range(LANES):
+            for p in range(64):
                 tp = 0.0
                 tp += S[0, 0, p] * S[0, 0, p]
                 tp += S[1, 0, p] * S[1, 0, p]
@@ -4811,11 +4658,12 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
-            _store(k, start, t, E, trace, log_scale, linear)
+            _store(k, start, t, E, trace, buffer, linear)
             if k == horizon:
                 break
+            _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[k, row_sensor[r]]
+                got = block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
@@ -4824,7 +4672,7 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 h5 = H[r, 5]
                 h6 = H[r, 6]
                 h7 = H[r, 7]
-                for p in range(LANES):
+                for p in range(64):
                     s0_0 = S[0, 0, p]
                     s0_1 = S[0, 1, p]
                     s0_2 = S[0, 2, p]
@@ -4973,23 +4821,14 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     nz = noise[p]
                     a = ff + nz
                     denom = a + math.sqrt(a * nz)
-                    coef = ff / denom if got[p] and denom > 0.0 else 0.0
-                    su = math.sqrt(ff) if ff > 0.0 else math.inf
-                    f0 /= su
+                    coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0
                     g0 = f0 * coef
-                    f1 /= su
                     g1 = f1 * coef
-                    f2 /= su
                     g2 = f2 * coef
-                    f3 /= su
                     g3 = f3 * coef
-                    f4 /= su
                     g4 = f4 * coef
-                    f5 /= su
                     g5 = f5 * coef
-                    f6 /= su
                     g6 = f6 * coef
-                    f7 /= su
                     g7 = f7 * coef
                     u0 = 0.0
                     u0 += s0_0 * f0
@@ -5127,7 +4966,7 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                     S[7, 5, p] = s7_5 - u7 * g5
                     S[7, 6, p] = s7_6 - u7 * g6
                     S[7, 7, p] = s7_7 - u7 * g7
-            for p in range(LANES):
+            for p in range(64):
                 s0_0 = S[0, 0, p]
                 s0_1 = S[0, 1, p]
                 s0_2 = S[0, 2, p]
@@ -5791,17 +5630,8 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x0_0
                 head = norm if x0 >= 0.0 else -norm
                 x0_0 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x0_0 /= beta
-                x1_0 /= beta
-                x2_0 /= beta
-                x3_0 /= beta
-                x4_0 /= beta
-                x5_0 /= beta
-                x6_0 /= beta
-                x7_0 /= beta
-                x8_0 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x0_0 * x0_1
                 dot += x1_0 * x1_1
@@ -5812,15 +5642,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_0 * x6_1
                 dot += x7_0 * x7_1
                 dot += x8_0 * x8_1
-                x0_1 -= 2.0 * dot * x0_0
-                x1_1 -= 2.0 * dot * x1_0
-                x2_1 -= 2.0 * dot * x2_0
-                x3_1 -= 2.0 * dot * x3_0
-                x4_1 -= 2.0 * dot * x4_0
-                x5_1 -= 2.0 * dot * x5_0
-                x6_1 -= 2.0 * dot * x6_0
-                x7_1 -= 2.0 * dot * x7_0
-                x8_1 -= 2.0 * dot * x8_0
+                twice = tau * dot
+                x0_1 -= twice * x0_0
+                x1_1 -= twice * x1_0
+                x2_1 -= twice * x2_0
+                x3_1 -= twice * x3_0
+                x4_1 -= twice * x4_0
+                x5_1 -= twice * x5_0
+                x6_1 -= twice * x6_0
+                x7_1 -= twice * x7_0
+                x8_1 -= twice * x8_0
                 dot = 0.0
                 dot += x0_0 * x0_2
                 dot += x1_0 * x1_2
@@ -5831,15 +5662,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_0 * x6_2
                 dot += x7_0 * x7_2
                 dot += x8_0 * x8_2
-                x0_2 -= 2.0 * dot * x0_0
-                x1_2 -= 2.0 * dot * x1_0
-                x2_2 -= 2.0 * dot * x2_0
-                x3_2 -= 2.0 * dot * x3_0
-                x4_2 -= 2.0 * dot * x4_0
-                x5_2 -= 2.0 * dot * x5_0
-                x6_2 -= 2.0 * dot * x6_0
-                x7_2 -= 2.0 * dot * x7_0
-                x8_2 -= 2.0 * dot * x8_0
+                twice = tau * dot
+                x0_2 -= twice * x0_0
+                x1_2 -= twice * x1_0
+                x2_2 -= twice * x2_0
+                x3_2 -= twice * x3_0
+                x4_2 -= twice * x4_0
+                x5_2 -= twice * x5_0
+                x6_2 -= twice * x6_0
+                x7_2 -= twice * x7_0
+                x8_2 -= twice * x8_0
                 dot = 0.0
                 dot += x0_0 * x0_3
                 dot += x1_0 * x1_3
@@ -5850,15 +5682,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_0 * x6_3
                 dot += x7_0 * x7_3
                 dot += x8_0 * x8_3
-                x0_3 -= 2.0 * dot * x0_0
-                x1_3 -= 2.0 * dot * x1_0
-                x2_3 -= 2.0 * dot * x2_0
-                x3_3 -= 2.0 * dot * x3_0
-                x4_3 -= 2.0 * dot * x4_0
-                x5_3 -= 2.0 * dot * x5_0
-                x6_3 -= 2.0 * dot * x6_0
-                x7_3 -= 2.0 * dot * x7_0
-                x8_3 -= 2.0 * dot * x8_0
+                twice = tau * dot
+                x0_3 -= twice * x0_0
+                x1_3 -= twice * x1_0
+                x2_3 -= twice * x2_0
+                x3_3 -= twice * x3_0
+                x4_3 -= twice * x4_0
+                x5_3 -= twice * x5_0
+                x6_3 -= twice * x6_0
+                x7_3 -= twice * x7_0
+                x8_3 -= twice * x8_0
                 dot = 0.0
                 dot += x0_0 * x0_4
                 dot += x1_0 * x1_4
@@ -5869,15 +5702,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_0 * x6_4
                 dot += x7_0 * x7_4
                 dot += x8_0 * x8_4
-                x0_4 -= 2.0 * dot * x0_0
-                x1_4 -= 2.0 * dot * x1_0
-                x2_4 -= 2.0 * dot * x2_0
-                x3_4 -= 2.0 * dot * x3_0
-                x4_4 -= 2.0 * dot * x4_0
-                x5_4 -= 2.0 * dot * x5_0
-                x6_4 -= 2.0 * dot * x6_0
-                x7_4 -= 2.0 * dot * x7_0
-                x8_4 -= 2.0 * dot * x8_0
+                twice = tau * dot
+                x0_4 -= twice * x0_0
+                x1_4 -= twice * x1_0
+                x2_4 -= twice * x2_0
+                x3_4 -= twice * x3_0
+                x4_4 -= twice * x4_0
+                x5_4 -= twice * x5_0
+                x6_4 -= twice * x6_0
+                x7_4 -= twice * x7_0
+                x8_4 -= twice * x8_0
                 dot = 0.0
                 dot += x0_0 * x0_5
                 dot += x1_0 * x1_5
@@ -5888,15 +5722,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_0 * x6_5
                 dot += x7_0 * x7_5
                 dot += x8_0 * x8_5
-                x0_5 -= 2.0 * dot * x0_0
-                x1_5 -= 2.0 * dot * x1_0
-                x2_5 -= 2.0 * dot * x2_0
-                x3_5 -= 2.0 * dot * x3_0
-                x4_5 -= 2.0 * dot * x4_0
-                x5_5 -= 2.0 * dot * x5_0
-                x6_5 -= 2.0 * dot * x6_0
-                x7_5 -= 2.0 * dot * x7_0
-                x8_5 -= 2.0 * dot * x8_0
+                twice = tau * dot
+                x0_5 -= twice * x0_0
+                x1_5 -= twice * x1_0
+                x2_5 -= twice * x2_0
+                x3_5 -= twice * x3_0
+                x4_5 -= twice * x4_0
+                x5_5 -= twice * x5_0
+                x6_5 -= twice * x6_0
+                x7_5 -= twice * x7_0
+                x8_5 -= twice * x8_0
                 dot = 0.0
                 dot += x0_0 * x0_6
                 dot += x1_0 * x1_6
@@ -5907,15 +5742,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_0 * x6_6
                 dot += x7_0 * x7_6
                 dot += x8_0 * x8_6
-                x0_6 -= 2.0 * dot * x0_0
-                x1_6 -= 2.0 * dot * x1_0
-                x2_6 -= 2.0 * dot * x2_0
-                x3_6 -= 2.0 * dot * x3_0
-                x4_6 -= 2.0 * dot * x4_0
-                x5_6 -= 2.0 * dot * x5_0
-                x6_6 -= 2.0 * dot * x6_0
-                x7_6 -= 2.0 * dot * x7_0
-                x8_6 -= 2.0 * dot * x8_0
+                twice = tau * dot
+                x0_6 -= twice * x0_0
+                x1_6 -= twice * x1_0
+                x2_6 -= twice * x2_0
+                x3_6 -= twice * x3_0
+                x4_6 -= twice * x4_0
+                x5_6 -= twice * x5_0
+                x6_6 -= twice * x6_0
+                x7_6 -= twice * x7_0
+                x8_6 -= twice * x8_0
                 dot = 0.0
                 dot += x0_0 * x0_7
                 dot += x1_0 * x1_7
@@ -5926,15 +5762,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x6_0 * x6_7
                 dot += x7_0 * x7_7
                 dot += x8_0 * x8_7
-                x0_7 -= 2.0 * dot * x0_0
-                x1_7 -= 2.0 * dot * x1_0
-                x2_7 -= 2.0 * dot * x2_0
-                x3_7 -= 2.0 * dot * x3_0
-                x4_7 -= 2.0 * dot * x4_0
-                x5_7 -= 2.0 * dot * x5_0
-                x6_7 -= 2.0 * dot * x6_0
-                x7_7 -= 2.0 * dot * x7_0
-                x8_7 -= 2.0 * dot * x8_0
+                twice = tau * dot
+                x0_7 -= twice * x0_0
+                x1_7 -= twice * x1_0
+                x2_7 -= twice * x2_0
+                x3_7 -= twice * x3_0
+                x4_7 -= twice * x4_0
+                x5_7 -= twice * x5_0
+                x6_7 -= twice * x6_0
+                x7_7 -= twice * x7_0
+                x8_7 -= twice * x8_0
                 x0_0 = -head
                 S[0, 0, p] = x0_0
                 S[1, 0, p] = x0_1
@@ -5965,17 +5802,8 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x1_1
                 head = norm if x0 >= 0.0 else -norm
                 x1_1 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x1_1 /= beta
-                x2_1 /= beta
-                x3_1 /= beta
-                x4_1 /= beta
-                x5_1 /= beta
-                x6_1 /= beta
-                x7_1 /= beta
-                x8_1 /= beta
-                x9_1 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x1_1 * x1_2
                 dot += x2_1 * x2_2
@@ -5986,15 +5814,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_1 * x7_2
                 dot += x8_1 * x8_2
                 dot += x9_1 * x9_2
-                x1_2 -= 2.0 * dot * x1_1
-                x2_2 -= 2.0 * dot * x2_1
-                x3_2 -= 2.0 * dot * x3_1
-                x4_2 -= 2.0 * dot * x4_1
-                x5_2 -= 2.0 * dot * x5_1
-                x6_2 -= 2.0 * dot * x6_1
-                x7_2 -= 2.0 * dot * x7_1
-                x8_2 -= 2.0 * dot * x8_1
-                x9_2 -= 2.0 * dot * x9_1
+                twice = tau * dot
+                x1_2 -= twice * x1_1
+                x2_2 -= twice * x2_1
+                x3_2 -= twice * x3_1
+                x4_2 -= twice * x4_1
+                x5_2 -= twice * x5_1
+                x6_2 -= twice * x6_1
+                x7_2 -= twice * x7_1
+                x8_2 -= twice * x8_1
+                x9_2 -= twice * x9_1
                 dot = 0.0
                 dot += x1_1 * x1_3
                 dot += x2_1 * x2_3
@@ -6005,15 +5834,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_1 * x7_3
                 dot += x8_1 * x8_3
                 dot += x9_1 * x9_3
-                x1_3 -= 2.0 * dot * x1_1
-                x2_3 -= 2.0 * dot * x2_1
-                x3_3 -= 2.0 * dot * x3_1
-                x4_3 -= 2.0 * dot * x4_1
-                x5_3 -= 2.0 * dot * x5_1
-                x6_3 -= 2.0 * dot * x6_1
-                x7_3 -= 2.0 * dot * x7_1
-                x8_3 -= 2.0 * dot * x8_1
-                x9_3 -= 2.0 * dot * x9_1
+                twice = tau * dot
+                x1_3 -= twice * x1_1
+                x2_3 -= twice * x2_1
+                x3_3 -= twice * x3_1
+                x4_3 -= twice * x4_1
+                x5_3 -= twice * x5_1
+                x6_3 -= twice * x6_1
+                x7_3 -= twice * x7_1
+                x8_3 -= twice * x8_1
+                x9_3 -= twice * x9_1
                 dot = 0.0
                 dot += x1_1 * x1_4
                 dot += x2_1 * x2_4
@@ -6024,15 +5854,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_1 * x7_4
                 dot += x8_1 * x8_4
                 dot += x9_1 * x9_4
-                x1_4 -= 2.0 * dot * x1_1
-                x2_4 -= 2.0 * dot * x2_1
-                x3_4 -= 2.0 * dot * x3_1
-                x4_4 -= 2.0 * dot * x4_1
-                x5_4 -= 2.0 * dot * x5_1
-                x6_4 -= 2.0 * dot * x6_1
-                x7_4 -= 2.0 * dot * x7_1
-                x8_4 -= 2.0 * dot * x8_1
-                x9_4 -= 2.0 * dot * x9_1
+                twice = tau * dot
+                x1_4 -= twice * x1_1
+                x2_4 -= twice * x2_1
+                x3_4 -= twice * x3_1
+                x4_4 -= twice * x4_1
+                x5_4 -= twice * x5_1
+                x6_4 -= twice * x6_1
+                x7_4 -= twice * x7_1
+                x8_4 -= twice * x8_1
+                x9_4 -= twice * x9_1
                 dot = 0.0
                 dot += x1_1 * x1_5
                 dot += x2_1 * x2_5
@@ -6043,15 +5874,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_1 * x7_5
                 dot += x8_1 * x8_5
                 dot += x9_1 * x9_5
-                x1_5 -= 2.0 * dot * x1_1
-                x2_5 -= 2.0 * dot * x2_1
-                x3_5 -= 2.0 * dot * x3_1
-                x4_5 -= 2.0 * dot * x4_1
-                x5_5 -= 2.0 * dot * x5_1
-                x6_5 -= 2.0 * dot * x6_1
-                x7_5 -= 2.0 * dot * x7_1
-                x8_5 -= 2.0 * dot * x8_1
-                x9_5 -= 2.0 * dot * x9_1
+                twice = tau * dot
+                x1_5 -= twice * x1_1
+                x2_5 -= twice * x2_1
+                x3_5 -= twice * x3_1
+                x4_5 -= twice * x4_1
+                x5_5 -= twice * x5_1
+                x6_5 -= twice * x6_1
+                x7_5 -= twice * x7_1
+                x8_5 -= twice * x8_1
+                x9_5 -= twice * x9_1
                 dot = 0.0
                 dot += x1_1 * x1_6
                 dot += x2_1 * x2_6
@@ -6062,15 +5894,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_1 * x7_6
                 dot += x8_1 * x8_6
                 dot += x9_1 * x9_6
-                x1_6 -= 2.0 * dot * x1_1
-                x2_6 -= 2.0 * dot * x2_1
-                x3_6 -= 2.0 * dot * x3_1
-                x4_6 -= 2.0 * dot * x4_1
-                x5_6 -= 2.0 * dot * x5_1
-                x6_6 -= 2.0 * dot * x6_1
-                x7_6 -= 2.0 * dot * x7_1
-                x8_6 -= 2.0 * dot * x8_1
-                x9_6 -= 2.0 * dot * x9_1
+                twice = tau * dot
+                x1_6 -= twice * x1_1
+                x2_6 -= twice * x2_1
+                x3_6 -= twice * x3_1
+                x4_6 -= twice * x4_1
+                x5_6 -= twice * x5_1
+                x6_6 -= twice * x6_1
+                x7_6 -= twice * x7_1
+                x8_6 -= twice * x8_1
+                x9_6 -= twice * x9_1
                 dot = 0.0
                 dot += x1_1 * x1_7
                 dot += x2_1 * x2_7
@@ -6081,15 +5914,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x7_1 * x7_7
                 dot += x8_1 * x8_7
                 dot += x9_1 * x9_7
-                x1_7 -= 2.0 * dot * x1_1
-                x2_7 -= 2.0 * dot * x2_1
-                x3_7 -= 2.0 * dot * x3_1
-                x4_7 -= 2.0 * dot * x4_1
-                x5_7 -= 2.0 * dot * x5_1
-                x6_7 -= 2.0 * dot * x6_1
-                x7_7 -= 2.0 * dot * x7_1
-                x8_7 -= 2.0 * dot * x8_1
-                x9_7 -= 2.0 * dot * x9_1
+                twice = tau * dot
+                x1_7 -= twice * x1_1
+                x2_7 -= twice * x2_1
+                x3_7 -= twice * x3_1
+                x4_7 -= twice * x4_1
+                x5_7 -= twice * x5_1
+                x6_7 -= twice * x6_1
+                x7_7 -= twice * x7_1
+                x8_7 -= twice * x8_1
+                x9_7 -= twice * x9_1
                 x1_1 = -head
                 S[0, 1, p] = 0.0
                 S[1, 1, p] = x1_1
@@ -6119,17 +5953,8 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x2_2
                 head = norm if x0 >= 0.0 else -norm
                 x2_2 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x2_2 /= beta
-                x3_2 /= beta
-                x4_2 /= beta
-                x5_2 /= beta
-                x6_2 /= beta
-                x7_2 /= beta
-                x8_2 /= beta
-                x9_2 /= beta
-                x10_2 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x2_2 * x2_3
                 dot += x3_2 * x3_3
@@ -6140,15 +5965,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x8_2 * x8_3
                 dot += x9_2 * x9_3
                 dot += x10_2 * x10_3
-                x2_3 -= 2.0 * dot * x2_2
-                x3_3 -= 2.0 * dot * x3_2
-                x4_3 -= 2.0 * dot * x4_2
-                x5_3 -= 2.0 * dot * x5_2
-                x6_3 -= 2.0 * dot * x6_2
-                x7_3 -= 2.0 * dot * x7_2
-                x8_3 -= 2.0 * dot * x8_2
-                x9_3 -= 2.0 * dot * x9_2
-                x10_3 -= 2.0 * dot * x10_2
+                twice = tau * dot
+                x2_3 -= twice * x2_2
+                x3_3 -= twice * x3_2
+                x4_3 -= twice * x4_2
+                x5_3 -= twice * x5_2
+                x6_3 -= twice * x6_2
+                x7_3 -= twice * x7_2
+                x8_3 -= twice * x8_2
+                x9_3 -= twice * x9_2
+                x10_3 -= twice * x10_2
                 dot = 0.0
                 dot += x2_2 * x2_4
                 dot += x3_2 * x3_4
@@ -6159,15 +5985,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x8_2 * x8_4
                 dot += x9_2 * x9_4
                 dot += x10_2 * x10_4
-                x2_4 -= 2.0 * dot * x2_2
-                x3_4 -= 2.0 * dot * x3_2
-                x4_4 -= 2.0 * dot * x4_2
-                x5_4 -= 2.0 * dot * x5_2
-                x6_4 -= 2.0 * dot * x6_2
-                x7_4 -= 2.0 * dot * x7_2
-                x8_4 -= 2.0 * dot * x8_2
-                x9_4 -= 2.0 * dot * x9_2
-                x10_4 -= 2.0 * dot * x10_2
+                twice = tau * dot
+                x2_4 -= twice * x2_2
+                x3_4 -= twice * x3_2
+                x4_4 -= twice * x4_2
+                x5_4 -= twice * x5_2
+                x6_4 -= twice * x6_2
+                x7_4 -= twice * x7_2
+                x8_4 -= twice * x8_2
+                x9_4 -= twice * x9_2
+                x10_4 -= twice * x10_2
                 dot = 0.0
                 dot += x2_2 * x2_5
                 dot += x3_2 * x3_5
@@ -6178,15 +6005,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x8_2 * x8_5
                 dot += x9_2 * x9_5
                 dot += x10_2 * x10_5
-                x2_5 -= 2.0 * dot * x2_2
-                x3_5 -= 2.0 * dot * x3_2
-                x4_5 -= 2.0 * dot * x4_2
-                x5_5 -= 2.0 * dot * x5_2
-                x6_5 -= 2.0 * dot * x6_2
-                x7_5 -= 2.0 * dot * x7_2
-                x8_5 -= 2.0 * dot * x8_2
-                x9_5 -= 2.0 * dot * x9_2
-                x10_5 -= 2.0 * dot * x10_2
+                twice = tau * dot
+                x2_5 -= twice * x2_2
+                x3_5 -= twice * x3_2
+                x4_5 -= twice * x4_2
+                x5_5 -= twice * x5_2
+                x6_5 -= twice * x6_2
+                x7_5 -= twice * x7_2
+                x8_5 -= twice * x8_2
+                x9_5 -= twice * x9_2
+                x10_5 -= twice * x10_2
                 dot = 0.0
                 dot += x2_2 * x2_6
                 dot += x3_2 * x3_6
@@ -6197,15 +6025,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x8_2 * x8_6
                 dot += x9_2 * x9_6
                 dot += x10_2 * x10_6
-                x2_6 -= 2.0 * dot * x2_2
-                x3_6 -= 2.0 * dot * x3_2
-                x4_6 -= 2.0 * dot * x4_2
-                x5_6 -= 2.0 * dot * x5_2
-                x6_6 -= 2.0 * dot * x6_2
-                x7_6 -= 2.0 * dot * x7_2
-                x8_6 -= 2.0 * dot * x8_2
-                x9_6 -= 2.0 * dot * x9_2
-                x10_6 -= 2.0 * dot * x10_2
+                twice = tau * dot
+                x2_6 -= twice * x2_2
+                x3_6 -= twice * x3_2
+                x4_6 -= twice * x4_2
+                x5_6 -= twice * x5_2
+                x6_6 -= twice * x6_2
+                x7_6 -= twice * x7_2
+                x8_6 -= twice * x8_2
+                x9_6 -= twice * x9_2
+                x10_6 -= twice * x10_2
                 dot = 0.0
                 dot += x2_2 * x2_7
                 dot += x3_2 * x3_7
@@ -6216,15 +6045,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x8_2 * x8_7
                 dot += x9_2 * x9_7
                 dot += x10_2 * x10_7
-                x2_7 -= 2.0 * dot * x2_2
-                x3_7 -= 2.0 * dot * x3_2
-                x4_7 -= 2.0 * dot * x4_2
-                x5_7 -= 2.0 * dot * x5_2
-                x6_7 -= 2.0 * dot * x6_2
-                x7_7 -= 2.0 * dot * x7_2
-                x8_7 -= 2.0 * dot * x8_2
-                x9_7 -= 2.0 * dot * x9_2
-                x10_7 -= 2.0 * dot * x10_2
+                twice = tau * dot
+                x2_7 -= twice * x2_2
+                x3_7 -= twice * x3_2
+                x4_7 -= twice * x4_2
+                x5_7 -= twice * x5_2
+                x6_7 -= twice * x6_2
+                x7_7 -= twice * x7_2
+                x8_7 -= twice * x8_2
+                x9_7 -= twice * x9_2
+                x10_7 -= twice * x10_2
                 x2_2 = -head
                 S[0, 2, p] = 0.0
                 S[1, 2, p] = 0.0
@@ -6253,17 +6083,8 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x3_3
                 head = norm if x0 >= 0.0 else -norm
                 x3_3 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x3_3 /= beta
-                x4_3 /= beta
-                x5_3 /= beta
-                x6_3 /= beta
-                x7_3 /= beta
-                x8_3 /= beta
-                x9_3 /= beta
-                x10_3 /= beta
-                x11_3 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x3_3 * x3_4
                 dot += x4_3 * x4_4
@@ -6274,15 +6095,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x9_3 * x9_4
                 dot += x10_3 * x10_4
                 dot += x11_3 * x11_4
-                x3_4 -= 2.0 * dot * x3_3
-                x4_4 -= 2.0 * dot * x4_3
-                x5_4 -= 2.0 * dot * x5_3
-                x6_4 -= 2.0 * dot * x6_3
-                x7_4 -= 2.0 * dot * x7_3
-                x8_4 -= 2.0 * dot * x8_3
-                x9_4 -= 2.0 * dot * x9_3
-                x10_4 -= 2.0 * dot * x10_3
-                x11_4 -= 2.0 * dot * x11_3
+                twice = tau * dot
+                x3_4 -= twice * x3_3
+                x4_4 -= twice * x4_3
+                x5_4 -= twice * x5_3
+                x6_4 -= twice * x6_3
+                x7_4 -= twice * x7_3
+                x8_4 -= twice * x8_3
+                x9_4 -= twice * x9_3
+                x10_4 -= twice * x10_3
+                x11_4 -= twice * x11_3
                 dot = 0.0
                 dot += x3_3 * x3_5
                 dot += x4_3 * x4_5
@@ -6293,15 +6115,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x9_3 * x9_5
                 dot += x10_3 * x10_5
                 dot += x11_3 * x11_5
-                x3_5 -= 2.0 * dot * x3_3
-                x4_5 -= 2.0 * dot * x4_3
-                x5_5 -= 2.0 * dot * x5_3
-                x6_5 -= 2.0 * dot * x6_3
-                x7_5 -= 2.0 * dot * x7_3
-                x8_5 -= 2.0 * dot * x8_3
-                x9_5 -= 2.0 * dot * x9_3
-                x10_5 -= 2.0 * dot * x10_3
-                x11_5 -= 2.0 * dot * x11_3
+                twice = tau * dot
+                x3_5 -= twice * x3_3
+                x4_5 -= twice * x4_3
+                x5_5 -= twice * x5_3
+                x6_5 -= twice * x6_3
+                x7_5 -= twice * x7_3
+                x8_5 -= twice * x8_3
+                x9_5 -= twice * x9_3
+                x10_5 -= twice * x10_3
+                x11_5 -= twice * x11_3
                 dot = 0.0
                 dot += x3_3 * x3_6
                 dot += x4_3 * x4_6
@@ -6312,15 +6135,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x9_3 * x9_6
                 dot += x10_3 * x10_6
                 dot += x11_3 * x11_6
-                x3_6 -= 2.0 * dot * x3_3
-                x4_6 -= 2.0 * dot * x4_3
-                x5_6 -= 2.0 * dot * x5_3
-                x6_6 -= 2.0 * dot * x6_3
-                x7_6 -= 2.0 * dot * x7_3
-                x8_6 -= 2.0 * dot * x8_3
-                x9_6 -= 2.0 * dot * x9_3
-                x10_6 -= 2.0 * dot * x10_3
-                x11_6 -= 2.0 * dot * x11_3
+                twice = tau * dot
+                x3_6 -= twice * x3_3
+                x4_6 -= twice * x4_3
+                x5_6 -= twice * x5_3
+                x6_6 -= twice * x6_3
+                x7_6 -= twice * x7_3
+                x8_6 -= twice * x8_3
+                x9_6 -= twice * x9_3
+                x10_6 -= twice * x10_3
+                x11_6 -= twice * x11_3
                 dot = 0.0
                 dot += x3_3 * x3_7
                 dot += x4_3 * x4_7
@@ -6331,15 +6155,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x9_3 * x9_7
                 dot += x10_3 * x10_7
                 dot += x11_3 * x11_7
-                x3_7 -= 2.0 * dot * x3_3
-                x4_7 -= 2.0 * dot * x4_3
-                x5_7 -= 2.0 * dot * x5_3
-                x6_7 -= 2.0 * dot * x6_3
-                x7_7 -= 2.0 * dot * x7_3
-                x8_7 -= 2.0 * dot * x8_3
-                x9_7 -= 2.0 * dot * x9_3
-                x10_7 -= 2.0 * dot * x10_3
-                x11_7 -= 2.0 * dot * x11_3
+                twice = tau * dot
+                x3_7 -= twice * x3_3
+                x4_7 -= twice * x4_3
+                x5_7 -= twice * x5_3
+                x6_7 -= twice * x6_3
+                x7_7 -= twice * x7_3
+                x8_7 -= twice * x8_3
+                x9_7 -= twice * x9_3
+                x10_7 -= twice * x10_3
+                x11_7 -= twice * x11_3
                 x3_3 = -head
                 S[0, 3, p] = 0.0
                 S[1, 3, p] = 0.0
@@ -6367,17 +6192,8 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x4_4
                 head = norm if x0 >= 0.0 else -norm
                 x4_4 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x4_4 /= beta
-                x5_4 /= beta
-                x6_4 /= beta
-                x7_4 /= beta
-                x8_4 /= beta
-                x9_4 /= beta
-                x10_4 /= beta
-                x11_4 /= beta
-                x12_4 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x4_4 * x4_5
                 dot += x5_4 * x5_5
@@ -6388,15 +6204,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x10_4 * x10_5
                 dot += x11_4 * x11_5
                 dot += x12_4 * x12_5
-                x4_5 -= 2.0 * dot * x4_4
-                x5_5 -= 2.0 * dot * x5_4
-                x6_5 -= 2.0 * dot * x6_4
-                x7_5 -= 2.0 * dot * x7_4
-                x8_5 -= 2.0 * dot * x8_4
-                x9_5 -= 2.0 * dot * x9_4
-                x10_5 -= 2.0 * dot * x10_4
-                x11_5 -= 2.0 * dot * x11_4
-                x12_5 -= 2.0 * dot * x12_4
+                twice = tau * dot
+                x4_5 -= twice * x4_4
+                x5_5 -= twice * x5_4
+                x6_5 -= twice * x6_4
+                x7_5 -= twice * x7_4
+                x8_5 -= twice * x8_4
+                x9_5 -= twice * x9_4
+                x10_5 -= twice * x10_4
+                x11_5 -= twice * x11_4
+                x12_5 -= twice * x12_4
                 dot = 0.0
                 dot += x4_4 * x4_6
                 dot += x5_4 * x5_6
@@ -6407,15 +6224,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x10_4 * x10_6
                 dot += x11_4 * x11_6
                 dot += x12_4 * x12_6
-                x4_6 -= 2.0 * dot * x4_4
-                x5_6 -= 2.0 * dot * x5_4
-                x6_6 -= 2.0 * dot * x6_4
-                x7_6 -= 2.0 * dot * x7_4
-                x8_6 -= 2.0 * dot * x8_4
-                x9_6 -= 2.0 * dot * x9_4
-                x10_6 -= 2.0 * dot * x10_4
-                x11_6 -= 2.0 * dot * x11_4
-                x12_6 -= 2.0 * dot * x12_4
+                twice = tau * dot
+                x4_6 -= twice * x4_4
+                x5_6 -= twice * x5_4
+                x6_6 -= twice * x6_4
+                x7_6 -= twice * x7_4
+                x8_6 -= twice * x8_4
+                x9_6 -= twice * x9_4
+                x10_6 -= twice * x10_4
+                x11_6 -= twice * x11_4
+                x12_6 -= twice * x12_4
                 dot = 0.0
                 dot += x4_4 * x4_7
                 dot += x5_4 * x5_7
@@ -6426,15 +6244,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x10_4 * x10_7
                 dot += x11_4 * x11_7
                 dot += x12_4 * x12_7
-                x4_7 -= 2.0 * dot * x4_4
-                x5_7 -= 2.0 * dot * x5_4
-                x6_7 -= 2.0 * dot * x6_4
-                x7_7 -= 2.0 * dot * x7_4
-                x8_7 -= 2.0 * dot * x8_4
-                x9_7 -= 2.0 * dot * x9_4
-                x10_7 -= 2.0 * dot * x10_4
-                x11_7 -= 2.0 * dot * x11_4
-                x12_7 -= 2.0 * dot * x12_4
+                twice = tau * dot
+                x4_7 -= twice * x4_4
+                x5_7 -= twice * x5_4
+                x6_7 -= twice * x6_4
+                x7_7 -= twice * x7_4
+                x8_7 -= twice * x8_4
+                x9_7 -= twice * x9_4
+                x10_7 -= twice * x10_4
+                x11_7 -= twice * x11_4
+                x12_7 -= twice * x12_4
                 x4_4 = -head
                 S[0, 4, p] = 0.0
                 S[1, 4, p] = 0.0
@@ -6461,17 +6280,8 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x5_5
                 head = norm if x0 >= 0.0 else -norm
                 x5_5 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x5_5 /= beta
-                x6_5 /= beta
-                x7_5 /= beta
-                x8_5 /= beta
-                x9_5 /= beta
-                x10_5 /= beta
-                x11_5 /= beta
-                x12_5 /= beta
-                x13_5 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x5_5 * x5_6
                 dot += x6_5 * x6_6
@@ -6482,15 +6292,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x11_5 * x11_6
                 dot += x12_5 * x12_6
                 dot += x13_5 * x13_6
-                x5_6 -= 2.0 * dot * x5_5
-                x6_6 -= 2.0 * dot * x6_5
-                x7_6 -= 2.0 * dot * x7_5
-                x8_6 -= 2.0 * dot * x8_5
-                x9_6 -= 2.0 * dot * x9_5
-                x10_6 -= 2.0 * dot * x10_5
-                x11_6 -= 2.0 * dot * x11_5
-                x12_6 -= 2.0 * dot * x12_5
-                x13_6 -= 2.0 * dot * x13_5
+                twice = tau * dot
+                x5_6 -= twice * x5_5
+                x6_6 -= twice * x6_5
+                x7_6 -= twice * x7_5
+                x8_6 -= twice * x8_5
+                x9_6 -= twice * x9_5
+                x10_6 -= twice * x10_5
+                x11_6 -= twice * x11_5
+                x12_6 -= twice * x12_5
+                x13_6 -= twice * x13_5
                 dot = 0.0
                 dot += x5_5 * x5_7
                 dot += x6_5 * x6_7
@@ -6501,15 +6312,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x11_5 * x11_7
                 dot += x12_5 * x12_7
                 dot += x13_5 * x13_7
-                x5_7 -= 2.0 * dot * x5_5
-                x6_7 -= 2.0 * dot * x6_5
-                x7_7 -= 2.0 * dot * x7_5
-                x8_7 -= 2.0 * dot * x8_5
-                x9_7 -= 2.0 * dot * x9_5
-                x10_7 -= 2.0 * dot * x10_5
-                x11_7 -= 2.0 * dot * x11_5
-                x12_7 -= 2.0 * dot * x12_5
-                x13_7 -= 2.0 * dot * x13_5
+                twice = tau * dot
+                x5_7 -= twice * x5_5
+                x6_7 -= twice * x6_5
+                x7_7 -= twice * x7_5
+                x8_7 -= twice * x8_5
+                x9_7 -= twice * x9_5
+                x10_7 -= twice * x10_5
+                x11_7 -= twice * x11_5
+                x12_7 -= twice * x12_5
+                x13_7 -= twice * x13_5
                 x5_5 = -head
                 S[0, 5, p] = 0.0
                 S[1, 5, p] = 0.0
@@ -6535,17 +6347,8 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 x0 = x6_6
                 head = norm if x0 >= 0.0 else -norm
                 x6_6 = x0 + head
-                length = math.sqrt(2.0 * norm * (norm + abs(x0)))
-                beta = length if length > 0.0 else math.inf
-                x6_6 /= beta
-                x7_6 /= beta
-                x8_6 /= beta
-                x9_6 /= beta
-                x10_6 /= beta
-                x11_6 /= beta
-                x12_6 /= beta
-                x13_6 /= beta
-                x14_6 /= beta
+                half_v2 = norm * (norm + abs(x0))
+                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
                 dot = 0.0
                 dot += x6_6 * x6_7
                 dot += x7_6 * x7_7
@@ -6556,15 +6359,16 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, log_scale, linear):
                 dot += x12_6 * x12_7
                 dot += x13_6 * x13_7
                 dot += x14_6 * x14_7
-                x6_7 -= 2.0 * dot * x6_6
-                x7_7 -= 2.0 * dot * x7_6
-                x8_7 -= 2.0 * dot * x8_6
-                x9_7 -= 2.0 * dot * x9_6
-                x10_7 -= 2.0 * dot * x10_6
-                x11_7 -= 2.0 * dot * x11_6
-                x12_7 -= 2.0 * dot * x12_6
-                x13_7 -= 2.0 * dot * x13_6
-                x14_7 -= 2.0 * dot * x14_6
+                twice = tau * dot
+                x6_7 -= twice * x6_6
+                x7_7 -= twice * x7_6
+                x8_7 -= twice * x8_6
+                x9_7 -= twice * x9_6
+                x10_7 -= twice * x10_6
+                x11_7 -= twice * x11_6
+                x12_7 -= twice * x12_6
+                x13_7 -= twice * x13_6
+                x14_7 -= twice * x14_6
                 x6_6 = -head
                 S[0, 6, p] = 0.0
                 S[1, 6, p] = 0.0
