@@ -6,7 +6,8 @@ recover 1/2.  Each case runs in a fresh process (its peak RSS is its own):
 
 * ``simulate``: :func:`symkf.montecarlo.simulate_traces` (receptions sampled per factor of the
   loss model, :meth:`symkf.losses.LossModel.sample`, then the compiled square-root filter);
-* ``kernel``: the filter kernel alone, :func:`symkf.filtering.log_traces`, on receptions drawn
+* ``kernel``: the filter kernel alone, :func:`symkf.filtering.traces_into` (what
+  ``simulate_traces`` runs after drawing the receptions), on receptions drawn
   beforehand with plain NumPy (not timed): the floor ``simulate`` is compared with, timed
   alternately with ``simulate`` in one process (the ratio is the median of the pairs: on a
   loaded machine separate processes see different loads);
@@ -31,7 +32,7 @@ import sys
 CASE = r"""
 import json, resource, sys, time
 import numpy as np, sympy as sp
-from symkf.filtering import log_traces, real_form
+from symkf.filtering import real_form, traces_into
 from symkf.losses import GilbertElliott
 from symkf.model import Sensor, System
 from symkf.montecarlo import simulate_traces
@@ -55,7 +56,7 @@ for r in range(repeats):   # "both": alternately, so that both see the same mach
             u = rng.random((paths, d))
             received[k] = np.where(received[k - 1], u >= 1 / 10, u < 1 / 2)
         t = time.process_time()
-        np.exp(log_traces(model, received)[:, :horizon])
+        traces_into(model, received, np.empty((paths, horizon)))
         kernel.append(time.process_time() - t)
         del received, u
     if mode != "kernel":
