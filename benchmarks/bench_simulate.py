@@ -33,6 +33,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):   # 
 
 import argparse
 import resource
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -86,7 +87,9 @@ GRID_PATHS = {2: 16384, 4: 8192, 8: 2048, 16: 1024}
 
 
 def numpy_grid(repeats: int, quick: bool) -> None:
-    """simulate_traces against the NumPy batch filter and against the kernel alone, n x d x losses."""
+    """simulate_traces against the NumPy batch filter and against the kernel alone, n x d x losses:
+    the three timed in turn, ``repeats`` rounds, the ratios the medians of each round's (the machine
+    is shared: separate medians of separately timed runs moved a ratio by a fifth between runs)."""
     print(f"{'n':>2} {'d':>2} {'losses':<16} {'paths':>6} {'simulate s':>10} {'numpy s':>8} {'numpy/sim':>9} "
           f"{'kernel s':>8} {'sim/kernel':>10}")
     for n in (2, 4, 8, 16):
@@ -98,15 +101,23 @@ def numpy_grid(repeats: int, quick: bool) -> None:
                                            ("Gilbert-Elliott", GilbertElliott(["1/4"] * d, ["1/2"] * d), 0.75, 0.5)):
                 law = [np.full(d, x) for x in (stay, back, stay)]
                 simulate_traces(S, loss, 2, 64, seed=0)                  # compiled kernel loaded
-                sim = cpu(lambda r: simulate_traces(S, loss, HORIZON, paths, seed=r), repeats)
-                base = cpu(lambda r: trace_batch(model.A, model.Q, model.P0, model.H, model.row_sensor,
-                                                 HORIZON, paths, *law, r), repeats)
                 gamma = sample_receptions(loss, HORIZON, paths, np.random.default_rng(0))   # (paths, horizon, d)
                 received = np.ascontiguousarray(gamma.transpose(1, 0, 2))
                 out = np.empty((paths, HORIZON))
-                kern = cpu(lambda r: traces_into(model, received, out), repeats)
-                print(f"{n:>2} {d:>2} {name:<16} {paths:>6} {sim:>10.4f} {base:>8.4f} {base / sim:>9.2f} "
-                      f"{kern:>8.4f} {sim / kern:>10.2f}", flush=True)
+                runs = {"sim": lambda r: simulate_traces(S, loss, HORIZON, paths, seed=r),
+                        "base": lambda r: trace_batch(model.A, model.Q, model.P0, model.H, model.row_sensor,
+                                                      HORIZON, paths, *law, r),
+                        "kern": lambda r: traces_into(model, received, out)}
+                times = {key: [] for key in runs}
+                for r in range(repeats):   # in turn: each ratio is of one round, under one machine load
+                    for key, run in runs.items():
+                        times[key].append(cpu(lambda _: run(r), 1))
+                med = statistics.median
+                sim, base, kern = (med(times[key]) for key in runs)
+                over = med([b / a for a, b in zip(times["sim"], times["base"])])
+                floor = med([a / k for a, k in zip(times["sim"], times["kern"])])
+                print(f"{n:>2} {d:>2} {name:<16} {paths:>6} {sim:>10.4f} {base:>8.4f} {over:>9.2f} "
+                      f"{kern:>8.4f} {floor:>10.2f}", flush=True)
     print(f"peak RSS of this process {peak_rss_mb():.0f} MB")
 
 
@@ -131,10 +142,12 @@ def main() -> None:
     ap.add_argument("--grid", action="store_true", help="only the set-up and the grid against NumPy")
     args = ap.parse_args()
     paths, loop_paths, repeats = (4096, 10, 1) if args.quick else (16384, 20, 3)
-    print(f"horizon {HORIZON}; batched {paths} paths, loop {loop_paths} paths; CPU seconds, medians of {repeats}")
+    grid_repeats = 3 if args.quick else 7
+    print(f"horizon {HORIZON}; batched {paths} paths, loop {loop_paths} paths; CPU seconds, medians of {repeats} "
+          f"({grid_repeats} rounds in the grid, its ratios the medians of the rounds' ratios)")
     compiled_setup()
     burst_sample(system(2, 1), IID(["3/10"]), 1, 2, 0, None)   # this process loads the compiled kernel once
-    numpy_grid(repeats, args.quick)
+    numpy_grid(grid_repeats, args.quick)
     if args.grid:
         return
     print(f"{'n':>2} {'d':>3} {'losses':<22} {'set-up s':>8} {'batched CPU s':>13} {'path-steps/s':>12} "

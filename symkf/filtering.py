@@ -278,11 +278,37 @@ def _kernel_arguments(model: FloatSystem, received: np.ndarray) -> tuple:
     if not np.any(model.P0):
         raise InputError("P0: the prior covariance is zero; log tr P_0 is undefined")
     received = np.ascontiguousarray(received)
+    A, H, P0, Q = model.A, model.H, model.P0, model.Q
+    if np.any(np.tril(A, -2)):
+        # the kernel's time update takes A upper Hessenberg (it skips the entries below the
+        # subdiagonal: a third of A S at n = 8): the state in an orthonormal basis that makes it
+        # so, which leaves tr P unchanged (P -> T P T^T)
+        T = _hessenberg_basis(A)
+        A, H, P0, Q = np.triu(T @ A @ T.T, -1), H @ T.T, T @ P0 @ T.T, T @ Q @ T.T
     # triangular factors: S0 S0^T = P0 (lower), U_Q^T U_Q = Q (upper), from QR of any square root
-    S0 = np.linalg.qr(_psd_factor(model.P0).T, mode="r").T
-    UQ = np.linalg.qr(_psd_factor(model.Q).T, mode="r")
+    S0 = np.linalg.qr(_psd_factor(P0).T, mode="r").T
+    UQ = np.linalg.qr(_psd_factor(Q).T, mode="r")
     c = functools.partial(np.array, order="C")   # writable copies: numba compiles read-only arrays apart
-    return c(model.A), c(UQ), c(model.H), c(model.row_sensor), c(S0), received
+    return c(A), c(UQ), c(H), c(model.row_sensor), c(S0), received
+
+
+def _hessenberg_basis(A: np.ndarray) -> np.ndarray:
+    """An orthogonal ``T`` with ``T A T^T`` upper Hessenberg up to rounding (Householder
+    reflections of the columns below the subdiagonal, Golub and Van Loan, Matrix Computations,
+    section 7.4.2)."""
+    n = A.shape[0]
+    M, T = np.array(A, float), np.eye(n)
+    for k in range(n - 2):
+        v = M[k + 1:, k].copy()
+        v[0] += np.copysign(np.linalg.norm(v), v[0])
+        norm = np.linalg.norm(v)
+        if norm == 0.0:
+            continue
+        v /= norm
+        for B in (M, T):                               # B <- (I - 2 v v^T) B on rows k+1..
+            B[k + 1:] -= 2.0 * np.outer(v, v @ B[k + 1:])
+        M[:, k + 1:] -= 2.0 * np.outer(M[:, k + 1:] @ v, v)
+    return T
 
 
 def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:

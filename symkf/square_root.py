@@ -20,8 +20,11 @@ measurement noise is ``2^-E`` and the process noise ``2^-E Q``.
 * Time update (Sui-You-Fu eq. 9, ``P <- A P A^T + Q``): Householder
   triangularisation of the stacked ``[(A S)^T; 2^(-E/2) U_Q]`` (``U_Q``
   upper triangular, ``U_Q^T U_Q = Q``), giving a lower-triangular ``S`` with
-  the same ``S S^T``; the triangular structure of both blocks is skipped.
-  Each reflector ``v = x + sign(x_0) |x| e_1`` stays unnormalised and is
+  the same ``S S^T``; the triangular structure of both blocks is skipped,
+  and so are the entries of ``A`` below its subdiagonal: the kernel takes
+  ``A`` upper Hessenberg (:mod:`symkf.filtering` writes a dense ``A`` in an
+  orthonormal basis that makes it so; ``tr P`` does not change), which
+  saves a third of ``A S`` at n = 8.  Each reflector ``v = x + sign(x_0) |x| e_1`` stays unnormalised and is
   applied as ``y - (v^T y) v / (|x| (|x| + |x_0|))`` (``|v|^2 = 2 |x| (|x| +
   |x_0|)``): one square root per column and one division per applied column.
 
@@ -226,13 +229,15 @@ def lanes(n: int) -> int:
 def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
                     S0: np.ndarray, received: np.ndarray, trace: np.ndarray, linear: bool = False) -> None:
     """``trace[k, p] = log tr P_{k|k-1}`` (k = 0..horizon) for receptions ``received[k, p, i]``
-    (sensor ``i``), from ``P_0 = S0 S0^T`` (``S0`` lower triangular), in blocks of :func:`lanes`
+    (sensor ``i``), ``A`` upper Hessenberg, from ``P_0 = S0 S0^T`` (``S0`` lower triangular), in blocks of :func:`lanes`
     ``(n)`` paths (a partial last block included).
     ``linear``: ``trace[p, k] = tr P_{k|k-1}`` for the paths and
     steps of ``trace`` instead (through a block buffer of :data:`BUFFER_STEPS` steps).  By
     :func:`_kernel` ``(n)``."""
     n = A.shape[0]
     horizon, paths, _ = received.shape
+    if np.any(np.tril(A, -2)):
+        raise ShapeError("A: the kernel takes A upper Hessenberg (symkf.filtering's kernel arguments make it so)")
     # the compiled loops do not check bounds
     if not linear and trace.shape != (horizon + 1, paths):
         raise ShapeError(f"log traces: expected {(horizon + 1, paths)}, got {trace.shape}")
@@ -522,6 +527,11 @@ STRAIGHT_MAX = 8
 PHASED_MAX = 5
 
 
+def _phases(n: int) -> list[list[int]]:
+    """The Householder columns of each lane loop of the straight-line time update."""
+    return [[j] for j in range(n)] if n <= PHASED_MAX else [list(range(n))]
+
+
 def _live(X: dict, j: int, n: int) -> list:
     """The entries of the time update's ``X`` that the steps from column ``j`` on read (rows
     ``j..n+j-1``, columns ``j..``: row ``n + j`` has not entered yet)."""
@@ -556,7 +566,7 @@ def _straight_source(n: int) -> str:
         w(f"    F = np.empty(({n}, {W}))")
         w(f"    G = np.empty(({n}, {W}))")
     for i in R:
-        for l in R:
+        for l in range(max(i - 1, 0), n):
             w(f"    a{i}_{l} = A[{i}, {l}]")
     for i in R:
         for j in range(i, n):
@@ -633,7 +643,7 @@ def _straight_source(n: int) -> str:
     # one lane loop per Householder column (the live entries kept in X between them), else one loop
     X = {(j, i): f"x{j}_{i}" for i in R for j in R}
     X.update({(n + i, j): f"x{n + i}_{j}" for i in R for j in range(i, n)})
-    phases = [[j] for j in R] if n <= PHASED_MAX else [list(R)]
+    phases = _phases(n)
     for cols in phases:
         w(f"            for p in range({W}):")
         if cols[0] == 0:
@@ -641,7 +651,7 @@ def _straight_source(n: int) -> str:
             for i in R:
                 for j in R:
                     w(f"                {X[j, i]} = 0.0")
-                    for l in R:
+                    for l in range(max(i - 1, 0), n):    # A upper Hessenberg (log_trace_paths)
                         w(f"                {X[j, i]} += a{i}_{l} * s{l}_{j}")
         else:
             for key in _live(X, cols[0], n):

@@ -142,6 +142,27 @@ def test_log_traces_match_the_covariance_form_on_stable_runs(n, modulus, loss):
     np.testing.assert_allclose(logs[:, :300], np.log(plain), rtol=1e-10)
 
 
+@pytest.mark.parametrize("n", [3, 6, 11])
+def test_log_traces_of_a_dense_A_match_the_covariance_form(n):
+    # the kernel takes A upper Hessenberg: a dense A runs in an orthonormal basis that makes it so
+    # (tr P is unchanged); the float64 covariance recursion in the original basis is the reference
+    from symkf.filtering import _hessenberg_basis
+    rng = np.random.default_rng(100 + n)
+    M = rng.integers(-3, 4, (n, n))
+    radius = max(abs(np.linalg.eigvals(M)))
+    A = sp.Matrix(M) * sp.Rational(9, 10) / sp.Rational(int(radius * 100) + 1, 100)
+    T = _hessenberg_basis(np.array(A, float))
+    np.testing.assert_allclose(T @ T.T, np.eye(n), atol=1e-14)
+    assert np.abs(np.tril(T @ np.array(A, float) @ T.T, -2)).max() < 1e-14 * max(1, np.abs(M).max())
+    with budget.limits(max_dimension=max(n, budget.LIMITS.max_dimension)):
+        system = System(A=A, sensors=[Sensor(C=rng.integers(-2, 3, (1, n)).tolist()), Sensor(C=[[1] + [0] * (n - 1)])],
+                        Q=sp.diag(*range(1, n + 1)))
+    gamma = rng.random((200, 150, 2)) >= 0.4
+    plain = predicted_covariances(system, gamma, check_every=0)
+    logs = log_traces(real_form(system), gamma.transpose(1, 0, 2))
+    np.testing.assert_allclose(logs[:, :150], np.log(plain), rtol=1e-10)
+
+
 def test_log_traces_keep_an_unobserved_unstable_mode_beyond_float64():
     # A = diag(2, 1/2), P0 = Q = I, the sensor sees only the stable coordinate: P stays diagonal,
     # p1_{k+1} = 4 p1_k + 1 whatever is received (p1_k = (4^(k+1) - 1)/3, beyond 1e308 after
@@ -215,7 +236,8 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
     assert n <= STRAIGHT_MAX
     rng = np.random.default_rng(n)
     dense = rng.normal(size=(n, n))
-    for A, H in ((dense * 1.5 / np.abs(np.linalg.eigvals(dense)).max(), rng.normal(size=(3, n))),
+    # (A upper Hessenberg, as the kernels take it: symkf.filtering's arguments reduce a dense A)
+    for A, H in ((np.triu(dense, -1) * 1.5 / np.abs(np.linalg.eigvals(np.triu(dense, -1))).max(), rng.normal(size=(3, n))),
                  (np.kron(np.eye(-(-n // 2)), [[0.0, -2.0], [2.0, 0.0]])[:n, :n] + np.diag([0.0] * (n - 1) + [1.5 * (n % 2)]),
                   rng.integers(-1, 2, (3, n)).astype(float))):
         M = rng.normal(size=(n, n))
