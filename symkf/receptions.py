@@ -136,9 +136,17 @@ def _two_state(group: Sequence[LossFactor], horizon: int, paths: int, rng: np.ra
 
 def _markov_step_py(bits: np.ndarray, prev: np.ndarray, stay: np.ndarray, back: np.ndarray, out: np.ndarray) -> None:
     """``out = bits < (stay if prev else back)`` entrywise (per sensor thresholds), one pass: the
-    threshold chosen by a mask, not a branch, so that the loop vectorises (3x a select on bools)."""
+    threshold chosen by a mask, not a branch, so that the loop vectorises (3x a select on bools).
+    The vectorised loop runs along the sensors, or along the paths for up to 3 sensors (with one
+    sensor: 1.15 -> 0.06 ns a draw; from 4 on, along the sensors is faster)."""
     m, J = bits.shape
     was, now = prev.view(np.uint8), out.view(np.uint8)
+    if J <= 3:
+        for j in range(J):
+            flip = stay[j] ^ back[j]
+            for p in range(m):
+                now[p, j] = np.uint8(bits[p, j] < (back[j] ^ (flip & (np.uint32(0) - np.uint32(was[p, j])))))
+        return
     for p in range(m):
         for j in range(J):
             threshold = back[j] ^ ((stay[j] ^ back[j]) & (np.uint32(0) - np.uint32(was[p, j])))

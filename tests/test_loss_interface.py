@@ -167,6 +167,23 @@ def test_sampling_law_matches_exact_enumeration(name, seed=7):
     assert _z(counts, _wrong_law(name, p), N) > 15
 
 
+@pytest.mark.parametrize("sensors", [1, 2, 3, 4, 7])
+def test_the_compiled_markov_step_is_its_definition(sensors):
+    # received_k = bits < (stay if received_{k-1} else back) per sensor, for the loop along the paths
+    # (up to 3 sensors) and along the sensors, thresholds at both ends of the 32-bit range included
+    from symkf.receptions import _markov_step
+    rng = np.random.default_rng(sensors)
+    bits = rng.integers(0, 2 ** 32, (1000, sensors), dtype=np.uint32)
+    bits[:5] = [[0], [1], [2 ** 32 - 1], [2 ** 31], [2 ** 31 - 1]]
+    prev = rng.random((1000, sensors)) < 0.5
+    stay = rng.integers(0, 2 ** 32, sensors, dtype=np.uint32)
+    back = rng.integers(0, 2 ** 32, sensors, dtype=np.uint32)
+    stay[0], back[-1] = 0, 2 ** 32 - 1
+    out = np.empty_like(prev)
+    _markov_step()(bits, prev, stay, back, out)
+    np.testing.assert_array_equal(out, bits < np.where(prev, stay, back))
+
+
 def test_independent_sensors_never_build_the_joint_chain():
     ge = GilbertElliott(["1/10"] * 16, ["1/2"] * 16)
     with pytest.raises(BudgetError, match="max_markov_states"):
