@@ -430,7 +430,7 @@ def verdict_plan(system: System, verdict, loss: LossModel | None = None) -> Burs
     # the engine's own exact growth, only steering the sampling: a float (burst_plan's input caps
     # are for numbers a user gives; a dense A's alpha^(2g) is a root of a degree-28 polynomial)
     plan = burst_plan(system, phases if any(phases) else [list(range(system.d))], float(growth))
-    if loss is None:
+    if loss is None or verdict.limiting_block is None:   # no block decides: no tie to search
         return plan
     from .decay import capped_hyperplanes  # the engine imports nothing from simulation
     from .observability import block_rows

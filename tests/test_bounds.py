@@ -40,6 +40,17 @@ def rows(atlas):
     return {r.key: r for r in atlas.rows}
 
 
+def test_nilpotent_a_every_row_answers():
+    # rho(A) = 0: every mode vanishes within n steps, so every loss rate is stable (eps_c = 1);
+    # the rows that need an unstable A do not apply, Quevedo et al.'s holds, and the fusion paper's
+    # Assumption 2, eps rho(A)^2 < 1, holds at every eps (it divided by rho(A)^2 = 0)
+    atlas = bounds(system([[0, 1], [0, 0]], [1, 0]))
+    r = rows(atlas)
+    assert r["fusion-assumption2"].value == 1
+    assert r["quevedo-theorem1"].relation == HOLDS
+    assert all(r[k].relation == NOT_APPLICABLE for k in ("sinopoli-lower", "yang-theorem2", "yang-theorem5"))
+
+
 def test_rotation_quarter_turn_by_hand():
     # A = 2R(pi/2), C = [1 0]: rows C A^k repeat direction every 2 steps, eps_c = 2^(-4) = 1/16;
     # Sinopoli's necessary bound 1/4 (gap 3/16); degenerate (rank C T = 1 < 2), p = 2

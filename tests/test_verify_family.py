@@ -78,6 +78,19 @@ def test_dask_local_cluster_matches_serial(path, serial, dask_cluster):
     assert verify_family(path, scheduler=dask_cluster.scheduler_address, seed=SEED, **RUN).to_json() == serial
 
 
+@pytest.mark.parametrize("A", [[[0]], [[0, 1], [0, 0]]])
+def test_a_nilpotent_system_is_verified_stable_at_every_loss(A):
+    # rho(A) = 0: no eigen-block decides (its modes vanish after n steps), so no decisive pattern
+    # steers the sampling and the margin is 0; verify used to index the blocks by None and take
+    # the max of no margins
+    import symkf as sk
+    S = sk.System(A=A, sensors=[sk.Sensor(C=[[1] + [0] * (len(A) - 1)])])
+    for loss in (sk.IID(["1"]), sk.GilbertElliott(["1/2"], ["1/2"])):
+        r = verify(S, loss, paths=200, seed=0)
+        assert r.verdict.stable and r.verdict.limiting_block is None
+        assert r.outcome == "consistent"
+
+
 def test_family_needs_a_loss_template(tmp_path):
     p = tmp_path / "noloss.toml"
     p.write_text(NO_LOSS)

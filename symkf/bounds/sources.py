@@ -101,8 +101,10 @@ def yang_theorem5(system: System, quantity: Quantity) -> Row:
 
 
 def fusion_assumption2(system: System, quantity: Quantity) -> Row:
-    """Assumption 2 at a common loss: ``eps rho(A)^2 < 1`` (another estimator: not compared)."""
-    v = sp.radsimp(1 / hyp.spectral_radius(system).exact ** 2)
+    """Assumption 2 at a common loss: ``eps rho(A)^2 < 1`` (another estimator: not compared); with
+    ``rho(A) = 0`` (a nilpotent A) it holds at every loss rate."""
+    rho = hyp.spectral_radius(system).exact
+    v = sp.radsimp(1 / rho ** 2) if rho else sp.Integer(1)
     observable = system.observable
     return row("fusion-assumption2", "Fusion paper, Assumption 2", FUSION,
                "fused local estimates bounded if (1 - min lambda_i) rho(A)^2 < 1 (smart sensors)", OTHER,
