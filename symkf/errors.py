@@ -27,6 +27,12 @@ class InputError(SymkfError, ValueError):
     """Malformed input: wrong type, shape, or value of a named entry."""
 
 
+class ArgumentError(InputError, TypeError):
+    """A public function called with arguments its signature does not take (one missing, unknown
+    or given twice); the message names the function and its signature.  Also a TypeError, as
+    Python's own is."""
+
+
 class InexactInputError(InputError):
     """A binary float that is not exactly its printed decimal reached an exact path (pass
     ``rationalize=True`` or ``rationalize="nearby"`` to the constructor to convert it)."""

@@ -125,3 +125,19 @@ def test_an_entry_rational_in_value_but_not_in_form():
     written = sk.System([[four, 1], [0, 3]], [sk.Sensor([[1, 0]])])
     plain = sk.System([[4, 1], [0, 3]], [sk.Sensor([[1, 0]])])
     assert sk.critical_loss_rate(written) == sk.critical_loss_rate(plain) == sp.Rational(1, 16)
+
+
+PUBLIC_CALLABLES = sorted(name for name in dir(sk) if not name.startswith("_") and callable(getattr(sk, name))
+                          and not isinstance(getattr(sk, name), type(sk)) and name != "SymkfError")
+
+
+@pytest.mark.parametrize("name", PUBLIC_CALLABLES)
+def test_calls_that_do_not_fit_a_signature_are_argument_errors(name):
+    # Python's TypeError for a missing, unknown or repeated argument becomes symkf's ArgumentError
+    # (still a TypeError), naming the function and the signature it takes
+    from symkf.errors import ArgumentError
+    fn = getattr(sk, name)
+    with pytest.raises(ArgumentError) as unknown:
+        fn(not_an_argument_of_any_symkf_function=1)
+    assert isinstance(unknown.value, TypeError) and isinstance(unknown.value, sk.SymkfError)
+    assert str(unknown.value).startswith(f"{name}(" if not isinstance(fn, type) else f"{name}.__init__(self")

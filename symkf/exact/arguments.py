@@ -37,7 +37,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import ArgumentError, InputError
 
 _ABSENT = object()
 
@@ -171,17 +171,30 @@ def float_array(value: Any, entry: str) -> np.ndarray:
         raise InputError(f"{entry}: expected real numbers (an array or rows), got {described(value)}") from None
 
 
-def checked(fn: Callable) -> Callable:
-    """``fn`` with its annotated arguments checked first (module docstring)."""
+def _shown(signature: inspect.Signature) -> str:
+    """``signature`` as written in the source, without its annotations (what a caller passes)."""
+    return str(signature.replace(parameters=[p.replace(annotation=p.empty) for p in signature.parameters.values()],
+                                 return_annotation=signature.empty))
+
+
+def checked(fn: Callable, types: bool = True) -> Callable:
+    """``fn`` with its arguments bound to its signature (an :class:`ArgumentError` otherwise) and,
+    with ``types``, its annotated arguments checked first (module docstring)."""
     tests: list | None = None
+    signature: inspect.Signature | None = None
 
     @functools.wraps(fn)
     def call(*args, **kwargs):
-        nonlocal tests
+        nonlocal tests, signature
         if sys._getframe(1).f_globals.get("__name__", "").startswith("symkf."):
             return fn(*args, **kwargs)  # symkf's own calls pass what it built: the checks guard the boundary
         if tests is None:
-            tests = _tests(getattr(fn, "py_func", fn))  # a numba kernel: its Python function's annotations
+            signature = inspect.signature(getattr(fn, "py_func", fn))
+            tests = _tests(getattr(fn, "py_func", fn)) if types else []   # a numba kernel: its py_func's annotations
+        try:
+            signature.bind(*args, **kwargs)
+        except TypeError as e:   # Python's message ("missing a required argument: 'loss'") and the signature
+            raise ArgumentError(f"{fn.__qualname__}{_shown(signature)}: {e}") from None
         for position, name, test, words, default in tests:
             value = args[position] if 0 <= position < len(args) else kwargs.get(name, _ABSENT)
             if value is _ABSENT or value is default:
@@ -213,11 +226,10 @@ def check_public(namespace: dict) -> None:
         elif isinstance(obj, type):
             for attr, member in list(vars(obj).items()):
                 # a hand-written __init__ is checked; a dataclass's generated one (code from
-                # "<string>") only stores the fields
-                if attr.startswith("_") and not (attr == "__init__" and inspect.isfunction(member)
-                                                 and member.__code__.co_filename != "<string>"):
+                # "<string>") only stores the fields, which __post_init__ checks: its call is bound
+                if attr.startswith("_") and not (attr == "__init__" and inspect.isfunction(member)):
                     continue
                 if inspect.isfunction(member):
-                    setattr(obj, attr, checked(member))
+                    setattr(obj, attr, checked(member, types=member.__code__.co_filename != "<string>"))
                 elif isinstance(member, (classmethod, staticmethod)) and inspect.isfunction(member.__func__):
                     setattr(obj, attr, type(member)(checked(member.__func__)))
