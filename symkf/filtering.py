@@ -272,7 +272,7 @@ def _kernel_arguments(model: FloatSystem, received: np.ndarray) -> tuple:
     received = np.asarray(received, bool)
     if received.ndim != 3:
         raise ShapeError(f"receptions: expected an array (horizon, paths, d), got shape {received.shape}")
-    horizon, paths, d = received.shape
+    d = received.shape[2]
     if d != model.d:
         raise ShapeError(f"receptions: {d} sensor(s) given, the system has {model.d}")
     if not np.any(model.P0):

@@ -75,15 +75,13 @@ SMALL_MAX = 4
 LOOP_LANES = 128
 #: steps of one block's linear traces held before they are written along the steps (64 x 128 lanes: 64 KiB)
 BUFFER_STEPS = 64
+#: the smallest normal float64, 2^-1022: a Potter denominator or a Householder ``|v|^2 / 2`` below it
+#: is dropped (its reciprocal could overflow; what it would change is below 2^-511 of ``S``'s scale)
+NORMAL = float(np.finfo(np.float64).tiny)
 # error_model="numpy": divisions need no Python zero check, so the path loops vectorise.
 # No fastmath, not even FMA contraction: a fused S - Su f^T does not cancel to the same
 # rounding as the product it subtracts; on A = 2 R(pi/2) (exact in float64) that lost 32 of
 # log tr P's 2773 over a 2000-step periodic burst (float_horizon fell from None to 45)
-#: ln 2 as numpy's ``exponent * math.log(2)`` rounds it (the kernel returns E ln 2, not E)
-LN2 = math.log(2)
-#: the smallest normal float64, 2^-1022: a Potter denominator or a Householder ``|v|^2 / 2`` below it
-#: is dropped (its reciprocal could overflow; what it would change is below 2^-511 of ``S``'s scale)
-NORMAL = float(np.finfo(np.float64).tiny)
 _compiled = njit(cache=True, nogil=True, error_model="numpy")
 
 
@@ -527,11 +525,6 @@ STRAIGHT_MAX = 8
 PHASED_MAX = 5
 
 
-def _phases(n: int) -> list[list[int]]:
-    """The Householder columns of each lane loop of the straight-line time update."""
-    return [[j] for j in range(n)] if n <= PHASED_MAX else [list(range(n))]
-
-
 def _live(X: dict, j: int, n: int) -> list:
     """The entries of the time update's ``X`` that the steps from column ``j`` on read (rows
     ``j..n+j-1``, columns ``j..``: row ``n + j`` has not entered yet)."""
@@ -643,7 +636,7 @@ def _straight_source(n: int) -> str:
     # one lane loop per Householder column (the live entries kept in X between them), else one loop
     X = {(j, i): f"x{j}_{i}" for i in R for j in R}
     X.update({(n + i, j): f"x{n + i}_{j}" for i in R for j in range(i, n)})
-    phases = _phases(n)
+    phases = [[j] for j in R] if n <= PHASED_MAX else [list(R)]
     for cols in phases:
         w(f"            for p in range({W}):")
         if cols[0] == 0:

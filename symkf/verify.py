@@ -179,7 +179,7 @@ def judge(v: Verdict, sim: dict[str, Any]) -> dict[str, Any]:
     """``outcome``, ``reason`` and ``rate_consistent`` of a simulation against the exact verdict
     (rules in the module docstring)."""
     interval, tol = sim["rate_interval"], sim["tolerance"]
-    margin = float(v.limiting_margin.exact)
+    margin = float(v.limiting_margin)
     side = "stable" if v.stable else "unstable"
     if interval is None:
         inside = None
