@@ -167,21 +167,42 @@ def test_sampling_law_matches_exact_enumeration(name, seed=7):
     assert _z(counts, _wrong_law(name, p), N) > 15
 
 
-@pytest.mark.parametrize("sensors", [1, 2, 3, 4, 7])
+@pytest.mark.parametrize("sensors", [1, 2, 3, 4, 7, 300])
 def test_the_compiled_markov_step_is_its_definition(sensors):
-    # received_k = bits < (stay if received_{k-1} else back) per sensor, for the loop along the paths
-    # (up to 3 sensors) and along the sensors, thresholds at both ends of the 32-bit range included
-    from symkf.receptions import _markov_step
+    # received_k = (u, v) < T(stay if received_{k-1} else back) per sensor, T = round(p 2^32) in
+    # 16-bit halves: v is the next spare draw, taken only where u ties with T's high part; spares
+    # running out stop the step at a whole pass, from which it resumes.  Thresholds at both ends
+    # (p = 0 and p = 1, the latter above every draw) and draws on both sides of every tie.
+    from symkf.receptions import _TILE, _markov_step, _thresholds
     rng = np.random.default_rng(sensors)
-    bits = rng.integers(0, 2 ** 32, (1000, sensors), dtype=np.uint32)
-    bits[:5] = [[0], [1], [2 ** 32 - 1], [2 ** 31], [2 ** 31 - 1]]
-    prev = rng.random((1000, sensors)) < 0.5
-    stay = rng.integers(0, 2 ** 32, sensors, dtype=np.uint32)
-    back = rng.integers(0, 2 ** 32, sensors, dtype=np.uint32)
-    stay[0], back[-1] = 0, 2 ** 32 - 1
-    out = np.empty_like(prev)
-    _markov_step()(bits, prev, stay, back, out)
-    np.testing.assert_array_equal(out, bits < np.where(prev, stay, back))
+    m = 3 * _TILE // sensors + 5
+    stay_p, back_p = rng.random(sensors), rng.random(sensors)
+    stay_p[0], back_p[-1] = 0.0, 1.0
+    (sh, sl), (bh, bl) = _thresholds(stay_p), _thresholds(back_p)
+    prev = rng.random((m, sensors)) < 0.5
+    high = np.where(prev, sh, bh)
+    u = rng.integers(0, 2 ** 16, (m, sensors)).astype(np.uint16)
+    u[::3] = np.minimum(high[::3], 2 ** 16 - 1)                      # a third of the rows tie
+    spare = rng.integers(0, 2 ** 16, m * sensors, dtype=np.uint16)
+    T = (np.where(prev, sh, bh).astype(np.int64) << 16) + np.where(prev, sl, bl)
+    expected, used = np.empty_like(prev), 0
+    for e in np.ndindex(m, sensors):
+        v = 0
+        if u[e] == high[e]:
+            v, used = spare[used], used + 1
+        expected[e] = (int(u[e]) << 16) + int(v) < T[e]
+    rows = max(1, _TILE // sensors)
+    tiled = [np.tile(t, rows) for t in (sh, sl, bh, bl)]
+    out, step = np.empty_like(prev), _markov_step()
+    done, taken, chunks = 0, 0, 0
+    while done < m * sensors:
+        chunks += 1
+        lent = spare[taken:taken + 200 * chunks]                     # a few spares at a time: resumes
+        done, k = step(u.ravel(), prev.ravel(), *tiled, out.reshape(-1), lent, done, 0)
+        assert done % (rows * sensors) == 0 or done == m * sensors
+        taken += k
+    np.testing.assert_array_equal(out, expected)
+    assert taken == used and chunks > 1
 
 
 def test_independent_sensors_never_build_the_joint_chain():
