@@ -58,7 +58,10 @@ import math
 import numpy as np
 from llvmlite import ir
 from numba import cfunc, njit, types
+from numba.core import cgutils
+from numba.core.imputils import impl_ret_new_ref
 from numba.extending import intrinsic
+from numba.np.arrayobj import _empty_nd_impl
 
 from .errors import ShapeError
 from .exact.arguments import check_public
@@ -131,6 +134,42 @@ def _log_scaled(t: float, e: int) -> float:
     if 0.0 < t < math.inf:
         return value
     return -math.inf if t == 0.0 else t
+
+
+class _Aligned64:
+    """numba's target context with 64-byte array alignment (its own is 32: AVX's)."""
+
+    def __init__(self, context) -> None:
+        self._context = context
+
+    def __getattr__(self, name: str):
+        return getattr(self._context, name)
+
+    def get_preferred_array_alignment(self, ty) -> int:
+        return 64
+
+
+def _aligned_zeros(dtype):
+    """An intrinsic ``zeros(shape)`` of ``dtype`` (C order) at a 64-byte boundary.  numba's own arrays
+    are aligned to 32 bytes: in about half of all processes they start 32 bytes off a cache line,
+    and then every 64-byte vector load of a lane loop spans two lines (measured at n = 16: the
+    kernel took 33 ms in some processes, 40-48 ms in others; 31-33 ms in every process aligned).
+    The allocation is numba's own (:func:`numba.np.arrayobj._empty_nd_impl`), in the kernel's body,
+    so that the compiler still tells the arrays apart and knows their shapes (a view of another
+    dtype would hide both: a kernel 4-6x slower at n = 4, 8)."""
+    @intrinsic
+    def zeros(typingctx, shape):
+        array = types.Array(dtype, len(shape), "C")
+
+        def codegen(context, builder, signature, args):
+            out = _empty_nd_impl(_Aligned64(context), builder, array, cgutils.unpack_tuple(builder, args[0]))
+            cgutils.memset(builder, out.data, builder.mul(out.itemsize, out.nitems), 0)
+            return impl_ret_new_ref(context, builder, array, out._getvalue())
+        return array(shape), codegen
+    return zeros
+
+
+_aligned, _aligned_int = _aligned_zeros(types.float64), _aligned_zeros(types.int64)
 
 
 @_compiled
@@ -269,15 +308,15 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
     # rows an odd number of lane slots (of 512 bytes) apart: at n = 16 a column's 17 rows would be
     # 8 KiB apart, all in the same 8 of the L1 cache's 64 sets (12 ways); padded, they spread over all
     cols = n | 1
-    S = np.zeros((n, cols, LOOP_LANES))
-    X = np.zeros((2 * n, cols, LOOP_LANES))
-    V = np.empty((n + 3) * LOOP_LANES)
-    fg = np.empty((2 * n + 1, LOOP_LANES))   # Potter's f (rows 0..n-1), g (n..2n-1), a row of scratch
-    f2 = np.empty(LOOP_LANES)
-    coef = np.empty(LOOP_LANES)
-    noise = np.empty(LOOP_LANES)
-    E = np.empty(LOOP_LANES, np.int64)
-    t = np.empty(LOOP_LANES)
+    S = _aligned((n, cols, LOOP_LANES))
+    X = _aligned((2 * n, cols, LOOP_LANES))
+    V = _aligned(((n + 3) * LOOP_LANES,))
+    fg = _aligned((2 * n + 1, LOOP_LANES))   # Potter's f (rows 0..n-1), g (n..2n-1), a row of scratch
+    f2 = _aligned((LOOP_LANES,))
+    coef = _aligned((LOOP_LANES,))
+    noise = _aligned((LOOP_LANES,))
+    E = _aligned_int((LOOP_LANES,))
+    t = _aligned((LOOP_LANES,))
     block = np.empty((d, LOOP_LANES), np.bool_)
     for start in range(0, paths, LOOP_LANES):
         for i in range(n):
@@ -548,16 +587,16 @@ def _straight_source(n: int) -> str:
     w("    horizon, paths, d = received.shape")
     w(f"    block = np.empty((d, {W}), np.bool_)")   # a step's receptions of the block, sensor-major
     w("    rows = H.shape[0]")
-    w(f"    S = np.zeros(({n}, {n}, {W}))")
-    w(f"    t = np.empty({W})")
+    w(f"    S = _aligned(({n}, {n}, {W}))")
+    w(f"    t = _aligned(({W},))")
     w("    bits = t.view(np.int64)")
-    w(f"    E = np.zeros({W}, np.int64)")
-    w(f"    noise = np.empty({W})")
-    w(f"    half = np.empty({W})")
+    w(f"    E = _aligned_int(({W},))")
+    w(f"    noise = _aligned(({W},))")
+    w(f"    half = _aligned(({W},))")
     if n <= PHASED_MAX:   # the time update's live entries between its lane loops, and Potter's u, w
-        w(f"    X = np.empty(({2 * n}, {n}, {W}))")
-        w(f"    F = np.empty(({n}, {W}))")
-        w(f"    G = np.empty(({n}, {W}))")
+        w(f"    X = _aligned(({2 * n}, {n}, {W}))")
+        w(f"    F = _aligned(({n}, {W}))")
+        w(f"    G = _aligned(({n}, {W}))")
     for i in R:
         for l in range(max(i - 1, 0), n):
             w(f"    a{i}_{l} = A[{i}, {l}]")
@@ -689,7 +728,7 @@ def _straight_module() -> str:
             ':func:`symkf.square_root._straight_module` (do not edit; a test compares it with the generator)."""\n\n'
             "import math\n\nimport numpy as np\n\n"
             "from .exact.arguments import check_public\n"
-            "from .square_root import NORMAL, _pow2, _receptions, _store\n\n\n" % STRAIGHT_MAX)
+            "from .square_root import NORMAL, _aligned, _aligned_int, _pow2, _receptions, _store\n\n\n" % STRAIGHT_MAX)
     return head + "\n\n".join(_straight_source(n) for n in range(1, STRAIGHT_MAX + 1)) + "\n\ncheck_public(globals())\n"
 
 

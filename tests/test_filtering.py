@@ -370,3 +370,20 @@ def test_the_generated_kernel_modules_are_the_generators_output(module, generato
     import symkf.square_root
     generated = importlib.import_module(f"symkf.{module}")
     assert Path(generated.__file__).read_text(encoding="utf-8") == getattr(symkf.square_root, generator)()
+
+
+def test_kernel_arrays_start_on_a_cache_line():
+    # the lane loops' 64-byte vector loads must not span two cache lines: numba's own np.zeros is
+    # 32-byte aligned (half of these sizes start 32 bytes off a line in a typical process)
+    from numba import njit
+    from symkf.square_root import _aligned, _aligned_int
+
+    @njit
+    def offsets(sizes):
+        out = np.empty((len(sizes), 3), np.int64)
+        for i in range(len(sizes)):
+            a, e = _aligned((3, sizes[i], 8)), _aligned_int((sizes[i],))
+            out[i] = a.ctypes.data % 64, e.ctypes.data % 64, int(a.sum()) + e.sum() + a.shape[1] - sizes[i]
+        return out
+    got = offsets(np.arange(1, 41))
+    assert not got.any(), got
