@@ -205,6 +205,20 @@ def test_the_compiled_markov_step_is_its_definition(sensors):
     assert taken == used and chunks > 1
 
 
+def test_certain_transitions_are_sampled_exactly():
+    # probabilities 0 and 1 hold exactly, not within 2^-32: a channel that always recovers never
+    # loses twice in a row, one that never fails never loses after a reception, i.i.d. losses 0
+    # and 1 give all and none; 8.4 million draws each (a 2^-32 leak shows up with odds 1 in 500)
+    ge = GilbertElliott(["1/3", 0, 1], [1, "1/2", 1])
+    gamma = ge.sample(64, 2 ** 17, np.random.default_rng(5))
+    lost = ~gamma
+    assert not (lost[1:, :, 0] & lost[:-1, :, 0]).any()
+    assert not (gamma[:-1, :, 1] & lost[1:, :, 1]).any() and gamma[:, :, 1].mean() > 0.99
+    assert not (lost[:-1, :, 2] & lost[1:, :, 2]).any() and not (gamma[:-1, :, 2] & gamma[1:, :, 2]).any()
+    iid = IID([0, 1]).sample(64, 2 ** 17, np.random.default_rng(6))
+    assert iid[:, :, 0].all() and not iid[:, :, 1].any()
+
+
 def test_independent_sensors_never_build_the_joint_chain():
     ge = GilbertElliott(["1/10"] * 16, ["1/2"] * 16)
     with pytest.raises(BudgetError, match="max_markov_states"):
