@@ -19,7 +19,7 @@ from symkf import cli, examples
 from symkf.bounds import RESULTS, bounds
 from symkf.bounds import hypotheses as hyp
 from symkf.bounds.counterexample import reproduce_you_2011_counterexample
-from symkf.bounds.row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE
+from symkf.bounds.row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE, REFUSED
 from symkf.strategies import diagonalizable_systems
 
 R = sp.Rational
@@ -154,6 +154,22 @@ def test_multi_sensor_rows():
     # alpha^4 rho^2 = 16 (1/20) (1/4)^2 = 1/20 < 1
     note = rows(bounds(S, sk.IID(["1/20", "1/4"]), lmi_steps=0))["sinopoli-lmi"].note
     assert "at the model's rates ['1/20', '1/4']: LMI" in note and "exact verdict stable" in note
+
+
+def test_a_row_refused_by_a_cap_leaves_the_rest_of_the_atlas():
+    # Quevedo et al.'s Pr{r = 1} for two sensors of a 2-state system needs up to 5 (sensor, span)
+    # states: under a cap of 4 that row says so with the cap named, in text, JSON and LaTeX; with
+    # the cap restored it holds as before
+    S = system(ROT, [1, 0], [1, 1], single=False)
+    with sk.budget.limits(max_span_states=4):
+        a = bounds(S, lmi_steps=0)
+    refused = rows(a)["quevedo-theorem1"]
+    assert refused.relation == REFUSED and "max_span_states" in refused.note and refused.value is None
+    assert "not evaluated: " in str(a) and "max_span_states" in str(a)
+    assert json.loads(json.dumps(a.to_json()))["rows"]
+    assert "not evaluated" in a.to_latex()
+    assert rows(a)["sui-theorem12"].relation == EQUAL
+    assert rows(bounds(S, lmi_steps=0))["quevedo-theorem1"].relation == HOLDS
 
 
 def test_counterexample_reproduces():

@@ -13,10 +13,12 @@ import sympy as sp
 from hypothesis import given, settings, strategies as st
 
 from symkf import files, stability
-from symkf.errors import AssumptionError, InputError, ProbabilityError
+from symkf import budget
+from symkf.errors import AssumptionError, BudgetError, InputError, ProbabilityError
 from symkf.losses import MarkovLoss
 from symkf.network import (MarkovNetworkState, Nakagami, NetworkLoss, PeriodicDynamics, Rayleigh, Rician,
                            SemiMarkovNetworkState, SensorTree, UserGain, full_rank_configurations,
+                           full_rank_probability, full_rank_probability_of,
                            induced_loss, is_up_set, nu, observability_matrix,
                            phi_symbol, rank_deficiency_probabilities,
                            rank_deficiency_probability_by_enumeration, spectral_norm_squared,
@@ -211,6 +213,54 @@ def test_relay_nodes_never_add_rank():
     dyn = PeriodicDynamics([[1]], [[[1]], [[0]], [[2]]])
     J = full_rank_configurations(tree, dyn)
     assert set(J) == {g for g in itertools.product((0, 1), repeat=3) if g[0] or (g[1] and g[2])}
+
+
+def test_full_rank_probability_without_listing_is_the_sum_over_J():
+    # Example 3's tree and a relay: the depth-first recursion over spans against the listed J
+    from symkf.network.reproduce import example3_dynamics, example3_tree
+    for tree, dyn in ((example3_tree(), example3_dynamics()),
+                      (SensorTree([0, 0, 2]), PeriodicDynamics([[1]], [[[1]], [[0]], [[2]]]))):
+        phi = [sp.Symbol(f"p{m}") for m in range(1, tree.M + 1)]
+        listed = full_rank_probability(full_rank_configurations(tree, dyn), phi)
+        assert sp.expand(full_rank_probability_of(tree, dyn, phi) - listed) == 0
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 6).flatmap(lambda M: st.tuples(
+    st.tuples(*[st.integers(0, m - 1) for m in range(1, M + 1)]),            # parents: a random tree
+    st.lists(st.lists(st.lists(st.integers(-2, 2), min_size=3, max_size=3), min_size=0, max_size=2),
+             min_size=M, max_size=M),                                        # 0-2 rows per sensor
+    st.lists(st.sampled_from([R(1, 3), R(1, 2), R(4, 5), sp.S.One, sp.S.Zero]), min_size=M, max_size=M))),
+    st.booleans())
+def test_full_rank_probability_of_random_trees(case, sqrt2):
+    # independent check: J listed by the exact rank of every C(theta), then summed; sensors of
+    # zero, one and two rows (relays, parallel rows), entries in Q or Q(sqrt 2)
+    parents, blocks, phi = case
+    tree = SensorTree(list(parents))
+    scale = sp.sqrt(2) if sqrt2 else 1
+    C = [sp.Matrix(b) * scale if b else sp.zeros(1, 3) for b in blocks]
+    dyn = PeriodicDynamics(sp.eye(3), C)
+    listed = full_rank_probability(full_rank_configurations(tree, dyn), phi)
+    assert sp.nsimplify(full_rank_probability_of(tree, dyn, phi) - listed) == 0
+
+
+def test_full_rank_probability_is_refused_before_it_starts():
+    # 40 scalar sensors of a 6-state system: up to sum_{k<6} C(41, k + 1) = 5.4 million spans
+    dyn = PeriodicDynamics(sp.eye(6), [[[1, m, m ** 2, m ** 3, m ** 4, m ** 5]] for m in range(40)])
+    with pytest.raises(BudgetError, match="max_span_states"):
+        full_rank_probability_of(SensorTree([0] * 40), dyn, [R(1, 2)] * 40)
+    with pytest.raises(BudgetError, match="max_patterns"):
+        full_rank_configurations(SensorTree([0] * 40), dyn)
+    with budget.limits(max_span_states=10 ** 7):
+        assert budget.LIMITS.max_span_states == 10 ** 7
+
+
+def test_full_rank_probability_of_sensors_in_general_position():
+    # 16 Vandermonde rows in dimension 4 (every 4 independent): Pr{r = 1} = P(Binomial(16, p) >= 4)
+    p = sp.Symbol("p")
+    dyn = PeriodicDynamics(sp.eye(4), [[[1, m, m ** 2, m ** 3]] for m in range(16)])
+    exact = sum(sp.binomial(16, k) * p ** k * (1 - p) ** (16 - k) for k in range(4, 17))
+    assert sp.expand(full_rank_probability_of(SensorTree([0] * 16), dyn, [p] * 16) - exact) == 0
 
 
 def test_theorem1_iid_and_gilbert_elliott_by_hand():

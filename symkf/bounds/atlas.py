@@ -22,7 +22,7 @@ from ..stability import critical_loss_rate, stable_recovery_intervals
 from ..tables import Cell, Table, escape
 from ..verify import number_json
 from . import huang_dey, mo_sinopoli, plarre_bullo, sinopoli, sources, you_fu_xie
-from .row import EQUAL, HOLDS, INSIDE, NOT_COMPARED, VIOLATED, Quantity, Row, number
+from .row import EQUAL, HOLDS, INSIDE, NOT_COMPARED, REFUSED, VIOLATED, Quantity, Row, number
 
 #: the results, in the order of the table (each a function (system, quantity) -> Row; the LMI's
 #: also takes its bisection steps)
@@ -94,6 +94,9 @@ class Atlas:
             lines.append(f"- {r.result}: {r.statement}")
             if not r.applies:
                 lines.append(f"    does not apply: {r.failed}")
+                continue
+            if r.relation == REFUSED:
+                lines.append(f"    not evaluated: {r.note}")
                 continue
             lines.append(f"    value: {_value_text(r, q)}; relation: {_relation_text(r)}")
         return "\n".join(lines)
@@ -230,11 +233,12 @@ def _relation_short(r: Row) -> str:
         return f"holds, gap <= {float(r.gap['interval'][1]):.3g}"
     if r.relation == HOLDS:
         return "holds" + _gap_text(r)
-    return {NOT_COMPARED: "another estimator", INSIDE: "exact value inside bracket"}.get(r.relation, r.relation)
+    return {NOT_COMPARED: "another estimator", INSIDE: "exact value inside bracket",
+            REFUSED: "not evaluated (a symkf.budget cap)"}.get(r.relation, r.relation)
 
 
 def _value_cell(r: Row, q: Quantity) -> Cell:
-    if not r.applies:
+    if not r.applies or r.relation == REFUSED:
         return Cell.text("---")
     if r.bracket is not None:
         lo, hi = r.bracket

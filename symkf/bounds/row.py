@@ -26,15 +26,15 @@ from typing import Any, Callable, Sequence
 import sympy as sp
 
 from ..exact.arguments import check_public
-from ..errors import AssumptionError
+from ..errors import AssumptionError, BudgetError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import to_exact
 
 Interval = tuple[AlgebraicNumber, AlgebraicNumber]
 
 EXACT, SUFFICIENT, NECESSARY, OTHER = "exact", "sufficient", "necessary", "other"
-EQUAL, HOLDS, VIOLATED, INSIDE, NOT_APPLICABLE, NOT_COMPARED = (
-    "equal", "holds", "violated", "inside bracket", "does not apply", "not compared")
+EQUAL, HOLDS, VIOLATED, INSIDE, NOT_APPLICABLE, NOT_COMPARED, REFUSED = (
+    "equal", "holds", "violated", "inside bracket", "does not apply", "not compared", "refused")
 
 
 def number(value: Any) -> AlgebraicNumber:
@@ -172,7 +172,8 @@ def row(key: str, result: str, citation: str, statement: str, claim: str,
     """A row whose result gives a set of ``t``: evaluated (and compared) only when every hypothesis holds.
 
     ``evaluate`` returns the result's stable set and its threshold (or None); an
-    :class:`AssumptionError` it raises is a hypothesis that fails (named by the error)."""
+    :class:`AssumptionError` it raises is a hypothesis that fails (named by the error), a
+    :class:`BudgetError` a computation refused (relation ``refused``, the cap named in the note)."""
     hyps = tuple(hypotheses)
     base = dict(key=key, result=result, citation=citation, statement=statement, claim=claim, note=note)
     if not all(h.holds for h in hyps):
@@ -181,6 +182,8 @@ def row(key: str, result: str, citation: str, statement: str, claim: str,
         stable, value = evaluate()
     except AssumptionError as exc:
         return Row(**base, hypotheses=hyps + (Hypothesis(exc.assumption, False, str(exc)),))
+    except BudgetError as exc:   # a cap refuses this row's computation, not the atlas; its message is the note
+        return Row(**{**base, "note": str(exc)}, hypotheses=hyps, relation=REFUSED)
     relation, gap = compare(claim, stable, quantity.stable)
     return Row(**base, hypotheses=hyps, stable=tuple(stable), value=value, relation=relation, gap=gap)
 

@@ -8,6 +8,7 @@ are ``fmpq_poly`` reduced modulo the minimal polynomial).
 
 from __future__ import annotations
 
+import operator
 from typing import Sequence
 
 import flint
@@ -50,32 +51,41 @@ def rank(M: sp.MatrixBase, K: NumberField | None = None) -> int:
 
 
 def _echelon(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -> tuple[list[list[Elem]], list[int]]:
-    """Reduced row echelon form over ``K``: the normalised pivot rows and their pivot columns.
+    """Reduced row echelon form over ``K``: the normalised pivot rows and their pivot columns."""
+    basis = echelon_extended(K, {}, rows, ncols)
+    pivots = sorted(basis)
+    return [basis[c] for c in pivots], pivots
+
+
+def echelon_extended(K: NumberField, basis: dict[int, list[Elem]], rows: Sequence[Sequence[Elem]],
+                     ncols: int) -> dict[int, list[Elem]]:
+    """The reduced echelon basis (pivot column -> normalised row) of the span of ``basis`` and
+    ``rows``, a new dict (``basis`` is left as it was): a span grown one block of rows at a time.
 
     Rows are reduced one at a time against the pivot rows found so far, touching only
     the non-pivot columns (pivot columns become exactly zero), as sympy's sparse rref does.
     """
     zero = flint.fmpq_poly([])
-    basis: dict[int, list[Elem]] = {}
+    mul = operator.mul if K.is_rational else K.mul   # rationals: flint's product, no reduction needed
+    basis = dict(basis)
     for row in rows:
+        if len(basis) == ncols:
+            break
         coef = [(pc, row[pc]) for pc in basis if not row[pc].is_zero()]
         r = [zero if c in basis else
-             (row[c] - sum((K.mul(f, basis[pc][c]) for pc, f in coef), zero)) % K.modulus
+             (row[c] - sum((mul(f, basis[pc][c]) for pc, f in coef), zero)) % K.modulus
              for c in range(ncols)]
         piv = next((c for c in range(ncols) if not r[c].is_zero()), None)
         if piv is None:
             continue
         inv = K.inv(r[piv])
-        r = [K.mul(a, inv) for a in r]
+        r = [mul(a, inv) for a in r]
         for pc, b in basis.items():
             f = b[piv]
             if not f.is_zero():
-                basis[pc] = [(x - K.mul(f, y)) % K.modulus for x, y in zip(b, r)]
+                basis[pc] = [(x - mul(f, y)) % K.modulus for x, y in zip(b, r)]
         basis[piv] = r
-        if len(basis) == ncols:
-            break
-    pivots = sorted(basis)
-    return [basis[c] for c in pivots], pivots
+    return basis
 
 
 def nullspace_rows(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -> list[list[Elem]]:

@@ -11,7 +11,7 @@
 """
 
 from .conditions import (Theorem1, corollary1_lhs, full_rank_configurations, full_rank_probability,
-                         is_up_set, nu, theorem1)
+                         full_rank_probability_of, is_up_set, nu, theorem1)
 from .dynamics import PeriodicDynamics, spectral_norm_squared
 from .fading import (Nakagami, Rayleigh, Rician, SuccessProbability, UserGain, success_probability,
                      threshold_success)
@@ -25,7 +25,8 @@ __all__ = [
     "SensorTree", "MarkovNetworkState", "SemiMarkovNetworkState", "NetworkLoss", "phi_symbol",
     "Rayleigh", "Rician", "Nakagami", "UserGain", "SuccessProbability", "success_probability",
     "threshold_success", "PeriodicDynamics", "spectral_norm_squared",
-    "full_rank_configurations", "full_rank_probability", "is_up_set", "nu", "theorem1", "Theorem1",
+    "full_rank_configurations", "full_rank_probability", "full_rank_probability_of", "is_up_set", "nu",
+    "theorem1", "Theorem1",
     "corollary1_lhs", "observability_matrix", "rank_deficiency_probabilities",
     "rank_deficiency_probability_by_enumeration", "theorem2", "Theorem2", "induced_loss",
 ]

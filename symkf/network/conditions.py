@@ -14,15 +14,18 @@
 from __future__ import annotations
 
 import itertools
+import math
+import sys
 from dataclasses import dataclass
 from typing import Callable, Sequence
 
 import sympy as sp
 
+from .. import budget
 from ..exact.arguments import check_public
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
-from ..exact.linalg import rank
+from ..exact.linalg import echelon_extended, field_of, rank
 from ..exact.numbers import to_exact_matrix
 from .dynamics import PeriodicDynamics, spectral_norm_squared
 from .loss import NetworkLoss, bernoulli_product
@@ -37,12 +40,15 @@ def full_rank_configurations(tree: SensorTree, dynamics: PeriodicDynamics | None
     """The set ``J`` of ``gamma`` vectors for which ``C(k)`` has full column rank (Example 3).
 
     Either ``dynamics`` (exact rank of ``C(k)``, eq. 14) or ``rule(theta) -> bool``
-    decides; vectors are listed in increasing lexicographic order, as in the paper.
+    decides; vectors are listed in increasing lexicographic order, as in the paper: all
+    ``2^M`` are visited, refused above ``budget.Limits.max_patterns`` (``Pr{r = 1}`` itself
+    needs no listing: :func:`full_rank_probability_of`).
     """
     if (dynamics is None) == (rule is None):
         raise InputError("give exactly one of dynamics (exact rank of C(k)) or rule(theta) -> bool")
     if dynamics is not None and dynamics.M != tree.M:
         raise InputError(f"dynamics: {dynamics.M} sensor blocks C_m for a tree of {tree.M} sensors")
+    budget.check("max_patterns", 2 ** tree.M, "tree", f"the 2^{tree.M} link-outcome vectors gamma that listing J visits")
     cache: dict[Vector, bool] = {}
 
     def full(theta: Vector) -> bool:
@@ -52,6 +58,73 @@ def full_rank_configurations(tree: SensorTree, dynamics: PeriodicDynamics | None
         return cache[theta]
 
     return tuple(g for g in itertools.product((0, 1), repeat=tree.M) if full(tree.theta(g)))
+
+
+def full_rank_probability_of(tree: SensorTree, dynamics: PeriodicDynamics, phi: Sequence[sp.Expr]) -> sp.Expr:
+    """``Pr{r(k) = 1}``: the probability that ``C(k)`` (eq. 14) has full column rank when link ``m``
+    succeeds with probability ``phi[m - 1]``, independently (Example 3's sum over ``J``, with
+    :func:`full_rank_probability`), without listing the ``2^M`` vectors ``gamma``.
+
+    The sensors are visited in depth-first order from the gateway: sensor ``m``'s rows join the
+    span of those received so far when its link succeeds, and its whole subtree is passed over
+    when it fails (``theta = 0`` below a failed link, Remark 2).  The probability of full rank from
+    a sensor on depends only on the span so far (exact, the reduced echelon basis over the field
+    of the ``C_m``), so each (sensor, span) is solved once: at most ``sum_{k < n} C(M + 1, k + 1)``
+    states (a span of rank ``r`` is spanned by at most ``r`` of the sensors before it; rows in
+    general position reach the bound), refused above ``budget.Limits.max_span_states`` before
+    the search starts.
+    Full rank is reached with probability 1 from a full span, 0 when too few rows are left.
+    The result is a polynomial in the ``phi`` (expanded).
+    """
+    if dynamics.M != tree.M:
+        raise InputError(f"dynamics: {dynamics.M} sensor blocks C_m for a tree of {tree.M} sensors")
+    n = dynamics.n
+    budget.check("max_span_states", sum(math.comb(tree.M + 1, k + 1) for k in range(n)), "tree",
+                 f"the (sensor, span) states of Pr{{C(k) of full column rank}} for {tree.M} sensors in dimension {n} "
+                 f"(at most sum_{{k < n}} C(M + 1, k + 1): rows in general position reach it)")
+    K = field_of(*dynamics.C)
+    rows = [K.matrix(C) for C in dynamics.C]
+    order: list[int] = []
+    after: list[int] = []
+
+    def visit(m: int) -> None:   # depth-first from the gateway; after[i]: the first node past i's subtree
+        for c in tree.children(m):
+            i = len(order)
+            order.append(c)
+            after.append(0)
+            visit(c)
+            after[i] = len(order)
+    visit(0)
+    left = [0] * (tree.M + 1)   # rows of the sensors from position i on: an upper bound of what can join
+    for i in range(tree.M - 1, -1, -1):
+        left[i] = left[i + 1] + len(rows[order[i] - 1])
+    values = list(dict.fromkeys(phi))
+    ring, *gens = sp.polys.rings.ring([f"phi{k}" for k in range(len(values))], sp.QQ)
+    link = [gens[values.index(p)] for p in phi]
+    memo: dict = {}
+
+    def key(basis: dict) -> tuple:   # integers hash fast (flint's rationals through Fraction)
+        return tuple((c, tuple((int(e.denom()), *map(int, e.numer().coeffs())) for e in basis[c])) for c in sorted(basis))
+
+    def full(i: int, basis: dict):
+        if len(basis) == n:
+            return ring.one
+        if len(basis) + left[i] < n:
+            return ring.zero
+        state = (i, key(basis))
+        if state not in memo:
+            m = order[i]
+            x = link[m - 1]
+            memo[state] = x * full(i + 1, echelon_extended(K, basis, rows[m - 1], n)) + (1 - x) * full(after[i], basis)
+        return memo[state]
+
+    depth = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(depth, 4 * tree.M + 100))   # one level per sensor, a few frames each
+    try:
+        poly = full(0, {})
+    finally:
+        sys.setrecursionlimit(depth)
+    return sp.expand(poly.as_expr().xreplace(dict(zip(ring.symbols, values))))
 
 
 def is_up_set(J: Sequence[Vector]) -> bool:
@@ -74,9 +147,14 @@ def _markov(loss: NetworkLoss) -> MarkovNetworkState:
 
 def nu(loss: NetworkLoss, J: Sequence[Vector], phi: sp.MatrixBase | None = None) -> tuple[sp.Expr, ...]:
     """``nu_i = sum_j p_ij (1 - Pr{r = 1 | Xi = j})`` for ``i = 1..|B|`` (eq. 21)."""
+    return _nu(loss, lambda column: full_rank_probability(J, column), phi)
+
+
+def _nu(loss: NetworkLoss, probability: Callable[[list], sp.Expr], phi: sp.MatrixBase | None) -> tuple[sp.Expr, ...]:
+    """:func:`nu` with ``Pr{r = 1 | Xi = j}`` from ``probability(phi column j)``."""
     st = _markov(loss)
     phi = loss.phi if phi is None else phi
-    miss = [1 - full_rank_probability(J, list(phi.col(j))) for j in range(st.B)]
+    miss = [1 - probability(list(phi.col(j))) for j in range(st.B)]
     return tuple(sp.expand(sum(st.p(i, j) * miss[j - 1] for j in range(1, st.B + 1)))
                  for i in range(1, st.B + 1))
 
@@ -90,10 +168,12 @@ class Theorem1:
     evaluated at ``phi_lower`` when some ``phi`` came from quadrature
     (``certified_by_bounds``): ``J`` is an up-set, so this can only raise ``nu``.
     With symbolic data ``rho`` and ``holds`` are None and ``condition`` lists
-    the inequalities ``nu_i ||A(k)||^2 < 1``.
+    the inequalities ``nu_i ||A(k)||^2 < 1``.  ``J`` is listed when a ``rule`` decides (a
+    black box: only listing applies it); it is None when the exact rank decides, and
+    ``Pr{r = 1}`` comes from :func:`full_rank_probability_of`, which lists nothing.
     """
 
-    J: tuple[Vector, ...]
+    J: tuple[Vector, ...] | None
     nu: tuple[sp.Expr, ...]
     norms: tuple[AlgebraicNumber, ...]
     lhs: dict
@@ -105,13 +185,18 @@ class Theorem1:
 
 def theorem1(loss: NetworkLoss, dynamics: PeriodicDynamics, rule: Rule | None = None) -> Theorem1:
     """Theorem 1 (eq. 22): ``max_{i,k} nu_i ||A(k)||^2 <= rho < 1`` implies exponential boundedness."""
-    J = full_rank_configurations(loss.tree, None if rule else dynamics, rule)
     bounded = loss.from_quadrature
-    if bounded and not is_up_set(J):
-        raise AssumptionError("J is not closed under extra successful links, so lower bounds on phi "
-                              "do not bound nu", assumption="monotone full-rank rule",
-                              applies_instead="exact phi values")
-    nus = nu(loss, J, loss.phi_lower if bounded else None)
+    if rule is None:   # full column rank is an up-set: more rows never lower the rank, nor links theta
+        J = None
+        nus = _nu(loss, lambda column: full_rank_probability_of(loss.tree, dynamics, column),
+                  loss.phi_lower if bounded else None)
+    else:
+        J = full_rank_configurations(loss.tree, rule=rule)
+        if bounded and not is_up_set(J):
+            raise AssumptionError("J is not closed under extra successful links, so lower bounds on phi "
+                                  "do not bound nu", assumption="monotone full-rank rule",
+                                  applies_instead="exact phi values")
+        nus = nu(loss, J, loss.phi_lower if bounded else None)
     norms = tuple(spectral_norm_squared(a) for a in dynamics.A)
     lhs = {(i, k): sp.expand(v * a.exact) for i, v in enumerate(nus, start=1)
            for k, a in enumerate(norms)}
