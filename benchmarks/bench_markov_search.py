@@ -9,6 +9,7 @@ sensor rows drawn from -2..2 (fixed seed); rows and targets:
 * a joint Markov chain over two correlated sensor pairs (d = 4, 16 receival vectors): <= 5 CPU-s;
 * ``critical_loss_rate(ray=...)`` and ``(sensor=..., others=...)``, d = 16: <= 2x the common query,
   also with ray weights 0 and above 1 and others of loss 0 (main lists every hyperplane: refused);
+  a ray of three weights 1, 2, 3 is measured beside them (no target);
 * peak memory of every row <= 500 MB.
 
 Each measurement is a fresh interpreter (cold caches) printing the CPU seconds of the computation
@@ -55,6 +56,7 @@ ROWS = {  # name: (what, d, target CPU-s or None)
     "critical_loss_rate(sensor=s1, others), d = 16": ("sensor", 16, "2x common"),
     "critical_loss_rate(ray=w, w in {0, 2, 9/10}), d = 16": ("ray-extremes", 16, "2x common"),
     "critical_loss_rate(sensor=s1, others with 0), d = 16": ("sensor-zero", 16, "2x common"),
+    "critical_loss_rate(ray=w, w in {1, 2, 3}), d = 16": ("ray-three", 16, None),
 }
 
 #: a correlated channel of two sensors on (received, received), (received, lost), ...
@@ -119,6 +121,8 @@ def _compute(what: str, d: int) -> str:
         return str(sk.critical_loss_rate(S).exact)
     if what == "ray":
         return str(sk.critical_loss_rate(S, ray=(["1", "9/10"] * d)[:d]).exact)
+    if what == "ray-three":   # three weights: many more candidate bounds, each x^k W - 1 of degree ~300
+        return str(sk.critical_loss_rate(S, ray=(["1", "2", "3"] * d)[:d]).exact)
     return str(sk.critical_loss_rate(S, "s1", others=["9/10"] * d).exact)
 
 

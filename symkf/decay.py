@@ -178,15 +178,18 @@ def _maximum(candidates: list[tuple[frozenset[int], sp.Expr]]) -> tuple[frozense
 
 
 def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[sp.Expr]],
-                    bound: Callable[[tuple[int, ...]], sp.Expr | None], start: AlgebraicNumber,
-                    growth: sp.Expr, safe: AlgebraicNumber | None = None) -> AlgebraicNumber | None:
+                    bound: Callable[[tuple[int, ...]], Any], start: AlgebraicNumber,
+                    growth: sp.Expr, least: Callable[[list], AlgebraicNumber],
+                    safe: AlgebraicNumber | None = None) -> AlgebraicNumber | None:
     """``min(start, min_H x_H)`` without listing every hyperplane, or None when the screen
     declines (then list them: :func:`outside_counts`).
 
     ``losses(x)`` are the i.i.d. losses at the parameter ``x`` (each non-decreasing in ``x``, at
     most 1 up to ``safe``, default ``start``); ``bound(k)`` is ``x_H`` for a hyperplane whose
     exponent vector is ``k``: the ``x`` at which its margin ``growth * prod_j loss_j(x)^(k_j)``
-    reaches 1 (None when it never does).
+    reaches 1 (None when it never does), in any form that ``least`` takes: ``least(bounds)`` is
+    their least value, or ``start`` when none is below it (the caller's, which may compare
+    certified balls before making any value exact: a hundred exact roots of degree 300 took 4 s).
 
     Why no hyperplane is missed.  With weights ``w_e(x) = -log loss_(sensor e)(x)`` the margin of
     ``H`` is ``log growth - T(x) + sum_(e in H) w_e(x)`` (``T`` the total weight of the elements
@@ -228,16 +231,15 @@ def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[
         w = [big if raw[e.sensor] == np.inf else raw[e.sensor] + c for e in br.elements]
         return w, sum(finite) - log_growth + zeros * big + c * max(0, br.size - 1 - zeros), c
 
-    def least(sets) -> AlgebraicNumber | None:
-        found = [AlgebraicNumber.from_expr(b) for b in
-                 (bound(ks) for ks in _outside_vectors(br, sorted(sets, key=sorted))) if b is not None]
-        return min(found, default=None)
+    def least_of(sets) -> AlgebraicNumber | None:
+        found = [b for b in (bound(ks) for ks in _outside_vectors(br, sorted(sets, key=sorted))) if b is not None]
+        return least(found) if found else None
 
     at = start if safe is None or not safe < start else safe
     first = weights(start)
     if first is None:
         return None
-    x = least(_spanned(br, first[0]))
+    x = least_of(_spanned(br, first[0]))
     if x is None or not x < start:
         step = weights(at)
         if step is None or step[2] > 0:   # Dinkelbach needs losses <= 1: the heaviest bind first
@@ -245,7 +247,7 @@ def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[
         sets = br.heaviest(step[0])
         if sets is None:
             return None
-        x = least(sets)
+        x = least_of(sets)
         if x is None or not x < start:
             if at == start:   # every margin is at most 1 at start
                 return start
@@ -257,7 +259,7 @@ def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[
     sets = br.heaviest(w, floor=floor - 1e-9 * (1 + abs(floor)))
     if sets is None:
         return None
-    found = least(sets)
+    found = least_of(sets)
     return x if found is None or not found < x else found
 
 

@@ -308,16 +308,16 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
         rest = sp.Mul(*[f ** k for i, (f, k) in enumerate(zip(fixed, ks)) if i != j])
         if ks[j] == 0:
             return AlgebraicNumber.from_expr(0) if _Bound(a2g, 1, rest, 1, sign=1).value() >= 1 else None
-        return _Bound(a2g, 1, rest, ks[j]).value() if rest != 0 else None
+        return _Bound(a2g, 1, rest, ks[j]) if rest != 0 else None
     return _least(system, lambda x: [x if i == j else f for i, f in enumerate(fixed)], bound)
 
 
 def _ray_bound(a2g: Any, ks: tuple[int, ...], w: Sequence[sp.Expr]) -> AlgebraicNumber | None:
     """``eps`` at which ``alpha^(2g) prod_j (eps w_j)^(k_j)`` reaches 1 (``a2g`` = ``alpha^(2g)``,
-    exact), None when it is 0: flint's minimal polynomial of ``(a2g W)^(-1/k)`` (:class:`_Bound`),
-    not sympy's."""
+    exact), None when it is 0: ``(a2g W)^(-1/k)`` as a :class:`_Bound` (a certified ball; flint's
+    minimal polynomial only when :func:`_min_capped` needs the exact value)."""
     W = sp.Mul(*[wj ** k for wj, k in zip(w, ks)])
-    return _Bound(AlgebraicNumber.from_expr(a2g), 1, W, sum(ks)).value() if W != 0 else None
+    return _Bound(AlgebraicNumber.from_expr(a2g), 1, W, sum(ks)) if W != 0 else None
 
 
 def _least(system: System, losses, bound, safe: AlgebraicNumber | None = None) -> AlgebraicNumber:
@@ -328,7 +328,7 @@ def _least(system: System, losses, bound, safe: AlgebraicNumber | None = None) -
     values = []
     for br in block_rows(system):
         a2g = br.block.modulus ** (2 * br.class_period)
-        v = least_iid_bound(br, losses, lambda ks: bound(a2g, ks), one, sympify(a2g), safe)
+        v = least_iid_bound(br, losses, lambda ks: bound(a2g, ks), one, sympify(a2g), _min_capped, safe)
         values.append(v if v is not None else
                       _min_capped([b for ks in outside_counts(br) if (b := bound(a2g, ks)) is not None]))
     return min(values, default=one)

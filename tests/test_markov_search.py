@@ -201,7 +201,8 @@ def test_ray_critical_rate_equals_listing(A, rows, w):
     assert got == _listed(_system(A, rows), losses, bound)
     for br in block_rows(_system(A, rows)):  # the screen decided (it applies to one-row sensors)
         a2g = br.block.modulus.exact ** (2 * br.class_period)
-        assert decay.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g) \
+        assert decay.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g,
+                                    _min_capped) \
             is not None and "inside" not in br.__dict__
 
 
@@ -238,7 +239,8 @@ def _screened(S, losses, bound, safe=None):
     out = []
     for br in block_rows(S):
         a2g = sp.sympify(br.block.modulus.exact ** (2 * br.class_period))
-        v = decay.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g, safe)
+        v = decay.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g,
+                                  _min_capped, safe)
         assert v is not None and "inside" not in br.__dict__
         out.append(v)
     return min(out)
