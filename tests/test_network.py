@@ -336,6 +336,17 @@ def test_dp_matches_enumeration(a, p, phase):
         assert dp[d - 1] == rank_deficiency_probability_by_enumeration(loss, dyn, 1, d, phase)
 
 
+@pytest.mark.parametrize("phase", [0, 1])
+def test_dp_matches_enumeration_over_a_number_field(phase):
+    # A(0) a rotation by pi/4 (entries in Q(sqrt 2)), A(1) a shear: the spans live in Q(sqrt 2)
+    c = sp.sqrt(2) / 2
+    dyn = PeriodicDynamics([[[c, -c], [c, c]], [[1, 1], [0, 1]]], [[[1, 0]], [[1, 1]]])
+    loss = NetworkLoss(SensorTree([0, 1]), MarkovNetworkState([[1]]), [[R(1, 2)], ["3/4"]])
+    dp = rank_deficiency_probabilities(loss, dyn, 1, 3, phase)
+    assert [dp[d - 1] for d in (1, 2, 3)] == [rank_deficiency_probability_by_enumeration(loss, dyn, 1, d, phase)
+                                              for d in (1, 2, 3)]
+
+
 def test_theorem2_reduces_to_theorem1_for_unit_holding():
     tree = SensorTree([0, 1])
     dyn = PeriodicDynamics([[R(6, 5), 1], [0, R(1, 2)]], [[[1, 0]], [[0, 1]]])

@@ -88,6 +88,13 @@ def echelon_extended(K: NumberField, basis: dict[int, list[Elem]], rows: Sequenc
     return basis
 
 
+def span_key(basis: dict[int, list[Elem]]) -> tuple:
+    """A hashable key of the span whose reduced echelon basis is ``basis`` (:func:`echelon_extended`):
+    equal spans, equal keys (the reduced echelon form is unique).  Integers: they hash fast, flint's
+    rationals go through Fraction."""
+    return tuple((c, tuple((int(e.denom()), *map(int, e.numer().coeffs())) for e in basis[c])) for c in sorted(basis))
+
+
 def nullspace_rows(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -> list[list[Elem]]:
     """A basis of ``{h : row . h = 0 for every row}`` over ``K`` (Gaussian elimination in K)."""
     A, pivots = _echelon(K, rows, ncols)

@@ -25,7 +25,7 @@ from .. import budget
 from ..exact.arguments import check_public
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
-from ..exact.linalg import echelon_extended, field_of, rank
+from ..exact.linalg import echelon_extended, field_of, rank, span_key
 from ..exact.numbers import to_exact_matrix
 from .dynamics import PeriodicDynamics, spectral_norm_squared
 from .loss import NetworkLoss, bernoulli_product
@@ -103,15 +103,12 @@ def full_rank_probability_of(tree: SensorTree, dynamics: PeriodicDynamics, phi: 
     link = [gens[values.index(p)] for p in phi]
     memo: dict = {}
 
-    def key(basis: dict) -> tuple:   # integers hash fast (flint's rationals through Fraction)
-        return tuple((c, tuple((int(e.denom()), *map(int, e.numer().coeffs())) for e in basis[c])) for c in sorted(basis))
-
     def full(i: int, basis: dict):
         if len(basis) == n:
             return ring.one
         if len(basis) + left[i] < n:
             return ring.zero
-        state = (i, key(basis))
+        state = (i, span_key(basis))
         if state not in memo:
             m = order[i]
             x = link[m - 1]

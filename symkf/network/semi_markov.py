@@ -29,34 +29,19 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Sequence
 
-import flint
 import sympy as sp
 
 from ..exact.arguments import check_public
 from ..errors import AssumptionError
-from ..exact.linalg import rank
+from ..exact.linalg import echelon_extended, field_of, rank, span_key
 from .dynamics import PeriodicDynamics, certified_less_than_one, interval_sum, spectral_norm_squared
 from .loss import NetworkLoss
 from .state import SemiMarkovNetworkState
 from .tree import Vector
 
-FULL = "full"
-
-
 def observability_matrix(dynamics: PeriodicDynamics, thetas: Sequence[Vector], k: int = 0) -> sp.Matrix:
     """``O(k + t, k)`` for received-sensor vectors ``thetas = (theta(k), ..., theta(k + t))`` (Sec. VII-B)."""
     return sp.Matrix.vstack(*[dynamics.C_of(th) * dynamics.Phi(k + s, k) for s, th in enumerate(thetas)])
-
-
-def _canonical(rows: list[list[sp.Expr]], n: int):
-    """The row space of ``rows`` as its reduced echelon basis (a tuple of rows), or FULL."""
-    if all(v.is_Rational for r in rows for v in r):
-        E, r = flint.fmpq_mat([[flint.fmpq(int(v.p), int(v.q)) for v in row] for row in rows]).rref()
-        basis = tuple(tuple(sp.Rational(int(E[i, c].p), int(E[i, c].q)) for c in range(n)) for i in range(r))
-    else:
-        E, pivots = sp.Matrix(rows).rref(simplify=True)
-        basis = tuple(tuple(E.row(i)) for i in range(len(pivots)))
-    return FULL if len(basis) == n else basis
 
 
 def rank_deficiency_probabilities(loss: NetworkLoss, dynamics: PeriodicDynamics, j: int,
@@ -64,25 +49,28 @@ def rank_deficiency_probabilities(loss: NetworkLoss, dynamics: PeriodicDynamics,
     """``(pi_j(1), ..., pi_j(horizon))``: Pr{O(k + delta - 1, k) is rank deficient | Xi = j on the window}.
 
     ``k`` is any time with ``k = phase (mod T)``.  Dynamic programming over the
-    exact row space spanned by the received rows ``C_m Phi(k + s, k)``.
+    exact row space spanned by the received rows ``C_m Phi(k + s, k)`` (reduced echelon bases over
+    the field of all of them, :func:`symkf.exact.linalg.echelon_extended`).
     """
     law = [(t, p) for t, p in loss.theta_law(j).items() if p != 0]
     n = dynamics.n
-    spaces: dict = {(): sp.Integer(1)}  # row space (echelon basis) -> probability
+    blocks = [[dynamics.C[m] * dynamics.Phi(phase + s, phase) for m in range(dynamics.M)] for s in range(horizon)]
+    K = field_of(*[B for step in blocks for B in step])
+    spaces: dict = {(): ({}, sp.Integer(1))}  # span key -> (reduced echelon basis, probability)
     out = []
-    for s in range(horizon):
-        Phi = dynamics.Phi(phase + s, phase)
-        blocks = [(dynamics.C[m] * Phi).tolist() for m in range(dynamics.M)]
-        received = {t: [row for m in range(dynamics.M) if t[m] for row in blocks[m]] for t, _ in law}
+    for step in blocks:
+        rows = [K.matrix(B) for B in step]
+        received = {t: [r for m in range(dynamics.M) if t[m] for r in rows[m]] for t, _ in law}
         nxt: dict = {}
-        for rows, p in spaces.items():
+        for basis, p in spaces.values():
             for t, pt in law:
-                new = list(rows) + received[t]
-                key = _canonical(new, n) if new else ()
-                nxt[key] = nxt.get(key, sp.Integer(0)) + p * pt
-        nxt.pop(FULL, None)  # full rank stays full: those paths leave the computation
-        spaces = {key: sp.expand(p) for key, p in nxt.items()}
-        out.append(sp.expand(sum(spaces.values(), sp.Integer(0))))
+                grown = echelon_extended(K, basis, received[t], n)
+                if len(grown) == n:   # full rank stays full: those paths leave the computation
+                    continue
+                key = span_key(grown)
+                nxt[key] = (grown, nxt[key][1] + p * pt if key in nxt else p * pt)
+        spaces = {key: (basis, sp.expand(p)) for key, (basis, p) in nxt.items()}
+        out.append(sp.expand(sum((p for _, p in spaces.values()), sp.Integer(0))))
     return tuple(out)
 
 
