@@ -15,7 +15,7 @@ warning (:func:`symkf.exact.numbers.to_exact`).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
 import numpy as np
 import sympy as sp
@@ -31,7 +31,7 @@ if TYPE_CHECKING:
 __all__ = ["from_statespace", "to_statespace"]
 
 
-def from_statespace(sys: "control.StateSpace", sensors: Mapping[str, Sequence[int]] | Sequence[str] | None = None,
+def from_statespace(sys: "control.StateSpace", sensors: Mapping[str, Iterable[int]] | Sequence[str] | None = None,
                     *, Q: Any = None, R: Mapping[str, Any] | None = None, P0: Any = None,
                     rationalize: bool = False, name: str | None = None) -> System:
     """The :class:`System` ``(A, C)`` of a discrete-time python-control ``StateSpace``.

@@ -42,7 +42,7 @@ import re
 from dataclasses import dataclass
 from decimal import Decimal
 from pathlib import Path
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import sympy as sp
 
@@ -284,7 +284,7 @@ def load_family(path: str | Path) -> Family:
                   tuple(members))
 
 
-def grid_family(build: Callable[..., Any], grid: Mapping[str, Sequence[Any]], *, name: str = "family",
+def grid_family(build: Callable[..., Any], grid: Mapping[str, Iterable[Any]], *, name: str = "family",
                 compute: str = "critical_loss_rate", description: str = "", digits: int = 6,
                 labels: Mapping[str, str] | None = None) -> Family:
     """A family from a builder: ``build(**point)`` (a System, or ``(System, loss)`` for

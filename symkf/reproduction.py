@@ -21,9 +21,10 @@ def discrepancy(claim: str, printed: Any, computed: Any, note: str = "") -> dict
     return out
 
 
-def reproduction(example: str, source: str, results: dict[str, Any], checks: dict[str, bool],
+def reproduction(example: str, source: str, results: dict[str, Any], checks: dict[str, Any],
                  discrepancies: Iterable[dict[str, str]] = ()) -> dict[str, Any]:
-    """``{"example", "source", "results", "checks", "discrepancies"}``; checks are plain bools."""
+    """``{"example", "source", "results", "checks", "discrepancies"}``; the checks' values (sympy and
+    numpy booleans too) become plain bools."""
     return {"example": example, "source": source, "results": results,
             "checks": {claim: bool(ok) for claim, ok in checks.items()}, "discrepancies": list(discrepancies)}
 

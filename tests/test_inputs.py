@@ -12,7 +12,7 @@ import sympy as sp
 
 import symkf as sk
 from symkf import files
-from symkf.errors import InexactInputError
+from symkf.errors import InexactInputError, InputError
 from symkf.exact.numbers import NEARBY_TOLERANCE, to_exact
 
 R = sp.Rational
@@ -141,3 +141,16 @@ def test_calls_that_do_not_fit_a_signature_are_argument_errors(name):
         fn(not_an_argument_of_any_symkf_function=1)
     assert isinstance(unknown.value, TypeError) and isinstance(unknown.value, sk.SymkfError)
     assert str(unknown.value).startswith(f"{name}(" if not isinstance(fn, type) else f"{name}.__init__(self")
+
+
+def test_mappings_are_checked_key_by_key_and_value_by_value():
+    # a dict argument was checked only for being a mapping: its keys and values reached the
+    # function (span_key(basis={'a': 'b'}) raised AttributeError: found by the payload walk)
+    import flint
+    from symkf.exact.linalg import span_key
+    with pytest.raises(InputError, match=r"span_key: argument 'basis' must be a mapping of an int to a list or tuple "
+                                         r"of a fmpq_poly, got dict"):
+        span_key({"a": "b"})
+    with pytest.raises(InputError, match="mapping of an int"):
+        span_key({0: ["__import__('os')"]})
+    assert span_key({0: [flint.fmpq_poly([1]), flint.fmpq_poly([0, 2])]}) == ((0, ((1, 1), (1, 0, 2))),)

@@ -15,7 +15,7 @@ What an annotation asks (resolved lazily, on the first call, so forward referenc
 * ``X | None``, unions, ``Literal[...]`` (one of the values), ``Callable``;
 * ``Sequence[X]``/``list[X]``/``tuple[X, ...]`` (a list or tuple), ``set[X]``/``frozenset[X]``,
   ``Iterable[X]``/``Collection[X]`` (any iterable but a string), each with its elements checked
-  when it is a list, tuple or set; ``tuple[A, B]`` element by element; ``Mapping``/``dict``;
+  when it is a list, tuple or set; ``tuple[A, B]`` element by element; ``Mapping``/``dict`` (keys and values);
 * ``Any``, type variables and anything unresolvable: not checked.
 
 A parameter left at its default is not checked, and neither is a call from symkf itself: the
@@ -88,7 +88,13 @@ def _test(hint: Any) -> tuple[Callable[[Any], bool], str] | None:
         return (lambda v: container(v) and (not isinstance(v, (list, tuple, set, frozenset, dict, np.ndarray))
                                             or all(inner[0](e) for e in v))), f"{kind[1]} of {inner[1]}"
     if hint in (dict, abc.Mapping, abc.MutableMapping):
-        return (lambda v: isinstance(v, abc.Mapping)), "a mapping"
+        # keys and values checked like a sequence's elements (a span's basis: int -> row of a field)
+        parts = [_test(a) for a in args] if len(args) == 2 else [None, None]
+        if parts == [None, None]:
+            return (lambda v: isinstance(v, abc.Mapping)), "a mapping"
+        (kt, kw), (vt, vw) = (p or ((lambda v: True), "anything") for p in parts)
+        return (lambda v: isinstance(v, abc.Mapping) and all(kt(k) and vt(x) for k, x in v.items())), \
+            f"a mapping of {kw} to {vw}"
     if hint is abc.Iterator:
         return _iterable, "an iterable"
     if hint is bool:
