@@ -232,12 +232,8 @@ def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, 
                         out[j] = buffer[j - first, p]
         return
     trace_k = trace[k, start:start + width]            # a view: an index p + start would not vectorise
-    if trace_k.size == width:
-        for p in range(width):
-            trace_k[p] = _log_scaled(t[p], E[p])
-    else:                                              # a partial last block
-        for p in range(trace_k.size):
-            trace_k[p] = _log_scaled(t[p], E[p])
+    for p in range(trace_k.size):                      # fewer than width in a partial last block
+        trace_k[p] = _log_scaled(t[p], E[p])
 
 
 @_compiled
