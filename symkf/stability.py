@@ -312,7 +312,7 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
     return _least(system, lambda x: [x if i == j else f for i, f in enumerate(fixed)], bound)
 
 
-def _ray_bound(a2g: Any, ks: tuple[int, ...], w: Sequence[sp.Expr]) -> AlgebraicNumber | None:
+def _ray_bound(a2g: Any, ks: tuple[int, ...], w: Sequence[sp.Expr]) -> _Bound | None:
     """``eps`` at which ``alpha^(2g) prod_j (eps w_j)^(k_j)`` reaches 1 (``a2g`` = ``alpha^(2g)``,
     exact), None when it is 0: ``(a2g W)^(-1/k)`` as a :class:`_Bound` (a certified ball; flint's
     minimal polynomial only when :func:`_min_capped` needs the exact value)."""

@@ -39,6 +39,7 @@ from .loss import NetworkLoss
 from .state import SemiMarkovNetworkState
 from .tree import Vector
 
+
 def observability_matrix(dynamics: PeriodicDynamics, thetas: Sequence[Vector], k: int = 0) -> sp.Matrix:
     """``O(k + t, k)`` for received-sensor vectors ``thetas = (theta(k), ..., theta(k + t))`` (Sec. VII-B)."""
     return sp.Matrix.vstack(*[dynamics.C_of(th) * dynamics.Phi(k + s, k) for s, th in enumerate(thetas)])
