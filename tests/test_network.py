@@ -244,6 +244,17 @@ def test_full_rank_probability_of_random_trees(case, sqrt2):
     assert sp.nsimplify(full_rank_probability_of(tree, dyn, phi) - listed) == 0
 
 
+def test_link_probabilities_of_the_wrong_length_are_refused():
+    # one probability for two links: the listed sum zipped it away (an answer of 3/2), the
+    # recursion indexed past it (IndexError)
+    tree, dyn = SensorTree([0, 0]), PeriodicDynamics([[1]], [[[1]], [[2]]])
+    J = full_rank_configurations(tree, dyn)
+    for call in (lambda: full_rank_probability(J, [R(1, 2)]), lambda: full_rank_probability_of(tree, dyn, [R(1, 2)])):
+        with pytest.raises(InputError, match=r"phi: 1 link probabilities for a (vector|tree) of 2"):
+            call()
+    assert full_rank_probability(J, [R(1, 2)] * 2) == full_rank_probability_of(tree, dyn, [R(1, 2)] * 2) == R(3, 4)
+
+
 def test_full_rank_probability_is_refused_before_it_starts():
     # 40 scalar sensors of a 6-state system: up to sum_{k<6} C(41, k + 1) = 5.4 million spans
     dyn = PeriodicDynamics(sp.eye(6), [[[1, m, m ** 2, m ** 3, m ** 4, m ** 5]] for m in range(40)])

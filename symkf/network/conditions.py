@@ -78,6 +78,8 @@ def full_rank_probability_of(tree: SensorTree, dynamics: PeriodicDynamics, phi: 
     """
     if dynamics.M != tree.M:
         raise InputError(f"dynamics: {dynamics.M} sensor blocks C_m for a tree of {tree.M} sensors")
+    if len(phi) != tree.M:
+        raise InputError(f"phi: {len(phi)} link probabilities for a tree of {tree.M} sensors")
     n = dynamics.n
     budget.check("max_span_states", sum(math.comb(tree.M + 1, k + 1) for k in range(n)), "tree",
                  f"the (sensor, span) states of Pr{{C(k) of full column rank}} for {tree.M} sensors in dimension {n} "

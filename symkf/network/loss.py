@@ -45,6 +45,8 @@ def phi_symbol(m: int, j: int) -> sp.Symbol:
 
 def bernoulli_product(vector: Sequence[int], probs: Sequence[sp.Expr]) -> sp.Expr:
     """``prod_m p_m^{v_m} (1 - p_m)^{1 - v_m}``: the law of independent links."""
+    if len(vector) != len(probs):   # zip would drop the links past the shorter one: a wrong law
+        raise InputError(f"phi: {len(probs)} link probabilities for a vector of {len(vector)} links")
     return sp.Mul(*[p if v else 1 - p for v, p in zip(vector, probs)])
 
 
