@@ -170,10 +170,11 @@ def divider_work(n: int, rows: int) -> tuple[int, int]:
 
 def loop_divider_work(n: int) -> set[tuple[int, int]]:
     """(divisions, square roots) per path of each lane loop of the straight-line kernel that has
-    any: a Potter row (its gain), the time update, one loop per Householder column up to
-    ``PHASED_MAX`` states (the last column only its norm), else one loop, and the log's loop."""
-    from symkf.square_root import PHASED_MAX
-    if n <= PHASED_MAX:
+    any: a Potter row (its gain), the time update, one loop per Householder column from
+    ``PHASED_MIN`` to ``PHASED_MAX`` states (the last column only its norm), else one loop, and the
+    log's loop."""
+    from symkf.square_root import PHASED_MAX, PHASED_MIN
+    if PHASED_MIN <= n <= PHASED_MAX:
         return {(1, 1), (0, 1), (1, 0)}
     return {(1, 1), (n - 1, n), (1, 0)}
 

@@ -69,10 +69,14 @@ from .exact.arguments import check_public
 #: paths per block of the straight-line kernels, a compile-time constant: the path loops have a
 #: fixed trip count (no remainder loops, no per-entry set-up).  Up to SMALL_MAX states a lane loop's
 #: set-up (the compiler's run-time checks that its arrays do not overlap) weighs on its few operations:
-#: SMALL_LANES there (1.1-1.2x over 64 at n = 2..4 with 1 to 8 sensors); 64 above (128: 0.75x at n = 8)
+#: SMALL_LANES there (1.1-1.2x over 64 at n = 2..4 with 1 to 8 sensors), TINY_LANES up to TINY_MAX
+#: (1.11-1.14x over 128 at n = 2 with 1 and 8 sensors; at n = 4, 256 measured 0.98-0.99x); 64 above
+#: (128: 0.75x at n = 8)
 LANES = 64
 SMALL_LANES = 128
 SMALL_MAX = 4
+TINY_LANES = 512
+TINY_MAX = 2
 #: paths per block of the loop kernel (n > STRAIGHT_MAX), whose lane loops are many and short: 128
 #: halves their set-up per path (1.3-1.4x over 64 at n = 12 and 16; 256 measured 0.94-1.16x)
 LOOP_LANES = 128
@@ -240,20 +244,56 @@ def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, 
 def _receptions(received: np.ndarray, k: int, start: int, block: np.ndarray) -> None:
     """``block[i, p] = received[k, start + p, i]``: step ``k``'s receptions of the block of paths at
     ``start``, sensor-major (a lane loop reads them at unit stride); paths past the last receive
-    nothing (a partial last block needs no padded copy of the receptions)."""
+    nothing (a partial last block needs no padded copy of the receptions).  Up to 8 sensors the
+    copy is compiled once per sensor count (:func:`_transpose`); beyond, one strided pass per sensor."""
     d, width = block.shape
     count = min(width, received.shape[1] - start)
+    rows = received[k, start:start + count]
+    if d <= 8:
+        flat = rows.reshape(count * d)
+        if d == 1:
+            _transpose(flat, block, count, 1)
+        elif d == 2:
+            _transpose(flat, block, count, 2)
+        elif d == 3:
+            _transpose(flat, block, count, 3)
+        elif d == 4:
+            _transpose(flat, block, count, 4)
+        elif d == 5:
+            _transpose(flat, block, count, 5)
+        elif d == 6:
+            _transpose(flat, block, count, 6)
+        elif d == 7:
+            _transpose(flat, block, count, 7)
+        else:
+            _transpose(flat, block, count, 8)
+    else:
+        for i in range(d):
+            into = block[i]
+            column = rows[:, i]
+            for p in range(count):
+                into[p] = column[p]
     for i in range(d):
         into = block[i]
-        column = received[k, start:start + count, i]
-        for p in range(count):
-            into[p] = column[p]
         for p in range(count, width):
             into[p] = False
 
 
+@_compiled
+def _transpose(flat: np.ndarray, block: np.ndarray, count: int, d: int) -> None:
+    """``block[i, p] = flat[p d + i]`` for the first ``count`` paths.  Called with ``d`` a constant
+    (:func:`_receptions`), it is inlined with it, and the compiler vectorises the copy as ``d``
+    interleaved byte streams (d = 3: 0.20 ns per path-step, against 0.75 for a strided pass per sensor;
+    d = 8: 0.67 against 2.07; beyond 8 it does not, and the strided passes are as fast)."""
+    for p in range(count):
+        for i in range(d):
+            block[i, p] = flat[p * d + i]
+
+
 def lanes(n: int) -> int:
     """Paths per block of the kernel for ``n`` states."""
+    if n <= TINY_MAX:
+        return TINY_LANES
     if n <= SMALL_MAX:
         return SMALL_LANES
     return LANES if n <= STRAIGHT_MAX else LOOP_LANES
@@ -558,6 +598,16 @@ STRAIGHT_MAX = 8
 #: operations per loop, so the core overlaps more paths (n = 4: 1.1x with one sensor, 1.34x with 8);
 #: at n = 8 the per-column loops measured 0.87-0.94x (the live entries' loads and stores)
 PHASED_MAX = 5
+#: below this n the straight-line kernel does not split its loops (n = 2: 1.05x with 3 sensors, 1.07x
+#: with 8, against the phased loops; n = 1 has nothing to split)
+PHASED_MIN = 3
+
+
+def _sum(target: str, terms: list[str], indent: str) -> list[str]:
+    """Source lines summing ``terms`` into ``target`` left to right from the first term.  Not from
+    ``0.0``: without fast-math the compiler must keep that addition (it turns a sum of -0.0 into
+    +0.0), one more vector operation per sum and path."""
+    return [f"{indent}{target} = {terms[0]}"] + [f"{indent}{target} += {term}" for term in terms[1:]]
 
 
 def _live(X: dict, j: int, n: int) -> list:
@@ -569,7 +619,9 @@ def _live(X: dict, j: int, n: int) -> list:
 def _straight_source(n: int) -> str:
     """Source of ``_paths_{n}``: log_trace_paths for n states, every per-path operation of one
     step written out (the same operations in the same order as the loops of
-    log_trace_paths / _time_update / _rescale), the lane loop innermost."""
+    log_trace_paths / _time_update / _rescale, but that its sums start from their first term where
+    the loops add it to 0.0: only a zero sum's sign can differ, and no trace sees it), the lane
+    loop innermost."""
     L = []
     w = L.append
     R = range(n)
@@ -585,11 +637,10 @@ def _straight_source(n: int) -> str:
     w("    rows = H.shape[0]")
     w(f"    S = _aligned(({n}, {n}, {W}))")
     w(f"    t = _aligned(({W},))")
-    w("    bits = t.view(np.int64)")
     w(f"    E = _aligned_int(({W},))")
     w(f"    noise = _aligned(({W},))")
     w(f"    half = _aligned(({W},))")
-    if n <= PHASED_MAX:   # the time update's live entries between its lane loops, and Potter's u, w
+    if PHASED_MIN <= n <= PHASED_MAX:   # the time update's live entries between its lane loops, and Potter's u, w
         w(f"    X = _aligned(({2 * n}, {n}, {W}))")
         w(f"    F = _aligned(({n}, {W}))")
         w(f"    G = _aligned(({n}, {W}))")
@@ -608,24 +659,21 @@ def _straight_source(n: int) -> str:
     w("        for k in range(horizon + 1):")
     # --- rescale (as _rescale) and the trace of step k
     w(f"            for p in range({W}):")
-    w("                tp = 0.0")
-    for i in R:
-        for j in range(i + 1):
-            w(f"                tp += S[{i}, {j}, p] * S[{i}, {j}, p]")
-    w("                t[p] = tp")
-    w("                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0")
+    L += _sum("tp", [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i in R for j in range(i + 1)], " " * 16)
+    w("                e = ((_bits_of(tp) >> 52) & 2047) - 1022 if tp > 0.0 else 0")
     w("                e -= e & 1")
     w("                Ep = E[p] + e")
     w("                E[p] = Ep")
     # e and E are even: 2^-e and 2^-E are squares of the halves, exactly (a power of two squares to
-    # itself, or rounds to 0 or inf where 2^-E does), so two powers of two do for the three
-    w("                scale = _pow2(-(e // 2))")
+    # itself, or rounds to 0 or inf where 2^-E does), so two powers of two do for the three; -e / 2
+    # is in [-512, 511] (tp is finite or inf): one power of two, from its exponent bits
+    w("                scale = _float_bits((1023 - (e >> 1)) << 52)")
     w("                tp *= scale * scale")
     for i in R:
         for j in range(i + 1):
             w(f"                S[{i}, {j}, p] *= scale")
     w("                t[p] = tp")
-    w("                root = _pow2(-(Ep // 2))")
+    w("                root = _pow2(-(Ep >> 1))")   # Ep // 2: Ep is even
     w("                half[p] = root")
     w("                noise[p] = root * root")
     w("            _store(k, start, t, E, trace, buffer, linear)")
@@ -639,19 +687,16 @@ def _straight_source(n: int) -> str:
         w(f"                h{i} = H[r, {i}]")
     w(f"                for p in range({W}):")
     load_S(" " * 20)
-    w("                    ff = 0.0")
     for j in R:
-        w(f"                    f{j} = 0.0")
-        for i in R:
-            w(f"                    f{j} += s{i}_{j} * h{i}")
-        w(f"                    ff += f{j} * f{j}")
+        L += _sum(f"f{j}", [f"s{i}_{j} * h{i}" for i in R], " " * 20)
+        w(f"                    ff {'+=' if j else '='} f{j} * f{j}")
     w("                    nz = noise[p]")
     w("                    a = ff + nz")
     w("                    denom = a + math.sqrt(a * nz)")
     w("                    coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0")
     for j in R:
         w(f"                    g{j} = f{j} * coef")
-    if n <= PHASED_MAX:   # the row's update in a second lane loop: u and w through memory
+    if PHASED_MIN <= n <= PHASED_MAX:   # the row's update in a second lane loop: u and w through memory
         for j in R:
             w(f"                    F[{j}, p] = f{j}")
             w(f"                    G[{j}, p] = g{j}")
@@ -661,9 +706,7 @@ def _straight_source(n: int) -> str:
             w(f"                    f{j} = F[{j}, p]")
             w(f"                    g{j} = G[{j}, p]")
     for i in R:
-        w(f"                    u{i} = 0.0")
-        for j in R:
-            w(f"                    u{i} += s{i}_{j} * f{j}")
+        L += _sum(f"u{i}", [f"s{i}_{j} * f{j}" for j in R], " " * 20)
     for i in R:
         for j in R:
             w(f"                    S[{i}, {j}, p] = s{i}_{j} - u{i} * g{j}")
@@ -671,16 +714,15 @@ def _straight_source(n: int) -> str:
     # one lane loop per Householder column (the live entries kept in X between them), else one loop
     X = {(j, i): f"x{j}_{i}" for i in R for j in R}
     X.update({(n + i, j): f"x{n + i}_{j}" for i in R for j in range(i, n)})
-    phases = [[j] for j in R] if n <= PHASED_MAX else [list(R)]
+    phases = [[j] for j in R] if PHASED_MIN <= n <= PHASED_MAX else [list(R)]
     for cols in phases:
         w(f"            for p in range({W}):")
         if cols[0] == 0:
             load_S(" " * 16)
             for i in R:
                 for j in R:
-                    w(f"                {X[j, i]} = 0.0")
-                    for l in range(max(i - 1, 0), n):    # A upper Hessenberg (log_trace_paths)
-                        w(f"                {X[j, i]} += a{i}_{l} * s{l}_{j}")
+                    # A upper Hessenberg (log_trace_paths)
+                    L += _sum(X[j, i], [f"a{i}_{l} * s{l}_{j}" for l in range(max(i - 1, 0), n)], " " * 16)
         else:
             for key in _live(X, cols[0], n):
                 w(f"                {X[key]} = X[{key[0]}, {key[1]}, p]")
@@ -689,9 +731,7 @@ def _straight_source(n: int) -> str:
             for k in range(j, n):        # row n + j enters at step j (its entries left of j are zero)
                 w(f"                {X[n + j, k]} = root * q{j}_{k}")
             rowsj = range(j, n + j + 1)
-            w("                sq = 0.0")
-            for i in rowsj:
-                w(f"                sq += {X[i, j]} * {X[i, j]}")
+            L += _sum("sq", [f"{X[i, j]} * {X[i, j]}" for i in rowsj], " " * 16)
             w("                norm = math.sqrt(sq)")
             w(f"                x0 = {X[j, j]}")
             w("                head = norm if x0 >= 0.0 else -norm")
@@ -700,9 +740,7 @@ def _straight_source(n: int) -> str:
                 w("                half_v2 = norm * (norm + abs(x0))")
                 w("                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0")
                 for k in range(j + 1, n):
-                    w("                dot = 0.0")
-                    for i in rowsj:
-                        w(f"                dot += {X[i, j]} * {X[i, k]}")
+                    L += _sum("dot", [f"{X[i, j]} * {X[i, k]}" for i in rowsj], " " * 16)
                     w("                twice = tau * dot")
                     for i in rowsj:
                         w(f"                {X[i, k]} -= twice * {X[i, j]}")
@@ -724,7 +762,7 @@ def _straight_module() -> str:
             ':func:`symkf.square_root._straight_module` (do not edit; a test compares it with the generator)."""\n\n'
             "import math\n\nimport numpy as np\n\n"
             "from .exact.arguments import check_public\n"
-            "from .square_root import NORMAL, _aligned, _aligned_int, _pow2, _receptions, _store\n\n\n" % STRAIGHT_MAX)
+            "from .square_root import NORMAL, _aligned, _aligned_int, _bits_of, _float_bits, _pow2, _receptions, _store\n\n\n" % STRAIGHT_MAX)
     return head + "\n\n".join(_straight_source(n) for n in range(1, STRAIGHT_MAX + 1)) + "\n\ncheck_public(globals())\n"
 
 

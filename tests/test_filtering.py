@@ -232,8 +232,9 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
     # loop kernel does the same operations in the same order, so every output bit must agree:
     # dense and sparse (integer, block-diagonal) A and H, two-row sensors, paths that receive
     # nothing or everything, and a 600-step stretch of mostly lost steps (wide scales)
-    from symkf.square_root import STRAIGHT_MAX, _loop_kernel, _straight
+    from symkf.square_root import LOOP_LANES, STRAIGHT_MAX, _loop_kernel, _straight, lanes
     assert n <= STRAIGHT_MAX
+    width = max(lanes(n), LOOP_LANES)   # the buffers' lanes: each kernel's block fits
     rng = np.random.default_rng(n)
     dense = rng.normal(size=(n, n))
     # (A upper Hessenberg, as the kernels take it: symkf.filtering's arguments reduce a dense A)
@@ -244,14 +245,14 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         UQ = np.linalg.qr(M.T, mode="r")
         S0 = np.linalg.qr(rng.normal(size=(n, n)).T, mode="r").T
         rows = np.array([0, 1, 1])
-        received = rng.random((600, 256, 2)) < 0.3   # whole blocks of both kernels' lanes (64, 128)
+        received = rng.random((600, 2 * width, 2)) < 0.3   # whole blocks of both kernels' lanes
         received[:, :64] = False
         received[:, 64:128] = True
         out = []
         for kernel in (_straight(n), _loop_kernel(n)):
-            logs, linear = np.empty((601, 256)), np.empty((150, 600))
-            kernel(A, UQ, H, rows, S0, received, logs, np.empty((1, 128)), False)
-            kernel(A, UQ, H, rows, S0, received, linear, np.empty((64, 128)), True)   # the first 150 paths
+            logs, linear = np.empty((601, 2 * width)), np.empty((150, 600))
+            kernel(A, UQ, H, rows, S0, received, logs, np.empty((1, width)), False)
+            kernel(A, UQ, H, rows, S0, received, linear, np.empty((64, width)), True)   # the first 150 paths
             out.append((logs, linear))
         assert all(np.array_equal(x, y) for x, y in zip(*out))
         logs, linear = out[0]
@@ -387,3 +388,19 @@ def test_kernel_arrays_start_on_a_cache_line():
         return out
     got = offsets(np.arange(1, 41))
     assert not got.any(), got
+
+
+@pytest.mark.parametrize("d", range(1, 11))
+def test_a_steps_receptions_are_copied_sensor_major(d):
+    # one compiled copy per sensor count up to 8 (each its own interleaved vector code), strided passes
+    # beyond; the block's paths past the last (a partial last block) receive nothing
+    from symkf.square_root import _receptions, lanes
+    width = lanes(2)
+    paths = 2 * width + 37
+    received = np.random.default_rng(d).random((3, paths, d)) < 0.5
+    block = np.ones((d, width), bool)
+    for k, start in ((0, 0), (2, width), (1, 2 * width)):
+        _receptions(received, k, start, block)
+        count = min(width, paths - start)
+        np.testing.assert_array_equal(block[:, :count], received[k, start:start + count].T)
+        assert not block[:, count:].any()
