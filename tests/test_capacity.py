@@ -236,6 +236,33 @@ def test_theorem4_condition1_known_thresholds(system, good, bad):
     assert max(abs(np.linalg.eigvals(T))) < 1
 
 
+@pytest.mark.parametrize("system, bad", [(ROTATION, "1/12"), (ROTATION_PI_4, "1/15"), (ROTATION_PI_6, "1/15"),
+                                         (SCALAR2, "9/20")])   # (FULL_C at 1/8 is decided by ln rho, before any SDP)
+def test_the_infeasibility_certificate_on_balls_is_the_exact_one(system, bad, monkeypatch):
+    # the projected multiplier W - sum_k c_k F_k is judged on certified balls first: every judgement
+    # must be the exact projection's (the certificate of each infeasible SDP: positive definite),
+    # and so for random symmetric W (their projections: indefinite)
+    from symkf.capacity import convergence as cv
+    from symkf.exact.algebraic import _with_prec
+    seen = []
+
+    def both(K, entries, gram, rhs, start):
+        on_balls = projected(K, entries, gram, rhs, start)
+        coef = cv.solve_rows(K, gram, rhs)
+        seen.append((on_balls, cv._positive_definite(K, cv._combination(K, [-c for c in coef], entries, len(start), start))))
+        return on_balls
+    projected = cv._projected_positive
+    monkeypatch.setattr(cv, "_projected_positive", both)
+    assert mare_stabilizable(system, IID([bad] * system.d)).holds is False
+    basis, _, _ = cv._basis(system, IID([bad] * system.d))
+    K, entries = cv._entries(basis)
+    gram, size = cv._gram(K, entries), basis[0].shape[0]
+    for X in np.random.default_rng(3).normal(size=(4, size, size)):
+        Wr = [[cv._rational(cv._dyadic(v)) for v in row] for row in X @ X.T / size + np.eye(size) / 4]
+        both(K, entries, gram, [cv._frobenius(K, P, Wr) for P in entries], Wr)
+    assert all(x == y for x, y in seen) and (True, True) in seen and (False, False) in seen
+
+
 def test_theorem4_agrees_with_mare_iteration():
     for loss, expected in ((IID(["7/20", "7/20"]), True), (IID(["9/20", "9/20"]), False)):
         assert mare_converges(SCALAR2, loss) is expected

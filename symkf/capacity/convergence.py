@@ -223,11 +223,37 @@ def _gram(K: NumberField, entries: Entries) -> list[list[Elem]]:
 
 def _orthogonal_positive(K: NumberField, entries: Entries, gram: list[list[Elem]], W: np.ndarray) -> bool:
     """Whether the float ``W``, rounded to dyadic rationals and projected exactly onto
-    ``{<F_k, W> = 0 for every k}`` (the Gram system ``gram`` of the basis, in ``K``), is positive definite."""
+    ``{<F_k, W> = 0 for every k}`` (the Gram system ``gram`` of the basis, in ``K``), is positive definite.
+
+    Decided first on certified balls of that exact projection, ``W - sum_k c_k F_k`` with ``c``
+    enclosing the exact solution of the Gram system (flint's certified solve), by
+    :func:`_pivots_positive`; only when a ball leaves it open, the projection in exact arithmetic
+    (its rationals are large: converting them to balls, with the exact solve and combination, took
+    half of ``symkf.bounds`` at 32 sensors)."""
     size = W.shape[0]
     Wr = [[_rational(_dyadic((W[i, j] + W[j, i]) / 2)) for j in range(size)] for i in range(size)]
-    coef = solve_rows(K, gram, [_frobenius(K, P, Wr) for P in entries])
+    rhs = [_frobenius(K, P, Wr) for P in entries]
+    decided = _with_prec(256, lambda: _projected_positive(K, entries, gram, rhs, Wr))
+    if decided is not None:
+        return decided
+    coef = solve_rows(K, gram, rhs)
     return _positive_definite(K, _combination(K, [-c for c in coef], entries, size, Wr))
+
+
+def _projected_positive(K: NumberField, entries: Entries, gram: list[list[Elem]], rhs: list[Elem],
+                        start: list[list[Elem]]) -> bool | None:
+    """:func:`_pivots_positive` of ``start - sum_k c_k F_k``, ``gram c = rhs``, on certified balls at the
+    current precision; None when the Gram matrix is not certified invertible or a pivot's sign stays open."""
+    prec = flint.ctx.prec
+    try:
+        c = flint.arb_mat(K.real_balls(gram, prec)).solve(flint.arb_mat([[b] for b in K.real_balls([rhs], prec)[0]]))
+    except ZeroDivisionError:
+        return None
+    M = flint.arb_mat(K.real_balls(start, prec))
+    for k, F in enumerate(entries):
+        for (i, j), v in zip(F, K.real_balls([list(F.values())], prec)[0]):
+            M[i, j] -= c[k, 0] * v
+    return _pivots_positive(M.tolist())
 
 
 def _rational(v: Fraction) -> Elem:
