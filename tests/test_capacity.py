@@ -263,6 +263,28 @@ def test_the_infeasibility_certificate_on_balls_is_the_exact_one(system, bad, mo
     assert all(x == y for x, y in seen) and (True, True) in seen and (False, False) in seen
 
 
+@pytest.mark.parametrize("size", [40, 131])
+def test_pivots_by_schur_complements_are_the_pivots(size):
+    # _schur_positive (halves, flint's certified solve and product) against elimination entry by entry,
+    # on balls of the same exact matrices: positive definite, a last pivot negative, a leading minor
+    # zero (both leave it open on balls of nonzero radius: None), at and above SCHUR_BLOCK
+    import flint
+    from symkf.capacity.convergence import SCHUR_BLOCK, _pivots_positive, _schur_positive
+    from symkf.exact.algebraic import _with_prec
+    X = np.random.default_rng(size).normal(size=(size, size))
+    A = X @ X.T / size + np.eye(size) / 20
+    negative, singular = A.copy(), A.copy()
+    negative[-1, -1] -= np.linalg.eigvalsh(A)[-1] * size
+    singular[:2, :] = A[0]
+    singular[:, :2] = singular[:, :1]
+    for M, expected in ((A, True), (negative, False), (singular, None)):
+        exact = [[flint.fmpq(int(round(v * 2 ** 40)), 2 ** 40) for v in row] for row in M]
+        balls = lambda: [[flint.arb(x) + flint.arb(0, 2.0 ** -200) for x in row] for row in exact]
+        assert _with_prec(256, lambda: _schur_positive(balls())) is expected
+        assert _with_prec(256, lambda: _pivots_positive(balls())) is expected
+    assert size <= SCHUR_BLOCK or size > 2 * SCHUR_BLOCK
+
+
 def test_theorem4_agrees_with_mare_iteration():
     for loss, expected in ((IID(["7/20", "7/20"]), True), (IID(["9/20", "9/20"]), False)):
         assert mare_converges(SCALAR2, loss) is expected

@@ -133,7 +133,7 @@ def _positive_definite(K: NumberField, M: list[list[Elem]]) -> bool:
     elimination without row exchanges (the leading minors are their running products) on certified
     balls; over Q, when a ball's sign stays open, on the exact rationals; else by exact
     determinants (:func:`symkf.model.check_positive_definite`)."""
-    decided = _with_prec(256, lambda: _pivots_positive(K.real_balls(M, 256)))
+    decided = _with_prec(256, lambda: _schur_positive(K.real_balls(M, 256)))
     if decided is None and K.is_rational:
         decided = _pivots_positive([[a[0] for a in row] for row in M])
     if decided is not None:
@@ -143,6 +143,32 @@ def _positive_definite(K: NumberField, M: list[list[Elem]]) -> bool:
     except NotPositiveDefiniteError:
         return False
     return True
+
+
+#: below this size :func:`_schur_positive` eliminates entry by entry (:func:`_pivots_positive`)
+SCHUR_BLOCK = 48
+
+
+def _schur_positive(a: list[list[flint.arb]]) -> bool | None:
+    """:func:`_pivots_positive` on balls, by halves: the pivots of elimination without row exchanges
+    are those of the leading block ``A11`` followed by those of its Schur complement ``A22 - A21
+    A11^-1 A12``, whose balls (enclosing the exact complement) flint's certified solve and product
+    give in C (the entry-by-entry elimination in Python took a quarter of ``symkf.bounds`` at 64
+    sensors; 200 x 200 at 256 bits: 0.17 s against 0.39-0.46).  Not for rationals: an exact
+    ``fmpq_mat`` solve swells (20 s at 200 x 200)."""
+    k = len(a)
+    if k <= SCHUR_BLOCK:
+        return _pivots_positive(a)
+    h = k // 2
+    leading = _schur_positive([row[:h] for row in a[:h]])
+    if leading is not True:
+        return leading
+    try:
+        X = flint.arb_mat([row[:h] for row in a[:h]]).solve(flint.arb_mat([row[h:] for row in a[:h]]))
+    except ZeroDivisionError:   # a ball of A11 too wide to certify it invertible
+        return None
+    return _schur_positive((flint.arb_mat([row[h:] for row in a[h:]])
+                            - flint.arb_mat([row[:h] for row in a[h:]]) * X).tolist())
 
 
 def _pivots_positive(a: list[list[Any]]) -> bool | None:
@@ -253,7 +279,7 @@ def _projected_positive(K: NumberField, entries: Entries, gram: list[list[Elem]]
     for k, F in enumerate(entries):
         for (i, j), v in zip(F, K.real_balls([list(F.values())], prec)[0]):
             M[i, j] -= c[k, 0] * v
-    return _pivots_positive(M.tolist())
+    return _schur_positive(M.tolist())
 
 
 def _rational(v: Fraction) -> Elem:
