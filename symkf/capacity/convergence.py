@@ -229,13 +229,19 @@ def _combination(K: NumberField, coefficients: Sequence[Elem], entries: Entries,
     return out
 
 
-def _to_numpy(F: dict[tuple[int, int], Elem], K: NumberField, size: int) -> np.ndarray:
-    """A basis matrix given by its nonzero entries, in floats."""
-    out = np.zeros((size, size))
-    balls = K.real_balls([list(F.values())], 64)[0] if F else []
-    for k, b in zip(F, balls):
-        out[k] = float(b.mid())
-    return out
+def _vectorised(entries: Entries, K: NumberField, size: int):
+    """The basis in floats as one sparse matrix, ``vec(F_k)`` (column-major, size^2 rows) its column
+    ``k``: the SDP's ``F = sum_k x_k F_k`` is one product (a sum of dense ``F_k`` took half a GB and a
+    quarter of ``symkf.bounds`` in cvxpy's canonicalisation at 64 sensors, a 396 x 396 ``F``)."""
+    from scipy import sparse
+    rows, cols, values = [], [], []
+    for k, F in enumerate(entries):
+        balls = K.real_balls([list(F.values())], 64)[0] if F else []
+        for (i, j), b in zip(F, balls):
+            rows.append(j * size + i)
+            cols.append(k)
+            values.append(float(b.mid()))
+    return sparse.csc_matrix((values, (rows, cols)), shape=(size * size, len(entries)))
 
 
 def _gram(K: NumberField, entries: Entries) -> list[list[Elem]]:
@@ -300,11 +306,11 @@ def mare_stabilizable(system: System, loss: IID) -> LMIVerdict:
     basis, ny, zidx = _basis(system, loss)
     K, entries = _entries(basis)
     size, n = basis[0].shape[0], system.n
-    num = [_to_numpy(F, K, size) for F in entries]
+    vec = _vectorised(entries, K, size)
 
-    x, t = cp.Variable(len(num)), cp.Variable()
-    F = sum(x[k] * num[k] for k in range(len(num)))
-    Y = sum(x[k] * num[k][:n, :n] for k in range(ny))
+    x, t = cp.Variable(len(entries)), cp.Variable()
+    F = cp.reshape(vec @ x, (size, size), order="F")
+    Y = F[:n, :n]   # the Z coordinates' F_k vanish there
     positive = (F + F.T) / 2 >> t * np.eye(size)
     primal = cp.Problem(cp.Maximize(t), [positive, (Y + Y.T) / 2 << np.eye(n)])
     primal.solve(solver=cp.CLARABEL)
@@ -326,8 +332,8 @@ def mare_stabilizable(system: System, loss: IID) -> LMIVerdict:
     if positive.dual_value is not None and _orthogonal_positive(K, entries, gram, positive.dual_value):
         return LMIVerdict(False, infeasible, t_val, float(np.linalg.eigvalsh(positive.dual_value)[0]))
     W, s = cp.Variable((size, size), symmetric=True), cp.Variable()
-    dual = cp.Problem(cp.Maximize(s), [W >> s * np.eye(size), cp.trace(W) == 1]
-                      + [cp.sum(cp.multiply(B, W)) == 0 for B in num])
+    dual = cp.Problem(cp.Maximize(s), [W >> s * np.eye(size), cp.trace(W) == 1,
+                                       vec.T @ cp.reshape(W, (size * size,), order="F") == 0])
     dual.solve(solver=cp.CLARABEL)
     s_val = float(s.value) if s.value is not None else -np.inf
     if s_val > 0 and _orthogonal_positive(K, entries, gram, W.value):
