@@ -185,3 +185,25 @@ def test_a_floor_below_every_weight_returns_every_hyperplane(A, rows):
     got = br.heaviest(w, floor=0.0)
     assert got is not None and "inside" not in br.__dict__
     assert set(got) == set(br.hyperplanes)
+
+
+@pytest.mark.parametrize("name, rows, losses", CASES)
+def test_proportional_weights_are_screened_once(name, rows, losses, monkeypatch):
+    # heaviest without a floor is kept per direction of the weights: proportional weights (a common
+    # rate's critical value, then a verdict at equal rates) reuse it, and what it returns holds the
+    # maximisers a fresh screen at the scaled weights finds; another direction is screened anew
+    loss = sk.IID(losses)
+    cached, fresh = (sk.System(A=BLOCKS[name], sensors=[sk.Sensor(C=[r]) for r in rows]) for _ in range(2))
+    (br,), (br_fresh,) = block_rows(cached), block_rows(fresh)
+    weights = [_weights(loss)[e.sensor] for e in br.elements]
+    screens = []
+    screened = BlockRows._heaviest
+    monkeypatch.setattr(BlockRows, "_heaviest", lambda self, w, floor: screens.append(1) or screened(self, w, floor))
+    first = br.heaviest(weights)
+    again = br.heaviest([4.0 * w for w in weights])   # (exactly proportional in floats: 2.5 w need not be)
+    assert len(screens) == 1 and set(again) == set(first)
+    scaled = br_fresh.heaviest([4.0 * w for w in weights])
+    best = max(sum(4.0 * weights[e] for e in H) for H in scaled)
+    assert {H for H in scaled if sum(4.0 * weights[e] for e in H) >= best - 1e-9} <= set(again)
+    br.heaviest([w * (1 + br.elements[e].sensor) for e, w in enumerate(weights)])
+    assert len(screens) == 3   # the fresh system's screen, then the new direction
