@@ -318,8 +318,16 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
         raise ShapeError(f"log traces: expected {(horizon + 1, paths)}, got {trace.shape}")
     if linear and (trace.shape[0] > paths or trace.shape[1] > horizon):
         raise ShapeError(f"traces: at most {(paths, horizon)}, got {trace.shape}")
+    shapes = {"A": np.shape(A), "UQ": np.shape(UQ), "S0": np.shape(S0), "H": np.shape(H), "row_sensor": np.shape(row_sensor)}
+    if len({shapes[k] for k in ("A", "UQ", "S0")}) > 1 or shapes["A"] != (n, n) or shapes["H"] != (len(row_sensor), n):
+        raise ShapeError("A, UQ, S0 (n x n), H (rows x n) and row_sensor (rows) disagree: "
+                         + ", ".join(f"{k} {v}" for k, v in shapes.items()))
+    if len(row_sensor) and not 0 <= min(row_sensor) <= max(row_sensor) < received.shape[2]:
+        raise ShapeError(f"row_sensor: sensors 0..{received.shape[2] - 1} (the receptions' last axis), got "
+                         f"{min(row_sensor)}..{max(row_sensor)}")
     buffer = np.empty((BUFFER_STEPS if linear else 1, lanes(n)))
-    _kernel(n)(A, UQ, H, row_sensor, S0, received, trace, buffer, linear)
+    # C order: a step's receptions are copied as one flat row per block (_receptions)
+    _kernel(n)(A, UQ, H, row_sensor, S0, np.ascontiguousarray(received), trace, buffer, linear)
 
 
 def _kernel(n: int):

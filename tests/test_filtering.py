@@ -404,3 +404,30 @@ def test_a_steps_receptions_are_copied_sensor_major(d):
         count = min(width, paths - start)
         np.testing.assert_array_equal(block[:, :count], received[k, start:start + count].T)
         assert not block[:, count:].any()
+
+
+def test_the_kernel_takes_receptions_in_any_memory_order():
+    # log_trace_paths is public: receptions as a transposed view (sensor-major in memory) give the
+    # traces of the same receptions in C order
+    from symkf.square_root import log_trace_paths
+    A, UQ, S0 = np.array([[1.0, 0.5], [0.0, 1.2]]), np.eye(2), np.eye(2)
+    H, rows = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]), np.array([0, 1, 2])
+    sensor_major = np.random.default_rng(0).random((30, 3, 700)) < 0.5
+    view = sensor_major.transpose(0, 2, 1)
+    assert not view.flags.c_contiguous
+    traces = [np.empty((31, 700)) for _ in range(2)]
+    log_trace_paths(A, UQ, H, rows, S0, view, traces[0])
+    log_trace_paths(A, UQ, H, rows, S0, np.ascontiguousarray(view), traces[1])
+    assert np.array_equal(*traces) and np.isfinite(traces[0]).all()
+
+
+@pytest.mark.parametrize("bad", ["A", "UQ", "S0", "H", "row_sensor"])
+def test_the_kernel_refuses_arguments_that_disagree(bad):
+    # the compiled loops do not check bounds: a row of a sensor past the receptions' last axis, or a
+    # factor of another size, is refused before they run
+    from symkf.errors import ShapeError
+    from symkf.square_root import log_trace_paths
+    args = dict(A=np.eye(2), UQ=np.eye(2), H=np.ones((2, 2)), row_sensor=np.array([0, 1]), S0=np.eye(2))
+    args[bad] = np.array([0, 2]) if bad == "row_sensor" else np.eye(3)
+    with pytest.raises(ShapeError, match=bad):
+        log_trace_paths(**args, received=np.ones((4, 8, 2), bool), trace=np.empty((5, 8)))
