@@ -206,7 +206,7 @@ def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, scale: np.ndarray) -> 
         e -= e & 1
         E[p] += e
         t[p] *= _pow2(-e)
-        scale[p] = _pow2(-(e // 2))
+        scale[p] = _float_bits((1023 - e // 2) << 52)   # -e / 2 in [-512, 511]: one power of two
     for i in range(n):
         for j in range(i + 1):
             for p in range(LOOP_LANES):
@@ -647,6 +647,7 @@ def _straight_source(n: int) -> str:
     w("    rows = H.shape[0]")
     w(f"    S = _aligned(({n}, {n}, {W}))")
     w(f"    t = _aligned(({W},))")
+    w("    bits = t.view(np.int64)")
     w(f"    E = _aligned_int(({W},))")
     w(f"    noise = _aligned(({W},))")
     w(f"    half = _aligned(({W},))")
@@ -670,20 +671,21 @@ def _straight_source(n: int) -> str:
     # --- rescale (as _rescale) and the trace of step k
     w(f"            for p in range({W}):")
     L += _sum("tp", [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i in R for j in range(i + 1)], " " * 16)
-    w("                e = ((_bits_of(tp) >> 52) & 2047) - 1022 if tp > 0.0 else 0")
+    w("                t[p] = tp")
+    w("                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0")
     w("                e -= e & 1")
     w("                Ep = E[p] + e")
     w("                E[p] = Ep")
     # e and E are even: 2^-e and 2^-E are squares of the halves, exactly (a power of two squares to
     # itself, or rounds to 0 or inf where 2^-E does), so two powers of two do for the three; -e / 2
-    # is in [-512, 511] (tp is finite or inf): one power of two, from its exponent bits
-    w("                scale = _float_bits((1023 - (e >> 1)) << 52)")
+    # is in [-512, 511] (tp is finite or inf): one power of two, from its exponent bits (as _rescale)
+    w("                scale = _float_bits((1023 - e // 2) << 52)")
     w("                tp *= scale * scale")
     for i in R:
         for j in range(i + 1):
             w(f"                S[{i}, {j}, p] *= scale")
     w("                t[p] = tp")
-    w("                root = _pow2(-(Ep >> 1))")   # Ep // 2: Ep is even
+    w("                root = _pow2(-(Ep // 2))")
     w("                half[p] = root")
     w("                noise[p] = root * root")
     w("            _store(k, start, t, E, trace, buffer, linear)")
@@ -773,7 +775,7 @@ def _straight_module() -> str:
             ':func:`symkf.square_root._straight_module` (do not edit; a test compares it with the generator)."""\n\n'
             "import math\n\nimport numpy as np\n\n"
             "from .exact.arguments import check_public\n"
-            "from .square_root import NORMAL, _aligned, _aligned_int, _bits_of, _float_bits, _pow2, _receptions, _store\n\n"
+            "from .square_root import NORMAL, _aligned, _aligned_int, _float_bits, _pow2, _receptions, _store\n\n"
             "#: SHA-256 (its first 16 hex digits) of symkf/square_root.py, whose helpers these kernels inline: numba's\n"
             "#: cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file\n"
             "INLINED = \"%s\"\n\n\n" % (STRAIGHT_MAX, hashlib.sha256(Path(__file__).read_text(encoding="utf-8").encode()).hexdigest()[:16]))

@@ -7,11 +7,11 @@ import math
 import numpy as np
 
 from .exact.arguments import check_public
-from .square_root import NORMAL, _aligned, _aligned_int, _bits_of, _float_bits, _pow2, _receptions, _store
+from .square_root import NORMAL, _aligned, _aligned_int, _float_bits, _pow2, _receptions, _store
 
 #: SHA-256 (its first 16 hex digits) of symkf/square_root.py, whose helpers these kernels inline: numba's
 #: cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file
-INLINED = "99a7261163c8613f"
+INLINED = "24da8f0cc2f882b1"
 
 
 def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
@@ -20,6 +20,7 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     rows = H.shape[0]
     S = _aligned((1, 1, 512))
     t = _aligned((512,))
+    bits = t.view(np.int64)
     E = _aligned_int((512,))
     noise = _aligned((512,))
     half = _aligned((512,))
@@ -32,15 +33,16 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
         for k in range(horizon + 1):
             for p in range(512):
                 tp = S[0, 0, p] * S[0, 0, p]
-                e = ((_bits_of(tp) >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                t[p] = tp
+                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
                 e -= e & 1
                 Ep = E[p] + e
                 E[p] = Ep
-                scale = _float_bits((1023 - (e >> 1)) << 52)
+                scale = _float_bits((1023 - e // 2) << 52)
                 tp *= scale * scale
                 S[0, 0, p] *= scale
                 t[p] = tp
-                root = _pow2(-(Ep >> 1))
+                root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
             _store(k, start, t, E, trace, buffer, linear)
@@ -81,6 +83,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     rows = H.shape[0]
     S = _aligned((2, 2, 512))
     t = _aligned((512,))
+    bits = t.view(np.int64)
     E = _aligned_int((512,))
     noise = _aligned((512,))
     half = _aligned((512,))
@@ -103,17 +106,18 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 tp = S[0, 0, p] * S[0, 0, p]
                 tp += S[1, 0, p] * S[1, 0, p]
                 tp += S[1, 1, p] * S[1, 1, p]
-                e = ((_bits_of(tp) >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                t[p] = tp
+                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
                 e -= e & 1
                 Ep = E[p] + e
                 E[p] = Ep
-                scale = _float_bits((1023 - (e >> 1)) << 52)
+                scale = _float_bits((1023 - e // 2) << 52)
                 tp *= scale * scale
                 S[0, 0, p] *= scale
                 S[1, 0, p] *= scale
                 S[1, 1, p] *= scale
                 t[p] = tp
-                root = _pow2(-(Ep >> 1))
+                root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
             _store(k, start, t, E, trace, buffer, linear)
@@ -202,6 +206,7 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     rows = H.shape[0]
     S = _aligned((3, 3, 128))
     t = _aligned((128,))
+    bits = t.view(np.int64)
     E = _aligned_int((128,))
     noise = _aligned((128,))
     half = _aligned((128,))
@@ -242,11 +247,12 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 tp += S[2, 0, p] * S[2, 0, p]
                 tp += S[2, 1, p] * S[2, 1, p]
                 tp += S[2, 2, p] * S[2, 2, p]
-                e = ((_bits_of(tp) >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                t[p] = tp
+                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
                 e -= e & 1
                 Ep = E[p] + e
                 E[p] = Ep
-                scale = _float_bits((1023 - (e >> 1)) << 52)
+                scale = _float_bits((1023 - e // 2) << 52)
                 tp *= scale * scale
                 S[0, 0, p] *= scale
                 S[1, 0, p] *= scale
@@ -255,7 +261,7 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 S[2, 1, p] *= scale
                 S[2, 2, p] *= scale
                 t[p] = tp
-                root = _pow2(-(Ep >> 1))
+                root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
             _store(k, start, t, E, trace, buffer, linear)
@@ -473,6 +479,7 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     rows = H.shape[0]
     S = _aligned((4, 4, 128))
     t = _aligned((128,))
+    bits = t.view(np.int64)
     E = _aligned_int((128,))
     noise = _aligned((128,))
     half = _aligned((128,))
@@ -533,11 +540,12 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 tp += S[3, 1, p] * S[3, 1, p]
                 tp += S[3, 2, p] * S[3, 2, p]
                 tp += S[3, 3, p] * S[3, 3, p]
-                e = ((_bits_of(tp) >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                t[p] = tp
+                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
                 e -= e & 1
                 Ep = E[p] + e
                 E[p] = Ep
-                scale = _float_bits((1023 - (e >> 1)) << 52)
+                scale = _float_bits((1023 - e // 2) << 52)
                 tp *= scale * scale
                 S[0, 0, p] *= scale
                 S[1, 0, p] *= scale
@@ -550,7 +558,7 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 S[3, 2, p] *= scale
                 S[3, 3, p] *= scale
                 t[p] = tp
-                root = _pow2(-(Ep >> 1))
+                root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
             _store(k, start, t, E, trace, buffer, linear)
@@ -942,6 +950,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     rows = H.shape[0]
     S = _aligned((5, 5, 64))
     t = _aligned((64,))
+    bits = t.view(np.int64)
     E = _aligned_int((64,))
     noise = _aligned((64,))
     half = _aligned((64,))
@@ -1027,11 +1036,12 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 tp += S[4, 2, p] * S[4, 2, p]
                 tp += S[4, 3, p] * S[4, 3, p]
                 tp += S[4, 4, p] * S[4, 4, p]
-                e = ((_bits_of(tp) >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                t[p] = tp
+                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
                 e -= e & 1
                 Ep = E[p] + e
                 E[p] = Ep
-                scale = _float_bits((1023 - (e >> 1)) << 52)
+                scale = _float_bits((1023 - e // 2) << 52)
                 tp *= scale * scale
                 S[0, 0, p] *= scale
                 S[1, 0, p] *= scale
@@ -1049,7 +1059,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 S[4, 3, p] *= scale
                 S[4, 4, p] *= scale
                 t[p] = tp
-                root = _pow2(-(Ep >> 1))
+                root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
             _store(k, start, t, E, trace, buffer, linear)
@@ -1694,6 +1704,7 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     rows = H.shape[0]
     S = _aligned((6, 6, 64))
     t = _aligned((64,))
+    bits = t.view(np.int64)
     E = _aligned_int((64,))
     noise = _aligned((64,))
     half = _aligned((64,))
@@ -1806,11 +1817,12 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 tp += S[5, 3, p] * S[5, 3, p]
                 tp += S[5, 4, p] * S[5, 4, p]
                 tp += S[5, 5, p] * S[5, 5, p]
-                e = ((_bits_of(tp) >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                t[p] = tp
+                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
                 e -= e & 1
                 Ep = E[p] + e
                 E[p] = Ep
-                scale = _float_bits((1023 - (e >> 1)) << 52)
+                scale = _float_bits((1023 - e // 2) << 52)
                 tp *= scale * scale
                 S[0, 0, p] *= scale
                 S[1, 0, p] *= scale
@@ -1834,7 +1846,7 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 S[5, 4, p] *= scale
                 S[5, 5, p] *= scale
                 t[p] = tp
-                root = _pow2(-(Ep >> 1))
+                root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
             _store(k, start, t, E, trace, buffer, linear)
@@ -2575,6 +2587,7 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     rows = H.shape[0]
     S = _aligned((7, 7, 64))
     t = _aligned((64,))
+    bits = t.view(np.int64)
     E = _aligned_int((64,))
     noise = _aligned((64,))
     half = _aligned((64,))
@@ -2722,11 +2735,12 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 tp += S[6, 4, p] * S[6, 4, p]
                 tp += S[6, 5, p] * S[6, 5, p]
                 tp += S[6, 6, p] * S[6, 6, p]
-                e = ((_bits_of(tp) >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                t[p] = tp
+                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
                 e -= e & 1
                 Ep = E[p] + e
                 E[p] = Ep
-                scale = _float_bits((1023 - (e >> 1)) << 52)
+                scale = _float_bits((1023 - e // 2) << 52)
                 tp *= scale * scale
                 S[0, 0, p] *= scale
                 S[1, 0, p] *= scale
@@ -2757,7 +2771,7 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 S[6, 5, p] *= scale
                 S[6, 6, p] *= scale
                 t[p] = tp
-                root = _pow2(-(Ep >> 1))
+                root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
             _store(k, start, t, E, trace, buffer, linear)
@@ -3821,6 +3835,7 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     rows = H.shape[0]
     S = _aligned((8, 8, 64))
     t = _aligned((64,))
+    bits = t.view(np.int64)
     E = _aligned_int((64,))
     noise = _aligned((64,))
     half = _aligned((64,))
@@ -4008,11 +4023,12 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 tp += S[7, 5, p] * S[7, 5, p]
                 tp += S[7, 6, p] * S[7, 6, p]
                 tp += S[7, 7, p] * S[7, 7, p]
-                e = ((_bits_of(tp) >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                t[p] = tp
+                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
                 e -= e & 1
                 Ep = E[p] + e
                 E[p] = Ep
-                scale = _float_bits((1023 - (e >> 1)) << 52)
+                scale = _float_bits((1023 - e // 2) << 52)
                 tp *= scale * scale
                 S[0, 0, p] *= scale
                 S[1, 0, p] *= scale
@@ -4051,7 +4067,7 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 S[7, 6, p] *= scale
                 S[7, 7, p] *= scale
                 t[p] = tp
-                root = _pow2(-(Ep >> 1))
+                root = _pow2(-(Ep // 2))
                 half[p] = root
                 noise[p] = root * root
             _store(k, start, t, E, trace, buffer, linear)
