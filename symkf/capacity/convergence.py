@@ -229,19 +229,23 @@ def _combination(K: NumberField, coefficients: Sequence[Elem], entries: Entries,
     return out
 
 
+def _entry_balls(K: NumberField, entries: Entries, prec: int) -> list[tuple[int, int, int, flint.arb]]:
+    """``(k, i, j, ball)`` for every nonzero entry ``(i, j)`` of every basis matrix ``F_k``: certified
+    real balls at ``prec`` bits, converted in one call."""
+    where = [(k, i, j) for k, F in enumerate(entries) for i, j in F]
+    balls = K.real_balls([[v for F in entries for v in F.values()]], prec)[0] if where else []
+    return [(k, i, j, b) for (k, i, j), b in zip(where, balls)]
+
+
 def _vectorised(entries: Entries, K: NumberField, size: int):
     """The basis in floats as one sparse matrix, ``vec(F_k)`` (column-major, size^2 rows) its column
     ``k``: the SDP's ``F = sum_k x_k F_k`` is one product (a sum of dense ``F_k`` took half a GB and a
     quarter of ``symkf.bounds`` in cvxpy's canonicalisation at 64 sensors, a 396 x 396 ``F``)."""
     from scipy import sparse
-    rows, cols, values = [], [], []
-    for k, F in enumerate(entries):
-        balls = K.real_balls([list(F.values())], 64)[0] if F else []
-        for (i, j), b in zip(F, balls):
-            rows.append(j * size + i)
-            cols.append(k)
-            values.append(float(b.mid()))
-    return sparse.csc_matrix((values, (rows, cols)), shape=(size * size, len(entries)))
+    nonzero = _entry_balls(K, entries, 64)
+    return sparse.csc_matrix(([float(b.mid()) for *_, b in nonzero],
+                              ([j * size + i for _, i, j, _ in nonzero], [k for k, *_ in nonzero])),
+                             shape=(size * size, len(entries)))
 
 
 def _gram(K: NumberField, entries: Entries) -> list[list[Elem]]:
@@ -259,7 +263,7 @@ def _orthogonal_positive(K: NumberField, entries: Entries, gram: list[list[Elem]
 
     Decided first on certified balls of that exact projection, ``W - sum_k c_k F_k`` with ``c``
     enclosing the exact solution of the Gram system (flint's certified solve), by
-    :func:`_pivots_positive`; only when a ball leaves it open, the projection in exact arithmetic
+    :func:`_schur_positive`; only when a ball leaves it open, the projection in exact arithmetic
     (its rationals are large: converting them to balls, with the exact solve and combination, took
     half of ``symkf.bounds`` at 32 sensors)."""
     size = W.shape[0]
@@ -274,7 +278,7 @@ def _orthogonal_positive(K: NumberField, entries: Entries, gram: list[list[Elem]
 
 def _projected_positive(K: NumberField, entries: Entries, gram: list[list[Elem]], rhs: list[Elem],
                         start: list[list[Elem]]) -> bool | None:
-    """:func:`_pivots_positive` of ``start - sum_k c_k F_k``, ``gram c = rhs``, on certified balls at the
+    """:func:`_schur_positive` of ``start - sum_k c_k F_k``, ``gram c = rhs``, on certified balls at the
     current precision; None when the Gram matrix is not certified invertible or a pivot's sign stays open."""
     prec = flint.ctx.prec
     try:
@@ -282,9 +286,8 @@ def _projected_positive(K: NumberField, entries: Entries, gram: list[list[Elem]]
     except ZeroDivisionError:
         return None
     M = flint.arb_mat(K.real_balls(start, prec))
-    for k, F in enumerate(entries):
-        for (i, j), v in zip(F, K.real_balls([list(F.values())], prec)[0]):
-            M[i, j] -= c[k, 0] * v
+    for k, i, j, v in _entry_balls(K, entries, prec):
+        M[i, j] -= c[k, 0] * v
     return _schur_positive(M.tolist())
 
 

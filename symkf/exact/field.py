@@ -397,8 +397,9 @@ class NumberField:
             power, out = flint.acb(1), flint.arb_mat(rows, cols)
             theta = None if self.is_rational else self.theta_ball(prec)
             for k in range(self.degree):
+                if k:
+                    power *= theta
                 out += flint.arb_mat(flint.fmpq_mat(rows, cols, [a[k] for row in M for a in row])) * power.real
-                power = power * theta if k + 1 < self.degree else power
             return out.tolist()
         return _with_prec(prec, balls)
 
