@@ -209,6 +209,19 @@ class System:
             self._read(record)
         self.check_detectable()
 
+    @classmethod
+    def _unchecked(cls, A: Any, sensors: Sequence[Sensor]) -> "System":
+        """A system the engine derives from a checked one (a direct summand of its ``A``, a lifted
+        orbit: :mod:`symkf.cylinders`), read as any other but not required to be detectable: a
+        mode that these sensors do not see is seen elsewhere in the system it came from."""
+        out = object.__new__(cls)
+        for name, value in (("A", A), ("sensors", sensors), ("Q", None), ("P0", None), ("rationalize", False),
+                            ("name", None), ("_cache", {})):
+            object.__setattr__(out, name, value)
+        with rationalization("System") as record:
+            out._read(record)
+        return out
+
     def _read(self, record: Any) -> None:
         raw = self.A
         A = to_exact_matrix(raw, "A", rationalize=self.rationalize)

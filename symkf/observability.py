@@ -30,7 +30,7 @@ import flint
 import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
 import sympy as sp
 
-from . import budget, flat_screen, hyperplane_screen
+from . import budget, cylinders, flat_screen, hyperplane_screen
 from .exact.arguments import check_public
 from .exact.field import Elem, NumberField
 from .exact.linalg import field_of, nullspace_rows, rank_rows
@@ -757,7 +757,7 @@ def block_rows(system: System) -> tuple[BlockRows, ...]:
     if cached is None:
         aside = [b for b, _ in system.set_aside()]
         cached = system._cache["block_rows"] = tuple(
-            _block_rows(system, b) for b in system.eigen_blocks() if b not in aside)
+            cylinders.rows_of(system, b) for b in system.eigen_blocks() if b not in aside)
     return cached
 
 

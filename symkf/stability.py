@@ -8,6 +8,7 @@ with 1.  Margin exactly 1 is not stable.
 
 from __future__ import annotations
 
+import sys
 import textwrap
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -69,11 +70,16 @@ def pattern_words(elements: Iterable[tuple[str, int]]) -> str:
 def _readable(expr: sp.Expr, pointer: str, degree: int | None = None) -> str:
     """``expr`` as text, or a pointer to the exact data when it is a root too long to read
     (the Perron root of a large lifted chain: a ``CRootOf`` of degree 56 for Example 4's robot;
-    the modulus ``cos(pi/211)``: 40-digit coefficients of degree 105)."""
-    text = str(expr)
-    if len(text) <= 200:
+    the modulus ``cos(pi/211)``: 40-digit coefficients of degree 105; ``2^6930 / 10^6160``, past
+    Python's limit on integer-to-text conversion, for a class period of 3465)."""
+    try:
+        text = str(expr)
+    except ValueError:
+        text = None
+    if text is not None and len(text) <= 200:
         return text
-    what = f"a root of a degree-{degree} polynomial" if degree else f"a closed form of {len(text)} characters"
+    what = (f"a root of a degree-{degree} polynomial" if degree else f"a closed form of {len(text)} characters"
+            if text is not None else f"a closed form with integers of more than {sys.get_int_max_str_digits()} digits")
     return f"{what} (exact: {pointer}, or --json)"
 
 

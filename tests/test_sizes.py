@@ -308,25 +308,6 @@ def test_aperiodicity_proof_printed_without_the_ratio_polynomial(monkeypatch):
     assert "denominator <= 2 d^2 = 32" in proof and "not a root of unity (aperiodic)" in proof
 
 
-def test_rotations_in_four_cyclotomic_fields_refused_before_the_compositum():
-    """2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9) + 2R(2 pi/11): one eigen-block of modulus 2 whose
-    eigenvectors need Q(zeta_13860) (degree 2880; building its rows took more than 6 CPU-min before
-    any estimate).  The field holds the eigenvalue ratios, roots of unity of order 3465, so its
-    degree is at least phi(3465) = 1440 > 1024: refused at once, naming the cap.  With three fields
-    (phi(315) = 144) the engine answers (tests/test_diagonal_blocks)."""
-    import time
-    def rot(q):
-        c, s = sp.cos(2 * sp.pi / q), sp.sin(2 * sp.pi / q)
-        return 2 * sp.Matrix([[c, -s], [s, c]])
-    S = sk.System(A=sp.diag(*(rot(q) for q in (5, 7, 9, 11))),
-                  sensors=[sk.Sensor(C=[[2, 1, 0, -1, -1, -2, 1, 0]]), sk.Sensor(C=[[-2, -2, -2, 2, 1, 2, 0, 1]])])
-    start = time.process_time()
-    with pytest.raises(BudgetError, match=r"eigen-block of modulus 2: the degree of the field of its eigenvectors, "
-                                          r"at least phi\(3465\).* is 1440, above the cap 1024.*--max-cyclotomic-degree"):
-        sk.critical_loss_rate(S)
-    assert time.process_time() - start < 10
-
-
 def _tracker_beside_oscillator(d: int, first: int | None = None) -> sk.System:
     """diag(J_2(2), J_2(2), 2R(pi/3)): one 6-dim eigen-block with Jordan chains (elements of two
     generators), period 6, with d integer sensor rows from a fixed generator (the first ``first``)."""
