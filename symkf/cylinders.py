@@ -183,10 +183,9 @@ class SplitRows:
         key = (which, tuple(rows))
         cache = self.__dict__.setdefault("_lifted_cache", {})
         if key not in cache:
-            m = self.block.modulus.exact
-            A = sp.diag(self.system.A.extract(index, index), m * sp.eye(C.rows))
-            aux = System._unchecked(A, [Sensor(C=rows.row_join(sp.eye(C.rows)), name="lifted")])
-            cache[key] = _sub_block(aux, self.block) if any(rows) else None
+            A = sp.diag(self.system.A.extract(index, index), self.block.modulus.exact * sp.eye(C.rows))
+            cache[key] = _sub_block(System._unchecked(A, [Sensor(C=rows.row_join(sp.eye(C.rows)), name="lifted")]),
+                                    self.block) if any(rows) else None
         return cache[key]
 
 

@@ -4,6 +4,8 @@ where the bound on the hyperplanes meeting every part does not decide."""
 
 import pytest
 import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import symkf as sk
 from symkf import budget
@@ -47,6 +49,24 @@ def test_part_by_part_agrees_with_the_compositum(orders, rows):
     assert got[0] == want[0]
     assert got[1].margins[0].exact == want[1].margins[0].exact
     assert got[1].certificate[0].decisive_elements == want[1].certificate[0].decisive_elements
+
+
+@pytest.mark.full
+@settings(max_examples=8, deadline=None)
+@given(st.permutations([5, 7, 8, 9, 12]).map(lambda qs: tuple(qs[:3])),
+       st.lists(st.integers(-2, 2), min_size=6, max_size=6).filter(lambda r: all(r[k] or r[k + 1] for k in (0, 2, 4))))
+def test_part_by_part_never_contradicts_the_compositum(orders, row):
+    """One sensor seeing every part, three parts: part by part gives the compositum's critical loss
+    rate, or refuses naming the cap; never another value."""
+    want = sk.critical_loss_rate(_stack(orders, [row]))
+    split = _stack(orders, [row])
+    with _split(split):
+        try:
+            got = sk.critical_loss_rate(split)
+        except BudgetError as exc:
+            assert "max_cyclotomic_degree" in str(exc) or "--max-cyclotomic-degree" in str(exc)
+            return
+    assert got == want
 
 
 def test_rotation_orbit_meets_an_affine_line_twice():
