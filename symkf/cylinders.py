@@ -99,6 +99,18 @@ class SplitRows:
         return observability._maximal([S for S, v in found.items() if v >= bar - tol])
 
     @cached_property
+    def live(self) -> list[int]:
+        """The elements with a generator: those of the sensors that see some part (each part lies in
+        a cylinder; a sensor's row at time k is nonzero iff it is at time 0)."""
+        seen = {rows.elements[e].sensor for rows, _ in self._cylinders for e in rows.live}
+        return [e for e, element in enumerate(self.elements) if element.sensor in seen]
+
+    def spanned(self, weights: Sequence[float], count: int = 9) -> list[frozenset[int]]:
+        """No cheap guess of a heavy hyperplane (that of the direct rows needs the compositum):
+        the caller goes to :meth:`heaviest`."""
+        return []
+
+    @cached_property
     def _cylinders(self) -> list[tuple[Any, int]]:
         """Per part left out, the rows of the sub-system on the other parts and their class period."""
         out = []

@@ -46,8 +46,7 @@ from .exact.arguments import check_public
 from .exact.numbers import sympify
 from .losses import Factor, GilbertElliott, LossModel, checked
 from .model import System
-from .exact.linalg import nullspace_rows
-from .observability import BlockRows, _key, _set, block_deficient, block_rows
+from .observability import BlockRows, _set, block_deficient, block_rows
 
 
 @dataclass(frozen=True)
@@ -196,7 +195,7 @@ def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[
     with a generator; the others lie in every hyperplane), and it increases with ``x``; so ``x_H
     <= x`` iff that margin is ``>= 0`` at ``x``, i.e. iff ``H`` weighs at least ``T(x) - log
     growth``.  Take ``x`` = the least ``x_H`` over a few hyperplanes spanned by the heaviest
-    generators (:func:`_spanned`; exact) or, when none lies below ``start``, one step of
+    generators (:meth:`BlockRows.spanned`; exact) or, when none lies below ``start``, one step of
     Dinkelbach's iteration at ``safe`` (the heaviest hyperplanes there: their least ``x_H``, or
     ``start`` when none lies below it, is an upper bound of the answer).  Then ``heaviest(w(x),
     floor=T(x) - log growth)`` returns every hyperplane with ``x_H <= x`` (its no-miss argument
@@ -214,7 +213,7 @@ def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[
       floor raised by ``c (n - 1)`` still keeps it (with more sets, rated exactly and discarded).
 
     Declines (None) when a loss is symbolic or the screen does not apply."""
-    live = [e for e, gs in enumerate(br.generators) if gs]
+    live = br.live
     log_growth = float(sp.log(growth).evalf(20))
 
     def weights(x: AlgebraicNumber) -> tuple[list[float], float, float] | None:
@@ -239,7 +238,7 @@ def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[
     first = weights(start)
     if first is None:
         return None
-    x = least_of(_spanned(br, first[0]))
+    x = least_of(br.spanned(first[0]))
     if x is None or not x < start:
         step = weights(at)
         if step is None or step[2] > 0:   # Dinkelbach needs losses <= 1: the heaviest bind first
@@ -261,26 +260,6 @@ def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[
         return None
     found = least_of(sets)
     return x if found is None or not found < x else found
-
-
-def _spanned(br: BlockRows, weights: Sequence[float], count: int = 9) -> list[frozenset[int]]:
-    """The hyperplanes spanned by ``n - 1`` of the ``count`` heaviest generators (exact): a cheap
-    guess of a heavy hyperplane (:meth:`BlockRows.on_hyperplanes`)."""
-    n, K = br.size, br.K
-    weight: dict[str, float] = {}
-    first: dict[str, Any] = {}   # distinct generators by key, in order
-    for e, gs in enumerate(br.generators):
-        for g in gs:
-            k = _key(g)
-            weight[k] = weight.get(k, 0.0) + weights[e]
-            first.setdefault(k, g)
-    top = [first[k] for k in sorted(first, key=lambda k: -weight[k])[:count]]
-    normals = []
-    for rows in itertools.combinations(top, n - 1):
-        normal = nullspace_rows(K, rows, n) if n > 1 else []
-        if len(normal) == 1:   # rank n - 1
-            normals.extend(normal)
-    return br.on_hyperplanes(normals) if normals else []
 
 
 # -- restricted transfers per independent factor ----------------------------------------

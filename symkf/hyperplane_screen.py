@@ -43,13 +43,32 @@ _BATCH = 2048  # entries from which inverses() batches (Montgomery) rather than 
 CROWDING = 10_000
 
 
+#: bytes a kept set costs per point it holds (a Python int and its slot in a frozenset), for
+#: :class:`Screen`'s memory bound
+MEMBER_BYTES = 64
+
+
+class Crowded(Exception):
+    """The sets a :class:`Screen` keeps would hold more memory than it was given (a low floor on a
+    block of many elements: hundreds of thousands of sets of hundreds of points, past 6 GB):
+    ``.bytes`` their estimate, ``str()`` their count."""
+
+    def __init__(self, sets: int, points: int) -> None:
+        super().__init__(f"{sets} sets of {points} points in all")
+        self.bytes = points * MEMBER_BYTES
+
+
 class Screen:
     """Best screened weight so far and the kept sets (frozensets of point indices) at least
-    ``bar``: the best less ``tol``, or with ``floor`` ``min(floor, best)`` less ``tol``."""
+    ``bar``: the best less ``tol``, or with ``floor`` ``min(floor, best)`` less ``tol``.  With
+    ``memory`` (bytes), an offer that makes the kept sets' points cost more (:data:`MEMBER_BYTES`
+    each) raises :class:`Crowded`: the caller gives up the screen (its fallback is estimated and
+    refused by its own cap) instead of running out of memory."""
 
-    def __init__(self, tol: float, floor: float | None = None) -> None:
-        self.tol, self.floor, self.best = tol, floor, -np.inf
+    def __init__(self, tol: float, floor: float | None = None, memory: int | None = None) -> None:
+        self.tol, self.floor, self.best, self.memory = tol, floor, -np.inf, memory
         self.kept: dict[frozenset[int], float] = {}
+        self._points = 0
 
     @property
     def bar(self) -> float:
@@ -61,7 +80,13 @@ class Screen:
         if score > self.best:
             self.best = score
             self.kept = {S: w for S, w in self.kept.items() if w >= self.bar}
-        self.kept[frozenset(members)] = score
+            self._points = sum(map(len, self.kept))
+        S = frozenset(members)
+        if S not in self.kept:
+            self._points += len(S)
+            if self.memory is not None and self._points * MEMBER_BYTES > self.memory:
+                raise Crowded(len(self.kept) + 1, self._points)
+        self.kept[S] = score
 
 
 def inverses(y: np.ndarray, p: int) -> np.ndarray:

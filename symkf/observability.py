@@ -39,6 +39,11 @@ from .model import System
 from .spectral import EigenBlock, eigenvalue_key, factors_in, support
 
 
+#: the share of ``budget.Limits.max_memory`` the hyperplane screens' kept sets may take (the
+#: screen's own arrays and the caller's copies take about as much again: 4.0 GB peak with half)
+KEPT_SHARE = 4
+
+
 @dataclass(frozen=True)
 class Element:
     """Sensor ``sensor`` at phase ``phase`` (time k with k mod period = phase)."""
@@ -253,11 +258,16 @@ class BlockRows:
                              f"the estimated work of the hyperplane search through the flats of {len(flats)} elements "
                              f"of several generators and {len(points)} of one, in dimension {n} ({len(stages)} stages)")
             config = flat_screen.Configuration(X, owner, live, w)
-            screen = hyperplane_screen.Screen(tol, floor)
+            screen = hyperplane_screen.Screen(tol, floor, budget.LIMITS.max_memory // KEPT_SHARE)
             for a in stages:   # a hyperplane through a's flat and no flat element of an earlier orbit
                 keep = np.array([e for e in live.tolist() if e != a and not (e in rank and rank[e] >= 2
                                  and orbit[e] < orbit[a])], dtype=np.int64)
-                flat_screen.stage(config.select(keep), X[owner == a], a, p, screen, always, base_weight)
+                try:
+                    flat_screen.stage(config.select(keep), X[owner == a], a, p, screen, always, base_weight)
+                except hyperplane_screen.Crowded as crowded:
+                    budget.check("max_memory", crowded.bytes, f"eigen-block of modulus {self.block.modulus}",
+                                 f"the bytes (estimate) of the element sets kept by the search through the flats "
+                                 f"({crowded}, {hyperplane_screen.MEMBER_BYTES} bytes per point)")
                 if len(screen.kept) > budget.LIMITS.max_hyperplanes:   # the modulus named only then
                     budget.check("max_hyperplanes", len(screen.kept), f"eigen-block of modulus {self.block.modulus}",
                                  "the number of element sets kept by the search through the flats")
@@ -325,9 +335,12 @@ class BlockRows:
                 return None
             X = np.array(images, dtype=np.int64)
             skip = self._parallel_orbits(X, p, orbits, vectors)
-            screen = hyperplane_screen.Screen(tol, floor)
-            if cycles is not None:
-                hyperplane_screen.seed(X, weights, p, cycles, screen)
+            screen = hyperplane_screen.Screen(tol, floor, budget.LIMITS.max_memory // KEPT_SHARE)
+            try:
+                if cycles is not None:
+                    hyperplane_screen.seed(X, weights, p, cycles, screen)
+            except hyperplane_screen.Crowded:
+                return None
             plan = hyperplane_screen.stages(X, weights, p, orbits, skip, screen.bar, cycles)
             work = hyperplane_screen.work(X, p, plan, budget.LIMITS.max_screen_work)
             if work > budget.LIMITS.max_screen_work:  # the modulus named only then
@@ -335,8 +348,11 @@ class BlockRows:
                              f"the estimated work of the hyperplane screen ({points} in dimension {n}, "
                              f"{len(orbits) - len(skip)} orbits, {len(plan)} stages: point-line incidences, about "
                              f"C(C, {n - 2}) per stage for C classes, fewer in a window)")
-            if not hyperplane_screen.search(X, weights, p, plan, screen):
-                continue
+            try:
+                if not hyperplane_screen.search(X, weights, p, plan, screen):
+                    continue
+            except hyperplane_screen.Crowded:   # more sets than fit: the caller lists, refused by its estimate
+                return None
             if len(screen.kept) > budget.LIMITS.max_hyperplanes:
                 return None
             mod_p = {}  # many kept sets share a closure, or one up to the shift (the caller shifts)
@@ -350,6 +366,30 @@ class BlockRows:
                 if all(self._exact(X, p, c, vectors) for c in mod_p.values()):
                     return list(mod_p.values())
         return None
+
+    @cached_property
+    def live(self) -> list[int]:
+        """The elements with a generator (the others lie in every hyperplane)."""
+        return [e for e, gs in enumerate(self.generators) if gs]
+
+    def spanned(self, weights: Sequence[float], count: int = 9) -> list[frozenset[int]]:
+        """The hyperplanes spanned by ``n - 1`` of the ``count`` heaviest generators (exact): a cheap
+        guess of a heavy hyperplane (:meth:`on_hyperplanes`)."""
+        n, K = self.size, self.K
+        weight: dict[str, float] = {}
+        first: dict[str, tuple[Elem, ...]] = {}   # distinct generators by key, in order
+        for e, gs in enumerate(self.generators):
+            for g in gs:
+                k = _key(g)
+                weight[k] = weight.get(k, 0.0) + weights[e]
+                first.setdefault(k, g)
+        top = [first[k] for k in sorted(first, key=lambda k: -weight[k])[:count]]
+        normals = []
+        for rows in itertools.combinations(top, n - 1):
+            normal = nullspace_rows(K, rows, n) if n > 1 else []
+            if len(normal) == 1:   # rank n - 1
+                normals.extend(normal)
+        return self.on_hyperplanes(normals) if normals else []
 
     def on_hyperplanes(self, normals: Sequence[Sequence[Elem]]) -> list[frozenset[int]]:
         """Per normal vector ``v`` (in K^n), the elements all of whose generators ``g`` have ``g . v =

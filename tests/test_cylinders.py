@@ -96,6 +96,13 @@ def test_rotations_in_four_cyclotomic_fields_answered_part_by_part():
     assert time.process_time() - start < 60
     phases = {p for _, p in sk.stability(system, sk.IID(["1/10", "1/10"])).certificate[0].decisive_elements}
     assert phases == set(range(0, 3465, 9))
+    # along the ray (eps, 2 eps) sensor 1's row on the part of order 5 at one phase binds first: a
+    # hyperplane of that part holds 693 of its phases, so 4^3465 eps^2772 (2 eps)^3465 = 1,
+    # eps = 2^(-10395/6237) = 2^(1/3)/4 (the parallel rows' hyperplane: 2^(-13/8), later)
+    assert sk.critical_loss_rate(system, ray=[1, 2]).exact == 2 ** sp.Rational(1, 3) / 4
+    # sensor 1 may lose everything while sensor 2 loses 1/10: sensor 2 alone has at most 693 of
+    # its 3465 elements in a hyperplane, and 4^3465 10^-2772 < 1
+    assert sk.critical_loss_rate(system, sensor="s1", others=["1/10", "1/10"]).exact == 1
 
 
 def test_undecided_blocks_are_refused_naming_the_cap():
@@ -106,3 +113,25 @@ def test_undecided_blocks_are_refused_naming_the_cap():
     system = _stack((5, 7, 9), [[2, 1, 0, -1, -1, -2], [-2, -2, -2, 2, 1, 2]])
     with _split(system), pytest.raises(BudgetError, match=r"at least phi\(315\).* is 144, above the cap 143"):
         sk.critical_loss_rate(system)
+
+
+def test_a_screen_gives_up_before_its_kept_sets_outgrow_the_memory_cap():
+    """Along the ray (eps, 2 eps) on 2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9), with a sensor that sees
+    only the part of order 5, the screen's floor keeps every hyperplane that may bind: hundreds of
+    thousands of sets of hundreds of elements (killed past 24 GB before).  The screen stops when
+    its kept sets would take a quarter of max_memory, and the listing it falls back to is refused
+    by its own estimate, naming the cap."""
+    import resource
+    import time
+    from symkf import hyperplane_screen
+    screen = hyperplane_screen.Screen(0.0, floor=0.0, memory=10 * hyperplane_screen.MEMBER_BYTES)
+    screen.offer(1.0, range(6))
+    with pytest.raises(hyperplane_screen.Crowded, match="2 sets of 12 points"):
+        screen.offer(1.0, range(6, 12))
+    system = _stack((5, 7, 9), [[2, 1, 0, -1, -1, -2], [1, 2, 0, 0, 0, 0]])
+    start = time.process_time()
+    with budget.limits(max_memory=64 * 2 ** 20), pytest.raises(BudgetError, match=r"number of hyperplanes to list.*"
+                                                                                 r"--max-hyperplanes"):
+        sk.critical_loss_rate(system, ray=[1, 2])
+    assert time.process_time() - start < 60
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss < 4 * 2 ** 20   # KiB: below 4 GiB
