@@ -427,7 +427,9 @@ class FactorRates:
         if min(a[0], min(mu)) <= 0:
             return -np.inf, [np.inf] * k
         a1 = a[0] / pad ** 2
-        kappa = max([1 / a1] + [(a[l - 1] / a1 ** l) ** (1 / (l - 1)) for l in range(2, g + 1)]) * pad
+        # a1^l may fall below float64 (g = 3465): kappa is then inf, and its bound is never the least
+        with np.errstate(over="ignore", divide="ignore"):
+            kappa = max([1 / a1] + [(a[l - 1] / a1 ** l) ** (1 / (l - 1)) for l in range(2, g + 1)]) * pad
         rows = [max(np.log(mu[m]) - np.log(mu[m & ~(1 << j)]) for m in range(1 << k) if m >> j & 1) * pad
                 for j in range(k)]
         bounds = [(g * np.log(max(a)), [-np.log(max(a))] * k), (g * np.log(a1), [np.log(kappa)] * k),
