@@ -148,13 +148,19 @@ class SplitRows:
         """An upper bound on the times of sensor ``s`` that one fibre of parts ``i, j`` holds, exact
         up to ``cap`` (any answer above ``cap`` is only said to be above it): the lifted pair's
         hyperplanes of more than ``cap`` points, each counted as the full-support hyperplane
-        points it can hold."""
+        points it can hold.  A sensor that sees only one part of the two, say ``i``, holds at most
+        ``rho_i`` phases of it, each at most ``lcm(o_i, o_j) / o_i`` times in a fibre (one that
+        sees neither holds all of a fibre or none)."""
+        pair = math.lcm(self.orders[i], self.orders[j])
+        C = self.system.sensors[s].C
+        sees = [any(C.extract(list(range(C.rows)), list(self.parts[p]))) for p in (i, j)]
+        if sees.count(True) == 1:
+            p = (i, j)[sees.index(True)]
+            return self._rho(s, p) * pair // self.orders[p]
         lifted = self._lifted(s, (i, j))
-        if lifted is None:
-            return math.lcm(self.orders[i], self.orders[j])
-        sets = lifted.heaviest([1.0] * len(lifted.elements), floor=cap + 0.5)
+        sets = None if lifted is None else lifted.heaviest([1.0] * len(lifted.elements), floor=cap + 0.5)
         if sets is None:
-            return math.lcm(self.orders[i], self.orders[j])
+            return pair
         most = 0
         ni = len(self.parts[i])
         for S in sets:
