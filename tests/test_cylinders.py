@@ -145,3 +145,27 @@ def test_a_screen_gives_up_before_its_kept_sets_outgrow_the_memory_cap():
         sk.critical_loss_rate(system, ray=[1, 2])
     assert time.process_time() - start < 60
     assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss < 4 * 2 ** 20   # KiB: below 4 GiB
+
+
+@pytest.mark.full
+def test_analyze_prints_a_four_field_verdict_whose_margin_power_has_6000_digits(tmp_path, capsys):
+    """``symkf analyze`` in words on the four-field system: the margin power 2^6930 / 10^6160 is past
+    Python's int-to-text limit (4300 digits), so the verdict points to it instead of printing it (it
+    used to stop on --max-digits); with --json the exact value is required and refused, naming the cap."""
+    from symkf import cli
+    blocks = [[f"2*cos(2*pi/{q})", f"-2*sin(2*pi/{q})", f"2*sin(2*pi/{q})", f"2*cos(2*pi/{q})"] for q in (5, 7, 9, 11)]
+    A = [["0"] * 8 for _ in range(8)]
+    for b, (c, ms, s, c2) in enumerate(blocks):
+        A[2 * b][2 * b], A[2 * b][2 * b + 1], A[2 * b + 1][2 * b], A[2 * b + 1][2 * b + 1] = c, ms, s, c2
+    rows = [[2, 1, 0, -1, -1, -2, 1, 0], [-2, -2, -2, 2, 1, 2, 0, 1]]
+    text = "[system]\nA = [" + ", ".join("[" + ", ".join(f'"{v}"' for v in r) + "]" for r in A) + "]\n"
+    for k, r in enumerate(rows):
+        text += f'\n[[sensors]]\nname = "s{k + 1}"\nC = [[' + ", ".join(f'"{v}"' for v in r) + "]]\n"
+    path = tmp_path / "four.toml"
+    path.write_text(text + '\n[loss]\nkind = "iid"\nloss = ["1/10", "1/10"]\n')
+    assert cli.main(["analyze", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "margin alpha^2 rho = 10**(2/9)/25" in out
+    assert "alpha^6930 * rho^3465 = a closed form with integers of more than 4300" in " ".join(out.split())
+    assert cli.main(["analyze", str(path), "--json"]) == 2
+    assert "--max-digits" in capsys.readouterr().err
