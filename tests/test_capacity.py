@@ -427,3 +427,19 @@ def test_remark2_limits_of_gbar():
     assert lower_bound_limit(S, IID(["0", "1/2"])) == S.Q
     Sigma = lower_bound_limit(S, IID(["1", "1"]))
     assert Sigma - S.A * Sigma * S.A.T == S.Q
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.integers(-3, 3), min_size=9, max_size=9), st.lists(st.integers(-3, 3), min_size=9, max_size=9))
+def test_field_pivots_decide_positive_definiteness_as_sylvester(a, b):
+    """The exact pivots over Q(sqrt 2) (the LMI's last resort, when no certified ball decides a
+    pivot's sign: an element of Q(cos 2 pi/401) cancels by 10^500 at 256 bits) against Sylvester's
+    leading minors in sympy, on M = X X^T + shift (sometimes singular or indefinite)."""
+    from symkf.capacity import convergence as cv
+    from symkf.exact.field import NumberField
+    r2 = sp.sqrt(2)
+    X = sp.Matrix(3, 3, [u + v * r2 for u, v in zip(a, b)])
+    M = X * X.T - (sum(abs(u) for u in a) % 4) * sp.eye(3)
+    K = NumberField([r2])
+    want = all(sp.nsimplify(sp.expand(M[:k, :k].det())) > 0 for k in range(1, 4))
+    assert cv._field_pivots_positive(K, [[K.convert(sp.expand(v)) for v in M.row(i)] for i in range(3)]) == want

@@ -169,3 +169,13 @@ def test_analyze_prints_a_four_field_verdict_whose_margin_power_has_6000_digits(
     assert "alpha^6930 * rho^3465 = a closed form with integers of more than 4300" in " ".join(out.split())
     assert cli.main(["analyze", str(path), "--json"]) == 2
     assert "--max-digits" in capsys.readouterr().err
+
+
+@pytest.mark.full
+def test_the_bounds_atlas_refuses_the_lmi_over_the_four_fields_compositum():
+    """The LMI of the bounds atlas checks its certificates in the field of all of A's entries, the
+    compositum of degree 1440 that the exact engine avoids: refused naming the cap (it returned
+    NaN to the SDP solver, an internal error, once the exact value was computed)."""
+    system = _stack((5, 7, 9, 11), [[2, 1, 0, -1, -1, -2, 1, 0], [-2, -2, -2, 2, 1, 2, 0, 1]])
+    with pytest.raises(BudgetError, match=r"field of the LMI's entries .* is 1440, above the cap 1024"):
+        sk.bounds(system)

@@ -58,13 +58,14 @@ import flint
 import numpy as np
 import sympy as sp
 
+from .. import budget
 from ..exact.arguments import check_public
-from ..errors import InputError, NotPositiveDefiniteError, require_extra
+from ..errors import InputError, require_extra
 from ..exact.algebraic import _with_prec
 from ..exact.field import Elem, NumberField
 from ..exact.linalg import field_of, rank, solve_rows
 from ..losses import IID
-from ..model import System, check_positive_definite
+from ..model import System
 from ..spectral import eigenvalues
 from .quantities import _require_iid, capacity_exceeds, spectral_radius
 
@@ -131,18 +132,46 @@ Entries = list[dict[tuple[int, int], Elem]]
 def _positive_definite(K: NumberField, M: list[list[Elem]]) -> bool:
     """Exact: Sylvester's criterion on a symmetric matrix over ``K``, decided by the pivots of
     elimination without row exchanges (the leading minors are their running products) on certified
-    balls; over Q, when a ball's sign stays open, on the exact rationals; else by exact
-    determinants (:func:`symkf.model.check_positive_definite`)."""
-    decided = _with_prec(256, lambda: _schur_positive(K.real_balls(M, 256)))
-    if decided is None and K.is_rational:
-        decided = _pivots_positive([[a[0] for a in row] for row in M])
-    if decided is not None:
-        return decided
-    try:
-        check_positive_definite(sp.Matrix([[K.to_sympy(a) for a in row] for row in M]), "certificate")
-    except NotPositiveDefiniteError:
-        return False
+    balls at 256 bits, then 1024 and 4096 (the terms of an element of Q(cos 2 pi/401), degree 400,
+    cancel by 10^500); when a ball's sign stays open, on the exact pivots (:func:`_pivots_positive`
+    over Q, :func:`_field_pivots_positive` over K: sympy's determinants and minimal polynomials
+    of degree 400 ran past 10 CPU-min)."""
+    for prec in (256, 1024, 4096):
+        decided = _with_prec(prec, lambda: _schur_positive(K.real_balls(M, prec)))
+        if decided is not None:
+            return decided
+        if K.is_rational:
+            return _pivots_positive([[a[0] for a in row] for row in M])
+    return _field_pivots_positive(K, M)
+
+
+def _field_pivots_positive(K: NumberField, M: list[list[Elem]]) -> bool:
+    """Sylvester's criterion by exact elimination over K without row exchanges: every pivot must be
+    positive (a zero pivot is a zero leading minor); a nonzero pivot's sign comes from its certified
+    ball at rising precision (it excludes 0 at some precision, the pivot being exactly nonzero)."""
+    A = [list(row) for row in M]
+    for k in range(len(A)):
+        pivot = A[k][k]
+        if pivot.is_zero() or _sign(K, pivot) < 0:
+            return False
+        inv = K.inv(pivot)
+        for i in range(k + 1, len(A)):
+            f = K.mul(A[i][k], inv)
+            for j in range(k + 1, len(A)):
+                A[i][j] = (A[i][j] - K.mul(f, A[k][j])) % K.modulus
     return True
+
+
+def _sign(K: NumberField, a: Elem) -> int:
+    """The sign of the nonzero real element ``a``, from its certified ball at rising precision."""
+    prec = 256
+    while True:
+        ball = _with_prec(prec, lambda: K.real_balls([[a]], prec)[0][0])
+        if ball > 0:
+            return 1
+        if ball < 0:
+            return -1
+        prec *= 4
 
 
 #: below this size :func:`_schur_positive` eliminates entry by entry (:func:`_pivots_positive`)
@@ -242,7 +271,12 @@ def _vectorised(entries: Entries, K: NumberField, size: int):
     ``k``: the SDP's ``F = sum_k x_k F_k`` is one product (a sum of dense ``F_k`` took half a GB and a
     quarter of ``symkf.bounds`` in cvxpy's canonicalisation at 64 sensors, a 396 x 396 ``F``)."""
     from scipy import sparse
-    nonzero = _entry_balls(K, entries, 64)
+    prec = 64   # raised until every entry has 53 correct bits: over Q(theta) of degree 1440 (rotations
+    # from four cyclotomic fields) the power basis's terms cancel by 10^500, and 64 bits gave NaN
+    nonzero = _entry_balls(K, entries, prec)
+    while not all(b.rel_accuracy_bits() >= 53 for *_, b in nonzero):
+        prec *= 2
+        nonzero = _entry_balls(K, entries, prec)
     return sparse.csc_matrix(([float(b.mid()) for *_, b in nonzero],
                               ([j * size + i for _, i, j, _ in nonzero], [k for k, *_ in nonzero])),
                              shape=(size * size, len(entries)))
@@ -308,6 +342,11 @@ def mare_stabilizable(system: System, loss: IID) -> LMIVerdict:
                           0.0, np.inf)
     basis, ny, zidx = _basis(system, loss)
     K, entries = _entries(basis)
+    # every certificate is checked in K, the compositum of all entries (no one trigonometric
+    # constant's field, which field_of caps): four rotations 2R(2 pi/q), q = 5, 7, 9, 11, give
+    # degree 1440, where the bisection ran past 10 CPU-min
+    budget.check("max_cyclotomic_degree", K.degree, "A", "the degree of the field of the LMI's entries (A, C "
+                 "and the loss rates), in which its certificates are checked")
     size, n = basis[0].shape[0], system.n
     vec = _vectorised(entries, K, size)
 
