@@ -40,7 +40,9 @@ class Limits:
     #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and its
     #: roots come from Euler's formula (2R(2 pi/401): 800, 3.2 CPU-s; 2R(2 pi/509): 1016, 6 CPU-s);
     #: also phi(g) for an eigen-block over several diagonal blocks, g its class period (its field
-    #: holds Q(zeta_g): four rotations 2R(2 pi/q), q = 5, 7, 9, 11, give phi(3465) = 1440)
+    #: holds Q(zeta_g): four rotations 2R(2 pi/q), q = 5, 7, 9, 11, give phi(3465) = 1440; decided
+    #: part by part first, symkf.cylinders), and the degree of the field of all entries of the LMI
+    #: of the bounds atlas, where its certificates are checked
     max_cyclotomic_degree: int = 1024
     #: bit size (2D + 1) D b, D = d(d+1)/2, of the polynomial of the modulus (power sums of the
     #: products of conjugates, symkf.spectral._abs_poly) for a complex eigenvalue of degree d with
