@@ -79,7 +79,8 @@ class SplitRows:
         w = np.asarray(weights, dtype=float).reshape(d, g)
         tol = 1e-9 * (1 + float(w.sum()))
         found: dict[frozenset[int], float] = {}
-        for rows, period in self._cylinders:
+        for rows in self._cylinders:
+            period = rows.class_period
             sub = w.reshape(d, g // period, period).sum(axis=1).ravel()
             sets = rows.heaviest(sub.tolist(), floor)
             if sets is None:
@@ -102,7 +103,7 @@ class SplitRows:
     def live(self) -> list[int]:
         """The elements with a generator: those of the sensors that see some part (each part lies in
         a cylinder; a sensor's row at time k is nonzero iff it is at time 0)."""
-        seen = {rows.elements[e].sensor for rows, _ in self._cylinders for e in rows.live}
+        seen = {rows.elements[e].sensor for rows in self._cylinders for e in rows.live}
         return [e for e, element in enumerate(self.elements) if element.sensor in seen]
 
     def spanned(self, weights: Sequence[float], count: int = 9) -> list[frozenset[int]]:
@@ -111,13 +112,10 @@ class SplitRows:
         return []
 
     @cached_property
-    def _cylinders(self) -> list[tuple[Any, int]]:
-        """Per part left out, the rows of the sub-system on the other parts and their class period."""
-        out = []
-        for p in range(len(self.parts)):
-            rows = _sub_rows(self.system, self.block, [q for i, part in enumerate(self.parts) if i != p for q in part])
-            out.append((rows, rows.class_period))
-        return out
+    def _cylinders(self) -> list[Any]:
+        """Per part left out, the rows of the sub-system on the other parts."""
+        return [_sub_rows(self.system, self.block, [q for i, part in enumerate(self.parts) if i != p for q in part])
+                for p in range(len(self.parts))]
 
     def _fibre_bound(self, w: np.ndarray, bar: float) -> bool:
         """Whether every hyperplane whose normal meets every part weighs less than ``bar``, by the
@@ -126,6 +124,7 @@ class SplitRows:
         if bar <= 0:
             return False
         tau = math.lcm(*self.orders)
+        by_time = w[:, np.arange(tau) % g]   # the weight of each time of the phases' period
         pairs = sorted(((i, j) for i in range(len(self.parts)) for j in range(i + 1, len(self.parts))),
                        key=lambda ij: -math.lcm(self.orders[ij[0]], self.orders[ij[1]]))
         for i, j in pairs:
@@ -133,7 +132,7 @@ class SplitRows:
             if int(sp.totient(pair)) > budget.LIMITS.max_cyclotomic_degree:
                 continue
             L = math.lcm(*(o for q, o in enumerate(self.orders) if q not in (i, j)))
-            fibres = -np.sort(-w[:, np.arange(tau) % g].reshape(d, tau // L, L), axis=1)
+            fibres = -np.sort(-by_time.reshape(d, tau // L, L), axis=1)
             sums = np.concatenate([np.zeros((d, 1)), np.cumsum(fibres.sum(axis=2), axis=1)], axis=1) * g / tau
             # sums[j, m]: sensor j's heaviest m times per fibre, over all fibres, per element
             fits = [m for m in range(tau // L + 1) if sums[:, m].sum() < bar]
@@ -152,8 +151,7 @@ class SplitRows:
         ``rho_i`` phases of it, each at most ``lcm(o_i, o_j) / o_i`` times in a fibre (one that
         sees neither holds all of a fibre or none)."""
         pair = math.lcm(self.orders[i], self.orders[j])
-        C = self.system.sensors[s].C
-        sees = [any(C.extract(list(range(C.rows)), list(self.parts[p]))) for p in (i, j)]
+        sees = [any(self._rows_on(s, (p,))) for p in (i, j)]
         if sees.count(True) == 1:
             p = (i, j)[sees.index(True)]
             return self._rho(s, p) * pair // self.orders[p]
@@ -196,15 +194,19 @@ class SplitRows:
         """The rows of the lifted parts ``which`` for sensor ``s`` (module docstring), cached by
         the sensor's rows there; None when sensor ``s`` sees none of them."""
         index = [q for p in which for q in self.parts[p]]
-        C = self.system.sensors[s].C
-        rows = C.extract(list(range(C.rows)), index)
+        rows = self._rows_on(s, which)
         key = (which, tuple(rows))
         cache = self.__dict__.setdefault("_lifted_cache", {})
         if key not in cache:
-            A = sp.diag(self.system.A.extract(index, index), self.block.modulus.exact * sp.eye(C.rows))
-            cache[key] = _sub_block(System._unchecked(A, [Sensor(C=rows.row_join(sp.eye(C.rows)), name="lifted")]),
+            A = sp.diag(self.system.A.extract(index, index), self.block.modulus.exact * sp.eye(rows.rows))
+            cache[key] = _sub_block(System._unchecked(A, [Sensor(C=rows.row_join(sp.eye(rows.rows)), name="lifted")]),
                                     self.block) if any(rows) else None
         return cache[key]
+
+    def _rows_on(self, s: int, which: tuple[int, ...]) -> sp.Matrix:
+        """Sensor ``s``'s rows on the coordinates of the parts ``which``."""
+        C = self.system.sensors[s].C
+        return C.extract(list(range(C.rows)), [q for p in which for q in self.parts[p]])
 
 
 def _sub_block(system: System, block: EigenBlock) -> Any:
@@ -228,21 +230,13 @@ def rows_of(system: System, block: EigenBlock) -> Any:
     if block.defective or len(block.classes) != 1 or \
             int(sp.totient(block.class_period)) <= budget.LIMITS.max_cyclotomic_degree:
         return observability._block_rows(system, block)
-    held = set(support(system.A, block.members))
-    parts = [tuple(index) for index in diagonal_blocks(system.A) if set(index) <= held]
-    orders = []
-    for part in parts:
-        order = 1
-        for ev in block.members:
-            if set(support(system.A, [ev])) & set(part):
-                phase = ev.phase[0]
-                if phase is None:
-                    return observability._block_rows(system, block)
-                order = math.lcm(order, phase)
-        orders.append(order)
-    if len(parts) < 3:
+    held = [set(support(system.A, [ev])) for ev in block.members]
+    parts = [tuple(index) for index in diagonal_blocks(system.A) if set(index) <= set().union(*held)]
+    phases = [ev.phase[0] for ev in block.members]
+    if len(parts) < 3 or None in phases:
         return observability._block_rows(system, block)
+    orders = tuple(math.lcm(*(m for m, own in zip(phases, held) if own & set(part))) for part in parts)
     elements = tuple(observability.Element(j, r) for j in range(len(system.sensors)) for r in range(block.class_period))
-    return SplitRows(system, block, tuple(parts), tuple(orders), block.class_period, elements, block.size)
+    return SplitRows(system, block, tuple(parts), orders, block.class_period, elements, block.size)
 
 check_public(globals())

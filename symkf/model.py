@@ -8,6 +8,7 @@ definite exactly (Sylvester's criterion with certified signs).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Sequence
 
@@ -215,9 +216,10 @@ class System:
         orbit: :mod:`symkf.cylinders`), read as any other but not required to be detectable: a
         mode that these sensors do not see is seen elsewhere in the system it came from."""
         out = object.__new__(cls)
-        for name, value in (("A", A), ("sensors", sensors), ("Q", None), ("P0", None), ("rationalize", False),
-                            ("name", None), ("_cache", {})):
-            object.__setattr__(out, name, value)
+        given = {"A": A, "sensors": sensors}
+        for f in dataclasses.fields(cls):   # the others at their defaults
+            object.__setattr__(out, f.name, given[f.name] if f.name in given else
+                               f.default_factory() if f.default is dataclasses.MISSING else f.default)
         with rationalization("System") as record:
             out._read(record)
         return out

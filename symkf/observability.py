@@ -336,22 +336,19 @@ class BlockRows:
             X = np.array(images, dtype=np.int64)
             skip = self._parallel_orbits(X, p, orbits, vectors)
             screen = hyperplane_screen.Screen(tol, floor, budget.LIMITS.max_memory // KEPT_SHARE)
-            try:
+            try:   # Crowded: more sets than fit, and the caller lists, refused by its own estimate
                 if cycles is not None:
                     hyperplane_screen.seed(X, weights, p, cycles, screen)
-            except hyperplane_screen.Crowded:
-                return None
-            plan = hyperplane_screen.stages(X, weights, p, orbits, skip, screen.bar, cycles)
-            work = hyperplane_screen.work(X, p, plan, budget.LIMITS.max_screen_work)
-            if work > budget.LIMITS.max_screen_work:  # the modulus named only then
-                budget.check("max_screen_work", work, f"eigen-block of modulus {self.block.modulus}",
-                             f"the estimated work of the hyperplane screen ({points} in dimension {n}, "
-                             f"{len(orbits) - len(skip)} orbits, {len(plan)} stages: point-line incidences, about "
-                             f"C(C, {n - 2}) per stage for C classes, fewer in a window)")
-            try:
+                plan = hyperplane_screen.stages(X, weights, p, orbits, skip, screen.bar, cycles)
+                work = hyperplane_screen.work(X, p, plan, budget.LIMITS.max_screen_work)
+                if work > budget.LIMITS.max_screen_work:  # the modulus named only then
+                    budget.check("max_screen_work", work, f"eigen-block of modulus {self.block.modulus}",
+                                 f"the estimated work of the hyperplane screen ({points} in dimension {n}, "
+                                 f"{len(orbits) - len(skip)} orbits, {len(plan)} stages: point-line incidences, "
+                                 f"about C(C, {n - 2}) per stage for C classes, fewer in a window)")
                 if not hyperplane_screen.search(X, weights, p, plan, screen):
                     continue
-            except hyperplane_screen.Crowded:   # more sets than fit: the caller lists, refused by its estimate
+            except hyperplane_screen.Crowded:
                 return None
             if len(screen.kept) > budget.LIMITS.max_hyperplanes:
                 return None

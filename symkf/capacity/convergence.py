@@ -148,11 +148,11 @@ def _positive_definite(K: NumberField, M: list[list[Elem]]) -> bool:
 def _field_pivots_positive(K: NumberField, M: list[list[Elem]]) -> bool:
     """Sylvester's criterion by exact elimination over K without row exchanges: every pivot must be
     positive (a zero pivot is a zero leading minor); a nonzero pivot's sign comes from its certified
-    ball at rising precision (it excludes 0 at some precision, the pivot being exactly nonzero)."""
+    ball at rising precision (one correct bit excludes 0, the pivot being exactly nonzero)."""
     A = [list(row) for row in M]
     for k in range(len(A)):
         pivot = A[k][k]
-        if pivot.is_zero() or _sign(K, pivot) < 0:
+        if pivot.is_zero() or K.real_balls([[pivot]], 256, accuracy=1)[0][0] < 0:
             return False
         inv = K.inv(pivot)
         for i in range(k + 1, len(A)):
@@ -160,18 +160,6 @@ def _field_pivots_positive(K: NumberField, M: list[list[Elem]]) -> bool:
             for j in range(k + 1, len(A)):
                 A[i][j] = (A[i][j] - K.mul(f, A[k][j])) % K.modulus
     return True
-
-
-def _sign(K: NumberField, a: Elem) -> int:
-    """The sign of the nonzero real element ``a``, from its certified ball at rising precision."""
-    prec = 256
-    while True:
-        ball = _with_prec(prec, lambda: K.real_balls([[a]], prec)[0][0])
-        if ball > 0:
-            return 1
-        if ball < 0:
-            return -1
-        prec *= 4
 
 
 #: below this size :func:`_schur_positive` eliminates entry by entry (:func:`_pivots_positive`)
@@ -258,11 +246,13 @@ def _combination(K: NumberField, coefficients: Sequence[Elem], entries: Entries,
     return out
 
 
-def _entry_balls(K: NumberField, entries: Entries, prec: int) -> list[tuple[int, int, int, flint.arb]]:
+def _entry_balls(K: NumberField, entries: Entries, prec: int, accuracy: int | None = None
+                 ) -> list[tuple[int, int, int, flint.arb]]:
     """``(k, i, j, ball)`` for every nonzero entry ``(i, j)`` of every basis matrix ``F_k``: certified
-    real balls at ``prec`` bits, converted in one call."""
+    real balls at ``prec`` bits (or more, for ``accuracy``: :meth:`NumberField.real_balls`), converted
+    in one call."""
     where = [(k, i, j) for k, F in enumerate(entries) for i, j in F]
-    balls = K.real_balls([[v for F in entries for v in F.values()]], prec)[0] if where else []
+    balls = K.real_balls([[v for F in entries for v in F.values()]], prec, accuracy)[0] if where else []
     return [(k, i, j, b) for (k, i, j), b in zip(where, balls)]
 
 
@@ -271,12 +261,7 @@ def _vectorised(entries: Entries, K: NumberField, size: int):
     ``k``: the SDP's ``F = sum_k x_k F_k`` is one product (a sum of dense ``F_k`` took half a GB and a
     quarter of ``symkf.bounds`` in cvxpy's canonicalisation at 64 sensors, a 396 x 396 ``F``)."""
     from scipy import sparse
-    prec = 64   # raised until every entry has 53 correct bits: over Q(theta) of degree 1440 (rotations
-    # from four cyclotomic fields) the power basis's terms cancel by 10^500, and 64 bits gave NaN
-    nonzero = _entry_balls(K, entries, prec)
-    while not all(b.rel_accuracy_bits() >= 53 for *_, b in nonzero):
-        prec *= 2
-        nonzero = _entry_balls(K, entries, prec)
+    nonzero = _entry_balls(K, entries, 64, accuracy=53)   # 64 bits alone gave NaN over four cyclotomic fields
     return sparse.csc_matrix(([float(b.mid()) for *_, b in nonzero],
                               ([j * size + i for _, i, j, _ in nonzero], [k for k, *_ in nonzero])),
                              shape=(size * size, len(entries)))
