@@ -30,6 +30,7 @@ speed drifts between runs).
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import os
 import re
@@ -168,24 +169,30 @@ def divider_work(n: int, rows: int) -> tuple[int, int]:
     return rows + n, rows + n
 
 
-def loop_divider_work(n: int) -> set[tuple[int, int]]:
+def loop_divider_work(n: int) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
     """(divisions, square roots) per path of each lane loop of the straight-line kernel that has
-    any: a Potter row (its gain), the time update, one loop per Householder column from
-    ``PHASED_MIN`` to ``PHASED_MAX`` states (the last column only its norm), else one loop, and the
-    log's loop."""
+    any, and of those a step runs for the logs at d = 1.  A Potter row's gain, written twice from
+    n = 2 (the first row, on the time update's triangular S, and the others); the time update,
+    one loop per Householder column from ``PHASED_MIN`` to ``PHASED_MAX`` states (the last column
+    only its norm), else one loop; up to ``PHASED_MAX`` its last loop written twice, once with the
+    log of the traces (one division more); the log's own loop (the last step, and every step
+    beyond ``PHASED_MAX``)."""
     from symkf.square_root import PHASED_MAX, PHASED_MIN
-    if PHASED_MIN <= n <= PHASED_MAX:
-        return {(1, 1), (0, 1), (1, 0)}
-    return {(1, 1), (n - 1, n), (1, 0)}
+    potter = [(1, 1)] * (2 if n > 1 else 1)
+    columns = [(1, 1)] * (n - 1) + [(0, 1)] if PHASED_MIN <= n <= PHASED_MAX else [(n - 1, n)]
+    if n > PHASED_MAX:
+        return potter + columns + [(1, 0)], [(1, 1)] + columns + [(1, 0)]
+    with_log = (columns[-1][0] + 1, columns[-1][1])
+    return potter + columns + [with_log, (1, 0)], [(1, 1)] + columns[:-1] + [with_log]
 
 
-def asm_divider_work(n: int) -> list[tuple[int, int]]:
+def asm_divider_work(n: int) -> tuple[list[tuple[int, int]], str]:
     """(vdivpd, vsqrtpd) on vector registers of the widest width the compiler used (xmm, ymm or zmm:
     2, 4 or 8 paths each) per loop body of the compiled straight-line kernel for ``n`` states, the
     bodies that have any (compiled here without numba's cache, whose code cannot be inspected), per
     vector; and that width's name.  A body the compiler unrolled (2, 4, 8 or 16 vectors at once: up to
     the whole lane loop) holds that multiple of one of :func:`loop_divider_work`'s counts and is
-    divided by it; a body matching none is kept whole, so the total then differs from the source's."""
+    divided by it; a body matching none is kept whole, and the bodies then differ from the source's."""
     from symkf import straight_kernels
     from symkf.square_root import lanes
     kernel = njit(error_model="numpy")(getattr(straight_kernels, f"_paths_{n}"))
@@ -196,13 +203,14 @@ def asm_divider_work(n: int) -> list[tuple[int, int]]:
     bodies = re.split(r"^\.LBB\w+:", asm, flags=re.M)
     counts = [(len(re.findall(rf"^\s*vdivpd\s.*%{register}", b, re.M)),
                len(re.findall(rf"^\s*vsqrtpd\s.*%{register}", b, re.M))) for b in bodies]
-    source = loop_divider_work(n)
-    per_vector = lambda c: next((tuple(x // u for x in c) for u in (1, 2, 4, 8, 16)
-                                 if all(x % u == 0 for x in c) and tuple(x // u for x in c) in source), c)
-    bodies = [per_vector(c) for c in counts if any(c)]
-    # the log's loop is compiled twice, for whole blocks and for a partial last block: one runs
-    log = bodies.count((1, 0))
-    return [c for c in bodies if c != (1, 0)] + [(1, 0)] * min(log, 1), register
+    written = loop_divider_work(n)[0]
+    # each body's readings as the source's counts (a (2, 2) is one loop with 2 of each, or a
+    # (1, 1) loop unrolled twice): the first assignment that gives the source's bodies, if any
+    readings = [[tuple(x // u for x in c) for u in (1, 2, 4, 8, 16)
+                 if all(x % u == 0 for x in c) and tuple(x // u for x in c) in written] or [c]
+                for c in counts if any(c)]
+    matching = (list(b) for b in itertools.product(*readings) if sorted(b) == sorted(written))
+    return next(matching, [r[0] for r in readings]), register
 
 
 def run_cells(python: str, root: str, horizon: int, repeats: int, cells: list, env: dict) \
@@ -229,12 +237,14 @@ def main() -> None:
           f"one divider) (CPU seconds, medians of {repeats})")
     for n in sorted({n for n, _ in CELLS if n <= STRAIGHT_MAX}):
         bodies, register = asm_divider_work(n)
-        total = tuple(map(sum, zip(*bodies)))
+        written, step = loop_divider_work(n)
+        total = tuple(map(sum, zip(*step)))
         width = {"xmm": 2, "ymm": 4, "zmm": 8}[register]
-        print(f"compiled kernel n = {n}: {register} vdivpd, vsqrtpd per loop body ({width} paths) {bodies}; "
-              f"per path-step at d = 1 "
-              f"{total}, the source's count {divider_work(n, 1)}{'' if total == divider_work(n, 1) else ' DIFFERS'}; "
-              f"each further row adds {(1, 1)}")
+        same = sorted(bodies) == sorted(written)
+        print(f"compiled kernel n = {n}: {register} vdivpd, vsqrtpd per loop body ({width} paths) {bodies}"
+              f"{', as the source' if same else ' DIFFERS from the source ' + str(written)}; a step for the logs "
+              f"at d = 1 runs {step}: {total} per path-step, the yardstick's {divider_work(n, 1)}"
+              f"{'' if total == divider_work(n, 1) else ' DIFFERS'}; each further row adds {(1, 1)}")
     cells = [(n, d, paths_for(n, args.quick)) for n, d in CELLS]
     rounds = 3 if args.main else 1
     here, old = [[] for _ in cells], [[] for _ in cells]

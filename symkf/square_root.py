@@ -110,6 +110,16 @@ def _bits_of(typingctx, value):
     return types.int64(types.float64), codegen
 
 
+@intrinsic
+def _fma(typingctx, a, b, c):
+    """``a b + c`` rounded once (``llvm.fma``: one vector instruction where the CPU has FMA)."""
+    def codegen(context, builder, signature, args):
+        double = ir.DoubleType()
+        fma = cgutils.get_or_insert_function(builder.module, ir.FunctionType(double, [double] * 3), "llvm.fma.f64")
+        return builder.call(fma, args)
+    return types.float64(types.float64, types.float64, types.float64), codegen
+
+
 #: fdlibm's e_log.c (Sun Microsystems, 1993): ln 2 split so that ``k ln2_hi`` is exact for
 #: |k| < 2^20, and the minimax coefficients of ``(log(1 + f) - f + f^2/2) / s`` in ``s^2``,
 #: ``s = f / (2 + f)``, error below 2^-58.7 on |s| <= 0.1716
@@ -123,7 +133,11 @@ def _log_scaled(t: float, e: int) -> float:
     """``log t + e ln 2`` for ``t`` zero or a normal float (-inf at 0, ``t`` itself if inf or nan), with
     fdlibm's ``log`` (below one ulp): branch-free, so that a lane loop of it vectorises, where
     ``math.log`` is a call per path.  ``t = m 2^k``, ``m`` in [sqrt(2)/2, sqrt(2)), ``f = m - 1``
-    exact; then ``log t = (k + e) ln 2 + f - f^2/2 + s (f^2/2 + R(s^2))``."""
+    exact; then ``log t = (k + e) ln 2 + f - f^2/2 + s (f^2/2 + R(s^2))``.  The polynomial ``R`` and
+    ``s (f^2/2 + R) + k ln2_lo`` are evaluated with fused multiply-adds (one rounding where fdlibm
+    has two: its error bound holds; 6 vector operations fewer per path-step).  Those terms are below
+    ``|f| / 10`` and enter the sum last, so that their rounding moves the result by well under an
+    ulp: the final ``f - f^2/2`` and ``k ln2_hi`` are fdlibm's, unfused."""
     bits = _bits_of(t)
     k = ((bits >> 52) & 2047) - 1023
     m = _float_bits((bits & 0xFFFFFFFFFFFFF) | 0x3FF0000000000000)   # [1, 2)
@@ -133,10 +147,10 @@ def _log_scaled(t: float, e: int) -> float:
     s = f / (2.0 + f)
     z = s * s
     w = z * z
-    R = z * (LG[0] + w * (LG[2] + w * (LG[4] + w * LG[6]))) + w * (LG[1] + w * (LG[3] + w * LG[5]))
+    R = _fma(z, _fma(w, _fma(w, _fma(w, LG[6], LG[4]), LG[2]), LG[0]), w * _fma(w, _fma(w, LG[5], LG[3]), LG[1]))
     half_f2 = 0.5 * f * f
     dk = float(k + (1 if high else 0) + e)
-    value = dk * LN2_HI - ((half_f2 - (s * (half_f2 + R) + dk * LN2_LO)) - f)
+    value = dk * LN2_HI - ((half_f2 - _fma(s, half_f2 + R, dk * LN2_LO)) - f)
     if 0.0 < t < math.inf:
         return value
     return -math.inf if t == 0.0 else t
@@ -178,14 +192,35 @@ def _aligned_zeros(dtype):
 _aligned, _aligned_int = _aligned_zeros(types.float64), _aligned_zeros(types.int64)
 
 
-@_compiled
-def _pow2(e: int) -> float:
-    """``2^e`` rounded as ``ldexp(1, e)`` (0 for e <= -1075, inf for e >= 1024): the product of two
-    normal powers of two built from their exponent bits, ``e`` clamped to their range first
-    (a table look-up is a gather, paid on every path-step of the lane loops)."""
+def _pow2_bits(e: int) -> float:
+    """``2^e`` as the product of two normal powers of two built from their exponent bits, ``e``
+    clamped to their range first (a table look-up is a gather, paid on every path-step of the lane
+    loops)."""
     e = min(max(e, -2044), 2046)
     half = e >> 1
     return _float_bits((half + 1023) << 52) * _float_bits((e - half + 1023) << 52)
+
+
+def _clamped(e: int) -> int:
+    """``e`` within [-2100, 2100], where ``2^e`` is 0 or inf beyond (an int32 for ``llvm.ldexp``)."""
+    return min(max(e, -2100), 2100)
+
+
+@intrinsic
+def _pow2(typingctx, e):
+    """``2^e`` rounded as ``ldexp(1, e)`` (0 for e <= -1075, inf for e >= 1024).  Where the compile
+    target has AVX-512, ``llvm.ldexp``: one ``vscalefpd`` per 8 lanes (n = 2: 1.02x over
+    :func:`_pow2_bits`); elsewhere LLVM would call libm's ``ldexp`` lane by lane, and
+    :func:`_pow2_bits` is inlined instead (the same value: both are exact)."""
+    def codegen(context, builder, signature, args):
+        if "+avx512f" not in getattr(context.codegen(), "_tm_features", ""):
+            return context.compile_internal(builder, _pow2_bits, signature, args)
+        i32 = ir.IntType(32)
+        power = builder.trunc(context.compile_internal(builder, _clamped, types.int64(types.int64), args), i32)
+        ldexp = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.DoubleType(), [ir.DoubleType(), i32]),
+                                               "llvm.ldexp.f64.i32")
+        return builder.call(ldexp, [ir.Constant(ir.DoubleType(), 1.0), power])
+    return types.float64(types.int64), codegen
 
 
 @_compiled
@@ -214,32 +249,71 @@ def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, scale: np.ndarray) -> 
 
 
 @_compiled
-def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, buffer: np.ndarray,
-           linear: bool) -> None:
-    """Step ``k`` of the block at ``start``: ``trace[k, p] = log t + E ln 2`` (:func:`_log_scaled`,
-    a row along the lanes), or with ``linear`` ``trace[p, k] = t 2^E`` (two exact power-of-two
-    factors: inf only beyond float64) for the paths and steps ``trace`` has, through ``buffer``
-    (w, lanes), the block's ``w`` steps: the products are stored along the lanes, and every ``w``
-    steps the buffer goes into the block's rows of ``trace`` along the steps (stores across paths,
-    8 ``horizon`` bytes apart)."""
-    width = t.size   # the block's lanes
+def _linear_scaled(t: float, e: int) -> float:
+    """``t 2^e`` by two exact power-of-two factors (inf only beyond float64)."""
+    half = e // 2
+    return t * _pow2(half) * _pow2(e - half)
+
+
+@_compiled
+def _row(trace: np.ndarray, buffer: np.ndarray, spare: np.ndarray, k: int, start: int, linear: bool) -> np.ndarray:
+    """Where a lane loop writes step ``k``'s traces of the block at ``start`` (``spare.size`` lanes):
+    its row of ``trace`` (their logs, ``trace[k, p]``), or with ``linear`` the row ``k mod w`` of
+    ``buffer`` (w, lanes), the block's ``w`` steps, which :func:`_flush` writes along the steps;
+    ``spare`` for a partial last block's logs, or a step beyond those ``trace`` has."""
     if linear:
-        steps, w = trace.shape[1], buffer.shape[0]
-        if k < steps:
-            row = buffer[k % w]
-            for p in range(width):
-                half = E[p] // 2
-                row[p] = t[p] * _pow2(half) * _pow2(E[p] - half)
-            if k % w == w - 1 or k == steps - 1:
-                first = k - k % w
-                for p in range(min(width, trace.shape[0] - start)):
-                    out = trace[start + p]
-                    for j in range(first, k + 1):
-                        out[j] = buffer[j - first, p]
+        return buffer[k % buffer.shape[0]] if k < trace.shape[1] else spare
+    if start + spare.size <= trace.shape[1]:
+        return trace[k, start:start + spare.size]
+    return spare
+
+
+@_compiled
+def _flush(trace: np.ndarray, buffer: np.ndarray, spare: np.ndarray, k: int, start: int, linear: bool) -> None:
+    """After step ``k``'s lane loop has written :func:`_row`: a partial last block's logs from
+    ``spare`` into ``trace``; with ``linear``, every ``w`` steps (and at the last) the buffer into
+    the block's rows of ``trace[p, k]`` along the steps (stores across paths, 8 ``horizon`` bytes
+    apart), eight paths (a cache line of the buffer) at a time: path by path, a column of the
+    buffer is ``w`` lines one lane row (4 KiB at 512 lanes) apart, all in one set of the L1 cache,
+    each line evicted before the next path reads it (1 sensor: the kernel 1.28x faster along the
+    steps at n = 2, 512 lanes; 1.02x at n = 4, 128 lanes; 1.00x at n = 8)."""
+    width = spare.size
+    if not linear:
+        if start + width > trace.shape[1]:
+            row = trace[k, start:]
+            for p in range(row.size):
+                row[p] = spare[p]
         return
-    trace_k = trace[k, start:start + width]            # a view: an index p + start would not vectorise
-    for p in range(trace_k.size):                      # fewer than width in a partial last block
-        trace_k[p] = _log_scaled(t[p], E[p])
+    steps, w = trace.shape[1], buffer.shape[0]
+    if k < steps and start < trace.shape[0] and (k % w == w - 1 or k == steps - 1):   # trace may hold fewer paths
+        first, count = k - k % w, min(width, trace.shape[0] - start)
+        whole = count - count % 8
+        for tile in range(0, whole, 8):   # a fixed trip count of 8: unrolled (a bound min(tile + 8, count): 0.95x at n = 4)
+            paths = trace[start + tile:start + tile + 8]
+            for j in range(first, k + 1):
+                line = buffer[j - first, tile:tile + 8]
+                for p in range(8):
+                    paths[p, j] = line[p]
+        for p in range(whole, count):
+            out = trace[start + p]
+            for j in range(first, k + 1):
+                out[j] = buffer[j - first, p]
+
+
+@_compiled
+def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, buffer: np.ndarray,
+           spare: np.ndarray, linear: bool) -> None:
+    """Step ``k`` of the block at ``start``: ``trace[k, p] = log t + E ln 2`` (:func:`_log_scaled`),
+    or with ``linear`` ``trace[p, k] = t 2^E`` (:func:`_linear_scaled`) for the paths and steps
+    ``trace`` has, in a lane loop of its own (:func:`_row`, :func:`_flush`)."""
+    out = _row(trace, buffer, spare, k, start, linear)
+    if linear:
+        for p in range(out.size):
+            out[p] = _linear_scaled(t[p], E[p])
+    else:
+        for p in range(out.size):
+            out[p] = _log_scaled(t[p], E[p])
+    _flush(trace, buffer, spare, k, start, linear)
 
 
 @_compiled
@@ -313,6 +387,8 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     horizon, paths, _ = received.shape
     if np.any(np.tril(A, -2)):
         raise ShapeError("A: the kernel takes A upper Hessenberg (symkf.filtering's kernel arguments make it so)")
+    if np.ndim(S0) == 2 and np.any(np.triu(S0, 1)):   # the first Potter row skips its zeros
+        raise ShapeError("S0: the kernel takes S0 lower triangular (symkf.filtering's kernel arguments make it so)")
     # the compiled loops do not check bounds
     if not linear and trace.shape != (horizon + 1, paths):
         raise ShapeError(f"log traces: expected {(horizon + 1, paths)}, got {trace.shape}")
@@ -363,6 +439,7 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
     noise = _aligned((LOOP_LANES,))
     E = _aligned_int((LOOP_LANES,))
     t = _aligned((LOOP_LANES,))
+    spare = _aligned((LOOP_LANES,))
     block = np.empty((d, LOOP_LANES), np.bool_)
     for start in range(0, paths, LOOP_LANES):
         for i in range(n):
@@ -373,7 +450,7 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
             E[p] = 0
         _rescale(S, E, t, f2)
         for k in range(horizon + 1):
-            _store(k, start, t, E, trace, buffer, linear)
+            _store(k, start, t, E, trace, buffer, spare, linear)
             if k == horizon:
                 break
             _receptions(received, k, start, block)
@@ -651,6 +728,7 @@ def _straight_source(n: int) -> str:
     w(f"    E = _aligned_int(({W},))")
     w(f"    noise = _aligned(({W},))")
     w(f"    half = _aligned(({W},))")
+    w(f"    spare = _aligned(({W},))")   # a partial last block's log traces (_row)
     if PHASED_MIN <= n <= PHASED_MAX:   # the time update's live entries between its lane loops, and Potter's u, w
         w(f"    X = _aligned(({2 * n}, {n}, {W}))")
         w(f"    F = _aligned(({n}, {W}))")
@@ -688,80 +766,123 @@ def _straight_source(n: int) -> str:
     w("                root = _pow2(-(Ep // 2))")
     w("                half[p] = root")
     w("                noise[p] = root * root")
-    w("            _store(k, start, t, E, trace, buffer, linear)")
-    w("            if k == horizon:")
-    w("                break")
+    if n <= PHASED_MAX:   # the traces in the time update's last lane loop (below)
+        w("            if k == horizon:")
+        w("                _store(k, start, t, E, trace, buffer, spare, linear)")
+        w("                break")
+    else:
+        w("            _store(k, start, t, E, trace, buffer, spare, linear)")
+        w("            if k == horizon:")
+        w("                break")
     w("            _receptions(received, k, start, block)")
-    # --- Potter, one row at a time
+    # --- Potter, one row at a time; the first sees the time update's S = R^T (or S0), lower
+    # triangular, and skips the terms of its zeros (only a zero sum's sign can differ, as above;
+    # with 1 sensor n = 4: 1.10x, n = 8: 1.05x, n = 2: 1.00x)
     w("            for r in range(rows):")
     w("                got = block[row_sensor[r]]")
     for i in R:
         w(f"                h{i} = H[r, {i}]")
-    w(f"                for p in range({W}):")
-    load_S(" " * 20)
-    for j in R:
-        L += _sum(f"f{j}", [f"s{i}_{j} * h{i}" for i in R], " " * 20)
-        w(f"                    ff {'+=' if j else '='} f{j} * f{j}")
-    w("                    nz = noise[p]")
-    w("                    a = ff + nz")
-    w("                    denom = a + math.sqrt(a * nz)")
-    w("                    coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0")
-    for j in R:
-        w(f"                    g{j} = f{j} * coef")
-    if PHASED_MIN <= n <= PHASED_MAX:   # the row's update in a second lane loop: u and w through memory
+
+    def potter(indent: str, triangular: bool) -> None:   # the lane loop(s) of one row
+        entries = [(i, j) for i in R for j in R if j <= i or not triangular]
+
+        def load(body: str) -> None:
+            for i, j in entries:
+                w(f"{body}s{i}_{j} = S[{i}, {j}, p]")
+        body = indent + " " * 4
+        w(f"{indent}for p in range({W}):")
+        load(body)
         for j in R:
-            w(f"                    F[{j}, p] = f{j}")
-            w(f"                    G[{j}, p] = g{j}")
-        w(f"                for p in range({W}):")
-        load_S(" " * 20)
+            L.extend(_sum(f"f{j}", [f"s{i}_{j} * h{i}" for i in R if (i, j) in entries], body))
+            w(f"{body}ff {'+=' if j else '='} f{j} * f{j}")
+        w(f"{body}nz = noise[p]")
+        w(f"{body}a = ff + nz")
+        w(f"{body}denom = a + math.sqrt(a * nz)")
+        w(f"{body}coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0")
         for j in R:
-            w(f"                    f{j} = F[{j}, p]")
-            w(f"                    g{j} = G[{j}, p]")
-    for i in R:
-        L += _sum(f"u{i}", [f"s{i}_{j} * f{j}" for j in R], " " * 20)
-    for i in R:
-        for j in R:
-            w(f"                    S[{i}, {j}, p] = s{i}_{j} - u{i} * g{j}")
+            w(f"{body}g{j} = f{j} * coef")
+        if PHASED_MIN <= n <= PHASED_MAX:   # the row's update in a second lane loop: u and w through memory
+            for j in R:
+                w(f"{body}F[{j}, p] = f{j}")
+                w(f"{body}G[{j}, p] = g{j}")
+            w(f"{indent}for p in range({W}):")
+            load(body)
+            for j in R:
+                w(f"{body}f{j} = F[{j}, p]")
+                w(f"{body}g{j} = G[{j}, p]")
+        for i in R:
+            L.extend(_sum(f"u{i}", [f"s{i}_{j} * f{j}" for j in R if (i, j) in entries], body))
+        for i in R:
+            for j in R:
+                w(f"{body}S[{i}, {j}, p] = {f's{i}_{j}' if (i, j) in entries else '0.0'} - u{i} * g{j}")
+    if n > 1:
+        w("                if r == 0:")
+        potter(" " * 20, True)
+        w("                else:")
+        potter(" " * 20, False)
+    else:
+        potter(" " * 16, False)
     # --- time update (as _time_update): X[j][i] = (A S)[i, j], rows n.. = 2^(-E/2) UQ; for small n
     # one lane loop per Householder column (the live entries kept in X between them), else one loop
     X = {(j, i): f"x{j}_{i}" for i in R for j in R}
     X.update({(n + i, j): f"x{n + i}_{j}" for i in R for j in range(i, n)})
     phases = [[j] for j in R] if PHASED_MIN <= n <= PHASED_MAX else [list(R)]
-    for cols in phases:
-        w(f"            for p in range({W}):")
+
+    def time_update(cols: list, indent: str, trace: str = "") -> None:   # the lane loop of columns cols, and the traces by ``trace``
+        w(f"{indent}for p in range({W}):")
+        body = indent + " " * 4
         if cols[0] == 0:
-            load_S(" " * 16)
+            load_S(body)
             for i in R:
                 for j in R:
                     # A upper Hessenberg (log_trace_paths)
-                    L += _sum(X[j, i], [f"a{i}_{l} * s{l}_{j}" for l in range(max(i - 1, 0), n)], " " * 16)
+                    L.extend(_sum(X[j, i], [f"a{i}_{l} * s{l}_{j}" for l in range(max(i - 1, 0), n)], body))
         else:
             for key in _live(X, cols[0], n):
-                w(f"                {X[key]} = X[{key[0]}, {key[1]}, p]")
-        w("                root = half[p]")
+                w(f"{body}{X[key]} = X[{key[0]}, {key[1]}, p]")
+        w(f"{body}root = half[p]")
         for j in cols:
             for k in range(j, n):        # row n + j enters at step j (its entries left of j are zero)
-                w(f"                {X[n + j, k]} = root * q{j}_{k}")
+                w(f"{body}{X[n + j, k]} = root * q{j}_{k}")
             rowsj = range(j, n + j + 1)
-            L += _sum("sq", [f"{X[i, j]} * {X[i, j]}" for i in rowsj], " " * 16)
-            w("                norm = math.sqrt(sq)")
-            w(f"                x0 = {X[j, j]}")
-            w("                head = norm if x0 >= 0.0 else -norm")
+            L.extend(_sum("sq", [f"{X[i, j]} * {X[i, j]}" for i in rowsj], body))
+            w(f"{body}norm = math.sqrt(sq)")
+            w(f"{body}x0 = {X[j, j]}")
+            w(f"{body}head = norm if x0 >= 0.0 else -norm")
             if j < n - 1:   # the last column's reflector is never applied: only its pivot -head is kept
-                w(f"                {X[j, j]} = x0 + head")
-                w("                half_v2 = norm * (norm + abs(x0))")
-                w("                tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0")
+                w(f"{body}{X[j, j]} = x0 + head")
+                w(f"{body}half_v2 = norm * (norm + abs(x0))")
+                w(f"{body}tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0")
                 for k in range(j + 1, n):
-                    L += _sum("dot", [f"{X[i, j]} * {X[i, k]}" for i in rowsj], " " * 16)
-                    w("                twice = tau * dot")
+                    L.extend(_sum("dot", [f"{X[i, j]} * {X[i, k]}" for i in rowsj], body))
+                    w(f"{body}twice = tau * dot")
                     for i in rowsj:
-                        w(f"                {X[i, k]} -= twice * {X[i, j]}")
-            w(f"                {X[j, j]} = -head")
+                        w(f"{body}{X[i, k]} -= twice * {X[i, j]}")
+            w(f"{body}{X[j, j]} = -head")
             for i in R:          # row j of R is final: column j of S = R^T
-                w(f"                S[{i}, {j}, p] = {X[j, i] if j <= i else '0.0'}")
+                w(f"{body}S[{i}, {j}, p] = {X[j, i] if j <= i else '0.0'}")
         if cols[-1] < n - 1:
             for key in _live(X, cols[-1] + 1, n):
-                w(f"                X[{key[0]}, {key[1]}, p] = {X[key]}")
+                w(f"{body}X[{key[0]}, {key[1]}, p] = {X[key]}")
+        if trace:
+            w(f"{body}out[p] = {trace}(t[p], E[p])")
+
+    for cols in phases[:-1]:
+        time_update(cols, " " * 12)
+    if n > PHASED_MAX:
+        time_update(phases[-1], " " * 12)
+        return "\n".join(L) + "\n"
+    # up to PHASED_MAX this step's traces are taken in the last lane loop of the time update, which
+    # does not read them: its square roots and the log's polynomial overlap (n = 2: 1.05-1.07x over
+    # a lane loop of their own with 1 sensor, 1.00-1.02x with 3).  That loop is written twice, for
+    # the logs and for the traces along the steps (linear): beyond PHASED_MAX it is the whole time
+    # update, and twice its compile time (n = 8: 7.5 to 14.7 s) bought nothing (0.99x)
+    w("            out = _row(trace, buffer, spare, k, start, linear)")
+    w("            if linear:")
+    time_update(phases[-1], " " * 16, "_linear_scaled")
+    w("            else:")
+    time_update(phases[-1], " " * 16, "_log_scaled")
+    w("            _flush(trace, buffer, spare, k, start, linear)")
     return "\n".join(L) + "\n"
 
 
@@ -775,7 +896,8 @@ def _straight_module() -> str:
             ':func:`symkf.square_root._straight_module` (do not edit; a test compares it with the generator)."""\n\n'
             "import math\n\nimport numpy as np\n\n"
             "from .exact.arguments import check_public\n"
-            "from .square_root import NORMAL, _aligned, _aligned_int, _float_bits, _pow2, _receptions, _store\n\n"
+            "from .square_root import (NORMAL, _aligned, _aligned_int, _float_bits, _flush, _linear_scaled, _log_scaled, _pow2,\n"
+            "                          _receptions, _row, _store)\n\n"
             "#: SHA-256 (its first 16 hex digits) of symkf/square_root.py, whose helpers these kernels inline: numba's\n"
             "#: cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file\n"
             "INLINED = \"%s\"\n\n\n" % (STRAIGHT_MAX, hashlib.sha256(Path(__file__).read_text(encoding="utf-8").encode()).hexdigest()[:16]))

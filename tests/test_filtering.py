@@ -1,5 +1,9 @@
 """The batched float filter against the exact oracle (Sui-You-Fu eq. 9) and against its own simulation."""
 
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -245,12 +249,12 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         UQ = np.linalg.qr(M.T, mode="r")
         S0 = np.linalg.qr(rng.normal(size=(n, n)).T, mode="r").T
         rows = np.array([0, 1, 1])
-        received = rng.random((600, 2 * width, 2)) < 0.3   # whole blocks of both kernels' lanes
+        received = rng.random((600, 2 * width + 37, 2)) < 0.3   # whole blocks of both kernels' lanes, and a partial one
         received[:, :64] = False
         received[:, 64:128] = True
         out = []
         for kernel in (_straight(n), _loop_kernel(n)):
-            logs, linear = np.empty((601, 2 * width)), np.empty((150, 600))
+            logs, linear = np.empty((601, 2 * width + 37)), np.empty((150, 600))
             kernel(A, UQ, H, rows, S0, received, logs, np.empty((1, width)), False)
             kernel(A, UQ, H, rows, S0, received, linear, np.empty((64, width)), True)   # the first 150 paths
             out.append((logs, linear))
@@ -341,23 +345,55 @@ def test_the_unrolled_potter_kernels_equal_the_loops_bit_for_bit(n):
     assert np.array_equal(outs[0][:, n:], S[:, n:])
 
 
-def test_the_kernels_power_of_two_rounds_as_ldexp_at_every_exponent():
-    # the lane loops build 2^e from exponent bits (no table): every e a path's scale can reach,
-    # the subnormal range, the underflow to 0 (ties to even at 2^-1075) and the overflow to inf
+@pytest.mark.parametrize("implementation", ["_pow2", "_pow2_bits"])
+def test_the_kernels_power_of_two_rounds_as_ldexp_at_every_exponent(implementation):
+    # the lane loops' 2^e, by llvm.ldexp where the target has AVX-512 (_pow2 here on such a CPU)
+    # and from exponent bits elsewhere (_pow2_bits): every e a path's scale can reach, the
+    # subnormal range, the underflow to 0 (ties to even at 2^-1075) and the overflow to inf
     from numba import njit
 
-    from symkf.square_root import _pow2
+    from symkf import square_root
+    pow2 = getattr(square_root, implementation)
+    pow2 = pow2 if implementation == "_pow2" else njit(pow2)
 
     @njit
     def powers(es):
         out = np.empty(es.size)
         for i in range(es.size):
-            out[i] = _pow2(es[i])
+            out[i] = pow2(es[i])
         return out
     es = np.concatenate([np.arange(-5000, 5001), [-2 ** 62, 2 ** 62]])
     with np.errstate(over="ignore"):
         expected = np.ldexp(1.0, np.clip(es, -5000, 5000))
     assert np.array_equal(powers(es).view(np.int64), expected.view(np.int64))
+
+
+def test_the_kernels_power_of_two_without_avx512_is_built_from_exponent_bits(tmp_path):
+    # compiled for a CPU without AVX-512 (numba's target set by its environment variables), _pow2
+    # must not become llvm.ldexp, which LLVM would turn into a libm call per lane: no vscalefpd,
+    # no call, and every value ldexp's
+    script = """
+import numpy as np
+from numba import njit
+from symkf.square_root import _pow2
+
+@njit
+def powers(es):
+    out = np.empty(es.size)
+    for i in range(es.size):
+        out[i] = _pow2(es[i])
+    return out
+es = np.arange(-2200, 2200)
+got = powers(es)
+asm = powers.inspect_asm(powers.signatures[0])
+assert 'vscalefpd' not in asm and 'ldexp' not in asm, 'ldexp in the code'
+assert np.array_equal(got.view(np.int64), np.ldexp(1.0, es).view(np.int64))
+print('ok')
+"""
+    env = dict(os.environ, NUMBA_CPU_NAME="haswell", NUMBA_CPU_FEATURES="+64bit,+avx,+avx2,+fma,+sse2,+sse4.1,+sse4.2,+popcnt",
+               NUMBA_CACHE_DIR=str(tmp_path))
+    out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=300)
+    assert out.stdout.strip() == "ok", out.stderr[-2000:]
 
 
 @pytest.mark.parametrize("module, generator", [("straight_kernels", "_straight_module"),
