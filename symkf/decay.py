@@ -510,20 +510,78 @@ def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
     patterns = Patterns(br, rates)
     sets = _screened(br, rates, patterns) if all(r.screened for r in rates) else None
     if sets is None:
+        sets = _beyond_listing(br, rates, patterns)
+    if sets is None:
         sets = list(capped_hyperplanes(br))
     return _decide(sets, patterns)
+
+
+def _beyond_listing(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
+    """Where listing the hyperplanes would be refused (their estimated number above
+    ``budget.Limits.max_hyperplanes``): the special ones (at least ``n`` elements with a
+    generator: the screen with unit weights and a strict floor) and, when it is larger than all of
+    theirs, the best rate of ``n - 1`` such elements, attained by generic hyperplanes
+    (:mod:`symkf.generic_hyperplanes`, which also says why no maximiser is missed), the first of
+    them in lexicographic order.  None when that does not apply (the caller lists, refused by the
+    estimate)."""
+    if "inside" in br.__dict__ or br.cylinders or br.size < 2 or br.several_generators \
+            or br.listing_estimate()[0] <= budget.LIMITS.max_hyperplanes:
+        return None
+    from . import generic_hyperplanes   # it rates patterns by FactorRates: imported once both exist
+    generic = generic_hyperplanes.best_elements(br, rates)
+    if generic is None:
+        return None
+    special = br.heaviest([1.0 if gs else 0.0 for gs in br.generators], floor=br.size - 0.5, strict=True)
+    if special is None:
+        return None
+    rate, S = generic
+    top = max((patterns.rate(H) for H in special), default=None)
+    # larger than every special one: S is a generic hyperplane; equal: it is one of the maxima (the
+    # list's first may be generic) if it is a hyperplane, else its rate is some special one's
+    if top is None or rate > top or (rate == top and generic_hyperplanes.is_hyperplane(br, S)):
+        return special + [S]
+    return special
 
 
 def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
     """The hyperplanes of :func:`markov_search`'s two screens; None when a screen declines or the
     bound cannot rule out the generic hyperplanes (through ``n - 1`` elements of one generator in
     general position, :meth:`BlockRows.generic_weight`: then listing is cheaper)."""
+    if br.cylinders:
+        return _through_cylinders(br, rates, patterns)
     first = _first_screen(br, rates, patterns)
     if first is None:
         return None
     tau = max(lg - err for lg, err in map(patterns.log_rate, first))
     second = _reaching(br, rates, patterns, tau)
     return None if second is None else list({*first, *second})
+
+
+def _through_cylinders(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
+    """The sets of :func:`markov_search` for a block over several parts (:mod:`symkf.cylinders`):
+    each cylinder's own search (the sub-system's rows over its own, smaller field, with the same
+    factors at its class period), its candidates lifted; their largest rate, less its proved
+    error, is ``tau``, and every hyperplane meeting every part is ruled out by the additive bound
+    of screen 2 (``log rho(M_H) <= C + sum_(e in H) beta_e``) when the fibres bound its weight
+    below ``tau - C``.  Each lifted set is rated over this block's period (a pattern repeated
+    ``g / g_S`` times); None when the bound does not rule those hyperplanes out."""
+    sets = {br.lift(rows, H) for rows in br.cylinders
+            for H, _ in markov_search(rows, [FactorRates(r.factor, rows.class_period) for r in rates]).candidates}
+    tau = max(lg - err for lg, err in map(patterns.log_rate, sets))
+    beta, C = _additive_bound(br, rates, patterns)
+    if not np.isfinite(tau) or not np.isfinite(C):
+        return None
+    floor = tau - C
+    return list(sets) if br.meet_every_part_below(beta, floor - 1e-9 * (1 + abs(floor) + abs(C))) else None
+
+
+def _additive_bound(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> tuple[list[float], float]:
+    """``(beta, C)`` of screen 2 of :func:`markov_search`: ``log rho(M_H) <= C + sum_(e in H)
+    beta_e`` for every set ``H`` (:meth:`FactorRates.gain_bound`, per factor, at ``n - 1``
+    elements inside); ``C`` is -inf or NaN where a factor has no finite bound."""
+    bounds = [r.gain_bound(br.size - 1) for r in rates]
+    beta = [bounds[f][1][rates[f].factor.sensors.index(br.elements[e].sensor)] for e, (f, _, _) in enumerate(patterns.of)]
+    return beta, sum(C for C, _ in bounds)
 
 
 def _first_screen(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
@@ -537,12 +595,9 @@ def _reaching(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns, t
               ) -> list[frozenset[int]] | None:
     """Every hyperplane whose rate may reach ``exp(tau)`` (screen 2 of :func:`markov_search`);
     None when the additive bound cannot rule out the generic hyperplanes or a screen declines."""
-    bounds = [r.gain_bound(br.size - 1) for r in rates]
-    if not np.isfinite(tau) or not all(np.isfinite(C) for C, _ in bounds):
+    beta, C = _additive_bound(br, rates, patterns)
+    if not np.isfinite(tau) or not np.isfinite(C):
         return None
-    beta = [bounds[f][1][rates[f].factor.sensors.index(br.elements[e].sensor)]
-            for e, (f, _, _) in enumerate(patterns.of)]
-    C = sum(C for C, _ in bounds)
     floor = tau - C
     if not br.several_generators and br.generic_weight(beta) >= floor:
         return None

@@ -60,13 +60,15 @@ class Crowded(Exception):
 
 class Screen:
     """Best screened weight so far and the kept sets (frozensets of point indices) at least
-    ``bar``: the best less ``tol``, or with ``floor`` ``min(floor, best)`` less ``tol``.  With
+    ``bar``: the best less ``tol``, or with ``floor`` ``min(floor, best)`` less ``tol`` (with
+    ``strict``, ``floor`` less ``tol`` even when every set is lighter: the best starts there).  With
     ``memory`` (bytes), an offer that makes the kept sets' points cost more (:data:`MEMBER_BYTES`
     each) raises :class:`Crowded`: the caller gives up the screen (its fallback is estimated and
     refused by its own cap) instead of running out of memory."""
 
-    def __init__(self, tol: float, floor: float | None = None, memory: int | None = None) -> None:
-        self.tol, self.floor, self.best, self.memory = tol, floor, -np.inf, memory
+    def __init__(self, tol: float, floor: float | None = None, memory: int | None = None, strict: bool = False) -> None:
+        self.tol, self.floor, self.memory = tol, floor, memory
+        self.best = floor if strict and floor is not None else -np.inf
         self.kept: dict[frozenset[int], float] = {}
         self._points = 0
 

@@ -24,7 +24,7 @@ import itertools
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Iterator, Sequence
+from typing import ClassVar, Iterator, Sequence
 
 import flint
 import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
@@ -65,6 +65,10 @@ class BlockRows:
     T: list = field(repr=False)      # modal eigenvector columns (n x n_i over K; see modal_form's conjugate_pair)
     diag: list = field(repr=False)   # the block's eigenvalues in K, repeated by multiplicity
     phase_shift: bool = False        # generators are the class parts of C_j T D^phase (not Jordan chains)
+
+    #: the rows of sub-systems whose lifted hyperplanes are this block's that miss a part of it
+    #: (:class:`symkf.cylinders.SplitRows`); none here: these rows hold all their hyperplanes
+    cylinders: ClassVar[tuple] = ()
 
     @cached_property
     def hyperplanes(self) -> tuple[frozenset[int], ...]:
@@ -120,7 +124,8 @@ class BlockRows:
         return (sum(math.comb(V, n - 1 - r) for r in live),
                 f"the sum of C({V}, {n - 1} - r) over {len(live)} elements of r generators, in dimension {n}")
 
-    def heaviest(self, weights: Sequence[float], floor: float | None = None) -> list[frozenset[int]] | None:
+    def heaviest(self, weights: Sequence[float], floor: float | None = None, strict: bool = False
+                 ) -> list[frozenset[int]] | None:
         """The hyperplanes (element sets, as in :attr:`hyperplanes`) whose weight ``sum_{e in H}
         weights[e]`` may be maximal, without enumerating every hyperplane; None when the fast
         path does not apply (then enumerate).
@@ -130,7 +135,8 @@ class BlockRows:
         (rank ``n - 1`` over K) and returned, and the caller decides among them exactly (float
         sums of at most E correctly rounded terms err by far less than the tolerance).  With
         ``floor``, every set whose screened weight is at least ``min(floor, maximum)`` (less the
-        tolerance) is returned: all hyperplanes that an additive upper bound cannot rule out.
+        tolerance) is returned: all hyperplanes that an additive upper bound cannot rule out; with
+        ``strict`` too, only those at least ``floor`` (none when every hyperplane is lighter).
 
         The screen (:mod:`symkf.hyperplane_screen`) works mod p, stage by stage: each orbit of
         elements under the phase shift ``(j, r) -> (j, r + 1 mod g)`` (a symmetry of the hyperplanes
@@ -166,7 +172,7 @@ class BlockRows:
         """
         top = max(weights, default=0.0)
         if floor is not None or not top > 0:
-            return self._heaviest(weights, floor)
+            return self._heaviest(weights, floor, strict)
         direction = tuple(float(w) / top for w in weights)
         if direction not in self._maxima:
             self._maxima[direction] = self._heaviest(weights, None)
@@ -178,16 +184,17 @@ class BlockRows:
         """:meth:`heaviest` without a floor, per direction of the weights."""
         return {}
 
-    def _heaviest(self, weights: Sequence[float], floor: float | None) -> list[frozenset[int]] | None:
+    def _heaviest(self, weights: Sequence[float], floor: float | None, strict: bool = False
+                  ) -> list[frozenset[int]] | None:
         """:meth:`heaviest`, screened."""
         n = self.size
         if n < 2:
             return None
         live = [e for e, gs in enumerate(self.generators) if 0 < len(gs) < n]
         if not live:   # every hyperplane holds the same elements, those without generators
-            return [self._always]
+            return [self._always] if not strict or float(np.asarray(weights)[list(self._always)].sum()) >= floor else []
         if self.several_generators:
-            return self._through_flats(weights, floor)
+            return self._through_flats(weights, floor, strict)
         owner = np.array(live, dtype=np.int64)  # point -> element
         vectors = [self.generators[e][0] for e in live]
         w = np.asarray(weights, dtype=float)
@@ -195,7 +202,7 @@ class BlockRows:
         moved = np.arange(len(self.generators))  # the shift on elements (those without points stay)
         if shift is not None:
             moved[owner] = owner[shift]
-        closures = self._screened(vectors, w[owner], shift, 1e-9 * (1 + w.sum()), floor, f"{len(live)} elements")
+        closures = self._screened(vectors, w[owner], shift, 1e-9 * (1 + w.sum()), floor, f"{len(live)} elements", strict)
         if closures is None:
             return None
         out = set()
@@ -211,7 +218,8 @@ class BlockRows:
         """The elements without generators: in every hyperplane."""
         return frozenset(e for e, gs in enumerate(self.generators) if not gs)
 
-    def _through_flats(self, weights: Sequence[float], floor: float | None) -> list[frozenset[int]] | None:
+    def _through_flats(self, weights: Sequence[float], floor: float | None, strict: bool = False
+                       ) -> list[frozenset[int]] | None:
         """:meth:`heaviest` for elements of several generators, by :mod:`symkf.flat_screen`: the
         hyperplanes through the first flat element they hold (one stage per orbit under the phase
         shift, when that is a symmetry of the weights), and those holding none through the points of
@@ -258,7 +266,7 @@ class BlockRows:
                              f"the estimated work of the hyperplane search through the flats of {len(flats)} elements "
                              f"of several generators and {len(points)} of one, in dimension {n} ({len(stages)} stages)")
             config = flat_screen.Configuration(X, owner, live, w)
-            screen = hyperplane_screen.Screen(tol, floor, budget.LIMITS.max_memory // KEPT_SHARE)
+            screen = hyperplane_screen.Screen(tol, floor, budget.LIMITS.max_memory // KEPT_SHARE, strict)
             for a in stages:   # a hyperplane through a's flat and no flat element of an earlier orbit
                 keep = np.array([e for e in live.tolist() if e != a and not (e in rank and rank[e] >= 2
                                  and orbit[e] < orbit[a])], dtype=np.int64)
@@ -320,7 +328,7 @@ class BlockRows:
         return any(1 < len(gs) < self.size for gs in self.generators)
 
     def _screened(self, vectors: list, weights: np.ndarray, shift: np.ndarray | None, tol: float,
-                  floor: float | None, points: str) -> list[np.ndarray] | None:
+                  floor: float | None, points: str, strict: bool = False) -> list[np.ndarray] | None:
         """The exact closures (point indices) of the sets :mod:`symkf.hyperplane_screen` keeps for
         the points ``vectors`` with ``weights`` (see :meth:`heaviest`; ``points`` names them in a
         refusal), or None."""
@@ -335,7 +343,7 @@ class BlockRows:
                 return None
             X = np.array(images, dtype=np.int64)
             skip = self._parallel_orbits(X, p, orbits, vectors)
-            screen = hyperplane_screen.Screen(tol, floor, budget.LIMITS.max_memory // KEPT_SHARE)
+            screen = hyperplane_screen.Screen(tol, floor, budget.LIMITS.max_memory // KEPT_SHARE, strict)
             try:   # Crowded: more sets than fit, and the caller lists, refused by its own estimate
                 if cycles is not None:
                     hyperplane_screen.seed(X, weights, p, cycles, screen)

@@ -179,3 +179,29 @@ def test_the_bounds_atlas_refuses_the_lmi_over_the_four_fields_compositum():
     system = _stack((5, 7, 9, 11), [[2, 1, 0, -1, -1, -2, 1, 0], [-2, -2, -2, 2, 1, 2, 0, 1]])
     with pytest.raises(BudgetError, match=r"field of the LMI's entries .* is 1440, above the cap 1024"):
         sk.bounds(system)
+
+
+@pytest.mark.parametrize("rows", [[[2, 1, 0, -1, -1, -2], [1, 2, 0, 0, 0, 0]], [[2, 1, 0, -1, -1, -2], [0, 0, 0, 0, 1, 1]]])
+def test_markov_verdicts_part_by_part_through_the_cylinders_searches(rows):
+    """Gilbert-Elliott channels on 2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9), a second sensor seeing one part:
+    each cylinder's own Markov search, lifted, and the full-support hyperplanes ruled out by the
+    fibres under the additive bound (symkf.decay._through_cylinders), in a fraction of a second."""
+    loss = sk.GilbertElliott(["1/10", "1/10"], ["1/2", "1/2"])
+    split = _stack((5, 7, 9), rows)
+    with _split(split):
+        assert isinstance(block_rows(split)[0], SplitRows)
+        got = sk.stability(split, loss)
+    assert not got.stable
+
+
+@pytest.mark.full
+@pytest.mark.parametrize("rows", [[[2, 1, 0, -1, -1, -2], [1, 2, 0, 0, 0, 0]], [[2, 1, 0, -1, -1, -2], [0, 0, 0, 0, 1, 1]]])
+def test_markov_verdicts_part_by_part_agree_with_the_compositum(rows):
+    # the same verdicts against the direct rows over the compositum (8 and 30 CPU-s)
+    loss = sk.GilbertElliott(["1/10", "1/10"], ["1/2", "1/2"])
+    want = sk.stability(_stack((5, 7, 9), rows), loss)
+    split = _stack((5, 7, 9), rows)
+    with _split(split):
+        got = sk.stability(split, loss)
+    assert got.margins[0].exact == want.margins[0].exact
+    assert got.certificate[0].decisive_elements == want.certificate[0].decisive_elements

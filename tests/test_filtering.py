@@ -345,6 +345,24 @@ def test_the_unrolled_potter_kernels_equal_the_loops_bit_for_bit(n):
     assert np.array_equal(outs[0][:, n:], S[:, n:])
 
 
+def _powers(pow2):
+    """A compiled loop of ``pow2`` over an array of exponents (the kernels' lane loops call it so)."""
+    from numba import njit
+
+    @njit
+    def powers(es):
+        out = np.empty(es.size)
+        for i in range(es.size):
+            out[i] = pow2(es[i])
+        return out
+    return powers
+
+
+def _ldexp_bits(es):
+    with np.errstate(over="ignore"):
+        return np.ldexp(1.0, np.clip(es, -5000, 5000)).view(np.int64)
+
+
 @pytest.mark.parametrize("implementation", ["_pow2", "_pow2_bits"])
 def test_the_kernels_power_of_two_rounds_as_ldexp_at_every_exponent(implementation):
     # the lane loops' 2^e, by llvm.ldexp where the target has AVX-512 (_pow2 here on such a CPU)
@@ -354,40 +372,27 @@ def test_the_kernels_power_of_two_rounds_as_ldexp_at_every_exponent(implementati
 
     from symkf import square_root
     pow2 = getattr(square_root, implementation)
-    pow2 = pow2 if implementation == "_pow2" else njit(pow2)
-
-    @njit
-    def powers(es):
-        out = np.empty(es.size)
-        for i in range(es.size):
-            out[i] = pow2(es[i])
-        return out
+    powers = _powers(pow2 if implementation == "_pow2" else njit(pow2))
     es = np.concatenate([np.arange(-5000, 5001), [-2 ** 62, 2 ** 62]])
-    with np.errstate(over="ignore"):
-        expected = np.ldexp(1.0, np.clip(es, -5000, 5000))
-    assert np.array_equal(powers(es).view(np.int64), expected.view(np.int64))
+    assert np.array_equal(powers(es).view(np.int64), _ldexp_bits(es))
 
 
 def test_the_kernels_power_of_two_without_avx512_is_built_from_exponent_bits(tmp_path):
     # compiled for a CPU without AVX-512 (numba's target set by its environment variables), _pow2
     # must not become llvm.ldexp, which LLVM would turn into a libm call per lane: no vscalefpd,
     # no call, and every value ldexp's
-    script = """
+    script = f"""
+import sys
+sys.path.insert(0, {os.path.dirname(__file__)!r})
 import numpy as np
-from numba import njit
 from symkf.square_root import _pow2
-
-@njit
-def powers(es):
-    out = np.empty(es.size)
-    for i in range(es.size):
-        out[i] = _pow2(es[i])
-    return out
+from test_filtering import _ldexp_bits, _powers
+powers = _powers(_pow2)
 es = np.arange(-2200, 2200)
 got = powers(es)
 asm = powers.inspect_asm(powers.signatures[0])
 assert 'vscalefpd' not in asm and 'ldexp' not in asm, 'ldexp in the code'
-assert np.array_equal(got.view(np.int64), np.ldexp(1.0, es).view(np.int64))
+assert np.array_equal(got.view(np.int64), _ldexp_bits(es))
 print('ok')
 """
     env = dict(os.environ, NUMBA_CPU_NAME="haswell", NUMBA_CPU_FEATURES="+64bit,+avx,+avx2,+fma,+sse2,+sse4.1,+sse4.2,+popcnt",
