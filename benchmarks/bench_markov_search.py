@@ -12,6 +12,11 @@ sensor rows drawn from -2..2 (fixed seed); rows and targets:
   a ray of three weights 1, 2, 3 is measured beside them (no target);
 * peak memory of every row <= 500 MB.
 
+Beside them (no target), a block in general position: 2R(2 pi/7) + 2R(2 pi/11) with two sensors
+on Gilbert-Elliott channels, whose C(154, 3) hyperplanes main refuses to list, decided by its
+special hyperplanes and the best rate of any three elements (symkf.generic_hyperplanes); and the
+same by the list with ``max_hyperplanes`` raised, the reference in the same run.
+
 Each measurement is a fresh interpreter (cold caches) printing the CPU seconds of the computation
 (``time.process_time``), its peak RSS and a digest of the exact result.  The baseline is today's
 ``main`` from a separate checkout (``--main``, default /work/main, run by ``--main-python``,
@@ -57,6 +62,8 @@ ROWS = {  # name: (what, d, target CPU-s or None)
     "critical_loss_rate(ray=w, w in {0, 2, 9/10}), d = 16": ("ray-extremes", 16, "2x common"),
     "critical_loss_rate(sensor=s1, others with 0), d = 16": ("sensor-zero", 16, "2x common"),
     "critical_loss_rate(ray=w, w in {1, 2, 3}), d = 16": ("ray-three", 16, None),
+    "G-E stability, 2R(2pi/7) + 2R(2pi/11), d = 2": ("general", 2, None),
+    "the same by the list (max_hyperplanes 10^6)": ("general-listed", 2, None),
 }
 
 #: a correlated channel of two sensors on (received, received), (received, lost), ...
@@ -100,8 +107,24 @@ def _product(values) -> Fraction:
     return out
 
 
+def general():
+    """2R(2 pi/7) + 2R(2 pi/11) seen by two sensors in general position."""
+    import sympy as sp
+    import symkf as sk
+
+    def rotation(q):
+        return 2 * sp.Matrix([[sp.cos(2 * sp.pi / q), -sp.sin(2 * sp.pi / q)], [sp.sin(2 * sp.pi / q), sp.cos(2 * sp.pi / q)]])
+    return sk.System(A=sp.diag(rotation(7), rotation(11)),
+                     sensors=[sk.Sensor(C=[[2, 1, 0, -1]], name="s1"), sk.Sensor(C=[[-2, -2, 2, 1]], name="s2")])
+
+
 def _compute(what: str, d: int) -> str:
     import symkf as sk
+    from symkf import budget
+    if what.startswith("general"):
+        with budget.limits(max_hyperplanes=10 ** 6 if what == "general-listed" else budget.LIMITS.max_hyperplanes):
+            v = sk.stability(general(), sk.GilbertElliott(["1/10"] * d, ["1/2"] * d))
+        return f"{v.stable} {[str(m.exact) for m in v.margins]}"
     S = system(d)
     if what == "ge":
         v = sk.stability(S, sk.GilbertElliott(["1/10"] * d, ["1/2"] * d))
