@@ -565,14 +565,19 @@ def _through_cylinders(br: BlockRows, rates: Sequence[FactorRates], patterns: Pa
     of screen 2 (``log rho(M_H) <= C + sum_(e in H) beta_e``) when the fibres bound its weight
     below ``tau - C``.  Each lifted set is rated over this block's period (a pattern repeated
     ``g / g_S`` times); None when the bound does not rule those hyperplanes out."""
+    beta, C = _additive_bound(br, rates, patterns)
+    tol = 1e-9 * (1 + abs(C))
+    # tau <= C + the heaviest cylinder's beta: when the fibres cannot put every full-support
+    # hyperplane below that (heaviest declines), they never will, and the cylinders' own searches
+    # are not run (2R(2pi/5) + ... + 2R(2pi/11) with two sensors: a refusal of a three-part screen
+    # estimated at 1.5e9, which ran past 15 min when allowed)
+    if not np.isfinite(C) or br.heaviest(beta) is None:
+        return None
     sets = {br.lift(rows, H) for rows in br.cylinders
             for H, _ in markov_search(rows, [FactorRates(r.factor, rows.class_period) for r in rates]).candidates}
     tau = max(lg - err for lg, err in map(patterns.log_rate, sets))
-    beta, C = _additive_bound(br, rates, patterns)
-    if not np.isfinite(tau) or not np.isfinite(C):
-        return None
     floor = tau - C
-    return list(sets) if br.meet_every_part_below(beta, floor - 1e-9 * (1 + abs(floor) + abs(C))) else None
+    return list(sets) if np.isfinite(tau) and br.meet_every_part_below(beta, floor - tol - 1e-9 * abs(floor)) else None
 
 
 def _additive_bound(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> tuple[list[float], float]:
