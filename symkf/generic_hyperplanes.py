@@ -26,8 +26,10 @@ on ``m``, exactly (rationals).
 
 from __future__ import annotations
 
-import itertools
+import math
 from typing import Any, Sequence
+
+from sympy.utilities.iterables import multiset_permutations
 
 from .decay import FactorRates
 from .exact.arguments import check_public
@@ -122,7 +124,7 @@ def _best_words(rates: FactorRates, element: list[list[int]], most: int) -> list
         shapes += 1
         if shapes > MAX_SHAPES:
             return False
-        key, masks = min(map(packed, set(itertools.permutations(chosen))))   # the order of the runs that comes first
+        key, masks = min(map(packed, _orders(chosen, words)))   # the order of the runs that comes first
         rate = rates.rate(masks)
         held = best[used]
         if held is None or rate > held[0] or (rate == held[0] and key < held[1]):
@@ -135,6 +137,22 @@ def _best_words(rates: FactorRates, element: list[list[int]], most: int) -> list
     if not choose(0, [], 0, 0) or not all(best):
         return None
     return [(rate, masks) for rate, _, masks in best]
+
+
+#: the most orders of one multiset of words that are packed to find the one that comes first
+#: (seven distinct runs have 5040); beyond, the longest runs first
+MAX_ORDERS = 720
+
+
+def _orders(chosen: list[int], words: list[tuple[int, ...]]) -> list[tuple[int, ...]]:
+    """The distinct orders of the runs ``chosen`` (word indices), or beyond :data:`MAX_ORDERS` the
+    one with the longest words first (the first in lexicographic order for one sensor: a longer
+    run packed from phase 0 leaves the smaller phases; with several sensors only the list's
+    tie-break between equal rates can differ)."""
+    counts = [chosen.count(w) for w in set(chosen)]
+    if math.factorial(len(chosen)) // math.prod(map(math.factorial, counts)) > MAX_ORDERS:
+        return [tuple(sorted(chosen, key=lambda w: (-len(words[w]), w)))]
+    return [tuple(order) for order in multiset_permutations(chosen)]
 
 
 def is_hyperplane(br: BlockRows, S: frozenset[int]) -> bool:

@@ -98,3 +98,13 @@ def test_two_rotations_on_gilbert_elliott_channels_agree_with_the_raised_list():
         want = sk.stability(_stack((7, 11), [[2, 1, 0, -1], [-2, -2, 2, 1]]), loss)
     assert [m.exact for m in got.margins] == [m.exact for m in want.margins]
     assert [c.decisive_elements for c in got.certificate] == [c.decisive_elements for c in want.certificate]
+
+
+def test_the_orders_of_runs_tried_are_the_distinct_ones_up_to_the_cap():
+    # a multiset of words is packed in each distinct order (15 for fourteen equal runs and one
+    # other, not 15!), and beyond MAX_ORDERS (seven distinct runs: 5040) once, the longest first
+    from symkf.generic_hyperplanes import MAX_ORDERS, _orders
+    words = [(1,), (1, 1), (1, 1, 1), (1,) * 4, (1,) * 5, (1,) * 6, (1,) * 7]
+    assert sorted(_orders([0] * 14 + [1], words)) == sorted({tuple(o) for o in ([0] * k + [1] + [0] * (14 - k) for k in range(15))})
+    assert len(_orders([0, 1, 2], words)) == 6 < MAX_ORDERS
+    assert _orders(list(range(7)), words) == [(6, 5, 4, 3, 2, 1, 0)]
