@@ -7,9 +7,12 @@ path does the same arithmetic; a lost row is an update by a zero gain, not a
 branch).
 
 Per path ``P_{k|k-1} = 2^E S S^T`` with an even integer ``E`` and ``tr(S S^T)``
-in ``[1/2, 2)``, so ``log tr P = E log 2 + log tr(S S^T)`` over any dynamic
-range; scaling by powers of two is exact.  In these units the whitened
-measurement noise is ``2^-E`` and the process noise ``2^-E Q``.
+brought into ``[1/2, 2)`` after every step (the straight-line kernels up to
+:data:`PHASED_MAX` states: once it has left ``[2^-WINDOW, 2^WINDOW]``), so
+``log tr P = E log 2 + log tr(S S^T)`` over any dynamic range; scaling by
+powers of two is exact, and the kernels' bits do not depend on when it is done.
+In these units the whitened measurement noise is ``2^-E`` and the process
+noise ``2^-E Q``.
 
 * Measurement update (Yang et al. eq. 8, rows independent with unit variance
   after whitening): Potter's square-root form, one received row ``h`` at a
@@ -87,6 +90,11 @@ BUFFER_STEPS = 64
 #: the smallest normal float64, 2^-1022: a Potter denominator or a Householder ``|v|^2 / 2`` below it
 #: is dropped (its reciprocal could overflow; what it would change is below 2^-511 of ``S``'s scale)
 NORMAL = float(np.finfo(np.float64).tiny)
+#: the largest exponent of the process noise's scale 2^(-E/2): beyond, tr P < 2^-2048 < tr Q, so
+#: Q = 0 (a time update leaves tr P >= tr Q), and 2^(-E/2) = inf would make inf * 0 = nan of its
+#: zero entries (A = I/2, Q = 0: nan from step 1024 on); the measurement noise 2^-E may be inf
+#: (a Potter gain of 0: no row moves a P below 2^-1024 R)
+ROOT_MAX = 1023
 # error_model="numpy": divisions need no Python zero check, so the path loops vectorise.
 # No fastmath, not even FMA contraction: a fused S - Su f^T does not cancel to the same
 # rounding as the product it subtracts; on A = 2 R(pi/2) (exact in float64) that lost 32 of
@@ -327,13 +335,18 @@ def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, 
 
 
 @_compiled
-def _receptions(received: np.ndarray, k: int, start: int, block: np.ndarray) -> None:
+def _receptions(received: np.ndarray, k: int, start: int, block: np.ndarray) -> bool:
     """``block[i, p] = received[k, start + p, i]``: step ``k``'s receptions of the block of paths at
     ``start``, sensor-major (a lane loop reads them at unit stride); paths past the last receive
     nothing (a partial last block needs no padded copy of the receptions).  Up to 8 sensors the
-    copy is compiled once per sensor count (:func:`_transpose`); beyond, one strided pass per sensor."""
+    copy is compiled once per sensor count (:func:`_transpose`); beyond, one strided pass per sensor.
+    One sensor's receptions of a whole block are already a row at unit stride: then nothing is
+    copied and the result is True: the kernels read them in place, from ``received`` reshaped to
+    (horizon, paths) (n = 2: 1.04x; through a function returning the row, 1.00x)."""
     d, width = block.shape
     count = min(width, received.shape[1] - start)
+    if d == 1 and count == width:
+        return True
     rows = received[k, start:start + count]
     if d <= 8:
         flat = rows.reshape(count * d)
@@ -363,6 +376,7 @@ def _receptions(received: np.ndarray, k: int, start: int, block: np.ndarray) -> 
         into = block[i]
         for p in range(count, width):
             into[p] = False
+    return False
 
 
 @_compiled
@@ -451,6 +465,7 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
     t = _aligned((LOOP_LANES,))
     spare = _aligned((LOOP_LANES,))
     block = np.empty((d, LOOP_LANES), np.bool_)
+    lone = received.reshape(horizon, paths * d)   # one sensor: a step's receptions in a row (_receptions)
     for start in range(0, paths, LOOP_LANES):
         for i in range(n):
             for j in range(n):
@@ -463,11 +478,11 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
             _store(k, start, t, E, trace, buffer, spare, linear)
             if k == horizon:
                 break
-            _receptions(received, k, start, block)
+            direct = _receptions(received, k, start, block)
             for p in range(LOOP_LANES):
                 noise[p] = _pow2(-E[p])
             for r in range(rows):                   # Potter, one whitened row at a time
-                got = block[row_sensor[r]]
+                got = lone[k, start:start + LOOP_LANES] if direct else block[row_sensor[r]]
                 for p in range(LOOP_LANES):
                     f2[p] = 0.0
                 for j in range(n):
@@ -506,7 +521,7 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
                     for p in range(LOOP_LANES):
                         X[j, i, p] += A[i, l] * S[l, j, p]
     for p in range(LOOP_LANES):
-        beta[p] = _pow2(-(E[p] // 2))
+        beta[p] = _pow2(min(-(E[p] // 2), ROOT_MAX))
     for i in range(n):
         for j in range(n):
             for p in range(LOOP_LANES):
@@ -695,6 +710,17 @@ STRAIGHT_MAX = 8
 #: operations per loop, so the core overlaps more paths (n = 4: 1.1x with one sensor, 1.34x with 8);
 #: at n = 8 the per-column loops measured 0.87-0.94x (the live entries' loads and stores)
 PHASED_MAX = 5
+#: up to PHASED_MAX the straight-line kernel rescales ``S`` only when a path's ``tr S S^T`` has left
+#: [2^-WINDOW, 2^WINDOW]; the time update's last lane loop takes the next step's trace (for the logs it
+#: writes anyway) and its range over the block.  Scaling by a power of two is exact, so the bits do
+#: not depend on when it scales (short of the float range: within the window ``|S| <= 2^(WINDOW/2)``,
+#: and a step overflows, underflows or drops a denominator below NORMAL only where one from
+#: ``tr S S^T = 1`` would come within 2^WINDOW of doing so).  In one process against the rescale at
+#: every step, 3 sensors: n = 2 1.07x, n = 3 1.05x, n = 4 1.00x, n = 5 1.03x; 8 sensors 0.97-1.00x
+#: (n = 4: the last lane loop's loads of the earlier columns); bench_kernel's systems rescale once per block
+WINDOW = 32
+#: the bits of 2^-WINDOW and 2^WINDOW (a trace's bits order as it does: it is not negative)
+WINDOW_BITS = (1023 - WINDOW) << 52, (1023 + WINDOW) << 52
 #: below this n the straight-line kernel does not split its loops (n = 2: 1.05x with 3 sensors, 1.07x
 #: with 8, against the phased loops; n = 1 has nothing to split)
 PHASED_MIN = 3
@@ -732,6 +758,7 @@ def _straight_source(n: int) -> str:
     w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):")
     w("    horizon, paths, d = received.shape")
     w(f"    block = np.empty((d, {W}), np.bool_)")   # a step's receptions of the block, sensor-major
+    w("    lone = received.reshape(horizon, paths * d)")   # one sensor: a step's receptions in a row
     w("    rows = H.shape[0]")
     w(f"    S = _aligned(({n}, {n}, {W}))")
     w(f"    t = _aligned(({W},))")
@@ -756,27 +783,33 @@ def _straight_source(n: int) -> str:
     for i in R:
         for j in R:
             w(f"            S[{i}, {j}, p] = S0[{i}, {j}]")
+    skipping = n <= PHASED_MAX   # the rescale only when a trace has left WINDOW (below)
+    if skipping:
+        w("        wide = True")
     w("        for k in range(horizon + 1):")
     # --- rescale (as _rescale) and the trace of step k
-    w(f"            for p in range({W}):")
-    L += _sum("tp", [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i in R for j in range(i + 1)], " " * 16)
-    w("                t[p] = tp")
-    w("                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0")
-    w("                e -= e & 1")
-    w("                Ep = E[p] + e")
-    w("                E[p] = Ep")
+    if skipping:
+        w("            if wide:")
+    body = " " * (20 if skipping else 16)
+    w(f"{body[:-4]}for p in range({W}):")
+    L += _sum("tp", [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i in R for j in range(i + 1)], body)
+    w(f"{body}t[p] = tp")
+    w(f"{body}e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0")
+    w(f"{body}e -= e & 1")
+    w(f"{body}Ep = E[p] + e")
+    w(f"{body}E[p] = Ep")
     # e and E are even: 2^-e and 2^-E are squares of the halves, exactly (a power of two squares to
     # itself, or rounds to 0 or inf where 2^-E does), so two powers of two do for the three; -e / 2
     # is in [-512, 511] (tp is finite or inf): one power of two, from its exponent bits (as _rescale)
-    w("                scale = _float_bits((1023 - e // 2) << 52)")
-    w("                tp *= scale * scale")
+    w(f"{body}scale = _float_bits((1023 - e // 2) << 52)")
+    w(f"{body}tp *= scale * scale")
     for i in R:
         for j in range(i + 1):
-            w(f"                S[{i}, {j}, p] *= scale")
-    w("                t[p] = tp")
-    w("                root = _pow2(-(Ep // 2))")
-    w("                half[p] = root")
-    w("                noise[p] = root * root")
+            w(f"{body}S[{i}, {j}, p] *= scale")
+    w(f"{body}t[p] = tp")
+    w(f"{body}root = _pow2(min(-(Ep // 2), ROOT_MAX))")
+    w(f"{body}half[p] = root")
+    w(f"{body}noise[p] = root * root")
     if n <= PHASED_MAX:   # the traces in the time update's last lane loop (below)
         w("            if k == horizon:")
         w("                _store(k, start, t, E, trace, buffer, spare, linear)")
@@ -785,13 +818,13 @@ def _straight_source(n: int) -> str:
         w("            _store(k, start, t, E, trace, buffer, spare, linear)")
         w("            if k == horizon:")
         w("                break")
-    w("            _receptions(received, k, start, block)")
+    w("            direct = _receptions(received, k, start, block)")
     # --- Potter, one row at a time; the first sees the time update's S = R^T (or S0), lower
     # triangular, and skips the terms of its zeros (only a zero sum's sign can differ, as above):
     # fewer operations, the same bits, no speed-up beyond noise in one process (n = 2: 1.00x,
     # n = 4: 1.02x with 1 sensor)
     w("            for r in range(rows):")
-    w("                got = block[row_sensor[r]]")
+    w(f"                got = lone[k, start:start + {W}] if direct else block[row_sensor[r]]")
     for i in R:
         w(f"                h{i} = H[r, {i}]")
 
@@ -874,6 +907,14 @@ def _straight_source(n: int) -> str:
                 w(f"{body}X[{key[0]}, {key[1]}, p] = {X[key]}")
         if trace:
             w(f"{body}out[p] = {trace}(t[p], E[p])")
+            # the next step's trace, summed in the rescale's order (the same bits up to its power of
+            # two); the entries of earlier lane loops' columns from S
+            L.extend(_sum("tp", [f"{X[j, i]} * {X[j, i]}" if j in cols else f"S[{i}, {j}, p] * S[{i}, {j}, p]"
+                                 for i in R for j in range(i + 1)], body))
+            w(f"{body}t[p] = tp")
+            w(f"{body}bt = _bits_of(tp)")   # t >= 0 orders as its bits; nan above every bound
+            w(f"{body}top = max(top, bt)")
+            w(f"{body}bottom = min(bottom, bt)")
 
     for cols in phases[:-1]:
         time_update(cols, " " * 12)
@@ -886,10 +927,13 @@ def _straight_source(n: int) -> str:
     # the logs and for the traces along the steps (linear): beyond PHASED_MAX it is the whole time
     # update, and twice its compile time (n = 8: 7.5 to 14.7 s) bought nothing (0.99x)
     w("            out = _row(trace, buffer, spare, k, start, linear)")
+    w("            top = 0")
+    w(f"            bottom = {WINDOW_BITS[1]:#x}")
     w("            if linear:")
     time_update(phases[-1], " " * 16, "_linear_scaled")
     w("            else:")
     time_update(phases[-1], " " * 16, "_log_scaled")
+    w(f"            wide = top > {WINDOW_BITS[1]:#x} or bottom < {WINDOW_BITS[0]:#x}")
     w("            _flush(trace, buffer, spare, k, start, linear)")
     return "\n".join(L) + "\n"
 
@@ -904,8 +948,8 @@ def _straight_module() -> str:
             ':func:`symkf.square_root._straight_module` (do not edit; a test compares it with the generator)."""\n\n'
             "import math\n\nimport numpy as np\n\n"
             "from .exact.arguments import check_public\n"
-            "from .square_root import (NORMAL, _aligned, _aligned_int, _float_bits, _flush, _linear_scaled, _log_scaled, _pow2,\n"
-            "                          _receptions, _row, _store)\n\n"
+            "from .square_root import (NORMAL, ROOT_MAX, _aligned, _aligned_int, _bits_of, _float_bits, _flush,\n"
+            "                          _linear_scaled, _log_scaled, _pow2, _receptions, _row, _store)\n\n"
             "#: SHA-256 (its first 16 hex digits) of symkf/square_root.py, whose helpers these kernels inline: numba's\n"
             "#: cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file\n"
             "INLINED = \"%s\"\n\n\n" % (STRAIGHT_MAX, hashlib.sha256(Path(__file__).read_text(encoding="utf-8").encode()).hexdigest()[:16]))

@@ -7,17 +7,18 @@ import math
 import numpy as np
 
 from .exact.arguments import check_public
-from .square_root import (NORMAL, _aligned, _aligned_int, _float_bits, _flush, _linear_scaled, _log_scaled, _pow2,
-                          _receptions, _row, _store)
+from .square_root import (NORMAL, ROOT_MAX, _aligned, _aligned_int, _bits_of, _float_bits, _flush,
+                          _linear_scaled, _log_scaled, _pow2, _receptions, _row, _store)
 
 #: SHA-256 (its first 16 hex digits) of symkf/square_root.py, whose helpers these kernels inline: numba's
 #: cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file
-INLINED = "3164e68f421a98ae"
+INLINED = "bca78ff814b8a6d1"
 
 
 def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 512), np.bool_)
+    lone = received.reshape(horizon, paths * d)
     rows = H.shape[0]
     S = _aligned((1, 1, 512))
     t = _aligned((512,))
@@ -32,27 +33,29 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
         for p in range(512):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
+        wide = True
         for k in range(horizon + 1):
-            for p in range(512):
-                tp = S[0, 0, p] * S[0, 0, p]
-                t[p] = tp
-                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
-                e -= e & 1
-                Ep = E[p] + e
-                E[p] = Ep
-                scale = _float_bits((1023 - e // 2) << 52)
-                tp *= scale * scale
-                S[0, 0, p] *= scale
-                t[p] = tp
-                root = _pow2(-(Ep // 2))
-                half[p] = root
-                noise[p] = root * root
+            if wide:
+                for p in range(512):
+                    tp = S[0, 0, p] * S[0, 0, p]
+                    t[p] = tp
+                    e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                    e -= e & 1
+                    Ep = E[p] + e
+                    E[p] = Ep
+                    scale = _float_bits((1023 - e // 2) << 52)
+                    tp *= scale * scale
+                    S[0, 0, p] *= scale
+                    t[p] = tp
+                    root = _pow2(min(-(Ep // 2), ROOT_MAX))
+                    half[p] = root
+                    noise[p] = root * root
             if k == horizon:
                 _store(k, start, t, E, trace, buffer, spare, linear)
                 break
-            _receptions(received, k, start, block)
+            direct = _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[row_sensor[r]]
+                got = lone[k, start:start + 512] if direct else block[row_sensor[r]]
                 h0 = H[r, 0]
                 for p in range(512):
                     s0_0 = S[0, 0, p]
@@ -66,6 +69,8 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     u0 = s0_0 * f0
                     S[0, 0, p] = s0_0 - u0 * g0
             out = _row(trace, buffer, spare, k, start, linear)
+            top = 0
+            bottom = 0x41f0000000000000
             if linear:
                 for p in range(512):
                     s0_0 = S[0, 0, p]
@@ -80,6 +85,11 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     x0_0 = -head
                     S[0, 0, p] = x0_0
                     out[p] = _linear_scaled(t[p], E[p])
+                    tp = x0_0 * x0_0
+                    t[p] = tp
+                    bt = _bits_of(tp)
+                    top = max(top, bt)
+                    bottom = min(bottom, bt)
             else:
                 for p in range(512):
                     s0_0 = S[0, 0, p]
@@ -94,12 +104,19 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     x0_0 = -head
                     S[0, 0, p] = x0_0
                     out[p] = _log_scaled(t[p], E[p])
+                    tp = x0_0 * x0_0
+                    t[p] = tp
+                    bt = _bits_of(tp)
+                    top = max(top, bt)
+                    bottom = min(bottom, bt)
+            wide = top > 0x41f0000000000000 or bottom < 0x3df0000000000000
             _flush(trace, buffer, spare, k, start, linear)
 
 
 def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 512), np.bool_)
+    lone = received.reshape(horizon, paths * d)
     rows = H.shape[0]
     S = _aligned((2, 2, 512))
     t = _aligned((512,))
@@ -122,31 +139,33 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
             S[0, 1, p] = S0[0, 1]
             S[1, 0, p] = S0[1, 0]
             S[1, 1, p] = S0[1, 1]
+        wide = True
         for k in range(horizon + 1):
-            for p in range(512):
-                tp = S[0, 0, p] * S[0, 0, p]
-                tp += S[1, 0, p] * S[1, 0, p]
-                tp += S[1, 1, p] * S[1, 1, p]
-                t[p] = tp
-                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
-                e -= e & 1
-                Ep = E[p] + e
-                E[p] = Ep
-                scale = _float_bits((1023 - e // 2) << 52)
-                tp *= scale * scale
-                S[0, 0, p] *= scale
-                S[1, 0, p] *= scale
-                S[1, 1, p] *= scale
-                t[p] = tp
-                root = _pow2(-(Ep // 2))
-                half[p] = root
-                noise[p] = root * root
+            if wide:
+                for p in range(512):
+                    tp = S[0, 0, p] * S[0, 0, p]
+                    tp += S[1, 0, p] * S[1, 0, p]
+                    tp += S[1, 1, p] * S[1, 1, p]
+                    t[p] = tp
+                    e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                    e -= e & 1
+                    Ep = E[p] + e
+                    E[p] = Ep
+                    scale = _float_bits((1023 - e // 2) << 52)
+                    tp *= scale * scale
+                    S[0, 0, p] *= scale
+                    S[1, 0, p] *= scale
+                    S[1, 1, p] *= scale
+                    t[p] = tp
+                    root = _pow2(min(-(Ep // 2), ROOT_MAX))
+                    half[p] = root
+                    noise[p] = root * root
             if k == horizon:
                 _store(k, start, t, E, trace, buffer, spare, linear)
                 break
-            _receptions(received, k, start, block)
+            direct = _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[row_sensor[r]]
+                got = lone[k, start:start + 512] if direct else block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 if r == 0:
@@ -199,6 +218,8 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                         S[1, 0, p] = s1_0 - u1 * g0
                         S[1, 1, p] = s1_1 - u1 * g1
             out = _row(trace, buffer, spare, k, start, linear)
+            top = 0
+            bottom = 0x41f0000000000000
             if linear:
                 for p in range(512):
                     s0_0 = S[0, 0, p]
@@ -246,6 +267,13 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     S[0, 1, p] = 0.0
                     S[1, 1, p] = x1_1
                     out[p] = _linear_scaled(t[p], E[p])
+                    tp = x0_0 * x0_0
+                    tp += x0_1 * x0_1
+                    tp += x1_1 * x1_1
+                    t[p] = tp
+                    bt = _bits_of(tp)
+                    top = max(top, bt)
+                    bottom = min(bottom, bt)
             else:
                 for p in range(512):
                     s0_0 = S[0, 0, p]
@@ -293,12 +321,21 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     S[0, 1, p] = 0.0
                     S[1, 1, p] = x1_1
                     out[p] = _log_scaled(t[p], E[p])
+                    tp = x0_0 * x0_0
+                    tp += x0_1 * x0_1
+                    tp += x1_1 * x1_1
+                    t[p] = tp
+                    bt = _bits_of(tp)
+                    top = max(top, bt)
+                    bottom = min(bottom, bt)
+            wide = top > 0x41f0000000000000 or bottom < 0x3df0000000000000
             _flush(trace, buffer, spare, k, start, linear)
 
 
 def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 128), np.bool_)
+    lone = received.reshape(horizon, paths * d)
     rows = H.shape[0]
     S = _aligned((3, 3, 128))
     t = _aligned((128,))
@@ -336,37 +373,39 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
             S[2, 0, p] = S0[2, 0]
             S[2, 1, p] = S0[2, 1]
             S[2, 2, p] = S0[2, 2]
+        wide = True
         for k in range(horizon + 1):
-            for p in range(128):
-                tp = S[0, 0, p] * S[0, 0, p]
-                tp += S[1, 0, p] * S[1, 0, p]
-                tp += S[1, 1, p] * S[1, 1, p]
-                tp += S[2, 0, p] * S[2, 0, p]
-                tp += S[2, 1, p] * S[2, 1, p]
-                tp += S[2, 2, p] * S[2, 2, p]
-                t[p] = tp
-                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
-                e -= e & 1
-                Ep = E[p] + e
-                E[p] = Ep
-                scale = _float_bits((1023 - e // 2) << 52)
-                tp *= scale * scale
-                S[0, 0, p] *= scale
-                S[1, 0, p] *= scale
-                S[1, 1, p] *= scale
-                S[2, 0, p] *= scale
-                S[2, 1, p] *= scale
-                S[2, 2, p] *= scale
-                t[p] = tp
-                root = _pow2(-(Ep // 2))
-                half[p] = root
-                noise[p] = root * root
+            if wide:
+                for p in range(128):
+                    tp = S[0, 0, p] * S[0, 0, p]
+                    tp += S[1, 0, p] * S[1, 0, p]
+                    tp += S[1, 1, p] * S[1, 1, p]
+                    tp += S[2, 0, p] * S[2, 0, p]
+                    tp += S[2, 1, p] * S[2, 1, p]
+                    tp += S[2, 2, p] * S[2, 2, p]
+                    t[p] = tp
+                    e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                    e -= e & 1
+                    Ep = E[p] + e
+                    E[p] = Ep
+                    scale = _float_bits((1023 - e // 2) << 52)
+                    tp *= scale * scale
+                    S[0, 0, p] *= scale
+                    S[1, 0, p] *= scale
+                    S[1, 1, p] *= scale
+                    S[2, 0, p] *= scale
+                    S[2, 1, p] *= scale
+                    S[2, 2, p] *= scale
+                    t[p] = tp
+                    root = _pow2(min(-(Ep // 2), ROOT_MAX))
+                    half[p] = root
+                    noise[p] = root * root
             if k == horizon:
                 _store(k, start, t, E, trace, buffer, spare, linear)
                 break
-            _receptions(received, k, start, block)
+            direct = _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[row_sensor[r]]
+                got = lone[k, start:start + 128] if direct else block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
@@ -611,6 +650,8 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 X[3, 2, p] = x3_2
                 X[4, 2, p] = x4_2
             out = _row(trace, buffer, spare, k, start, linear)
+            top = 0
+            bottom = 0x41f0000000000000
             if linear:
                 for p in range(128):
                     x2_2 = X[2, 2, p]
@@ -630,6 +671,16 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     S[1, 2, p] = 0.0
                     S[2, 2, p] = x2_2
                     out[p] = _linear_scaled(t[p], E[p])
+                    tp = S[0, 0, p] * S[0, 0, p]
+                    tp += S[1, 0, p] * S[1, 0, p]
+                    tp += S[1, 1, p] * S[1, 1, p]
+                    tp += S[2, 0, p] * S[2, 0, p]
+                    tp += S[2, 1, p] * S[2, 1, p]
+                    tp += x2_2 * x2_2
+                    t[p] = tp
+                    bt = _bits_of(tp)
+                    top = max(top, bt)
+                    bottom = min(bottom, bt)
             else:
                 for p in range(128):
                     x2_2 = X[2, 2, p]
@@ -649,12 +700,24 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     S[1, 2, p] = 0.0
                     S[2, 2, p] = x2_2
                     out[p] = _log_scaled(t[p], E[p])
+                    tp = S[0, 0, p] * S[0, 0, p]
+                    tp += S[1, 0, p] * S[1, 0, p]
+                    tp += S[1, 1, p] * S[1, 1, p]
+                    tp += S[2, 0, p] * S[2, 0, p]
+                    tp += S[2, 1, p] * S[2, 1, p]
+                    tp += x2_2 * x2_2
+                    t[p] = tp
+                    bt = _bits_of(tp)
+                    top = max(top, bt)
+                    bottom = min(bottom, bt)
+            wide = top > 0x41f0000000000000 or bottom < 0x3df0000000000000
             _flush(trace, buffer, spare, k, start, linear)
 
 
 def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 128), np.bool_)
+    lone = received.reshape(horizon, paths * d)
     rows = H.shape[0]
     S = _aligned((4, 4, 128))
     t = _aligned((128,))
@@ -708,45 +771,47 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
             S[3, 1, p] = S0[3, 1]
             S[3, 2, p] = S0[3, 2]
             S[3, 3, p] = S0[3, 3]
+        wide = True
         for k in range(horizon + 1):
-            for p in range(128):
-                tp = S[0, 0, p] * S[0, 0, p]
-                tp += S[1, 0, p] * S[1, 0, p]
-                tp += S[1, 1, p] * S[1, 1, p]
-                tp += S[2, 0, p] * S[2, 0, p]
-                tp += S[2, 1, p] * S[2, 1, p]
-                tp += S[2, 2, p] * S[2, 2, p]
-                tp += S[3, 0, p] * S[3, 0, p]
-                tp += S[3, 1, p] * S[3, 1, p]
-                tp += S[3, 2, p] * S[3, 2, p]
-                tp += S[3, 3, p] * S[3, 3, p]
-                t[p] = tp
-                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
-                e -= e & 1
-                Ep = E[p] + e
-                E[p] = Ep
-                scale = _float_bits((1023 - e // 2) << 52)
-                tp *= scale * scale
-                S[0, 0, p] *= scale
-                S[1, 0, p] *= scale
-                S[1, 1, p] *= scale
-                S[2, 0, p] *= scale
-                S[2, 1, p] *= scale
-                S[2, 2, p] *= scale
-                S[3, 0, p] *= scale
-                S[3, 1, p] *= scale
-                S[3, 2, p] *= scale
-                S[3, 3, p] *= scale
-                t[p] = tp
-                root = _pow2(-(Ep // 2))
-                half[p] = root
-                noise[p] = root * root
+            if wide:
+                for p in range(128):
+                    tp = S[0, 0, p] * S[0, 0, p]
+                    tp += S[1, 0, p] * S[1, 0, p]
+                    tp += S[1, 1, p] * S[1, 1, p]
+                    tp += S[2, 0, p] * S[2, 0, p]
+                    tp += S[2, 1, p] * S[2, 1, p]
+                    tp += S[2, 2, p] * S[2, 2, p]
+                    tp += S[3, 0, p] * S[3, 0, p]
+                    tp += S[3, 1, p] * S[3, 1, p]
+                    tp += S[3, 2, p] * S[3, 2, p]
+                    tp += S[3, 3, p] * S[3, 3, p]
+                    t[p] = tp
+                    e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                    e -= e & 1
+                    Ep = E[p] + e
+                    E[p] = Ep
+                    scale = _float_bits((1023 - e // 2) << 52)
+                    tp *= scale * scale
+                    S[0, 0, p] *= scale
+                    S[1, 0, p] *= scale
+                    S[1, 1, p] *= scale
+                    S[2, 0, p] *= scale
+                    S[2, 1, p] *= scale
+                    S[2, 2, p] *= scale
+                    S[3, 0, p] *= scale
+                    S[3, 1, p] *= scale
+                    S[3, 2, p] *= scale
+                    S[3, 3, p] *= scale
+                    t[p] = tp
+                    root = _pow2(min(-(Ep // 2), ROOT_MAX))
+                    half[p] = root
+                    noise[p] = root * root
             if k == horizon:
                 _store(k, start, t, E, trace, buffer, spare, linear)
                 break
-            _receptions(received, k, start, block)
+            direct = _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[row_sensor[r]]
+                got = lone[k, start:start + 128] if direct else block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
@@ -1191,6 +1256,8 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 X[5, 3, p] = x5_3
                 X[6, 3, p] = x6_3
             out = _row(trace, buffer, spare, k, start, linear)
+            top = 0
+            bottom = 0x41f0000000000000
             if linear:
                 for p in range(128):
                     x3_3 = X[3, 3, p]
@@ -1213,6 +1280,20 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     S[2, 3, p] = 0.0
                     S[3, 3, p] = x3_3
                     out[p] = _linear_scaled(t[p], E[p])
+                    tp = S[0, 0, p] * S[0, 0, p]
+                    tp += S[1, 0, p] * S[1, 0, p]
+                    tp += S[1, 1, p] * S[1, 1, p]
+                    tp += S[2, 0, p] * S[2, 0, p]
+                    tp += S[2, 1, p] * S[2, 1, p]
+                    tp += S[2, 2, p] * S[2, 2, p]
+                    tp += S[3, 0, p] * S[3, 0, p]
+                    tp += S[3, 1, p] * S[3, 1, p]
+                    tp += S[3, 2, p] * S[3, 2, p]
+                    tp += x3_3 * x3_3
+                    t[p] = tp
+                    bt = _bits_of(tp)
+                    top = max(top, bt)
+                    bottom = min(bottom, bt)
             else:
                 for p in range(128):
                     x3_3 = X[3, 3, p]
@@ -1235,12 +1316,28 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     S[2, 3, p] = 0.0
                     S[3, 3, p] = x3_3
                     out[p] = _log_scaled(t[p], E[p])
+                    tp = S[0, 0, p] * S[0, 0, p]
+                    tp += S[1, 0, p] * S[1, 0, p]
+                    tp += S[1, 1, p] * S[1, 1, p]
+                    tp += S[2, 0, p] * S[2, 0, p]
+                    tp += S[2, 1, p] * S[2, 1, p]
+                    tp += S[2, 2, p] * S[2, 2, p]
+                    tp += S[3, 0, p] * S[3, 0, p]
+                    tp += S[3, 1, p] * S[3, 1, p]
+                    tp += S[3, 2, p] * S[3, 2, p]
+                    tp += x3_3 * x3_3
+                    t[p] = tp
+                    bt = _bits_of(tp)
+                    top = max(top, bt)
+                    bottom = min(bottom, bt)
+            wide = top > 0x41f0000000000000 or bottom < 0x3df0000000000000
             _flush(trace, buffer, spare, k, start, linear)
 
 
 def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 64), np.bool_)
+    lone = received.reshape(horizon, paths * d)
     rows = H.shape[0]
     S = _aligned((5, 5, 64))
     t = _aligned((64,))
@@ -1314,55 +1411,57 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
             S[4, 2, p] = S0[4, 2]
             S[4, 3, p] = S0[4, 3]
             S[4, 4, p] = S0[4, 4]
+        wide = True
         for k in range(horizon + 1):
-            for p in range(64):
-                tp = S[0, 0, p] * S[0, 0, p]
-                tp += S[1, 0, p] * S[1, 0, p]
-                tp += S[1, 1, p] * S[1, 1, p]
-                tp += S[2, 0, p] * S[2, 0, p]
-                tp += S[2, 1, p] * S[2, 1, p]
-                tp += S[2, 2, p] * S[2, 2, p]
-                tp += S[3, 0, p] * S[3, 0, p]
-                tp += S[3, 1, p] * S[3, 1, p]
-                tp += S[3, 2, p] * S[3, 2, p]
-                tp += S[3, 3, p] * S[3, 3, p]
-                tp += S[4, 0, p] * S[4, 0, p]
-                tp += S[4, 1, p] * S[4, 1, p]
-                tp += S[4, 2, p] * S[4, 2, p]
-                tp += S[4, 3, p] * S[4, 3, p]
-                tp += S[4, 4, p] * S[4, 4, p]
-                t[p] = tp
-                e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
-                e -= e & 1
-                Ep = E[p] + e
-                E[p] = Ep
-                scale = _float_bits((1023 - e // 2) << 52)
-                tp *= scale * scale
-                S[0, 0, p] *= scale
-                S[1, 0, p] *= scale
-                S[1, 1, p] *= scale
-                S[2, 0, p] *= scale
-                S[2, 1, p] *= scale
-                S[2, 2, p] *= scale
-                S[3, 0, p] *= scale
-                S[3, 1, p] *= scale
-                S[3, 2, p] *= scale
-                S[3, 3, p] *= scale
-                S[4, 0, p] *= scale
-                S[4, 1, p] *= scale
-                S[4, 2, p] *= scale
-                S[4, 3, p] *= scale
-                S[4, 4, p] *= scale
-                t[p] = tp
-                root = _pow2(-(Ep // 2))
-                half[p] = root
-                noise[p] = root * root
+            if wide:
+                for p in range(64):
+                    tp = S[0, 0, p] * S[0, 0, p]
+                    tp += S[1, 0, p] * S[1, 0, p]
+                    tp += S[1, 1, p] * S[1, 1, p]
+                    tp += S[2, 0, p] * S[2, 0, p]
+                    tp += S[2, 1, p] * S[2, 1, p]
+                    tp += S[2, 2, p] * S[2, 2, p]
+                    tp += S[3, 0, p] * S[3, 0, p]
+                    tp += S[3, 1, p] * S[3, 1, p]
+                    tp += S[3, 2, p] * S[3, 2, p]
+                    tp += S[3, 3, p] * S[3, 3, p]
+                    tp += S[4, 0, p] * S[4, 0, p]
+                    tp += S[4, 1, p] * S[4, 1, p]
+                    tp += S[4, 2, p] * S[4, 2, p]
+                    tp += S[4, 3, p] * S[4, 3, p]
+                    tp += S[4, 4, p] * S[4, 4, p]
+                    t[p] = tp
+                    e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
+                    e -= e & 1
+                    Ep = E[p] + e
+                    E[p] = Ep
+                    scale = _float_bits((1023 - e // 2) << 52)
+                    tp *= scale * scale
+                    S[0, 0, p] *= scale
+                    S[1, 0, p] *= scale
+                    S[1, 1, p] *= scale
+                    S[2, 0, p] *= scale
+                    S[2, 1, p] *= scale
+                    S[2, 2, p] *= scale
+                    S[3, 0, p] *= scale
+                    S[3, 1, p] *= scale
+                    S[3, 2, p] *= scale
+                    S[3, 3, p] *= scale
+                    S[4, 0, p] *= scale
+                    S[4, 1, p] *= scale
+                    S[4, 2, p] *= scale
+                    S[4, 3, p] *= scale
+                    S[4, 4, p] *= scale
+                    t[p] = tp
+                    root = _pow2(min(-(Ep // 2), ROOT_MAX))
+                    half[p] = root
+                    noise[p] = root * root
             if k == horizon:
                 _store(k, start, t, E, trace, buffer, spare, linear)
                 break
-            _receptions(received, k, start, block)
+            direct = _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[row_sensor[r]]
+                got = lone[k, start:start + 64] if direct else block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
@@ -2092,6 +2191,8 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 X[7, 4, p] = x7_4
                 X[8, 4, p] = x8_4
             out = _row(trace, buffer, spare, k, start, linear)
+            top = 0
+            bottom = 0x41f0000000000000
             if linear:
                 for p in range(64):
                     x4_4 = X[4, 4, p]
@@ -2117,6 +2218,25 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     S[3, 4, p] = 0.0
                     S[4, 4, p] = x4_4
                     out[p] = _linear_scaled(t[p], E[p])
+                    tp = S[0, 0, p] * S[0, 0, p]
+                    tp += S[1, 0, p] * S[1, 0, p]
+                    tp += S[1, 1, p] * S[1, 1, p]
+                    tp += S[2, 0, p] * S[2, 0, p]
+                    tp += S[2, 1, p] * S[2, 1, p]
+                    tp += S[2, 2, p] * S[2, 2, p]
+                    tp += S[3, 0, p] * S[3, 0, p]
+                    tp += S[3, 1, p] * S[3, 1, p]
+                    tp += S[3, 2, p] * S[3, 2, p]
+                    tp += S[3, 3, p] * S[3, 3, p]
+                    tp += S[4, 0, p] * S[4, 0, p]
+                    tp += S[4, 1, p] * S[4, 1, p]
+                    tp += S[4, 2, p] * S[4, 2, p]
+                    tp += S[4, 3, p] * S[4, 3, p]
+                    tp += x4_4 * x4_4
+                    t[p] = tp
+                    bt = _bits_of(tp)
+                    top = max(top, bt)
+                    bottom = min(bottom, bt)
             else:
                 for p in range(64):
                     x4_4 = X[4, 4, p]
@@ -2142,12 +2262,33 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     S[3, 4, p] = 0.0
                     S[4, 4, p] = x4_4
                     out[p] = _log_scaled(t[p], E[p])
+                    tp = S[0, 0, p] * S[0, 0, p]
+                    tp += S[1, 0, p] * S[1, 0, p]
+                    tp += S[1, 1, p] * S[1, 1, p]
+                    tp += S[2, 0, p] * S[2, 0, p]
+                    tp += S[2, 1, p] * S[2, 1, p]
+                    tp += S[2, 2, p] * S[2, 2, p]
+                    tp += S[3, 0, p] * S[3, 0, p]
+                    tp += S[3, 1, p] * S[3, 1, p]
+                    tp += S[3, 2, p] * S[3, 2, p]
+                    tp += S[3, 3, p] * S[3, 3, p]
+                    tp += S[4, 0, p] * S[4, 0, p]
+                    tp += S[4, 1, p] * S[4, 1, p]
+                    tp += S[4, 2, p] * S[4, 2, p]
+                    tp += S[4, 3, p] * S[4, 3, p]
+                    tp += x4_4 * x4_4
+                    t[p] = tp
+                    bt = _bits_of(tp)
+                    top = max(top, bt)
+                    bottom = min(bottom, bt)
+            wide = top > 0x41f0000000000000 or bottom < 0x3df0000000000000
             _flush(trace, buffer, spare, k, start, linear)
 
 
 def _paths_6(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 64), np.bool_)
+    lone = received.reshape(horizon, paths * d)
     rows = H.shape[0]
     S = _aligned((6, 6, 64))
     t = _aligned((64,))
@@ -2294,15 +2435,15 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 S[5, 4, p] *= scale
                 S[5, 5, p] *= scale
                 t[p] = tp
-                root = _pow2(-(Ep // 2))
+                root = _pow2(min(-(Ep // 2), ROOT_MAX))
                 half[p] = root
                 noise[p] = root * root
             _store(k, start, t, E, trace, buffer, spare, linear)
             if k == horizon:
                 break
-            _receptions(received, k, start, block)
+            direct = _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[row_sensor[r]]
+                got = lone[k, start:start + 64] if direct else block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
@@ -3150,6 +3291,7 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
 def _paths_7(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 64), np.bool_)
+    lone = received.reshape(horizon, paths * d)
     rows = H.shape[0]
     S = _aligned((7, 7, 64))
     t = _aligned((64,))
@@ -3338,15 +3480,15 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 S[6, 5, p] *= scale
                 S[6, 6, p] *= scale
                 t[p] = tp
-                root = _pow2(-(Ep // 2))
+                root = _pow2(min(-(Ep // 2), ROOT_MAX))
                 half[p] = root
                 noise[p] = root * root
             _store(k, start, t, E, trace, buffer, spare, linear)
             if k == horizon:
                 break
-            _receptions(received, k, start, block)
+            direct = _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[row_sensor[r]]
+                got = lone[k, start:start + 64] if direct else block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
@@ -4553,6 +4695,7 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
 def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 64), np.bool_)
+    lone = received.reshape(horizon, paths * d)
     rows = H.shape[0]
     S = _aligned((8, 8, 64))
     t = _aligned((64,))
@@ -4789,15 +4932,15 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 S[7, 6, p] *= scale
                 S[7, 7, p] *= scale
                 t[p] = tp
-                root = _pow2(-(Ep // 2))
+                root = _pow2(min(-(Ep // 2), ROOT_MAX))
                 half[p] = root
                 noise[p] = root * root
             _store(k, start, t, E, trace, buffer, spare, linear)
             if k == horizon:
                 break
-            _receptions(received, k, start, block)
+            direct = _receptions(received, k, start, block)
             for r in range(rows):
-                got = block[row_sensor[r]]
+                got = lone[k, start:start + 64] if direct else block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]

@@ -434,17 +434,21 @@ def test_kernel_arrays_start_on_a_cache_line():
 @pytest.mark.parametrize("d", range(1, 11))
 def test_a_steps_receptions_are_copied_sensor_major(d):
     # one compiled copy per sensor count up to 8 (each its own interleaved vector code), strided passes
-    # beyond; the block's paths past the last (a partial last block) receive nothing
+    # beyond; the block's paths past the last (a partial last block) receive nothing; one sensor's
+    # whole blocks are read in place, copied nowhere
     from symkf.square_root import _receptions, lanes
     width = lanes(2)
     paths = 2 * width + 37
     received = np.random.default_rng(d).random((3, paths, d)) < 0.5
-    block = np.ones((d, width), bool)
     for k, start in ((0, 0), (2, width), (1, 2 * width)):
-        _receptions(received, k, start, block)
+        block = np.ones((d, width), bool)
+        direct = _receptions(received, k, start, block)
         count = min(width, paths - start)
-        np.testing.assert_array_equal(block[:, :count], received[k, start:start + count].T)
-        assert not block[:, count:].any()
+        assert direct == (d == 1 and count == width)
+        assert block.all() if direct else not block[:, count:].any()
+        rows = received.reshape(3, paths)[k:k + 1, start:start + width] if direct else block
+        np.testing.assert_array_equal(rows[:, :count], received[k, start:start + count].T)
+        assert not rows[:, count:].any()
 
 
 def test_the_kernel_takes_receptions_in_any_memory_order():
@@ -460,6 +464,28 @@ def test_the_kernel_takes_receptions_in_any_memory_order():
     log_trace_paths(A, UQ, H, rows, S0, view, traces[0])
     log_trace_paths(A, UQ, H, rows, S0, np.ascontiguousarray(view), traces[1])
     assert np.array_equal(*traces) and np.isfinite(traces[0]).all()
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+@pytest.mark.parametrize("power", [200, -200])
+def test_the_kernels_rescale_a_trace_that_leaves_the_window_in_one_step(n, power):
+    # up to PHASED_MAX the straight-line kernels rescale only once a trace has left [2^-32, 2^32]:
+    # A = 2^200 I (or 2^-200 I), no noise, nothing received moves tr P by 2^(+-400) a step, out of the
+    # window at every step and out of float64 by the third unless each step is rescaled; a block's
+    # paths all at once, and a partial block's (the loop kernel rescales every step: the same bits).
+    # With Q = 0 the process noise's scale 2^(-E/2) would pass 2^1024 at the seventh shrinking step
+    # (ROOT_MAX): inf times U_Q's zeros made every log nan from there
+    from symkf.square_root import _loop_kernel, log_trace_paths
+    A, UQ, S0 = 2.0 ** power * np.eye(n), np.zeros((n, n)), np.eye(n)
+    H, rows = np.ones((1, n)), np.array([0])
+    received = np.zeros((30, 515, 1), bool)
+    logs = np.empty((31, 515))
+    log_trace_paths(A, UQ, H, rows, S0, received, logs)
+    expected = np.log(n) + 2 * power * np.log(2) * np.arange(31)
+    np.testing.assert_allclose(logs, np.repeat(expected[:, None], 515, axis=1), rtol=1e-14)
+    looped = np.empty_like(logs)
+    _loop_kernel(n)(A, UQ, H, rows, S0, received, looped, np.empty((1, 128)), False)
+    assert np.array_equal(logs, looped)
 
 
 @pytest.mark.parametrize("bad", ["A", "UQ", "S0", "H", "row_sensor"])
