@@ -58,6 +58,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -721,6 +722,12 @@ PHASED_MAX = 5
 WINDOW = 32
 #: the bits of 2^-WINDOW and 2^WINDOW (a trace's bits order as it does: it is not negative)
 WINDOW_BITS = (1023 - WINDOW) << 52, (1023 + WINDOW) << 52
+#: the straight-line kernels' time update in one lane loop (n = 2) runs this many paths per iteration,
+#: their statements interleaved: its chain of dependent square roots and division is long, and the
+#: core overlaps more paths when their operations come in program order (in one process, n = 2: 1.03-1.05x
+#: with 1 and 3 sensors; 4 paths were 0.94-1.07x from process to process: their live values exceed the
+#: 32 vector registers).  n = 1, one square root and no division: 1.00x, not interleaved
+INTERLEAVED = 2
 #: below this n the straight-line kernel does not split its loops (n = 2: 1.05x with 3 sensors, 1.07x
 #: with 8, against the phased loops; n = 1 has nothing to split)
 PHASED_MIN = 3
@@ -731,6 +738,24 @@ def _sum(target: str, terms: list[str], indent: str) -> list[str]:
     ``0.0``: without fast-math the compiler must keep that addition (it turns a sum of -0.0 into
     +0.0), one more vector operation per sum and path."""
     return [f"{indent}{target} = {terms[0]}"] + [f"{indent}{target} += {term}" for term in terms[1:]]
+
+
+def _interleaved(body: list[str], ways: int, stride: int) -> list[str]:
+    """The statements of a lane loop's ``body`` for ``ways`` paths ``stride`` apart (``p``, ``p +
+    stride``, ...), statement by statement: the copies' names suffixed, but for those the body reads
+    before it assigns them (the loop-carried reductions, shared)."""
+    names, carried = set(), set()
+    for line in body:
+        target = re.match(r"\s*(\w+) *([-+*]?)= ", line)
+        if target:
+            name = target[1]
+            if name not in names and (target[2] or re.search(rf"\b{name}\b", line[target.end():])):
+                carried.add(name)
+            names.add(name)
+    local = re.compile(r"\b(" + "|".join(sorted(names - carried, key=len, reverse=True)) + r")\b")
+    copies = [body] + [[re.sub(r"\bp\]", f"p + {w * stride}]", local.sub(rf"\g<1>_{w}w", line)) for line in body]
+                       for w in range(1, ways)]
+    return [line for group in zip(*copies) for line in group]
 
 
 def _live(X: dict, j: int, n: int) -> list:
@@ -871,6 +896,7 @@ def _straight_source(n: int) -> str:
 
     def time_update(cols: list, indent: str, trace: str = "") -> None:   # the lane loop of columns cols, and the traces by ``trace``
         w(f"{indent}for p in range({W}):")
+        first = len(L)
         body = indent + " " * 4
         if cols[0] == 0:
             load_S(body)
@@ -915,6 +941,9 @@ def _straight_source(n: int) -> str:
             w(f"{body}bt = _bits_of(tp)")   # t >= 0 orders as its bits; nan above every bound
             w(f"{body}top = max(top, bt)")
             w(f"{body}bottom = min(bottom, bt)")
+        if 1 < n < PHASED_MIN:   # the whole time update in one lane loop (INTERLEAVED)
+            L[first - 1:] = [f"{indent}for p in range({W // INTERLEAVED}):"] + _interleaved(L[first:], INTERLEAVED,
+                                                                                          W // INTERLEAVED)
 
     for cols in phases[:-1]:
         time_update(cols, " " * 12)

@@ -12,7 +12,7 @@ from .square_root import (NORMAL, ROOT_MAX, _aligned, _aligned_int, _bits_of, _f
 
 #: SHA-256 (its first 16 hex digits) of symkf/square_root.py, whose helpers these kernels inline: numba's
 #: cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file
-INLINED = "bca78ff814b8a6d1"
+INLINED = "6996eb7310d3b85b"
 
 
 def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
@@ -221,113 +221,217 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
             top = 0
             bottom = 0x41f0000000000000
             if linear:
-                for p in range(512):
+                for p in range(256):
                     s0_0 = S[0, 0, p]
+                    s0_0_1w = S[0, 0, p + 256]
                     s0_1 = S[0, 1, p]
+                    s0_1_1w = S[0, 1, p + 256]
                     s1_0 = S[1, 0, p]
+                    s1_0_1w = S[1, 0, p + 256]
                     s1_1 = S[1, 1, p]
+                    s1_1_1w = S[1, 1, p + 256]
                     x0_0 = a0_0 * s0_0
+                    x0_0_1w = a0_0 * s0_0_1w
                     x0_0 += a0_1 * s1_0
+                    x0_0_1w += a0_1 * s1_0_1w
                     x1_0 = a0_0 * s0_1
+                    x1_0_1w = a0_0 * s0_1_1w
                     x1_0 += a0_1 * s1_1
+                    x1_0_1w += a0_1 * s1_1_1w
                     x0_1 = a1_0 * s0_0
+                    x0_1_1w = a1_0 * s0_0_1w
                     x0_1 += a1_1 * s1_0
+                    x0_1_1w += a1_1 * s1_0_1w
                     x1_1 = a1_0 * s0_1
+                    x1_1_1w = a1_0 * s0_1_1w
                     x1_1 += a1_1 * s1_1
+                    x1_1_1w += a1_1 * s1_1_1w
                     root = half[p]
+                    root_1w = half[p + 256]
                     x2_0 = root * q0_0
+                    x2_0_1w = root_1w * q0_0
                     x2_1 = root * q0_1
+                    x2_1_1w = root_1w * q0_1
                     sq = x0_0 * x0_0
+                    sq_1w = x0_0_1w * x0_0_1w
                     sq += x1_0 * x1_0
+                    sq_1w += x1_0_1w * x1_0_1w
                     sq += x2_0 * x2_0
+                    sq_1w += x2_0_1w * x2_0_1w
                     norm = math.sqrt(sq)
+                    norm_1w = math.sqrt(sq_1w)
                     x0 = x0_0
+                    x0_1w = x0_0_1w
                     head = norm if x0 >= 0.0 else -norm
+                    head_1w = norm_1w if x0_1w >= 0.0 else -norm_1w
                     x0_0 = x0 + head
+                    x0_0_1w = x0_1w + head_1w
                     half_v2 = norm * (norm + abs(x0))
+                    half_v2_1w = norm_1w * (norm_1w + abs(x0_1w))
                     tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
+                    tau_1w = 1.0 / half_v2_1w if half_v2_1w >= NORMAL else 0.0
                     dot = x0_0 * x0_1
+                    dot_1w = x0_0_1w * x0_1_1w
                     dot += x1_0 * x1_1
+                    dot_1w += x1_0_1w * x1_1_1w
                     dot += x2_0 * x2_1
+                    dot_1w += x2_0_1w * x2_1_1w
                     twice = tau * dot
+                    twice_1w = tau_1w * dot_1w
                     x0_1 -= twice * x0_0
+                    x0_1_1w -= twice_1w * x0_0_1w
                     x1_1 -= twice * x1_0
+                    x1_1_1w -= twice_1w * x1_0_1w
                     x2_1 -= twice * x2_0
+                    x2_1_1w -= twice_1w * x2_0_1w
                     x0_0 = -head
+                    x0_0_1w = -head_1w
                     S[0, 0, p] = x0_0
+                    S[0, 0, p + 256] = x0_0_1w
                     S[1, 0, p] = x0_1
+                    S[1, 0, p + 256] = x0_1_1w
                     x3_1 = root * q1_1
+                    x3_1_1w = root_1w * q1_1
                     sq = x1_1 * x1_1
+                    sq_1w = x1_1_1w * x1_1_1w
                     sq += x2_1 * x2_1
+                    sq_1w += x2_1_1w * x2_1_1w
                     sq += x3_1 * x3_1
+                    sq_1w += x3_1_1w * x3_1_1w
                     norm = math.sqrt(sq)
+                    norm_1w = math.sqrt(sq_1w)
                     x0 = x1_1
+                    x0_1w = x1_1_1w
                     head = norm if x0 >= 0.0 else -norm
+                    head_1w = norm_1w if x0_1w >= 0.0 else -norm_1w
                     x1_1 = -head
+                    x1_1_1w = -head_1w
                     S[0, 1, p] = 0.0
+                    S[0, 1, p + 256] = 0.0
                     S[1, 1, p] = x1_1
+                    S[1, 1, p + 256] = x1_1_1w
                     out[p] = _linear_scaled(t[p], E[p])
+                    out[p + 256] = _linear_scaled(t[p + 256], E[p + 256])
                     tp = x0_0 * x0_0
+                    tp_1w = x0_0_1w * x0_0_1w
                     tp += x0_1 * x0_1
+                    tp_1w += x0_1_1w * x0_1_1w
                     tp += x1_1 * x1_1
+                    tp_1w += x1_1_1w * x1_1_1w
                     t[p] = tp
+                    t[p + 256] = tp_1w
                     bt = _bits_of(tp)
+                    bt_1w = _bits_of(tp_1w)
                     top = max(top, bt)
+                    top = max(top, bt_1w)
                     bottom = min(bottom, bt)
+                    bottom = min(bottom, bt_1w)
             else:
-                for p in range(512):
+                for p in range(256):
                     s0_0 = S[0, 0, p]
+                    s0_0_1w = S[0, 0, p + 256]
                     s0_1 = S[0, 1, p]
+                    s0_1_1w = S[0, 1, p + 256]
                     s1_0 = S[1, 0, p]
+                    s1_0_1w = S[1, 0, p + 256]
                     s1_1 = S[1, 1, p]
+                    s1_1_1w = S[1, 1, p + 256]
                     x0_0 = a0_0 * s0_0
+                    x0_0_1w = a0_0 * s0_0_1w
                     x0_0 += a0_1 * s1_0
+                    x0_0_1w += a0_1 * s1_0_1w
                     x1_0 = a0_0 * s0_1
+                    x1_0_1w = a0_0 * s0_1_1w
                     x1_0 += a0_1 * s1_1
+                    x1_0_1w += a0_1 * s1_1_1w
                     x0_1 = a1_0 * s0_0
+                    x0_1_1w = a1_0 * s0_0_1w
                     x0_1 += a1_1 * s1_0
+                    x0_1_1w += a1_1 * s1_0_1w
                     x1_1 = a1_0 * s0_1
+                    x1_1_1w = a1_0 * s0_1_1w
                     x1_1 += a1_1 * s1_1
+                    x1_1_1w += a1_1 * s1_1_1w
                     root = half[p]
+                    root_1w = half[p + 256]
                     x2_0 = root * q0_0
+                    x2_0_1w = root_1w * q0_0
                     x2_1 = root * q0_1
+                    x2_1_1w = root_1w * q0_1
                     sq = x0_0 * x0_0
+                    sq_1w = x0_0_1w * x0_0_1w
                     sq += x1_0 * x1_0
+                    sq_1w += x1_0_1w * x1_0_1w
                     sq += x2_0 * x2_0
+                    sq_1w += x2_0_1w * x2_0_1w
                     norm = math.sqrt(sq)
+                    norm_1w = math.sqrt(sq_1w)
                     x0 = x0_0
+                    x0_1w = x0_0_1w
                     head = norm if x0 >= 0.0 else -norm
+                    head_1w = norm_1w if x0_1w >= 0.0 else -norm_1w
                     x0_0 = x0 + head
+                    x0_0_1w = x0_1w + head_1w
                     half_v2 = norm * (norm + abs(x0))
+                    half_v2_1w = norm_1w * (norm_1w + abs(x0_1w))
                     tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
+                    tau_1w = 1.0 / half_v2_1w if half_v2_1w >= NORMAL else 0.0
                     dot = x0_0 * x0_1
+                    dot_1w = x0_0_1w * x0_1_1w
                     dot += x1_0 * x1_1
+                    dot_1w += x1_0_1w * x1_1_1w
                     dot += x2_0 * x2_1
+                    dot_1w += x2_0_1w * x2_1_1w
                     twice = tau * dot
+                    twice_1w = tau_1w * dot_1w
                     x0_1 -= twice * x0_0
+                    x0_1_1w -= twice_1w * x0_0_1w
                     x1_1 -= twice * x1_0
+                    x1_1_1w -= twice_1w * x1_0_1w
                     x2_1 -= twice * x2_0
+                    x2_1_1w -= twice_1w * x2_0_1w
                     x0_0 = -head
+                    x0_0_1w = -head_1w
                     S[0, 0, p] = x0_0
+                    S[0, 0, p + 256] = x0_0_1w
                     S[1, 0, p] = x0_1
+                    S[1, 0, p + 256] = x0_1_1w
                     x3_1 = root * q1_1
+                    x3_1_1w = root_1w * q1_1
                     sq = x1_1 * x1_1
+                    sq_1w = x1_1_1w * x1_1_1w
                     sq += x2_1 * x2_1
+                    sq_1w += x2_1_1w * x2_1_1w
                     sq += x3_1 * x3_1
+                    sq_1w += x3_1_1w * x3_1_1w
                     norm = math.sqrt(sq)
+                    norm_1w = math.sqrt(sq_1w)
                     x0 = x1_1
+                    x0_1w = x1_1_1w
                     head = norm if x0 >= 0.0 else -norm
+                    head_1w = norm_1w if x0_1w >= 0.0 else -norm_1w
                     x1_1 = -head
+                    x1_1_1w = -head_1w
                     S[0, 1, p] = 0.0
+                    S[0, 1, p + 256] = 0.0
                     S[1, 1, p] = x1_1
+                    S[1, 1, p + 256] = x1_1_1w
                     out[p] = _log_scaled(t[p], E[p])
+                    out[p + 256] = _log_scaled(t[p + 256], E[p + 256])
                     tp = x0_0 * x0_0
+                    tp_1w = x0_0_1w * x0_0_1w
                     tp += x0_1 * x0_1
+                    tp_1w += x0_1_1w * x0_1_1w
                     tp += x1_1 * x1_1
+                    tp_1w += x1_1_1w * x1_1_1w
                     t[p] = tp
+                    t[p + 256] = tp_1w
                     bt = _bits_of(tp)
+                    bt_1w = _bits_of(tp_1w)
                     top = max(top, bt)
+                    top = max(top, bt_1w)
                     bottom = min(bottom, bt)
+                    bottom = min(bottom, bt_1w)
             wide = top > 0x41f0000000000000 or bottom < 0x3df0000000000000
             _flush(trace, buffer, spare, k, start, linear)
 

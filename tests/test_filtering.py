@@ -267,6 +267,16 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         np.testing.assert_allclose(np.log(linear[held]), logs[:600, :150].T[held], rtol=4e-16, atol=4e-15)
 
 
+def test_a_lane_loops_paths_interleave_with_their_own_names_and_shared_reductions():
+    # the n = 2 time update runs two paths per iteration, statement by statement: names the body
+    # assigns before reading are each path's own, names it reads first (reductions) are shared
+    from symkf.square_root import _interleaved
+    body = ["x = S[0, p] * 2.0", "x += t[p]", "top = max(top, x)", "acc += x", "out[p] = x"]
+    assert _interleaved(body, 2, 64) == [
+        "x = S[0, p] * 2.0", "x_1w = S[0, p + 64] * 2.0", "x += t[p]", "x_1w += t[p + 64]",
+        "top = max(top, x)", "top = max(top, x_1w)", "acc += x", "acc += x_1w", "out[p] = x", "out[p + 64] = x_1w"]
+
+
 def test_the_kernels_log_is_within_an_ulp_of_the_exact_log():
     # log t + e ln 2 (fdlibm's log, branch-free so that the kernel's lane loops vectorise) against
     # 40-digit mpmath: t over the kernel's range [1/2, 2) and its edges, e over the exponents of
