@@ -76,18 +76,24 @@ from .exact.arguments import check_public
 #: fixed trip count (no remainder loops, no per-entry set-up).  Up to SMALL_MAX states a lane loop's
 #: set-up (the compiler's run-time checks that its arrays do not overlap) weighs on its few operations:
 #: SMALL_LANES there (1.1-1.2x over 64 at n = 2..4 with 1 to 8 sensors), TINY_LANES up to TINY_MAX
-#: (1.11-1.14x over 128 at n = 2 with 1 and 8 sensors; at n = 4, 256 measured 0.98-0.99x); 64 above
-#: (128: 0.75x at n = 8)
+#: (512: 1.11-1.14x over 128 at n = 2 with 1 and 8 sensors; at n = 4, 256 measured 0.98-0.99x); 64
+#: above (128: 0.75x at n = 8).  At n = 2 each step's two long lane loops (Potter's, the time update's)
+#: fill and drain the core's window of overlapping paths: 2048 over 512 lanes, in one process, 1.05-1.07x
+#: with 1 sensor, 1.01-1.05x with 3, 0.98-1.04x with 8 (1024: 1.04-1.09x, 0.99-1.00x, 0.94-1.05x); a
+#: run of fewer paths computes a whole block (one path over 10^6 steps: about 4 s)
 LANES = 64
 SMALL_LANES = 128
 SMALL_MAX = 4
-TINY_LANES = 512
+TINY_LANES = 2048
 TINY_MAX = 2
 #: paths per block of the loop kernel (n > STRAIGHT_MAX), whose lane loops are many and short: 128
 #: halves their set-up per path (1.3-1.4x over 64 at n = 12 and 16; 256 measured 0.94-1.16x)
 LOOP_LANES = 128
-#: steps of one block's linear traces held before they are written along the steps (64 x 128 lanes: 64 KiB)
+#: steps of one block's linear traces held before they are written along the steps (64 x 128 lanes: 64 KiB),
+#: at most BUFFER_PATH_STEPS path-steps (128 KiB): 8 steps of 2048 lanes (n = 2, in one process: 1.04-1.06x
+#: over 16 steps, 1.07-1.15x over 64; at n = 4, 8 steps of 128 lanes were 0.98-0.99x)
 BUFFER_STEPS = 64
+BUFFER_PATH_STEPS = 2 ** 14
 #: the smallest normal float64, 2^-1022: a Potter denominator or a Householder ``|v|^2 / 2`` below it
 #: is dropped (its reciprocal could overflow; what it would change is below 2^-511 of ``S``'s scale)
 NORMAL = float(np.finfo(np.float64).tiny)
@@ -406,7 +412,7 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     (sensor ``i``), ``A`` upper Hessenberg, from ``P_0 = S0 S0^T`` (``S0`` lower triangular), in blocks of :func:`lanes`
     ``(n)`` paths (a partial last block included).
     ``linear``: ``trace[p, k] = tr P_{k|k-1}`` for the paths and
-    steps of ``trace`` instead (through a block buffer of :data:`BUFFER_STEPS` steps).  By
+    steps of ``trace`` instead (through a block buffer of :data:`BUFFER_STEPS` steps, fewer for wide blocks).  By
     :func:`_kernel` ``(n)``."""
     n = A.shape[0]
     horizon, paths, _ = received.shape
@@ -426,7 +432,8 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     if len(row_sensor) and not 0 <= min(row_sensor) <= max(row_sensor) < received.shape[2]:
         raise ShapeError(f"row_sensor: sensors 0..{received.shape[2] - 1} (the receptions' last axis), got "
                          f"{min(row_sensor)}..{max(row_sensor)}")
-    buffer = np.empty((BUFFER_STEPS if linear else 1, lanes(n)))
+    width = lanes(n)
+    buffer = np.empty((min(BUFFER_STEPS, BUFFER_PATH_STEPS // width) if linear else 1, width))
     # C order: a step's receptions are copied as one flat row per block (_receptions)
     _kernel(n)(A, UQ, H, row_sensor, S0, np.ascontiguousarray(received), trace, buffer, linear)
 

@@ -12,31 +12,31 @@ from .square_root import (NORMAL, ROOT_MAX, _aligned, _aligned_int, _bits_of, _f
 
 #: SHA-256 (its first 16 hex digits) of symkf/square_root.py, whose helpers these kernels inline: numba's
 #: cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file
-INLINED = "6996eb7310d3b85b"
+INLINED = "4298048cc02df001"
 
 
 def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
-    block = np.empty((d, 512), np.bool_)
+    block = np.empty((d, 2048), np.bool_)
     lone = received.reshape(horizon, paths * d)
     rows = H.shape[0]
-    S = _aligned((1, 1, 512))
-    t = _aligned((512,))
+    S = _aligned((1, 1, 2048))
+    t = _aligned((2048,))
     bits = t.view(np.int64)
-    E = _aligned_int((512,))
-    noise = _aligned((512,))
-    half = _aligned((512,))
-    spare = _aligned((512,))
+    E = _aligned_int((2048,))
+    noise = _aligned((2048,))
+    half = _aligned((2048,))
+    spare = _aligned((2048,))
     a0_0 = A[0, 0]
     q0_0 = UQ[0, 0]
-    for start in range(0, paths, 512):
-        for p in range(512):
+    for start in range(0, paths, 2048):
+        for p in range(2048):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
         wide = True
         for k in range(horizon + 1):
             if wide:
-                for p in range(512):
+                for p in range(2048):
                     tp = S[0, 0, p] * S[0, 0, p]
                     t[p] = tp
                     e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0
@@ -55,9 +55,9 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 break
             direct = _receptions(received, k, start, block)
             for r in range(rows):
-                got = lone[k, start:start + 512] if direct else block[row_sensor[r]]
+                got = lone[k, start:start + 2048] if direct else block[row_sensor[r]]
                 h0 = H[r, 0]
-                for p in range(512):
+                for p in range(2048):
                     s0_0 = S[0, 0, p]
                     f0 = s0_0 * h0
                     ff = f0 * f0
@@ -72,7 +72,7 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
             top = 0
             bottom = 0x41f0000000000000
             if linear:
-                for p in range(512):
+                for p in range(2048):
                     s0_0 = S[0, 0, p]
                     x0_0 = a0_0 * s0_0
                     root = half[p]
@@ -91,7 +91,7 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     top = max(top, bt)
                     bottom = min(bottom, bt)
             else:
-                for p in range(512):
+                for p in range(2048):
                     s0_0 = S[0, 0, p]
                     x0_0 = a0_0 * s0_0
                     root = half[p]
@@ -115,16 +115,16 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
 
 def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
-    block = np.empty((d, 512), np.bool_)
+    block = np.empty((d, 2048), np.bool_)
     lone = received.reshape(horizon, paths * d)
     rows = H.shape[0]
-    S = _aligned((2, 2, 512))
-    t = _aligned((512,))
+    S = _aligned((2, 2, 2048))
+    t = _aligned((2048,))
     bits = t.view(np.int64)
-    E = _aligned_int((512,))
-    noise = _aligned((512,))
-    half = _aligned((512,))
-    spare = _aligned((512,))
+    E = _aligned_int((2048,))
+    noise = _aligned((2048,))
+    half = _aligned((2048,))
+    spare = _aligned((2048,))
     a0_0 = A[0, 0]
     a0_1 = A[0, 1]
     a1_0 = A[1, 0]
@@ -132,8 +132,8 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     q0_0 = UQ[0, 0]
     q0_1 = UQ[0, 1]
     q1_1 = UQ[1, 1]
-    for start in range(0, paths, 512):
-        for p in range(512):
+    for start in range(0, paths, 2048):
+        for p in range(2048):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
             S[0, 1, p] = S0[0, 1]
@@ -142,7 +142,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
         wide = True
         for k in range(horizon + 1):
             if wide:
-                for p in range(512):
+                for p in range(2048):
                     tp = S[0, 0, p] * S[0, 0, p]
                     tp += S[1, 0, p] * S[1, 0, p]
                     tp += S[1, 1, p] * S[1, 1, p]
@@ -165,11 +165,11 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 break
             direct = _receptions(received, k, start, block)
             for r in range(rows):
-                got = lone[k, start:start + 512] if direct else block[row_sensor[r]]
+                got = lone[k, start:start + 2048] if direct else block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 if r == 0:
-                    for p in range(512):
+                    for p in range(2048):
                         s0_0 = S[0, 0, p]
                         s1_0 = S[1, 0, p]
                         s1_1 = S[1, 1, p]
@@ -192,7 +192,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                         S[1, 0, p] = s1_0 - u1 * g0
                         S[1, 1, p] = s1_1 - u1 * g1
                 else:
-                    for p in range(512):
+                    for p in range(2048):
                         s0_0 = S[0, 0, p]
                         s0_1 = S[0, 1, p]
                         s1_0 = S[1, 0, p]
@@ -221,15 +221,15 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
             top = 0
             bottom = 0x41f0000000000000
             if linear:
-                for p in range(256):
+                for p in range(1024):
                     s0_0 = S[0, 0, p]
-                    s0_0_1w = S[0, 0, p + 256]
+                    s0_0_1w = S[0, 0, p + 1024]
                     s0_1 = S[0, 1, p]
-                    s0_1_1w = S[0, 1, p + 256]
+                    s0_1_1w = S[0, 1, p + 1024]
                     s1_0 = S[1, 0, p]
-                    s1_0_1w = S[1, 0, p + 256]
+                    s1_0_1w = S[1, 0, p + 1024]
                     s1_1 = S[1, 1, p]
-                    s1_1_1w = S[1, 1, p + 256]
+                    s1_1_1w = S[1, 1, p + 1024]
                     x0_0 = a0_0 * s0_0
                     x0_0_1w = a0_0 * s0_0_1w
                     x0_0 += a0_1 * s1_0
@@ -247,7 +247,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     x1_1 += a1_1 * s1_1
                     x1_1_1w += a1_1 * s1_1_1w
                     root = half[p]
-                    root_1w = half[p + 256]
+                    root_1w = half[p + 1024]
                     x2_0 = root * q0_0
                     x2_0_1w = root_1w * q0_0
                     x2_1 = root * q0_1
@@ -287,9 +287,9 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     x0_0 = -head
                     x0_0_1w = -head_1w
                     S[0, 0, p] = x0_0
-                    S[0, 0, p + 256] = x0_0_1w
+                    S[0, 0, p + 1024] = x0_0_1w
                     S[1, 0, p] = x0_1
-                    S[1, 0, p + 256] = x0_1_1w
+                    S[1, 0, p + 1024] = x0_1_1w
                     x3_1 = root * q1_1
                     x3_1_1w = root_1w * q1_1
                     sq = x1_1 * x1_1
@@ -307,11 +307,11 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     x1_1 = -head
                     x1_1_1w = -head_1w
                     S[0, 1, p] = 0.0
-                    S[0, 1, p + 256] = 0.0
+                    S[0, 1, p + 1024] = 0.0
                     S[1, 1, p] = x1_1
-                    S[1, 1, p + 256] = x1_1_1w
+                    S[1, 1, p + 1024] = x1_1_1w
                     out[p] = _linear_scaled(t[p], E[p])
-                    out[p + 256] = _linear_scaled(t[p + 256], E[p + 256])
+                    out[p + 1024] = _linear_scaled(t[p + 1024], E[p + 1024])
                     tp = x0_0 * x0_0
                     tp_1w = x0_0_1w * x0_0_1w
                     tp += x0_1 * x0_1
@@ -319,7 +319,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     tp += x1_1 * x1_1
                     tp_1w += x1_1_1w * x1_1_1w
                     t[p] = tp
-                    t[p + 256] = tp_1w
+                    t[p + 1024] = tp_1w
                     bt = _bits_of(tp)
                     bt_1w = _bits_of(tp_1w)
                     top = max(top, bt)
@@ -327,15 +327,15 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     bottom = min(bottom, bt)
                     bottom = min(bottom, bt_1w)
             else:
-                for p in range(256):
+                for p in range(1024):
                     s0_0 = S[0, 0, p]
-                    s0_0_1w = S[0, 0, p + 256]
+                    s0_0_1w = S[0, 0, p + 1024]
                     s0_1 = S[0, 1, p]
-                    s0_1_1w = S[0, 1, p + 256]
+                    s0_1_1w = S[0, 1, p + 1024]
                     s1_0 = S[1, 0, p]
-                    s1_0_1w = S[1, 0, p + 256]
+                    s1_0_1w = S[1, 0, p + 1024]
                     s1_1 = S[1, 1, p]
-                    s1_1_1w = S[1, 1, p + 256]
+                    s1_1_1w = S[1, 1, p + 1024]
                     x0_0 = a0_0 * s0_0
                     x0_0_1w = a0_0 * s0_0_1w
                     x0_0 += a0_1 * s1_0
@@ -353,7 +353,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     x1_1 += a1_1 * s1_1
                     x1_1_1w += a1_1 * s1_1_1w
                     root = half[p]
-                    root_1w = half[p + 256]
+                    root_1w = half[p + 1024]
                     x2_0 = root * q0_0
                     x2_0_1w = root_1w * q0_0
                     x2_1 = root * q0_1
@@ -393,9 +393,9 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     x0_0 = -head
                     x0_0_1w = -head_1w
                     S[0, 0, p] = x0_0
-                    S[0, 0, p + 256] = x0_0_1w
+                    S[0, 0, p + 1024] = x0_0_1w
                     S[1, 0, p] = x0_1
-                    S[1, 0, p + 256] = x0_1_1w
+                    S[1, 0, p + 1024] = x0_1_1w
                     x3_1 = root * q1_1
                     x3_1_1w = root_1w * q1_1
                     sq = x1_1 * x1_1
@@ -413,11 +413,11 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     x1_1 = -head
                     x1_1_1w = -head_1w
                     S[0, 1, p] = 0.0
-                    S[0, 1, p + 256] = 0.0
+                    S[0, 1, p + 1024] = 0.0
                     S[1, 1, p] = x1_1
-                    S[1, 1, p + 256] = x1_1_1w
+                    S[1, 1, p + 1024] = x1_1_1w
                     out[p] = _log_scaled(t[p], E[p])
-                    out[p + 256] = _log_scaled(t[p + 256], E[p + 256])
+                    out[p + 1024] = _log_scaled(t[p + 1024], E[p + 1024])
                     tp = x0_0 * x0_0
                     tp_1w = x0_0_1w * x0_0_1w
                     tp += x0_1 * x0_1
@@ -425,7 +425,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     tp += x1_1 * x1_1
                     tp_1w += x1_1_1w * x1_1_1w
                     t[p] = tp
-                    t[p + 256] = tp_1w
+                    t[p + 1024] = tp_1w
                     bt = _bits_of(tp)
                     bt_1w = _bits_of(tp_1w)
                     top = max(top, bt)

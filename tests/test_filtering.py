@@ -236,7 +236,7 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
     # loop kernel does the same operations in the same order, so every output bit must agree:
     # dense and sparse (integer, block-diagonal) A and H, two-row sensors, paths that receive
     # nothing or everything, and a 600-step stretch of mostly lost steps (wide scales)
-    from symkf.square_root import LOOP_LANES, STRAIGHT_MAX, _loop_kernel, _straight, lanes
+    from symkf.square_root import LOOP_LANES, STRAIGHT_MAX, _loop_kernel, _straight, lanes, log_trace_paths
     assert n <= STRAIGHT_MAX
     width = max(lanes(n), LOOP_LANES)   # the buffers' lanes: each kernel's block fits
     rng = np.random.default_rng(n)
@@ -260,6 +260,10 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
             out.append((logs, linear))
         assert all(np.array_equal(x, y) for x, y in zip(*out))
         logs, linear = out[0]
+        # through log_trace_paths, whose buffer holds fewer steps for wide blocks (8 at n <= 2)
+        chosen = np.empty((150, 600))
+        log_trace_paths(A, UQ, H, rows, S0, received, chosen, True)
+        assert np.array_equal(chosen, linear)
         assert np.all(np.isfinite(logs)) and np.ptp(logs) > 100
         # linear units: the same trace times 2^E (inf beyond float64), so its log agrees to rounding
         held = np.isfinite(linear)
