@@ -415,6 +415,8 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     steps of ``trace`` instead (through a block buffer of :data:`BUFFER_STEPS` steps, fewer for wide blocks).  By
     :func:`_kernel` ``(n)``."""
     n = A.shape[0]
+    if np.ndim(received) != 3:
+        raise ShapeError(f"received: expected (horizon, paths, sensors), got shape {np.shape(received)}")
     horizon, paths, _ = received.shape
     if np.any(np.tril(A, -2)):
         raise ShapeError("A: the kernel takes A upper Hessenberg (symkf.filtering's kernel arguments make it so)")
@@ -434,8 +436,8 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
                          f"{min(row_sensor)}..{max(row_sensor)}")
     width = lanes(n)
     buffer = np.empty((min(BUFFER_STEPS, BUFFER_PATH_STEPS // width) if linear else 1, width))
-    # C order: a step's receptions are copied as one flat row per block (_receptions)
-    _kernel(n)(A, UQ, H, row_sensor, S0, np.ascontiguousarray(received), trace, buffer, linear)
+    # bool in C order: a step's receptions are one flat row per block (_receptions), one sensor's read in place
+    _kernel(n)(A, UQ, H, row_sensor, S0, np.ascontiguousarray(received, bool), trace, buffer, linear)
 
 
 def _kernel(n: int):

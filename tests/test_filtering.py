@@ -480,6 +480,22 @@ def test_the_kernel_takes_receptions_in_any_memory_order():
     assert np.array_equal(*traces) and np.isfinite(traces[0]).all()
 
 
+@pytest.mark.parametrize("dtype", [np.uint8, np.int64, np.float64])
+def test_the_kernel_takes_receptions_of_any_dtype_as_nonzero_received(dtype):
+    # one sensor's receptions are read in place: any dtype is made bool first (the in-place row and a
+    # partial block's copy must be one type), 0 lost, anything else received
+    from symkf.square_root import log_trace_paths
+    A, UQ, S0 = np.array([[1.0, 0.5], [0.0, 1.2]]), np.eye(2), np.eye(2)
+    H, rows = np.array([[1.0, 1.0]]), np.array([0])
+    received = np.random.default_rng(1).random((20, 2100, 1)) < 0.5   # whole blocks and a partial one
+    traces = [np.empty((21, 2100)) for _ in range(2)]
+    log_trace_paths(A, UQ, H, rows, S0, received, traces[0])
+    log_trace_paths(A, UQ, H, rows, S0, received.astype(dtype) * 3, traces[1])
+    assert np.array_equal(*traces)
+    with pytest.raises(ShapeError, match="received: expected"):
+        log_trace_paths(A, UQ, H, rows, S0, received[:, :, 0], traces[0])
+
+
 @pytest.mark.parametrize("n", [1, 2, 3, 4])
 @pytest.mark.parametrize("power", [200, -200])
 def test_the_kernels_rescale_a_trace_that_leaves_the_window_in_one_step(n, power):
