@@ -480,6 +480,15 @@ def test_the_kernel_takes_receptions_in_any_memory_order():
     assert np.array_equal(*traces) and np.isfinite(traces[0]).all()
 
 
+def test_a_noise_free_contracting_system_keeps_finite_logs_over_thousands_of_steps():
+    # A = I/2, Q = 0 (a FloatSystem may have it), nothing received: tr P_k = 2 / 4^k exactly; the
+    # process noise's scale 2^(-E/2) passed float64 at step 1024 and inf * 0 made every later log nan
+    model = FloatSystem(A=0.5 * np.eye(2), Q=np.zeros((2, 2)), P0=np.eye(2), H=np.eye(2), W=np.eye(2),
+                        row_sensor=np.array([0, 1]))
+    logs = log_traces(model, np.zeros((1500, 4, 2), bool))
+    np.testing.assert_allclose(logs, np.tile(np.log(2) - np.log(4) * np.arange(1501), (4, 1)), rtol=1e-13)
+
+
 @pytest.mark.parametrize("dtype", [np.uint8, np.int64, np.float64])
 def test_the_kernel_takes_receptions_of_any_dtype_as_nonzero_received(dtype):
     # one sensor's receptions are read in place: any dtype is made bool first (the in-place row and a
