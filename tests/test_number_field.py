@@ -220,3 +220,33 @@ def test_solve_rows_against_sympy(gens, n, seed):
     assert all((K.dot(r, x) - c).is_zero() for r, c in zip(rows, rhs))
     want = G.evalf(50).LUsolve(b.evalf(50))
     assert all(abs(complex(sp.N(K.to_sympy(a), 30)) - complex(w)) < 1e-20 for a, w in zip(x, want))
+
+
+@settings(max_examples=25)
+@given(st.sampled_from([[], [sp.sqrt(2)], [sp.sqrt(2), sp.sqrt(3)], [sp.cos(2 * sp.pi / 7)]]),
+       st.integers(2, 9), st.booleans(), st.integers(0, 10 ** 6))
+def test_normal_of_is_the_nullspace_up_to_a_scalar(gens, n, dependent, seed):
+    """``normal_of`` (signed maximal minors up to MINORS_MAX columns, an echelon form beyond and
+    over Q) against ``nullspace_rows``: orthogonal to every row, parallel to the nullspace's
+    vector, and zero exactly when the rows are dependent (the last a combination of two others)."""
+    from random import Random
+    from symkf.exact.linalg import normal_of, nullspace_rows, rank_rows
+    rng = Random(seed)
+    K = NumberField(gens)
+
+    def draw() -> sp.Expr:
+        if rng.random() < 0.3:
+            return sp.Integer(0)
+        return sp.Rational(rng.randint(-9, 9), rng.randint(1, 4)) + sum(rng.randint(-3, 3) * g for g in gens)
+    rows = [[K.convert(draw()) for _ in range(n)] for _ in range(n - 1)]
+    if dependent and n > 2:
+        a, b = K.convert(draw()), K.convert(draw())
+        rows[-1] = [(K.mul(a, x) + K.mul(b, y)) % K.modulus for x, y in zip(rows[0], rows[1])]
+    h = normal_of(K, rows, n)
+    assert all(K.dot(r, h).is_zero() for r in rows)
+    if rank_rows(K, rows, n) < n - 1:
+        assert all(x.is_zero() for x in h)
+        return
+    (g,) = nullspace_rows(K, rows, n)
+    assert any(not x.is_zero() for x in h)
+    assert all((K.mul(h[i], g[j]) - K.mul(h[j], g[i])).is_zero() for i in range(n) for j in range(i))
