@@ -380,8 +380,10 @@ def _lines_through_points(reps: np.ndarray, w: np.ndarray, owner: np.ndarray, me
         valid = np.arange(U)[None, :] >= np.arange(rows)[:, None]  # class b0 + 1 + j after b0 + i
         key = np.where(Y != 0, X * inverses(np.where(Y != 0, Y, 1), p) % p, p)
         key[~valid] = p + 1
-        order = np.argsort(key, axis=1, kind="stable")
-        keys = np.take_along_axis(key, order, axis=1)
+        # the stable order by key as one sort of key U + column (unique values: numpy's vectorised
+        # quicksort; the stable argsort took 18.6 of 95 s on a three-field block under Markov losses)
+        packed = np.sort(key * U + np.arange(U)[None, :], axis=1)
+        order, keys = packed % max(U, 1), packed // max(U, 1)
         run = np.ones_like(keys, dtype=bool)
         run[:, 1:] = keys[:, 1:] != keys[:, :-1]
         starts = np.flatnonzero(run)
