@@ -138,7 +138,7 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     :func:`burst_sample` with that many burst components, on ``jobs`` processes.  Counted, per
     chunk of ``m`` paths and ``K`` steps: the receptions and chain states; plain Monte Carlo, the
     kernel writes ``tr P`` into the traces itself (:func:`symkf.filtering.traces_into`; its
-    buffers are one step's receptions and 64 steps' traces of a block of paths, at most 1 MiB);
+    buffers are one step's receptions and at most 64 steps' traces of a block of paths, at most 128 KiB each);
     for bursts the kernel's log traces ``8 (K + 1) m``
     (:func:`symkf.filtering.log_traces`: the kernel writes the logs), the law table, the likelihood
     ratios ``8 C K m`` and their tail sums (one more of that size), and the log-trace

@@ -336,6 +336,7 @@ class BlockRows:
         orbits = _orbits(len(vectors), shift)
         cycles = _cycles(len(vectors), shift) if shift is not None and np.array_equal(weights[shift], weights) \
             else None
+        powers = _powers(shift, self.class_period)
         p = 1 << 27
         for _ in range(3):
             p, images = _reduction(self.K, vectors, p)
@@ -361,7 +362,6 @@ class BlockRows:
             if len(screen.kept) > budget.LIMITS.max_hyperplanes:
                 return None
             mod_p = {}  # many kept sets share a closure, or one up to the shift (the caller shifts)
-            powers = _powers(shift, self.class_period)
             for S in screen.kept:
                 c = self._mod_p_closure(X, p, sorted(S), vectors)
                 if c is None:
@@ -588,23 +588,24 @@ def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]], start: int = 1
         return p, [[phi(a) for a in v] for v in vectors]
 
 
-def _powers(shift: np.ndarray | None, g: int) -> np.ndarray:
-    """Rows ``shift^k`` (k = 0..g-1) of the permutation ``shift`` (without it no columns: the points
-    key themselves); int32: four cyclotomic fields' 1386 elements over their period 3465 take 19 MB."""
-    rows = np.empty((g if shift is not None else 1, len(shift) if shift is not None else 0), dtype=np.int32)
-    if shift is not None:
-        rows[0] = np.arange(len(shift))
-        for k in range(1, g):
-            rows[k] = shift[rows[k - 1]]
+def _powers(shift: np.ndarray | None, g: int) -> np.ndarray | None:
+    """Rows ``shift^k`` (k = 0..g-1) of the permutation ``shift`` (None without it); int32: four
+    cyclotomic fields' 1386 elements over their period 3465 take 19 MB."""
+    if shift is None:
+        return None
+    rows = np.empty((g, len(shift)), dtype=np.int32)
+    rows[0] = np.arange(len(shift))
+    for k in range(1, g):
+        rows[k] = shift[rows[k - 1]]
     return rows
 
 
-def _least_shift(points: np.ndarray, powers: np.ndarray) -> bytes:
-    """A key shared by the point sets that are shifts of one another (``powers``: :func:`_powers`):
-    the least of the shifts' sorted index lists in lexicographic order, as bytes.  All shifts at
-    once: sorted one by one, 2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9) under Markov losses made 27
-    million sorts of a few indices (51 of its 230 CPU-s)."""
-    if not powers.shape[1]:
+def _least_shift(points: np.ndarray, powers: np.ndarray | None) -> bytes:
+    """A key shared by the point sets that are shifts of one another (``powers``: :func:`_powers`;
+    without them the points themselves): the least of the shifts' sorted index lists in
+    lexicographic order, as bytes.  All shifts at once: sorted one by one, 2R(2 pi/5) + 2R(2 pi/7) +
+    2R(2 pi/9) under Markov losses made 27 million sorts of a few indices (51 of its 230 CPU-s)."""
+    if powers is None:
         return points.tobytes()
     orbit = np.sort(powers[:, points], axis=1)
     return orbit[np.lexsort(orbit.T[::-1])[0]].tobytes()

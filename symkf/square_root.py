@@ -817,14 +817,16 @@ def _straight_source(n: int) -> str:
     for i in R:
         for j in R:
             w(f"            S[{i}, {j}, p] = S0[{i}, {j}]")
-    skipping = n <= PHASED_MAX   # the rescale only when a trace has left WINDOW (below)
-    if skipping:
+    # up to PHASED_MAX the time update's last lane loop takes the traces (below), and the rescale
+    # runs only when one has left the window
+    traced = n <= PHASED_MAX
+    if traced:
         w("        wide = True")
     w("        for k in range(horizon + 1):")
     # --- rescale (as _rescale) and the trace of step k
-    if skipping:
+    if traced:
         w("            if wide:")
-    body = " " * (20 if skipping else 16)
+    body = " " * (20 if traced else 16)
     w(f"{body[:-4]}for p in range({W}):")
     L += _sum("tp", [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i in R for j in range(i + 1)], body)
     w(f"{body}t[p] = tp")
@@ -844,7 +846,7 @@ def _straight_source(n: int) -> str:
     w(f"{body}root = _pow2(min(-(Ep // 2), ROOT_MAX))")
     w(f"{body}half[p] = root")
     w(f"{body}noise[p] = root * root")
-    if n <= PHASED_MAX:   # the traces in the time update's last lane loop (below)
+    if traced:
         w("            if k == horizon:")
         w("                _store(k, start, t, E, trace, buffer, spare, linear)")
         w("                break")
@@ -956,7 +958,7 @@ def _straight_source(n: int) -> str:
 
     for cols in phases[:-1]:
         time_update(cols, " " * 12)
-    if n > PHASED_MAX:
+    if not traced:
         time_update(phases[-1], " " * 12)
         return "\n".join(L) + "\n"
     # up to PHASED_MAX this step's traces are taken in the last lane loop of the time update, which

@@ -121,8 +121,9 @@ def normal_of(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -> lis
     independent.  Up to :data:`MINORS_MAX` columns the minors share their sub-minors (each row's
     expansion over the column sets of the rows below it) and need no inverse in K: a Markov screen's
     exact check on 2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9), degree 288, took 3.9 ms a normal against
-    27 ms by elimination, whose inverses cost 6 ms each there (a product 30 us).  Beyond, the
-    nullspace of an echelon form (:func:`nullspace_rows`; the zero vector for dependent rows)."""
+    27 ms by elimination, whose inverses cost 6 ms each there (a product 30 us).  Beyond, and over
+    Q (whose inverses are cheap), the nullspace of an echelon form (:func:`nullspace_rows`; the zero
+    vector for dependent rows)."""
     if len(rows) != ncols - 1:
         raise ShapeError(f"normal_of: {ncols - 1} rows expected for {ncols} columns, got {len(rows)}")
     if ncols > MINORS_MAX or K.is_rational:
