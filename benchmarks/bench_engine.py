@@ -7,7 +7,7 @@
 3. Gilbert-Elliott, A = (11/10) R(pi/6) (R(pi/6)^6 = -I: governing period 6), two sensors:
    the stability verdict and the critical recovery rate.  Target <= 5 s.
 4. Ratio against brute force: P(R_N) by enumerating all 2^(dN) patterns
-   (symkf.decay.probability_rank_deficient) versus the hyperplane decay rate, on the largest
+   (symkf.engine.rates.probability_rank_deficient) versus the hyperplane decay rate, on the largest
    case enumeration handles in a few seconds (d = 2, N = 8).
 """
 
@@ -19,9 +19,10 @@ import time
 import sympy as sp
 
 import symkf as sk
-from symkf.decay import block_rate, probability_rank_deficient
-from symkf.observability import block_rows
-from symkf.stability import critical_loss_rate, critical_recovery_rate, stability
+from symkf.engine.rates import block_rate, probability_rank_deficient
+from symkf.engine.blocks import block_rows
+from symkf.engine.stability import critical_loss_rate, stability
+from symkf.engine.recovery import critical_recovery_rate
 
 
 def R(t):

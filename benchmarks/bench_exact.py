@@ -22,7 +22,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from symkf.exact.field import NumberField
 from symkf.exact.linalg import rank_rows
-from symkf.spectral import eigen_blocks
+from symkf.exact.spectral import eigen_blocks
 from timing import median_time
 
 Z = sp.exp(sp.I * sp.pi / 12)

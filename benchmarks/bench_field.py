@@ -15,9 +15,9 @@ import time
 import sympy as sp
 
 import symkf as sk
-from symkf import spectral
+from symkf.exact import spectral
 from symkf.exact import algebraic, embedding, field
-from symkf.stability import critical_loss_rate
+from symkf.engine.stability import critical_loss_rate
 
 CASES = [(2, 7, 4.4), (1, 9, None), (3, 11, 59.0), (1, 12, 2.7)]  # (p, q, seconds before)
 R = sp.Rational(3, 2)

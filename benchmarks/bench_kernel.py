@@ -1,6 +1,6 @@
 """The square-root filter kernel's share of one core's floating-point peak, n = 2, 4, 8, 16 states.
 
-The kernel is :func:`symkf.filtering.log_traces` on receptions drawn beforehand (i.i.d. 0.3
+The kernel is :func:`symkf.numeric.filters.log_traces` on receptions drawn beforehand (i.i.d. 0.3
 losses, ``d`` single-row sensors, systems of ``bench_simulate.system``).  Work per path-step
 is counted by the yardstick ``4 n^3 + 4 d n^2`` flop (time update ~ ``4 n^3``: ``A S`` and
 the Householder reflections; Potter ~ ``4 n^2`` per row), whatever the kernel skips.
@@ -41,7 +41,7 @@ import time
 import numpy as np
 from numba import njit
 
-from symkf.square_root import STRAIGHT_MAX
+from symkf.numeric.square_root import STRAIGHT_MAX
 from timing import median_cpu, peak_rss_mb
 
 HORIZON = 100
@@ -57,7 +57,7 @@ peak = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(peak)
 fma_rate = peak.fma_rate
 from bench_simulate import system
-from symkf.filtering import log_traces, real_form
+from symkf.numeric.filters import log_traces, real_form
 horizon, repeats, cells = int(sys.argv[2]), int(sys.argv[3]), json.loads(sys.argv[4])
 out = []
 for n, d, paths in cells:
@@ -162,7 +162,7 @@ def measured_rates(repeats: int) -> tuple[float, float, float, float]:
 
 
 def divider_work(n: int, rows: int) -> tuple[int, int]:
-    """Divisions and square roots per path-step the kernel cannot avoid (:mod:`symkf.square_root`):
+    """Divisions and square roots per path-step the kernel cannot avoid (:mod:`symkf.numeric.square_root`):
     per Potter row ``sqrt(a r)`` and ``1 / denom``; per Householder column the norm, and but for
     the last column (never applied) ``1 / (|x| (|x| + |x_0|))``; the log of the trace, ``s = f /
     (2 + f)``."""
@@ -177,7 +177,7 @@ def loop_divider_work(n: int) -> tuple[list[tuple[int, int]], list[tuple[int, in
     only its norm), else one loop; up to ``PHASED_MAX`` its last loop written twice, once with the
     log of the traces (one division more); the log's own loop (the last step, and every step
     beyond ``PHASED_MAX``)."""
-    from symkf.square_root import PHASED_MAX, PHASED_MIN
+    from symkf.numeric.square_root import PHASED_MAX, PHASED_MIN
     potter = [(1, 1)] * (2 if n > 1 else 1)
     columns = [(1, 1)] * (n - 1) + [(0, 1)] if PHASED_MIN <= n <= PHASED_MAX else [(n - 1, n)]
     if n > PHASED_MAX:
@@ -193,8 +193,8 @@ def asm_divider_work(n: int) -> tuple[list[tuple[int, int]], str]:
     vector; and that width's name.  A body the compiler unrolled (2, 4, 8 or 16 vectors at once: up to
     the whole lane loop) holds that multiple of one of :func:`loop_divider_work`'s counts and is
     divided by it; a body matching none is kept whole, and the bodies then differ from the source's."""
-    from symkf import straight_kernels
-    from symkf.square_root import lanes
+    from symkf.numeric import straight_kernels
+    from symkf.numeric.square_root import lanes
     kernel = njit(error_model="numpy")(getattr(straight_kernels, f"_paths_{n}"))
     kernel(np.eye(n), np.eye(n), np.ones((1, n)), np.zeros(1, np.int64), np.eye(n), np.ones((1, lanes(n), 1), bool),
            np.empty((lanes(n), 1)), np.empty((1, lanes(n))), True)

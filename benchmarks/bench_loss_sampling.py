@@ -4,9 +4,9 @@ The system is the 4-dimensional block ``diag(2R(pi/6), 2R(pi/4))`` (modulus 2) w
 integer sensor rows drawn from -2..2; every sensor is a Gilbert-Elliott channel with fail 1/10,
 recover 1/2.  Each case runs in a fresh process (its peak RSS is its own):
 
-* ``simulate``: :func:`symkf.montecarlo.simulate_traces` (receptions sampled per factor of the
-  loss model, :meth:`symkf.losses.LossModel.sample`, then the compiled square-root filter);
-* ``kernel``: the filter kernel alone, :func:`symkf.filtering.traces_into` (what
+* ``simulate``: :func:`symkf.numeric.montecarlo.simulate_traces` (receptions sampled per factor of the
+  loss model, :meth:`symkf.model.loss.LossModel.sample`, then the compiled square-root filter);
+* ``kernel``: the filter kernel alone, :func:`symkf.numeric.filters.traces_into` (what
   ``simulate_traces`` runs after drawing the receptions), on receptions drawn
   beforehand with plain NumPy (not timed): the floor ``simulate`` is compared with, timed
   alternately with ``simulate`` in one process (the ratio is the median of the pairs: on a
@@ -32,10 +32,10 @@ import sys
 CASE = r"""
 import json, resource, sys, time
 import numpy as np, sympy as sp
-from symkf.filtering import real_form, traces_into
-from symkf.losses import GilbertElliott
-from symkf.model import Sensor, System
-from symkf.montecarlo import simulate_traces
+from symkf.numeric.filters import real_form, traces_into
+from symkf.model.gilbert_elliott import GilbertElliott
+from symkf.model.system import Sensor, System
+from symkf.numeric.montecarlo import simulate_traces
 
 mode, d, horizon, paths, repeats = sys.argv[1], *map(int, sys.argv[2:6])
 R = lambda t: sp.Matrix([[sp.cos(t), -sp.sin(t)], [sp.sin(t), sp.cos(t)]])

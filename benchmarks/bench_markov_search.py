@@ -14,7 +14,7 @@ sensor rows drawn from -2..2 (fixed seed); rows and targets:
 
 Beside them (no target), a block in general position: 2R(2 pi/7) + 2R(2 pi/11) with two sensors
 on Gilbert-Elliott channels, whose C(154, 3) hyperplanes main refuses to list, decided by its
-special hyperplanes and the best rate of any three elements (symkf.generic_hyperplanes); and the
+special hyperplanes and the best rate of any three elements (symkf.engine.generic_hyperplanes); and the
 same by the list with ``max_hyperplanes`` raised, the reference in the same run.
 
 Each measurement is a fresh interpreter (cold caches) printing the CPU seconds of the computation

@@ -1,4 +1,4 @@
-"""Closed form (symkf.second_order.critical_loss_rate) against the engine (symkf.critical_loss_rate).
+"""Closed form (symkf.engine.second_order.critical_loss_rate) against the engine (symkf.critical_loss_rate).
 
 Second-order systems with 2 sensors (rows [1, 2], [3, -1]): ``2 R(2 pi/m)`` for
 m = 4, 6, 7, 9, 11 and the complex-diagonal ``2 diag(e^(i pi/6), e^(7 i pi/6))``.

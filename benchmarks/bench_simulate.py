@@ -1,7 +1,7 @@
 """Monte Carlo throughput against a per-path float64 loop, for n = 2, 4, 8 and d = 1, 3, 8, 16.
 
-The batched engine is :func:`symkf.montecarlo.burst_sample` (the compiled square-root
-filter with a log-scale, :mod:`symkf.square_root`; receptions sampled per independent
+The batched engine is :func:`symkf.numeric.montecarlo.burst_sample` (the compiled square-root
+filter with a log-scale, :mod:`symkf.numeric.square_root`; receptions sampled per independent
 sensor), plain (i.i.d. and Gilbert-Elliott losses) and with final-burst importance
 sampling (Gilbert-Elliott, a pattern losing sensor 1).  The baseline is the textbook loop,
 one path and one step at a time (eq. 9 with the stacked received rows, ``np.linalg.inv``),
@@ -12,7 +12,7 @@ and, for ``jobs = 2``, wall and CPU (with the workers') against ``jobs = 1``.
 Second, ``simulate_traces`` (receptions sampled per sensor, then the kernel) against the
 vectorised NumPy covariance-form filter over all paths at once (``batch_filter.py``, BLAS on
 one thread, drawing its own receptions), for n = 2, 4, 8, 16 x d = 1, 3, 8 under i.i.d. and
-Gilbert-Elliott losses, and against the kernel alone (:func:`symkf.filtering.traces_into`, what
+Gilbert-Elliott losses, and against the kernel alone (:func:`symkf.numeric.filters.traces_into`, what
 ``simulate_traces`` runs after drawing the receptions, on receptions drawn beforehand): CPU seconds (medians), the ratios of the same run,
 and the process's peak RSS (per fresh process for many sensors: ``bench_loss_sampling.py``).
 Yardsticks: baseline / simulate >= 2 in every cell; simulate / kernel is the cost of drawing the receptions
@@ -43,10 +43,11 @@ import time
 import numpy as np
 import sympy as sp
 
-from symkf.filtering import real_form, sample_receptions, traces_into
-from symkf.losses import IID, GilbertElliott
-from symkf.model import Sensor, System
-from symkf.montecarlo import BurstPlan, burst_sample, simulate_traces
+from symkf.numeric.filters import real_form, sample_receptions, traces_into
+from symkf.model.gilbert_elliott import GilbertElliott
+from symkf.model.iid import IID
+from symkf.model.system import Sensor, System
+from symkf.numeric.montecarlo import BurstPlan, burst_sample, simulate_traces
 
 from batch_filter import trace_batch
 from timing import median_cpu as cpu, peak_rss_mb
@@ -122,8 +123,8 @@ def numpy_grid(repeats: int, quick: bool) -> None:
     print(f"peak RSS of this process {peak_rss_mb():.0f} MB")
 
 
-SETUP = ("import time, numpy as np, sympy as sp; from symkf.losses import IID; from symkf.model import Sensor, System; "
-         "from symkf.montecarlo import burst_sample; S = System(A=sp.Matrix([[1, 1], [0, 1]]), "
+SETUP = ("import time, numpy as np, sympy as sp; from symkf.model.loss import IID; from symkf.model.system import Sensor, System; "
+         "from symkf.numeric.montecarlo import burst_sample; S = System(A=sp.Matrix([[1, 1], [0, 1]]), "
          "sensors=[Sensor(C=[[1, 0]])]); t = time.process_time(); burst_sample(S, IID(['3/10']), 1, 2, 0, None); "
          "print(time.process_time() - t)")
 

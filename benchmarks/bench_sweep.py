@@ -54,7 +54,7 @@ def _cpu() -> float:
 
 def one(path: str, jobs: int) -> None:
     """Child mode: time one evaluation; print wall and CPU seconds and a digest of the exact results."""
-    from symkf.families import load_family
+    from symkf.io.families import load_family
     family = load_family(path)
     start, cpu = time.perf_counter(), _cpu()
     out = family.evaluate(jobs=jobs)

@@ -1,6 +1,6 @@
 """Calibration of ``verify``: theory against simulation at known distances from the threshold.
 
-Systems come from :mod:`symkf.strategies` (rotations, complex diagonal, diagonalizable with
+Systems come from :mod:`symkf.model.strategies` (rotations, complex diagonal, diagonalizable with
 two sensors), drawn deterministically (hypothesis, ``derandomize=True``).  Each system gets
 three loss families with one scalar parameter ``t``:
 
@@ -12,7 +12,7 @@ three loss families with one scalar parameter ``t``:
 
 Points: ``t = t_c (1 +- delta)`` for ``delta`` in 2 %, 5 %, 20 % (rounded to 6 digits; the
 exact verdict and rate are recomputed at the rounded point).  Each point runs
-:func:`symkf.verify.verify` with a fixed budget (``--paths`` per run at the horizons ``h, 2h,
+:func:`symkf.numeric.verify.verify` with a fixed budget (``--paths`` per run at the horizons ``h, 2h,
 3h`` of ``--horizon``: 15 000 x (40 + 80 + 120) path-steps, as 20 000 x (60 + 120) before
 the margin estimator) and a seed fixed by its index.  Printed: per distance and side the
 fraction decided (consistent), per loss kind, and the contradictions; the coverage of the
@@ -33,10 +33,13 @@ from fractions import Fraction
 import sympy as sp
 from hypothesis import given, settings, HealthCheck
 
-from symkf import strategies as sks
-from symkf.losses import IID, GilbertElliott, MarkovLoss
-from symkf.stability import critical_loss_rate, critical_recovery_rate, stability
-from symkf.verify import verify
+from symkf.model import strategies as sks
+from symkf.model.gilbert_elliott import GilbertElliott
+from symkf.model.iid import IID
+from symkf.model.markov import MarkovLoss
+from symkf.engine.stability import critical_loss_rate, stability
+from symkf.engine.recovery import critical_recovery_rate
+from symkf.numeric.verify import verify
 
 DISTANCES = (Fraction(2, 100), Fraction(5, 100), Fraction(20, 100))
 KINDS = ("iid", "gilbert-elliott", "markov")

@@ -33,7 +33,7 @@ def _child() -> None:
     import sympy as sp
     import engine_cases
     import symkf as sk
-    from symkf.decay import perron_root
+    from symkf.engine.rates import perron_root
     out = {}
     for what, case, a, b in CASES:
         if what == "perron":

@@ -60,17 +60,17 @@ def _child(what: str, case: str, args: list[str]) -> None:
 
 def _compute(what: str, system, loss) -> str:
     if what == "critical":
-        from symkf.stability import critical_loss_rate
+        from symkf.engine.stability import critical_loss_rate
         result = str(critical_loss_rate(system).exact)
     elif what == "stability":
-        from symkf.stability import stability
+        from symkf.engine.stability import stability
         v = stability(system, loss)
         result = f"{v.stable} {[str(m.exact) for m in v.margins]}"
     elif what == "recovery":  # the case's loss is Gilbert-Elliott: its fail rates, a common recovery rate
-        from symkf.stability import critical_recovery_rate
+        from symkf.engine.recovery import critical_recovery_rate
         result = str(critical_recovery_rate(system, fail=loss.fail).exact)
     elif what == "perron":  # the case is a non-negative matrix: its exact Perron root
-        from symkf.decay import perron_root
+        from symkf.engine.rates import perron_root
         result = str(perron_root(system))
     elif what == "bounds":  # the atlas of published bounds beside the exact value, with its LMI bisection
         from symkf import bounds

@@ -1,6 +1,6 @@
 """How far float64 follows the sampled paths of ``divergence_test``: the kernel against exact arithmetic.
 
-For ``symkf/examples/systems/ge-two-sensors.toml`` with recovery ``--recover`` (the member of
+For ``symkf/io/examples/systems/ge-two-sensors.toml`` with recovery ``--recover`` (the member of
 ``ge-recovery.toml``), draws the final-burst importance sample of ``log E[tr P_k]`` at ``k = h,
 2h, 3h`` (seeds ``seed``, ``seed + 1``, ``seed + 2``, as ``divergence_test``), recomputes
 ``log tr P_{k|k-1}`` of every path by the exact rational Riccati recursion (python-flint
@@ -20,7 +20,7 @@ import time
 import numpy as np
 from flint import fmpq_mat
 
-import symkf.montecarlo as mc
+import symkf.numeric.montecarlo as mc
 from symkf import GilbertElliott, Sensor, System
 
 

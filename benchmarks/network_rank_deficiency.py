@@ -10,7 +10,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SensorTree,  # noqa: E402
+from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SensorTree,
                            rank_deficiency_probabilities, rank_deficiency_probability_by_enumeration)
 from timing import median_time  # noqa: E402
 

@@ -16,7 +16,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from symkf import examples, output  # noqa: E402
-from symkf.tables import family_table, verdict_table  # noqa: E402
+from symkf.reports.tables import family_table, verdict_table  # noqa: E402
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])

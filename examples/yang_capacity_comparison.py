@@ -14,7 +14,7 @@ import sympy as sp  # noqa: E402
 
 from symkf import IID, Sensor, System  # noqa: E402
 from symkf.capacity import comparison_table, critical_loss_comparison, verdict_comparison  # noqa: E402
-from symkf.stability import critical_loss_rate, stability  # noqa: E402
+from symkf.engine.stability import critical_loss_rate, stability  # noqa: E402
 
 R = sp.Rational
 SYSTEMS = [

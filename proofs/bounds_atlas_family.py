@@ -29,7 +29,7 @@ import sympy as sp
 
 import symkf as sk
 from symkf.bounds import bounds
-from symkf.plots import rotation_system
+from symkf.reports.plots import rotation_system
 
 
 def family(M: int) -> list[sk.System]:

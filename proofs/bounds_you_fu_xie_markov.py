@@ -8,7 +8,7 @@ ratio has order ``p`` and ``rank C = 1``, the filter is stable iff
 The stable set of ``q`` need not be an interval.
 
 Method: exhaustive over a stated family, the formula's exact stable set (intervals with
-algebraic end points, ``symkf.region.stable_intervals``) against the engine's
+algebraic end points, ``symkf.engine.region.stable_intervals``) against the engine's
 (``symkf.stable_recovery_intervals``, Sui-You-Fu Theorem 9 with eq. 36 on the Gilbert-Elliott
 chain): ``A = r R(pi k/m)``, ``m <= M`` (``M = 3``; ``6`` with ``full=True``), ``r in {2, sqrt(6)/2}``,
 ``C in {[1 0], I}``, ``diag(2, -2)``, ``diag(2, 3)`` and the Jordan block ``[[2, 1], [0, 2]]``
@@ -25,7 +25,7 @@ import sympy as sp
 
 import symkf as sk
 from symkf.bounds import bounds
-from symkf.plots import rotation_system
+from symkf.reports.plots import rotation_system
 
 
 def family(M: int) -> list[sk.System]:

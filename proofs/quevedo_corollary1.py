@@ -24,9 +24,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import sympy as sp  # noqa: E402
 
-from symkf.losses import GilbertElliott  # noqa: E402
-from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SensorTree,  # noqa: E402
-                           corollary1_lhs, phi_symbol, theorem1)
+from symkf.model.gilbert_elliott import GilbertElliott  # noqa: E402
+from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SensorTree, corollary1_lhs, phi_symbol,
+                           theorem1)
 
 p12, p21 = sp.symbols("p12 p21", positive=True)
 A = [[2, 1], [0, "1/2"]]

@@ -24,8 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import sympy as sp  # noqa: E402
 
-from symkf.network import (MarkovNetworkState, NetworkLoss, full_rank_configurations,  # noqa: E402
-                           full_rank_probability)
+from symkf.network import MarkovNetworkState, NetworkLoss, full_rank_configurations, full_rank_probability
 from symkf.network.reproduce import EXAMPLE3_J, example3_dynamics, example3_printed_polynomial, example3_tree  # noqa: E402
 
 

@@ -4,7 +4,7 @@ Claim: for a Markov network state (Assumption 1) and a time-invariant A, if
 max_i nu_i ||A||^2 < 1 (eq. 22) then the Kalman filter is stable -- so the set of
 parameters where Theorem 1 holds lies inside the set where the exact
 necessary-and-sufficient verdict (Sui-You-Fu Theorems 4, 7, 9 with eq. 36,
-`symkf.stability.stability` on `induced_loss(...)`) says stable.  Also checked:
+`symkf.engine.stability.stability` on `induced_loss(...)`) says stable.  Also checked:
 Theorem 2 (eq. 32, corrected) with psi_j(1) = 1 gives the same set as Theorem 1
 (Sec. VII-B), and the exact stable sets of `symkf.network.compare` agree with the
 engine pointwise.
@@ -33,7 +33,7 @@ import sympy as sp  # noqa: E402
 
 from symkf.network.compare import FAMILY, compare, describe, t  # noqa: E402
 from symkf.network.conditions import theorem1  # noqa: E402
-from symkf.stability import stability  # noqa: E402
+from symkf.engine.stability import stability  # noqa: E402
 
 
 def _inside(intervals, v) -> bool:

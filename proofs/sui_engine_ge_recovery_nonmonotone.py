@@ -3,7 +3,7 @@ recovery probability q = P(received | lost last); a faster-recovering channel ca
 
 Source: Sui-You-Fu, Theorem 9 and eqs. (33)-(36) (stability under Markov losses iff
 alpha^2 rho(M) < 1); the intuition that faster recovery helps (as for the critical loss rate of
-i.i.d. losses, which is monotone) is what fails.  symkf.stability.critical_recovery_rate therefore
+i.i.d. losses, which is monotone) is what fails.  symkf.engine.recovery.critical_recovery_rate therefore
 refuses (AssumptionError) when the stable set is not an interval (q_c, 1), and
 stable_recovery_intervals returns the exact set.
 
@@ -15,7 +15,7 @@ alpha^4 (q/2 + (1 - q)^2) = 9/4 (q/2 + (1 - q)^2) < 1  iff  2/3 < q < 5/6.
 
 Method: (1) symbolic identity: the engine's margin polynomial equals the hand-derived one;
 (2) exact stable set from the engine equals (2/3, 5/6); (3) independent check: the Perron root of
-the full M matrix (eqs. 33-34, built by symkf.decay.m_matrix over projected patterns and chain
+the full M matrix (eqs. 33-34, built by symkf.engine.rates.m_matrix over projected patterns and chain
 states, no hyperplane shortcut) computed exactly at q = 3/5, 3/4, 9/10 gives alpha^4 rho(M) =
 above 1, below 1, above 1; (4) brute force: P(R_N) from enumerating all 2^N loss patterns
 (N = 12) is compared with u M^(N/2) v.
@@ -24,12 +24,12 @@ above 1, below 1, above 1; (4) brute force: P(R_N) from enumerating all 2^N loss
 import sympy as sp
 
 import symkf as sk
-from symkf.decay import m_matrix, perron_root, probability_rank_deficient
+from symkf.engine.rates import m_matrix, perron_root, probability_rank_deficient
 from symkf.errors import AssumptionError
 from symkf.exact.algebraic import AlgebraicNumber
-from symkf.observability import block_rows
-from symkf.region import ge_margins
-from symkf.stability import critical_recovery_rate, stable_recovery_intervals
+from symkf.engine.blocks import block_rows
+from symkf.engine.region import ge_margins
+from symkf.engine.recovery import critical_recovery_rate, stable_recovery_intervals
 
 SYSTEM = sk.System(A=[[0, "-sqrt(6)/2"], ["sqrt(6)/2", 0]], sensors=[sk.Sensor(C=[[1, 0]])])
 

@@ -6,8 +6,8 @@ pattern, loss-chain state), the probability that the regression matrix
 ones), for the projection period ``g`` (the governing period, see
 ``proofs/sui_theorem12.py``; eq. 35 is printed with ``tau``).
 
-Method: exact brute force on a stated family.  ``symkf.decay.m_matrix`` against
-``symkf.decay.probability_rank_deficient`` (all ``2^(d N g)`` receival patterns,
+Method: exact brute force on a stated family.  ``symkf.engine.rates.m_matrix`` against
+``symkf.engine.rates.probability_rank_deficient`` (all ``2^(d N g)`` receival patterns,
 rank of ``O_{N g}`` tested directly), for ``N = 1..4`` with ``d N g <= 12``:
 
 * ``A = 2 R(pi/2)`` (``tau = 4``, ``g = 2``), ``C = [1, 0]``, i.i.d. loss ``eps`` (a symbol);
@@ -25,8 +25,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import sympy as sp  # noqa: E402
 
 from symkf import IID, GilbertElliott, Sensor, System  # noqa: E402
-from symkf.decay import m_matrix, probability_rank_deficient  # noqa: E402
-from symkf.observability import block_rows  # noqa: E402
+from symkf.engine.rates import m_matrix, probability_rank_deficient  # noqa: E402
+from symkf.engine.blocks import block_rows  # noqa: E402
 
 R = sp.Rational
 eps = sp.Symbol("eps", positive=True)

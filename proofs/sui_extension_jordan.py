@@ -5,7 +5,7 @@ Claim (docs/sui.md, "Beyond Sui-You-Fu"): for an eigen-block with Jordan chains 
 ``C_j A^r B_c^s T_c`` (``B_c = A^g / c_c - I``), so stability is ``alpha_i^2 rho_i < 1`` as in
 Theorems 4 and 7; modes with ``|lambda| < 1`` are set aside.
 
-Method: (1) enumeration on the raw ``O_N`` by :mod:`symkf.oracle` (no engine code): for losses
+Method: (1) enumeration on the raw ``O_N`` by :mod:`symkf.engine.oracle` (no engine code): for losses
 ``eps_j = x^(w_j)`` the least lost weight ``L(N)`` of a deficient pattern has slope
 ``L(N + G) - L(N) = G e`` where the engine says ``rho = x^e``, on a family of defective, marginal,
 singular and detectable systems; (2) exact ``P(R_N)`` of the constant-velocity tracker and of the
@@ -27,10 +27,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import sympy as sp  # noqa: E402
 
 import symkf as sk  # noqa: E402
-from symkf.decay import outside_counts  # noqa: E402
-from symkf.montecarlo import divergence_test  # noqa: E402
-from symkf.observability import block_rows  # noqa: E402
-from symkf.oracle import RawRegression, decay_slope, iid_probability  # noqa: E402
+from symkf.engine.rates import outside_counts  # noqa: E402
+from symkf.numeric.montecarlo import divergence_test  # noqa: E402
+from symkf.engine.blocks import block_rows  # noqa: E402
+from symkf.engine.oracle import RawRegression, decay_slope, iid_probability  # noqa: E402
 
 R = sp.Rational
 JORDAN_ROTATION = [[0, -2, 1, 0], [2, 0, 0, 1], [0, 0, 0, -2], [0, 0, 2, 0]]  # 2R(pi/2) with a chain

@@ -8,14 +8,14 @@ from Definition 1 and eq. (37).
 Finding: the exponent must be the governing period ``g`` (least ``k`` with
 ``A^k`` a scalar multiple of ``I``; ``g`` divides ``tau``), and sensors with
 ``rank C_i = 2`` must be left out of the congruent sets.  Corrected statement
-(``symkf.second_order.critical_loss_rate`` and ``theorem12``): stable iff
+(``symkf.engine.second_order.critical_loss_rate`` and ``theorem12``): stable iff
 ``alpha^(2g) max_i prod_j (1 - p_j)^(g - [j in J_i]) < 1`` over the rank-one
 sensors ``i`` (``alpha^2 prod (1 - p_j) < 1`` if ``g`` is infinite).
 
 Method: brute-force enumeration, exact and symbolic in the loss ``eps``.  By
 Theorem 4 (with eq. 32) stability is ``alpha^2 lim P(R_N)^(1/N) < 1``.  For each
 counterexample, ``P(R_N)`` is enumerated over all ``2^N`` receival patterns
-(``symkf.decay.probability_rank_deficient``, which tests the rank of ``O_N``
+(``symkf.engine.rates.probability_rank_deficient``, which tests the rank of ``O_N``
 directly) for ``N = 1..8`` and must equal the closed form
 ``F_N(eps) = eps^N + sum_{r < g} eps^(N - N_r) (1 - eps^(N_r))`` (``N_r`` = number of
 ``k < N`` with ``k = r mod g``: the received times all lie in one residue class
@@ -43,7 +43,7 @@ import sympy as sp  # noqa: E402
 
 from symkf import IID, Sensor, System, critical_loss_rate  # noqa: E402
 from symkf import second_order as so  # noqa: E402
-from symkf.decay import probability_rank_deficient  # noqa: E402
+from symkf.engine.rates import probability_rank_deficient  # noqa: E402
 
 eps = sp.Symbol("eps", positive=True)
 lam = 2 * (3 + 4 * sp.I) / 5

@@ -15,7 +15,7 @@ monotone in ``(Y_k, S_k)`` (a parallel sum), so ``Y_k`` is jointly concave in
 
 Method: exhaustive enumeration of every receival pattern over k <= 6 steps
 (2^(N k) sequences, exact probabilities), covariances by the float64 filter of
-:mod:`symkf.filtering`; each Loewner inequality is checked through the
+:mod:`symkf.numeric.filters`; each Loewner inequality is checked through the
 smallest eigenvalue with tolerance 1e-9 times the matrix scale.  Family: the
 systems listed in FAMILY (two sensors each, stable and unstable A, scalar and
 vector outputs, non-identity R).
@@ -35,7 +35,7 @@ import sympy as sp  # noqa: E402
 from symkf import IID, Sensor, System  # noqa: E402
 from symkf.capacity.lower import information_lower_bound_sequence, lower_bound_sequence  # noqa: E402
 from symkf.capacity.mare import MARE  # noqa: E402
-from symkf.filtering import predicted_covariances  # noqa: E402
+from symkf.numeric.filters import predicted_covariances  # noqa: E402
 
 R = sp.Rational
 FAMILY = [

@@ -27,7 +27,7 @@ import sympy as sp  # noqa: E402
 
 from symkf.capacity.quantities import mahler_measure, spectral_radius  # noqa: E402
 from symkf.capacity.theorems import capacity_bounds_meet, unstable_count  # noqa: E402
-from symkf.spectral import eigenvalues  # noqa: E402
+from symkf.exact.spectral import eigenvalues  # noqa: E402
 
 
 def main() -> bool:

@@ -17,34 +17,46 @@ from typing import TYPE_CHECKING, Any
 from .errors import SymkfError
 
 if TYPE_CHECKING:
-    from . import capacity, control, examples, fusion, montecarlo, network, second_order, tables
+    from . import capacity, fusion, network
+    from .model import statespace as control
+    from .io import examples
+    from .numeric import montecarlo
+    from .engine import second_order
+    from .reports import tables
     from .bounds import bounds
     from .exact.algebraic import AlgebraicNumber
-    from .families import load_family
-    from .losses import IID, GilbertElliott, Independent, MarkovLoss
-    from .model import Sensor, System
-    from .region import StabilityRegion, stability_conditions, stability_region
-    from .spectral import eigen_blocks, eigenvalues
-    from .stability import (Verdict, critical_alpha, critical_loss_rate, critical_recovery_rate, stability,
-                            stable_recovery_intervals)
-    from .simulation import Simulation, simulate
-    from .sweep import sweep
-    from .verify import FamilyVerification, Verification, verify, verify_family
+    from .io.families import load_family
+    from .model.gilbert_elliott import GilbertElliott
+    from .model.iid import IID
+    from .model.independent import Independent
+    from .model.markov import MarkovLoss
+    from .model.system import Sensor, System
+    from .engine.region import StabilityRegion, stability_conditions, stability_region
+    from .exact.spectral import eigen_blocks, eigenvalues
+    from .engine.recovery import critical_recovery_rate, stable_recovery_intervals
+    from .engine.stability import Verdict, critical_alpha, critical_loss_rate, stability
+    from .numeric.simulation import Simulation, simulate
+    from .run.sweep import sweep
+    from .io.family_verification import FamilyVerification, verify_family
+    from .numeric.verify import Verification, verify
 
 __version__ = "0.1.0"
 
-#: subpackages imported on first attribute access
-_SUBMODULES = {"capacity", "control", "examples", "fusion", "montecarlo", "network", "second_order", "tables"}
+#: subpackages imported on first attribute access, with their modules
+_SUBMODULES = {"capacity": "capacity", "control": "model.statespace", "examples": "io.examples", "fusion": "fusion",
+               "montecarlo": "numeric.montecarlo", "network": "network", "second_order": "engine.second_order",
+               "tables": "reports.tables"}
 #: public names imported on first access, with the module that defines them
-_LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "losses", "GilbertElliott": "losses",
-         "MarkovLoss": "losses", "Independent": "losses", "Sensor": "model", "System": "model", "eigen_blocks": "spectral",
-         "eigenvalues": "spectral", "Verdict": "stability", "critical_alpha": "stability",
-         "critical_loss_rate": "stability", "critical_recovery_rate": "stability", "stability": "stability",
-         "stable_recovery_intervals": "stability", "load_family": "families", "StabilityRegion": "region",
-         "bounds": "bounds",
-         "stability_conditions": "region", "stability_region": "region", "sweep": "sweep",
-         "verify": "verify", "verify_family": "verify", "Verification": "verify", "FamilyVerification": "verify",
-         "simulate": "simulation", "Simulation": "simulation"}
+_LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "model.iid", "GilbertElliott": "model.gilbert_elliott",
+         "MarkovLoss": "model.markov", "Independent": "model.independent", "Sensor": "model.system", "System": "model.system",
+         "eigen_blocks": "exact.spectral", "eigenvalues": "exact.spectral", "Verdict": "engine.stability",
+         "critical_alpha": "engine.stability", "critical_loss_rate": "engine.stability",
+         "critical_recovery_rate": "engine.recovery", "stability": "engine.stability",
+         "stable_recovery_intervals": "engine.recovery", "load_family": "io.families",
+         "StabilityRegion": "engine.region", "bounds": "bounds", "stability_conditions": "engine.region",
+         "stability_region": "engine.region", "sweep": "run.sweep", "verify": "numeric.verify",
+         "verify_family": "io.family_verification", "Verification": "numeric.verify", "FamilyVerification": "io.family_verification",
+         "simulate": "numeric.simulation", "Simulation": "numeric.simulation"}
 
 __all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLoss", "Independent", "AlgebraicNumber",
            "eigen_blocks", "eigenvalues", "stability", "Verdict", "critical_loss_rate", "critical_alpha",
@@ -55,7 +67,7 @@ __all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLos
 
 def __getattr__(name: str) -> Any:
     if name in _SUBMODULES:
-        value = importlib.import_module(f".{name}", __name__)
+        value = importlib.import_module(f".{_SUBMODULES[name]}", __name__)
     elif name in _LAZY:
         value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
     else:
@@ -70,9 +82,8 @@ def __dir__() -> list[str]:
 
 
 class _Package(types.ModuleType):
-    """The functions ``stability`` and ``sweep`` share their names with their modules: importing
-    ``symkf.stability`` must not rebind ``symkf.stability`` to the module (eager imports used to
-    rebind it right after)."""
+    """``symkf.bounds`` is both the atlas function and its subpackage: importing a module of the
+    subpackage must not rebind the function to the package."""
 
     def __setattr__(self, name: str, value: Any) -> None:
         if not (isinstance(value, types.ModuleType) and _LAZY.get(name) == name):

@@ -10,7 +10,7 @@ names the entry, the estimate, the cap, and how to raise it: the keyword of
 >>> with budget.limits(max_degree=128):   # doctest: +SKIP
 ...     sk.System(A, sensors)
 
-Limits are process-wide; :func:`symkf.sweep.sweep` hands the caller's caps to its worker processes.
+Limits are process-wide; :func:`symkf.run.sweep.sweep` hands the caller's caps to its worker processes.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ import sys
 from dataclasses import dataclass
 from typing import Callable, Iterator
 
-from .exact.arguments import check_public
+from .arguments import check_public
 from .errors import BudgetError, InputError
 
 
@@ -41,11 +41,11 @@ class Limits:
     #: roots come from Euler's formula (2R(2 pi/401): 800, 3.2 CPU-s; 2R(2 pi/509): 1016, 6 CPU-s);
     #: also phi(g) for an eigen-block over several diagonal blocks, g its class period (its field
     #: holds Q(zeta_g): four rotations 2R(2 pi/q), q = 5, 7, 9, 11, give phi(3465) = 1440; decided
-    #: part by part first, symkf.cylinders), and the degree of the field of all entries of the LMI
+    #: part by part first, symkf.engine.cylinders), and the degree of the field of all entries of the LMI
     #: of the bounds atlas, where its certificates are checked
     max_cyclotomic_degree: int = 1024
     #: bit size (2D + 1) D b, D = d(d+1)/2, of the polynomial of the modulus (power sums of the
-    #: products of conjugates, symkf.spectral._abs_poly) for a complex eigenvalue of degree d with
+    #: products of conjugates, symkf.exact.spectral._abs_poly) for a complex eigenvalue of degree d with
     #: b-bit minimal polynomial: its factorisation is the cost (a dense random integer 32 x 32 A,
     #: d = 32: 11 CPU-s in all; a 16 x 16 A over Q(sqrt 2), d = 32, b = 70, 3.9e7 bits: 37 CPU-s)
     max_modulus_bits: int = 2 ** 26
@@ -81,8 +81,8 @@ class Limits:
     #: sensors of period 24 has 1.2 million, 12 CPU-s and past 2.8 GB in all)
     max_hyperplanes: int = 300_000
     #: receival sequences ``2^(d (horizon - 1))`` that the exact mean trace enumerates
-    #: (symkf.montecarlo.exact_mean_covariances and exact_mean_trace; estimate_mean_trace simulates),
-    #: and ``2^(d N)`` that the brute-force symkf.decay.probability_rank_deficient enumerates
+    #: (symkf.numeric.montecarlo.exact_mean_covariances and exact_mean_trace; estimate_mean_trace simulates),
+    #: and ``2^(d N)`` that the brute-force symkf.engine.rates.probability_rank_deficient enumerates
     max_patterns: int = 2 ** 20
     #: (sensor, span) states of the probability that the received rows have full column rank
     #: (symkf.network.full_rank_probability_of, Quevedo et al.'s Pr{r = 1}), bounded before it
@@ -90,7 +90,7 @@ class Limits:
     #: general position): about 60 us each (24 scalar sensors of a 6-state system: 245,505, 15 CPU-s)
     max_span_states: int = 1_000_000
     #: hyperplanes of the exact verdict's limiting block that a Monte Carlo plan
-    #: (symkf.montecarlo.verdict_plan) lists to find the bursts whose rate ties with the decisive
+    #: (symkf.numeric.montecarlo.verdict_plan) lists to find the bursts whose rate ties with the decisive
     #: one; above it the plan keeps the decisive pattern and its shifts only (no refusal)
     max_tie_search: int = 512
     #: rows of all sensors up to which Theorem 5's common threshold (symkf.capacity.compare) is
@@ -116,7 +116,7 @@ class Limits:
     #: states of the lifted chain of a network loss read from a file, bounded before it is built by
     #: (network states, or the sum over states of the longest holding time) times 2^M link outcomes
     max_network_chain: int = 4096
-    #: point-line incidences the hyperplane screen (symkf.hyperplane_screen) tests, estimated
+    #: point-line incidences the hyperplane screen (symkf.engine.hyperplane_screen) tests, estimated
     #: before it starts: ``C(C, n - 2)`` per stage for ``C`` classes in an n-dim block (with a
     #: window of ``W`` classes ``C(W, n - 4) (W C + 10^4)``: 1.9e7 for three rotations
     #: 2R(2 pi/q), q = 5, 7, 9, with 2 sensors, against 9.3e9 without), plus
@@ -128,12 +128,12 @@ class Limits:
     #: members of a family file
     max_members: int = 2000
     #: bytes of the arrays one Monte Carlo run allocates at its peak, as estimated by
-    #: symkf.montecarlo.memory_estimate (traces, receptions, kernel lanes, likelihood ratios,
+    #: symkf.numeric.montecarlo.memory_estimate (traces, receptions, kernel lanes, likelihood ratios,
     #: per-step records; within 1.5x of measured peak RSS)
     max_memory: int = 2 * 1024 ** 3
     #: bytes of an input file
     max_file_size: int = 1024 ** 2
-    #: seconds a Dask scheduler may take to answer, and to have a worker (symkf.scheduler)
+    #: seconds a Dask scheduler may take to answer, and to have a worker (symkf.run.scheduler)
     scheduler_timeout: int = 20
 
 

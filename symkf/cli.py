@@ -23,14 +23,14 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
 
 
-from .exact.arguments import check_public
+from .arguments import check_public
 from . import __version__, budget, output
 from .errors import SymkfError
-from .progress import still_working
+from .run.progress import still_working
 
 if TYPE_CHECKING:
     from .exact.algebraic import AlgebraicNumber
-    from .losses import LossModel
+    from .model.loss import LossModel
 
 
 # name -> (module, function, keyword arguments of --quick); each function returns
@@ -41,7 +41,7 @@ REPRODUCE: dict[str, tuple[str, str, dict[str, Any]]] = {
     "quevedo-semi-markov": ("symkf.network.reproduce", "reproduce_quevedo_semi_markov", {"simulate": False}),
     "yang-example1": ("symkf.capacity", "reproduce_yang_example1", {"horizon": 12, "paths": 2000}),
     "fusion-pendulum": ("symkf.fusion", "reproduce_fusion_pendulum", {"paths": 4, "horizon": 200}),
-    "sui-theorem12": ("symkf.second_order", "reproduce_sui_theorem12", {}),
+    "sui-theorem12": ("symkf.engine.second_order", "reproduce_sui_theorem12", {}),
     "you-2011-counterexample": ("symkf.bounds.counterexample", "reproduce_you_2011_counterexample", {"steps": 4}),
 }
 
@@ -95,13 +95,13 @@ def register(command: Command) -> Command:
 
 
 def _number(a: AlgebraicNumber, digits: int) -> dict[str, Any]:
-    from .verify import number_json
+    from .numeric.verify import number_json
     return number_json(a, digits)
 
 
 def _blocks_json(A: Any) -> list[dict[str, Any]]:
     import sympy as sp
-    from .spectral import eigen_blocks
+    from .exact.spectral import eigen_blocks
     return [{"modulus": str(b.modulus), "modulus_decimal": str(b.modulus.evalf(10)), "modulus_degree": b.modulus.minpoly.degree(),
              "eigenvalues": [str(e) for e in b.eigenvalues],
              "eigenvalues_decimal": [str(sp.N(e, 10)) for e in b.eigenvalues],
@@ -114,13 +114,13 @@ def _blocks_json(A: Any) -> list[dict[str, Any]]:
 def loss_json(loss: "LossModel") -> dict[str, Any]:
     """A loss model as a JSON object: ``kind`` (as in a system file's ``[loss]`` table) and its
     parameters as exact strings; a Markov or network model also gives its lifted chain
-    (:meth:`symkf.losses.LossModel.to_json`)."""
+    (:meth:`symkf.model.loss.LossModel.to_json`)."""
     return loss.to_json()
 
 
 def cmd_demo(args: argparse.Namespace) -> dict[str, Any]:
-    from . import examples, files
-    from .stability import critical_loss_rate
+    from .io import examples, files
+    from .engine.stability import critical_loss_rate
     out = []
     for path in examples.systems():
         system, _ = files.load(path)
@@ -165,8 +165,8 @@ def _print_demo(res: dict[str, Any]) -> None:
 
 
 def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
-    from . import files
-    from .stability import stability
+    from .io import files
+    from .engine.stability import stability
     system, loss = files.load(args.file)
     res: dict[str, Any] = {"system": str(args.file), "blocks": _blocks_json(system.A),
                            "set_aside": [{"eigenvalues": [e.label for e in b.members], "reason": why}
@@ -188,7 +188,7 @@ def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _vary_common(system: Any, loss: Any, value: str, file: str) -> tuple[str, AlgebraicNumber, str]:
-    from .stability import critical_loss_rate
+    from .engine.stability import critical_loss_rate
     return "critical_loss_rate", critical_loss_rate(system), "common i.i.d. loss of all sensors"
 
 
@@ -199,19 +199,19 @@ def _iid(loss: Any, file: str, option: str) -> Any:
 
 
 def _vary_sensor(system: Any, loss: Any, name: str, file: str) -> tuple[str, AlgebraicNumber, str]:
-    from .stability import critical_loss_rate
+    from .engine.stability import critical_loss_rate
     others = list(_iid(loss, file, "--vary sensor=NAME").bernoulli)
     return ("critical_loss_rate", critical_loss_rate(system, name, others=others),
             f"loss of sensor {name}, others fixed at the file's rates")
 
 
 def _vary_alpha(system: Any, loss: Any, value: str, file: str) -> tuple[str, AlgebraicNumber, str]:
-    from .stability import critical_alpha
+    from .engine.stability import critical_alpha
     return "critical_alpha", critical_alpha(system, _iid(loss, file, "--vary alpha")), "modulus alpha, losses fixed"
 
 
 def _vary_recovery(system: Any, loss: Any, value: str, file: str) -> tuple[str, AlgebraicNumber, str]:
-    from .stability import critical_recovery_rate
+    from .engine.recovery import critical_recovery_rate
     if loss.channel_fail is None:
         raise UsageError(f"{file}: --vary recovery needs Gilbert-Elliott channels ([loss] of kind 'gilbert-elliott' "
                          f"giving 'fail'), not {loss.words()}")
@@ -232,7 +232,7 @@ DIGIT_BYTES = 64
 
 
 def cmd_critical(args: argparse.Namespace) -> dict[str, Any]:
-    from . import files
+    from .io import files
     kind, _, value = args.vary.partition("=")
     if kind not in VARY or (kind == "sensor") != bool(value):
         choices = ", ".join(k + "=NAME" if k == "sensor" else k for k in VARY)
@@ -247,7 +247,7 @@ def cmd_critical(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _needs_loss(args: argparse.Namespace) -> tuple[Any, Any]:
-    from . import files
+    from .io import files
     system, loss = files.load(args.file)
     if loss is None:
         raise UsageError(f"{args.file}: key 'loss' missing; {args.command} needs a [loss] table")
@@ -255,7 +255,8 @@ def _needs_loss(args: argparse.Namespace) -> tuple[Any, Any]:
 
 
 def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
-    from .verify import is_family_file, verify, verify_family
+    from .io.family_verification import is_family_file, verify_family
+    from .numeric.verify import verify
     if is_family_file(args.file):
         family = verify_family(args.file, jobs=args.jobs, scheduler=args.scheduler, seed=args.seed,
                                paths=args.paths, horizon=args.horizon)
@@ -283,13 +284,13 @@ def _args_verify(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
-    from .simulation import simulate
+    from .numeric.simulation import simulate
     target = None
     if args.plot is not None:
-        from .plots import require_matplotlib
+        from .reports.plots import require_matplotlib
         require_matplotlib()
         target = output.plan(args.plot, "--plot", inputs=[args.file], force=args.force)
-    from .montecarlo import memory_estimate
+    from .numeric.montecarlo import memory_estimate
     system, loss = _needs_loss(args)
     # the run and its per-step records, refused before numpy allocates them (verify's burst
     # samples are checked where their chunks are sized: montecarlo.burst_sample)
@@ -300,7 +301,8 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
     res: dict[str, Any] = {"system": str(args.file), "loss": loss_json(loss), **sim.to_json(),
                            "_text": f"{sim}\nloss model: {loss.words()}"}
     if target is not None:
-        fig = sim.figure()
+        from .reports.plots import simulation_figure
+        fig = simulation_figure(sim)
         res["plot"] = str(target.put_figure(fig, dpi=110))
     return res
 
@@ -340,7 +342,7 @@ def _print_reproduce(res: dict[str, Any]) -> None:
 
 
 def cmd_examples(args: argparse.Namespace) -> dict[str, Any]:
-    from . import examples
+    from .io import examples
     if args.name is None:
         return {"examples": [{"name": e.name, "kind": e.kind, "summary": e.summary, "file": str(e.path)}
                              for e in examples.catalog()]}
@@ -407,7 +409,7 @@ def _args_reproduce(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_table(args: argparse.Namespace) -> dict[str, Any]:
-    from . import tables
+    from .reports import tables
     target = None if args.latex is None else output.plan(args.latex, "--latex", inputs=[args.file], force=args.force)
     table = tables.family_table(args.file, jobs=args.jobs, scheduler=args.scheduler)
     res: dict[str, Any] = {"family": str(args.file), **table.to_json(), "_text": str(table)}
@@ -430,7 +432,7 @@ def _args_table(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_bounds(args: argparse.Namespace) -> dict[str, Any]:
-    from . import files
+    from .io import files
     from .bounds import bounds
     target = None if args.latex is None else output.plan(args.latex, "--latex", inputs=[args.file], force=args.force)
     system, loss = files.load(args.file)
@@ -550,7 +552,7 @@ FILE_HELP = "a system or family file (TOML), or the name of a shipped example (s
 
 def _input_file(file: str) -> str:
     """``file``, or the shipped example of that name when no such file exists (symkf.examples)."""
-    from . import examples
+    from .io import examples
     try:
         return str(examples.resolve(file))
     except SymkfError:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Any, Iterable
 
-from .exact.arguments import check_public
+from .arguments import check_public
 
 
 def discrepancy(claim: str, printed: Any, computed: Any, note: str = "") -> dict[str, str]:

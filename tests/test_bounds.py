@@ -20,7 +20,7 @@ from symkf.bounds import RESULTS, bounds
 from symkf.bounds import hypotheses as hyp
 from symkf.bounds.counterexample import reproduce_you_2011_counterexample
 from symkf.bounds.row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE, REFUSED
-from symkf.strategies import diagonalizable_systems
+from symkf.model.strategies import diagonalizable_systems
 
 R = sp.Rational
 PROOFS = Path(__file__).resolve().parents[1] / "proofs"

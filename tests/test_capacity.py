@@ -16,13 +16,12 @@ from hypothesis import example, given, settings, strategies as st
 from symkf import GilbertElliott, IID, Sensor, System, budget
 from symkf.capacity.compare import theorem5_common_threshold
 from symkf.capacity import (MARE, capacity_bounds_meet, comparison_table, corollary1_critical_capacity,
-                            critical_capacities, critical_loss_comparison, hadamard_weight,
-                            individual_capacities, information_lower_bound_sequence, lower_bound_converges,
-                            lower_bound_limit, lower_bound_sequence, mahler_measure, mare_converges,
-                            mare_stabilizable, reproduce_yang_example1, single_sensor_rates, snr, theorem2,
-                            theorem5_requirements, theorem5_sufficient, theorem6_allocation, theorem7_necessary,
-                            transmission_capacity, unit_circle_condition, verdict_comparison,
-                            wonham_decomposition)
+                            critical_capacities, critical_loss_comparison, hadamard_weight, individual_capacities,
+                            information_lower_bound_sequence, lower_bound_converges, lower_bound_limit,
+                            lower_bound_sequence, mahler_measure, mare_converges, mare_stabilizable,
+                            reproduce_yang_example1, single_sensor_rates, snr, theorem2, theorem5_requirements,
+                            theorem5_sufficient, theorem6_allocation, theorem7_necessary, transmission_capacity,
+                            unit_circle_condition, verdict_comparison, wonham_decomposition)
 from symkf.errors import AssumptionError, BudgetError, InputError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -48,10 +47,10 @@ def test_capacity_values_and_remark1():
 
 
 def test_capacity_refuses_other_loss_models():
-    # one error type per failure (symkf.losses.checked): a theorem for Bernoulli losses only
+    # one error type per failure (symkf.model.loss.checked): a theorem for Bernoulli losses only
     with pytest.raises(AssumptionError, match="i.i.d.") as info:
         transmission_capacity(GilbertElliott(fail=["1/2"], recover=["1/2"]))
-    assert "Yang et al." in str(info.value) and "symkf.stability.stability" in str(info.value)
+    assert "Yang et al." in str(info.value) and "symkf.engine.stability.stability" in str(info.value)
 
 
 @pytest.mark.parametrize("A, M", [
@@ -243,7 +242,7 @@ def test_the_infeasibility_certificate_on_balls_is_the_exact_one(system, bad, mo
     # must be the exact projection's (the certificate of each infeasible SDP: positive definite),
     # and so for random symmetric W (their projections: indefinite)
     from symkf.capacity import convergence as cv
-    from symkf.exact.algebraic import _with_prec
+    from symkf.exact.algebraic import with_prec
     seen = []
 
     def both(K, entries, gram, rhs, start):
@@ -270,7 +269,7 @@ def test_pivots_by_schur_complements_are_the_pivots(size):
     # zero (both leave it open on balls of nonzero radius: None), at and above SCHUR_BLOCK
     import flint
     from symkf.capacity.convergence import SCHUR_BLOCK, _pivots_positive, _schur_positive
-    from symkf.exact.algebraic import _with_prec
+    from symkf.exact.algebraic import with_prec
     X = np.random.default_rng(size).normal(size=(size, size))
     A = X @ X.T / size + np.eye(size) / 20
     negative, singular = A.copy(), A.copy()
@@ -280,8 +279,8 @@ def test_pivots_by_schur_complements_are_the_pivots(size):
     for M, expected in ((A, True), (negative, False), (singular, None)):
         exact = [[flint.fmpq(int(round(v * 2 ** 40)), 2 ** 40) for v in row] for row in M]
         balls = lambda: [[flint.arb(x) + flint.arb(0, 2.0 ** -200) for x in row] for row in exact]
-        assert _with_prec(256, lambda: _schur_positive(balls())) is expected
-        assert _with_prec(256, lambda: _pivots_positive(balls())) is expected
+        assert with_prec(256, lambda: _schur_positive(balls())) is expected
+        assert with_prec(256, lambda: _pivots_positive(balls())) is expected
     assert size <= SCHUR_BLOCK or size > 2 * SCHUR_BLOCK
 
 

@@ -11,9 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from symkf import cli, examples, files
-from symkf.montecarlo import exact_mean_trace
-from symkf.progress import progress
+from symkf import cli, examples
+from symkf.io import files
+from symkf.numeric.montecarlo import exact_mean_trace
+from symkf.run.progress import progress
 
 ROOT = Path(__file__).resolve().parent.parent
 SYSTEMS = examples.directory() / "systems"
@@ -105,7 +106,7 @@ def test_verify_gilbert_elliott_rate(capsys):
 
 
 def test_verify_disagreement_has_its_own_status(capsys, monkeypatch):
-    verify = importlib.import_module("symkf.verify")   # symkf.verify is the function
+    verify = importlib.import_module("symkf.numeric.verify")   # symkf.verify is the function
 
     def contrary(system, loss, v, **kw):
         return {"method": "stub", "verdict": "unstable" if v.stable else "stable", "rate": 1.5,
@@ -245,7 +246,7 @@ def test_table_command_writes_latex_and_json(capsys, tmp_path):
     status, out, _ = run(capsys, "table", str(family), "--latex", str(tex), "--json")
     assert status == 0 and "\\toprule" in tex.read_text()
     cells = [[c["exact"] for c in row["cells"]] for row in json.loads(out)["rows"]]
-    # eps_c = 2^(-2g / (d (g - 1))): hand-derived in symkf/examples/families/rotation-periods.toml
+    # eps_c = 2^(-2g / (d (g - 1))): hand-derived in symkf/io/examples/families/rotation-periods.toml
     assert cells == [["1/16", "1/4"], ["1/8", "sqrt(2)/4"]]
 
 

@@ -12,7 +12,7 @@ import sympy as sp
 
 import symkf as sk
 from symkf.errors import ExtraNotInstalledError, InexactInputError, InputError, ShapeError
-from symkf.filtering import predicted_covariances
+from symkf.numeric.filters import predicted_covariances
 
 ct = pytest.importorskip("control")
 

@@ -7,12 +7,12 @@ from hypothesis import assume, given, settings, strategies as st
 
 from symkf.exact.numbers import sympify as exact
 import symkf as sk
-from symkf.decay import block_rate, m_matrix
+from symkf.engine.rates import block_rate, m_matrix
 from symkf.exact.algebraic import AlgebraicNumber
-from symkf.observability import block_rows
-from symkf.region import stability_conditions, stability_region
-from symkf.stability import critical_alpha, critical_loss_rate, critical_recovery_rate, stability, \
-    stable_recovery_intervals
+from symkf.engine.blocks import block_rows
+from symkf.engine.region import stability_conditions, stability_region
+from symkf.engine.stability import critical_alpha, critical_loss_rate, stability
+from symkf.engine.recovery import critical_recovery_rate, stable_recovery_intervals
 
 TWO = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[1, 1]])])
 # alpha^2 = 3/2, governing period 2: fail 1/2 gives margin 9/4 (q/2 + (1-q)^2), stable iff 2/3 < q < 5/6
@@ -219,7 +219,7 @@ def test_critical_value_roots_of_rational_powers(power, k, sign, exponent, poly)
     those derived by hand."""
     import flint
     from symkf.exact.algebraic import AlgebraicNumber
-    from symkf.stability import _Bound
+    from symkf.engine.stability import _Bound
     got = _Bound(AlgebraicNumber.from_expr(2), power, 1, k, sign).value()
     assert sp.simplify(got.exact - sp.Integer(2) ** exponent) == 0
     assert got._poly == flint.fmpz_poly(poly)

@@ -1,4 +1,4 @@
-"""Eigen-blocks spread over several diagonal blocks of A, decided part by part (symkf.cylinders):
+"""Eigen-blocks spread over several diagonal blocks of A, decided part by part (symkf.engine.cylinders):
 against the direct rows over the compositum, against values by hand, and refused (naming the cap)
 where the bound on the hyperplanes meeting every part does not decide."""
 
@@ -9,9 +9,9 @@ from hypothesis import strategies as st
 
 import symkf as sk
 from symkf import budget
-from symkf.cylinders import SplitRows
+from symkf.engine.cylinders import SplitRows
 from symkf.errors import BudgetError
-from symkf.observability import block_rows
+from symkf.engine.blocks import block_rows
 
 
 def _rotation(q: int) -> sp.Matrix:
@@ -133,7 +133,7 @@ def test_a_screen_gives_up_before_its_kept_sets_outgrow_the_memory_cap():
     by its own estimate, naming the cap."""
     import resource
     import time
-    from symkf import hyperplane_screen
+    from symkf.engine import hyperplane_screen
     screen = hyperplane_screen.Screen(0.0, floor=0.0, memory=10 * hyperplane_screen.MEMBER_BYTES)
     screen.offer(1.0, range(6))
     with pytest.raises(hyperplane_screen.Crowded, match="2 sets of 12 points"):
@@ -185,7 +185,7 @@ def test_the_bounds_atlas_refuses_the_lmi_over_the_four_fields_compositum():
 def test_markov_verdicts_part_by_part_through_the_cylinders_searches(rows):
     """Gilbert-Elliott channels on 2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9), a second sensor seeing one part:
     each cylinder's own Markov search, lifted, and the full-support hyperplanes ruled out by the
-    fibres under the additive bound (symkf.decay._through_cylinders), in a fraction of a second."""
+    fibres under the additive bound (symkf.engine.rates._through_cylinders), in a fraction of a second."""
     loss = sk.GilbertElliott(["1/10", "1/10"], ["1/2", "1/2"])
     split = _stack((5, 7, 9), rows)
     with _split(split):

@@ -8,7 +8,7 @@ import sympy as sp
 import symkf as sk
 from conftest import rotation
 from symkf.errors import UnobservableError
-from symkf.spectral import _abs_poly, _resultant_y, _cosine_order, diagonal_blocks, eigen_blocks, eigenvalues
+from symkf.exact.spectral import _abs_poly, _resultant_y, _cosine_order, diagonal_blocks, eigen_blocks, eigenvalues
 from symkf.exact.algebraic import identify, real_from_ball
 
 

@@ -17,8 +17,10 @@ from urllib.parse import unquote
 
 import pytest
 
+from symkf.model.codec import loss_kinds
 import symkf
-from symkf import cli, examples, families, files
+from symkf import cli, examples
+from symkf.io import families, files
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
@@ -33,7 +35,7 @@ def test_api_reference_documents_every_public_name():
         assert inspect.getdoc(obj), f"symkf.{name} has no docstring"
         module = obj.__name__ if inspect.ismodule(obj) else obj.__module__
         assert module in documented or module.rsplit(".", 1)[0] in documented, f"{name}: {module} not in docs/api.md"
-    assert {"symkf.examples", "symkf.control", "symkf.files", "symkf.errors"} <= documented
+    assert {"symkf.io.examples", "symkf.model.statespace", "symkf.io.files", "symkf.errors"} <= documented
 
 
 def _toml_snippets(page: str) -> list[str]:
@@ -59,11 +61,12 @@ def test_every_format_snippet_loads(tmp_path):
 
 def test_format_page_names_every_key_and_loss_kind():
     page = (DOCS / "formats.md").read_text(encoding="utf-8")
-    for table, keys in files.KEYS.items():
+    tables = {**files.KEYS, **{kind: model.keys for kind, model in loss_kinds().items()}}
+    for table, keys in tables.items():
         for key in keys:
             assert f"`{key}`" in page, f"docs/formats.md does not document key {key!r} ({table or 'top level'})"
-        if table in ("iid", "gilbert-elliott", "markov", "network"):
-            assert f'`kind = "{table}"`' in page
+    for kind in ("iid", "gilbert-elliott", "markov", "network", "independent"):
+        assert f'`kind = "{kind}"`' in page
     for key in families._FAMILY_KEYS:
         assert f"`{key}`" in page, key
 

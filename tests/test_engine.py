@@ -5,10 +5,11 @@ import sympy as sp
 from hypothesis import given, settings, strategies as st
 
 import symkf as sk
-from symkf.decay import block_rate, m_matrix, probability_rank_deficient
+from symkf.engine.rates import block_rate, m_matrix, probability_rank_deficient
 from symkf.exact.algebraic import AlgebraicNumber
-from symkf.observability import block_rows
-from symkf.stability import critical_alpha, critical_loss_rate, critical_recovery_rate, stability
+from symkf.engine.blocks import block_rows
+from symkf.engine.stability import critical_alpha, critical_loss_rate, stability
+from symkf.engine.recovery import critical_recovery_rate
 
 DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
 SEED002 = sk.System(A=[["5/4", 0], [1, "11/10"]], sensors=[sk.Sensor(C=[[1, 1]])])

@@ -10,12 +10,13 @@ from hypothesis import given, settings, strategies as st
 from sympy.polys.matrices import DomainMatrix
 
 import symkf as sk
-from symkf.errors import (InexactInputError, ShapeError, SymkfError,
-                          UnobservableError, NotPositiveDefiniteError)
+from symkf.errors import InexactInputError, ShapeError, SymkfError, UnobservableError, NotPositiveDefiniteError
 from symkf.exact.algebraic import AlgebraicNumber, sign
 from symkf.exact.linalg import rank
-from symkf.observability import block_deficient, modal_form, project, block_rows
-from symkf.spectral import eigen_blocks
+from symkf.engine.rows import modal_form, project
+from symkf.engine.blocks import block_deficient
+from symkf.engine.blocks import block_rows
+from symkf.exact.spectral import eigen_blocks
 
 
 def rotation(alpha, angle):

@@ -11,6 +11,7 @@ import pytest
 
 import symkf as sk
 from symkf import budget, cli, examples
+from symkf.io import files
 from symkf.errors import FileFormatError, InputError
 
 GE = examples.system("ge-two-sensors")
@@ -128,7 +129,7 @@ def test_loss_table_without_kind_is_refused(capsys, tmp_path):
     path = tmp_path / "nokind.toml"
     path.write_text(ROTATION + '[loss]\nloss = ["1/10"]\n')
     with pytest.raises(FileFormatError, match=r"\[loss\]: key 'kind' missing"):
-        sk.files.load(path)
+        files.load(path)
     status, _, err = run(capsys, "analyze", path)
     assert status == 2 and f"{path}: [loss]: key 'kind' missing" in one_line(err)
 
@@ -138,7 +139,7 @@ def test_toml_decimals_are_exact_without_rationalize(tmp_path):
     exactly as written (the docs now say so)."""
     path = tmp_path / "dec.toml"
     path.write_text('[system]\nA = [[0.1, -2], [2, 1e-3]]\n[[sensors]]\nC = [[1, 0]]\n')
-    system, _ = sk.files.load(path)
+    system, _ = files.load(path)
     assert system.A[0, 0] == sk.exact.numbers.parse_exact("1/10", "x") and system.A[1, 1] * 1000 == 1
     text = (Path(__file__).resolve().parent.parent / "docs" / "formats.md").read_text()
     assert "is refused with an error naming the entry" not in text and "read exactly as written" in text

@@ -8,7 +8,7 @@ import sympy as sp
 
 import symkf as sk
 from symkf.exact.algebraic import sign
-from symkf.losses import LossModel
+from symkf.model.loss import LossModel
 
 q = sp.Symbol("q", positive=True)
 INDEPENDENT = [
@@ -48,7 +48,8 @@ from functools import partial  # noqa: E402
 
 from hypothesis import given, settings, strategies as st  # noqa: E402
 
-from symkf import observability as obs  # noqa: E402
+from symkf.engine import rows as obs  # noqa: E402
+from symkf.engine.blocks import block_rows  # noqa: E402
 from symkf.exact.field import NumberField, QQ_FIELD  # noqa: E402
 from symkf.exact.linalg import nullspace_rows, rank_rows  # noqa: E402
 
@@ -99,8 +100,8 @@ def test_generator_hyperplanes_equal_brute_force(start, twist, data):
 
 
 # -- element hyperplanes and outside counts against rank tests on every element set ---------------
-from symkf.decay import outside_counts  # noqa: E402
-from symkf.stability import critical_loss_rate  # noqa: E402
+from symkf.engine.rates import outside_counts  # noqa: E402
+from symkf.engine.stability import critical_loss_rate  # noqa: E402
 
 
 def _random_system(n, d, seed):
@@ -122,7 +123,7 @@ SYSTEMS = [
 
 @pytest.mark.parametrize("make", SYSTEMS, ids=["R(pi/3)", "R(pi/3)+2, two-row sensor", "dense 3x3", "dense 4x4"])
 def test_hyperplanes_are_the_maximal_deficient_element_sets(make):
-    for br in obs.block_rows(make()):
+    for br in block_rows(make()):
         E = len(br.elements)
         if E > 12:
             continue
@@ -140,13 +141,13 @@ def test_conjugate_pair_in_q_lambda_equals_the_full_field(seed):
     """A complex pair of a real system, worked in Q(lambda) (conjugating its second class), gives the
     same element hyperplanes and critical value as in Q(lambda, conj lambda)."""
     fast = _random_system(4, 2, seed)
-    pairs = [br for br in obs.block_rows(fast) if obs.is_conjugate_pair(fast, br.block)]
+    pairs = [br for br in block_rows(fast) if obs.is_conjugate_pair(fast, br.block)]
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(obs, "is_conjugate_pair", lambda system, block: False)
         slow = _random_system(4, 2, seed)
-        reference = [(br.hyperplanes, br.K.degree) for br in obs.block_rows(slow)]
+        reference = [(br.hyperplanes, br.K.degree) for br in block_rows(slow)]
         assert critical_loss_rate(slow) == critical_loss_rate(fast)
-    assert [br.hyperplanes for br in obs.block_rows(fast)] == [h for h, _ in reference]
+    assert [br.hyperplanes for br in block_rows(fast)] == [h for h, _ in reference]
     assert pairs and all(br.K.degree < max(k for _, k in reference) for br in pairs)
 
 
@@ -155,7 +156,8 @@ def test_critical_recovery_with_eight_gilbert_elliott_sensors():
     """Eight independent channels: per-sensor factors (no 2^8-state chain); the certificate inside
     critical_recovery_rate evaluates verdicts at rationals with huge numerators (margins as roots
     of q x^g - p, where sympy's root overflowed a float).  Checked again here on both sides."""
-    from symkf.stability import critical_recovery_rate, stability
+    from symkf.engine.stability import stability
+    from symkf.engine.recovery import critical_recovery_rate
     rows = [[1, 0], [0, 1], [1, 1], [1, -1], [2, 1], [1, 2], [2, -1], [1, -2]]
     system = sk.System(A=2 * ROT, sensors=[sk.Sensor(C=[r], name=f"s{j}") for j, r in enumerate(rows)])
     fail = ["1/10"] * 8

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 pytest.importorskip("matplotlib")
-from symkf import plots  # noqa: E402
+from symkf.reports import plots  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -16,7 +16,7 @@ def figure():
 @pytest.mark.parametrize("suffix, magic", [(".svg", b"<svg"), (".pdf", b"%PDF"), (".png", b"\x89PNG")])
 def test_file_format_follows_the_suffix(figure, tmp_path, suffix, magic):
     path = tmp_path / f"fig{suffix}"
-    plots._finish(figure, path)
+    plots.finish_figure(figure, path)
     assert magic in path.read_bytes()[:400]
 
 
@@ -34,7 +34,7 @@ def test_figures_render_as_png_in_an_ipython_kernel(figure):
 
 def test_titles_say_the_loss_model_in_words():
     import symkf as sk
-    from symkf.montecarlo import mean_trace_curve
+    from symkf.numeric.montecarlo import mean_trace_curve
     S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")], name="rotation")
     for loss, words in ((sk.IID(["1/20"]), "rotation under i.i.d. losses 1/20"),
                         (sk.GilbertElliott(["1/4"], ["1/2"]), "Gilbert-Elliott channels, fail 1/4, recover 1/2")):

@@ -1,6 +1,6 @@
-"""System files with joint Markov and sensor-network losses, and fusion files (symkf.files).
+"""System files with joint Markov and sensor-network losses, and fusion files (symkf.io.files).
 
-The example files in symkf/examples/systems/network and symkf/examples/systems/fusion must hold exactly
+The example files in symkf/io/examples/systems/network and symkf/io/examples/systems/fusion must hold exactly
 the data that symkf/network/reproduce.py and symkf/fusion/pendulum.py build, and the command
 line must decide them (exit 0) or name the assumption that fails and what applies (exit 3).
 """
@@ -20,13 +20,14 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from symkf.exact.numbers import sympify as exact, to_exact_matrix
-from symkf import budget, cli, examples, files
+from symkf import budget, cli, examples
+from symkf.io import files
 from symkf.errors import BudgetError, FileFormatError, InputError, SymkfError
-from symkf.losses import MarkovLoss
+from symkf.model.markov import MarkovLoss
 from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SemiMarkovNetworkState, SensorTree,
                            theorem1, theorem2)
 from symkf.network import reproduce as rep
-from symkf.stability import stability
+from symkf.engine.stability import stability
 
 ROOT = Path(__file__).resolve().parent.parent
 NETWORK = examples.directory() / "systems" / "network"
@@ -240,7 +241,7 @@ def test_pendulum_fusion_file_is_the_reproduction_model():
 
 def test_discrete_fusion_file(tmp_path):
     from symkf.fusion import FusionModel
-    from symkf.model import Sensor
+    from symkf.model.system import Sensor
     path = write(tmp_path, '[fusion]\nA = [["1/2", "1"], ["0", "2"]]\nQ = [["1", "0"], ["0", "1"]]\n'
                  'arrival = ["9/10", "4/5"]\n[[sensors]]\nC = [["1", "0"]]\n[[sensors]]\nC = [["0", "1"]]\n')
     model = files.load_fusion(path)
@@ -266,7 +267,7 @@ def test_broken_fusion_files(tmp_path, text, key):
 
 def test_a_fusion_file_is_not_a_system_file(capsys):
     status, out, err = run(capsys, "analyze", FUSION / "pendulum.toml")
-    assert status == 2 and "symkf.files.load_fusion" in err and str(FUSION / "pendulum.toml") in err
+    assert status == 2 and "symkf.io.files.load_fusion" in err and str(FUSION / "pendulum.toml") in err
 
 
 # -- round trips and corruption of network files (hypothesis; derandomized in CI) ---------------

@@ -10,10 +10,11 @@ import sympy as sp
 
 from symkf import budget
 from symkf.errors import InputError, ShapeError
-from symkf.filtering import (FloatSystem, exact_covariances, log_traces, predicted_covariances, real_form, sample_receptions,
-                             simulate_trajectories)
-from symkf.losses import IID, GilbertElliott
-from symkf.model import Sensor, System
+from symkf.numeric.filters import (FloatSystem, exact_covariances, log_traces, predicted_covariances, real_form,
+                                   sample_receptions, simulate_trajectories)
+from symkf.model.gilbert_elliott import GilbertElliott
+from symkf.model.iid import IID
+from symkf.model.system import Sensor, System
 
 TRI = System(A=[["5/4", 0], [1, "11/10"]], sensors=[Sensor(C=[[1, 1]], R=[[2]]),
                                                     Sensor(C=[[1, 0], [0, 1]], R=[[2, 1], [1, 3]])])
@@ -130,7 +131,7 @@ def test_log_traces_match_the_covariance_form_on_stable_runs(n, modulus, loss):
     # an independent computation: the float64 covariance recursion (information-form update,
     # predicted_covariances) is accurate while P stays moderate, here 300 steps of mean-square
     # stable runs; 300 paths leave a partial block of the compiled kernel (blocks of 64 or 128).
-    # n = 12 runs the loop kernel with its unrolled kernels (symkf.unrolled_kernels), n = 34 with
+    # n = 12 runs the loop kernel with its unrolled kernels (symkf.numeric.unrolled_kernels), n = 34 with
     # the loops beyond UNROLLED_MAX.
     # Two-row sensors with correlated noise exercise the whitening.
     rng = np.random.default_rng(n)
@@ -150,7 +151,7 @@ def test_log_traces_match_the_covariance_form_on_stable_runs(n, modulus, loss):
 def test_log_traces_of_a_dense_A_match_the_covariance_form(n):
     # the kernel takes A upper Hessenberg: a dense A runs in an orthonormal basis that makes it so
     # (tr P is unchanged); the float64 covariance recursion in the original basis is the reference
-    from symkf.filtering import _hessenberg_basis
+    from symkf.numeric.filters import _hessenberg_basis
     rng = np.random.default_rng(100 + n)
     M = rng.integers(-3, 4, (n, n))
     radius = max(abs(np.linalg.eigvals(M)))
@@ -232,16 +233,16 @@ def test_log_traces_keep_the_exact_structure_of_a_float_exact_burst():
 @pytest.mark.parametrize("n", [1, 2, 3, 4, pytest.param(5, marks=pytest.mark.full),
                                pytest.param(8, marks=pytest.mark.full)])
 def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
-    # symkf.square_root writes the filter out per state dimension (up to STRAIGHT_MAX); the
+    # symkf.numeric.square_root writes the filter out per state dimension (up to STRAIGHT_MAX); the
     # loop kernel does the same operations in the same order, so every output bit must agree:
     # dense and sparse (integer, block-diagonal) A and H, two-row sensors, paths that receive
     # nothing or everything, and a 600-step stretch of mostly lost steps (wide scales)
-    from symkf.square_root import LOOP_LANES, STRAIGHT_MAX, _loop_kernel, _straight, lanes, log_trace_paths
+    from symkf.numeric.square_root import LOOP_LANES, STRAIGHT_MAX, _loop_kernel, _straight, lanes, log_trace_paths
     assert n <= STRAIGHT_MAX
     width = max(lanes(n), LOOP_LANES)   # the buffers' lanes: each kernel's block fits
     rng = np.random.default_rng(n)
     dense = rng.normal(size=(n, n))
-    # (A upper Hessenberg, as the kernels take it: symkf.filtering's arguments reduce a dense A)
+    # (A upper Hessenberg, as the kernels take it: symkf.numeric.filters's arguments reduce a dense A)
     for A, H in ((np.triu(dense, -1) * 1.5 / np.abs(np.linalg.eigvals(np.triu(dense, -1))).max(), rng.normal(size=(3, n))),
                  (np.kron(np.eye(-(-n // 2)), [[0.0, -2.0], [2.0, 0.0]])[:n, :n] + np.diag([0.0] * (n - 1) + [1.5 * (n % 2)]),
                   rng.integers(-1, 2, (3, n)).astype(float))):
@@ -274,7 +275,7 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
 def test_a_lane_loops_paths_interleave_with_their_own_names_and_shared_reductions():
     # the n = 2 time update runs two paths per iteration, statement by statement: names the body
     # assigns before reading are each path's own, names it reads first (reductions) are shared
-    from symkf.square_root import _interleaved
+    from symkf.numeric.square_root import _interleaved
     body = ["x = S[0, p] * 2.0", "x += t[p]", "top = max(top, x)", "acc += x", "out[p] = x"]
     assert _interleaved(body, 2, 64) == [
         "x = S[0, p] * 2.0", "x_1w = S[0, p + 64] * 2.0", "x += t[p]", "x_1w += t[p + 64]",
@@ -286,7 +287,7 @@ def test_the_kernels_log_is_within_an_ulp_of_the_exact_log():
     # 40-digit mpmath: t over the kernel's range [1/2, 2) and its edges, e over the exponents of
     # thousands of unstable steps; 0 -> -inf, inf and nan pass through
     import mpmath as mp
-    from symkf.square_root import _log_scaled
+    from symkf.numeric.kernel_parts import _log_scaled
     rng = np.random.default_rng(7)
     ts = np.concatenate([rng.uniform(0.5, 2.0, 3000), [0.5, np.nextafter(2.0, 0), 1.0, np.nextafter(1.0, 2),
                                                        np.nextafter(1.0, 0), np.sqrt(2), np.nextafter(np.sqrt(2), 2)]])
@@ -305,7 +306,7 @@ def _row_kernel(kind: str, n: int, unrolled: bool, data: np.ndarray, vectors: np
     loops (which the loop kernel uses beyond UNROLLED_MAX)."""
     import ctypes
 
-    from symkf import square_root
+    from symkf.numeric import square_root
     kernel = square_root._unrolled(kind, n) if unrolled else square_root._row_loops(kind)
     pointer = ctypes.POINTER(ctypes.c_double)
     kernel.ctypes(data.ctypes.data_as(pointer), vectors.ctypes.data_as(pointer), n)
@@ -313,12 +314,12 @@ def _row_kernel(kind: str, n: int, unrolled: bool, data: np.ndarray, vectors: np
 
 @pytest.mark.parametrize("n", [1, 2, 9, 16, 32])   # 32: UNROLLED_MAX["householder"], the largest written out
 def test_the_unrolled_householder_kernels_equal_the_loops_bit_for_bit(n):
-    # beyond 8 states the time update triangularises with symkf.unrolled_kernels (rows written
+    # beyond 8 states the time update triangularises with symkf.numeric.unrolled_kernels (rows written
     # out) and beyond UNROLLED_MAX with _householder_loops: the same operations in the same order.
     # X as the time update builds it (U_Q's rows zero left of their diagonal), with a lane whose
     # columns are zero (|v| = 0: the reflector divides by inf) and negative pivots; compared
     # where the time update reads it afterwards (row j from column j on)
-    from symkf.square_root import LOOP_LANES
+    from symkf.numeric.square_root import LOOP_LANES
     rng = np.random.default_rng(n)
     X = np.zeros((2 * n, n | 1, LOOP_LANES))
     X[:n, :n] = rng.normal(size=(n, n, LOOP_LANES))
@@ -343,7 +344,7 @@ def test_the_unrolled_householder_kernels_equal_the_loops_bit_for_bit(n):
 def test_the_unrolled_potter_kernels_equal_the_loops_bit_for_bit(n):
     # S <- S - (S f) g^T, row by row: the written-out rows and _potter_loops agree in every bit
     # and with numpy's product (to rounding); the padding column of S (n | 1 columns) is untouched
-    from symkf.square_root import LOOP_LANES
+    from symkf.numeric.square_root import LOOP_LANES
     rng = np.random.default_rng(n)
     S = rng.normal(size=(n, n | 1, LOOP_LANES))
     fg = np.concatenate([rng.normal(size=(2 * n, LOOP_LANES)), np.full((1, LOOP_LANES), np.nan)])
@@ -384,8 +385,8 @@ def test_the_kernels_power_of_two_rounds_as_ldexp_at_every_exponent(implementati
     # subnormal range, the underflow to 0 (ties to even at 2^-1075) and the overflow to inf
     from numba import njit
 
-    from symkf import square_root
-    pow2 = getattr(square_root, implementation)
+    from symkf.numeric import kernel_parts
+    pow2 = getattr(kernel_parts, implementation)
     powers = _powers(pow2 if implementation == "_pow2" else njit(pow2))
     es = np.concatenate([np.arange(-5000, 5001), [-2 ** 62, 2 ** 62]])
     assert np.array_equal(powers(es).view(np.int64), _ldexp_bits(es))
@@ -399,7 +400,7 @@ def test_the_kernels_power_of_two_without_avx512_is_built_from_exponent_bits(tmp
 import sys
 sys.path.insert(0, {os.path.dirname(__file__)!r})
 import numpy as np
-from symkf.square_root import _pow2
+from symkf.numeric.square_root import _pow2
 from test_filtering import _ldexp_bits, _powers
 powers = _powers(_pow2)
 es = np.arange(-2200, 2200)
@@ -418,21 +419,21 @@ print('ok')
 @pytest.mark.parametrize("module, generator", [("straight_kernels", "_straight_module"),
                                                ("unrolled_kernels", "_unrolled_module")])
 def test_the_generated_kernel_modules_are_the_generators_output(module, generator):
-    # symkf/straight_kernels.py and unrolled_kernels.py are generated (by symkf.square_root):
+    # symkf/numeric/straight_kernels.py and unrolled_kernels.py are generated (by symkf.numeric.square_root):
     # never edited by hand
     import importlib
     from pathlib import Path
 
-    import symkf.square_root
-    generated = importlib.import_module(f"symkf.{module}")
-    assert Path(generated.__file__).read_text(encoding="utf-8") == getattr(symkf.square_root, generator)()
+    import symkf.numeric.square_root
+    generated = importlib.import_module(f"symkf.numeric.{module}")
+    assert Path(generated.__file__).read_text(encoding="utf-8") == getattr(symkf.numeric.square_root, generator)()
 
 
 def test_kernel_arrays_start_on_a_cache_line():
     # the lane loops' 64-byte vector loads must not span two cache lines: numba's own np.zeros is
     # 32-byte aligned (half of these sizes start 32 bytes off a line in a typical process)
     from numba import njit
-    from symkf.square_root import _aligned, _aligned_int
+    from symkf.numeric.square_root import _aligned, _aligned_int
 
     @njit
     def offsets(sizes):
@@ -450,7 +451,7 @@ def test_a_steps_receptions_are_copied_sensor_major(d):
     # one compiled copy per sensor count up to 8 (each its own interleaved vector code), strided passes
     # beyond; the block's paths past the last (a partial last block) receive nothing; one sensor's
     # whole blocks are read in place, copied nowhere
-    from symkf.square_root import _receptions, lanes
+    from symkf.numeric.square_root import _receptions, lanes
     width = lanes(2)
     paths = 2 * width + 37
     received = np.random.default_rng(d).random((3, paths, d)) < 0.5
@@ -468,7 +469,7 @@ def test_a_steps_receptions_are_copied_sensor_major(d):
 def test_the_kernel_takes_receptions_in_any_memory_order():
     # log_trace_paths is public: receptions as a transposed view (sensor-major in memory) give the
     # traces of the same receptions in C order
-    from symkf.square_root import log_trace_paths
+    from symkf.numeric.square_root import log_trace_paths
     A, UQ, S0 = np.array([[1.0, 0.5], [0.0, 1.2]]), np.eye(2), np.eye(2)
     H, rows = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]), np.array([0, 1, 2])
     sensor_major = np.random.default_rng(0).random((30, 3, 700)) < 0.5
@@ -493,7 +494,7 @@ def test_a_noise_free_contracting_system_keeps_finite_logs_over_thousands_of_ste
 def test_the_kernel_takes_receptions_of_any_dtype_as_nonzero_received(dtype):
     # one sensor's receptions are read in place: any dtype is made bool first (the in-place row and a
     # partial block's copy must be one type), 0 lost, anything else received
-    from symkf.square_root import log_trace_paths
+    from symkf.numeric.square_root import log_trace_paths
     A, UQ, S0 = np.array([[1.0, 0.5], [0.0, 1.2]]), np.eye(2), np.eye(2)
     H, rows = np.array([[1.0, 1.0]]), np.array([0])
     received = np.random.default_rng(1).random((20, 2100, 1)) < 0.5   # whole blocks and a partial one
@@ -514,7 +515,7 @@ def test_the_kernels_rescale_a_trace_that_leaves_the_window_in_one_step(n, power
     # paths all at once, and a partial block's (the loop kernel rescales every step: the same bits).
     # With Q = 0 the process noise's scale 2^(-E/2) would pass 2^1024 at the seventh shrinking step
     # (ROOT_MAX): inf times U_Q's zeros made every log nan from there
-    from symkf.square_root import _loop_kernel, log_trace_paths
+    from symkf.numeric.square_root import _loop_kernel, log_trace_paths
     A, UQ, S0 = 2.0 ** power * np.eye(n), np.zeros((n, n)), np.eye(n)
     H, rows = np.ones((1, n)), np.array([0])
     received = np.zeros((30, 515, 1), bool)
@@ -532,7 +533,7 @@ def test_the_kernel_refuses_arguments_that_disagree(bad):
     # the compiled loops do not check bounds: a row of a sensor past the receptions' last axis, or a
     # factor of another size, is refused before they run
     from symkf.errors import ShapeError
-    from symkf.square_root import log_trace_paths
+    from symkf.numeric.square_root import log_trace_paths
     args = dict(A=np.eye(2), UQ=np.eye(2), H=np.ones((2, 2)), row_sensor=np.array([0, 1]), S0=np.eye(2))
     args[bad] = np.array([0, 2]) if bad == "row_sensor" else np.eye(3)
     with pytest.raises(ShapeError, match=bad):

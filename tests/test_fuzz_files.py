@@ -17,7 +17,8 @@ import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from symkf import cli, files
+from symkf import cli
+from symkf.io import files
 from symkf.errors import FileFormatError, SymkfError
 
 ROOT = Path(__file__).resolve().parent.parent

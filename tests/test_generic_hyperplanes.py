@@ -1,4 +1,4 @@
-"""The best Markov rate over the hyperplanes of a block in general position (symkf.generic_hyperplanes):
+"""The best Markov rate over the hyperplanes of a block in general position (symkf.engine.generic_hyperplanes):
 against every n - 1 elements (brute force), the strict screen against the listed hyperplanes, and
 Markov verdicts beyond the list against the list."""
 
@@ -7,9 +7,10 @@ import itertools
 import pytest
 
 import symkf as sk
-from symkf import budget, decay, observability
-from symkf.generic_hyperplanes import best_elements
-from symkf.observability import block_rows
+from symkf import budget
+from symkf.engine import rates as decay, rows as observability
+from symkf.engine.generic_hyperplanes import best_elements
+from symkf.engine.blocks import block_rows
 from test_cylinders import _stack
 
 GE = sk.GilbertElliott
@@ -103,7 +104,7 @@ def test_two_rotations_on_gilbert_elliott_channels_agree_with_the_raised_list():
 def test_the_orders_of_runs_tried_are_the_distinct_ones_up_to_the_cap():
     # a multiset of words is packed in each distinct order (15 for fourteen equal runs and one
     # other, not 15!), and beyond MAX_ORDERS (seven distinct runs: 5040) once, the longest first
-    from symkf.generic_hyperplanes import MAX_ORDERS, _orders
+    from symkf.engine.generic_hyperplanes import MAX_ORDERS, _orders
     words = [(1,), (1, 1), (1, 1, 1), (1,) * 4, (1,) * 5, (1,) * 6, (1,) * 7]
     assert sorted(_orders([0] * 14 + [1], words)) == sorted({tuple(o) for o in ([0] * k + [1] + [0] * (14 - k) for k in range(15))})
     assert len(_orders([0, 1, 2], words)) == 6 < MAX_ORDERS

@@ -9,9 +9,10 @@ from hypothesis import assume, example, given, settings, strategies as st
 
 import symkf as sk
 from conftest import rotation
-from symkf.decay import _weights, block_rate
-from symkf.stability import critical_loss_rate
-from symkf.observability import BlockRows, block_rows
+from symkf.engine.rates import _weights, block_rate
+from symkf.engine.stability import critical_loss_rate
+from symkf.engine.rows import BlockRows
+from symkf.engine.blocks import block_rows
 
 
 BLOCKS = {  # each a single eigen-block (eigenvalue ratios are roots of unity) of dimension 2, 3, 4

@@ -61,11 +61,12 @@ def _system():
 
 def _entry_points():
     """The 13 library entry points of issue 17, each taking the payload as its one string."""
-    from symkf import plots, second_order
+    from symkf.reports import plots
+    from symkf import second_order
     from symkf.network import fading
     S = _system()
     region = sk.stability_region(S) if hasattr(sk, "stability_region") else None
-    from symkf.region import stability_region
+    from symkf.engine.region import stability_region
     region = stability_region(S)
     S2 = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
     cs = second_order.congruent_sets(S2)
@@ -306,7 +307,7 @@ def test_cyclotomic_rotations_pass_the_default_caps():
 
 def test_family_members_budgeted(tmp_path):
     """A family of 10^4 members is refused when read, before any member is built."""
-    from symkf.families import load_family
+    from symkf.io.families import load_family
     path = tmp_path / "big.toml"
     path.write_text('[family]\n[grid]\na = { from = 1, to = 1000 }\nb = { from = 1, to = 10 }\n'
                     '[system]\nA = [["a", "b"], ["0", "2"]]\n[[sensors]]\nC = [["1", "1"]]\n')

@@ -11,9 +11,10 @@ from hypothesis import assume, example, given, settings, strategies as st
 
 import symkf as sk
 from conftest import rotation
-from symkf import observability
-from symkf.decay import listed_hyperplanes
-from symkf.observability import BlockRows, block_rows
+from symkf.engine import rows as observability
+from symkf.engine.rates import listed_hyperplanes
+from symkf.engine.rows import BlockRows
+from symkf.engine.blocks import block_rows
 
 JORDAN = sp.Matrix([[2, 1], [0, 2]])
 BLOCKS = [sp.diag(rotation(sp.pi / 2, 2), rotation(sp.pi / 3, 2)), sp.diag(JORDAN, rotation(sp.pi / 3, 2)),

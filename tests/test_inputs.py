@@ -11,7 +11,7 @@ import pytest
 import sympy as sp
 
 import symkf as sk
-from symkf import files
+from symkf.io import files
 from symkf.errors import InexactInputError, InputError
 from symkf.exact.numbers import NEARBY_TOLERANCE, to_exact
 

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from symkf import cli
-from symkf.sweep import sweep
+from symkf.run.sweep import sweep
 
 ROOT = Path(__file__).resolve().parent.parent
 #: members of about 10 CPU-s each (2 R(2 pi/g) for primes g > 200, under raised caps): every
@@ -128,7 +128,7 @@ def test_a_signal_stops_the_table_and_its_workers(tmp_path, signum, to, status, 
     assert_nothing_left(proc, tmp_path)
 
 
-SLEEPERS = ("import importlib, time\nsweep = importlib.import_module('symkf.sweep')\n"
+SLEEPERS = ("import importlib, time\nsweep = importlib.import_module('symkf.run.sweep')\n"
             "{}sweep.sweep(time.sleep, [30] * 4, jobs=2)\n")
 
 

@@ -21,7 +21,8 @@ import symkf as sk
 from conftest import rotation
 from symkf.errors import BudgetError, SymkfError
 from symkf.exact.algebraic import AlgebraicNumber
-from symkf.losses import IID, GilbertElliott
+from symkf.model.gilbert_elliott import GilbertElliott
+from symkf.model.iid import IID
 
 ANGLES = [sp.pi / 2, sp.pi / 3, sp.pi / 4, sp.pi / 6, 2 * sp.pi / 3, 3 * sp.pi / 4]
 MODULI = [sp.Rational(3, 2), sp.Integer(2)]

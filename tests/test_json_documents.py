@@ -10,7 +10,7 @@ import pytest
 
 import symkf as sk
 from symkf import cli, examples
-from symkf.spectral import eigen_blocks
+from symkf.exact.spectral import eigen_blocks
 
 SYSTEMS = examples.directory() / "systems"
 DESIGN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], i.i.d. loss 1/20

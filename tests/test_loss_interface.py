@@ -1,4 +1,4 @@
-"""The loss-model interface (symkf.losses.LossModel): every kind answers for itself.
+"""The loss-model interface (symkf.model.loss.LossModel): every kind answers for itself.
 
 For each kind (i.i.d., Gilbert-Elliott, joint Markov, Markov and semi-Markov network losses):
 its independent factors reproduce the joint chain's law exactly, its file and JSON forms read
@@ -17,13 +17,20 @@ import pytest
 import sympy as sp
 
 import symkf as sk
-from symkf import cli, examples, files, tables
+from symkf import cli, examples, tables
+from symkf.io import files
 from symkf.errors import AssumptionError, BudgetError, InputError, ShapeError
-from symkf.filtering import sample_receptions
-from symkf.losses import IID, GilbertElliott, Independent, LossModel, MarkovLoss, checked, from_table
-from symkf.montecarlo import exact_mean_covariances, simulate_traces
+from symkf.numeric.filters import sample_receptions
+from symkf.model.codec import from_table
+from symkf.model.gilbert_elliott import GilbertElliott
+from symkf.model.iid import IID
+from symkf.model.independent import Independent
+from symkf.model.loss import LossModel, checked
+from symkf.model.markov import MarkovLoss
+from symkf.numeric.montecarlo import exact_mean_covariances, simulate_traces
+from symkf.numeric.receptions import draw
 from symkf.network import MarkovNetworkState, NetworkLoss, SemiMarkovNetworkState, SensorTree
-from symkf.observability import block_rows
+from symkf.engine.blocks import block_rows
 
 R = sp.Rational
 
@@ -115,7 +122,7 @@ def test_one_validator_one_error_type_per_failure():
     S3, iid = _system(3), MODELS["iid"]()
     for call in (lambda: sk.stability(S3, iid), lambda: simulate_traces(S3, iid, 3, 2),
                  lambda: sample_receptions(iid, 3, 2, np.random.default_rng(0), d=3),
-                 lambda: sk.region.stability_conditions(S3, iid), lambda: sk.second_order.theorem12(S3, iid),
+                 lambda: sk.stability_conditions(S3, iid), lambda: sk.second_order.theorem12(S3, iid),
                  lambda: exact_mean_covariances(S3, iid, 2)):
         with pytest.raises(ShapeError, match=r"loss: the model has 2 sensor\(s\), the system has 3"):
             call()
@@ -156,7 +163,7 @@ def test_sampling_law_matches_exact_enumeration(name, seed=7):
     # 5 standard deviations of N p (each of 64 sequences: a false alarm has probability < 4e-5 per
     # seed; checked for 20 seeds), never counted when p = 0, and a wrong law is rejected by a margin
     loss, N = MODELS[name](), 40_000
-    gamma = loss.sample(3, N, np.random.default_rng(seed))                      # (horizon, paths, d)
+    gamma = draw(loss, 3, N, np.random.default_rng(seed))                      # (horizon, paths, d)
     assert gamma.shape == (3, N, 2) and gamma.dtype == bool
     weights = 2 ** np.arange(5, -1, -1)
     found = np.bincount(gamma.transpose(1, 0, 2).reshape(N, 6).astype(int) @ weights, minlength=64)
@@ -173,7 +180,7 @@ def test_the_compiled_markov_step_is_its_definition(sensors):
     # 16-bit halves: v is the next spare draw, taken only where u ties with T's high part; spares
     # running out stop the step at a whole pass, from which it resumes.  Thresholds at both ends
     # (p = 0 and p = 1, the latter above every draw) and draws on both sides of every tie.
-    from symkf.receptions import _TILE, _markov_step, _thresholds
+    from symkf.numeric.receptions import _TILE, _markov_step, _thresholds
     rng = np.random.default_rng(sensors)
     m = 3 * _TILE // sensors + 5
     stay_p, back_p = rng.random(sensors), rng.random(sensors)
@@ -210,12 +217,12 @@ def test_certain_transitions_are_sampled_exactly():
     # loses twice in a row, one that never fails never loses after a reception, i.i.d. losses 0
     # and 1 give all and none; 8.4 million draws each (a 2^-32 leak shows up with odds 1 in 500)
     ge = GilbertElliott(["1/3", 0, 1], [1, "1/2", 1])
-    gamma = ge.sample(64, 2 ** 17, np.random.default_rng(5))
+    gamma = draw(ge, 64, 2 ** 17, np.random.default_rng(5))
     lost = ~gamma
     assert not (lost[1:, :, 0] & lost[:-1, :, 0]).any()
     assert not (gamma[:-1, :, 1] & lost[1:, :, 1]).any() and gamma[:, :, 1].mean() > 0.99
     assert not (lost[:-1, :, 2] & lost[1:, :, 2]).any() and not (gamma[:-1, :, 2] & gamma[1:, :, 2]).any()
-    iid = IID([0, 1]).sample(64, 2 ** 17, np.random.default_rng(6))
+    iid = draw(IID([0, 1]), 64, 2 ** 17, np.random.default_rng(6))
     assert iid[:, :, 0].all() and not iid[:, :, 1].any()
 
 
@@ -225,7 +232,7 @@ def test_independent_sensors_never_build_the_joint_chain():
         ge.chain
     with pytest.raises(BudgetError, match="max_memory"):
         ge.numeric()
-    gamma = ge.sample(40, 500, np.random.default_rng(1))           # 16 two-state chains: 320 kB
+    gamma = draw(ge, 40, 500, np.random.default_rng(1))           # 16 two-state chains: 320 kB
     assert gamma.shape == (40, 500, 16) and 0.8 < gamma.mean() < 0.87   # stationary P(received) = 5/6
     S = sk.System(A=[[0, -1], [1, 0]], sensors=[sk.Sensor(C=[[1, j % 3]]) for j in range(16)])
     assert simulate_traces(S, ge, 10, 64, seed=0).shape == (64, 10)
@@ -278,8 +285,8 @@ def test_simulate_text_says_the_loss_model(capsys):
 @pytest.mark.parametrize("name", ["markov", "network"])
 def test_figure_titles_say_every_loss_model(name):
     pytest.importorskip("matplotlib")
-    from symkf import plots
-    from symkf.montecarlo import mean_trace_curve
+    from symkf.reports import plots
+    from symkf.numeric.montecarlo import mean_trace_curve
     S, loss = _system(), MODELS[name]()
     title = plots.mean_trace_figure(S, loss, mean_trace_curve(S, loss, 8, 40, seed=0)).axes[0].get_title()
     assert loss.words() in title and "Yang's bounds need i.i.d. losses" in title
@@ -307,7 +314,7 @@ def test_docs_worked_example_adds_a_model_in_one_place(tmp_path):
         assert sk.stability(S, read).margins[0].exact ** 2 == R(828, 3125)
         p = {s: float(loss.sequence_probability(s)) for s in SEQUENCES}
         assert abs(p[((0, 0),) * 3] - (69 / 1000) ** 3) < 1e-15
-        gamma = loss.sample(3, 40_000, np.random.default_rng(3))
+        gamma = draw(loss, 3, 40_000, np.random.default_rng(3))
         weights = 2 ** np.arange(5, -1, -1)
         found = np.bincount(gamma.transpose(1, 0, 2).reshape(-1, 6).astype(int) @ weights, minlength=64)
         counts = {s: int(found[np.array([g for v in s for g in v]) @ weights]) for s in SEQUENCES}
@@ -322,16 +329,16 @@ def test_docs_worked_example_adds_a_model_in_one_place(tmp_path):
 def test_hyperplane_rate_of_independent_sensors_is_the_joint_chains(name):
     # the closed forms (i.i.d.: prod_j loss_j^(k_j); Gilbert-Elliott: product of 2x2 traces) against
     # the Perron root of the joint chain's restricted transfer (eq. 36), hyperplane by hyperplane
-    from symkf.decay import perron_root, restricted_transfer
-    from symkf.observability import block_rows
+    from symkf.engine.blocks import block_rows
+    from symkf.engine.rates import hyperplane_rate, perron_root, restricted_transfer
     loss = MODELS[name]()
     (br,) = block_rows(_system())
     assert len(br.hyperplanes) == 4
     for H in br.hyperplanes:
-        assert sp.simplify(loss.hyperplane_rate(br, H) - perron_root(restricted_transfer(br, H, loss))) == 0
+        assert sp.simplify(hyperplane_rate(br, H, loss) - perron_root(restricted_transfer(br, H, loss))) == 0
     (H,) = [H for H in br.hyperplanes if [br.elements[i].sensor for i in H] == [0]][:1]
     if name == "iid":   # sensor 0 received at one phase: 1/10 (its other phase) * (1/4)^2 (sensor 1's two)
-        assert loss.hyperplane_rate(br, H) == R(1, 10) * R(1, 16)
+        assert hyperplane_rate(br, H, loss) == R(1, 10) * R(1, 16)
 
 
 @pytest.mark.parametrize("name", MODELS)
@@ -391,7 +398,7 @@ def test_independent_pairs_equal_the_joint_chain():
     """Two correlated pairs on 2R(pi/3) (period 3): the Markov search over the two pair chains equals
     the first maximum over every hyperplane of the joint chain's restricted transfer (16 states,
     built here only as the reference)."""
-    from symkf.decay import block_rate, perron_root, restricted_transfer
+    from symkf.engine.rates import block_rate, perron_root, restricted_transfer
     from symkf.exact.algebraic import AlgebraicNumber
     pair = MarkovLoss({(1, 1): {(1, 1): "4/5", (1, 0): "1/20", (0, 1): "1/20", (0, 0): "1/10"},
                        (1, 0): {(1, 1): "1/2", (1, 0): "1/5", (0, 1): "1/10", (0, 0): "1/5"},

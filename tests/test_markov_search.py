@@ -9,13 +9,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import symkf as sk
-from symkf import budget, decay
+from symkf import budget
+from symkf.engine import rates as decay
 from symkf.errors import BudgetError
 from symkf.exact.algebraic import AlgebraicNumber
-from symkf.observability import block_rows
-from symkf.oracle import RawRegression
-from symkf.stability import _min_capped, _ray_bound
-from symkf.strategies import gilbert_elliott_losses, iid_losses
+from symkf.engine.blocks import block_rows
+from symkf.engine.oracle import RawRegression
+from symkf.engine.stability import _min_capped, _ray_bound
+from symkf.model.strategies import gilbert_elliott_losses, iid_losses
 
 
 def _rotation(angle, scale=2):
@@ -54,7 +55,7 @@ CASES = {
     "joint pair chain": (_rotation(sp.pi / 3), [[1, 0], [1, 1]], PAIR),
     "joint pair chain, period 12": (_rotation(sp.pi / 6), [[1, 0], [0, 1]], PAIR),
     "order-2 chain": (_rotation(sp.pi / 3), [[1, 0]], ORDER2),
-    # elements of several generators: the search through their flats (symkf.flat_screen)
+    # elements of several generators: the search through their flats (symkf.engine.flat_screen)
     "two-row sensors, period 12": (sp.diag(_rotation(sp.pi / 2), _rotation(sp.pi / 3)),
                                    [[[1, 0, 1, 0], [0, 1, 1, 1]], [[1, 2, 0, -1], [1, 0, 0, 0]]],
                                    GE(["1/10", "1/3"], ["1/2", "1/4"])),
@@ -287,7 +288,7 @@ def test_sensor_with_zero_losses_equals_listing(case, others, j):
 
 
 def _oracle_critical(A, rows, losses_of, g):
-    """The critical value from the raw rows alone (symkf.oracle, no engine code): with ``A^g``
+    """The critical value from the raw rows alone (symkf.engine.oracle, no engine code): with ``A^g``
     scalar, receiving ``(j, r + k g)`` is receiving ``(j, r)``, so the filter is stable iff
     ``alpha^(2g) prod_((r, j) lost) loss_j(x) < 1`` for every maximal deficient set of one period;
     the least ``x`` at which one reaches 1 (closed form per set), capped at 1."""
@@ -307,7 +308,7 @@ def _oracle_critical(A, rows, losses_of, g):
 ])
 def test_ray_and_sensor_forms_against_the_raw_oracle(angle, rows, w):
     """``critical_loss_rate(ray=...)`` and ``(sensor=..., others=...)`` with zero and large
-    weights against the rank of the rows ``C_j A^k`` themselves (symkf.oracle)."""
+    weights against the rank of the rows ``C_j A^k`` themselves (symkf.engine.oracle)."""
     A = _rotation(angle)
     g = next(k for k in range(1, 25) if (A ** k).is_diagonal() and len(set((A ** k).diagonal())) == 1)
     w = [sp.Rational(x) for x in w]

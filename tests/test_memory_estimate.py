@@ -1,4 +1,4 @@
-"""The one memory estimate (symkf.montecarlo.memory_estimate) against measured peak RSS (issue 26
+"""The one memory estimate (symkf.numeric.montecarlo.memory_estimate) against measured peak RSS (issue 26
 section 3, issue 24 item 9): each case runs in a fresh interpreter that warms up (imports, the
 compiled kernel, the exact verdict) with a tiny run, resets its peak RSS, then runs the case; the
 peak resident set above the warmed-up one must lie within a factor 1.5 of the estimate, both ways.  Before, the
@@ -15,12 +15,13 @@ import sys
 import pytest
 
 from symkf import budget, montecarlo
-from symkf.examples import system as example_path
+from symkf.io.examples import system as example_path
 
 CHILD = r'''
 import json, os, sys
-from symkf import cli, files
-from symkf.montecarlo import _verdict, float_horizon, memory_estimate, rate_horizons, verdict_plan
+from symkf import cli
+from symkf.io import files
+from symkf.numeric.montecarlo import _verdict, float_horizon, memory_estimate, rate_horizons, verdict_plan
 
 def status(key):
     for line in open("/proc/self/status"):
@@ -81,7 +82,7 @@ def test_json_records_estimate_matches_peak_rss(tmp_path):
     path = tmp_path / "scalar.toml"
     path.write_text('[system]\nA = [["1/2"]]\n\n[[sensors]]\nname = "s"\nC = [["1"]]\n\n'
                     '[loss]\nkind = "iid"\nloss = ["1/4"]\n', encoding="utf-8")
-    from symkf import files
+    from symkf.io import files
     system, loss = files.load(path)
     estimate, peak = measured("simulate", 60_000, 16, "--json", path=str(path))
     assert estimate == montecarlo.memory_estimate(system, loss, 60_000, 16, records="json") == 60_000 * (32 + 3 * 152)
@@ -105,7 +106,7 @@ def test_long_runs_are_refused_before_allocation():
     its kernel (about 270): 3 000 000 steps are estimated at 1.46 GB, under the cap, and 5 000 000
     at 2.44 GB are refused; verify's 600 000 paths (refused before at 2.3 GB, measured 590 MB at
     400 000) is estimated at its chunks' size."""
-    from symkf import files
+    from symkf.io import files
     system, loss = files.load(example_path("ge-two-sensors"))
     assert montecarlo.memory_estimate(system, loss, 3_000_000, 1, records="json") == 3_000_000 * (32 + 3 * 152)
     for horizon in (60_000_000, 5_000_000):

@@ -10,14 +10,16 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from symkf import strategies as sks
+from symkf.model import strategies as sks
 from symkf.errors import InputError
-from symkf.losses import IID, GilbertElliott, MarkovLoss
-from symkf.model import Sensor, System
-from symkf.montecarlo import (BurstPlan, burst_pattern, burst_plan, divergence_test, estimate_mean_trace,
-                              exact_mean_covariances, exact_mean_trace, log_mean_trace, loss_factors,
-                              float_horizon, pattern_probabilities, simulate_traces, verdict_plan, _patterns)
-from symkf.stability import stability
+from symkf.model.gilbert_elliott import GilbertElliott
+from symkf.model.iid import IID
+from symkf.model.markov import MarkovLoss
+from symkf.model.system import Sensor, System
+from symkf.numeric.montecarlo import (BurstPlan, burst_pattern, burst_plan, divergence_test, estimate_mean_trace,
+                                      exact_mean_covariances, exact_mean_trace, log_mean_trace, loss_factors,
+                                      float_horizon, pattern_probabilities, simulate_traces, verdict_plan, _patterns)
+from symkf.engine.stability import stability
 
 TRI = System(A=[["5/4", 0], [1, "11/10"]], sensors=[Sensor(C=[[1, 1]])])     # eps_c = 16/25
 ROT = System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]])])               # eps_c = 1/16
@@ -178,7 +180,8 @@ def test_verdicts_over_seeds(seed):
 
 
 def _example(name):
-    from symkf import examples, files
+    from symkf import examples
+    from symkf.io import files
     return files.load(examples.directory() / "systems" / name)
 
 
@@ -217,7 +220,7 @@ def test_gilbert_elliott_growth_found_where_plain_monte_carlo_misses_it():
     # ge-two-sensors: exact margin sqrt(6)/2; plain Monte Carlo saw 0.947 (it never samples the
     # bursts of probability ~0.3^k that carry E[tr P_k]); the burst estimate's margin interval
     # (difference ratio at 24, 48, 72: the bounded part of E_k cancels) brackets sqrt(6)/2
-    from symkf.verify import judge, simulated_verdict
+    from symkf.numeric.verify import judge, simulated_verdict
     system, loss = _example("ge-two-sensors.toml")
     v = stability(system, loss)
     sim = simulated_verdict(system, loss, v, seed=SEED, horizon=72, paths=4000)
@@ -298,7 +301,7 @@ def test_traces_too_large_for_memory_are_refused_before_allocation():
 # ------------------------------------------------- the margin from three horizons
 
 def _estimates(values, rel, horizons):
-    from symkf.montecarlo import LogMeanEstimate
+    from symkf.numeric.montecarlo import LogMeanEstimate
     return [LogMeanEstimate(float(np.log(v)), rel, 1000.0, 1000, k, None, "synthetic")
             for v, k in zip(values, horizons)]
 
@@ -308,7 +311,7 @@ def test_difference_ratio_removes_the_bounded_part(m, a, b):
     # E_k = a m^k + b exactly (unstable: b < 0 is the geometric tail of shorter bursts; stable:
     # E_k rising to its limit b): the difference ratio gives m to rounding, the finite-horizon
     # rate (E_3h / E_h)^(1/2h) does not
-    from symkf.montecarlo import margin_interval, rate_interval
+    from symkf.numeric.montecarlo import margin_interval, rate_interval
     ks = (40, 80, 120)
     runs = _estimates([a * m ** k + b for k in ks], 1e-12, ks)
     rate, low, high = margin_interval(runs, 0.99)
@@ -318,7 +321,7 @@ def test_difference_ratio_removes_the_bounded_part(m, a, b):
 
 
 def test_margin_not_resolved_when_noise_hides_the_change():
-    from symkf.montecarlo import margin_interval
+    from symkf.numeric.montecarlo import margin_interval
     runs = _estimates([10.0, 10.01, 10.02], 0.01, (40, 80, 120))     # D_1 = 0.01 against sd 0.14
     assert margin_interval(runs, 0.99) is None
 
@@ -326,7 +329,7 @@ def test_margin_not_resolved_when_noise_hides_the_change():
 def test_fieller_interval_covers_at_the_nominal_level():
     # independent normal E_k around a m^k + b with the stated standard deviations: the 99 %
     # interval must cover m in 99 % of 4000 draws (binomial sd 0.16 %: 98.4 % is 4 sd below)
-    from symkf.montecarlo import margin_interval
+    from symkf.numeric.montecarlo import margin_interval
     rng = np.random.default_rng(12345 + SEED)
     ks, m, rel = (24, 48, 72), 1.01, 0.01
     true = np.array([10 * m ** k - 3 for k in ks])
@@ -347,7 +350,7 @@ def test_factors_k_move_the_ratio_by_at_most_the_allowance(m, k, h, degree):
     # E_k = sum_{i <= p} c_i k^i m^k + b with c_i >= 0 (polynomial_allowance's derivation): the
     # ratio's log m lies in [ln m, ln m + allowance]; brute force over weights, the pure k^p m^k
     # term included (it comes closest to the upper end)
-    from symkf.montecarlo import polynomial_allowance
+    from symkf.numeric.montecarlo import polynomial_allowance
     allowance = polynomial_allowance((k, k + h, k + 2 * h), degree)
     rng = np.random.default_rng(7)
     weights = [np.eye(degree + 1)[i] for i in range(degree + 1)] + list(rng.random((20, degree + 1)))
@@ -358,7 +361,7 @@ def test_factors_k_move_the_ratio_by_at_most_the_allowance(m, k, h, degree):
 
 
 def test_polynomial_degree_from_the_limiting_block():
-    from symkf.montecarlo import polynomial_degree
+    from symkf.numeric.montecarlo import polynomial_degree
     # diagonalizable: one factor k; a Jordan chain of length 2 (A = [[6/5, 1], [0, 6/5]]): P grows
     # like k^2 (6/5)^(2k) in a burst, plus that factor: 3
     assert polynomial_degree(ROT, stability(ROT, IID(["1/20"]))) == 1
@@ -368,7 +371,7 @@ def test_polynomial_degree_from_the_limiting_block():
 
 def _sampled_paths(monkeypatch, system, loss, horizon, paths, seed):
     """``burst_sample``'s paths with the receptions it drew (kept on their way to the kernel)."""
-    import symkf.montecarlo as mc
+    import symkf.numeric.montecarlo as mc
     seen = []
     kernel = mc.log_traces
     monkeypatch.setattr(mc, "log_traces", lambda model, received: (seen.append(received.copy()),
@@ -388,7 +391,7 @@ def test_kernel_is_exact_on_sampled_bursts_within_float_resolution(monkeypatch, 
     system = System([[0, -2], [2, 0]], [Sensor([[1, 0]]), Sensor([[1, 1]])])
     loss = GilbertElliott(["1/4", "1/4"], ["1/4", "1/4"])
     logtr, logw, received = _sampled_paths(monkeypatch, system, loss, 40, 256, seed)
-    from symkf.filtering import exact_covariances
+    from symkf.numeric.filters import exact_covariances
     heaviest = np.argsort(-(logtr + logw))[:16]
     others = np.random.default_rng(seed).choice(np.setdiff1d(np.arange(256), heaviest), 16, replace=False)
     for p in np.concatenate([heaviest, others]):

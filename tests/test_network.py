@@ -12,17 +12,17 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings, strategies as st
 
-from symkf import files, stability
+from symkf.io import files
+from symkf import stability
 from symkf import budget
 from symkf.errors import AssumptionError, BudgetError, InputError, ProbabilityError
-from symkf.losses import MarkovLoss
+from symkf.model.markov import MarkovLoss
 from symkf.network import (MarkovNetworkState, Nakagami, NetworkLoss, PeriodicDynamics, Rayleigh, Rician,
                            SemiMarkovNetworkState, SensorTree, UserGain, full_rank_configurations,
-                           full_rank_probability, full_rank_probability_of,
-                           induced_loss, is_up_set, nu, observability_matrix,
-                           phi_symbol, rank_deficiency_probabilities,
-                           rank_deficiency_probability_by_enumeration, spectral_norm_squared,
-                           success_probability, theorem1, theorem2, threshold_success)
+                           full_rank_probability, full_rank_probability_of, induced_loss, is_up_set, nu,
+                           observability_matrix, phi_symbol, rank_deficiency_probabilities,
+                           rank_deficiency_probability_by_enumeration, spectral_norm_squared, success_probability,
+                           theorem1, theorem2, threshold_success)
 
 ROOT = Path(__file__).resolve().parents[1]
 R = sp.Rational
@@ -424,7 +424,7 @@ def test_reproduce_robot_and_examples_scripts(tmp_path):
 
 
 def test_simulation_bounded_where_theorem2_holds():
-    pytest.importorskip("symkf.montecarlo")
+    pytest.importorskip("symkf.numeric.montecarlo")
     from symkf.network.reproduce import VIIC_A, VIIC_C1, viic_simulation
     results, bounded = viic_simulation(PeriodicDynamics(VIIC_A, [VIIC_C1]))
     assert bounded
@@ -434,7 +434,7 @@ def test_simulation_bounded_where_theorem2_holds():
 
 
 def _robot_with_growth(tmp_path, a: str):
-    text = (ROOT / "symkf/examples/systems/network/quevedo-robot.toml").read_text()
+    text = (ROOT / "symkf/io/examples/systems/network/quevedo-robot.toml").read_text()
     path = tmp_path / "robot.toml"
     path.write_text(text.replace('A = [["21/20"', f'A = [["{a}"'))
     return files.load(path)
@@ -445,7 +445,7 @@ def test_robot_exact_critical_growth(tmp_path):
     # a != 1, so its rate rho_0 (chain restricted to "S1 and S4 lost", 560 lifted states) does not
     # depend on a and the filter is stable iff a^2 rho_0 < 1: a < rho_0^(-1/2) = 2.67603...
     # (the 1-mode's margin is 0.0912 or 0.1396, far below 1)
-    system, loss = files.load(ROOT / "symkf/examples/systems/network/quevedo-robot.toml")
+    system, loss = files.load(ROOT / "symkf/io/examples/systems/network/quevedo-robot.toml")
     rho0 = stability(system, loss).margins[0] / R(441, 400)
     assert 2.67602 < float(rho0) ** -0.5 < 2.67603
     assert stability(*_robot_with_growth(tmp_path, "267/100")).stable

@@ -9,7 +9,7 @@ import sympy as sp
 
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.network.compare import FAMILY, compare, critical, describe, example, markdown_table, t
-from symkf.stability import stability
+from symkf.engine.stability import stability
 
 R = sp.Rational
 

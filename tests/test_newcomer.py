@@ -17,10 +17,11 @@ import pytest
 import sympy as sp
 
 import symkf as sk
-from symkf import cli, examples, files
+from symkf import cli, examples
+from symkf.io import files
 from symkf.errors import ExtraNotInstalledError, InputError
-from symkf.families import grid_family, systems_family
-from symkf.stability import pattern_words
+from symkf.io.families import grid_family, systems_family
+from symkf.engine.stability import pattern_words
 
 ROOT = Path(__file__).resolve().parent.parent
 DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
@@ -269,7 +270,7 @@ def test_dir_lists_only_the_public_api():
 
 
 def test_strategy_errors_offer_what_strategies_take():
-    strategies = pytest.importorskip("symkf.strategies")
+    strategies = pytest.importorskip("symkf.model.strategies")
     from hypothesis.errors import InvalidArgument
     with pytest.raises(InvalidArgument) as info:
         strategies.rotation_systems(scale=0.3)
@@ -278,7 +279,7 @@ def test_strategy_errors_offer_what_strategies_take():
 
 def test_statespace_has_sampling_time_one_and_says_there_is_no_input():
     pytest.importorskip("control")
-    from symkf.control import to_statespace
+    from symkf.model.statespace import to_statespace
     G = to_statespace(DESIGN)
     assert G.dt == 1 and G.input_labels == ["no_input"] and not G.B.any()
 
@@ -340,7 +341,7 @@ def test_offline_check_finds_assets_from_other_hosts(tmp_path):
 
 
 def test_no_text_bars_in_a_kernel_without_widgets(monkeypatch):
-    from symkf import progress
+    from symkf.run import progress
     monkeypatch.delenv("TQDM_DISABLE", raising=False)
     monkeypatch.setitem(sys.modules, "ipykernel", sys)          # "a Jupyter kernel runs"
     monkeypatch.setitem(sys.modules, "ipywidgets", None)       # without ipywidgets

@@ -60,7 +60,7 @@ def test_input_file_is_never_overwritten(capsys, family):
 def test_bad_output_path_refused_before_computing(capsys, tmp_path, family, target, message, monkeypatch):
     """The family is not evaluated at all (it would take seconds): the check comes first."""
     monkeypatch.chdir(tmp_path)
-    import symkf.tables as tables
+    import symkf.reports.tables as tables
     monkeypatch.setattr(tables, "family_table", lambda *a, **k: pytest.fail("computed before checking the output"))
     status, out, err = run(capsys, "table", family, "--latex", target)
     assert status == 2 and out == "" and message in err and err.count("\n") == 1
@@ -96,7 +96,7 @@ def test_plot_written_to_the_path_reported(capsys, tmp_path, system):
 
 def test_jobs_capped_at_the_cpu_count(capsys, monkeypatch, family):
     seen = {}
-    import symkf.tables as tables
+    import symkf.reports.tables as tables
     monkeypatch.setattr(tables, "family_table", lambda path, jobs, scheduler: seen.setdefault("jobs", jobs) and 1/0)
     run(capsys, "table", family, "--jobs", "1000")
     assert seen["jobs"] == len(os.sched_getaffinity(0))
@@ -119,7 +119,7 @@ def test_ctrl_c_is_one_line_and_exit_130(system):
 
 
 def test_still_working_notes_on_stderr_and_silenceable(capsys):
-    from symkf.progress import still_working
+    from symkf.run.progress import still_working
     with still_working("symkf analyze", after=0.05, every=0.05, enabled=True):
         time.sleep(0.3)
     lines = capsys.readouterr().err.splitlines()

@@ -30,16 +30,16 @@ def test_import_loads_no_heavy_dependency():
 
 
 def test_numba_loads_only_when_a_filter_runs():
-    # the compiled kernel (symkf.square_root) costs ~0.4 s to import: the exact engine never pays it
-    out = _python("import sys, symkf, symkf.filtering, symkf.montecarlo, symkf.verify; "
+    # the compiled kernel (symkf.numeric.square_root) costs ~0.4 s to import: the exact engine never pays it
+    out = _python("import sys, symkf, symkf.numeric.filters, symkf.numeric.montecarlo, symkf.numeric.verify; "
                   "symkf.stability(symkf.System(A=[[2, 0], [0, 1]], sensors=[symkf.Sensor(C=[[1, 1]])]), "
                   "symkf.IID(['1/2'])); print('numba' in sys.modules)")
     assert out == "False"
 
 
 def test_every_public_name_resolves_and_stability_stays_a_function():
-    # importing the module symkf.stability must not rebind symkf.stability (the function) to it
-    out = _python("import symkf, symkf.stability, symkf.sweep, symkf.families; "
+    # importing the subpackage symkf.bounds must not rebind symkf.bounds (the atlas function) to it
+    out = _python("import symkf, symkf.bounds.atlas, symkf.engine.stability, symkf.run.sweep, symkf.io.families; "
                   "print(callable(symkf.stability), callable(symkf.sweep), "
                   "all(hasattr(symkf, n) for n in symkf.__all__))")
     assert out == "True True True"
@@ -63,7 +63,7 @@ def test_examples_are_package_data():
     assert [p.stem for p in examples.systems("network")] == [
         "markov-shared-channel", "quevedo-example3", "quevedo-robot", "quevedo-semi-markov-network"]
     assert examples.family("ge-recovery").is_file() and examples.system("fusion/pendulum").is_file()
-    assert examples.directory().parent == Path(symkf.__file__).parent
+    assert examples.directory().parent == Path(symkf.__file__).parent / "io"
     with pytest.raises(InputError, match="no example 'nope' in systems/; known: .*ge-two-sensors"):
         examples.system("nope")
     # the wheel carries them: every example file matches a package-data pattern of pyproject.toml
@@ -88,7 +88,7 @@ def test_readme_test_command_is_what_ci_runs():
 
 
 def test_quiet_disables_progress_bars(monkeypatch, capsys):
-    from symkf import progress
+    from symkf.run import progress
     monkeypatch.delenv("TQDM_DISABLE", raising=False)
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
     assert not progress.progress(3, "x").disable
@@ -105,18 +105,7 @@ def test_quiet_disables_progress_bars(monkeypatch, capsys):
 
 def test_strategies_without_hypothesis_name_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "hypothesis", None)
-    monkeypatch.delitem(sys.modules, "symkf.strategies", raising=False)
-    with pytest.raises(ExtraNotInstalledError, match=r"symkf.strategies needs hypothesis: pip install "
+    monkeypatch.delitem(sys.modules, "symkf.model.strategies", raising=False)
+    with pytest.raises(ExtraNotInstalledError, match=r"symkf.model.strategies needs hypothesis: pip install "
                                                      r"'symkf\[strategies\]'"):
-        import symkf.strategies  # noqa: F401
-
-
-def test_exact_layer_imports_nothing_above_it():
-    """symkf/exact/ is the substrate: its modules import each other, budget and errors only."""
-    import ast
-    allowed = {"budget", "errors"}
-    for path in (ROOT / "symkf" / "exact").glob("*.py"):
-        for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ImportFrom) and node.level >= 2:
-                names = {node.module.split(".")[0]} if node.module else {a.name for a in node.names}
-                assert names <= allowed, f"{path.name} imports {names - allowed} from above the exact layer"
+        import symkf.model.strategies  # noqa: F401

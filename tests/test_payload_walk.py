@@ -11,7 +11,7 @@ in every required one.  The walk asserts
   :class:`symkf.errors.SymkfError` (which names the argument); nothing else counts as an answer.
   Exempt by contract: ``KeyboardInterrupt`` (never raised by a payload), ``SystemExit`` from
   ``symkf.cli.main``'s argument parser (the command line's exit status), and hypothesis's
-  ``InvalidArgument`` from :mod:`symkf.strategies` (the contract of a hypothesis strategy's
+  ``InvalidArgument`` from :mod:`symkf.model.strategies` (the contract of a hypothesis strategy's
   arguments; its message names the argument).  A call that
   runs out of its CPU budget (:data:`CPU_PER_CALL`: a payload was accepted as legitimate data
   by a parameter that takes anything, and real work started) is a skip, counted and reported.
@@ -39,6 +39,7 @@ import sympy as sp
 
 import symkf as sk
 from symkf.errors import SymkfError
+from symkf.model.loss import LossChain
 
 from conftest import ORIGINAL, StringEvaluation
 
@@ -100,8 +101,12 @@ def _system() -> sk.System:
 
 def _samples() -> dict[type, Callable[[], Any]]:
     """A valid instance of each class whose methods the walk calls, built on first use."""
-    from symkf import examples, families, montecarlo, observability, oracle, output, region, second_order, \
-        spectral, strategies, tables
+    from symkf import examples, montecarlo, output, second_order, tables
+    from symkf.io import families
+    from symkf.engine import oracle, region, rows as observability
+    from symkf.engine.blocks import block_rows
+    from symkf.exact import spectral
+    from symkf.model import strategies
     from symkf.capacity import mare, theorems
     from symkf.exact import algebraic, field
     from symkf.fusion import covariance, model as fmodel, pendulum, remote
@@ -115,7 +120,7 @@ def _samples() -> dict[type, Callable[[], Any]]:
     return {
         sk.System: _system, sk.IID: iid, sk.GilbertElliott: ge,
         sk.MarkovLoss: lambda: sk.MarkovLoss({(1,): {(1,): "1/2", (0,): "1/2"}, (0,): {(1,): "1/2", (0,): "1/2"}}),
-        sk.losses.LossChain: lambda: iid().chain,
+        LossChain: lambda: iid().chain,
         algebraic.AlgebraicNumber: lambda: algebraic.AlgebraicNumber.from_expr(sp.sqrt(2)),
         field.NumberField: lambda: field.NumberField([sp.sqrt(2)]),
         region.StabilityRegion: lambda: region.stability_region(S),
@@ -123,7 +128,7 @@ def _samples() -> dict[type, Callable[[], Any]]:
         second_order.CongruentSets: lambda: second_order.congruent_sets(
             sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])),
         oracle.RawRegression: lambda: oracle.RawRegression(S.A, [s.C for s in S.sensors], 2),
-        observability.BlockRows: lambda: observability.block_rows(S)[0],
+        observability.BlockRows: lambda: block_rows(S)[0],
         spectral.Eigenvalue: lambda: spectral.eigenvalues(S.A)[0],
         mare.MARE: lambda: mare.MARE(S, iid()),
         theorems.WonhamDecomposition: lambda: theorems.wonham_decomposition(S),
@@ -223,7 +228,7 @@ def _allowed(qualname: str, exc: BaseException) -> bool:
     from hypothesis.errors import InvalidArgument
     return isinstance(exc, (SymkfError, KeyboardInterrupt)) or \
         isinstance(exc, SystemExit) and qualname == "symkf.cli.main" or \
-        isinstance(exc, InvalidArgument) and qualname.startswith("symkf.strategies.")
+        isinstance(exc, InvalidArgument) and qualname.startswith("symkf.model.strategies.")
 
 
 def walk(mark: Path, select: Callable[[str, str, str, int], bool]) -> dict:
@@ -347,7 +352,9 @@ def test_guard_refuses_string_evaluation():
 
 def _confirmed_holes(p: str) -> dict[str, Callable[[], Any]]:
     """The calls of issue 26 that created the marker file on main, each with its form."""
-    from symkf import control, model, oracle, region, strategies
+    from symkf import control
+    from symkf.model import system as model, strategies
+    from symkf.engine import oracle, region
     from symkf.exact import algebraic, field
     from symkf.exact.numbers import sympify
     x = algebraic.x

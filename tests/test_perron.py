@@ -1,4 +1,4 @@
-"""Exact Perron roots (symkf.exact.perron, used by symkf.decay.perron_root) against independent methods."""
+"""Exact Perron roots (symkf.exact.perron, used by symkf.engine.rates.perron_root) against independent methods."""
 
 import flint
 import numpy as np
@@ -7,12 +7,12 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from symkf import files
-from symkf.decay import perron_root, restricted_transfer
+from symkf.io import files
+from symkf.engine.rates import perron_root, restricted_transfer
 from symkf import examples
 from symkf.exact import perron, perron_field
 from symkf.exact.algebraic import AlgebraicNumber
-from symkf.observability import block_rows
+from symkf.engine.blocks import block_rows
 
 R = sp.Rational
 ENTRIES = [R(0), R(0), R(0), R(1, 2), R(1, 3), R(3, 4), R(1), R(2), R(7, 5)]

@@ -11,10 +11,12 @@ import sympy as sp
 
 pytest.importorskip("matplotlib")
 
-from symkf import examples, files, plots  # noqa: E402
+from symkf import examples
+from symkf.io import files
+from symkf.reports import plots  # noqa: E402
 from symkf.errors import InputError  # noqa: E402
-from symkf.model import Sensor, System  # noqa: E402
-from symkf.montecarlo import mean_trace_curve, exact_mean_trace  # noqa: E402
+from symkf.model.system import Sensor, System  # noqa: E402
+from symkf.numeric.montecarlo import mean_trace_curve, exact_mean_trace  # noqa: E402
 
 SYSTEMS = examples.directory() / "systems"
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -47,7 +49,7 @@ def test_region_two_diagonal_modes(tmp_path):
 
 def test_region_boundary_against_critical_loss_rate():
     # the drawn curve f(loss_1) is the critical loss_2 with loss_1 fixed (two independent computations)
-    from symkf.stability import critical_loss_rate
+    from symkf.engine.stability import critical_loss_rate
     S, _ = files.load(SYSTEMS / "ge-two-sensors.toml")
     x, y = plots.region_boundary(S, samples=400)
     for eps1 in (sp.Rational(1, 5), sp.Rational(1, 2), sp.Rational(9, 10)):
@@ -104,7 +106,7 @@ def test_mean_trace_figure_markov_shows_the_exact_growth(tmp_path):
     # the plotted points at k = 20, 30, 40 (independent runs) give the margin by the difference
     # ratio, whose widened 99 % interval must contain sqrt(6)/2 (the former check, a least-squares
     # slope within 2 % of ln(sqrt(6)/2), measured the finite-horizon rate: 3.4 % off at seed 20)
-    from symkf.montecarlo import LogMeanEstimate, margin_interval, polynomial_allowance
+    from symkf.numeric.montecarlo import LogMeanEstimate, margin_interval, polynomial_allowance
     assert list(curve.ks[2:]) == [20, 30, 40]
     runs = [LogMeanEstimate(float(m), float(r), 0.0, 2000, int(k), None, "")
             for m, r, k in zip(curve.log_mean[2:], curve.rel_stderr[2:], curve.ks[2:])]

@@ -1,6 +1,6 @@
 """Systems outside the papers' class (issue 14): detectable, singular, defective and marginal A,
 aperiodic blocks under Markov losses.  Every case has its exact verdict and critical value derived
-by hand in the test, and is checked against :mod:`symkf.oracle`, which computes rank deficiency
+by hand in the test, and is checked against :mod:`symkf.engine.oracle`, which computes rank deficiency
 of the raw O_N from A and C without any of the engine's code."""
 
 from fractions import Fraction
@@ -12,12 +12,13 @@ from hypothesis import given, settings
 
 import symkf as sk
 from symkf import examples
-from symkf import strategies as sks
-from symkf.decay import outside_counts
-from symkf.files import load
-from symkf.observability import block_rows
-from symkf.oracle import RawRegression, decay_slope, iid_probability
-from symkf.stability import critical_loss_rate, critical_recovery_rate, stability
+from symkf.model import strategies as sks
+from symkf.engine.rates import outside_counts
+from symkf.io.files import load
+from symkf.engine.blocks import block_rows
+from symkf.engine.oracle import RawRegression, decay_slope, iid_probability
+from symkf.engine.stability import critical_loss_rate, stability
+from symkf.engine.recovery import critical_recovery_rate
 
 R = sp.Rational
 EXAMPLES = examples.directory() / "systems"

@@ -1,4 +1,4 @@
-"""The monotone critical recovery rate (symkf.recovery) against the listing of every hyperplane
+"""The monotone critical recovery rate (symkf.engine.recovery) against the listing of every hyperplane
 (``stable_recovery_intervals``): the same exact algebraic number on small systems (periods 2-24,
 unequal fail rates, tied sensors), and the hand-checkable two-sensor example."""
 
@@ -10,11 +10,11 @@ from hypothesis import strategies as st
 import symkf as sk
 from conftest import rotation
 from symkf.exact.algebraic import AlgebraicNumber
-from symkf.files import load
-from symkf.observability import block_rows
-from symkf.recovery import listed_margins, monotone_critical_recovery
-from symkf.region import ge_margins, stable_intervals
-from symkf.stability import _recovery_model, stable_recovery_intervals
+from symkf.io.files import load
+from symkf.engine.blocks import block_rows
+from symkf.engine.recovery import listed_margins, monotone_critical_recovery
+from symkf.engine.region import ge_margins, stable_intervals
+from symkf.engine.recovery import _recovery_model, stable_recovery_intervals
 
 
 def _system(A, rows):
@@ -22,7 +22,7 @@ def _system(A, rows):
 
 
 def _every_hyperplane(S, fail, recover=None, sensor=None):
-    """The stable set from every hyperplane's margin condition (symkf.region), not the monotone search."""
+    """The stable set from every hyperplane's margin condition (symkf.engine.region), not the monotone search."""
     q = sp.Symbol("q", positive=True)
     return stable_intervals(ge_margins(S, _recovery_model(S, fail, recover, sensor, q)), q)
 

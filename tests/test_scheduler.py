@@ -16,7 +16,7 @@ import pytest
 
 from symkf import budget, cli
 from symkf.errors import SchedulerError
-from symkf.sweep import sweep
+from symkf.run.sweep import sweep
 
 pytest.importorskip("distributed")
 

@@ -9,7 +9,7 @@ import numpy as np
 import sympy
 from hypothesis import given, settings, strategies as st
 
-from symkf import hyperplane_screen as hs
+from symkf.engine import hyperplane_screen as hs
 
 
 

@@ -116,7 +116,7 @@ def test_screen_work_estimate_bounds_the_search(monkeypatch, n, count):
     (no deeper quotient merges classes, weights 0 prune nothing), and the bound from the stages'
     point counts is never below the one from their classes."""
     import math
-    from symkf import hyperplane_screen as hs
+    from symkf.engine import hyperplane_screen as hs
     X, p = _screen_config(n, count)
     orbits = [[i] for i in range(count)]
     counted = [0]
@@ -296,7 +296,7 @@ def test_aperiodicity_proof_printed_without_the_ratio_polynomial(monkeypatch):
     proof is decided from the certified arg / (2 pi) ~ 0.2952 (no fraction of denominator <= 32
     there) and printed the same way, without the ratio's resultant (for the 16 x 16 system above,
     a degree-1024 resultant that took most of what remained of ``analyze``'s time)."""
-    from symkf import spectral
+    from symkf.exact import spectral
 
     def refuse(*args):
         raise AssertionError("ratio polynomial built")
@@ -326,7 +326,7 @@ def test_flat_search_work_bounds_what_it_does(monkeypatch, d):
     # stage at level j < D (each a PASS), C(F, D) at the plane (each a CALL), every call over at most
     # the elements' rows
     import math
-    from symkf import flat_screen
+    from symkf.engine import flat_screen
     seen, done = [], {"calls": 0, "rows": 0}
     search, work = flat_screen._search, flat_screen.work
 

@@ -5,11 +5,11 @@ import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis.errors import InvalidArgument
 
-from symkf import strategies as sks
+from symkf.model import strategies as sks
 from symkf.errors import UnobservableError
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.exact.linalg import rank
-from symkf.model import Sensor, System
+from symkf.model.system import Sensor, System
 
 FAST = settings(max_examples=15, deadline=None)
 
@@ -83,5 +83,5 @@ def test_arguments_validated_up_front(call, name):
 @given(sks.rotation_systems(scale="3/2", max_denominator=6))
 def test_hand_derived_rotation_threshold_equals_the_engine(rot):
     """The strategy's closed form r^(-2q/(q-1)) against the exact engine (hyperplanes over g = q)."""
-    from symkf.stability import critical_loss_rate
+    from symkf.engine.stability import critical_loss_rate
     assert critical_loss_rate(rot.system) == AlgebraicNumber.from_expr(rot.critical_loss_rate())

@@ -7,9 +7,9 @@ import sympy as sp
 
 from symkf import IID, Sensor, System
 from symkf.errors import AssumptionError, InputError
-from symkf.families import load_family
-from symkf.stability import critical_alpha, critical_loss_rate, stability
-from symkf.sweep import sweep
+from symkf.io.families import load_family
+from symkf.engine.stability import critical_alpha, critical_loss_rate, stability
+from symkf.run.sweep import sweep
 
 ROTATIONS = """
 [family]

@@ -10,12 +10,13 @@ import pytest
 import sympy as sp
 
 from symkf.exact.numbers import sympify as exact
-from symkf import GilbertElliott, examples, files
+from symkf import GilbertElliott, examples
+from symkf.io import files
 from symkf.errors import FileFormatError, InputError
 from symkf.exact.algebraic import AlgebraicNumber
-from symkf.families import load_family
-from symkf.stability import stability
-from symkf.tables import Cell, Table, escape, family_table, verdict_table
+from symkf.io.families import load_family
+from symkf.engine.stability import stability
+from symkf.reports.tables import Cell, Table, escape, family_table, verdict_table
 
 ROOT = Path(__file__).resolve().parent.parent
 FAMILIES = examples.directory() / "families"

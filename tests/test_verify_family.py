@@ -12,8 +12,9 @@ import sympy as sp
 from symkf.exact.numbers import sympify as exact
 from symkf import cli, examples
 from symkf.errors import FileFormatError
-from symkf.families import load_family
-from symkf.verify import is_family_file, verify, verify_family
+from symkf.io.families import load_family
+from symkf.io.family_verification import is_family_file, verify_family
+from symkf.numeric.verify import verify
 
 # A = 2 R(pi/2), C = [1 0] (DESIGN.md's example): eps_c = 1/16, and for i.i.d. loss eps the
 # limiting margin is alpha^2 rho = 4 sqrt(eps) (hand-derived: the period-2 bursts lose one phase)
@@ -126,7 +127,7 @@ def test_cli_plain_json_and_disagreement_status(path, serial, capsys, monkeypatc
     assert f"seeds {[SEED + 3, SEED + 4, SEED + 5]}" in lines[1] and lines[3] == ("3 members: 3 consistent, 0 undecided, 0 contradiction, "
                                                         "0 inapplicable, 0 breakdown")
 
-    verify_module = importlib.import_module("symkf.verify")   # symkf.verify is the function
+    verify_module = importlib.import_module("symkf.numeric.verify")   # symkf.verify is the function
     monkeypatch.setattr(verify_module, "simulated_verdict", _contrary(verify_module.simulated_verdict))
     assert cli.main(argv) == 1
     assert "CONTRADICTION" in capsys.readouterr().out
@@ -143,7 +144,7 @@ def _contrary(simulated_verdict):
 
 
 def test_breakdown_is_recorded_in_the_members_row(path, monkeypatch):
-    verify_module = importlib.import_module("symkf.verify")   # symkf.verify is the function
+    verify_module = importlib.import_module("symkf.numeric.verify")   # symkf.verify is the function
     from symkf.errors import NumericalBreakdownError
 
     def breaks(system, loss, v, **kw):
@@ -171,8 +172,8 @@ def test_undecided_near_threshold_names_the_float64_horizon():
     # decisive pattern loses s1 and s2 at one phase and s1 at the other, 16 eps^3 per period 2,
     # so the margin is 4 (2/5)^(3/2) = 1.0119, 1.2 % above 1.  alpha = 2 caps the horizon at 40
     # steps (h = 12): the derived allowance ln(3/2)/12 = 3.4 % cannot be beaten by more paths
-    from symkf import files
-    from symkf.losses import IID
+    from symkf.io import files
+    from symkf.model.iid import IID
     system, _ = files.load(examples.directory() / "systems" / "ge-two-sensors.toml")
     rep = verify(system, IID(["2/5", "2/5"]), seed=SEED, paths=4000).to_json()
     assert rep["theory"]["margins"][0]["exact"] == "8*sqrt(10)/25"

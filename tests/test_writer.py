@@ -46,7 +46,7 @@ def family(tmp_path):
 @pytest.fixture
 def no_table(monkeypatch):
     """Refusals come before the family is evaluated."""
-    import symkf.tables as tables
+    import symkf.reports.tables as tables
     monkeypatch.setattr(tables, "family_table", lambda *a, **k: pytest.fail("computed before checking the output"))
 
 
@@ -97,15 +97,15 @@ def test_reproduce_figure_symlinked_to_an_input(capsys, tmp_path):
 def test_a_file_read_in_the_run_is_an_input(tmp_path, family):
     """Python: the family file a table was computed from is protected, and so is any file read
     in the run, without naming it."""
-    from symkf.families import load_family
-    from symkf.tables import family_table
+    from symkf.io.families import load_family
+    from symkf.reports.tables import family_table
     table = family_table(family)
     with pytest.raises(OutputError, match="is the input file"):
         table.write(family)
     system = tmp_path / "system.toml"
     system.write_text("[system]\nA = [[2]]\n[[sensors]]\nC = [[1]]\n")
     with output.run():
-        from symkf import files
+        from symkf.io import files
         files.load(system)
         with pytest.raises(OutputError, match="is the input file"):
             output.write_text(system, "x")
@@ -164,7 +164,7 @@ def test_a_target_changed_after_the_run_started_is_not_replaced(tmp_path):
 
 def test_concurrent_run_on_the_command_line(capsys, tmp_path, family, monkeypatch):
     """Two runs writing the same new table: the one finishing second refuses (exit 2)."""
-    import symkf.tables as tables
+    import symkf.reports.tables as tables
     real = tables.family_table
     out = tmp_path / "out.tex"
 
@@ -278,8 +278,8 @@ def test_reproduce_under_ulimit_f(tmp_path):
 def test_python_writers_go_through_the_writer(tmp_path):
     """Table.write and the plot functions taking ``path`` refuse a link like the command line."""
     pytest.importorskip("matplotlib")
-    from symkf import plots
-    from symkf.tables import family_table
+    from symkf.reports import plots
+    from symkf.reports.tables import family_table
     (tmp_path / "fam.toml").write_text(FAMILY_TEXT)
     link = tmp_path / "link"
     link.symlink_to(tmp_path / "fam.toml")

@@ -3,7 +3,7 @@
 :func:`bounds` builds the :class:`Quantity` (the varied channel parameter and its exact stable
 set from the engine) and one :class:`~symkf.bounds.row.Row` per result, in the order of
 :data:`RESULTS`.  :class:`Atlas` renders as text, JSON (exact numbers as
-:func:`symkf.verify.number_json` objects) and a booktabs table (:class:`symkf.tables.Table`).
+:func:`symkf.numeric.verify.number_json` objects) and a booktabs table (:class:`symkf.reports.tables.Table`).
 """
 
 from __future__ import annotations
@@ -13,14 +13,15 @@ from typing import Any, Callable
 
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
-from ..losses import LossModel
-from ..model import System
-from ..stability import critical_loss_rate, stable_recovery_intervals
-from ..tables import Cell, Table, escape
-from ..verify import number_json
+from ..model.loss import LossModel
+from ..model.system import System
+from ..engine.stability import critical_loss_rate
+from ..engine.recovery import stable_recovery_intervals
+from ..reports.tables import Cell, Table, escape
+from ..numeric.verify import number_json
 from . import huang_dey, mo_sinopoli, plarre_bullo, sinopoli, sources, you_fu_xie
 from .row import EQUAL, HOLDS, INSIDE, NOT_COMPARED, REFUSED, VIOLATED, Quantity, Row, number
 

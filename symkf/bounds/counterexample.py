@@ -21,12 +21,12 @@ from typing import Any
 
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..capacity.quantities import mahler_measure
-from ..model import Sensor, System
+from ..model.system import Sensor, System
 from ..reproduction import reproduction
-from ..stability import critical_loss_rate
-from ..verify import number_json
+from ..engine.stability import critical_loss_rate
+from ..numeric.verify import number_json
 from . import sinopoli
 from .row import number
 

@@ -13,10 +13,10 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
-from ..exact.arguments import check_public
-from ..model import System
-from ..plots import _figure, _finish, rational_angles, rotation_system
-from ..progress import progress
+from ..arguments import check_public
+from ..model.system import System
+from ..reports.plots import new_figure, finish_figure, rational_angles, rotation_system
+from ..run.progress import progress
 from .atlas import bounds
 from .row import OTHER
 
@@ -58,7 +58,7 @@ def atlas_figure(family: Sequence[tuple[float, System]] | None = None, *, parame
                 elif r.value is not None and r.stable is not None and len(r.stable) <= 1:
                     points.setdefault(r.key, []).append((x, min(float(r.value), 1.0), 0.0))
             bar.update()
-    fig = _figure(7.2, 5.6)
+    fig = new_figure(7.2, 5.6)
     ax = fig.add_subplot()
     xs, ys = zip(*exact)
     ax.plot(xs, ys, "o", ms=9, mfc="none", color="black", label="exact $\\varepsilon_c$ (symkf)")
@@ -71,7 +71,7 @@ def atlas_figure(family: Sequence[tuple[float, System]] | None = None, *, parame
             ax.plot(x, y, marker, color=color, label=labels[key])
     ax.set(xlabel=parameter, ylabel="critical common i.i.d. loss probability", title=title, ylim=(0, None))
     ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3)
-    return _finish(fig, path)
+    return finish_figure(fig, path)
 
 
 check_public(globals())

@@ -14,8 +14,8 @@ available to check.
 
 from __future__ import annotations
 
-from ..exact.arguments import check_public
-from ..model import System
+from ..arguments import check_public
+from ..model.system import System
 from . import hypotheses as hyp
 from .row import SUFFICIENT, Quantity, Row, number, row
 

@@ -1,4 +1,4 @@
-"""The hypotheses of the published results, each decided exactly on a :class:`~symkf.model.System`.
+"""The hypotheses of the published results, each decided exactly on a :class:`~symkf.model.system.System`.
 
 Each function returns a :class:`~symkf.bounds.row.Hypothesis` naming what was checked and,
 when it fails, the offending data.
@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.linalg import nullspace_rows, rank
-from ..model import System
-from ..observability import modal_form
+from ..model.system import System
+from ..engine.rows import modal_form
 from .row import Hypothesis, Quantity
 
 

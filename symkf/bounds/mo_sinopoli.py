@@ -19,9 +19,9 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..exact.linalg import rank
-from ..model import System
+from ..model.system import System
 from . import hypotheses as hyp
 from .row import EXACT, Hypothesis, Quantity, Row, number, row
 from .sinopoli import inverse_rho_squared

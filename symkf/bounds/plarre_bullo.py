@@ -10,8 +10,8 @@ subspace" is read in the observability decomposition ``C = [C_o, 0]``: ``C_o`` i
 
 from __future__ import annotations
 
-from ..exact.arguments import check_public
-from ..model import System
+from ..arguments import check_public
+from ..model.system import System
 from . import hypotheses as hyp
 from .row import EXACT, Quantity, Row, row
 from .sinopoli import inverse_rho_squared

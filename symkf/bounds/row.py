@@ -25,7 +25,7 @@ from typing import Any, Callable, Sequence
 
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import AssumptionError, BudgetError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import to_exact

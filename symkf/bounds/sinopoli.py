@@ -31,12 +31,12 @@ from typing import Callable
 
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..capacity.convergence import mare_stabilizable
 from ..errors import ExtraNotInstalledError
-from ..losses import IID
-from ..model import System
-from ..stability import stability
+from ..model.iid import IID
+from ..model.system import System
+from ..engine.stability import stability
 from . import hypotheses as hyp
 from .row import EXACT, NECESSARY, SUFFICIENT, VIOLATED, Hypothesis, Quantity, Row, compare_bracket, number, row
 

@@ -2,7 +2,7 @@
 
 * Sui, You, Fu, "Stability of Kalman filtering with multiple sensors involving lossy
   communications": Theorem 12's closed form for second-order systems, as corrected in
-  :mod:`symkf.second_order` (governing period, rank-one congruent sets); exact.
+  :mod:`symkf.engine.second_order` (governing period, rank-one congruent sets); exact.
 * Quevedo, Ahlén, Johansson, "State estimation over sensor networks with correlated wireless
   fading channels": Theorem 1 (eq. 22), ``max_i nu_i ||A||^2 < 1`` with ``nu_i`` the
   probability that the received ``C(k)`` lacks full column rank (:mod:`symkf.network`).  The
@@ -23,16 +23,16 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..exact.arguments import check_public
-from .. import second_order as sui
+from ..arguments import check_public
+from ..engine import second_order as sui
 from ..capacity.compare import theorem5_common_threshold
-from ..model import System
+from ..model.system import System
 from ..network.conditions import theorem1
 from ..network.dynamics import PeriodicDynamics
 from ..network.loss import NetworkLoss
 from ..network.state import MarkovNetworkState
 from ..network.tree import SensorTree
-from ..region import stable_intervals
+from ..engine.region import stable_intervals
 from . import hypotheses as hyp
 from .row import EXACT, NECESSARY, OTHER, SUFFICIENT, Hypothesis, Quantity, Row, number, row
 

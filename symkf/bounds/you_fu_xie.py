@@ -24,9 +24,9 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..exact.arguments import check_public
-from ..model import System
-from ..region import stable_intervals
+from ..arguments import check_public
+from ..model.system import System
+from ..engine.region import stable_intervals
 from . import hypotheses as hyp
 from .mo_sinopoli import degenerate_pair, ratio_order
 from .row import EXACT, Quantity, Row, number, row

@@ -11,8 +11,8 @@ Theorem 3), :mod:`.convergence` (Theorem 4, exact LMI certificates),
 from .compare import comparison_table, critical_loss_comparison, verdict_comparison
 from .convergence import LMIVerdict, mare_converges, mare_stabilizable, unit_circle_condition
 from .example1 import reproduce_yang_example1
-from .lower import (information_lower_bound_sequence, lower_bound_converges, lower_bound_limit,
-                    lower_bound_sequence, theorem2)
+from .lower import (information_lower_bound_sequence, lower_bound_converges, lower_bound_limit, lower_bound_sequence,
+                    theorem2)
 from .mare import MARE, hadamard_weight
 from .quantities import (critical_capacities, individual_capacities, mahler_measure, snr, spectral_radius,
                          topological_entropy, transmission_capacity)

@@ -10,7 +10,7 @@ For ``N`` sensors sharing one i.i.d. loss probability ``eps`` the capacity is
   ``eps < min_i exp(-2 r_i)``, ``r_i = max_j h(A_ij)``, best over row orders.
 
 The exact critical ``eps*`` comes from the exact engine
-(``symkf.stability.critical_loss_rate``); these functions take it as input so
+(``symkf.engine.stability.critical_loss_rate``); these functions take it as input so
 that they can be checked against hand-derived values.
 """
 
@@ -22,10 +22,10 @@ from typing import Any, Sequence
 import sympy as sp
 
 from .. import budget
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..exact.algebraic import AlgebraicNumber
-from ..losses import IID
-from ..model import System
+from ..model.iid import IID
+from ..model.system import System
 from .lower import lower_bound_converges
 from .quantities import capacity_exceeds, mahler_measure, spectral_radius
 from .theorems import theorem5_sufficient, wonham_decomposition

@@ -59,14 +59,14 @@ import numpy as np
 import sympy as sp
 
 from .. import budget
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError, require_extra
-from ..exact.algebraic import _with_prec
+from ..exact.algebraic import with_prec
 from ..exact.field import Elem, NumberField
 from ..exact.linalg import field_of, rank, solve_rows
-from ..losses import IID
-from ..model import System
-from ..spectral import eigenvalues
+from ..model.iid import IID
+from ..model.system import System
+from ..exact.spectral import eigenvalues
 from .quantities import _require_iid, capacity_exceeds, spectral_radius
 
 
@@ -137,7 +137,7 @@ def _positive_definite(K: NumberField, M: list[list[Elem]]) -> bool:
     over Q, :func:`_field_pivots_positive` over K: sympy's determinants and minimal polynomials
     of degree 400 ran past 10 CPU-min)."""
     for prec in (256, 1024, 4096):
-        decided = _with_prec(prec, lambda: _schur_positive(K.real_balls(M, prec)))
+        decided = with_prec(prec, lambda: _schur_positive(K.real_balls(M, prec)))
         if decided is not None:
             return decided
         if K.is_rational:
@@ -288,7 +288,7 @@ def _orthogonal_positive(K: NumberField, entries: Entries, gram: list[list[Elem]
     size = W.shape[0]
     Wr = [[_rational(_dyadic((W[i, j] + W[j, i]) / 2)) for j in range(size)] for i in range(size)]
     rhs = [_frobenius(K, P, Wr) for P in entries]
-    decided = _with_prec(256, lambda: _projected_positive(K, entries, gram, rhs, Wr))
+    decided = with_prec(256, lambda: _projected_positive(K, entries, gram, rhs, Wr))
     if decided is not None:
         return decided
     coef = solve_rows(K, gram, rhs)

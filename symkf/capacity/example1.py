@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from .. import output
-from ..losses import IID
-from ..model import Sensor, System
+from ..model.iid import IID
+from ..model.system import Sensor, System
 from ..reproduction import reproduction
 from .convergence import mare_stabilizable, unit_circle_condition
 from .lower import lower_bound_converges, lower_bound_limit, lower_bound_sequence
@@ -53,14 +53,14 @@ def _loewner_gap(lower: np.ndarray, samples: np.ndarray) -> tuple[float, float]:
 
 def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, paths: int = 20_000,
                             seed: int = 2017, z: float = 4.0) -> dict:
-    """G_k, V_k and a Monte Carlo ``E[P_k^-]`` (``paths`` runs of :mod:`symkf.filtering`, fixed ``seed``).
+    """G_k, V_k and a Monte Carlo ``E[P_k^-]`` (``paths`` runs of :mod:`symkf.numeric.filters`, fixed ``seed``).
 
     The Loewner claims are checked at every ``k``: the smallest eigenvalue of
     ``Ehat[P_k] - G_k`` (and of ``V_k - Ehat[P_k]``) must not be below ``-z``
     Monte Carlo standard errors.  A PNG like Fig. 2 (traces, 95% band) is
     written to ``outdir`` when given.
     """
-    from ..filtering import predicted_covariances, sample_receptions
+    from ..numeric.filters import predicted_covariances, sample_receptions
 
     system, loss = example1_system()
     G = lower_bound_sequence(system, loss, horizon)

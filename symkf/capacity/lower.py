@@ -24,11 +24,11 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import AssumptionError
 from ..exact.linalg import rank
-from ..losses import IID
-from ..model import System
+from ..model.iid import IID
+from ..model.system import System
 from .quantities import _require_iid, capacity_exceeds, spectral_radius
 
 

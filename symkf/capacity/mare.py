@@ -29,10 +29,10 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import AssumptionError
-from ..losses import IID
-from ..model import System
+from ..model.iid import IID
+from ..model.system import System
 from .quantities import _require_iid
 
 
@@ -88,7 +88,7 @@ class MARE:
         """``[V_1, ..., V_horizon]`` with ``V_1 = P_1^-`` (Theorem 3).
 
         ``P_1^-`` defaults to the system's ``P0``, the covariance of the first
-        prediction (``P_{0|-1}`` in :mod:`symkf.filtering`; Yang et al. index it 1).
+        prediction (``P_{0|-1}`` in :mod:`symkf.numeric.filters`; Yang et al. index it 1).
         """
         V = self.P1 if V1 is None else np.asarray(V1, dtype=float)
         out = [V]

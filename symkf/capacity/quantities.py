@@ -24,18 +24,19 @@ from typing import Any
 
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber, subset_product
 from ..exact.numbers import to_exact_matrix
-from ..losses import IID, checked
-from ..spectral import eigenvalues
+from ..model.iid import IID
+from ..model.loss import checked
+from ..exact.spectral import eigenvalues
 
 
 def _require_iid(loss: Any) -> tuple[sp.Expr, ...]:
     """The per-sensor loss probabilities of Bernoulli (i.i.d.) ``loss``, without symbols."""
     losses = checked(loss, numbers=True).require_bernoulli(
-        "Bernoulli (i.i.d.) losses (Yang et al., Sec. II)", "symkf.stability.stability (exact, any loss model)")
+        "Bernoulli (i.i.d.) losses (Yang et al., Sec. II)", "symkf.stability (exact, any loss model)")
     return losses
 
 
@@ -67,7 +68,7 @@ def transmission_capacity(loss: IID) -> sp.Expr:
     InputError
         ``loss`` is no loss model, or has free symbols.
     AssumptionError
-        ``loss`` is not i.i.d. (:meth:`~symkf.losses.LossModel.require_bernoulli`).
+        ``loss`` is not i.i.d. (:meth:`~symkf.model.loss.LossModel.require_bernoulli`).
 
     Examples
     --------
@@ -102,7 +103,7 @@ def capacity_exceeds(loss: IID, x: Any) -> bool:
 
 
 def spectral_radius(A: Any) -> AlgebraicNumber:
-    """``rho(A)`` exactly (largest eigenvalue modulus, from :func:`symkf.spectral.eigenvalues`)."""
+    """``rho(A)`` exactly (largest eigenvalue modulus, from :func:`symkf.exact.spectral.eigenvalues`)."""
     return max(ev.modulus for ev in eigenvalues(A))
 
 

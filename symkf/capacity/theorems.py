@@ -31,14 +31,14 @@ from typing import Any
 
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.linalg import rank
 from ..exact.numbers import to_exact_matrix
-from ..losses import IID
-from ..model import System
-from ..spectral import eigenvalues
+from ..model.iid import IID
+from ..model.system import System
+from ..exact.spectral import eigenvalues
 from .quantities import _require_iid, mahler_measure, spectral_radius
 
 

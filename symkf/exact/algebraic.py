@@ -31,7 +31,7 @@ import sympy as sp
 from sympy.polys.polyerrors import NotAlgebraic
 
 from .. import budget
-from .arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError
 from .numbers import sympify, to_exact, to_rational
 
@@ -77,7 +77,7 @@ copyreg.pickle(flint.fmpz_poly, _fmpz_poly_reduce)
 copyreg.pickle(flint.fmpq_poly, _fmpq_poly_reduce)
 
 
-def _with_prec(prec: int, fn: Callable[[], Any]) -> Any:
+def with_prec(prec: int, fn: Callable[[], Any]) -> Any:
     old = flint.ctx.prec
     flint.ctx.prec = prec
     try:
@@ -105,8 +105,8 @@ def _complex_roots(coeffs: tuple[int, ...], prec: int) -> tuple[flint.acb, ...]:
             cosine = 2 * flint.arb(flint.fmpq(2 * j, m)).cos_pi()
             return flint.acb(flint.fmpq(alpha.numerator, alpha.denominator)
                              + flint.fmpq(beta.numerator, beta.denominator) * cosine)
-        return _with_prec(prec, lambda: tuple(ball(*root) for root in known))
-    return _with_prec(prec, lambda: tuple(r for r, _ in flint.fmpz_poly(list(coeffs)).complex_roots()))
+        return with_prec(prec, lambda: tuple(ball(*root) for root in known))
+    return with_prec(prec, lambda: tuple(r for r, _ in flint.fmpz_poly(list(coeffs)).complex_roots()))
 
 
 Root = tuple[str, Fraction, Fraction, int, int]
@@ -202,7 +202,7 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
             # isolate roots only of the factors that can vanish on the ball: root isolation dominates
             return [(f, i) for f in factors if f(z).contains(0)
                     for i, r in enumerate(_complex_roots(tuple(int(c) for c in f.coeffs()), prec)) if r.overlaps(z)]
-        found = _with_prec(prec, hits)
+        found = with_prec(prec, hits)
         if len(found) == 1:
             return found[0]
     what = what if isinstance(what, str) else what()
@@ -399,10 +399,10 @@ def _subset_product_poly(coeffs: tuple[int, ...], k: int) -> flint.fmpz_poly:
 
     # a coefficient is at most prod_S (1 + |product|) <= prod_i (1 + |c a_i|)^C(m-1, k-1) in absolute
     # value (1 + |x y| <= (1 + |x|)(1 + |y|)): its bits, plus guard bits
-    bits = _with_prec(64, lambda: sum(((1 + abs(c * r)).log() for r in _complex_roots(coeffs, 64)),
+    bits = with_prec(64, lambda: sum(((1 + abs(c * r)).log() for r in _complex_roots(coeffs, 64)),
                                       flint.arb(0)) / flint.arb(2).log())
     prec = math.ceil(float(bits.upper()) * math.comb(m - 1, k - 1)) + 64
-    while (poly := _with_prec(prec, lambda: expand(prec))) is None:
+    while (poly := with_prec(prec, lambda: expand(prec))) is None:
         prec *= 2
     return poly
 
@@ -943,11 +943,11 @@ def decreasing_root(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction,
         a, b = lo, hi
         for _ in range(prec + 8):
             mid = (a + b) / 2
-            s = _with_prec(prec, lambda: sign(mid, prec))
+            s = with_prec(prec, lambda: sign(mid, prec))
             if s == 0:
                 break
             a, b = (mid, b) if s > 0 else (a, mid)
-        return _with_prec(prec, lambda: flint.acb(flint.arb(flint.fmpq(a.numerator, a.denominator)).union(
+        return with_prec(prec, lambda: flint.acb(flint.arb(flint.fmpq(a.numerator, a.denominator)).union(
             flint.arb(flint.fmpq(b.numerator, b.denominator)))))
     f, index = identify(composed.numer(), ball_at, "root of a decreasing polynomial")
     return AlgebraicNumber._irreducible(f, index)

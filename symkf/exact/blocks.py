@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .arguments import check_public
+from ..arguments import check_public
 
 
 def diagonal_blocks(A: sp.MatrixBase) -> list[list[int]]:

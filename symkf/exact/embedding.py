@@ -36,9 +36,9 @@ from typing import Callable
 
 import flint
 
-from .arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError
-from .algebraic import _complex_roots, _with_prec
+from .algebraic import _complex_roots, with_prec
 
 _PRECS = (128, 256, 512, 1024, 2048, 4096, 8192, 16384)
 
@@ -116,7 +116,7 @@ class Adjunction:
     def values(self, prec: int) -> tuple[list[flint.acb], list[flint.acb], list[flint.acb]]:
         """Balls of ``theta'``, ``beta`` and ``theta`` at each embedding of ``Q(theta')``."""
         B, T = self.beta.roots(prec), self.theta.roots(prec)
-        return _with_prec(prec, lambda: ([B[i] + self.k * T[j] for i, j in self.pairs],
+        return with_prec(prec, lambda: ([B[i] + self.k * T[j] for i, j in self.pairs],
                                          [B[i] for i, _ in self.pairs], [T[j] for _, j in self.pairs]))
 
 
@@ -140,7 +140,7 @@ def adjoin(theta: Integral, beta: Integral) -> Adjunction:
 
 def _sums(theta: Integral, beta: Integral, k: int, prec: int) -> list[list[flint.acb]]:
     B, T = beta.roots(prec), theta.roots(prec)
-    return _with_prec(prec, lambda: [[b + k * t for t in T] for b in B])
+    return with_prec(prec, lambda: [[b + k * t for t in T] for b in B])
 
 
 def _separating_prec(theta: Integral, beta: Integral, k: int) -> int | None:
@@ -159,16 +159,16 @@ def _adjunction(theta: Integral, beta: Integral, k: int, prec: int) -> Adjunctio
         sums = _sums(theta, beta, k, prec)
         flat = [s for row in sums for s in row]
         if N is None:
-            N = _with_prec(prec, lambda: flint.acb_poly.from_roots(flat).unique_fmpz_poly())
+            N = with_prec(prec, lambda: flint.acb_poly.from_roots(flat).unique_fmpz_poly())
             if N is None:
                 continue
             factors = [f for f, _ in N.factor()[1]]
         target = sums[beta.index][theta.index]
-        hits = _with_prec(prec, lambda: [f for f in factors if f(target).contains(0)])
+        hits = with_prec(prec, lambda: [f for f in factors if f(target).contains(0)])
         if len(hits) != 1:
             continue
         f = hits[0]
-        pairs = _with_prec(prec, lambda: tuple((i, j) for i, row in enumerate(sums)
+        pairs = with_prec(prec, lambda: tuple((i, j) for i, row in enumerate(sums)
                                                for j, s in enumerate(row) if f(s).contains(0)))
         if len(pairs) != f.degree():
             continue
@@ -200,7 +200,7 @@ def interpolate(poly: flint.fmpz_poly, nodes_values: Callable[[int], tuple[list[
                 acc[e - 1] += v * q
         return flint.acb_poly(acc).unique_fmpz_poly()
     for prec in _PRECS:
-        G = _with_prec(prec, numerator)
+        G = with_prec(prec, numerator)
         if G is not None:
             return (flint.fmpq_poly(G) * inverse(flint.fmpq_poly(poly.derivative()), flint.fmpq_poly(poly))) \
                 % flint.fmpq_poly(poly)

@@ -28,9 +28,9 @@ from typing import Any, Iterable, Sequence
 import flint
 import sympy as sp
 
-from .arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError
-from .algebraic import _with_prec, fmpz_to_sympy, identify, root_ball, root_of
+from .algebraic import with_prec, fmpz_to_sympy, identify, root_ball, root_of
 from .embedding import Integral, adjoin, integral_scale, interpolate, vanishes
 from .numbers import sympify
 
@@ -94,7 +94,7 @@ class _Presentation:
 
     def _ball(self, a: Elem, prec: int) -> flint.acb:
         t = self.prim.roots(prec)[self.prim.index]
-        return _with_prec(prec, lambda: flint.acb_poly([flint.acb(flint.arb(c)) for c in a.coeffs()])(t))
+        return with_prec(prec, lambda: flint.acb_poly([flint.acb(flint.arb(c)) for c in a.coeffs()])(t))
 
 
 @lru_cache(maxsize=128)
@@ -187,7 +187,7 @@ def _cyclotomic_generator(m: int, real: bool) -> tuple[Integral, Elem, sp.Expr]:
     else:
         poly = flint.fmpz_poly.cyclotomic(m)
         theta, ball = sp.exp(2 * sp.pi * sp.I / m), lambda: flint.acb(flint.arb(flint.fmpq(2, m))).exp_pi_i()
-    _, index = identify(poly, lambda prec: _with_prec(prec, ball), str(theta))
+    _, index = identify(poly, lambda prec: with_prec(prec, ball), str(theta))
     return Integral.of(poly, index), flint.fmpq_poly(poly), theta
 
 
@@ -403,10 +403,10 @@ class NumberField:
                     power *= theta
                 out += flint.arb_mat(flint.fmpq_mat(rows, cols, [a[k] for row in M for a in row])) * power.real
             return out.tolist()
-        out = _with_prec(prec, lambda: balls(prec))
+        out = with_prec(prec, lambda: balls(prec))
         while accuracy is not None and any(b.rel_accuracy_bits() < accuracy for row in out for b in row):
             prec *= 2
-            out = _with_prec(prec, lambda: balls(prec))
+            out = with_prec(prec, lambda: balls(prec))
         return out
 
     def __repr__(self) -> str:

@@ -16,7 +16,7 @@ import flint
 import sympy as sp
 
 from ..errors import ShapeError
-from .arguments import check_public
+from ..arguments import check_public
 from .field import Elem, NumberField, QQ_FIELD, rational_value
 from .numbers import as_matrix, sympify
 

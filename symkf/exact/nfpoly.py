@@ -14,7 +14,7 @@ from itertools import count
 
 import flint
 
-from .arguments import check_public
+from ..arguments import check_public
 from .field import Elem, NumberField
 
 Poly = list[Elem]

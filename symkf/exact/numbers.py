@@ -42,7 +42,7 @@ from typing import Any, Callable, Collection, Iterable, Iterator, Mapping, Named
 
 import sympy as sp
 
-from .arguments import check_public, described
+from ..arguments import check_public, described
 from .. import budget
 from ..errors import InexactInputError, InputError, ShapeError
 from .blocks import diagonal_blocks

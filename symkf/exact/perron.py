@@ -22,7 +22,7 @@ import flint
 import sympy as sp
 from sympy.polys.polyerrors import PolynomialError
 
-from .arguments import check_public, float_array
+from ..arguments import check_public, float_array
 from ..errors import BudgetError, InputError
 from .algebraic import AlgebraicNumber, _real_roots, sympy_to_fmpz, x
 from .perron_field import field_perron_root
@@ -123,7 +123,7 @@ def _block_root(block: dict[int, dict[int, Any]]) -> AlgebraicNumber | None:
             M[order[s], order[t]] = v
     if M.free_symbols:
         raise InputError(f"loss: symbolic transition probabilities {sorted(map(str, M.free_symbols))} have no "
-                         "numeric decay rate; use symkf.region.stability_conditions for the stability region")
+                         "numeric decay rate; use symkf.stability_conditions for the stability region")
     if len(block) == 1:
         return AlgebraicNumber.from_expr(M[0, 0])
     try:

@@ -33,8 +33,8 @@ import numpy as np  # the float Perron vector only: the enclosure around it is c
 import sympy as sp
 
 from .. import budget
-from .algebraic import AlgebraicNumber, _arb_interval, _real_roots, _with_prec
-from .arguments import check_public
+from .algebraic import AlgebraicNumber, _arb_interval, _real_roots, with_prec
+from ..arguments import check_public
 from .field import NumberField
 from .linalg import field_of
 
@@ -78,7 +78,7 @@ def _enclosure(B: list[list[flint.arb]]) -> tuple[Fraction, Fraction] | None:
         return None
     vq = [flint.arb(flint.fmpq(*Fraction(float(c)).as_integer_ratio())) for c in v]
 
-    ratios = _with_prec(_PREC, lambda: [sum((b * x for b, x in zip(row, vq)), flint.arb(0)) / vi
+    ratios = with_prec(_PREC, lambda: [sum((b * x for b, x in zip(row, vq)), flint.arb(0)) / vi
                                         for row, vi in zip(B, vq)])
     ends = [_arb_interval(r) for r in ratios]
     return min(Fraction(int(a.p), int(a.q)) for a, _ in ends), max(Fraction(int(b.p), int(b.q)) for _, b in ends)

@@ -12,8 +12,7 @@ from ..errors import require_extra
 
 require_extra("scipy", "fusion", "symkf.fusion (the local filters' Riccati and Lyapunov equations)")
 
-from .covariance import (expected_remote_covariance, fusion_sigma, remote_error_covariance,
-                         unbiasedness_matrix)  # noqa: E402
+from .covariance import expected_remote_covariance, fusion_sigma, remote_error_covariance, unbiasedness_matrix  # noqa: E402
 from .local_filters import local_filters  # noqa: E402
 from .model import FusionModel  # noqa: E402
 from .pendulum import pendulum_model, reproduce_fusion_pendulum  # noqa: E402

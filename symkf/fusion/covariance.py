@@ -33,7 +33,7 @@ from typing import Sequence
 import numpy as np
 from scipy.linalg import block_diag
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError
 from .local_filters import LocalFilters
 

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import AssumptionError, ShapeError
 from ..exact.linalg import rank
 from ..exact.numbers import as_matrix

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import block_diag, solve_discrete_are, solve_discrete_lyapunov
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import AssumptionError
 from .decomposition import LocalModel
 from .model import FusionModel

@@ -31,12 +31,12 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import AssumptionError, InputError, ProbabilityError
 from ..exact.algebraic import sympy_to_fmpz
 from ..exact.numbers import sympify, to_exact, to_exact_matrix
-from ..losses import IID
-from ..model import Sensor, check_positive_definite
+from ..model.iid import IID
+from ..model.system import Sensor, check_positive_definite
 from .decomposition import LocalModel, check_collective_observability, check_reachability, local_model
 
 __all__ = ["Assumption2", "FusionModel"]

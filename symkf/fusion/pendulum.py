@@ -16,9 +16,9 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from .. import output
-from ..model import Sensor
+from ..model.system import Sensor
 from ..reproduction import discrepancy, reproduction
 from .covariance import fusion_sigma, remote_error_covariance, unbiasedness_matrix
 from .local_filters import local_filters

@@ -20,11 +20,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import solve_discrete_are
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError
 from .covariance import HoldingTimeCovariance
 from .local_filters import LocalFilters
 from .weights import optimal_weights
+from ..numeric.receptions import draw
 
 __all__ = ["RemoteFusion", "Simulation", "simulate", "centralized_filter"]
 
@@ -98,7 +99,7 @@ def simulate(lf: LocalFilters, horizon: int, paths: int, seed: int) -> Simulatio
     Cc, Rc = m.C, m.R
     sq_Q, sq_Rc = _sqrt_psd(m.Q), _sqrt_psd(Rc)
     rows = np.cumsum([0] + [s.m for s in m.sensors])
-    arrivals = m.loss.sample(horizon, paths, rng)     # (horizon, paths, N), drawn per sensor
+    arrivals = draw(m.loss, horizon, paths, rng)     # (horizon, paths, N), drawn per sensor
     locs, filt, off = m.local, lf.filters, lf.offsets
 
     x = np.zeros((paths, n))

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import AssumptionError
 from .covariance import expected_remote_covariance, fusion_sigma, unbiasedness_matrix
 from .local_filters import LocalFilters

@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from ..exact.arguments import check_public, float_array
+from ..arguments import check_public, float_array
 from ..errors import AssumptionError, InputError, NotPositiveDefiniteError, ShapeError, require_extra
 
 __all__ = ["optimal_weights", "fused_covariance", "METHODS"]

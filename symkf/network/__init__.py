@@ -3,7 +3,7 @@
 * :mod:`.tree`: the tree rooted at the gateway, paths, ``theta = prod gamma`` (Remark 2);
 * :mod:`.state`: Markov (Assumption 1) and semi-Markov (Assumption 3) network states;
 * :mod:`.fading`: ``phi_{m|j}`` from gain laws, policies and success functions (eqs. 7-10);
-* :mod:`.loss`: :class:`NetworkLoss`, the induced loss process as a :class:`~symkf.losses.LossChain`;
+* :mod:`.loss`: :class:`NetworkLoss`, the induced loss process as a :class:`~symkf.model.loss.LossChain`;
 * :mod:`.dynamics`: periodic ``A(k)``, ``C_m``, exact spectral norms;
 * :mod:`.conditions`: ``J``, ``Pr{r = 1 | Xi}``, ``nu_i``, Theorem 1, Corollary 1;
 * :mod:`.semi_markov`: ``O(k + t, k)``, ``varrho``, ``mu``, Theorem 2 (as printed and corrected);
@@ -13,8 +13,7 @@
 from .conditions import (Theorem1, corollary1_lhs, full_rank_configurations, full_rank_probability,
                          full_rank_probability_of, is_up_set, nu, theorem1)
 from .dynamics import PeriodicDynamics, spectral_norm_squared
-from .fading import (Nakagami, Rayleigh, Rician, SuccessProbability, UserGain, success_probability,
-                     threshold_success)
+from .fading import Nakagami, Rayleigh, Rician, SuccessProbability, UserGain, success_probability, threshold_success
 from .loss import NetworkLoss, induced_loss, phi_symbol
 from .semi_markov import (Theorem2, observability_matrix, rank_deficiency_probabilities,
                           rank_deficiency_probability_by_enumeration, theorem2)

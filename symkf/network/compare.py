@@ -2,14 +2,14 @@
 
 For a Markov network state (Assumption 1) and a time-invariant ``A``,
 :func:`~symkf.network.loss.induced_loss` is a loss model that the exact engine
-(:func:`symkf.stability.stability`, Sui-You-Fu Theorems 4, 7 and 9) decides.
+(:func:`symkf.engine.stability.stability`, Sui-You-Fu Theorems 4, 7 and 9) decides.
 Along one scalar parameter ``t`` of the network model (a link success
 probability ``phi_{m|j}`` or a transition probability ``p_ij``, entering
 polynomially), :func:`compare` computes three subsets of ``(0, 1)``, each as
 open intervals with exact algebraic end points:
 
 * Theorem 1 (eq. 22): ``nu_i(t) ||A||^2 < 1`` for every ``i``, polynomial
-  inequalities (:func:`symkf.region.stable_intervals`);
+  inequalities (:func:`symkf.engine.region.stable_intervals`);
 * Theorem 2 (eq. 32, as corrected in :mod:`.semi_markov`) on the same chain
   seen as semi-Markov with ``psi_j(1) = 1`` (Sec. VII-B), where it reduces to
   Theorem 1 -- computed independently, as a check;
@@ -19,7 +19,7 @@ open intervals with exact algebraic end points:
   cross 1 only where ``det(I - alpha_i^(2g) M_H(t)) = 0`` (the Perron root is
   an eigenvalue), a polynomial in ``t``; its real roots in ``(0, 1)`` are the
   candidate end points, and each gap between them is classified by
-  :func:`symkf.stability.stability` at a rational point inside it (a candidate
+  :func:`symkf.engine.stability.stability` at a rational point inside it (a candidate
   between two stable gaps by the engine at the candidate itself).
 
 Theorem 1 is sufficient, so its set must lie inside the exact one
@@ -35,16 +35,16 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from ..exact.arguments import check_public
-from ..decay import capped_hyperplanes, restricted_transfer
+from ..arguments import check_public
+from ..engine.rates import capped_hyperplanes, restricted_transfer
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import sympify
-from ..losses import LossModel
-from ..model import Sensor, System
-from ..observability import block_rows
-from ..region import distinct, roots_in_unit, stable_intervals, stable_set
-from ..stability import stability
+from ..model.loss import LossModel
+from ..model.system import Sensor, System
+from ..engine.blocks import block_rows
+from ..engine.region import distinct, roots_in_unit, stable_intervals, stable_set
+from ..engine.stability import stability
 from .conditions import theorem1
 from .dynamics import PeriodicDynamics
 from .loss import NetworkLoss, induced_loss
@@ -174,7 +174,7 @@ def exact_candidates(example: NetworkExample) -> tuple[AlgebraicNumber, ...]:
                 if det == 0:  # 1/growth is an eigenvalue for every t: its roots locate nothing
                     raise AssumptionError(f"{example.name}: det(I - alpha^(2g) M_H(t)) vanishes identically",
                                           assumption="isolated boundary candidates",
-                                          applies_instead="symkf.stability.stability at chosen values of t")
+                                          applies_instead="symkf.stability at chosen values of t")
                 roots += roots_in_unit(det, t)
     return tuple(distinct(roots))
 

@@ -22,7 +22,7 @@ from typing import Callable, Sequence
 import sympy as sp
 
 from .. import budget
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.linalg import echelon_extended, field_of, rank, span_key

@@ -13,12 +13,12 @@ from typing import Any, Sequence
 
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError, ShapeError
 from ..exact.algebraic import AlgebraicNumber, real_from_ball, sign
 from ..exact.numbers import as_matrix, to_exact_matrix
-from ..model import System
-from ..spectral import eigenvalues
+from ..model.system import System
+from ..exact.spectral import eigenvalues
 
 
 class PeriodicDynamics:
@@ -43,7 +43,7 @@ class PeriodicDynamics:
 
     @classmethod
     def from_system(cls, system: System, A: Any = None) -> "PeriodicDynamics":
-        """The sensors' ``C_m`` of a :class:`~symkf.model.System`; ``A`` defaults to ``system.A``."""
+        """The sensors' ``C_m`` of a :class:`~symkf.model.system.System`; ``A`` defaults to ``system.A``."""
         return cls(system.A if A is None else A, [s.C for s in system.sensors])
 
     @property

@@ -26,7 +26,7 @@ from typing import Any, Callable, Sequence
 import mpmath
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError
 from ..exact.numbers import to_exact
 

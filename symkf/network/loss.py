@@ -4,7 +4,7 @@ Given ``Xi(k) = j`` the links succeed independently, ``gamma_m(k) = 1`` with
 probability ``phi_{m|j}`` (eq. 9), and sensor ``m`` is heard at the gateway
 iff ``theta_m(k) = 1`` (Remark 2).  :class:`NetworkLoss` lifts the network
 state together with the link outcomes into one first-order chain
-(:class:`symkf.losses.LossChain`) whose receival vectors are the
+(:class:`symkf.model.loss.LossChain`) whose receival vectors are the
 ``theta(k)``, so the filter, the Monte Carlo code and the exact engine use
 it unchanged:
 
@@ -22,14 +22,17 @@ from __future__ import annotations
 import itertools
 import re
 from functools import cached_property
-from typing import TYPE_CHECKING, Any, Mapping, Sequence
+from typing import ClassVar, TYPE_CHECKING, Any, Mapping, Sequence
 
 import sympy as sp
 
-from ..exact.arguments import check_public
-from ..errors import AssumptionError, InputError
+from .. import budget
+from ..arguments import check_public
+from ..errors import AssumptionError, FileFormatError, InputError
 from ..exact.numbers import substitution
-from ..losses import LossChain, LossModel, MarkovLoss, _probability
+from ..model.codec import entry, exact_values
+from ..model.loss import LossChain, LossModel, probability
+from ..model.markov import MarkovLoss
 from .fading import SuccessProbability
 from .state import MarkovNetworkState, SemiMarkovNetworkState
 from .tree import SensorTree, Vector
@@ -102,12 +105,7 @@ class NetworkLoss(LossModel):
     @classmethod
     def read_table(cls, table: dict, where: str, d: int, rationalize: bool = False) -> "NetworkLoss":
         """The model of a ``[loss]`` table (or its JSON object) for ``d`` sensors; ``where`` names it in errors."""
-        from ..errors import FileFormatError
-        from .. import budget
-        from ..files import _exact, _get
-        from .state import MarkovNetworkState, SemiMarkovNetworkState
-        from .tree import SensorTree
-        parents = _get(table, "parents", where)
+        parents = entry(table, "parents", where)
         if not isinstance(parents, list):
             raise FileFormatError(f"{where} key 'parents': expected a list, parents[m-1] = Par(S_m) (0 = gateway)")
         tree = SensorTree(parents)
@@ -119,23 +117,23 @@ class NetworkLoss(LossModel):
             raise FileFormatError(f"{where}: give 'P' (Markov network state, Assumption 1) or 'q' and 'holding' "
                                   "(semi-Markov, Assumption 3), not " + ("both" if markov else "neither"))
         initial = table.get("initial")
-        initial = None if initial is None else _exact(initial, f"{where} initial", rationalize, start=1)
+        initial = None if initial is None else exact_values(initial, f"{where} initial", rationalize, start=1)
         if markov:
-            state = MarkovNetworkState(_exact(table["P"], f"{where} P", rationalize, start=1), initial)
+            state = MarkovNetworkState(exact_values(table["P"], f"{where} P", rationalize, start=1), initial)
             hidden = state.B
         else:
-            q = _exact(_get(table, "q", where), f"{where} q", rationalize, start=1)
-            holding = _holding(_get(table, "holding", where), where, rationalize)
+            q = exact_values(entry(table, "q", where), f"{where} q", rationalize, start=1)
+            holding = _holding(entry(table, "holding", where), where, rationalize)
             state = SemiMarkovNetworkState(q, holding, initial)
             hidden = sum(max(h) for h in state.holding)
         budget.check("max_network_chain", hidden * 2 ** tree.M, f"{where} key '{'P' if markov else 'holding'}'",
                      f"the bound {hidden} x 2^{tree.M} on the states of the lifted chain")
-        phi = _exact(_get(table, "phi", where), f"{where} phi", rationalize, start=1)
+        phi = exact_values(entry(table, "phi", where), f"{where} phi", rationalize, start=1)
         return cls(tree, state, phi)
 
     @property
     def assumption(self) -> str:
-        """What :func:`symkf.stability.stability` checked of this loss process (its verdict says it)."""
+        """What :func:`symkf.engine.stability.stability` checked of this loss process (its verdict says it)."""
         if isinstance(self.state, SemiMarkovNetworkState):
             return "semi-Markov network state with an irreducible lifted chain (symkf's extension, docs/quevedo.md)"
         return "Markov with positive transitions (Assumption 2)"
@@ -172,7 +170,7 @@ class NetworkLoss(LossModel):
                     vrow.append(p.value)
                     lrow.append(p.lower)
                 else:
-                    vrow.append(_probability(p, f"phi[{m}][{j}] (phi_{{{m}|{j}}})"))
+                    vrow.append(probability(p, f"phi[{m}][{j}] (phi_{{{m}|{j}}})"))
                     lrow.append(vrow[-1])
             values.append(vrow)
             lower.append(lrow)
@@ -303,8 +301,6 @@ class NetworkLoss(LossModel):
 
 
 def _holding(value: Any, where: str, rationalize: bool) -> list[Any]:
-    from ..errors import FileFormatError
-    from ..files import _exact
     """Holding-time laws as lists ``[psi(1), ...]`` or tables ``{delta: psi(delta)}`` (TOML keys are text)."""
     if not isinstance(value, list):
         raise FileFormatError(f"{where} key 'holding': expected a list of holding-time laws, one per network state")
@@ -315,8 +311,8 @@ def _holding(value: Any, where: str, rationalize: bool) -> list[Any]:
             if bad:
                 raise FileFormatError(f"{where} key 'holding[{i}]': holding time {bad[0]!r} is not a positive "
                                       "integer below 10^6")
-            law = {int(k): _exact(p, f"{where} holding[{i}][{k}]", rationalize) for k, p in law.items()}
-        laws.append(_exact(law, f"{where} holding[{i}]", rationalize, start=1) if isinstance(law, list) else law)
+            law = {int(k): exact_values(p, f"{where} holding[{i}][{k}]", rationalize) for k, p in law.items()}
+        laws.append(exact_values(law, f"{where} holding[{i}]", rationalize, start=1) if isinstance(law, list) else law)
     return laws
 
 

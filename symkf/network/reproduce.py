@@ -14,10 +14,10 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from .. import output
 from ..exact.linalg import rank
-from ..model import Sensor, System
+from ..model.system import Sensor, System
 from ..reproduction import reproduction
 from .conditions import full_rank_configurations, full_rank_probability, theorem1
 from .dynamics import PeriodicDynamics, certified_less_than_one, spectral_norm_squared
@@ -170,7 +170,7 @@ def reproduce_quevedo_robot(outdir: str | None = None) -> dict:
     t2m = theorem2(NetworkLoss(tree, markov.state.as_semi_markov(), phi), dyn)
     reduces = all(sp.simplify(t2m.lhs[(i, 0)] - t1.lhs[(i, 0)]) == 0 for i in range(1, 5))
     reduces_paper = all(sp.simplify(t2m.lhs_paper[(i, 0)] - t1.lhs[(i, 0)]) == 0 for i in range(1, 5))
-    from ..stability import stability
+    from ..engine.stability import stability
     exact = stability(System(dyn.A[0], [Sensor(c) for c in dyn.C]), loss)  # symkf's extension, docs/quevedo.md
     worst = max(t2.bounds, key=lambda k: t2.bounds[k][1])
     worst_paper = max(t2.bounds_paper, key=lambda k: t2.bounds_paper[k][1])
@@ -347,7 +347,7 @@ def reproduce_quevedo_semi_markov(outdir: str | None = None, simulate: bool = Tr
 
 def viic_simulation(dyn: PeriodicDynamics) -> tuple[dict, bool]:
     """Monte Carlo over the lifted chain (q_ij = 1/2): phi = 19/20 (condition holds) and 3/10 (fails)."""
-    from ..montecarlo import simulate_traces
+    from ..numeric.montecarlo import simulate_traces
 
     system = System(dyn.A[0], [Sensor(dyn.C[0])])
     horizon, paths, seed = 400, 4000, 2

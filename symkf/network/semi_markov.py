@@ -31,7 +31,7 @@ from typing import Sequence
 
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import AssumptionError
 from ..exact.linalg import echelon_extended, field_of, rank, span_key
 from .dynamics import PeriodicDynamics, certified_less_than_one, interval_sum, spectral_norm_squared

@@ -14,10 +14,10 @@ from typing import Any, Mapping, Sequence
 
 import sympy as sp
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError, ProbabilityError
 from ..exact.numbers import substitution, sympify
-from ..losses import _probability, stationary_law
+from ..model.loss import probability, stationary_law
 
 
 def stochastic_matrix(rows: Any, entry: str) -> sp.ImmutableMatrix:
@@ -31,7 +31,7 @@ def stochastic_matrix(rows: Any, entry: str) -> sp.ImmutableMatrix:
     for i, row in enumerate(rows, start=1):
         if isinstance(row, (str, bytes)) or not isinstance(row, Sequence) or len(row) != B:
             raise InputError(f"{entry}: row {i} must hold {B} probabilities (one per state)")
-        probs = [_probability(p, f"{entry}[{i}][{j}]") for j, p in enumerate(row, start=1)]
+        probs = [probability(p, f"{entry}[{i}][{j}]") for j, p in enumerate(row, start=1)]
         total = sp.simplify(sum(probs))
         if total != 1:
             raise ProbabilityError(f"{entry}: row {i} sums to {total}, not 1")
@@ -44,7 +44,7 @@ def _initial(initial: Any, B: int, default: sp.MatrixBase, entry: str) -> sp.Imm
         return sp.ImmutableMatrix(default)
     if isinstance(initial, (str, bytes)) or not isinstance(initial, Sequence) or len(initial) != B:
         raise InputError(f"{entry}: expected {B} probabilities, one per network state")
-    probs = [_probability(p, f"{entry}[{j}]") for j, p in enumerate(initial, start=1)]
+    probs = [probability(p, f"{entry}[{j}]") for j, p in enumerate(initial, start=1)]
     if sp.simplify(sum(probs)) != 1:
         raise ProbabilityError(f"{entry}: sums to {sp.simplify(sum(probs))}, not 1")
     return sp.ImmutableMatrix([probs])
@@ -112,7 +112,7 @@ class SemiMarkovNetworkState:
             if isinstance(delta, bool) or not isinstance(delta, int) or delta < 1:
                 raise InputError(f"{entry}: holding time {delta!r} must be a positive integer "
                                  "(Delta_l in N, eq. 26)")
-            value = _probability(p, f"{entry}[{delta}]")
+            value = probability(p, f"{entry}[{delta}]")
             if value != 0:
                 out[delta] = value
         if not out:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Mapping, Sequence
 
-from ..exact.arguments import check_public
+from ..arguments import check_public
 from ..errors import InputError
 
 Vector = tuple[int, ...]

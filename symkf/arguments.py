@@ -1,0 +1,241 @@
+"""Arguments checked against their annotations, before the body runs.
+
+A public function given an argument of the wrong kind (a string for a ``System``, a dict for a
+polynomial, an object for an ``int``) would fail somewhere inside with an AttributeError or a
+TypeError that names neither the argument nor what was expected.  :func:`check_public` wraps
+every public function and method of a module so that such an argument is refused at once with
+an :class:`~symkf.errors.InputError` naming the function, the parameter and the expected kind.
+
+What an annotation asks (resolved lazily, on the first call, so forward references work):
+
+* a class: an instance of it (a symkf class: of its symkf root class, so that the function names
+  the assumption a sibling fails, e.g. an i.i.d. theorem given a Gilbert-Elliott model; any
+  sympy matrix for a sympy matrix class; ``float`` and mpmath's ``mpf`` take any real number, a path
+  takes ``str`` or ``os.PathLike``);
+* ``X | None``, unions, ``Literal[...]`` (one of the values), ``Callable``;
+* ``Sequence[X]``/``list[X]``/``tuple[X, ...]`` (a list or tuple), ``set[X]``/``frozenset[X]``,
+  ``Iterable[X]``/``Collection[X]`` (any iterable but a string), each with its elements checked
+  when it is a list, tuple or set; ``tuple[A, B]`` element by element; ``Mapping``/``dict`` (keys and values);
+* ``Any``, type variables and anything unresolvable: not checked.
+
+A parameter left at its default is not checked, and neither is a call from symkf itself: the
+checks guard the boundary, where outside data comes in, and cost nothing inside the engine.
+"""
+
+from __future__ import annotations
+
+import collections.abc as abc
+import functools
+import inspect
+import numbers
+import os
+import reprlib
+import sys
+import types
+import typing
+from typing import Any, Callable
+
+import numpy as np
+
+from .errors import ArgumentError, InputError
+
+_ABSENT = object()
+
+
+def described(value: Any) -> str:
+    """``value`` for an error message: its type and a short repr (a hostile ``__repr__`` is never
+    needed to build the message)."""
+    try:
+        shown = reprlib.repr(value)
+    except Exception:  # noqa: BLE001 - any failure of the caller's __repr__ just hides the value
+        shown = "..."
+    return f"{type(value).__name__} {shown if isinstance(shown, str) else '...'}"
+
+
+def _test(hint: Any) -> tuple[Callable[[Any], bool], str] | None:
+    """(predicate, words) for an annotation, or None when it asks nothing checkable."""
+    origin, args = typing.get_origin(hint), typing.get_args(hint)
+    if hint is Any or isinstance(hint, typing.TypeVar) or hint is None:
+        return None
+    if origin in (typing.Union, types.UnionType):
+        tests = [_test(a) for a in args if a is not type(None)]
+        if any(t is None for t in tests):
+            return None
+        none = type(None) in args
+        return (lambda v: (none and v is None) or any(t(v) for t, _ in tests),
+                " or ".join([w for _, w in tests] + ["None"] * none))
+    if origin is typing.Literal:
+        return (lambda v: any(type(v) is type(a) and v == a for a in args)), "one of " + ", ".join(map(repr, args))
+    if origin is not None:
+        hint = origin
+    if not isinstance(hint, type):
+        return None
+    if hint in (abc.Callable,):
+        return callable, "a callable"
+    if hint is tuple and args and args[-1] is not Ellipsis:  # tuple[A, B, C]: one element each
+        parts = [_test(a) or (lambda v: True, "anything") for a in args]
+        return (lambda v: isinstance(v, (list, tuple)) and len(v) == len(parts)
+                and all(t(e) for (t, _), e in zip(parts, v))), f"a tuple ({', '.join(w for _, w in parts)})"
+    if hint in (list, tuple, abc.Sequence, abc.MutableSequence, set, frozenset, abc.Set, abc.MutableSet,
+                abc.Iterable, abc.Collection):
+        # the elements of a list, tuple, set or dict (its keys) are checked; a generator is left to the function
+        kind = ((list, tuple), "a list or tuple") if hint in (list, tuple, abc.Sequence, abc.MutableSequence) else \
+            ((set, frozenset), "a set") if hint in (set, frozenset, abc.Set, abc.MutableSet) else (None, "an iterable")
+        container = (lambda v: isinstance(v, kind[0])) if kind[0] else _iterable
+        inner = _test(args[0]) if args and (len(args) == 1 or args[1] is Ellipsis) else None
+        if inner is None:
+            return container, kind[1]
+        return (lambda v: container(v) and (not isinstance(v, (list, tuple, set, frozenset, dict, np.ndarray))
+                                            or all(inner[0](e) for e in v))), f"{kind[1]} of {inner[1]}"
+    if hint in (dict, abc.Mapping, abc.MutableMapping):
+        # keys and values checked like a sequence's elements (a span's basis: int -> row of a field)
+        parts = [_test(a) for a in args] if len(args) == 2 else [None, None]
+        if parts == [None, None]:
+            return (lambda v: isinstance(v, abc.Mapping)), "a mapping"
+        (kt, kw), (vt, vw) = (p or ((lambda v: True), "anything") for p in parts)
+        return (lambda v: isinstance(v, abc.Mapping) and all(kt(k) and vt(x) for k, x in v.items())), \
+            f"a mapping of {kw} to {vw}"
+    if hint is abc.Iterator:
+        return _iterable, "an iterable"
+    if hint is bool:
+        return (lambda v: isinstance(v, bool) or type(v).__name__ == "bool_"), "a bool"
+    # sympy's numbers (an Integer, oo from an estimate) count as numbers too
+    if hint is int:  # a bool is an int here: the function's own check names what it wants
+        return (lambda v: isinstance(v, numbers.Integral) or getattr(v, "is_Number", False) is True), "an int"
+    if hint in (float, complex):
+        return (lambda v: isinstance(v, numbers.Real if hint is float else numbers.Complex)
+                and not isinstance(v, bool) or getattr(v, "is_Number", False) is True), f"a {hint.__name__}"
+    if hint is str:
+        return (lambda v: isinstance(v, str)), "a string"
+    if issubclass(hint, os.PathLike):
+        return (lambda v: isinstance(v, (str, os.PathLike))), "a path"
+    module = hint.__module__.split(".")[0]
+    if module == "sympy" and hasattr(hint, "is_Matrix") and issubclass(hint, _sympy_matrix()):
+        return (lambda v: isinstance(v, _sympy_matrix())), "a sympy matrix"
+    if hint is np.ndarray:  # of numbers: numpy's kernels do not take objects or text
+        return (lambda v: isinstance(v, np.ndarray) and v.dtype.kind in "biufc"), "a numeric array"
+    if module == "mpmath":
+        return (lambda v: isinstance(v, (hint, numbers.Real)) and not isinstance(v, bool)), "a real number"
+    if module == "symkf":  # a sibling of the same symkf root (e.g. any loss model) is the function's to refuse
+        root = [c for c in hint.__mro__ if c.__module__.split(".")[0] == "symkf"][-1]
+        return (lambda v: isinstance(v, root)), f"a {root.__name__}"
+    return (lambda v: isinstance(v, hint)), f"a {hint.__name__}"
+
+
+def _iterable(value: Any) -> bool:
+    if isinstance(value, (str, bytes)):
+        return False
+    try:
+        iter(value)
+    except TypeError:
+        return False
+    return True
+
+
+def _sympy_matrix() -> type:
+    import sympy
+    return sympy.MatrixBase
+
+
+def _tests(fn: Callable) -> list[tuple[int, str, Callable[[Any], bool], str, Any]]:
+    """(position, name, predicate, words, default) per checked parameter of ``fn``."""
+    signature = inspect.signature(fn)
+    names = {**_symkf_classes(), **vars(sys.modules[fn.__module__])}  # the module's own names first
+    out = []
+    for position, (name, p) in enumerate(signature.parameters.items()):
+        if p.annotation is p.empty or p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD):
+            continue
+        try:
+            probe = type("Probe", (), {"__annotations__": {name: p.annotation}, "__module__": fn.__module__})
+            hint = typing.get_type_hints(probe, localns=names)[name]
+        except Exception:  # noqa: BLE001 - an annotation we cannot resolve asks nothing checkable
+            continue
+        test = _test(hint)
+        if test is not None:
+            out.append((position if p.kind != p.KEYWORD_ONLY else -1, name, *test,
+                        _ABSENT if p.default is p.empty else p.default))
+    return out
+
+
+def _symkf_classes() -> dict[str, type]:
+    """The public classes of the symkf modules imported so far, by name: annotations that name a
+    class imported only for type checking resolve through them."""
+    out: dict[str, type] = {}
+    for name, module in list(sys.modules.items()):
+        if name.startswith("symkf.") and module is not None:
+            out.update({k: v for k, v in vars(module).items()
+                        if isinstance(v, type) and not k.startswith("_") and v.__module__.startswith("symkf.")})
+    return out
+
+
+def float_array(value: Any, entry: str) -> np.ndarray:
+    """``value`` as a float64 array, or an :class:`InputError` naming ``entry`` (numpy's
+    ``asarray`` raises ValueError or TypeError for text, objects and ragged rows)."""
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{entry}: expected real numbers (an array or rows), got {described(value)}") from None
+
+
+def _shown(signature: inspect.Signature) -> str:
+    """``signature`` as written in the source, without its annotations (what a caller passes)."""
+    return str(signature.replace(parameters=[p.replace(annotation=p.empty) for p in signature.parameters.values()],
+                                 return_annotation=signature.empty))
+
+
+def checked(fn: Callable, types: bool = True) -> Callable:
+    """``fn`` with its arguments bound to its signature (an :class:`ArgumentError` otherwise) and,
+    with ``types``, its annotated arguments checked first (module docstring)."""
+    tests: list | None = None
+    signature: inspect.Signature | None = None
+
+    @functools.wraps(fn)
+    def call(*args, **kwargs):
+        nonlocal tests, signature
+        if sys._getframe(1).f_globals.get("__name__", "").startswith("symkf."):
+            return fn(*args, **kwargs)  # symkf's own calls pass what it built: the checks guard the boundary
+        if tests is None:
+            signature = inspect.signature(getattr(fn, "py_func", fn))
+            tests = _tests(getattr(fn, "py_func", fn)) if types else []   # a numba kernel: its py_func's annotations
+        try:
+            signature.bind(*args, **kwargs)
+        except TypeError as e:   # Python's message ("missing a required argument: 'loss'") and the signature
+            raise ArgumentError(f"{fn.__qualname__}{_shown(signature)}: {e}") from None
+        for position, name, test, words, default in tests:
+            value = args[position] if 0 <= position < len(args) else kwargs.get(name, _ABSENT)
+            if value is _ABSENT or value is default:
+                continue
+            if not test(value):
+                raise InputError(f"{fn.__qualname__}: argument {name!r} must be {words}, got {described(value)}")
+        return fn(*args, **kwargs)
+
+    call.__symkf_checked__ = True
+    for attr in ("cache_clear", "cache_info"):  # an lru_cache stays clearable
+        if hasattr(fn, attr):
+            setattr(call, attr, getattr(fn, attr))
+    return call
+
+
+def check_public(namespace: dict) -> None:
+    """Wrap every public function and public method defined in the module whose globals are
+    ``namespace`` with :func:`checked`."""
+    if not isinstance(namespace, dict) or not isinstance(namespace.get("__name__"), str):
+        raise InputError(f"namespace: expected a module's globals(), got {described(namespace)}")
+    module = namespace["__name__"]
+    for name, obj in list(namespace.items()):
+        if name.startswith("_") or getattr(obj, "__module__", None) != module:
+            continue
+        # plain functions, and the ones behind functools.lru_cache or a numba kernel
+        if (inspect.isfunction(obj) or callable(obj) and (hasattr(obj, "__wrapped__") or hasattr(obj, "py_func"))) \
+                and not isinstance(obj, type) and not getattr(obj, "__symkf_checked__", False):
+            namespace[name] = checked(obj)
+        elif isinstance(obj, type):
+            for attr, member in list(vars(obj).items()):
+                # a hand-written __init__ is checked; a dataclass's generated one (code from
+                # "<string>") only stores the fields, which __post_init__ checks: its call is bound
+                if attr.startswith("_") and not (attr == "__init__" and inspect.isfunction(member)):
+                    continue
+                if inspect.isfunction(member):
+                    setattr(obj, attr, checked(member, types=member.__code__.co_filename != "<string>"))
+                elif isinstance(member, (classmethod, staticmethod)) and inspect.isfunction(member.__func__):
+                    setattr(obj, attr, type(member)(checked(member.__func__)))

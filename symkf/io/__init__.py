@@ -1,0 +1,2 @@
+"""Files: system files, parameter families and the shipped examples, read into the model
+through its codec."""

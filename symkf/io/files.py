@@ -1,0 +1,198 @@
+"""System files (TOML) as described in the docs' formats page; errors name the file and the key.
+
+A system file holds ``[system]`` (``A``, optional ``Q``, ``P0``, ``name``), a list
+``[[sensors]]`` (``C``, optional ``R``, ``name``) and an optional ``[loss]`` table whose
+``kind`` selects the loss model; :data:`KEYS` lists the keys each table may hold (a ``[loss]``
+table, those of its kind's model).
+Numbers are integers, decimals (TOML ``0.1`` is exactly 1/10: the file's text is read, never
+a binary float) or strings read by :func:`symkf.exact.numbers.parse_exact` ("5/4",
+"sqrt(3)/2"); symbols are refused (a file gives numbers).  ``rationalize = true`` is accepted
+for older files and changes nothing.  A file larger than ``symkf.budget`` ``max_file_size``
+(1 MiB, option ``--max-file-size``) is refused before it is parsed.
+
+* ``kind = "iid"``: ``loss = [...]``, one loss probability per sensor (:class:`~symkf.model.iid.IID`);
+* ``kind = "gilbert-elliott"``: ``fail = [...]``, ``recover = [...]``, optional
+  ``initial_received = [...]`` (default: stationary; :class:`~symkf.model.gilbert_elliott.GilbertElliott`);
+* ``kind = "markov"``: a joint chain of order ``order`` (default 1) on the receival vectors
+  (:class:`~symkf.model.markov.MarkovLoss`).  ``states`` lists the 0/1 vectors of length ``d`` the
+  chain lives on, each once (1 = received; all ``2^d`` of them, or those that can occur); ``P[a][b]`` is the probability that the next vector is ``states[b]``
+  after the history ``a``, the histories being the ``order``-tuples of ``states`` (oldest
+  first) in the order of ``itertools.product(states, repeat=order)``; optional
+  ``initial[a]`` is the law of the first history (default: the stationary law).
+* ``kind = "network"``: a sensor tree over a fading network state (Quevedo et al.,
+  :class:`~symkf.network.NetworkLoss`).  ``parents[m-1] = Par(S_m)`` (0 = gateway; sensor
+  ``m`` of ``[[sensors]]`` is node ``S_m``, a relay is a sensor with ``C = 0``);
+  ``phi[m-1][j-1] = phi_{m|j}``, the success probability of link ``E_m`` in network state
+  ``j``; the network state is Markov (Assumption 1), ``P[i-1][j-1] = p_ij``, or
+  semi-Markov (Assumption 3): the embedded chain ``q`` and ``holding[i-1]``, the law
+  ``psi_i`` of the holding time, as a list ``[psi_i(1), psi_i(2), ...]`` or a table
+  ``{ delta = psi_i(delta) }``; optional ``initial`` is the law of ``Xi(0)`` (default:
+  stationary).  Messages about these keys count sensors and states from 1, as the paper.
+
+A fusion file (arXiv:2012.04896) has ``[fusion]`` and ``[[sensors]]`` instead of ``[system]``
+and is read by :func:`load_fusion`: ``arrival = [...]`` (packet arrival rates
+``lambda_i``), and either ``A``, ``Q`` (discrete time, :meth:`FusionModel.discrete
+<symkf.fusion.FusionModel.discrete>`) or ``Ac``, ``Bc``, ``noise_variance``, ``Ts`` (a
+zero-order hold, :meth:`FusionModel.zoh <symkf.fusion.FusionModel.zoh>`).
+"""
+
+from __future__ import annotations
+
+import stat
+import tomllib
+from decimal import Decimal
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from ..arguments import check_public
+from .. import budget, output
+from ..errors import FileFormatError, SymkfError
+from ..model.codec import built, check_keys, entry, exact_values, read_loss
+from ..model.loss import LossModel
+from ..model.system import Sensor, System
+
+if TYPE_CHECKING:
+    from ..fusion import FusionModel
+
+
+#: the keys each table may hold, by table ("" is the top level); any other key is refused (a
+#: misspelt optional key would otherwise be silently replaced by its default). A ``[loss]``
+#: table holds the keys of its kind's model (:func:`symkf.model.codec.loss_kinds`).
+KEYS = {"": {"system", "sensors", "loss", "rationalize"}, "[system]": {"A", "Q", "P0", "name"},
+        "sensors": {"name", "C", "R"},
+        "fusion file": {"fusion", "sensors", "rationalize"},
+        "[fusion]": {"arrival", "A", "Q", "Ac", "Bc", "noise_variance", "Ts"}}
+
+
+def _name(value: Any, where: str) -> str | None:
+    if value is not None and (not isinstance(value, str) or not value.strip()):
+        raise FileFormatError(f"{where}: key 'name' must be a non-empty string, got {value!r}")
+    return value
+
+
+def read_toml(path: str | Path) -> dict:
+    """The TOML document at ``path``, decimals as :class:`~decimal.Decimal` (exact); at most
+    ``max_file_size`` bytes are read (a huge file is refused, not exhausted) from a regular file
+    (a FIFO, directory or device such as ``/dev/zero`` is refused without waiting on it)."""
+    path = Path(path)
+    output.note_input(path)
+    cap = budget.LIMITS.max_file_size
+    try:
+        # refused before it is opened unless it is a regular file (opening a FIFO with no writer
+        # waits forever): a directory, FIFO, socket or device is not a system file
+        mode = path.stat().st_mode
+        if not stat.S_ISREG(mode):
+            kind = "a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else \
+                "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "a special file"
+            raise FileFormatError(f"{path}: is {kind}, not a TOML file")
+        with path.open("rb") as f:
+            raw = f.read(cap + 1)
+        budget.check("max_file_size", len(raw), str(path), "the size in bytes (at least)")
+        return tomllib.loads(raw.decode("utf-8"), parse_float=Decimal)
+    except FileNotFoundError:
+        raise FileFormatError(f"{path}: no such file") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise FileFormatError(f"{path}: not valid TOML ({exc})") from None
+    except ValueError as exc:  # e.g. an integer beyond Python's digit limit for str -> int
+        if isinstance(exc, SymkfError):
+            raise
+        raise FileFormatError(f"{path}: not a usable TOML file ({exc})") from None
+    except OSError as exc:
+        raise FileFormatError(f"{path}: cannot read ({exc.strerror or type(exc).__name__})") from None
+
+
+def load(path: str | Path) -> tuple[System, LossModel | None]:
+    """Read a system file; returns the system and its loss model (None when absent)."""
+    return parse(read_toml(path), str(path))
+
+
+def _rationalize(data: dict, source: str) -> bool:
+    rationalize = data.get("rationalize", False)
+    if not isinstance(rationalize, bool):
+        raise FileFormatError(f"{source}: key 'rationalize' must be true or false")
+    return rationalize
+
+
+def _sensors(data: dict, source: str, rationalize: bool) -> list[Sensor]:
+    sensors_data = entry(data, "sensors", source)
+    if not isinstance(sensors_data, list) or not sensors_data:
+        raise FileFormatError(f"{source}: [[sensors]] must list at least one sensor")
+    sensors = []
+    for i, s in enumerate(sensors_data):
+        where = f"{source}: sensors[{i}]"
+        if not isinstance(s, dict):
+            raise FileFormatError(f"{where} must be a table")
+        check_keys(s, KEYS["sensors"], where)
+        C, name = entry(s, "C", where), _name(s.get("name"), where)
+        sensors.append(built(lambda: Sensor(C=C, R=s.get("R"), name=name, rationalize=rationalize),
+                              f"sensors[{i}]"))
+    return sensors
+
+
+def parse(data: dict, source: str) -> tuple[System, LossModel | None]:
+    """The system and loss model of already-read TOML ``data``; errors are prefixed by ``source``
+    (a file name, or a file and a family grid point).  The system's default name is the last
+    path component of ``source``."""
+    if "fusion" in data:
+        raise FileFormatError(f"{source}: key 'fusion': a fusion file (arXiv:2012.04896) has no [system]; "
+                              "read it with symkf.io.files.load_fusion")
+    check_keys(data, KEYS[""], f"{source}")
+    rationalize = _rationalize(data, source)
+    return built(lambda: _system_and_loss(data, source, rationalize), source)
+
+
+def _system_and_loss(data: dict, source: str, rationalize: bool) -> tuple[System, LossModel | None]:
+    sysdata = entry(data, "system", source)
+    if not isinstance(sysdata, dict):
+        raise FileFormatError(f"{source}: [system] must be a table")
+    check_keys(sysdata, KEYS["[system]"], f"{source}: [system]")
+    sensors = _sensors(data, source, rationalize)
+    system = System(A=entry(sysdata, "A", f"{source}: [system]"), sensors=sensors, Q=sysdata.get("Q"),
+                    P0=sysdata.get("P0"), rationalize=rationalize,
+                    name=_name(sysdata.get("name"), f"{source}: [system]") or Path(source).stem)
+    return system, _loss(data.get("loss"), source, system.d, rationalize)
+
+
+def _loss(table: Any, source: str, d: int, rationalize: bool) -> LossModel | None:
+    if table is None:
+        return None
+    if not isinstance(table, dict):
+        raise FileFormatError(f"{source}: [loss] must be a table")
+    return read_loss(table, f"{source}: [loss]", d, rationalize)
+
+
+def load_fusion(path: str | Path) -> "FusionModel":
+    """Read a fusion file (arXiv:2012.04896): ``[fusion]`` and ``[[sensors]]``, see the module docstring."""
+    return parse_fusion(read_toml(path), str(path))
+
+
+def parse_fusion(data: dict, source: str) -> "FusionModel":
+    """The :class:`~symkf.fusion.FusionModel` of already-read TOML ``data``; errors are prefixed by ``source``."""
+    if "system" in data:
+        raise FileFormatError(f"{source}: key 'system': a system file, not a fusion file; read it with "
+                              "symkf.io.files.load")
+    check_keys(data, KEYS["fusion file"], source)
+    rationalize = _rationalize(data, source)
+    return built(lambda: _fusion(data, source, rationalize), source)
+
+
+def _fusion(data: dict, source: str, rationalize: bool) -> "FusionModel":
+    from ..fusion import FusionModel
+    table = entry(data, "fusion", source)
+    where = f"{source}: [fusion]"
+    if not isinstance(table, dict):
+        raise FileFormatError(f"{where} must be a table")
+    check_keys(table, KEYS["[fusion]"], where)
+    sensors = _sensors(data, source, rationalize)
+    if "Ac" in table:
+        keys, build = ("Ac", "Bc", "noise_variance", "Ts"), FusionModel.zoh
+    else:
+        keys, build = ("A", "Q"), FusionModel.discrete
+    extra = sorted(KEYS["[fusion]"] - {"arrival"} - set(keys) & set(table))
+    if extra:
+        raise FileFormatError(f"{where}: key '{extra[0]}' does not belong with {', '.join(keys)} "
+                              "(give A, Q for discrete time or Ac, Bc, noise_variance, Ts for a zero-order hold)")
+    values = [exact_values(entry(table, key, where), f"{where} {key}", rationalize) for key in keys + ("arrival",)]
+    return built(lambda: build(*values[:-1], sensors, values[-1]), "[fusion]")
+
+check_public(globals())

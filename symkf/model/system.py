@@ -1,0 +1,398 @@
+"""Systems and sensors with exact data (Sui-You-Fu eqs. 1-3).
+
+``x_{k+1} = A x_k + w_k``, ``y_k^i = C_i x_k + v_k^i`` with ``w ~ N(0, Q)``,
+``v^i ~ N(0, R_i)`` and ``x_0 ~ N(xbar_0, P0)``.  Every entry is exact (see
+:mod:`symkf.exact.numbers`); covariances are checked Hermitian positive
+definite exactly (Sylvester's criterion with certified signs).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Sequence
+
+import sympy as sp
+
+from ..arguments import check_public
+from .. import budget
+from ..errors import (InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, SymkfError,
+                      UnobservableError)
+from ..exact.algebraic import sign
+from ..exact.numbers import as_matrix, decimal_matrix, rationalization, sympify, to_exact_matrix
+
+if TYPE_CHECKING:
+    from ..exact.spectral import Eigenvalue
+
+
+def _compare_periods(A: sp.MatrixBase, decimal_A: Any, partial: sp.MatrixBase | None = None) -> str:
+    """Whether reading the floats of A as nearby constants rather than as decimals changed its
+    governing periods (they decide the critical values, Sui-You-Fu Theorem 7).  ``partial``: the
+    reading with the constants recognised in part of a block, which was not taken (A is then read
+    as decimals there); its periods are given beside the decimals'."""
+    from ..exact.spectral import eigen_blocks
+
+    def periods(M: Any) -> str:
+        return str(tuple(b.governing_period for b in eigen_blocks(M)))
+    decimal_M = decimal_A()
+    try:
+        exact, decimal = periods(A if partial is None else partial), periods(decimal_M)
+    except SymkfError as exc:
+        return f"governing periods not compared ({exc})"
+    first = "the recognised constants" if partial is None else "the constants recognised in part (not taken)"
+    verdict = "they DIFFER, so the critical values may too" if exact != decimal else "equal"
+    taken = "" if partial is None and A != decimal_M else "; A is read with the plain decimals"
+    return (f"governing periods of A: {exact} with {first}, {decimal} with the plain decimals ({verdict}; "
+            f"None = aperiodic){taken}")
+
+
+def _identity(n: int) -> sp.ImmutableMatrix:
+    return sp.ImmutableMatrix(sp.eye(n))
+
+
+def check_positive_definite(M: sp.MatrixBase, entry: str) -> None:
+    """Raise unless ``M`` is Hermitian positive definite (exact leading minors)."""
+    M = as_matrix(M, entry)
+    if M.shape[0] != M.shape[1]:
+        raise ShapeError(f"{entry}: covariance must be square, got {M.shape[0]}x{M.shape[1]}")
+    for i in range(M.shape[0]):
+        for j in range(i + 1, M.shape[0]):
+            if sp.simplify(M[i, j] - sp.conjugate(M[j, i])) != 0:
+                raise NotPositiveDefiniteError(
+                    f"{entry}: not symmetric, entry [{i}][{j}] = {M[i, j]} but [{j}][{i}] = {M[j, i]}")
+    for k in range(1, M.shape[0] + 1):
+        minor = sp.expand(M[:k, :k].det(method="berkowitz"))
+        if sign(minor) <= 0:
+            raise NotPositiveDefiniteError(
+                f"{entry}: not positive definite, leading {k}x{k} minor is {sp.simplify(minor)}")
+
+
+@dataclass(frozen=True)
+class Sensor:
+    """One sensor: ``y^i = C_i x + v^i`` with ``v^i ~ N(0, R_i)``; R defaults to I (Sui-You-Fu eq. 2).
+
+    Parameters
+    ----------
+    C : matrix-like
+        The ``m_i x n`` measurement matrix: nested lists of exact numbers (ints, Fractions,
+        sympy numbers or strings such as ``"sqrt(3)/2"``).
+    R : matrix-like, optional
+        The ``m_i x m_i`` noise covariance, Hermitian positive definite; default the identity.
+    name : str, optional
+        The sensor's name in verdicts and errors; :class:`System` names an unnamed sensor
+        ``s1``, ``s2``, ... by its position.
+    rationalize : bool, default False
+        Accept binary floats, read as the exact rationals they denote; otherwise a float is an
+        error (exact stays exact).
+
+    Raises
+    ------
+    InputError
+        An entry is not an exact number (or a float without ``rationalize``).
+    ShapeError
+        ``R`` is not ``m_i x m_i``.
+    NotPositiveDefiniteError
+        ``R`` is not Hermitian positive definite (exact leading minors).
+
+    Examples
+    --------
+    Two channels, ``R`` defaulting to the 2 x 2 identity:
+
+    >>> import symkf as sk
+    >>> s = sk.Sensor(C=[[1, 0], [0, 1]], name="gps")
+    >>> s.m, s.R
+    (2, Matrix([
+    [1, 0],
+    [0, 1]]))
+
+    A noise variance must be positive:
+
+    >>> sk.Sensor(C=[[1, 0]], R=[[-1]])
+    Traceback (most recent call last):
+    ...
+    symkf.errors.NotPositiveDefiniteError: sensor R: not positive definite, leading 1x1 minor is -1
+    """
+
+    C: Any
+    R: Any = None
+    name: str | None = None
+    rationalize: bool | str = False
+
+    def __post_init__(self) -> None:
+        label = f"sensor {self.name!r}" if self.name else "sensor"
+        with rationalization("Sensor"):
+            C = to_exact_matrix(self.C, f"{label} C", rationalize=self.rationalize, vector="row")
+            R = _identity(C.shape[0]) if self.R is None else to_exact_matrix(
+                self.R, f"{label} R", rationalize=self.rationalize, shape=(C.shape[0], C.shape[0]))
+        object.__setattr__(self, "C", C)
+        check_positive_definite(R, f"{label} R")
+        object.__setattr__(self, "R", R)
+
+    @property
+    def m(self) -> int:
+        """Number of measurement channels m_i."""
+        return self.C.shape[0]
+
+
+@dataclass(frozen=True)
+class System:
+    """A linear system observed by ``d`` sensors over lossy channels.
+
+    ``Q`` and ``P0`` default to the identity.  ``(A, C)`` with ``C`` the stack
+    of all ``C_i`` must be detectable: every eigenvalue with ``|lambda| >= 1``
+    seen by some sensor (PBH test); the error names an unseen one.  The papers
+    assume observability; modes with ``|lambda| < 1`` never decide stability
+    (:meth:`System.set_aside`).
+
+    Parameters
+    ----------
+    A : matrix-like
+        The ``n x n`` state matrix (Sui-You-Fu eq. 1), exact entries as for :class:`Sensor`.
+    sensors : sequence of Sensor
+        The ``d >= 1`` sensors, with distinct names (unnamed ones become ``s1``, ``s2``, ...).
+    Q : matrix-like, optional
+        Process-noise covariance, Hermitian positive definite; default the identity.
+    P0 : matrix-like, optional
+        Covariance of ``x_0``, Hermitian positive definite; default the identity.
+    rationalize : bool, default False
+        Accept binary floats in ``A``, ``Q`` and ``P0`` as the rationals they denote.
+    name : str, optional
+        A name for reports and tables.
+
+    Raises
+    ------
+    InputError
+        No sensor, a non-:class:`Sensor` entry, repeated names, or an inexact entry.
+    ShapeError
+        ``A`` is not square, or a ``C_i``, ``Q`` or ``P0`` does not fit ``n``.
+    NotPositiveDefiniteError
+        ``Q`` or ``P0`` is not Hermitian positive definite.
+    UnobservableError
+        ``(A, C)`` is not detectable; the message names the unseen eigenvalue.
+
+    Examples
+    --------
+    ``A = 2R(pi/2)`` (rotation by a quarter turn, scaled by 2) watched by two scalar sensors;
+    the stacked ``C`` (eq. 3) is their rows in order:
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[1, 1]], name="s2")])
+    >>> S.n, S.d, S.sensor_names, S.observable
+    (2, 2, ('s1', 's2'), True)
+    >>> S.C
+    Matrix([
+    [1, 0],
+    [1, 1]])
+
+    ``diag(2, 3)`` seen only through its first coordinate: the eigenvalue 3 (``|3| >= 1``) has
+    the eigenvector ``e_2`` in the kernel of ``C`` (PBH), so no Kalman filter can track it:
+
+    >>> sk.System(A=[[2, 0], [0, 3]], sensors=[sk.Sensor(C=[[1, 0]])])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    symkf.errors.UnobservableError: detectability of (A, C) fails: the eigenvalue 3 of A ...
+    """
+
+    A: Any
+    sensors: Sequence[Sensor]
+    Q: Any = None
+    P0: Any = None
+    rationalize: bool | str = False
+    name: str | None = None
+    _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False, hash=False)
+
+    def __getstate__(self) -> dict:
+        # the cache is derived data (rebuilt on demand): pickles, e.g. to sweep workers, stay small
+        return {**self.__dict__, "_cache": {}}
+
+    def __post_init__(self) -> None:
+        with rationalization("System") as record:
+            self._read(record)
+        self.check_detectable()
+
+    @classmethod
+    def _unchecked(cls, A: Any, sensors: Sequence[Sensor]) -> "System":
+        """A system the engine derives from a checked one (a direct summand of its ``A``, a lifted
+        orbit: :mod:`symkf.engine.cylinders`), read as any other but not required to be detectable: a
+        mode that these sensors do not see is seen elsewhere in the system it came from."""
+        out = object.__new__(cls)
+        given = {"A": A, "sensors": sensors}
+        for f in dataclasses.fields(cls):   # the others at their defaults
+            object.__setattr__(out, f.name, given[f.name] if f.name in given else
+                               f.default_factory() if f.default is dataclasses.MISSING else f.default)
+        with rationalization("System") as record:
+            out._read(record)
+        return out
+
+    def _read(self, record: Any) -> None:
+        raw = self.A
+        A = to_exact_matrix(raw, "A", rationalize=self.rationalize)
+        if self.rationalize == "nearby" and any(e == "A" or e.startswith("A[") for e, *_ in record.changes):
+            record.notes.append(_compare_periods(A, lambda: decimal_matrix(raw, "A"), record.partial.get("A")))
+        if A.shape[0] != A.shape[1]:
+            raise ShapeError(f"A: must be square, got {A.shape[0]}x{A.shape[1]}")
+        n = A.shape[0]
+        object.__setattr__(self, "A", A)
+        sensors = list(self.sensors) if isinstance(self.sensors, Sequence) else [self.sensors]
+        if not sensors:
+            raise InputError("sensors: at least one sensor is needed")
+        budget.check("max_sensors", len(sensors), "sensors", "the number of sensors")
+        names = []
+        for i, s in enumerate(sensors):
+            if not isinstance(s, Sensor):
+                raise InputError(f"sensors[{i}]: expected a symkf.Sensor, got {type(s).__name__}")
+            if s.C.shape[1] != n:
+                raise ShapeError(f"sensor {s.name or i!r} C: has {s.C.shape[1]} columns, A is {n}x{n}")
+            names.append(s.name or f"s{i + 1}")
+        if len(set(names)) != len(names):
+            raise InputError(f"sensors: names must be distinct, got {names}")
+        object.__setattr__(self, "sensors", tuple(
+            s if s.name else Sensor(s.C, s.R, name=names[i]) for i, s in enumerate(sensors)))
+        for key in ("Q", "P0"):
+            value = getattr(self, key)
+            M = _identity(n) if value is None else to_exact_matrix(
+                value, key, rationalize=self.rationalize, shape=(n, n))
+            check_positive_definite(M, key)
+            object.__setattr__(self, key, M)
+
+    @property
+    def n(self) -> int:
+        """State dimension ``n``."""
+        return self.A.shape[0]
+
+    @property
+    def d(self) -> int:
+        """Number of sensors ``d``."""
+        return len(self.sensors)
+
+    @property
+    def C(self) -> sp.ImmutableMatrix:
+        """The stacked ``C = col{C_1, ..., C_d}`` (eq. 3)."""
+        return sp.ImmutableMatrix(sp.Matrix.vstack(*[s.C for s in self.sensors]))
+
+    @property
+    def R(self) -> sp.ImmutableMatrix:
+        """Block-diagonal ``R = diag(R_1, ..., R_d)`` of the sensors' noise covariances (eq. 3)."""
+        return sp.ImmutableMatrix(sp.diag(*[s.R for s in self.sensors]))
+
+    @property
+    def sensor_names(self) -> tuple[str, ...]:
+        """The sensors' names, in order."""
+        return tuple(s.name for s in self.sensors)
+
+    def unseen(self, lam: "Eigenvalue") -> bool:
+        """PBH test: whether the eigenvalue ``lam`` (a :class:`~symkf.exact.spectral.Eigenvalue` of A)
+        has an eigenvector in the kernel of every C_i (:func:`symkf.exact.spectral.unseen`, cached)."""
+        cached = self._cache.get("unseen")
+        if cached is None:
+            from ..exact.spectral import unseen
+            cached = self._cache["unseen"] = unseen(self.A, self.C)
+        return lam.key in cached
+
+    @property
+    def observable(self) -> bool:
+        """Whether ``(A, C)`` is observable (cached): the exact rank of the observability matrix
+        over Q, else no eigenvalue unseen (Hautus), decided per diagonal block of A in its own field."""
+        cached = self._cache.get("observable")
+        if cached is None:
+            if all(sympify(v).is_Rational for M in (self.A, self.C) for v in M):
+                from ..exact.linalg import rank
+                cached = rank(sp.Matrix.vstack(*[self.C * self.A ** k for k in range(self.n)])) == self.n
+            else:
+                cached = not any(self.unseen(e) for b in self.eigen_blocks() for e in b.members)
+            self._cache["observable"] = cached
+        return cached
+
+    def check_detectable(self) -> None:
+        """Raise :class:`UnobservableError` naming an eigenvalue with ``|lambda| >= 1`` that no sensor sees.
+
+        Detectability (PBH on ``|lambda| >= 1`` only) is what a Kalman filter needs: an unseen
+        mode with ``|lambda| < 1`` decays by itself and is set aside (:meth:`set_aside`)."""
+        if self.observable:
+            return
+        for block in self.eigen_blocks():
+            for lam in block.members:
+                if not block.is_stable and self.unseen(lam):
+                    raise UnobservableError(
+                        f"the eigenvalue {lam.expr} of A (|lambda| = {block.modulus} >= 1) is not seen by any "
+                        "sensor (PBH rank test), so (A, C) is not detectable",
+                        assumption="detectability of (A, C)",
+                        applies_instead="a sensor set whose stacked C sees every mode with |lambda| >= 1")
+
+    def eigen_blocks(self) -> tuple[Any, ...]:
+        """:func:`symkf.exact.spectral.eigen_blocks` of ``A`` (cached)."""
+        cached = self._cache.get("eigen_blocks")
+        if cached is None:
+            from ..exact.spectral import eigen_blocks
+            cached = self._cache["eigen_blocks"] = eigen_blocks(self.A)
+        return cached
+
+    def set_aside(self) -> tuple[tuple[Any, str], ...]:
+        """The eigen-blocks of modulus < 1 left out of the verdict, each with the reason (cached).
+
+        A block with ``alpha_i < 1`` has margin ``alpha_i^2 rho_i <= alpha_i^2 < 1`` and never
+        decides stability.  symkf keeps such a block in the verdict when the papers' analysis
+        applies to it (diagonalizable, nonzero, every mode seen) and sets it aside otherwise:
+        zero eigenvalues, stable Jordan chains, stable modes no sensor sees."""
+        cached = self._cache.get("set_aside")
+        if cached is None:
+            out = []
+            for block in self.eigen_blocks():
+                if not block.is_stable:
+                    continue
+                names = ", ".join(e.label for e in block.members)
+                if block.modulus == 0:
+                    out.append((block, "eigenvalue 0: its modes vanish after finitely many steps"))
+                elif block.defective:
+                    out.append((block, f"eigenvalue(s) {names} with Jordan chains and |lambda| = "
+                                       f"{block.modulus} < 1: they decay without measurements"))
+                elif any(self.unseen(e) for e in block.members):
+                    out.append((block, f"eigenvalue(s) {names} with |lambda| = {block.modulus} < 1, not all "
+                                       "seen by the sensors: detectability suffices"))
+            cached = self._cache["set_aside"] = tuple(out)
+        return cached
+
+    def require_invertible_A(self) -> None:
+        """Lemma 2 (Sui-You-Fu) needs A invertible."""
+        if self.A.det() == 0:
+            raise SingularSystemError("A is singular (det A = 0)",
+                                      assumption="Lemma 2 (Sui-You-Fu): A invertible")
+
+    def sensor_index(self, name: str) -> int:
+        """Position of the sensor called ``name``; :class:`~symkf.errors.InputError` listing the names if none."""
+        try:
+            return self.sensor_names.index(name)
+        except ValueError:
+            raise InputError(f"no sensor named {name!r}; sensors are {list(self.sensor_names)}") from None
+
+    @classmethod
+    def from_statespace(cls, sys: Any, sensors: Any = None, *, Q: Any = None, R: Any = None, P0: Any = None,
+                        rationalize: bool | str = False, name: str | None = None) -> System:
+        """The system ``(A, C)`` of a discrete-time python-control ``StateSpace`` (only ``A`` and
+        ``C`` are used; python-control carries no noise, so ``Q``, ``P0`` and the sensors' ``R``,
+        a mapping from sensor name to matrix, are given here and default to identities).
+
+        ``sensors`` splits the rows of ``C``: a mapping from sensor name to row indices, a list
+        of names (one row each), or None (one sensor per row, named by ``sys.output_labels``);
+        see :func:`symkf.model.statespace.statespace_parts`. python-control stores float64, so
+        entries that are not exact in binary need ``rationalize`` (True: the shortest decimal;
+        ``"nearby"``: a nearby exact constant).
+
+        >>> import control as ct
+        >>> plant = ct.ss([[0, -2], [2, 0]], [[0], [1]], [[1, 0], [1, 1]], 0, dt=1)
+        >>> S = System.from_statespace(plant, {"s1": [0], "s2": [1]}, rationalize=True)
+        >>> S.sensor_names, S.A.tolist()
+        (('s1', 's2'), [[0, -2], [2, 0]])
+        """
+        from .statespace import statespace_parts
+        A, parts = statespace_parts(sys, sensors, R)
+        return cls(A=A, Q=Q, P0=P0, rationalize=rationalize, name=name or sys.name,
+                   sensors=[Sensor(C=C, R=Rs, name=s, rationalize=rationalize) for s, (C, Rs) in parts.items()])
+
+    def to_statespace(self, B: Any = None, D: Any = None, dt: float | bool = True) -> Any:
+        """This system as a python-control ``StateSpace``: :func:`symkf.model.statespace.to_statespace`."""
+        from .statespace import to_statespace
+        return to_statespace(self, B, D, dt)
+
+check_public(globals())

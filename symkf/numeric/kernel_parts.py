@@ -1,0 +1,328 @@
+"""The pieces the compiled square-root filter kernels inline: float bit tricks, the scaled
+logarithm, powers of two, aligned arrays, the rescale and the stores of traces
+(:mod:`symkf.numeric.square_root` generates the kernels; the generated modules
+:mod:`symkf.numeric.straight_kernels` and :mod:`symkf.numeric.unrolled_kernels` import these
+and record this file's digest, since numba keys a cached kernel on its own file alone).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.core.imputils import impl_ret_new_ref
+from numba.extending import intrinsic
+from numba.np.arrayobj import _empty_nd_impl
+
+from ..arguments import check_public
+
+#: paths per block of the loop kernel (more states than the straight-line kernels), whose lane loops are many and short: 128
+#: halves their set-up per path (1.3-1.4x over 64 at n = 12 and 16; 256 measured 0.94-1.16x)
+LOOP_LANES = 128
+#: the smallest normal float64, 2^-1022: a Potter denominator or a Householder ``|v|^2 / 2`` below it
+#: is dropped (its reciprocal could overflow; what it would change is below 2^-511 of ``S``'s scale)
+NORMAL = float(np.finfo(np.float64).tiny)
+#: the largest exponent of the process noise's scale 2^(-E/2): beyond, tr P < 2^-2048 < tr Q, so
+#: Q = 0 (a time update leaves tr P >= tr Q), and 2^(-E/2) = inf would make inf * 0 = nan of its
+#: zero entries (A = I/2, Q = 0: nan from step 1024 on); the measurement noise 2^-E may be inf
+#: (a Potter gain of 0: no row moves a P below 2^-1024 R)
+ROOT_MAX = 1023
+# error_model="numpy": divisions need no Python zero check, so the path loops vectorise.
+# No fastmath, not even FMA contraction: a fused S - Su f^T does not cancel to the same
+# rounding as the product it subtracts; on A = 2 R(pi/2) (exact in float64) that lost 32 of
+# log tr P's 2773 over a 2000-step periodic burst (float_horizon fell from None to 45)
+_compiled = njit(cache=True, nogil=True, error_model="numpy")
+
+
+@intrinsic
+def _float_bits(typingctx, bits):
+    """The float64 whose IEEE bits are the int64 ``bits`` (a register move: it vectorises)."""
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.DoubleType())
+    return types.float64(types.int64), codegen
+
+
+@intrinsic
+def _bits_of(typingctx, value):
+    """The IEEE bits of the float64 ``value`` as an int64 (a register move: it vectorises)."""
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.IntType(64))
+    return types.int64(types.float64), codegen
+
+
+@intrinsic
+def _fma(typingctx, a, b, c):
+    """``a b + c`` rounded once (``llvm.fma``: one vector instruction where the CPU has FMA)."""
+    def codegen(context, builder, signature, args):
+        double = ir.DoubleType()
+        fma = cgutils.get_or_insert_function(builder.module, ir.FunctionType(double, [double] * 3), "llvm.fma.f64")
+        return builder.call(fma, args)
+    return types.float64(types.float64, types.float64, types.float64), codegen
+
+
+#: fdlibm's e_log.c (Sun Microsystems, 1993): ln 2 split so that ``k ln2_hi`` is exact for
+#: |k| < 2^20, and the minimax coefficients of ``(log(1 + f) - f + f^2/2) / s`` in ``s^2``,
+#: ``s = f / (2 + f)``, error below 2^-58.7 on |s| <= 0.1716
+LN2_HI, LN2_LO = 6.93147180369123816490e-01, 1.90821492927058770002e-10
+LG = (6.666666666666735130e-01, 3.999999999940941908e-01, 2.857142874366239149e-01, 2.222219843214978396e-01,
+      1.818357216161805012e-01, 1.531383769920937332e-01, 1.479819860511658591e-01)
+
+
+@_compiled
+def _log_scaled(t: float, e: int) -> float:
+    """``log t + e ln 2`` for ``t`` zero or a normal float (-inf at 0, ``t`` itself if inf or nan), with
+    fdlibm's ``log`` (below one ulp): branch-free, so that a lane loop of it vectorises, where
+    ``math.log`` is a call per path.  ``t = m 2^k``, ``m`` in [sqrt(2)/2, sqrt(2)), ``f = m - 1``
+    exact; then ``log t = (k + e) ln 2 + f - f^2/2 + s (f^2/2 + R(s^2))``.  The polynomial ``R`` and
+    ``s (f^2/2 + R) + k ln2_lo`` are evaluated with fused multiply-adds (one rounding where fdlibm
+    has two; 7 vector operations fewer per path-step): small terms, added last, whose rounding
+    fdlibm's error analysis bounds; the final ``f - f^2/2`` and ``k ln2_hi`` are fdlibm's, unfused.
+    Measured: at most 0.758 ulp over 480 000 arguments in [1/2, 2), near 1 and near sqrt 2, as
+    fdlibm unfused (the two differ in 35 of 240 000 results)."""
+    bits = _bits_of(t)
+    k = ((bits >> 52) & 2047) - 1023
+    m = _float_bits((bits & 0xFFFFFFFFFFFFF) | 0x3FF0000000000000)   # [1, 2)
+    high = m > 1.4142135623730951
+    m = m * 0.5 if high else m
+    f = m - 1.0
+    s = f / (2.0 + f)
+    z = s * s
+    w = z * z
+    R = _fma(z, _fma(w, _fma(w, _fma(w, LG[6], LG[4]), LG[2]), LG[0]), w * _fma(w, _fma(w, LG[5], LG[3]), LG[1]))
+    half_f2 = 0.5 * f * f
+    dk = float(k + (1 if high else 0) + e)
+    value = dk * LN2_HI - ((half_f2 - _fma(s, half_f2 + R, dk * LN2_LO)) - f)
+    if 0.0 < t < math.inf:
+        return value
+    return -math.inf if t == 0.0 else t
+
+
+class _Aligned64:
+    """numba's target context with 64-byte array alignment (its own is 32: AVX's)."""
+
+    def __init__(self, context) -> None:
+        self._context = context
+
+    def __getattr__(self, name: str):
+        return getattr(self._context, name)
+
+    def get_preferred_array_alignment(self, ty) -> int:
+        return 64
+
+
+def _aligned_zeros(dtype):
+    """An intrinsic ``zeros(shape)`` of ``dtype`` (C order) at a 64-byte boundary.  numba's own arrays
+    are aligned to 32 bytes: in about half of all processes they start 32 bytes off a cache line,
+    and then every 64-byte vector load of a lane loop spans two lines (measured at n = 16: the
+    kernel took 33 ms in some processes, 40-48 ms in others; 31-33 ms in every process aligned).
+    The allocation is numba's own (:func:`numba.np.arrayobj._empty_nd_impl`), in the kernel's body,
+    so that the compiler still tells the arrays apart and knows their shapes (a view of another
+    dtype would hide both: a kernel 4-6x slower at n = 4, 8)."""
+    @intrinsic
+    def zeros(typingctx, shape):
+        array = types.Array(dtype, len(shape), "C")
+
+        def codegen(context, builder, signature, args):
+            out = _empty_nd_impl(_Aligned64(context), builder, array, cgutils.unpack_tuple(builder, args[0]))
+            cgutils.memset(builder, out.data, builder.mul(out.itemsize, out.nitems), 0)
+            return impl_ret_new_ref(context, builder, array, out._getvalue())
+        return array(shape), codegen
+    return zeros
+
+
+_aligned, _aligned_int = _aligned_zeros(types.float64), _aligned_zeros(types.int64)
+
+
+def _pow2_bits(e: int) -> float:
+    """``2^e`` as the product of two normal powers of two built from their exponent bits, ``e``
+    clamped to their range first (a table look-up is a gather, paid on every path-step of the lane
+    loops)."""
+    e = min(max(e, -2044), 2046)
+    half = e >> 1
+    return _float_bits((half + 1023) << 52) * _float_bits((e - half + 1023) << 52)
+
+
+def _clamped(e: int) -> int:
+    """``e`` within [-2100, 2100], where ``2^e`` is 0 or inf beyond (an int32 for ``llvm.ldexp``)."""
+    return min(max(e, -2100), 2100)
+
+
+@intrinsic
+def _pow2(typingctx, e):
+    """``2^e`` rounded as ``ldexp(1, e)`` (0 for e <= -1075, inf for e >= 1024).  Where the compile
+    target has AVX-512, ``llvm.ldexp``: one ``vscalefpd`` per 8 lanes (n = 2: 1.02x over
+    :func:`_pow2_bits`); elsewhere LLVM would call libm's ``ldexp`` lane by lane, and
+    :func:`_pow2_bits` is inlined instead (the same value: both are exact)."""
+    def codegen(context, builder, signature, args):
+        if "+avx512f" not in getattr(context.codegen(), "_tm_features", ""):
+            return context.compile_internal(builder, _pow2_bits, signature, args)
+        i32 = ir.IntType(32)
+        power = builder.trunc(context.compile_internal(builder, _clamped, types.int64(types.int64), args), i32)
+        ldexp = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.DoubleType(), [ir.DoubleType(), i32]),
+                                               "llvm.ldexp.f64.i32")
+        return builder.call(ldexp, [ir.Constant(ir.DoubleType(), 1.0), power])
+    return types.float64(types.int64), codegen
+
+
+@_compiled
+def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, scale: np.ndarray) -> None:
+    """Scale every ``S`` (n, n, paths) by a power of two so that ``tr S S^T`` is in [1/2, 2),
+    adding the (even) exponent taken out to ``E``; ``t`` receives the new trace."""
+    n = S.shape[0]
+    for p in range(LOOP_LANES):
+        t[p] = 0.0
+    for i in range(n):
+        for j in range(i + 1):
+            for p in range(LOOP_LANES):
+                t[p] += S[i, j, p] * S[i, j, p]
+    bits = t.view(np.int64)
+    for p in range(LOOP_LANES):
+        # t = m 2^e with m in [1/2, 1): e from the exponent field (frexp's, without a call)
+        e = ((bits[p] >> 52) & 2047) - 1022 if t[p] > 0.0 else 0
+        e -= e & 1
+        E[p] += e
+        t[p] *= _pow2(-e)
+        scale[p] = _float_bits((1023 - e // 2) << 52)   # -e / 2 in [-512, 511]: one power of two
+    for i in range(n):
+        for j in range(i + 1):
+            for p in range(LOOP_LANES):
+                S[i, j, p] *= scale[p]
+
+
+@_compiled
+def _linear_scaled(t: float, e: int) -> float:
+    """``t 2^e`` by two exact power-of-two factors (inf only beyond float64)."""
+    half = e // 2
+    return t * _pow2(half) * _pow2(e - half)
+
+
+@_compiled
+def _row(trace: np.ndarray, buffer: np.ndarray, spare: np.ndarray, k: int, start: int, linear: bool) -> np.ndarray:
+    """Where a lane loop writes step ``k``'s traces of the block at ``start`` (``spare.size`` lanes):
+    its row of ``trace`` (their logs, ``trace[k, p]``), or with ``linear`` the row ``k mod w`` of
+    ``buffer`` (w, lanes), the block's ``w`` steps, which :func:`_flush` writes along the steps;
+    ``spare`` for a partial last block's logs, or a step beyond those ``trace`` has."""
+    if linear:
+        return buffer[k % buffer.shape[0]] if k < trace.shape[1] else spare
+    if start + spare.size <= trace.shape[1]:
+        return trace[k, start:start + spare.size]
+    return spare
+
+
+@_compiled
+def _flush(trace: np.ndarray, buffer: np.ndarray, spare: np.ndarray, k: int, start: int, linear: bool) -> None:
+    """After step ``k``'s lane loop has written :func:`_row`: a partial last block's logs from
+    ``spare`` into ``trace``; with ``linear``, every ``w`` steps (and at the last) the buffer into
+    the block's rows of ``trace[p, k]`` along the steps (stores across paths, 8 ``horizon`` bytes
+    apart), eight paths (a cache line of the buffer) at a time: path by path, a column of the
+    buffer is ``w`` lines one lane row (4 KiB at 512 lanes) apart, all in one set of the L1 cache,
+    each line evicted before the next path reads it (1 sensor: the kernel 1.28x faster along the
+    steps at n = 2, 512 lanes; 1.02x at n = 4, 128 lanes; 1.00x at n = 8; the tiles of 8 steps
+    below another 1.04-1.08x at n = 2)."""
+    width = spare.size
+    if not linear:
+        if start + width > trace.shape[1]:
+            row = trace[k, start:]
+            for p in range(row.size):
+                row[p] = spare[p]
+        return
+    steps, w = trace.shape[1], buffer.shape[0]
+    if k < steps and start < trace.shape[0] and (k % w == w - 1 or k == steps - 1):   # trace may hold fewer paths
+        first, count = k - k % w, min(width, trace.shape[0] - start)
+        whole, blocks = count - count % 8, first + (k + 1 - first) // 8 * 8
+        # fixed trip counts of 8, unrolled: tiles of 8 paths x 8 steps (n = 2: 1.04-1.08x over a step
+        # at a time; n = 4, 8: 1.01-1.02x; a bound min(tile + 8, count) instead was 0.95x at n = 4)
+        for tile in range(0, whole, 8):
+            paths = trace[start + tile:start + tile + 8]
+            for j0 in range(first, blocks, 8):
+                square = buffer[j0 - first:j0 - first + 8, tile:tile + 8]
+                for p in range(8):
+                    row = paths[p]
+                    for j in range(8):
+                        row[j0 + j] = square[j, p]
+            for j in range(blocks, k + 1):
+                line = buffer[j - first, tile:tile + 8]
+                for p in range(8):
+                    paths[p, j] = line[p]
+        for p in range(whole, count):
+            out = trace[start + p]
+            for j in range(first, k + 1):
+                out[j] = buffer[j - first, p]
+
+
+@_compiled
+def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, buffer: np.ndarray,
+           spare: np.ndarray, linear: bool) -> None:
+    """Step ``k`` of the block at ``start``: ``trace[k, p] = log t + E ln 2`` (:func:`_log_scaled`),
+    or with ``linear`` ``trace[p, k] = t 2^E`` (:func:`_linear_scaled`) for the paths and steps
+    ``trace`` has, in a lane loop of its own (:func:`_row`, :func:`_flush`)."""
+    out = _row(trace, buffer, spare, k, start, linear)
+    if linear:
+        for p in range(out.size):
+            out[p] = _linear_scaled(t[p], E[p])
+    else:
+        for p in range(out.size):
+            out[p] = _log_scaled(t[p], E[p])
+    _flush(trace, buffer, spare, k, start, linear)
+
+
+@_compiled
+def _receptions(received: np.ndarray, k: int, start: int, block: np.ndarray) -> bool:
+    """``block[i, p] = received[k, start + p, i]``: step ``k``'s receptions of the block of paths at
+    ``start``, sensor-major (a lane loop reads them at unit stride); paths past the last receive
+    nothing (a partial last block needs no padded copy of the receptions).  Up to 8 sensors the
+    copy is compiled once per sensor count (:func:`_transpose`); beyond, one strided pass per sensor.
+    One sensor's receptions of a whole block are already a row at unit stride: then nothing is
+    copied and the result is True: the kernels read them in place, from ``received`` reshaped to
+    (horizon, paths) (n = 2: 1.04x; through a function returning the row, 1.00x)."""
+    d, width = block.shape
+    count = min(width, received.shape[1] - start)
+    if d == 1 and count == width:
+        return True
+    rows = received[k, start:start + count]
+    if d <= 8:
+        flat = rows.reshape(count * d)
+        if d == 1:
+            _transpose(flat, block, count, 1)
+        elif d == 2:
+            _transpose(flat, block, count, 2)
+        elif d == 3:
+            _transpose(flat, block, count, 3)
+        elif d == 4:
+            _transpose(flat, block, count, 4)
+        elif d == 5:
+            _transpose(flat, block, count, 5)
+        elif d == 6:
+            _transpose(flat, block, count, 6)
+        elif d == 7:
+            _transpose(flat, block, count, 7)
+        else:
+            _transpose(flat, block, count, 8)
+    else:
+        for i in range(d):
+            into = block[i]
+            column = rows[:, i]
+            for p in range(count):
+                into[p] = column[p]
+    for i in range(d):
+        into = block[i]
+        for p in range(count, width):
+            into[p] = False
+    return False
+
+
+@_compiled
+def _transpose(flat: np.ndarray, block: np.ndarray, count: int, d: int) -> None:
+    """``block[i, p] = flat[p d + i]`` for the first ``count`` paths.  Called with ``d`` a constant
+    (:func:`_receptions`), it is inlined with it, and the compiler vectorises the copy as ``d``
+    interleaved byte streams (d = 3: 0.20 ns per path-step, against 0.75 for a strided pass per sensor;
+    d = 8: 0.67 against 2.07; beyond 8 it does not, and the strided passes are as fast)."""
+    for p in range(count):
+        for i in range(d):
+            block[i, p] = flat[p * d + i]
+
+
+check_public(globals())

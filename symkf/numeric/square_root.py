@@ -1,0 +1,705 @@
+"""The compiled square-root filter kernel behind :func:`symkf.numeric.filters.log_traces`.
+
+numba-compiled loops (``cache=True``: compiled once per installation, then
+loaded from ``__pycache__``) over blocks of :func:`lanes` paths, the innermost loop
+running across the paths of a block so that the compiler vectorises it (every
+path does the same arithmetic; a lost row is an update by a zero gain, not a
+branch).
+
+Per path ``P_{k|k-1} = 2^E S S^T`` with an even integer ``E`` and ``tr(S S^T)``
+brought into ``[1/2, 2)`` after every step (the straight-line kernels up to
+:data:`PHASED_MAX` states: once it has left ``[2^-WINDOW, 2^WINDOW]``), so
+``log tr P = E log 2 + log tr(S S^T)`` over any dynamic range; scaling by
+powers of two is exact, and the kernels' bits do not depend on when it is done.
+In these units the whitened measurement noise is ``2^-E`` and the process
+noise ``2^-E Q``.
+
+* Measurement update (Yang et al. eq. 8, rows independent with unit variance
+  after whitening): Potter's square-root form, one received row ``h`` at a
+  time, ``S <- S - (S f) g^T`` with ``f = S^T h``, ``r = 2^-E``, ``a = |f|^2 + r``
+  and ``g = f / (a + sqrt(a r))`` (``S S^T`` becomes ``P - P h h^T P / a``): one
+  square root and one division per row and path.  A lost row has ``g = 0``,
+  not a branch.
+* Time update (Sui-You-Fu eq. 9, ``P <- A P A^T + Q``): Householder
+  triangularisation of the stacked ``[(A S)^T; 2^(-E/2) U_Q]`` (``U_Q``
+  upper triangular, ``U_Q^T U_Q = Q``), giving a lower-triangular ``S`` with
+  the same ``S S^T``; the triangular structure of both blocks is skipped,
+  and so are the entries of ``A`` below its subdiagonal: the kernel takes
+  ``A`` upper Hessenberg (:mod:`symkf.numeric.filters` writes a dense ``A`` in an
+  orthonormal basis that makes it so; ``tr P`` does not change), which
+  saves a third of ``A S`` at n = 8.  Each reflector ``v = x + sign(x_0) |x| e_1`` stays unnormalised and is
+  applied as ``y - (v^T y) v / (|x| (|x| + |x_0|))`` (``|v|^2 = 2 |x| (|x| +
+  |x_0|)``): one square root per column and one division per applied column.
+
+The divider (division and square root share it) bounds the kernel at small
+``n``: these forms need ``rows + n - 1`` divisions and ``rows + n`` square roots
+per path-step, against ``rows (n + 1) + n^2 - 1`` and ``2 rows + 2n - 1`` for
+the normalised ``u = f / |f|`` and ``v / |v|`` of the numpy kernel this kernel
+replaced.  Below 2^-1022 a denominator is dropped (its reciprocal could
+overflow); what it would remove is below 2^-511 of ``S``'s scale.
+
+``P`` stays positive semidefinite by construction, and errors in its small
+directions are ``~1e-16 ||S||``, i.e. ``1e-32 ||P||`` after squaring: once a
+path's scales are 1e32 apart (``log tr P`` beyond ~75 on a well-observed
+system) the float filter no longer resolves its small directions, whatever
+the rounding (``benchmarks/float_resolution.py`` measures where on
+``ge-two-sensors`` and ``ge-recovery.toml``).  Float-exact systems
+(``A = 2 R(pi/2)``) keep their exact cancellations over thousands of steps
+(tests in ``test_filtering``); FMA contraction broke them (a fused
+``S - S u w^T`` does not cancel to the same rounding as the product it
+subtracts: a 2000-step burst lost 32 of its ``log tr P`` of 2773), so none
+is used.
+This module imports numba; :mod:`symkf.numeric.filters` imports it only when a
+simulation runs, so ``import symkf`` and the exact engine never pay for it.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+from numba import cfunc, types
+from numba.extending import intrinsic
+
+from ..arguments import check_public
+from ..errors import ShapeError
+from .kernel_parts import (LOOP_LANES, NORMAL, ROOT_MAX, _aligned, _aligned_int, _compiled, _pow2, _receptions,
+                           _rescale, _store)
+
+#: paths per block of the straight-line kernels, a compile-time constant: the path loops have a
+#: fixed trip count (no remainder loops, no per-entry set-up).  Up to SMALL_MAX states a lane loop's
+#: set-up (the compiler's run-time checks that its arrays do not overlap) weighs on its few operations:
+#: SMALL_LANES there (1.1-1.2x over 64 at n = 2..4 with 1 to 8 sensors), TINY_LANES up to TINY_MAX
+#: (512: 1.11-1.14x over 128 at n = 2 with 1 and 8 sensors; at n = 4, 256 measured 0.98-0.99x); 64
+#: above (128: 0.75x at n = 8).  At n = 2 each step's two long lane loops (Potter's, the time update's)
+#: fill and drain the core's window of overlapping paths: 2048 over 512 lanes, in one process, 1.05-1.07x
+#: with 1 sensor, 1.01-1.05x with 3, 0.98-1.04x with 8 (1024: 1.04-1.09x, 0.99-1.00x, 0.94-1.05x); a
+#: run of fewer paths computes a whole block (one path over 10^6 steps: about 4 s)
+LANES = 64
+SMALL_LANES = 128
+SMALL_MAX = 4
+TINY_LANES = 2048
+TINY_MAX = 2
+#: steps of one block's linear traces held before they are written along the steps (64 x 128 lanes: 64 KiB),
+#: at most BUFFER_PATH_STEPS path-steps (128 KiB): 8 steps of 2048 lanes (n = 2, in one process: 1.04-1.06x
+#: over 16 steps, 1.07-1.15x over 64; at n = 4, 8 steps of 128 lanes were 0.98-0.99x)
+BUFFER_STEPS = 64
+BUFFER_PATH_STEPS = 2 ** 14
+def lanes(n: int) -> int:
+    """Paths per block of the kernel for ``n`` states."""
+    if n <= TINY_MAX:
+        return TINY_LANES
+    if n <= SMALL_MAX:
+        return SMALL_LANES
+    return LANES if n <= STRAIGHT_MAX else LOOP_LANES
+
+
+def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
+                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, linear: bool = False) -> None:
+    """``trace[k, p] = log tr P_{k|k-1}`` (k = 0..horizon) for receptions ``received[k, p, i]``
+    (sensor ``i``), ``A`` upper Hessenberg, from ``P_0 = S0 S0^T`` (``S0`` lower triangular), in blocks of :func:`lanes`
+    ``(n)`` paths (a partial last block included).
+    ``linear``: ``trace[p, k] = tr P_{k|k-1}`` for the paths and
+    steps of ``trace`` instead (through a block buffer of :data:`BUFFER_STEPS` steps, fewer for wide blocks).  By
+    :func:`_kernel` ``(n)``."""
+    n = A.shape[0]
+    if np.ndim(received) != 3:
+        raise ShapeError(f"received: expected (horizon, paths, sensors), got shape {np.shape(received)}")
+    horizon, paths, _ = received.shape
+    if np.any(np.tril(A, -2)):
+        raise ShapeError("A: the kernel takes A upper Hessenberg (symkf.numeric.filters's kernel arguments make it so)")
+    if np.ndim(S0) == 2 and np.any(np.triu(S0, 1)):   # the first Potter row skips its zeros
+        raise ShapeError("S0: the kernel takes S0 lower triangular (symkf.numeric.filters's kernel arguments make it so)")
+    # the compiled loops do not check bounds
+    if not linear and trace.shape != (horizon + 1, paths):
+        raise ShapeError(f"log traces: expected {(horizon + 1, paths)}, got {trace.shape}")
+    if linear and (trace.shape[0] > paths or trace.shape[1] > horizon):
+        raise ShapeError(f"traces: at most {(paths, horizon)}, got {trace.shape}")
+    shapes = {"A": np.shape(A), "UQ": np.shape(UQ), "S0": np.shape(S0), "H": np.shape(H), "row_sensor": np.shape(row_sensor)}
+    if len({shapes[k] for k in ("A", "UQ", "S0")}) > 1 or shapes["A"] != (n, n) or shapes["H"] != (len(row_sensor), n):
+        raise ShapeError("A, UQ, S0 (n x n), H (rows x n) and row_sensor (rows) disagree: "
+                         + ", ".join(f"{k} {v}" for k, v in shapes.items()))
+    if len(row_sensor) and not 0 <= min(row_sensor) <= max(row_sensor) < received.shape[2]:
+        raise ShapeError(f"row_sensor: sensors 0..{received.shape[2] - 1} (the receptions' last axis), got "
+                         f"{min(row_sensor)}..{max(row_sensor)}")
+    width = lanes(n)
+    buffer = np.empty((min(BUFFER_STEPS, BUFFER_PATH_STEPS // width) if linear else 1, width))
+    # bool in C order: a step's receptions are one flat row per block (_receptions), one sensor's read in place
+    _kernel(n)(A, UQ, H, row_sensor, S0, np.ascontiguousarray(received, bool), trace, buffer, linear)
+
+
+def _kernel(n: int):
+    """The compiled kernel for ``n`` states: :func:`_straight` up to :data:`STRAIGHT_MAX`, beyond
+    :func:`_loop_kernel`."""
+    return _straight(n) if n <= STRAIGHT_MAX else _loop_kernel(n)
+
+
+def _loop_kernel(n: int):
+    """:func:`_loops` with the unrolled kernels of ``n`` states (:func:`_unrolled`)."""
+    return functools.partial(_loops, householder=_unrolled("householder", n), potter=_unrolled("potter", n))
+
+
+@_compiled
+def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
+           S0: np.ndarray, received: np.ndarray, trace: np.ndarray, buffer: np.ndarray,
+           linear: bool, householder, potter) -> None:
+    """:func:`log_trace_paths` for any ``n``: loops over the entries, the lane loop innermost, and
+    the kernels of :func:`_unrolled` for the time update's triangularisation (``householder``) and
+    Potter's rank-one update (``potter``)."""
+    horizon, paths, d = received.shape
+    n = A.shape[0]
+    rows = H.shape[0]
+    # rows an odd number of lane slots (of 512 bytes) apart: at n = 16 a column's 17 rows would be
+    # 8 KiB apart, all in the same 8 of the L1 cache's 64 sets (12 ways); padded, they spread over all
+    cols = n | 1
+    S = _aligned((n, cols, LOOP_LANES))
+    X = _aligned((2 * n, cols, LOOP_LANES))
+    V = _aligned(((n + 3) * LOOP_LANES,))
+    fg = _aligned((2 * n + 1, LOOP_LANES))   # Potter's f (rows 0..n-1), g (n..2n-1), a row of scratch
+    f2 = _aligned((LOOP_LANES,))
+    coef = _aligned((LOOP_LANES,))
+    noise = _aligned((LOOP_LANES,))
+    E = _aligned_int((LOOP_LANES,))
+    t = _aligned((LOOP_LANES,))
+    spare = _aligned((LOOP_LANES,))
+    block = np.empty((d, LOOP_LANES), np.bool_)
+    lone = received.reshape(horizon, paths * d)   # one sensor: a step's receptions in a row (_receptions)
+    for start in range(0, paths, LOOP_LANES):
+        for i in range(n):
+            for j in range(n):
+                for p in range(LOOP_LANES):
+                    S[i, j, p] = S0[i, j]
+        for p in range(LOOP_LANES):
+            E[p] = 0
+        _rescale(S, E, t, f2)
+        for k in range(horizon + 1):
+            _store(k, start, t, E, trace, buffer, spare, linear)
+            if k == horizon:
+                break
+            direct = _receptions(received, k, start, block)
+            for p in range(LOOP_LANES):
+                noise[p] = _pow2(-E[p])
+            for r in range(rows):                   # Potter, one whitened row at a time
+                got = lone[k, start:start + LOOP_LANES] if direct else block[row_sensor[r]]
+                for p in range(LOOP_LANES):
+                    f2[p] = 0.0
+                for j in range(n):
+                    for p in range(LOOP_LANES):
+                        fg[j, p] = 0.0
+                    for i in range(n):
+                        if H[r, i] != 0.0:          # integer sensor rows are often sparse
+                            for p in range(LOOP_LANES):
+                                fg[j, p] += S[i, j, p] * H[r, i]
+                    for p in range(LOOP_LANES):
+                        f2[p] += fg[j, p] * fg[j, p]
+                for p in range(LOOP_LANES):
+                    a = f2[p] + noise[p]
+                    denom = a + math.sqrt(a * noise[p])
+                    coef[p] = 1.0 / denom if got[p] and denom >= NORMAL else 0.0
+                for j in range(n):
+                    for p in range(LOOP_LANES):
+                        fg[n + j, p] = fg[j, p] * coef[p]
+                potter(_data(S), _data(fg), n)
+            _time_update(S, A, UQ, E, X, V, f2, householder)
+            _rescale(S, E, t, f2)
+
+
+@_compiled
+def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X: np.ndarray,
+                 V: np.ndarray, beta: np.ndarray, householder) -> None:
+    """``S <- R^T`` with ``R^T R = X^T X``, ``X = [(A S)^T; 2^(-E/2) U_Q]`` (Householder QR by
+    ``householder``, :func:`_unrolled` ``("householder", n)``, its reflectors in ``V``)."""
+    n = A.shape[0]
+    for i in range(n):           # X[j, i] = (A S)[i, j] = sum_l A[i, l] S[l, j], S full
+        for j in range(n):
+            for p in range(LOOP_LANES):
+                X[j, i, p] = 0.0
+            for l in range(n):
+                if A[i, l] != 0.0:                  # block-diagonal A: skip its zero blocks
+                    for p in range(LOOP_LANES):
+                        X[j, i, p] += A[i, l] * S[l, j, p]
+    for p in range(LOOP_LANES):
+        beta[p] = _pow2(min(-(E[p] // 2), ROOT_MAX))
+    for i in range(n):
+        for j in range(n):
+            for p in range(LOOP_LANES):
+                X[n + i, j, p] = beta[p] * UQ[i, j]
+    householder(_data(X), _data(V), n)
+    for i in range(n):
+        for j in range(n):
+            for p in range(LOOP_LANES):
+                S[i, j, p] = X[j, i, p] if j <= i else 0.0
+
+
+#: the signature of the unrolled kernels (:func:`_unrolled`): pointers to the array they update and
+#: to their vectors, and n.  Householder: ``X`` (2n, n | 1, LOOP_LANES) and ``V`` (n + 3,
+#: LOOP_LANES: the reflector's n + 1 rows, two of scratch); Potter: ``S`` (n, n | 1, LOOP_LANES)
+#: and ``f``, ``g`` (2n + 1, LOOP_LANES: f's n rows, g's, one of scratch)
+ROW_KERNEL = types.void(types.CPointer(types.float64), types.CPointer(types.float64), types.int64)
+_compiled_row_kernel = cfunc(ROW_KERNEL, cache=True, nogil=True, error_model="numpy")
+#: largest n whose kernels are written out in :mod:`symkf.numeric.unrolled_kernels`; beyond, the loops
+#: :func:`_householder_loops` and :func:`_potter_loops` (numba compiles no source made at run
+#: time: symkf runs no exec).  Potter's row of ``S`` stays in registers between ``(S f)_i`` and its
+#: update; beyond 16 the 32 vector registers spill (0.72x at n = 32; reading the row twice, 0.86-0.98x)
+UNROLLED_MAX = {"householder": 32, "potter": 16}
+
+
+@intrinsic
+def _data(typingctx, array):
+    """The data pointer of a C-contiguous ``array``."""
+    def codegen(context, builder, signature, args):
+        return context.make_array(array)(context, builder, args[0]).data
+    return types.CPointer(array.dtype)(array), codegen
+
+
+def _householder_loops(X, V, n):
+    """The operations of :func:`_householder_source` ``(n)`` in its order, for any ``n``, as loops
+    over the rows (its sums through the scratch rows of ``V``: a test compares every bit)."""
+    L, st = LOOP_LANES, (n | 1) * LOOP_LANES
+    beta, acc = (n + 1) * L, (n + 2) * L
+    for j in range(n):
+        b = j * (st + L)
+        for p in range(L):
+            V[acc + p] = 0.0
+        for r in range(n + 1):
+            for p in range(L):
+                V[acc + p] += X[b + r * st + p] * X[b + r * st + p]
+        for p in range(L):
+            norm = math.sqrt(V[acc + p])
+            x0 = X[b + p]
+            head = norm if x0 >= 0.0 else -norm
+            half_v2 = norm * (norm + abs(x0))
+            V[beta + p] = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
+            V[p] = x0 + head
+            X[b + p] = -head
+        for r in range(1, n + 1):
+            for p in range(L):
+                V[r * L + p] = X[b + r * st + p]
+        for k in range(j + 1, n):
+            c = b + (k - j) * L
+            for p in range(L):
+                V[acc + p] = 0.0
+            for r in range(n + 1):
+                for p in range(L):
+                    V[acc + p] += V[r * L + p] * X[c + r * st + p]
+            for r in range(n + 1):
+                for p in range(L):
+                    X[c + r * st + p] -= V[beta + p] * V[acc + p] * V[r * L + p]
+
+
+def _potter_loops(S, fg, n):
+    """The operations of :func:`_potter_source` ``(n)`` in its order, for any ``n``, as loops over the
+    entries (``(S f)_i`` through the scratch row of ``fg``: a test compares every bit)."""
+    L, st = LOOP_LANES, (n | 1) * LOOP_LANES
+    u = 2 * n * L
+    for i in range(n):
+        for p in range(L):
+            fg[u + p] = 0.0
+        for j in range(n):
+            for p in range(L):
+                fg[u + p] += S[i * st + j * L + p] * fg[j * L + p]
+        for j in range(n):
+            for p in range(L):
+                S[i * st + j * L + p] -= fg[u + p] * fg[(n + j) * L + p]
+
+
+def _potter_source(n: int) -> str:
+    """Source of ``_potter_{n}``: Potter's rank-one update ``S <- S - (S f) g^T`` (Yang et al. eq. 8
+    in square-root form, ``f = u``, ``g = u w``: the module's text) for ``n`` states, row ``i`` of
+    ``S f`` and of ``S`` in one lane loop, the row's ``n`` entries written out (the sum stays in a
+    register; every entry at a constant offset)."""
+    L, st = LOOP_LANES, (n | 1) * LOOP_LANES
+    s = [f"S[b + {j * L} + p]" if j else "S[b + p]" for j in range(n)]
+    f = [f"fg[{j * L} + p]" if j else "fg[p]" for j in range(2 * n)]
+    w = [f"def _potter_{n}(S, fg, n):", f"    for i in range({n}):", f"        b = i * {st}",
+         f"        for p in range({L}):"]
+    w += [f"            s{j} = {s[j]}" for j in range(n)]
+    w += ["            u = 0.0"] + [f"            u += s{j} * {f[j]}" for j in range(n)]
+    w += [f"            {s[j]} = s{j} - u * {f[n + j]}" for j in range(n)]
+    return "\n".join(w) + "\n"
+
+
+def _householder_source(n: int) -> str:
+    """Source of ``_householder_{n}``: the Householder triangularisation of ``_time_update``'s ``X``
+    for ``n`` states, column ``j`` in one lane loop (norm, pivot, reflector ``v`` into ``V``; only
+    row ``j`` of ``X`` is read afterwards) and its reflection of each later column ``k`` in one
+    (``v^T x`` and ``x - 2 (v^T x) v`` over the rows ``j..n+j``, written out: the sum stays in a
+    register).  Row ``n + i`` of ``X`` is zero left of column ``i`` and stays so until step ``i``
+    (a reflection leaves rows with a zero pivot-column entry alone), so step ``j`` touches rows
+    ``j..n+j`` only: ``n + 1`` of them, ``st`` apart in the flat ``X``."""
+    L, st = LOOP_LANES, (n | 1) * LOOP_LANES
+    R = range(n + 1)
+    w = []
+    a = w.append
+
+    def per_row(line: str) -> None:   # line for each row j + r: {row} its offset in X past the pivot, {v} its V entry
+        w.extend(line.format(r=r, row=f" + {r * st}" if r else "", v=f"V[{r * L} + p]" if r else "V[p]")
+                 for r in R)
+    a(f"def _householder_{n}(X, V, n):")
+    a(f"    for j in range({n}):")
+    a(f"        b = j * {st + L}")                      # X[j, j, 0]
+    a(f"        for p in range({L}):")
+    per_row("            x{r} = X[b{row} + p]")
+    a("            sq = 0.0")
+    per_row("            sq += x{r} * x{r}")
+    a("            norm = math.sqrt(sq)")
+    a("            head = norm if x0 >= 0.0 else -norm")
+    # v = x + sign(x0) |x| e_1 unnormalised, 2 / |v|^2 = 1 / (|x| (|x| + |x0|)): one division and
+    # no second square root per column; below the normal range the reflection is dropped (tau = 0)
+    a("            half_v2 = norm * (norm + abs(x0))")
+    a(f"            V[{(n + 1) * L} + p] = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0")
+    a("            x0 = x0 + head")
+    per_row("            {v} = x{r}")
+    a("            X[b + p] = -head")
+    a(f"        for k in range(j + 1, {n}):")
+    a(f"            c = b + (k - j) * {L}")              # X[j, k, 0]
+    a(f"            for p in range({L}):")
+    per_row("                y{r} = X[c{row} + p]")
+    a("                dot = 0.0")
+    per_row("                dot += {v} * y{r}")
+    a(f"                twice = V[{(n + 1) * L} + p] * dot")
+    per_row("                X[c{row} + p] = y{r} - twice * {v}")
+    return "\n".join(w) + "\n"
+
+
+#: each unrolled kernel's generator and its loops for any n
+_UNROLLED = {"householder": (_householder_source, _householder_loops), "potter": (_potter_source, _potter_loops)}
+
+
+def _unrolled_module() -> str:
+    """The text of :mod:`symkf.numeric.unrolled_kernels`: :func:`_householder_source` and
+    :func:`_potter_source` for n = 1.. :data:`UNROLLED_MAX` (regenerate it after changing a template:
+    ``python -c "from symkf.numeric.square_root import _unrolled_module as m; print(m(), end='')" >
+    symkf/numeric/unrolled_kernels.py``; a test compares)."""
+    sizes = " and ".join(f"{kind} for n = 1..{top}" for kind, top in UNROLLED_MAX.items())
+    head = ('"""The loop filter kernel\'s Householder time update and Potter update (:func:`symkf.numeric.square_root._loops`),\n'
+            f'each row\'s entries written out, the lane loop innermost ({sizes} states): generated by\n'
+            ':func:`symkf.numeric.square_root._unrolled_module` (do not edit; a test compares it with the generator)."""\n\n'
+            "import math\n\n"
+            "from ..arguments import check_public\n"
+            "from .kernel_parts import NORMAL\n\n\n")
+    sources = (_UNROLLED[kind][0](n) for n in range(1, max(UNROLLED_MAX.values()) + 1)
+               for kind in UNROLLED_MAX if n <= UNROLLED_MAX[kind])
+    return head + "\n\n".join(sources) + "\n\ncheck_public(globals())\n"
+
+
+@functools.lru_cache(maxsize=None)
+def _row_loops(kind: str):
+    """``_{kind}_loops`` compiled (one ``cfunc`` for every ``n``)."""
+    return _compiled_row_kernel(_UNROLLED[kind][1])
+
+
+@functools.lru_cache(maxsize=None)
+def _unrolled(kind: str, n: int):
+    """The compiled ``kind`` (``"householder"`` or ``"potter"``) kernel for ``n`` states (a numba
+    ``cfunc``: the loop kernel is compiled once for its type, whatever ``n``); from
+    :mod:`symkf.numeric.unrolled_kernels` up to :data:`UNROLLED_MAX` ``[kind]``, compiled on first use once per
+    installation (numba's cache), beyond :func:`_row_loops`."""
+    if n > UNROLLED_MAX[kind]:
+        return _row_loops(kind)
+    from . import unrolled_kernels
+    return _compiled_row_kernel(getattr(unrolled_kernels, f"_{kind}_{n}"))
+
+
+#: largest state dimension with a straight-line kernel (compile time and code size grow like n^3)
+STRAIGHT_MAX = 8
+#: up to this n the straight-line kernel runs each Potter row in two lane loops (its gain, then the
+#: update) and the time update in one per Householder column: shorter chains of dependent
+#: operations per loop, so the core overlaps more paths (n = 4: 1.1x with one sensor, 1.34x with 8);
+#: at n = 8 the per-column loops measured 0.87-0.94x (the live entries' loads and stores)
+PHASED_MAX = 5
+#: up to PHASED_MAX the straight-line kernel rescales ``S`` only when a path's ``tr S S^T`` has left
+#: [2^-WINDOW, 2^WINDOW]; the time update's last lane loop takes the next step's trace (for the logs it
+#: writes anyway) and its range over the block.  Scaling by a power of two is exact, so the bits do
+#: not depend on when it scales (short of the float range: within the window ``|S| <= 2^(WINDOW/2)``,
+#: and a step overflows, underflows or drops a denominator below NORMAL only where one from
+#: ``tr S S^T = 1`` would come within 2^WINDOW of doing so).  In one process against the rescale at
+#: every step, 3 sensors: n = 2 1.07x, n = 3 1.05x, n = 4 1.00x, n = 5 1.03x; 8 sensors 0.97-1.00x
+#: (n = 4: the last lane loop's loads of the earlier columns); bench_kernel's systems rescale once per block
+WINDOW = 32
+#: the bits of 2^-WINDOW and 2^WINDOW (a trace's bits order as it does: it is not negative)
+WINDOW_BITS = (1023 - WINDOW) << 52, (1023 + WINDOW) << 52
+#: the straight-line kernels' time update in one lane loop (n = 2) runs this many paths per iteration,
+#: their statements interleaved: its chain of dependent square roots and division is long, and the
+#: core overlaps more paths when their operations come in program order (in one process, n = 2: 1.03-1.05x
+#: with 1 and 3 sensors; 4 paths were 0.94-1.07x from process to process: their live values exceed the
+#: 32 vector registers).  n = 1, one square root and no division: 1.00x, not interleaved
+INTERLEAVED = 2
+#: below this n the straight-line kernel does not split its loops (n = 2: 1.05x with 3 sensors, 1.07x
+#: with 8, against the phased loops; n = 1 has nothing to split)
+PHASED_MIN = 3
+
+
+def _sum(target: str, terms: list[str], indent: str) -> list[str]:
+    """Source lines summing ``terms`` into ``target`` left to right from the first term.  Not from
+    ``0.0``: without fast-math the compiler must keep that addition (it turns a sum of -0.0 into
+    +0.0), one more vector operation per sum and path."""
+    return [f"{indent}{target} = {terms[0]}"] + [f"{indent}{target} += {term}" for term in terms[1:]]
+
+
+def _interleaved(body: list[str], ways: int, stride: int) -> list[str]:
+    """The statements of a lane loop's ``body`` for ``ways`` paths ``stride`` apart (``p``, ``p +
+    stride``, ...), statement by statement: the copies' names suffixed, but for those the body reads
+    before it assigns them (the loop-carried reductions, shared)."""
+    names, carried = set(), set()
+    for line in body:
+        target = re.match(r"\s*(\w+) *([-+*]?)= ", line)
+        if target:
+            name = target[1]
+            if name not in names and (target[2] or re.search(rf"\b{name}\b", line[target.end():])):
+                carried.add(name)
+            names.add(name)
+    local = re.compile(r"\b(" + "|".join(sorted(names - carried, key=len, reverse=True)) + r")\b")
+    copies = [body] + [[re.sub(r"\bp\]", f"p + {w * stride}]", local.sub(rf"\g<1>_{w}w", line)) for line in body]
+                       for w in range(1, ways)]
+    return [line for group in zip(*copies) for line in group]
+
+
+def _live(X: dict, j: int, n: int) -> list:
+    """The entries of the time update's ``X`` that the steps from column ``j`` on read (rows
+    ``j..n+j-1``, columns ``j..``: row ``n + j`` has not entered yet)."""
+    return sorted(key for key in X if key[1] >= j and j <= key[0] < n + j)
+
+
+def _straight_source(n: int) -> str:
+    """Source of ``_paths_{n}``: log_trace_paths for n states, every per-path operation of one
+    step written out (the same operations in the same order as the loops of
+    log_trace_paths / _time_update / _rescale, but that its sums start from their first term where
+    the loops add it to 0.0: only a zero sum's sign can differ, and no trace sees it), the lane
+    loop innermost."""
+    L = []
+    w = L.append
+    R = range(n)
+    W = lanes(n)
+
+    every = [(i, j) for i in R for j in R]
+
+    def load_S(indent: str, entries: list = every) -> None:   # the lane's S (those entries) into locals s{i}_{j}
+        for i, j in entries:
+            w(f"{indent}s{i}_{j} = S[{i}, {j}, p]")
+    w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):")
+    w("    horizon, paths, d = received.shape")
+    w(f"    block = np.empty((d, {W}), np.bool_)")   # a step's receptions of the block, sensor-major
+    w("    lone = received.reshape(horizon, paths * d)")   # one sensor: a step's receptions in a row
+    w("    rows = H.shape[0]")
+    w(f"    S = _aligned(({n}, {n}, {W}))")
+    w(f"    t = _aligned(({W},))")
+    w("    bits = t.view(np.int64)")
+    w(f"    E = _aligned_int(({W},))")
+    w(f"    noise = _aligned(({W},))")
+    w(f"    half = _aligned(({W},))")
+    w(f"    spare = _aligned(({W},))")   # a partial last block's logs, or a step beyond trace's (_row)
+    if PHASED_MIN <= n <= PHASED_MAX:   # the time update's live entries between its lane loops, and Potter's u, w
+        w(f"    X = _aligned(({2 * n}, {n}, {W}))")
+        w(f"    F = _aligned(({n}, {W}))")
+        w(f"    G = _aligned(({n}, {W}))")
+    for i in R:
+        for l in range(max(i - 1, 0), n):
+            w(f"    a{i}_{l} = A[{i}, {l}]")
+    for i in R:
+        for j in range(i, n):
+            w(f"    q{i}_{j} = UQ[{i}, {j}]")
+    w(f"    for start in range(0, paths, {W}):")
+    w(f"        for p in range({W}):")
+    w("            E[p] = 0")
+    for i in R:
+        for j in R:
+            w(f"            S[{i}, {j}, p] = S0[{i}, {j}]")
+    # up to PHASED_MAX the time update's last lane loop takes the traces (below), and the rescale
+    # runs only when one has left the window
+    traced = n <= PHASED_MAX
+    if traced:
+        w("        wide = True")
+    w("        for k in range(horizon + 1):")
+    # --- rescale (as _rescale) and the trace of step k
+    if traced:
+        w("            if wide:")
+    body = " " * (20 if traced else 16)
+    w(f"{body[:-4]}for p in range({W}):")
+    L += _sum("tp", [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i in R for j in range(i + 1)], body)
+    w(f"{body}t[p] = tp")
+    w(f"{body}e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0")
+    w(f"{body}e -= e & 1")
+    w(f"{body}Ep = E[p] + e")
+    w(f"{body}E[p] = Ep")
+    # e and E are even: 2^-e and 2^-E are squares of the halves, exactly (a power of two squares to
+    # itself, or rounds to 0 or inf where 2^-E does), so two powers of two do for the three; -e / 2
+    # is in [-512, 511] (tp is finite or inf): one power of two, from its exponent bits (as _rescale)
+    w(f"{body}scale = _float_bits((1023 - e // 2) << 52)")
+    w(f"{body}tp *= scale * scale")
+    for i in R:
+        for j in range(i + 1):
+            w(f"{body}S[{i}, {j}, p] *= scale")
+    w(f"{body}t[p] = tp")
+    w(f"{body}root = _pow2(min(-(Ep // 2), ROOT_MAX))")
+    w(f"{body}half[p] = root")
+    w(f"{body}noise[p] = root * root")
+    if traced:
+        w("            if k == horizon:")
+        w("                _store(k, start, t, E, trace, buffer, spare, linear)")
+        w("                break")
+    else:
+        w("            _store(k, start, t, E, trace, buffer, spare, linear)")
+        w("            if k == horizon:")
+        w("                break")
+    w("            direct = _receptions(received, k, start, block)")
+    # --- Potter, one row at a time; the first sees the time update's S = R^T (or S0), lower
+    # triangular, and skips the terms of its zeros (only a zero sum's sign can differ, as above):
+    # fewer operations, the same bits, no speed-up beyond noise in one process (n = 2: 1.00x,
+    # n = 4: 1.02x with 1 sensor)
+    w("            for r in range(rows):")
+    w(f"                got = lone[k, start:start + {W}] if direct else block[row_sensor[r]]")
+    for i in R:
+        w(f"                h{i} = H[r, {i}]")
+
+    def potter(indent: str, triangular: bool) -> None:   # the lane loop(s) of one row
+        entries = [(i, j) for i, j in every if j <= i or not triangular]
+        body = indent + " " * 4
+        w(f"{indent}for p in range({W}):")
+        load_S(body, entries)
+        for j in R:
+            L.extend(_sum(f"f{j}", [f"s{i}_{j} * h{i}" for i in R if (i, j) in entries], body))
+            w(f"{body}ff {'+=' if j else '='} f{j} * f{j}")
+        w(f"{body}nz = noise[p]")
+        w(f"{body}a = ff + nz")
+        w(f"{body}denom = a + math.sqrt(a * nz)")
+        w(f"{body}coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0")
+        for j in R:
+            w(f"{body}g{j} = f{j} * coef")
+        if PHASED_MIN <= n <= PHASED_MAX:   # the row's update in a second lane loop: u and w through memory
+            for j in R:
+                w(f"{body}F[{j}, p] = f{j}")
+                w(f"{body}G[{j}, p] = g{j}")
+            w(f"{indent}for p in range({W}):")
+            load_S(body, entries)
+            for j in R:
+                w(f"{body}f{j} = F[{j}, p]")
+                w(f"{body}g{j} = G[{j}, p]")
+        for i in R:
+            L.extend(_sum(f"u{i}", [f"s{i}_{j} * f{j}" for j in R if (i, j) in entries], body))
+        for i in R:
+            for j in R:
+                w(f"{body}S[{i}, {j}, p] = {f's{i}_{j}' if (i, j) in entries else '0.0'} - u{i} * g{j}")
+    if n > 1:
+        w("                if r == 0:")
+        potter(" " * 20, True)
+        w("                else:")
+        potter(" " * 20, False)
+    else:
+        potter(" " * 16, False)
+    # --- time update (as _time_update): X[j][i] = (A S)[i, j], rows n.. = 2^(-E/2) UQ; for small n
+    # one lane loop per Householder column (the live entries kept in X between them), else one loop
+    X = {(j, i): f"x{j}_{i}" for i in R for j in R}
+    X.update({(n + i, j): f"x{n + i}_{j}" for i in R for j in range(i, n)})
+    phases = [[j] for j in R] if PHASED_MIN <= n <= PHASED_MAX else [list(R)]
+
+    def time_update(cols: list, indent: str, trace: str = "") -> None:   # the lane loop of columns cols, and the traces by ``trace``
+        w(f"{indent}for p in range({W}):")
+        first = len(L)
+        body = indent + " " * 4
+        if cols[0] == 0:
+            load_S(body)
+            for i in R:
+                for j in R:
+                    # A upper Hessenberg (log_trace_paths)
+                    L.extend(_sum(X[j, i], [f"a{i}_{l} * s{l}_{j}" for l in range(max(i - 1, 0), n)], body))
+        else:
+            for key in _live(X, cols[0], n):
+                w(f"{body}{X[key]} = X[{key[0]}, {key[1]}, p]")
+        w(f"{body}root = half[p]")
+        for j in cols:
+            for k in range(j, n):        # row n + j enters at step j (its entries left of j are zero)
+                w(f"{body}{X[n + j, k]} = root * q{j}_{k}")
+            rowsj = range(j, n + j + 1)
+            L.extend(_sum("sq", [f"{X[i, j]} * {X[i, j]}" for i in rowsj], body))
+            w(f"{body}norm = math.sqrt(sq)")
+            w(f"{body}x0 = {X[j, j]}")
+            w(f"{body}head = norm if x0 >= 0.0 else -norm")
+            if j < n - 1:   # the last column's reflector is never applied: only its pivot -head is kept
+                w(f"{body}{X[j, j]} = x0 + head")
+                w(f"{body}half_v2 = norm * (norm + abs(x0))")
+                w(f"{body}tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0")
+                for k in range(j + 1, n):
+                    L.extend(_sum("dot", [f"{X[i, j]} * {X[i, k]}" for i in rowsj], body))
+                    w(f"{body}twice = tau * dot")
+                    for i in rowsj:
+                        w(f"{body}{X[i, k]} -= twice * {X[i, j]}")
+            w(f"{body}{X[j, j]} = -head")
+            for i in R:          # row j of R is final: column j of S = R^T
+                w(f"{body}S[{i}, {j}, p] = {X[j, i] if j <= i else '0.0'}")
+        if cols[-1] < n - 1:
+            for key in _live(X, cols[-1] + 1, n):
+                w(f"{body}X[{key[0]}, {key[1]}, p] = {X[key]}")
+        if trace:
+            w(f"{body}out[p] = {trace}(t[p], E[p])")
+            # the next step's trace, summed in the rescale's order (the same bits up to its power of
+            # two); the entries of earlier lane loops' columns from S
+            L.extend(_sum("tp", [f"{X[j, i]} * {X[j, i]}" if j in cols else f"S[{i}, {j}, p] * S[{i}, {j}, p]"
+                                 for i in R for j in range(i + 1)], body))
+            w(f"{body}t[p] = tp")
+            w(f"{body}bt = _bits_of(tp)")   # t >= 0 orders as its bits; nan above every bound
+            w(f"{body}top = max(top, bt)")
+            w(f"{body}bottom = min(bottom, bt)")
+        if 1 < n < PHASED_MIN:   # the whole time update in one lane loop (INTERLEAVED)
+            L[first - 1:] = [f"{indent}for p in range({W // INTERLEAVED}):"] + _interleaved(L[first:], INTERLEAVED,
+                                                                                          W // INTERLEAVED)
+
+    for cols in phases[:-1]:
+        time_update(cols, " " * 12)
+    if not traced:
+        time_update(phases[-1], " " * 12)
+        return "\n".join(L) + "\n"
+    # up to PHASED_MAX this step's traces are taken in the last lane loop of the time update, which
+    # does not read them: its square roots and the log's polynomial overlap (n = 2: 1.05-1.07x over
+    # a lane loop of their own with 1 sensor, 1.00-1.02x with 3).  That loop is written twice, for
+    # the logs and for the traces along the steps (linear): beyond PHASED_MAX it is the whole time
+    # update, and twice its compile time (n = 8: 7.5 to 14.7 s) bought nothing (0.99x)
+    w("            out = _row(trace, buffer, spare, k, start, linear)")
+    w("            top = 0")
+    w(f"            bottom = {WINDOW_BITS[1]:#x}")
+    w("            if linear:")
+    time_update(phases[-1], " " * 16, "_linear_scaled")
+    w("            else:")
+    time_update(phases[-1], " " * 16, "_log_scaled")
+    w(f"            wide = top > {WINDOW_BITS[1]:#x} or bottom < {WINDOW_BITS[0]:#x}")
+    w("            _flush(trace, buffer, spare, k, start, linear)")
+    return "\n".join(L) + "\n"
+
+
+def _inlined_digest() -> str:
+    """The first 16 hex digits of the SHA-256 of :mod:`symkf.numeric.kernel_parts`' source."""
+    source = (Path(__file__).parent / "kernel_parts.py").read_text(encoding="utf-8")
+    return hashlib.sha256(source.encode()).hexdigest()[:16]
+
+
+def _straight_module() -> str:
+    """The text of :mod:`symkf.numeric.straight_kernels`: :func:`_straight_source` for n = 1..STRAIGHT_MAX
+    (regenerate it after any change to this file, which it records: ``python -c "from
+    symkf.numeric.square_root import _straight_module as m; print(m(), end='')" > symkf/numeric/straight_kernels.py``;
+    a test compares)."""
+    head = ('"""Straight-line square-root filter kernels (Potter updates, Yang et al. eq. 8; Householder time\n'
+            'update, Sui-You-Fu eq. 9) for n = 1..%d states, the lane loop innermost: generated by\n'
+            ':func:`symkf.numeric.square_root._straight_module` (do not edit; a test compares it with the generator)."""\n\n'
+            "import math\n\nimport numpy as np\n\n"
+            "from ..arguments import check_public\n"
+            "from .kernel_parts import (NORMAL, ROOT_MAX, _aligned, _aligned_int, _bits_of, _float_bits, _flush,\n"
+            "                           _linear_scaled, _log_scaled, _pow2, _receptions, _row, _store)\n\n"
+            "#: SHA-256 (its first 16 hex digits) of symkf/numeric/kernel_parts.py, whose helpers these kernels inline:\n"
+            "#: numba's cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file\n"
+            "INLINED = \"%s\"\n\n\n" % (STRAIGHT_MAX, _inlined_digest()))
+    return head + "\n\n".join(_straight_source(n) for n in range(1, STRAIGHT_MAX + 1)) + "\n\ncheck_public(globals())\n"
+
+
+@functools.lru_cache(maxsize=None)
+def _straight(n: int):
+    """The compiled straight-line kernel for ``n`` states (:mod:`symkf.numeric.straight_kernels`, compiled
+    on first use, once per installation: numba's cache)."""
+    from . import straight_kernels
+    return _compiled(getattr(straight_kernels, f"_paths_{n}"))
+
+
+check_public(globals())
