@@ -183,7 +183,7 @@ def _shown(signature: inspect.Signature) -> str:
                                  return_annotation=signature.empty))
 
 
-def checked(fn: Callable, types: bool = True) -> Callable:
+def guarded(fn: Callable, types: bool = True) -> Callable:
     """``fn`` with its arguments bound to its signature (an :class:`ArgumentError` otherwise) and,
     with ``types``, its annotated arguments checked first (module docstring)."""
     tests: list | None = None
@@ -228,7 +228,7 @@ def check_public(namespace: dict) -> None:
         # plain functions, and the ones behind functools.lru_cache or a numba kernel
         if (inspect.isfunction(obj) or callable(obj) and (hasattr(obj, "__wrapped__") or hasattr(obj, "py_func"))) \
                 and not isinstance(obj, type) and not getattr(obj, "__symkf_checked__", False):
-            namespace[name] = checked(obj)
+            namespace[name] = guarded(obj)
         elif isinstance(obj, type):
             for attr, member in list(vars(obj).items()):
                 # a hand-written __init__ is checked; a dataclass's generated one (code from
@@ -236,6 +236,6 @@ def check_public(namespace: dict) -> None:
                 if attr.startswith("_") and not (attr == "__init__" and inspect.isfunction(member)):
                     continue
                 if inspect.isfunction(member):
-                    setattr(obj, attr, checked(member, types=member.__code__.co_filename != "<string>"))
+                    setattr(obj, attr, guarded(member, types=member.__code__.co_filename != "<string>"))
                 elif isinstance(member, (classmethod, staticmethod)) and inspect.isfunction(member.__func__):
-                    setattr(obj, attr, type(member)(checked(member.__func__)))
+                    setattr(obj, attr, type(member)(guarded(member.__func__)))

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from symkf import Sensor
 from symkf.errors import AssumptionError, NotPositiveDefiniteError, ProbabilityError, ShapeError
 from symkf.fusion import (FusionModel, expected_remote_covariance, fusion_sigma, fused_covariance, local_filters,
-                          optimal_weights, pendulum_model, proposition1_bound, remote_error_covariance, simulate,
+                          optimal_weights, pendulum_model, proposition1_bound, remote_error_covariance, simulate_fusion,
                           unbiasedness_matrix)
 from symkf.fusion.covariance import stacked_bases
 from symkf.fusion.local_filters import lemma2_iteration
@@ -168,7 +168,7 @@ def test_invalid_inputs_name_entry_and_assumption():
 
 def test_simulated_errors_match_predicted_covariance(small):
     # x grows like 1.1^k: beyond ~300 steps float rounding of x swamps the errors.
-    sim = simulate(small, horizon=120, paths=200, seed=7)
+    sim = simulate_fusion(small, horizon=120, paths=200, seed=7)
     emp = (np.linalg.norm(sim.fused[:, 1:], axis=-1) ** 2).mean()
     pred = sim.trace_P[:, 1:].mean()
     assert abs(emp - pred) < 0.1 * pred                      # 24 000 correlated samples

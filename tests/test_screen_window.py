@@ -72,7 +72,7 @@ def test_windowed_screen_finds_what_the_plain_screen_finds(seed):
         return
     plain = _plain(X, weights, cycles)
     screen = hs.Screen(1e-9 * (1 + weights.sum()))
-    hs.seed(X, weights, P, cycles, screen)
+    hs.lower_bound(X, weights, P, cycles, screen)
     plan = hs._windowed(X, weights, P, cycles, screen.bar)
     if plan is None:  # no window shorter than the cycle: stages() keeps the plain plan
         return
@@ -104,7 +104,7 @@ def test_windows_shorten_the_search_on_a_heavy_coset():
     X = np.concatenate([row[None, :] * phases % p for row in rows])
     cycles, weights = [list(range(315)), list(range(315, 630))], np.ones(630)
     screen = hs.Screen(1e-9 * 631)
-    hs.seed(X, weights, p, cycles, screen)
+    hs.lower_bound(X, weights, p, cycles, screen)
     assert screen.best >= 63
     windowed = hs.stages(X, weights, p, cycles, set(), screen.bar, cycles)
     plain = hs.stages(X, weights, p, cycles, set(), screen.bar)

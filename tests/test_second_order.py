@@ -53,9 +53,9 @@ def test_threshold_and_critical_alpha(quarter):
     a = so.ALPHA
     assert so.threshold(quarter) == sp.StrictLessThan(a ** 4 * (1 - p), 1)
     assert so.threshold(quarter, period="tau") == sp.StrictLessThan(a ** 8 * (1 - p) ** 3, 1)
-    assert so.critical_alpha_expr(quarter) == (1 - p) ** R(-1, 4)
+    assert so.theorem12_alpha_expr(quarter) == (1 - p) ** R(-1, 4)
     # alpha^4 * (1/16) < 1 iff alpha < 2, the engine's critical alpha too
-    assert so.critical_alpha(quarter, sk.IID(["1/16"])) == 2 == sk.critical_alpha(quarter, sk.IID(["1/16"]))
+    assert so.theorem12_alpha(quarter, sk.IID(["1/16"])) == 2 == sk.critical_alpha(quarter, sk.IID(["1/16"]))
 
 
 def test_theorem12_verdicts_at_the_boundary(quarter):

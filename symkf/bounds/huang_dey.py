@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from ..arguments import check_public
 from ..model.system import System
+from ..exact.spectral import spectral_radius
 from . import hypotheses as hyp
 from .row import SUFFICIENT, Quantity, Row, number, row
 
@@ -25,7 +26,7 @@ CITATION = ("M. Huang, S. Dey, \"Stability of Kalman filtering with Markovian pa
 
 def peak_covariance(system: System, quantity: Quantity) -> Row:
     """Sufficient: ``q > 1 - 1/rho(A)^2`` with ``C`` of full column rank."""
-    rho = hyp.spectral_radius(system)
+    rho = spectral_radius(system.A)
     v = 1 - 1 / rho.exact ** 2
     return row("huang-dey", "Huang, Dey 2007, peak cov.", CITATION,
                "peak covariance stable if (1 - q) rho(A)^2 < 1 (C of full column rank)", SUFFICIENT,

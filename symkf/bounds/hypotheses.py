@@ -9,16 +9,13 @@ from __future__ import annotations
 import sympy as sp
 
 from ..arguments import check_public
-from ..exact.algebraic import AlgebraicNumber
 from ..exact.linalg import nullspace_rows, rank
 from ..model.system import System
 from ..engine.rows import modal_form
 from .row import Hypothesis, Quantity
+from ..exact.spectral import spectral_radius
 
 
-def spectral_radius(system: System) -> AlgebraicNumber:
-    """``rho(A)``, exact (the largest eigen-block modulus)."""
-    return max(b.modulus for b in system.eigen_blocks())
 
 
 def one_sensor(system: System) -> Hypothesis:
@@ -38,7 +35,7 @@ def gilbert_elliott(quantity: Quantity) -> Hypothesis:
 
 
 def unstable(system: System) -> Hypothesis:
-    rho = spectral_radius(system)
+    rho = spectral_radius(system.A)
     return Hypothesis("A unstable", rho >= 1,
                       f"rho(A) = {rho.exact}" + ("" if rho >= 1 else ": every loss rate is stable"))
 

@@ -22,6 +22,7 @@ import sympy as sp
 from ..arguments import check_public
 from ..exact.linalg import rank
 from ..model.system import System
+from ..exact.spectral import spectral_radius
 from . import hypotheses as hyp
 from .row import EXACT, Hypothesis, Quantity, Row, number, row
 from .sinopoli import inverse_rho_squared
@@ -44,7 +45,7 @@ def non_degenerate(system: System, quantity: Quantity) -> Row:
 
 def gilbert_elliott(system: System, quantity: Quantity) -> Row:
     """Stable iff ``(1 - q) rho(A)^2 < 1``: the set ``q > 1 - 1/rho(A)^2`` (non-degenerate)."""
-    rho = hyp.spectral_radius(system)
+    rho = spectral_radius(system.A)
     q = 1 - 1 / rho.exact ** 2
     return row("mo-sinopoli-ge", "Mo, Sinopoli 2012, Gilbert-Elliott", CITATION,
                "stable iff (1 - q) rho(A)^2 < 1, q = P(received | lost last), non-degenerate (A, C)", EXACT,
@@ -80,7 +81,7 @@ def degenerate(system: System, quantity: Quantity) -> Row:
         p = ratio_order(system)
         hyps.append(Hypothesis("periodic ratio", p is not None,
                                f"lambda_1/lambda_2 a root of unity of order p = {p}" if p is not None else block.proof))
-    r = hyp.spectral_radius(system).exact
+    r = spectral_radius(system.A).exact
 
     def value() -> tuple:
         p = ratio_order(system)

@@ -37,6 +37,7 @@ from ..errors import ExtraNotInstalledError
 from ..model.iid import IID
 from ..model.system import System
 from ..engine.stability import stability
+from ..exact.spectral import spectral_radius
 from . import hypotheses as hyp
 from .row import EXACT, NECESSARY, SUFFICIENT, VIOLATED, Hypothesis, Quantity, Row, compare_bracket, number, row
 
@@ -49,7 +50,7 @@ LMI_STEPS = 8
 
 def inverse_rho_squared(system: System, quantity: Quantity) -> Callable[[], tuple]:
     """The evaluation ``eps < 1/rho(A)^2`` of every row whose value is Sinopoli et al.'s bound."""
-    v = 1 / hyp.spectral_radius(system).exact ** 2
+    v = 1 / spectral_radius(system.A).exact ** 2
     return lambda: (quantity.below(v), number(v))
 
 
@@ -78,7 +79,7 @@ def lmi_bracket(system: System, steps: int = LMI_STEPS) -> tuple[sp.Expr, sp.Exp
     pattern alone rules feasibility out).  A bisection point where neither certificate
     verifies (too close to the boundary) ends the bisection."""
     d = system.d
-    hi = sp.radsimp(hyp.spectral_radius(system).exact ** sp.Rational(-2, d))
+    hi = sp.radsimp(spectral_radius(system.A).exact ** sp.Rational(-2, d))
     hi = hi if number(hi) < 1 else sp.Integer(1)
     lo = sp.Integer(0)
     notes = [f"infeasible at eps = {hi}: the all-lost pattern (capacity <= ln rho(A))"]

@@ -33,6 +33,7 @@ from ..network.loss import NetworkLoss
 from ..network.state import MarkovNetworkState
 from ..network.tree import SensorTree
 from ..engine.region import stable_intervals
+from ..exact.spectral import spectral_radius
 from . import hypotheses as hyp
 from .row import EXACT, NECESSARY, OTHER, SUFFICIENT, Hypothesis, Quantity, Row, number, row
 
@@ -84,7 +85,7 @@ def quevedo_theorem1(system: System, quantity: Quantity) -> Row:
 
 def yang_theorem2(system: System, quantity: Quantity) -> Row:
     """Theorem 2: ``C > ln rho(A)`` is necessary: ``eps_c <= rho(A)^(-2/d)``."""
-    v = sp.radsimp(hyp.spectral_radius(system).exact ** sp.Rational(-2, system.d))
+    v = sp.radsimp(spectral_radius(system.A).exact ** sp.Rational(-2, system.d))
     return row("yang-theorem2", "Yang et al., Thm. 2", YANG,
                "C > ln rho(A) necessary: eps_c <= rho(A)^(-2/d)", NECESSARY,
                [hyp.iid(quantity), hyp.unstable(system)], quantity, lambda: (quantity.below(v), number(v)))
@@ -103,7 +104,7 @@ def yang_theorem5(system: System, quantity: Quantity) -> Row:
 def fusion_assumption2(system: System, quantity: Quantity) -> Row:
     """Assumption 2 at a common loss: ``eps rho(A)^2 < 1`` (another estimator: not compared); with
     ``rho(A) = 0`` (a nilpotent A) it holds at every loss rate."""
-    rho = hyp.spectral_radius(system).exact
+    rho = spectral_radius(system.A).exact
     v = sp.radsimp(1 / rho ** 2) if rho else sp.Integer(1)
     observable = system.observable
     return row("fusion-assumption2", "Fusion paper, Assumption 2", FUSION,

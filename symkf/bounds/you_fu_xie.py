@@ -27,6 +27,7 @@ import sympy as sp
 from ..arguments import check_public
 from ..model.system import System
 from ..engine.region import stable_intervals
+from ..exact.spectral import spectral_radius
 from . import hypotheses as hyp
 from .mo_sinopoli import degenerate_pair, ratio_order
 from .row import EXACT, Quantity, Row, number, row
@@ -46,7 +47,7 @@ def period(system: System) -> int | None:
 
 def margin(system: System, fail: sp.Expr) -> sp.Expr:
     """The left-hand side of the condition (module docstring) as a polynomial in ``q``."""
-    r2 = hyp.spectral_radius(system).exact ** 2
+    r2 = spectral_radius(system.A).exact ** 2
     p = period(system)
     if p is None:
         return sp.expand(r2 * (1 - q))
@@ -55,7 +56,7 @@ def margin(system: System, fail: sp.Expr) -> sp.Expr:
 
 def critical_loss(system: System) -> sp.Expr:
     """The i.i.d. form: ``r^(-2p/(p-1))``, or ``1/rho(A)^2`` in the one-step case."""
-    r = hyp.spectral_radius(system).exact
+    r = spectral_radius(system.A).exact
     p = period(system)
     return sp.radsimp(r ** -2 if p is None else r ** sp.Rational(-2 * p, p - 1))
 

@@ -24,10 +24,11 @@ import sympy as sp
 from .. import budget
 from ..arguments import check_public
 from ..exact.algebraic import AlgebraicNumber
-from ..model.iid import IID
+from ..model.loss import LossModel
 from ..model.system import System
 from .lower import lower_bound_converges
-from .quantities import capacity_exceeds, mahler_measure, spectral_radius
+from ..exact.spectral import spectral_radius
+from .quantities import _require_iid, capacity_exceeds, mahler_measure
 from .theorems import theorem5_sufficient, wonham_decomposition
 
 def _orders(system: System) -> list[list[tuple[int, int]] | None]:
@@ -71,12 +72,12 @@ def critical_loss_comparison(system: System, critical_loss: Any) -> dict[str, An
     }
 
 
-def verdict_comparison(system: System, loss: IID, exact_stable: bool) -> dict[str, Any]:
+def verdict_comparison(system: System, loss: LossModel, exact_stable: bool) -> dict[str, Any]:
     """For given (possibly unequal) rates: which capacity conditions hold, beside the exact verdict."""
     nec = lower_bound_converges(system, loss)
     t5 = theorem5_sufficient(system, loss)
     return {
-        "loss": [str(e) for e in loss.loss], "exact_stable": exact_stable,
+        "loss": [str(e) for e in _require_iid(loss)], "exact_stable": exact_stable,
         "C_gt_ln_rho": nec, "C_gt_entropy": capacity_exceeds(loss, mahler_measure(system.A)),
         "theorem5_per_sensor": t5,
         "consistent": (nec or not exact_stable) and (exact_stable or not t5),

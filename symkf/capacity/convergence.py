@@ -64,7 +64,7 @@ from ..errors import InputError, require_extra
 from ..exact.algebraic import with_prec
 from ..exact.field import Elem, NumberField
 from ..exact.linalg import field_of, rank, solve_rows
-from ..model.iid import IID
+from ..model.loss import LossModel
 from ..model.system import System
 from ..exact.spectral import eigenvalues
 from .quantities import _require_iid, capacity_exceeds, spectral_radius
@@ -81,7 +81,7 @@ class LMIVerdict:
     gain: sp.ImmutableMatrix | None = None  # L (C coordinates) with A - L Lambda C mean-square stable
 
 
-def _basis(system: System, loss: IID) -> tuple[list[sp.Matrix], int, list[tuple[int, int, int]]]:
+def _basis(system: System, loss: LossModel) -> tuple[list[sp.Matrix], int, list[tuple[int, int, int]]]:
     """Exact basis matrices F_k of the linear map (Y, Z) -> F, the number of Y coordinates, Z indices."""
     n = system.n
     arrival = [1 - e for e in _require_iid(loss)]
@@ -314,7 +314,7 @@ def _rational(v: Fraction) -> Elem:
     return flint.fmpq_poly([flint.fmpq(v.numerator, v.denominator)])
 
 
-def mare_stabilizable(system: System, loss: IID) -> LMIVerdict:
+def mare_stabilizable(system: System, loss: LossModel) -> LMIVerdict:
     """Decide Theorem 4's condition 1) (eq. 22) by the convex reformulation above, with exact certificates.
 
     The certificates are checked in the number field of ``A``, ``C_i`` and the loss rates
@@ -379,7 +379,7 @@ def unit_circle_condition(system: System) -> bool:
                for ev in eigenvalues(A) if ev.modulus == 1)
 
 
-def mare_converges(system: System, loss: IID) -> bool | None:
+def mare_converges(system: System, loss: LossModel) -> bool | None:
     """Theorem 4: ``V_k`` converges for every initial value iff conditions 1) and 2) hold (None: undecided)."""
     if not unit_circle_condition(system):
         return False

@@ -27,12 +27,12 @@ import sympy as sp
 from ..arguments import check_public
 from ..errors import AssumptionError
 from ..exact.linalg import rank
-from ..model.iid import IID
+from ..model.loss import LossModel
 from ..model.system import System
 from .quantities import _require_iid, capacity_exceeds, spectral_radius
 
 
-def loss_product(loss: IID) -> sp.Expr:
+def loss_product(loss: LossModel) -> sp.Expr:
     """``c = prod_i (1 - lambda_i)``, the probability that all packets of one step are lost."""
     return sp.Mul(*_require_iid(loss))
 
@@ -42,7 +42,7 @@ def _m(X: Any, c: Any, A: Any, Q: Any) -> Any:
     return c * (A @ X @ A.T) + Q
 
 
-def lower_bound_sequence(system: System, loss: IID, horizon: int, *, exact: bool = False) -> list[Any]:
+def lower_bound_sequence(system: System, loss: LossModel, horizon: int, *, exact: bool = False) -> list[Any]:
     """``[G_1, ..., G_horizon]`` with ``G_1 = 0``, ``G_{k+1} = m(G_k)`` (Proposition 1, eq. 13).
 
     Exact sympy matrices when ``exact``, else float numpy arrays.
@@ -71,7 +71,7 @@ def require_controllable(system: System) -> None:
                               assumption="(A, sqrt(Q)) controllable (Yang et al., Theorems 1-2)")
 
 
-def lower_bound_converges(system: System, loss: IID) -> bool:
+def lower_bound_converges(system: System, loss: LossModel) -> bool:
     """Theorem 1, exactly: ``G_k`` converges iff ``C > ln rho(A)`` (eq. 14).
 
     The proof does not use that ``A`` is unstable (for stable ``A`` both sides
@@ -81,7 +81,7 @@ def lower_bound_converges(system: System, loss: IID) -> bool:
     return capacity_exceeds(loss, spectral_radius(system.A))
 
 
-def lower_bound_limit(system: System, loss: IID) -> sp.ImmutableMatrix:
+def lower_bound_limit(system: System, loss: LossModel) -> sp.ImmutableMatrix:
     """``Gbar = lim G_k``, the solution of the Stein equation ``X = c A X A' + Q`` (Theorem 1), exact.
 
     Solved as ``(I - c A (x) A) vec X = vec Q``.  Raises :class:`AssumptionError`
@@ -98,14 +98,14 @@ def lower_bound_limit(system: System, loss: IID) -> sp.ImmutableMatrix:
     return sp.ImmutableMatrix(vec.reshape(n, n).applyfunc(sp.radsimp))
 
 
-def theorem2(system: System, loss: IID) -> dict[str, Any]:
+def theorem2(system: System, loss: LossModel) -> dict[str, Any]:
     """Theorem 2: ``{"diverges": C <= ln rho(A), "Gbar": Gbar or None}`` (eqs. 16-17), exact."""
     if lower_bound_converges(system, loss):
         return {"diverges": False, "Gbar": lower_bound_limit(system, loss)}
     return {"diverges": True, "Gbar": None}
 
 
-def information_lower_bound_sequence(system: System, loss: IID, horizon: int,
+def information_lower_bound_sequence(system: System, loss: LossModel, horizon: int,
                                      P1: Any = None) -> list[np.ndarray]:
     """Remark 3's ``[F_1, ..., F_horizon]`` (floats): ``F_{k+1} = A (F_k^{-1} + sum lambda_i S_i)^{-1} A' + Q``.
 

@@ -32,11 +32,12 @@ import sympy as sp
 from ..arguments import check_public
 from ..errors import AssumptionError
 from ..model.iid import IID
+from ..model.loss import LossModel
 from ..model.system import System
 from .quantities import _require_iid
 
 
-def hadamard_weight(loss: IID, dims: list[int]) -> sp.ImmutableMatrix:
+def hadamard_weight(loss: LossModel, dims: list[int]) -> sp.ImmutableMatrix:
     """``W = 1 1' + D_SNR^{-1} I_blk`` (eqs. 19-20), exact; blocks ``1`` off and ``1/lambda_i`` on the diagonal.
 
     ``dims`` are the measurement dimensions ``p_i``; every ``lambda_i`` must be positive.
@@ -58,7 +59,7 @@ def hadamard_weight(loss: IID, dims: list[int]) -> sp.ImmutableMatrix:
 class MARE:
     """``g_lambda`` of eq. 18 for one system and arrival rates, in floats (Remark 4 form, see module doc)."""
 
-    def __init__(self, system: System, loss: IID):
+    def __init__(self, system: System, loss: LossModel):
         losses = _require_iid(loss)
         if len(losses) != system.d:
             raise AssumptionError(f"loss has {len(losses)} rates for {system.d} sensors",

@@ -28,9 +28,8 @@ from ..arguments import check_public
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber, subset_product
 from ..exact.numbers import to_exact_matrix
-from ..model.iid import IID
-from ..model.loss import checked
-from ..exact.spectral import eigenvalues
+from ..model.loss import LossModel, checked
+from ..exact.spectral import eigenvalues, spectral_radius
 
 
 def _require_iid(loss: Any) -> tuple[sp.Expr, ...]:
@@ -40,17 +39,17 @@ def _require_iid(loss: Any) -> tuple[sp.Expr, ...]:
     return losses
 
 
-def snr(loss: IID) -> tuple[sp.Expr, ...]:
+def snr(loss: LossModel) -> tuple[sp.Expr, ...]:
     """``q_i = lambda_i / (1 - lambda_i)`` (eq. 11, Remark 1); ``oo`` for a lossless channel."""
     return tuple(sp.oo if e == 0 else sp.cancel((1 - e) / e) for e in _require_iid(loss))
 
 
-def individual_capacities(loss: IID) -> tuple[sp.Expr, ...]:
+def individual_capacities(loss: LossModel) -> tuple[sp.Expr, ...]:
     """``C_i = -1/2 ln(1 - lambda_i) = -1/2 ln(loss_i)`` (eq. 11 and Remark 1), exact."""
     return tuple(sp.oo if e == 0 else -sp.log(e) / 2 for e in _require_iid(loss))
 
 
-def transmission_capacity(loss: IID) -> sp.Expr:
+def transmission_capacity(loss: LossModel) -> sp.Expr:
     """The overall transmission capacity ``C = sum_i C_i`` (Remark 1), an exact sympy logarithm.
 
     Parameters
@@ -83,13 +82,13 @@ def transmission_capacity(loss: IID) -> sp.Expr:
     return sp.Add(*individual_capacities(loss))
 
 
-def capacity_exponential(loss: IID) -> sp.Expr:
+def capacity_exponential(loss: LossModel) -> sp.Expr:
     """``exp(2 C) = prod_i 1 / (1 - lambda_i)``: the algebraic number behind every capacity test."""
     losses = _require_iid(loss)
     return sp.oo if any(e == 0 for e in losses) else 1 / sp.Mul(*losses)
 
 
-def capacity_exceeds(loss: IID, x: Any) -> bool:
+def capacity_exceeds(loss: LossModel, x: Any) -> bool:
     """Exactly whether ``C > ln x`` for a positive algebraic ``x`` (``C > ln x`` iff ``exp(2C) > x^2``)."""
     e2c = capacity_exponential(loss)
     if e2c == sp.oo:
@@ -102,9 +101,6 @@ def capacity_exceeds(loss: IID, x: Any) -> bool:
     return AlgebraicNumber.from_expr(e2c) > AlgebraicNumber.from_expr(x.exact ** 2)
 
 
-def spectral_radius(A: Any) -> AlgebraicNumber:
-    """``rho(A)`` exactly (largest eigenvalue modulus, from :func:`symkf.exact.spectral.eigenvalues`)."""
-    return max(ev.modulus for ev in eigenvalues(A))
 
 
 def mahler_measure(A: Any) -> AlgebraicNumber:

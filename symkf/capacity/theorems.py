@@ -37,6 +37,7 @@ from ..exact.algebraic import AlgebraicNumber
 from ..exact.linalg import rank
 from ..exact.numbers import to_exact_matrix
 from ..model.iid import IID
+from ..model.loss import LossModel
 from ..model.system import System
 from ..exact.spectral import eigenvalues
 from .quantities import _require_iid, mahler_measure, spectral_radius
@@ -101,7 +102,7 @@ def theorem5_requirements(system: System, order: list[tuple[int, int]] | None = 
     return tuple(sp.log(dec.requirement(i).exact) for i in range(system.d))
 
 
-def theorem5_sufficient(system: System, loss: IID, order: list[tuple[int, int]] | None = None) -> bool:
+def theorem5_sufficient(system: System, loss: LossModel, order: list[tuple[int, int]] | None = None) -> bool:
     """Exactly whether ``C_i > max_j h(A_ij)`` for every sensor (the appendix's hypothesis): then ``V_k`` converges.
 
     ``C_i > ln x`` iff ``1 / loss_i > x^2``.
@@ -129,7 +130,7 @@ def theorem6_allocation(system: System, exp_capacity: Any, order: list[tuple[int
     return IID([sp.radsimp(total ** sp.Rational(2, N) / (m.exact ** 2 * u.exact ** sp.Rational(2, N))) for m in req])
 
 
-def theorem7_necessary(system: System, loss: IID) -> bool:
+def theorem7_necessary(system: System, loss: LossModel) -> bool:
     """Theorem 7's necessary condition ``sum_i p_i C_i > ln |det A|`` (eq. 31), exactly.
 
     (The paper prints ``ln det(A)``; ``|det A|`` is meant.)  Requires ``A``

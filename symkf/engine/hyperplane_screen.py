@@ -17,7 +17,7 @@ exactly.  Cost at ``n = 4`` and ``V`` points in ``d`` orbits: about ``V^3 / (6 d
 incidences, numpy-vectorised per block of flats (all ``C(V, 2)`` flats times ``V`` before).  In
 general a stage with ``C`` classes visits about ``C(C, n - 3)`` flats, each tested against the
 ``C`` classes: :func:`work` estimates this before the search starts.  Under a cyclic symmetry
-(the phase shift of a periodic block) a known lower bound of the heaviest weight (:func:`seed`)
+(the phase shift of a periodic block) a known lower bound of the heaviest weight (:func:`lower_bound`)
 confines the greedy bases to a window after each stage's point (:func:`_windowed`): ``C(W, n - 3)``
 flats for a window of ``W`` classes.
 """
@@ -164,7 +164,7 @@ def _classes(X: np.ndarray, p: int) -> tuple[np.ndarray, list[np.ndarray], np.nd
     return np.flatnonzero(label < 0), members, reps
 
 
-def seed(images: np.ndarray, weights: np.ndarray, p: int, cycles: Sequence[Sequence[int]], screen: Screen) -> None:
+def lower_bound(images: np.ndarray, weights: np.ndarray, p: int, cycles: Sequence[Sequence[int]], screen: Screen) -> None:
     """Offer to ``screen`` the points on the span of each coset of shifts: the points ``q`` apart
     along one cycle (``cycles`` as in :func:`_windowed`), or along every cycle, for each proper
     divisor ``q`` of their length, when that span is a proper subspace mod p.  Each is a flat: a

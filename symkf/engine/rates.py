@@ -45,7 +45,6 @@ from ..exact import perron
 from ..exact.algebraic import AlgebraicNumber
 from ..arguments import check_public
 from ..exact.numbers import sympify
-from ..model.gilbert_elliott import GilbertElliott
 from ..model.loss import Factor, LossModel, checked
 from ..model.system import System
 from .rows import BlockRows, _set

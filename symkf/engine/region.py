@@ -31,7 +31,6 @@ from .rates import capped_hyperplanes, hyperplane_rate, outside_counts
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber, sign, sympy_to_fmpz
 from ..exact.numbers import sympify, to_exact
-from ..model.gilbert_elliott import GilbertElliott
 from ..model.loss import LossModel, checked
 from ..model.system import System
 from .blocks import block_rows
@@ -234,7 +233,7 @@ def stability_region(system: System) -> StabilityRegion:
     return StabilityRegion(system, iid_constraints(system))
 
 
-def ge_margins(system: System, loss: GilbertElliott) -> list[sp.Expr]:
+def ge_margins(system: System, loss: LossModel) -> list[sp.Expr]:
     """Per block and hyperplane, ``alpha^(2g) rho(M_H)``: polynomials in (fail, recover)."""
     out = []
     for br in block_rows(system):

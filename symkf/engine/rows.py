@@ -348,7 +348,7 @@ class BlockRows:
             screen = hyperplane_screen.Screen(tol, floor, budget.LIMITS.max_memory // KEPT_SHARE, strict)
             try:   # Crowded: more sets than fit, and the caller lists, refused by its own estimate
                 if cycles is not None:
-                    hyperplane_screen.seed(X, weights, p, cycles, screen)
+                    hyperplane_screen.lower_bound(X, weights, p, cycles, screen)
                 plan = hyperplane_screen.stages(X, weights, p, orbits, skip, screen.bar, cycles)
                 work = hyperplane_screen.work(X, p, plan, budget.LIMITS.max_screen_work)
                 if work > budget.LIMITS.max_screen_work:  # the modulus named only then

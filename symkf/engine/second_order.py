@@ -52,7 +52,6 @@ from ..exact.algebraic import AlgebraicNumber
 from ..exact.field import Elem, NumberField
 from ..exact.linalg import field_of, rank_rows
 from ..exact.numbers import sympify, to_exact
-from ..model.iid import IID
 from ..model.loss import LossModel, checked
 from ..model.system import Sensor, System
 from ..exact.spectral import eigen_blocks
@@ -275,7 +274,7 @@ def _require_iid(system: System, loss: LossModel) -> tuple[sp.Expr, ...]:
     return losses
 
 
-def theorem12(system: System, loss: IID, period: Period = "governing") -> Verdict:
+def theorem12(system: System, loss: LossModel, period: Period = "governing") -> Verdict:
     """Mean-square stability from the closed form of Theorem 12 (eq. 38), exactly.
 
     Corrected (default): stable iff ``alpha^(2g) max_i prod_j (1 - p_j)^(g - [j in J_i]) < 1``
@@ -416,7 +415,7 @@ def threshold(system: System, period: Period = "governing") -> sp.Basic:
                   or [sp.StrictLessThan(ALPHA ** (2 * P) * sp.Mul(*[m ** P for m in miss]), 1)])
 
 
-def critical_alpha_expr(system: System, period: Period = "governing") -> sp.Expr:
+def theorem12_alpha_expr(system: System, period: Period = "governing") -> sp.Expr:
     """The critical modulus as a sympy expression in ``p_1, ..., p_d``: stable iff alpha < value."""
     _check_period(period)
     cs, _, tau, g, _ = _analysis(system)
@@ -428,7 +427,7 @@ def critical_alpha_expr(system: System, period: Period = "governing") -> sp.Expr
     return sp.Min(*[r ** sp.Rational(-1, 2 * P) for r in (rates[1:] or rates)])
 
 
-def critical_alpha(system: System, loss: IID, period: Period = "governing") -> AlgebraicNumber:
+def theorem12_alpha(system: System, loss: LossModel, period: Period = "governing") -> AlgebraicNumber:
     """The critical modulus for the given losses, eigen-directions fixed (exact)."""
     losses = _require_iid(system, loss)
     cs, _, tau, g, _ = _analysis(system)

@@ -24,7 +24,6 @@ from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber, with_prec, identify
 from ..arguments import check_public
 from ..exact.numbers import sympify, to_exact
-from ..model.iid import IID
 from ..model.loss import LossModel, checked
 from ..model.system import System
 from .rows import BlockRows
@@ -412,7 +411,7 @@ def _min_capped(bounds: list[_Bound | sp.Expr]) -> AlgebraicNumber:
     return best if best < 1 else AlgebraicNumber.from_expr(1)
 
 
-def critical_alpha(system: System, loss: IID) -> AlgebraicNumber:
+def critical_alpha(system: System, loss: LossModel) -> AlgebraicNumber:
     """For a single eigen-block (Assumption 1), the critical modulus: stable iff alpha < value,
     with the eigenvalue directions and the losses fixed.
 

@@ -753,4 +753,8 @@ def _block(members: list[Eigenvalue]) -> EigenBlock:
     return EigenBlock(members[0].modulus, tuple(members), tau, governing, tuple(proofs),
                       tuple(tuple(c) for c in classes), class_period)
 
+def spectral_radius(A: Any) -> AlgebraicNumber:
+    """``rho(A)`` exactly (the largest eigenvalue modulus, from :func:`eigenvalues`)."""
+    return max(ev.modulus for ev in eigenvalues(A))
+
 check_public(globals())

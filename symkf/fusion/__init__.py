@@ -16,11 +16,11 @@ from .covariance import expected_remote_covariance, fusion_sigma, remote_error_c
 from .local_filters import local_filters  # noqa: E402
 from .model import FusionModel  # noqa: E402
 from .pendulum import pendulum_model, reproduce_fusion_pendulum  # noqa: E402
-from .remote import simulate  # noqa: E402
+from .remote import simulate_fusion  # noqa: E402
 from .stability import proposition1_bound  # noqa: E402
 from .weights import fused_covariance, optimal_weights  # noqa: E402
 
 __all__ = ["FusionModel", "local_filters", "remote_error_covariance", "fusion_sigma", "unbiasedness_matrix",
            "expected_remote_covariance", "optimal_weights", "fused_covariance", "proposition1_bound",
-           "simulate", "reproduce_fusion_pendulum", "pendulum_model"]
+           "simulate_fusion", "reproduce_fusion_pendulum", "pendulum_model"]
 

@@ -23,7 +23,7 @@ from ..reproduction import discrepancy, reproduction
 from .covariance import fusion_sigma, remote_error_covariance, unbiasedness_matrix
 from .local_filters import local_filters
 from .model import FusionModel
-from .remote import simulate
+from .remote import simulate_fusion
 from .stability import proposition1_bound
 from .weights import METHODS, fused_covariance, optimal_weights
 
@@ -122,7 +122,7 @@ def reproduce_fusion_pendulum(outdir: str | None = None, paths: int = 50, horizo
     eig = np.linalg.eigvalsh(Sigma)
 
     prop1 = proposition1_bound(lf)
-    sim = simulate(lf, horizon=horizon, paths=paths, seed=seed)
+    sim = simulate_fusion(lf, horizon=horizon, paths=paths, seed=seed)
     t = np.arange(horizon + 1) * 1e-3
     norm = lambda e: np.linalg.norm(e, axis=-1).mean(axis=0)
     fused = norm(sim.fused)

@@ -27,7 +27,7 @@ from .local_filters import LocalFilters
 from .weights import optimal_weights
 from ..numeric.receptions import draw
 
-__all__ = ["RemoteFusion", "Simulation", "simulate", "centralized_filter"]
+__all__ = ["RemoteFusion", "FusionRun", "simulate_fusion", "centralized_filter"]
 
 
 class RemoteFusion:
@@ -64,7 +64,7 @@ def _sqrt_psd(M: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class Simulation:
+class FusionRun:
     """Errors of ``paths`` sample paths over ``horizon`` steps (index 0 = time 0).
 
     ``fused`` (paths, K+1, n): ``x_k - x_hat_k``; ``centralized`` likewise for the
@@ -80,7 +80,7 @@ class Simulation:
     seed: int
 
 
-def simulate(lf: LocalFilters, horizon: int, paths: int, seed: int) -> Simulation:
+def simulate_fusion(lf: LocalFilters, horizon: int, paths: int, seed: int) -> FusionRun:
     """Simulate process, local steady filters, lossy channels and the three kinds of estimators.
 
     At time 0: ``x_0 = 0``, local and centralized filters in steady state
@@ -139,7 +139,7 @@ def simulate(lf: LocalFilters, horizon: int, paths: int, seed: int) -> Simulatio
             remote[i] = np.where(arrived[:, [i]], local[i], remote[i] @ loc.A.T)
         record(k)
     swap = lambda a: np.swapaxes(a, 0, 1)
-    return Simulation(fused=swap(fused_err), centralized=swap(central_err), single=swap(single_err),
-                      trace_P=swap(trace_P), seed=seed)
+    return FusionRun(fused=swap(fused_err), centralized=swap(central_err), single=swap(single_err),
+                     trace_P=swap(trace_P), seed=seed)
 
 check_public(globals())

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError, SymkfError
+from ..errors import SymkfError
 from ..arguments import check_public
 from ..exact.algebraic import AlgebraicNumber
 from ..model.loss import LossModel

@@ -151,7 +151,7 @@ def stability_region_figure(system: System, *, samples: int = 60, mc_points: int
     return finish_figure(fig, path)
 
 
-def yang_bounds(system: System, loss: IID, horizon: int) -> tuple[np.ndarray, np.ndarray]:
+def yang_bounds(system: System, loss: LossModel, horizon: int) -> tuple[np.ndarray, np.ndarray]:
     """``tr G_{k+1}`` and ``tr V_{k+1}``, k = 0..horizon-1: bounds of ``E[tr P_{k|k-1}]`` (Yang et al.).
 
     Yang et al. index the first prediction ``P_1^-``, which is ``P_{0|-1} = P0`` here.
