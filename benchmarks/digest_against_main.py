@@ -33,7 +33,10 @@ def _child() -> None:
     import sympy as sp
     import engine_cases
     import symkf as sk
-    from symkf.engine.rates import perron_root
+    try:
+        from symkf.engine.rates import perron_root
+    except ImportError:   # a checkout from before the layers were folders
+        from symkf.decay import perron_root
     out = {}
     for what, case, a, b in CASES:
         if what == "perron":

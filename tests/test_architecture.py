@@ -71,8 +71,8 @@ def test_the_architecture_page_lists_the_contracts_layers_in_order():
     page = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
     table = re.search(r"<!-- layers -->\n(.*?)<!-- /layers -->", page, re.S)
     assert table, "docs/architecture.md has no layers table"
-    rows = [re.findall(r"`([\w_]+)`", line.split("|")[1]) for line in table.group(1).splitlines()
-            if line.startswith("|") and "`" in line.split("|")[1]]
+    cells = [re.split(r"(?<!\\)\|", line) for line in table.group(1).splitlines() if line.startswith("|")]
+    rows = [re.findall(r"`(\w+)`", row[1]) for row in cells if "`" in row[1]]
     assert rows == LAYERS, "docs/architecture.md's layers table differs from the contract in pyproject.toml"
 
 

@@ -35,7 +35,7 @@ def test_api_reference_documents_every_public_name():
         assert inspect.getdoc(obj), f"symkf.{name} has no docstring"
         module = obj.__name__ if inspect.ismodule(obj) else obj.__module__
         assert module in documented or module.rsplit(".", 1)[0] in documented, f"{name}: {module} not in docs/api.md"
-    assert {"symkf.io.examples", "symkf.model.statespace", "symkf.io.files", "symkf.errors"} <= documented
+    assert {"symkf.io.examples", "symkf.model.statespace", "symkf.io.files", "symkf.errors", "symkf.model.codec"} <= documented
 
 
 def _toml_snippets(page: str) -> list[str]:

@@ -2,14 +2,16 @@
 
 A model is a product of independent :class:`Factor` s, each a first-order finite Markov
 chain (:class:`LossChain`) whose state determines the receivals of its sensors (``1`` =
-packet received): one two-state chain per sensor for :class:`IID` and
-:class:`GilbertElliott`, one joint chain for :class:`MarkovLoss` and the network losses
-(:mod:`symkf.network.loss`), and :class:`Independent` the parts' factors side by side (any of these
-on consecutive groups of sensors).  A joint chain of order ``nu`` is lifted to windows of its last
-``nu`` receival vectors (Remark 3).  Parameters are exact numbers or sympy symbols.  What a
-model does (its factors, the exact rate of a hyperplane class, its check against a system,
-its sampling, its file form and its words) is asked of the model: docs/losses.md shows how to
-add one.
+packet received): one two-state chain per sensor for :class:`~symkf.model.iid.IID` and
+:class:`~symkf.model.gilbert_elliott.GilbertElliott`, one joint chain for
+:class:`~symkf.model.markov.MarkovLoss` and the network losses (:mod:`symkf.network.loss`), and
+:class:`~symkf.model.independent.Independent` the parts' factors side by side (any of these on
+consecutive groups of sensors).  A joint chain of order ``nu`` is lifted to windows of its last
+``nu`` receival vectors (Remark 3).  Parameters are exact numbers or sympy symbols.  A model is
+data: its factors, chain, capabilities, symbols, check against a system, file form and words.
+The engine computes every rate from that data (:mod:`symkf.engine.rates`) and the simulation
+draws from its factors (:func:`symkf.numeric.receptions.draw`); docs/losses.md shows how to add a
+model, in symkf or in a package of its own.
 """
 
 from __future__ import annotations
@@ -211,18 +213,20 @@ def checked(loss: Any, system: Any = None, *, numbers: bool = False, positive: b
 
 
 class LossModel:
-    """The loss-model interface: everything the rest of symkf asks of a packet-loss process.
+    """The loss-model interface: what a packet-loss process is, as data the rest of symkf reads.
 
-    A model answers for itself, so that a new one is added in one place (docs/losses.md):
+    A new model is one class (docs/losses.md), in symkf or in an installed package that names it
+    in the ``symkf.losses`` entry-point group:
 
     * :attr:`factors`: its independent factors as exact chains (per-sensor two-state chains,
       or one joint chain); :attr:`chain`, the joint chain, only where a query needs it (refused
       beyond ``budget`` ``max_markov_states`` before it is built);
-    * :meth:`hyperplane_rate`: the exact decay rate of a hyperplane class (Sui-You-Fu eq. 36),
-      through the rate functions of :mod:`symkf.engine.rates`; :attr:`bernoulli` for the i.i.d. screen;
+    * capabilities: :attr:`bernoulli` (independent Bernoulli losses, Assumption 4) and
+      :attr:`channel_fail` (independent two-state channels), from which the engine chooses its
+      algorithms (:mod:`symkf.engine.rates`, :mod:`symkf.engine.region`);
     * :func:`checked` / :meth:`require_positive` / :meth:`require_bernoulli`: its check against a system;
-    * :meth:`sample`: receptions drawn per factor (memory linear in ``d``);
-    * :attr:`kind`, :meth:`to_table`, :meth:`to_json`, :func:`from_table`: its file and JSON form;
+    * :attr:`kind`, :attr:`keys`, :meth:`read_table`, :meth:`to_table`, :meth:`to_json`: its file
+      and JSON form (read back by :func:`symkf.model.codec.from_table`);
     * :meth:`words`, :attr:`label`, :meth:`fields`, :attr:`assumption`: its words for reports,
       tables and figures.
     """
@@ -286,7 +290,7 @@ class LossModel:
         """A copy with symbols replaced by exact values."""
         raise NotImplementedError
 
-    # -- the exact engine ----------------------------------------------------------------
+    # -- capabilities and checks ---------------------------------------------------------
     @property
     def bernoulli(self) -> tuple[sp.Expr, ...] | None:
         """Per-sensor loss probabilities when receptions are independent Bernoulli across sensors
@@ -336,6 +340,7 @@ class LossModel:
                                   assumption=assumption, applies_instead=applies_instead)
         return self.bernoulli
 
+    # -- words and file form ---------------------------------------------------------------
     def words(self) -> str:
         """The model as reports and figure titles say it."""
         return self.label[1] + " losses"
@@ -345,7 +350,7 @@ class LossModel:
         return ()
 
     def to_table(self) -> dict[str, Any]:
-        """The ``[loss]`` table of a system file (numbers as exact strings); read back by :func:`from_table`."""
+        """The ``[loss]`` table of a system file (numbers as exact strings); read back by :func:`symkf.model.codec.from_table`."""
         raise NotImplementedError
 
     def to_toml(self) -> str:
