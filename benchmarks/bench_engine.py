@@ -19,7 +19,8 @@ import time
 import sympy as sp
 
 import symkf as sk
-from symkf.engine.rates import block_rate, probability_rank_deficient
+from symkf.engine.rates import probability_rank_deficient
+from symkf.engine.search import block_rate
 from symkf.engine.blocks import block_rows
 from symkf.engine.stability import critical_loss_rate, stability
 from symkf.engine.recovery import critical_recovery_rate

@@ -27,7 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import sympy as sp  # noqa: E402
 
 import symkf as sk  # noqa: E402
-from symkf.engine.rates import outside_counts  # noqa: E402
+from symkf.engine.search import outside_counts  # noqa: E402
 from symkf.numeric.montecarlo import divergence_test  # noqa: E402
 from symkf.engine.blocks import block_rows  # noqa: E402
 from symkf.engine.oracle import RawRegression, decay_slope, iid_probability  # noqa: E402

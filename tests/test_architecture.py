@@ -39,7 +39,7 @@ def test_every_contract_is_kept():
 
 
 @pytest.mark.parametrize("module, imported", [
-    ("exact/blocks.py", "from ..engine import rates"),          # the substrate reaching the engine
+    ("exact/blocks.py", "from ..engine import rates"),           # the substrate reaching the engine
     ("model/iid.py", "from ..io import files"),                  # a model reaching the file reader
     ("engine/rows.py", "from ..numeric import montecarlo"),     # the engine reaching the simulation
 ])

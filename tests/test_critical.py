@@ -7,7 +7,8 @@ from hypothesis import assume, given, settings, strategies as st
 
 from symkf.exact.numbers import sympify as exact
 import symkf as sk
-from symkf.engine.rates import block_rate, m_matrix
+from symkf.engine.rates import m_matrix
+from symkf.engine.search import block_rate
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.engine.blocks import block_rows
 from symkf.engine.region import stability_conditions, stability_region

@@ -185,7 +185,7 @@ def test_the_bounds_atlas_refuses_the_lmi_over_the_four_fields_compositum():
 def test_markov_verdicts_part_by_part_through_the_cylinders_searches(rows):
     """Gilbert-Elliott channels on 2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9), a second sensor seeing one part:
     each cylinder's own Markov search, lifted, and the full-support hyperplanes ruled out by the
-    fibres under the additive bound (symkf.engine.rates._through_cylinders), in a fraction of a second."""
+    fibres under the additive bound (symkf.engine.search._through_cylinders), in a fraction of a second."""
     loss = sk.GilbertElliott(["1/10", "1/10"], ["1/2", "1/2"])
     split = _stack((5, 7, 9), rows)
     with _split(split):

@@ -5,7 +5,8 @@ import sympy as sp
 from hypothesis import given, settings, strategies as st
 
 import symkf as sk
-from symkf.engine.rates import block_rate, m_matrix, probability_rank_deficient
+from symkf.engine.rates import m_matrix, probability_rank_deficient
+from symkf.engine.search import block_rate
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.engine.blocks import block_rows
 from symkf.engine.stability import critical_alpha, critical_loss_rate, stability

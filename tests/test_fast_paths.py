@@ -100,7 +100,7 @@ def test_generator_hyperplanes_equal_brute_force(start, twist, data):
 
 
 # -- element hyperplanes and outside counts against rank tests on every element set ---------------
-from symkf.engine.rates import outside_counts  # noqa: E402
+from symkf.engine.search import outside_counts  # noqa: E402
 from symkf.engine.stability import critical_loss_rate  # noqa: E402
 
 

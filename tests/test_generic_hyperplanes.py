@@ -8,7 +8,7 @@ import pytest
 
 import symkf as sk
 from symkf import budget
-from symkf.engine import rates as decay, rows as observability
+from symkf.engine import rates as engine_rates, search, rows as observability
 from symkf.engine.generic_hyperplanes import best_elements
 from symkf.engine.blocks import block_rows
 from test_cylinders import _stack
@@ -33,8 +33,8 @@ CASES = [
 
 def _rows_and_rates(orders, rows, loss):
     br = next(b for b in block_rows(_stack(orders, rows)) if b.block.modulus.exact == 2)
-    rates = decay.factor_rates(br, loss)
-    return br, rates, decay.Patterns(br, rates)
+    rates = engine_rates.factor_rates(br, loss)
+    return br, rates, engine_rates.Patterns(br, rates)
 
 
 @pytest.mark.parametrize("orders, rows, loss", [case[:3] for case in CASES] + [((4, 5), [[1, 0, 2, -1], [0, 1, -1, 1]], JOINT)])
@@ -64,7 +64,7 @@ def test_markov_verdicts_beyond_the_list_equal_the_list(orders, rows, loss, wins
     # the list's estimate pretended past max_hyperplanes: the special hyperplanes and the generic
     # maximum decide (not the list, not a refusal), and give the list's margin and decisive elements
     answered = []
-    beyond = decay._beyond_listing
+    beyond = search._beyond_listing
 
     def spy(br, rates, patterns):
         out = beyond(br, rates, patterns)
@@ -72,7 +72,7 @@ def test_markov_verdicts_beyond_the_list_equal_the_list(orders, rows, loss, wins
             answered.append(best_elements(br, rates)[1] in out)
         return out
     with monkeypatch.context() as m:
-        m.setattr(decay, "_beyond_listing", spy)
+        m.setattr(search, "_beyond_listing", spy)
         m.setattr(observability.BlockRows, "listing_estimate", lambda self: (10 ** 12, "pretended"))
         got = sk.stability(_stack(orders, rows), loss)
     assert answered and (wins is None or answered == [wins == "generic"])

@@ -9,7 +9,7 @@ from hypothesis import assume, example, given, settings, strategies as st
 
 import symkf as sk
 from conftest import rotation
-from symkf.engine.rates import _weights, block_rate
+from symkf.engine.search import _weights, block_rate
 from symkf.engine.stability import critical_loss_rate
 from symkf.engine.rows import BlockRows
 from symkf.engine.blocks import block_rows

@@ -12,7 +12,7 @@ from hypothesis import assume, example, given, settings, strategies as st
 import symkf as sk
 from conftest import rotation
 from symkf.engine import rows as observability
-from symkf.engine.rates import listed_hyperplanes
+from symkf.engine.search import listed_hyperplanes
 from symkf.engine.rows import BlockRows
 from symkf.engine.blocks import block_rows
 

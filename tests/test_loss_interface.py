@@ -398,7 +398,8 @@ def test_independent_pairs_equal_the_joint_chain():
     """Two correlated pairs on 2R(pi/3) (period 3): the Markov search over the two pair chains equals
     the first maximum over every hyperplane of the joint chain's restricted transfer (16 states,
     built here only as the reference)."""
-    from symkf.engine.rates import block_rate, perron_root, restricted_transfer
+    from symkf.engine.rates import perron_root, restricted_transfer
+    from symkf.engine.search import block_rate
     from symkf.exact.algebraic import AlgebraicNumber
     pair = MarkovLoss({(1, 1): {(1, 1): "4/5", (1, 0): "1/20", (0, 1): "1/20", (0, 0): "1/10"},
                        (1, 0): {(1, 1): "1/2", (1, 0): "1/5", (0, 1): "1/10", (0, 0): "1/5"},

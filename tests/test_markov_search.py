@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 import symkf as sk
 from symkf import budget
-from symkf.engine import rates as decay
+from symkf.engine import rates as engine_rates, search
 from symkf.errors import BudgetError
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.engine.blocks import block_rows
@@ -74,7 +74,7 @@ def _enumerated(br, loss):
     """The first maximiser of rho(M_H) over every hyperplane, from the joint chain's transfer."""
     best = None
     for H in br.hyperplanes:
-        v = AlgebraicNumber.from_expr(decay.perron_root(decay.restricted_transfer(br, H, loss)))
+        v = AlgebraicNumber.from_expr(engine_rates.perron_root(engine_rates.restricted_transfer(br, H, loss)))
         if best is None or v > best[1]:
             best = (H, v)
     return best
@@ -82,7 +82,7 @@ def _enumerated(br, loss):
 
 def _check(A, rows, loss):
     (br,) = block_rows(_system(A, rows))
-    got = decay.block_rate(br, loss)
+    got = search.block_rate(br, loss)
     (full,) = block_rows(_system(A, rows))
     H, value = _enumerated(full, loss)
     assert sp.simplify(got.per_period - value.exact) == 0
@@ -121,7 +121,7 @@ def test_two_row_sensors_at_period_24_decided_through_their_flats():
     A = sp.diag(_rotation(sp.pi / 6), _rotation(sp.pi / 4))
     S, fresh = (_system(A, C) for _ in range(2))
     (br,) = block_rows(S)
-    rate = decay.block_rate(br, GE(["1/10"] * 8, ["1/2"] * 8))
+    rate = search.block_rate(br, GE(["1/10"] * 8, ["1/2"] * 8))
     assert "inside" not in br.__dict__
     raw = RawRegression(A, C, br.class_period)
     inside = [(br.elements[e].phase, br.elements[e].sensor) for e in rate.hyperplane]
@@ -136,7 +136,7 @@ def test_the_search_through_flats_is_refused_up_front():
     A, rows, loss = CASES["two-row sensors, period 12"]
     (br,) = block_rows(_system(A, rows))
     with budget.limits(max_screen_work=10), pytest.raises(BudgetError, match="max_screen_work"):
-        decay.block_rate(br, loss)
+        search.block_rate(br, loss)
 
 
 @pytest.mark.parametrize("name", ["period 12, anti-correlated", "period 8, anti-correlated"])
@@ -145,8 +145,8 @@ def test_the_screens_decide_without_listing(name):
     hold the enumeration's maximiser, and no hyperplane is listed."""
     A, rows, loss = CASES[name]
     (br,) = block_rows(_system(A, rows))
-    rates = decay.factor_rates(br, loss)
-    sets = decay._screened(br, rates, decay.Patterns(br, rates))
+    rates = engine_rates.factor_rates(br, loss)
+    sets = search._screened(br, rates, engine_rates.Patterns(br, rates))
     assert sets is not None and len(sets) < 20 and "inside" not in br.__dict__
     (full,) = block_rows(_system(A, rows))
     assert _enumerated(full, loss)[0] in sets
@@ -164,7 +164,7 @@ def test_a_listing_beyond_the_cap_is_refused_up_front():
     A, rows, loss = CASES["multi-row sensor"]
     (br,) = block_rows(_system(A, rows))
     with budget.limits(max_hyperplanes=5), pytest.raises(BudgetError, match="max_hyperplanes"):
-        decay.block_rate(br, loss)
+        search.block_rate(br, loss)
     assert "inside" not in br.__dict__
 
 
@@ -180,7 +180,7 @@ def _listed(system, losses, bound):
     out = []
     for br in block_rows(system):
         a2g = sp.sympify(br.block.modulus.exact ** (2 * br.class_period))
-        out.append(_min_capped([b for ks in decay.outside_counts(br) if (b := bound(a2g, ks)) is not None]))
+        out.append(_min_capped([b for ks in search.outside_counts(br) if (b := bound(a2g, ks)) is not None]))
     return min(out)
 
 
@@ -202,7 +202,7 @@ def test_ray_critical_rate_equals_listing(A, rows, w):
     assert got == _listed(_system(A, rows), losses, bound)
     for br in block_rows(_system(A, rows)):  # the screen decided (it applies to one-row sensors)
         a2g = br.block.modulus.exact ** (2 * br.class_period)
-        assert decay.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g,
+        assert search.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g,
                                     _min_capped) \
             is not None and "inside" not in br.__dict__
 
@@ -224,7 +224,7 @@ def test_sensor_critical_rate_equals_listing(others):
     assert sk.critical_loss_rate(S, "s2", others=others.loss) == _listed(S, losses, bound)
 
 
-# -- losses of 0 and above 1: admissible weights (decay.least_iid_bound) ----------------------
+# -- losses of 0 and above 1: admissible weights (search.least_iid_bound) ----------------------
 BLOCK2 = sp.diag(_rotation(sp.pi / 2), _rotation(sp.pi / 3))
 EXTREMES = [  # (A, rows): a sensor of 0 loss that sees one rotation only keeps some hyperplanes
     (_rotation(sp.pi / 6), [[1, 0], [1, 1], [0, 1]]),
@@ -240,7 +240,7 @@ def _screened(S, losses, bound, safe=None):
     out = []
     for br in block_rows(S):
         a2g = sp.sympify(br.block.modulus.exact ** (2 * br.class_period))
-        v = decay.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g,
+        v = search.least_iid_bound(br, losses, lambda ks: bound(a2g, ks), AlgebraicNumber.from_expr(1), a2g,
                                   _min_capped, safe)
         assert v is not None and "inside" not in br.__dict__
         out.append(v)

@@ -13,7 +13,7 @@ from hypothesis import given, settings
 import symkf as sk
 from symkf import examples
 from symkf.model import strategies as sks
-from symkf.engine.rates import outside_counts
+from symkf.engine.search import outside_counts
 from symkf.io.files import load
 from symkf.engine.blocks import block_rows
 from symkf.engine.oracle import RawRegression, decay_slope, iid_probability

@@ -29,7 +29,7 @@ When every full-support hyperplane is thus lighter than the heaviest cylinder, t
 the answer, exactly (each is confirmed over its sub-system's field).  Otherwise the block falls
 back to its direct rows over the compositum, refused above ``budget.Limits.max_cyclotomic_degree``.
 
-Under Markov losses the rate of a set is not a sum of weights: :func:`symkf.engine.rates.markov_search`
+Under Markov losses the rate of a set is not a sum of weights: :func:`symkf.engine.search.markov_search`
 runs each cylinder's own search (the same chains at the sub-system's class period), lifts its
 candidates, and rules out the full-support hyperplanes by the fibres with the additive bound
 ``log rho(M_H) <= C + sum_(e in H) beta_e`` against the best lifted rate.  That bound counts a

@@ -4,7 +4,7 @@ listing them (Sui-You-Fu eq. 36, ``max_H rho(M_H)``).
 A hyperplane whose elements all have one generator holds at least ``n - 1`` of those with a
 generator ("live"); it is *generic* when it holds exactly ``n - 1`` (independent, no other element
 in their span), *special* when it holds more.  A block in general position has ``C(E, n - 1)``
-generic hyperplanes and few special ones; the screens of :func:`symkf.engine.rates.markov_search` then
+generic hyperplanes and few special ones; the screens of :func:`symkf.engine.search.markov_search` then
 cannot rule the generic ones out (their additive bound reaches them all), and listing them is
 refused beyond ``budget.Limits.max_hyperplanes``.
 

@@ -1,55 +1,48 @@
-"""Decay rates of P(R_N(i)) and the M matrix (Sui-You-Fu eqs. 33-36, Theorem 9).
+"""Decay rates of loss patterns and the M matrix (Sui-You-Fu eqs. 33-36, Theorem 9).
 
-``rho_i = lim sup P(R_N(i))^(1/N)`` (eq. 36).  With ``g`` the block's
-projection period and ``H`` ranging over the maximal rank-deficient element
-sets (hyperplanes, :mod:`symkf.engine.rows`):
+``rho_i = lim sup P(R_N(i))^(1/N)`` (eq. 36).  With ``g`` the block's projection period and
+``H`` a maximal rank-deficient element set (a hyperplane, :mod:`symkf.engine.rows`), the rate
+of "received only inside ``H``" is
 
-* i.i.d. losses: ``rho_i^g = max_H prod_{(j, r) not in H} loss_j`` -- the
-  probability that every element outside ``H`` is lost for a whole period;
-* Markov losses (a first-order :class:`~symkf.model.loss.LossChain`):
-  ``rho_i^g = max_H rho(M_H)`` with ``M_H`` the one-period transfer matrix of
-  the chain restricted to steps whose received elements lie in ``H``; these
-  are the diagonal blocks ``E_ii`` of M for the maximal deficient patterns, so
-  this is eq. (36) without building M.  It holds for aperiodic blocks as well
-  (symkf's extension, docs/sui.md): an element received infinitely often spans
-  its class projections, the other receptions are boundedly many and add
-  polynomial factors only; with every class a single eigenvalue (rotations by
-  irrational angles) ``g = 1`` and the decisive ``H`` is typically empty, the
-  rate of the chain restricted to "everything lost".
+* i.i.d. losses: ``prod_{(j, r) not in H} loss_j``, the probability that every element
+  outside ``H`` is lost for a whole period;
+* Markov losses (a first-order :class:`~symkf.model.loss.LossChain`): ``rho(M_H)``, ``M_H`` the
+  one-period transfer matrix of the chain restricted to steps whose received elements lie in
+  ``H``: the diagonal blocks ``E_ii`` of M for the maximal deficient patterns, so this is
+  eq. (36) without building M.  It holds for aperiodic blocks as well (symkf's extension,
+  docs/sui.md): an element received infinitely often spans its class projections, the other
+  receptions are boundedly many and add polynomial factors only; with every class a single
+  eigenvalue (rotations by irrational angles) ``g = 1`` and the decisive ``H`` is typically
+  empty, the rate of the chain restricted to "everything lost".
 
-Neither maximum lists every hyperplane when a screen applies: :func:`outside_counts` (i.i.d.),
-:func:`markov_search` (Markov losses, per independent factor of the model) and
-:func:`least_iid_bound` (critical loss rates along a ray or of one sensor) reduce them to
-:meth:`~symkf.engine.rows.BlockRows.heaviest`, each with its no-miss argument.
-
-The full M (eqs. 33-34) over (projected pattern, chain state) is built only
-for checking ``P(R_{Ng}) = u M^N v`` (eq. 35) against enumeration.
+A loss model's rate is computed from what it is, factor by factor (:class:`FactorRates`:
+per independent factor, from the runs of its phases inside ``H``); :func:`hyperplane_rate` is
+the engine's rate of one hyperplane, :func:`restricted_transfer` and :func:`perron_root` the
+joint chain's reference.  Which hyperplane decides a block is the search's question
+(:mod:`symkf.engine.search`).  The full M (eqs. 33-34) over (projected pattern, chain state) is
+built only for checking ``P(R_{Ng}) = u M^N v`` (eq. 35) against enumeration.
 """
 
 from __future__ import annotations
 
 import itertools
-import math
 from dataclasses import dataclass
-from typing import Any, Callable, Sequence
+from typing import Any, Sequence
 
 import flint
-import numpy as np  # outside counts from BlockRows.inside
+import numpy as np
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
 from .. import budget
-from . import generic_hyperplanes
-from ..errors import AperiodicError, InputError
-from ..exact import perron
-from ..exact.algebraic import AlgebraicNumber
 from ..arguments import check_public
+from ..errors import AperiodicError
+from ..exact import perron
 from ..exact.numbers import sympify
 from ..model.loss import Factor, LossModel, checked
 from ..model.system import System
-from .rows import BlockRows, _set
-from .blocks import block_deficient
-from .blocks import block_rows
+from .blocks import block_deficient, block_rows
+from .rows import BlockRows
 
 
 @dataclass(frozen=True)
@@ -81,188 +74,6 @@ def perron_root(M: sp.MatrixBase) -> sp.Expr:
         for (r, c), v in M.todok().items():
             rows.setdefault(r, {})[c] = v
     return perron.perron_root(rows, M.shape[0]).exact
-
-
-def _el(br: BlockRows, j: int, phase: int):
-    return br.elements[j * br.class_period + phase]
-
-
-def outside_counts(br: BlockRows, weights: Sequence[float] | None = None) -> dict[tuple[int, ...], frozenset[int]]:
-    """Per distinct exponent vector ``(k_1, ..., k_d)`` -- the number of sensor ``j``'s elements
-    outside a hyperplane ``H`` -- one such ``H``.  Under i.i.d. losses ``H`` decays at
-    ``prod_j loss_j^(k_j)`` per period, so hyperplanes sharing a vector are interchangeable.
-
-    ``weights`` (per sensor, floats >= 0): only the hyperplanes that may maximise ``sum_{e in H}
-    weights[sensor e]`` (:meth:`BlockRows.heaviest`), which is all a caller minimising ``prod_j
-    c_j^(k_j)`` with ``c_j = exp(-weights[j])`` needs; every hyperplane when the screen does not
-    apply or every hyperplane is already known (cached: counting is then cheaper than the
-    screen).  The screen's sets in lexicographic order keep the enumeration's tie-break (the
-    first maximiser)."""
-    if weights is not None and "inside" not in br.__dict__:
-        heaviest = br.heaviest([weights[e.sensor] for e in br.elements])
-        if heaviest is not None:
-            return _outside_vectors(br, sorted(heaviest, key=sorted))
-    return _outside_vectors(br, listed_hyperplanes(br))
-
-
-def listed_hyperplanes(br: BlockRows) -> np.ndarray | list[frozenset[int]]:
-    """Every hyperplane: with elements of several generators the search through their flats at
-    floor 0 (:meth:`BlockRows.heaviest`, refused up front by its work estimate; index sets in
-    lexicographic order), else :attr:`BlockRows.inside`, refused up front when their estimated
-    number (:meth:`BlockRows.listing_estimate`) exceeds ``budget.Limits.max_hyperplanes``."""
-    if br.several_generators and "inside" not in br.__dict__:
-        sets = br.heaviest([0.0] * len(br.elements), floor=0.0)
-        if sets is not None:
-            return sorted(sets, key=sorted)
-    if "inside" not in br.__dict__ and br.size > 1:
-        estimate, formula = br.listing_estimate()
-        if estimate > budget.LIMITS.max_hyperplanes:  # the modulus named only then
-            budget.check("max_hyperplanes", estimate, f"eigen-block of modulus {br.block.modulus}",
-                         f"the estimated number of hyperplanes to list ({formula}; no screen applies)")
-    return br.inside
-
-
-def capped_hyperplanes(br: BlockRows) -> tuple[frozenset[int], ...]:
-    """Every hyperplane as index sets, by :func:`listed_hyperplanes` (refused up front as it is)."""
-    listed = listed_hyperplanes(br)
-    return br.hyperplanes if isinstance(listed, np.ndarray) else tuple(listed)
-
-
-def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[int]]:
-    """:func:`outside_counts` of the hyperplanes ``inside`` (boolean rows or index sets, in
-    lexicographic order: the first hyperplane of each vector is kept)."""
-    if not isinstance(inside, np.ndarray):
-        rows = np.zeros((len(inside), len(br.elements)), dtype=bool)
-        for h, H in enumerate(inside):
-            rows[h, list(H)] = True
-        inside = rows
-    sensor = np.array([e.sensor for e in br.elements])
-    per_sensor = (sensor[:, None] == np.arange(sensor.max() + 1)).astype(np.int64)  # elements x d
-    outside = (~inside).astype(np.int64) @ per_sensor                               # hyperplanes x d
-    _, first = np.unique(outside, axis=0, return_index=True)
-    return {tuple(outside[h].tolist()): _set(inside[h]) for h in sorted(first.tolist())}
-
-
-def _weights(loss: LossModel) -> list[float] | None:
-    """``-log loss_j`` per sensor of i.i.d. losses: the slowest-decaying hyperplane maximises ``sum_{e
-    in H} -log loss_(sensor e)``; None when a loss is 0 or symbolic (then every hyperplane is compared)."""
-    if loss.symbols or any(e == 0 for e in loss.bernoulli):
-        return None
-    return [-float(sp.log(e).evalf(20)) for e in loss.bernoulli]
-
-
-def block_rate(br: BlockRows, loss: LossModel) -> BlockRate:
-    """``rho_i^g`` (per projection period) for one block, exactly (eq. 36).
-
-    i.i.d. losses: the heaviest hyperplanes (:func:`outside_counts`).  Markov losses: the
-    product over the model's independent factors of their restricted transfers' Perron roots,
-    maximised by :func:`markov_search` (aperiodic blocks too: their elements' generators are
-    class projections, docs/sui.md)."""
-    if loss.bernoulli is not None:   # i.i.d.: the rate depends on the exponent vector only
-        counts = outside_counts(br, _weights(loss))
-        cands = [(H, sp.Mul(*[e ** k for e, k in zip(loss.bernoulli, ks)])) for ks, H in counts.items()]
-        H, best = _maximum(cands)
-        return BlockRate(best, H, tuple(cands))
-    if loss.symbols:
-        raise _symbolic()
-    return markov_search(br, factor_rates(br, loss))
-
-
-def _symbolic() -> InputError:
-    return InputError("loss: symbolic loss parameters have no numeric decay rate; "
-                      "use symkf.stability_conditions for the stability region as conditions")
-
-
-def _maximum(candidates: list[tuple[frozenset[int], sp.Expr]]) -> tuple[frozenset[int], sp.Expr]:
-    if any(v.free_symbols for _, v in candidates):
-        raise _symbolic()
-    return max(candidates, key=lambda hv: AlgebraicNumber.from_expr(hv[1]))
-
-
-def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[sp.Expr]],
-                    bound: Callable[[tuple[int, ...]], Any], start: AlgebraicNumber,
-                    growth: sp.Expr, least: Callable[[list], AlgebraicNumber],
-                    safe: AlgebraicNumber | None = None) -> AlgebraicNumber | None:
-    """``min(start, min_H x_H)`` without listing every hyperplane, or None when the screen
-    declines (then list them: :func:`outside_counts`).
-
-    ``losses(x)`` are the i.i.d. losses at the parameter ``x`` (each non-decreasing in ``x``, at
-    most 1 up to ``safe``, default ``start``); ``bound(k)`` is ``x_H`` for a hyperplane whose
-    exponent vector is ``k``: the ``x`` at which its margin ``growth * prod_j loss_j(x)^(k_j)``
-    reaches 1 (None when it never does), in any form that ``least`` takes: ``least(bounds)`` is
-    their least value, or ``start`` when none is below it (the caller's, which may compare
-    certified balls before making any value exact: a hundred exact roots of degree 300 took 4 s).
-
-    Why no hyperplane is missed.  With weights ``w_e(x) = -log loss_(sensor e)(x)`` the margin of
-    ``H`` is ``log growth - T(x) + sum_(e in H) w_e(x)`` (``T`` the total weight of the elements
-    with a generator; the others lie in every hyperplane), and it increases with ``x``; so ``x_H
-    <= x`` iff that margin is ``>= 0`` at ``x``, i.e. iff ``H`` weighs at least ``T(x) - log
-    growth``.  Take ``x`` = the least ``x_H`` over a few hyperplanes spanned by the heaviest
-    generators (:meth:`BlockRows.spanned`; exact) or, when none lies below ``start``, one step of
-    Dinkelbach's iteration at ``safe`` (the heaviest hyperplanes there: their least ``x_H``, or
-    ``start`` when none lies below it, is an upper bound of the answer).  Then ``heaviest(w(x),
-    floor=T(x) - log growth)`` returns every hyperplane with ``x_H <= x`` (its no-miss argument
-    for a floor), and the least of their ``x_H`` is the minimum: one screen when the guess is
-    good.  Weights the screen cannot take directly are made admissible without losing a set:
-
-    * a loss of 0 (weight infinite): the weight ``B = T_finite + |log growth| + 1``.  A hyperplane
-      missing such an element has rate 0 and never binds; one holding all ``Z`` of them weighs
-      ``Z B`` plus its finite weight, and every set missing one weighs less than ``Z B``, so the
-      floor ``Z B + T_finite - log growth`` keeps exactly the hyperplanes that may bind (and the
-      heaviest hold them all when any does);
-    * a loss above 1 (``x`` above ``safe``, weight negative): every weight is raised by ``c``, the
-      most negative's size; a hyperplane holds at least ``n - 1`` elements with a generator (it has
-      rank ``n - 1``), so its raised weight is at least its weight plus ``c (n - 1)``, and the
-      floor raised by ``c (n - 1)`` still keeps it (with more sets, rated exactly and discarded).
-
-    Declines (None) when a loss is symbolic or the screen does not apply."""
-    live = br.live
-    log_growth = float(sp.log(growth).evalf(20))
-
-    def weights(x: AlgebraicNumber) -> tuple[list[float], float, float] | None:
-        """The admissible weights at ``x``, the floor of the hyperplanes binding at ``x`` and the
-        raise ``c`` (above)."""
-        values = [sympify(v) for v in losses(x)]
-        if any(v.free_symbols or not v.is_real or v < 0 for v in values):
-            return None
-        raw = [np.inf if v == 0 else -float(sp.log(v).evalf(20)) for v in values]
-        finite = [raw[br.elements[e].sensor] for e in live if raw[br.elements[e].sensor] < np.inf]
-        zeros = len(live) - len(finite)
-        c = max(0.0, -min(finite, default=0.0))
-        big = 2 * sum(v + c for v in finite) + abs(sum(finite)) + 2 * abs(log_growth) + 1
-        w = [big if raw[e.sensor] == np.inf else raw[e.sensor] + c for e in br.elements]
-        return w, sum(finite) - log_growth + zeros * big + c * max(0, br.size - 1 - zeros), c
-
-    def least_of(sets) -> AlgebraicNumber | None:
-        found = [b for b in (bound(ks) for ks in _outside_vectors(br, sorted(sets, key=sorted))) if b is not None]
-        return least(found) if found else None
-
-    at = start if safe is None or not safe < start else safe
-    first = weights(start)
-    if first is None:
-        return None
-    x = least_of(br.spanned(first[0]))
-    if x is None or not x < start:
-        step = weights(at)
-        if step is None or step[2] > 0:   # Dinkelbach needs losses <= 1: the heaviest bind first
-            return None
-        sets = br.heaviest(step[0])
-        if sets is None:
-            return None
-        x = least_of(sets)
-        if x is None or not x < start:
-            if at == start:   # every margin is at most 1 at start
-                return start
-            x = start
-    final = weights(x)
-    if final is None:
-        return None
-    w, floor, _ = final
-    sets = br.heaviest(w, floor=floor - 1e-9 * (1 + abs(floor)))
-    if sets is None:
-        return None
-    found = least_of(sets)
-    return x if found is None or not found < x else found
 
 
 # -- restricted transfers per independent factor ----------------------------------------
@@ -480,182 +291,9 @@ def _to_float(value: Any) -> float:
     return int(value.p) / int(value.q) if isinstance(value, flint.fmpq) else float(value)
 
 
-def _exact(value: Any) -> sp.Expr:
+def exact_rate(value: Any) -> sp.Expr:
+    """A rate of :class:`FactorRates` (a flint rational or a sympy expression) as a sympy value."""
     return sp.Rational(int(value.p), int(value.q)) if isinstance(value, flint.fmpq) else sympify(value)
-
-
-def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
-    """``max_H prod_f rho(M_(H, f))`` over the hyperplanes ``H``, exactly, without listing them
-    when every factor is in the segment form (:class:`FactorRates`) and the block's elements
-    admit the screen (:meth:`BlockRows.heaviest`; elements of several generators through its
-    additive bound).
-
-    Why no maximiser is missed.  ``rho(M_H)`` is monotone in ``H`` (a larger set allows more
-    states: the restricted transfer grows entrywise), so the maximum over rank-deficient sets
-    is attained at hyperplanes.  Two screens:
-
-    1. ``heaviest(gamma)`` with ``gamma_e = log rho({e}) - log rho({})``, the gain of ``e``
-       alone (>= 0 by monotonicity): its sets are hyperplanes, rated exactly; the largest
-       gives a proved lower bound ``tau`` of the maximum (float log less its error bound).
-    2. Per factor ``f``, ``rho_f(H) <= c_f^(g - n_f(H)) <= c_f^g prod_(e in H, e of f) c_f^(-1)``
-       with ``c_f = max_l (P^l)_(z, z)`` (:meth:`FactorRates.lost_bound`) and ``n_f(H) <= |H_f|``
-       the phases where ``H`` holds an element of ``f``: an additive upper bound with weights
-       ``beta_e = -log c_f >= 0``.  A maximiser ``H*`` has ``C + sum_(e in H*) beta_e >= log
-       rho(H*) >= tau`` (``C = sum_f g log c_f``), so ``heaviest(beta, floor=tau - C)``, which
-       returns every hyperplane whose weight reaches the floor (its no-miss argument), holds it.
-
-    Every returned hyperplane is rated; those whose float log is within the proved errors of the
-    largest are compared exactly (rationals), and the first maximum in lexicographic order is
-    the enumeration's.  Otherwise (or when a screen declines) every hyperplane is listed
-    (:func:`listed_hyperplanes`, capped) and screened the same way in floats when the factors
-    have twins, else compared exactly.
-    """
-    patterns = Patterns(br, rates)
-    sets = _screened(br, rates, patterns) if all(r.screened for r in rates) else None
-    if sets is None:
-        sets = _beyond_listing(br, rates, patterns)
-    if sets is None:
-        sets = list(capped_hyperplanes(br))
-    return _decide(sets, patterns)
-
-
-def _beyond_listing(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
-    """Where listing the hyperplanes would be refused (their estimated number above
-    ``budget.Limits.max_hyperplanes``): the special ones (at least ``n`` elements with a
-    generator: the screen with unit weights and a strict floor) and, when it is larger than all of
-    theirs, the best rate of ``n - 1`` such elements, attained by generic hyperplanes
-    (:mod:`symkf.engine.generic_hyperplanes`, which also says why no maximiser is missed), the first of
-    them in lexicographic order.  None when that does not apply (the caller lists, refused by the
-    estimate)."""
-    if "inside" in br.__dict__ or br.cylinders or br.size < 2 or br.several_generators \
-            or br.listing_estimate()[0] <= budget.LIMITS.max_hyperplanes:
-        return None
-    generic = generic_hyperplanes.best_elements(br, rates)
-    if generic is None:
-        return None
-    special = br.heaviest([1.0 if gs else 0.0 for gs in br.generators], floor=br.size - 0.5, strict=True)
-    if special is None:
-        return None
-    rate, S = generic
-    top = max((patterns.rate(H) for H in special), default=None)
-    # larger than every special one: S is a generic hyperplane; equal: it is one of the maxima (the
-    # list's first may be generic) if it is a hyperplane, else its rate is some special one's
-    if top is None or rate > top or (rate == top and generic_hyperplanes.is_hyperplane(br, S)):
-        return special + [S]
-    return special
-
-
-def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
-    """The hyperplanes of :func:`markov_search`'s two screens; None when a screen declines or the
-    bound cannot rule out the generic hyperplanes (through ``n - 1`` elements of one generator in
-    general position, :meth:`BlockRows.generic_weight`: then listing is cheaper)."""
-    if br.cylinders:
-        return _through_cylinders(br, rates, patterns)
-    first = _first_screen(br, rates, patterns)
-    if first is None:
-        return None
-    tau = max(lg - err for lg, err in map(patterns.log_rate, first))
-    second = _reaching(br, rates, patterns, tau)
-    return None if second is None else list({*first, *second})
-
-
-def _through_cylinders(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
-    """The sets of :func:`markov_search` for a block over several parts (:mod:`symkf.engine.cylinders`):
-    each cylinder's own search (the sub-system's rows over its own, smaller field, with the same
-    factors at its class period), its candidates lifted; their largest rate, less its proved
-    error, is ``tau``, and every hyperplane meeting every part is ruled out by the additive bound
-    of screen 2 (``log rho(M_H) <= C + sum_(e in H) beta_e``) when the fibres bound its weight
-    below ``tau - C``.  Each lifted set is rated over this block's period (a pattern repeated
-    ``g / g_S`` times); None when the bound does not rule those hyperplanes out."""
-    beta, C = _additive_bound(br, rates, patterns)
-    tol = 1e-9 * (1 + abs(C))
-    # tau <= C + the heaviest cylinder's beta: when the fibres cannot put every full-support
-    # hyperplane below that (heaviest declines), they never will, and the cylinders' own searches
-    # are not run (2R(2pi/5) + ... + 2R(2pi/11) with two sensors: a refusal of a three-part screen
-    # estimated at 1.5e9, which ran past 15 min when allowed)
-    if not np.isfinite(C) or br.heaviest(beta) is None:
-        return None
-    sets = {br.lift(rows, H) for rows in br.cylinders
-            for H, _ in markov_search(rows, [FactorRates(r.factor, rows.class_period) for r in rates]).candidates}
-    tau = max(lg - err for lg, err in map(patterns.log_rate, sets))
-    floor = tau - C
-    return list(sets) if np.isfinite(tau) and br.meet_every_part_below(beta, floor - tol - 1e-9 * abs(floor)) else None
-
-
-def _additive_bound(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> tuple[list[float], float]:
-    """``(beta, C)`` of screen 2 of :func:`markov_search`: ``log rho(M_H) <= C + sum_(e in H)
-    beta_e`` for every set ``H`` (:meth:`FactorRates.gain_bound`, per factor, at ``n - 1``
-    elements inside); ``C`` is -inf or NaN where a factor has no finite bound."""
-    bounds = [r.gain_bound(br.size - 1) for r in rates]
-    beta = [bounds[f][1][rates[f].factor.sensors.index(br.elements[e].sensor)] for e, (f, _, _) in enumerate(patterns.of)]
-    return beta, sum(C for C, _ in bounds)
-
-
-def _first_screen(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
-    """Screen 1 of :func:`markov_search`: the hyperplanes heaviest in the gains of single elements."""
-    empty = [r.log_rate({}) for r in rates]
-    gains = [max(0.0, rates[f].log_rate({phase: bit}) - empty[f]) for f, bit, phase in patterns.of]
-    return br.heaviest(gains) if all(np.isfinite(gains)) else None
-
-
-def _reaching(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns, tau: float
-              ) -> list[frozenset[int]] | None:
-    """Every hyperplane whose rate may reach ``exp(tau)`` (screen 2 of :func:`markov_search`);
-    None when the additive bound cannot rule out the generic hyperplanes or a screen declines."""
-    beta, C = _additive_bound(br, rates, patterns)
-    if not np.isfinite(tau) or not np.isfinite(C):
-        return None
-    floor = tau - C
-    if not br.several_generators and br.generic_weight(beta) >= floor:
-        return None
-    return br.heaviest(beta, floor=floor - 1e-9 * (1 + abs(floor) + abs(C)))
-
-
-def first_screen(br: BlockRows, loss: LossModel) -> list[frozenset[int]]:
-    """Hyperplanes of large rate under ``loss`` (screen 1 of :func:`markov_search`, no claim of
-    the maximum); empty when the screen declines."""
-    rates = factor_rates(br, loss)
-    if not all(r.screened for r in rates):
-        return []
-    return _first_screen(br, rates, Patterns(br, rates)) or []
-
-
-def rates_reaching(br: BlockRows, loss: LossModel, floor: AlgebraicNumber) -> list[tuple[frozenset[int], sp.Rational]] | None:
-    """Every hyperplane ``H`` with ``rho(M_H) >= floor`` (exact, > 0) and its exact rate, without listing the
-    hyperplanes: screen 2 of :func:`markov_search` with ``tau`` the float log of ``floor`` less a
-    margin (an additive upper bound rules out every set it leaves), then each returned set rated
-    exactly; when a screen declines, every hyperplane (:func:`listed_hyperplanes`, capped).  None
-    when the factors are not in the segment form."""
-    rates = factor_rates(br, loss)
-    if not all(r.screened for r in rates) or not floor > 0:
-        return None
-    patterns = Patterns(br, rates)
-    low, _ = floor.interval
-    tau = math.log(low.numerator) - math.log(low.denominator) if low > 0 else math.log(float(floor))
-    tau -= 1e-6 * (1 + abs(tau))
-    sets = _reaching(br, rates, patterns, tau)
-    if sets is None:
-        sets = list(capped_hyperplanes(br))
-    sets = [H for H in sets if sum(patterns.log_rate(H)) >= tau]  # float log plus its proved error
-    rated = ((H, _exact(patterns.rate(H))) for H in sets)
-    return [(H, v) for H, v in rated if not floor > v]
-
-
-def _decide(sets: list[frozenset[int]], patterns: Patterns) -> BlockRate:
-    """The first exact maximum (lexicographic order) of the rates of ``sets``; with float twins
-    only the sets within the proved errors of the largest float are compared exactly."""
-    sets = sorted(sets, key=sorted)
-    if np.isfinite(patterns.word_error):
-        rated = [patterns.log_rate(H) for H in sets]
-        top = max(lg - err for lg, err in rated)
-        sets = [H for H, (lg, err) in zip(sets, rated) if lg + err >= top]
-    cands = [(H, patterns.rate(H)) for H in sets]
-    if all(isinstance(v, flint.fmpq) for _, v in cands):
-        H, best = max(cands, key=lambda hv: hv[1])
-        return BlockRate(_exact(best), H, tuple((H, _exact(v)) for H, v in cands))
-    cands = [(H, _exact(v)) for H, v in cands]
-    H, best = _maximum(cands)
-    return BlockRate(best, H, tuple(cands))
 
 
 def hyperplane_rate(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Expr:
@@ -669,13 +307,17 @@ def hyperplane_rate(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Exp
     cache = br.__dict__.setdefault("_rates", {})
     if cache.get(key, (None,))[0] is not loss:
         cache[key] = (loss, Patterns(br, factor_rates(br, loss)))
-    return sp.expand(_exact(cache[key][1].rate(H)))
+    return sp.expand(exact_rate(cache[key][1].rate(H)))
 
 
 def _aperiodic(br: BlockRows) -> AperiodicError:
     return AperiodicError(f"the eigen-block of modulus {br.block.modulus} is aperiodic ({br.block.proof})",
                           assumption="eq. (35) (Sui-You-Fu): M over projected patterns needs a periodic block",
-                          applies_instead="symkf.engine.rates.block_rate, which decides aperiodic blocks")
+                          applies_instead="symkf.engine.search.block_rate, which decides aperiodic blocks")
+
+
+def _el(br: BlockRows, j: int, phase: int):
+    return br.elements[j * br.class_period + phase]
 
 
 def restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp.Matrix:
@@ -686,6 +328,8 @@ def restricted_transfer(br: BlockRows, H: frozenset[int], loss: LossModel) -> sp
 
 
 # -- the full M matrix and brute force ------------------------------------------------
+
+
 def m_matrix(br: BlockRows, loss: LossModel) -> tuple[sp.Matrix, list]:
     """M (eqs. 33-34) over (deficient projected pattern, chain state); column convention.
 
@@ -742,5 +386,6 @@ def probability_rank_deficient(system: System, loss: LossModel, N: int) -> tuple
             p = loss.sequence_probability(pattern)
             totals = [t + p if f else t for t, f in zip(totals, flags)]
     return tuple(sympify(sp.expand(t)) for t in totals)
+
 
 check_public(globals())

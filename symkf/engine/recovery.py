@@ -23,11 +23,11 @@ it is stable on all of ``[q_max, 1)``.
 
 Then the stable set is ``(q_c, 1)`` and ``q_c = max_H r_H``, ``r_H`` the crossing of ``m_H = 1``.
 The search: at the rational ``t = q_max / 2`` the screened Markov search
-(:func:`symkf.engine.rates.block_rate`) gives per block a decisive hyperplane; its exact polynomial
+(:func:`symkf.engine.search.block_rate`) gives per block a decisive hyperplane; its exact polynomial
 ``m_H(q)`` (the run terms ``T_l`` in ``fmpq_poly``, for that one hyperplane) crosses 1 at ``r``
 (in ``(0, t)`` if ``m_H(t) < 1``, in ``[t, q_max)`` if not), and ``q_c >= r``.  Certificate: at a
 rational ``a`` just below the largest ``r``, ``m_H(a) > 1``, and every hyperplane with ``m_H(a) >= 1``
-is found by screen 2 of the Markov search with that floor (:func:`symkf.engine.rates.rates_reaching`,
+is found by screen 2 of the Markov search with that floor (:func:`symkf.engine.search.rates_reaching`,
 no-miss by its additive upper bound); a hyperplane it leaves has ``m_H(a) < 1`` and, decreasing,
 stays below 1 after ``a``; each found one crosses exactly once in ``[a, q_max)`` (``m_H(a) >= 1 >
 m_H(q_max)``).  So ``q_c``, the largest of these crossings, is exact: every ``q > q_c`` is stable,
@@ -45,7 +45,8 @@ import sympy as sp
 
 from ..arguments import check_public
 from ..errors import AssumptionError, InputError
-from .rates import Patterns, block_rate, capped_hyperplanes, factor_rates, first_screen, rates_reaching
+from .rates import Patterns, factor_rates
+from .search import block_rate, capped_hyperplanes, first_screen, rates_reaching
 from ..exact.algebraic import AlgebraicNumber, decreasing_root
 from ..exact.numbers import sympify
 from ..model.gilbert_elliott import GilbertElliott
@@ -166,7 +167,7 @@ class _Channels:
 def listed_margins(system: System, fail: Sequence[sp.Rational], recover: Sequence[sp.Rational] | None,
                    sensor: int | None, q: sp.Symbol) -> list[sp.Expr] | None:
     """Every hyperplane's margin ``alpha^(2g) rho_H(q)`` as a polynomial in ``q`` (the hyperplanes
-    listed, capped: :func:`symkf.engine.rates.capped_hyperplanes`), the distinct ones once, their rates
+    listed, capped: :func:`symkf.engine.search.capped_hyperplanes`), the distinct ones once, their rates
     built in flint (sympy expanding the same products took 470 CPU-s for eight two-row sensors at
     period 24); None when a rate is not rational (then :func:`symkf.engine.region.ge_margins`)."""
     channels = _Channels.of(system.d, fail, recover, sensor)

@@ -3,7 +3,7 @@
 Under i.i.d. losses block ``i`` (modulus ``alpha_i``, projection period
 ``g_i``) is stable iff ``alpha_i^(2 g_i) prod_j eps_j^(k_j(H)) < 1`` for every
 hyperplane ``H`` of its elements, ``k_j(H)`` counting sensor ``j``'s elements
-outside ``H`` (:func:`symkf.engine.rates.outside_counts`).  The stability region is
+outside ``H`` (:func:`symkf.engine.search.outside_counts`).  The stability region is
 the intersection of these monomial inequalities; only the componentwise
 minimal exponent vectors matter, since ``eps^k`` decreases in ``k`` on
 ``[0, 1]``.  In ``(-ln eps_1, -ln eps_2)`` the region is an intersection of
@@ -27,7 +27,8 @@ from typing import Any, Iterable, Sequence
 import sympy as sp
 
 from ..arguments import check_public
-from .rates import capped_hyperplanes, hyperplane_rate, outside_counts
+from .rates import hyperplane_rate
+from .search import capped_hyperplanes, outside_counts
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber, sign, sympy_to_fmpz
 from ..exact.numbers import sympify, to_exact

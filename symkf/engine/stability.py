@@ -19,7 +19,9 @@ from typing import Any, Iterable, Sequence
 import flint
 import sympy as sp
 
-from .rates import BlockRate, block_rate, least_iid_bound, outside_counts
+from .rates import BlockRate
+
+from .search import block_rate, least_iid_bound, outside_counts
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber, with_prec, identify
 from ..arguments import check_public
@@ -250,7 +252,7 @@ def _vectors(system: System) -> list[tuple[AlgebraicNumber, int, tuple[int, ...]
     """``(alpha_i, 2g, (k_1, ..., k_d))`` for every block and the exponent vectors that matter
     for a common loss ``eps``: its bound ``(alpha_i^(2g) eps^K)`` binds first at the fewest
     elements ``K`` outside, so only the hyperplanes holding the most elements
-    (:func:`symkf.engine.rates.outside_counts` with equal weights) are needed."""
+    (:func:`symkf.engine.search.outside_counts` with equal weights) are needed."""
     return [(br.block.modulus, 2 * br.class_period, ks)
             for br in block_rows(system) for ks in outside_counts(br, [1.0] * system.d)]
 
@@ -327,8 +329,8 @@ def _ray_bound(a2g: Any, ks: tuple[int, ...], w: Sequence[sp.Expr]) -> _Bound | 
 
 def _least(system: System, losses, bound, safe: AlgebraicNumber | None = None) -> AlgebraicNumber:
     """The least hyperplane bound over every block, capped at 1: per block by the screened
-    iteration (:func:`symkf.engine.rates.least_iid_bound`; ``safe``: where the losses stop being at most
-    1), else over every exponent vector (capped: :func:`symkf.engine.rates.listed_hyperplanes`)."""
+    iteration (:func:`symkf.engine.search.least_iid_bound`; ``safe``: where the losses stop being at most
+    1), else over every exponent vector (capped: :func:`symkf.engine.search.listed_hyperplanes`)."""
     one = AlgebraicNumber.from_expr(1)
     values = []
     for br in block_rows(system):

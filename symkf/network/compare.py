@@ -36,7 +36,8 @@ from typing import Any, Sequence
 import sympy as sp
 
 from ..arguments import check_public
-from ..engine.rates import capped_hyperplanes, restricted_transfer
+from ..engine.rates import restricted_transfer
+from ..engine.search import capped_hyperplanes
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import sympify

@@ -434,7 +434,7 @@ def verdict_plan(system: System, verdict, loss: LossModel | None = None) -> Burs
     plan = burst_plan(system, phases if any(phases) else [list(range(system.d))], float(growth))
     if loss is None or verdict.limiting_block is None:   # no block decides: no tie to search
         return plan
-    from ..engine.rates import capped_hyperplanes  # the engine imports nothing from simulation
+    from ..engine.search import capped_hyperplanes  # the engine imports nothing from simulation
     from ..engine.blocks import block_rows
     br = block_rows(system)[verdict.limiting_block]
     if br.class_period != plan.period:
