@@ -26,7 +26,7 @@ pytest.importorskip("importlinter")
 def _lint(root: Path) -> subprocess.CompletedProcess:
     """``lint-imports`` on the package under ``root`` with the contracts of ``root/pyproject.toml``."""
     script = ("import sys; from importlinter.cli import lint_imports; "
-              "sys.exit(lint_imports(config_filename='pyproject.toml', no_cache=True, no_logo=True))")
+              "sys.exit(lint_imports(config_filename='pyproject.toml', no_cache=True))")
     env = {**os.environ, "PYTHONPATH": str(root)}
     return subprocess.run([sys.executable, "-c", script], cwd=root, env=env, capture_output=True, text=True,
                            timeout=120)
