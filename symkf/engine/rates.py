@@ -192,7 +192,8 @@ def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[
     exponent vector is ``k``: the ``x`` at which its margin ``growth * prod_j loss_j(x)^(k_j)``
     reaches 1 (None when it never does), in any form that ``least`` takes: ``least(bounds)`` is
     their least value, or ``start`` when none is below it (the caller's, which may compare
-    certified balls before making any value exact: a hundred exact roots of degree 300 took 4 s).
+    certified balls before making any value exact: an exact root of high degree is costly, and
+    there may be hundreds).
 
     Why no hyperplane is missed.  With weights ``w_e(x) = -log loss_(sensor e)(x)`` the margin of
     ``H`` is ``log growth - T(x) + sum_(e in H) w_e(x)`` (``T`` the total weight of the elements
@@ -293,8 +294,8 @@ class FactorRates:
         self.factor, self.g, self.S = factor, period, len(ch.states)
         self.received = [sum(1 << i for i, x in enumerate(v) if x) for v in ch.emit]
         lost = [s for s, m in enumerate(self.received) if m == 0]
-        # the domain's elements, not sympy's: indexing a 560-state lifted chain entry by entry as sympy
-        # Rationals cost 6.6 of 17 CPU-s of a network stability call
+        # the domain's elements, not sympy's: a lifted chain has hundreds of states, and indexing it
+        # entry by entry as sympy Rationals would be a large share of a network stability call
         exact = DomainMatrix.from_Matrix(ch.P)
         self.rational = exact.domain.is_QQ or exact.domain.is_ZZ
         self.z = lost[0] if len(lost) == 1 else None
