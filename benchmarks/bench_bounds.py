@@ -4,7 +4,7 @@ sizes users bring: a dense random integer 8-state A with 8 sensors (i.i.d. losse
 planar tracker beside an oscillator of the same modulus with 16 sensors.  CPU seconds and peak
 RSS of fresh interpreters against main (``engine_rows.compare``; ``SYMKF_BASELINE=DIR`` for a
 fixed checkout of main), the exact rows' digests compared.  The 120 CPU-s per atlas printed as
-each row's target is this benchmark's own (no issue sets one for the atlas).
+each row's target is this benchmark's own.
 Usage: python bench_bounds.py [REPEATS [CAP]]"""
 
 import sys

@@ -1,4 +1,4 @@
-"""Issue 23, row 3: one eigen-block of modulus 2 over several cyclotomic fields (2R(2 pi/5) +
+"""One eigen-block of modulus 2 over several cyclotomic fields (2R(2 pi/5) +
 2R(2 pi/7) [+ 2R(2 pi/9) [+ 2R(2 pi/11)]]), 2 sensors: critical loss rate and the i.i.d. verdict
 (losses 1/10).  Targets: 3 fields <= 10 CPU-s, 4 fields <= 60.  The rows past 2 fields run
 until ``CAP`` CPU seconds (default 120) on both sides.

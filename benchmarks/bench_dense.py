@@ -1,6 +1,6 @@
-"""Issues 18 and 23, row 1: critical common i.i.d. loss rate of a dense random integer A (6x6 to
-32x32; 3 random integer sensors).  Issue 18's targets: 8x8 <= 5 CPU-s, 12x12 <= 30 CPU-s; issue
-23's: 24x24 <= 30 CPU-s, 32x32 <= 120 CPU-s (past main's max_dimension 16: caps raised for both).
+"""Critical common i.i.d. loss rate of a dense random integer A (6x6 to 32x32; 3 random integer
+sensors).  Targets: 8x8 <= 5 CPU-s, 12x12 <= 30 CPU-s, 24x24 <= 30 CPU-s, 32x32 <= 120 CPU-s
+(``max_dimension`` raised on both sides, so that a baseline with a lower cap runs them too).
 Usage: python bench_dense.py [REPEATS]"""
 
 import sys

@@ -1,4 +1,4 @@
-"""Speed of the exact stability engine (issue 3).  Prints medians over fresh systems (no caches).
+"""Speed of the exact stability engine.  Prints medians over fresh systems (no caches).
 
 1. Common critical i.i.d. loss rate, A = (11/10) R(pi/12), four sensors with random rational
    rows (rows over Q(zeta_24), governing period 12).  Target <= 2 s.

@@ -1,4 +1,4 @@
-"""Speed of the exact core (issue 2): ranks over Q(zeta_24) and eigen-blocks of a 6x6 rational A.
+"""Speed of the exact core: ranks over Q(zeta_24) and eigen-blocks of a 6x6 rational A.
 
 1. Exact rank of the 96 x 4 matrix of rows c_i D^k (k = 0..23, four sensors), D the
    modal form diag(z, z^-1, z^5, z^-5) of the rotation pair R(pi/12), R(5 pi/12),

@@ -1,4 +1,4 @@
-"""Issue 18, rows 4 and 8: Gilbert-Elliott verdict for 2R(pi/3) (period 6) with d = 2..16 random sensors
+"""Gilbert-Elliott verdict for 2R(pi/3) (period 6) with d = 2..16 random sensors
 (targets: d = 8 <= 2 CPU-s, d = 16 <= 5 CPU-s).  Usage: python bench_gilbert_elliott.py [REPEATS]"""
 
 import sys

@@ -1,8 +1,8 @@
-"""Issues 18 and 23: i.i.d. verdict for one eigen-block of modulus 21/20 and dimension 4 (period 24)
+"""I.i.d. verdict for one eigen-block of modulus 21/20 and dimension 4 (period 24)
 with d = 4 ... 128 sensors (3072 elements at d = 128; about C(3072, 3) hyperplanes, so enumerating
 them is out of reach): the decay rate needs only the heaviest hyperplanes (BlockRows.heaviest), and
 the critical common loss rate only those holding the most elements (equal weights).
-Issue 23's targets: d = 64 <= 10 CPU-s, d = 128 <= 60 CPU-s and 1 GB.
+Targets: d = 64 <= 10 CPU-s, d = 128 <= 60 CPU-s and 1 GB.
 Usage: python bench_heaviest_hyperplane.py [REPEATS]"""
 
 import sys

@@ -1,9 +1,8 @@
-"""Issue 18, Monte Carlo fixed-cost row (the exact-engine part): float (P, initial, emit) of i.i.d. and
-Gilbert-Elliott losses for d sensors.  New: ``LossModel.numeric()`` (Kronecker products of the sensors'
+"""Monte Carlo fixed cost (the exact-engine part): float (P, initial, emit) of i.i.d. and
+Gilbert-Elliott losses for d sensors by ``LossModel.numeric()`` (Kronecker products of the sensors'
 2x2 chains in float64).  Baseline, measured in the same process on a fresh model: ``loss.chain.numeric()``
-(the 2^d x 2^d exact sympy chain, then floats), which is what simulation calls today; it is run only
-for d <= BASELINE_MAX (the issue measured 36.5 s at d = 10 and 166 s at d = 11).  CPU seconds
-(time.process_time), medians.  Usage: python bench_loss_numeric.py [REPEATS] [BASELINE_MAX]"""
+(the 2^d x 2^d exact sympy chain, then floats), run only for d <= BASELINE_MAX (its exact entries
+grow like 4^d).  CPU seconds (time.process_time), medians.  Usage: python bench_loss_numeric.py [REPEATS] [BASELINE_MAX]"""
 
 import statistics
 import sys

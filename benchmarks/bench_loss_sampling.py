@@ -11,12 +11,12 @@ recover 1/2.  Each case runs in a fresh process (its peak RSS is its own):
   beforehand with plain NumPy (not timed): the floor ``simulate`` is compared with, timed
   alternately with ``simulate`` in one process (the ratio is the median of the pairs: on a
   loaded machine separate processes see different loads);
-* ``main``: ``simulate_traces`` of today's main (``--main PYTHON``, the interpreter of a checkout
+* ``main``: ``simulate_traces`` of main (``--main PYTHON``, the interpreter of a checkout
   of main), which samples from the joint ``2^d``-state chain: feasible up to about d = 12
   (d = 16 needs a 34 GB matrix), so it is run at d = 8 and 12 for the same-run ratio.
 
 Printed: CPU seconds (``resource`` user + system of the child, medians over repeats, the
-compiled kernel loaded before timing), peak RSS (MB) and the ratios.  Targets (issue 22):
+compiled kernel loaded before timing), peak RSS (MB) and the ratios.  Targets:
 d = 16 and 64 in <= 500 MB and within 1.5x of the kernel alone.
 
     nice -n 10 python benchmarks/bench_loss_sampling.py [--quick] [--main /work/wt/main-ref/.venv/bin/python]
@@ -82,7 +82,7 @@ def run(python: str, mode: str, d: int, horizon: int, paths: int, repeats: int, 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer paths and repeats")
-    ap.add_argument("--main", default=None, metavar="PYTHON", help="interpreter of a checkout of today's main")
+    ap.add_argument("--main", default=None, metavar="PYTHON", help="interpreter of a checkout of main")
     args = ap.parse_args()
     horizon, paths, repeats = (50, 2048, 1) if args.quick else (100, 16384, 7)
     print(f"n = 4, Gilbert-Elliott (fail 1/10, recover 1/2) per sensor; horizon {horizon}, {paths} paths; "

@@ -1,4 +1,4 @@
-"""Issue 18, row 6: ``symkf analyze FILE --json`` for 2R(pi/12) with d = 4, 10, 20, 50 sensors
+"""``symkf analyze FILE --json`` for 2R(pi/12) with d = 4, 10, 20, 50 sensors
 [1, j] and i.i.d. loss 1/2 (target d = 20 <= 5 CPU-s).  Usage: python bench_many_sensors.py [REPEATS]"""
 
 import sys

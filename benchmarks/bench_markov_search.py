@@ -1,4 +1,4 @@
-"""Issue 22, item 2: Markov-loss, ray and per-sensor queries without listing every hyperplane.
+"""Markov-loss, ray and per-sensor queries without listing every hyperplane.
 
 The 4-dim eigen-block diag(2R(pi/6), 2R(pi/4)) (modulus 2, governing period 24) with d integer
 sensor rows drawn from -2..2 (fixed seed); rows and targets:
@@ -18,7 +18,7 @@ special hyperplanes and the best rate of any three elements (symkf.engine.generi
 same by the list with ``max_hyperplanes`` raised, the reference in the same run.
 
 Each measurement is a fresh interpreter (cold caches) printing the CPU seconds of the computation
-(``time.process_time``), its peak RSS and a digest of the exact result.  The baseline is today's
+(``time.process_time``), its peak RSS and a digest of the exact result.  The baseline is
 ``main`` from a separate checkout (``--main``, default /work/main, run by ``--main-python``,
 default that checkout's .venv/bin/python), run once per row in the same run under a time limit
 (``--limit``, reported as ``> limit``) and an address-space cap of 4 GB (``> 4 GB``).  Medians over

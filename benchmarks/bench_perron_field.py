@@ -1,4 +1,4 @@
-"""Issue 23: exact Perron roots of 6 x 6 non-negative matrices over Q(sqrt 2, sqrt 3, sqrt 5)
+"""Exact Perron roots of 6 x 6 non-negative matrices over Q(sqrt 2, sqrt 3, sqrt 5)
 (:func:`engine_cases.radical_matrix`, seeds 0..), through ``symkf.engine.rates.perron_root``.
 Target: <= 1 CPU-s each.  Usage: python bench_perron_field.py [SEEDS [REPEATS [BASELINE_CAP]]]"""
 

@@ -1,6 +1,6 @@
-"""Issues 18 and 23: 2R(2 pi/p) with sensors x and y, critical loss rate, p = 7 ... 401 (issue 18's
-targets: p = 23 <= 1 CPU-s, p = 97 <= 10 CPU-s; issue 23's: p = 401 <= 30 CPU-s within the default
-caps; main needs its cyclotomic and angle caps raised past p = 127).
+"""2R(2 pi/p) with sensors x and y, critical loss rate, p = 7 ... 401 (targets: p = 23 <= 1 CPU-s,
+p = 97 <= 10 CPU-s, p = 401 <= 30 CPU-s within the default caps; the rows past p = 127 raise the
+cyclotomic and angle caps on both sides, so that a baseline with lower caps runs them too).
 Usage: python bench_prime_rotation.py [REPEATS]"""
 
 import sys

@@ -1,4 +1,4 @@
-"""Issue 18, row 3: one eigen-block of modulus 2 and dimension 4 (rotations by pi/6, pi/3; period 12)
+"""One eigen-block of modulus 2 and dimension 4 (rotations by pi/6, pi/3; period 12)
 with d = 2, 4, 6, 8 sensors (target d = 8 <= 2 CPU-s), and of dimension 6 (pi/6, pi/3, pi/2) with
 3 sensors (target <= 10 CPU-s); critical loss rate.  Usage: python bench_rotation_block.py [REPEATS]"""
 

@@ -1,4 +1,4 @@
-"""Issue 18, row 2: n = 8 stack of four rotation blocks with four moduli, 3 sensors, critical loss rate
+"""An n = 8 stack of four rotation blocks with four moduli, 3 sensors, critical loss rate
 (target <= 2 CPU-s): rotations by pi/2, pi/3, pi/4, pi/6 (entries in Q(sqrt 2, sqrt 3)), and by
 2 pi/5, 2 pi/7, pi/4, pi/6 (entries in four different fields: Q(zeta_20)^+, Q(zeta_28)^+, Q(sqrt 2),
 Q(sqrt 3), whose compositum has degree 96).  Usage: python bench_rotation_stack.py [REPEATS]"""

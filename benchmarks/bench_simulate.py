@@ -19,7 +19,7 @@ Yardsticks: baseline / simulate >= 2 in every cell; simulate / kernel is the cos
 (about 0.7 ns per sensor-step, rng.random: 1.6-1.8 at n = 2 with 3 and 8 sensors, where the kernel is fastest).
 Set-up of the compiled kernel: a fresh process's first call with numba's
 cache present, and with an empty cache (``NUMBA_CACHE_DIR``: the first call ever).
-Targets (issue 18): ratio >= 100 at every size, >= 1e7 path-steps/s at n = 2, d = 3,
+Targets: ratio >= 100 at every size, >= 1e7 path-steps/s at n = 2, d = 3,
 set-up <= 1 s, both cores used with jobs = 2.
 
     nice -n 10 python benchmarks/bench_simulate.py [--quick] [--grid]

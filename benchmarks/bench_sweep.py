@@ -1,4 +1,4 @@
-"""Issue 18, row "sweeps with --jobs 2 >= 1.7x serial on 2 cores for a family of >= 8 members".
+"""Sweeps in parallel: target ``--jobs 2`` >= 1.7x serial on 2 cores for a family of >= 8 members.
 
 Family: A = 2 R(pi/g) for the primes g = 59..97 (8 members, cyclotomic degree 2(g - 1) up to
 192) with three sensors [1, 0], [0, 1], [1, 1], the critical common i.i.d. loss rate of each:

@@ -13,9 +13,8 @@ three loss families with one scalar parameter ``t``:
 Points: ``t = t_c (1 +- delta)`` for ``delta`` in 2 %, 5 %, 20 % (rounded to 6 digits; the
 exact verdict and rate are recomputed at the rounded point).  Each point runs
 :func:`symkf.numeric.verify.verify` with a fixed budget (``--paths`` per run at the horizons ``h, 2h,
-3h`` of ``--horizon``: 15 000 x (40 + 80 + 120) path-steps, as 20 000 x (60 + 120) before
-the margin estimator) and a seed fixed by its index.  Printed: per distance and side the
-fraction decided (consistent), per loss kind, and the contradictions; the coverage of the
+3h`` of ``--horizon``: 15 000 x (40 + 80 + 120) path-steps) and a seed fixed by its index.
+Printed: per distance and side the fraction decided (consistent), per loss kind, and the contradictions; the coverage of the
 exact margin by the margin intervals at verify's confidence, 99.9 % (with the allowance, and Fieller's alone) where
 they are resolved; CPU seconds.
 

@@ -1,4 +1,4 @@
-"""The systems of issue 18's exact-engine rows, shared by the benchmark scripts.
+"""The systems of the exact-engine benchmark rows (:mod:`engine_rows`), shared by the benchmark scripts.
 
 Each builder returns ``(System, loss)``; sizes are parameters so a script can sweep them.
 Random data come from ``numpy.random.default_rng(seed)`` (fixed seeds: the same systems every run).
@@ -57,7 +57,7 @@ def near_unit_block(d: int) -> tuple[sk.System, sk.IID]:
 
 
 def prime_rotation(p: int) -> tuple[sk.System, sk.IID]:
-    """2 R(2 pi / p) with sensors x and y (field of degree 2(p - 1) today)."""
+    """2 R(2 pi / p) with sensors x and y (the engine's field has degree 2(p - 1))."""
     return sk.System(A=_rotation(2 * sp.pi / p, 2), sensors=_sensors([[1, 0], [0, 1]])), sk.IID(["1/10"] * 2)
 
 
@@ -81,7 +81,7 @@ def gilbert_elliott(d: int, seed: int = 0) -> tuple[sk.System, sk.GilbertElliott
 
 def cyclotomic_fields(k: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
     """One eigen-block of modulus 2 over k cyclotomic fields: 2R(2 pi/5), 2R(2 pi/7), 2R(2 pi/9),
-    2R(2 pi/11) (the first k), with 2 random integer sensor rows (issue 23, row 3)."""
+    2R(2 pi/11) (the first k), with 2 random integer sensor rows (``bench_cyclotomic_fields.py``)."""
     blocks = [_rotation(2 * sp.pi / q, 2) for q in (5, 7, 9, 11)][:k]
     rng = np.random.default_rng(seed)
     return sk.System(A=sp.diag(*blocks), sensors=_sensors(_random_rows(rng, 2, 2 * k))), sk.IID(["1/10"] * 2)
@@ -182,7 +182,7 @@ def radical_perron(seed: int, n: int = 6) -> tuple[sp.Matrix, None]:
 
 def two_rotations(d: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
     """One eigen-block of modulus 2 and dimension 4, diag(2R(pi/6), 2R(pi/4)) (period 24), with d
-    random non-zero integer sensor rows and losses 1/10 (issue 23: d = 64 and 128)."""
+    random non-zero integer sensor rows and losses 1/10 (``bench_heaviest_hyperplane.py``: d up to 128)."""
     rows = np.random.default_rng(600 + seed).integers(-2, 3, (d, 4))
     rows[np.all(rows == 0, axis=1), 0] = 1
     A = sp.diag(_rotation(sp.pi / 6, 2), _rotation(sp.pi / 4, 2))

@@ -1,4 +1,4 @@
-"""Runner of issue 18's exact-engine benchmark rows: this checkout against git ``main``.
+"""Runner of the exact-engine benchmark rows: this checkout against git ``main``.
 
 Each measurement is a fresh interpreter (cold caches) that builds one system of
 :mod:`engine_cases`, runs one computation and prints its CPU seconds

@@ -1,4 +1,4 @@
-"""Speed of pi_j(delta) = Pr{O(k + delta - 1, k) rank deficient | Xi = j} (seed 002, Theorem 2).
+"""Speed of pi_j(delta) = Pr{O(k + delta - 1, k) rank deficient | Xi = j} (Quevedo et al., Theorem 2).
 
 symkf's dynamic programme over exact row spaces against the brute-force
 enumeration of every theta sequence (baseline), in the same process.

@@ -37,11 +37,11 @@ def exact_counterexample() -> bool:
     gamma = sp.Symbol("gamma")
     Gamma = sp.solve(sp.Eq(gamma, G * (a * gamma * a + q) * G), gamma)[0]   # Lemma 2, i != j
     true = sp.simplify(a * Gamma * F + q * G)
-    seed = sp.simplify(a * Gamma)
-    differ = sp.simplify(true - seed) != 0
+    stated = sp.simplify(a * Gamma)
+    differ = sp.simplify(true - stated) != 0
     print(f"exact: P* = {P_pred}, K = {K}, Gamma_12 = {sp.simplify(Gamma)}")
     print(f"  tau = (1, 0): true P^(12) = {sp.simplify(true)} = {float(true):.6f}, "
-          f"eq. (18) gives {sp.simplify(seed)} = {float(seed):.6f}")
+          f"eq. (18) gives {sp.simplify(stated)} = {float(stated):.6f}")
     from symkf import Sensor
     from symkf.fusion import FusionModel, local_filters, remote_error_covariance
     lf = local_filters(FusionModel.discrete([[2]], [[1]], [Sensor([[1]]), Sensor([[1]])], ["1/2", "1/2"]))
@@ -58,17 +58,17 @@ def pendulum() -> bool:
     for tau in [(0,) * 10, (2, 0, 1, 0, 3, 0, 0, 1, 0, 2), (5, 1, 0, 0, 0, 0, 2, 0, 0, 0)]:
         exact = remote_error_covariance(lf, tau, method="propagation")
         ours = remote_error_covariance(lf, tau)
-        seed = np.block([[np.linalg.matrix_power(m.local[i].A, tau[i]) @ lf.block(i, j)
+        stated = np.block([[np.linalg.matrix_power(m.local[i].A, tau[i]) @ lf.block(i, j)
                           @ np.linalg.matrix_power(m.local[j].A, tau[j]).T
                           + sum((np.linalg.matrix_power(m.local[i].A, t) @ m.local[i].V.T @ m.Q @ m.local[j].V
                                  @ np.linalg.matrix_power(m.local[j].A, t).T for t in range(min(tau[i], tau[j]))),
                                 np.zeros((m.local[i].n_o, m.local[j].n_o)))
                           for j in range(m.N)] for i in range(m.N)])
         scale = np.abs(exact).max()
-        err_ours, err_seed = np.abs(ours - exact).max() / scale, np.abs(seed - exact).max() / scale
+        err_ours, err_stated = np.abs(ours - exact).max() / scale, np.abs(stated - exact).max() / scale
         equal_tau = len(set(tau)) == 1
-        ok &= err_ours < 1e-9 and (err_seed < 1e-9 if equal_tau else err_seed > 1e-6)
-        print(f"pendulum tau = {tau}: corrected formula rel. error {err_ours:.1e}, eq. (18) rel. error {err_seed:.1e}")
+        ok &= err_ours < 1e-9 and (err_stated < 1e-9 if equal_tau else err_stated > 1e-6)
+        print(f"pendulum tau = {tau}: corrected formula rel. error {err_ours:.1e}, eq. (18) rel. error {err_stated:.1e}")
     return ok
 
 

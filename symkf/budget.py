@@ -28,17 +28,18 @@ from .errors import BudgetError, InputError
 
 @dataclass
 class Limits:
-    """The caps (defaults in brackets are chosen so that every example of the papers passes)."""
+    """The caps (defaults in brackets are chosen so that every example of the papers passes; the
+    costs they were sized on: docs/performance.md)."""
 
     #: algebraic degree over Q of a field with radicals, bounded by the product of the degrees of
     #: its radicals and trigonometric constants, times the size of the diagonal block of A whose
     #: eigenvalues it holds: such fields are built generically (sympy's minimal_polynomial,
-    #: Trager's norm), whose cost explodes (a sum of 7 square roots, degree 128: > 60 CPU-s)
+    #: Trager's norm), whose cost explodes with the degree
     max_degree: int = 64
     #: degree of the cyclotomic field Q(zeta_m) holding the trigonometric constants and I of a
     #: number or matrix without radicals (its real subfield for real entries), times the size of
     #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and its
-    #: roots come from Euler's formula (2R(2 pi/401): 800, 3.2 CPU-s; 2R(2 pi/509): 1016, 6 CPU-s);
+    #: roots come from Euler's formula (2R(2 pi/509), degree 1016, passes);
     #: also phi(g) for an eigen-block over several diagonal blocks, g its class period (its field
     #: holds Q(zeta_g): four rotations 2R(2 pi/q), q = 5, 7, 9, 11, give phi(3465) = 1440; decided
     #: part by part first, symkf.engine.cylinders), and the degree of the field of all entries of the LMI
@@ -46,8 +47,8 @@ class Limits:
     max_cyclotomic_degree: int = 1024
     #: bit size (2D + 1) D b, D = d(d+1)/2, of the polynomial of the modulus (power sums of the
     #: products of conjugates, symkf.exact.spectral._abs_poly) for a complex eigenvalue of degree d with
-    #: b-bit minimal polynomial: its factorisation is the cost (a dense random integer 32 x 32 A,
-    #: d = 32: 11 CPU-s in all; a 16 x 16 A over Q(sqrt 2), d = 32, b = 70, 3.9e7 bits: 37 CPU-s)
+    #: b-bit minimal polynomial: its factorisation is the cost (a 16 x 16 A over Q(sqrt 2), d = 32,
+    #: b = 70, has 3.9e7 bits and passes)
     max_modulus_bits: int = 2 ** 26
     #: nesting depth of radicals (sqrt(2 + sqrt(3)) has depth 2)
     max_nesting: int = 4
@@ -62,32 +63,31 @@ class Limits:
     #: bit size (height) of an exact number, estimated before it is evaluated: the larger of a
     #: rational's numerator and denominator bits; for an algebraic number a bound on its
     #: absolute logarithmic (Weil) height in bits, the size that the engine's polynomial arithmetic
-    #: and root isolation pay for (a rotation block with an entry 10^-230, 764 bits: 1.7 CPU-s;
-    #: 10^-350, 1163 bits: 34 CPU-s; 2^-1074: 21 CPU-s)
+    #: and root isolation pay for, steeply beyond a thousand bits (a rotation block with an entry
+    #: 10^-230 has 764 bits)
     max_bits: int = 768
-    #: rows or columns of a matrix (state dimension n, measurement channels; a dense random
-    #: integer 32 x 32 system with 3 sensors: critical loss rate in about 8 CPU-s, 36 x 36: 25)
+    #: rows or columns of a matrix (state dimension n, measurement channels; the exact engine's
+    #: work on a dense system grows steeply with n)
     max_dimension: int = 32
     #: sensors d of a system or loss model (independent sensors are decided per sensor, never
-    #: through the joint 2^d-state chain: 50 Gilbert-Elliott sensors take about 3 CPU-s)
+    #: through the joint 2^d-state chain)
     max_sensors: int = 64
-    #: states of a joint (lifted) Markov loss chain: the exact engine's work grows with their
-    #: square (64 states: about 9 s, 128: 30 s, 256: past 60 CPU-s)
+    #: states of a joint (lifted) Markov loss chain: the exact engine's work grows with their square
     max_markov_states: int = 128
     #: hyperplanes a decay rate must list when no screen applies (chains with several all-lost
     #: states, losses of 0, generators that do not span mod p), estimated before listing by ``C(V, n - 1)`` for V
     #: distinct generators in K^n, or fewer through the flats of elements of several generators
-    #: (BlockRows.listing_estimate): each costs about 10 us and E bytes (a 4-dim block with 8
-    #: sensors of period 24 has 1.2 million, 12 CPU-s and past 2.8 GB in all)
+    #: (BlockRows.listing_estimate): each is built and held, E bytes (a 4-dim block with 8 sensors of
+    #: period 24 has 1.2 million)
     max_hyperplanes: int = 300_000
     #: receival sequences ``2^(d (horizon - 1))`` that the exact mean trace enumerates
     #: (symkf.numeric.montecarlo.exact_mean_covariances and exact_mean_trace; estimate_mean_trace simulates),
     #: and ``2^(d N)`` that the brute-force symkf.engine.rates.probability_rank_deficient enumerates
     max_patterns: int = 2 ** 20
     #: (sensor, span) states of the probability that the received rows have full column rank
-    #: (symkf.network.full_rank_probability_of, Quevedo et al.'s Pr{r = 1}), bounded before it
-    #: starts by sum_{k < n} C(M + 1, k + 1) for M sensors in dimension n (reached by rows in
-    #: general position): about 60 us each (24 scalar sensors of a 6-state system: 245,505, 15 CPU-s)
+    #: (symkf.network.full_rank_probability_of, Quevedo et al.'s Pr{r = 1}), each one visited, bounded
+    #: before it starts by sum_{k < n} C(M + 1, k + 1) for M sensors in dimension n (reached by rows
+    #: in general position; 24 scalar sensors of a 6-state system have 245,505)
     max_span_states: int = 1_000_000
     #: hyperplanes of the exact verdict's limiting block that a Monte Carlo plan
     #: (symkf.numeric.montecarlo.verdict_plan) lists to find the bursts whose rate ties with the decisive
@@ -99,19 +99,17 @@ class Limits:
     max_order_rows: int = 6
     #: degree of an eigenvalue ratio's polynomial (the product of the two eigenvalues' degrees)
     #: up to which an aperiodicity proof prints the ratio's minimal polynomial, a resultant of that
-    #: degree (1024 for the degree-32 eigenvalues of a dense 16 x 16 system: minutes); above it,
+    #: degree (1024 for the degree-32 eigenvalues of a dense 16 x 16 system: a costly resultant); above it,
     #: when the certified argument already proves it, the proof is printed from the argument
     max_proof_resultant_degree: int = 64
     #: size ``n d`` of the rational matrix whose characteristic polynomial is the norm of an
     #: n x n chain block's with entries in a number field of degree d (the exact Perron root,
-    #: symkf.exact.perron_field): its cost grows like (n d)^4 (6 x 6 to 48 x 48 blocks over
-    #: Q(sqrt 2, sqrt 3, sqrt 5): n d = 48, 0.1 CPU-s; 192, 3.3; 256, 9; 384, 41 and 390 MB)
+    #: symkf.exact.perron_field): its cost grows like (n d)^4
     max_norm_dimension: int = 256
     #: degree C(m, k) of the polynomial of a product of k of the m conjugate roots of an
     #: eigenvalue's minimal polynomial (the Mahler measure of a dense A: its eigenvalues outside
-    #: the unit circle): generically that product's own degree (dense random integer A: 8 x 8 with
-    #: k = 4, 70, 0.01 CPU-s; 12 x 12 with k = 6, 924, 16 CPU-s, mostly isolating its roots; 14 x 14
-    #: with k = 7, 3432, over 2 CPU-min)
+    #: the unit circle): generically that product's own degree, whose roots' isolation is the cost
+    #: (dense random integer A: 12 x 12 with k = 6 gives 924, 14 x 14 with k = 7 gives 3432)
     max_compound_degree: int = 1024
     #: states of the lifted chain of a network loss read from a file, bounded before it is built by
     #: (network states, or the sum over states of the longest holding time) times 2^M link outcomes
@@ -120,16 +118,15 @@ class Limits:
     #: before it starts: ``C(C, n - 2)`` per stage for ``C`` classes in an n-dim block (with a
     #: window of ``W`` classes ``C(W, n - 4) (W C + 10^4)``: 1.9e7 for three rotations
     #: 2R(2 pi/q), q = 5, 7, 9, with 2 sensors, against 9.3e9 without), plus
-    #: 10^4 per vectorised pass (0.15-0.2 us each: a 4-dim block with 64 sensors of period 24,
-    #: 1.1e7 and 2.2 CPU-s per screen, with 128 sensors 3.1e7; a 6-dim one with 6 sensors of
-    #: period 12, 6.3e7 and 9.5 CPU-s; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64
-    #: sensors: about 10^42)
+    #: 10^4 per vectorised pass (a 4-dim block with 64 sensors of period 24, 1.1e7 per screen,
+    #: with 128 sensors 3.1e7; a 6-dim one with 6 sensors of period 12, 6.3e7; eight 2R(pi/97)
+    #: blocks, one 16-dim eigen-block, with 64 sensors: about 10^42)
     max_screen_work: int = 1_000_000_000
     #: members of a family file
     max_members: int = 2000
     #: bytes of the arrays one Monte Carlo run allocates at its peak, as estimated by
     #: symkf.numeric.montecarlo.memory_estimate (traces, receptions, kernel lanes, likelihood ratios,
-    #: per-step records; within 1.5x of measured peak RSS)
+    #: per-step records; within 1.5x of peak RSS: tests/test_memory_estimate.py)
     max_memory: int = 2 * 1024 ** 3
     #: bytes of an input file
     max_file_size: int = 1024 ** 2

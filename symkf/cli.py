@@ -225,9 +225,10 @@ VARY: dict[str, Callable[[Any, Any, str, str], tuple[str, AlgebraicNumber, str]]
     "common": _vary_common, "sensor": _vary_sensor, "alpha": _vary_alpha, "recovery": _vary_recovery}
 
 
-#: peak bytes per digit of ``critical --digits`` (the decimal, the interval endpoints' numerators and
-#: denominators as integers and text, mpmath's and sympy's copies; measured: about 95 at 2e5 digits,
-#: 25 CPU-s, the conversions quadratic in the digits)
+#: peak bytes per digit of ``critical --digits``, at least (the decimal, the interval endpoints'
+#: numerators and denominators as integers and text, mpmath's and sympy's copies; the measured peak
+#: per digit is higher at very many digits, where the conversions, quadratic in the digits, also
+#: cost the most time: docs/performance.md)
 DIGIT_BYTES = 64
 
 

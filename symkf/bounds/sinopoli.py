@@ -44,7 +44,7 @@ from .row import EXACT, NECESSARY, SUFFICIENT, VIOLATED, Hypothesis, Quantity, R
 CITATION = ("B. Sinopoli, L. Schenato, M. Franceschetti, K. Poolla, M. I. Jordan, S. S. Sastry, "
             "\"Kalman filtering with intermittent observations\", IEEE Trans. Autom. Control 49(9), 2004")
 
-#: bisection steps of the LMI threshold (each halves the bracket; about 0.05-1 CPU-s each)
+#: bisection steps of the LMI threshold (each halves the bracket and solves and certifies one LMI)
 LMI_STEPS = 8
 
 

@@ -1,4 +1,4 @@
-"""Capacity conditions against exact critical loss rates (the comparison of issue 7).
+"""Capacity conditions against exact critical loss rates (Yang et al., Theorems 2, 5 and 6).
 
 For ``N`` sensors sharing one i.i.d. loss probability ``eps`` the capacity is
 ``C = -(N/2) ln eps``, so each capacity condition is a loss threshold:

@@ -134,8 +134,8 @@ def _positive_definite(K: NumberField, M: list[list[Elem]]) -> bool:
     elimination without row exchanges (the leading minors are their running products) on certified
     balls at 256 bits, then 1024 and 4096 (the terms of an element of Q(cos 2 pi/401), degree 400,
     cancel by 10^500); when a ball's sign stays open, on the exact pivots (:func:`_pivots_positive`
-    over Q, :func:`_field_pivots_positive` over K: sympy's determinants and minimal polynomials
-    of degree 400 ran past 10 CPU-min)."""
+    over Q, :func:`_field_pivots_positive` over K: not sympy's determinants and minimal
+    polynomials, far too slow at degree 400)."""
     for prec in (256, 1024, 4096):
         decided = with_prec(prec, lambda: _schur_positive(K.real_balls(M, prec)))
         if decided is not None:
@@ -170,9 +170,8 @@ def _schur_positive(a: list[list[flint.arb]]) -> bool | None:
     """:func:`_pivots_positive` on balls, by halves: the pivots of elimination without row exchanges
     are those of the leading block ``A11`` followed by those of its Schur complement ``A22 - A21
     A11^-1 A12``, whose balls (enclosing the exact complement) flint's certified solve and product
-    give in C (the entry-by-entry elimination in Python took a quarter of ``symkf.bounds`` at 64
-    sensors; 200 x 200 at 256 bits: 0.17 s against 0.39-0.46).  Not for rationals: an exact
-    ``fmpq_mat`` solve swells (20 s at 200 x 200)."""
+    give in C, where an entry-by-entry elimination runs in Python (docs/performance.md).  Not for
+    rationals: an exact ``fmpq_mat`` solve swells."""
     k = len(a)
     if k <= SCHUR_BLOCK:
         return _pivots_positive(a)
@@ -192,7 +191,8 @@ def _pivots_positive(a: list[list[Any]]) -> bool | None:
     """Whether every pivot of elimination without row exchanges is positive, in exact rationals
     (``fmpq``) or certified balls (``arb``, at their precision): a negative pivot decides False, a
     ball around zero leaves the answer open (None).  One elimination, not ``k`` determinants (the
-    80 leading minors of an 80 x 80 certificate took minutes)."""
+    leading minors of a large certificate, each a determinant of its own, repeat that work ``k``
+    times)."""
     k = len(a)
     for i in range(k):
         pivot = a[i][i]
@@ -210,10 +210,10 @@ def _pivots_positive(a: list[list[Any]]) -> bool | None:
 
 def _entries(basis: list[sp.Matrix]) -> tuple[NumberField, Entries]:
     """The field of the basis' entries and each basis matrix's nonzero entries as its elements:
-    they hold a few dozen of ``size^2``, and every product below runs over them (the Gram matrix
-    of 74 dense 72 x 72 sympy matrices, sixteen sensors, took 174 CPU-s; sympy's rationals in the
-    combinations, minutes for a dense 8-state ``A``; the field of all ``size^2`` entries, read one
-    by one, half of the bounds atlas at sixteen sensors)."""
+    they hold a few dozen of ``size^2``, and every product below runs over them, not over dense
+    sympy matrices, sympy's rationals or the field of all ``size^2`` entries read one by one, each
+    of which dominated the bounds atlas at sixteen sensors or a dense 8-state ``A``
+    (docs/performance.md)."""
     nonzero = [B.todok() for B in basis]
     distinct = list({v: None for F in nonzero for v in F.values()})   # few: the basis repeats them
     K = field_of(sp.Matrix(1, len(distinct), distinct))
@@ -258,8 +258,8 @@ def _entry_balls(K: NumberField, entries: Entries, prec: int, accuracy: int | No
 
 def _vectorised(entries: Entries, K: NumberField, size: int):
     """The basis in floats as one sparse matrix, ``vec(F_k)`` (column-major, size^2 rows) its column
-    ``k``: the SDP's ``F = sum_k x_k F_k`` is one product (a sum of dense ``F_k`` took half a GB and a
-    quarter of ``symkf.bounds`` in cvxpy's canonicalisation at 64 sensors, a 396 x 396 ``F``)."""
+    ``k``: the SDP's ``F = sum_k x_k F_k`` is one product (a sum of dense ``F_k`` is costly in memory and
+    in cvxpy's canonicalisation at many sensors: docs/performance.md)."""
     from scipy import sparse
     nonzero = _entry_balls(K, entries, 64, accuracy=53)   # 64 bits alone gave NaN over four cyclotomic fields
     return sparse.csc_matrix(([float(b.mid()) for *_, b in nonzero],
@@ -283,8 +283,8 @@ def _orthogonal_positive(K: NumberField, entries: Entries, gram: list[list[Elem]
     Decided first on certified balls of that exact projection, ``W - sum_k c_k F_k`` with ``c``
     enclosing the exact solution of the Gram system (flint's certified solve), by
     :func:`_schur_positive`; only when a ball leaves it open, the projection in exact arithmetic
-    (its rationals are large: converting them to balls, with the exact solve and combination, took
-    half of ``symkf.bounds`` at 32 sensors)."""
+    (its rationals are large: converting them to balls, with the exact solve and combination, is
+    the costly route, taken only when it must be)."""
     size = W.shape[0]
     Wr = [[_rational(_dyadic((W[i, j] + W[j, i]) / 2)) for j in range(size)] for i in range(size)]
     rhs = [_frobenius(K, P, Wr) for P in entries]
@@ -319,7 +319,7 @@ def mare_stabilizable(system: System, loss: LossModel) -> LMIVerdict:
 
     The certificates are checked in the number field of ``A``, ``C_i`` and the loss rates
     (python-flint elements; :func:`symkf.exact.linalg.solve_rows` for the projection's Gram system,
-    sympy's algebraic domain took minutes at the 156-bit rates of a bisection)."""
+    not sympy's algebraic domain, whose arithmetic is slow at the many-bit rates of a bisection)."""
     cp = require_extra("cvxpy", "sdp", "mare_stabilizable, the LMI of Yang et al. (Theorem 4),")
 
     if not capacity_exceeds(loss, spectral_radius(system.A)):
@@ -329,7 +329,7 @@ def mare_stabilizable(system: System, loss: LossModel) -> LMIVerdict:
     K, entries = _entries(basis)
     # every certificate is checked in K, the compositum of all entries (no one trigonometric
     # constant's field, which field_of caps): four rotations 2R(2 pi/q), q = 5, 7, 9, 11, give
-    # degree 1440, where the bisection ran past 10 CPU-min
+    # degree 1440, where the bisection's exact checks would not finish in reasonable time
     budget.check("max_cyclotomic_degree", K.degree, "A", "the degree of the field of the LMI's entries (A, C "
                  "and the loss rates), in which its certificates are checked")
     size, n = basis[0].shape[0], system.n
@@ -355,7 +355,7 @@ def mare_stabilizable(system: System, loss: LossModel) -> LMIVerdict:
                               sp.ImmutableMatrix(gain))
     infeasible = "W > 0 with <F_k, W> = 0 for every k verified exactly (no (Y, Z) gives F > 0)"
     gram = _gram(K, entries)   # both candidate W are projected with it
-    # the multiplier of F >= t I is such a W at t = 0 (the dual SDP below costs 12 CPU-s at an 80 x 80 F)
+    # the multiplier of F >= t I is such a W at t = 0, which saves the dual SDP below (a second solve)
     if positive.dual_value is not None and _orthogonal_positive(K, entries, gram, positive.dual_value):
         return LMIVerdict(False, infeasible, t_val, float(np.linalg.eigvalsh(positive.dual_value)[0]))
     W, s = cp.Variable((size, size), symmetric=True), cp.Variable()

@@ -75,7 +75,7 @@ def wonham_decomposition(system: System, order: list[tuple[int, int]] | None = N
     V_all, blocks = [], []
     for i, r in order:
         if not U:   # observable: no later row opens a block (an exact nullspace for each row to the
-            break   # last was a quarter of symkf.bounds at 64 sensors)
+            break   # last would be wasted work, and costly at many sensors)
         rows.append(system.sensors[i].C[r, :])
         new = _unobservable(rows, A)
         if len(new) == len(U):

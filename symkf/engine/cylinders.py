@@ -34,8 +34,8 @@ runs each cylinder's own search (the same chains at the sub-system's class perio
 candidates, and rules out the full-support hyperplanes by the fibres with the additive bound
 ``log rho(M_H) <= C + sum_(e in H) beta_e`` against the best lifted rate.  That bound counts a
 long run's gain per element, so it decides when the full-support hyperplanes hold few elements:
-2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9) with a second sensor that sees one part, in 0.1 CPU-s (the
-direct rows: 7.8 and 29.7 CPU-s); with one sensor they may hold 40 of 180 phases, the bound needs
+2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9) with a second sensor that sees one part, far faster than the
+direct rows (docs/performance.md); with one sensor they may hold 40 of 180 phases, the bound needs
 fewer than 10, and the block falls back as above.
 """
 

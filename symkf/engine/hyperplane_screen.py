@@ -14,7 +14,7 @@ it): see :meth:`symkf.engine.rows.BlockRows.heaviest`.
 
 Only sets whose weight is within ``tol`` of the best so far are kept; the caller confirms them
 exactly.  Cost at ``n = 4`` and ``V`` points in ``d`` orbits: about ``V^3 / (6 d)`` point-line
-incidences, numpy-vectorised per block of flats (all ``C(V, 2)`` flats times ``V`` before).  In
+incidences, numpy-vectorised per block of flats.  In
 general a stage with ``C`` classes visits about ``C(C, n - 3)`` flats, each tested against the
 ``C`` classes: :func:`work` estimates this before the search starts.  Under a cyclic symmetry
 (the phase shift of a periodic block) a known lower bound of the heaviest weight (:func:`lower_bound`)
@@ -35,11 +35,12 @@ from ..arguments import check_public
 
 _BLOCK = 1 << 21  # entries of one vectorised block of flats x points (about 16 MB per int64 array)
 #: incidences one vectorised pass of :func:`_lines_through_points` costs beyond its own (numpy's
-#: per-call overhead and the offers of tied sets: about 1.4 ms against 0.15 us per incidence)
+#: per-call overhead and the offers of tied sets), in units of one incidence: the ratio of the two
+#: measured costs (docs/performance.md)
 PASS = 10_000
 _BATCH = 2048  # entries from which inverses() batches (Montgomery) rather than powers each
-#: quotients :func:`_crowding` may take over all stages to bound a window (each a few tens of
-#: microseconds)
+#: quotients :func:`_crowding` may take over all stages to bound a window: choosing a window must
+#: stay cheap beside the search it shortens
 CROWDING = 10_000
 
 
@@ -50,7 +51,7 @@ MEMBER_BYTES = 64
 
 class Crowded(Exception):
     """The sets a :class:`Screen` keeps would hold more memory than it was given (a low floor on a
-    block of many elements: hundreds of thousands of sets of hundreds of points, past 6 GB):
+    block of many elements keeps hundreds of thousands of sets of hundreds of points: gigabytes):
     ``.bytes`` their estimate, ``str()`` their count."""
 
     def __init__(self, sets: int, points: int) -> None:
@@ -95,7 +96,7 @@ def inverses(y: np.ndarray, p: int) -> np.ndarray:
     """Inverses mod p of the nonzero entries of ``y`` (any shape): Fermat's ``y^(p - 2)``, for
     large arrays by Montgomery's batch trick over 64 interleaved runs (prefix products, one Fermat
     power per run position, a backward pass); below ``_BATCH`` entries the trick's 128 passes cost
-    more than the power over every entry (measured: 10 entries 0.3 ms against 3 ms)."""
+    more than the power over every entry."""
     flat = y.ravel()
     if len(flat) < _BATCH:
         return _power(flat % p, p - 2, p).reshape(y.shape)
@@ -380,8 +381,9 @@ def _lines_through_points(reps: np.ndarray, w: np.ndarray, owner: np.ndarray, me
         valid = np.arange(U)[None, :] >= np.arange(rows)[:, None]  # class b0 + 1 + j after b0 + i
         key = np.where(Y != 0, X * inverses(np.where(Y != 0, Y, 1), p) % p, p)
         key[~valid] = p + 1
-        # the stable order by key as one sort of key U + column (unique values: numpy's vectorised
-        # quicksort; the stable argsort took 18.6 of 95 s on a three-field block under Markov losses)
+        # the stable order by key as one sort of key U + column: the packed values are unique, so
+        # numpy's vectorised quicksort gives the stable order, without a stable argsort's cost (a large
+        # share of a Markov screen's time: docs/performance.md)
         packed = np.sort(key * U + np.arange(U)[None, :], axis=1)
         order, keys = packed % max(U, 1), packed // max(U, 1)
         run = np.ones_like(keys, dtype=bool)

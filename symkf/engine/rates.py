@@ -103,8 +103,8 @@ class FactorRates:
         self.factor, self.g, self.S = factor, period, len(ch.states)
         self.received = [sum(1 << i for i, x in enumerate(v) if x) for v in ch.emit]
         lost = [s for s, m in enumerate(self.received) if m == 0]
-        # the domain's elements, not sympy's: indexing a 560-state lifted chain entry by entry as sympy
-        # Rationals cost 6.6 of 17 CPU-s of a network stability call
+        # the domain's elements, not sympy's: a lifted chain has hundreds of states, and indexing it
+        # entry by entry as sympy Rationals would be a large share of a network stability call
         exact = DomainMatrix.from_Matrix(ch.P)
         self.rational = exact.domain.is_QQ or exact.domain.is_ZZ
         self.z = lost[0] if len(lost) == 1 else None

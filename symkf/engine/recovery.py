@@ -168,8 +168,9 @@ def listed_margins(system: System, fail: Sequence[sp.Rational], recover: Sequenc
                    sensor: int | None, q: sp.Symbol) -> list[sp.Expr] | None:
     """Every hyperplane's margin ``alpha^(2g) rho_H(q)`` as a polynomial in ``q`` (the hyperplanes
     listed, capped: :func:`symkf.engine.search.capped_hyperplanes`), the distinct ones once, their rates
-    built in flint (sympy expanding the same products took 470 CPU-s for eight two-row sensors at
-    period 24); None when a rate is not rational (then :func:`symkf.engine.region.ge_margins`)."""
+    built in flint (sympy's expansion of the same products is far slower with a few two-row sensors
+    of a long period: docs/performance.md); None when a rate is not rational (then
+    :func:`symkf.engine.region.ge_margins`)."""
     channels = _Channels.of(system.d, fail, recover, sensor)
     if channels is None:
         return None

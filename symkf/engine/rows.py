@@ -40,8 +40,9 @@ from ..model.system import System
 from ..exact.spectral import EigenBlock, eigenvalue_key, factors_in, support
 
 
-#: the share of ``budget.Limits.max_memory`` the hyperplane screens' kept sets may take (the
-#: screen's own arrays and the caller's copies take about as much again: 4.0 GB peak with half)
+#: the share of ``budget.Limits.max_memory`` the hyperplane screens' kept sets may take: the
+#: screen's own arrays and the caller's copies of the sets take as much again and more, and the
+#: whole must stay within ``max_memory`` (docs/performance.md)
 KEPT_SHARE = 4
 
 
@@ -168,8 +169,7 @@ class BlockRows:
 
         Without ``floor`` the answer is kept per direction of ``weights`` (each over the largest, as
         floats): weights in proportion have the same maximisers, and the sets kept hold them all
-        (a common loss rate's critical value and a verdict at equal rates screen once, not twice:
-        ``symkf.bounds`` at 64 sensors 42.7 -> 36.8 CPU-s).
+        (a common loss rate's critical value and a verdict at equal rates screen once, not twice).
         """
         top = max(weights, default=0.0)
         if floor is not None or not top > 0:
@@ -604,8 +604,9 @@ def _powers(shift: np.ndarray | None, g: int) -> np.ndarray | None:
 def _least_shift(points: np.ndarray, powers: np.ndarray | None) -> bytes:
     """A key shared by the point sets that are shifts of one another (``powers``: :func:`_powers`;
     without them the points themselves): the least of the shifts' sorted index lists in
-    lexicographic order, as bytes.  All shifts at once: sorted one by one, 2R(2 pi/5) + 2R(2 pi/7) +
-    2R(2 pi/9) under Markov losses made 27 million sorts of a few indices (51 of its 230 CPU-s)."""
+    lexicographic order, as bytes.  All shifts in one sort: a Markov screen keys many closures,
+    each with all its shifts, and sorted one shift at a time they are millions of numpy calls on a
+    few indices each, whose per-call cost would dominate (docs/performance.md)."""
     if powers is None:
         return points.tobytes()
     orbit = np.sort(powers[:, points], axis=1)
@@ -835,8 +836,8 @@ def modal_form(A: sp.MatrixBase, block: EigenBlock, extra: Sequence[sp.MatrixBas
     index = list(range(n)) if block.defective else support(A, block.members)
     if not block.defective and len({tuple(support(A, [e])) for e in members}) > 1:
         # the compositum holds Q(zeta_g) (the ratios of the eigenvalues of one class, g their
-        # class period), so phi(g) bounds its degree from below: refused before minutes of field
-        # arithmetic (2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9) + 2R(2 pi/11): phi(3465) = 1440 and the
+        # class period), so phi(g) bounds its degree from below: refused before any field arithmetic
+        # of that degree (2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9) + 2R(2 pi/11): phi(3465) = 1440 and the
         # field Q(zeta_13860) of degree 2880)
         budget.check("max_cyclotomic_degree", int(sp.totient(block.class_period)),
                      f"eigen-block of modulus {block.modulus}",
@@ -877,7 +878,7 @@ def _split_modal_form(A: sp.MatrixBase, members: Sequence, extra: Sequence[sp.Ma
     """:func:`modal_form` of a block whose eigenvalues live on different diagonal blocks of ``A``
     (rotations of one modulus from several cyclotomic fields): each eigenvector is found on the
     diagonal blocks holding its eigenvalue only (it vanishes elsewhere), without factoring the
-    characteristic polynomial over the compositum of all entries (most of the time before)."""
+    characteristic polynomial over the compositum of all entries (the costliest step otherwise)."""
     K = NumberField([*field_of(A.extract(index, index), *extra).generators,
                      *(e.expr for e in members if not e.expr.is_Rational)])
     n, zero = A.shape[0], flint.fmpq_poly([])
@@ -902,8 +903,8 @@ def _split_modal_form(A: sp.MatrixBase, members: Sequence, extra: Sequence[sp.Ma
 
 def _krylov_eigenvector(K: NumberField, A: sp.MatrixBase, lam: Elem) -> list[list[Elem]] | None:
     """``[v]`` with ``A v = lam v``, ``v != 0``, for a rational ``A`` and a simple eigenvalue ``lam``
-    in K, from the adjugate instead of an echelon form over K (whose coefficients swell: most of
-    the time of a dense 20 x 20 system): ``adj(lam I - A) = sum_j q_j(lam) A^j`` with
+    in K, from the adjugate instead of an echelon form over K (whose coefficients swell with the
+    size of ``A``): ``adj(lam I - A) = sum_j q_j(lam) A^j`` with
     ``q(x, y) = (chi(x) - chi(y)) / (x - y) = sum_j q_j(x) y^j``, of rank 1, so a nonzero column
     ``sum_j q_j(lam) A^j e_k`` spans the eigenspace (checked exactly); None when A is not rational."""
     if not all(v.is_Rational for v in A):
@@ -966,7 +967,7 @@ def direct_rows(system: System, block: EigenBlock) -> BlockRows:
     # rows C_j T D^phase scaled by lambda_1^-phase (parallel, so the same hyperplanes): the ratios
     # lambda_k / lambda_1 are roots of unity within a class, and the rows' coefficients stay small
     # (times 2^phase unscaled for modulus 2: 300-bit coefficients at phase 300)
-    first = K.inv(diag[0])  # once: an inverse in a field of degree 2880 costs seconds
+    first = K.inv(diag[0])  # once: an inverse in a field of high degree is costly
     step = [K.mul(lam, first) for lam in diag]
     for j, sensor in enumerate(system.sensors):
         CT = [K.vecmat(K.matrix(sensor.C)[r], T) for r in range(sensor.m)]

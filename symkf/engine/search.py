@@ -135,7 +135,8 @@ def least_iid_bound(br: BlockRows, losses: Callable[[AlgebraicNumber], Sequence[
     exponent vector is ``k``: the ``x`` at which its margin ``growth * prod_j loss_j(x)^(k_j)``
     reaches 1 (None when it never does), in any form that ``least`` takes: ``least(bounds)`` is
     their least value, or ``start`` when none is below it (the caller's, which may compare
-    certified balls before making any value exact: a hundred exact roots of degree 300 took 4 s).
+    certified balls before making any value exact: an exact root of high degree is costly, and
+    there may be hundreds).
 
     Why no hyperplane is missed.  With weights ``w_e(x) = -log loss_(sensor e)(x)`` the margin of
     ``H`` is ``log growth - T(x) + sum_(e in H) w_e(x)`` (``T`` the total weight of the elements

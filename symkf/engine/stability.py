@@ -345,8 +345,8 @@ class _Bound:
     """``(alpha^power c)^(sign/k)`` (``alpha > 0`` a block's modulus, ``c > 0``, ``k >= 1``): a
     critical value (``sign = -1``) or a margin (``sign = 1``).  A certified ball, and the exact
     value only when asked, from flint's minimal polynomials for rational ``c`` (sympy's minimal
-    polynomial of a root of a high-degree ``CRootOf``, and its real-root isolation, cost seconds
-    each: 8 s of the margin of ``A = cos(pi/211)``); an algebraic ``c`` enters as its own minimal
+    polynomial of a root of a high-degree ``CRootOf``, and its real-root isolation, are slow at the
+    degrees of ``A = cos(pi/211)``); an algebraic ``c`` enters as its own minimal
     polynomial."""
 
     def __init__(self, alpha: AlgebraicNumber, power: int, c: sp.Expr, k: int, sign: int = -1) -> None:
@@ -368,7 +368,7 @@ class _Bound:
 
     def value(self) -> AlgebraicNumber:
         # the k-th root of gamma through p(x^k), also for algebraic c (a Gilbert-Elliott rate over
-        # Q(sqrt 2)): sympy's minimal polynomial of the root of the product took minutes at k = 24
+        # Q(sqrt 2)): sympy's minimal polynomial of the root of the product is far slower at k = 24
         gamma = self.alpha ** self.power * self._c
         gamma = gamma if self.sign > 0 else 1 / gamma
         # sympy's root of a huge rational overflows a float in its perfect-power test (Gilbert-

@@ -118,8 +118,9 @@ def _known_roots(coeffs: tuple[int, ...]) -> list[Root] | None:
     none real, listed ``j, -j`` for ``j = 1 .. m/2`` prime to m) as ``("unit", 0, c, j, m)``, and of
     the minimal polynomials of ``alpha + beta 2 cos(2 pi/m)`` (rational ``alpha``, ``beta``: cosines
     and sines, their squares ``(1 -+ cos 2t) / 2``, scaled and shifted) as ``("cos", alpha, beta, j,
-    m)``, real and ascending as in flint; None for other polynomials.  The entries ``cos(pi/517)``
-    and ``sin(2 pi/517)``, degree 230, spent seconds in isolating all roots of such polynomials."""
+    m)``, real and ascending as in flint; None for other polynomials.  Such roots are named
+    without isolating every root of the polynomial, which is slow at degrees such as 230
+    (``cos(pi/517)``, ``sin(2 pi/517)``)."""
     d, a = len(coeffs) - 1, coeffs
     if d < 2:
         return None
@@ -623,7 +624,7 @@ class AlgebraicNumber:
                     return r
         if all(v == 0 for v in c[1::2]) and self._lo >= 0:  # p(x) = q(x^2): a square root
             # of the root of q at self^2, identified by its ball (not among all real roots of q:
-            # 230 of them for |sin(2 pi/517)|, 32 CPU-s)
+            # 230 of them for |sin(2 pi/517)|, each isolated)
             f, index = identify(flint.fmpz_poly(c[::2][::-1]), lambda prec: self._ball(prec) ** 2, "square of a root")
             return sp.sqrt(AlgebraicNumber._irreducible(f, index).exact)
         return sp.CRootOf(self.minpoly.as_expr(), x, self._index)

@@ -390,10 +390,11 @@ class NumberField:
     def real_balls(self, M: Sequence[Sequence[Elem]], prec: int, accuracy: int | None = None) -> list[list[flint.arb]]:
         """Certified real balls (``prec`` bits) of the real elements of the matrix ``M``: their values
         at the embedding ``theta``, ``sum_k c_k Re(theta^k)`` (a real element's imaginary parts cancel),
-        one ball matrix product per power in flint (an acb polynomial evaluated per entry took a
-        quarter of ``symkf.bounds`` at 32 sensors).  With ``accuracy``, ``prec`` is doubled until
-        every ball has that many correct bits relative to its midpoint (for nonzero elements; 1 bit
-        excludes 0): over Q(theta) of degree 1440 the terms cancel by 10^500."""
+        one ball matrix product per power in flint (an acb polynomial evaluated per entry is one
+        Python call per entry, a large share of the bounds atlas at many sensors).  With
+        ``accuracy``, ``prec`` is doubled until every ball has that many correct bits relative to
+        its midpoint (for nonzero elements; 1 bit excludes 0): over Q(theta) of degree 1440 the
+        terms cancel by 10^500."""
         def balls(prec: int) -> list[list[flint.arb]]:
             rows, cols = len(M), len(M[0]) if M else 0
             power, out = flint.acb(1), flint.arb_mat(rows, cols)

@@ -119,9 +119,9 @@ def normal_of(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -> lis
     """A vector orthogonal to ``ncols - 1`` rows: their signed maximal minors ``h_j = (-1)^j
     det(rows without column j)`` (the generalized cross product), nonzero iff the rows are
     independent.  Up to :data:`MINORS_MAX` columns the minors share their sub-minors (each row's
-    expansion over the column sets of the rows below it) and need no inverse in K: a Markov screen's
-    exact check on 2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9), degree 288, took 3.9 ms a normal against
-    27 ms by elimination, whose inverses cost 6 ms each there (a product 30 us).  Beyond, and over
+    expansion over the column sets of the rows below it) and need no inverse in K, where an inverse
+    costs as much as hundreds of products at high degree (a Markov screen's exact check on
+    2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9), degree 288: docs/performance.md).  Beyond, and over
     Q (whose inverses are cheap), the nullspace of an echelon form (:func:`nullspace_rows`; the zero
     vector for dependent rows)."""
     if len(rows) != ncols - 1:
@@ -147,8 +147,8 @@ def solve_rows(K: NumberField, rows: Sequence[Sequence[Elem]], rhs: Sequence[Ele
     """The solution ``x`` over ``K`` of ``rows x = rhs`` (a square, invertible system), through the
     regular representation: ``a x`` is ``M_a`` times ``x``'s coordinates in the power basis of
     ``theta``, so the system is a rational one of ``deg K`` times the size, solved by flint's
-    ``fmpq_mat.solve`` (multimodular: Gaussian elimination in K let the rationals of a 74 x 74 Gram
-    system grow for 42 CPU-s).  Raises ZeroDivisionError when the system is singular."""
+    ``fmpq_mat.solve`` (multimodular: Gaussian elimination in K lets the rationals of a large Gram
+    system grow).  Raises ZeroDivisionError when the system is singular."""
     N, D = len(rows), K.degree
     if K.is_rational:
         x = flint.fmpq_mat([[rational_value(a) for a in r] for r in rows]).solve(

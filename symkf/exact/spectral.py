@@ -155,7 +155,7 @@ class Eigenvalue:
         """The eigenvalue as an exact sympy expression: a rational, a quadratic radical,
         ``exp(2 pi i k/m)``, ``cos(2 pi k/m)`` or ``alpha exp(2 pi i k/m)`` (periodic) when it has
         that closed form, else a :class:`~symkf.exact.algebraic.FlintRoot` (root ``root_index`` of
-        ``minpoly`` in flint's ordering; a ``CRootOf`` would cost sympy's root isolation, minutes
+        ``minpoly`` in flint's ordering; a ``CRootOf`` would cost sympy's root isolation, slow
         at degree 32, and its index cannot be read off flint's balls: sympy orders its complex
         roots by the corners of its own isolating rectangles).  Also the generator a number
         field adjoins for it (:mod:`symkf.engine.rows`)."""
@@ -496,8 +496,8 @@ def _factor_charpoly(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Elem],
 def _triangular_factors(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Elem], int, list[tuple[flint.fmpz_poly, int]]]]:
     """:func:`_factor_charpoly` of a triangular ``A``: the factors ``x - a`` of its diagonal entries,
     each root known by the entry's own minimal polynomial (:func:`~symkf.exact.algebraic.root_of`),
-    with no norm over K (Trager's norm of ``x - sin(2 pi/517)`` over its degree-460 field ran for
-    minutes)."""
+    with no norm over K (Trager's norm of ``x - sin(2 pi/517)`` over its degree-460 field is
+    slow)."""
     entries: dict[tuple, list] = {}
     for v in A.diagonal():
         a = K.convert(v)

@@ -4,7 +4,7 @@ Remote estimate of sensor i with holding time ``tau_i`` (eq. 11):
 ``chi_hat_i = A_i^tau_i chi_hat_s_i(k - tau_i)``, error
 ``E_i = A_i^tau_i E_s_i(k - tau_i) + sum_{t<tau_i} A_i^t V_i' w_{k-t-1}``.
 
-**Correction of eq. (18).**  The seed writes, for ``i != j``,
+**Correction of eq. (18).**  The paper writes, for ``i != j``,
 ``P^(ij) = A_i^tau_i Gamma_ij A_j'^tau_j + sum_{t<min(tau_i,tau_j)} A_i^t Q_ij A_j'^t``,
 which uses the *same-time* cross covariance ``Gamma_ij`` for local errors
 taken at the different times ``k - tau_i`` and ``k - tau_j`` and drops the

@@ -12,7 +12,7 @@ every later step while deciding nothing.
 With the orthonormal ``T_i = [V_{i,o} V_{i,ō}]'`` the transformed matrix
 ``T_i A T_i'`` is block **lower** triangular (``V_{i,o}' A V_{i,ō} = 0``
 because the unobservable subspace is A-invariant); this is what makes the
-local model (4) autonomous.  The seed prints the block upper triangular form
+local model (4) autonomous.  The paper prints the block upper triangular form
 of a controllability decomposition in (3).
 """
 
@@ -106,7 +106,7 @@ class LocalModel:
     """The model (4)-(5) of one sensor on its observable subspace.
 
     ``V`` is ``V_{i,o}`` (n x n_o, orthonormal columns), ``A = V' A V``,
-    ``C = C_i V`` (the seed's C̃_i), ``Q = V' Q V`` (Q̃_{i,o}), ``R = R_i``.
+    ``C = C_i V`` (the paper's C̃_i), ``Q = V' Q V`` (Q̃_{i,o}), ``R = R_i``.
     ``exact_basis`` spans the same subspace exactly.
     """
 

@@ -1,8 +1,8 @@
 """The inverted pendulum of arXiv:2012.04896, Section 4 (``symkf reproduce fusion-pendulum``).
 
 Cart mass M = 1/2, pendulum mass m = 1/5, friction b = 1/10, length l = 1/10,
-inertia J = 1, all exact; g = 49/5 (the seed does not state g; 9.8 is the
-value of the Messner-Tilbury model it cites).  The seed's ``m^2 g l^2 / (J p)``
+inertia J = 1, all exact; g = 49/5 (the paper does not state g; 9.8 is the
+value of the Messner-Tilbury model it cites).  The paper's ``m^2 g l^2 / (J p)``
 entry equals ``m^2 g l^2 / p`` because J = 1.  ZOH with T_s = 1/1000,
 ``u_k ~ N(0, 10)``, ten sensors, arrival rates as printed.
 """
@@ -29,6 +29,7 @@ from .weights import METHODS, fused_covariance, optimal_weights
 
 __all__ = ["pendulum_model", "reproduce_fusion_pendulum"]
 
+#: the number the paper prints for Assumption 2 (the reproduction reports it beside the exact one)
 SEED_ASSUMPTION2 = "0.5 x 1.00042"
 _C = [
     [["0", "1/5", "0", "0"]],

@@ -85,7 +85,7 @@ def simulate_fusion(lf: LocalFilters, horizon: int, paths: int, seed: int) -> Fu
 
     At time 0: ``x_0 = 0``, local and centralized filters in steady state
     (errors drawn from their steady covariances, jointly for the local ones,
-    as the seed assumes after Lemma 1), every packet received (``tau = 0``).
+    as the paper assumes after Lemma 1), every packet received (``tau = 0``).
     The state itself is simulated, so for unstable ``A`` keep ``rho(A)^horizon``
     well below ``1/eps``: the errors are differences of numbers of the size of ``x``.
     """

@@ -16,7 +16,7 @@ Problem 1: ``min_W tr(W' Sigma W)`` subject to ``W' V_o = I(n)``, ``W`` nN x n,
     (Lemma 4), solved by cvxpy with Clarabel.
 
 ``"problem3"``
-    The seed calls Problem 3 (``max tr(Lambda_1)/2`` s.t. ``W' V_o = I``,
+    The paper calls Problem 3 (``max tr(Lambda_1)/2`` s.t. ``W' V_o = I``,
     ``2 Sigma W = V_o Lambda_1'``) a linear program and the dual of Problem 2.
     It is neither in any useful sense: its constraints are exactly the KKT
     conditions of Problem 1, and on them ``Lambda_1' = 2 W' Sigma W`` so the
@@ -119,7 +119,7 @@ def optimal_weights(Sigma: np.ndarray, Vo: np.ndarray, method: str = "closed-for
     """Stacked fusion weights ``W = [W_1 ... W_N]'`` (nN x n) solving Problem 1 of arXiv:2012.04896.
 
     ``method`` is ``"closed-form"`` (Theorem 2), ``"sdp"`` (Problem 2) or
-    ``"problem3"`` (the KKT linear system the seed calls an LP); see the
+    ``"problem3"`` (the KKT linear system the paper calls an LP); see the
     module docstring.  Raises :class:`NotPositiveDefiniteError` if ``Sigma``
     is not symmetric PSD, :class:`ShapeError` on mismatched shapes and
     :class:`AssumptionError` if ``Vo`` is rank deficient (Assumption 1).

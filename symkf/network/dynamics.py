@@ -79,7 +79,7 @@ def _is_matrix(A: Any) -> bool:
 def spectral_norm_squared(M: sp.MatrixBase) -> AlgebraicNumber:
     """``||M||^2``, the largest eigenvalue of ``M^T M`` (all real: the matrix is symmetric), as an
     exact algebraic number (the engine's eigenvalues: flint's characteristic polynomial over the
-    entries' field; sympy's charpoly simplified every coefficient, 0.1-0.3 CPU-s for a 2x2
+    entries' field, not sympy's charpoly, which simplifies every coefficient, slow even for a 2x2
     rotation by 2 pi/11)."""
     M = as_matrix(M, "M")
     return max(real_from_ball(e.minpoly, e.root_index) for e in eigenvalues(M.T * M))

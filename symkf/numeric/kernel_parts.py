@@ -20,7 +20,7 @@ from numba.np.arrayobj import _empty_nd_impl
 from ..arguments import check_public
 
 #: paths per block of the loop kernel (more states than the straight-line kernels), whose lane loops are many and short: 128
-#: halves their set-up per path (1.3-1.4x over 64 at n = 12 and 16; 256 measured 0.94-1.16x)
+#: halves their set-up per path against 64, and 256 gains nothing consistent (docs/performance.md)
 LOOP_LANES = 128
 #: the smallest normal float64, 2^-1022: a Potter denominator or a Householder ``|v|^2 / 2`` below it
 #: is dropped (its reciprocal could overflow; what it would change is below 2^-511 of ``S``'s scale)
@@ -32,8 +32,8 @@ NORMAL = float(np.finfo(np.float64).tiny)
 ROOT_MAX = 1023
 # error_model="numpy": divisions need no Python zero check, so the path loops vectorise.
 # No fastmath, not even FMA contraction: a fused S - Su f^T does not cancel to the same
-# rounding as the product it subtracts; on A = 2 R(pi/2) (exact in float64) that lost 32 of
-# log tr P's 2773 over a 2000-step periodic burst (float_horizon fell from None to 45)
+# rounding as the product it subtracts, so a float-exact system (A = 2 R(pi/2)) would drift off
+# its exact log tr P over a long periodic burst and float_horizon would cap it (test_filtering)
 _compiled = njit(cache=True, nogil=True, error_model="numpy")
 
 
@@ -116,11 +116,11 @@ class _Aligned64:
 def _aligned_zeros(dtype):
     """An intrinsic ``zeros(shape)`` of ``dtype`` (C order) at a 64-byte boundary.  numba's own arrays
     are aligned to 32 bytes: in about half of all processes they start 32 bytes off a cache line,
-    and then every 64-byte vector load of a lane loop spans two lines (measured at n = 16: the
-    kernel took 33 ms in some processes, 40-48 ms in others; 31-33 ms in every process aligned).
-    The allocation is numba's own (:func:`numba.np.arrayobj._empty_nd_impl`), in the kernel's body,
-    so that the compiler still tells the arrays apart and knows their shapes (a view of another
-    dtype would hide both: a kernel 4-6x slower at n = 4, 8)."""
+    and then every 64-byte vector load of a lane loop spans two lines, so that the kernel's speed
+    would depend on the process (docs/performance.md).  The allocation is numba's own
+    (:func:`numba.np.arrayobj._empty_nd_impl`), in the kernel's body, so that the compiler still
+    tells the arrays apart and knows their shapes (a view of another dtype would hide both, and
+    the kernel would run several times slower)."""
     @intrinsic
     def zeros(typingctx, shape):
         array = types.Array(dtype, len(shape), "C")
@@ -153,7 +153,7 @@ def _clamped(e: int) -> int:
 @intrinsic
 def _pow2(typingctx, e):
     """``2^e`` rounded as ``ldexp(1, e)`` (0 for e <= -1075, inf for e >= 1024).  Where the compile
-    target has AVX-512, ``llvm.ldexp``: one ``vscalefpd`` per 8 lanes (n = 2: 1.02x over
+    target has AVX-512, ``llvm.ldexp``: one ``vscalefpd`` per 8 lanes (fewer instructions than
     :func:`_pow2_bits`); elsewhere LLVM would call libm's ``ldexp`` lane by lane, and
     :func:`_pow2_bits` is inlined instead (the same value: both are exact)."""
     def codegen(context, builder, signature, args):
@@ -219,9 +219,9 @@ def _flush(trace: np.ndarray, buffer: np.ndarray, spare: np.ndarray, k: int, sta
     the block's rows of ``trace[p, k]`` along the steps (stores across paths, 8 ``horizon`` bytes
     apart), eight paths (a cache line of the buffer) at a time: path by path, a column of the
     buffer is ``w`` lines one lane row (4 KiB at 512 lanes) apart, all in one set of the L1 cache,
-    each line evicted before the next path reads it (1 sensor: the kernel 1.28x faster along the
-    steps at n = 2, 512 lanes; 1.02x at n = 4, 128 lanes; 1.00x at n = 8; the tiles of 8 steps
-    below another 1.04-1.08x at n = 2)."""
+    each line evicted before the next path reads it: eight at a time, every line loaded is used
+    whole.  It matters most at n = 2, where the kernel's own work per path-step is smallest
+    (docs/performance.md)."""
     width = spare.size
     if not linear:
         if start + width > trace.shape[1]:
@@ -233,8 +233,8 @@ def _flush(trace: np.ndarray, buffer: np.ndarray, spare: np.ndarray, k: int, sta
     if k < steps and start < trace.shape[0] and (k % w == w - 1 or k == steps - 1):   # trace may hold fewer paths
         first, count = k - k % w, min(width, trace.shape[0] - start)
         whole, blocks = count - count % 8, first + (k + 1 - first) // 8 * 8
-        # fixed trip counts of 8, unrolled: tiles of 8 paths x 8 steps (n = 2: 1.04-1.08x over a step
-        # at a time; n = 4, 8: 1.01-1.02x; a bound min(tile + 8, count) instead was 0.95x at n = 4)
+        # fixed trip counts of 8, unrolled: tiles of 8 paths x 8 steps (a variable bound such as
+        # min(tile + 8, count) is slower); the steps and paths past the whole tiles below
         for tile in range(0, whole, 8):
             paths = trace[start + tile:start + tile + 8]
             for j0 in range(first, blocks, 8):
@@ -277,7 +277,8 @@ def _receptions(received: np.ndarray, k: int, start: int, block: np.ndarray) -> 
     copy is compiled once per sensor count (:func:`_transpose`); beyond, one strided pass per sensor.
     One sensor's receptions of a whole block are already a row at unit stride: then nothing is
     copied and the result is True: the kernels read them in place, from ``received`` reshaped to
-    (horizon, paths) (n = 2: 1.04x; through a function returning the row, 1.00x)."""
+    (horizon, paths) in their own body (a function returning the row instead lost the gain of not
+    copying: docs/performance.md)."""
     d, width = block.shape
     count = min(width, received.shape[1] - start)
     if d == 1 and count == width:
@@ -318,8 +319,8 @@ def _receptions(received: np.ndarray, k: int, start: int, block: np.ndarray) -> 
 def _transpose(flat: np.ndarray, block: np.ndarray, count: int, d: int) -> None:
     """``block[i, p] = flat[p d + i]`` for the first ``count`` paths.  Called with ``d`` a constant
     (:func:`_receptions`), it is inlined with it, and the compiler vectorises the copy as ``d``
-    interleaved byte streams (d = 3: 0.20 ns per path-step, against 0.75 for a strided pass per sensor;
-    d = 8: 0.67 against 2.07; beyond 8 it does not, and the strided passes are as fast)."""
+    interleaved byte streams, several times as fast as a strided pass per sensor; beyond 8 it
+    does not, and the strided passes are as fast (docs/performance.md)."""
     for p in range(count):
         for i in range(d):
             block[i, p] = flat[p * d + i]

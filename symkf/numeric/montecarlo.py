@@ -124,9 +124,9 @@ def exact_mean_trace(system: System, loss: LossModel, horizon: int) -> np.ndarra
 
 #: bytes per value of a per-step record of the command line (the step's mean, low and high; 32 more
 #: per step for the mean's float): ``Simulation.to_json``'s floats, tuples and lists, and with
-#: ``--json`` also ``json.dumps(..., indent=2)``'s chunks and text.  Measured above the simulation's
-#: own peak, all steps resolved: 160 / 177 bytes per step as text (K = 60 000 / 120 000), 337 / 448
-#: / 456 with --json (K = 30 000 / 120 000 / 240 000; the lists' and the text's growth)
+#: ``--json`` also ``json.dumps(..., indent=2)``'s chunks and text.  Chosen so that ``32 + 3
+#: RECORD_BYTES`` per step covers the peak RSS measured above the simulation's own, all steps
+#: resolved, with the lists' and the text's growth at long horizons (docs/performance.md)
 RECORD_BYTES = {"text": 52, "json": 152}
 
 
@@ -321,9 +321,10 @@ def loss_factors(loss: LossModel, d: int) -> list[LossFactor]:
 
 
 #: weight of the original law at each step inside a burst: keeps every ratio p/q below 1/DEFENSIVE.
-#: Per step, so a burst path stays in the pattern for L steps with probability ~(1 - DEFENSIVE)^L:
-#: 0.05 left 4e-5 of the paths a full burst at L = 196 and log E[tr P_k] of ge-two-sensors fell
-#: by 10 decades at k = 200; 0.005 keeps 0.37 at L = 200 (unbiased either way: exact ratios)
+#: Per step, so a burst path stays in the pattern for L steps with probability ~(1 - DEFENSIVE)^L,
+#: which must stay large at the horizons simulated: 0.995^200 = 0.37, where 0.05 would leave
+#: 0.95^196 = 4e-5 of the paths a full burst, too few for a sample to carry the mean (unbiased
+#: either way: exact ratios; docs/simulation.md)
 DEFENSIVE = 0.005
 
 
@@ -426,7 +427,7 @@ def verdict_plan(system: System, verdict, loss: LossModel | None = None) -> Burs
     With ``loss``, every hyperplane of that block whose burst rate (float Perron root of its
     restricted transfer) ties with the largest is a component too: with two alike sensors
     the pattern through either carries the mean, and tilting toward one only leaves the
-    other to rare, heavily weighted paths (seen: ge-two-sensors, run means 4 % low).
+    other to rare, heavily weighted paths (on ``ge-two-sensors`` the run means then come out low).
     """
     phases, growth = burst_pattern(system, verdict)
     # the engine's own exact growth, only steering the sampling: a float (burst_plan's input caps
@@ -520,7 +521,7 @@ def _burst_chunk_size(components: int, horizon: int) -> int:
     """Paths per chunk of :func:`burst_sample`.  A chunk holds components x horizon x paths
     likelihood ratios: about 1.6e7 floats at most; 32768 paths at most, so that jobs = 2 has two
     chunks from 32769 paths on (the chunks, not jobs, fix the random streams: default runs of
-    20 000 paths are one chunk as before)."""
+    20 000 paths are one chunk)."""
     return max(1024, min(32768, 2 ** 24 // (components * horizon)))
 
 
@@ -564,8 +565,8 @@ def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tup
     logtr = log_traces(model, received)[:, K]
     if plan is None:
         return logtr, np.zeros(m)
-    # the likelihood ratios' tail sums and the burst lengths' law, in one array written in place
-    # (each temporary of C K m floats cost its pages' zeroing: 20 % of a verify's CPU time)
+    # the likelihood ratios' tail sums and the burst lengths' law, in one array written in place:
+    # each temporary of C K m floats would cost the zeroing of its fresh pages (docs/performance.md)
     tail = np.empty((C, K + 1, m))
     tail[:, 0] = 0.0
     np.cumsum(lr[:, ::-1], axis=1, out=tail[:, 1:])
@@ -715,11 +716,10 @@ def polynomial_allowance(horizons: Sequence[int], degree: int = 1) -> float:
     B^2`` (``k (k + 2h) = (k + h)^2 - h^2``).  The ratio of a sum lies between its terms'
     ratios, so ``m^h <= D_2 / D_1 <= m^h ((k + 2h) / (k + h))^p``: the bias is upward and the
     interval's lower end is lowered by this much; the upper end is not widened.  A downward
-    bias once seen here (-0.41 % on ``ge-recovery.toml``'s member recover = 1/4, ``m =
-    2.3717``, at ``h = 40``) was float64 losing the small directions of ``P`` on long sampled
-    paths, not statistics: from the exact rational ``log tr P`` of the same 15 000 paths
-    (``benchmarks/float_resolution.py``) the estimate is +0.008 %, inside the lower half.
-    :func:`float_horizon` now keeps the horizons where float64 resolves every path.
+    bias on long sampled paths is float64 losing the small directions of ``P``, not statistics
+    (``benchmarks/float_resolution.py`` recomputes the same paths' ``log tr P`` exactly and finds
+    the exact estimate inside the lower half): :func:`float_horizon` keeps the horizons where
+    float64 resolves every path.
     """
     if len(horizons) != 3 or not 0 < horizons[0] < horizons[1]:
         raise InputError(f"horizons: expected three increasing horizons (k, k + h, k + 2h), got {horizons!r}")
@@ -745,8 +745,8 @@ def float_horizon(system: System, plan: BurstPlan | None, longest: int = 2000) -
     The float ``A`` has the exact structure of the decisive pattern only to ~1e-16 when its
     entries are not binary fractions (``2 R(2 pi/3)``: ``C A^{3k}`` are parallel only to that
     precision), so during a long burst the float system is slightly observable and ``P``
-    stops growing once its scales differ by ~1e32 (seen: log tr P flat beyond 60 steps,
-    which looked like a contradiction).  Checked directly: the filter runs one burst of the
+    stops growing once its scales differ by ~1e32 (``log tr P`` then levels off, which a
+    verdict would take for a contradiction).  Checked directly: the filter runs one burst of the
     plan's first component for ``longest`` steps; the cap is 4/5 of the first step where the
     growth over four periods falls below half the growth of the first four periods.
 

@@ -101,8 +101,8 @@ def _two_state(group: Sequence[LossFactor], horizon: int, paths: int, rng: np.ra
     ``received_k = bits_k < T(P(received | received_{k-1}))`` (:func:`_thresholds`) with 16 random
     bits per draw (four per 64-bit output of the generator) and 16 more where the first 16 tie with
     ``T``'s high part (probability ``2^-16``): the law of 32-bit draws at half their cost (a
-    quarter of float64 uniforms').  The generator's outputs are its cost: 0.39 ns per draw against
-    0.15 ns for the compiled step."""
+    quarter of float64 uniforms').  The generator's outputs are its cost: a draw costs more than
+    the compiled step that uses it (docs/performance.md)."""
     J = len(group)
     rows = max(1, _TILE // J)
     tile = lambda t: np.tile(t, rows)   # noqa: E731

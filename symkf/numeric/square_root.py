@@ -34,9 +34,9 @@ noise ``2^-E Q``.
 The divider (division and square root share it) bounds the kernel at small
 ``n``: these forms need ``rows + n - 1`` divisions and ``rows + n`` square roots
 per path-step, against ``rows (n + 1) + n^2 - 1`` and ``2 rows + 2n - 1`` for
-the normalised ``u = f / |f|`` and ``v / |v|`` of the numpy kernel this kernel
-replaced.  Below 2^-1022 a denominator is dropped (its reciprocal could
-overflow); what it would remove is below 2^-511 of ``S``'s scale.
+the normalised ``u = f / |f|`` and ``v / |v|``.  Below 2^-1022 a denominator
+is dropped (its reciprocal could overflow); what it would remove is below
+2^-511 of ``S``'s scale.
 
 ``P`` stays positive semidefinite by construction, and errors in its small
 directions are ``~1e-16 ||S||``, i.e. ``1e-32 ||P||`` after squaring: once a
@@ -45,10 +45,9 @@ system) the float filter no longer resolves its small directions, whatever
 the rounding (``benchmarks/float_resolution.py`` measures where on
 ``ge-two-sensors`` and ``ge-recovery.toml``).  Float-exact systems
 (``A = 2 R(pi/2)``) keep their exact cancellations over thousands of steps
-(tests in ``test_filtering``); FMA contraction broke them (a fused
+(tests in ``test_filtering``); FMA contraction would break them (a fused
 ``S - S u w^T`` does not cancel to the same rounding as the product it
-subtracts: a 2000-step burst lost 32 of its ``log tr P`` of 2773), so none
-is used.
+subtracts), so none is used.
 This module imports numba; :mod:`symkf.numeric.filters` imports it only when a
 simulation runs, so ``import symkf`` and the exact engine never pay for it.
 """
@@ -72,21 +71,20 @@ from .kernel_parts import (LOOP_LANES, NORMAL, ROOT_MAX, _aligned, _aligned_int,
 
 #: paths per block of the straight-line kernels, a compile-time constant: the path loops have a
 #: fixed trip count (no remainder loops, no per-entry set-up).  Up to SMALL_MAX states a lane loop's
-#: set-up (the compiler's run-time checks that its arrays do not overlap) weighs on its few operations:
-#: SMALL_LANES there (1.1-1.2x over 64 at n = 2..4 with 1 to 8 sensors), TINY_LANES up to TINY_MAX
-#: (512: 1.11-1.14x over 128 at n = 2 with 1 and 8 sensors; at n = 4, 256 measured 0.98-0.99x); 64
-#: above (128: 0.75x at n = 8).  At n = 2 each step's two long lane loops (Potter's, the time update's)
-#: fill and drain the core's window of overlapping paths: 2048 over 512 lanes, in one process, 1.05-1.07x
-#: with 1 sensor, 1.01-1.05x with 3, 0.98-1.04x with 8 (1024: 1.04-1.09x, 0.99-1.00x, 0.94-1.05x); a
-#: run of fewer paths computes a whole block (one path over 10^6 steps: about 4 s)
+#: set-up (the compiler's run-time checks that its arrays do not overlap) weighs on its few operations,
+#: so the blocks widen as n falls: SMALL_LANES up to SMALL_MAX, TINY_LANES up to TINY_MAX, LANES above,
+#: where a wider block is slower.  At n = 2 each step's two long lane loops (Potter's, the time
+#: update's) also fill and drain the core's window of overlapping paths, which a wide block spreads
+#: over more paths.  Each width is the fastest measured for its range of n (docs/performance.md,
+#: benchmarks/bench_kernel.py).  A run of fewer paths still computes a whole block
 LANES = 64
 SMALL_LANES = 128
 SMALL_MAX = 4
 TINY_LANES = 2048
 TINY_MAX = 2
 #: steps of one block's linear traces held before they are written along the steps (64 x 128 lanes: 64 KiB),
-#: at most BUFFER_PATH_STEPS path-steps (128 KiB): 8 steps of 2048 lanes (n = 2, in one process: 1.04-1.06x
-#: over 16 steps, 1.07-1.15x over 64; at n = 4, 8 steps of 128 lanes were 0.98-0.99x)
+#: at most BUFFER_PATH_STEPS path-steps (128 KiB): 8 steps of 2048 lanes, faster at n = 2 than more
+#: steps per flush, while blocks of 128 lanes are faster with their 64 (docs/performance.md)
 BUFFER_STEPS = 64
 BUFFER_PATH_STEPS = 2 ** 14
 def lanes(n: int) -> int:
@@ -244,7 +242,8 @@ _compiled_row_kernel = cfunc(ROW_KERNEL, cache=True, nogil=True, error_model="nu
 #: largest n whose kernels are written out in :mod:`symkf.numeric.unrolled_kernels`; beyond, the loops
 #: :func:`_householder_loops` and :func:`_potter_loops` (numba compiles no source made at run
 #: time: symkf runs no exec).  Potter's row of ``S`` stays in registers between ``(S f)_i`` and its
-#: update; beyond 16 the 32 vector registers spill (0.72x at n = 32; reading the row twice, 0.86-0.98x)
+#: update; beyond 16 it no longer fits the 32 vector registers, and written out it would spill (or read
+#: the row twice), slower than the loops (docs/performance.md)
 UNROLLED_MAX = {"householder": 32, "potter": 16}
 
 
@@ -409,28 +408,28 @@ def _unrolled(kind: str, n: int):
 STRAIGHT_MAX = 8
 #: up to this n the straight-line kernel runs each Potter row in two lane loops (its gain, then the
 #: update) and the time update in one per Householder column: shorter chains of dependent
-#: operations per loop, so the core overlaps more paths (n = 4: 1.1x with one sensor, 1.34x with 8);
-#: at n = 8 the per-column loops measured 0.87-0.94x (the live entries' loads and stores)
+#: operations per loop, so the core overlaps more paths; at n = 8 the live entries' loads and stores
+#: between the loops cost more than the overlap gains (docs/performance.md)
 PHASED_MAX = 5
 #: up to PHASED_MAX the straight-line kernel rescales ``S`` only when a path's ``tr S S^T`` has left
 #: [2^-WINDOW, 2^WINDOW]; the time update's last lane loop takes the next step's trace (for the logs it
 #: writes anyway) and its range over the block.  Scaling by a power of two is exact, so the bits do
 #: not depend on when it scales (short of the float range: within the window ``|S| <= 2^(WINDOW/2)``,
 #: and a step overflows, underflows or drops a denominator below NORMAL only where one from
-#: ``tr S S^T = 1`` would come within 2^WINDOW of doing so).  In one process against the rescale at
-#: every step, 3 sensors: n = 2 1.07x, n = 3 1.05x, n = 4 1.00x, n = 5 1.03x; 8 sensors 0.97-1.00x
-#: (n = 4: the last lane loop's loads of the earlier columns); bench_kernel's systems rescale once per block
+#: ``tr S S^T = 1`` would come within 2^WINDOW of doing so).  So on most steps the rescale's own
+#: lane loop over ``S`` is skipped (on bench_kernel's systems it runs once per block;
+#: docs/performance.md)
 WINDOW = 32
 #: the bits of 2^-WINDOW and 2^WINDOW (a trace's bits order as it does: it is not negative)
 WINDOW_BITS = (1023 - WINDOW) << 52, (1023 + WINDOW) << 52
 #: the straight-line kernels' time update in one lane loop (n = 2) runs this many paths per iteration,
 #: their statements interleaved: its chain of dependent square roots and division is long, and the
-#: core overlaps more paths when their operations come in program order (in one process, n = 2: 1.03-1.05x
-#: with 1 and 3 sensors; 4 paths were 0.94-1.07x from process to process: their live values exceed the
-#: 32 vector registers).  n = 1, one square root and no division: 1.00x, not interleaved
+#: core overlaps more paths when their operations come in program order.  Two, not four: four paths'
+#: live values exceed the 32 vector registers.  n = 1 (one square root, no division) gains nothing
+#: from it: not interleaved (docs/performance.md)
 INTERLEAVED = 2
-#: below this n the straight-line kernel does not split its loops (n = 2: 1.05x with 3 sensors, 1.07x
-#: with 8, against the phased loops; n = 1 has nothing to split)
+#: below this n the straight-line kernel does not split its loops: at n = 2 the unsplit loops are
+#: the faster (docs/performance.md); n = 1 has nothing to split
 PHASED_MIN = 3
 
 
@@ -549,8 +548,7 @@ def _straight_source(n: int) -> str:
     w("            direct = _receptions(received, k, start, block)")
     # --- Potter, one row at a time; the first sees the time update's S = R^T (or S0), lower
     # triangular, and skips the terms of its zeros (only a zero sum's sign can differ, as above):
-    # fewer operations, the same bits, no speed-up beyond noise in one process (n = 2: 1.00x,
-    # n = 4: 1.02x with 1 sensor)
+    # fewer operations, the same bits
     w("            for r in range(rows):")
     w(f"                got = lone[k, start:start + {W}] if direct else block[row_sensor[r]]")
     for i in R:
@@ -654,10 +652,10 @@ def _straight_source(n: int) -> str:
         time_update(phases[-1], " " * 12)
         return "\n".join(L) + "\n"
     # up to PHASED_MAX this step's traces are taken in the last lane loop of the time update, which
-    # does not read them: its square roots and the log's polynomial overlap (n = 2: 1.05-1.07x over
-    # a lane loop of their own with 1 sensor, 1.00-1.02x with 3).  That loop is written twice, for
-    # the logs and for the traces along the steps (linear): beyond PHASED_MAX it is the whole time
-    # update, and twice its compile time (n = 8: 7.5 to 14.7 s) bought nothing (0.99x)
+    # does not read them: its square roots and the log's polynomial overlap.  That loop is written
+    # twice, for the logs and for the traces along the steps (linear); beyond PHASED_MAX it would be
+    # the whole time update, written twice: double its compile time, and no measured gain
+    # (docs/performance.md)
     w("            out = _row(trace, buffer, spare, k, start, linear)")
     w("            top = 0")
     w(f"            bottom = {WINDOW_BITS[1]:#x}")
