@@ -18,7 +18,9 @@ from __future__ import annotations
 import importlib
 import os
 import signal
+import time
 import traceback
+from pathlib import Path
 
 import pytest
 import sympy
@@ -37,10 +39,43 @@ settings.register_profile("ci", derandomize=True, database=None, deadline=None, 
 settings.register_profile("dev", deadline=None, print_blob=True)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE") or ("ci" if os.environ.get("CI") else "dev"))
 
+#: the repository (tests that read README.md, docs/, examples/, proofs/ or pyproject.toml, or run
+#: ``python -m symkf`` from the source tree, import it from here: ``from conftest import ROOT``)
+ROOT = Path(__file__).resolve().parent.parent
+
+
 def rotation(angle, scale=2) -> sympy.Matrix:
     """``scale R(angle)``: the rotation blocks the tests build their systems from."""
     c, s = sympy.cos(angle), sympy.sin(angle)
     return scale * sympy.Matrix([[c, -s], [s, c]])
+
+
+def stacked_rotations(orders, rows):
+    """``diag(2R(2 pi/q) for q in orders)`` watched by one sensor per row (``s1``, ``s2``, ...):
+    rotations of one modulus from different cyclotomic fields, one eigen-block over their compositum."""
+    import symkf as sk
+    return sk.System(A=sympy.diag(*(rotation(2 * sympy.pi / q) for q in orders)),
+                     sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)])
+
+
+# -- processes: the interrupt, writer and output tests watch the processes they start -------------
+
+def wait_for(condition, timeout: float, what: str) -> None:
+    """Poll ``condition()`` until it holds; fail the test naming ``what`` after ``timeout`` seconds."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            pytest.fail(f"timed out after {timeout} s waiting for {what}")
+        time.sleep(0.05)
+
+
+def cpu_seconds(pid: int) -> float:
+    """The CPU time (user + system) process ``pid`` has used, 0 once it is gone (from /proc)."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rpartition(")")[2].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 #: the module (``sympy.core.sympify`` as an attribute is the function)
@@ -101,7 +136,7 @@ def dask_cluster():
 LONGEST = ("test_wheel.py::test_readme_and_docs_run_verbatim", "test_fusion.py::test_reproduce_full",
            "test_sizes.py::test_sqrt2_matrix_analyze", "test_payload_walk.py::test_walk_full",
            "test_bounds.py::test_no_row_violated", "test_limits.py::test_fuzz_under_limits_long",
-           "test_second_order.py::test_full_family", "test_writer.py::test_two_runs_writing")
+           "test_second_order.py::test_full_family", "test_output.py::test_two_runs_writing")
 
 
 def pytest_collection_modifyitems(items):

@@ -16,7 +16,6 @@ from symkf.io import files
 from symkf.numeric.montecarlo import exact_mean_trace
 from symkf.run.progress import progress
 
-ROOT = Path(__file__).resolve().parent.parent
 SYSTEMS = examples.directory() / "systems"
 DESIGN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], loss 1/20: eps_c = 1/16
 GE = SYSTEMS / "ge-two-sensors.toml"

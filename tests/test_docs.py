@@ -21,8 +21,8 @@ from symkf.model.codec import loss_kinds
 import symkf
 from symkf import cli, examples
 from symkf.io import families, files
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
 PAGES = [ROOT / "README.md", *sorted(DOCS.glob("*.md"))]
 

@@ -22,8 +22,8 @@ from symkf.io import files
 from symkf.errors import ExtraNotInstalledError, InputError
 from symkf.io.families import grid_family, systems_family
 from symkf.engine.stability import pattern_words
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
 DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
 #: the aperiodic rotation (3/2) R(theta), cos theta = 3/5, on a Gilbert-Elliott channel: every
 #: reception resets the rank, so rho = P(stay lost) = 1/2 and the margin is 9/4 * 1/2 = 9/8

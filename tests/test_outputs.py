@@ -12,11 +12,11 @@ import time
 from pathlib import Path
 
 import pytest
-from test_interrupts import cpu_seconds
+from conftest import cpu_seconds
 
 from symkf import cli
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
 #: A = 2 R(pi/2) watched by [1 0] with i.i.d. loss 1/2
 SYSTEM_TEXT = '[system]\nA = [[0, -2], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n[loss]\nkind = "iid"\nloss = ["1/2"]\n'
 

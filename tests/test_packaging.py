@@ -14,8 +14,8 @@ import pytest
 import symkf
 from symkf import cli, examples
 from symkf.errors import ExtraNotInstalledError, InputError
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
 
 
 def _python(code: str) -> str:

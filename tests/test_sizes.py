@@ -145,7 +145,7 @@ def _rotation_pair(rows):
 def test_screen_work_refused_up_front_naming_the_cap():
     """One 4-dim eigen-block of modulus 2 (period 12) with 3 sensors: 36 elements, 3 orbits; the
     screen's estimate sum C(C, 2) + 10^4 per stage is far above a cap of 1000, so the decay rate is
-    refused before the screen runs (under the default cap it runs: tests/test_heaviest_hyperplane)."""
+    refused before the screen runs (under the default cap it runs: tests/engine/test_heaviest_hyperplane.py)."""
     S = _rotation_pair([[1, 0, 1, 0], [0, 1, 1, 1], [1, 2, 0, 1]])
     with budget.limits(max_screen_work=1000):
         with pytest.raises(BudgetError, match=r"eigen-block of modulus 2: the estimated work of the hyperplane "

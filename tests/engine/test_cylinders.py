@@ -12,16 +12,7 @@ from symkf import budget
 from symkf.engine.cylinders import SplitRows
 from symkf.errors import BudgetError
 from symkf.engine.blocks import block_rows
-
-
-def _rotation(q: int) -> sp.Matrix:
-    c, s = sp.cos(2 * sp.pi / q), sp.sin(2 * sp.pi / q)
-    return 2 * sp.Matrix([[c, -s], [s, c]])
-
-
-def _stack(orders, rows) -> sk.System:
-    return sk.System(A=sp.diag(*(_rotation(q) for q in orders)),
-                     sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)])
+from conftest import stacked_rotations
 
 
 def _split(system: sk.System):
@@ -44,9 +35,9 @@ def test_part_by_part_agrees_with_the_compositum(orders, rows):
     at one phase spans a hyperplane of that part holding g / o_p of its elements; or a second
     sensor that sees one part only (every hyperplane vanishing there holds all its elements, and
     one meeting every part holds at most rho = 2 phases of that part per fibre)."""
-    direct = _stack(orders, rows)
+    direct = stacked_rotations(orders, rows)
     want = (sk.critical_loss_rate(direct), sk.stability(direct, sk.IID(["1/10"] * len(rows))))
-    split = _stack(orders, rows)
+    split = stacked_rotations(orders, rows)
     with _split(split):
         assert isinstance(block_rows(split)[0], SplitRows)
         got = (sk.critical_loss_rate(split), sk.stability(split, sk.IID(["1/10"] * len(rows))))
@@ -68,8 +59,8 @@ def test_part_by_part_never_contradicts_the_compositum(orders, row, second):
     if second is not None:
         rows.append([0] * 6)
         rows[1][2 * second[0]:2 * second[0] + 2] = second[1]
-    want = sk.critical_loss_rate(_stack(orders, rows))
-    split = _stack(orders, rows)
+    want = sk.critical_loss_rate(stacked_rotations(orders, rows))
+    split = stacked_rotations(orders, rows)
     with _split(split):
         try:
             got = sk.critical_loss_rate(split)
@@ -82,7 +73,7 @@ def test_part_by_part_never_contradicts_the_compositum(orders, row, second):
 def test_rotation_orbit_meets_an_affine_line_twice():
     """rho = 2 for each part 2R(2 pi/q) seen by a sensor (by hand: the orbit lies on an ellipse, which an
     affine line meets at most twice, and the line through two orbit points holds both)."""
-    system = _stack((5, 7, 9, 11), [[2, 1, 0, -1, -1, -2, 1, 0]])
+    system = stacked_rotations((5, 7, 9, 11), [[2, 1, 0, -1, -1, -2, 1, 0]])
     rows = block_rows(system)[0]
     assert isinstance(rows, SplitRows) and rows.orders == (5, 7, 9, 11)
     assert [rows._rho(0, p) for p in range(4)] == [2, 2, 2, 2]
@@ -98,7 +89,7 @@ def test_rotations_in_four_cyclotomic_fields_answered_part_by_part():
     heavier (those meeting every part hold at most 8 times per fibre of the parts of order 9 and
     11, 280 per sensor)."""
     import time
-    system = _stack((5, 7, 9, 11), [[2, 1, 0, -1, -1, -2, 1, 0], [-2, -2, -2, 2, 1, 2, 0, 1]])
+    system = stacked_rotations((5, 7, 9, 11), [[2, 1, 0, -1, -1, -2, 1, 0], [-2, -2, -2, 2, 1, 2, 0, 1]])
     start = time.process_time()
     assert sk.critical_loss_rate(system).exact == 2 ** sp.Rational(-9, 8)
     rows = block_rows(system)[0]
@@ -120,7 +111,7 @@ def test_undecided_blocks_are_refused_naming_the_cap():
     cylinders hold 35 elements per sensor, and the bound on the hyperplanes meeting every part
     (5 fibres of at most 8) does not fall below them, so the block goes to the compositum and is
     refused there, naming its cap (the default caps answer it: tests/test_diagonal_blocks)."""
-    system = _stack((5, 7, 9), [[2, 1, 0, -1, -1, -2], [-2, -2, -2, 2, 1, 2]])
+    system = stacked_rotations((5, 7, 9), [[2, 1, 0, -1, -1, -2], [-2, -2, -2, 2, 1, 2]])
     with _split(system), pytest.raises(BudgetError, match=r"at least phi\(315\).* is 144, above the cap 143"):
         sk.critical_loss_rate(system)
 
@@ -138,7 +129,7 @@ def test_a_screen_gives_up_before_its_kept_sets_outgrow_the_memory_cap():
     screen.offer(1.0, range(6))
     with pytest.raises(hyperplane_screen.Crowded, match="2 sets of 12 points"):
         screen.offer(1.0, range(6, 12))
-    system = _stack((5, 7, 9), [[2, 1, 0, -1, -1, -2], [1, 2, 0, 0, 0, 0]])
+    system = stacked_rotations((5, 7, 9), [[2, 1, 0, -1, -1, -2], [1, 2, 0, 0, 0, 0]])
     start = time.process_time()
     with budget.limits(max_memory=64 * 2 ** 20), pytest.raises(BudgetError, match=r"number of hyperplanes to list.*"
                                                                                  r"--max-hyperplanes"):
@@ -176,7 +167,7 @@ def test_the_bounds_atlas_refuses_the_lmi_over_the_four_fields_compositum():
     """The LMI of the bounds atlas checks its certificates in the field of all of A's entries, the
     compositum of degree 1440 that the exact engine avoids: refused naming the cap (it returned
     NaN to the SDP solver, an internal error, once the exact value was computed)."""
-    system = _stack((5, 7, 9, 11), [[2, 1, 0, -1, -1, -2, 1, 0], [-2, -2, -2, 2, 1, 2, 0, 1]])
+    system = stacked_rotations((5, 7, 9, 11), [[2, 1, 0, -1, -1, -2, 1, 0], [-2, -2, -2, 2, 1, 2, 0, 1]])
     with pytest.raises(BudgetError, match=r"field of the LMI's entries .* is 1440, above the cap 1024"):
         sk.bounds(system)
 
@@ -187,7 +178,7 @@ def test_markov_verdicts_part_by_part_through_the_cylinders_searches(rows):
     each cylinder's own Markov search, lifted, and the full-support hyperplanes ruled out by the
     fibres under the additive bound (symkf.engine.rates._through_cylinders), in a fraction of a second."""
     loss = sk.GilbertElliott(["1/10", "1/10"], ["1/2", "1/2"])
-    split = _stack((5, 7, 9), rows)
+    split = stacked_rotations((5, 7, 9), rows)
     with _split(split):
         assert isinstance(block_rows(split)[0], SplitRows)
         got = sk.stability(split, loss)
@@ -199,8 +190,8 @@ def test_markov_verdicts_part_by_part_through_the_cylinders_searches(rows):
 def test_markov_verdicts_part_by_part_agree_with_the_compositum(rows):
     # the same verdicts against the direct rows over the compositum (8 and 30 CPU-s)
     loss = sk.GilbertElliott(["1/10", "1/10"], ["1/2", "1/2"])
-    want = sk.stability(_stack((5, 7, 9), rows), loss)
-    split = _stack((5, 7, 9), rows)
+    want = sk.stability(stacked_rotations((5, 7, 9), rows), loss)
+    split = stacked_rotations((5, 7, 9), rows)
     with _split(split):
         got = sk.stability(split, loss)
     assert got.margins[0].exact == want.margins[0].exact

@@ -5,7 +5,6 @@ from __future__ import annotations
 import itertools
 import subprocess
 import sys
-from pathlib import Path
 
 import mpmath
 import pytest
@@ -23,8 +22,8 @@ from symkf.network import (MarkovNetworkState, Nakagami, NetworkLoss, PeriodicDy
                            observability_matrix, phi_symbol, rank_deficiency_probabilities,
                            rank_deficiency_probability_by_enumeration, spectral_norm_squared, success_probability,
                            theorem1, theorem2, threshold_success)
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 R = sp.Rational
 
 
@@ -412,7 +411,7 @@ def test_reproduce_robot_and_examples_scripts(tmp_path):
     out = reproduce_quevedo_robot(str(tmp_path))
     assert all(out["checks"].values()), out["checks"]
     # exact margins of the 21/20 and 1 blocks: Perron roots of the 560-state lifted chain restricted
-    # to "S1 and S4 lost" and "S1, S3, S4 lost" (cross-checked against LAPACK in tests/test_perron.py)
+    # to "S1 and S4 lost" and "S1, S3, S4 lost" (cross-checked against LAPACK in tests/exact/test_perron.py)
     exact = out["results"]["exact_verdict"]
     assert exact["stable"] is True and exact["margin_minpoly_degrees"] == [56, 56]
     assert [round(float(m[0]), 6) for m in exact["margins"]] == [0.153956, 0.091163]

@@ -4,7 +4,6 @@ import json
 import shutil
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -17,8 +16,8 @@ from symkf.exact.algebraic import AlgebraicNumber
 from symkf.io.families import load_family
 from symkf.engine.stability import stability
 from symkf.reports.tables import Cell, Table, escape, family_table, verdict_table
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
 FAMILIES = examples.directory() / "families"
 
 SMALL_ROTATIONS = """

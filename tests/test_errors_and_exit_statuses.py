@@ -5,7 +5,6 @@ period)."""
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import pytest
 
@@ -13,6 +12,7 @@ import symkf as sk
 from symkf import budget, cli, examples
 from symkf.io import files
 from symkf.errors import FileFormatError, InputError
+from conftest import ROOT
 
 GE = examples.system("ge-two-sensors")
 FAMILY = examples.family("rotation-periods")
@@ -141,5 +141,5 @@ def test_toml_decimals_are_exact_without_rationalize(tmp_path):
     path.write_text('[system]\nA = [[0.1, -2], [2, 1e-3]]\n[[sensors]]\nC = [[1, 0]]\n')
     system, _ = files.load(path)
     assert system.A[0, 0] == sk.exact.numbers.parse_exact("1/10", "x") and system.A[1, 1] * 1000 == 1
-    text = (Path(__file__).resolve().parent.parent / "docs" / "formats.md").read_text()
+    text = (ROOT / "docs" / "formats.md").read_text()
     assert "is refused with an error naming the entry" not in text and "read exactly as written" in text

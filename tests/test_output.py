@@ -17,10 +17,10 @@ from pathlib import Path
 import pytest
 
 from symkf import cli, output
-from test_interrupts import cpu_seconds, wait_for
+from conftest import cpu_seconds, wait_for
 from symkf.errors import OutputError
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
 FAMILY_TEXT = ('[family]\n[grid]\na = ["2", "3"]\n[system]\nA = [["a", "0"], ["0", "a/2"]]\n'
                '[[sensors]]\nC = [["1", "1"]]\n')
 

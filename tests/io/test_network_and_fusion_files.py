@@ -29,7 +29,6 @@ from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, Se
 from symkf.network import reproduce as rep
 from symkf.engine.stability import stability
 
-ROOT = Path(__file__).resolve().parent.parent
 NETWORK = examples.directory() / "systems" / "network"
 FUSION = examples.directory() / "systems" / "fusion"
 R = sp.Rational
@@ -147,7 +146,7 @@ def test_analyze_decides(capsys, name):
 def test_analyze_semi_markov_robot_and_viic_decided(capsys):
     # the robot's lifted chain (4 positions, holding counters up to 30, theta) has 560 states;
     # both eigen-blocks (21/20, seen by S1 and S4; 1, seen by S3 and S4) have their margins as
-    # roots of degree-56 polynomials, 0.153956 and 0.091163 (cross-checked in tests/test_perron.py)
+    # roots of degree-56 polynomials, 0.153956 and 0.091163 (cross-checked in tests/exact/test_perron.py)
     status, out, err = run(capsys, "analyze", NETWORK / "quevedo-robot.toml")
     assert status == 0 and err == "" and out.splitlines()[2] == "stable (Theorem 7 with eq. (36))"
     assert "[0.153956, 0.153956]" in out and "[0.091163, 0.091163]" in out

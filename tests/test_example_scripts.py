@@ -4,11 +4,11 @@ are exercised through their ``reproduce_*`` functions and ``symkf reproduce --qu
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
-EXAMPLES = Path(__file__).parent.parent / "examples"
+EXAMPLES = ROOT / "examples"
 
 
 # quevedo_example3.py and sui_theorem12.py run once, in test_reproduction_scripts_report_their_checks

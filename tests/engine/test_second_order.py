@@ -7,7 +7,6 @@ the ``full`` marker).
 """
 
 import runpy
-from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -19,9 +18,10 @@ import symkf as sk
 from conftest import rotation
 from symkf import second_order as so
 from symkf.errors import AperiodicError, AssumptionError, InputError
+from conftest import ROOT
 
 R = sp.Rational
-PROOFS = Path(__file__).resolve().parents[1] / "proofs"
+PROOFS = ROOT / "proofs"
 
 
 def system(A, *rows):

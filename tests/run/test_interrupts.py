@@ -16,8 +16,8 @@ import pytest
 
 from symkf import cli
 from symkf.run.sweep import sweep
+from conftest import ROOT, cpu_seconds, wait_for
 
-ROOT = Path(__file__).resolve().parent.parent
 #: members of about 10 CPU-s each (2 R(2 pi/g) for primes g > 200, under raised caps): every
 #: signal arrives while both workers compute
 SLOW_FAMILY = ('[family]\nname = "slow"\nkind = "rotation"\n[grid]\nperiod = [211, 223, 227, 229]\nsensors = [1]\n'
@@ -56,22 +56,6 @@ def children(pid: int) -> list[int]:
 def living_in_group(group: int) -> list[int]:
     """Processes of the process group ``group`` still alive (zombies excepted: they compute nothing)."""
     return [p for p, (_, pgid, state) in _processes().items() if pgid == group and state != "Z"]
-
-
-def wait_for(condition, timeout: float, what: str) -> None:
-    deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline:
-            pytest.fail(f"timed out after {timeout} s waiting for {what}")
-        time.sleep(0.05)
-
-
-def cpu_seconds(pid: int) -> float:
-    try:
-        fields = Path(f"/proc/{pid}/stat").read_text().rpartition(")")[2].split()
-    except OSError:
-        return 0.0
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def _started_with_workers(argv: list[str], cwd: Path, workers: int = 2, busy: bool = False) -> subprocess.Popen:

@@ -401,7 +401,7 @@ import sys
 sys.path.insert(0, {os.path.dirname(__file__)!r})
 import numpy as np
 from symkf.numeric.square_root import _pow2
-from test_filtering import _ldexp_bits, _powers
+from test_filters import _ldexp_bits, _powers
 powers = _powers(_pow2)
 es = np.arange(-2200, 2200)
 got = powers(es)

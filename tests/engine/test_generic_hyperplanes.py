@@ -11,7 +11,7 @@ from symkf import budget
 from symkf.engine import rates as decay, rows as observability
 from symkf.engine.generic_hyperplanes import best_elements
 from symkf.engine.blocks import block_rows
-from test_cylinders import _stack
+from conftest import stacked_rotations
 
 GE = sk.GilbertElliott
 # a joint chain of two sensors (one all-lost state: the segment form, words of two-bit masks)
@@ -32,7 +32,7 @@ CASES = [
 
 
 def _rows_and_rates(orders, rows, loss):
-    br = next(b for b in block_rows(_stack(orders, rows)) if b.block.modulus.exact == 2)
+    br = next(b for b in block_rows(stacked_rotations(orders, rows)) if b.block.modulus.exact == 2)
     rates = decay.factor_rates(br, loss)
     return br, rates, decay.Patterns(br, rates)
 
@@ -51,7 +51,7 @@ def test_best_elements_is_the_best_rate_of_any_n_minus_1_elements(orders, rows, 
 @pytest.mark.parametrize("orders, rows", [((3, 5), [[1, 2, 1, -2], [-1, 0, 1, 0]]), ((5, 6), [[2, -1, -2, 2]])])
 def test_the_strict_screen_finds_the_hyperplanes_of_n_live_elements_or_more(orders, rows):
     # heaviest with unit weights and a strict floor n - 1/2 against the listed hyperplanes
-    br = next(b for b in block_rows(_stack(orders, rows)) if b.block.modulus.exact == 2)
+    br = next(b for b in block_rows(stacked_rotations(orders, rows)) if b.block.modulus.exact == 2)
     unit = [1.0 if gs else 0.0 for gs in br.generators]
     special = br.heaviest(unit, floor=br.size - 0.5, strict=True)
     listed = {H for H in br.hyperplanes if sum(unit[e] for e in H) >= br.size}
@@ -74,9 +74,9 @@ def test_markov_verdicts_beyond_the_list_equal_the_list(orders, rows, loss, wins
     with monkeypatch.context() as m:
         m.setattr(decay, "_beyond_listing", spy)
         m.setattr(observability.BlockRows, "listing_estimate", lambda self: (10 ** 12, "pretended"))
-        got = sk.stability(_stack(orders, rows), loss)
+        got = sk.stability(stacked_rotations(orders, rows), loss)
     assert answered and (wins is None or answered == [wins == "generic"])
-    want = sk.stability(_stack(orders, rows), loss)
+    want = sk.stability(stacked_rotations(orders, rows), loss)
     assert [m.exact for m in got.margins] == [m.exact for m in want.margins]
     assert [c.decisive_elements for c in got.certificate] == [c.decisive_elements for c in want.certificate]
 
@@ -85,7 +85,7 @@ def test_two_rotations_seen_by_two_sensors_on_gilbert_elliott_channels():
     """2R(2 pi/7) + 2R(2 pi/11), two sensors in general position: C(154, 3) = 596 904 hyperplanes
     to list (refused at the default cap before); the special ones and the generic maximum
     answer in under a second."""
-    system = _stack((7, 11), [[2, 1, 0, -1], [-2, -2, 2, 1]])
+    system = stacked_rotations((7, 11), [[2, 1, 0, -1], [-2, -2, 2, 1]])
     verdict = sk.stability(system, GE(["1/10", "1/10"], ["1/2", "1/2"]))
     assert not verdict.stable
 
@@ -94,9 +94,9 @@ def test_two_rotations_seen_by_two_sensors_on_gilbert_elliott_channels():
 def test_two_rotations_on_gilbert_elliott_channels_agree_with_the_raised_list():
     # the same system against the list with max_hyperplanes raised (about 40 CPU-s)
     loss = GE(["1/3", "1/20"], ["1/4", "2/3"])
-    got = sk.stability(_stack((7, 11), [[2, 1, 0, -1], [-2, -2, 2, 1]]), loss)
+    got = sk.stability(stacked_rotations((7, 11), [[2, 1, 0, -1], [-2, -2, 2, 1]]), loss)
     with budget.limits(max_hyperplanes=10 ** 6):
-        want = sk.stability(_stack((7, 11), [[2, 1, 0, -1], [-2, -2, 2, 1]]), loss)
+        want = sk.stability(stacked_rotations((7, 11), [[2, 1, 0, -1], [-2, -2, 2, 1]]), loss)
     assert [m.exact for m in got.margins] == [m.exact for m in want.margins]
     assert [c.decisive_elements for c in got.certificate] == [c.decisive_elements for c in want.certificate]
 

@@ -31,6 +31,7 @@ from symkf.numeric.montecarlo import exact_mean_covariances, simulate_traces
 from symkf.numeric.receptions import draw
 from symkf.network import MarkovNetworkState, NetworkLoss, SemiMarkovNetworkState, SensorTree
 from symkf.engine.blocks import block_rows
+from conftest import ROOT
 
 R = sp.Rational
 
@@ -295,9 +296,8 @@ def test_figure_titles_say_every_loss_model(name):
 def test_docs_worked_example_adds_a_model_in_one_place(tmp_path):
     # docs/losses.md: the class and the hand-derived margin, then the model through a system file,
     # JSON, the sampler and a verdict table without any other change to symkf
-    from pathlib import Path
     import re
-    page = (Path(__file__).resolve().parent.parent / "docs" / "losses.md").read_text(encoding="utf-8")
+    page = (ROOT / "docs" / "losses.md").read_text(encoding="utf-8")
     blocks = re.findall(r"^```python\n(.*?)^```", page, re.M | re.S)
     assert len(blocks) == 2
     namespace: dict = {}

@@ -6,7 +6,6 @@ import itertools
 import math
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,8 +22,8 @@ from symkf.capacity import (MARE, capacity_bounds_meet, comparison_table, coroll
                             theorem5_sufficient, theorem6_allocation, theorem7_necessary, transmission_capacity,
                             unit_circle_condition, verdict_comparison, wonham_decomposition)
 from symkf.errors import AssumptionError, BudgetError, InputError
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 R = sp.Rational
 ROTATION = System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]])], name="rotation")
 LOWER_TRI = System(A=[[R(5, 4), 0], [1, R(11, 10)]], sensors=[Sensor(C=[[1, 1]])], name="lower-tri")

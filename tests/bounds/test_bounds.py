@@ -8,7 +8,6 @@ import json
 import runpy
 import shutil
 import subprocess
-from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -21,9 +20,10 @@ from symkf.bounds import hypotheses as hyp
 from symkf.bounds.counterexample import reproduce_you_2011_counterexample
 from symkf.bounds.row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE, REFUSED
 from symkf.model.strategies import diagonalizable_systems
+from conftest import ROOT
 
 R = sp.Rational
-PROOFS = Path(__file__).resolve().parents[1] / "proofs"
+PROOFS = ROOT / "proofs"
 
 
 def system(A, *rows, single=True):

@@ -13,6 +13,7 @@ from symkf import examples
 from symkf.exact import perron, perron_field
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.engine.blocks import block_rows
+from conftest import ROOT
 
 R = sp.Rational
 ENTRIES = [R(0), R(0), R(0), R(1, 2), R(1, 3), R(3, 4), R(1), R(2), R(7, 5)]
@@ -100,8 +101,7 @@ def test_algebraic_entries_against_lapack(entries):
 def _radical_matrix(seed, n):
     """The benchmarks' deterministic generator (non-negative, over Q(sqrt 2, sqrt 3, sqrt 5))."""
     import sys
-    from pathlib import Path
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    sys.path.insert(0, str(ROOT / "benchmarks"))
     try:
         from engine_cases import radical_matrix
     finally:

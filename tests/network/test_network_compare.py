@@ -2,7 +2,6 @@
 
 import runpy
 import sys
-from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -10,6 +9,7 @@ import sympy as sp
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.network.compare import FAMILY, compare, critical, describe, example, markdown_table, t
 from symkf.engine.stability import stability
+from conftest import ROOT
 
 R = sp.Rational
 
@@ -122,7 +122,7 @@ def test_markdown_table_rows(table):
 
 
 def test_example_script_prints_the_table(capsys, monkeypatch):
-    path = Path(__file__).parent.parent / "examples" / "quevedo_compare.py"
+    path = ROOT / "examples" / "quevedo_compare.py"
     monkeypatch.setattr(sys, "argv", [str(path), "iid-scalar", "ge-scalar-stay"])
     runpy.run_path(str(path), run_name="__main__")
     out = capsys.readouterr().out

@@ -20,8 +20,8 @@ from hypothesis import strategies as st
 from symkf import cli
 from symkf.io import files
 from symkf.errors import FileFormatError, SymkfError
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
 CORPUS = sorted((ROOT / "tests" / "corpus" / "bad").glob("*.toml"))
 FUZZ = settings(max_examples=40, deadline=None,
                 suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
