@@ -1,20 +1,23 @@
-"""The ``symkf`` command: critical, verify, simulate, reproduce, exit statuses, progress."""
+"""The ``symkf`` command (symkf.cli): critical, verify, simulate, reproduce, table, analyze; usage
+errors in one line, help, output in words for people."""
 
 from __future__ import annotations
 
 import importlib
 import json
 import os
+import re
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+import sympy as sp
 
+import symkf as sk
 from symkf import cli, examples
 from symkf.io import files
 from symkf.numeric.montecarlo import exact_mean_trace
-from symkf.run.progress import progress
 
 SYSTEMS = examples.directory() / "systems"
 DESIGN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], loss 1/20: eps_c = 1/16
@@ -205,23 +208,6 @@ def test_toml_decimals_are_exact_without_notes(capsys, tmp_path):
         assert status == 0 and json.loads(out)["critical_loss_rate"]["exact"] == "1/16" and err == ""
 
 
-def test_progress_only_on_a_terminal(monkeypatch):
-    assert progress(3, "x").disable                       # pytest's stderr is not a terminal
-
-    class Terminal:
-        def isatty(self):
-            return True
-
-        def write(self, s):
-            return len(s)
-
-        def flush(self):
-            pass
-    monkeypatch.setattr(sys, "stderr", Terminal())
-    assert not progress(3, "x").disable
-    assert progress(3, "x", enabled=False).disable
-
-
 def test_verify_is_quiet_off_terminal(capsys):
     status, _, err = run(capsys, "verify", DESIGN, "--paths", "1000")
     assert status == 0 and err == ""
@@ -249,13 +235,6 @@ def test_table_command_writes_latex_and_json(capsys, tmp_path):
     assert cells == [["1/16", "1/4"], ["1/8", "sqrt(2)/4"]]
 
 
-def test_yang_example1_file_matches_the_reproduction_data():
-    from symkf.capacity.example1 import example1_system
-    S, loss = files.load(SYSTEMS / "yang-example1.toml")
-    S2, loss2 = example1_system()
-    assert (S.A, S.C, S.Q, loss.loss) == (S2.A, S2.C, S2.Q, loss2.loss)
-
-
 def test_closed_pipe_is_not_a_traceback():
     import subprocess
     proc = subprocess.run(f"{sys.executable} -m symkf critical {DESIGN} --json | head -c 1", shell=True,
@@ -269,3 +248,91 @@ def test_analyze_prints_margins_beyond_the_float_range(tmp_path, capsys):
     path.write_text('[system]\nA = [["1E200"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "iid"\nloss = ["1/2"]\n')
     assert cli.main(["analyze", str(path)]) == 0
     assert "in [5.00000E+399, 5.00000E+399]" in capsys.readouterr().out
+
+
+@pytest.fixture
+def family(tmp_path):
+    """A small family (two members, a fraction of a second); its LaTeX table is about 1 kB."""
+    path = tmp_path / "fam.toml"
+    path.write_text('[family]\n[grid]\na = ["2", "3"]\n[system]\nA = [["a", "0"], ["0", "a/2"]]\n'
+                    '[[sensors]]\nC = [["1", "1"]]\n')
+    return path
+
+
+def test_jobs_capped_at_the_cpu_count(capsys, monkeypatch, family):
+    seen = {}
+    import symkf.reports.tables as tables
+    monkeypatch.setattr(tables, "family_table", lambda path, jobs, scheduler: seen.setdefault("jobs", jobs) and 1/0)
+    run(capsys, "table", family, "--jobs", "1000")
+    assert seen["jobs"] == len(os.sched_getaffinity(0))
+    seen.clear()
+    run(capsys, "table", family, "--jobs", "1000", "--oversubscribe")
+    assert seen["jobs"] == 1000
+
+
+def test_bare_command_prints_usage_and_help_names_json(capsys):
+    status, out, _ = run(capsys)
+    assert status == 2 and out.startswith("usage: symkf") and "--json" in out and "examples" in out
+    assert cli.main(["analyze", "--help"]) == 0
+    assert cli.FILE_HELP in " ".join(capsys.readouterr().out.split())
+
+
+# -- reports in words for people -----------------------------------------------------------------
+
+#: a JSON object or a Python repr of a list/tuple/string in text meant for people
+REPR = re.compile(r"""\{\s*["']|\[\s*\(|\[\s*['"]|\(\s*['"]|\[\s*\[\s*['"]""")
+
+
+def _readable(text: str) -> list[str]:
+    """The lines of ``text`` that carry a repr or exceed 120 characters without a long number."""
+    return [line for line in text.splitlines()
+            if REPR.search(line) or (len(line) > 120 and not re.search(r"\d{30}", line))]
+
+
+def test_text_output_is_words(capsys):
+    commands = [["demo"], ["analyze", "aperiodic-rotation"], ["analyze", "ge-two-sensors"],
+                ["analyze", "quevedo-semi-markov-network"], ["critical", "rotation-pi12-four-sensors"],
+                ["examples"], ["reproduce", "sui-theorem12", "--quick"], ["reproduce", "--list"],
+                ["simulate", "ge-two-sensors", "--horizon", "12", "--paths", "60"],
+                ["verify", "design-rotation", "--paths", "300", "--horizon", "16"]]
+    for argv in commands:
+        status, out, err = run(capsys, *argv, "--quiet")
+        assert status == 0, (argv, err)
+        assert _readable(out) == [], argv
+    assert _readable("ok\n{\"modulus\": \"2\"}\nonly [('s1', 0)] received\n" + "x" * 121) == [
+        "{\"modulus\": \"2\"}", "only [('s1', 0)] received", "x" * 121]
+
+
+def test_a_high_degree_modulus_is_shown_by_its_decimal_and_degree(capsys, tmp_path):
+    """``A = cos(pi/211)``: the modulus's minimal polynomial has degree 105 and 40-digit
+    coefficients; the report names the degree and where the exact data is instead of printing it,
+    and the margin is exact: ``cos(pi/211)^2 * 1/2`` (no packet received, loss 1/2)."""
+    path = tmp_path / "s.toml"
+    path.write_text('[system]\nA = [["cos(pi/211)"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "iid"\nloss = ["1/2"]\n')
+    status, out, _ = run(capsys, "analyze", path, "--quiet")
+    assert status == 0 and _readable(out) == [] and max(map(len, out.splitlines())) < 300, out
+    assert "a root of a degree-105 polynomial" in out and "0.9998891599" in out
+    status, out, _ = run(capsys, "analyze", path, "--json")
+    doc = json.loads(out)
+    assert doc["blocks"][0]["modulus_degree"] == 105 and len(doc["blocks"][0]["modulus"]) > 4000
+    S, loss = files.load(path)
+    m = sk.stability(S, loss).margins[0]
+    lo, hi = map(sp.Rational, m.refine(sp.Rational(1, 10 ** 30)).interval)
+    value = sp.cos(sp.pi / 211) ** 2 / 2
+    assert m.minpoly.degree() == 105 and sp.N(value - lo, 20) >= 0 and sp.N(hi - value, 20) >= 0 and hi - lo < 1e-30
+
+
+EXAMPLES = examples.directory() / "systems"
+
+
+def test_analyze_reports_set_aside_modes(capsys):
+    import json
+
+    from symkf import cli
+    assert cli.main(["analyze", "--json", str(EXAMPLES / "detectable.toml")]) == 0
+    res = json.loads(capsys.readouterr().out)
+    (aside,) = res["set_aside"]
+    assert aside["eigenvalues"] == ["1/2"] and "Jordan chains" in aside["reason"]
+    assert [b["jordan_chains"] for b in res["blocks"]] == [False, True]
+    assert cli.main(["analyze", str(EXAMPLES / "detectable.toml")]) == 0
+    assert "set aside: 1/2 (eigenvalue(s) 1/2 with Jordan chains" in capsys.readouterr().out

@@ -1,6 +1,6 @@
-"""The one writer of every file symkf writes (symkf.output; issue 26, section 2, and issue 24's
-overwrite rule): never over an input, never through a symbolic link, never half a file, never
-over a file another run wrote meanwhile, and nothing else in symkf writes a file."""
+"""The one writer of every file symkf writes (symkf.output): never over an input, never through a
+symbolic link, never half a file, never over a file another run wrote meanwhile (a rerun replaces
+its own output), output paths checked before computing, and nothing else in symkf writes a file."""
 
 from __future__ import annotations
 
@@ -16,10 +16,10 @@ from pathlib import Path
 
 import pytest
 
-from symkf import cli, output
-from conftest import cpu_seconds, wait_for
+from symkf import cli, examples, output
 from symkf.errors import OutputError
-from conftest import ROOT
+
+from conftest import ROOT, cpu_seconds, wait_for
 
 FAMILY_TEXT = ('[family]\n[grid]\na = ["2", "3"]\n[system]\nA = [["a", "0"], ["0", "a/2"]]\n'
                '[[sensors]]\nC = [["1", "1"]]\n')
@@ -48,6 +48,86 @@ def no_table(monkeypatch):
     """Refusals come before the family is evaluated."""
     import symkf.reports.tables as tables
     monkeypatch.setattr(tables, "family_table", lambda *a, **k: pytest.fail("computed before checking the output"))
+
+
+# -- a rerun replaces its own output; a bad target is refused before computing -----------------------
+
+def test_rerun_replaces_its_own_output(capsys, tmp_path, family):
+    """Issue 24: rerunning `symkf table ... --latex table.tex` replaces the table (atomically, no
+    --force needed); --force is still accepted."""
+    out = tmp_path / "out.tex"
+    out.write_text("an earlier table")
+    for extra in ([], [], ["--force"]):
+        status, stdout, err = run(capsys, "table", family, "--latex", out, "--json", *extra)
+        assert status == 0 and err == "" and out.read_text().startswith("\\begin{table}")
+        assert json.loads(stdout)["latex"] == str(out)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fam.toml", "out.tex"]
+
+
+def test_input_file_is_never_overwritten(capsys, family):
+    before = family.read_bytes()
+    for extra in ([], ["--force"]):
+        status, _, err = run(capsys, "table", family, "--latex", family, *extra)
+        assert status == 2 and "is the input file" in err and family.read_bytes() == before
+
+
+@pytest.mark.parametrize("target, message", [("missing/out.tex", "does not exist"), ("/dev/full", "not a regular file"),
+                                             (".", "not a regular file")])
+def test_bad_output_path_refused_before_computing(capsys, tmp_path, family, target, message, monkeypatch):
+    """The family is not evaluated at all (it would take seconds): the check comes first."""
+    monkeypatch.chdir(tmp_path)
+    import symkf.reports.tables as tables
+    monkeypatch.setattr(tables, "family_table", lambda *a, **k: pytest.fail("computed before checking the output"))
+    status, out, err = run(capsys, "table", family, "--latex", target)
+    assert status == 2 and out == "" and message in err and err.count("\n") == 1
+
+
+def test_failed_write_keeps_the_old_file(tmp_path, family):
+    """ulimit -f: the write fails midway; the old file is untouched and no partial file is left."""
+    out = tmp_path / "out.tex"
+    out.write_text("old")
+
+    def small_files():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (512, 512))
+    proc = subprocess.run([sys.executable, "-m", "symkf", "table", str(family), "--latex", str(out), "--force"],
+                          capture_output=True, text=True, preexec_fn=small_files, cwd=ROOT, timeout=300)
+    assert proc.returncode == 2 and f"--latex {out}: cannot write (File too large)" in proc.stderr
+    assert out.read_text() == "old" and sorted(p.name for p in tmp_path.iterdir()) == ["fam.toml", "out.tex"]
+
+
+#: A = 2 R(pi/2) watched by [1 0] with i.i.d. loss 1/2
+SYSTEM_TEXT = '[system]\nA = [[0, -2], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n[loss]\nkind = "iid"\nloss = ["1/2"]\n'
+
+
+@pytest.fixture
+def system(tmp_path):
+    path = tmp_path / "system.toml"
+    path.write_text(SYSTEM_TEXT)
+    return path
+
+
+def test_plot_written_to_the_path_reported(capsys, tmp_path, system):
+    pytest.importorskip("matplotlib")
+    target = tmp_path / "plot_noext"
+    status, out, _ = run(capsys, "simulate", system, "--paths", "20", "--horizon", "5", "--plot", target, "--json")
+    assert status == 0 and json.loads(out)["plot"] == str(target)
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and not (tmp_path / "plot_noext.png").exists()
+
+
+FAMILY = examples.family("rotation-periods")
+
+
+def test_too_long_output_name_is_exit_2(capsys, tmp_path):
+    """A 300-character file name: OSError (File name too long) in output.plan was exit 70."""
+    target = tmp_path / ("a" * 300 + ".tex")
+    status, out, err = run(capsys, "table", FAMILY, "--latex", target)
+    assert status == 2 and out == ""
+    assert "--latex" in one_line(err) and "above the file system's limit" in err
+
+
+def one_line(err: str) -> str:
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    return err
 
 
 # -- inputs are never written over, whatever names them -------------------------------------------
@@ -116,8 +196,6 @@ def test_a_file_read_in_the_run_is_an_input(tmp_path, family):
     assert table.write(tmp_path / "t.tex") == tmp_path / "t.tex"
 
 
-# -- concurrent runs never clobber each other ----------------------------------------------------
-
 def test_a_new_target_taken_meanwhile_is_not_replaced(tmp_path):
     target = tmp_path / "table.tex"
     planned = output.plan(target, "--latex")
@@ -176,8 +254,6 @@ def test_concurrent_run_on_the_command_line(capsys, tmp_path, family, monkeypatc
     assert status == 2 and "appeared while this run was computing" in err and err.count("\n") == 1
     assert out.read_text() == "the other run's table" and leftovers(tmp_path) == []
 
-
-# -- paths refused, errors translated -------------------------------------------------------------
 
 @pytest.mark.parametrize("argv, message", [
     (["table", "FAMILY", "--latex", ""], "--latex: expected a file path, got ''"),
@@ -309,8 +385,6 @@ def test_json_reports_the_written_path(capsys, tmp_path, family):
     status, stdout, _ = run(capsys, "table", family, "--latex", out, "--json")
     assert status == 0 and json.loads(stdout)["latex"] == str(out) and leftovers(tmp_path) == []
 
-
-# -- nothing else in symkf writes a file ----------------------------------------------------------
 
 #: methods that write a file, whatever the receiver
 _WRITING_METHODS = {"savefig", "write_text", "write_bytes", "to_csv", "to_parquet", "to_hdf", "tofile", "touch",

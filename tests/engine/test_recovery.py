@@ -1,21 +1,89 @@
-"""The monotone critical recovery rate (symkf.engine.recovery) against the listing of every hyperplane
-(``stable_recovery_intervals``): the same exact algebraic number on small systems (periods 2-24,
-unequal fail rates, tied sensors), and the hand-checkable two-sensor example."""
+"""The critical recovery rate of Gilbert-Elliott channels (symkf.engine.recovery).
 
+Values derived by hand (two sensors, one sensor, extremes), a non-monotone case refused for the
+monotone search and given as its stable intervals, and the monotone search against the listing of
+every hyperplane (``stable_recovery_intervals``): the same exact algebraic number on small systems
+(periods 2-24, unequal fail rates, tied sensors), and eight sensors checked on both sides."""
+
+
+import numpy as np
 import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import symkf as sk
-from conftest import rotation
+from symkf.engine.blocks import block_rows
+from symkf.engine.rates import m_matrix
+from symkf.engine.recovery import (
+    _recovery_model,
+    critical_recovery_rate,
+    listed_margins,
+    monotone_critical_recovery,
+    stable_recovery_intervals,
+)
+from symkf.engine.region import ge_margins, stable_intervals
+from symkf.engine.stability import stability
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.io.files import load
-from symkf.engine.blocks import block_rows
-from symkf.engine.recovery import listed_margins, monotone_critical_recovery
-from symkf.engine.region import ge_margins, stable_intervals
-from symkf.engine.recovery import _recovery_model, stable_recovery_intervals
 
+from conftest import rotation
+
+TWO = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[1, 1]])])
+# alpha^2 = 3/2, governing period 2: fail 1/2 gives margin 9/4 (q/2 + (1-q)^2), stable iff 2/3 < q < 5/6
+NONMONO = sk.System(A=[[0, "-sqrt(6)/2"], ["sqrt(6)/2", 0]], sensors=[sk.Sensor(C=[[1, 0]])])
+q = sp.Symbol("q")
+
+
+def _float_radius(M):
+    return max(abs(np.linalg.eigvals(np.array(M.evalf().tolist(), dtype=float)))) if M.shape[0] else 0.0
+
+
+def test_recovery_two_sensors_by_hand():
+    # hyperplanes are single elements; the worst loses sensor 2 (fail 1/3) entirely and
+    # sensor 1 at one phase: 16 (q/3 + (1-q)^2) (1-q)^2 = 1 (traces of 2x2 restricted transfers)
+    qc = critical_recovery_rate(TWO, ["1/4", "1/3"])
+    hand = sp.Poly(48 * (1 - q) ** 4 + 16 * q * (1 - q) ** 2 - 3, q)
+    assert sp.Poly(qc.minpoly.as_expr().subs(sp.Symbol("x"), q), q).monic() == hand.monic()
+    lo, hi = qc.refine(sp.Rational(1, 10 ** 9)).interval
+    assert not stability(TWO, sk.GilbertElliott(["1/4", "1/3"], [lo - sp.Rational(1, 10 ** 9)] * 2)).stable
+    assert stability(TWO, sk.GilbertElliott(["1/4", "1/3"], [hi + sp.Rational(1, 10 ** 9)] * 2)).stable
+
+
+def test_recovery_of_one_sensor_by_hand():
+    # 4 (q/4 + (1-q)^2) < 1 iff 3/4 < q < 1, and 20/3 (1-q)^2 < 1 is weaker there
+    assert critical_recovery_rate(TWO, ["1/4", "1/3"], recover=[0, "1/2"], sensor="s1") == sp.Rational(3, 4)
+
+
+def test_recovery_is_not_monotone():
+    (lo, hi), = stable_recovery_intervals(NONMONO, ["1/2"])
+    assert (lo, hi) == (sp.Rational(2, 3), sp.Rational(5, 6))
+    with pytest.raises(sk.SymkfError, match="monotone"):
+        critical_recovery_rate(NONMONO, ["1/2"])
+    (br,) = block_rows(NONMONO)
+    for r, stable in [("3/5", False), ("3/4", True), ("9/10", False)]:
+        loss = sk.GilbertElliott(["1/2"], [r])
+        assert stability(NONMONO, loss).stable is stable
+        M, _ = m_matrix(br, loss)  # independent of the hyperplane traces
+        assert bool(2.25 * _float_radius(M) < 1) is stable
+
+
+def test_recovery_extremes():
+    assert critical_recovery_rate(DESIGN_GE := sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])]),
+                                  ["1/4"]) == 1  # 16 (q/4 + (1-q)^2) >= 15/4 for every q
+    assert stability(DESIGN_GE, sk.GilbertElliott(["1/4"], ["7/8"])).stable is False
+    stable_A = sk.System(A=[["1/2", 0], [0, "1/3"]], sensors=[sk.Sensor(C=[[1, 1]])])
+    assert critical_recovery_rate(stable_A, ["1/2"]) == 0
+
+
+def test_recovery_input_errors():
+    with pytest.raises(sk.SymkfError, match="fail"):
+        critical_recovery_rate(TWO, ["1/4"])
+    with pytest.raises(sk.SymkfError, match="recover"):
+        critical_recovery_rate(TWO, ["1/4", "1/3"], sensor="s1")
+
+
+# -- against the listing of every hyperplane ---------------------------------------------------
 
 def _system(A, rows):
     return sk.System(A=A, sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)])
@@ -157,7 +225,6 @@ def test_equals_listing_benchmark_block():
         assert monotone_critical_recovery(sub, fail) == _listed(sub, fail)
 
 
-# -- one sensor's recovery rate, the others fixed --------------------------------------------
 def _listed_one(S, fail, recover, j):
     """``critical_recovery_rate``'s value from the listing of every hyperplane: 1 when no ``q`` is
     stable, None when the stable set is not an interval ``(q_c, 1)``."""
@@ -217,6 +284,7 @@ def test_one_sensor_without_listing_at_period_24():
     estimated), the monotone search answers 0 (the other seven channels keep it stable, by the
     screened search at q = 0), so the stable set is all of (0, 1), and 1/2 is stable, as it must be."""
     import numpy as np
+
     from symkf.errors import BudgetError
     rng = np.random.default_rng(0)
     rows = []
@@ -230,3 +298,23 @@ def test_one_sensor_without_listing_at_period_24():
     assert sk.critical_recovery_rate(S, fail=["1/10"] * 8, recover=["1/2"] * 8, sensor="s1") == 0
     assert stable_recovery_intervals(S, ["1/10"] * 8, recover=["1/2"] * 8, sensor="s1") == ((0, 1),)
     assert sk.stability(S, sk.GilbertElliott(["1/10"] * 8, ["1/100"] + ["1/2"] * 7)).stable
+
+
+ROT = sp.Matrix([[sp.cos(sp.pi / 3), -sp.sin(sp.pi / 3)], [sp.sin(sp.pi / 3), sp.cos(sp.pi / 3)]])
+
+
+@pytest.mark.full  # about 5 CPU-s on the shared machine
+def test_critical_recovery_with_eight_gilbert_elliott_sensors():
+    """Eight independent channels: per-sensor factors (no 2^8-state chain); the certificate inside
+    critical_recovery_rate evaluates verdicts at rationals with huge numerators (margins as roots
+    of q x^g - p, where sympy's root overflowed a float).  Checked again here on both sides."""
+    from symkf.engine.recovery import critical_recovery_rate
+    from symkf.engine.stability import stability
+    rows = [[1, 0], [0, 1], [1, 1], [1, -1], [2, 1], [1, 2], [2, -1], [1, -2]]
+    system = sk.System(A=2 * ROT, sensors=[sk.Sensor(C=[r], name=f"s{j}") for j, r in enumerate(rows)])
+    fail = ["1/10"] * 8
+    qc = critical_recovery_rate(system, fail)
+    lo, hi = qc.refine(sp.Rational(1, 10 ** 6)).interval
+    assert 0 < lo and hi < 1
+    assert stability(system, sk.GilbertElliott(fail, [sp.Rational(hi) + sp.Rational(1, 10 ** 5)] * 8)).stable
+    assert not stability(system, sk.GilbertElliott(fail, [sp.Rational(lo) - sp.Rational(1, 10 ** 5)] * 8)).stable

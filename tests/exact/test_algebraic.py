@@ -1,9 +1,10 @@
-"""AlgebraicNumber as a SymPy and Python number (issue 15, item 1).
+"""AlgebraicNumber (symkf.exact.algebraic) as a SymPy and Python number: exact arithmetic with
+Python rationals and sympy expressions, symmetric equality, hashes that agree with it, correctly
+rounded formatting, comparisons with floats by their binary value, certified roots.
 
-The running example is the issue's: r = critical_loss_rate of A = 2R(pi/2), C = [1 0],
-which is exactly 1/16 (Sui-You-Fu Theorem 4: one block, alpha = 2, governing period 2,
-margin alpha^4 eps = 1 at eps = 1/16; proofs/sui_theorem12.py).
-"""
+The running example: r = critical_loss_rate of A = 2R(pi/2), C = [1 0], which is exactly 1/16
+(Sui-You-Fu Theorem 4: one block, alpha = 2, governing period 2, margin alpha^4 eps = 1 at
+eps = 1/16; proofs/sui_theorem12.py)."""
 
 from __future__ import annotations
 
@@ -14,11 +15,12 @@ from fractions import Fraction
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import example, given, settings, strategies as st
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
 import symkf as sk
 from symkf.errors import InputError
-from symkf.exact.algebraic import AlgebraicNumber, x
+from symkf.exact.algebraic import AlgebraicNumber, sign, x
 
 R = sp.Rational
 
@@ -34,7 +36,6 @@ SQRT2 = AlgebraicNumber.from_expr(sp.sqrt(2))
 SQRT3 = AlgebraicNumber.from_expr(sp.sqrt(3))
 
 
-# -- bullet 1: sympify, Matrix and sympy arithmetic stay exact ----------------------------
 def test_sympify_matrix_and_sympy_products_are_exact(r: AlgebraicNumber) -> None:
     assert sp.sympify(r) == R(1, 16) and isinstance(sp.sympify(r), sp.Rational)
     M = sp.Matrix([r])
@@ -45,7 +46,6 @@ def test_sympify_matrix_and_sympy_products_are_exact(r: AlgebraicNumber) -> None
     assert sp.sqrt(2) * SQRT2 == 2
 
 
-# -- bullet 2: equality is symmetric --------------------------------------------------------
 def test_equality_symmetric(r: AlgebraicNumber) -> None:
     for q in (R(1, 16), Fraction(1, 16), 0.0625):
         assert r == q and q == r
@@ -55,7 +55,6 @@ def test_equality_symmetric(r: AlgebraicNumber) -> None:
     assert SQRT2 == sp.sqrt(8) / 2 and SQRT2 == 2 * sp.cos(sp.pi / 4)
 
 
-# -- bullet 3: arithmetic on both sides, latex, format, round, float comparison ---------------
 def test_arithmetic_with_python_rationals_gives_algebraic_numbers(r: AlgebraicNumber) -> None:
     for value, expected in ((1 - r, R(15, 16)), (2 * r, R(1, 8)), (r + 1, R(17, 16)), (r * 2, R(1, 8)),
                             (r - Fraction(1, 16), 0), (Fraction(1, 2) / r, 8), (r / 2, R(1, 32)),
@@ -135,7 +134,6 @@ def test_comparison_with_float_uses_its_binary_value(r: AlgebraicNumber) -> None
     assert SQRT2 < sp.Float("1.41421356237309504880168872420969808", 40)
 
 
-# -- bullet 4: hashes agree with equality ----------------------------------------------------
 def test_hash_agrees_with_equality(r: AlgebraicNumber) -> None:
     assert hash(r) == hash(Fraction(1, 16)) == hash(0.0625)
     assert len({r, Fraction(1, 16), 0.0625}) == 1
@@ -146,7 +144,6 @@ def test_hash_agrees_with_equality(r: AlgebraicNumber) -> None:
     assert hash(SQRT2) != hash(-SQRT2)
 
 
-# -- bullet 5: a reducible defining polynomial is factored, never a hang -----------------------
 def test_reducible_polynomial_is_factored() -> None:
     one = AlgebraicNumber(x ** 2 - 1, 1)  # real roots -1 < 1: index 1 is 1
     assert one == 1 and one.is_rational and one.minpoly == sp.Poly(x - 1, x)
@@ -277,3 +274,13 @@ def test_margin_of_a_sine_entry_is_a_known_cosine_image():
     kind, alpha, beta, _, m = _known_roots(tuple(int(c) for c in reversed(margin.minpoly.all_coeffs())))[0]
     assert (kind, alpha, beta, m) == ("cos", Fraction(1, 4), Fraction(-1, 8), 517)
     assert float(margin) == pytest.approx(math.sin(2 * math.pi / 517) ** 2 / 2, rel=1e-13)
+
+
+def test_algebraic_number_comparisons_are_exact():
+    a = AlgebraicNumber.from_expr(sp.root(sp.Rational(16, 25), 3))
+    assert a.minpoly.as_expr() == 25 * sp.Symbol("x") ** 3 - 16
+    lo, hi = a.interval
+    assert lo <= Fraction(86177, 100000) <= hi or hi < Fraction(86178, 100000)
+    assert a < 1 and a > Fraction(1, 2)
+    assert sign(sp.sqrt(2) + sp.sqrt(3) - sp.sqrt(5 + 2 * sp.sqrt(6))) == 0
+    assert sign(sp.sqrt(2) - sp.Rational(99, 70)) == -1

@@ -1,5 +1,8 @@
-"""rationalize="nearby" reads a block whole (issue 26 section 6): cosines and sines of pi k/m
-(m <= 60) are recognised, a rotation pair jointly, and a block is never half recognised."""
+"""rationalize="nearby" (symkf.exact.numbers): floats recognised as the exact constants they round.
+
+Cosines and sines of pi k/m (m <= 60) are recognised, a rotation pair jointly, a block is never
+half recognised, one warning lists every change, and a float recognised as nothing falls back to
+its shortest decimal and says so."""
 
 from __future__ import annotations
 
@@ -12,7 +15,7 @@ import pytest
 import sympy as sp
 
 import symkf as sk
-from symkf.exact.numbers import _nearby
+from symkf.exact.numbers import NEARBY_TOLERANCE, _nearby, to_exact
 
 MODULI = (1, 2, sp.Rational(1, 2), sp.Rational(3, 2), sp.Rational(5, 4))
 
@@ -92,3 +95,40 @@ def test_recognition_is_cheap():
     for i in range(200):
         _nearby(0.123456789 + i * 1e-7)
     assert time.process_time() - start < 1.0
+
+
+R = sp.Rational
+
+
+def float_rotation(scale: float, angle: float) -> np.ndarray:
+    return scale * np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
+
+
+def test_nearby_constants_recognise_a_float_rotation_with_one_warning():
+    """1.5 R(pi/6) in float64: entries 1.299038105676658 = 3 sqrt(3)/4 and 0.7499999999999999 = 3/4
+    within 1e-12.  With the plain decimals the block is aperiodic (critical rate 1/alpha^2 =
+    4/9 = 0.4444, the jump of issue 15); recognised, the governing period is 6 and the rate is
+    the exact 0.3779 of 1.5 R(pi/6).  ONE warning lists the 4 changes and says the periods differ."""
+    A = float_rotation(1.5, np.pi / 6)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        S = sk.System(A, [sk.Sensor(C=np.array([1.0, 0.0]))], rationalize="nearby")
+    assert len(caught) == 1
+    message = str(caught[0].message)
+    assert "4 float(s) rationalized" in message and "3*sqrt(3)/4" in message
+    assert "(6,) with the recognised constants, (None,) with the plain decimals (they DIFFER, so the critical values may too" in message
+    exact = sk.System([[R(3, 4) * sp.sqrt(3), R(-3, 4)], [R(3, 4), R(3, 4) * sp.sqrt(3)]], [sk.Sensor(C=[[1, 0]])])
+    assert S.A == exact.A
+    assert sk.critical_loss_rate(S) == sk.critical_loss_rate(exact)
+    assert abs(float(sk.critical_loss_rate(S)) - 0.3779) < 1e-4
+    with pytest.warns(UserWarning, match="shortest decimal"):
+        plain = sk.System(A, [sk.Sensor(C=[[1, 0]])], rationalize=True)
+    assert sk.critical_loss_rate(plain) != sk.critical_loss_rate(S)
+    assert abs(float(sk.critical_loss_rate(plain)) - 4 / 9) < 1e-9
+
+
+def test_nearby_falls_back_to_the_decimal_and_says_so():
+    """0.123456789 is no small-denominator multiple of a listed constant within the tolerance."""
+    with pytest.warns(UserWarning, match=r"0.123456789 -> 123456789/1000000000 \(shortest decimal\)"):
+        assert to_exact(0.123456789, "x", rationalize="nearby") == R(123456789, 10 ** 9)
+    assert NEARBY_TOLERANCE == 1e-12

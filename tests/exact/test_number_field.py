@@ -3,15 +3,15 @@
 Round trips are checked independently of symkf: trigonometric values are rewritten as
 powers of z = exp(i pi / N) and reduced modulo the cyclotomic polynomial (exact), radicals
 through sympy's minimal polynomial of the difference; the field degree is the degree of
-sympy's minimal polynomial of theta; small fields are compared with sympy's algebraic_field.
-"""
+sympy's minimal polynomial of theta; small fields are compared with sympy's algebraic_field."""
 
 from math import gcd
 
 import flint
 import pytest
 import sympy as sp
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from symkf.errors import InputError
 from symkf.exact import nfpoly
@@ -195,58 +195,3 @@ def test_radicals_of_cyclotomic_fields_join_the_cyclotomic_presentation():
     assert 2 * C == E + K.inv(E)  # 2 cos(2 pi/5) = zeta_5 + zeta_5^-1: the intended conjugate
     for g in gens[2:]:  # the trigonometric atoms, by Euler's formula independently of symkf
         assert vanishes_cyclotomic(K.to_sympy(K.convert(g)) - g, 630)
-
-
-@settings(max_examples=20)
-@given(st.sampled_from([[], [sp.sqrt(2)], [sp.sqrt(2), sp.sqrt(3)], [sp.cos(2 * sp.pi / 7)]]),
-       st.integers(1, 5), st.integers(0, 10 ** 6))
-def test_solve_rows_against_sympy(gens, n, seed):
-    """``solve_rows`` (the regular representation, flint's rational solve): the residual ``G x - b``
-    vanishes in K's own arithmetic, and ``x`` agrees with sympy's ``LUsolve`` in floats; entries
-    drawn from the field with large rational coefficients."""
-    from random import Random
-    from symkf.exact.linalg import solve_rows
-    rng = Random(seed)
-    K = NumberField(gens)
-
-    def draw() -> sp.Expr:
-        return sp.Rational(rng.randint(-10 ** 30, 10 ** 30), rng.randint(1, 10 ** 30)) + sum(
-            sp.Rational(rng.randint(-9, 9), rng.randint(1, 9)) * g for g in gens)
-    G = sp.Matrix(n, n, lambda i, j: draw() if rng.random() < 0.8 else 0) + sp.eye(n) * 10 ** 31
-    b = sp.Matrix(n, 1, lambda i, j: draw())
-    rows = [[K.convert(v) for v in G.row(i)] for i in range(n)]
-    rhs = [K.convert(v) for v in b]
-    x = solve_rows(K, rows, rhs)
-    assert all((K.dot(r, x) - c).is_zero() for r, c in zip(rows, rhs))
-    want = G.evalf(50).LUsolve(b.evalf(50))
-    assert all(abs(complex(sp.N(K.to_sympy(a), 30)) - complex(w)) < 1e-20 for a, w in zip(x, want))
-
-
-@settings(max_examples=25)
-@given(st.sampled_from([[], [sp.sqrt(2)], [sp.sqrt(2), sp.sqrt(3)], [sp.cos(2 * sp.pi / 7)]]),
-       st.integers(2, 9), st.booleans(), st.integers(0, 10 ** 6))
-def test_normal_of_is_the_nullspace_up_to_a_scalar(gens, n, dependent, seed):
-    """``normal_of`` (signed maximal minors up to MINORS_MAX columns, an echelon form beyond and
-    over Q) against ``nullspace_rows``: orthogonal to every row, parallel to the nullspace's
-    vector, and zero exactly when the rows are dependent (the last a combination of two others)."""
-    from random import Random
-    from symkf.exact.linalg import normal_of, nullspace_rows, rank_rows
-    rng = Random(seed)
-    K = NumberField(gens)
-
-    def draw() -> sp.Expr:
-        if rng.random() < 0.3:
-            return sp.Integer(0)
-        return sp.Rational(rng.randint(-9, 9), rng.randint(1, 4)) + sum(rng.randint(-3, 3) * g for g in gens)
-    rows = [[K.convert(draw()) for _ in range(n)] for _ in range(n - 1)]
-    if dependent and n > 2:
-        a, b = K.convert(draw()), K.convert(draw())
-        rows[-1] = [(K.mul(a, x) + K.mul(b, y)) % K.modulus for x, y in zip(rows[0], rows[1])]
-    h = normal_of(K, rows, n)
-    assert all(K.dot(r, h).is_zero() for r in rows)
-    if rank_rows(K, rows, n) < n - 1:
-        assert all(x.is_zero() for x in h)
-        return
-    (g,) = nullspace_rows(K, rows, n)
-    assert any(not x.is_zero() for x in h)
-    assert all((K.mul(h[i], g[j]) - K.mul(h[j], g[i])).is_zero() for i in range(n) for j in range(i))

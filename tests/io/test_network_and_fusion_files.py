@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 from symkf.exact.numbers import sympify as exact, to_exact_matrix
 from symkf import budget, cli, examples
 from symkf.io import files
-from symkf.errors import BudgetError, FileFormatError, InputError, SymkfError
+from symkf.errors import BudgetError, InputError, SymkfError
 from symkf.model.markov import MarkovLoss
 from symkf.network import (MarkovNetworkState, NetworkLoss, PeriodicDynamics, SemiMarkovNetworkState, SensorTree,
                            theorem1, theorem2)

@@ -1,10 +1,11 @@
 """The loss-model interface (symkf.model.loss.LossModel): every kind answers for itself.
 
-For each kind (i.i.d., Gilbert-Elliott, joint Markov, Markov and semi-Markov network losses):
-its independent factors reproduce the joint chain's law exactly, its file and JSON forms read
-back to the same model, its words, its validator's errors, and its sampler's law against exact
-enumeration of short sequences; then the same models through verdict tables, the CLI's text and
-JSON reports and figure titles."""
+For each kind (i.i.d., Gilbert-Elliott, joint Markov, Markov and semi-Markov network losses,
+independent parts): its independent factors reproduce the joint chain's law exactly, its file and
+JSON forms read back to the same model, its words, its validator's errors, and its sampler's law
+against exact enumeration of short sequences; then the same models through verdict tables, the
+CLI's text and JSON reports and figure titles.  The probabilities a model takes: exact, one per
+sensor (or one for all with d), rationalized on request, refused above 1."""
 
 from __future__ import annotations
 
@@ -18,19 +19,21 @@ import sympy as sp
 
 import symkf as sk
 from symkf import cli, examples, tables
+from symkf.engine.blocks import block_rows
+from symkf.errors import AssumptionError, BudgetError, FileFormatError, InexactInputError, InputError, ShapeError
+from symkf.exact.algebraic import sign
 from symkf.io import files
-from symkf.errors import AssumptionError, BudgetError, InputError, ShapeError
-from symkf.numeric.filters import sample_receptions
 from symkf.model.codec import from_table
 from symkf.model.gilbert_elliott import GilbertElliott
 from symkf.model.iid import IID
 from symkf.model.independent import Independent
 from symkf.model.loss import LossModel, checked
 from symkf.model.markov import MarkovLoss
+from symkf.network import MarkovNetworkState, NetworkLoss, SemiMarkovNetworkState, SensorTree
+from symkf.numeric.filters import sample_receptions
 from symkf.numeric.montecarlo import exact_mean_covariances, simulate_traces
 from symkf.numeric.receptions import draw
-from symkf.network import MarkovNetworkState, NetworkLoss, SemiMarkovNetworkState, SensorTree
-from symkf.engine.blocks import block_rows
+
 from conftest import ROOT
 
 R = sp.Rational
@@ -91,6 +94,39 @@ def test_independent_factors_are_the_sensors_chains():
     iid = MODELS["iid"]()
     assert iid.factors[1].chain.P == sp.Matrix([[R(3, 4), R(1, 4)]] * 2) and iid.bernoulli == (R(1, 10), R(1, 4))
     assert ge.bernoulli is None and markov().bernoulli is None
+
+
+q = sp.Symbol("q", positive=True)
+INDEPENDENT = [
+    sk.IID(["1/10", "1/3", "2/7"]),
+    sk.IID(["0", "1", "1/2"]),
+    sk.GilbertElliott(["1/10", "1/5", "1/7"], ["1/2", "1/3", "3/4"]),
+    sk.GilbertElliott(["1/10", "0"], ["1/2", "1/3"], initial_received=["1", "1/9"]),
+    sk.GilbertElliott(["1/10", "1/4"], [q, "1/3"]),
+]
+
+
+def _joint_positivity_failure(loss: LossModel) -> bool:
+    """The reference: every transition of the joint 2^d-state chain, as LossModel checks it."""
+    P = loss.chain.P
+    return any(not P[r, s].free_symbols and sign(P[r, s]) <= 0
+               for r, s in itertools.product(range(P.shape[0]), repeat=2))
+
+
+@pytest.mark.parametrize("loss", INDEPENDENT, ids=repr)
+def test_independent_sensors_agree_with_the_joint_chain(loss):
+    assert loss.symbols == LossModel.symbols.fget(loss)
+    if loss.bernoulli is None:  # i.i.d. losses need no positivity (Theorem 4)
+        assert (loss.positivity_failure() is not None) == _joint_positivity_failure(loss)
+    if loss.symbols:
+        with pytest.raises(sk.SymkfError, match="have no value"):
+            loss.numeric()
+        return
+    fast, ref = loss.numeric(), loss.chain.numeric()
+    assert np.array_equal(fast[2], ref[2])
+    # Kronecker products round each factor once: d factors, relative error below d ulp
+    assert np.allclose(fast[0], ref[0], rtol=4e-16 * loss.d, atol=0)
+    assert np.allclose(fast[1], ref[1], rtol=4e-16 * loss.d, atol=0)
 
 
 def _system(d: int = 2) -> sk.System:
@@ -175,58 +211,6 @@ def test_sampling_law_matches_exact_enumeration(name, seed=7):
     assert _z(counts, _wrong_law(name, p), N) > 15
 
 
-@pytest.mark.parametrize("sensors", [1, 2, 3, 4, 7, 300])
-def test_the_compiled_markov_step_is_its_definition(sensors):
-    # received_k = (u, v) < T(stay if received_{k-1} else back) per sensor, T = round(p 2^32) in
-    # 16-bit halves: v is the next spare draw, taken only where u ties with T's high part; spares
-    # running out stop the step at a whole pass, from which it resumes.  Thresholds at both ends
-    # (p = 0 and p = 1, the latter above every draw) and draws on both sides of every tie.
-    from symkf.numeric.receptions import _TILE, _markov_step, _thresholds
-    rng = np.random.default_rng(sensors)
-    m = 3 * _TILE // sensors + 5
-    stay_p, back_p = rng.random(sensors), rng.random(sensors)
-    stay_p[0], back_p[-1] = 0.0, 1.0
-    (sh, sl), (bh, bl) = _thresholds(stay_p), _thresholds(back_p)
-    prev = rng.random((m, sensors)) < 0.5
-    high = np.where(prev, sh, bh)
-    u = rng.integers(0, 2 ** 16, (m, sensors)).astype(np.uint16)
-    u[::3] = np.minimum(high[::3], 2 ** 16 - 1)                      # a third of the rows tie
-    spare = rng.integers(0, 2 ** 16, m * sensors, dtype=np.uint16)
-    T = (np.where(prev, sh, bh).astype(np.int64) << 16) + np.where(prev, sl, bl)
-    expected, used = np.empty_like(prev), 0
-    for e in np.ndindex(m, sensors):
-        v = 0
-        if u[e] == high[e]:
-            v, used = spare[used], used + 1
-        expected[e] = (int(u[e]) << 16) + int(v) < T[e]
-    rows = max(1, _TILE // sensors)
-    tiled = [np.tile(t, rows) for t in (sh, sl, bh, bl)]
-    out, step = np.empty_like(prev), _markov_step()
-    done, taken, chunks = 0, 0, 0
-    while done < m * sensors:
-        chunks += 1
-        lent = spare[taken:taken + 200 * chunks]                     # a few spares at a time: resumes
-        done, k = step(u.ravel(), prev.ravel(), *tiled, out.reshape(-1), lent, done, 0)
-        assert done % (rows * sensors) == 0 or done == m * sensors
-        taken += k
-    np.testing.assert_array_equal(out, expected)
-    assert taken == used and chunks > 1
-
-
-def test_certain_transitions_are_sampled_exactly():
-    # probabilities 0 and 1 hold exactly, not within 2^-32: a channel that always recovers never
-    # loses twice in a row, one that never fails never loses after a reception, i.i.d. losses 0
-    # and 1 give all and none; 8.4 million draws each (a 2^-32 leak shows up with odds 1 in 500)
-    ge = GilbertElliott(["1/3", 0, 1], [1, "1/2", 1])
-    gamma = draw(ge, 64, 2 ** 17, np.random.default_rng(5))
-    lost = ~gamma
-    assert not (lost[1:, :, 0] & lost[:-1, :, 0]).any()
-    assert not (gamma[:-1, :, 1] & lost[1:, :, 1]).any() and gamma[:, :, 1].mean() > 0.99
-    assert not (lost[:-1, :, 2] & lost[1:, :, 2]).any() and not (gamma[:-1, :, 2] & gamma[1:, :, 2]).any()
-    iid = draw(IID([0, 1]), 64, 2 ** 17, np.random.default_rng(6))
-    assert iid[:, :, 0].all() and not iid[:, :, 1].any()
-
-
 def test_independent_sensors_never_build_the_joint_chain():
     ge = GilbertElliott(["1/10"] * 16, ["1/2"] * 16)
     with pytest.raises(BudgetError, match="max_markov_states"):
@@ -239,7 +223,68 @@ def test_independent_sensors_never_build_the_joint_chain():
     assert simulate_traces(S, ge, 10, 64, seed=0).shape == (64, 10)
 
 
-# -- every loss kind through tables, reports and figures (issue 22, item 3) --------------------
+# -- the probabilities a model takes --------------------------------------------------------------
+
+def test_one_probability_for_every_sensor():
+    assert sk.IID("1/10", d=3).loss == (sp.Rational(1, 10),) * 3
+    ge = sk.GilbertElliott(fail="1/4", recover=["1/2", "1/3"])
+    assert ge.fail == (sp.Rational(1, 4),) * 2 and sk.GilbertElliott("1/4", "1/2", d=2).d == 2
+    with pytest.raises(InputError, match="loss: a single probability needs d, the number of sensors"):
+        sk.IID("1/10")
+    with pytest.raises(InputError, match=r"loss: 1 probabilities for d = 2 sensors"):
+        sk.IID(["1/10"], d=2)
+
+
+@pytest.mark.parametrize("build", [
+    lambda r: sk.IID([0.1, 0.2], rationalize=r),
+    lambda r: sk.GilbertElliott([0.1], [0.3], rationalize=r),
+    lambda r: sk.MarkovLoss({(1,): {(1,): 0.9, (0,): 0.1}, (0,): {(1,): 0.3, (0,): 0.7}}, rationalize=r),
+])
+def test_rationalize_exists_on_every_loss_constructor(build):
+    """The refusal names rationalize; every loss constructor takes it (it was a TypeError)."""
+    with pytest.raises(InexactInputError, match="rationalize"):
+        build(False)
+    with pytest.warns(UserWarning, match="shortest decimal") as record:
+        model = build(True)
+    assert len(record) == 1 and model.chain.P.has(sp.Float) is False
+
+
+def test_rationalize_iid_gives_the_decimals():
+    with pytest.warns(UserWarning):
+        assert sk.IID([0.1, 0.25], rationalize=True).loss == (R(1, 10), R(1, 4))
+
+
+def test_loss_above_one_refused_before_evaluation():
+    """root(2, 3) > 1 is not a probability: refused with the value, without a hang."""
+    with pytest.raises(sk.errors.ProbabilityError, match="not a probability"):
+        sk.IID(["root(2, 3)"])
+
+
+ROTATION = '[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nname = "s1"\nC = [["1", "0"]]\n'
+
+
+def run(capsys, *argv) -> tuple[int, str, str]:
+    status = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def one_line(err: str) -> str:
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    return err
+
+
+def test_loss_table_without_kind_is_refused(capsys, tmp_path):
+    """docs/formats.md says kind is required; it was read as iid."""
+    path = tmp_path / "nokind.toml"
+    path.write_text(ROTATION + '[loss]\nloss = ["1/10"]\n')
+    with pytest.raises(FileFormatError, match=r"\[loss\]: key 'kind' missing"):
+        files.load(path)
+    status, _, err = run(capsys, "analyze", path)
+    assert status == 2 and f"{path}: [loss]: key 'kind' missing" in one_line(err)
+
+
+# -- every loss kind through tables, reports and figures -----------------------------------------
 
 EXAMPLES = {"iid": "cv-three-sensors", "gilbert-elliott": "ge-two-sensors", "markov": "network/markov-shared-channel",
             "network": "network/quevedo-example3", "independent": "paired-channels"}
@@ -286,8 +331,8 @@ def test_simulate_text_says_the_loss_model(capsys):
 @pytest.mark.parametrize("name", ["markov", "network"])
 def test_figure_titles_say_every_loss_model(name):
     pytest.importorskip("matplotlib")
-    from symkf.reports import plots
     from symkf.numeric.montecarlo import mean_trace_curve
+    from symkf.reports import plots
     S, loss = _system(), MODELS[name]()
     title = plots.mean_trace_figure(S, loss, mean_trace_curve(S, loss, 8, 40, seed=0)).axes[0].get_title()
     assert loss.words() in title and "Yang's bounds need i.i.d. losses" in title

@@ -1,5 +1,5 @@
-"""The python-control bridge: System.from_statespace / to_statespace, and at zero loss symkf's
-Riccati limit against control.dlqe."""
+"""The python-control bridge (symkf.model.statespace): System.from_statespace / to_statespace, and at
+zero loss symkf's Riccati limit against control.dlqe."""
 
 from __future__ import annotations
 
@@ -93,3 +93,13 @@ def test_missing_control_names_the_extra(monkeypatch):
     S = sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])])
     with pytest.raises(ExtraNotInstalledError, match=r"pip install 'symkf\[control\]'"):
         S.to_statespace()
+
+
+DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+
+
+def test_statespace_has_sampling_time_one_and_says_there_is_no_input():
+    pytest.importorskip("control")
+    from symkf.model.statespace import to_statespace
+    G = to_statespace(DESIGN)
+    assert G.dt == 1 and G.input_labels == ["no_input"] and not G.B.any()

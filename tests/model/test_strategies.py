@@ -1,14 +1,17 @@
-"""The hypothesis strategies: what they draw holds by construction, bad arguments are named."""
+"""The hypothesis strategies (symkf.model.strategies): what they draw holds by construction, bad
+arguments are named with what the strategy takes."""
+
+from __future__ import annotations
 
 import pytest
 import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis.errors import InvalidArgument
 
-from symkf.model import strategies as sks
 from symkf.errors import UnobservableError
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.exact.linalg import rank
+from symkf.model import strategies as sks
 from symkf.model.system import Sensor, System
 
 FAST = settings(max_examples=15, deadline=None)
@@ -85,3 +88,11 @@ def test_hand_derived_rotation_threshold_equals_the_engine(rot):
     """The strategy's closed form r^(-2q/(q-1)) against the exact engine (hyperplanes over g = q)."""
     from symkf.engine.stability import critical_loss_rate
     assert critical_loss_rate(rot.system) == AlgebraicNumber.from_expr(rot.critical_loss_rate())
+
+
+def test_strategy_errors_offer_what_strategies_take():
+    strategies = pytest.importorskip("symkf.model.strategies")
+    from hypothesis.errors import InvalidArgument
+    with pytest.raises(InvalidArgument) as info:
+        strategies.rotation_systems(scale=0.3)
+    assert str(info.value) == "scale: the float 0.3 is not exact; give the string '0.3', a Fraction or a Decimal"

@@ -1,6 +1,6 @@
-"""Interrupts and parallel work (issue 26, section 4): Ctrl-C and SIGTERM cancel the queued work,
-stop the workers and end with one line (exit 130 / 143), a killed parent leaves no orphan, and
-no partial file is left."""
+"""Interrupts and parallel work (symkf.run.sweep and the command line): Ctrl-C and SIGTERM cancel
+the queued work, stop the workers and end with one line (exit 130 / 143), a killed parent leaves
+no orphan, and no partial file is left."""
 
 from __future__ import annotations
 
@@ -16,6 +16,7 @@ import pytest
 
 from symkf import cli
 from symkf.run.sweep import sweep
+
 from conftest import ROOT, cpu_seconds, wait_for
 
 #: members of about 10 CPU-s each (2 R(2 pi/g) for primes g > 200, under raised caps): every
@@ -200,3 +201,27 @@ def test_sigterm_is_raised_like_ctrl_c_during_a_command():
             time.sleep(5)
     assert signal.getsignal(signal.SIGTERM) is previous
     assert issubclass(cli.Terminated, KeyboardInterrupt)    # every clean-up of Ctrl-C runs for it
+
+
+#: A = 2 R(pi/2) watched by [1 0] with i.i.d. loss 1/2
+SYSTEM_TEXT = '[system]\nA = [[0, -2], [2, 0]]\n[[sensors]]\nC = [[1, 0]]\n[loss]\nkind = "iid"\nloss = ["1/2"]\n'
+
+
+@pytest.fixture
+def system(tmp_path):
+    path = tmp_path / "system.toml"
+    path.write_text(SYSTEM_TEXT)
+    return path
+
+
+def test_ctrl_c_is_one_line_and_exit_130(system):
+    """Ctrl-C inside the simulation: the signal is sent once the process has used 2.5 CPU-s (its
+    imports take well under that), not after a wall-clock delay that a loaded machine stretches."""
+    proc = subprocess.Popen([sys.executable, "-m", "symkf", "simulate", str(system), "--paths", "600000",
+                             "--horizon", "100"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    deadline = time.monotonic() + 120
+    while cpu_seconds(proc.pid) < 2.5 and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130 and err == "symkf simulate: interrupted\n" and out == ""

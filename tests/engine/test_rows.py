@@ -1,57 +1,65 @@
-"""Cross-checks between issue 18's fast paths and the reference implementations they replace."""
+"""Regression rows, rank deficiency and projection (symkf.engine.rows; Sui-You-Fu eqs. 14-17,
+Algorithm 1).
+
+The modal form is exact; projecting a pattern onto one period of the governing period decides
+rank deficiency for every pattern; the hyperplanes of the generators found through lines mod p
+equal brute force over every (n-1)-subset (also with tiny primes, whose false zeros force the
+exact fallbacks), are the maximal deficient element sets, and a conjugate pair worked in
+Q(lambda) gives what the full field Q(lambda, conj lambda) gives."""
 
 import itertools
+from functools import partial
 
 import numpy as np
 import pytest
 import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import symkf as sk
-from symkf.exact.algebraic import sign
-from symkf.model.loss import LossModel
-
-q = sp.Symbol("q", positive=True)
-INDEPENDENT = [
-    sk.IID(["1/10", "1/3", "2/7"]),
-    sk.IID(["0", "1", "1/2"]),
-    sk.GilbertElliott(["1/10", "1/5", "1/7"], ["1/2", "1/3", "3/4"]),
-    sk.GilbertElliott(["1/10", "0"], ["1/2", "1/3"], initial_received=["1", "1/9"]),
-    sk.GilbertElliott(["1/10", "1/4"], [q, "1/3"]),
-]
+from symkf.engine import rows as obs
+from symkf.engine.blocks import block_deficient, block_rows
+from symkf.engine.rates import outside_counts
+from symkf.engine.rows import modal_form, project
+from symkf.engine.stability import critical_loss_rate
+from symkf.exact.field import QQ_FIELD, NumberField
+from symkf.exact.linalg import nullspace_rows, rank_rows
+from symkf.exact.spectral import eigen_blocks
 
 
-def _joint_positivity_failure(loss: LossModel) -> bool:
-    """The reference: every transition of the joint 2^d-state chain, as LossModel checks it."""
-    P = loss.chain.P
-    return any(not P[r, s].free_symbols and sign(P[r, s]) <= 0
-               for r, s in itertools.product(range(P.shape[0]), repeat=2))
+def rotation_entries(alpha, angle):
+    c, s = sp.cos(angle), sp.sin(angle)
+    return [[alpha * c, -alpha * s], [alpha * s, alpha * c]]
 
 
-@pytest.mark.parametrize("loss", INDEPENDENT, ids=repr)
-def test_independent_sensors_agree_with_the_joint_chain(loss):
-    assert loss.symbols == LossModel.symbols.fget(loss)
-    if loss.bernoulli is None:  # i.i.d. losses need no positivity (Theorem 4)
-        assert (loss.positivity_failure() is not None) == _joint_positivity_failure(loss)
-    if loss.symbols:
-        with pytest.raises(sk.SymkfError, match="have no value"):
-            loss.numeric()
-        return
-    fast, ref = loss.numeric(), loss.chain.numeric()
-    assert np.array_equal(fast[2], ref[2])
-    # Kronecker products round each factor once: d factors, relative error below d ulp
-    assert np.allclose(fast[0], ref[0], rtol=4e-16 * loss.d, atol=0)
-    assert np.allclose(fast[1], ref[1], rtol=4e-16 * loss.d, atol=0)
+def test_modal_form_is_exact():
+    A = sp.Matrix(rotation_entries(1, sp.pi / 6))
+    (b,) = eigen_blocks(A)
+    K, T, diag = modal_form(A, b)
+    Ak = K.matrix(A)
+    for i in range(2):
+        for c in range(2):
+            lhs = K.dot(Ak[i], [T[r][c] for r in range(2)])
+            assert lhs == K.mul(T[i][c], diag[c])
 
 
-# -- hyperplanes: flats grouped by lines mod p, against brute force over all (n-1)-subsets --------
-from functools import partial  # noqa: E402
-
-from hypothesis import given, settings, strategies as st  # noqa: E402
-
-from symkf.engine import rows as obs  # noqa: E402
-from symkf.engine.blocks import block_rows  # noqa: E402
-from symkf.exact.field import NumberField, QQ_FIELD  # noqa: E402
-from symkf.exact.linalg import nullspace_rows, rank_rows  # noqa: E402
+@pytest.mark.parametrize("A,Cs", [
+    ([[0, -2], [2, 0]], [[[1, 0]]]),
+    (rotation_entries(1, sp.pi / 3), [[[1, 0]], [[1, 1]]]),
+    ([["5/4", 0], [1, "11/10"]], [[[1, 1]]]),
+])
+def test_projection_decides_rank_for_every_pattern(A, Cs):
+    """Algorithm 1 with the governing period: O_N^i deficient iff the projected pattern is."""
+    import itertools
+    S = sk.System(A=A, sensors=[sk.Sensor(C=C) for C in Cs])
+    brs = block_rows(S)
+    N = max(br.class_period for br in brs) + 2
+    for pattern in itertools.product(itertools.product((1, 0), repeat=S.d), repeat=N):
+        direct = block_deficient(S, pattern)
+        for br, flag in zip(brs, direct):
+            proj = project(pattern, br.class_period)
+            idx = frozenset(br.elements.index(e) for e in proj)
+            assert br.deficient(idx) == flag
 
 
 def _brute_hyperplanes(K, vectors, n):
@@ -99,11 +107,6 @@ def test_generator_hyperplanes_equal_brute_force(start, twist, data):
         assert set(found) == _brute_hyperplanes(K, vectors, n)
 
 
-# -- element hyperplanes and outside counts against rank tests on every element set ---------------
-from symkf.engine.rates import outside_counts  # noqa: E402
-from symkf.engine.stability import critical_loss_rate  # noqa: E402
-
-
 def _random_system(n, d, seed):
     rng = np.random.default_rng(seed)
     A = [[int(v) for v in row] for row in rng.integers(-3, 4, (n, n))]
@@ -149,37 +152,3 @@ def test_conjugate_pair_in_q_lambda_equals_the_full_field(seed):
         assert critical_loss_rate(slow) == critical_loss_rate(fast)
     assert [br.hyperplanes for br in block_rows(fast)] == [h for h, _ in reference]
     assert pairs and all(br.K.degree < max(k for _, k in reference) for br in pairs)
-
-
-@pytest.mark.full  # about 5 CPU-s on the shared machine
-def test_critical_recovery_with_eight_gilbert_elliott_sensors():
-    """Eight independent channels: per-sensor factors (no 2^8-state chain); the certificate inside
-    critical_recovery_rate evaluates verdicts at rationals with huge numerators (margins as roots
-    of q x^g - p, where sympy's root overflowed a float).  Checked again here on both sides."""
-    from symkf.engine.stability import stability
-    from symkf.engine.recovery import critical_recovery_rate
-    rows = [[1, 0], [0, 1], [1, 1], [1, -1], [2, 1], [1, 2], [2, -1], [1, -2]]
-    system = sk.System(A=2 * ROT, sensors=[sk.Sensor(C=[r], name=f"s{j}") for j, r in enumerate(rows)])
-    fail = ["1/10"] * 8
-    qc = critical_recovery_rate(system, fail)
-    lo, hi = qc.refine(sp.Rational(1, 10 ** 6)).interval
-    assert 0 < lo and hi < 1
-    assert stability(system, sk.GilbertElliott(fail, [sp.Rational(hi) + sp.Rational(1, 10 ** 5)] * 8)).stable
-    assert not stability(system, sk.GilbertElliott(fail, [sp.Rational(lo) - sp.Rational(1, 10 ** 5)] * 8)).stable
-
-
-def test_twenty_sensors_decided_within_the_default_budget():
-    # A = 2R(pi/2) (g = 2, alpha^(2g) = 16), sensors C_k = [1, k], k = 0..d-1.  The rows
-    # [1, j] and C_k A ∝ [k, -1] are pairwise non-parallel (jk = -1 has no solution in
-    # non-negative integers), so every hyperplane holds one of the 2d elements and
-    # rho^g = eps^(2d - 1): margin^2 = 16 eps^(2d-1), critical eps = 2^(-4/(2d-1)).
-    d = 20
-    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, k]], name=f"s{k}") for k in range(d)])
-    v = sk.stability(S, sk.IID(["1/2"] * d))
-    assert v.margins[0] == sp.sqrt(2) / 2 ** 18
-    assert sk.critical_loss_rate(S) == sp.Integer(2) ** sp.Rational(-4, 2 * d - 1)
-    # Gilbert-Elliott (fail 1/10, recover 1/2), states (received, lost), D = diag(0, 1): a sensor
-    # lost at both phases has tr (P D)^2 = (1 - r)^2 = 1/4; the one kept at one phase has
-    # tr(P D P) = 1/20 + 1/4 = 3/10, so margin^2 = 16 (1/4)^19 3/10 and margin = sqrt(30)/(10 2^17)
-    ge = sk.stability(S, sk.GilbertElliott(["1/10"] * d, ["1/2"] * d))
-    assert ge.margins[0] == sp.sqrt(30) / (10 * 2 ** 17)

@@ -1,7 +1,10 @@
-"""Systems outside the papers' class (issue 14): detectable, singular, defective and marginal A,
-aperiodic blocks under Markov losses.  Every case has its exact verdict and critical value derived
-by hand in the test, and is checked against :mod:`symkf.engine.oracle`, which computes rank deficiency
-of the raw O_N from A and C without any of the engine's code."""
+"""The engine against the oracle (symkf.engine.oracle), which ranks the raw regression matrix O_N
+built from A and C without any of the engine's code.
+
+Systems outside the papers' class: detectable, singular, defective and marginal A, aperiodic
+blocks under Markov losses, delayed and multi-rate sensors, drawn Jordan chains.  Every case has
+its exact probability of rank deficiency and critical value derived by hand in the test, and the
+slope of the oracle's least lost weight equals the engine's exponent."""
 
 from fractions import Fraction
 from math import lcm
@@ -12,13 +15,13 @@ from hypothesis import given, settings
 
 import symkf as sk
 from symkf import examples
-from symkf.model import strategies as sks
-from symkf.engine.rates import outside_counts
-from symkf.io.files import load
 from symkf.engine.blocks import block_rows
 from symkf.engine.oracle import RawRegression, decay_slope, iid_probability
-from symkf.engine.stability import critical_loss_rate, stability
+from symkf.engine.rates import outside_counts
 from symkf.engine.recovery import critical_recovery_rate
+from symkf.engine.stability import critical_loss_rate, stability
+from symkf.io.files import load
+from symkf.model import strategies as sks
 
 R = sp.Rational
 EXAMPLES = examples.directory() / "systems"
@@ -110,21 +113,6 @@ def test_set_aside_stable_part_critical_1_4(A, C, U, aside):
     assert_oracle_agrees(S, U)
 
 
-def test_undetectable_pair_names_the_mode():
-    with pytest.raises(sk.errors.UnobservableError, match=r"eigenvalue 2 .*not detectable"):
-        system([[2, 0], [0, R(1, 2)]], [[0, 1]])
-    with pytest.raises(sk.errors.UnobservableError, match=r"eigenvalue 1 "):  # marginal modes must be seen
-        system([[1, 1], [0, 1]], [[0, 1]])
-
-
-def test_nilpotent_A_is_stable_for_every_loss():
-    # no eigenvalue with |lambda| >= 1: nothing decides, every loss process is stable
-    S = system([[0, 1], [0, 0]], [[1, 0]])
-    v = stability(S, sk.IID(["1/2"]))
-    assert v.stable and v.margins == () and v.limiting_block is None and "|lambda| >= 1" in v.theorem
-    assert critical_loss_rate(S) == 1
-
-
 def test_aperiodic_rotation_under_gilbert_elliott_oracle():
     # A = (3/2) R(theta), cos theta = 3/5: theta/pi irrational, so any two rows C A^k, C A^l
     # (k != l) are independent (sin((l - k) theta) != 0) and R_N = {at most one reception}:
@@ -135,20 +123,6 @@ def test_aperiodic_rotation_under_gilbert_elliott_oracle():
     assert sorted(map(len, sets)) == [0] + [1] * 7
     assert critical_recovery_rate(S, ["1/4"]) == R(5, 9)
     assert stability(S, sk.GilbertElliott(["1/4"], ["3/5"])).margins[0] == R(9, 10)
-
-
-@pytest.mark.parametrize("name, margin, critical, aside", [
-    ("cv-three-sensors", R(81, 100), 1, []),
-    ("delayed-sensor", 2 * sp.sqrt(2) / 5, R(1, 4), [("0",)]),
-    ("detectable", R(15, 32), R(4, 5), [("1/2",)]),
-])
-def test_practitioner_example_files(name, margin, critical, aside):
-    # hand derivations in the files' comments
-    S, loss = load(EXAMPLES / f"{name}.toml")
-    v = stability(S, loss)
-    assert v.stable and v.margins[v.limiting_block] == margin
-    assert [e for e, _ in v.set_aside] == aside
-    assert critical_loss_rate(S) == critical
 
 
 def test_delayed_sensor_against_oracle():
@@ -200,72 +174,3 @@ def test_engine_against_oracle_on_drawn_systems(chains, sensors):
 @pytest.mark.parametrize("chains, sensors", CHAINS)
 def test_engine_against_oracle_on_drawn_systems_full(chains, sensors):
     assert compare_drawn(chains, sensors, 12) >= 1
-
-
-# -- semi-Markov network states (seed 002, Sec. VII) -------------------------------------------
-def semi_markov_loss(phi, q=(("1/2", "1/2"), ("1/2", "1/2")), holding=None, initial=None):
-    from symkf.network import NetworkLoss, SensorTree
-    from symkf.network.reproduce import VIIC_HOLDING
-    from symkf.network.state import SemiMarkovNetworkState
-    state = SemiMarkovNetworkState([list(r) for r in q], holding or VIIC_HOLDING, initial=initial)
-    return NetworkLoss(SensorTree([0]), state, [list(phi)])
-
-
-VIIC = system([["5/4", 0], [1, "11/10"]], [[1, 1]])
-
-
-def test_semi_markov_decided_by_hand():
-    # holding time exactly 2 in both states, next state uniform: states come in aligned pairs,
-    # i.i.d.; state 1 loses each packet with probability 1/2, state 2 never.  "All lost" over
-    # 2m steps has probability (1/2 * 1/4)^m, so rho = 8^(-1/2) and the margins are
-    # alpha^2 / (2 sqrt 2): 25 sqrt(2)/64 and 121 sqrt(2)/400.  (Exit 3 before issue 14: the
-    # holding counter's count-down makes most transitions of the lifted chain 0.)
-    v = stability(VIIC, semi_markov_loss(["1/2", "1"], holding=[{2: 1}, {2: 1}]))
-    assert [m.exact for m in v.margins] == [25 * sp.sqrt(2) / 64, 121 * sp.sqrt(2) / 400]
-    assert "irreducible lifted chain" in v.assumptions[-1]
-    # the Sec. VII-C instance (phi = 19/20 in both states): theta is i.i.d. with loss 1/20, so
-    # the margins are (25/16)/20 = 5/64 and (121/100)/20 = 121/2000
-    assert [m.exact for m in stability(VIIC, semi_markov_loss(["19/20", "19/20"])).margins] == \
-        [R(5, 64), R(121, 2000)]
-
-
-def test_semi_markov_reducible_chain_is_refused():
-    loss = semi_markov_loss(["1/2", "1/3"], q=((1, 0), (0, 1)), holding=[{2: 1}, {1: "1/2", 3: "1/2"}],
-                            initial=["1/2", "1/2"])
-    with pytest.raises(sk.errors.AssumptionError, match="not irreducible"):
-        stability(VIIC, loss)
-
-
-@pytest.mark.parametrize("phi2, exact_bracket, theorem2_bracket", [
-    # common phi: theta i.i.d., exact critical phi = 1 - 16/25 = 9/25 (margin exactly 1 at 9/25)
-    ("same", ("9/25", "37/100"), ("89/100", "9/10")),
-    ("1", ("1/5", "21/100"), ("85/100", "86/100")),
-    ("1/2", ("1/4", "27/100"), None),  # Theorem 2 fails even at phi_{1|1} = 1
-])
-def test_theorem2_conservatism_on_viic(phi2, exact_bracket, theorem2_bracket):
-    """docs/quevedo.md: the exact verdict against Theorem 2 (corrected) on Sec. VII-C, varying phi_{1|1}."""
-    from symkf.network.dynamics import PeriodicDynamics
-    from symkf.network.semi_markov import theorem2
-    dyn = PeriodicDynamics(VIIC.A, [VIIC.sensors[0].C])
-
-    def loss(p):
-        return semi_markov_loss([p, p if phi2 == "same" else phi2])
-    lo, hi = exact_bracket
-    assert not stability(VIIC, loss(lo)).stable and stability(VIIC, loss(hi)).stable
-    if theorem2_bracket is None:
-        assert not theorem2(loss("1"), dyn).holds
-    else:
-        lo, hi = theorem2_bracket
-        assert not theorem2(loss(lo), dyn).holds and theorem2(loss(hi), dyn).holds
-
-
-def test_analyze_reports_set_aside_modes(capsys):
-    import json
-    from symkf import cli
-    assert cli.main(["analyze", "--json", str(EXAMPLES / "detectable.toml")]) == 0
-    res = json.loads(capsys.readouterr().out)
-    (aside,) = res["set_aside"]
-    assert aside["eigenvalues"] == ["1/2"] and "Jordan chains" in aside["reason"]
-    assert [b["jordan_chains"] for b in res["blocks"]] == [False, True]
-    assert cli.main(["analyze", str(EXAMPLES / "detectable.toml")]) == 0
-    assert "set aside: 1/2 (eigenvalue(s) 1/2 with Jordan chains" in capsys.readouterr().out

@@ -1,8 +1,8 @@
-"""symkf.bounds: each row's hypotheses and values against hand derivations and the exact engine.
+"""The atlas (symkf.bounds.atlas): each published result's hypotheses and values beside the exact
+stable set, against hand derivations and the exact engine.
 
 Hand-derived values are stated next to each test.  The exhaustive families live in
-proofs/bounds_*.py (run by tests/test_proofs.py); hypothesis-drawn systems here.
-"""
+proofs/bounds_*.py (run by tests/test_proofs.py, and here in full); hypothesis-drawn systems here."""
 
 import json
 import runpy
@@ -16,10 +16,9 @@ from hypothesis import HealthCheck, given, settings
 import symkf as sk
 from symkf import cli, examples
 from symkf.bounds import RESULTS, bounds
-from symkf.bounds import hypotheses as hyp
-from symkf.bounds.counterexample import reproduce_you_2011_counterexample
 from symkf.bounds.row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE, REFUSED
 from symkf.model.strategies import diagonalizable_systems
+
 from conftest import ROOT
 
 R = sp.Rational
@@ -102,15 +101,6 @@ def test_detectable_stable_mode_plarre_bullo_applies_mo_sinopoli_does_not():
     assert a["mo-sinopoli"].failed.name == "non-degenerate"
 
 
-def test_non_degenerate_by_hand():
-    # diag(2, -2): one equiblock of size 2; C = [1 1] has rank C T = 1 (degenerate), C = I rank 2
-    assert not hyp.non_degenerate(system([[2, 0], [0, -2]], [1, 1])).holds
-    assert hyp.non_degenerate(system([[2, 0], [0, -2]], [1, 0], [0, 1])).holds
-    assert hyp.non_degenerate(system([[2, 0], [0, 3]], [1, 1])).holds
-    # a complex pair (one equiblock) with a scalar measurement is always degenerate
-    assert not hyp.non_degenerate(system(ROT3, [1, 0])).holds
-
-
 def test_scalar_gilbert_elliott_by_hand():
     # a = 2, C = 1: a loss run continues with probability 1 - q: stable iff 4 (1 - q) < 1, q > 3/4
     S = system([[2]], [1])
@@ -170,14 +160,6 @@ def test_a_row_refused_by_a_cap_leaves_the_rest_of_the_atlas():
     assert "not evaluated" in a.to_latex()
     assert rows(a)["sui-theorem12"].relation == EQUAL
     assert rows(bounds(S, lmi_steps=0))["quevedo-theorem1"].relation == HOLDS
-
-
-def test_counterexample_reproduces():
-    rep = reproduce_you_2011_counterexample(steps=4)
-    assert all(rep["checks"].values()), rep["checks"]
-    assert rep["results"]["exact_critical_loss"]["exact"] == "1/8"
-    lo, hi = (R(v) for v in rep["results"]["sinopoli_lmi_bracket"])
-    assert lo <= R(1, 16) <= hi < R(1, 8)
 
 
 def _no_violation(S):
@@ -240,14 +222,6 @@ def test_latex_table_compiles(tmp_path):
                              cwd=tmp_path, capture_output=True, text=True, timeout=120)
         assert run.returncode == 0, run.stdout[-2000:]
         assert "Overfull" not in run.stdout, f"table {i} is wider than the text"
-
-
-def test_figure_has_the_exact_rate_and_bounds():
-    pytest.importorskip("matplotlib")
-    from symkf.bounds.figure import atlas_figure, rotation_family
-    fig = atlas_figure(rotation_family(2, 3), lmi_steps=1)
-    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
-    assert any("exact" in t for t in labels) and any("Sinopoli" in t for t in labels)
 
 
 @pytest.mark.full

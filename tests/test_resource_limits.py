@@ -1,15 +1,10 @@
-"""Heavy and hostile input under hard limits (issue 17): every case runs in a forked child with
-a CPU and an address-space limit (resource.setrlimit), so a regression that hangs or allocates
-gigabytes fails the test instead of taking the machine down.  A case passes when the child
-ends by itself, with exit status 0-3 (never 70, never a signal) and no traceback."""
+"""Heavy and hostile input under hard limits: every case runs in a forked child with a CPU and an
+address-space limit (conftest.limited), so a regression that hangs or allocates gigabytes fails
+the test instead of taking the machine down.  A case passes when the child ends by itself, with
+exit status 0-3 (never 70, never a signal) and no traceback: numbers that once hung, command-line
+values symkf cannot serve, and fuzzed entries through the library and the command line."""
 
 from __future__ import annotations
-
-import os
-import resource
-import sys
-import tempfile
-from pathlib import Path
 
 import pytest
 from hypothesis import Phase, given, settings
@@ -18,71 +13,12 @@ from hypothesis import strategies as st
 import symkf as sk
 from symkf import cli
 
-#: CPU seconds and extra address space (over the parent's) of one case: a hang, not slow work
-#: (the entries cos(pi/517) and sin(-14 pi/3619) = -sin(2 pi/517), degree-230 algebraic numbers,
-#: took 33 and 60 CPU-s on a 2.0 GHz Zen 1 core in isolating the roots of their margins'
-#: polynomials; recognised as images of 2 cos(2 pi/517) they take 1.3 and 2.1 CPU-s on a Zen 5)
-CPU_SECONDS = 120
-EXTRA_MEMORY = 1536 * 1024 ** 2
-
-
-def _vm_size() -> int:
-    for line in Path("/proc/self/status").read_text().splitlines():
-        if line.startswith("VmSize:"):
-            return int(line.split()[1]) * 1024
-    return 0
-
-
-def limited(fn, *args) -> tuple[int, str]:
-    """Run ``fn(*args)`` (returning an exit status) in a forked child under the limits; returns
-    (exit status, stderr).  A child killed by a signal (SIGXCPU, SIGKILL, SIGSEGV) is -signal."""
-    memory = _vm_size() + EXTRA_MEMORY
-    with tempfile.TemporaryFile() as err:
-        pid = os.fork()
-        if pid == 0:  # the child: never returns into pytest
-            status = 99
-            try:
-                resource.setrlimit(resource.RLIMIT_CPU, (CPU_SECONDS, CPU_SECONDS))
-                resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
-                os.dup2(err.fileno(), 2)
-                devnull = os.open(os.devnull, os.O_WRONLY)
-                os.dup2(devnull, 1)
-                sys.stdout, sys.stderr = open(1, "w", closefd=False), open(2, "w", closefd=False)
-                status = fn(*args)
-            except BaseException as exc:  # noqa: BLE001 - reported through the status
-                print(f"Traceback-free report: {type(exc).__name__}: {exc}", file=sys.stderr)
-                status = 98
-            finally:
-                sys.stderr.flush()
-                os._exit(status)
-        _, wait = os.waitpid(pid, 0)
-        err.seek(0)
-        text = err.read().decode(errors="replace")
-    code = os.waitstatus_to_exitcode(wait)
-    return code, text
-
-
-def library(call) -> int:
-    """0 when ``call()`` returns, 2 or 3 for symkf's own errors, 70 for anything else."""
-    try:
-        call()
-    except sk.SymkfError as exc:
-        return exc.exit_status
-    except Exception as exc:  # noqa: BLE001
-        print(f"untranslated {type(exc).__name__}: {exc}", file=sys.stderr)
-        return 70
-    return 0
+from conftest import library, limited, system_file
 
 
 def assert_clean(code: int, err: str) -> None:
     assert code in (0, 1, 2, 3), (code, err[-500:])
     assert "Traceback" not in err
-
-
-def system_file(tmp: Path, entry: str, loss: str = "1/2", name: str = "s.toml") -> Path:
-    path = tmp / name
-    path.write_text(f'[system]\nA = [["{entry}"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "iid"\nloss = ["{loss}"]\n')
-    return path
 
 
 HANGS = ["exp(2*pi*I/99991)", "sqrt(" * 20 + "2" + ")" * 20, "root(2, 99999)", "cos(pi/1000000007)",
@@ -155,14 +91,3 @@ def test_the_limits_are_real():
     reports it as an untranslated MemoryError), so a real blow-up cannot reach the machine."""
     code, err = limited(library, lambda: bytearray(4 * 1024 ** 3))
     assert code == 70 and "MemoryError" in err
-
-
-def test_raised_digit_cap_serves_beyond_pythons_int_limit(tmp_path):
-    """--digits 100000 was exit 70 (Python's 4300-digit int <-> str limit); above the default cap it
-    is refused, and with --max-digits raised 5000 digits are served: A = [cbrt(3)] has the
-    irrational critical rate 3^(-2/3), whose isolating interval at 10^-5002 has endpoints of
-    about 19700 characters (the conversion limit follows the cap)."""
-    path = tmp_path / "cube.toml"
-    path.write_text('[system]\nA = [["root(3, 3)"]]\n[[sensors]]\nC = [["1"]]\n')
-    code, err = limited(cli.main, ["critical", str(path), "--digits", "5000", "--max-digits", "6000", "--json"])
-    assert code == 0, err
