@@ -22,7 +22,7 @@ TESTS = [
     "tests/numeric/test_montecarlo.py::test_rotations_classified_on_both_sides",
     "tests/numeric/test_montecarlo.py::test_invertible_sensor_classified_on_both_sides",
     "tests/numeric/test_montecarlo.py::test_diagonal_one_sensor_per_mode",
-    "tests/numeric/test_montecarlo.py::test_design_example_rate_matches_exact",
+    "tests/numeric/test_montecarlo.py::test_quarter_turn_rate_matches_exact",
     "tests/numeric/test_montecarlo.py::test_burst_sampling_is_unbiased_for_every_loss_model",
     "tests/numeric/test_montecarlo.py::test_gilbert_elliott_growth_found_where_plain_monte_carlo_misses_it",
     "tests/numeric/test_montecarlo.py::test_long_bursts_are_sampled_to_the_horizon",

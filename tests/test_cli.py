@@ -20,7 +20,7 @@ from symkf.io import files
 from symkf.numeric.montecarlo import exact_mean_trace
 
 SYSTEMS = examples.directory() / "systems"
-DESIGN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], loss 1/20: eps_c = 1/16
+QUARTER_TURN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], loss 1/20: eps_c = 1/16
 GE = SYSTEMS / "ge-two-sensors.toml"
 #: simulation seed of the verify tests; checked with SYMKF_TEST_SEED = 0..19 before landing
 SEED = 3 * int(os.environ.get("SYMKF_TEST_SEED", "0"))
@@ -35,12 +35,12 @@ def run(capsys, *argv: str) -> tuple[int, str, str]:
 def with_loss(tmp_path: Path, loss: str) -> Path:
     """design-rotation.toml with its i.i.d. loss replaced."""
     path = tmp_path / "rotation.toml"
-    path.write_text(DESIGN.read_text().replace('loss = ["1/20"]', f'loss = ["{loss}"]'))
+    path.write_text(QUARTER_TURN.read_text().replace('loss = ["1/20"]', f'loss = ["{loss}"]'))
     return path
 
 
 def test_critical_json_exact(capsys):
-    status, out, err = run(capsys, "critical", DESIGN, "--json", "--digits", "8")
+    status, out, err = run(capsys, "critical", QUARTER_TURN, "--json", "--digits", "8")
     assert status == 0 and err == ""
     c = json.loads(out)["critical_loss_rate"]
     assert c["exact"] == "1/16" and c["decimal"].startswith("0.0625")
@@ -49,12 +49,12 @@ def test_critical_json_exact(capsys):
 @pytest.mark.parametrize("vary, message", [("recovery", "gilbert-elliott"), ("sensor", "sensor=NAME"),
                                            ("bogus", "expected common")])
 def test_critical_bad_vary(capsys, vary, message):
-    status, out, err = run(capsys, "critical", DESIGN, "--vary", vary)
+    status, out, err = run(capsys, "critical", QUARTER_TURN, "--vary", vary)
     assert status == 2 and out == "" and message in err and err.count("\n") == 1
 
 
 def test_verify_stable_agrees(capsys):
-    status, out, err = run(capsys, "verify", DESIGN, "--json", "--paths", "5000", "--seed", SEED + 3)
+    status, out, err = run(capsys, "verify", QUARTER_TURN, "--json", "--paths", "5000", "--seed", SEED + 3)
     assert status == 0
     rep = json.loads(out)
     assert rep["theory"]["stable"] is True
@@ -92,7 +92,7 @@ def test_verify_long_bursts_do_not_break_down(capsys, tmp_path):
 
 
 def test_verify_plain_text(capsys):
-    status, out, _ = run(capsys, "verify", DESIGN, "--paths", "8000", "--seed", SEED)
+    status, out, _ = run(capsys, "verify", QUARTER_TURN, "--paths", "8000", "--seed", SEED)
     assert status == 0 and "theory:     stable" in out and "CONSISTENT" in out and f"seeds {[SEED, SEED + 1, SEED + 2]}" in out
 
 
@@ -115,9 +115,9 @@ def test_verify_disagreement_has_its_own_status(capsys, monkeypatch):
                 "rate_interval": [1.4, 1.6], "growth": 1.5, "growth_interval": [1.4, 1.6], "confidence": 0.99,
                 "tolerance": 0.01, "paths": 1, "horizons": [40, 80, 120], "seeds": [0, 1, 2]}
     monkeypatch.setattr(verify, "simulated_verdict", contrary)
-    status, out, _ = run(capsys, "verify", DESIGN, "--json")
+    status, out, _ = run(capsys, "verify", QUARTER_TURN, "--json")
     assert status == 1 and json.loads(out)["outcome"] == "contradiction"
-    status, out, _ = run(capsys, "verify", DESIGN)
+    status, out, _ = run(capsys, "verify", QUARTER_TURN)
     assert status == 1 and "CONTRADICTION" in out
 
 
@@ -128,10 +128,10 @@ def test_verify_needs_loss(capsys):
 
 def test_simulate_matches_exact_enumeration(capsys):
     # E[tr P_{k|k-1}] for k < 7 by enumerating all 2^6 receival sequences
-    status, out, _ = run(capsys, "simulate", DESIGN, "--horizon", "7", "--paths", "20000", "--json")
+    status, out, _ = run(capsys, "simulate", QUARTER_TURN, "--horizon", "7", "--paths", "20000", "--json")
     res = json.loads(out)
     assert status == 0 and res["paths"] == 20000 and res["seed"] == 0 and len(res["mean"]) == 7
-    system, loss = files.load(DESIGN)
+    system, loss = files.load(QUARTER_TURN)
     exact = exact_mean_trace(system, loss, 7)
     mean, high = np.array(res["mean"]), np.array(res["high"])
     stderr = (high - mean) / 1.959963984540054
@@ -141,22 +141,22 @@ def test_simulate_matches_exact_enumeration(capsys):
 
 def test_simulate_plot(capsys, tmp_path):
     png = tmp_path / "trace.png"
-    status, out, _ = run(capsys, "simulate", DESIGN, "--horizon", "20", "--paths", "500", "--plot", png)
+    status, out, _ = run(capsys, "simulate", QUARTER_TURN, "--horizon", "20", "--paths", "500", "--plot", png)
     assert status == 0 and "figure written" in out
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
 
 
 def test_simulate_plot_without_matplotlib(capsys, tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)       # import matplotlib -> ImportError
-    status, out, err = run(capsys, "simulate", DESIGN, "--horizon", "5", "--paths", "10",
+    status, out, err = run(capsys, "simulate", QUARTER_TURN, "--horizon", "5", "--paths", "10",
                            "--plot", tmp_path / "x.png")
     assert status == 2 and out == "" and "symkf[plot]" in err and err.count("\n") == 1
     assert not (tmp_path / "x.png").exists()
 
 
-@pytest.mark.parametrize("argv", [["simulate", DESIGN, "--paths", "5"], ["simulate", DESIGN, "--horizon", "0",
-                                  "--paths", "5"], ["verify", DESIGN, "--seed", "-1"], ["nope"],
-                                  ["critical", DESIGN, "--digits", "x"], ["reproduce"]])
+@pytest.mark.parametrize("argv", [["simulate", QUARTER_TURN, "--paths", "5"], ["simulate", QUARTER_TURN, "--horizon", "0",
+                                  "--paths", "5"], ["verify", QUARTER_TURN, "--seed", "-1"], ["nope"],
+                                  ["critical", QUARTER_TURN, "--digits", "x"], ["reproduce"]])
 def test_usage_errors_one_line(capsys, argv):
     status, out, err = run(capsys, *argv)
     assert status == 2 and out == "" and err.count("\n") == 1 and "Traceback" not in err
@@ -198,7 +198,7 @@ def test_reproduce_unknown(capsys):
 
 
 def test_toml_decimals_are_exact_without_notes(capsys, tmp_path):
-    """TOML decimals are read from the file's text (issue 15): -2.0 is -2 and 0.05 is 1/20 exactly,
+    """TOML decimals are read from the file's text : -2.0 is -2 and 0.05 is 1/20 exactly,
     with or without the old ``rationalize = true``, and nothing needs a note."""
     for head in ("", "rationalize = true\n"):
         path = tmp_path / "r.toml"
@@ -209,7 +209,7 @@ def test_toml_decimals_are_exact_without_notes(capsys, tmp_path):
 
 
 def test_verify_is_quiet_off_terminal(capsys):
-    status, _, err = run(capsys, "verify", DESIGN, "--paths", "1000")
+    status, _, err = run(capsys, "verify", QUARTER_TURN, "--paths", "1000")
     assert status == 0 and err == ""
 
 
@@ -237,7 +237,7 @@ def test_table_command_writes_latex_and_json(capsys, tmp_path):
 
 def test_closed_pipe_is_not_a_traceback():
     import subprocess
-    proc = subprocess.run(f"{sys.executable} -m symkf critical {DESIGN} --json | head -c 1", shell=True,
+    proc = subprocess.run(f"{sys.executable} -m symkf critical {QUARTER_TURN} --json | head -c 1", shell=True,
                           capture_output=True, text=True, timeout=120)
     assert proc.stdout == "{" and "Traceback" not in proc.stderr
 

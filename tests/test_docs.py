@@ -207,7 +207,8 @@ def test_offline_check_finds_assets_from_other_hosts(tmp_path):
 
 
 def test_no_internal_words_reach_users():
-    # papers are cited by authors and title, never by the team's file names or brief
+    # papers are cited by authors and title; the file names of the papers and of the project's
+    # internal notes never reach users
     internal = re.compile(r"[Ss]eed 00\d|seeds/|DESIGN\.md|DESIGN example|DESIGN rotation")
     files = [p for p in [*(ROOT / "symkf").rglob("*"), *(ROOT / "docs").glob("*.md"), *(ROOT / "examples").glob("*"),
                          *(ROOT / "proofs").glob("*"), ROOT / "README.md"]

@@ -12,7 +12,7 @@ import pytest
 from symkf import cli, examples
 
 SYSTEMS = examples.directory() / "systems"
-DESIGN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], i.i.d. loss 1/20
+QUARTER_TURN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], i.i.d. loss 1/20
 GE = SYSTEMS / "ge-two-sensors.toml"
 MARKOV = SYSTEMS / "network" / "markov-shared-channel.toml"
 
@@ -34,8 +34,9 @@ def keys(doc: Any) -> set[str]:
 
 
 def test_analyze_json_has_one_name_per_period(capsys) -> None:
-    """The issue's report: blocks[0].period = 4 next to certificate[0].period = 2."""
-    doc = json_of(capsys, "analyze", DESIGN)
+    """One name per period: the document once had blocks[0].period = 4 (tau) next to
+    certificate[0].period = 2 (the class period)."""
+    doc = json_of(capsys, "analyze", QUARTER_TURN)
     assert doc["schema_version"] == cli.SCHEMA_VERSION == 1
     assert "period" not in keys(doc)
     assert (doc["blocks"][0]["tau"], doc["blocks"][0]["governing_period"]) == (4, 2)
@@ -55,7 +56,7 @@ def test_losses_are_structured_objects(capsys) -> None:
     assert all(len(v) == 2 for v in chain["emit"])
 
 
-@pytest.mark.parametrize("argv", [("demo",), ("critical", DESIGN), ("reproduce", "--list")])
+@pytest.mark.parametrize("argv", [("demo",), ("critical", QUARTER_TURN), ("reproduce", "--list")])
 def test_every_document_carries_schema_version(capsys, argv) -> None:
     doc = json_of(capsys, *argv)
     assert doc["schema_version"] == cli.SCHEMA_VERSION

@@ -53,7 +53,8 @@ def _system():
 
 
 def _entry_points():
-    """The 13 library entry points of issue 17, each taking the payload as its one string."""
+    """Thirteen library entry points that read a number from a string, and beyond them everything else
+    that does, each taking the payload as its one string."""
     from symkf import second_order
     from symkf.network import fading
     from symkf.reports import plots
@@ -77,7 +78,7 @@ def _entry_points():
         "fading.Rayleigh": lambda p: fading.Rayleigh(p),
         "fading.Nakagami": lambda p: fading.Nakagami(p, 1),
         "congruent_sets.p_star": lambda p: cs.p_star([p]),
-        # beyond the issue's 13: everything else that reads a number from a string
+        # beyond those 13: everything else that reads a number from a string
         "System A": lambda p: sk.System(A=[[p]], sensors=[sk.Sensor(C=[[1]])]),
         "Sensor C": lambda p: sk.Sensor(C=[[p]]),
         "IID.subs value": lambda p: sk.IID(["e"]).subs({"e": p}),

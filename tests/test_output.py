@@ -53,7 +53,7 @@ def no_table(monkeypatch):
 # -- a rerun replaces its own output; a bad target is refused before computing -----------------------
 
 def test_rerun_replaces_its_own_output(capsys, tmp_path, family):
-    """Issue 24: rerunning `symkf table ... --latex table.tex` replaces the table (atomically, no
+    """Rerunning `symkf table ... --latex table.tex` replaces the table (atomically, no
     --force needed); --force is still accepted."""
     out = tmp_path / "out.tex"
     out.write_text("an earlier table")
@@ -161,8 +161,8 @@ def test_symbolic_link_is_never_written_through_nor_replaced(capsys, tmp_path, f
 
 
 def test_reproduce_figure_symlinked_to_an_input(capsys, tmp_path):
-    """Issue 26: `reproduce sui-theorem12 --outdir rep --quick` with rep/sui_theorem12.png a link to
-    an input replaced the input with a PNG (exit 0)."""
+    """`reproduce sui-theorem12 --outdir rep --quick` with rep/sui_theorem12.png a link to an input
+    once replaced the input with a PNG (exit 0)."""
     pytest.importorskip("matplotlib")
     precious = tmp_path / "system.toml"
     precious.write_text("[system]\nA = [[2]]\n")
@@ -195,6 +195,8 @@ def test_a_file_read_in_the_run_is_an_input(tmp_path, family):
     assert system.read_text().startswith("[system]") and family.read_text() == FAMILY_TEXT
     assert table.write(tmp_path / "t.tex") == tmp_path / "t.tex"
 
+
+# -- concurrent runs never clobber each other ------------------------------------------------------
 
 def test_a_new_target_taken_meanwhile_is_not_replaced(tmp_path):
     target = tmp_path / "table.tex"
@@ -254,6 +256,8 @@ def test_concurrent_run_on_the_command_line(capsys, tmp_path, family, monkeypatc
     assert status == 2 and "appeared while this run was computing" in err and err.count("\n") == 1
     assert out.read_text() == "the other run's table" and leftovers(tmp_path) == []
 
+
+# -- paths refused, errors translated --------------------------------------------------------------
 
 @pytest.mark.parametrize("argv, message", [
     (["table", "FAMILY", "--latex", ""], "--latex: expected a file path, got ''"),
@@ -317,7 +321,7 @@ def test_interrupted_write_leaves_nothing(tmp_path):
 
 @pytest.mark.full
 def test_figure_under_ulimit_f(tmp_path):
-    """Issue 26: under `ulimit -f 8` a figure was left truncated (exit 70); a figure (about 20 kB)
+    """Under `ulimit -f 8` a figure was once left truncated (exit 70); a figure (about 20 kB)
     above 8 KiB now fails whole, naming the file, and the old file stays."""
     pytest.importorskip("matplotlib")
     target = tmp_path / "figure.png"
@@ -337,7 +341,8 @@ def test_figure_under_ulimit_f(tmp_path):
 
 @pytest.mark.full
 def test_reproduce_under_ulimit_f(tmp_path):
-    """The issue's own case: `ulimit -f 8; symkf reproduce sui-theorem12 --outdir rep --quick`."""
+    """The command that left a truncated figure: `ulimit -f 8; symkf reproduce sui-theorem12 --outdir rep
+    --quick`."""
     pytest.importorskip("matplotlib")
 
     def small_files():
@@ -385,6 +390,8 @@ def test_json_reports_the_written_path(capsys, tmp_path, family):
     status, stdout, _ = run(capsys, "table", family, "--latex", out, "--json")
     assert status == 0 and json.loads(stdout)["latex"] == str(out) and leftovers(tmp_path) == []
 
+
+# -- nothing else in symkf writes a file -----------------------------------------------------------
 
 #: methods that write a file, whatever the receiver
 _WRITING_METHODS = {"savefig", "write_text", "write_bytes", "to_csv", "to_parquet", "to_hdf", "tofile", "touch",

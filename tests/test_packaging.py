@@ -144,14 +144,14 @@ def test_exact_engine_verify_and_simulate_run_without_scipy_and_cvxpy():
     assert statuses == ["critical 0", "simulate 0", "verify 0"], run_.stderr
 
 
-DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
 
 
 def test_missing_extras_name_the_install_command(monkeypatch):
     monkeypatch.setitem(sys.modules, "cvxpy", None)
     from symkf.capacity import mare_stabilizable
     with pytest.raises(ExtraNotInstalledError, match=r"mare_stabilizable.*pip install 'symkf\[sdp\]'"):
-        mare_stabilizable(DESIGN, sk.IID(["1/2"]))
+        mare_stabilizable(QUARTER_TURN, sk.IID(["1/2"]))
     from symkf.fusion import optimal_weights
     with pytest.raises(ExtraNotInstalledError, match=r"Problem 2.*pip install 'symkf\[sdp\]'"):
         optimal_weights(np.eye(2), np.array([[1.0], [1.0]]), method="sdp")

@@ -1,4 +1,4 @@
-"""Reproduce reports say exactly what was checked (issue 15, item 4): ``checks`` all hold,
+"""Reproduce reports (symkf.reproduction) say exactly what was checked: ``checks`` all hold,
 ``discrepancies`` give the paper's printed value beside the computed one."""
 
 from __future__ import annotations

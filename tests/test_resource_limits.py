@@ -27,7 +27,7 @@ HANGS = ["exp(2*pi*I/99991)", "sqrt(" * 20 + "2" + ")" * 20, "root(2, 99999)", "
 
 
 @pytest.mark.parametrize("text", HANGS)
-def test_issue_hang_strings_end_at_once_everywhere(tmp_path, text):
+def test_numbers_that_once_hung_end_at_once_everywhere(tmp_path, text):
     """In A and as a loss, through the library and the CLI: exit 2 in one line, within the limits."""
     code, err = limited(library, lambda: sk.IID([text]))
     assert code == 2, err
@@ -48,7 +48,7 @@ def test_issue_hang_strings_end_at_once_everywhere(tmp_path, text):
     (["analyze", "{cos}"], "rational multiple of pi"),
 ])
 def test_cli_values_it_cannot_serve_are_exit_2(tmp_path, argv, message):
-    """Issue 17's CLI cases that hung, hit MemoryError or exited 70."""
+    """Command-line values that once hung, hit MemoryError or exited 70."""
     paths = {"sys": system_file(tmp_path, "2"), "dir": tmp_path, "cos": system_file(tmp_path, "2", "cos(pi*sqrt(2))", "c.toml")}
     code, err = limited(cli.main, [a.format(**{k: str(v) for k, v in paths.items()}) for a in argv])
     assert code == 2 and err.count("\n") == 1 and message in err, err

@@ -110,7 +110,8 @@ def test_undecided_blocks_are_refused_naming_the_cap():
     """Two sensors in general position on 2R(2 pi/5) + 2R(2 pi/7) + 2R(2 pi/9): the heaviest
     cylinders hold 35 elements per sensor, and the bound on the hyperplanes meeting every part
     (5 fibres of at most 8) does not fall below them, so the block goes to the compositum and is
-    refused there, naming its cap (the default caps answer it: tests/test_diagonal_blocks)."""
+    refused there, naming its cap (the default caps answer it:
+    tests/engine/test_hyperplane_screen.py::test_rotations_in_three_cyclotomic_fields_critical_loss_rate)."""
     system = stacked_rotations((5, 7, 9), [[2, 1, 0, -1, -1, -2], [-2, -2, -2, 2, 1, 2]])
     with _split(system), pytest.raises(BudgetError, match=r"at least phi\(315\).* is 144, above the cap 143"):
         sk.critical_loss_rate(system)

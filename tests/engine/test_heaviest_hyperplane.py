@@ -1,6 +1,6 @@
 """The i.i.d. decay rate from the weight-screened hyperplane search (BlockRows.heaviest) equals the
 one from enumerating every hyperplane (outside_counts over BlockRows.inside): value and decisive
-hyperplane, including ties (equal losses) and unequal losses (issue 18)."""
+hyperplane, including ties (equal losses) and unequal losses."""
 
 import numpy as np
 import pytest

@@ -201,7 +201,7 @@ def _eight_rotations_file(tmp_path):
 
 @pytest.mark.full
 def test_eight_identical_rotation_blocks_refused_naming_the_screen_cap(tmp_path):
-    """Issue 26: ran past 120 CPU-s in the screen's 13-level flat recursion (6208 elements in
+    """This ran past 120 CPU-s in the screen's 13-level flat recursion (6208 elements in
     dimension 16, 64 orbits: about 10^42 incidences); now refused once the block's elements are
     reduced mod p (about 6 CPU-s, 4 of them the exact generators C_j T D^r over Q(zeta_388))."""
     path = _eight_rotations_file(tmp_path)

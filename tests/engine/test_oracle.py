@@ -55,8 +55,8 @@ def at_most_one_reception(N):
     return sp.expand(eps ** N + N * (1 - eps) * eps ** (N - 1))
 
 
-def test_design_example_against_oracle():
-    # DESIGN's A = 2 R(pi/2), C = [1 0]: rows C A^k are multiples of [1, 0] at even k and of
+def test_quarter_turn_rotation_against_oracle():
+    # A = 2 R(pi/2), C = [1 0]: rows C A^k are multiples of [1, 0] at even k and of
     # [0, 1] at odd k, so O_6 is deficient iff every reception has one parity:
     # P(R_6) = 2 eps^3 - eps^6.  Slope of L(N): 1 lost packet per 2 steps, rho = eps^(1/2),
     # margin 4 eps^(1/2) < 1 iff eps < 1/16 (the README's claim points here).
@@ -117,7 +117,7 @@ def test_aperiodic_rotation_under_gilbert_elliott_oracle():
     # A = (3/2) R(theta), cos theta = 3/5: theta/pi irrational, so any two rows C A^k, C A^l
     # (k != l) are independent (sin((l - k) theta) != 0) and R_N = {at most one reception}:
     # exactly what the raw-O_N oracle finds.  Under Gilbert-Elliott the rate is P(stay lost) =
-    # 1 - recover: margin (9/4)(1 - q) < 1 iff q > 5/9 (checked in test_engine too).
+    # 1 - recover: margin (9/4)(1 - q) < 1 iff q > 5/9 (checked in tests/engine/test_stability.py too).
     S = system([["9/10", "-6/5"], ["6/5", "9/10"]], [[1, 0]])
     sets = RawRegression(S.A, [S.sensors[0].C], 7).deficient_sets
     assert sorted(map(len, sets)) == [0] + [1] * 7

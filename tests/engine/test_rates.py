@@ -17,8 +17,10 @@ from symkf.engine.rates import block_rate, m_matrix, probability_rank_deficient
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.exact.numbers import sympify as exact
 
-DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
-SEED002 = sk.System(A=[["5/4", 0], [1, "11/10"]], sensors=[sk.Sensor(C=[[1, 1]])])
+#: 2R(pi/2), C = [1 0]
+QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
+#: the plant of Quevedo et al., Sec. VII-C: two real blocks 5/4 and 11/10
+LOWER_TRIANGULAR = sk.System(A=[["5/4", 0], [1, "11/10"]], sensors=[sk.Sensor(C=[[1, 1]])])
 TWO = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[1, 1]])])
 MARKOV = sk.MarkovLoss({(1,): {(1,): "2/3", (0,): "1/3"}, (0,): {(1,): "1/4", (0,): "3/4"}})
 MARKOV2 = sk.MarkovLoss({((1,), (1,)): {(1,): "1/2", (0,): "1/2"}, ((1,), (0,)): {(1,): "1/3", (0,): "2/3"},
@@ -27,8 +29,8 @@ MARKOV2 = sk.MarkovLoss({((1,), (1,)): {(1,): "1/2", (0,): "1/2"}, ((1,), (0,)):
 
 
 @pytest.mark.parametrize("system,loss", [
-    (DESIGN, sk.IID(["1/3"])), (DESIGN, sk.GilbertElliott(["1/4"], ["1/2"])), (DESIGN, MARKOV),
-    (DESIGN, MARKOV2), (SEED002, sk.GilbertElliott(["1/5"], ["2/3"])),
+    (QUARTER_TURN, sk.IID(["1/3"])), (QUARTER_TURN, sk.GilbertElliott(["1/4"], ["1/2"])), (QUARTER_TURN, MARKOV),
+    (QUARTER_TURN, MARKOV2), (LOWER_TRIANGULAR, sk.GilbertElliott(["1/5"], ["2/3"])),
     (TWO, sk.IID(["1/3", "1/2"])), (TWO, sk.GilbertElliott(["1/4", "1/3"], ["1/2", "1/5"])),
 ])
 def test_eq35_against_enumeration(system, loss):

@@ -69,9 +69,9 @@ def test_recovery_is_not_monotone():
 
 
 def test_recovery_extremes():
-    assert critical_recovery_rate(DESIGN_GE := sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])]),
+    assert critical_recovery_rate(QUARTER_TURN := sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])]),
                                   ["1/4"]) == 1  # 16 (q/4 + (1-q)^2) >= 15/4 for every q
-    assert stability(DESIGN_GE, sk.GilbertElliott(["1/4"], ["7/8"])).stable is False
+    assert stability(QUARTER_TURN, sk.GilbertElliott(["1/4"], ["7/8"])).stable is False
     stable_A = sk.System(A=[["1/2", 0], [0, "1/3"]], sensors=[sk.Sensor(C=[[1, 1]])])
     assert critical_recovery_rate(stable_A, ["1/2"]) == 0
 
@@ -224,6 +224,8 @@ def test_equals_listing_benchmark_block():
         fail = [sp.Rational(1, 10)] * d
         assert monotone_critical_recovery(sub, fail) == _listed(sub, fail)
 
+
+# -- one sensor's recovery rate, the others fixed --------------------------------------------------
 
 def _listed_one(S, fail, recover, j):
     """``critical_recovery_rate``'s value from the listing of every hyperplane: 1 when no ``q`` is

@@ -62,6 +62,8 @@ def test_projection_decides_rank_for_every_pattern(A, Cs):
             assert br.deficient(idx) == flag
 
 
+# -- hyperplanes of the generators: flats grouped by lines mod p, against brute force --------------
+
 def _brute_hyperplanes(K, vectors, n):
     """Every (n-1)-subset of exact rank n-1 spans a hyperplane; its members by exact dot products."""
     out = set()
@@ -106,6 +108,8 @@ def test_generator_hyperplanes_equal_brute_force(start, twist, data):
     if rank_rows(K, vectors, n) == n:
         assert set(found) == _brute_hyperplanes(K, vectors, n)
 
+
+# -- element hyperplanes and outside counts against rank tests on every element set ----------------
 
 def _random_system(n, d, seed):
     rng = np.random.default_rng(seed)

@@ -28,21 +28,29 @@ from symkf.model.iid import IID
 
 from conftest import rotation
 
-DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
-SEED002 = sk.System(A=[["5/4", 0], [1, "11/10"]], sensors=[sk.Sensor(C=[[1, 1]])])
+#: 2R(pi/2), C = [1 0]: critical loss rate 1/16 (rows repeat their direction every 2 steps)
+QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
+#: the plant of Quevedo et al., Sec. VII-C: two real blocks 5/4 and 11/10, critical loss rate 16/25
+LOWER_TRIANGULAR = sk.System(A=[["5/4", 0], [1, "11/10"]], sensors=[sk.Sensor(C=[[1, 1]])])
 TWO = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[1, 1]])])
+R = sp.Rational
+EXAMPLES = examples.directory() / "systems"
 
 
-def test_design_example_critical_is_one_sixteenth():
-    eps = critical_loss_rate(DESIGN)
+def system(A, *Cs):
+    return sk.System(A=A, sensors=[sk.Sensor(C=C) for C in Cs])
+
+
+def test_quarter_turn_critical_loss_rate_is_one_sixteenth():
+    eps = critical_loss_rate(QUARTER_TURN)
     assert eps.exact == sp.Rational(1, 16)
-    assert not stability(DESIGN, sk.IID(["1/16"])).stable  # margin exactly 1 is not stable
-    assert stability(DESIGN, sk.IID(["1/17"])).stable
+    assert not stability(QUARTER_TURN, sk.IID(["1/16"])).stable  # margin exactly 1 is not stable
+    assert stability(QUARTER_TURN, sk.IID(["1/17"])).stable
 
 
-def test_seed002_critical_is_16_25():
-    assert critical_loss_rate(SEED002) == sp.Rational(16, 25)
-    v = stability(SEED002, sk.IID(["16/25"]))
+def test_lower_triangular_plant_critical_is_16_25():
+    assert critical_loss_rate(LOWER_TRIANGULAR) == sp.Rational(16, 25)
+    v = stability(LOWER_TRIANGULAR, sk.IID(["16/25"]))
     assert not v.stable and v.limiting_block == 0 and v.theorem.startswith("Theorem 7")
 
 
@@ -57,13 +65,13 @@ def test_two_sensor_values_by_hand():
     assert critical_loss_rate(TWO).exact == 2 ** sp.Rational(-4, 3)
     assert critical_loss_rate(TWO, "s1", others=[0, "1/2"]) == sp.Rational(1, 4)
     assert critical_loss_rate(TWO, ray=[1, 2]) == sp.Rational(1, 4)
-    assert critical_alpha(DESIGN, sk.IID(["1/16"])) == 2
+    assert critical_alpha(QUARTER_TURN, sk.IID(["1/16"])) == 2
 
 
 def test_aperiodic_rotation_critical_is_sinopoli_bound():
     S = sk.System(A=[["9/10", "-6/5"], ["6/5", "9/10"]], sensors=[sk.Sensor(C=[[1, 0]])])
     assert critical_loss_rate(S) == sp.Rational(4, 9)
-    # Markov losses on the aperiodic block (issue 14): rows C A^k, C A^l are independent for k != l
+    # Markov losses on the aperiodic block: rows C A^k, C A^l are independent for k != l
     # (sin((l - k) theta) != 0, theta/pi irrational), so R_N = {at most one reception}, of rate
     # P(stay lost) = 1 - recover.  alpha^2 = 9/4: margin 9/4 * 1/2 = 9/8, critical recovery 5/9.
     v = stability(S, sk.GilbertElliott(["1/4"], ["1/2"]))
@@ -80,15 +88,7 @@ def test_certified_on_both_sides():
 
 def test_positivity_is_checked_for_markov():
     with pytest.raises(sk.SymkfError, match="Assumption 2"):
-        stability(DESIGN, sk.GilbertElliott(["1/4"], [1]))
-
-
-R = sp.Rational
-EXAMPLES = examples.directory() / "systems"
-
-
-def system(A, *Cs):
-    return sk.System(A=A, sensors=[sk.Sensor(C=C) for C in Cs])
+        stability(QUARTER_TURN, sk.GilbertElliott(["1/4"], [1]))
 
 
 def test_nilpotent_A_is_stable_for_every_loss():
@@ -104,7 +104,7 @@ def test_nilpotent_A_is_stable_for_every_loss():
     ("delayed-sensor", 2 * sp.sqrt(2) / 5, R(1, 4), [("0",)]),
     ("detectable", R(15, 32), R(4, 5), [("1/2",)]),
 ])
-def test_practitioner_example_files(name, margin, critical, aside):
+def test_shipped_examples_outside_the_papers_class(name, margin, critical, aside):
     # hand derivations in the files' comments
     S, loss = load(EXAMPLES / f"{name}.toml")
     v = stability(S, loss)
@@ -129,7 +129,7 @@ def test_patterns_in_words():
     assert pattern_words([]) == "nothing received"
     assert pattern_words([("s1", 1), ("s2", 0), ("s1", 0)]) == \
         "s1 received at phases 0 and 1, s2 at phase 0, nothing else"
-    assert "decisive pattern: s1 received at phase 0 only;" in str(sk.stability(DESIGN, sk.IID(["1/10"])))
+    assert "decisive pattern: s1 received at phase 0 only;" in str(sk.stability(QUARTER_TURN, sk.IID(["1/10"])))
 
 
 def test_twenty_sensors_decided_within_the_default_budget():

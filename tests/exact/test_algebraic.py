@@ -36,6 +36,8 @@ SQRT2 = AlgebraicNumber.from_expr(sp.sqrt(2))
 SQRT3 = AlgebraicNumber.from_expr(sp.sqrt(3))
 
 
+# -- sympify, Matrix and sympy arithmetic stay exact -----------------------------------------------
+
 def test_sympify_matrix_and_sympy_products_are_exact(r: AlgebraicNumber) -> None:
     assert sp.sympify(r) == R(1, 16) and isinstance(sp.sympify(r), sp.Rational)
     M = sp.Matrix([r])
@@ -46,6 +48,8 @@ def test_sympify_matrix_and_sympy_products_are_exact(r: AlgebraicNumber) -> None
     assert sp.sqrt(2) * SQRT2 == 2
 
 
+# -- equality is symmetric -------------------------------------------------------------------------
+
 def test_equality_symmetric(r: AlgebraicNumber) -> None:
     for q in (R(1, 16), Fraction(1, 16), 0.0625):
         assert r == q and q == r
@@ -54,6 +58,8 @@ def test_equality_symmetric(r: AlgebraicNumber) -> None:
     # an equal value written differently: decided exactly (minimal polynomial), not structurally
     assert SQRT2 == sp.sqrt(8) / 2 and SQRT2 == 2 * sp.cos(sp.pi / 4)
 
+
+# -- arithmetic on both sides, LaTeX, format, round, comparison with floats ------------------------
 
 def test_arithmetic_with_python_rationals_gives_algebraic_numbers(r: AlgebraicNumber) -> None:
     for value, expected in ((1 - r, R(15, 16)), (2 * r, R(1, 8)), (r + 1, R(17, 16)), (r * 2, R(1, 8)),
@@ -134,6 +140,8 @@ def test_comparison_with_float_uses_its_binary_value(r: AlgebraicNumber) -> None
     assert SQRT2 < sp.Float("1.41421356237309504880168872420969808", 40)
 
 
+# -- hashes agree with equality --------------------------------------------------------------------
+
 def test_hash_agrees_with_equality(r: AlgebraicNumber) -> None:
     assert hash(r) == hash(Fraction(1, 16)) == hash(0.0625)
     assert len({r, Fraction(1, 16), 0.0625}) == 1
@@ -143,6 +151,8 @@ def test_hash_agrees_with_equality(r: AlgebraicNumber) -> None:
     assert other == SQRT2 and hash(other) == hash(SQRT2) and len({other, SQRT2}) == 1
     assert hash(SQRT2) != hash(-SQRT2)
 
+
+# -- a reducible defining polynomial is factored, never a hang -------------------------------------
 
 def test_reducible_polynomial_is_factored() -> None:
     one = AlgebraicNumber(x ** 2 - 1, 1)  # real roots -1 < 1: index 1 is 1

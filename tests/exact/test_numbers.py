@@ -95,7 +95,7 @@ def test_strings_outside_the_grammar_are_input_errors(text):
     ("9^9^9", "max_exponent"),
     ("1e999999", "max_digits"),
 ])
-def test_issue_hangs_are_refused_at_once_naming_the_option(text, cap):
+def test_pathological_numbers_are_refused_at_once_naming_the_option(text, cap):
     """Each of these ran past 85 CPU-s, to gigabytes, or aborted the interpreter inside FLINT."""
     for call in (lambda: sk.IID([text]), lambda: sk.System(A=[[text]], sensors=[sk.Sensor(C=[[1]])])):
         with pytest.raises(BudgetError, match=budget.OPTIONS[cap]):
@@ -131,7 +131,7 @@ def test_oversized_numbers_refused_before_evaluation(value):
         sk.System(A=[[value]], sensors=[sk.Sensor(C=[[1]])])
 
 
-HOSTILE_A = ["1e-400", "(1+10**-999)**10000", "2*cos(pi/180)**9999", "2**-1074"]
+HUGE_ENTRIES = ["1e-400", "(1+10**-999)**10000", "2*cos(pi/180)**9999", "2**-1074"]
 
 
 def _rotation_file(tmp_path, entry: str):
@@ -141,15 +141,15 @@ def _rotation_file(tmp_path, entry: str):
     return path
 
 
-@pytest.mark.parametrize("entry", HOSTILE_A)
-def test_hostile_sizes_refused_at_once_naming_file_and_cap(tmp_path, entry):
+@pytest.mark.parametrize("entry", HUGE_ENTRIES)
+def test_entries_of_huge_bit_size_refused_at_once_naming_file_and_cap(tmp_path, entry):
     for path in (system_file(tmp_path, entry), _rotation_file(tmp_path, entry)):
         code, err = limited(cli.main, ["critical", str(path)])
         assert code == 2 and err.count("\n") == 1, err
         assert str(path) in err and "--max-bits" in err and "bit size" in err, err
 
 
-def test_hostile_loss_size_refused(tmp_path):
+def test_a_loss_of_huge_bit_size_is_refused(tmp_path):
     path = system_file(tmp_path, "2", loss="(1-10**-999)**10000")
     code, err = limited(cli.main, ["analyze", str(path)])
     assert code == 2 and str(path) in err and "--max-bits" in err, err
@@ -179,7 +179,7 @@ def test_height_bounds_follow_the_weil_height_rules():
         assert parse_exact("2**-1074", "x") == sp.Rational(1, 2 ** 1074)
 
 
-def test_legit_sizes_still_run():
+def test_sizes_under_the_cap_still_run():
     """A rotation block with an entry 10^-200 (665 bits, under the cap): decided exactly."""
     S = sk.System(A=[["1e-200", -2], [2, "1e-200"]], sensors=[sk.Sensor(C=[[1, 1]])])
     assert not sk.stability(S, sk.IID(["1/2"])).stable
@@ -214,7 +214,8 @@ def test_decimal_text_is_exact(text, value):
 
 
 def test_zeros_and_exact_floats_are_not_reported():
-    """Issue 15: one warning per entry, zeros included; now exact floats are not changes."""
+    """rationalize=True once warned for every entry, zeros included; exact floats are not changes,
+    so nothing is reported."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         sk.System(np.array([[0.0, -2.0], [2.0, 0.0]]), [sk.Sensor(C=[[1.0, 0.0]])], rationalize=True)

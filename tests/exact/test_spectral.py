@@ -53,13 +53,15 @@ def test_aperiodic_rotation_has_proof():
     assert "25*x**2 + 14*x + 25" in b.proof and "not cyclotomic" in b.proof
 
 
-def test_seed002_two_blocks():
+def test_lower_triangular_plant_has_two_real_blocks():
+    # Quevedo et al.'s plant of Sec. VII-C
     blocks = eigen_blocks([["5/4", 0], [1, "11/10"]])
     assert [b.modulus for b in blocks] == [sp.Rational(5, 4), sp.Rational(11, 10)]
     assert all(b.period == 1 and b.governing_period == 1 for b in blocks)
 
 
-def test_design_example_periods():
+def test_quarter_turn_periods():
+    # 2R(pi/2): tau = 4 (lambda/|lambda| = i), governing period 2 (A^2 = -4 I)
     (b,) = eigen_blocks([[0, -2], [2, 0]])
     assert (b.period, b.governing_period) == (4, 2)
     assert set(b.eigenvalues) == {2 * sp.I, -2 * sp.I}

@@ -10,7 +10,7 @@ import symkf as sk
 from symkf.errors import BudgetError
 from symkf.io.families import grid_family, systems_family
 
-DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
 
 
 def test_families_in_memory():
@@ -21,7 +21,7 @@ def test_families_in_memory():
     table = tables.family_table(grid_family(rotation, {"g": [2, 3]}), progress=False)
     # eps_c = 2^(-2g/(g - 1)) (the rotation-periods family's hand derivation, d = 1)
     assert [r["cells"][0]["exact"] for r in table.to_json()["rows"]] == ["1/16", "1/8"]
-    family = systems_family([(DESIGN, sk.IID(["1/20"])), (DESIGN, sk.IID(["1/10"]))], compute="stability")
+    family = systems_family([(QUARTER_TURN, sk.IID(["1/20"])), (QUARTER_TURN, sk.IID(["1/10"]))], compute="stability")
     checked = sk.verify_family(family, paths=2000, horizon=40, progress=False)
     assert [m.label for m in checked] == ["system = 1", "system = 2"]
     assert [m.verification.stable for m in checked] == [True, False]      # margins 0.894, 1.265

@@ -16,7 +16,7 @@ from symkf.io.families import load_family
 from symkf.io.family_verification import is_family_file, verify_family
 from symkf.numeric.verify import verify
 
-# A = 2 R(pi/2), C = [1 0] (DESIGN.md's example): eps_c = 1/16, and for i.i.d. loss eps the
+# A = 2 R(pi/2), C = [1 0] (the example design-rotation.toml): eps_c = 1/16, and for i.i.d. loss eps the
 # limiting margin is alpha^2 rho = 4 sqrt(eps) (hand-derived: the period-2 bursts lose one phase)
 FAMILY = """
 [family]
@@ -101,7 +101,7 @@ def test_family_needs_a_loss_template(tmp_path):
 
 def test_inapplicable_member_is_recorded(tmp_path):
     # Gilbert-Elliott with fail = beta: beta = 1/10 is decided, beta = 0 breaks Assumption 2's
-    # positivity (a Jordan block, refused here before issue 14, is now decided)
+    # positivity (a Jordan block, once refused here, is now decided)
     p = tmp_path / "positivity.toml"
     p.write_text(FAMILY.replace('eps = ["1/50", "1/10", "1/8"]', 'beta = ["1/10", "0"]')
                  .replace('kind = "iid"\nloss = ["eps"]', 'kind = "gilbert-elliott"\nfail = ["beta"]\nrecover = ["1/2"]'))

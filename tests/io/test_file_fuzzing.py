@@ -229,7 +229,7 @@ def test_valid_files_give_the_hand_derived_value(capsys, tmp_path_factory, a, b,
                                "system": {"A": [[entry(a), c], [0, entry(b)]]},
                                "sensors": [{"C": [[1, 0], [0, 1]]}]}), encoding="utf-8")
     status, out, err = run(capsys, "critical", path, "--json", "--digits", "6")
-    # a == b, c != 0 is a Jordan block, decided too (issue 14): C = I sees the state at any
+    # a == b, c != 0 is a Jordan block, decided too: C = I sees the state at any
     # single reception, so rho = eps and the margin is a^2 eps either way
     assert status == 0, err
     rho = max(abs(sp.Rational(a.numerator, a.denominator)), abs(sp.Rational(b.numerator, b.denominator)))

@@ -96,6 +96,8 @@ def test_independent_factors_are_the_sensors_chains():
     assert ge.bernoulli is None and markov().bernoulli is None
 
 
+# -- independent sensors: the per-sensor factors against the joint chain ---------------------------
+
 q = sp.Symbol("q", positive=True)
 INDEPENDENT = [
     sk.IID(["1/10", "1/3", "2/7"]),

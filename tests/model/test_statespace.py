@@ -95,11 +95,11 @@ def test_missing_control_names_the_extra(monkeypatch):
         S.to_statespace()
 
 
-DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
 
 
 def test_statespace_has_sampling_time_one_and_says_there_is_no_input():
     pytest.importorskip("control")
     from symkf.model.statespace import to_statespace
-    G = to_statespace(DESIGN)
+    G = to_statespace(QUARTER_TURN)
     assert G.dt == 1 and G.input_labels == ["no_input"] and not G.B.any()

@@ -28,9 +28,11 @@ from symkf.errors import (
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.exact.spectral import eigen_blocks
 
+R = sp.Rational
+
 
 def test_bad_inputs_raise_named_errors():
-    (cv,) = eigen_blocks([[1, 1], [0, 1]])  # constant velocity: one Jordan chain, accepted (issue 14)
+    (cv,) = eigen_blocks([[1, 1], [0, 1]])  # constant velocity: one Jordan chain, accepted
     assert cv.defective and cv.members[0].geometric == 1 and cv.members[0].multiplicity == 2
     with pytest.raises(InexactInputError, match=r"A\[0\]\[1\].*'1/10'"):
         sk.System(A=[[1, 0.1], [0, 1]], sensors=[sk.Sensor(C=[[1, 0]])])
@@ -55,13 +57,11 @@ def test_exact_inputs_accepted():
     assert S.A[1, 1] == sp.Rational(1, 2)
 
 
-R = sp.Rational
-
 
 def test_one_dimensional_numpy_C_is_a_row():
     S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=np.array([1, 0]))])
     assert S.sensors[0].C == sp.Matrix([[1, 0]])
-    assert sk.critical_loss_rate(S) == R(1, 16)  # 2R(pi/2), C = [1 0]: 1/16 (issue 15)
+    assert sk.critical_loss_rate(S) == R(1, 16)  # 2R(pi/2), C = [1 0]: 1/16
 
 
 def test_an_entry_rational_in_value_but_not_in_form():

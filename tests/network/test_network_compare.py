@@ -1,4 +1,4 @@
-"""Theorem 1 (seed 002) against the exact engine: critical parameters over symkf.network.compare.FAMILY."""
+"""Theorem 1 of Quevedo, Ahlén, Johansson against the exact engine (symkf.network.compare): critical parameters over symkf.network.compare.FAMILY."""
 
 import runpy
 import sys

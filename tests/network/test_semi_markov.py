@@ -108,7 +108,7 @@ def test_semi_markov_decided_by_hand():
     # holding time exactly 2 in both states, next state uniform: states come in aligned pairs,
     # i.i.d.; state 1 loses each packet with probability 1/2, state 2 never.  "All lost" over
     # 2m steps has probability (1/2 * 1/4)^m, so rho = 8^(-1/2) and the margins are
-    # alpha^2 / (2 sqrt 2): 25 sqrt(2)/64 and 121 sqrt(2)/400.  (Exit 3 before issue 14: the
+    # alpha^2 / (2 sqrt 2): 25 sqrt(2)/64 and 121 sqrt(2)/400.  (Refused with exit 3 before: the
     # holding counter's count-down makes most transitions of the lifted chain 0.)
     v = stability(VIIC, semi_markov_loss(["1/2", "1"], holding=[{2: 1}, {2: 1}]))
     assert [m.exact for m in v.margins] == [25 * sp.sqrt(2) / 64, 121 * sp.sqrt(2) / 400]

@@ -1,5 +1,5 @@
-"""The one memory estimate (symkf.numeric.montecarlo.memory_estimate) against measured peak RSS (issue 26
-section 3, issue 24 item 9): each case runs in a fresh interpreter that warms up (imports, the
+"""The one memory estimate (symkf.numeric.montecarlo.memory_estimate) against measured peak RSS: each
+case runs in a fresh interpreter that warms up (imports, the
 compiled kernel, the exact verdict) with a tiny run, resets its peak RSS, then runs the case; the
 peak resident set above the warmed-up one must lie within a factor 1.5 of the estimate, both ways.  Before, the
 estimate was written three ways: 8 paths horizon n^2 on the command line (2.6x too cautious for

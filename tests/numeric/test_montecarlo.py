@@ -153,7 +153,7 @@ def test_diagonal_one_sensor_per_mode(case):
     assert _verdict(S, above, seed).verdict == "unstable"
 
 
-def test_design_example_rate_matches_exact():
+def test_quarter_turn_rate_matches_exact():
     for eps, verdict in (("3/64", "stable"), ("5/64", "unstable")):
         r = _verdict(ROT, eps, SEED, pattern=[[0], []], growth=16, exact_rate=4 * sp.sqrt(sp.Rational(eps)))
         # the margin 4 sqrt(eps) (hand-derived: period-2 bursts lose one phase) inside the margin

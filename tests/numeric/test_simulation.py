@@ -9,10 +9,10 @@ import sympy as sp
 
 import symkf as sk
 
-DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
 #: the aperiodic rotation (3/2) R(theta), cos theta = 3/5, on a Gilbert-Elliott channel: every
 #: reception resets the rank, so rho = P(stay lost) = 1/2 and the margin is 9/4 * 1/2 = 9/8
-#: (tests/test_engine.py): E[tr P_k] diverges by 9/8 per step
+#: (tests/engine/test_stability.py): E[tr P_k] diverges by 9/8 per step
 DIVERGING = (sk.System(A=[["9/10", "-6/5"], ["6/5", "9/10"]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")]),
              sk.GilbertElliott(["1/4"], ["1/2"]))
 
@@ -51,6 +51,6 @@ def test_a_stable_simulation_is_resolved_throughout():
     # blind pattern, tr P x 4^3), 8e-9 per path, 3e-4 over these 20 x 2000 paths; at 1/100 it is
     # 8e-6 per path, 27 % over 20 seeds (seeds 14 and 19 of the per-sensor sampler have one)
     for seed in range(20):
-        sim = sk.simulate(DESIGN, sk.IID(["1/1000"]), horizon=12, paths=2000, seed=seed)
+        sim = sk.simulate(QUARTER_TURN, sk.IID(["1/1000"]), horizon=12, paths=2000, seed=seed)
         assert sim.resolved_until == 12 and sim.notes() == []
         assert np.all(sim.estimate.low > 0) and np.all(sim.estimate.low <= sim.estimate.mean)

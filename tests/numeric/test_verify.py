@@ -10,11 +10,11 @@ import sympy as sp
 
 import symkf as sk
 
-DESIGN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
 
 
 def test_verify_is_an_object_with_todays_json():
-    r = sk.verify(DESIGN, sk.IID(["1/20"]), paths=3000, seed=0)
+    r = sk.verify(QUARTER_TURN, sk.IID(["1/20"]), paths=3000, seed=0)
     assert isinstance(r, sk.Verification) and r.stable and r.outcome == "consistent"
     assert r.margin.exact == 2 * sp.sqrt(5) / 5 and r.critical_common_loss_rate.exact == sp.Rational(1, 16)
     doc = r.to_json()

@@ -69,7 +69,7 @@ def test_rotation_family_hand_derived_values(rotations):
     # A = 2 R(pi/g) has governing period g; the g rows C A^k (k < g) of each sensor are pairwise
     # independent, so a maximal rank-deficient set is one phase of all d sensors and
     # 2^(2g) eps^(d (g - 1)) < 1 decides: eps_c = 2^(-2g / (d (g - 1))).
-    assert _exact(rotations, 1, 0) == sp.Rational(1, 16)           # DESIGN.md's example
+    assert _exact(rotations, 1, 0) == sp.Rational(1, 16)           # 2R(pi/2), C = [1 0]
     assert _exact(rotations, 2, 0) == sp.Rational(1, 8)
     assert _exact(rotations, 2, 1) == sp.sqrt(2) / 4
     assert _exact(rotations, 3, 0) == 2 ** sp.Rational(1, 3) / 8

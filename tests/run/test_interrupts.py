@@ -103,7 +103,7 @@ def assert_nothing_left(proc: subprocess.Popen, tmp_path: Path | None = None) ->
     pytest.param(signal.SIGKILL, "parent", -signal.SIGKILL, "", marks=pytest.mark.full),
 ])
 def test_a_signal_stops_the_table_and_its_workers(tmp_path, signum, to, status, message):
-    """Issue 26: `symkf table FAMILY --jobs 2` did not stop on SIGINT (to the parent or the whole
+    """`symkf table FAMILY --jobs 2` once did not stop on SIGINT (to the parent or the whole
     group) within 40 s, SIGTERM ended it without a message, and after SIGKILL of the parent its
     two workers kept computing as orphans."""
     proc = table_run(tmp_path)

@@ -1,5 +1,5 @@
-"""A Dask scheduler that cannot be used is one line naming it, exit status 2, within the timeout
-(issue 26, section 4).  Loopback addresses only: fake listeners, a LocalCluster without
+"""A Dask scheduler that cannot be used is one line naming it, exit status 2, within the timeout.
+Loopback addresses only: fake listeners, a LocalCluster without
 workers, a scheduler killed mid-run."""
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from symkf.run.sweep import sweep
 
 pytest.importorskip("distributed")
 
-#: the timeout of these tests (the default, 20 s, is what the issue measured against)
+#: the timeout of these tests (the default is 20 s)
 TIMEOUT = 1
 FAMILY_TEXT = '[family]\n[grid]\na = ["2", "3"]\n[system]\nA = [["a"]]\n[[sensors]]\nC = [["1"]]\n'
 
