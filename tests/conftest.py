@@ -17,8 +17,13 @@ from __future__ import annotations
 
 import importlib
 import os
+import resource
 import signal
+import sys
+import tempfile
+import time
 import traceback
+from pathlib import Path
 
 import pytest
 import sympy
@@ -37,10 +42,139 @@ settings.register_profile("ci", derandomize=True, database=None, deadline=None, 
 settings.register_profile("dev", deadline=None, print_blob=True)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE") or ("ci" if os.environ.get("CI") else "dev"))
 
+#: the repository (tests that read README.md, docs/, examples/, proofs/ or pyproject.toml, or run
+#: ``python -m symkf`` from the source tree, import it from here: ``from conftest import ROOT``)
+ROOT = Path(__file__).resolve().parent.parent
+
+
 def rotation(angle, scale=2) -> sympy.Matrix:
     """``scale R(angle)``: the rotation blocks the tests build their systems from."""
     c, s = sympy.cos(angle), sympy.sin(angle)
     return scale * sympy.Matrix([[c, -s], [s, c]])
+
+
+def stacked_rotations(orders, rows):
+    """``diag(2R(2 pi/q) for q in orders)`` watched by one sensor per row (``s1``, ``s2``, ...):
+    rotations of one modulus from different cyclotomic fields, one eigen-block over their compositum."""
+    import symkf as sk
+    return sk.System(A=sympy.diag(*(rotation(2 * sympy.pi / q) for q in orders)),
+                     sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)])
+
+
+# -- processes: the interrupt, writer and output tests watch the processes they start -------------
+
+def wait_for(condition, timeout: float, what: str) -> None:
+    """Poll ``condition()`` until it holds; fail the test naming ``what`` after ``timeout`` seconds."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            pytest.fail(f"timed out after {timeout} s waiting for {what}")
+        time.sleep(0.05)
+
+
+def cpu_seconds(pid: int) -> float:
+    """The CPU time (user + system) process ``pid`` has used, 0 once it is gone (from /proc)."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rpartition(")")[2].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+# -- hard limits: heavy and hostile input runs in a forked child under a CPU and a memory limit ----
+
+#: CPU seconds and extra address space (over the parent's) of one case: a hang, not slow work
+#: (the entries cos(pi/517) and sin(-14 pi/3619) = -sin(2 pi/517), degree-230 algebraic numbers,
+#: took 33 and 60 CPU-s on a 2.0 GHz Zen 1 core in isolating the roots of their margins'
+#: polynomials; recognised as images of 2 cos(2 pi/517) they take 1.3 and 2.1 CPU-s on a Zen 5)
+CPU_SECONDS = 120
+EXTRA_MEMORY = 1536 * 1024 ** 2
+
+
+def _vm_size() -> int:
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith("VmSize:"):
+            return int(line.split()[1]) * 1024
+    return 0
+
+
+def limited(fn, *args) -> tuple[int, str]:
+    """Run ``fn(*args)`` (returning an exit status) in a forked child under the limits; returns
+    (exit status, stderr).  A child killed by a signal (SIGXCPU, SIGKILL, SIGSEGV) is -signal.
+    A regression that hangs or allocates gigabytes fails its test instead of taking the machine
+    down (tests/test_resource_limits.py::test_the_limits_are_real checks the harness itself)."""
+    memory = _vm_size() + EXTRA_MEMORY
+    with tempfile.TemporaryFile() as err:
+        pid = os.fork()
+        if pid == 0:  # the child: never returns into pytest
+            status = 99
+            try:
+                resource.setrlimit(resource.RLIMIT_CPU, (CPU_SECONDS, CPU_SECONDS))
+                resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
+                os.dup2(err.fileno(), 2)
+                devnull = os.open(os.devnull, os.O_WRONLY)
+                os.dup2(devnull, 1)
+                sys.stdout, sys.stderr = open(1, "w", closefd=False), open(2, "w", closefd=False)
+                status = fn(*args)
+            except BaseException as exc:  # noqa: BLE001 - reported through the status
+                print(f"Traceback-free report: {type(exc).__name__}: {exc}", file=sys.stderr)
+                status = 98
+            finally:
+                sys.stderr.flush()
+                os._exit(status)
+        _, wait = os.waitpid(pid, 0)
+        err.seek(0)
+        text = err.read().decode(errors="replace")
+    code = os.waitstatus_to_exitcode(wait)
+    return code, text
+
+
+def library(call) -> int:
+    """0 when ``call()`` returns, 2 or 3 for symkf's own errors, 70 for anything else."""
+    import symkf as sk
+    try:
+        call()
+    except sk.SymkfError as exc:
+        return exc.exit_status
+    except Exception as exc:  # noqa: BLE001
+        print(f"untranslated {type(exc).__name__}: {exc}", file=sys.stderr)
+        return 70
+    return 0
+
+
+def system_file(tmp: Path, entry: str, loss: str = "1/2", name: str = "s.toml") -> Path:
+    """A system file of one state ``A = [[entry]]``, one sensor and the i.i.d. ``loss``."""
+    path = tmp / name
+    path.write_text(f'[system]\nA = [["{entry}"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "iid"\nloss = ["{loss}"]\n')
+    return path
+
+
+# -- the fusion set-ups of tests/fusion (arXiv:2012.04896), built once per run --------------------
+
+#: a 3-state plant, stable but for 11/10, each sensor seeing part of it
+FUSION_A3 = [["11/10", "1/5", 0], [0, "9/10", 0], [0, 0, "1/2"]]
+
+
+def small_fusion_model(arrival=("1/2", "3/5", "4/5")):
+    """Three sensors on ``FUSION_A3`` (observable dimensions 2, 1, 2) with the i.i.d. ``arrival`` rates."""
+    from symkf import Sensor
+    from symkf.fusion import FusionModel
+    sensors = [Sensor([[1, 0, 0]], name="a"), Sensor([[0, 0, 1]], [[2]], name="b"), Sensor([[0, 1, 1]], name="c")]
+    return FusionModel.discrete(FUSION_A3, [[1, 0, 0], [0, 1, 0], [0, 0, 1]], sensors, list(arrival))
+
+
+@pytest.fixture(scope="session")
+def small_fusion():
+    """The local filters of :func:`small_fusion_model`."""
+    from symkf.fusion import local_filters
+    return local_filters(small_fusion_model())
+
+
+@pytest.fixture(scope="session")
+def pendulum_fusion():
+    """The local filters of the inverted pendulum of the paper's Section 4 (ten sensors)."""
+    from symkf.fusion import local_filters, pendulum_model
+    return local_filters(pendulum_model())
 
 
 #: the module (``sympy.core.sympify`` as an attribute is the function)
@@ -98,10 +232,10 @@ def dask_cluster():
 
 #: the longest tests (a minute or more each on a 2-core runner) start first: with ``pytest -n auto``
 #: a long test collected last (test_wheel.py sorts last) leaves the other workers idle at the end
-LONGEST = ("test_wheel.py::test_readme_and_docs_run_verbatim", "test_fusion.py::test_reproduce_full",
-           "test_sizes.py::test_sqrt2_matrix_analyze", "test_payload_walk.py::test_walk_full",
-           "test_bounds.py::test_no_row_violated", "test_limits.py::test_fuzz_under_limits_long",
-           "test_second_order.py::test_full_family", "test_writer.py::test_two_runs_writing")
+LONGEST = ("test_wheel.py::test_readme_and_docs_run_verbatim", "test_pendulum.py::test_reproduce_full",
+           "test_spectral.py::test_sqrt2_matrix_analyze", "test_payload_walk.py::test_walk_full",
+           "test_atlas.py::test_no_row_violated", "test_resource_limits.py::test_fuzz_under_limits_long",
+           "test_second_order.py::test_full_family", "test_output.py::test_two_runs_writing")
 
 
 def pytest_collection_modifyitems(items):

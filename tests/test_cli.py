@@ -1,24 +1,26 @@
-"""The ``symkf`` command: critical, verify, simulate, reproduce, exit statuses, progress."""
+"""The ``symkf`` command (symkf.cli): critical, verify, simulate, reproduce, table, analyze; usage
+errors in one line, help, output in words for people."""
 
 from __future__ import annotations
 
 import importlib
 import json
 import os
+import re
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+import sympy as sp
 
+import symkf as sk
 from symkf import cli, examples
 from symkf.io import files
 from symkf.numeric.montecarlo import exact_mean_trace
-from symkf.run.progress import progress
 
-ROOT = Path(__file__).resolve().parent.parent
 SYSTEMS = examples.directory() / "systems"
-DESIGN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], loss 1/20: eps_c = 1/16
+QUARTER_TURN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], loss 1/20: eps_c = 1/16
 GE = SYSTEMS / "ge-two-sensors.toml"
 #: simulation seed of the verify tests; checked with SYMKF_TEST_SEED = 0..19 before landing
 SEED = 3 * int(os.environ.get("SYMKF_TEST_SEED", "0"))
@@ -33,12 +35,12 @@ def run(capsys, *argv: str) -> tuple[int, str, str]:
 def with_loss(tmp_path: Path, loss: str) -> Path:
     """design-rotation.toml with its i.i.d. loss replaced."""
     path = tmp_path / "rotation.toml"
-    path.write_text(DESIGN.read_text().replace('loss = ["1/20"]', f'loss = ["{loss}"]'))
+    path.write_text(QUARTER_TURN.read_text().replace('loss = ["1/20"]', f'loss = ["{loss}"]'))
     return path
 
 
 def test_critical_json_exact(capsys):
-    status, out, err = run(capsys, "critical", DESIGN, "--json", "--digits", "8")
+    status, out, err = run(capsys, "critical", QUARTER_TURN, "--json", "--digits", "8")
     assert status == 0 and err == ""
     c = json.loads(out)["critical_loss_rate"]
     assert c["exact"] == "1/16" and c["decimal"].startswith("0.0625")
@@ -47,12 +49,12 @@ def test_critical_json_exact(capsys):
 @pytest.mark.parametrize("vary, message", [("recovery", "gilbert-elliott"), ("sensor", "sensor=NAME"),
                                            ("bogus", "expected common")])
 def test_critical_bad_vary(capsys, vary, message):
-    status, out, err = run(capsys, "critical", DESIGN, "--vary", vary)
+    status, out, err = run(capsys, "critical", QUARTER_TURN, "--vary", vary)
     assert status == 2 and out == "" and message in err and err.count("\n") == 1
 
 
 def test_verify_stable_agrees(capsys):
-    status, out, err = run(capsys, "verify", DESIGN, "--json", "--paths", "5000", "--seed", SEED + 3)
+    status, out, err = run(capsys, "verify", QUARTER_TURN, "--json", "--paths", "5000", "--seed", SEED + 3)
     assert status == 0
     rep = json.loads(out)
     assert rep["theory"]["stable"] is True
@@ -90,7 +92,7 @@ def test_verify_long_bursts_do_not_break_down(capsys, tmp_path):
 
 
 def test_verify_plain_text(capsys):
-    status, out, _ = run(capsys, "verify", DESIGN, "--paths", "8000", "--seed", SEED)
+    status, out, _ = run(capsys, "verify", QUARTER_TURN, "--paths", "8000", "--seed", SEED)
     assert status == 0 and "theory:     stable" in out and "CONSISTENT" in out and f"seeds {[SEED, SEED + 1, SEED + 2]}" in out
 
 
@@ -113,9 +115,9 @@ def test_verify_disagreement_has_its_own_status(capsys, monkeypatch):
                 "rate_interval": [1.4, 1.6], "growth": 1.5, "growth_interval": [1.4, 1.6], "confidence": 0.99,
                 "tolerance": 0.01, "paths": 1, "horizons": [40, 80, 120], "seeds": [0, 1, 2]}
     monkeypatch.setattr(verify, "simulated_verdict", contrary)
-    status, out, _ = run(capsys, "verify", DESIGN, "--json")
+    status, out, _ = run(capsys, "verify", QUARTER_TURN, "--json")
     assert status == 1 and json.loads(out)["outcome"] == "contradiction"
-    status, out, _ = run(capsys, "verify", DESIGN)
+    status, out, _ = run(capsys, "verify", QUARTER_TURN)
     assert status == 1 and "CONTRADICTION" in out
 
 
@@ -126,10 +128,10 @@ def test_verify_needs_loss(capsys):
 
 def test_simulate_matches_exact_enumeration(capsys):
     # E[tr P_{k|k-1}] for k < 7 by enumerating all 2^6 receival sequences
-    status, out, _ = run(capsys, "simulate", DESIGN, "--horizon", "7", "--paths", "20000", "--json")
+    status, out, _ = run(capsys, "simulate", QUARTER_TURN, "--horizon", "7", "--paths", "20000", "--json")
     res = json.loads(out)
     assert status == 0 and res["paths"] == 20000 and res["seed"] == 0 and len(res["mean"]) == 7
-    system, loss = files.load(DESIGN)
+    system, loss = files.load(QUARTER_TURN)
     exact = exact_mean_trace(system, loss, 7)
     mean, high = np.array(res["mean"]), np.array(res["high"])
     stderr = (high - mean) / 1.959963984540054
@@ -139,22 +141,22 @@ def test_simulate_matches_exact_enumeration(capsys):
 
 def test_simulate_plot(capsys, tmp_path):
     png = tmp_path / "trace.png"
-    status, out, _ = run(capsys, "simulate", DESIGN, "--horizon", "20", "--paths", "500", "--plot", png)
+    status, out, _ = run(capsys, "simulate", QUARTER_TURN, "--horizon", "20", "--paths", "500", "--plot", png)
     assert status == 0 and "figure written" in out
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
 
 
 def test_simulate_plot_without_matplotlib(capsys, tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)       # import matplotlib -> ImportError
-    status, out, err = run(capsys, "simulate", DESIGN, "--horizon", "5", "--paths", "10",
+    status, out, err = run(capsys, "simulate", QUARTER_TURN, "--horizon", "5", "--paths", "10",
                            "--plot", tmp_path / "x.png")
     assert status == 2 and out == "" and "symkf[plot]" in err and err.count("\n") == 1
     assert not (tmp_path / "x.png").exists()
 
 
-@pytest.mark.parametrize("argv", [["simulate", DESIGN, "--paths", "5"], ["simulate", DESIGN, "--horizon", "0",
-                                  "--paths", "5"], ["verify", DESIGN, "--seed", "-1"], ["nope"],
-                                  ["critical", DESIGN, "--digits", "x"], ["reproduce"]])
+@pytest.mark.parametrize("argv", [["simulate", QUARTER_TURN, "--paths", "5"], ["simulate", QUARTER_TURN, "--horizon", "0",
+                                  "--paths", "5"], ["verify", QUARTER_TURN, "--seed", "-1"], ["nope"],
+                                  ["critical", QUARTER_TURN, "--digits", "x"], ["reproduce"]])
 def test_usage_errors_one_line(capsys, argv):
     status, out, err = run(capsys, *argv)
     assert status == 2 and out == "" and err.count("\n") == 1 and "Traceback" not in err
@@ -196,7 +198,7 @@ def test_reproduce_unknown(capsys):
 
 
 def test_toml_decimals_are_exact_without_notes(capsys, tmp_path):
-    """TOML decimals are read from the file's text (issue 15): -2.0 is -2 and 0.05 is 1/20 exactly,
+    """TOML decimals are read from the file's text : -2.0 is -2 and 0.05 is 1/20 exactly,
     with or without the old ``rationalize = true``, and nothing needs a note."""
     for head in ("", "rationalize = true\n"):
         path = tmp_path / "r.toml"
@@ -206,25 +208,8 @@ def test_toml_decimals_are_exact_without_notes(capsys, tmp_path):
         assert status == 0 and json.loads(out)["critical_loss_rate"]["exact"] == "1/16" and err == ""
 
 
-def test_progress_only_on_a_terminal(monkeypatch):
-    assert progress(3, "x").disable                       # pytest's stderr is not a terminal
-
-    class Terminal:
-        def isatty(self):
-            return True
-
-        def write(self, s):
-            return len(s)
-
-        def flush(self):
-            pass
-    monkeypatch.setattr(sys, "stderr", Terminal())
-    assert not progress(3, "x").disable
-    assert progress(3, "x", enabled=False).disable
-
-
 def test_verify_is_quiet_off_terminal(capsys):
-    status, _, err = run(capsys, "verify", DESIGN, "--paths", "1000")
+    status, _, err = run(capsys, "verify", QUARTER_TURN, "--paths", "1000")
     assert status == 0 and err == ""
 
 
@@ -250,16 +235,9 @@ def test_table_command_writes_latex_and_json(capsys, tmp_path):
     assert cells == [["1/16", "1/4"], ["1/8", "sqrt(2)/4"]]
 
 
-def test_yang_example1_file_matches_the_reproduction_data():
-    from symkf.capacity.example1 import example1_system
-    S, loss = files.load(SYSTEMS / "yang-example1.toml")
-    S2, loss2 = example1_system()
-    assert (S.A, S.C, S.Q, loss.loss) == (S2.A, S2.C, S2.Q, loss2.loss)
-
-
 def test_closed_pipe_is_not_a_traceback():
     import subprocess
-    proc = subprocess.run(f"{sys.executable} -m symkf critical {DESIGN} --json | head -c 1", shell=True,
+    proc = subprocess.run(f"{sys.executable} -m symkf critical {QUARTER_TURN} --json | head -c 1", shell=True,
                           capture_output=True, text=True, timeout=120)
     assert proc.stdout == "{" and "Traceback" not in proc.stderr
 
@@ -270,3 +248,91 @@ def test_analyze_prints_margins_beyond_the_float_range(tmp_path, capsys):
     path.write_text('[system]\nA = [["1E200"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "iid"\nloss = ["1/2"]\n')
     assert cli.main(["analyze", str(path)]) == 0
     assert "in [5.00000E+399, 5.00000E+399]" in capsys.readouterr().out
+
+
+@pytest.fixture
+def family(tmp_path):
+    """A small family (two members, a fraction of a second); its LaTeX table is about 1 kB."""
+    path = tmp_path / "fam.toml"
+    path.write_text('[family]\n[grid]\na = ["2", "3"]\n[system]\nA = [["a", "0"], ["0", "a/2"]]\n'
+                    '[[sensors]]\nC = [["1", "1"]]\n')
+    return path
+
+
+def test_jobs_capped_at_the_cpu_count(capsys, monkeypatch, family):
+    seen = {}
+    import symkf.reports.tables as tables
+    monkeypatch.setattr(tables, "family_table", lambda path, jobs, scheduler: seen.setdefault("jobs", jobs) and 1/0)
+    run(capsys, "table", family, "--jobs", "1000")
+    assert seen["jobs"] == len(os.sched_getaffinity(0))
+    seen.clear()
+    run(capsys, "table", family, "--jobs", "1000", "--oversubscribe")
+    assert seen["jobs"] == 1000
+
+
+def test_bare_command_prints_usage_and_help_names_json(capsys):
+    status, out, _ = run(capsys)
+    assert status == 2 and out.startswith("usage: symkf") and "--json" in out and "examples" in out
+    assert cli.main(["analyze", "--help"]) == 0
+    assert cli.FILE_HELP in " ".join(capsys.readouterr().out.split())
+
+
+# -- reports in words for people -----------------------------------------------------------------
+
+#: a JSON object or a Python repr of a list/tuple/string in text meant for people
+REPR = re.compile(r"""\{\s*["']|\[\s*\(|\[\s*['"]|\(\s*['"]|\[\s*\[\s*['"]""")
+
+
+def _readable(text: str) -> list[str]:
+    """The lines of ``text`` that carry a repr or exceed 120 characters without a long number."""
+    return [line for line in text.splitlines()
+            if REPR.search(line) or (len(line) > 120 and not re.search(r"\d{30}", line))]
+
+
+def test_text_output_is_words(capsys):
+    commands = [["demo"], ["analyze", "aperiodic-rotation"], ["analyze", "ge-two-sensors"],
+                ["analyze", "quevedo-semi-markov-network"], ["critical", "rotation-pi12-four-sensors"],
+                ["examples"], ["reproduce", "sui-theorem12", "--quick"], ["reproduce", "--list"],
+                ["simulate", "ge-two-sensors", "--horizon", "12", "--paths", "60"],
+                ["verify", "design-rotation", "--paths", "300", "--horizon", "16"]]
+    for argv in commands:
+        status, out, err = run(capsys, *argv, "--quiet")
+        assert status == 0, (argv, err)
+        assert _readable(out) == [], argv
+    assert _readable("ok\n{\"modulus\": \"2\"}\nonly [('s1', 0)] received\n" + "x" * 121) == [
+        "{\"modulus\": \"2\"}", "only [('s1', 0)] received", "x" * 121]
+
+
+def test_a_high_degree_modulus_is_shown_by_its_decimal_and_degree(capsys, tmp_path):
+    """``A = cos(pi/211)``: the modulus's minimal polynomial has degree 105 and 40-digit
+    coefficients; the report names the degree and where the exact data is instead of printing it,
+    and the margin is exact: ``cos(pi/211)^2 * 1/2`` (no packet received, loss 1/2)."""
+    path = tmp_path / "s.toml"
+    path.write_text('[system]\nA = [["cos(pi/211)"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "iid"\nloss = ["1/2"]\n')
+    status, out, _ = run(capsys, "analyze", path, "--quiet")
+    assert status == 0 and _readable(out) == [] and max(map(len, out.splitlines())) < 300, out
+    assert "a root of a degree-105 polynomial" in out and "0.9998891599" in out
+    status, out, _ = run(capsys, "analyze", path, "--json")
+    doc = json.loads(out)
+    assert doc["blocks"][0]["modulus_degree"] == 105 and len(doc["blocks"][0]["modulus"]) > 4000
+    S, loss = files.load(path)
+    m = sk.stability(S, loss).margins[0]
+    lo, hi = map(sp.Rational, m.refine(sp.Rational(1, 10 ** 30)).interval)
+    value = sp.cos(sp.pi / 211) ** 2 / 2
+    assert m.minpoly.degree() == 105 and sp.N(value - lo, 20) >= 0 and sp.N(hi - value, 20) >= 0 and hi - lo < 1e-30
+
+
+EXAMPLES = examples.directory() / "systems"
+
+
+def test_analyze_reports_set_aside_modes(capsys):
+    import json
+
+    from symkf import cli
+    assert cli.main(["analyze", "--json", str(EXAMPLES / "detectable.toml")]) == 0
+    res = json.loads(capsys.readouterr().out)
+    (aside,) = res["set_aside"]
+    assert aside["eigenvalues"] == ["1/2"] and "Jordan chains" in aside["reason"]
+    assert [b["jordan_chains"] for b in res["blocks"]] == [False, True]
+    assert cli.main(["analyze", str(EXAMPLES / "detectable.toml")]) == 0
+    assert "set aside: 1/2 (eigenvalue(s) 1/2 with Jordan chains" in capsys.readouterr().out

@@ -1,5 +1,7 @@
 """Documentation: the API reference covers the public API, the file-format page is complete and
-its snippets load, the CLI and JSON pages match the program, every relative link resolves.
+its snippets load, the CLI and JSON pages match the program, every relative link resolves, the
+site loads no asset from another host, and papers are cited by authors and title, never by
+internal file names.
 
 The site itself is built by ``.ci/run`` (``sphinx -W``: warnings are errors, the tutorial notebook
 executed)."""
@@ -13,16 +15,18 @@ import subprocess
 import sys
 import tomllib
 from pathlib import Path
+from types import SimpleNamespace
 from urllib.parse import unquote
 
 import pytest
 
-from symkf.model.codec import loss_kinds
 import symkf
 from symkf import cli, examples
 from symkf.io import families, files
+from symkf.model.codec import loss_kinds
 
-ROOT = Path(__file__).resolve().parent.parent
+from conftest import ROOT
+
 DOCS = ROOT / "docs"
 PAGES = [ROOT / "README.md", *sorted(DOCS.glob("*.md"))]
 
@@ -182,3 +186,33 @@ def test_docs_build_offline_with_math(tmp_path):
     assert 'src="_static/mathjax/tex-chtml.js"' in tutorial and (out / "_static/mathjax/tex-chtml.js").is_file()
     assert tutorial.count("math notranslate nohighlight") >= 4   # the LaTeX results, for MathJax
     assert "IProgress" not in tutorial and "TQDM_DISABLE" not in tutorial
+
+
+def test_offline_check_finds_assets_from_other_hosts(tmp_path):
+    sys.path.insert(0, str(ROOT / "docs"))
+    try:
+        from offline import _check, external_assets
+    finally:
+        sys.path.remove(str(ROOT / "docs"))
+    (tmp_path / "a.html").write_text('<script src="_static/mathjax/tex-chtml.js"></script>'
+                                     '<link rel="stylesheet" href="_static/x.css"><a href="https://x.org">x</a>')
+    assert external_assets(tmp_path) == []
+    (tmp_path / "b.html").write_text('<script defer src="https://cdn.jsdelivr.net/npm/mathjax@3/es5/tex.js">'
+                                     '</script><link rel="stylesheet" href="//fonts.example/f.css">')
+    assert external_assets(tmp_path) == ["b.html: https://cdn.jsdelivr.net/npm/mathjax@3/es5/tex.js",
+                                         "b.html: //fonts.example/f.css"]
+    app = SimpleNamespace(builder=SimpleNamespace(format="html"), outdir=str(tmp_path))
+    with pytest.raises(RuntimeError, match="b.html: https://cdn.jsdelivr.net"):   # the build fails
+        _check(app, None)
+
+
+def test_no_internal_words_reach_users():
+    # papers are cited by authors and title; the file names of the papers and of the project's
+    # internal notes never reach users
+    internal = re.compile(r"[Ss]eed 00\d|seeds/|DESIGN\.md|DESIGN example|DESIGN rotation")
+    files = [p for p in [*(ROOT / "symkf").rglob("*"), *(ROOT / "docs").glob("*.md"), *(ROOT / "examples").glob("*"),
+                         *(ROOT / "proofs").glob("*"), ROOT / "README.md"]
+             if p.is_file() and p.suffix in (".py", ".md", ".toml")]
+    found = [f"{p.relative_to(ROOT)}:{i}" for p in files
+             for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if internal.search(line)]
+    assert found == []

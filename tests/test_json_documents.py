@@ -1,5 +1,6 @@
-"""One name per concept in code and JSON (issue 15, item 3): tau and governing_period, schema_version,
-losses as structured objects."""
+"""The JSON documents of the command line: one name per concept (tau, governing_period and
+class_period, never a bare "period"), schema_version in every document, losses as structured
+objects, and errors as JSON on stdout too."""
 
 from __future__ import annotations
 
@@ -8,12 +9,10 @@ from typing import Any
 
 import pytest
 
-import symkf as sk
 from symkf import cli, examples
-from symkf.exact.spectral import eigen_blocks
 
 SYSTEMS = examples.directory() / "systems"
-DESIGN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], i.i.d. loss 1/20
+QUARTER_TURN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0], i.i.d. loss 1/20
 GE = SYSTEMS / "ge-two-sensors.toml"
 MARKOV = SYSTEMS / "network" / "markov-shared-channel.toml"
 
@@ -34,28 +33,15 @@ def keys(doc: Any) -> set[str]:
     return set()
 
 
-def test_eigen_block_tau_and_governing_period() -> None:
-    # A = 2 R(pi/2): eigenvalues +-2i, lambda/|lambda| = i has order 4 (tau = 4); A^2 = -4 I (g = 2)
-    [block] = eigen_blocks(sk.System([[0, -2], [2, 0]], [sk.Sensor([[1, 0]])]).A)
-    assert (block.tau, block.period, block.governing_period) == (4, 4, 2)
-    assert "tau=4, governing_period=2" in repr(block)
-
-
 def test_analyze_json_has_one_name_per_period(capsys) -> None:
-    """The issue's report: blocks[0].period = 4 next to certificate[0].period = 2."""
-    doc = json_of(capsys, "analyze", DESIGN)
+    """One name per period: the document once had blocks[0].period = 4 (tau) next to
+    certificate[0].period = 2 (the class period)."""
+    doc = json_of(capsys, "analyze", QUARTER_TURN)
     assert doc["schema_version"] == cli.SCHEMA_VERSION == 1
     assert "period" not in keys(doc)
     assert (doc["blocks"][0]["tau"], doc["blocks"][0]["governing_period"]) == (4, 2)
     assert doc["verdict"]["certificate"][0]["class_period"] == 2  # one class: the governing period
     assert doc["loss"] == {"kind": "iid", "loss": ["1/20"]}
-
-
-def test_certificate_and_verdict_text_use_the_class_period() -> None:
-    S = sk.System([[0, -2], [2, 0]], [sk.Sensor([[1, 0]])])
-    v = sk.stability(S, sk.IID(["1/20"]))
-    assert v.certificate[0].class_period == 2 and not hasattr(v.certificate[0], "period")
-    assert "class period g = 2" in str(v) and "alpha^4 * rho^2" in str(v)
 
 
 def test_losses_are_structured_objects(capsys) -> None:
@@ -70,8 +56,28 @@ def test_losses_are_structured_objects(capsys) -> None:
     assert all(len(v) == 2 for v in chain["emit"])
 
 
-@pytest.mark.parametrize("argv", [("demo",), ("critical", DESIGN), ("reproduce", "--list")])
+@pytest.mark.parametrize("argv", [("demo",), ("critical", QUARTER_TURN), ("reproduce", "--list")])
 def test_every_document_carries_schema_version(capsys, argv) -> None:
     doc = json_of(capsys, *argv)
     assert doc["schema_version"] == cli.SCHEMA_VERSION
     assert "period" not in keys(doc)
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    status = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_json_errors_go_to_stdout_too(capsys, tmp_path):
+    status, out, err = run(capsys, "analyze", tmp_path / "missing.toml", "--json")
+    doc = json.loads(out)
+    assert status == 2 and doc["error"]["type"] == "UsageError" and doc["error"]["exit_status"] == 2
+    assert doc["schema_version"] == cli.SCHEMA_VERSION and err.count("\n") == 1
+    unseen = tmp_path / "unseen.toml"   # the mode 3 is unstable and no sensor sees it
+    unseen.write_text('[system]\nA = [["2", "0"], ["0", "3"]]\n[[sensors]]\nC = [["1", "0"]]\n'
+                      '[loss]\nkind = "iid"\nloss = ["1/10"]\n')
+    status, out, _ = run(capsys, "analyze", unseen, "--json")
+    assert status == 3 and json.loads(out)["error"]["exit_status"] == 3
+    status, out, err = run(capsys, "simulate", unseen, "--paths", "5", "--json")    # no --horizon
+    assert status == 2 and json.loads(out)["error"]["message"] == err.strip() and "--horizon" in err

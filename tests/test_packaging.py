@@ -1,5 +1,7 @@
-"""Packaging: lazy imports keep the public API, example data ship in the package, the README's
-set-up commands are the ones CI runs, --version / --quiet, optional extras name themselves."""
+"""Packaging: a lean core install (the convex solvers and scipy are extras, the exact engine,
+verify and simulate run without them), lazy imports that keep the public API and dir() to it,
+example data shipped in the package, the README's set-up commands the ones CI runs, --version /
+--quiet, optional extras that name their install command."""
 
 from __future__ import annotations
 
@@ -9,13 +11,15 @@ import sys
 import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import symkf
+import symkf as sk
 from symkf import cli, examples
 from symkf.errors import ExtraNotInstalledError, InputError
 
-ROOT = Path(__file__).resolve().parent.parent
+from conftest import ROOT
 
 
 def _python(code: str) -> str:
@@ -109,3 +113,56 @@ def test_strategies_without_hypothesis_name_the_extra(monkeypatch):
     with pytest.raises(ExtraNotInstalledError, match=r"symkf.model.strategies needs hypothesis: pip install "
                                                      r"'symkf\[strategies\]'"):
         import symkf.model.strategies  # noqa: F401
+
+
+def test_core_dependencies_leave_the_convex_solvers_to_extras():
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    core = {re.split(r"[<>=!~\[ ]", r)[0] for r in project["dependencies"]}
+    assert not core & {"scipy", "cvxpy", "clarabel", "scs"}
+    extras = project["optional-dependencies"]
+    assert {re.split(r"[<>=]", r)[0] for r in extras["sdp"]} == {"cvxpy", "clarabel", "scipy"}
+    assert "symkf[fusion,sdp]" in extras["test"] and "symkf[fusion,sdp]" in extras["docs"]
+
+
+BLOCKER = """
+import importlib.abc, sys
+class Block(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path, target=None):
+        if name.split('.')[0] in ('scipy', 'cvxpy', 'clarabel'):
+            raise ImportError(f'blocked: {name}')
+sys.meta_path.insert(0, Block())
+from symkf import cli
+for argv in (['critical', 'design-rotation', '--json'], ['simulate', 'design-rotation', '--horizon', '10',
+             '--paths', '50', '--json'], ['verify', 'design-rotation', '--paths', '300', '--horizon', '16', '--json']):
+    print(argv[0], cli.main(argv + ['--quiet']))
+"""
+
+
+def test_exact_engine_verify_and_simulate_run_without_scipy_and_cvxpy():
+    run_ = subprocess.run([sys.executable, "-c", BLOCKER], capture_output=True, text=True, cwd=ROOT)
+    statuses = [line for line in run_.stdout.splitlines() if re.fullmatch(r"[a-z]+ \d+", line)]
+    assert statuses == ["critical 0", "simulate 0", "verify 0"], run_.stderr
+
+
+QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+
+
+def test_missing_extras_name_the_install_command(monkeypatch):
+    monkeypatch.setitem(sys.modules, "cvxpy", None)
+    from symkf.capacity import mare_stabilizable
+    with pytest.raises(ExtraNotInstalledError, match=r"mare_stabilizable.*pip install 'symkf\[sdp\]'"):
+        mare_stabilizable(QUARTER_TURN, sk.IID(["1/2"]))
+    from symkf.fusion import optimal_weights
+    with pytest.raises(ExtraNotInstalledError, match=r"Problem 2.*pip install 'symkf\[sdp\]'"):
+        optimal_weights(np.eye(2), np.array([[1.0], [1.0]]), method="sdp")
+    monkeypatch.setitem(sys.modules, "scipy", None)
+    for name in [m for m in sys.modules if m.startswith("symkf.fusion")]:
+        monkeypatch.delitem(sys.modules, name)
+    with pytest.raises(ExtraNotInstalledError, match=r"symkf.fusion.*pip install 'symkf\[fusion\]'"):
+        import symkf.fusion  # noqa: F401
+
+
+def test_dir_lists_only_the_public_api():
+    names = dir(sk)
+    assert not {"Any", "TYPE_CHECKING", "sys", "importlib", "types"} & set(names)
+    assert {"verify", "simulate", "Verification", "Simulation", "System", "__version__"} <= set(names)

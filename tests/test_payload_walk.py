@@ -1,4 +1,4 @@
-"""The payload walk (issue 26): every public callable of symkf, every parameter, ten input forms.
+"""The payload walk: every public callable of symkf, every parameter, ten input forms.
 
 Each call passes a payload that would create the file ``MARK`` (in a temporary directory) if
 any part of it were evaluated as Python, in one of :data:`FORMS` (a bare string, containers of
@@ -351,7 +351,7 @@ def test_guard_refuses_string_evaluation():
 
 
 def _confirmed_holes(p: str) -> dict[str, Callable[[], Any]]:
-    """The calls of issue 26 that created the marker file on main, each with its form."""
+    """The calls that created the marker file before the walk found them, each with its form."""
     from symkf import control
     from symkf.model import system as model, strategies
     from symkf.engine import oracle, region

@@ -5,8 +5,9 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
-PROOFS = sorted(p for p in (Path(__file__).parent.parent / "proofs").glob("*.py"))
+PROOFS = sorted(p for p in (ROOT / "proofs").glob("*.py"))
 #: proofs over exhaustive families that take tens of seconds: the ``full`` tier
 FULL = {"quevedo_theorem1_sufficient_vs_exact"}
 

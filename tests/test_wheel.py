@@ -9,11 +9,10 @@ import re
 import subprocess
 import sys
 import venv
-from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
 #: the extras the docs' commands need: figures (--plot) and the fusion example's SDP baseline
 EXTRAS = "plot,fusion,sdp"
 

@@ -9,7 +9,7 @@ The printed form is the right one: ``E[Gamma X Gamma] = Lambda (W o X) Lambda``
 because ``E[gamma_i gamma_j] = lambda_i lambda_j`` off the diagonal blocks and
 ``lambda_i = lambda_i^2 (1 + 1/q_i)`` on them; minimising the expected
 ``Phi(L, X, Gamma)`` of Theorem 3's proof over ``K = L Lambda`` gives eq. 18
-(checked in tests/test_capacity.py by enumeration of Gamma).  Since ``W`` is
+(checked in tests/capacity/test_mare.py by enumeration of Gamma).  Since ``W`` is
 constant on each sensor block and ``R^{-1/2}`` is block diagonal,
 ``W o (H X H' + I) = R^{-1/2} (W o (C X C' + R)) R^{-1/2}``, so
 

@@ -101,8 +101,6 @@ def capacity_exceeds(loss: LossModel, x: Any) -> bool:
     return AlgebraicNumber.from_expr(e2c) > AlgebraicNumber.from_expr(x.exact ** 2)
 
 
-
-
 def mahler_measure(A: Any) -> AlgebraicNumber:
     """The Mahler measure ``M(A) = prod max(1, |lambda_i(A)|)`` with multiplicity (Section III-D), exact.
 

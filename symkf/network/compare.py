@@ -199,7 +199,7 @@ def _r(s: str) -> sp.Rational:
     return sp.Rational(s)
 
 
-#: The family of the table in docs/quevedo.md (hand-derived values in tests/test_network_compare.py).
+#: The family of the table in docs/quevedo.md (hand-derived values in tests/network/test_network_compare.py).
 FAMILY: tuple[NetworkExample, ...] = (
     NetworkExample("iid-scalar", "Sec. VI, |B| = 1 (i.i.d. dropouts)", "phi_{1|1}",
                    [[2]], [[[1]]], [0], [[1]], [[t]]),

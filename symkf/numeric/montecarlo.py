@@ -147,7 +147,7 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     rows; the traces ``8 paths K`` kept whole (resident as far as the chunks up to the current one
     filled them) and the standard deviation's copy of them; per path results ``72 paths`` for
     bursts.  Checked against measured peak RSS in
-    ``tests/test_memory_estimate.py``.
+    ``tests/numeric/test_memory_estimate.py``.
     """
     d, K = system.d, horizon
     if components is None:

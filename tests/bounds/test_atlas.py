@@ -1,0 +1,245 @@
+"""The atlas (symkf.bounds.atlas): each published result's hypotheses and values beside the exact
+stable set, against hand derivations and the exact engine.
+
+Hand-derived values are stated next to each test.  The exhaustive families live in
+proofs/bounds_*.py (run by tests/test_proofs.py, and here in full); hypothesis-drawn systems here."""
+
+import json
+import runpy
+import shutil
+import subprocess
+
+import pytest
+import sympy as sp
+from hypothesis import HealthCheck, given, settings
+
+import symkf as sk
+from symkf import cli, examples
+from symkf.bounds import RESULTS, bounds
+from symkf.bounds.row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE, REFUSED
+from symkf.model.strategies import diagonalizable_systems
+
+from conftest import ROOT
+
+R = sp.Rational
+PROOFS = ROOT / "proofs"
+
+
+def system(A, *rows, single=True):
+    """One sensor holding all ``rows`` (``single``) or one sensor per row."""
+    sensors = [sk.Sensor(C=list(rows))] if single else [sk.Sensor(C=[r]) for r in rows]
+    return sk.System(A=A, sensors=sensors)
+
+
+ROT = [[0, -2], [2, 0]]            # 2 R(pi/2): g = 2
+ROT3 = [[0, -4], [1, -2]]          # eigenvalues 2 e^(+-2 pi i/3): g = 3
+
+
+def rows(atlas):
+    return {r.key: r for r in atlas.rows}
+
+
+def test_nilpotent_a_every_row_answers():
+    # rho(A) = 0: every mode vanishes within n steps, so every loss rate is stable (eps_c = 1);
+    # the rows that need an unstable A do not apply, Quevedo et al.'s holds, and the fusion paper's
+    # Assumption 2, eps rho(A)^2 < 1, holds at every eps (it divided by rho(A)^2 = 0)
+    atlas = bounds(system([[0, 1], [0, 0]], [1, 0]))
+    r = rows(atlas)
+    assert r["fusion-assumption2"].value == 1
+    assert r["quevedo-theorem1"].relation == HOLDS
+    assert all(r[k].relation == NOT_APPLICABLE for k in ("sinopoli-lower", "yang-theorem2", "yang-theorem5"))
+
+
+def test_rotation_quarter_turn_by_hand():
+    # A = 2R(pi/2), C = [1 0]: rows C A^k repeat direction every 2 steps, eps_c = 2^(-4) = 1/16;
+    # Sinopoli's necessary bound 1/4 (gap 3/16); degenerate (rank C T = 1 < 2), p = 2
+    atlas = bounds(system(ROT, [1, 0]), lmi_steps=0)
+    a = rows(atlas)
+    assert atlas.quantity.critical.exact == R(1, 16)
+    assert a["sinopoli-lower"].relation == HOLDS and a["sinopoli-lower"].gap["exact"] == R(3, 16)
+    assert a["mo-sinopoli"].failed.name == "non-degenerate"
+    assert a["mo-sinopoli-degenerate"].relation == EQUAL and a["mo-sinopoli-degenerate"].value.exact == R(1, 16)
+    assert a["you-fu-xie"].relation == EQUAL and a["sui-theorem12"].relation == EQUAL
+    assert a["plarre-bullo"].failed.name == "C_o invertible"
+    assert a["sinopoli-invertible-c"].failed.name == "C invertible"
+    assert a["huang-dey"].failed.name == "Gilbert-Elliott losses"
+    # C(k) = C never has full column rank: nu = 1 and ||A||^2 = 4: Quevedo's set is empty
+    assert a["quevedo-theorem1"].stable == () and a["quevedo-theorem1"].relation == HOLDS
+
+
+def test_invertible_c_all_equal_one_over_rho_squared():
+    # C = I: one-step observable, every closed form gives 1/rho^2 = 1/4
+    a = bounds(system(ROT, [1, 0], [0, 1]), lmi_steps=4)
+    assert a.quantity.critical.exact == R(1, 4)
+    r = rows(a)
+    for key in ("sinopoli-invertible-c", "plarre-bullo", "mo-sinopoli", "you-fu-xie", "sui-theorem12"):
+        assert r[key].relation == EQUAL, key
+    assert r["sinopoli-lower"].relation == EQUAL
+    # Sinopoli's Theorem 3: lambda_min = lambda_max for invertible C: the LMI is feasible just
+    # below 1/4 (4 steps: 15/64) and infeasible at 1/4, so the bound holds with gap <= 1/64
+    lo, hi = r["sinopoli-lmi"].bracket
+    assert (lo, hi) == (R(15, 64), R(1, 4)) and r["sinopoli-lmi"].relation == HOLDS
+    assert r["sinopoli-lmi"].gap["interval"] == (0, R(1, 64))
+    # Quevedo, Corollary 1: eps ||A||^2 < 1 with ||A|| = 2: eps < 1/4, tight here
+    assert r["quevedo-theorem1"].relation == EQUAL
+
+
+def test_distinct_moduli_non_degenerate():
+    # diag(2, 3), C = [1 1]: each equiblock is one eigenvalue seen by C: non-degenerate, eps_c = 1/9;
+    # C_o = C is 1x2 of rank 1 < 2 = n_o: Plarre-Bullo does not apply
+    a = rows(bounds(system([[2, 0], [0, 3]], [1, 1]), lmi_steps=0))
+    assert a["mo-sinopoli"].relation == EQUAL and a["mo-sinopoli"].value.exact == R(1, 9)
+    assert a["plarre-bullo"].failed.name == "C_o invertible"
+    assert a["mo-sinopoli-degenerate"].failed.name == "equal-modulus pair"
+
+
+def test_detectable_stable_mode_plarre_bullo_applies_mo_sinopoli_does_not():
+    # diag(2, 1/2), C = [1 0]: the mode 1/2 is unobservable; C_o = [1] invertible: eps_c = 1/4
+    # (Plarre-Bullo); the equiblock {1/2} has C T = 0, degenerate in Mo-Sinopoli's strict sense
+    a = rows(bounds(system([[2, 0], [0, R(1, 2)]], [1, 0]), lmi_steps=0))
+    assert a["plarre-bullo"].relation == EQUAL and a["plarre-bullo"].value.exact == R(1, 4)
+    assert a["mo-sinopoli"].failed.name == "non-degenerate"
+
+
+def test_scalar_gilbert_elliott_by_hand():
+    # a = 2, C = 1: a loss run continues with probability 1 - q: stable iff 4 (1 - q) < 1, q > 3/4
+    S = system([[2]], [1])
+    a = bounds(S, sk.GilbertElliott(["1/4"], ["1/2"]))
+    assert a.quantity.kind == "gilbert-elliott" and a.quantity.critical.exact == R(3, 4)
+    r = rows(a)
+    for key in ("mo-sinopoli-ge", "huang-dey"):
+        assert r[key].relation == EQUAL, key
+    assert r["you-fu-xie"].failed.name == "second order"
+    # Quevedo Theorem 1: max(f, 1 - q) ||A||^2 < 1 needs f = 1/4 < 1/4: fails, the set is empty
+    assert r["quevedo-theorem1"].stable == () and r["quevedo-theorem1"].relation == HOLDS
+    assert r["sinopoli-lower"].failed.name == "i.i.d. losses"
+    # with f = 1/5: Theorem 1 holds for q > 3/4, the exact set
+    r = rows(bounds(S, sk.GilbertElliott(["1/5"], ["1/2"])))
+    assert r["quevedo-theorem1"].relation == EQUAL
+
+
+def test_you_fu_xie_non_monotone_recovery():
+    # A = (sqrt6/2) R(pi/2), C = [1 0], f = 1/2: r^4 ((1-q)^2 + q/2) < 1 with r^2 = 3/2 gives
+    # q^2 - 3q/2 + 5/9 < 0: 2/3 < q < 5/6 (proofs/sui_engine_ge_recovery_nonmonotone.py)
+    S = system([[0, "-sqrt(6)/2"], ["sqrt(6)/2", 0]], [1, 0])
+    a = bounds(S, sk.GilbertElliott(["1/2"], ["3/4"]))
+    r = rows(a)["you-fu-xie"]
+    assert r.relation == EQUAL and [(lo.exact, hi.exact) for lo, hi in r.stable] == [(R(2, 3), R(5, 6))]
+    assert a.quantity.critical is None
+
+
+def test_multi_sensor_rows():
+    # two sensors: single-sensor results do not apply; the LMI (common rate) and Yang et al. do
+    S = system(ROT, [1, 0], [1, 1], single=False)
+    a = bounds(S, lmi_steps=2)
+    r = rows(a)
+    for key in ("sinopoli-lower", "plarre-bullo", "mo-sinopoli", "mo-sinopoli-degenerate", "you-fu-xie"):
+        assert r[key].failed.name == "one sensor" and r[key].relation == NOT_APPLICABLE, key
+    # Yang Theorem 2: eps^2 rho^2 < 1: eps < 1/2 (d = 2); exact 2^(-4/3) (Sui-You-Fu, g = 2, J = 1)
+    assert r["yang-theorem2"].value.exact == R(1, 2) and r["yang-theorem2"].relation == HOLDS
+    assert r["sui-theorem12"].relation == EQUAL
+    assert r["sinopoli-lmi"].applies and r["sinopoli-lmi"].relation in (HOLDS, INSIDE)
+    # the multi-sensor LMI at the model's own rates (1/20, 1/4), beside the exact verdict: stable, by
+    # hand the decisive pattern receives only s1 at phase 0 of each period g = 2, and
+    # alpha^4 rho^2 = 16 (1/20) (1/4)^2 = 1/20 < 1
+    note = rows(bounds(S, sk.IID(["1/20", "1/4"]), lmi_steps=0))["sinopoli-lmi"].note
+    assert "at the model's rates ['1/20', '1/4']: LMI" in note and "exact verdict stable" in note
+
+
+def test_a_row_refused_by_a_cap_leaves_the_rest_of_the_atlas():
+    # Quevedo et al.'s Pr{r = 1} for two sensors of a 2-state system needs up to 5 (sensor, span)
+    # states: under a cap of 4 that row says so with the cap named, in text, JSON and LaTeX; with
+    # the cap restored it holds as before
+    S = system(ROT, [1, 0], [1, 1], single=False)
+    with sk.budget.limits(max_span_states=4):
+        a = bounds(S, lmi_steps=0)
+    refused = rows(a)["quevedo-theorem1"]
+    assert refused.relation == REFUSED and "max_span_states" in refused.note and refused.value is None
+    assert "not evaluated: " in str(a) and "max_span_states" in str(a)
+    assert json.loads(json.dumps(a.to_json()))["rows"]
+    assert "not evaluated" in a.to_latex()
+    assert rows(a)["sui-theorem12"].relation == EQUAL
+    assert rows(bounds(S, lmi_steps=0))["quevedo-theorem1"].relation == HOLDS
+
+
+def _no_violation(S):
+    # the rows on hypothesis-drawn 3-dim systems, as drawn (two sensors) and stacked into one
+    for T in (S, sk.System(A=S.A, sensors=[sk.Sensor(C=S.C)])):
+        for loss in (None, sk.GilbertElliott(["1/3"], ["1/2"]) if T.d == 1 else None):
+            a = bounds(T, loss, lmi_steps=0)
+            assert not a.violations, [(r.key, r.stable, a.quantity.stable) for r in a.violations]
+
+
+@settings(max_examples=3, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(diagonalizable_systems([("3/2", 2), ("5/4", 1)], sensors=2))
+def test_no_row_violated_on_drawn_systems(S):
+    _no_violation(S)
+
+
+@pytest.mark.full
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(diagonalizable_systems([("3/2", 2), ("5/4", 1), ("1/2", 1)], sensors=2))
+def test_no_row_violated_on_many_drawn_systems(S):
+    _no_violation(S)
+
+
+def test_every_shipped_system_file(capsys):
+    for path in examples.systems():
+        status = cli.main(["bounds", str(path), "--json", "--lmi-steps", "0", "--quiet"])
+        out = capsys.readouterr().out
+        if path.parent.name == "fusion":   # a fusion file has no [system]: bad input, one line
+            assert status == 2
+            continue
+        assert status == 0, path
+        doc = json.loads(out)
+        assert doc["violations"] == [] and len(doc["rows"]) == len(RESULTS)
+        assert doc["quantity"]["critical"] is None or doc["quantity"]["critical"]["exact"]
+
+
+def test_cli_text_latex_and_refusals(tmp_path, capsys):
+    f = tmp_path / "rot.toml"
+    f.write_text('[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nC = [["1", "0"]]\n')
+    out = tmp_path / "t.tex"
+    assert cli.main(["bounds", str(f), "--latex", str(out), "--lmi-steps", "1", "--quiet"]) == 0
+    text = capsys.readouterr().out
+    assert "Mo, Sinopoli 2012, degenerate" in text and f"written to {out}" in text
+    assert r"\toprule" in out.read_text()
+    assert cli.main(["bounds", str(f), "--latex", str(f)]) == 2        # never over an input file
+    assert f.read_text().startswith("[system]")
+    assert cli.main(["bounds", str(tmp_path / "missing.toml")]) == 2
+    capsys.readouterr()
+
+
+def test_latex_table_compiles(tmp_path):
+    if shutil.which("pdflatex") is None:
+        pytest.skip("pdflatex is not installed")
+    tex = tmp_path / "atlas.tex"
+    for i, S in enumerate((system(ROT3, [1, 0]), system(ROT, [1, 0], [1, 1], single=False))):
+        body = bounds(S, lmi_steps=1).to_latex()
+        tex.write_text("\\documentclass{article}\n\\usepackage{booktabs}\n\\begin{document}\n" + body
+                       + "\\end{document}\n")
+        run = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", tex.name],
+                             cwd=tmp_path, capture_output=True, text=True, timeout=120)
+        assert run.returncode == 0, run.stdout[-2000:]
+        assert "Overfull" not in run.stdout, f"table {i} is wider than the text"
+
+
+@pytest.mark.full
+@pytest.mark.parametrize("name", ["bounds_atlas_family", "bounds_mo_sinopoli_degenerate", "bounds_you_fu_xie_markov",
+                                  "bounds_sinopoli_bracket"])
+def test_proofs_full_families(name):
+    assert runpy.run_path(str(PROOFS / f"{name}.py"))["main"](full=True)
+
+
+def test_docstring_example():
+    import doctest
+    import importlib
+    module = importlib.import_module("symkf.bounds.atlas")
+    assert doctest.testmod(module).failed == 0
+
+
+def test_bad_input():
+    with pytest.raises(sk.SymkfError):
+        bounds("not a system")
+    with pytest.raises(sk.SymkfError):
+        bounds(system(ROT, [1, 0]), lmi_steps=-1)

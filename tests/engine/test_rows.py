@@ -1,0 +1,158 @@
+"""Regression rows, rank deficiency and projection (symkf.engine.rows; Sui-You-Fu eqs. 14-17,
+Algorithm 1).
+
+The modal form is exact; projecting a pattern onto one period of the governing period decides
+rank deficiency for every pattern; the hyperplanes of the generators found through lines mod p
+equal brute force over every (n-1)-subset (also with tiny primes, whose false zeros force the
+exact fallbacks), are the maximal deficient element sets, and a conjugate pair worked in
+Q(lambda) gives what the full field Q(lambda, conj lambda) gives."""
+
+import itertools
+from functools import partial
+
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import symkf as sk
+from symkf.engine import rows as obs
+from symkf.engine.blocks import block_deficient, block_rows
+from symkf.engine.search import outside_counts
+from symkf.engine.rows import modal_form, project
+from symkf.engine.stability import critical_loss_rate
+from symkf.exact.field import QQ_FIELD, NumberField
+from symkf.exact.linalg import nullspace_rows, rank_rows
+from symkf.exact.spectral import eigen_blocks
+
+
+def rotation_entries(alpha, angle):
+    c, s = sp.cos(angle), sp.sin(angle)
+    return [[alpha * c, -alpha * s], [alpha * s, alpha * c]]
+
+
+def test_modal_form_is_exact():
+    A = sp.Matrix(rotation_entries(1, sp.pi / 6))
+    (b,) = eigen_blocks(A)
+    K, T, diag = modal_form(A, b)
+    Ak = K.matrix(A)
+    for i in range(2):
+        for c in range(2):
+            lhs = K.dot(Ak[i], [T[r][c] for r in range(2)])
+            assert lhs == K.mul(T[i][c], diag[c])
+
+
+@pytest.mark.parametrize("A,Cs", [
+    ([[0, -2], [2, 0]], [[[1, 0]]]),
+    (rotation_entries(1, sp.pi / 3), [[[1, 0]], [[1, 1]]]),
+    ([["5/4", 0], [1, "11/10"]], [[[1, 1]]]),
+])
+def test_projection_decides_rank_for_every_pattern(A, Cs):
+    """Algorithm 1 with the governing period: O_N^i deficient iff the projected pattern is."""
+    import itertools
+    S = sk.System(A=A, sensors=[sk.Sensor(C=C) for C in Cs])
+    brs = block_rows(S)
+    N = max(br.class_period for br in brs) + 2
+    for pattern in itertools.product(itertools.product((1, 0), repeat=S.d), repeat=N):
+        direct = block_deficient(S, pattern)
+        for br, flag in zip(brs, direct):
+            proj = project(pattern, br.class_period)
+            idx = frozenset(br.elements.index(e) for e in proj)
+            assert br.deficient(idx) == flag
+
+
+# -- hyperplanes of the generators: flats grouped by lines mod p, against brute force --------------
+
+def _brute_hyperplanes(K, vectors, n):
+    """Every (n-1)-subset of exact rank n-1 spans a hyperplane; its members by exact dot products."""
+    out = set()
+    for combo in itertools.combinations(range(len(vectors)), n - 1):
+        rows = [vectors[i] for i in combo]
+        if rank_rows(K, rows, n) == n - 1:
+            (h,) = nullspace_rows(K, rows, n)
+            out.add(frozenset(i for i, v in enumerate(vectors) if K.dot(v, h).is_zero()))
+    return out
+
+
+@st.composite
+def _vector_sets(draw):
+    """Distinct nonzero integer vectors with entries in -2..2: many collinear and coplanar sets."""
+    n = draw(st.integers(2, 4))
+    vecs = draw(st.lists(st.tuples(*[st.integers(-2, 2)] * n).filter(any), min_size=n, max_size=9, unique=True))
+    return n, vecs
+
+
+def _field_vectors(K, vecs, twist):
+    # over Q(sqrt 2) the second coordinate carries sqrt(2) times an integer: an irrational field
+    s2 = K.convert(sp.sqrt(2)) if twist else None
+    return [tuple(K.convert(a) if not (twist and k == 1) else K.mul(s2, K.convert(a)) for k, a in enumerate(v))
+            for v in vecs]
+
+
+_REDUCTION = obs._reduction
+
+
+@pytest.mark.parametrize("start", [1 << 27, 3], ids=["large prime", "tiny primes: false zeros mod p"])
+@pytest.mark.parametrize("twist", [False, True], ids=["QQ", "Q(sqrt2)"])
+@settings(max_examples=40, deadline=None)
+@given(data=_vector_sets())
+def test_generator_hyperplanes_equal_brute_force(start, twist, data):
+    n, vecs = data
+    K = NumberField([sp.sqrt(2)]) if twist else QQ_FIELD
+    vectors = obs._distinct(_field_vectors(K, vecs, twist))
+    with pytest.MonkeyPatch.context() as mp:  # tiny primes force the exact fallbacks
+        mp.setattr(obs, "_reduction", partial(_REDUCTION, start=start))
+        found = obs._generator_hyperplanes(K, vectors, n)
+    assert len(found) == len(set(found))
+    if rank_rows(K, vectors, n) == n:
+        assert set(found) == _brute_hyperplanes(K, vectors, n)
+
+
+# -- element hyperplanes and outside counts against rank tests on every element set ----------------
+
+def _random_system(n, d, seed):
+    rng = np.random.default_rng(seed)
+    A = [[int(v) for v in row] for row in rng.integers(-3, 4, (n, n))]
+    return sk.System(A=A, sensors=[sk.Sensor(C=[[int(v) for v in rng.integers(-2, 3, n)]], name=f"s{j}")
+                                   for j in range(d)])
+
+
+ROT = sp.Matrix([[sp.cos(sp.pi / 3), -sp.sin(sp.pi / 3)], [sp.sin(sp.pi / 3), sp.cos(sp.pi / 3)]])
+SYSTEMS = [
+    lambda: sk.System(A=2 * ROT, sensors=[sk.Sensor(C=[[1, 0]], name="x"), sk.Sensor(C=[[1, 1]], name="y")]),
+    lambda: sk.System(A=sp.diag(2 * ROT, 2), sensors=[sk.Sensor(C=[[1, 0, 1]], name="x"),
+                                                      sk.Sensor(C=[[0, 1, 0], [0, 0, 1]], name="y")]),
+    lambda: _random_system(3, 2, 1),
+    lambda: _random_system(4, 2, 5),
+]
+
+
+@pytest.mark.parametrize("make", SYSTEMS, ids=["R(pi/3)", "R(pi/3)+2, two-row sensor", "dense 3x3", "dense 4x4"])
+def test_hyperplanes_are_the_maximal_deficient_element_sets(make):
+    for br in block_rows(make()):
+        E = len(br.elements)
+        if E > 12:
+            continue
+        deficient = [frozenset(s) for k in range(E + 1) for s in itertools.combinations(range(E), k)
+                     if br.deficient(frozenset(s))]
+        maximal = {s for s in deficient if not any(s < t for t in deficient)}
+        assert set(br.hyperplanes) == maximal
+        counts = {tuple(sum(1 for e in range(E) if br.elements[e].sensor == j and e not in H)
+                        for j in range(1 + max(e.sensor for e in br.elements))) for H in br.hyperplanes}
+        assert set(outside_counts(br)) == counts
+
+
+@pytest.mark.parametrize("seed", [1, 5, 11])
+def test_conjugate_pair_in_q_lambda_equals_the_full_field(seed):
+    """A complex pair of a real system, worked in Q(lambda) (conjugating its second class), gives the
+    same element hyperplanes and critical value as in Q(lambda, conj lambda)."""
+    fast = _random_system(4, 2, seed)
+    pairs = [br for br in block_rows(fast) if obs.is_conjugate_pair(fast, br.block)]
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(obs, "is_conjugate_pair", lambda system, block: False)
+        slow = _random_system(4, 2, seed)
+        reference = [(br.hyperplanes, br.K.degree) for br in block_rows(slow)]
+        assert critical_loss_rate(slow) == critical_loss_rate(fast)
+    assert [br.hyperplanes for br in block_rows(fast)] == [h for h, _ in reference]
+    assert pairs and all(br.K.degree < max(k for _, k in reference) for br in pairs)

@@ -1,0 +1,197 @@
+"""Number fields Q(theta) (symkf.exact.field, embedding, nfpoly): exact conversions and factorisations.
+
+Round trips are checked independently of symkf: trigonometric values are rewritten as
+powers of z = exp(i pi / N) and reduced modulo the cyclotomic polynomial (exact), radicals
+through sympy's minimal polynomial of the difference; the field degree is the degree of
+sympy's minimal polynomial of theta; small fields are compared with sympy's algebraic_field."""
+
+from math import gcd
+
+import flint
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from symkf.errors import InputError
+from symkf.exact import nfpoly
+from symkf.exact.embedding import integral_scale
+from symkf.exact.field import NumberField
+
+x, z = sp.symbols("x z")
+
+
+def vanishes_cyclotomic(expr: sp.Expr, N: int) -> bool:
+    """Exactly whether ``expr`` (trig / exp of multiples of pi/N) is zero: a polynomial in
+    z = exp(i pi/N) reduced modulo the 2N-th cyclotomic polynomial."""
+    e = sp.expand(expr.rewrite(sp.exp))
+
+    def power(t):
+        k = t.args[0] / (sp.I * sp.pi) * N
+        assert k.is_Integer, t
+        return z ** int(k)
+    e = e.replace(lambda t: isinstance(t, sp.exp), power)
+    if N % 2 == 0:  # i = z^(N/2) (sine rewrites carry a bare I)
+        e = sp.expand(e.subs(sp.I, z ** (N // 2)))
+    num = sp.numer(sp.together(e))
+    return sp.rem(sp.Poly(num, z), sp.Poly(sp.cyclotomic_poly(2 * N, z), z)).is_zero
+
+
+ANGLES = [(p, q) for q in range(1, 13) for p in range(1, 2 * q) if gcd(p, q) == 1 and q > 2]
+
+
+@pytest.mark.parametrize("p,q", ANGLES)
+def test_trig_round_trip(p, q):
+    c, s = sp.cos(sp.pi * p / q), sp.sin(sp.pi * p / q)
+    K = NumberField([c, s])
+    N = 4 * q  # theta may be 2 cos(2 pi/m) with m = lcm(4, 2q): exp(i pi/(4q)) covers every such m
+    for a in (c, s, c * s + 3, c ** 2 + s ** 2):
+        assert vanishes_cyclotomic(K.to_sympy(K.convert(a)) - a, N)
+    assert K.convert(c ** 2 + s ** 2) == flint.fmpq_poly([1])
+
+
+def test_modal_field_of_rotation():
+    # Q(cos 3pi/11, sin 3pi/11) = Q(zeta_44)^+ has degree 10; adjoining exp(3 i pi / 11) doubles it
+    t = 3 * sp.pi / 11
+    r = sp.Rational(3, 2)
+    c, s = sp.cos(t), sp.sin(t)
+    assert NumberField([r * c, -r * s, r * s]).degree == 10
+    lam, mu = r * sp.exp(sp.I * t), r * sp.exp(-sp.I * t)
+    K = NumberField([r * c, -r * s, r * s, lam, mu])
+    assert K.degree == 20
+    # identities that hold only if every representation denotes the intended conjugate
+    L, M, C, S, i = (K.convert(v) for v in (lam, mu, c, s, sp.I))
+    assert K.mul(i, i) == K.convert(-1)
+    R = K.convert(r)
+    assert L == K.mul(R, C + K.mul(i, S)) and M == K.mul(R, C - K.mul(i, S))
+    assert K.mul(L, M) == K.convert(r ** 2)
+    ratio = K.mul(L, K.inv(M))  # exp(6 i pi / 11), of order 11
+    assert K.pow(ratio, 11) == K.convert(1) and ratio != K.convert(1)
+
+
+@pytest.mark.parametrize("gens,degree", [
+    ([sp.sqrt(2), sp.sqrt(3)], 4),
+    ([sp.sqrt(2), -sp.sqrt(2), 2 * sp.sqrt(2) + 1], 2),
+    ([sp.cbrt(2), sp.I * sp.sqrt(3)], 6),
+    ([sp.cos(sp.pi / 12), sp.sin(sp.pi / 12)], 4),
+    ([sp.sqrt(2) + sp.sqrt(3), sp.sqrt(6)], 4),
+])
+def test_primitive_element_degree(gens, degree):
+    K = NumberField(gens)
+    assert K.degree == degree
+    # theta's minimal polynomial by sympy is the modulus
+    assert sp.Poly(sp.minimal_polynomial(K.theta, x), x).monic().as_expr() == \
+        sum(sp.Rational(int(c.p), int(c.q)) * x ** i for i, c in enumerate(K.modulus.coeffs()))
+    for g in gens:
+        assert sp.minimal_polynomial(K.to_sympy(K.convert(g)) - g, x) == x
+
+
+def test_radical_round_trips():
+    K = NumberField([sp.cbrt(2), sp.I * sp.sqrt(3)])
+    w = (-1 + sp.I * sp.sqrt(3)) / 2  # a cube root of unity: w cbrt(2) is another root of x^3 - 2
+    for a in (w * sp.cbrt(2), sp.cbrt(4) / 3 + w, 1 / (1 + sp.cbrt(2))):
+        assert sp.minimal_polynomial(K.to_sympy(K.convert(a)) - a, x) == x
+
+
+@pytest.mark.parametrize("gens,a", [
+    ([sp.sqrt(2)], sp.sqrt(3)),
+    ([sp.cos(2 * sp.pi / 7)], sp.sin(2 * sp.pi / 7)),
+    ([sp.cos(3 * sp.pi / 11), sp.sin(3 * sp.pi / 11)], sp.I),
+    ([sp.sqrt(2)], sp.pi),
+    ([], sp.sqrt(2)),
+])
+def test_non_members_refused(gens, a):
+    with pytest.raises(InputError, match="not in the number field"):
+        NumberField(gens).convert(a)
+
+
+def test_rational_field_accepts_disguised_rationals():
+    assert NumberField([]).convert(sp.sqrt(8) / sp.sqrt(2)) == flint.fmpq_poly([2])
+    assert NumberField([sp.sqrt(2)]).convert(sp.cos(sp.pi / 3)) == flint.fmpq_poly([1]) / 2
+
+
+def test_integral_scale():
+    # 2 x^2 - 3: sqrt(3/2) needs c = 2 (2 sqrt(3/2) = sqrt 6); 8 x^3 + 1: 2 * (-1/2) = -1
+    assert integral_scale(flint.fmpz_poly([-3, 0, 2])) == (2, flint.fmpz_poly([-6, 0, 1]))
+    assert integral_scale(flint.fmpz_poly([1, 0, 0, 8])) == (2, flint.fmpz_poly([1, 0, 0, 1]))
+    # 4 x^2 - 2 (sqrt(2)/2 ... primitive form 2 x^2 - 1): c = 2, (2 b)^2 = 2
+    assert integral_scale(flint.fmpz_poly([-1, 0, 2])) == (2, flint.fmpz_poly([-2, 0, 1]))
+
+
+def _poly(K, coeffs):
+    return [K.convert(c) for c in coeffs]
+
+
+def _expr(K, f):
+    return sp.expand(sum(K.to_sympy(c) * x ** i for i, c in enumerate(f)))
+
+
+def test_trager_factorisations():
+    K = NumberField([sp.sqrt(2)])
+    fs = nfpoly.factor(K, _poly(K, [4, 0, -4, 0, 1]))  # (x^2 - 2)^2
+    assert sorted((str(_expr(K, h)), e) for h, e in fs) == [("x + sqrt(2)", 2), ("x - sqrt(2)", 2)]
+    Ki = NumberField([sp.I])
+    fs = nfpoly.factor(Ki, _poly(Ki, [1, 0, 0, 0, 1]))  # x^4 + 1 = (x^2 - i)(x^2 + i)
+    assert sorted(str(_expr(Ki, h)) for h, _ in fs) == sorted(["x**2 - I", "x**2 + I"])
+    K8 = NumberField([sp.exp(sp.I * sp.pi / 4)])
+    fs = nfpoly.factor(K8, _poly(K8, [1, 0, 0, 0, 1]))
+    assert [len(h) - 1 for h, _ in fs] == [1, 1, 1, 1]
+    assert nfpoly.factor(K, _poly(K, [-3, 0, 1])) == [(_poly(K, [-3, 0, 1]), 1)]  # irreducible over Q(sqrt 2)
+
+
+def test_charpoly_and_norm():
+    K = NumberField([sp.sqrt(2), sp.sqrt(3)])
+    M = sp.Matrix([[sp.sqrt(2), 1, 0], [sp.sqrt(3), 2, sp.sqrt(6)], [1, 0, -sp.sqrt(2)]])
+    chi = nfpoly.charpoly(K, K.matrix(M))
+    assert sp.expand(_expr(K, chi) - M.charpoly(x).as_expr()) == 0
+    # N(x - sqrt 2) over Q(sqrt 2, sqrt 3) = (x^2 - 2)^2
+    assert nfpoly.norm(K, _poly(K, [-sp.sqrt(2), 1])) == flint.fmpq_poly([4, 0, -4, 0, 1])
+
+
+SQRTS = [2, 3, 5, 6, 7]
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.sampled_from(SQRTS), min_size=1, max_size=2, unique=True),
+       st.lists(st.integers(-4, 4), min_size=3, max_size=3))
+def test_against_sympy_algebraic_field(radicands, c):
+    gens = [sp.sqrt(n) for n in radicands]
+    a = c[0] + c[1] * gens[0] + c[2] * gens[-1] * gens[0]
+    K = NumberField(gens)
+    Ks = sp.QQ.algebraic_field(*gens)
+    assert K.degree == Ks.mod.degree()
+    ours, theirs = K.to_sympy(K.convert(a)), Ks.to_sympy(Ks.from_sympy(a))
+    assert sp.minimal_polynomial(ours - theirs, x) == x
+
+
+@pytest.mark.parametrize("g", [sp.pi, sp.Symbol("a"), sp.exp(1)])
+def test_non_algebraic_generators_refused(g):
+    with pytest.raises(InputError, match="cannot build the number field"):
+        NumberField([sp.sqrt(2), g])
+
+
+def test_radicals_of_cyclotomic_fields_join_the_cyclotomic_presentation():
+    """sympy writes cos(2 pi/5) = (sqrt 5 - 1)/4 and sin(2 pi/5) = sqrt(sqrt 5/8 + 5/8): by hand
+    sqrt 5 = 1 + 4 cos(2 pi/5) = 1 + 2 t (t = 2 cos(2 pi/5), the real subfield of Q(zeta_5)) and
+    sin(2 pi/5) = cos(2 pi/20) = u/2 (u = 2 cos(2 pi/20)).  With the rotations by 2 pi/7, 2 pi/9
+    and the eigenvalue exp(2 pi i/5) the field is Q(zeta_1260) (degree phi(1260) = 288), presented
+    by its cyclotomic polynomial, not by a generic primitive element (minutes, before, to decide
+    that sqrt 5 lies in it); sqrt 7 (in Q(zeta_28)^+ of degree 6) and cbrt 2 (not abelian) are not
+    recognised."""
+    from symkf.exact.field import _cyclotomic_radicals
+    c5, s5 = sp.cos(2 * sp.pi / 5), sp.sin(2 * sp.pi / 5)
+    assert not c5.has(sp.cos) and not s5.has(sp.sin)  # sympy's radicals
+    found = _cyclotomic_radicals([c5, s5, sp.sqrt(7), sp.cbrt(2)])
+    assert found.keys() == {sp.sqrt(5), s5}
+    assert found[sp.sqrt(5)][:2] == (5, True) and found[sp.sqrt(5)][2] == flint.fmpq_poly([1, 2])
+    assert found[s5][:2] == (20, True) and found[s5][2] == flint.fmpq_poly([0, flint.fmpq(1, 2)])
+    gens = [c5, s5, sp.cos(2 * sp.pi / 7), sp.sin(2 * sp.pi / 7), sp.cos(2 * sp.pi / 9), sp.sin(2 * sp.pi / 9),
+            sp.exp(2 * sp.pi * sp.I / 5)]
+    K = NumberField(gens)
+    assert K.degree == 288 and K.modulus == flint.fmpq_poly(flint.fmpz_poly.cyclotomic(1260))
+    C, S, E = (K.convert(v) for v in (c5, s5, sp.exp(2 * sp.pi * sp.I / 5)))
+    assert K.mul(C, C) + K.mul(S, S) == K.convert(1)
+    assert K.mul(K.convert(sp.sqrt(5)), K.convert(sp.sqrt(5))) == K.convert(5)
+    assert 2 * C == E + K.inv(E)  # 2 cos(2 pi/5) = zeta_5 + zeta_5^-1: the intended conjugate
+    for g in gens[2:]:  # the trigonometric atoms, by Euler's formula independently of symkf
+        assert vanishes_cyclotomic(K.to_sympy(K.convert(g)) - g, 630)

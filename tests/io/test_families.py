@@ -1,0 +1,38 @@
+"""Parameter families (symkf.io.families): built in memory from a function and a grid or from a list
+of systems, and refused when read if they have more members than the cap."""
+
+from __future__ import annotations
+
+import pytest
+import sympy as sp
+
+import symkf as sk
+from symkf.errors import BudgetError
+from symkf.io.families import grid_family, systems_family
+
+QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+
+
+def test_families_in_memory():
+    def rotation(g):
+        c, s = sp.cos(sp.pi / g), sp.sin(sp.pi / g)
+        return sk.System(A=[[2 * c, -2 * s], [2 * s, 2 * c]], sensors=[sk.Sensor(C=[[1, 0]])])
+    from symkf import tables
+    table = tables.family_table(grid_family(rotation, {"g": [2, 3]}), progress=False)
+    # eps_c = 2^(-2g/(g - 1)) (the rotation-periods family's hand derivation, d = 1)
+    assert [r["cells"][0]["exact"] for r in table.to_json()["rows"]] == ["1/16", "1/8"]
+    family = systems_family([(QUARTER_TURN, sk.IID(["1/20"])), (QUARTER_TURN, sk.IID(["1/10"]))], compute="stability")
+    checked = sk.verify_family(family, paths=2000, horizon=40, progress=False)
+    assert [m.label for m in checked] == ["system = 1", "system = 2"]
+    assert [m.verification.stable for m in checked] == [True, False]      # margins 0.894, 1.265
+    assert checked.counts()["consistent"] == 2 and repr(checked).startswith("<FamilyVerification systems: 2 members")
+
+
+def test_family_members_budgeted(tmp_path):
+    """A family of 10^4 members is refused when read, before any member is built."""
+    from symkf.io.families import load_family
+    path = tmp_path / "big.toml"
+    path.write_text('[family]\n[grid]\na = { from = 1, to = 1000 }\nb = { from = 1, to = 10 }\n'
+                    '[system]\nA = [["a", "b"], ["0", "2"]]\n[[sensors]]\nC = [["1", "1"]]\n')
+    with pytest.raises(BudgetError, match="number of family members is 10000, above the cap 2000.*--max-members"):
+        load_family(path)

@@ -1,0 +1,123 @@
+"""Systems and sensors (symkf.model.system): exact entries, named errors, detectability.
+
+A system is built from exact data only (floats with ``rationalize=``, warning at the caller's
+line); every refusal names the entry and the error type; undetectable pairs name the mode; size
+caps (sensors, dimension) are checked before anything is built; systems, verdicts and errors
+pickle exactly."""
+
+from __future__ import annotations
+
+import itertools
+import warnings
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import symkf as sk
+from symkf.errors import (
+    BudgetError,
+    InexactInputError,
+    NotPositiveDefiniteError,
+    ShapeError,
+    SymkfError,
+    UnobservableError,
+)
+from symkf.exact.algebraic import AlgebraicNumber
+from symkf.exact.spectral import eigen_blocks
+
+R = sp.Rational
+
+
+def test_bad_inputs_raise_named_errors():
+    (cv,) = eigen_blocks([[1, 1], [0, 1]])  # constant velocity: one Jordan chain, accepted
+    assert cv.defective and cv.members[0].geometric == 1 and cv.members[0].multiplicity == 2
+    with pytest.raises(InexactInputError, match=r"A\[0\]\[1\].*'1/10'"):
+        sk.System(A=[[1, 0.1], [0, 1]], sensors=[sk.Sensor(C=[[1, 0]])])
+    with pytest.raises(ShapeError, match="A: must be square"):
+        sk.System(A=[[1, 0, 0], [0, 1, 0]], sensors=[sk.Sensor(C=[[1, 0, 0]])])
+    with pytest.raises(UnobservableError, match="eigenvalue 3"):
+        sk.System(A=[[2, 0], [0, 3]], sensors=[sk.Sensor(C=[[1, 0]])])
+    with pytest.raises(NotPositiveDefiniteError, match="R"):
+        sk.Sensor(C=[[1, 0]], R=[[-1]])
+    with pytest.raises(SymkfError, match="unknown name"):
+        sk.Sensor(C=[["__import__", 0]])
+
+
+def test_rationalize_converts_and_warns():
+    with pytest.warns(UserWarning, match="1/10"):
+        S = sk.System(A=[[1, 0.1], [0, 2]], sensors=[sk.Sensor(C=[[1, 1]])], rationalize=True)
+    assert S.A[0, 1] == sp.Rational(1, 10)
+
+
+def test_exact_inputs_accepted():
+    S = sk.System(A=[[Fraction(1, 2), "sqrt(3)/2"], ["-sqrt(3)/2", "cos(pi/3)"]], sensors=[sk.Sensor(C=[[1, 0]])])
+    assert S.A[1, 1] == sp.Rational(1, 2)
+
+
+
+def test_one_dimensional_numpy_C_is_a_row():
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=np.array([1, 0]))])
+    assert S.sensors[0].C == sp.Matrix([[1, 0]])
+    assert sk.critical_loss_rate(S) == R(1, 16)  # 2R(pi/2), C = [1 0]: 1/16
+
+
+def test_an_entry_rational_in_value_but_not_in_form():
+    """(1/2 + sqrt 5/2)^2 - sqrt 5/2 + 5/2 is 4: the field of the entries is Q, and the entry is
+    read through the field's conversion (a TypeError from sympy's Rational before)."""
+    four = "-sqrt(5)/2 + 5/2 + (1/2 + sqrt(5)/2)**2"
+    assert [(e.expr, e.multiplicity) for e in sk.eigenvalues([[four, 0], [0, 1]])] == [(4, 1), (1, 1)]
+    written = sk.System([[four, 1], [0, 3]], [sk.Sensor([[1, 0]])])
+    plain = sk.System([[4, 1], [0, 3]], [sk.Sensor([[1, 0]])])
+    assert sk.critical_loss_rate(written) == sk.critical_loss_rate(plain) == sp.Rational(1, 16)
+
+
+def test_warnings_point_at_the_callers_line():
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sk.System(A=[[0.1, 0], [0, 2]], sensors=[sk.Sensor(C=[[1, 1]])], rationalize=True)
+    assert [Path(w.filename).name for w in caught] == ["test_system.py"]
+
+
+def system(A, *Cs):
+    return sk.System(A=A, sensors=[sk.Sensor(C=C) for C in Cs])
+
+
+def test_undetectable_pair_names_the_mode():
+    with pytest.raises(sk.errors.UnobservableError, match=r"eigenvalue 2 .*not detectable"):
+        system([[2, 0], [0, R(1, 2)]], [[0, 1]])
+    with pytest.raises(sk.errors.UnobservableError, match=r"eigenvalue 1 "):  # marginal modes must be seen
+        system([[1, 1], [0, 1]], [[0, 1]])
+
+
+@pytest.mark.parametrize("build, option", [
+    (lambda: sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]]) for _ in range(65)]), "--max-sensors"),
+    (lambda: sk.System(A=[[1 if i == j else 0 for j in range(1000)] for i in range(1000)],
+                       sensors=[sk.Sensor(C=[[1] * 1000])]), "--max-dimension"),
+    (lambda: sk.IID(["1/2"] * 65), "--max-sensors"),
+    (lambda: sk.MarkovLoss({h: {(0,): "1/2", (1,): "1/2"} for h in itertools.product([(0,), (1,)], repeat=8)},
+                           order=8), "--max-markov-states"),
+])
+def test_large_inputs_refused_early(build, option):
+    with pytest.raises(BudgetError, match=option):
+        build()
+
+
+def test_exact_objects_and_errors_pickle():
+    """Plain pickle carries algebraic numbers, systems (without their derived cache), verdicts and
+    symkf errors exactly: what process pools, Dask and users' multiprocessing need."""
+    import pickle
+
+    from symkf.errors import AssumptionError
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
+    eps = sk.critical_loss_rate(S)                       # fills S's cache with flint objects
+    assert pickle.loads(pickle.dumps(eps)) == sp.Rational(1, 16)
+    S2 = pickle.loads(pickle.dumps(S))
+    assert S2 == S and S2._cache == {} and sk.critical_loss_rate(S2) == eps
+    v = pickle.loads(pickle.dumps(sk.stability(S, sk.IID(["1/20"]))))
+    assert v.stable and v.margins[0] == AlgebraicNumber.from_expr(2 * sp.sqrt(5) / 5)
+    e = pickle.loads(pickle.dumps(AssumptionError("x", assumption="A1", applies_instead="f")))
+    assert (type(e), str(e), e.assumption, e.applies_instead) == \
+        (AssumptionError, "A1 fails: x. What applies instead: f", "A1", "f")

@@ -1,0 +1,202 @@
+"""The compiled square-root filter kernels (symkf.numeric.square_root, and the generated
+symkf.numeric.straight_kernels and unrolled_kernels): the straight-line and unrolled kernels equal
+the loop kernel bit for bit, the generated modules are the generators' output, and
+log_trace_paths takes receptions in any memory order and dtype, rescales traces that leave the
+window in one step and refuses arguments that disagree."""
+
+
+import numpy as np
+import pytest
+
+from symkf.errors import ShapeError
+
+
+# 5: the last phased time update (PHASED_MAX); 5 and 8 (STRAIGHT_MAX) in the full tier: their
+# straight kernels compile in 5 and 11 CPU-s
+@pytest.mark.parametrize("n", [1, 2, 3, 4, pytest.param(5, marks=pytest.mark.full),
+                               pytest.param(8, marks=pytest.mark.full)])
+def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
+    # symkf.numeric.square_root writes the filter out per state dimension (up to STRAIGHT_MAX); the
+    # loop kernel does the same operations in the same order, so every output bit must agree:
+    # dense and sparse (integer, block-diagonal) A and H, two-row sensors, paths that receive
+    # nothing or everything, and a 600-step stretch of mostly lost steps (wide scales)
+    from symkf.numeric.square_root import LOOP_LANES, STRAIGHT_MAX, _loop_kernel, _straight, lanes, log_trace_paths
+    assert n <= STRAIGHT_MAX
+    width = max(lanes(n), LOOP_LANES)   # the buffers' lanes: each kernel's block fits
+    rng = np.random.default_rng(n)
+    dense = rng.normal(size=(n, n))
+    # (A upper Hessenberg, as the kernels take it: symkf.numeric.filters's arguments reduce a dense A)
+    for A, H in ((np.triu(dense, -1) * 1.5 / np.abs(np.linalg.eigvals(np.triu(dense, -1))).max(), rng.normal(size=(3, n))),
+                 (np.kron(np.eye(-(-n // 2)), [[0.0, -2.0], [2.0, 0.0]])[:n, :n] + np.diag([0.0] * (n - 1) + [1.5 * (n % 2)]),
+                  rng.integers(-1, 2, (3, n)).astype(float))):
+        M = rng.normal(size=(n, n))
+        UQ = np.linalg.qr(M.T, mode="r")
+        S0 = np.linalg.qr(rng.normal(size=(n, n)).T, mode="r").T
+        rows = np.array([0, 1, 1])
+        received = rng.random((600, 2 * width + 37, 2)) < 0.3   # whole blocks of both kernels' lanes, and a partial one
+        received[:, :64] = False
+        received[:, 64:128] = True
+        out = []
+        for kernel in (_straight(n), _loop_kernel(n)):
+            logs, linear = np.empty((601, 2 * width + 37)), np.empty((150, 600))
+            kernel(A, UQ, H, rows, S0, received, logs, np.empty((1, width)), False)
+            kernel(A, UQ, H, rows, S0, received, linear, np.empty((64, width)), True)   # the first 150 paths
+            out.append((logs, linear))
+        assert all(np.array_equal(x, y) for x, y in zip(*out))
+        logs, linear = out[0]
+        # through log_trace_paths, whose buffer holds fewer steps for wide blocks (8 at n <= 2)
+        chosen = np.empty((150, 600))
+        log_trace_paths(A, UQ, H, rows, S0, received, chosen, True)
+        assert np.array_equal(chosen, linear)
+        assert np.all(np.isfinite(logs)) and np.ptp(logs) > 100
+        # linear units: the same trace times 2^E (inf beyond float64), so its log agrees to rounding
+        held = np.isfinite(linear)
+        assert held.mean() > 0.2
+        np.testing.assert_allclose(np.log(linear[held]), logs[:600, :150].T[held], rtol=4e-16, atol=4e-15)
+
+
+def test_a_lane_loops_paths_interleave_with_their_own_names_and_shared_reductions():
+    # the n = 2 time update runs two paths per iteration, statement by statement: names the body
+    # assigns before reading are each path's own, names it reads first (reductions) are shared
+    from symkf.numeric.square_root import _interleaved
+    body = ["x = S[0, p] * 2.0", "x += t[p]", "top = max(top, x)", "acc += x", "out[p] = x"]
+    assert _interleaved(body, 2, 64) == [
+        "x = S[0, p] * 2.0", "x_1w = S[0, p + 64] * 2.0", "x += t[p]", "x_1w += t[p + 64]",
+        "top = max(top, x)", "top = max(top, x_1w)", "acc += x", "acc += x_1w", "out[p] = x", "out[p + 64] = x_1w"]
+
+
+def _row_kernel(kind: str, n: int, unrolled: bool, data: np.ndarray, vectors: np.ndarray) -> None:
+    """Run ``kind``'s kernel for ``n`` in place: the one the loop kernel uses (``unrolled``), or its
+    loops (which the loop kernel uses beyond UNROLLED_MAX)."""
+    import ctypes
+
+    from symkf.numeric import square_root
+    kernel = square_root._unrolled(kind, n) if unrolled else square_root._row_loops(kind)
+    pointer = ctypes.POINTER(ctypes.c_double)
+    kernel.ctypes(data.ctypes.data_as(pointer), vectors.ctypes.data_as(pointer), n)
+
+
+@pytest.mark.parametrize("n", [1, 2, 9, 16, 32])   # 32: UNROLLED_MAX["householder"], the largest written out
+def test_the_unrolled_householder_kernels_equal_the_loops_bit_for_bit(n):
+    # beyond 8 states the time update triangularises with symkf.numeric.unrolled_kernels (rows written
+    # out) and beyond UNROLLED_MAX with _householder_loops: the same operations in the same order.
+    # X as the time update builds it (U_Q's rows zero left of their diagonal), with a lane whose
+    # columns are zero (|v| = 0: the reflector divides by inf) and negative pivots; compared
+    # where the time update reads it afterwards (row j from column j on)
+    from symkf.numeric.square_root import LOOP_LANES
+    rng = np.random.default_rng(n)
+    X = np.zeros((2 * n, n | 1, LOOP_LANES))
+    X[:n, :n] = rng.normal(size=(n, n, LOOP_LANES))
+    for i in range(n):
+        X[n + i, i:n] = rng.normal(size=(n - i, LOOP_LANES))
+    X[:, :, 0] = 0.0
+    outs = []
+    for unrolled in (True, False):
+        Y = X.copy()
+        _row_kernel("householder", n, unrolled, Y, np.full((n + 3) * LOOP_LANES, np.nan))
+        outs.append(Y)
+    upper = np.triu(np.ones((2 * n, n | 1), bool))[:, :, None] & (np.arange(2 * n) < n)[:, None, None]
+    upper = np.broadcast_to(upper, X.shape)
+    assert np.array_equal(outs[0][upper], outs[1][upper])
+    R = np.where(upper, outs[0], 0.0)[:n, :n]           # R^T R = X^T X in every lane
+    np.testing.assert_allclose(np.einsum("kip,kjp->ijp", R, R), np.einsum("kip,kjp->ijp", X[:, :n], X[:, :n]),
+                               atol=1e-9)
+    assert np.all(R[:, :, 0] == 0.0)
+
+
+@pytest.mark.parametrize("n", [1, 2, 9, 16, 17])   # 16: UNROLLED_MAX["potter"]; 17: the loops alone
+def test_the_unrolled_potter_kernels_equal_the_loops_bit_for_bit(n):
+    # S <- S - (S f) g^T, row by row: the written-out rows and _potter_loops agree in every bit
+    # and with numpy's product (to rounding); the padding column of S (n | 1 columns) is untouched
+    from symkf.numeric.square_root import LOOP_LANES
+    rng = np.random.default_rng(n)
+    S = rng.normal(size=(n, n | 1, LOOP_LANES))
+    fg = np.concatenate([rng.normal(size=(2 * n, LOOP_LANES)), np.full((1, LOOP_LANES), np.nan)])
+    outs = []
+    for unrolled in (True, False):
+        T = S.copy()
+        _row_kernel("potter", n, unrolled, T, fg.copy())
+        outs.append(T)
+    assert np.array_equal(outs[0], outs[1])
+    f, g = fg[:n], fg[n:2 * n]
+    expected = S[:, :n] - np.einsum("ijp,jp->ip", S[:, :n], f)[:, None, :] * g[None, :, :]
+    np.testing.assert_allclose(outs[0][:, :n], expected, atol=1e-12 * n)
+    assert np.array_equal(outs[0][:, n:], S[:, n:])
+
+
+@pytest.mark.parametrize("module, generator", [("straight_kernels", "_straight_module"),
+                                               ("unrolled_kernels", "_unrolled_module")])
+def test_the_generated_kernel_modules_are_the_generators_output(module, generator):
+    # symkf/numeric/straight_kernels.py and unrolled_kernels.py are generated (by symkf.numeric.square_root):
+    # never edited by hand
+    import importlib
+    from pathlib import Path
+
+    import symkf.numeric.square_root
+    generated = importlib.import_module(f"symkf.numeric.{module}")
+    assert Path(generated.__file__).read_text(encoding="utf-8") == getattr(symkf.numeric.square_root, generator)()
+
+
+def test_the_kernel_takes_receptions_in_any_memory_order():
+    # log_trace_paths is public: receptions as a transposed view (sensor-major in memory) give the
+    # traces of the same receptions in C order
+    from symkf.numeric.square_root import log_trace_paths
+    A, UQ, S0 = np.array([[1.0, 0.5], [0.0, 1.2]]), np.eye(2), np.eye(2)
+    H, rows = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]), np.array([0, 1, 2])
+    sensor_major = np.random.default_rng(0).random((30, 3, 700)) < 0.5
+    view = sensor_major.transpose(0, 2, 1)
+    assert not view.flags.c_contiguous
+    traces = [np.empty((31, 700)) for _ in range(2)]
+    log_trace_paths(A, UQ, H, rows, S0, view, traces[0])
+    log_trace_paths(A, UQ, H, rows, S0, np.ascontiguousarray(view), traces[1])
+    assert np.array_equal(*traces) and np.isfinite(traces[0]).all()
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.int64, np.float64])
+def test_the_kernel_takes_receptions_of_any_dtype_as_nonzero_received(dtype):
+    # one sensor's receptions are read in place: any dtype is made bool first (the in-place row and a
+    # partial block's copy must be one type), 0 lost, anything else received
+    from symkf.numeric.square_root import log_trace_paths
+    A, UQ, S0 = np.array([[1.0, 0.5], [0.0, 1.2]]), np.eye(2), np.eye(2)
+    H, rows = np.array([[1.0, 1.0]]), np.array([0])
+    received = np.random.default_rng(1).random((20, 2100, 1)) < 0.5   # whole blocks and a partial one
+    traces = [np.empty((21, 2100)) for _ in range(2)]
+    log_trace_paths(A, UQ, H, rows, S0, received, traces[0])
+    log_trace_paths(A, UQ, H, rows, S0, received.astype(dtype) * 3, traces[1])
+    assert np.array_equal(*traces)
+    with pytest.raises(ShapeError, match="received: expected"):
+        log_trace_paths(A, UQ, H, rows, S0, received[:, :, 0], traces[0])
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+@pytest.mark.parametrize("power", [200, -200])
+def test_the_kernels_rescale_a_trace_that_leaves_the_window_in_one_step(n, power):
+    # up to PHASED_MAX the straight-line kernels rescale only once a trace has left [2^-32, 2^32]:
+    # A = 2^200 I (or 2^-200 I), no noise, nothing received moves tr P by 2^(+-400) a step, out of the
+    # window at every step and out of float64 by the third unless each step is rescaled; a block's
+    # paths all at once, and a partial block's (the loop kernel rescales every step: the same bits).
+    # With Q = 0 the process noise's scale 2^(-E/2) would pass 2^1024 at the seventh shrinking step
+    # (ROOT_MAX): inf times U_Q's zeros made every log nan from there
+    from symkf.numeric.square_root import _loop_kernel, log_trace_paths
+    A, UQ, S0 = 2.0 ** power * np.eye(n), np.zeros((n, n)), np.eye(n)
+    H, rows = np.ones((1, n)), np.array([0])
+    received = np.zeros((30, 515, 1), bool)
+    logs = np.empty((31, 515))
+    log_trace_paths(A, UQ, H, rows, S0, received, logs)
+    expected = np.log(n) + 2 * power * np.log(2) * np.arange(31)
+    np.testing.assert_allclose(logs, np.repeat(expected[:, None], 515, axis=1), rtol=1e-14)
+    looped = np.empty_like(logs)
+    _loop_kernel(n)(A, UQ, H, rows, S0, received, looped, np.empty((1, 128)), False)
+    assert np.array_equal(logs, looped)
+
+
+@pytest.mark.parametrize("bad", ["A", "UQ", "S0", "H", "row_sensor"])
+def test_the_kernel_refuses_arguments_that_disagree(bad):
+    # the compiled loops do not check bounds: a row of a sensor past the receptions' last axis, or a
+    # factor of another size, is refused before they run
+    from symkf.errors import ShapeError
+    from symkf.numeric.square_root import log_trace_paths
+    args = dict(A=np.eye(2), UQ=np.eye(2), H=np.ones((2, 2)), row_sensor=np.array([0, 1]), S0=np.eye(2))
+    args[bad] = np.array([0, 2]) if bad == "row_sensor" else np.eye(3)
+    with pytest.raises(ShapeError, match=bad):
+        log_trace_paths(**args, received=np.ones((4, 8, 2), bool), trace=np.empty((5, 8)))

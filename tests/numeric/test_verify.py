@@ -1,0 +1,25 @@
+"""Theory against simulation as a result object (symkf.numeric.verify, ``sk.verify``): the exact
+verdict beside the Monte Carlo test, its JSON, repr, LaTeX and HTML.  (The ``verify`` command:
+tests/test_cli.py; families: tests/io/test_family_verification.py.)"""
+
+from __future__ import annotations
+
+import json
+
+import sympy as sp
+
+import symkf as sk
+
+QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+
+
+def test_verify_is_an_object_with_todays_json():
+    r = sk.verify(QUARTER_TURN, sk.IID(["1/20"]), paths=3000, seed=0)
+    assert isinstance(r, sk.Verification) and r.stable and r.outcome == "consistent"
+    assert r.margin.exact == 2 * sp.sqrt(5) / 5 and r.critical_common_loss_rate.exact == sp.Rational(1, 16)
+    doc = r.to_json()
+    assert list(doc) == ["theory", "simulation", "outcome", "rate_consistent", "reason"]
+    assert doc["theory"]["margins"][0]["exact"] == "2*sqrt(5)/5" and json.loads(json.dumps(doc)) == doc
+    assert repr(r).startswith("<Verification consistent: exact margin 2*sqrt(5)/5 ~ 0.894427 (stable)")
+    assert r"\frac{2 \sqrt{5}}{5}" in r._repr_latex_() and "CONSISTENT" in r._repr_html_()
+    assert str(r).splitlines()[0] == "theory:     stable (Theorem 4 with eq. (36))"

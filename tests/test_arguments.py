@@ -1,0 +1,39 @@
+"""Arguments checked against their annotations before the body runs (symkf.arguments): a call that
+does not fit a public function's signature is an ArgumentError naming the function and the
+signature it takes, and mappings are checked key by key and value by value."""
+
+from __future__ import annotations
+
+import pytest
+
+import symkf as sk
+from symkf.errors import InputError
+
+PUBLIC_CALLABLES = sorted(name for name in dir(sk) if not name.startswith("_") and callable(getattr(sk, name))
+                          and not isinstance(getattr(sk, name), type(sk)) and name != "SymkfError")
+
+
+@pytest.mark.parametrize("name", PUBLIC_CALLABLES)
+def test_calls_that_do_not_fit_a_signature_are_argument_errors(name):
+    # Python's TypeError for a missing, unknown or repeated argument becomes symkf's ArgumentError
+    # (still a TypeError), naming the function and the signature it takes
+    from symkf.errors import ArgumentError
+    fn = getattr(sk, name)
+    with pytest.raises(ArgumentError) as unknown:
+        fn(not_an_argument_of_any_symkf_function=1)
+    assert isinstance(unknown.value, TypeError) and isinstance(unknown.value, sk.SymkfError)
+    assert str(unknown.value).startswith(f"{name}(" if not isinstance(fn, type) else f"{name}.__init__(self")
+
+
+def test_mappings_are_checked_key_by_key_and_value_by_value():
+    # a dict argument was checked only for being a mapping: its keys and values reached the
+    # function (span_key(basis={'a': 'b'}) raised AttributeError: found by the payload walk)
+    import flint
+
+    from symkf.exact.linalg import span_key
+    with pytest.raises(InputError, match=r"span_key: argument 'basis' must be a mapping of an int to a list or tuple "
+                                         r"of a fmpq_poly, got dict"):
+        span_key({"a": "b"})
+    with pytest.raises(InputError, match="mapping of an int"):
+        span_key({0: ["__import__('os')"]})
+    assert span_key({0: [flint.fmpq_poly([1]), flint.fmpq_poly([0, 2])]}) == ((0, ((1, 1), (1, 0, 2))),)

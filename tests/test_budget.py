@@ -1,0 +1,73 @@
+"""Resource budgets (symkf.budget): caps raised in a block and restored after it, unknown caps and
+caps beyond what Python can serve refused, and the digits of ``critical --digits``: a billion refused
+at once naming the memory cap, 5000 served once --max-digits is raised (in a forked child under
+hard limits, conftest.limited).  The caps each layer applies are tested with that layer."""
+
+from __future__ import annotations
+
+import pytest
+import sympy as sp
+
+from symkf import budget, cli
+from symkf.errors import BudgetError, InputError
+from symkf.exact.numbers import parse_exact
+
+from conftest import limited, system_file
+
+
+def test_caps_can_be_raised_and_are_restored():
+    """sum of 7 square roots of primes: degree 2^7 = 128 > 64 (default); with the cap raised it
+    parses (and the cap returns to its default after the block)."""
+    text = "+".join(f"sqrt({p})" for p in (2, 3, 5, 7, 11, 13, 17))
+    with pytest.raises(BudgetError, match="is 128, above the cap 64"):
+        parse_exact(text, "x")
+    with budget.limits(max_degree=128):
+        assert parse_exact(text, "x") == sum(sp.sqrt(p) for p in (2, 3, 5, 7, 11, 13, 17))
+    assert budget.LIMITS.max_degree == 64
+
+
+ROTATION = '[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nname = "s1"\nC = [["1", "0"]]\n'
+
+
+def run(capsys, *argv) -> tuple[int, str, str]:
+    status = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def one_line(err: str) -> str:
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    return err
+
+
+def test_digits_beyond_python_are_a_usage_error(capsys, tmp_path):
+    """--max-digits 10^15 made Python's int-to-text limit overflow a C int (OverflowError, exit 70)."""
+    path = tmp_path / "s.toml"
+    path.write_text(ROTATION)
+    status, _, err = run(capsys, "critical", path, "--digits", "1000000000", "--max-digits", "1000000000000000")
+    assert status == 2 and "--max-digits" in one_line(err) and str(budget.MAX_DIGITS_CAP) in err
+    with pytest.raises(InputError, match="max_digits: 1000000000000000 is above"):
+        with budget.limits(max_digits=10 ** 15):
+            pass
+    with pytest.raises(InputError, match="unknown cap"):
+        with budget.limits(max_degre=3):
+            pass
+
+
+def test_a_billion_digits_refused_at_once(tmp_path):
+    """`critical --digits 1e9` with --max-digits raised ran for minutes (conversions quadratic in
+    the digits); its memory (64 bytes per digit at least: 6.4e10) is refused naming the cap."""
+    path = system_file(tmp_path, "2")
+    code, err = limited(cli.main, ["critical", str(path), "--digits", "1000000000", "--max-digits", "1000000000"])
+    assert code == 2 and err.count("\n") == 1 and "--digits" in err and "--max-memory" in err, err
+
+
+def test_raised_digit_cap_serves_beyond_pythons_int_limit(tmp_path):
+    """--digits 100000 was exit 70 (Python's 4300-digit int <-> str limit); above the default cap it
+    is refused, and with --max-digits raised 5000 digits are served: A = [cbrt(3)] has the
+    irrational critical rate 3^(-2/3), whose isolating interval at 10^-5002 has endpoints of
+    about 19700 characters (the conversion limit follows the cap)."""
+    path = tmp_path / "cube.toml"
+    path.write_text('[system]\nA = [["root(3, 3)"]]\n[[sensors]]\nC = [["1"]]\n')
+    code, err = limited(cli.main, ["critical", str(path), "--digits", "5000", "--max-digits", "6000", "--json"])
+    assert code == 0, err
