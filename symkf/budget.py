@@ -126,7 +126,7 @@ class Limits:
     max_members: int = 2000
     #: bytes of the arrays one Monte Carlo run allocates at its peak, as estimated by
     #: symkf.numeric.montecarlo.memory_estimate (traces, receptions, kernel lanes, likelihood ratios,
-    #: per-step records; within 1.5x of peak RSS: tests/test_memory_estimate.py)
+    #: per-step records; within 1.5x of peak RSS: tests/numeric/test_memory_estimate.py)
     max_memory: int = 2 * 1024 ** 3
     #: bytes of an input file
     max_file_size: int = 1024 ** 2

