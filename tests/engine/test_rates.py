@@ -3,7 +3,7 @@
 ``u M^N v = P(R_{Ng})`` exactly against enumeration of every loss pattern (eq. 35), the
 enumeration refused above its cap, and the hyperplane rate equal to the spectral radius of the
 full M (eq. 36) under i.i.d. and Gilbert-Elliott losses.  The screened searches for the largest
-rate are checked against listing every hyperplane in tests/engine/test_rate_search.py."""
+rate are checked against listing every hyperplane in tests/engine/test_search.py."""
 
 import numpy as np
 import pytest

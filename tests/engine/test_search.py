@@ -1,4 +1,4 @@
-"""The Markov-loss rate search (symkf.engine.rates) and the screened ray / per-sensor critical
+"""The Markov-loss rate search (symkf.engine.search) and the screened ray / per-sensor critical
 loss rates (symkf.engine.stability) against full enumeration: every hyperplane's restricted transfer of the joint chain, its Perron
 root, the first maximum (ties, unequal losses, parallel rows, multi-row sensors, periods 2-24),
 hypothesis-drawn channels, and the decisive pattern checked on the raw regression rows."""
