@@ -28,9 +28,7 @@ from ..exact.numbers import as_matrix
 if TYPE_CHECKING:
     import control
 
-    from .system import System
-
-__all__ = ["statespace_parts", "to_statespace", "float_matrix"]
+__all__ = ["statespace_parts", "statespace_of", "float_matrix"]
 
 
 def statespace_parts(sys: "control.StateSpace", sensors: Mapping[str, Iterable[int]] | Sequence[str] | None = None,
@@ -74,43 +72,24 @@ def _sensor_rows(sensors: Mapping[str, Sequence[int]] | Sequence[str] | None, la
     return groups
 
 
-def to_statespace(system: System, B: Any = None, D: Any = None, dt: float | bool = 1) -> "control.StateSpace":
-    """``system`` as a python-control ``StateSpace`` (float64), outputs named after the sensors.
+def statespace_of(A: sp.MatrixBase, C: sp.MatrixBase, outputs: Sequence[str], name: str | None, B: Any = None,
+                  D: Any = None, dt: float | bool = 1) -> "control.StateSpace":
+    """A python-control ``StateSpace`` (float64) of the exact ``A`` and stacked ``C`` with the
+    output labels ``outputs``: what :meth:`symkf.model.system.System.to_statespace` returns.
 
-    Parameters
-    ----------
-    system : System
-        A real system (python-control has no complex state spaces).
-    B, D : array_like, optional
-        Input and feedthrough matrices.  The papers' systems have no input, so the default is
-        one input that does not act, ``B = 0`` and ``D = 0``, labelled ``no_input``.
-    dt : float or True, default 1
-        Sampling time: 1, one step of ``x_{k+1} = A x_k + w_k`` (``True``: discrete, unspecified).
-
-    Returns
-    -------
-    control.StateSpace
-        ``A`` and the stacked ``C`` of the sensors; the rows of sensor ``s`` with ``m`` rows are
-        labelled ``s`` (``m = 1``) or ``s[0]``, ..., ``s[m-1]``. ``Q`` and ``R`` for
-        ``control.dlqe`` are :func:`float_matrix` of ``system.Q`` and ``system.R``.
-
-    Examples
-    --------
-    >>> import symkf as sk
-    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
-    >>> G = to_statespace(S)
-    >>> G.output_labels, G.input_labels, G.dt
-    (['s1'], ['no_input'], 1)
+    ``B``, ``D``: input and feedthrough matrices.  The papers' systems have no input, so the
+    default is one input that does not act, ``B = 0`` and ``D = 0``, labelled ``no_input``.
+    ``dt``: sampling time, 1 for one step of ``x_{k+1} = A x_k + w_k`` (``True``: discrete,
+    unspecified).  A complex system is refused (python-control has none).
     """
     ct = require_extra("control", "control", "to_statespace")
-    A, C = float_matrix(system.A, "A"), float_matrix(system.C, "C")
+    A, C = float_matrix(A, "A"), float_matrix(C, "C")
     n, p = A.shape[0], C.shape[0]
     # python-control mishandles empty (p, 0) feedthroughs, so "no input" is one input that does not act
     inputs = ["no_input"] if B is None else None
     B = np.zeros((n, 1)) if B is None else float_array(B, "B")
     D = np.zeros((p, B.shape[1])) if D is None else float_array(D, "D")
-    labels = [s.name if s.m == 1 else f"{s.name}[{j}]" for s in system.sensors for j in range(s.m)]
-    return ct.ss(A, B, C, D, dt, outputs=labels, inputs=inputs, name=system.name)
+    return ct.ss(A, B, C, D, dt, outputs=list(outputs), inputs=inputs, name=name)
 
 
 def float_matrix(M: sp.MatrixBase, entry: str) -> np.ndarray:

@@ -390,9 +390,20 @@ class System:
         return cls(A=A, Q=Q, P0=P0, rationalize=rationalize, name=name or sys.name,
                    sensors=[Sensor(C=C, R=Rs, name=s, rationalize=rationalize) for s, (C, Rs) in parts.items()])
 
-    def to_statespace(self, B: Any = None, D: Any = None, dt: float | bool = True) -> Any:
-        """This system as a python-control ``StateSpace``: :func:`symkf.model.statespace.to_statespace`."""
-        from .statespace import to_statespace
-        return to_statespace(self, B, D, dt)
+    def to_statespace(self, B: Any = None, D: Any = None, dt: float | bool = 1) -> Any:
+        """This system as a python-control ``StateSpace`` (float64, the ``control`` extra): ``A`` and
+        the stacked ``C``, the rows of sensor ``s`` with ``m`` rows labelled ``s`` (``m = 1``) or
+        ``s[0]``, ..., ``s[m-1]``; ``B``, ``D`` and ``dt`` as :func:`symkf.model.statespace.statespace_of`
+        (default: one input that does not act, ``dt = 1``: one step of ``x_{k+1} = A x_k + w_k``).  ``Q`` and ``R`` for ``control.dlqe``
+        are :func:`~symkf.model.statespace.float_matrix` of ``Q`` and ``R``.
+
+        >>> S = System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]], name="s1")])
+        >>> G = S.to_statespace()
+        >>> G.output_labels, G.input_labels, G.dt
+        (['s1'], ['no_input'], 1)
+        """
+        from .statespace import statespace_of
+        labels = [s.name if s.m == 1 else f"{s.name}[{j}]" for s in self.sensors for j in range(s.m)]
+        return statespace_of(self.A, self.C, labels, self.name, B, D, dt)
 
 check_public(globals())

@@ -100,6 +100,5 @@ QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], nam
 
 def test_statespace_has_sampling_time_one_and_says_there_is_no_input():
     pytest.importorskip("control")
-    from symkf.model.statespace import to_statespace
-    G = to_statespace(QUARTER_TURN)
+    G = QUARTER_TURN.to_statespace()
     assert G.dt == 1 and G.input_labels == ["no_input"] and not G.B.any()
