@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from llvmlite import ir
+from llvmlite import binding as llvm, ir
 from numba import njit, types
 from numba.core import cgutils
 from numba.core.imputils import impl_ret_new_ref
@@ -153,11 +153,12 @@ def _clamped(e: int) -> int:
 @intrinsic
 def _pow2(typingctx, e):
     """``2^e`` rounded as ``ldexp(1, e)`` (0 for e <= -1075, inf for e >= 1024).  Where the compile
-    target has AVX-512, ``llvm.ldexp``: one ``vscalefpd`` per 8 lanes (fewer instructions than
-    :func:`_pow2_bits`); elsewhere LLVM would call libm's ``ldexp`` lane by lane, and
-    :func:`_pow2_bits` is inlined instead (the same value: both are exact)."""
+    target has AVX-512 and LLVM has the ``llvm.ldexp`` intrinsic (LLVM 17 on; an older LLVM aborts
+    the process on the unknown symbol), ``llvm.ldexp``: one ``vscalefpd`` per 8 lanes (fewer
+    instructions than :func:`_pow2_bits`); elsewhere LLVM would call libm's ``ldexp`` lane by lane,
+    and :func:`_pow2_bits` is inlined instead (the same value: both are exact)."""
     def codegen(context, builder, signature, args):
-        if "+avx512f" not in getattr(context.codegen(), "_tm_features", ""):
+        if "+avx512f" not in getattr(context.codegen(), "_tm_features", "") or llvm.llvm_version_info < (17,):
             return context.compile_internal(builder, _pow2_bits, signature, args)
         i32 = ir.IntType(32)
         power = builder.trunc(context.compile_internal(builder, _clamped, types.int64(types.int64), args), i32)

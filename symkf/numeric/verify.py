@@ -276,13 +276,24 @@ def summary(report: dict[str, Any]) -> str:
 
 
 def interval_text(s: dict[str, Any], short: bool = False) -> str:
-    """The simulated margin with its interval, or why there is none (``short``: for a table row)."""
+    """The simulated margin with its interval, or why there is none (``short``: for a table row),
+    from the ``"simulation"`` object of :meth:`Verification.to_json` (its ``rate``,
+    ``rate_interval`` and ``confidence``)."""
+    missing = [key for key in ("rate", "rate_interval", "confidence") if key not in s]
+    if missing:
+        raise InputError(f"s: the simulation object of Verification.to_json() has the keys rate, rate_interval "
+                         f"and confidence; {', '.join(missing)} missing")
     if s["rate_interval"] is None:
         return "not resolved" + ("" if short else " (E_k changes less than its noise between the horizons)")
-    low, high = s["rate_interval"]
+    try:
+        low, high = map(float, s["rate_interval"])
+        rate, confidence = float(s["rate"]), float(s["confidence"])
+    except (TypeError, ValueError, ArithmeticError):
+        raise InputError("s: rate and confidence must be numbers and rate_interval a pair of numbers or None, got "
+                         f"{s['rate']!r:.40}, {s['confidence']!r:.40}, {s['rate_interval']!r:.60}") from None
     if short:
-        return f"{s['rate']:.5g} in [{low:.5g}, {high:.5g}]"
-    return f"{s['rate']:.5g}, {100 * s['confidence']:g}% interval [{low:.5g}, {high:.5g}] with the allowance"
+        return f"{rate:.5g} in [{low:.5g}, {high:.5g}]"
+    return f"{rate:.5g}, {100 * confidence:g}% interval [{low:.5g}, {high:.5g}] with the allowance"
 
 
 check_public(globals())
