@@ -1,7 +1,9 @@
 """A loss model from another installed package: the worked example of docs/losses.md, built as a
 package of its own (its pyproject.toml and module from the page), installed into a temporary
 directory and used by the `symkf` command in a new process through the `symkf.losses` entry-point
-group; a kind whose entry point cannot be loaded is reported by name, and the others keep working."""
+group; a kind whose entry point cannot be loaded is reported by name, and the others keep working.
+The installs are the full tier's (pip builds the packages, with a package index where this
+environment cannot build them itself)."""
 
 from __future__ import annotations
 
@@ -80,6 +82,7 @@ def test_the_worked_example_uses_public_names_only():
     assert imported and all(not name.strip().startswith("_") for _, names in imported for name in names.split(","))
 
 
+@pytest.mark.full
 def test_an_installed_model_works_from_the_command_line(installed, tmp_path):
     path = tmp_path / "outage.toml"
     path.write_text(SYSTEM + '[loss]\nkind = "common-outage"\noutage = "1/20"\nloss = ["1/10", "1/5"]\n',
@@ -94,6 +97,7 @@ def test_an_installed_model_works_from_the_command_line(installed, tmp_path):
     assert verdict["stable"] is True and report["loss"]["kind"] == "common-outage"
 
 
+@pytest.mark.full
 def test_a_kind_that_cannot_load_is_named_and_the_others_still_work(installed, tmp_path):
     broken = tmp_path / "broken.toml"
     broken.write_text(SYSTEM + '[loss]\nkind = "broken-kind"\n', encoding="utf-8")
