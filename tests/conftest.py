@@ -63,6 +63,24 @@ def stacked_rotations(orders, rows):
 
 # -- processes: the interrupt, writer and output tests watch the processes they start -------------
 
+#: a system file of A = 2 R(pi/2) with one sensor, for the command-line tests (append a [loss])
+ROTATION = '[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nname = "s1"\nC = [["1", "0"]]\n'
+
+
+def run(capsys, *argv) -> tuple[int, str, str]:
+    """``symkf ARGV`` in this process: (exit status, stdout, stderr)."""
+    from symkf import cli
+    status = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def one_line(err: str) -> str:
+    """``err`` after checking that it is one line and holds no traceback."""
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    return err
+
+
 def wait_for(condition, timeout: float, what: str) -> None:
     """Poll ``condition()`` until it holds; fail the test naming ``what`` after ``timeout`` seconds."""
     deadline = time.monotonic() + timeout

@@ -12,7 +12,7 @@ from symkf import budget, cli
 from symkf.errors import BudgetError, InputError
 from symkf.exact.numbers import parse_exact
 
-from conftest import limited, system_file
+from conftest import ROTATION, limited, one_line, run, system_file
 
 
 def test_caps_can_be_raised_and_are_restored():
@@ -26,18 +26,6 @@ def test_caps_can_be_raised_and_are_restored():
     assert budget.LIMITS.max_degree == 64
 
 
-ROTATION = '[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nname = "s1"\nC = [["1", "0"]]\n'
-
-
-def run(capsys, *argv) -> tuple[int, str, str]:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
-def one_line(err: str) -> str:
-    assert err.count("\n") == 1 and "Traceback" not in err, err
-    return err
 
 
 def test_digits_beyond_python_are_a_usage_error(capsys, tmp_path):

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from conftest import run
 import symkf as sk
 from symkf import cli, examples
 from symkf.io import files
@@ -24,12 +25,6 @@ QUARTER_TURN = SYSTEMS / "design-rotation.toml"       # A = 2 R(pi/2), C = [1 0]
 GE = SYSTEMS / "ge-two-sensors.toml"
 #: simulation seed of the verify tests; checked with SYMKF_TEST_SEED = 0..19 before landing
 SEED = 3 * int(os.environ.get("SYMKF_TEST_SEED", "0"))
-
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def with_loss(tmp_path: Path, loss: str) -> Path:

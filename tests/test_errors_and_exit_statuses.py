@@ -6,22 +6,11 @@ from __future__ import annotations
 
 import pytest
 
-from symkf import cli, examples
+from conftest import ROTATION, one_line, run
+from symkf import examples
 from symkf.errors import BudgetError, SymkfError
 
 GE = examples.system("ge-two-sensors")
-ROTATION = '[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nname = "s1"\nC = [["1", "0"]]\n'
-
-
-def run(capsys, *argv) -> tuple[int, str, str]:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
-def one_line(err: str) -> str:
-    assert err.count("\n") == 1 and "Traceback" not in err, err
-    return err
 
 
 def test_huge_rational_loss_is_exit_2_naming_file_and_key(capsys, tmp_path):

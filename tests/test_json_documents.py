@@ -9,6 +9,7 @@ from typing import Any
 
 import pytest
 
+from conftest import run
 from symkf import cli, examples
 
 SYSTEMS = examples.directory() / "systems"
@@ -61,12 +62,6 @@ def test_every_document_carries_schema_version(capsys, argv) -> None:
     doc = json_of(capsys, *argv)
     assert doc["schema_version"] == cli.SCHEMA_VERSION
     assert "period" not in keys(doc)
-
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def test_json_errors_go_to_stdout_too(capsys, tmp_path):

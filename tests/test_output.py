@@ -16,19 +16,13 @@ from pathlib import Path
 
 import pytest
 
-from symkf import cli, examples, output
+from symkf import examples, output
 from symkf.errors import OutputError
 
-from conftest import ROOT, cpu_seconds, wait_for
+from conftest import ROOT, cpu_seconds, one_line, run, wait_for
 
 FAMILY_TEXT = ('[family]\n[grid]\na = ["2", "3"]\n[system]\nA = [["a", "0"], ["0", "a/2"]]\n'
                '[[sensors]]\nC = [["1", "1"]]\n')
-
-
-def run(capsys, *argv) -> tuple[int, str, str]:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def leftovers(directory: Path) -> list[str]:
@@ -123,11 +117,6 @@ def test_too_long_output_name_is_exit_2(capsys, tmp_path):
     status, out, err = run(capsys, "table", FAMILY, "--latex", target)
     assert status == 2 and out == ""
     assert "--latex" in one_line(err) and "above the file system's limit" in err
-
-
-def one_line(err: str) -> str:
-    assert err.count("\n") == 1 and "Traceback" not in err, err
-    return err
 
 
 # -- inputs are never written over, whatever names them -------------------------------------------

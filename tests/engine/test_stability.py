@@ -16,7 +16,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import symkf as sk
-from symkf import cli, examples
+from symkf import examples
 from symkf.engine.recovery import critical_recovery_rate
 from symkf.engine.stability import critical_alpha, critical_loss_rate, pattern_words, stability
 from symkf.errors import BudgetError, SymkfError
@@ -26,7 +26,7 @@ from symkf.io.files import load
 from symkf.model.gilbert_elliott import GilbertElliott
 from symkf.model.iid import IID
 
-from conftest import rotation
+from conftest import rotation, run
 
 #: 2R(pi/2), C = [1 0]: critical loss rate 1/16 (rows repeat their direction every 2 steps)
 QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
@@ -183,12 +183,6 @@ def test_critical_value_roots_of_rational_powers(power, k, sign, exponent, poly)
 
 
 # -- the certificate names the class period ---------------------------------------------------
-
-def run(capsys, *argv) -> tuple[int, str, str]:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
-
 
 #: an aperiodic block: eigenvalues (6 +- 8i)/5 = 2 e^(+-i t), cos t = 3/5, t not a rational multiple of pi
 APERIODIC = [["6/5", "-8/5"], ["8/5", "6/5"]]

@@ -17,10 +17,9 @@ import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from symkf import cli
 from symkf.io import files
 from symkf.errors import FileFormatError, SymkfError
-from conftest import ROOT
+from conftest import ROOT, run
 
 CORPUS = sorted((ROOT / "tests" / "corpus" / "bad").glob("*.toml"))
 FUZZ = settings(max_examples=40, deadline=None,
@@ -29,12 +28,6 @@ FUZZ = settings(max_examples=40, deadline=None,
 
 def expected(path: Path) -> str:
     return re.match(r"# expect: (.*)", path.read_text(encoding="utf-8", errors="replace")).group(1)
-
-
-def run(capsys, *argv) -> tuple[int, str, str]:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def assert_bad(status: int, out: str, err: str, path: Path) -> None:

@@ -18,7 +18,7 @@ from symkf import cli
 from symkf.exact.numbers import to_exact
 from symkf.io import files
 
-from conftest import ROOT, limited
+from conftest import ROOT, limited, run
 
 R = sp.Rational
 
@@ -53,12 +53,6 @@ def test_non_regular_input_files_refused(tmp_path, kind):
     for command in ("analyze", "critical"):
         code, err = limited(cli.main, [command, str(path)])
         assert code == 2 and err.count("\n") == 1 and f"{path}: {what}" in err, err
-
-
-def run(capsys, *argv) -> tuple[int, str, str]:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 @pytest.fixture

@@ -19,8 +19,9 @@ import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from conftest import run
 from symkf.exact.numbers import sympify as exact, to_exact_matrix
-from symkf import budget, cli, examples
+from symkf import budget, examples
 from symkf.io import files
 from symkf.errors import BudgetError, InputError, SymkfError
 from symkf.model.markov import MarkovLoss
@@ -32,12 +33,6 @@ from symkf.engine.stability import stability
 NETWORK = examples.directory() / "systems" / "network"
 FUSION = examples.directory() / "systems" / "fusion"
 R = sp.Rational
-
-
-def run(capsys, *argv) -> tuple[int, str, str]:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def write(tmp_path: Path, text: str, name: str = "f.toml") -> Path:

@@ -6,13 +6,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from symkf import cli, examples
-
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
+from conftest import run
+from symkf import examples
 
 
 def test_examples_lists_and_copies(capsys, tmp_path, monkeypatch):

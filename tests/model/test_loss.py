@@ -34,7 +34,7 @@ from symkf.numeric.filters import sample_receptions
 from symkf.numeric.montecarlo import exact_mean_covariances, simulate_traces
 from symkf.numeric.receptions import draw
 
-from conftest import ROOT
+from conftest import ROOT, ROTATION, one_line, run
 
 R = sp.Rational
 
@@ -262,18 +262,6 @@ def test_loss_above_one_refused_before_evaluation():
         sk.IID(["root(2, 3)"])
 
 
-ROTATION = '[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nname = "s1"\nC = [["1", "0"]]\n'
-
-
-def run(capsys, *argv) -> tuple[int, str, str]:
-    status = cli.main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
-def one_line(err: str) -> str:
-    assert err.count("\n") == 1 and "Traceback" not in err, err
-    return err
 
 
 def test_loss_table_without_kind_is_refused(capsys, tmp_path):
