@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 from .errors import SymkfError
 
 if TYPE_CHECKING:
-    from . import capacity, fusion, network
+    from . import capacity, design, fusion, network
     from .model import statespace as control
     from .io import examples
     from .numeric import montecarlo
@@ -29,6 +29,7 @@ if TYPE_CHECKING:
     from .model.gilbert_elliott import GilbertElliott
     from .model.iid import IID
     from .model.independent import Independent
+    from .model.subsets import Selected
     from .model.markov import MarkovLoss
     from .model.system import Sensor, System
     from .engine.region import StabilityRegion, stability_conditions, stability_region
@@ -43,12 +44,12 @@ if TYPE_CHECKING:
 __version__ = "0.1.0"
 
 #: subpackages imported on first attribute access, with their modules
-_SUBMODULES = {"capacity": "capacity", "control": "model.statespace", "examples": "io.examples", "fusion": "fusion",
+_SUBMODULES = {"capacity": "capacity", "control": "model.statespace", "design": "design", "examples": "io.examples", "fusion": "fusion",
                "montecarlo": "numeric.montecarlo", "network": "network", "second_order": "engine.second_order",
                "tables": "reports.tables"}
 #: public names imported on first access, with the module that defines them
 _LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "model.iid", "GilbertElliott": "model.gilbert_elliott",
-         "MarkovLoss": "model.markov", "Independent": "model.independent", "Sensor": "model.system", "System": "model.system",
+         "MarkovLoss": "model.markov", "Independent": "model.independent", "Selected": "model.subsets", "Sensor": "model.system", "System": "model.system",
          "eigen_blocks": "exact.spectral", "eigenvalues": "exact.spectral", "Verdict": "engine.stability",
          "critical_alpha": "engine.stability", "critical_loss_rate": "engine.stability",
          "critical_recovery_rate": "engine.recovery", "stability": "engine.stability",
@@ -58,12 +59,12 @@ _LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "model.iid", "GilbertEllio
          "verify_family": "io.family_verification", "Verification": "numeric.verify", "FamilyVerification": "io.family_verification",
          "simulate": "numeric.simulation", "Simulation": "numeric.simulation"}
 
-__all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLoss", "Independent", "AlgebraicNumber",
+__all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLoss", "Independent", "Selected", "AlgebraicNumber",
            "eigen_blocks", "eigenvalues", "stability", "Verdict", "critical_loss_rate", "critical_alpha",
            "critical_recovery_rate", "stable_recovery_intervals", "stability_region", "stability_conditions",
            "StabilityRegion", "sweep", "load_family", "bounds", "verify", "verify_family", "Verification",
            "FamilyVerification", "simulate", "Simulation",
-           "capacity", "fusion", "montecarlo", "network", "second_order", "tables"]
+           "capacity", "design", "fusion", "montecarlo", "network", "second_order", "tables"]
 
 def __getattr__(name: str) -> Any:
     if name in _SUBMODULES:

@@ -1,0 +1,218 @@
+"""Channel allocation under i.i.d. losses: the cheapest loss probabilities that keep every
+block's margin at most a bound, as exact rationals the engine certifies.
+
+In ``x_j = -ln eps_j`` the requirement is linear (Sui-You-Fu Theorem 4 with eq. 36): block ``i``
+with modulus ``alpha_i`` and class period ``g_i`` keeps ``alpha_i^2 rho_i <= mu`` iff for every
+hyperplane ``H`` of its elements ``sum_j k_j(H) x_j >= ln alpha_i^(2 g_i) - g_i ln mu``, ``k_j(H)``
+counting sensor ``j``'s elements outside ``H``.  The usual energy model prices a channel at
+``w_j x_j`` (the transmit energy that buys a loss probability ``eps_j`` grows as ``-ln eps_j``),
+so the cheapest qualities solve a linear programme.  Its rows are generated as needed: solve over
+the hyperplanes found so far, round the losses down to rationals, let the engine decide them,
+and add the decisive hyperplanes of any block over the bound.  The programme over a subset of the
+rows is a relaxation, so its optimum, bounded below exactly through its dual values (or solved
+exactly by the pure-Python fallback), bounds the true optimum from below: the gap of the answer.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any, Sequence
+
+import flint
+import sympy as sp
+
+from ..arguments import check_public
+from ..engine.stability import Verdict, critical_loss_rate
+from ..errors import InputError
+from ..exact.algebraic import AlgebraicNumber
+from ..exact.numbers import to_exact
+from ..model.iid import IID
+from ..model.system import System
+from .constraints import Cuts, HyperplaneCut, Requirement
+from .programmes import cheapest_point
+from .selection import candidate_costs
+
+
+def _fraction(x: flint.arb) -> Fraction:
+    mantissa, exponent = x.man_exp()
+    return Fraction(int(mantissa)) * Fraction(2) ** int(exponent)
+
+
+def _log_bounds(value: sp.Expr) -> tuple[Fraction, Fraction]:
+    """Rational bounds of ``ln value`` for a positive algebraic ``value`` (certified: flint's ball
+    logarithm of the certified rational bounds of ``value``)."""
+    lo, hi = AlgebraicNumber.from_expr(value).refine(sp.Rational(1, 10 ** 30)).interval
+    low = flint.arb(flint.fmpq(lo.numerator, lo.denominator)).log().lower()
+    high = flint.arb(flint.fmpq(hi.numerator, hi.denominator)).log().upper()
+    return _fraction(low), _fraction(high)
+
+
+def _below(x: float) -> sp.Rational:
+    """A rational loss probability at most ``exp(-x)`` (rounded down: a loss that low is safer)."""
+    if x > 700:
+        return sp.Integer(0)
+    value = Fraction(math.exp(-x)).limit_denominator(10 ** 12)
+    while value > 0 and math.exp(-x) < float(value):
+        value = value * Fraction(999_999, 1_000_000)
+    return sp.Rational(value.numerator, value.denominator)
+
+
+@dataclass(frozen=True)
+class Allocation:
+    """The cheapest i.i.d. loss probabilities found, certified by the engine.
+
+    ``losses`` (exact rationals, one per sensor) meet ``requirement`` (the engine's ``verdict``
+    says so); ``cost`` is ``sum_j w_j (-ln eps_j)`` at them (float), ``lower_bound`` a certified
+    lower bound of the cost of *any* losses meeting it, so the answer is within ``gap`` of the
+    optimum.  ``rows`` hyperplane constraints were generated in ``rounds`` rounds."""
+
+    system: System = field(repr=False)
+    requirement: Requirement = field(repr=False)
+    weights: tuple[sp.Rational, ...] = field(repr=False)
+    losses: tuple[sp.Rational, ...]
+    cost: float
+    lower_bound: Fraction
+    verdict: Verdict = field(repr=False)
+    rows: int
+    rounds: int
+    solver: str
+
+    @property
+    def gap(self) -> float:
+        return self.cost - float(self.lower_bound)
+
+    def __repr__(self) -> str:
+        return (f"Allocation(losses={[str(e) for e in self.losses]}, cost={self.cost:.6g}, "
+                f"lower_bound={float(self.lower_bound):.6g})")
+
+    def __str__(self) -> str:
+        names = self.system.sensor_names
+        lines = [f"cheapest i.i.d. channel qualities meeting: {self.requirement.words}",
+                 f"  cost sum w_j (-ln eps_j) = {self.cost:.6f}; no allocation costs less than "
+                 f"{float(self.lower_bound):.6f} (gap {self.gap:.2e})"]
+        lines += [f"  {n}: loss {e} ~ {float(e):.6f} (weight {w})" for n, e, w in zip(names, self.losses, self.weights)]
+        lines.append(f"  verdict: limiting margin {self.verdict.limiting_margin.evalf(6)}; "
+                     f"{self.rows} hyperplane rows in {self.rounds} rounds ({self.solver})")
+        return "\n".join(lines)
+
+    def _repr_latex_(self) -> str:
+        eps = r",\ ".join(rf"\varepsilon_{{\mathrm{{{n}}}}} = {sp.latex(e)}" for n, e in zip(self.system.sensor_names, self.losses))
+        return rf"${eps};\quad \mathrm{{cost}} = {self.cost:.6g} \geq {float(self.lower_bound):.6g}$"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"requirement": self.requirement.words, "sensors": list(self.system.sensor_names),
+                "weights": [str(w) for w in self.weights], "losses": [str(e) for e in self.losses],
+                "cost": self.cost, "lower_bound": str(self.lower_bound), "gap": self.gap,
+                "margins": [str(m.exact) for m in self.verdict.margins], "rows": self.rows, "rounds": self.rounds,
+                "solver": self.solver}
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), indent=2)
+
+
+def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2", solver: str = "auto",
+                      max_rounds: int = 200) -> Allocation:
+    """The cheapest i.i.d. loss probabilities ``eps_j`` (cost ``sum_j w_j (-ln eps_j)``) with every
+    block's margin ``alpha_i^2 rho_i`` at most ``margin``.
+
+    Parameters
+    ----------
+    system : System
+    weights : sequence or mapping, optional
+        Positive exact prices per sensor (in order or by name); default 1 each.
+    margin : number, default 1/2
+        A rational in (0, 1): the bound on every margin (1 would allow losses at the boundary).
+    solver : {"auto", "highs", "python"}
+        The linear programme's solver: HiGHS through SciPy, or SymPy's exact simplex.
+    max_rounds : int, default 200
+        Rounds of row generation before giving up.
+
+    Returns
+    -------
+    Allocation
+        Exact rational losses the engine certifies, their cost, and a certified lower bound of
+        the optimum.
+
+    Examples
+    --------
+    ``A = 2R(pi/2)`` with sensors ``[1, 0]`` and ``[1, 1]``: the region is ``16 eps_1 eps_2^2 < 1``
+    and ``16 eps_1^2 eps_2 < 1`` (:func:`~symkf.engine.region.stability_region`); with margin 1/2
+    (``alpha^4 rho^2 <= 1/4``) both rows read ``x_1 + 2 x_2 >= ln 64`` and ``2 x_1 + x_2 >= ln 64``
+    in ``x = -ln eps``, so at equal weights the optimum is ``x_1 = x_2 = ln 4``: ``eps = 1/4``
+    each, cost ``2 ln 4 = 2.7726`` (by hand):
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"),
+    ...                                             sk.Sensor(C=[[1, 1]], name="s2")])
+    >>> a = sk.design.allocate_channels(S)
+    >>> [round(float(e), 6) for e in a.losses], round(a.cost, 4), round(float(a.lower_bound), 4)
+    ([0.25, 0.25], 2.7726, 2.7726)
+    """
+    if solver not in ("auto", "highs", "python"):
+        raise InputError(f"solver: {solver!r} is not one of 'auto', 'highs', 'python'")
+    if isinstance(max_rounds, bool) or not isinstance(max_rounds, int) or max_rounds < 1:
+        raise InputError(f"max_rounds: expected a positive int, got {max_rounds!r}")
+    w = candidate_costs(system, weights)
+    if any(v <= 0 for v in w):
+        raise InputError("weights: every price must be positive (a free channel would be made lossless)")
+    mu = to_exact(margin, "margin")
+    if not mu.is_Rational or not 0 < mu < 1:
+        raise InputError(f"margin: {mu} is not a rational in (0, 1); every block's margin alpha^2 rho stays at most it")
+    d = system.d
+    start = critical_loss_rate(system).exact * mu
+    losses = tuple([_below(-float(sp.log(start).evalf(20)))] * d) if start != 0 else (sp.Integer(0),) * d
+    requirement = Requirement(IID(list(losses)), mu, False, f"every margin alpha^2 rho at most {mu} (i.i.d. losses)")
+    cuts = Cuts(system, requirement)
+    rounds = 0
+    while True:
+        rounds += 1
+        requirement = Requirement(IID(list(losses)), mu, False, requirement.words)
+        cuts.requirement = requirement
+        verdict, blocks = cuts.verdict(range(d))
+        for i, cert in enumerate(verdict.certificate):   # every block's decisive hyperplane: a row
+            cut = cuts.cut_of(blocks[i], set(cert.decisive_elements), cert.class_period, cert.modulus)
+            if cut is not None:
+                cuts.hyperplane.append(cut)
+        if requirement.met(verdict) and rounds > 1:
+            break
+        if rounds > max_rounds:
+            raise InputError(f"max_rounds: {max_rounds} rounds of row generation did not reach an allocation the "
+                             "engine certifies; raise max_rounds")
+        x, _ = _solve(cuts.hyperplane, w, mu, solver, point=True)
+        losses = tuple(_below(v) for v in x)
+    x_final = [-float(sp.log(e).evalf(20)) if e != 0 else math.inf for e in losses]
+    cost = float(sum(float(wj) * xj for wj, xj in zip(w, x_final)))
+    _, bound = _solve(cuts.hyperplane, w, mu, solver, point=False)
+    return Allocation(system, requirement, w, losses, cost, bound, verdict, len(cuts.hyperplane), rounds,
+                      "HiGHS" if solver != "python" and _has_scipy() else "SymPy simplex")
+
+
+def _has_scipy() -> bool:
+    try:
+        import scipy  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _solve(rows: Sequence[HyperplaneCut], w: Sequence[sp.Rational], mu: sp.Rational, solver: str,
+           point: bool) -> tuple[list[float], Fraction]:
+    """The programme over ``rows``: its minimiser and a lower bound of its optimum that holds
+    exactly.  ``point``: the needs ``ln growth - g ln mu`` rounded up, with a slack, so that the
+    minimiser meets the rows it was given; else rounded down, a relaxation whose bound holds."""
+    mu_low, mu_high = _log_bounds(mu)
+    needs = []
+    for cut in rows:
+        low, high = _log_bounds(cut.growth)
+        needs.append(high - cut.period * mu_low + _SLACK if point else low - cut.period * mu_high)
+    return cheapest_point([Fraction(int(v.p), int(v.q)) for v in w], [list(cut.outside) for cut in rows], needs, solver)
+
+
+#: added to the needs of the minimiser's programme, so that rounding its losses to rationals
+#: cannot undo a row it meets with equality
+_SLACK = Fraction(1, 10 ** 9)
+
+
+check_public(globals())
