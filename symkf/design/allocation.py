@@ -24,6 +24,7 @@ import flint
 import sympy as sp
 
 from ..arguments import check_public
+from ..engine.region import simplest
 from ..engine.stability import Verdict, critical_loss_rate
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
@@ -57,6 +58,15 @@ def _below(x: float) -> sp.Rational:
     while value > 0 and math.exp(-x) < float(value):
         value = value * Fraction(999_999, 1_000_000)
     return sp.Rational(value.numerator, value.denominator)
+
+
+def _near(x: float) -> sp.Rational:
+    """The simplest rational within a relative 1e-9 below ``exp(-x)`` (or just above it)."""
+    if x > 700:
+        return sp.Integer(0)
+    value = math.exp(-x)
+    q = simplest(Fraction(value * (1 - 1e-9)), Fraction(value * (1 + 1e-12)))
+    return sp.Rational(q.numerator, q.denominator)
 
 
 @dataclass(frozen=True)
@@ -165,23 +175,28 @@ def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2
     losses = tuple([_below(-float(sp.log(start).evalf(20)))] * d) if start != 0 else (sp.Integer(0),) * d
     requirement = Requirement(IID(list(losses)), mu, False, f"every margin alpha^2 rho at most {mu} (i.i.d. losses)")
     cuts = Cuts(system, requirement)
-    rounds = 0
+    rounds, safe = 0, False
     while True:
         rounds += 1
         requirement = Requirement(IID(list(losses)), mu, False, requirement.words)
         cuts.requirement = requirement
         verdict, blocks = cuts.verdict(range(d))
+        new = 0
         for i, cert in enumerate(verdict.certificate):   # every block's decisive hyperplane: a row
             cut = cuts.cut_of(blocks[i], set(cert.decisive_elements), cert.class_period, cert.modulus)
             if cut is not None:
                 cuts.hyperplane.append(cut)
+                new += 1
         if requirement.met(verdict) and rounds > 1:
             break
         if rounds > max_rounds:
             raise InputError(f"max_rounds: {max_rounds} rounds of row generation did not reach an allocation the "
                              "engine certifies; raise max_rounds")
-        x, _ = _solve(cuts.hyperplane, w, mu, solver, point=True)
-        losses = tuple(_below(v) for v in x)
+        # the simplest rationals near the minimiser, unless rounding them crossed a known row:
+        # then the minimiser of rows with a slack, rounded down
+        safe = safe or (not requirement.met(verdict) and new == 0 and rounds > 1)
+        x, _ = _solve(cuts.hyperplane, w, mu, solver, point=True, slack=safe)
+        losses = tuple(_below(v) if safe else _near(v) for v in x)
     x_final = [-float(sp.log(e).evalf(20)) if e != 0 else math.inf for e in losses]
     cost = float(sum(float(wj) * xj for wj, xj in zip(w, x_final)))
     _, bound = _solve(cuts.hyperplane, w, mu, solver, point=False)
@@ -198,15 +213,16 @@ def _has_scipy() -> bool:
 
 
 def _solve(rows: Sequence[HyperplaneCut], w: Sequence[sp.Rational], mu: sp.Rational, solver: str,
-           point: bool) -> tuple[list[float], Fraction]:
+           point: bool, slack: bool = False) -> tuple[list[float], Fraction]:
     """The programme over ``rows``: its minimiser and a lower bound of its optimum that holds
-    exactly.  ``point``: the needs ``ln growth - g ln mu`` rounded up, with a slack, so that the
-    minimiser meets the rows it was given; else rounded down, a relaxation whose bound holds."""
+    exactly.  ``point``: the needs ``ln growth - g ln mu`` rounded up (plus a slack when
+    ``slack``), so that the minimiser meets the rows it was given; else rounded down, a
+    relaxation whose bound holds."""
     mu_low, mu_high = _log_bounds(mu)
     needs = []
     for cut in rows:
         low, high = _log_bounds(cut.growth)
-        needs.append(high - cut.period * mu_low + _SLACK if point else low - cut.period * mu_high)
+        needs.append(high - cut.period * mu_low + (_SLACK if slack else 0) if point else low - cut.period * mu_high)
     return cheapest_point([Fraction(int(v.p), int(v.q)) for v in w], [list(cut.outside) for cut in rows], needs, solver)
 
 

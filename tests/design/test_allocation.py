@@ -1,0 +1,75 @@
+"""Channel allocation (symkf.design.allocation) against the optimum by hand, a grid of losses the
+engine decides, and the two solvers against each other."""
+
+import itertools
+import math
+
+import pytest
+import sympy as sp
+
+import symkf as sk
+from symkf.errors import InputError
+
+from conftest import stacked_rotations
+
+
+def two_sensors():
+    return sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+
+
+@pytest.mark.parametrize("solver", ["highs", "python"])
+def test_equal_weights_give_a_quarter_each(solver):
+    # rows x1 + 2 x2 >= ln 64 and 2 x1 + x2 >= ln 64 (margin 1/2): the vertex x1 = x2 = ln 4
+    a = sk.design.allocate_channels(two_sensors(), solver=solver)
+    assert a.losses == (sp.Rational(1, 4), sp.Rational(1, 4))
+    assert a.cost == pytest.approx(2 * math.log(4), rel=1e-12)
+    assert 0 <= a.gap < 1e-9 and a.lower_bound <= 2 * math.log(4)
+    assert all(m <= sp.Rational(1, 2) for m in a.verdict.margins)
+
+
+def test_a_dear_second_channel_is_switched_off():
+    # weights 1, 3: the vertex x2 = 0, x1 = ln 64 costs ln 64 < 4 ln 4 (the other vertex), by hand
+    a = sk.design.allocate_channels(two_sensors(), weights=[1, 3])
+    assert a.losses == (sp.Rational(1, 64), 1)
+    assert a.cost == pytest.approx(math.log(64), rel=1e-12)
+
+
+def test_no_loss_grid_point_meeting_the_margin_is_cheaper():
+    S = stacked_rotations([4, 6], [[1, 0, 1, 1], [0, 1, 1, -1], [1, 1, 0, 1]])
+    weights = [1, 2, 3]
+    a = sk.design.allocate_channels(S, weights, margin="3/4")
+    grid = [sp.Rational(k, 20) for k in range(1, 21)]
+    cheapest = math.inf
+    for eps in itertools.product(grid, repeat=3):
+        cost = sum(-w * math.log(e) for w, e in zip(weights, eps))
+        if cost < cheapest and all(m <= sp.Rational(3, 4) for m in sk.stability(S, sk.IID(list(eps))).margins):
+            cheapest = cost
+            assert cost >= float(a.lower_bound) - 1e-9, eps
+    assert a.cost <= cheapest + 1e-9
+
+
+def test_both_solvers_agree_and_bound_each_other():
+    S = stacked_rotations([4, 6], [[1, 0, 1, 1], [0, 1, 1, -1], [1, 1, 0, 1], [2, -1, 1, 0]])
+    highs = sk.design.allocate_channels(S, [1, 2, 1, 3], solver="highs")
+    python = sk.design.allocate_channels(S, [1, 2, 1, 3], solver="python")
+    assert highs.cost == pytest.approx(python.cost, abs=1e-8)
+    assert max(float(highs.lower_bound), float(python.lower_bound)) <= min(highs.cost, python.cost) + 1e-12
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"weights": [1, 0]}, "every price must be positive"),
+    ({"margin": 1}, "not a rational in \\(0, 1\\)"),
+    ({"margin": "sqrt(2)/2"}, "not a rational"),
+    ({"max_rounds": 0}, "expected a positive int"),
+    ({"solver": "gurobi"}, "'gurobi' is not one of"),
+])
+def test_bad_allocations_are_refused_naming_the_entry(kwargs, message):
+    with pytest.raises(InputError, match=message):
+        sk.design.allocate_channels(two_sensors(), **kwargs)
+
+
+def test_allocation_reads_well_and_serialises():
+    a = sk.design.allocate_channels(two_sensors())
+    assert repr(a) == "Allocation(losses=['1/4', '1/4'], cost=2.77259, lower_bound=2.77259)"
+    assert a.to_dict()["losses"] == ["1/4", "1/4"] and '"losses"' in a.to_json()
+    assert len(str(a).splitlines()) == 5

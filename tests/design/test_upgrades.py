@@ -1,0 +1,34 @@
+"""Upgrades and active constraints (symkf.design.upgrades) against values by hand and the
+critical rate along the ray."""
+
+import sympy as sp
+
+import symkf as sk
+
+from test_selection import three_sensors
+
+
+def test_upgrade_values_of_three_sensors():
+    u = sk.design.upgrades(three_sensors())
+    assert u.base.exact == sp.Rational(1, 2)
+    assert [(x.sensor, x.elasticity, x.halved.exact) for x in u.ranked] == [
+        ("c", sp.Rational(1, 2), 2 ** sp.Rational(2, 5) / 2), ("a", sp.Rational(1, 4), 2 ** sp.Rational(1, 4) / 2),
+        ("b", sp.Rational(1, 4), 2 ** sp.Rational(1, 4) / 2)]
+    assert all(x.lossless.exact == 1 for x in u.ranked)   # any one sensor alone sees both directions
+
+
+def test_the_curve_starts_at_the_base_rate_and_rises_at_the_elasticity():
+    u = sk.design.upgrades(three_sensors())
+    for x in u.ranked:
+        assert x.critical_at(1) == u.base and x.critical_at(0) == x.lossless
+        t = sp.Rational(999_999, 1_000_000)
+        slope = (sp.log(x.critical_at(t).exact) - sp.log(u.base.exact)) / sp.log(1 / t)
+        assert abs(float(slope.evalf(30)) - float(x.elasticity)) < 1e-5
+
+
+def test_active_constraints_name_the_limiting_sensors():
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+    (c,) = sk.design.active_constraints(S, sk.IID(["1/10", "1/10"]))
+    # the decisive line holds s1's phase-1 element only: one of s1's two phases and both of s2's lost
+    assert c.outside == (("s1", 1), ("s2", 2)) and c.margin.exact == sp.sqrt(10) / 25
+    assert c.words.startswith("sensors s1 and s2 together limit block 0")
