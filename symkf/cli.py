@@ -452,6 +452,33 @@ def _args_bounds(p: argparse.ArgumentParser) -> None:
     _args_force(p)
 
 
+def cmd_design(args: argparse.Namespace) -> dict[str, Any]:
+    from .io import files
+    from . import design
+    system, loss, q = files.load_design(args.file)
+    query = q["query"]
+    if query == "select":
+        result: Any = design.select_sensors(system, loss if "critical_rate" not in q else None, costs=q.get("costs"),
+                                            critical_rate=q.get("critical_rate"), recovery_rate=q.get("recovery_rate"),
+                                            margin=q.get("margin"))
+    elif query == "pareto":
+        result = design.pareto_front(system, costs=q.get("costs"))
+    elif query == "allocate":
+        result = design.allocate_channels(system, q.get("weights"), **({"margin": q["margin"]} if "margin" in q else {}))
+    elif query == "upgrades":
+        result = design.upgrades(system)
+    else:
+        if loss is None:
+            raise UsageError(f"{args.file}: key 'loss' missing; query 'active' needs a [loss] table")
+        result = design.active_constraints(system, loss)
+    return {"file": str(args.file), "query": query, **result.to_dict(),
+            "_text": f"read {args.file}\n{result}"}
+
+
+def _args_design(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file", metavar="FILE.toml")
+
+
 def _positive_int(text: str) -> int:
     return _bounded_int(text, 1)
 
@@ -511,6 +538,9 @@ register(Command("simulate", "Monte Carlo E[tr P_k] with confidence intervals", 
                  cmd_simulate, _print_simulate))
 register(Command("examples", "the shipped example systems and families; NAME copies one into the working directory",
                  _args_examples, cmd_examples, _print_examples))
+register(Command("design", "design queries of a system file's [design] table: the cheapest sensor set, the front "
+                 "of cost against the critical rate, the cheapest channel qualities, the most valuable upgrade",
+                 _args_design, cmd_design, lambda res: print(res["_text"])))
 register(Command("bounds", "every published bound and closed form for the critical rate beside the exact value",
                  _args_bounds, cmd_bounds, _print_table))
 register(Command("reproduce", "reproduce a paper's example: " + ", ".join(sorted(REPRODUCE)), _args_reproduce,

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from conftest import run
+from conftest import one_line, run
 import symkf as sk
 from symkf import cli, examples
 from symkf.io import files
@@ -331,3 +331,57 @@ def test_analyze_reports_set_aside_modes(capsys):
     assert [b["jordan_chains"] for b in res["blocks"]] == [False, True]
     assert cli.main(["analyze", str(EXAMPLES / "detectable.toml")]) == 0
     assert "set aside: 1/2 (eigenvalue(s) 1/2 with Jordan chains" in capsys.readouterr().out
+
+
+DESIGN = '''[system]
+A = [["0", "-2"], ["2", "0"]]
+[[sensors]]
+name = "a"
+C = [["1", "0"]]
+[[sensors]]
+name = "b"
+C = [["0", "1"]]
+[[sensors]]
+name = "c"
+C = [["1", "1"]]
+[loss]
+kind = "iid"
+loss = ["1/10", "1/10", "1/10"]
+[design]
+'''
+
+
+@pytest.mark.parametrize("query, expected", [
+    ('query = "select"\ncosts = { a = 5, b = 2, c = 3 }', "sensors: b, c (2 of 3), cost 5"),
+    ('query = "select"\ncritical_rate = "1/2"', "sensors: a, b, c (3 of 3), cost 3"),
+    ('query = "pareto"', "3  1/2            ~ 0.500000  a, b, c"),
+    ('query = "allocate"\nmargin = "1/2"', "cost sum w_j (-ln eps_j) = 2.772589"),
+    ('query = "upgrades"', "c: 0.527046"),
+    ('query = "active"', "sensors a, b and c together limit block 0"),
+])
+def test_design_answers_each_query_naming_the_file(capsys, tmp_path, query, expected):
+    f = tmp_path / "tracker.toml"
+    f.write_text(DESIGN + query + "\n")
+    status, out, _ = run(capsys, "design", f)
+    assert status == 0 and out.startswith(f"read {f}\n") and expected in out, out
+
+
+def test_design_json_carries_the_exact_answer(capsys, tmp_path):
+    f = tmp_path / "tracker.toml"
+    f.write_text(DESIGN + 'costs = { a = 5, b = 2, c = 3 }\n')
+    status, out, _ = run(capsys, "design", f, "--json")
+    doc = json.loads(out)
+    assert status == 0 and doc["query"] == "select" and doc["sensors"] == ["b", "c"] and doc["cost"] == "5"
+
+
+@pytest.mark.parametrize("table, message", [
+    ("", "key 'design' missing"),
+    ('[design]\nquery = "best"\n', "'best' is not one of"),
+    ('[design]\ncosts = { z = 1 }\n', "'z' is not a sensor"),
+    ('[design]\ncost = { a = 1 }\n', "unknown key 'cost'"),
+])
+def test_design_refuses_a_bad_table_in_one_line(capsys, tmp_path, table, message):
+    f = tmp_path / "tracker.toml"
+    f.write_text(DESIGN.replace("[design]\n", "") + table)
+    status, _, err = run(capsys, "design", f)
+    assert status == 2 and message in one_line(err), err

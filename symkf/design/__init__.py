@@ -8,7 +8,7 @@
 """
 
 from .allocation import Allocation, allocate_channels
-from .upgrades import ActiveConstraint, Upgrade, Upgrades, active_constraints, upgrades
+from .upgrades import ActiveConstraint, ActiveConstraints, Upgrade, Upgrades, active_constraints, upgrades
 from .selection import ParetoFront, ParetoPoint, Selection, SelectionCertificate, pareto_front, select_sensors
 
-__all__ = ["upgrades", "Upgrades", "Upgrade", "active_constraints", "ActiveConstraint", "allocate_channels", "Allocation", "select_sensors", "Selection", "SelectionCertificate", "pareto_front", "ParetoFront", "ParetoPoint"]
+__all__ = ["upgrades", "Upgrades", "Upgrade", "active_constraints", "ActiveConstraint", "ActiveConstraints", "allocate_channels", "Allocation", "select_sensors", "Selection", "SelectionCertificate", "pareto_front", "ParetoFront", "ParetoPoint"]

@@ -137,8 +137,9 @@ def subsystem(system: System, indices: Sequence[int]) -> System:
 
 
 def hyperplane_of(system: System, block: int, received: set[tuple[str, int]]) -> frozenset[int] | None:
-    """The elements (indices into the block's rows of the whole ``system``) of the hyperplane
-    spanned by the elements ``received`` (sensor name, phase), or None when they do not span one."""
+    """The elements (indices into the block's rows of the whole ``system``) inside the span of the
+    elements ``received`` (sensor name, phase): a hyperplane, or a smaller deficient subspace
+    (an aperiodic block's decisive pattern may receive nothing); None when they span the block."""
     br = block_rows(system)[block]
     names = system.sensor_names
     return _closure(br, [e for e, el in enumerate(br.elements) if (names[el.sensor], el.phase) in received])
@@ -155,13 +156,13 @@ def outside_of(system: System, block: int, inside: frozenset[int]) -> tuple[int,
 
 def _closure(br: BlockRows, given: Sequence[int]) -> frozenset[int] | None:
     """Every element of the block inside the span of the elements ``given``, when that span is
-    a hyperplane (else None)."""
+    deficient (else None): a pattern receiving only these leaves the block unobservable."""
     basis: list = []
     for e in given:
         for row in br.generators[e]:
             if rank_rows(br.K, basis + [row], br.size) > len(basis):
                 basis.append(row)
-    if len(basis) != br.size - 1:
+    if len(basis) >= br.size:
         return None
     return frozenset(e for e in range(len(br.elements))
                      if rank_rows(br.K, basis + list(br.generators[e]), br.size) == len(basis))
@@ -192,10 +193,10 @@ class Cuts:
         return self._patterns[i]
 
     def cut_of(self, i: int, received: set[tuple[str, int]], period: int, modulus: sp.Expr) -> HyperplaneCut | None:
-        """The hyperplane cut of block ``i`` whose decisive pattern receives the elements
-        ``received`` (sensor name, phase): the hyperplane they span, closed over every candidate's
-        elements.  None when the loss model's factors are not single sensors, the elements span
-        the block, or the cut is known."""
+        """The cut of block ``i`` whose decisive pattern receives the elements ``received`` (sensor
+        name, phase): the deficient subspace they span (a hyperplane, or smaller), closed over every
+        candidate's elements.  None when the loss model's factors are not single sensors, the
+        elements span the block, or the cut is known."""
         patterns = self._rates(i)
         if patterns is None:
             return None

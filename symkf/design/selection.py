@@ -23,10 +23,11 @@ import sympy as sp
 from ..arguments import check_public
 from ..engine.blocks import block_rows
 from ..engine.rates import exact_rate
+from ..engine.region import between
 from ..engine.stability import Verdict, critical_loss_rate
-from ..errors import InputError
+from ..errors import InputError, UnobservableError
 from ..exact.algebraic import AlgebraicNumber
-from ..exact.numbers import to_exact
+from ..exact.numbers import sympify, to_exact
 from ..model.gilbert_elliott import GilbertElliott
 from ..model.iid import IID
 from ..model.loss import LossModel, checked, probability
@@ -325,7 +326,7 @@ class ParetoFront:
 def pareto_front(system: System, *, costs: Any = None, solver: str = "auto") -> ParetoFront:
     """Cost against the critical common i.i.d. loss rate: from the cheapest detectable set, each
     next point the cheapest set whose critical rate exceeds the last one's (exactly: stable at that
-    rate), until no set does.
+    rate), until no set does or the rate reaches 1.
 
     Examples
     --------
@@ -342,22 +343,65 @@ def pareto_front(system: System, *, costs: Any = None, solver: str = "auto") -> 
     if solver not in ("auto", "highs", "python"):
         raise InputError(f"solver: {solver!r} is not one of 'auto', 'highs', 'python'")
     weights = candidate_costs(system, costs)
-    d, points, decisions = system.d, [], 0
-    level = sp.Integer(0)
-    while True:
-        requirement = Requirement(IID([level] * d), sp.Integer(1), True, f"critical i.i.d. loss rate above {level}")
+    d, points = system.d, []
+    first, decisions = _cheapest_detectable(system, weights, solver)
+    rate = critical_loss_rate(subsystem(system, first))
+    points.append(ParetoPoint(tuple(system.sensor_names[j] for j in first), sum((weights[j] for j in first), sp.Integer(0)),
+                              rate))
+    while rate < 1:
+        level = _just_above(system, rate)
+        if level is None:
+            break
+        requirement = Requirement(IID([level] * d), sp.Integer(1), True,
+                                  f"critical i.i.d. loss rate above {rate.exact}")
         found = _search(system, requirement, weights, solver)
         decisions += found.certificate.decisions
         if found.indices is None:
             break
         rate = critical_loss_rate(subsystem(system, found.indices))
-        if points and points[-1].cost == found.cost:   # the same cost reaches further: the last one dominates
+        if points[-1].cost == found.cost:   # the same cost reaches further: the last one dominates
             points.pop()
         points.append(ParetoPoint(found.sensors, found.cost, rate))
-        if rate >= 1:
-            break
-        level = rate.exact
     return ParetoFront(tuple(points), decisions)
+
+
+def _just_above(system: System, rate: AlgebraicNumber) -> sp.Rational | None:
+    """A rational ``v`` above ``rate`` with no critical common i.i.d. loss rate of any set of the
+    sensors in ``(rate, v]`` (None when none exceeds ``rate``): each is ``alpha_i^(-2 g_i / K)`` for a
+    block ``i`` and a count ``K`` of its elements (Sui-You-Fu eq. 36), so a set's rate exceeds
+    ``rate`` iff it is stable at ``v``, a rational loss however high the degree of ``rate``."""
+    floor = float(rate.evalf(20))
+    candidates = []
+    for br in block_rows(system):
+        alpha, g = float(br.block.modulus.evalf(20)), br.class_period
+        for K in range(1, len(br.elements) + 1):
+            value = alpha ** (-2 * g / K)
+            if value > floor * (1 - 1e-9) and value < 1:
+                candidates.append((value, br, K))
+    for _, br, K in sorted(candidates, key=lambda c: c[0]):
+        exact = AlgebraicNumber.from_expr(sympify(br.block.modulus.exact ** (-sp.Rational(2 * br.class_period, K))))
+        if exact > rate:
+            return between(rate, exact)
+    return sp.Integer(1) if rate < 1 else None
+
+
+def _cheapest_detectable(system: System, costs: Sequence[sp.Rational], solver: str) -> tuple[tuple[int, ...], int]:
+    """The cheapest set of sensors that sees every mode with ``|lambda| >= 1`` (PBH, by building
+    its system): every critical rate above 0 needs it, and each such set has one (a deciding block
+    with ``K >= 1`` elements lost per blind period gives ``alpha^(-2g/K) > 0``).  Failing sets rule
+    out their subsets; returns the set and the number of sets decided."""
+    failing: list[SubsetCut] = [subset_cut((), system.d)]
+    decided = 0
+    floats = [float(c) for c in costs]
+    while True:
+        chosen = cheapest_cover(floats, [c.weights for c in failing], [c.need for c in failing], TOLERANCE, solver)
+        decided += 1
+        try:
+            subsystem(system, chosen)
+        except UnobservableError:
+            failing.append(subset_cut(chosen, system.d))
+            continue
+        return tuple(chosen), decided
 
 
 check_public(globals())

@@ -33,14 +33,15 @@ class Upgrade:
 
     * ``elasticity``: ``d ln eps_c / d ln(1/t)`` at ``t = 1`` (exact), the smallest ``k_j(H) / K(H)``
       over the hyperplanes that decide the critical rate now: how fast it rises at first;
-    * ``halved``: the critical rate at ``t = 1/2`` and ``lossless`` at ``t = 0`` (exact);
+    * ``improved``: the critical rate at ``t = 9/10`` (a tenth fewer losses) and ``lossless`` at
+      ``t = 0`` (exact);
     * :meth:`critical_at`: the whole curve, exactly.
     """
 
     system: System = field(repr=False)
     sensor: str
     elasticity: sp.Rational
-    halved: AlgebraicNumber
+    improved: AlgebraicNumber
     lossless: AlgebraicNumber
 
     def critical_at(self, t: Any) -> AlgebraicNumber:
@@ -52,25 +53,25 @@ class Upgrade:
 
 @dataclass(frozen=True)
 class Upgrades:
-    """Every sensor's :class:`Upgrade`, the most valuable first (the largest critical rate with its
-    loss halved, then the largest elasticity)."""
+    """Every sensor's :class:`Upgrade`, the most valuable first (the largest critical rate with a
+    tenth fewer of its losses, then the largest elasticity)."""
 
     base: AlgebraicNumber
     ranked: tuple[Upgrade, ...]
 
     def __repr__(self) -> str:
-        return "Upgrades(" + ", ".join(f"{u.sensor}: {float(u.halved.evalf(6)):.4g}" for u in self.ranked) + ")"
+        return "Upgrades(" + ", ".join(f"{u.sensor}: {float(u.improved.evalf(6)):.4g}" for u in self.ranked) + ")"
 
     def __str__(self) -> str:
         lines = [f"common critical i.i.d. loss rate now {self.base.exact} ~ {float(self.base.evalf(8)):.6f}; "
-                 "with one sensor's loss halved (elasticity at the start; lossless):"]
-        lines += [f"  {u.sensor}: {float(u.halved.evalf(8)):.6f} (+{float(u.halved.evalf(8)) - float(self.base.evalf(8)):.6f}; "
+                 "with a tenth fewer of one sensor's losses (elasticity at the start; lossless):"]
+        lines += [f"  {u.sensor}: {float(u.improved.evalf(8)):.6f} (+{float(u.improved.evalf(8)) - float(self.base.evalf(8)):.6f}; "
                   f"{u.elasticity}; {float(u.lossless.evalf(8)):.6f})" for u in self.ranked]
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, Any]:
         return {"critical_rate": str(self.base.exact),
-                "upgrades": [{"sensor": u.sensor, "elasticity": str(u.elasticity), "halved": str(u.halved.exact),
+                "upgrades": [{"sensor": u.sensor, "elasticity": str(u.elasticity), "improved": str(u.improved.exact),
                               "lossless": str(u.lossless.exact)} for u in self.ranked]}
 
     def to_json(self) -> str:
@@ -103,16 +104,16 @@ def upgrades(system: System) -> Upgrades:
     at phase 1 with ``b`` at phase 0, and ``c``'s two alone.  A blind period keeps one line, so
     the decisive lines are the first two, losing one element of ``a``, one of ``b`` and both of
     ``c``: ``16 eps^4 < 1``, critical ``1/2``, elasticities ``1/4, 1/4, 2/4``.  With ``c``'s
-    loss halved those lines give ``16 eps^4 / 4 < 1`` but a line of ``c`` loses five elements,
-    one of them ``c``'s: ``8 eps^5 < 1``, ``eps_c = 2^(-3/5)``; with ``a``'s halved, ``8 eps^4 <
-    1``, ``2^(-3/4)`` (by hand):
+    losses cut by a tenth (``t = 9/10``) those lines give ``16 (9/10)^2 eps^4 < 1``, ``eps_c =
+    sqrt(10)/6``, below the bound ``(72/5)^(-1/5)`` of a line of ``c``; with ``a``'s, ``16 (9/10)
+    eps^4 < 1``, ``(72/5)^(-1/4)`` (by hand):
 
     >>> import symkf as sk
     >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="a"),
     ...     sk.Sensor(C=[[0, 1]], name="b"), sk.Sensor(C=[[1, 1]], name="c")])
     >>> u = sk.design.upgrades(S)
-    >>> u.base.exact, [(x.sensor, x.elasticity, x.halved.exact) for x in u.ranked]
-    (1/2, [('c', 1/2, 2**(2/5)/2), ('a', 1/4, 2**(1/4)/2), ('b', 1/4, 2**(1/4)/2)])
+    >>> u.base.exact, [(x.sensor, x.elasticity, x.improved.exact) for x in u.ranked]
+    (1/2, [('c', 1/2, sqrt(10)/6), ('a', 1/4, 10**(1/4)*sqrt(3)/6), ('b', 1/4, 10**(1/4)*sqrt(3)/6)])
     """
     base = critical_loss_rate(system)
     names = system.sensor_names
@@ -121,8 +122,8 @@ def upgrades(system: System) -> Upgrades:
     for j, n in enumerate(names):
         def at(t: Any) -> AlgebraicNumber:
             return critical_loss_rate(system, ray=[t if m == n else 1 for m in names])
-        out.append(Upgrade(system, n, shares[j], at(sp.Rational(1, 2)), at(0)))
-    return Upgrades(base, tuple(sorted(out, key=lambda u: (u.halved, u.elasticity), reverse=True)))
+        out.append(Upgrade(system, n, shares[j], at(sp.Rational(9, 10)), at(0)))
+    return Upgrades(base, tuple(sorted(out, key=lambda u: (u.improved, u.elasticity), reverse=True)))
 
 
 @dataclass(frozen=True)
@@ -146,7 +147,34 @@ class ActiveConstraint:
                 f"a blind period loses {lost or 'nothing'}")
 
 
-def active_constraints(system: System, loss: LossModel) -> tuple[ActiveConstraint, ...]:
+@dataclass(frozen=True)
+class ActiveConstraints:
+    """The :class:`ActiveConstraint` of every deciding block, most binding first (a sequence)."""
+
+    constraints: tuple[ActiveConstraint, ...]
+
+    def __iter__(self):
+        return iter(self.constraints)
+
+    def __len__(self) -> int:
+        return len(self.constraints)
+
+    def __getitem__(self, i: int) -> ActiveConstraint:
+        return self.constraints[i]
+
+    def __str__(self) -> str:
+        return "\n".join(c.words for c in self.constraints) or "no block decides (every |lambda| < 1)"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"active": [{"block": c.block, "modulus": str(c.modulus), "period": c.period,
+                            "margin": str(c.margin.exact), "outside": dict(c.outside), "words": c.words}
+                           for c in self.constraints]}
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), indent=2)
+
+
+def active_constraints(system: System, loss: LossModel) -> ActiveConstraints:
     """Per deciding block, the hyperplane that limits it under ``loss`` (the engine's decisive
     pattern, closed over every sensor's elements), with the sensors it names, most binding first.
 
@@ -166,7 +194,7 @@ def active_constraints(system: System, loss: LossModel) -> tuple[ActiveConstrain
         counts = () if inside is None else outside_of(system, i, inside)
         outside = tuple((system.sensor_names[j], k) for j, k in enumerate(counts) if k)
         out.append(ActiveConstraint(i, cert.modulus, cert.class_period, verdict.margins[i], outside))
-    return tuple(sorted(out, key=lambda c: c.margin, reverse=True))
+    return ActiveConstraints(tuple(sorted(out, key=lambda c: c.margin, reverse=True)))
 
 
 check_public(globals())

@@ -58,7 +58,8 @@ if TYPE_CHECKING:
 #: the keys each table may hold, by table ("" is the top level); any other key is refused (a
 #: misspelt optional key would otherwise be silently replaced by its default). A ``[loss]``
 #: table holds the keys of its kind's model (:func:`symkf.model.codec.loss_kinds`).
-KEYS = {"": {"system", "sensors", "loss", "rationalize"}, "[system]": {"A", "Q", "P0", "name"},
+KEYS = {"": {"system", "sensors", "loss", "rationalize", "design"}, "[system]": {"A", "Q", "P0", "name"},
+        "[design]": {"query", "costs", "weights", "critical_rate", "recovery_rate", "margin"},
         "sensors": {"name", "C", "R"},
         "fusion file": {"fusion", "sensors", "rationalize"},
         "[fusion]": {"arrival", "A", "Q", "Ac", "Bc", "noise_variance", "Ts"}}
@@ -159,6 +160,46 @@ def _loss(table: Any, source: str, d: int, rationalize: bool) -> LossModel | Non
     if not isinstance(table, dict):
         raise FileFormatError(f"{source}: [loss] must be a table")
     return read_loss(table, f"{source}: [loss]", d, rationalize)
+
+
+#: the queries of a ``[design]`` table (:mod:`symkf.design`)
+DESIGN_QUERIES = ("select", "pareto", "allocate", "upgrades", "active")
+
+
+def load_design(path: str | Path) -> tuple[System, LossModel | None, dict[str, Any]]:
+    """Read a system file with a ``[design]`` table: the system (its sensors are the candidates),
+    the loss model and the query, checked: ``query`` (one of :data:`DESIGN_QUERIES`, default
+    ``"select"``), ``costs`` / ``weights`` (a table from sensor names to exact non-negative
+    numbers), ``critical_rate``, ``recovery_rate``, ``margin`` (exact numbers)."""
+    data = read_toml(path)
+    source = str(path)
+    system, loss = parse(data, source)
+    table = data.get("design")
+    where = f"{source}: [design]"
+    if not isinstance(table, dict):
+        raise FileFormatError(f"{source}: key 'design' missing; symkf design needs a [design] table "
+                              f"(query = one of {', '.join(map(repr, DESIGN_QUERIES))})")
+    check_keys(table, KEYS["[design]"], where)
+    query = table.get("query", "select")
+    if query not in DESIGN_QUERIES:
+        raise FileFormatError(f"{where} key 'query': {query!r} is not one of {', '.join(map(repr, DESIGN_QUERIES))}")
+    out: dict[str, Any] = {"query": query}
+    for key in ("costs", "weights"):
+        if key in table:
+            prices = table[key]
+            if not isinstance(prices, dict):
+                raise FileFormatError(f"{where} key '{key}': expected a table from sensor names to numbers")
+            unknown = [k for k in prices if k not in system.sensor_names]
+            if unknown:
+                raise FileFormatError(f"{where} key '{key}': {unknown[0]!r} is not a sensor "
+                                      f"({', '.join(system.sensor_names)})")
+            names = list(prices)
+            values = exact_values([prices[k] for k in names], f"{where} {key}", False)
+            out[key] = dict(zip(names, values))
+    for key in ("critical_rate", "recovery_rate", "margin"):
+        if key in table:
+            out[key] = exact_values([table[key]], f"{where} {key}", False)[0]
+    return system, loss, out
 
 
 def load_fusion(path: str | Path) -> "FusionModel":
