@@ -463,6 +463,8 @@ def cmd_design(args: argparse.Namespace) -> dict[str, Any]:
                                             margin=q.get("margin"))
     elif query == "pareto":
         result = design.pareto_front(system, costs=q.get("costs"))
+    elif query == "allocate" and loss is not None and loss.channel_fail is not None:
+        result = design.allocate_recovery(system, loss.channel_fail, q.get("weights"))
     elif query == "allocate":
         result = design.allocate_channels(system, q.get("weights"), **({"margin": q["margin"]} if "margin" in q else {}))
     elif query == "upgrades":

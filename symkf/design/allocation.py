@@ -14,6 +14,7 @@ exactly by the pure-Python fallback), bounds the true optimum from below: the ga
 """
 from __future__ import annotations
 
+import itertools
 import json
 import math
 from dataclasses import dataclass, field
@@ -25,10 +26,12 @@ import sympy as sp
 
 from ..arguments import check_public
 from ..engine.region import simplest
-from ..engine.stability import Verdict, critical_loss_rate
+from ..engine.recovery import critical_recovery_rate
+from ..engine.stability import Verdict, critical_loss_rate, stability
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import to_exact
+from ..model.gilbert_elliott import GilbertElliott
 from ..model.iid import IID
 from ..model.system import System
 from .constraints import Cuts, HyperplaneCut, Requirement
@@ -202,6 +205,135 @@ def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2
     _, bound = _solve(cuts.hyperplane, w, mu, solver, point=False)
     return Allocation(system, requirement, w, losses, cost, bound, verdict, len(cuts.hyperplane), rounds,
                       "HiGHS" if solver != "python" and _has_scipy() else "SymPy simplex")
+
+
+@dataclass(frozen=True)
+class RecoveryAllocation:
+    """Per-sensor recovery probabilities of Gilbert-Elliott channels (``fail`` fixed), stable and
+    no single channel cheaper (:func:`allocate_recovery`): for each sensor, ``critical[j]`` is the exact least recovery that
+    keeps the filter stable with the others at ``recover`` (Sui-You-Fu Theorem 9 with eq. 36;
+    :func:`symkf.engine.recovery.critical_recovery_rate` with ``sensor``), and ``recover[j]`` is a
+    rational within ``slack`` above it.  ``cost`` is ``sum_j w_j (-ln(1 - recover_j))``."""
+
+    system: System = field(repr=False)
+    fail: tuple[sp.Expr, ...]
+    recover: tuple[sp.Rational, ...]
+    critical: tuple[AlgebraicNumber, ...] = field(repr=False)
+    weights: tuple[sp.Rational, ...] = field(repr=False)
+    cost: float
+    sweeps: int
+    verdict: Verdict = field(repr=False)
+
+    #: how the point was found, for reports
+    method: str = ("local search: each sensor's recovery lowered to its exact critical value (the others "
+                   "fixed) plus the slack, and exchanges from dear to cheap channels, until a sweep saves less than "
+                   "the slack; certified: no single channel can be made cheaper (not a global optimum)")
+
+    def __repr__(self) -> str:
+        return f"RecoveryAllocation(recover={[str(q) for q in self.recover]}, cost={self.cost:.6g})"
+
+    def __str__(self) -> str:
+        lines = [f"per-sensor recovery probabilities (fail {', '.join(map(str, self.fail))}): stable, cost "
+                 f"sum w_j (-ln(1 - q_j)) = {self.cost:.6f} after {self.sweeps} sweeps"]
+        lines += [f"  {n}: recover {q} ~ {float(q):.6f} (its critical value with the others fixed ~ "
+                  f"{float(c.evalf(10)):.6f})" for n, q, c in zip(self.system.sensor_names, self.recover, self.critical)]
+        lines.append(f"  method: {self.method}")
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"fail": [str(f) for f in self.fail], "recover": [str(q) for q in self.recover],
+                "critical": [str(c.exact) for c in self.critical], "weights": [str(w) for w in self.weights],
+                "cost": self.cost, "sweeps": self.sweeps, "method": self.method,
+                "margins": [str(m.exact) for m in self.verdict.margins]}
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), indent=2)
+
+
+def allocate_recovery(system: System, fail: Sequence[Any], weights: Any = None, *, slack: Any = "1/1000",
+                      max_sweeps: int = 20) -> RecoveryAllocation:
+    """Per-sensor recovery probabilities ``q_j`` of Gilbert-Elliott channels with fail
+    probabilities ``fail``, stable at low cost ``sum_j w_j (-ln(1 - q_j))``.
+
+    The stability region in ``q`` is not a polyhedron (the rates are Perron roots of the channels'
+    restricted transfers), so the answer is a local search, certified at its end: from the common
+    critical recovery rate plus ``slack``, each sweep lowers every sensor (the dearest first) to a
+    rational within ``slack`` above its exact critical value with the others fixed, then tries
+    exchanges (a cheaper channel's recovery moved half or an eighth of the way to 1, a dearer one
+    lowered to its new critical value), until a sweep saves less than ``slack``.  At the end every
+    ``q_j`` is within ``slack`` of its exact critical value given the others (``critical``): no
+    single channel can be made cheaper; exchanges of other sizes, or of several channels, might.
+
+    Examples
+    --------
+    One sensor ``[1, 0]`` on ``2R(pi/2)`` failing with probability 1/100: its critical recovery
+    rate is the common one (:func:`~symkf.engine.recovery.critical_recovery_rate`), and the answer
+    is within the slack above it:
+
+    >>> import symkf as sk
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+    >>> a = sk.design.allocate_recovery(S, ["1/100"])
+    >>> q = sk.critical_recovery_rate(S, ["1/100"])
+    >>> 0 < float(a.recover[0] - q.exact) <= 1e-3, a.verdict.stable
+    (True, True)
+    """
+    w = candidate_costs(system, weights)
+    if any(v <= 0 for v in w):
+        raise InputError("weights: every price must be positive")
+    if isinstance(max_sweeps, bool) or not isinstance(max_sweeps, int) or max_sweeps < 1:
+        raise InputError(f"max_sweeps: expected a positive int, got {max_sweeps!r}")
+    step = to_exact(slack, "slack")
+    if not step.is_Rational or not 0 < step < 1:
+        raise InputError(f"slack: {step} is not a rational in (0, 1)")
+    fails = GilbertElliott(list(fail), ["1/2"] * system.d).fail if not isinstance(fail, GilbertElliott) else fail.fail
+    if len(fails) != system.d:
+        raise InputError(f"fail: {len(fails)} probabilities for {system.d} sensors")
+    common = critical_recovery_rate(system, list(fails))
+    if common >= 1:
+        raise InputError("fail: no common recovery probability below 1 makes the filter stable; no allocation exists")
+    q = [_above(common, step)] * system.d
+    names = system.sensor_names
+
+    def lowered(point: list[sp.Rational], j: int) -> sp.Rational:
+        return _above(critical_recovery_rate(system, list(fails), recover=point, sensor=names[j]), step)
+
+    def cost_of(point: Sequence[sp.Rational]) -> float:
+        return float(sum(float(wj) * -math.log1p(-float(qj)) for wj, qj in zip(w, point)))
+
+    sweeps = 0
+    while sweeps < max_sweeps:
+        sweeps += 1
+        before = cost_of(q)
+        for j in sorted(range(system.d), key=lambda j: w[j], reverse=True):   # lower each, the dearest first
+            q[j] = lowered(q, j)
+        # exchanges: a cheap channel made better lets a dear one be lowered further
+        for i, j in itertools.permutations(range(system.d), 2):
+            if w[i] >= w[j]:
+                continue
+            for t in (sp.Rational(1, 2), sp.Rational(1, 8)):
+                trial = list(q)
+                trial[i] = q[i] + (1 - q[i]) * t
+                trial[j] = lowered(trial, j)
+                if cost_of(trial) < cost_of(q):
+                    q = trial
+                    break
+        if cost_of(q) > before - float(step):
+            break
+    # every q_j's critical value at the final point (the others moved after it)
+    critical = [critical_recovery_rate(system, list(fails), recover=q, sensor=names[j]) for j in range(system.d)]
+    verdict = stability(system, GilbertElliott(list(fails), q))
+    if not verdict.stable:   # pragma: no cover - each step keeps q_j above its critical value
+        raise AssertionError("the allocated recovery rates are not stable")
+    cost = float(sum(float(wj) * -math.log1p(-float(qj)) for wj, qj in zip(w, q)))
+    return RecoveryAllocation(system, tuple(fails), tuple(q), tuple(critical), w, cost, sweeps, verdict)
+
+
+def _above(value: AlgebraicNumber, step: sp.Rational) -> sp.Rational:
+    """The simplest rational in ``(value, value + step)`` below 1 (``step`` when ``value`` is 0)."""
+    lo, hi = value.refine(step / 8).interval
+    top = min(Fraction(hi) + Fraction(int(step.p), int(step.q)) / 2, (Fraction(hi) + 1) / 2)
+    r = simplest(Fraction(hi), top)
+    return sp.Rational(r.numerator, r.denominator)
 
 
 def _has_scipy() -> bool:

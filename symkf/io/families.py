@@ -7,7 +7,8 @@ parameters, plus a grid of exact parameter values::
     name = "rotation-periods"          # optional, default: the file name
     description = "$A = 2R(\\pi/g)$, $C_j = [1, 0]$"   # LaTeX, goes into the caption
     kind = "rotation"                  # "template" (default) or "rotation"
-    compute = "critical_loss_rate"     # or "stability" (needs [loss])
+    compute = "critical_loss_rate"     # or (each needs [loss]) "stability", "critical_recovery_rate"
+                                       # (Gilbert-Elliott channels), "fewest_sensors" (symkf.design)
     digits = 6                         # significant digits of the decimals
     labels = { period = "governing period $g$" }     # optional axis headings (LaTeX)
 
@@ -54,10 +55,12 @@ from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import RESERVED, field_cost, parse_exact, to_exact, to_exact_matrix
 from ..model.system import System
 from ..engine.blocks import block_rows
+from ..design.selection import select_sensors
+from ..engine.recovery import critical_recovery_rate
 from ..engine.stability import Verdict, critical_loss_rate, stability
 from ..run.sweep import sweep
 
-COMPUTE = ("critical_loss_rate", "stability")
+COMPUTE = ("critical_loss_rate", "stability", "critical_recovery_rate", "fewest_sensors")
 KINDS = ("template", "rotation")
 _FAMILY_KEYS = {"name", "description", "kind", "compute", "digits", "labels"}
 _ROTATION_A = [["alpha*cos(THETA)", "-alpha*sin(THETA)"], ["alpha*sin(THETA)", "alpha*cos(THETA)"]]
@@ -159,13 +162,23 @@ class Family:
 
 
 def evaluate(member: Member) -> Outcome:
-    """Critical common i.i.d. loss rate or stability verdict of one member (runs on workers)."""
+    """What ``member.compute`` names, for one member (runs on workers): the critical common i.i.d.
+    loss rate, the stability verdict under its ``[loss]``, the critical common recovery rate of
+    its Gilbert-Elliott channels (their fail probabilities fixed), or the fewest of its sensors
+    stable under its ``[loss]`` (:func:`symkf.design.select_sensors`)."""
     try:
         system, loss = member.system()
         if member.compute == "critical_loss_rate":
             value: Any = critical_loss_rate(system)
-        else:
+        elif member.compute == "stability":
             value = stability(system, loss)
+        elif member.compute == "critical_recovery_rate":
+            if loss.channel_fail is None:
+                raise InputError(f"[loss]: compute = \"critical_recovery_rate\" needs Gilbert-Elliott channels "
+                                 f"(kind = \"gilbert-elliott\"), not {loss.words()}")
+            value = critical_recovery_rate(system, loss.channel_fail)
+        else:
+            value = select_sensors(system, loss)
         return Outcome(value, tuple(br.class_period for br in block_rows(system)))
     except AssumptionError as exc:
         return Outcome(Inapplicable(str(exc)), ())
@@ -423,8 +436,8 @@ def _template(data: dict, kind: str, compute: str, fixed: dict, grid: dict, path
         raise _fail(path, "[[sensors]] must list at least one sensor table")
     if loss is not None and not isinstance(loss, dict):
         raise _fail(path, "[loss] must be a table")
-    if compute == "stability" and loss is None:
-        raise _fail(path, "[loss]: compute = \"stability\" needs a loss model")
+    if compute != "critical_loss_rate" and loss is None:
+        raise _fail(path, f"[loss]: compute = \"{compute}\" needs a loss model")
     return {"system": system, "sensors": sensors, "loss": loss}
 
 

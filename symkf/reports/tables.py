@@ -34,6 +34,7 @@ from .. import output
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..io.families import Family, Inapplicable, Member, Outcome, load_family
+from ..design.selection import Selection
 from ..engine.stability import Verdict
 from ..run.sweep import sweep
 
@@ -182,6 +183,12 @@ def _value_cell(outcome: Outcome, member: Member, digits: int) -> Cell:
         word = "stable" if value.stable else "unstable"
         return Cell(f"{word}, {margin.plain}", _stack(word, margin.latex), rf"\text{{{word}}},\ {margin.math}",
                     {**where, "stable": value.stable, "margin": margin.data, "theorem": value.theorem})
+    if isinstance(value, Selection):
+        if value.indices is None:
+            return Cell("none", "none", r"\text{none}", {**where, "sensors": None})
+        names = ", ".join(value.sensors)
+        return Cell(f"{len(value.indices)} ({names})", f"{len(value.indices)} ({escape(names)})",
+                    rf"{len(value.indices)}\ (\text{{{escape(names)}}})", {**where, "sensors": list(value.sensors)})
     cell = Cell.number(value, digits)
     return Cell(cell.plain, cell.latex, cell.math, {**where, **cell.data})
 
@@ -271,7 +278,15 @@ def family_table_of(family: Family, outcomes: Sequence[Outcome]) -> Table:
         "stability": (r"Mean-square stability verdicts and limiting margins $\alpha_i^2\rho_i$ "
                       "(stable iff every margin is below 1)",
                       "Mean-square stability verdicts and limiting margins alpha_i^2 rho_i "
-                      "(stable iff every margin is below 1)")}[family.compute]
+                      "(stable iff every margin is below 1)"),
+        "critical_recovery_rate": (r"Exact critical recovery probability $q_c$ common to all Gilbert--Elliott "
+                                   r"channels, their fail probabilities fixed (mean-square stable iff $q > q_c$)",
+                                   "Exact critical recovery probability q_c common to all Gilbert-Elliott channels, "
+                                   "their fail probabilities fixed (mean-square stable iff q > q_c)"),
+        "fewest_sensors": (r"The fewest sensors whose filter is mean-square stable under the member's losses, "
+                           r"with one such set (exact: every smaller set ruled out, 	exttt{symkf.design})",
+                           "The fewest sensors whose filter is mean-square stable under the member's losses, "
+                           "with one such set (exact: every smaller set ruled out, symkf.design)")}[family.compute]
     constants = "; ".join(f"{k} = {v}" for k, v in family.constants)
     periods = _periods_summary(outcomes)
     missing = sorted({c.data["inapplicable"] for c in cells if isinstance(c.data, dict) and "inapplicable" in c.data})
@@ -294,7 +309,9 @@ def family_table_of(family: Family, outcomes: Sequence[Outcome]) -> Table:
         columns = tuple(_axis_cell(v, t) for v, t in zip(cols_axis.values, cols_axis.texts))
         spanner: Cell | None = Cell(_plain_label(cols_axis.label), cols_axis.label, _math_label(cols_axis.label))
     else:
-        columns = (Cell.text("critical loss rate" if family.compute == "critical_loss_rate" else "verdict"),)
+        columns = (Cell.text({"critical_loss_rate": "critical loss rate", "stability": "verdict",
+                              "critical_recovery_rate": "critical recovery rate",
+                              "fewest_sensors": "fewest sensors"}[family.compute]),)
         spanner = None
     stub = Cell(_plain_label(rows_axis.label), rows_axis.label, _math_label(rows_axis.label))
     metadata = {"table": "family", "family": family.name, "file": family.path, "compute": family.compute,

@@ -73,3 +73,24 @@ def test_allocation_reads_well_and_serialises():
     assert repr(a) == "Allocation(losses=['1/4', '1/4'], cost=2.77259, lower_bound=2.77259)"
     assert a.to_dict()["losses"] == ["1/4", "1/4"] and '"losses"' in a.to_json()
     assert len(str(a).splitlines()) == 5
+
+
+def test_recovery_allocation_is_stable_single_channel_minimal_and_beats_a_grid():
+    S = two_sensors()
+    fail, weights = ["1/10", "1/5"], [1, 3]
+    a = sk.design.allocate_recovery(S, fail, weights)
+    assert a.verdict.stable
+    for q, critical in zip(a.recover, a.critical):   # no single channel can be made cheaper
+        assert 0 < float(q - critical.exact) <= 1e-3
+        assert not sk.stability(S, sk.GilbertElliott(fail, [critical.exact if r == q else r for r in a.recover])).stable
+    grid = [sp.Rational(k, 20) for k in range(1, 20)]
+    for q in itertools.product(grid, repeat=2):
+        cost = sum(-w * math.log1p(-float(r)) for w, r in zip(weights, q))
+        if cost < a.cost:
+            assert not sk.stability(S, sk.GilbertElliott(fail, list(q))).stable, q
+
+
+def test_recovery_allocation_refuses_channels_no_recovery_can_save():
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
+    with pytest.raises(InputError, match="no common recovery probability below 1"):
+        sk.design.allocate_recovery(S, ["1/10"])   # 16 * (1/10) > 1 per period whatever the recovery

@@ -210,3 +210,16 @@ def test_joint_markov_losses_against_every_subset():
     assert best is not None and pick.cost == best and pick.check()
     # a joint chain does not split by sensor: only failing sets rule candidates out
     assert all(isinstance(c, SubsetCut) for c in pick.certificate.cuts)
+
+
+@pytest.mark.full
+def test_simulation_sees_the_chosen_set_stable_and_the_set_without_its_dearest_sensor_diverge():
+    S = three_sensors()
+    for loss in (sk.IID("1/10", d=3), sk.GilbertElliott(["1/10", "1/5", "1/10"], ["1/2", "1/2", "1/2"])):
+        pick = sk.design.select_sensors(S, loss, costs=[5, 2, 3])
+        chosen = list(pick.indices)
+        stable = sk.verify(subsystem(S, chosen), sk.Selected(loss, chosen), seed=0, paths=4000)
+        assert stable.verdict.stable and stable.outcome == "consistent", stable
+        fewer = [j for j in chosen if j != max(chosen, key=lambda j: pick.costs[j])]
+        diverging = sk.verify(subsystem(S, fewer), sk.Selected(loss, fewer), seed=0, paths=4000)
+        assert not diverging.verdict.stable and diverging.outcome == "consistent", diverging

@@ -36,3 +36,28 @@ def test_family_members_budgeted(tmp_path):
                     '[system]\nA = [["a", "b"], ["0", "2"]]\n[[sensors]]\nC = [["1", "1"]]\n')
     with pytest.raises(BudgetError, match="number of family members is 10000, above the cap 2000.*--max-members"):
         load_family(path)
+
+
+THREE = [sk.Sensor(C=[[1, 0]], name="a"), sk.Sensor(C=[[0, 1]], name="b"), sk.Sensor(C=[[1, 1]], name="c")]
+
+
+def test_fewest_sensors_as_a_family_column():
+    # 2R(pi/2): one sensor needs 16 eps < 1, a pair with c 16 eps^3 < 1, all three 16 eps^4 < 1 (by hand)
+    from symkf import tables
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=THREE)
+    family = systems_family([(S, sk.IID(e, d=3)) for e in ("1/20", "1/10", "2/5", "1/2")], compute="fewest_sensors")
+    cells = [r["cells"][0] for r in tables.family_table(family, progress=False).to_json()["rows"]]
+    assert [None if c["sensors"] is None else len(c["sensors"]) for c in cells] == [1, 2, 3, None]
+    assert "c" in cells[1]["sensors"]
+
+
+def test_critical_recovery_rate_as_a_family_column():
+    from symkf import tables
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=THREE[:1])
+    family = systems_family([(S, sk.GilbertElliott(["1/10"], ["1/2"]))], compute="critical_recovery_rate")
+    cell = tables.family_table(family, progress=False).to_json()["rows"][0]["cells"][0]
+    q = sk.critical_recovery_rate(S, ["1/10"])
+    assert float(cell["decimal"]) == pytest.approx(float(q.evalf(15)), rel=1e-5)
+    iid = systems_family([(S, sk.IID(["1/10"]))], compute="critical_recovery_rate")
+    with pytest.raises(sk.SymkfError, match="needs Gilbert-Elliott channels"):
+        tables.family_table(iid, progress=False)
