@@ -19,7 +19,7 @@ import json
 import math
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import flint
 import sympy as sp
@@ -28,7 +28,7 @@ from ..arguments import check_public
 from ..engine.region import simplest
 from ..engine.recovery import critical_recovery_rate
 from ..engine.stability import Verdict, critical_loss_rate, stability
-from ..errors import InputError
+from ..errors import InputError, require_extra
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import to_exact
 from ..model.gilbert_elliott import GilbertElliott
@@ -102,10 +102,12 @@ class Allocation:
 
     def __str__(self) -> str:
         names = self.system.sensor_names
+        convex = self.solver.startswith("SLSQP")
         lines = [f"cheapest i.i.d. channel qualities meeting: {self.requirement.words}",
-                 f"  cost sum w_j (-ln eps_j) = {self.cost:.6f}; no allocation costs less than "
-                 f"{float(self.lower_bound):.6f} (gap {self.gap:.2e})"]
-        lines += [f"  {n}: loss {e} ~ {float(e):.6f} (weight {w})" for n, e, w in zip(names, self.losses, self.weights)]
+                 f"  cost {'(the given convex function)' if convex else 'sum w_j (-ln eps_j)'} = {self.cost:.6f}; "
+                 f"no allocation costs less than {float(self.lower_bound):.6f} (gap {self.gap:.2e})"]
+        lines += [f"  {n}: loss {e} ~ {float(e):.6f} ({'slope' if convex else 'weight'} {float(w):.6g})"
+                  for n, e, w in zip(names, self.losses, self.weights)]
         lines.append(f"  verdict: limiting margin {self.verdict.limiting_margin.evalf(6)}; "
                      f"{self.rows} hyperplane rows in {self.rounds} rounds ({self.solver})")
         return "\n".join(lines)
@@ -126,7 +128,7 @@ class Allocation:
 
 
 def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2", solver: str = "auto",
-                      max_rounds: int = 200) -> Allocation:
+                      max_rounds: int = 200, cost: Callable[[Any], float] | None = None) -> Allocation:
     """The cheapest i.i.d. loss probabilities ``eps_j`` (cost ``sum_j w_j (-ln eps_j)``) with every
     block's margin ``alpha_i^2 rho_i`` at most ``margin``.
 
@@ -141,6 +143,12 @@ def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2
         The linear programme's solver: HiGHS through SciPy, or SymPy's exact simplex.
     max_rounds : int, default 200
         Rounds of row generation before giving up.
+    cost : callable, optional
+        Instead of ``weights``: a convex differentiable cost of ``x = (-ln eps_j)`` (a NumPy
+        array), minimised by SciPy's SLSQP over the same rows (the ``design`` extra); the lower
+        bound is then the linear programme of its tangent at the answer (convexity makes the
+        tangent a minorant), and ``weights`` are the tangent's slopes, by central differences:
+        the bound holds as far as those slopes do (for the linear cost it holds exactly).
 
     Returns
     -------
@@ -165,6 +173,8 @@ def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2
     """
     if solver not in ("auto", "highs", "python"):
         raise InputError(f"solver: {solver!r} is not one of 'auto', 'highs', 'python'")
+    if cost is not None and (weights is not None or not callable(cost)):
+        raise InputError("cost: give a callable cost of x = -ln(eps) (a NumPy array) instead of weights, not both")
     if isinstance(max_rounds, bool) or not isinstance(max_rounds, int) or max_rounds < 1:
         raise InputError(f"max_rounds: expected a positive int, got {max_rounds!r}")
     w = candidate_costs(system, weights)
@@ -198,13 +208,23 @@ def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2
         # the simplest rationals near the minimiser, unless rounding them crossed a known row:
         # then the minimiser of rows with a slack, rounded down
         safe = safe or (not requirement.met(verdict) and new == 0 and rounds > 1)
-        x, _ = _solve(cuts.hyperplane, w, mu, solver, point=True, slack=safe)
+        if cost is None:
+            x, _ = _solve(cuts.hyperplane, w, mu, solver, point=True, slack=safe)
+        else:
+            x = _convex(cost, cuts.hyperplane, mu, d, slack=safe)
         losses = tuple(_below(v) if safe else _near(v) for v in x)
     x_final = [-float(sp.log(e).evalf(20)) if e != 0 else math.inf for e in losses]
-    cost = float(sum(float(wj) * xj for wj, xj in zip(w, x_final)))
+    if cost is None:
+        value = float(sum(float(wj) * xj for wj, xj in zip(w, x_final)))
+    else:   # the tangent at the answer: a minorant of a convex cost, its slopes the weights of the bound
+        value, w = _tangent(cost, x_final)
     _, bound = _solve(cuts.hyperplane, w, mu, solver, point=False)
-    return Allocation(system, requirement, w, losses, cost, bound, verdict, len(cuts.hyperplane), rounds,
-                      "HiGHS" if solver != "python" and _has_scipy() else "SymPy simplex")
+    if cost is not None:
+        bound = bound + Fraction(value) - sum((Fraction(int(wj.p), int(wj.q)) * Fraction(xj)
+                                               for wj, xj in zip(w, x_final)), Fraction(0))
+    return Allocation(system, requirement, w, losses, value, bound, verdict, len(cuts.hyperplane), rounds,
+                      ("SLSQP, " if cost is not None else "")
+                      + ("HiGHS" if solver != "python" and _has_scipy() else "SymPy simplex"))
 
 
 @dataclass(frozen=True)
@@ -334,6 +354,44 @@ def _above(value: AlgebraicNumber, step: sp.Rational) -> sp.Rational:
     top = min(Fraction(hi) + Fraction(int(step.p), int(step.q)) / 2, (Fraction(hi) + 1) / 2)
     r = simplest(Fraction(hi), top)
     return sp.Rational(r.numerator, r.denominator)
+
+
+def _needs(rows: Sequence[HyperplaneCut], mu: sp.Rational, slack: bool) -> list[float]:
+    mu_low, _ = _log_bounds(mu)
+    return [float(_log_bounds(cut.growth)[1] - cut.period * mu_low + (_SLACK if slack else 0)) for cut in rows]
+
+
+def _convex(cost: Callable[[Any], float], rows: Sequence[HyperplaneCut], mu: sp.Rational, d: int, slack: bool) -> list[float]:
+    """The minimiser of a convex ``cost`` of ``x`` over the rows (SciPy's SLSQP, from the point
+    where every row is met by equal ``x``)."""
+    import numpy as np
+    optimize = require_extra("scipy.optimize", "design", "a convex cost of the channel allocation")
+    K = np.array([list(cut.outside) for cut in rows], dtype=float)
+    b = np.array(_needs(rows, mu, slack))
+    start = np.full(d, max([0.0] + [n / max(k.sum(), 1) for k, n in zip(K, b)]) + 1.0)
+    res = optimize.minimize(lambda x: float(cost(x)), start, method="SLSQP", bounds=[(0, None)] * d,
+                            constraints=[{"type": "ineq", "fun": lambda x: K @ x - b, "jac": lambda x: K}],
+                            options={"maxiter": 500, "ftol": 1e-12})
+    if not res.success:
+        raise InputError(f"cost: SLSQP did not converge ({res.message}); is the cost convex and differentiable?")
+    return [max(float(v), 0.0) for v in res.x]
+
+
+def _tangent(cost: Callable[[Any], float], x: Sequence[float]) -> tuple[float, tuple[sp.Rational, ...]]:
+    """``cost(x)`` and its slopes at ``x`` (central differences), clipped at 0: the tangent plane,
+    a minorant of a convex cost non-decreasing in each ``x_j``."""
+    import numpy as np
+    point = np.array(x, dtype=float)
+    value = float(cost(point))
+    slopes = []
+    for j in range(len(point)):
+        h = 1e-6 * max(1.0, abs(point[j]))
+        up, down = point.copy(), point.copy()
+        up[j] += h
+        down[j] = max(point[j] - h, 0.0)
+        slope = (float(cost(up)) - float(cost(down))) / (up[j] - down[j])
+        slopes.append(sp.Rational(Fraction(max(slope, 0.0)).limit_denominator(10 ** 12)))
+    return value, tuple(slopes)
 
 
 def _has_scipy() -> bool:

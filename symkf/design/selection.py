@@ -314,6 +314,12 @@ class ParetoFront:
                   f"{', '.join(p.sensors)}" for p in self.points]
         return "\n".join(lines)
 
+    def _repr_latex_(self) -> str:
+        rows = r" \\ ".join(rf"{sp.latex(p.cost)} & {sp.latex(p.critical_rate.exact)} \approx "
+                             rf"{float(p.critical_rate.evalf(8)):.6f} & \text{{{', '.join(p.sensors)}}}"
+                             for p in self.points)
+        return rf"$\begin{{array}}{{rll}} \text{{cost}} & \varepsilon_c & \text{{sensors}} \\ \hline {rows}\end{{array}}$"
+
     def to_dict(self) -> dict[str, Any]:
         return {"points": [{"sensors": list(p.sensors), "cost": str(p.cost), "critical_rate": str(p.critical_rate.exact),
                             "approx": float(p.critical_rate.evalf(15))} for p in self.points],

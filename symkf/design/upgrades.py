@@ -69,6 +69,12 @@ class Upgrades:
                   f"{u.elasticity}; {float(u.lossless.evalf(8)):.6f})" for u in self.ranked]
         return "\n".join(lines)
 
+    def _repr_latex_(self) -> str:
+        rows = r" \\ ".join(rf"\text{{{u.sensor}}} & {sp.latex(u.elasticity)} & {float(u.improved.evalf(8)):.6f} & "
+                             rf"{float(u.lossless.evalf(8)):.6f}" for u in self.ranked)
+        return (rf"$\varepsilon_c = {sp.latex(self.base.exact)}\quad\begin{{array}}{{lccc}} \text{{sensor}} & "
+                rf"\text{{elasticity}} & t = 9/10 & t = 0 \\ \hline {rows}\end{{array}}$")
+
     def to_dict(self) -> dict[str, Any]:
         return {"critical_rate": str(self.base.exact),
                 "upgrades": [{"sensor": u.sensor, "elasticity": str(u.elasticity), "improved": str(u.improved.exact),

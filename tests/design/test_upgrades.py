@@ -33,3 +33,9 @@ def test_active_constraints_name_the_limiting_sensors():
     # the decisive line holds s1's phase-1 element only: one of s1's two phases and both of s2's lost
     assert c.outside == (("s1", 1), ("s2", 2)) and c.margin.exact == sp.sqrt(10) / 25
     assert c.words.startswith("sensors s1 and s2 together limit block 0")
+
+
+def test_front_and_upgrades_render_in_a_notebook():
+    S = three_sensors()
+    assert sk.design.pareto_front(S)._repr_latex_().count(r"\\") >= 3
+    assert sk.design.upgrades(S)._repr_latex_().startswith(r"$\varepsilon_c = \frac{1}{2}")
