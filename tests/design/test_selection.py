@@ -223,3 +223,19 @@ def test_simulation_sees_the_chosen_set_stable_and_the_set_without_its_dearest_s
         fewer = [j for j in chosen if j != max(chosen, key=lambda j: pick.costs[j])]
         diverging = sk.verify(subsystem(S, fewer), sk.Selected(loss, fewer), seed=0, paths=4000)
         assert not diverging.verdict.stable and diverging.outcome == "consistent", diverging
+
+
+@pytest.mark.full
+@pytest.mark.parametrize("seed", [1, 2])
+def test_twelve_candidates_agree_with_every_subset(seed):
+    rng = random.Random(seed)
+    rows = []
+    while len(rows) < 12:
+        r = [rng.randint(-2, 2), rng.randint(-2, 2)]
+        if any(r):
+            rows.append(r)
+    S = sk.System(A=rotation(sp.pi / 3), sensors=[sk.Sensor(C=[r]) for r in rows])
+    loss = sk.IID([rng.choice(["1/2", "2/3", "3/4", "4/5"]) for _ in range(12)])
+    costs = [rng.randint(1, 5) for _ in range(12)]
+    pick = sk.design.select_sensors(S, loss, costs=costs)
+    assert pick.cost == brute_force(S, loss, costs) and pick.check()
