@@ -84,18 +84,20 @@ class Requirement:
 
     def met(self, verdict: Verdict) -> bool:
         """Whether the verdict's margins meet the requirement (exact comparisons)."""
-        return all(m < self.bound if self.strict else m <= self.bound for m in verdict.margins)
+        return not self.failing_blocks(verdict)
 
     def failing_blocks(self, verdict: Verdict) -> list[int]:
+        """The blocks whose margin breaks the bound."""
         return [i for i, m in enumerate(verdict.margins) if not (m < self.bound if self.strict else m <= self.bound)]
 
 
 @dataclass(frozen=True)
 class HyperplaneCut:
     """Block ``block`` fails for every set ``T`` with ``growth * prod_{j in T} rates[j] >=
-    bound^period`` (``>`` when the requirement is not strict): its decisive hyperplane ``inside``
-    (indices of the block's elements received) is deficient, so that product is a lower bound of
-    ``alpha^(2g) rho^g`` for ``T`` (module docstring)."""
+    bound^period`` (``>`` when the requirement is not strict): the element set ``inside`` (indices
+    of the block's elements received: a hyperplane's, or a smaller deficient span's) leaves the
+    block unobservable, so that product is a lower bound of ``alpha^(2g) rho^g`` for ``T`` (module
+    docstring)."""
 
     block: int
     period: int
