@@ -473,8 +473,7 @@ def cmd_design(args: argparse.Namespace) -> dict[str, Any]:
         if loss is None:
             raise UsageError(f"{args.file}: key 'loss' missing; query 'active' needs a [loss] table")
         result = design.active_constraints(system, loss)
-    return {"file": str(args.file), "query": query, **result.to_dict(),
-            "_text": f"read {args.file}\n{result}"}
+    return {"file": str(args.file), "query": query, **result.to_dict(), "_text": str(result)}
 
 
 def _args_design(p: argparse.ArgumentParser) -> None:
@@ -583,14 +582,18 @@ def _parser() -> argparse.ArgumentParser:
 FILE_HELP = "a system or family file (TOML), or the name of a shipped example (symkf examples lists them)"
 
 
-def _input_file(file: str) -> str:
-    """``file``, or the shipped example of that name when no such file exists (symkf.examples)."""
+def _input_file(file: str) -> tuple[str, str]:
+    """``file`` as :func:`symkf.io.examples.resolve` finds it (a file, the local ``file.toml``, or
+    the shipped example of that name), and what was read in words, for the text output."""
     from .io import examples
     try:
-        return str(examples.resolve(file))
+        path = examples.resolve(file)
     except SymkfError:
         raise UsageError(f"{file}: no such file; shipped examples are taken by name "
                          "(symkf examples lists them)") from None
+    shipped = examples.directory().resolve() in path.resolve().parents
+    return str(path), (f"read: shipped example {path.stem} (`symkf examples {path.stem}` copies it here)"
+                       if shipped else f"read: {path}")
 
 
 def _print_plain(res: dict[str, Any]) -> None:
@@ -653,8 +656,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     command: Command = args.command_spec
     try:
+        source = None
         if isinstance(getattr(args, "file", None), str):
-            args.file = _input_file(args.file)
+            args.file, source = _input_file(args.file)
         _cap_jobs(args, command.name)
         with warnings.catch_warnings(record=True) as caught, _quiet(args.quiet), budget.limits(**_caps(args)), \
                 _sigterm_interrupts(), output.run(), \
@@ -687,6 +691,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             doc = {"schema_version": SCHEMA_VERSION, **{k: v for k, v in res.items() if not k.startswith("_")}}
             print(json.dumps(doc, indent=2, default=str))
         else:
+            if source is not None:
+                print(source)
             (command.show or _print_plain)(res)
         sys.stdout.flush()
     except BrokenPipeError:  # e.g. `symkf demo | head`: the reader left; not an error of ours

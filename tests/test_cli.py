@@ -363,7 +363,7 @@ def test_design_answers_each_query_naming_the_file(capsys, tmp_path, query, expe
     f = tmp_path / "tracker.toml"
     f.write_text(DESIGN + query + "\n")
     status, out, _ = run(capsys, "design", f)
-    assert status == 0 and out.startswith(f"read {f}\n") and expected in out, out
+    assert status == 0 and out.startswith(f"read: {f}\n") and expected in out, out
 
 
 def test_design_json_carries_the_exact_answer(capsys, tmp_path):
@@ -385,3 +385,17 @@ def test_design_refuses_a_bad_table_in_one_line(capsys, tmp_path, table, message
     f.write_text(DESIGN.replace("[design]\n", "") + table)
     status, _, err = run(capsys, "design", f)
     assert status == 2 and message in one_line(err), err
+
+
+def test_an_edited_copy_of_an_example_wins_over_the_shipped_file(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert run(capsys, "examples", "ge-two-sensors")[0] == 0
+    status, out, _ = run(capsys, "analyze", "ge-two-sensors")
+    assert status == 0 and out.startswith("read: ge-two-sensors.toml\n") and "NOT stable" in out
+    copy = tmp_path / "ge-two-sensors.toml"
+    copy.write_text(copy.read_text().replace('recover = ["1/2", "1/2"]', 'recover = ["9/10", "9/10"]'))
+    status, out, _ = run(capsys, "analyze", "ge-two-sensors")
+    assert status == 0 and out.startswith("read: ge-two-sensors.toml\n") and "NOT stable" not in out
+    (tmp_path / "ge-two-sensors.toml").unlink()
+    status, out, _ = run(capsys, "analyze", "ge-two-sensors")
+    assert out.startswith("read: shipped example ge-two-sensors (`symkf examples ge-two-sensors` copies it here)")

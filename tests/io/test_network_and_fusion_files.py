@@ -143,7 +143,7 @@ def test_analyze_semi_markov_robot_and_viic_decided(capsys):
     # both eigen-blocks (21/20, seen by S1 and S4; 1, seen by S3 and S4) have their margins as
     # roots of degree-56 polynomials, 0.153956 and 0.091163 (cross-checked in tests/exact/test_perron.py)
     status, out, err = run(capsys, "analyze", NETWORK / "quevedo-robot.toml")
-    assert status == 0 and err == "" and out.splitlines()[2] == "stable (Theorem 7 with eq. (36))"
+    assert status == 0 and err == "" and out.splitlines()[3] == "stable (Theorem 7 with eq. (36))"
     assert "[0.153956, 0.153956]" in out and "[0.091163, 0.091163]" in out
     status, out, err = run(capsys, "analyze", NETWORK / "quevedo-semi-markov-network.toml")
     assert status == 0 and "margin alpha^2 rho = 5/64" in out and "irreducible lifted chain" in out

@@ -85,11 +85,16 @@ def catalog() -> list[Example]:
 
 
 def resolve(file: str | os.PathLike) -> Path:
-    """``file`` itself when it exists, else the shipped example of that name (with or without
-    ``.toml``, optionally as ``network/<name>``); an input error lists the names otherwise."""
+    """``file`` itself when it exists; else ``file.toml`` when that exists (the copy ``symkf
+    examples NAME`` writes, perhaps edited, wins over the shipped file it came from); else the
+    shipped example of that name (with or without ``.toml``, optionally as ``network/<name>``);
+    an input error lists the names otherwise."""
     path = Path(file)
     if path.exists():
         return path
+    local = path.with_name(path.name + ".toml")
+    if not path.name.endswith(".toml") and local.exists():
+        return local
     stem = path.name[:-len(".toml")] if path.name.endswith(".toml") else path.name
     found = [e.path for e in catalog() if e.name == stem]
     if len(found) == 1:
