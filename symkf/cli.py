@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
 
 from .arguments import check_public
 from . import __version__, budget, output
-from .errors import SymkfError
+from .errors import ExtraNotInstalledError, SymkfError
 from .run.progress import still_working
 
 if TYPE_CHECKING:
@@ -331,6 +331,8 @@ def resolve_reproduce(name: str) -> tuple[Callable[..., dict], dict[str, Any]]:
     module, func, quick = REPRODUCE[name]
     try:
         return getattr(importlib.import_module(module), func), quick
+    except ExtraNotInstalledError as exc:   # an extra is missing: say which, not that the example is
+        raise ExtraNotInstalledError(f"reproduce {name}: {exc}") from None
     except (ImportError, AttributeError):
         raise UsageError(f"{name} is not available in this version") from None
 

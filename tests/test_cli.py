@@ -399,3 +399,17 @@ def test_an_edited_copy_of_an_example_wins_over_the_shipped_file(capsys, tmp_pat
     (tmp_path / "ge-two-sensors.toml").unlink()
     status, out, _ = run(capsys, "analyze", "ge-two-sensors")
     assert out.startswith("read: shipped example ge-two-sensors (`symkf examples ge-two-sensors` copies it here)")
+
+
+def test_reproduce_names_the_missing_extra(capsys, monkeypatch):
+    # a core install without scipy: symkf.fusion refuses to import, naming its extra
+    real = importlib.import_module
+
+    def without_scipy(name, *args):
+        if name == "symkf.fusion":
+            from symkf.errors import require_extra
+            require_extra("scipy_missing_for_this_test", "fusion", "symkf.fusion")
+        return real(name, *args)
+    monkeypatch.setattr(importlib, "import_module", without_scipy)
+    status, _, err = run(capsys, "reproduce", "fusion-pendulum", "--quick")
+    assert status == 2 and "pip install 'symkf[fusion]'" in one_line(err) and "not available" not in err

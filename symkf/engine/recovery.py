@@ -50,6 +50,7 @@ from .search import block_rate, capped_hyperplanes, first_screen, rates_reaching
 from ..exact.algebraic import AlgebraicNumber, decreasing_root
 from ..exact.numbers import sympify
 from ..model.gilbert_elliott import GilbertElliott
+from ..model.loss import LossModel
 from ..model.system import System
 from .rows import BlockRows
 from .blocks import block_rows
@@ -272,6 +273,12 @@ def _monotone_recovery(system: System, fail: Sequence[Any], recover: Sequence[An
     hyperplane's margin, and ``q_c`` by :mod:`symkf.engine.recovery`'s argument (stable exactly for ``q >
     q_c``), None where that argument does not apply."""
     q = sp.Symbol("q", positive=True)
+    if isinstance(fail, LossModel):   # a model as the template: its channels' fail probabilities
+        if fail.channel_fail is None:
+            raise AssumptionError(f"fail: the loss model is {fail.words()}, not Gilbert-Elliott channels",
+                                  assumption="independent two-state channels (a recovery probability to vary)",
+                                  applies_instead="symkf.critical_loss_rate for i.i.d. losses")
+        fail = list(fail.channel_fail)
     model = _recovery_model(system, fail, recover, sensor, q)
     _check_loss(system, model.subs({q: sp.Rational(1, 2)}))
     j = None if sensor is None else system.sensor_index(sensor)
@@ -283,7 +290,7 @@ def _monotone_recovery(system: System, fail: Sequence[Any], recover: Sequence[An
     return model, q, listed, monotone_critical_recovery(system, model.fail, fixed, j)
 
 
-def stable_recovery_intervals(system: System, fail: Sequence[Any], *, recover: Sequence[Any] | None = None,
+def stable_recovery_intervals(system: System, fail: Sequence[Any] | LossModel, *, recover: Sequence[Any] | None = None,
                               sensor: str | None = None) -> tuple[tuple[AlgebraicNumber, AlgebraicNumber], ...]:
     """The recovery probabilities ``q in (0, 1)`` that make Gilbert-Elliott channels stable, exactly.
 
@@ -337,12 +344,13 @@ def stable_recovery_intervals(system: System, fail: Sequence[Any], *, recover: S
     return () if qc == 1 else ((qc, AlgebraicNumber.from_expr(1)),)
 
 
-def critical_recovery_rate(system: System, fail: Sequence[Any], *, recover: Sequence[Any] | None = None,
+def critical_recovery_rate(system: System, fail: Sequence[Any] | LossModel, *, recover: Sequence[Any] | None = None,
                            sensor: str | None = None) -> AlgebraicNumber:
     """The critical recovery probability ``q_c`` of Gilbert-Elliott channels: stable iff ``recover > q_c``.
 
-    ``fail[j] = P(lost | received last)`` is fixed; the recovery probability ``P(received | lost
-    last)`` is common to all sensors, or (``sensor=NAME``) only that sensor's, the others given
+    ``fail[j] = P(lost | received last)`` is fixed (``fail`` may be the channels' model itself,
+    :class:`~symkf.model.gilbert_elliott.GilbertElliott`: its recovery probabilities are then
+    the ones varied); the recovery probability ``P(received | lost last)`` is common to all sensors, or (``sensor=NAME``) only that sensor's, the others given
     by ``recover``.  Returns 0 when every ``q`` in (0, 1) is stable and 1 when none is.  Raises
     :class:`AssumptionError` when the stable set is not an interval ``(q_c, 1)`` (stability is not
     monotone in ``q`` in general; :func:`stable_recovery_intervals` gives the set).  Certified:

@@ -264,7 +264,8 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
     * default: a common loss probability ``eps`` for all sensors;
     * ``ray=(w_1, ..., w_d)``: losses ``eps * w_j``; the result is the critical ``eps``;
     * ``sensor=NAME, others=[...]``: that sensor's loss with the other sensors' losses fixed
-      (``others`` lists all d losses; the named sensor's entry is ignored).
+      (``others`` lists the other ``d - 1`` losses in order, or all ``d`` with the named sensor's
+      entry ignored).
 
     Each block gives ``alpha_i^(2g) * prod_outside(eps w_j) < 1`` for every hyperplane H,
     i.e. ``eps < (alpha_i^(2g) W_H)^(-1/K_H)``.  The value 1 means no loss rate below 1 destabilises.
@@ -273,9 +274,9 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
     ----------
     system : System
     sensor : str, optional
-        Vary only this sensor's loss (then ``others`` gives every sensor's loss).
+        Vary only this sensor's loss (then ``others`` gives the other sensors' losses).
     others : sequence, optional
-        The fixed loss probabilities of all sensors (exact numbers).
+        The fixed loss probabilities of the other sensors (exact numbers), or of all sensors.
     ray : sequence, optional
         Weights ``w_j`` of the losses ``eps * w_j``.
 
@@ -307,8 +308,11 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
         safe = 1 / top if top is not None and top > 1 else None   # losses above 1 beyond it
         return _least(system, lambda x: [x * wj for wj in w], lambda a2g, ks: _ray_bound(a2g, ks, w), safe)
     j = system.sensor_index(sensor)
+    if others is not None and len(others) == d - 1:   # the other sensors' losses only
+        others = [*others[:j], 1, *others[j:]]
     if others is None or len(others) != d:
-        raise InputError(f"others: give the {d} loss probabilities of all sensors (entry {j} is ignored)")
+        raise InputError(f"others: give the {d - 1} loss probabilities of the other sensors, in order (or all {d}, "
+                         f"entry {j} ignored)")
     fixed = [to_exact(v, f"others[{i}]") if i != j else sp.Integer(1) for i, v in enumerate(others)]
 
     def bound(a2g: AlgebraicNumber, ks: tuple[int, ...]) -> AlgebraicNumber | None:

@@ -320,3 +320,11 @@ def test_critical_recovery_with_eight_gilbert_elliott_sensors():
     assert 0 < lo and hi < 1
     assert stability(system, sk.GilbertElliott(fail, [sp.Rational(hi) + sp.Rational(1, 10 ** 5)] * 8)).stable
     assert not stability(system, sk.GilbertElliott(fail, [sp.Rational(lo) - sp.Rational(1, 10 ** 5)] * 8)).stable
+
+
+def test_a_gilbert_elliott_model_is_a_template_of_its_fail_probabilities():
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+    ge = sk.GilbertElliott(["1/4", "1/4"], ["1/2", "1/2"])
+    assert sk.critical_recovery_rate(S, ge) == sk.critical_recovery_rate(S, ["1/4", "1/4"])
+    with pytest.raises(sk.SymkfError, match="not Gilbert-Elliott channels"):
+        sk.critical_recovery_rate(S, sk.IID(["1/4", "1/4"]))

@@ -327,3 +327,10 @@ def test_verdicts_do_not_depend_on_coordinates(case, data):
     assert exactly_equal(answers[0], sk.critical_loss_rate(moved))
     assert same_verdict(answers[1], sk.stability(moved, IID(renumbered(losses))))
     assert same_verdict(answers[2], sk.stability(moved, GilbertElliott(renumbered(fail), renumbered(recover))))
+
+
+def test_one_sensors_critical_loss_takes_the_other_sensors_losses_only():
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+    # region 16 eps1 eps2^2 < 1 and 16 eps1^2 eps2 < 1: eps2 = 1/4 gives eps1 < 1 and eps1 < 1/2 (by hand)
+    assert sk.critical_loss_rate(S, "s1", others=["1/4"]).exact == sp.Rational(1, 2)
+    assert sk.critical_loss_rate(S, "s1", others=["9/10", "1/4"]) == sk.critical_loss_rate(S, "s1", others=["1/4"])
