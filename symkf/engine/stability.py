@@ -8,6 +8,8 @@ with 1.  Margin exactly 1 is not stable.
 
 from __future__ import annotations
 
+import warnings
+
 import sys
 import textwrap
 from dataclasses import dataclass, field
@@ -268,7 +270,9 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
       entry ignored).
 
     Each block gives ``alpha_i^(2g) * prod_outside(eps w_j) < 1`` for every hyperplane H,
-    i.e. ``eps < (alpha_i^(2g) W_H)^(-1/K_H)``.  The value 1 means no loss rate below 1 destabilises.
+    i.e. ``eps < (alpha_i^(2g) W_H)^(-1/K_H)``.  The value 1 means no loss rate below 1 destabilises;
+    along a ray with a weight ``w_j > 1`` the value is at most ``1/w_j`` (the loss of sensor ``j``
+    reaches 1 there: a warning names it when that, not a hyperplane, ends the stable range).
 
     Parameters
     ----------
@@ -306,7 +310,14 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
                                 if w[0] != 0 and sum(ks)])
         top = max((AlgebraicNumber.from_expr(wj) for wj in w), default=None)
         safe = 1 / top if top is not None and top > 1 else None   # losses above 1 beyond it
-        return _least(system, lambda x: [x * wj for wj in w], lambda a2g, ks: _ray_bound(a2g, ks, w), safe)
+        value = _least(system, lambda x: [x * wj for wj in w], lambda a2g, ks: _ray_bound(a2g, ks, w), safe)
+        if safe is not None and value > safe:   # the ray leaves the probabilities first: it ends there
+            heaviest = system.sensor_names[max(range(d), key=lambda j: AlgebraicNumber.from_expr(w[j]))]
+            warnings.warn(f"ray: sensor {heaviest}'s loss eps * {top.exact} reaches 1 at eps = {safe.exact}, before "
+                          "any loss destabilises the filter; the critical value is capped there (stable along the "
+                          "whole ray)", stacklevel=3)
+            return safe
+        return value
     j = system.sensor_index(sensor)
     if others is not None and len(others) == d - 1:   # the other sensors' losses only
         others = [*others[:j], 1, *others[j:]]

@@ -334,3 +334,14 @@ def test_one_sensors_critical_loss_takes_the_other_sensors_losses_only():
     # region 16 eps1 eps2^2 < 1 and 16 eps1^2 eps2 < 1: eps2 = 1/4 gives eps1 < 1 and eps1 < 1/2 (by hand)
     assert sk.critical_loss_rate(S, "s1", others=["1/4"]).exact == sp.Rational(1, 2)
     assert sk.critical_loss_rate(S, "s1", others=["9/10", "1/4"]) == sk.critical_loss_rate(S, "s1", others=["1/4"])
+
+
+def test_a_ray_that_leaves_the_probabilities_first_is_capped_where_a_loss_reaches_one():
+    # (3/2) R(2 pi/5), sensors x and y, losses (eps, 3 eps): the formula's continuation is 0.346 > 1/3,
+    # where y's loss would pass 1; the ray ends at 1/3, stable all along
+    c, s = sp.cos(2 * sp.pi / 5), sp.sin(2 * sp.pi / 5)
+    S = sk.System(A=sp.Rational(3, 2) * sp.Matrix([[c, -s], [s, c]]),
+                  sensors=[sk.Sensor(C=[[1, 0]], name="x"), sk.Sensor(C=[[0, 1]], name="y")])
+    with pytest.warns(UserWarning, match="sensor y's loss eps \\* 3 reaches 1 at eps = 1/3"):
+        assert sk.critical_loss_rate(S, ray=[1, 3]).exact == sp.Rational(1, 3)
+    assert sk.stability(S, sk.IID(["1/3", "999/1000"])).stable
