@@ -151,12 +151,20 @@ def _exact_words(exact: str, decimal: str, degree: int) -> str:
     return f"≈{decimal} (a root of a degree-{degree} polynomial; --json gives it)"
 
 
+def _period_words(block: dict[str, Any]) -> str:
+    """A block's periods in words: "none" where the block has none (aperiodic), never Python's None."""
+    tau, g = block["tau"], block["governing_period"]
+    if tau is None and g is None:
+        return "aperiodic: no period tau, no governing period"
+    return f"period tau = {'none' if tau is None else tau}, governing period = {'none' if g is None else g}"
+
+
 def _print_demo(res: dict[str, Any]) -> None:
     for e in res["examples"]:
         print("\n".join(textwrap.wrap(f"== {e['system']}: A = {e['A']}", 100, subsequent_indent="      ")))
         for i, b in enumerate(e["blocks"]):
             print(f"   block {i}: |lambda| = {_modulus_words(b)}, eigenvalues {_eigenvalue_words(b)}")
-            print(f"            period tau = {b['tau']}, governing period = {b['governing_period']}")
+            print(f"            {_period_words(b)}")
             if b["tau"] is None or b["governing_period"] is None:
                 print("\n".join(textwrap.wrap(f"proof: {b['proof']}", 100, initial_indent=" " * 12,
                                                subsequent_indent=" " * 14)))
@@ -603,7 +611,7 @@ def _print_plain(res: dict[str, Any]) -> None:
     key in words (:func:`_words`), never JSON."""
     for b in res.get("blocks", []):
         print("\n".join(textwrap.wrap(f"block: |lambda| = {_modulus_words(b)}, eigenvalues {_eigenvalue_words(b)}, "
-                                      f"tau = {b['tau']}, governing period = {b['governing_period']}", 100,
+                                      f"{_period_words(b)}", 100,
                                       subsequent_indent="    ", break_long_words=False, break_on_hyphens=False)))
     if "_text" in res:
         print(res["_text"])

@@ -204,7 +204,7 @@ def plan(path: str | os.PathLike, option: str, *, inputs: Iterable[str | os.Path
         raise OutputError(f"{where}: is the input file {source}; refusing to overwrite an input")
     before = None if current is None else _Identity.of(current)
     if before is not None and keep_existing and not force:
-        raise OutputError(f"{where}: exists (perhaps edited); pass --force (force=True) to replace it")
+        raise OutputError(f"{where}: exists (perhaps edited); pass --force (from Python: force=True) to replace it")
     started = _RUN.started_ns
     if (before is not None and not force and started is not None and before.ctime_ns > started
             and before not in _RUN.written):
@@ -214,7 +214,7 @@ def plan(path: str | os.PathLike, option: str, *, inputs: Iterable[str | os.Path
 
 def _concurrent(where: str, what: str) -> OutputError:
     return OutputError(f"{where}: {what} (another run writing the same file?); not replaced: pass --force "
-                       "(force=True) to replace it anyway, or choose another path")
+                       "(from Python: force=True) to replace it anyway, or choose another path")
 
 
 def _refuse_existing(target: Path, st: os.stat_result, where: str) -> None:

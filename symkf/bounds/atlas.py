@@ -43,7 +43,7 @@ def quantity(system: System, loss: LossModel | None = None) -> tuple[Quantity, s
         stable = stable_recovery_intervals(system, list(fail))
         one = len(stable) == 1 and stable[0][1] == 1
         return (Quantity("gilbert-elliott", "q", "common Gilbert-Elliott recovery probability q = P(received | "
-                         f"lost last), fail = {[str(f) for f in fail]}", stable, stable[0][0] if one else None,
+                         f"lost last), fail {', '.join(map(str, fail))}", stable, stable[0][0] if one else None,
                          tuple(fail)), "")
     eps = critical_loss_rate(system)
     rates = () if loss is None or loss.bernoulli is None else tuple(loss.bernoulli)

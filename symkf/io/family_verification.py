@@ -19,7 +19,7 @@ from typing import Any, Iterator, Sequence
 
 from ..arguments import check_public
 from ..errors import AssumptionError, FileFormatError, NumericalBreakdownError, SymkfError
-from ..numeric.verify import BREAKDOWN, INAPPLICABLE, OUTCOMES, Verification, interval_text, verify
+from ..numeric.verify import BREAKDOWN, INAPPLICABLE, OUTCOMES, Verification, approximately, interval_text, verify
 from ..run.sweep import sweep
 from .families import Family, Member, load_family
 from .files import read_toml
@@ -142,9 +142,9 @@ def family_summary(reports: list[dict[str, Any]]) -> str:
             continue
         t, s = r["theory"], r["simulation"]
         lines.append(f"{r['member']:<{width}}  theory {'stable' if t['stable'] else 'NOT stable':<10} "
-                     f"growth {t['growth_rate']['exact']} ~ {float(t['growth_rate']['decimal']):.5g}; "
+                     f"growth {approximately(t['growth_rate']['exact'], t['growth_rate']['decimal'])}; "
                      f"simulation {s['verdict']:<9} margin {interval_text(s, short=True)}, "
-                     f"seeds {s['seeds']}; {r['outcome'].upper()}")
+                     f"seeds {', '.join(map(str, s['seeds']))}; {r['outcome'].upper()}")
     counts = [f"{sum(r['outcome'] == o for r in reports)} {o}" for o in (*OUTCOMES, INAPPLICABLE, BREAKDOWN)]
     lines.append(f"{len(reports)} members: " + ", ".join(counts))
     return "\n".join(lines)

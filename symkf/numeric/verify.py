@@ -163,6 +163,12 @@ def verify(system: System, loss: LossModel, *, seed: int = 0, paths: int = 20_00
     return Verification(v, growth_exact, critical, sim, **judge(v, sim))
 
 
+def approximately(exact: Any, decimal: Any, digits: int = 5) -> str:
+    """``exact ~ decimal`` for people, or ``exact`` alone when the decimal would repeat it (``1``, ``1/2``)."""
+    shown = f"{float(decimal):.{digits}g}"
+    return str(exact) if str(exact) == shown or str(exact) == shown.rstrip("0").rstrip(".") else f"{exact} ~ {shown}"
+
+
 def judge(v: Verdict, sim: dict[str, Any]) -> dict[str, Any]:
     """``outcome``, ``reason`` and ``rate_consistent`` of a simulation against the exact verdict
     (rules in the module docstring)."""
@@ -193,7 +199,7 @@ def judge(v: Verdict, sim: dict[str, Any]) -> dict[str, Any]:
 
 def _undecided(sim: dict[str, Any], margin: float, stable: bool) -> str:
     """Why the simulation does not decide, and what budget would."""
-    budget = f"{sim['paths']} paths x horizons {sim['horizons']}"
+    budget = f"{sim['paths']} paths x horizons {', '.join(map(str, sim['horizons']))}"
     if sim["rate_interval"] is None:
         return (f"the change of E[tr P_k] between the horizons is not resolved from the noise of {budget} "
                 f"(the margin interval needs E_{{2h}} - E_h decisively nonzero); exact margin {margin:.6g}: "
@@ -264,7 +270,8 @@ def summary(report: dict[str, Any]) -> str:
              f"simulation: {s['verdict']} ({s['method']})",
              f"            margin {interval_text(s)}; growth over the horizons {s['growth']:.5g} "
              f"[{s['growth_interval'][0]:.5g}, {s['growth_interval'][1]:.5g}], tolerance {s['tolerance']:g}",
-             f"            {s['paths']} paths per run, horizons {s['horizons']}, seeds {s['seeds']}"]
+             f"            {s['paths']} paths per run, horizons {', '.join(map(str, s['horizons']))}, "
+             f"seeds {', '.join(map(str, s['seeds']))}"]
     if "note" in s:
         lines.append(f"            note: {s['note']}")
     if report["rate_consistent"] is not None:
