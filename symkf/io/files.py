@@ -137,6 +137,9 @@ def parse(data: dict, source: str) -> tuple[System, LossModel | None]:
     if "fusion" in data:
         raise FileFormatError(f"{source}: key 'fusion': a fusion file (arXiv:2012.04896) has no [system]; "
                               "read it with symkf.io.files.load_fusion")
+    if "family" in data or "grid" in data:
+        raise FileFormatError(f"{source}: a family file ([family], [grid]), not a system file: `symkf table` and "
+                              "`symkf verify` read it (from Python: symkf.load_family)")
     check_keys(data, KEYS[""], f"{source}")
     rationalize = _rationalize(data, source)
     return built(lambda: _system_and_loss(data, source, rationalize), source)

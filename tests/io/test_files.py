@@ -77,3 +77,11 @@ def test_unreadable_input_is_exit_2(capsys, monkeypatch, family, command):
     monkeypatch.setattr(Path, "open", deny)
     status, out, err = run(capsys, command, family)
     assert status == 2 and out == "" and "cannot read (Permission denied)" in err and err.count("\n") == 1
+
+
+def test_a_family_file_given_where_a_system_file_is_read_points_to_symkf_table(tmp_path):
+    from symkf import examples
+    from symkf.io import files
+    family = examples.family("rotation-periods")
+    with pytest.raises(sk.SymkfError, match="a family file .*`symkf table` and `symkf verify` read it"):
+        files.load(family)
