@@ -86,6 +86,14 @@ class Atlas:
             out["note"] = self.note
         return out
 
+    def __repr__(self) -> str:
+        """One line: the parameter, the exact stable set, how many results apply and hold (the
+        rows in full: ``print(atlas)``)."""
+        q = self.quantity
+        applying = [r for r in self.rows if r.applies]
+        return (f"<Atlas {self.system.name or 'system'}: {q.symbol} stable in {_intervals_text(q.stable)}; "
+                f"{len(self.rows)} results, {len(applying)} apply, {len(self.violations)} violated>")
+
     def __str__(self) -> str:
         q = self.quantity
         lines = [f"parameter: {q.words}", f"exact (symkf engine): stable for {q.symbol} in {_intervals_text(q.stable)}"]

@@ -359,6 +359,22 @@ class System:
             raise SingularSystemError("A is singular (det A = 0)",
                                       assumption="Lemma 2 (Sui-You-Fu): A invertible")
 
+    def __repr__(self) -> str:
+        """Short: the size, the sensors and A (the matrices in full: ``.A``, ``.C``, ``.Q``, ``.P0``)."""
+        def rows(M: Any) -> str:
+            return "[" + ", ".join("[" + ", ".join(map(str, M.row(i))) + "]" for i in range(M.rows)) + "]"
+        A = rows(self.A) if self.n <= 4 else f"<{self.n}x{self.n}>"
+        shown = ", ".join(f"{s.name} {rows(s.C) if self.n <= 4 else f'<{s.m}x{self.n}>'}" for s in self.sensors[:8])
+        more = f", ... ({self.d} sensors)" if self.d > 8 else ""
+        name = f"{self.name!r}, " if self.name else ""
+        return f"System({name}n={self.n}, A={A}, sensors: {shown}{more})"
+
+    def _repr_latex_(self) -> str:
+        """``A`` and the stacked ``C`` (Sui-You-Fu eq. 3) for a notebook."""
+        names = ", ".join(self.sensor_names)
+        return (rf"$x_{{k+1}} = {sp.latex(self.A)}\, x_k + w_k,\quad y_k = {sp.latex(self.C)}\, x_k + v_k"
+                rf"\quad(\text{{sensors {names}}})$")
+
     def sensor_index(self, name: str) -> int:
         """Position of the sensor called ``name``; :class:`~symkf.errors.InputError` listing the names if none."""
         try:

@@ -243,3 +243,10 @@ def test_bad_input():
         bounds("not a system")
     with pytest.raises(sk.SymkfError):
         bounds(system(ROT, [1, 0]), lmi_steps=-1)
+
+
+def test_an_atlas_reads_in_one_line():
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+    atlas = sk.bounds(S)
+    assert repr(atlas).startswith("<Atlas system: eps stable in (0, 2**(2/3)/4); 14 results, ")
+    assert "\n" not in repr(atlas) and len(repr(atlas)) < 120

@@ -121,3 +121,12 @@ def test_exact_objects_and_errors_pickle():
     e = pickle.loads(pickle.dumps(AssumptionError("x", assumption="A1", applies_instead="f")))
     assert (type(e), str(e), e.assumption, e.applies_instead) == \
         (AssumptionError, "A1 fails: x. What applies instead: f", "A1", "f")
+
+
+def test_a_system_reads_in_one_line_and_renders_in_a_notebook():
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+    assert repr(S) == "System(n=2, A=[[0, -2], [2, 0]], sensors: s1 [[1, 0]], s2 [[1, 1]])"
+    assert S._repr_latex_().startswith(r"$x_{k+1} = \left[\begin{matrix}0 & -2\\2 & 0\end{matrix}\right]")
+    many = sk.System(A=sp.diag(2, 3, 4, 5, 6), sensors=[sk.Sensor(C=[[1, 1, 1, 1, 1]]) for _ in range(12)])
+    assert repr(many) == ("System(n=5, A=<5x5>, sensors: s1 <1x5>, s2 <1x5>, s3 <1x5>, s4 <1x5>, s5 <1x5>, "
+                          "s6 <1x5>, s7 <1x5>, s8 <1x5>, ... (12 sensors))")
