@@ -216,3 +216,9 @@ def test_no_internal_words_reach_users():
     found = [f"{p.relative_to(ROOT)}:{i}" for p in files
              for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if internal.search(line)]
     assert found == []
+
+
+def test_readme_snippets_print_what_they_show():
+    import doctest
+    result = doctest.testfile(str(ROOT / "README.md"), module_relative=False, optionflags=doctest.ELLIPSIS)
+    assert result.attempted >= 5 and result.failed == 0
