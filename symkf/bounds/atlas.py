@@ -8,6 +8,8 @@ set from the engine) and one :class:`~symkf.bounds.row.Row` per result, in the o
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -111,18 +113,31 @@ class Atlas:
         return "\n".join(lines)
 
     def table(self) -> Table:
-        """A booktabs table for a related-work section: result, claim, value, relation."""
+        """A booktabs table for a related-work section: result, claim, value, relation; the results
+        that do not apply are listed under it, grouped by the hypothesis that fails."""
         q = self.quantity
         name = self.system.name or "the system"
+        symbol = _SYMBOLS.get(q.symbol, q.symbol)
         caption_text = (f"Published results on {name} beside the exact stable set of {q.symbol} "
                         f"({q.words}; symkf: {_intervals_text(q.stable)}).")
+        caption = (rf"Published results on {escape(name)} beside the exact stable set of ${symbol}$ "
+                   rf"({escape(q.words.replace(q.symbol + ' ', '').replace(' ' + q.symbol, ''))}; exact: "
+                   rf"${_intervals_latex(q.stable)}$).")
         columns = (Cell.text("claim"), Cell.text("value"), Cell.text("relation"))
         rows = [(Cell.text(r.result), (Cell.text(r.claim), _value_cell(r, q), Cell.text(_relation_short(r))))
-                for r in self.rows]
+                for r in self.rows if r.applies]
         exact = _exact_cell(q)
         rows.append((Cell.text("exact (symkf)"), (Cell.text("exact"), exact, Cell.text(""))))
-        return Table(escape(caption_text), caption_text, Cell.text("result"), columns, tuple(rows),
-                     label="tab:bounds-atlas", size=r"\footnotesize", metadata={"system": self.system.name or ""})
+        groups: dict[str, list[str]] = {}
+        for r in self.rows:
+            if not r.applies:
+                groups.setdefault(r.failed.name, []).append(r.result)
+        words = [f"Not applicable here (hypothesis \"{why}\" fails): {'; '.join(names).rstrip('.')}."
+                 for why, names in groups.items()]
+        notes = tuple((escape(w), w) for w in words)
+        return Table(caption, caption_text, Cell.text("result"), columns, tuple(rows),
+                     label="tab:bounds-atlas", size=r"\footnotesize", metadata={"system": self.system.name or ""},
+                     notes=notes, spec=r"p{0.3\linewidth}cc" + r"p{0.22\linewidth}")
 
     def to_latex(self) -> str:
         return self.table().to_latex()
@@ -184,6 +199,23 @@ def _intervals_json(intervals: Any) -> list | None:
     return None if intervals is None else [[number_json(lo), number_json(hi)] for lo, hi in intervals]
 
 
+#: the LaTeX of the atlas's parameters
+_SYMBOLS = {"eps": r"\varepsilon", "q": "q"}
+
+
+def _intervals_latex(intervals: Any) -> str:
+    if not intervals:
+        return r"\emptyset"
+    return r" \cup ".join(rf"({_short_latex(lo)},\ {_short_latex(hi)})" for lo, hi in intervals)
+
+
+def _short_latex(value: AlgebraicNumber) -> str:
+    """The exact value when its LaTeX is short, else its decimal."""
+    if value.exact.has(sp.CRootOf) or len(sp.latex(value.exact)) > MAX_EXACT_CELL:
+        return rf"\approx {value.evalf(4)}"
+    return sp.latex(value.exact)
+
+
 def _intervals_text(intervals: Any) -> str:
     if not intervals:
         return "no value in (0, 1)"
@@ -242,7 +274,7 @@ def _relation_short(r: Row) -> str:
         return f"holds, gap <= {float(r.gap['interval'][1]):.3g}"
     if r.relation == HOLDS:
         return "holds" + _gap_text(r)
-    return {NOT_COMPARED: "another estimator", INSIDE: "exact value inside bracket",
+    return {NOT_COMPARED: "another estimator", INSIDE: "brackets the exact value",
             REFUSED: "not evaluated (a symkf.budget cap)"}.get(r.relation, r.relation)
 
 
@@ -251,6 +283,9 @@ def _value_cell(r: Row, q: Quantity) -> Cell:
         return Cell.text("---")
     if r.bracket is not None:
         lo, hi = r.bracket
+        if len(sp.latex(lo)) + len(sp.latex(hi)) > MAX_EXACT_CELL:   # decimals, outward (exact in the JSON)
+            low, high = math.floor(float(lo) * 1e4) / 1e4, math.ceil(float(hi) * 1e4) / 1e4
+            return Cell.formula(rf"[{low:.4f},\ {high:.4f}]", f"[{low:.4f}, {high:.4f}]")
         return Cell.formula(rf"[{sp.latex(lo)},\ {sp.latex(hi)}]", f"[{lo}, {hi}]")
     if r.value is not None and r.stable is not None and len(r.stable) <= 1:
         return _number_cell(r.value)

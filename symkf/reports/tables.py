@@ -121,6 +121,8 @@ class Table:
     label: str | None = None
     metadata: dict = field(default_factory=dict)
     size: str = ""               # a LaTeX size command for wide tables, e.g. "\\small"
+    notes: tuple[tuple[str, str], ...] = ()   # (LaTeX, plain) lines under the table
+    spec: str = ""               # the tabular's column specification (default: l, then c per column)
 
     def to_latex(self) -> str:
         """A complete ``table`` environment (needs ``\\usepackage{booktabs}`` only)."""
@@ -137,8 +139,11 @@ class Table:
             lines.append(rf"\label{{{self.label}}}")
         if self.size:
             lines.append(self.size)
-        lines += [rf"\begin{{tabular}}{{l{'c' * n}}}", r"\toprule", *head, r"\midrule", *body,
-                  r"\bottomrule", r"\end{tabular}", r"\end{table}"]
+        lines += [rf"\begin{{tabular}}{{{self.spec or 'l' + 'c' * n}}}", r"\toprule", *head, r"\midrule", *body,
+                  r"\bottomrule", r"\end{tabular}"]
+        if self.notes:   # as wide as the text, under the table
+            lines += [r"\par\smallskip", r"{\footnotesize\raggedright " + r"\par ".join(n for n, _ in self.notes) + "}"]
+        lines.append(r"\end{table}")
         return "\n".join(lines) + "\n"
 
     def _repr_latex_(self) -> str:
@@ -154,14 +159,16 @@ class Table:
         widths = [max(len(row[j]) for row in grid) for j in range(len(grid[0]))]
         lines = ["  ".join(v.ljust(w) for v, w in zip(row, widths)).rstrip() for row in grid]
         lines.insert(1, "  ".join("-" * w for w in widths))
-        return textwrap.fill(self.caption_text, 100) + "\n\n" + "\n".join(lines)
+        notes = "".join("\n" + textwrap.fill(plain, 100) for _, plain in self.notes)
+        return textwrap.fill(self.caption_text, 100) + "\n\n" + "\n".join(lines) + notes
 
     def to_json(self) -> dict[str, Any]:
         """A JSON-serialisable dict: caption, headings, and each cell's exact data."""
         return {**self.metadata, "caption": self.caption_text,
                 "stub": self.stub.plain, "spanner": self.spanner.plain if self.spanner else None,
                 "columns": [c.plain for c in self.columns],
-                "rows": [{"label": r.plain, "cells": [c.data for c in cells]} for r, cells in self.rows]}
+                "rows": [{"label": r.plain, "cells": [c.data for c in cells]} for r, cells in self.rows],
+                **({"notes": [plain for _, plain in self.notes]} if self.notes else {})}
 
     def write(self, path: str | Path) -> Path:
         """Write :meth:`to_latex` to ``path`` atomically (:mod:`symkf.output`: never over the

@@ -5,6 +5,7 @@ Hand-derived values are stated next to each test.  The exhaustive families live 
 proofs/bounds_*.py (run by tests/test_proofs.py, and here in full); hypothesis-drawn systems here."""
 
 import json
+import re
 import runpy
 import shutil
 import subprocess
@@ -214,8 +215,16 @@ def test_latex_table_compiles(tmp_path):
     if shutil.which("pdflatex") is None:
         pytest.skip("pdflatex is not installed")
     tex = tmp_path / "atlas.tex"
-    for i, S in enumerate((system(ROT3, [1, 0]), system(ROT, [1, 0], [1, 1], single=False))):
-        body = bounds(S, lmi_steps=1).to_latex()
+    tracker = sk.System(A=[[1, 1, 0, 0], [0, 1, 0, 0], [0, 0, 0, "-3/2"], [0, 0, "3/2", 0]],
+                        sensors=[sk.Sensor(C=[r]) for r in ([1, 0, 1, 0], [1, 0, 0, 1], [0, 1, 1, 1])])
+    cases = [(system(ROT3, [1, 0]), None, 1), (system(ROT, [1, 0], [1, 1], single=False), None, 1),
+             (tracker, None, 8), (tracker, sk.GilbertElliott(["1/4"] * 3, ["1/2"] * 3), 8)]
+    for i, (S, loss, steps) in enumerate(cases):
+        atlas = bounds(S, loss, lmi_steps=steps)
+        body = atlas.to_latex()
+        caption = body.splitlines()[2]
+        assert "**" not in caption and not re.search(r"\beps\b", caption) and "CRootOf" not in caption, caption
+        assert body.count("Not applicable here") == len({r.failed.name for r in atlas.rows if not r.applies})
         tex.write_text("\\documentclass{article}\n\\usepackage{booktabs}\n\\begin{document}\n" + body
                        + "\\end{document}\n")
         run = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", tex.name],
