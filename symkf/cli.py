@@ -486,6 +486,28 @@ def cmd_design(args: argparse.Namespace) -> dict[str, Any]:
     return {"file": str(args.file), "query": query, **result.to_dict(), "_text": str(result)}
 
 
+def cmd_warm(args: argparse.Namespace) -> dict[str, Any]:
+    """Compile (or load from numba's cache) the simulation's kernels for each state dimension, so
+    that the first ``simulate`` or ``verify`` of a user's system does not wait for numba."""
+    import time
+    import sympy as sp
+    from .model.iid import IID
+    from .model.system import Sensor, System
+    from .numeric.simulation import simulate
+    out = []
+    for n in args.states:
+        start = time.process_time()
+        system = System(A=2 * sp.eye(n), sensors=[Sensor(C=sp.eye(n))])
+        simulate(system, IID(["1/10"]), 2, 2, seed=0)
+        out.append({"states": n, "cpu_seconds": round(time.process_time() - start, 2)})
+    return {"kernels": out, "_text": "\n".join(f"{k['states']}-state kernels ready ({k['cpu_seconds']} CPU-s)" for k in out)}
+
+
+def _args_warm(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--states", type=lambda t: _bounded_int(t, 1, 64), nargs="+", default=list(range(1, 9)),
+                   metavar="N", help="state dimensions to compile for (default 1 to 8)")
+
+
 def _args_design(p: argparse.ArgumentParser) -> None:
     p.add_argument("file", metavar="FILE.toml")
 
@@ -552,6 +574,9 @@ register(Command("examples", "the shipped example systems and families; NAME cop
 register(Command("design", "design queries of a system file's [design] table: the cheapest sensor set, the front "
                  "of cost against the critical rate, the cheapest channel qualities, the most valuable upgrade",
                  _args_design, cmd_design, lambda res: print(res["_text"])))
+register(Command("warm", "compile the simulation's kernels ahead (numba; once per installation), so that the "
+                 "first simulate or verify of a system does not wait for it", _args_warm, cmd_warm,
+                 lambda res: print(res["_text"])))
 register(Command("bounds", "every published bound and closed form for the critical rate beside the exact value",
                  _args_bounds, cmd_bounds, _print_table))
 register(Command("reproduce", "reproduce a paper's example: " + ", ".join(sorted(REPRODUCE)), _args_reproduce,

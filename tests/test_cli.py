@@ -414,3 +414,9 @@ def test_reproduce_names_the_missing_extra(capsys, monkeypatch):
     monkeypatch.setattr(importlib, "import_module", without_scipy)
     status, _, err = run(capsys, "reproduce", "fusion-pendulum", "--quick")
     assert status == 2 and "pip install 'symkf[fusion]'" in one_line(err) and "not available" not in err
+
+
+def test_warm_compiles_the_kernels_of_the_dimensions_asked(capsys):
+    status, out, _ = run(capsys, "warm", "--states", "2", "3")
+    assert status == 0 and out.splitlines()[0].startswith("2-state kernels ready (") and "3-state" in out
+    assert run(capsys, "warm", "--states", "0")[0] == 2

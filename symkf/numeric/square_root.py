@@ -66,6 +66,7 @@ from numba.extending import intrinsic
 
 from ..arguments import check_public
 from ..errors import ShapeError
+from ..run.progress import compiling
 from .kernel_parts import (LOOP_LANES, NORMAL, ROOT_MAX, _aligned, _aligned_int, _compiled, _pow2, _receptions,
                            _rescale, _store)
 
@@ -126,8 +127,31 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
                          f"{min(row_sensor)}..{max(row_sensor)}")
     width = lanes(n)
     buffer = np.empty((min(BUFFER_STEPS, BUFFER_PATH_STEPS // width) if linear else 1, width))
+    kernel = _kernel(n)
+    if n not in _READY:   # compiled (or loaded from numba's cache) on a path of one step first, with a notice
+        warm(n)
     # bool in C order: a step's receptions are one flat row per block (_receptions), one sensor's read in place
-    _kernel(n)(A, UQ, H, row_sensor, S0, np.ascontiguousarray(received, bool), trace, buffer, linear)
+    kernel(A, UQ, H, row_sensor, S0, np.ascontiguousarray(received, bool), trace, buffer, linear)
+
+
+#: state dimensions whose kernel this process has compiled or loaded
+_READY: set[int] = set()
+
+
+def warm(n: int, *, enabled: bool | None = None) -> None:
+    """Compile (or load from numba's cache) the kernel of ``n`` states on one path of one step,
+    saying so on stderr when that takes more than a second (:func:`symkf.run.progress.compiling`)."""
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise ShapeError(f"n: expected a positive number of states, got {n!r}")
+    A, S0 = np.eye(n), np.eye(n)
+    H, row_sensor = np.ones((1, n)), np.zeros(1, dtype=np.int64)
+    received = np.ones((1, 1, 1), dtype=bool)
+    with compiling(f"the {n}-state filter kernel", enabled=enabled):
+        for linear in (False, True):
+            trace = np.empty((1, 1)) if linear else np.empty((2, 1))
+            buffer = np.empty((1 if not linear else min(BUFFER_STEPS, BUFFER_PATH_STEPS // lanes(n)), lanes(n)))
+            _kernel(n)(A, np.eye(n), H, row_sensor, S0, received, trace, buffer, linear)
+    _READY.add(n)
 
 
 def _kernel(n: int):

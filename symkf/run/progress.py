@@ -48,6 +48,31 @@ def _interactive() -> bool:
 
 
 @contextlib.contextmanager
+def compiling(what: str, *, after: float = 1.0, enabled: bool | None = None) -> Iterator[None]:
+    """Work that is slow only the first time (a compiled kernel: numba compiles it once per
+    installation and loads it from its cache after): one line on stderr naming ``what`` when it
+    takes longer than ``after`` seconds, so that a first run does not sit silent.  Shown when
+    ``enabled``, or (``None``) on a terminal or in a notebook."""
+    show = _interactive() if enabled is None else enabled
+    done = threading.Event()
+
+    def report() -> None:
+        if not done.wait(after):
+            print(f"compiling {what} (numba, once per installation; `symkf warm` compiles ahead)...",
+                  file=sys.stderr, flush=True)
+
+    thread = threading.Thread(target=report, daemon=True) if show else None
+    if thread is not None:
+        thread.start()
+    try:
+        yield
+    finally:
+        done.set()
+        if thread is not None:
+            thread.join()
+
+
+@contextlib.contextmanager
 def still_working(desc: str, *, after: float = 2.0, every: float = 10.0,
                   enabled: bool | None = None) -> Iterator[None]:
     """Long work without natural steps (eigen-blocks, hyperplane enumeration): after ``after``

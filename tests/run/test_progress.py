@@ -49,3 +49,15 @@ def test_still_working_notes_on_stderr_and_silenceable(capsys):
     with still_working("symkf analyze", after=0.01, every=0.01, enabled=False):
         time.sleep(0.1)
     assert capsys.readouterr().err == ""
+
+
+def test_compiling_says_so_only_when_it_takes_long(capsys):
+    import time
+    from symkf.run.progress import compiling
+    with compiling("the 4-state filter kernel", after=0.05, enabled=True):
+        time.sleep(0.3)
+    assert capsys.readouterr().err == ("compiling the 4-state filter kernel (numba, once per installation; "
+                                       "`symkf warm` compiles ahead)...\n")
+    with compiling("the 4-state filter kernel", after=5, enabled=True):
+        pass
+    assert capsys.readouterr().err == ""
