@@ -1,4 +1,4 @@
-"""Upgrades and active constraints (symkf.design.upgrades) against values by hand and the
+"""Upgrades and active constraints (symkf.design.improvement) against values by hand and the
 critical rate along the ray."""
 
 import sympy as sp
