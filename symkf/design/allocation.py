@@ -177,7 +177,7 @@ def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2
         raise InputError("cost: give a callable cost of x = -ln(eps) (a NumPy array) instead of weights, not both")
     if isinstance(max_rounds, bool) or not isinstance(max_rounds, int) or max_rounds < 1:
         raise InputError(f"max_rounds: expected a positive int, got {max_rounds!r}")
-    w = candidate_costs(system, weights)
+    w = candidate_costs(system, weights, "weights")
     if any(v <= 0 for v in w):
         raise InputError("weights: every price must be positive (a free channel would be made lossless)")
     mu = to_exact(margin, "margin")
@@ -297,7 +297,7 @@ def allocate_recovery(system: System, fail: Sequence[Any], weights: Any = None, 
     >>> 0 < float(a.recover[0] - q.exact) <= 1e-3, a.verdict.stable
     (True, True)
     """
-    w = candidate_costs(system, weights)
+    w = candidate_costs(system, weights, "weights")
     if any(v <= 0 for v in w):
         raise InputError("weights: every price must be positive")
     if isinstance(max_sweeps, bool) or not isinstance(max_sweeps, int) or max_sweeps < 1:

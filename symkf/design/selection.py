@@ -36,25 +36,26 @@ from .constraints import TOLERANCE, Cuts, HyperplaneCut, Requirement, SubsetCut,
 from .programmes import cheapest_cover
 
 
-def candidate_costs(system: System, costs: Any) -> tuple[sp.Rational, ...]:
+def candidate_costs(system: System, costs: Any, entry: str = "costs") -> tuple[sp.Rational, ...]:
     """One exact non-negative cost per sensor: ``None`` (every sensor 1: the fewest sensors), a
-    sequence in sensor order, or a mapping from sensor names (missing names cost 1)."""
+    sequence in sensor order, or a mapping from sensor names (missing names cost 1); ``entry``
+    names the argument in errors."""
     d, names = system.d, system.sensor_names
     if costs is None:
         return (sp.Integer(1),) * d
     if isinstance(costs, Mapping):
         unknown = [k for k in costs if k not in names]
         if unknown:
-            raise InputError(f"costs: {unknown[0]!r} is not a sensor of the system ({', '.join(names)})")
+            raise InputError(f"{entry}: {unknown[0]!r} is not a sensor of the system ({', '.join(names)})")
         values = [costs.get(n, 1) for n in names]
-        where = [f"costs[{n!r}]" for n in names]
+        where = [f"{entry}[{n!r}]" for n in names]
     else:
         if isinstance(costs, (str, bytes)) or not isinstance(costs, Sequence):
-            raise InputError(f"costs: expected one cost per sensor (a list or a mapping from sensor names), "
+            raise InputError(f"{entry}: expected one cost per sensor (a list or a mapping from sensor names), "
                              f"got {type(costs).__name__}")
         if len(costs) != d:
-            raise InputError(f"costs: {len(costs)} costs for {d} sensors")
-        values, where = list(costs), [f"costs[{j}]" for j in range(d)]
+            raise InputError(f"{entry}: {len(costs)} costs for {d} sensors")
+        values, where = list(costs), [f"{entry}[{j}]" for j in range(d)]
     out = []
     for v, at in zip(values, where):
         c = to_exact(v, at)
