@@ -66,6 +66,11 @@ class Limits:
     #: and root isolation pay for, steeply beyond a thousand bits (a rotation block with an entry
     #: 10^-230 has 764 bits)
     max_bits: int = 768
+    #: bits of precision of one certified ball (flint's ``acb``/``arb``), asked directly (``ball``,
+    #: ``root_ball``, ``theta_ball``) or through a width, a number of digits or a power: flint
+    #: allocates for it and aborts the process when it cannot (2^40 bits hang, sys.maxsize crashes),
+    #: so it is checked before flint is asked; the engine's own refinements stay far below it
+    max_precision: int = 2 ** 20
     #: rows or columns of a matrix (state dimension n, measurement channels; the exact engine's
     #: work on a dense system grows steeply with n)
     max_dimension: int = 32

@@ -309,6 +309,8 @@ def between(a: AlgebraicNumber, b: AlgebraicNumber) -> sp.Rational:
 
 def simplest(lo: Fraction, hi: Fraction) -> Fraction:
     """The rational with least denominator in the open interval ``(lo, hi)``."""
+    if not lo < hi:
+        raise InputError(f"simplest: the interval ({lo}, {hi}) is empty; give lo < hi")
     q = 1
     while True:
         n = (lo * q).__floor__() + 1

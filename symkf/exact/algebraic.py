@@ -86,9 +86,21 @@ def with_prec(prec: int, fn: Callable[[], Any]) -> Any:
         flint.ctx.prec = old
 
 
+def precision(prec: Any, entry: str = "prec") -> int:
+    """``prec`` checked as a number of bits of a ball: an int from 2 up to ``budget``
+    ``max_precision`` (flint aborts the process when it cannot allocate; it is never asked)."""
+    if isinstance(prec, bool) or not isinstance(prec, numbers.Integral):
+        raise InputError(f"{entry}: expected an int number of bits, got {type(prec).__name__}")
+    prec = int(prec)
+    if prec < 2:
+        raise InputError(f"{entry}: {prec} bits is too few; give at least 2")
+    budget.check("max_precision", prec, entry, "the bits of precision asked for")
+    return prec
+
+
 def root_ball(poly: flint.fmpz_poly, index: int, prec: int) -> flint.acb:
     """Certified isolating ball of root ``index`` of ``poly`` (flint's ordering) at ``prec`` bits."""
-    return _complex_roots(tuple(int(c) for c in poly.coeffs()), prec)[index]
+    return _complex_roots(tuple(int(c) for c in poly.coeffs()), precision(prec))[index]
 
 
 @lru_cache(maxsize=512)
@@ -644,6 +656,10 @@ class AlgebraicNumber:
         width = to_rational(width, "width")
         if width <= 0:
             raise InputError(f"width: {width} is not positive")
+        # the bits a ball that narrow needs, from the sizes of the numbers (never by computing 1/width)
+        scale = max(abs(self._lo), abs(self._hi), sp.Integer(1))
+        need = int(width.q).bit_length() - int(width.p).bit_length() + int(sp.ceiling(scale)).bit_length() + 8
+        budget.check("max_precision", need, "width", "the bits of precision this width needs")
         while self._hi - self._lo > width:
             self._prec *= 2
             self._lo, self._hi = _arb_interval(root_ball(self._poly, self._index, self._prec).real)
@@ -651,6 +667,9 @@ class AlgebraicNumber:
 
     def evalf(self, n: int = 15) -> sp.Float:
         """``n`` significant digits from an interval refined far below ``10^-n`` relative width."""
+        if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
+            raise InputError(f"n: expected a positive int number of digits, got {n!r}")
+        budget.check("max_digits", int(n), "n", "the digits asked for")
         if self.is_rational:
             return sp.Float(self._lo, n)
         scale = max(abs(self._lo), abs(self._hi), sp.Rational(1, 10 ** 6))
@@ -823,6 +842,7 @@ class AlgebraicNumber:
                 k = sp.Rational(k.numerator, k.denominator)
             return self._arith(k, operator.pow, lambda a, b: NotImplemented)
         k = int(k)
+        budget.check("max_exponent", abs(k), "exponent", "the modulus of the integer exponent")
         if k < 0:
             return self._reciprocal() ** -k
         if self.is_rational:

@@ -30,7 +30,7 @@ import sympy as sp
 
 from ..arguments import check_public
 from ..errors import InputError
-from .algebraic import with_prec, fmpz_to_sympy, identify, root_ball, root_of
+from .algebraic import with_prec, fmpz_to_sympy, identify, precision, root_ball, root_of
 from .embedding import Integral, adjoin, integral_scale, interpolate, vanishes
 from .numbers import sympify
 
@@ -385,6 +385,7 @@ class NumberField:
 
     def theta_ball(self, prec: int) -> flint.acb:
         """Certified isolating ball of ``theta`` at ``prec`` bits."""
+        prec = precision(prec)
         return self._state.prim.roots(prec)[self.theta_index] if self._state.prim else flint.acb(0)
 
     def real_balls(self, M: Sequence[Sequence[Elem]], prec: int, accuracy: int | None = None) -> list[list[flint.arb]]:

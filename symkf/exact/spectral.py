@@ -31,7 +31,7 @@ import flint
 import sympy as sp
 
 from ..arguments import check_public
-from .algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, with_prec, fmpz_to_sympy,
+from .algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, precision, with_prec, fmpz_to_sympy,
                         identify, real_from_ball, root_ball, root_of)
 from . import nfpoly
 from .field import Elem, NumberField, rational_value
@@ -178,7 +178,7 @@ class Eigenvalue:
 
     def ball(self, prec: int) -> flint.acb:
         """A certified complex ball (flint ``acb``) around the eigenvalue at ``prec`` bits."""
-        return root_ball(self.minpoly, self.root_index, prec)
+        return root_ball(self.minpoly, self.root_index, precision(prec))
 
     @property
     def key(self) -> tuple[tuple[int, ...], int]:
@@ -252,6 +252,7 @@ class RatioEvidence:
 
     def ball(self, prec: int) -> flint.acb:
         """A certified ball around the ratio at ``prec`` bits."""
+        prec = precision(prec)
         d = self.den.ball(prec)
         return with_prec(prec, lambda: self.num.ball(prec) / (d.conjugate() if self.conj_den else d))
 

@@ -109,3 +109,11 @@ def test_numeric_conditions_are_decided_exactly():
     # 16 * (1/16) * 1 = 1 exactly: not stable, decided without floating point
     assert stability_conditions(TWO, sk.IID(["1/16", 1])) == sp.false
     assert stability_conditions(TWO, sk.IID(["1/17", 1])) == sp.true
+
+
+def test_simplest_refuses_an_empty_interval():
+    from fractions import Fraction
+    from symkf.engine.region import simplest
+    with pytest.raises(sk.SymkfError, match=r"the interval \(1, 1/3\) is empty"):
+        simplest(Fraction(1), Fraction(1, 3))   # looped forever
+    assert simplest(Fraction(1, 3), Fraction(1, 2)) == Fraction(2, 5)

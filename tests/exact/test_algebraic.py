@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 import pickle
+import sys
+import time
 from fractions import Fraction
 
 import numpy as np
@@ -19,8 +21,8 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import symkf as sk
-from symkf.errors import InputError
-from symkf.exact.algebraic import AlgebraicNumber, sign, x
+from symkf.errors import BudgetError, InputError
+from symkf.exact.algebraic import AlgebraicNumber, root_ball, sign, x
 
 R = sp.Rational
 
@@ -294,3 +296,21 @@ def test_algebraic_number_comparisons_are_exact():
     assert a < 1 and a > Fraction(1, 2)
     assert sign(sp.sqrt(2) + sp.sqrt(3) - sp.sqrt(5 + 2 * sp.sqrt(6))) == 0
     assert sign(sp.sqrt(2) - sp.Rational(99, 70)) == -1
+
+
+@pytest.mark.parametrize("call, cap", [
+    (lambda a, e: e.ball(sys.maxsize), "max-precision"),            # flint segfaulted
+    (lambda a, e: e.ball(2 ** 40), "max-precision"),                 # hung past Ctrl-C
+    (lambda a, e: root_ball(e.minpoly, e.root_index, 10 ** 30), "max-precision"),   # OverflowError
+    (lambda a, e: a ** 10 ** 30, "max-exponent"),                    # ignored Ctrl-C
+    (lambda a, e: AlgebraicNumber.from_expr(sp.Rational(3, 2)) ** 10 ** 9, "max-exponent"),   # 29 s, 1 GB
+    (lambda a, e: a.evalf(10 ** 7), "max-digits"),                   # hung
+    (lambda a, e: a.refine(sp.Rational(1, 10 ** 10 ** 6)), "max-precision"),
+])
+def test_precision_exponents_and_digits_are_priced_before_flint_is_asked(call, cap):
+    a = AlgebraicNumber.from_expr(sp.sqrt(2))
+    e = sk.eigenvalues([[0, -2], [2, 0]])[0]
+    start = time.process_time()
+    with pytest.raises(BudgetError, match=f"--{cap}"):
+        call(a, e)
+    assert time.process_time() - start < 1
