@@ -320,6 +320,11 @@ def grid_family(build: Callable[..., Any], grid: Mapping[str, Iterable[Any]], *,
         raise InputError(f"grid: one or two parameters (rows, then columns), got {len(grid)}")
     axes = []
     for key, values in grid.items():
+        size = len(values) if hasattr(values, "__len__") else None
+        if size is None:
+            raise InputError(f"grid {key}: expected a list or range of values, got {type(values).__name__}")
+        if size > budget.LIMITS.max_members:   # measured before any value is converted
+            budget.check("max_members", size, name, f"the number of values of grid {key}")
         exact = tuple(to_exact(v, f"grid {key}[{i}]") for i, v in enumerate(values))
         if not exact:
             raise InputError(f"grid {key}: no values")
@@ -404,6 +409,9 @@ def _axis_values(key: str, vals: Any, path: Path, rationalize: bool) -> tuple[tu
                 or step < 1 or hi < lo:
             raise _fail(path, f"{where}: a range is {{ from = INT, to = INT, step = INT }} with from <= to "
                               "and step >= 1")
+        if (hi - lo) // step + 1 > 1000:   # counted, never built: to = 10**9 would take gigabytes first
+            raise _fail(path, f"{where}: the range has {(hi - lo) // step + 1} values, more than 1000 "
+                              "(at most 1000 values per axis)")
         vals = list(range(lo, hi + 1, step))
     if not isinstance(vals, list) or not vals or len(vals) > 1000:
         raise _fail(path, f"{where}: expected a non-empty list (at most 1000 values) or a range table")

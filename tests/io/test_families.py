@@ -3,6 +3,8 @@ of systems, and refused when read if they have more members than the cap."""
 
 from __future__ import annotations
 
+import time
+
 import pytest
 import sympy as sp
 
@@ -61,3 +63,16 @@ def test_critical_recovery_rate_as_a_family_column():
     iid = systems_family([(S, sk.IID(["1/10"]))], compute="critical_recovery_rate")
     with pytest.raises(sk.SymkfError, match="needs Gilbert-Elliott channels"):
         tables.family_table(iid, progress=False)
+
+
+def test_a_huge_range_is_refused_before_it_is_built(tmp_path):
+    from symkf.io.families import load_family
+    path = tmp_path / "huge.toml"
+    path.write_text('[family]\nkind = "rotation"\n[grid]\nperiod = { from = 2, to = 1000000000 }\n'
+                    '[constants]\nalpha = "2"\n')
+    start = time.process_time()
+    with pytest.raises(sk.SymkfError, match="the range has 999999999 values, more than 1000"):
+        load_family(path)    # 4 GB in 6 s, then a refusal, when the list was built first
+    assert time.process_time() - start < 1
+    with pytest.raises(BudgetError, match="the number of values of grid period is 100000000"):
+        grid_family(lambda period: QUARTER_TURN, {"period": range(10 ** 8)})
