@@ -186,4 +186,14 @@ def check(cap: str, estimate: int, entry: str, what: str | Callable[[], str]) ->
         raise BudgetError(f"{entry}: {what} is {shown}, above the cap {bound}; raise it with "
                           f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
 
+def check_power(cap: str, base: int, exponent: int, entry: str, what: str) -> None:
+    """:func:`check` of ``base ** exponent`` without computing it when it is far above the cap
+    (the power of a huge exponent is itself the work the cap guards): compared in logarithms."""
+    bound = getattr(LIMITS, cap)
+    if exponent * math.log2(base) > math.log2(max(bound, 1)) + 64:   # far above: never built
+        raise BudgetError(f"{entry}: {what} is {base}^{exponent}, above the cap {bound}; raise it with "
+                          f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
+    check(cap, base ** exponent, entry, what)
+
+
 check_public(globals())

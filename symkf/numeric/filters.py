@@ -33,6 +33,7 @@ import numpy as np
 import sympy as sp
 
 from ..arguments import check_public
+from .. import budget
 from ..errors import InputError, NumericalBreakdownError, ShapeError
 from ..model.loss import LossModel, checked
 from ..model.system import System
@@ -191,6 +192,9 @@ def _codes(gamma: np.ndarray, d: int) -> tuple[np.ndarray, np.ndarray]:
 
 def receival_table(d: int) -> np.ndarray:
     """All 2^d receival vectors, row ``c`` holding the bits of ``c`` (sensor i = bit i)."""
+    if isinstance(d, bool) or not isinstance(d, int) or d < 0:
+        raise InputError(f"d: expected a number of sensors, got {d!r}")
+    budget.check_power("max_patterns", 2, d, "d", "the receival vectors 2^d of the table")
     return ((np.arange(2 ** d)[:, None] >> np.arange(d)) & 1).astype(bool)
 
 

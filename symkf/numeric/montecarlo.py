@@ -59,9 +59,9 @@ def _progress(total: int, work: int, desc: str):
 
 def _patterns(d: int, length: int) -> np.ndarray:
     """All receival-code sequences of ``length`` steps as (length, 2^(d length)) codes."""
+    budget.check_power("max_patterns", 2, d * length, "horizon", "the number of receival sequences 2^(d (horizon-1)) "
+                       "to enumerate (estimate_mean_trace simulates instead)")
     count = 2 ** (d * length)
-    budget.check("max_patterns", count, "horizon", f"the number of receival sequences 2^(d (horizon-1)) to "
-                 "enumerate (estimate_mean_trace simulates instead)")
     p = np.arange(count)
     return (p[None, :] >> (d * np.arange(length))[:, None]) & (2 ** d - 1)
 

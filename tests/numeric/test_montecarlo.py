@@ -2,6 +2,7 @@
 
 import math
 import os
+import time
 from fractions import Fraction
 
 import numpy as np
@@ -11,7 +12,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from symkf.model import strategies as sks
-from symkf.errors import InputError
+import symkf as sk
+from symkf.errors import BudgetError, InputError
+from symkf.numeric import montecarlo
+from symkf.numeric.filters import receival_table
 from symkf.model.gilbert_elliott import GilbertElliott
 from symkf.model.iid import IID
 from symkf.model.markov import MarkovLoss
@@ -412,3 +416,15 @@ def test_enumeration_is_capped_by_max_patterns():
         exact_mean_trace(S, IID(["1/10"] * 2), 3)
     with budget.limits(max_patterns=16):
         assert len(exact_mean_trace(S, IID(["1/10"] * 2), 3)) == 3
+
+
+@pytest.mark.parametrize("horizon", [10 ** 9, 10 ** 10, 10 ** 30])
+def test_the_exact_mean_is_refused_from_the_exponent_not_the_count(horizon):
+    # 2^(d (h - 1)) compared in logarithms: building it took 18 s and 0.9 GB at 10^9, hung at 10^30
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
+    start = time.process_time()
+    with pytest.raises(BudgetError, match=r"is 2\^\d+, above the cap"):
+        montecarlo.exact_mean_trace(S, sk.IID(["1/10"]), horizon)
+    with pytest.raises(BudgetError, match=r"is 2\^\d+, above the cap"):
+        receival_table(10 ** 6)
+    assert time.process_time() - start < 0.5
