@@ -163,7 +163,7 @@ def verify(system: System, loss: LossModel, *, seed: int = 0, paths: int = 20_00
     return Verification(v, growth_exact, critical, sim, **judge(v, sim))
 
 
-def approximately(exact: Any, decimal: Any, digits: int = 5) -> str:
+def approximately(exact: str, decimal: str | float, digits: int = 5) -> str:
     """``exact ~ decimal`` for people, or ``exact`` alone when the decimal would repeat it (``1``, ``1/2``)."""
     shown = f"{float(decimal):.{digits}g}"
     return str(exact) if str(exact) == shown or str(exact) == shown.rstrip("0").rstrip(".") else f"{exact} ~ {shown}"
