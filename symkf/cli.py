@@ -12,6 +12,7 @@ import argparse
 import contextlib
 import importlib
 import json
+import math
 import os
 import re
 import signal
@@ -724,7 +725,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.json:
             doc = {"schema_version": SCHEMA_VERSION, **{k: v for k, v in res.items() if not k.startswith("_")}}
-            print(json.dumps(doc, indent=2, default=str))
+            print(json.dumps(_finite(doc), indent=2, default=str, allow_nan=False))
         else:
             if source is not None:
                 print(source)
@@ -737,6 +738,18 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _internal(args, exc)
         return _too_many_digits(args)
     return res.get("_status", 0)
+
+
+def _finite(value: Any) -> Any:
+    """``value`` with every non-finite float as the string ``"Infinity"``, ``"-Infinity"`` or ``"NaN"``:
+    strict JSON has no such numbers (a diverging filter's traces overflow)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return "NaN" if math.isnan(value) else ("Infinity" if value > 0 else "-Infinity")
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    return value
 
 
 def _fail(args: argparse.Namespace, kind: str, message: str, status: int) -> int:

@@ -420,3 +420,21 @@ def test_warm_compiles_the_kernels_of_the_dimensions_asked(capsys):
     status, out, _ = run(capsys, "warm", "--states", "2", "3")
     assert status == 0 and out.splitlines()[0].startswith("2-state kernels ready (") and "3-state" in out
     assert run(capsys, "warm", "--states", "0")[0] == 2
+
+
+def test_json_of_a_diverging_filter_is_strict_json(capsys, tmp_path):
+    f = tmp_path / "diverging.toml"
+    f.write_text('[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nC = [["1", "0"]]\n[loss]\nkind = "iid"\nloss = ["99/100"]\n')
+    status, out, _ = run(capsys, "simulate", f, "--horizon", "3000", "--paths", "50", "--json")
+
+    def refuse(constant):
+        raise ValueError(f"{constant} is not JSON")
+    doc = json.loads(out, parse_constant=refuse)     # Infinity / NaN tokens were written before
+    assert status == 0 and '"Infinity"' in out and doc["schema_version"] == 1
+
+
+def test_a_file_with_a_byte_order_mark_is_read(capsys, tmp_path):
+    f = tmp_path / "bom.toml"
+    f.write_bytes(b"\xef\xbb\xbf" + b'[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nC = [["1", "0"]]\n')
+    status, out, err = run(capsys, "analyze", f)
+    assert status == 0 and "governing period = 2" in out, err

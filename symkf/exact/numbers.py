@@ -270,6 +270,10 @@ def parse_exact(text: str, entry: str, *, symbols: bool | Collection[str] = ()) 
     if not text.strip():
         raise InputError(f"{entry}: empty string is not a number")
     budget.check("max_number_length", len(text), entry, "the length of the number's text (characters)")
+    if not text.isascii():   # Python reads identifiers after NFKC: a lookalike would become sqrt or I
+        bad = next(c for c in text if not c.isascii())
+        raise InputError(f"{entry}: {bad!r} (U+{ord(bad):04X}) at position {text.index(bad)} is not ASCII; numbers "
+                         "are read from ASCII text only (lookalike characters are refused, not guessed)")
     return _Parser(text, entry, symbols).parse()
 
 

@@ -89,7 +89,7 @@ def read_toml(path: str | Path) -> dict:
         with path.open("rb") as f:
             raw = f.read(cap + 1)
         budget.check("max_file_size", len(raw), str(path), "the size in bytes (at least)")
-        return tomllib.loads(raw.decode("utf-8"), parse_float=Decimal)
+        return tomllib.loads(raw.decode("utf-8-sig"), parse_float=Decimal)   # a byte-order mark is not TOML
     except FileNotFoundError:
         raise FileFormatError(f"{path}: no such file") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:

@@ -237,3 +237,9 @@ def test_inexact_float_message_is_short():
     assert Fraction(1e300) == 1681218273811815 * 2 ** 946
     with pytest.raises(InexactInputError, match=r"3602879701896397/36028797018963968\); give the string '0.1' or '1/10'"):
         sk.IID([0.1])
+
+
+@pytest.mark.parametrize("text", ["ｓｑｒｔ(2)", "Ⅰ", "1/２", "sqrt(2)\u200b"])
+def test_lookalike_unicode_is_refused_not_normalised(text):
+    with pytest.raises(InputError, match="is not ASCII"):
+        parse_exact(text, "x")
