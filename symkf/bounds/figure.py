@@ -15,7 +15,7 @@ import sympy as sp
 
 from ..arguments import check_public
 from ..model.system import System
-from ..reports.plots import new_figure, finish_figure, rational_angles, rotation_system
+from ..reports.plots import figure_target, finish_figure, new_figure, rational_angles, rotation_system
 from ..run.progress import progress
 from .atlas import bounds
 from .row import OTHER
@@ -40,6 +40,7 @@ def atlas_figure(family: Sequence[tuple[float, System]] | None = None, *, parame
                  title: str = r"$A = 2R(\theta)$, $C = [1\ 0]$: published results and the exact $\varepsilon_c$",
                  lmi_steps: int = 5, path: Any = None) -> Any:
     """Each applicable row's threshold and the exact critical loss against the family's parameter."""
+    target = figure_target(path)   # checked before the work
     family = rotation_family() if family is None else list(family)
     points: dict[str, list] = {}
     labels: dict[str, str] = {}
@@ -71,7 +72,7 @@ def atlas_figure(family: Sequence[tuple[float, System]] | None = None, *, parame
             ax.plot(x, y, marker, color=color, label=labels[key])
     ax.set(xlabel=parameter, ylabel="critical common i.i.d. loss probability", title=title, ylim=(0, None))
     ax.legend(fontsize="x-small", loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3)
-    return finish_figure(fig, path)
+    return finish_figure(fig, target)
 
 
 check_public(globals())

@@ -69,9 +69,16 @@ def _inline_in_jupyter(figure_type: type) -> None:
         shell.display_formatter.formatters["image/png"].for_type(figure_type, lambda fig: print_figure(fig, "png"))
 
 
-def finish_figure(fig: Any, path: Any) -> Any:
-    if path is not None:
-        output.save_figure(fig, path, "path", dpi=110)
+def figure_target(path: Any) -> Any:
+    """The output of a figure function, checked before its work (:func:`symkf.output.plan`): None
+    when no ``path`` is given."""
+    return None if path is None else output.plan(path, "path")
+
+
+def finish_figure(fig: Any, target: Any) -> Any:
+    """Write ``fig`` to ``target`` (:func:`figure_target`), atomically; returns the figure."""
+    if target is not None:
+        target.put_figure(fig, dpi=110)
     return fig
 
 
@@ -116,6 +123,7 @@ def stability_region_figure(system: System, *, samples: int = 60, mc_points: int
     by the exact decisive pattern) with ``paths``, ``horizon``, ``seed``, judged
     against the exact verdict by :func:`symkf.numeric.verify.judge`; contradictions are circled.
     """
+    target = figure_target(path)   # checked before the work
     from ..engine.stability import stability
     from ..numeric.verify import judge, simulated_verdict
 
@@ -148,7 +156,7 @@ def stability_region_figure(system: System, *, samples: int = 60, mc_points: int
            title=f"Where the filter is mean-square stable: exact region and simulation\n"
                  f"({paths} paths per run, horizon {horizon}, seed {seed})")
     ax.legend(loc="upper right", fontsize="small")
-    return finish_figure(fig, path)
+    return finish_figure(fig, target)
 
 
 def yang_bounds(system: System, loss: LossModel, horizon: int) -> tuple[np.ndarray, np.ndarray]:
@@ -181,6 +189,7 @@ def mean_trace_figure(system: System, loss: LossModel, curve: MeanTraceCurve, *,
     second half of the steps.  Parts whose theory does not apply are left out and the
     reason is put in the title.
     """
+    target = figure_target(path)   # checked before the work
     from ..engine.stability import stability
     from ..numeric.montecarlo import exact_growth_rate
 
@@ -224,7 +233,7 @@ def mean_trace_figure(system: System, loss: LossModel, curve: MeanTraceCurve, *,
                              else "plain Monte Carlo"] + notes))
     ax.title.set_fontsize("small")
     ax.legend(fontsize="small")
-    return finish_figure(fig, path)
+    return finish_figure(fig, target)
 
 
 def rotation_system(scale: Any, angle: Any, C: Sequence[Sequence[Any]] = ((1, 0),)) -> System:
@@ -248,6 +257,7 @@ def critical_angle_figure(scale: Any = 2, *, max_denominator: int = 6, C: Sequen
     3/5``, proved aperiodic) is shown for comparison: its critical rate is
     ``1/scale^2``.
     """
+    target = figure_target(path)   # checked before the work
     from ..engine.stability import critical_loss_rate
 
     scale = to_exact(scale, "scale")
@@ -278,6 +288,6 @@ def critical_angle_figure(scale: Any = 2, *, max_denominator: int = 6, C: Sequen
            ylabel="critical common i.i.d. loss rate",
            title=f"A = {sp.sstr(scale)} R($\\theta$), C = {[list(r) for r in C]}: exact critical loss")
     ax.legend(fontsize="small", loc="lower right")
-    return finish_figure(fig, path)
+    return finish_figure(fig, target)
 
 check_public(globals())
