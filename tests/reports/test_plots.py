@@ -126,7 +126,7 @@ def figure():
 @pytest.mark.parametrize("suffix, magic", [(".svg", b"<svg"), (".pdf", b"%PDF"), (".png", b"\x89PNG")])
 def test_file_format_follows_the_suffix(figure, tmp_path, suffix, magic):
     path = tmp_path / f"fig{suffix}"
-    plots.finish_figure(figure, path)
+    plots.finish_figure(figure, plots.figure_target(path))
     assert magic in path.read_bytes()[:400]
 
 
