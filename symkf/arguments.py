@@ -183,6 +183,46 @@ def _shown(signature: inspect.Signature) -> str:
                                  return_annotation=signature.empty))
 
 
+#: ``(type, pricer)``: an argument of a call from outside symkf that is an instance of ``type``, or a
+#: list, tuple or matrix holding one, is priced by ``pricer(value, entry)`` before the function
+#: runs.  The exact layer registers sympy expressions, priced like the text of the safe parser
+#: (degree, height, angles, nesting), so that an object costs what the same number as a string does.
+PRICERS: list[tuple[type, Callable[[Any, str], None]]] = []
+
+
+def _price(value: Any, entry: str, depth: int = 0) -> None:
+    """Apply :data:`PRICERS` to ``value`` and, two levels deep, the items of its lists, tuples and
+    matrices (``entry`` names it in errors)."""
+    for kind, pricer in PRICERS:
+        if isinstance(value, kind):
+            pricer(value, entry)
+            return
+    if depth < 2 and isinstance(value, (list, tuple)):
+        for i, item in enumerate(value):
+            _price(item, f"{entry}[{i}]", depth + 1)
+    elif depth < 2 and type(value).__module__.startswith("sympy.matrices"):
+        for i, item in enumerate(value):
+            _price(item, f"{entry}[{i}]", depth + 1)
+
+
+def unpriced(fn: Callable) -> Callable:
+    """Mark ``fn`` as a measure of its arguments (a height, a field's degree): its arguments are
+    checked against its annotations but not priced by :data:`PRICERS`, whose work it is."""
+    if not callable(fn):
+        raise InputError(f"unpriced: expected a function, got {described(fn)}")
+    fn.__symkf_unpriced__ = True
+    return fn
+
+
+def outside(module: str) -> bool:
+    """Whether the first caller outside the module ``module`` is outside symkf (a user's call, to
+    be priced): for operators, which :func:`check_public` does not wrap."""
+    frame = sys._getframe(1)
+    while frame is not None and frame.f_globals.get("__name__") == module:
+        frame = frame.f_back
+    return frame is None or not frame.f_globals.get("__name__", "").startswith("symkf.")
+
+
 def guarded(fn: Callable, types: bool = True) -> Callable:
     """``fn`` with its arguments bound to its signature (an :class:`ArgumentError` otherwise) and,
     with ``types``, its annotated arguments checked first (module docstring)."""
@@ -198,7 +238,7 @@ def guarded(fn: Callable, types: bool = True) -> Callable:
             signature = inspect.signature(getattr(fn, "py_func", fn))
             tests = _tests(getattr(fn, "py_func", fn)) if types else []   # a numba kernel: its py_func's annotations
         try:
-            signature.bind(*args, **kwargs)
+            bound = signature.bind(*args, **kwargs)
         except TypeError as e:   # Python's message ("missing a required argument: 'loss'") and the signature
             raise ArgumentError(f"{fn.__qualname__}{_shown(signature)}: {e}") from None
         for position, name, test, words, default in tests:
@@ -207,6 +247,9 @@ def guarded(fn: Callable, types: bool = True) -> Callable:
                 continue
             if not test(value):
                 raise InputError(f"{fn.__qualname__}: argument {name!r} must be {words}, got {described(value)}")
+        if PRICERS and not getattr(fn, "__symkf_unpriced__", False):
+            for name, value in bound.arguments.items():
+                _price(value, name)
         return fn(*args, **kwargs)
 
     call.__symkf_checked__ = True

@@ -31,9 +31,9 @@ import sympy as sp
 from sympy.polys.polyerrors import NotAlgebraic
 
 from .. import budget
-from ..arguments import check_public
-from ..errors import InputError
-from .numbers import sympify, to_exact, to_rational
+from ..arguments import check_public, outside
+from ..errors import BudgetError, InputError
+from .numbers import price_sympy, sympify, to_exact, to_rational
 
 x = sp.Symbol("x")
 
@@ -708,6 +708,8 @@ class AlgebraicNumber:
         if q is None and not isinstance(other, AlgebraicNumber):
             if not isinstance(other, sp.Expr) or other.free_symbols:
                 raise TypeError(f"cannot compare an AlgebraicNumber with {type(other).__name__}")
+            if outside(__name__):   # a user's sympy number: priced like its text before flint sees it
+                price_sympy(other, "the number compared")
             q = other if other.is_Rational else None
         if q is not None:
             if self.is_rational:
@@ -728,6 +730,8 @@ class AlgebraicNumber:
     def _ordered(self, other: Any, test: Callable[[int], bool]) -> Any:
         try:
             s = self._compare(other)
+        except BudgetError:   # priced and refused: said, not turned into "not comparable"
+            raise
         except _INCOMPARABLE:
             return NotImplemented
         return False if s is None else test(s)
@@ -735,6 +739,8 @@ class AlgebraicNumber:
     def __eq__(self, other: object) -> bool:
         try:
             return self._compare(other) == 0
+        except BudgetError:
+            raise
         except _INCOMPARABLE:
             return NotImplemented
 

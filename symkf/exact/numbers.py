@@ -42,7 +42,7 @@ from typing import Any, Callable, Collection, Iterable, Iterator, Mapping, Named
 
 import sympy as sp
 
-from ..arguments import check_public, described
+from ..arguments import PRICERS, check_public, described, unpriced
 from .. import budget
 from ..errors import InexactInputError, InputError, ShapeError
 from .blocks import diagonal_blocks
@@ -91,6 +91,7 @@ def check_degree(generic: bool, degree: int, entry: str, what: str) -> None:
         budget.check("max_cyclotomic_degree", degree, entry, f"the cyclotomic degree (bound) of {what}")
 
 
+@unpriced
 def rational_bits(r: sp.Rational | Fraction) -> float:
     """The height in bits of a rational ``p/q`` in lowest terms: ``log2 max(|p|, q)``, the bits of the
     larger of its numerator and denominator (2^-1074: 1074)."""
@@ -485,6 +486,7 @@ class FieldCost(NamedTuple):
     atoms: int
 
 
+@unpriced
 def field_cost(exprs: Iterable[sp.Expr]) -> FieldCost:
     """The :class:`FieldCost` of the sympy numbers ``exprs`` (as sympy evaluated them: cos(pi/5)
     is a radical)."""
@@ -512,6 +514,7 @@ def field_cost(exprs: Iterable[sp.Expr]) -> FieldCost:
                      len(atoms))
 
 
+@unpriced
 def expr_bits(expr: sp.Basic) -> float:
     """A bound on the height in bits of a sympy number, by the parser's rules: exact for a
     rational, ``|p/q| h(x)`` for ``x**(p/q)`` (an unevaluated power is bounded, not built), sums
@@ -526,8 +529,22 @@ def expr_bits(expr: sp.Basic) -> float:
     return parts + math.log2(len(expr.args)) if expr.is_Add else parts
 
 
+def _nesting(expr: sp.Basic) -> int:
+    """The nesting depth of radicals (``sqrt(2 + sqrt(3))``: 2), as the parser counts it."""
+    inner = max((_nesting(a) for a in expr.args), default=0)
+    return inner + 1 if expr.is_Pow and expr.exp.is_Rational and expr.exp.q > 1 else inner
+
+
 def _check_sympy(expr: sp.Basic, entry: str) -> None:
-    """The budget checks of the parser, applied to a sympy expression given directly."""
+    """The budget checks of the parser, applied to a sympy expression given directly: its size,
+    height, exponents, root indices, angles, radical nesting and the degree of its field."""
+    if not isinstance(expr, sp.Basic) or isinstance(expr, sp.Symbol):
+        return
+    if isinstance(expr, sp.Rational):
+        check_bits(rational_bits(expr), entry, "a sympy rational")
+        return
+    budget.check("max_number_length", sp.count_ops(expr, visual=False) + len(expr.atoms()), entry,
+                 "the size (operations and atoms) of the sympy expression")
     check_bits(expr_bits(expr), entry, lambda: f"the sympy number {str(expr)[:40]}")
     for node in sp.preorder_traversal(expr):
         if node.is_Pow and node.exp.is_Rational:
@@ -537,6 +554,19 @@ def _check_sympy(expr: sp.Basic, entry: str) -> None:
             r = node.args[0] / (sp.pi * sp.I if isinstance(node, sp.exp) else sp.pi)
             if r.is_Rational:
                 budget.check("max_angle_denominator", r.q, entry, lambda: f"the denominator of an angle of {expr}")
+    budget.check("max_nesting", _nesting(expr), entry, "the nesting depth of radicals")
+    cost = field_cost([expr])
+    check_degree(cost.radical > 1, cost.radical * cost.cyclotomic, entry, f"the sympy number {str(expr)[:40]}")
+
+
+def price_sympy(expr: sp.Basic, entry: str) -> None:
+    """A sympy argument of a call from outside symkf, priced like the same number as text
+    (registered in :data:`symkf.arguments.PRICERS`; matrices entry by entry)."""
+    if isinstance(expr, sp.Expr) and not expr.free_symbols:
+        _check_sympy(expr, entry)
+
+
+PRICERS.append((sp.Basic, price_sympy))
 
 
 def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,

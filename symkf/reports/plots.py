@@ -75,8 +75,10 @@ def figure_target(path: Any) -> Any:
     return None if path is None else output.plan(path, "path")
 
 
-def finish_figure(fig: Any, target: Any) -> Any:
+def finish_figure(fig: Any, target: output.Planned | None) -> Any:
     """Write ``fig`` to ``target`` (:func:`figure_target`), atomically; returns the figure."""
+    if not hasattr(fig, "savefig"):
+        raise InputError(f"fig: expected a matplotlib figure, got {type(fig).__name__}")
     if target is not None:
         target.put_figure(fig, dpi=110)
     return fig

@@ -305,7 +305,7 @@ def test_algebraic_number_comparisons_are_exact():
     (lambda a, e: a ** 10 ** 30, "max-exponent"),                    # ignored Ctrl-C
     (lambda a, e: AlgebraicNumber.from_expr(sp.Rational(3, 2)) ** 10 ** 9, "max-exponent"),   # 29 s, 1 GB
     (lambda a, e: a.evalf(10 ** 7), "max-digits"),                   # hung
-    (lambda a, e: a.refine(sp.Rational(1, 10 ** 10 ** 6)), "max-precision"),
+    (lambda a, e: a.refine(sp.Rational(1, 10 ** 10 ** 6)), "max-bits"),          # priced as an argument
 ])
 def test_precision_exponents_and_digits_are_priced_before_flint_is_asked(call, cap):
     a = AlgebraicNumber.from_expr(sp.sqrt(2))

@@ -9,6 +9,7 @@ Cases that once ran away run in a forked child under hard limits (conftest.limit
 
 from __future__ import annotations
 
+import time
 import warnings
 from decimal import Decimal
 from fractions import Fraction
@@ -243,3 +244,21 @@ def test_inexact_float_message_is_short():
 def test_lookalike_unicode_is_refused_not_normalised(text):
     with pytest.raises(InputError, match="is not ASCII"):
         parse_exact(text, "x")
+
+
+@pytest.mark.parametrize("make, cap", [
+    (lambda: sk.IID([sum(sp.sqrt(p) for p in [2, 3, 5, 7, 11, 13, 17, 19, 23, 29]) / 1000, "1/10"]), "max-degree"),
+    (lambda: sk.IID([sp.Pow(10, 10 ** 10, evaluate=False), "1/10"]), "max-bits"),
+    (lambda: sk.IID([2 ** sp.Rational(1, 10 ** 9) / 2, "1/10"]), "max-degree"),
+    (lambda: sk.System(A=[[sp.sqrt(2 + sp.sqrt(2 + sp.sqrt(2 + sp.sqrt(2 + sp.sqrt(2)))))]], sensors=[sk.Sensor(C=[[1]])]),
+     "max-nesting"),
+    (lambda: sk.AlgebraicNumber.from_expr(sp.cos(sp.pi / 10 ** 9)), "max-angle-denominator"),
+    (lambda: sk.AlgebraicNumber.from_expr(sp.Rational(1, 16)) == sp.cos(sp.pi / 10 ** 9), "max-angle-denominator"),
+    (lambda: sk.AlgebraicNumber.from_expr(sp.Rational(1, 16)) < sp.cos(sp.pi / 10 ** 9), "max-angle-denominator"),
+])
+def test_a_sympy_object_is_priced_like_its_text(make, cap):
+    # each hung for minutes in sympy or aborted the process in flint; the same value as a string was refused
+    start = time.process_time()
+    with pytest.raises(sk.SymkfError, match=f"--{cap}"):
+        make()
+    assert time.process_time() - start < 1
