@@ -473,5 +473,5 @@ def test_two_runs_writing_the_same_new_table(tmp_path):
     _, err = first.communicate(timeout=300)
     assert second.returncode == 0 and first.returncode == 2
     assert err == (f"symkf table: --latex {out}: appeared while this run was computing (another run writing the "
-                   "same file?); not replaced: pass --force (force=True) to replace it anyway, or choose another path\n")
+                   "same file?); not replaced: pass --force (from Python: force=True) to replace it anyway, or choose another path\n")
     assert "fam" in out.read_text() and leftovers(tmp_path) == []
