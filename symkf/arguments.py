@@ -217,6 +217,8 @@ def unpriced(fn: Callable) -> Callable:
 def outside(module: str) -> bool:
     """Whether the first caller outside the module ``module`` is outside symkf (a user's call, to
     be priced): for operators, which :func:`check_public` does not wrap."""
+    if not isinstance(module, str):
+        raise InputError(f"module: expected a module name, got {described(module)}")
     frame = sys._getframe(1)
     while frame is not None and frame.f_globals.get("__name__") == module:
         frame = frame.f_back

@@ -165,7 +165,10 @@ def verify(system: System, loss: LossModel, *, seed: int = 0, paths: int = 20_00
 
 def approximately(exact: str, decimal: str | float, digits: int = 5) -> str:
     """``exact ~ decimal`` for people, or ``exact`` alone when the decimal would repeat it (``1``, ``1/2``)."""
-    shown = f"{float(decimal):.{digits}g}"
+    try:
+        shown = f"{float(decimal):.{digits}g}"
+    except ValueError:
+        raise InputError(f"decimal: {decimal!r} is not a decimal number") from None
     return str(exact) if str(exact) == shown or str(exact) == shown.rstrip("0").rstrip(".") else f"{exact} ~ {shown}"
 
 
