@@ -535,9 +535,10 @@ def _nesting(expr: sp.Basic) -> int:
     return inner + 1 if expr.is_Pow and expr.exp.is_Rational and expr.exp.q > 1 else inner
 
 
-def _check_sympy(expr: sp.Basic, entry: str) -> None:
+def _check_sympy(expr: sp.Basic, entry: str, degree: bool = True) -> None:
     """The budget checks of the parser, applied to a sympy expression given directly: its size,
-    height, exponents, root indices, angles, radical nesting and the degree of its field."""
+    height, exponents, root indices, angles, radical nesting and (``degree``) the degree bound of
+    its field."""
     if not isinstance(expr, sp.Basic) or isinstance(expr, sp.Symbol):
         return
     if isinstance(expr, sp.Rational):
@@ -555,15 +556,19 @@ def _check_sympy(expr: sp.Basic, entry: str) -> None:
             if r.is_Rational:
                 budget.check("max_angle_denominator", r.q, entry, lambda: f"the denominator of an angle of {expr}")
     budget.check("max_nesting", _nesting(expr), entry, "the nesting depth of radicals")
-    cost = field_cost([expr])
-    check_degree(cost.radical > 1, cost.radical * cost.cyclotomic, entry, f"the sympy number {str(expr)[:40]}")
+    if degree:
+        cost = field_cost([expr])
+        check_degree(cost.radical > 1, cost.radical * cost.cyclotomic, entry, f"the sympy number {str(expr)[:40]}")
 
 
 def price_sympy(expr: sp.Basic, entry: str) -> None:
     """A sympy argument of a call from outside symkf, priced like the same number as text
-    (registered in :data:`symkf.arguments.PRICERS`; matrices entry by entry)."""
+    (registered in :data:`symkf.arguments.PRICERS`; matrices entry by entry): everything but the
+    field's degree bound, which :func:`to_exact` adds where a number enters a model (a product of
+    radicals of one index, as symkf's own exact results are, has a degree far below that bound,
+    and a user compares such results freely)."""
     if isinstance(expr, sp.Expr) and not expr.free_symbols:
-        _check_sympy(expr, entry)
+        _check_sympy(expr, entry, degree=False)
 
 
 PRICERS.append((sp.Basic, price_sympy))

@@ -253,6 +253,7 @@ def test_lookalike_unicode_is_refused_not_normalised(text):
     (lambda: sk.System(A=[[sp.sqrt(2 + sp.sqrt(2 + sp.sqrt(2 + sp.sqrt(2 + sp.sqrt(2)))))]], sensors=[sk.Sensor(C=[[1]])]),
      "max-nesting"),
     (lambda: sk.AlgebraicNumber.from_expr(sp.cos(sp.pi / 10 ** 9)), "max-angle-denominator"),
+    (lambda: sk.AlgebraicNumber.from_expr(sp.Pow(10, 10 ** 10, evaluate=False)), "max-bits"),
     (lambda: sk.AlgebraicNumber.from_expr(sp.Rational(1, 16)) == sp.cos(sp.pi / 10 ** 9), "max-angle-denominator"),
     (lambda: sk.AlgebraicNumber.from_expr(sp.Rational(1, 16)) < sp.cos(sp.pi / 10 ** 9), "max-angle-denominator"),
 ])
