@@ -30,7 +30,7 @@ import signal
 import sys
 import threading
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Iterator, Sequence, TypeVar
 
@@ -141,14 +141,24 @@ def _processes(function: Callable, tasks: Sequence, order: Iterable[int], jobs: 
     try:
         with progress_bar(len(tasks), desc, enabled=progress) as bar:
             futures = {pool.submit(function, tasks[i]): i for i in order}
-            for f in as_completed(futures):
-                results[futures[f]] = f.result()
-                bar.update()
+            pending = set(futures)
+            while pending:
+                # a short wait, not one until a task ends: Ctrl-C delivered to another thread of this
+                # process (the kernel picks any) runs its handler only when the main thread wakes,
+                # which would otherwise be when the running tasks finish
+                done, pending = wait(pending, timeout=WAKE, return_when=FIRST_COMPLETED)
+                for f in done:
+                    results[futures[f]] = f.result()
+                    bar.update()
     except BaseException:
         _stop(pool)
         raise
     pool.shutdown()
     return results
+
+
+#: seconds between the main thread's wake-ups while it waits for workers (how late Ctrl-C can be)
+WAKE = 0.25
 
 
 def _stop(pool: ProcessPoolExecutor) -> None:
