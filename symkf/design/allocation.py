@@ -194,12 +194,7 @@ def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2
         requirement = Requirement(IID(list(losses)), mu, False, requirement.words)
         cuts.requirement = requirement
         verdict, blocks = cuts.verdict(range(d))
-        new = 0
-        for i, cert in enumerate(verdict.certificate):   # every block's decisive hyperplane: a row
-            cut = cuts.cut_of(blocks[i], set(cert.decisive_elements), cert.class_period, cert.modulus)
-            if cut is not None:
-                cuts.hyperplane.append(cut)
-                new += 1
+        new = cuts.record(verdict, blocks, range(len(verdict.certificate)))   # every block: a row
         if requirement.met(verdict) and rounds > 1:
             break
         if rounds > max_rounds:
@@ -356,9 +351,16 @@ def _above(value: AlgebraicNumber, step: sp.Rational) -> sp.Rational:
     return sp.Rational(r.numerator, r.denominator)
 
 
-def _needs(rows: Sequence[HyperplaneCut], mu: sp.Rational, slack: bool) -> list[float]:
-    mu_low, _ = _log_bounds(mu)
-    return [float(_log_bounds(cut.growth)[1] - cut.period * mu_low + (_SLACK if slack else 0)) for cut in rows]
+def _needs(rows: Sequence[HyperplaneCut], mu: sp.Rational, point: bool, slack: bool = False) -> list[Fraction]:
+    """The rows' needs ``ln growth - g ln mu``: for the minimiser (``point``) rounded up (plus a
+    slack when ``slack``), so that it meets the rows it was given; else rounded down, a relaxation
+    whose bound holds."""
+    mu_low, mu_high = _log_bounds(mu)
+    needs = []
+    for cut in rows:
+        low, high = _log_bounds(cut.growth)
+        needs.append(high - cut.period * mu_low + (_SLACK if slack else 0) if point else low - cut.period * mu_high)
+    return needs
 
 
 def _convex(cost: Callable[[Any], float], rows: Sequence[HyperplaneCut], mu: sp.Rational, d: int, slack: bool) -> list[float]:
@@ -367,7 +369,7 @@ def _convex(cost: Callable[[Any], float], rows: Sequence[HyperplaneCut], mu: sp.
     import numpy as np
     optimize = require_extra("scipy.optimize", "design", "a convex cost of the channel allocation")
     K = np.array([list(cut.outside) for cut in rows], dtype=float)
-    b = np.array(_needs(rows, mu, slack))
+    b = np.array([float(n) for n in _needs(rows, mu, point=True, slack=slack)])
     start = np.full(d, max([0.0] + [n / max(k.sum(), 1) for k, n in zip(K, b)]) + 1.0)
     res = optimize.minimize(lambda x: float(cost(x)), start, method="SLSQP", bounds=[(0, None)] * d,
                             constraints=[{"type": "ineq", "fun": lambda x: K @ x - b, "jac": lambda x: K}],
@@ -405,14 +407,8 @@ def _has_scipy() -> bool:
 def _solve(rows: Sequence[HyperplaneCut], w: Sequence[sp.Rational], mu: sp.Rational, solver: str,
            point: bool, slack: bool = False) -> tuple[list[float], Fraction]:
     """The programme over ``rows``: its minimiser and a lower bound of its optimum that holds
-    exactly.  ``point``: the needs ``ln growth - g ln mu`` rounded up (plus a slack when
-    ``slack``), so that the minimiser meets the rows it was given; else rounded down, a
-    relaxation whose bound holds."""
-    mu_low, mu_high = _log_bounds(mu)
-    needs = []
-    for cut in rows:
-        low, high = _log_bounds(cut.growth)
-        needs.append(high - cut.period * mu_low + (_SLACK if slack else 0) if point else low - cut.period * mu_high)
+    exactly (the needs of :func:`_needs`)."""
+    needs = _needs(rows, mu, point, slack)
     return cheapest_point([Fraction(int(v.p), int(v.q)) for v in w], [list(cut.outside) for cut in rows], needs, solver)
 
 

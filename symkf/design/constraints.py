@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any, Iterable, Sequence
 
 import sympy as sp
 
@@ -228,6 +228,18 @@ class Cuts:
         where = {tuple(m.label for m in br.block.members): i for i, br in enumerate(block_rows(self.system))}
         return verdict, [where[tuple(m.label for m in br.block.members)] for br in block_rows(sub)]
 
+    def record(self, verdict: Verdict, blocks: Sequence[int], which: Iterable[int]) -> int:
+        """Record the cuts of the blocks ``which`` of ``verdict`` (its blocks are the whole system's
+        ``blocks``); returns how many are new (a block whose growth never fails gives none)."""
+        new = 0
+        for i in which:
+            cert = verdict.certificate[i]
+            cut = self.cut_of(blocks[i], set(cert.decisive_elements), cert.class_period, cert.modulus)
+            if cut is not None and cut.need > 0:
+                self.hyperplane.append(cut)
+                new += 1
+        return new
+
     def decide(self, present: Sequence[int]) -> tuple[bool, Verdict | None]:
         """Decide ``present`` with the engine; when it fails, record its cuts."""
         self.decisions += 1
@@ -235,20 +247,9 @@ class Cuts:
         if verdict is not None and self.requirement.met(verdict):
             return True, verdict
         if verdict is not None:
-            for i in self.requirement.failing_blocks(verdict):
-                cert = verdict.certificate[i]
-                cut = self.cut_of(blocks[i], set(cert.decisive_elements), cert.class_period, cert.modulus)
-                if cut is not None and cut.need > 0:
-                    self.hyperplane.append(cut)
+            self.record(verdict, blocks, self.requirement.failing_blocks(verdict))
         self.subsets.append(subset_cut(present, self.system.d))
         return False, verdict
-
-    def ruled_out(self, present: Sequence[int]) -> HyperplaneCut | SubsetCut | None:
-        """A cut proving exactly that ``present`` fails, or None."""
-        for cut in self.all:
-            if cut.fails(present, self.requirement):
-                return cut
-        return None
 
 
 check_public(globals())

@@ -46,9 +46,7 @@ class Upgrade:
 
     def critical_at(self, t: Any) -> AlgebraicNumber:
         """The common critical rate when this sensor loses ``t * eps`` (``0 <= t <= 1``), exactly."""
-        t = to_exact(t, "t")
-        ray = [t if n == self.sensor else 1 for n in self.system.sensor_names]
-        return critical_loss_rate(self.system, ray=ray)
+        return _along(self.system, self.sensor, to_exact(t, "t"))
 
 
 @dataclass(frozen=True)
@@ -82,6 +80,11 @@ class Upgrades:
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=2)
+
+
+def _along(system: System, sensor: str, t: sp.Expr) -> AlgebraicNumber:
+    """The common critical i.i.d. rate when ``sensor`` loses ``t`` times the others' loss."""
+    return critical_loss_rate(system, ray=[t if n == sensor else 1 for n in system.sensor_names])
 
 
 def _elasticities(system: System, base: AlgebraicNumber) -> list[sp.Rational]:
@@ -126,9 +129,7 @@ def upgrades(system: System) -> Upgrades:
     shares = _elasticities(system, base)
     out = []
     for j, n in enumerate(names):
-        def at(t: Any) -> AlgebraicNumber:
-            return critical_loss_rate(system, ray=[t if m == n else 1 for m in names])
-        out.append(Upgrade(system, n, shares[j], at(sp.Rational(9, 10)), at(0)))
+        out.append(Upgrade(system, n, shares[j], _along(system, n, sp.Rational(9, 10)), _along(system, n, sp.Integer(0))))
     return Upgrades(base, tuple(sorted(out, key=lambda u: (u.improved, u.elasticity), reverse=True)))
 
 

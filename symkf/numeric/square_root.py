@@ -125,13 +125,19 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     if len(row_sensor) and not 0 <= min(row_sensor) <= max(row_sensor) < received.shape[2]:
         raise ShapeError(f"row_sensor: sensors 0..{received.shape[2] - 1} (the receptions' last axis), got "
                          f"{min(row_sensor)}..{max(row_sensor)}")
-    width = lanes(n)
-    buffer = np.empty((min(BUFFER_STEPS, BUFFER_PATH_STEPS // width) if linear else 1, width))
+    buffer = _buffer(n, linear)
     kernel = _kernel(n)
     if n not in _READY:   # compiled (or loaded from numba's cache) on a path of one step first, with a notice
         warm(n)
     # bool in C order: a step's receptions are one flat row per block (_receptions), one sensor's read in place
     kernel(A, UQ, H, row_sensor, S0, np.ascontiguousarray(received, bool), trace, buffer, linear)
+
+
+def _buffer(n: int, linear: bool) -> np.ndarray:
+    """The kernel's block buffer: :data:`BUFFER_STEPS` steps (fewer for wide blocks) of traces
+    along the steps (``linear``), else one row."""
+    width = lanes(n)
+    return np.empty((min(BUFFER_STEPS, BUFFER_PATH_STEPS // width) if linear else 1, width))
 
 
 #: state dimensions whose kernel this process has compiled or loaded
@@ -149,8 +155,7 @@ def warm(n: int, *, enabled: bool | None = None) -> None:
     with compiling(f"the {n}-state filter kernel", enabled=enabled):
         for linear in (False, True):
             trace = np.empty((1, 1)) if linear else np.empty((2, 1))
-            buffer = np.empty((1 if not linear else min(BUFFER_STEPS, BUFFER_PATH_STEPS // lanes(n)), lanes(n)))
-            _kernel(n)(A, np.eye(n), H, row_sensor, S0, received, trace, buffer, linear)
+            _kernel(n)(A, np.eye(n), H, row_sensor, S0, received, trace, _buffer(n, linear), linear)
     _READY.add(n)
 
 

@@ -12,7 +12,7 @@ import os
 import sys
 import threading
 import time
-from typing import Iterator
+from typing import Callable, Iterator
 
 from tqdm.std import tqdm
 
@@ -53,23 +53,13 @@ def compiling(what: str, *, after: float = 1.0, enabled: bool | None = None) -> 
     installation and loads it from its cache after): one line on stderr naming ``what`` when it
     takes longer than ``after`` seconds, so that a first run does not sit silent.  Shown when
     ``enabled``, or (``None``) on a terminal or in a notebook."""
-    show = _interactive() if enabled is None else enabled
-    done = threading.Event()
-
-    def report() -> None:
+    def report(done: threading.Event) -> None:
         if not done.wait(after):
             print(f"compiling {what} (numba, once per installation; `symkf warm` compiles ahead)...",
                   file=sys.stderr, flush=True)
 
-    thread = threading.Thread(target=report, daemon=True) if show else None
-    if thread is not None:
-        thread.start()
-    try:
+    with _reporting(report, _interactive() if enabled is None else enabled):
         yield
-    finally:
-        done.set()
-        if thread is not None:
-            thread.join()
 
 
 @contextlib.contextmanager
@@ -78,17 +68,24 @@ def still_working(desc: str, *, after: float = 2.0, every: float = 10.0,
     """Long work without natural steps (eigen-blocks, hyperplane enumeration): after ``after``
     seconds, a line on stderr every ``every`` seconds naming ``desc`` and the elapsed time.
     Shown when ``enabled``, or (``None``) when stderr is a terminal."""
-    show = _interactive() if enabled is None else enabled
-    done = threading.Event()
     start = time.monotonic()
 
-    def report() -> None:
+    def report(done: threading.Event) -> None:
         wait = after
         while not done.wait(wait):
             print(f"{desc}: still working, {time.monotonic() - start:.0f} s", file=sys.stderr, flush=True)
             wait = every
 
-    thread = threading.Thread(target=report, daemon=True) if show else None
+    with _reporting(report, _interactive() if enabled is None else enabled):
+        yield
+
+
+@contextlib.contextmanager
+def _reporting(report: Callable[[threading.Event], None], show: bool) -> Iterator[None]:
+    """Run ``report(done)`` in a daemon thread while the block runs (when ``show``); ``done`` is
+    set when the block ends, and the thread joined."""
+    done = threading.Event()
+    thread = threading.Thread(target=report, args=(done,), daemon=True) if show else None
     if thread is not None:
         thread.start()
     try:
@@ -97,5 +94,6 @@ def still_working(desc: str, *, after: float = 2.0, every: float = 10.0,
         done.set()
         if thread is not None:
             thread.join()
+
 
 check_public(globals())

@@ -239,3 +239,13 @@ def test_twelve_candidates_agree_with_every_subset(seed):
     costs = [rng.randint(1, 5) for _ in range(12)]
     pick = sk.design.select_sensors(S, loss, costs=costs)
     assert pick.cost == brute_force(S, loss, costs) and pick.check()
+
+
+def test_every_cheaper_set_fails_a_certificate_cut_exactly():
+    costs = [5, 2, 3]
+    pick = sk.design.select_sensors(three_sensors(), sk.IID("1/10", d=3), costs=costs)
+    for r in range(4):
+        for keep in itertools.combinations(range(3), r):
+            if sum(costs[j] for j in keep) < pick.cost:
+                assert any(cut.fails(keep, pick.requirement) for cut in pick.certificate.cuts), keep
+    assert not any(cut.fails(pick.indices, pick.requirement) for cut in pick.certificate.cuts)
