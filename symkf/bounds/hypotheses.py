@@ -43,8 +43,9 @@ def unstable(system: System) -> Hypothesis:
 def controllable_noise(system: System) -> Hypothesis:
     """``(A, Q^(1/2))`` controllable: ``range Q^(1/2) = range Q``, Krylov rank."""
     A, Q = sp.Matrix(system.A), sp.Matrix(system.Q)
-    ok = rank(sp.Matrix.hstack(*[A ** k * Q for k in range(system.n)])) == system.n
-    return Hypothesis("(A, Q^(1/2)) controllable", ok, "Q > 0" if ok else "rank [Q, AQ, ...] < n")
+    r = rank(sp.Matrix.hstack(*[A ** k * Q for k in range(system.n)]))
+    detail = "Q > 0" if rank(Q) == system.n else f"rank [Q, AQ, ...] = {r}, n = {system.n}"
+    return Hypothesis("(A, Q^(1/2)) controllable", r == system.n, detail)
 
 
 def detectable(system: System) -> Hypothesis:

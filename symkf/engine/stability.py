@@ -25,7 +25,7 @@ from .rates import BlockRate
 
 from .search import block_rate, least_iid_bound, outside_counts
 from ..errors import AssumptionError, InputError
-from ..exact.algebraic import AlgebraicNumber, with_prec, identify
+from ..exact.algebraic import AlgebraicNumber, identify, sign, with_prec
 from ..arguments import check_public
 from ..exact.numbers import sympify, to_exact
 from ..model.loss import LossModel, checked
@@ -184,10 +184,41 @@ def _check_loss(system: System, loss: LossModel) -> list[str]:
            if not any(br.block.defective for br in brs) else
            "Jordan chains on |lambda| >= 1 (symkf's extension of Assumption 3, docs/sui.md)",
            "(A, C) observable" if system.observable else "(A, C) detectable (PBH on |lambda| >= 1)",
-           "loss process " + loss.assumption]
+           "loss process " + loss.assumption, _noise_assumption(system)]
     if loss.bernoulli is None and not all(br.block.is_periodic for br in brs):
         out.append("aperiodic block under Markov losses (symkf's extension of Theorem 9, docs/sui.md)")
     return out
+
+
+def _noise_assumption(system: System) -> str:
+    """How the process noise meets the theorems' ``Q > 0`` (see :meth:`System.undriven`)."""
+    if all(sign(v) > 0 for v in _leading_minors(system.Q)):
+        return "Q > 0"
+    undriven = system.undriven()
+    if not undriven:
+        return "Q singular, (A, Q^(1/2)) controllable (PBH)"
+    names = ", ".join(str(lam.expr) for lam in undriven)
+    return f"Q singular, eigenvalue(s) {names} not driven by the noise (PBH on (A, Q^(1/2))), P0 > 0"
+
+
+def _leading_minors(M: sp.MatrixBase) -> list[sp.Expr]:
+    return [sp.expand(M[:k, :k].det(method="berkowitz")) for k in range(1, M.rows + 1)]
+
+
+def _undriven_unit_block(system: System, br: BlockRows, margin: AlgebraicNumber) -> None:
+    """Refuse a verdict that a unit-circle block with an undriven mode decides: with ``Q > 0`` a
+    margin 1 there means linear growth, but an undriven mode's error need not grow."""
+    if br.block.modulus != 1 or margin < 1:
+        return
+    undriven = {lam.key for lam in system.undriven()}
+    modes = [str(lam.expr) for lam in br.block.members if lam.key in undriven]
+    if modes:
+        raise AssumptionError(
+            f"the unit-circle eigenvalue(s) {', '.join(modes)} of A, not driven by Q, decide the verdict "
+            f"(margin {margin.exact}): with Q > 0 that margin means unbounded growth, but an undriven mode's "
+            "error can stay at its initial level",
+            assumption="Q > 0, or (A, Q^(1/2)) controllable on the unit circle (Sui-You-Fu, Section II)",
+            applies_instead="drive the mode (add process noise on it) or leave it out of the model")
 
 
 def _margin(br: BlockRows, rate: BlockRate) -> tuple[AlgebraicNumber, sp.Expr]:
@@ -236,6 +267,7 @@ def stability(system: System, loss: LossModel) -> Verdict:
     for br in block_rows(system):
         rate = block_rate(br, loss)
         margin, power = _margin(br, rate)
+        _undriven_unit_block(system, br, margin)
         margins.append(margin)
         names = system.sensor_names
         certs.append(BlockCertificate(

@@ -3,7 +3,8 @@
 ``x_{k+1} = A x_k + w_k``, ``y_k^i = C_i x_k + v_k^i`` with ``w ~ N(0, Q)``,
 ``v^i ~ N(0, R_i)`` and ``x_0 ~ N(xbar_0, P0)``.  Every entry is exact (see
 :mod:`symkf.exact.numbers`); covariances are checked Hermitian positive
-definite exactly (Sylvester's criterion with certified signs).
+definite exactly (Sylvester's criterion with certified signs); the process noise ``Q`` may be
+singular (positive semidefinite, symmetric elimination with certified signs).
 """
 
 from __future__ import annotations
@@ -65,6 +66,48 @@ def check_positive_definite(M: sp.MatrixBase, entry: str) -> None:
         if sign(minor) <= 0:
             raise NotPositiveDefiniteError(
                 f"{entry}: not positive definite, leading {k}x{k} minor is {sp.simplify(minor)}")
+
+
+def check_positive_semidefinite(M: sp.MatrixBase, entry: str) -> None:
+    """Raise unless ``M`` is Hermitian positive semidefinite, exactly.
+
+    Symmetric elimination with diagonal pivots: a negative pivot, or a zero pivot whose row is not
+    zero, gives a principal minor ``det M[S]`` below zero (the pivots' product times the last
+    pivot, or times ``-|e|^2``), which the message names with its rows."""
+    M = as_matrix(M, entry)
+    if M.shape[0] != M.shape[1]:
+        raise ShapeError(f"{entry}: covariance must be square, got {M.shape[0]}x{M.shape[1]}")
+    n = M.shape[0]
+    for i in range(n):
+        for j in range(i + 1, n):
+            if sp.simplify(M[i, j] - sp.conjugate(M[j, i])) != 0:
+                raise NotPositiveDefiniteError(
+                    f"{entry}: not symmetric, entry [{i}][{j}] = {M[i, j]} but [{j}][{i}] = {M[j, i]}")
+    S, rest, pivots, product = sp.Matrix(M), list(range(n)), [], sp.Integer(1)
+
+    def fail(rows: list[int], minor: sp.Expr) -> None:
+        raise NotPositiveDefiniteError(
+            f"{entry}: not positive semidefinite, the principal minor on rows {sorted(rows)} is "
+            f"{sp.simplify(minor)} < 0")
+    for i in range(n):   # the plainest witness first: a negative variance
+        if sign(M[i, i]) < 0:
+            fail([i], M[i, i])
+    while rest:
+        i = rest.pop(0)
+        d = sp.expand(S[i, i])
+        s = sign(d)
+        if s < 0:
+            fail(pivots + [i], product * d)
+        if s == 0:
+            for j in rest:
+                if sign(sp.expand(S[i, j] * sp.conjugate(S[i, j]))) != 0:
+                    fail(pivots + [i, j], -product * S[i, j] * sp.conjugate(S[i, j]))
+            continue
+        for j in rest:
+            for k in rest:
+                S[j, k] = sp.expand(S[j, k] - S[j, i] * S[i, k] / d)
+        pivots.append(i)
+        product *= d
 
 
 @dataclass(frozen=True)
@@ -151,7 +194,9 @@ class System:
     sensors : sequence of Sensor
         The ``d >= 1`` sensors, with distinct names (unnamed ones become ``s1``, ``s2``, ...).
     Q : matrix-like, optional
-        Process-noise covariance, Hermitian positive definite; default the identity.
+        Process-noise covariance, Hermitian positive semidefinite; default the identity.  A
+        singular ``Q`` (a tracker's ``q G G'``) leaves the verdicts those of ``Q > 0`` when ``P0 > 0``
+        (:meth:`System.undriven`); the one exception is refused by :func:`symkf.stability`.
     P0 : matrix-like, optional
         Covariance of ``x_0``, Hermitian positive definite; default the identity.
     rationalize : bool, default False
@@ -166,7 +211,7 @@ class System:
     ShapeError
         ``A`` is not square, or a ``C_i``, ``Q`` or ``P0`` does not fit ``n``.
     NotPositiveDefiniteError
-        ``Q`` or ``P0`` is not Hermitian positive definite.
+        ``Q`` is not Hermitian positive semidefinite or ``P0`` not positive definite.
     UnobservableError
         ``(A, C)`` is not detectable; the message names the unseen eigenvalue.
 
@@ -249,11 +294,11 @@ class System:
             raise InputError(f"sensors: names must be distinct, got {names}")
         object.__setattr__(self, "sensors", tuple(
             s if s.name else Sensor(s.C, s.R, name=names[i]) for i, s in enumerate(sensors)))
-        for key in ("Q", "P0"):
+        for key, check in (("Q", check_positive_semidefinite), ("P0", check_positive_definite)):
             value = getattr(self, key)
             M = _identity(n) if value is None else to_exact_matrix(
                 value, key, rationalize=self.rationalize, shape=(n, n))
-            check_positive_definite(M, key)
+            check(M, key)
             object.__setattr__(self, key, M)
 
     @property
@@ -290,6 +335,28 @@ class System:
             cached = self._cache["unseen"] = unseen(self.A, self.C)
         return lam.key in cached
 
+    def undriven(self) -> tuple["Eigenvalue", ...]:
+        """The eigenvalues of ``A`` that the process noise does not drive (cached): PBH on
+        ``(A, Q^(1/2))``, a left eigenvector ``w' A = lambda w'`` with ``Q w = 0`` (``range Q^(1/2) =
+        range Q``); none when ``Q > 0``.
+
+        With ``P0 > 0`` an undriven mode changes no verdict off the unit circle (the argument and
+        its exact checks: ``proofs/sui_singular_process_noise.py``).  ``E[P_k]`` is monotone in
+        ``Q``, so a stable verdict for ``Q + I`` holds for ``Q``; and the lower bound ``P_N >= p I``
+        that the necessity half of Sui-You-Fu Theorems 4 and 7 takes from ``Q > 0`` holds for
+        ``Q = 0`` on the modes with ``|lambda| > 1``: there ``A^(-1)`` is stable, so the information
+        ``P_N^(-1)`` gathered from ``x_0`` and every measurement is bounded.  On the unit circle an
+        undriven mode's error need not grow: :func:`symkf.stability` refuses a verdict that such a
+        mode decides."""
+        cached = self._cache.get("undriven")
+        if cached is None:
+            from ..exact.linalg import rank
+            from ..exact.spectral import unseen
+            keys = frozenset() if rank(sp.Matrix(self.Q)) == self.n else unseen(self.A.T, self.Q)
+            cached = self._cache["undriven"] = tuple(
+                lam for block in self.eigen_blocks() for lam in block.members if lam.key in keys)
+        return cached
+
     @property
     def observable(self) -> bool:
         """Whether ``(A, C)`` is observable (cached): the exact rank of the observability matrix
@@ -314,11 +381,15 @@ class System:
         for block in self.eigen_blocks():
             for lam in block.members:
                 if not block.is_stable and self.unseen(lam):
+                    unit = block.modulus == 1 and lam.key in {e.key for e in self.undriven()}
                     raise UnobservableError(
                         f"the eigenvalue {lam.expr} of A (|lambda| = {block.modulus} >= 1) is not seen by any "
-                        "sensor (PBH rank test), so (A, C) is not detectable",
+                        "sensor (PBH rank test), so (A, C) is not detectable" + (
+                            "; it is not driven by Q either, so its error need not grow, which the theory "
+                            "(Sui-You-Fu, Q > 0) does not decide" if unit else ""),
                         assumption="detectability of (A, C)",
-                        applies_instead="a sensor set whose stacked C sees every mode with |lambda| >= 1")
+                        applies_instead="a sensor set whose stacked C sees every mode with |lambda| >= 1" + (
+                            ", or a model without this undriven mode, or with process noise on it" if unit else ""))
 
     def eigen_blocks(self) -> tuple[Any, ...]:
         """:func:`symkf.exact.spectral.eigen_blocks` of ``A`` (cached)."""

@@ -392,7 +392,7 @@ def simulate_trajectories(system: System, loss: LossModel, horizon: int, paths: 
     gamma = sample_receptions(loss, horizon, paths, rng, model.d)
     states, emit = _codes(gamma, model.d)
     n, m = model.n, model.H.shape[0]
-    LQ, LP = np.linalg.cholesky(model.Q), np.linalg.cholesky(model.P0)
+    LQ, LP = _psd_factor(model.Q), _psd_factor(model.P0)   # Q may be singular
     x = np.empty((paths, horizon, n))
     x[:, 0] = rng.standard_normal((paths, n)) @ LP.T
     for k in range(1, horizon):

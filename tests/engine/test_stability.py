@@ -345,3 +345,28 @@ def test_a_ray_that_leaves_the_probabilities_first_is_capped_where_a_loss_reache
     with pytest.warns(UserWarning, match="sensor y's loss eps \\* 3 reaches 1 at eps = 1/3"):
         assert sk.critical_loss_rate(S, ray=[1, 3]).exact == sp.Rational(1, 3)
     assert sk.stability(S, sk.IID(["1/3", "999/1000"])).stable
+
+
+@pytest.mark.parametrize("A, C, Q, line", [
+    ([[1, 1], [0, 1]], [[1, 0]], [[R(1, 4), R(1, 2)], [R(1, 2), 1]], "Q singular, (A, Q^(1/2)) controllable (PBH)"),
+    ([[2, 0], [0, R(6, 5)]], [[1, 1]], [[0, 0], [0, 0]],
+     "Q singular, eigenvalue(s) 2, 6/5 not driven by the noise (PBH on (A, Q^(1/2))), P0 > 0"),
+    ([[2, 0], [0, R(6, 5)]], [[1, 1]], None, "Q > 0"),
+])
+def test_singular_process_noise_keeps_the_verdict_and_says_how_q_was_checked(A, C, Q, line):
+    S, reference = sk.System(A=A, sensors=[sk.Sensor(C=C)], Q=Q), sk.System(A=A, sensors=[sk.Sensor(C=C)])
+    assert critical_loss_rate(S) == critical_loss_rate(reference)
+    for eps in [R(1, 5), R(3, 10), R(99, 100)]:
+        v, w = stability(S, IID([eps])), stability(reference, IID([eps]))
+        assert (v.stable, v.margins) == (w.stable, w.margins)
+    assert line in stability(S, IID([R(1, 5)])).assumptions
+
+
+def test_verdict_decided_by_an_undriven_unit_mode_is_refused():
+    # the unit mode is seen only by a sensor that never reports: margin 1 on the unit block
+    S = sk.System(A=[[2, 0], [0, 1]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[0, 1]])], Q=[[1, 0], [0, 0]])
+    with pytest.raises(sk.errors.AssumptionError, match=r"unit-circle eigenvalue\(s\) 1 of A, not driven by Q"):
+        stability(S, IID([R(1, 10), 1]))
+    assert stability(S, IID([R(1, 10), R(1, 2)])).stable   # margin 1/2 there: decided
+    driven = sk.System(A=[[2, 0], [0, 1]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[0, 1]])])
+    assert not stability(driven, IID([R(1, 10), 1])).stable

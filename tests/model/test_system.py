@@ -8,6 +8,7 @@ pickle exactly."""
 from __future__ import annotations
 
 import itertools
+import re
 import warnings
 from fractions import Fraction
 from pathlib import Path
@@ -130,3 +131,44 @@ def test_a_system_reads_in_one_line_and_renders_in_a_notebook():
     many = sk.System(A=sp.diag(2, 3, 4, 5, 6), sensors=[sk.Sensor(C=[[1, 1, 1, 1, 1]]) for _ in range(12)])
     assert repr(many) == ("System(n=5, A=<5x5>, sensors: s1 <1x5>, s2 <1x5>, s3 <1x5>, s4 <1x5>, s5 <1x5>, "
                           "s6 <1x5>, s7 <1x5>, s8 <1x5>, ... (12 sensors))")
+
+
+TRACKER_Q = sp.Matrix([[R(1, 4), R(1, 2)], [R(1, 2), 1]])   # q G G', G = (1/2, 1)', q = 1
+
+
+def test_singular_process_noise_of_the_constant_velocity_tracker_is_accepted_and_driven():
+    S = sk.System(A=[[1, 1], [0, 1]], sensors=[sk.Sensor(C=[[1, 0]])], Q=TRACKER_Q)
+    assert S.Q == TRACKER_Q and S.undriven() == ()   # [G, AG] = [[1/2, 3/2], [1, 1]] has det -1
+
+
+@pytest.mark.parametrize("A, Q, undriven", [
+    ([[2, 0], [0, R(6, 5)]], [[0, 0], [0, 1]], [2]),            # w' = e_1' annihilates Q
+    ([[2, 0], [0, R(6, 5)]], [[0, 0], [0, 0]], [2, R(6, 5)]),
+    ([[2, 1], [0, 3]], [[0, 0], [0, 1]], []),                   # e_2 reaches e_1 through A[0][1]
+    ([[2, 1], [0, 3]], [[1, 0], [0, 0]], [3]),                  # left eigenvector of 3 is (0, 1)
+])
+def test_undriven_modes_by_pbh_on_a_and_q(A, Q, undriven):
+    S = sk.System(A=A, sensors=[sk.Sensor(C=[[1, 1]])], Q=Q)
+    assert sorted(lam.expr for lam in S.undriven()) == sorted(undriven)
+
+
+@pytest.mark.parametrize("Q, rows, minor", [
+    ([[1, 2], [2, 1]], "[0, 1]", "-3"),
+    ([[0, 1], [1, 1]], "[0, 1]", "-1"),       # a zero variance with a nonzero covariance
+    ([[1, 0, 0], [0, 1, 0], [0, 0, -1]], "[2]", "-1"),
+])
+def test_indefinite_process_noise_names_a_negative_principal_minor(Q, rows, minor):
+    n = len(Q)
+    with pytest.raises(sk.errors.NotPositiveDefiniteError, match=re.escape(
+            f"Q: not positive semidefinite, the principal minor on rows {rows} is {minor} < 0")):
+        sk.System(A=sp.eye(n) * 2, sensors=[sk.Sensor(C=[[1] * n])], Q=Q)
+
+
+def test_singular_initial_covariance_is_still_refused():
+    with pytest.raises(sk.errors.NotPositiveDefiniteError, match="P0: not positive definite"):
+        sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])], P0=[[0]])
+
+
+def test_unseen_undriven_unit_mode_is_named_with_what_applies():
+    with pytest.raises(sk.errors.UnobservableError, match=r"eigenvalue 1 .*not driven by Q either.*without this undriven"):
+        sk.System(A=[[2, 0], [0, 1]], sensors=[sk.Sensor(C=[[1, 0]])], Q=[[1, 0], [0, 0]])

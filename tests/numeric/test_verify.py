@@ -23,3 +23,18 @@ def test_verify_is_an_object_with_todays_json():
     assert repr(r).startswith("<Verification consistent: exact margin 2*sqrt(5)/5 ~ 0.894427 (stable)")
     assert r"\frac{2 \sqrt{5}}{5}" in r._repr_latex_() and "CONSISTENT" in r._repr_html_()
     assert str(r).splitlines()[0] == "theory:     stable (Theorem 4 with eq. (36))"
+
+
+def test_simulation_agrees_on_both_sides_of_the_critical_loss_with_undriven_unstable_modes():
+    # Q = 0: neither mode is driven, the critical loss is still 1/4 (proofs/sui_singular_process_noise.py)
+    S = sk.System(A=[[2, 0], [0, sp.Rational(6, 5)]], sensors=[sk.Sensor(C=[[1, 1]])], Q=[[0, 0], [0, 0]])
+    below, above = (sk.verify(S, sk.IID([e]), paths=4000, seed=0) for e in ["1/5", "3/10"])
+    assert below.stable and above.stable is False
+    assert below.outcome == above.outcome == "consistent"
+
+
+def test_simulation_agrees_on_the_tracker_with_white_acceleration_noise():
+    G = sp.Matrix([sp.Rational(1, 2), 1])
+    S = sk.System(A=[[1, 1], [0, 1]], sensors=[sk.Sensor(C=[[1, 0]])], Q=G * G.T)
+    r = sk.verify(S, sk.IID(["9/10"]), paths=4000, seed=0)
+    assert r.stable and r.outcome == "consistent"
