@@ -42,18 +42,88 @@ def test_documented_commands_are_found():
     assert not any("FILE" in c or "NAME" in c for c in commands)
 
 
-@pytest.mark.full
-def test_readme_and_docs_run_verbatim_from_a_wheel(tmp_path):
-    dist = tmp_path / "dist"
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory):
+    """The wheel of this source tree, built once for the tests of this file."""
+    dist = tmp_path_factory.mktemp("dist")
     subprocess.run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", dist, ROOT], check=True)
-    wheel = next(dist.glob("symkf-*.whl"))
+    return next(dist.glob("symkf-*.whl"))
+
+
+def installed(wheel, tmp_path, extras: str = "") -> tuple:
+    """A fresh virtual environment with the wheel (and ``extras``) installed, an empty working
+    directory outside the source tree and the environment variables to run it with."""
     env_dir = tmp_path / "venv"
     venv.create(env_dir, with_pip=True)
     python = env_dir / "bin" / "python"
-    subprocess.run([python, "-m", "pip", "install", "-q", f"symkf[{EXTRAS}] @ {wheel.as_uri()}"], check=True)
+    requirement = f"symkf[{extras}] @ {wheel.as_uri()}" if extras else f"symkf @ {wheel.as_uri()}"
+    subprocess.run([python, "-m", "pip", "install", "-q", requirement], check=True)
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
-    env = {"PATH": f"{env_dir / 'bin'}:/usr/bin:/bin", "HOME": str(tmp_path), "TQDM_DISABLE": "1"}
+    return python, elsewhere, {"PATH": f"{env_dir / 'bin'}:/usr/bin:/bin", "HOME": str(tmp_path), "TQDM_DISABLE": "1"}
+
+
+#: a newcomer's first session on the core install (no extras): copy an example and edit it, sweep the
+#: critical recovery rate in a family table, decide the constant-velocity tracker with its singular
+#: white-acceleration noise, and ask for a reproduction that needs an extra
+NEWCOMER = r"""
+set -e
+symkf examples ge-two-sensors >/dev/null
+sed -i 's|recover = \["1/2", "1/2"\]|recover = ["9/10", "9/10"]|' ge-two-sensors.toml
+symkf analyze ge-two-sensors > edited.txt
+cat > ge-sweep.toml <<'TOML'
+[family]
+compute = "critical_recovery_rate"
+[grid]
+fail = ["1/10", "1/4", "1/2"]
+[system]
+A = [["0", "-2"], ["2", "0"]]
+[[sensors]]
+C = [["1", "0"]]
+[[sensors]]
+C = [["1", "1"]]
+[loss]
+kind = "gilbert-elliott"
+fail = ["fail", "fail"]
+recover = ["1/2", "1/2"]
+TOML
+symkf table ge-sweep.toml --latex ge-sweep.tex > sweep.txt
+cat > tracker.toml <<'TOML'
+[system]
+A = [["1", "1"], ["0", "1"]]
+Q = [["1/4", "1/2"], ["1/2", "1"]]
+[[sensors]]
+C = [["1", "0"]]
+[loss]
+kind = "iid"
+loss = ["9/10"]
+TOML
+symkf analyze tracker.toml > tracker.txt
+set +e
+symkf reproduce fusion-pendulum > extra.txt 2>&1
+echo "exit $?" >> extra.txt
+"""
+
+
+@pytest.mark.full
+def test_newcomer_session_on_the_core_install(wheel, tmp_path):
+    _, here, env = installed(wheel, tmp_path)
+    run = subprocess.run(["bash", "-c", NEWCOMER], cwd=here, env=env, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr[-2000:]
+    edited = (here / "edited.txt").read_text()
+    assert edited.startswith("read: ge-two-sensors.toml") and "recover 9/10, 9/10" in edited
+    assert "\nstable (Theorem" in edited                      # the shipped file (recover 1/2) is NOT stable
+    sweep = (here / "sweep.txt").read_text()
+    assert "0.525553" in sweep and "0.565084" in sweep and "0.628278" in sweep and (here / "ge-sweep.tex").is_file()
+    tracker = " ".join((here / "tracker.txt").read_text().split())   # the text wraps at 100 columns
+    assert "stable (Theorem" in tracker and "Q singular, (A, Q^(1/2)) controllable (PBH)" in tracker
+    extra = (here / "extra.txt").read_text()
+    assert "symkf[fusion]" in extra and extra.rstrip().endswith("exit 2") and "Traceback" not in extra
+
+
+@pytest.mark.full
+def test_readme_and_docs_run_verbatim_from_a_wheel(wheel, tmp_path):
+    python, elsewhere, env = installed(wheel, tmp_path, EXTRAS)
     failures = []
     for command in documented_commands():
         run = subprocess.run(["bash", "-c", command], cwd=elsewhere, env=env, capture_output=True, text=True)
