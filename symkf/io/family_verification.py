@@ -129,7 +129,11 @@ def verify_family(path: str | Path | Family, jobs: int = 1, scheduler: Any = Non
     tasks = [(i, m, seed + 3 * i) for i, m in enumerate(family.members)]
     return FamilyVerification(family.name, tuple(sweep(functools.partial(verify_member, **kw), tasks, jobs=jobs,
                                                        scheduler=scheduler, progress=progress,
-                                                       desc=f"verify {family.name}")))
+                                                       desc=f"verify {family.name}", label=_member_label)))
+
+
+def _member_label(task: tuple[int, Member, int]) -> str:
+    return f"member {task[1].label}"
 
 
 def family_summary(reports: list[dict[str, Any]]) -> str:

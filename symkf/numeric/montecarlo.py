@@ -41,7 +41,7 @@ from ..run.sweep import sweep
 if TYPE_CHECKING:
     from ..engine.stability import Verdict
 
-#: paths per batch: bounds memory and drives the progress bar
+#: paths per batch: bounds memory and moves the progress bar
 CHUNK = 50_000
 #: plain Monte Carlo resolves E[tr P_k] at step k when the relative standard error is at most
 #: this and no single path carries more than MAX_PATH_SHARE of the sum (a diverging filter's
@@ -513,8 +513,13 @@ def burst_sample(system: System, loss: LossModel, horizon: int, paths: int, seed
     seeds = np.random.SeedSequence(seed).spawn(len(sizes))
     chunk = functools.partial(_burst_chunk, model, tuple(factors), tilts,
                               None if plan is None else (plan.period, plan.growth), horizon)
-    parts = sweep(chunk, list(zip(sizes, seeds)), jobs=jobs, progress=False)
+    # no bar of its own: inside a caller's (divergence_test's) it moves that one, chunk by chunk
+    parts = sweep(chunk, list(zip(sizes, seeds)), jobs=jobs, progress=False, cost=_chunk_paths)
     return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+
+
+def _chunk_paths(task: tuple[int, np.random.SeedSequence]) -> int:
+    return task[0]
 
 
 def _burst_chunk_size(components: int, horizon: int) -> int:
@@ -812,8 +817,12 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
         plan = burst_plan(system, pattern, growth)
     cap = float_horizon(system, plan)
     horizons = rate_horizons(horizon if cap is None else min(horizon, cap), plan.period)
-    runs = tuple(log_mean_trace(system, loss, k, paths, None if seed is None else seed + j, plan, jobs)
-                 for j, k in enumerate(horizons))
+    runs = []
+    # the runs' work is paths x horizon filter steps: the bar moves with each batch of paths
+    with _progress(paths * sum(horizons), paths * sum(horizons), "simulate") as bar:
+        for j, k in enumerate(horizons):
+            with bar.part(paths * k):
+                runs.append(log_mean_trace(system, loss, k, paths, None if seed is None else seed + j, plan, jobs))
     corrected = margin_interval(runs, confidence)
     allowance = polynomial_allowance(horizons, degree)
     rate, f_low, f_high = corrected if corrected is not None else (None, None, None)
@@ -826,7 +835,7 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
     return DivergenceResult(verdict, rate, low, high, f_low, f_high, *growth, allowance,
                             None if exact_value is None else float(exact_value),
                             None if exact_value is None else str(exact_value),
-                            tolerance, confidence, horizons, paths, seed, runs[-1].sampling, runs)
+                            tolerance, confidence, horizons, paths, seed, runs[-1].sampling, tuple(runs))
 
 
 @dataclass(frozen=True)

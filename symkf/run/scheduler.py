@@ -48,14 +48,14 @@ _LOST = (concurrent.futures.CancelledError, asyncio.CancelledError, OSError)
 
 
 def run_on_scheduler(function: Callable, tasks: Sequence, scheduler: Any, progress: bool | None,
-                     desc: str) -> list:
+                     desc: str, finished: Callable[[int], str]) -> list:
     """``[function(t) for t in tasks]`` on the Dask ``scheduler`` (an address or a
     ``distributed.Client``), checked first (module docstring)."""
     distributed = require_extra("distributed", "dask", "scheduler: running on a Dask cluster")
     timeout = budget.LIMITS.scheduler_timeout
     if isinstance(scheduler, distributed.Client):
         name = f"the Dask scheduler at {getattr(scheduler.scheduler, 'address', scheduler)}"
-        return _on_client(scheduler, name, function, tasks, timeout, progress, desc)
+        return _on_client(scheduler, name, function, tasks, timeout, progress, desc, finished)
     if not isinstance(scheduler, str) or not _ADDRESS.fullmatch(scheduler) or \
             not 0 < int(scheduler.rpartition(":")[2]) < 65536:
         raise InputError(f"scheduler: expected a Dask scheduler address such as 'tcp://host:8786' "
@@ -69,7 +69,7 @@ def run_on_scheduler(function: Callable, tasks: Sequence, scheduler: Any, progre
     except Exception as exc:  # noqa: BLE001 -- the probe answered: any failure now is the scheduler's
         raise SchedulerError(f"scheduler: cannot connect to {name} ({_why(exc)})") from None
     with _quiet_distributed(), client:
-        return _on_client(client, name, function, tasks, timeout, progress, desc)
+        return _on_client(client, name, function, tasks, timeout, progress, desc, finished)
 
 
 def _security(address: str, name: str) -> Any:
@@ -145,7 +145,7 @@ def _identify(address: str, name: str, timeout: int, security: Any) -> dict:
 
 
 def _on_client(client: Any, name: str, function: Callable, tasks: Sequence, timeout: int,
-               progress: bool | None, desc: str) -> list:
+               progress: bool | None, desc: str, finished: Callable[[int], str]) -> list:
     import distributed
     try:
         client.wait_for_workers(1, timeout=timeout)
@@ -165,6 +165,8 @@ def _on_client(client: Any, name: str, function: Callable, tasks: Sequence, time
                         raise SchedulerError(f"scheduler: {name} lost all its workers mid-run (no result for "
                                              f"{timeout} s and no worker left); no result was kept") from None
                     continue
+                for f in done:
+                    bar.note(f"{desc}: {finished(futures.index(f))}")
                 bar.update(len(done))
         return client.gather(futures)
     except RuntimeError as exc:

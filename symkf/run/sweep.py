@@ -17,7 +17,8 @@ results cross process boundaries by plain pickle (symkf's algebraic numbers, sys
 and errors pickle; a task's symkf error is re-raised in the caller with its type,
 message and attributes).  ``function`` must be
 importable by the workers (a module-level function, or a ``functools.partial``
-of one).  Progress is shown with tqdm when stderr is a terminal.
+of one).  Progress (:mod:`symkf.run.progress`): one bar, the caller's; with workers, each finished
+task is a plain line above it, and the workers draw nothing.
 """
 
 from __future__ import annotations
@@ -37,7 +38,7 @@ from typing import Any, Callable, Iterable, Iterator, Sequence, TypeVar
 from ..arguments import check_public
 from .. import budget
 from ..errors import InputError
-from .progress import progress as progress_bar
+from .progress import progress as progress_bar, silenced
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -45,12 +46,12 @@ R = TypeVar("R")
 
 def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, scheduler: Any = None,
           progress: bool | None = None, desc: str = "symkf sweep",
-          cost: Callable[[T], float] | None = None) -> list[R]:
+          cost: Callable[[T], float] | None = None, label: Callable[[T], str] | None = None) -> list[R]:
     """``[function(t) for t in tasks]``, serially, on ``jobs`` local processes, or on Dask.
 
     ``scheduler`` is a Dask scheduler address (``"tcp://host:8786"``) or a
     ``distributed.Client``; it excludes ``jobs > 1``.  ``progress`` forces the
-    tqdm bar on or off (default: on when stderr is a terminal).
+    bar on or off (default: on when stderr is a terminal).
 
     Parameters
     ----------
@@ -64,14 +65,17 @@ def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, sche
     scheduler : str or distributed.Client, optional
         A Dask scheduler address or client (the ``dask`` extra).
     progress : bool, optional
-        Show the tqdm bar (default: on a terminal or in a Jupyter kernel, unless the
-        environment sets ``TQDM_DISABLE``; :func:`symkf.run.progress.progress`).
+        Show the bar (default: on a terminal or in a Jupyter kernel, unless the environment
+        sets ``TQDM_DISABLE``; :func:`symkf.run.progress.progress`).  Inside another reporter,
+        the sweep moves that one instead.
     desc : str, default "symkf sweep"
         The bar's label.
     cost : callable, optional
         An estimate of each task's work: local processes start the costliest first (longest
-        processing time first, so no worker is left with one long task at the end); the results
-        keep the order of ``tasks``.
+        processing time first, so no worker is left with one long task at the end) and the bar
+        moves by each task's estimate; the results keep the order of ``tasks``.
+    label : callable, optional
+        A task's name in the line printed when a worker finishes it (default ``task N``).
 
     Returns
     -------
@@ -105,16 +109,24 @@ def sweep(function: Callable[[T], R], tasks: Iterable[T], *, jobs: int = 1, sche
     if scheduler is not None:
         from .scheduler import run_on_scheduler
         return run_on_scheduler(_Limited(function, dataclasses.asdict(budget.LIMITS)), tasks, scheduler, progress,
-                                desc)
+                                desc, _named(tasks, label))
+    work = [cost(t) for t in tasks] if cost else [1] * len(tasks)
     if jobs == 1 or len(tasks) <= 1:
         out = []
-        with progress_bar(len(tasks), desc, enabled=progress) as bar:
-            for t in tasks:
+        with progress_bar(sum(work), desc, enabled=progress) as bar:
+            for t, w in zip(tasks, work):
                 out.append(function(t))
-                bar.update()
+                bar.update(w)
         return out
-    order = sorted(range(len(tasks)), key=lambda i: -cost(tasks[i])) if cost else range(len(tasks))
-    return _processes(_Limited(function, dataclasses.asdict(budget.LIMITS)), tasks, order, jobs, progress, desc)
+    order = sorted(range(len(tasks)), key=lambda i: -work[i])
+    return _processes(_Limited(function, dataclasses.asdict(budget.LIMITS)), tasks, order, jobs, progress, desc,
+                      _named(tasks, label), work)
+
+
+def _named(tasks: Sequence, label: Callable | None) -> Callable[[int], str]:
+    """The line for task ``i`` finished by a worker: its label, and how many are done."""
+    done = iter(range(1, len(tasks) + 1))
+    return lambda i: f"{label(tasks[i]) if label else f'task {i + 1}'} done ({next(done)} of {len(tasks)})"
 
 
 @dataclass(frozen=True)
@@ -126,12 +138,13 @@ class _Limited:
     caps: dict
 
     def __call__(self, task: Any) -> Any:
-        with budget.limits(**self.caps):
+        # a worker draws nothing: its parent owns the terminal and reports the finished task
+        with budget.limits(**self.caps), silenced():
             return self.function(task)
 
 
 def _processes(function: Callable, tasks: Sequence, order: Iterable[int], jobs: int, progress: bool | None,
-               desc: str) -> list:
+               desc: str, finished: Callable[[int], str], work: Sequence[float]) -> list:
     """The tasks submitted in ``order`` (workers take them first come, first served).  Whatever
     ends the wait early (Ctrl-C, SIGTERM raised as an exception, a task's error) cancels the
     queued tasks and kills the workers before it propagates: none is left computing."""
@@ -139,7 +152,7 @@ def _processes(function: Callable, tasks: Sequence, order: Iterable[int], jobs: 
     pool = ProcessPoolExecutor(max_workers=min(jobs, len(tasks)), initializer=_worker_started,
                                initargs=(os.getpid(),))
     try:
-        with progress_bar(len(tasks), desc, enabled=progress) as bar:
+        with progress_bar(sum(work), desc, enabled=progress) as bar:
             futures = {pool.submit(function, tasks[i]): i for i in order}
             pending = set(futures)
             while pending:
@@ -149,7 +162,8 @@ def _processes(function: Callable, tasks: Sequence, order: Iterable[int], jobs: 
                 done, pending = wait(pending, timeout=WAKE, return_when=FIRST_COMPLETED)
                 for f in done:
                     results[futures[f]] = f.result()
-                    bar.update()
+                    bar.note(f"{desc}: {finished(futures[f])}")
+                    bar.update(work[futures[f]])
     except BaseException:
         _stop(pool)
         raise

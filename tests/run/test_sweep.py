@@ -1,6 +1,9 @@
 """symkf.sweep: serial, local processes and Dask give identical exact results, in order."""
 
 import functools
+import re
+
+import time
 
 import pytest
 import sympy as sp
@@ -105,11 +108,18 @@ def test_bad_arguments(kwargs, message):
         sweep(abs, [1, 2], **kwargs)
 
 
+def _slow_abs(x: int) -> int:
+    time.sleep(1.5)
+    return abs(x)
+
+
 def test_progress_only_when_asked_or_on_a_terminal(capsys):
     assert sweep(abs, [-1, -2]) == [1, 2]
     assert capsys.readouterr().err == ""          # pytest's stderr is not a terminal
-    assert sweep(abs, [-1, -2], progress=True) == [1, 2]
-    assert "symkf sweep" in capsys.readouterr().err
+    # asked for on a pipe: plain lines, the first after 2 s, then the end
+    assert sweep(_slow_abs, [-1, -2], progress=True) == [1, 2]
+    lines = capsys.readouterr().err.splitlines()
+    assert re.fullmatch(r"symkf sweep: 50% after \d s", lines[0]) and re.fullmatch(r"symkf sweep: done after \d s", lines[-1])
 
 
 def _max_degree(_: object) -> int:
