@@ -274,7 +274,7 @@ def compiling(what: str, *, after: float = 1.0, enabled: bool | None = None) -> 
         if not done.wait(after):
             note(f"compiling {what} (numba, once per installation; `symkf warm` compiles ahead)...")
 
-    with _reporting(report, _interactive() if enabled is None else enabled):
+    with _reporting(report, _noting(enabled)):
         yield
 
 
@@ -296,8 +296,14 @@ def still_working(desc: str, *, after: float = 2.0, every: float = 10.0,
                 note(f"{desc}: still working, {time.monotonic() - start:.0f} s")
             wait = every
 
-    with _reporting(report, _interactive() if enabled is None else enabled):
+    with _reporting(report, _noting(enabled)):
         yield
+
+
+def _noting(enabled: bool | None) -> bool:
+    """Whether notes are printed: when ``enabled``, or (``None``) on a terminal or in a notebook;
+    never in a worker (:func:`silenced`), whose notes would land on its parent's bar."""
+    return not getattr(_local, "silenced", False) and (_interactive() if enabled is None else enabled)
 
 
 @contextlib.contextmanager

@@ -168,3 +168,11 @@ def test_compiling_says_so_only_when_it_takes_long(capsys):
     with compiling("the 4-state filter kernel", after=5, enabled=True):
         pass
     assert capsys.readouterr().err == ""
+
+
+def test_a_worker_prints_no_notes(capsys):
+    from symkf.run.progress import compiling, silenced
+    with silenced(), compiling("the kernel", after=0.01, enabled=True), \
+            still_working("symkf verify", after=0.01, every=0.01, enabled=True):
+        time.sleep(0.2)
+    assert capsys.readouterr().err == ""
