@@ -68,6 +68,8 @@ __all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLos
 
 def __getattr__(name: str) -> Any:
     if name in _SUBMODULES:
+        if name == "tables":   # the published bounds register their family query (compute = ["bounds"])
+            importlib.import_module(".bounds", __name__)
         value = importlib.import_module(f".{_SUBMODULES[name]}", __name__)
     elif name in _LAZY:
         value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)

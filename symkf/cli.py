@@ -202,8 +202,9 @@ def _vary_common(system: Any, loss: Any, value: str, file: str) -> tuple[str, Al
 
 
 def _iid(loss: Any, file: str, option: str) -> Any:
-    if loss.bernoulli is None:
-        raise UsageError(f"{file}: {option} needs an i.i.d. [loss] giving the sensors' rates, not {loss.words()}")
+    if loss is None or loss.bernoulli is None:
+        raise UsageError(f"{file}: {option} needs an i.i.d. [loss] giving the sensors' rates, not "
+                         f"{'no [loss]' if loss is None else loss.words()}")
     return loss
 
 
@@ -219,11 +220,16 @@ def _vary_alpha(system: Any, loss: Any, value: str, file: str) -> tuple[str, Alg
     return "critical_alpha", critical_alpha(system, _iid(loss, file, "--vary alpha")), "modulus alpha, losses fixed"
 
 
-def _vary_recovery(system: Any, loss: Any, value: str, file: str) -> tuple[str, AlgebraicNumber, str]:
+def _vary_recovery(system: Any, loss: Any, name: str, file: str) -> tuple[str, AlgebraicNumber, str]:
     from .engine.recovery import critical_recovery_rate
-    if loss.channel_fail is None:
-        raise UsageError(f"{file}: --vary recovery needs Gilbert-Elliott channels ([loss] of kind 'gilbert-elliott' "
-                         f"giving 'fail'), not {loss.words()}")
+    option = "--vary recovery" + ("=NAME" if name else "")
+    if loss is None or loss.channel_fail is None:
+        raise UsageError(f"{file}: {option} needs Gilbert-Elliott channels ([loss] of kind 'gilbert-elliott' "
+                         f"giving 'fail' and 'recover'), not {'no [loss]' if loss is None else loss.words()}")
+    if name:
+        return ("critical_recovery_rate", critical_recovery_rate(system, loss, sensor=name),
+                f"Gilbert-Elliott recovery probability of sensor {name}, fail and the others' recovery fixed at "
+                "the file's; stable iff above")
     return ("critical_recovery_rate", critical_recovery_rate(system, loss.channel_fail),
             "common Gilbert-Elliott recovery probability P(received | lost last), fail fixed; stable iff above")
 
@@ -243,10 +249,10 @@ DIGIT_BYTES = 64
 
 def cmd_critical(args: argparse.Namespace) -> dict[str, Any]:
     from .io import files
-    kind, _, value = args.vary.partition("=")
-    if kind not in VARY or (kind == "sensor") != bool(value):
-        choices = ", ".join(k + "=NAME" if k == "sensor" else k for k in VARY)
-        raise UsageError(f"--vary {args.vary!r}: expected {choices}")
+    kind, named, value = args.vary.partition("=")
+    if kind not in VARY or (kind == "sensor" and not value) or (kind in ("common", "alpha") and named) \
+            or (named and not value):
+        raise UsageError(f"--vary {args.vary!r}: expected common, sensor=NAME, alpha, recovery or recovery=NAME")
     budget.check("max_digits", args.digits, "--digits", "the number of digits asked for")
     budget.check("max_memory", DIGIT_BYTES * args.digits, "--digits", "the bytes (estimate) of the digits asked "
                  f"for, {DIGIT_BYTES} per digit")
@@ -387,7 +393,7 @@ def _args_examples(p: argparse.ArgumentParser) -> None:
 
 def _args_critical(p: argparse.ArgumentParser) -> None:
     p.add_argument("file")
-    p.add_argument("--vary", default="common", help="common | sensor=NAME | alpha | recovery")
+    p.add_argument("--vary", default="common", help="common | sensor=NAME | alpha | recovery | recovery=NAME")
     p.add_argument("--digits", type=_positive_int, default=15)
 
 
@@ -421,6 +427,7 @@ def _args_reproduce(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_table(args: argparse.Namespace) -> dict[str, Any]:
+    from . import bounds  # noqa: F401 -- registers the published bounds' family query (compute = ["bounds"])
     from .reports import tables
     target = None if args.latex is None else output.plan(args.latex, "--latex", inputs=[args.file], force=args.force)
     table = tables.family_table(args.file, jobs=args.jobs, scheduler=args.scheduler)

@@ -42,7 +42,8 @@ def test_critical_json_exact(capsys):
 
 
 @pytest.mark.parametrize("vary, message", [("recovery", "gilbert-elliott"), ("sensor", "sensor=NAME"),
-                                           ("bogus", "expected common")])
+                                           ("bogus", "expected common"), ("recovery=s1", "gilbert-elliott"),
+                                           ("common=s1", "recovery=NAME"), ("recovery=", "recovery=NAME")])
 def test_critical_bad_vary(capsys, vary, message):
     status, out, err = run(capsys, "critical", QUARTER_TURN, "--vary", vary)
     assert status == 2 and out == "" and message in err and err.count("\n") == 1
@@ -216,6 +217,19 @@ def test_critical_vary_recovery_is_exact(capsys):
     assert status == 0 and res["minpoly"] == "16*x**4 - 60*x**3 + 88*x**2 - 60*x + 15"
     q = float(res["decimal"])
     assert abs(16 * (1 - q) ** 2 * (q / 4 + (1 - q) ** 2) - 1) < 1e-12
+
+
+def test_critical_vary_recovery_of_one_sensor_is_exact(capsys):
+    """ge-two-sensors, s2's recovery fixed at 1/2: s2 lost through a period of two steps (1/4) and
+    s1 free at one phase (q/4 + (1 - q)^2) give 16 (1/4) (q/4 + (1 - q)^2) < 1, i.e. (4q - 3)(q - 1) < 0:
+    q_c(s1) = 3/4 by hand, the Python API's value."""
+    status, out, _ = run(capsys, "critical", str(GE), "--vary", "recovery=s1", "--json")
+    doc = json.loads(out)
+    assert status == 0 and doc["critical_recovery_rate"]["exact"] == "3/4" and "sensor s1" in doc["varied"]
+    status, out, _ = run(capsys, "critical", str(GE), "--vary", "recovery=s2", "--json")
+    system, loss = files.load(GE)
+    assert json.loads(out)["critical_recovery_rate"]["exact"] == str(
+        sk.critical_recovery_rate(system, loss.channel_fail, recover=loss.recover, sensor="s2").exact)
 
 
 def test_table_command_writes_latex_and_json(capsys, tmp_path):

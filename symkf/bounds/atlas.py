@@ -23,6 +23,7 @@ from ..model.system import System
 from ..engine.stability import critical_loss_rate
 from ..engine.recovery import stable_recovery_intervals
 from ..reports.tables import Cell, Table, escape
+from ..io.families import Column, Inapplicable, Query, register_query
 from ..numeric.verify import number_json
 from . import huang_dey, mo_sinopoli, plarre_bullo, sinopoli, sources, you_fu_xie
 from .row import EQUAL, HOLDS, INSIDE, NOT_COMPARED, REFUSED, VIOLATED, Quantity, Row, number
@@ -191,6 +192,39 @@ def bounds(system: System, loss: LossModel | None = None, *, lmi_steps: int = si
     return Atlas(system, q, rows, note)
 
 
+def bounds_columns(system: System, loss: LossModel | None = None) -> tuple[tuple[Column, Any], ...]:
+    """:func:`bounds` as columns of a family table (``compute = ["bounds"]``): one per published
+    result, its value where its hypotheses hold (a cell as in :meth:`Atlas.table`, with the row's
+    relation to the exact value in its JSON data), :class:`~symkf.io.families.Inapplicable` naming
+    the failed hypothesis where they do not; then the exact value."""
+    atlas = bounds(system, loss)
+    q = atlas.quantity
+    out: list[tuple[Column, Any]] = []
+    for r in atlas.rows:
+        column = Column(r.key, escape(r.result))
+        if not r.applies:
+            out.append((column, Inapplicable(f"{r.result}: hypothesis \"{r.failed.name}\" fails")))
+            continue
+        cell = _value_cell(r, q)
+        out.append((column, Cell(cell.plain, cell.latex, cell.math, {
+            "result": r.key, "parameter": q.symbol, "relation": r.relation, "value": _num(r.value),
+            "bracket": None if r.bracket is None else [str(v) for v in r.bracket]})))
+    exact = _exact_cell(q)
+    out.append((Column(f"exact {q.symbol}", "exact"), Cell(exact.plain, exact.latex, exact.math, {
+        "parameter": q.symbol, "critical": _num(q.critical), "stable_set": _intervals_json(q.stable)})))
+    return tuple(out)
+
+
+register_query(Query(
+    "bounds", bounds_columns, False,
+    (r"the published results on the critical common i.i.d.\ loss probability $\varepsilon$ (for Gilbert--Elliott "
+     r"channels: the common recovery probability $q$), each where its hypotheses hold, beside the exact value "
+     r"(\texttt{symkf bounds})",
+     "the published results on the critical common i.i.d. loss probability eps (for Gilbert-Elliott channels: the "
+     "common recovery probability q), each where its hypotheses hold, beside the exact value (symkf bounds)"),
+    Column("bounds", "published bounds")))
+
+
 def _num(a: AlgebraicNumber | None) -> dict | None:
     return None if a is None else number_json(a)
 
@@ -310,7 +344,7 @@ def _exact_cell(q: Quantity) -> Cell:
     return Cell.text(_intervals_text(q.stable))
 
 
-__all__ = ["Atlas", "bounds", "quantity", "RESULTS"]
+__all__ = ["Atlas", "bounds", "bounds_columns", "quantity", "RESULTS"]
 
 
 check_public(globals())

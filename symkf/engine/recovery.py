@@ -278,6 +278,8 @@ def _monotone_recovery(system: System, fail: Sequence[Any], recover: Sequence[An
             raise AssumptionError(f"fail: the loss model is {fail.words()}, not Gilbert-Elliott channels",
                                   assumption="independent two-state channels (a recovery probability to vary)",
                                   applies_instead="symkf.critical_loss_rate for i.i.d. losses")
+        if sensor is not None and recover is None:   # the other channels keep the model's recovery
+            recover = fail.channel_recover
         fail = list(fail.channel_fail)
     model = _recovery_model(system, fail, recover, sensor, q)
     _check_loss(system, model.subs({q: sp.Rational(1, 2)}))
@@ -350,7 +352,7 @@ def critical_recovery_rate(system: System, fail: Sequence[Any] | LossModel, *, r
 
     ``fail[j] = P(lost | received last)`` is fixed (``fail`` may be the channels' model itself,
     :class:`~symkf.model.gilbert_elliott.GilbertElliott`: its recovery probabilities are then
-    the ones varied); the recovery probability ``P(received | lost last)`` is common to all sensors, or (``sensor=NAME``) only that sensor's, the others given
+    the ones varied, and with ``sensor`` the others' stay the model's); the recovery probability ``P(received | lost last)`` is common to all sensors, or (``sensor=NAME``) only that sensor's, the others given
     by ``recover``.  Returns 0 when every ``q`` in (0, 1) is stable and 1 when none is.  Raises
     :class:`AssumptionError` when the stable set is not an interval ``(q_c, 1)`` (stability is not
     monotone in ``q`` in general; :func:`stable_recovery_intervals` gives the set).  Certified:

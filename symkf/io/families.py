@@ -7,8 +7,7 @@ parameters, plus a grid of exact parameter values::
     name = "rotation-periods"          # optional, default: the file name
     description = "$A = 2R(\\pi/g)$, $C_j = [1, 0]$"   # LaTeX, goes into the caption
     kind = "rotation"                  # "template" (default) or "rotation"
-    compute = "critical_loss_rate"     # or (each needs [loss]) "stability", "critical_recovery_rate"
-                                       # (Gilbert-Elliott channels), "fewest_sensors" (symkf.design)
+    compute = "critical_loss_rate"     # one query, or a list of them: one column each (QUERIES)
     digits = 6                         # significant digits of the decimals
     labels = { period = "governing period $g$" }     # optional axis headings (LaTeX)
 
@@ -30,6 +29,10 @@ equivalent system file.  ``kind = "rotation"`` builds ``A = alpha R(theta)`` wit
 Bad files raise :class:`~symkf.errors.FileFormatError` (or another
 :class:`~symkf.errors.InputError`) naming file, key and problem in one line.
 
+``compute`` names one query of :data:`QUERIES` (rows the first axis, columns the second), or a
+list of them: then each query is a column (a per-sensor query one column per sensor), and each
+member a row.
+
 From Python a family needs no file: :func:`grid_family` calls a builder at every point of a
 grid, :func:`systems_family` takes a list of systems; both give a :class:`Family` that
 :func:`symkf.reports.tables.family_table` and :func:`symkf.io.family_verification.verify_family` take like a path.
@@ -37,6 +40,7 @@ grid, :func:`systems_family` takes a list of systems; both give a :class:`Family
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import re
@@ -60,7 +64,8 @@ from ..engine.recovery import critical_recovery_rate
 from ..engine.stability import Verdict, critical_loss_rate, stability
 from ..run.sweep import sweep
 
-COMPUTE = ("critical_loss_rate", "stability", "critical_recovery_rate", "fewest_sensors")
+COMPUTE = ("critical_loss_rate", "stability", "critical_recovery_rate", "fewest_sensors",
+           "critical_loss_rate_per_sensor", "critical_recovery_rate_per_sensor", "stability_margin", "bounds")
 KINDS = ("template", "rotation")
 _FAMILY_KEYS = {"name", "description", "kind", "compute", "digits", "labels"}
 _ROTATION_A = [["alpha*cos(THETA)", "-alpha*sin(THETA)"], ["alpha*sin(THETA)", "alpha*cos(THETA)"]]
@@ -88,7 +93,7 @@ class Member:
     tables: dict                             # {"system": ..., "sensors": [...], "loss": ... or None}
     source: str                              # file name, for error messages
     rationalize: bool
-    compute: str
+    compute: str | tuple[str, ...]
 
     def system(self) -> tuple[System, Any]:
         """The member's System and loss model (None without ``[loss]``), read by :func:`symkf.io.files.parse`,
@@ -112,7 +117,7 @@ class BuiltMember:
     label: str
     point: tuple[tuple[str, Any], ...]
     build: Callable[..., Any]
-    compute: str
+    compute: str | tuple[str, ...]
 
     def system(self) -> tuple[System, Any]:
         out = self.build(**dict(self.point))
@@ -128,6 +133,32 @@ class BuiltMember:
 
 
 @dataclass(frozen=True)
+class Column:
+    """A column of a family table: its heading as text and as LaTeX, and the sensor it is about
+    (per-sensor queries; the heading then names it)."""
+
+    plain: str
+    latex: str
+    sensor: str | None = None
+
+
+@dataclass(frozen=True)
+class Query:
+    """What a family computes (one entry of ``compute``): ``columns(system, loss)`` gives one
+    ``(Column, value)`` pair per column, ``needs_loss`` whether the member needs ``[loss]``, and
+    ``caption`` (LaTeX, text) what the values are.  A value is an
+    :class:`~symkf.exact.algebraic.AlgebraicNumber`, a :class:`~symkf.engine.stability.Verdict`,
+    a :class:`~symkf.design.selection.Selection`, an :class:`Inapplicable` or, from a layer that
+    renders its own, a table cell (the published bounds of :mod:`symkf.bounds`)."""
+
+    name: str
+    columns: Callable[[System, Any], tuple[tuple[Column, Any], ...]]
+    needs_loss: bool
+    caption: tuple[str, str]
+    heading: Column
+
+
+@dataclass(frozen=True)
 class Inapplicable:
     """A member for which the theorem's assumptions fail (shown as --- in tables)."""
 
@@ -136,10 +167,13 @@ class Inapplicable:
 
 @dataclass(frozen=True)
 class Outcome:
-    """What one member evaluates to, with the class periods (one per eigen-block) the engine used."""
+    """What one member evaluates to, with the class periods (one per eigen-block) the engine used:
+    ``columns`` pairs each :class:`Column` of the member's queries with its value, ``value`` is
+    the first column's (a family of one single-column query has just that one)."""
 
-    value: AlgebraicNumber | Verdict | Inapplicable
+    value: AlgebraicNumber | Verdict | Inapplicable | Any
     periods: tuple[int, ...]
+    columns: tuple[tuple[Column, Any], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -149,39 +183,180 @@ class Family:
     name: str
     description: str
     kind: str
-    compute: str
+    compute: str | tuple[str, ...]
     digits: int
     axes: tuple[Axis, ...]
     constants: tuple[tuple[str, str], ...]
     members: tuple[Member, ...]   # row-major over the axes
 
+    @property
+    def queries(self) -> tuple[Query, ...]:
+        """The queries of ``compute``, in its order (:func:`query`)."""
+        return tuple(query(name) for name in _names(self.compute))
+
+    @property
+    def by_columns(self) -> bool:
+        """Whether each query is a column and each member a row: ``compute`` is a list, or its one
+        query has a column per sensor or per published result."""
+        return not isinstance(self.compute, str) or self.compute not in _ONE_COLUMN
+
     def evaluate(self, *, jobs: int = 1, scheduler: Any = None, progress: bool | None = None) -> list[Outcome]:
         """Evaluate every member (see :func:`symkf.run.sweep.sweep` for ``jobs`` and ``scheduler``)."""
-        return sweep(evaluate, self.members, jobs=jobs, scheduler=scheduler, progress=progress,
-                     desc=f"family {self.name}", cost=_cost)
+        # the queries go with the tasks: a worker unpickling one imports the module that defines it
+        return sweep(functools.partial(evaluate, queries=self.queries), self.members, jobs=jobs,
+                     scheduler=scheduler, progress=progress, desc=f"family {self.name}", cost=_cost)
 
 
-def evaluate(member: Member) -> Outcome:
-    """What ``member.compute`` names, for one member (runs on workers): the critical common i.i.d.
-    loss rate, the stability verdict under its ``[loss]``, the critical common recovery rate of
-    its Gilbert-Elliott channels (their fail probabilities fixed), or the fewest of its sensors
-    stable under its ``[loss]`` (:func:`symkf.design.select_sensors`)."""
+def evaluate(member: Member | BuiltMember, queries: Sequence[Query] | None = None) -> Outcome:
+    """The queries of ``member.compute`` (or ``queries``) for one member (runs on workers): the
+    columns of each, in order (:data:`QUERIES`).  A query whose theorem's assumptions fail gives
+    :class:`Inapplicable` in its column; a member that fails to build, in every column."""
+    queries = tuple(query(name) for name in _names(member.compute)) if queries is None else tuple(queries)
     try:
         system, loss = member.system()
-        if member.compute == "critical_loss_rate":
-            value: Any = critical_loss_rate(system)
-        elif member.compute == "stability":
-            value = stability(system, loss)
-        elif member.compute == "critical_recovery_rate":
-            if loss.channel_fail is None:
-                raise InputError(f"[loss]: compute = \"critical_recovery_rate\" needs Gilbert-Elliott channels "
-                                 f"(kind = \"gilbert-elliott\"), not {loss.words()}")
-            value = critical_recovery_rate(system, loss.channel_fail)
-        else:
-            value = select_sensors(system, loss)
-        return Outcome(value, tuple(br.class_period for br in block_rows(system)))
     except AssumptionError as exc:
-        return Outcome(Inapplicable(str(exc)), ())
+        return Outcome(Inapplicable(str(exc)), (), tuple((q.heading, Inapplicable(str(exc))) for q in queries))
+    columns: list[tuple[Column, Any]] = []
+    for q in queries:
+        if q.needs_loss and loss is None:
+            raise InputError(f"family member {member.label}: compute = \"{q.name}\" needs a loss model; build the "
+                             "member as (System, loss)")
+        try:
+            columns += q.columns(system, loss)
+        except AssumptionError as exc:
+            columns.append((q.heading, Inapplicable(str(exc))))
+    try:
+        periods = tuple(br.class_period for br in block_rows(system))
+    except AssumptionError:
+        periods = ()
+    return Outcome(columns[0][1], periods, tuple(columns))
+
+
+def _names(compute: str | Sequence[str]) -> tuple[str, ...]:
+    return (compute,) if isinstance(compute, str) else tuple(compute)
+
+
+#: the queries whose one column fits the grid layout (rows the first axis, columns the second)
+_ONE_COLUMN = ("critical_loss_rate", "stability", "critical_recovery_rate", "fewest_sensors", "stability_margin")
+
+
+def _needs(loss: Any, capability: str, name: str, kind: str) -> tuple:
+    """The loss model's ``capability`` (its per-sensor rates) that query ``name`` holds fixed."""
+    value = getattr(loss, capability)
+    if value is None:
+        raise InputError(f"[loss]: compute = \"{name}\" needs {kind}, not {loss.words()}")
+    return value
+
+
+def _critical_loss_rate(system: System, loss: Any) -> tuple[tuple[Column, Any], ...]:
+    return ((QUERIES["critical_loss_rate"].heading, critical_loss_rate(system)),)
+
+
+def _stability(system: System, loss: Any) -> tuple[tuple[Column, Any], ...]:
+    return ((QUERIES["stability"].heading, stability(system, loss)),)
+
+
+def _stability_margin(system: System, loss: Any) -> tuple[tuple[Column, Any], ...]:
+    return ((QUERIES["stability_margin"].heading, stability(system, loss).limiting_margin),)
+
+
+def _critical_recovery_rate(system: System, loss: Any) -> tuple[tuple[Column, Any], ...]:
+    fail = _needs(loss, "channel_fail", "critical_recovery_rate", _GE)
+    return ((QUERIES["critical_recovery_rate"].heading, critical_recovery_rate(system, fail)),)
+
+
+def _fewest_sensors(system: System, loss: Any) -> tuple[tuple[Column, Any], ...]:
+    return ((QUERIES["fewest_sensors"].heading, select_sensors(system, loss)),)
+
+
+def _loss_per_sensor(system: System, loss: Any) -> tuple[tuple[Column, Any], ...]:
+    others = list(_needs(loss, "bernoulli", "critical_loss_rate_per_sensor", "i.i.d. losses (kind = \"iid\")"))
+    return _each_sensor(system, "critical_loss_rate_per_sensor",
+                        lambda sensor: critical_loss_rate(system, sensor, others=others))
+
+
+def _recovery_per_sensor(system: System, loss: Any) -> tuple[tuple[Column, Any], ...]:
+    _needs(loss, "channel_fail", "critical_recovery_rate_per_sensor", _GE)
+    return _each_sensor(system, "critical_recovery_rate_per_sensor",
+                        lambda sensor: critical_recovery_rate(system, loss, sensor=sensor))
+
+
+def _each_sensor(system: System, name: str, value: Callable[[str], Any]) -> tuple[tuple[Column, Any], ...]:
+    """One column per sensor of query ``name``: ``value(sensor)``, or :class:`Inapplicable` where the
+    theorem's assumptions fail for that sensor."""
+    head = QUERIES[name].heading
+    out = []
+    for sensor in system.sensor_names:
+        try:
+            result = value(sensor)
+        except AssumptionError as exc:
+            result = Inapplicable(str(exc))
+        out.append((Column(f"{head.plain}({sensor})", head.latex, sensor), result))
+    return tuple(out)
+
+
+_GE = "Gilbert-Elliott channels (kind = \"gilbert-elliott\")"
+
+#: the queries of ``compute``, by name; :func:`register_query` adds one from a layer above (the
+#: published bounds: :mod:`symkf.bounds`)
+QUERIES: dict[str, Query] = {q.name: q for q in (
+    Query("critical_loss_rate", _critical_loss_rate, False,
+          (r"exact critical i.i.d.\ loss probability $\varepsilon_c$ common to all sensors (mean-square stable "
+           r"iff $\varepsilon < \varepsilon_c$)",
+           "exact critical i.i.d. loss probability eps_c common to all sensors (mean-square stable iff eps < eps_c)"),
+          Column("critical loss rate", r"$\varepsilon_c$")),
+    Query("stability", _stability, True,
+          (r"mean-square stability verdicts and limiting margins $\alpha_i^2\rho_i$ (stable iff every margin is "
+           "below 1)",
+           "mean-square stability verdicts and limiting margins alpha_i^2 rho_i (stable iff every margin is below 1)"),
+          Column("verdict", "verdict")),
+    Query("stability_margin", _stability_margin, True,
+          (r"exact limiting margin $\max_i \alpha_i^2\rho_i$ under the member's losses (stable iff below 1)",
+           "exact limiting margin max_i alpha_i^2 rho_i under the member's losses (stable iff below 1)"),
+          Column("margin", r"$\max_i \alpha_i^2\rho_i$")),
+    Query("critical_recovery_rate", _critical_recovery_rate, True,
+          (r"exact critical recovery probability $q_c$ common to all Gilbert--Elliott channels, their fail "
+           r"probabilities fixed (mean-square stable iff $q > q_c$)",
+           "exact critical recovery probability q_c common to all Gilbert-Elliott channels, their fail "
+           "probabilities fixed (mean-square stable iff q > q_c)"),
+          Column("critical recovery rate", "$q_c$")),
+    Query("fewest_sensors", _fewest_sensors, True,
+          (r"the fewest sensors whose filter is mean-square stable under the member's losses, with one such set "
+           r"(exact: every smaller set ruled out, \texttt{symkf.design})",
+           "the fewest sensors whose filter is mean-square stable under the member's losses, with one such set "
+           "(exact: every smaller set ruled out, symkf.design)"),
+          Column("fewest sensors", "fewest sensors")),
+    Query("critical_loss_rate_per_sensor", _loss_per_sensor, True,
+          (r"exact critical i.i.d.\ loss probability $\varepsilon_c(s)$ of each sensor $s$, the others' fixed at "
+           r"the member's (stable iff $\varepsilon_s < \varepsilon_c(s)$)",
+           "exact critical i.i.d. loss probability eps_c(s) of each sensor s, the others' fixed at the member's "
+           "(stable iff eps_s < eps_c(s))"),
+          Column("eps_c", r"$\varepsilon_c$")),
+    Query("critical_recovery_rate_per_sensor", _recovery_per_sensor, True,
+          (r"exact critical recovery probability $q_c(s)$ of each sensor's Gilbert--Elliott channel, the fail "
+           r"probabilities and the other channels' recovery fixed at the member's (stable iff $q_s > q_c(s)$)",
+           "exact critical recovery probability q_c(s) of each sensor's Gilbert-Elliott channel, the fail "
+           "probabilities and the other channels' recovery fixed at the member's (stable iff q_s > q_c(s))"),
+          Column("q_c", "$q_c$")),
+)}
+
+
+def register_query(q: Query) -> None:
+    """Add ``q`` to :data:`QUERIES` (a layer above this one defines it; its name must be in
+    :data:`COMPUTE`, which files are checked against)."""
+    if q.name not in COMPUTE:
+        raise InputError(f"q: query {q.name!r} is not one of COMPUTE")
+    QUERIES[q.name] = q
+
+
+def query(name: str) -> Query:
+    """The query ``name`` of :data:`QUERIES`; ``"bounds"`` is registered by :mod:`symkf.bounds`
+    (imported by ``symkf.tables`` and the command line)."""
+    if name not in QUERIES:
+        raise InputError(f"compute: {name!r} is not available: import symkf.bounds first (the published bounds "
+                         "register their query there; `import symkf; symkf.tables` does)"
+                         if name == "bounds" else f"compute: {name!r} is not one of {', '.join(COMPUTE)}")
+    return QUERIES[name]
 
 
 def _cost(member: Member | BuiltMember) -> int:
@@ -217,7 +392,7 @@ def load_family(path: str | Path) -> Family:
     Returns
     -------
     Family
-        Its name, description, ``compute`` (``"critical_loss_rate"`` or ``"stability"``),
+        Its name, description, ``compute`` (a name of :data:`COMPUTE`, or a tuple of them),
         grid ``axes`` and ``members`` (row-major over the axes); ``Family.evaluate`` evaluates
         them all (:func:`symkf.run.sweep.sweep`).
 
@@ -258,7 +433,7 @@ def load_family(path: str | Path) -> Family:
     if not isinstance(rationalize, bool):
         raise _fail(path, "key 'rationalize' must be true or false")
     kind = _choice(fam.get("kind", "template"), KINDS, path, "[family] kind")
-    compute = _choice(fam.get("compute", "critical_loss_rate"), COMPUTE, path, "[family] compute")
+    compute = _compute(fam.get("compute", "critical_loss_rate"), path, "[family] compute")
     digits = fam.get("digits", 6)
     if isinstance(digits, bool) or not isinstance(digits, int) or not 1 <= digits <= 50:
         raise _fail(path, f"[family] digits must be an integer from 1 to 50, got {digits!r}")
@@ -299,7 +474,7 @@ def load_family(path: str | Path) -> Family:
 
 
 def grid_family(build: Callable[..., Any], grid: Mapping[str, Iterable[Any]], *, name: str = "family",
-                compute: str = "critical_loss_rate", description: str = "", digits: int = 6,
+                compute: str | Sequence[str] = "critical_loss_rate", description: str = "", digits: int = 6,
                 labels: Mapping[str, str] | None = None) -> Family:
     """A family from a builder: ``build(**point)`` (a System, or ``(System, loss)`` for
     ``compute = "stability"`` and verify) at every point of ``grid`` (one or two axes: rows,
@@ -315,7 +490,7 @@ def grid_family(build: Callable[..., Any], grid: Mapping[str, Iterable[Any]], *,
     >>> [row["cells"][0]["exact"] for row in table.to_json()["rows"]]
     ['1/16', '1/8']
     """
-    compute = _choice(compute, COMPUTE, Path(name), "compute")
+    compute = _compute(compute if isinstance(compute, str) else list(compute), Path(name), "compute")
     if not 1 <= len(grid) <= 2:
         raise InputError(f"grid: one or two parameters (rows, then columns), got {len(grid)}")
     axes = []
@@ -337,7 +512,7 @@ def grid_family(build: Callable[..., Any], grid: Mapping[str, Iterable[Any]], *,
     return Family(name, name, description, "template", compute, digits, tuple(axes), (), members)
 
 
-def systems_family(systems: Sequence[Any], *, name: str = "systems", compute: str = "critical_loss_rate",
+def systems_family(systems: Sequence[Any], *, name: str = "systems", compute: str | Sequence[str] = "critical_loss_rate",
                    description: str = "", digits: int = 6) -> Family:
     """A one-column family of the given systems (each a System, or ``(System, loss)``), one row
     each, labelled by the row number."""
@@ -360,6 +535,17 @@ def _choice(value: Any, allowed: Sequence[str], path: Path, key: str) -> str:
     if value not in allowed:
         raise _fail(path, f"{key} {value!r} is not one of {', '.join(map(repr, allowed))}")
     return value
+
+
+def _compute(value: Any, path: Path, key: str) -> str | tuple[str, ...]:
+    """``compute``: one name of :data:`COMPUTE`, or a non-empty list of distinct ones (a tuple)."""
+    if isinstance(value, str):
+        return _choice(value, COMPUTE, path, key)
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
+        raise _fail(path, f"{key} must be a query name or a non-empty list of them, got {value!r}")
+    if len(set(value)) != len(value):
+        raise _fail(path, f"{key}: queries repeat in {value!r}")
+    return tuple(_choice(v, COMPUTE, path, key) for v in value)
 
 
 def _text(table: dict, key: str, path: Path, default: str) -> str:
@@ -421,7 +607,7 @@ def _axis_values(key: str, vals: Any, path: Path, rationalize: bool) -> tuple[tu
     return values, texts
 
 
-def _template(data: dict, kind: str, compute: str, fixed: dict, grid: dict, path: Path) -> dict:
+def _template(data: dict, kind: str, compute: str | tuple[str, ...], fixed: dict, grid: dict, path: Path) -> dict:
     system = data.get("system", {})
     if not isinstance(system, dict):
         raise _fail(path, "[system] must be a table")
@@ -444,8 +630,9 @@ def _template(data: dict, kind: str, compute: str, fixed: dict, grid: dict, path
         raise _fail(path, "[[sensors]] must list at least one sensor table")
     if loss is not None and not isinstance(loss, dict):
         raise _fail(path, "[loss] must be a table")
-    if compute != "critical_loss_rate" and loss is None:
-        raise _fail(path, f"[loss]: compute = \"{compute}\" needs a loss model")
+    needing = [name for name in _names(compute) if name in QUERIES and QUERIES[name].needs_loss]
+    if needing and loss is None:
+        raise _fail(path, f"[loss]: compute = \"{needing[0]}\" needs a loss model")
     return {"system": system, "sensors": sensors, "loss": loss}
 
 

@@ -139,6 +139,10 @@ class GilbertElliott(LossModel):
     def channel_fail(self) -> tuple[sp.Expr, ...]:
         return self.fail
 
+    @property
+    def channel_recover(self) -> tuple[sp.Expr, ...]:
+        return self.recover
+
     def words(self) -> str:
         return (f"Gilbert-Elliott channels, fail {', '.join(map(str, self.fail))}, "
                 f"recover {', '.join(map(str, self.recover))}")

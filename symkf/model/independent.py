@@ -93,6 +93,11 @@ class Independent(LossModel):
         fails = [p.channel_fail for p in self.parts]
         return None if None in fails else tuple(f for part in fails for f in part)
 
+    @property
+    def channel_recover(self) -> tuple[sp.Expr, ...] | None:
+        recovers = [p.channel_recover for p in self.parts]
+        return None if None in recovers else tuple(r for part in recovers for r in part)
+
     def _first_failure(self) -> tuple[LossModel, str] | None:
         for i, (start, part) in enumerate(zip(self._offsets(), self.parts)):
             why = part.positivity_failure()

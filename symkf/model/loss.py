@@ -305,6 +305,12 @@ class LossModel:
         return None
 
     @property
+    def channel_recover(self) -> tuple[sp.Expr, ...] | None:
+        """Per-sensor ``P(received | lost last)`` of the same channels (what a per-sensor
+        :func:`symkf.engine.recovery.critical_recovery_rate` holds fixed for the other sensors); else None."""
+        return None
+
+    @property
     def assumption(self) -> str:
         """What :func:`symkf.engine.stability.stability` checked of this loss process (its verdict says it)."""
         return "Markov with positive transitions (Assumption 2)"

@@ -7,8 +7,10 @@
 minimal polynomial where no radical form exists) with a decimal read off a
 certified isolating interval.
 
-* :func:`family_table` -- critical loss rates or verdicts over a parameter family
-  (a TOML family file, see :mod:`symkf.io.families`), evaluated with :func:`symkf.run.sweep.sweep`;
+* :func:`family_table` -- the queries of a parameter family (a TOML family file or one built in
+  memory, see :mod:`symkf.io.families`): critical loss and recovery rates, common or per sensor,
+  verdicts, margins, the fewest stable sensors, the published bounds, evaluated with
+  :func:`symkf.run.sweep.sweep`;
 * :func:`verdict_table` -- the stability verdicts of system files with a ``[loss]``
   (by default the papers' examples, ``symkf/io/examples/systems/``).
 
@@ -33,7 +35,7 @@ from ..io import examples
 from .. import output
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
-from ..io.families import Family, Inapplicable, Member, Outcome, load_family
+from ..io.families import Column, Family, Inapplicable, Member, Outcome, load_family
 from ..design.selection import Selection
 from ..engine.stability import Verdict
 from ..run.sweep import sweep
@@ -91,6 +93,8 @@ class Cell:
                    _stack(exact_text, f"${relation} {decimal}$"), rf"{exact_math} {relation} {decimal}", data)
 
 
+#: a family table with more query columns than this, and fewer members, has its members as columns
+MAX_COLUMNS = 6
 #: longer exact forms are shown as a starred decimal (the exact form stays in the JSON)
 MAX_EXACT_LATEX = 60
 
@@ -179,10 +183,12 @@ class Table:
 
 # -- families -------------------------------------------------------------------------------
 
-def _value_cell(outcome: Outcome, member: Member, digits: int) -> Cell:
+def _value_cell(value: Any, member: Member, periods: Sequence[int], digits: int) -> Cell:
     """A family cell; its JSON data also records the grid point and the periods the engine used."""
-    value = outcome.value
-    where = {"point": {k: str(v) for k, v in member.point}, "class_periods": list(outcome.periods)}
+    where = {"point": {k: str(v) for k, v in member.point}, "class_periods": list(periods)}
+    if isinstance(value, Cell):   # rendered by the layer that computed it (the published bounds)
+        return Cell(value.plain, value.latex, value.math,
+                    {**where, **(value.data if isinstance(value.data, dict) else {"value": value.data})})
     if isinstance(value, Inapplicable):
         return Cell("---", "---", r"\text{---}", {**where, "inapplicable": value.reason})
     if isinstance(value, Verdict):
@@ -211,7 +217,9 @@ def _periods_summary(outcomes: Sequence[Outcome]) -> str:
 
 def family_table(path: str | Path | Family, *, jobs: int = 1, scheduler: Any = None,
                  progress: bool | None = None) -> Table:
-    """The table of a family file: rows the first grid axis, columns the second (if any).
+    """The table of a family file: rows the first grid axis, columns the second (if any); or, for
+    a list of queries (or one with a column per sensor or per published result), one row per
+    member and one column per query's column (:func:`family_table_of`).
 
     ``jobs`` local processes or a Dask ``scheduler`` evaluate the members (:func:`symkf.run.sweep.sweep`).
 
@@ -270,33 +278,41 @@ def family_table(path: str | Path | Family, *, jobs: int = 1, scheduler: Any = N
 
 
 def family_table_of(family: Family, outcomes: Sequence[Outcome]) -> Table:
-    """Arrange already evaluated ``outcomes`` (row-major, as ``family.members``) into a table."""
+    """Arrange already evaluated ``outcomes`` (row-major, as ``family.members``) into a table:
+    rows the first axis and columns the second for one single-column query, else one row per
+    member and one column per query's column (:attr:`symkf.io.families.Family.by_columns`)."""
     rows_axis = family.axes[0]
     cols_axis = family.axes[1] if len(family.axes) > 1 else None
-    ncols = len(cols_axis.values) if cols_axis else 1
-    cells = [_value_cell(o, m, family.digits) for o, m in zip(outcomes, family.members)]
-    rows = tuple((_axis_cell(v, t), tuple(cells[i * ncols:(i + 1) * ncols]))
-                 for i, (v, t) in enumerate(zip(rows_axis.values, rows_axis.texts)))
-    what_latex, what_text = {
-        "critical_loss_rate": (r"Exact critical i.i.d.\ loss probability $\varepsilon_c$ common to all sensors "
-                               r"(mean-square stable iff $\varepsilon < \varepsilon_c$)",
-                               "Exact critical i.i.d. loss probability eps_c common to all sensors "
-                               "(mean-square stable iff eps < eps_c)"),
-        "stability": (r"Mean-square stability verdicts and limiting margins $\alpha_i^2\rho_i$ "
-                      "(stable iff every margin is below 1)",
-                      "Mean-square stability verdicts and limiting margins alpha_i^2 rho_i "
-                      "(stable iff every margin is below 1)"),
-        "critical_recovery_rate": (r"Exact critical recovery probability $q_c$ common to all Gilbert--Elliott "
-                                   r"channels, their fail probabilities fixed (mean-square stable iff $q > q_c$)",
-                                   "Exact critical recovery probability q_c common to all Gilbert-Elliott channels, "
-                                   "their fail probabilities fixed (mean-square stable iff q > q_c)"),
-        "fewest_sensors": (r"The fewest sensors whose filter is mean-square stable under the member's losses, "
-                           r"with one such set (exact: every smaller set ruled out, 	exttt{symkf.design})",
-                           "The fewest sensors whose filter is mean-square stable under the member's losses, "
-                           "with one such set (exact: every smaller set ruled out, symkf.design)")}[family.compute]
+    queries = family.queries
+    if family.by_columns:
+        stub, columns, rows, notes = _member_rows(family, outcomes)
+        spanner: Cell | None = None
+        layout = "members as rows"
+        if len(columns) > MAX_COLUMNS and len(rows) < len(columns):   # too wide for a page: members as columns
+            spanner = stub
+            stub, columns, rows = Cell("", "", ""), tuple(label for label, _ in rows), tuple(
+                (head, tuple(cells[j] for _, cells in rows)) for j, head in enumerate(columns))
+            layout = "members as columns"
+    else:
+        ncols = len(cols_axis.values) if cols_axis else 1
+        cells = [_value_cell(o.value, m, o.periods, family.digits) for o, m in zip(outcomes, family.members)]
+        rows = tuple((_axis_cell(v, t), tuple(cells[i * ncols:(i + 1) * ncols]))
+                     for i, (v, t) in enumerate(zip(rows_axis.values, rows_axis.texts)))
+        if cols_axis:
+            columns = tuple(_axis_cell(v, t) for v, t in zip(cols_axis.values, cols_axis.texts))
+            spanner = Cell(_plain_label(cols_axis.label), cols_axis.label, _math_label(cols_axis.label))
+        else:
+            columns = (Cell.text(queries[0].heading.plain),)
+            spanner = None
+        notes, layout = (), "grid"
+        stub = Cell(_plain_label(rows_axis.label), rows_axis.label, _math_label(rows_axis.label))
+    what_latex = "; ".join(q.caption[0] for q in queries)
+    what_text = "; ".join(q.caption[1] for q in queries)
+    what_latex, what_text = what_latex[0].upper() + what_latex[1:], what_text[0].upper() + what_text[1:]
     constants = "; ".join(f"{k} = {v}" for k, v in family.constants)
     periods = _periods_summary(outcomes)
-    missing = sorted({c.data["inapplicable"] for c in cells if isinstance(c.data, dict) and "inapplicable" in c.data})
+    missing = sorted({c.data["inapplicable"] for _, cells in rows for c in cells
+                      if isinstance(c.data, dict) and "inapplicable" in c.data})
     caption = (f"{what_latex} for the family \\texttt{{{escape(family.name)}}}"
                + (f": {family.description}" if family.description else "")
                + (f" (fixed: {escape(constants)})" if constants else "")
@@ -312,20 +328,57 @@ def family_table_of(family: Family, outcomes: Sequence[Outcome]) -> Table:
                     "form; rows C_j A^k grouped over each eigen-block's class period g, its governing period "
                     f"when the block is periodic); class periods occurring: {periods}."
                     + (" ---: assumptions fail (see JSON)." if missing else ""))
-    if cols_axis:
-        columns = tuple(_axis_cell(v, t) for v, t in zip(cols_axis.values, cols_axis.texts))
-        spanner: Cell | None = Cell(_plain_label(cols_axis.label), cols_axis.label, _math_label(cols_axis.label))
-    else:
-        columns = (Cell.text({"critical_loss_rate": "critical loss rate", "stability": "verdict",
-                              "critical_recovery_rate": "critical recovery rate",
-                              "fewest_sensors": "fewest sensors"}[family.compute]),)
-        spanner = None
-    stub = Cell(_plain_label(rows_axis.label), rows_axis.label, _math_label(rows_axis.label))
-    metadata = {"table": "family", "family": family.name, "file": family.path, "compute": family.compute,
+    metadata = {"table": "family", "family": family.name, "file": family.path,
+                "compute": family.compute if isinstance(family.compute, str) else list(family.compute),
                 "engine": "Sui-You-Fu Theorems 4/7 with eq. (36), hyperplane form, class periods",
-                "axes": [a.name for a in family.axes], "constants": dict(family.constants)}
+                "axes": [a.name for a in family.axes], "constants": dict(family.constants), "layout": layout}
     return Table(caption, caption_text, stub, columns, rows, spanner,
-                 f"tab:{re.sub(r'[^A-Za-z0-9:-]', '-', family.name)}", metadata)
+                 f"tab:{re.sub(r'[^A-Za-z0-9:-]', '-', family.name)}", metadata,
+                 r"\small" if len(columns) > 6 else "", notes)
+
+
+def _member_rows(family: Family, outcomes: Sequence[Outcome]) -> tuple[Cell, tuple[Cell, ...], tuple, tuple]:
+    """The stub, the columns (every member's, each after the one before it in the members that have it), one row per member
+    and the notes of a family whose queries are its columns; a column a member lacks (a sensor it
+    does not have) is left empty."""
+    order: list[Column] = []
+    for o in outcomes:   # a column new in this member goes after its predecessor there, or its query's others
+        at = 0
+        for c, _ in o.columns:
+            if c not in order:
+                kin = [i for i, d in enumerate(order) if d.latex == c.latex]
+                order.insert(max(at, kin[-1] + 1) if kin else at, c)
+            at = order.index(c) + 1
+    # a column whose theorem applies to no member (most published bounds on a given family) is
+    # named in a note under the table instead
+    useful = tuple(c for c in order if any(not isinstance(v, Inapplicable) for o in outcomes
+                                           for d, v in o.columns if d == c))
+    columns = useful or tuple(order)
+    dropped = [c.plain for c in order if c not in columns]
+    rows = []
+    for o, m in zip(outcomes, family.members):
+        values = dict(o.columns)
+        label = ", ".join(_text_of(a, m) for a in family.axes)
+        rows.append((Cell.formula(r",\ ".join(sp.latex(v) for _, v in m.point), label),
+                     tuple(_value_cell(values[c], m, o.periods, family.digits) if c in values else Cell("", "", "", None)
+                           for c in columns)))
+    labels = [a.label for a in family.axes]
+    stub = Cell(", ".join(map(_plain_label, labels)), ", ".join(labels), r",\ ".join(map(_math_label, labels)))
+    note = f"Left out, their assumptions failing for every member: {', '.join(dropped)}." if dropped else ""
+    return stub, tuple(_column_cell(c) for c in columns), tuple(rows), ((escape(note), note),) if note else ()
+
+
+def _text_of(axis: Any, member: Member) -> str:
+    """The text of ``member``'s value on ``axis``, as the family gives it."""
+    value = dict(member.point)[axis.name]
+    return axis.texts[axis.values.index(value)]
+
+
+def _column_cell(column: Column) -> Cell:
+    if column.sensor is None:
+        return Cell(column.plain, column.latex, _math_label(column.latex))
+    return Cell(column.plain, f"{column.latex} ({escape(column.sensor)})",
+                rf"{_math_label(column.latex)}\ (\text{{{escape(column.sensor)}}})")
 
 
 def _plain_label(label: str) -> str:

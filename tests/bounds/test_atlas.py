@@ -259,3 +259,28 @@ def test_an_atlas_reads_in_one_line():
     atlas = sk.bounds(S)
     assert repr(atlas).startswith("<Atlas system: eps stable in (0, 2**(2/3)/4); 14 results, ")
     assert "\n" not in repr(atlas) and len(repr(atlas)) < 120
+
+
+def test_published_bounds_as_family_columns_are_the_atlas_rows(tmp_path, capsys):
+    """compute = ["bounds"] on 2R(pi/2), C = [1 0] (by hand above: Sinopoli's 1/rho(A)^2 = 1/4, the
+    exact 1/16), through a family file on the command line and an in-memory family: each cell is
+    the atlas row's value, and the results that apply to no member are named under the table."""
+    from symkf.io.families import systems_family
+    S = system(ROT, [1, 0])
+    path = tmp_path / "bounds.toml"
+    path.write_text('[family]\ncompute = ["bounds", "critical_loss_rate"]\n[grid]\na = ["2"]\n'
+                    '[system]\nA = [["0", "-a"], ["a", "0"]]\n[[sensors]]\nC = [["1", "0"]]\n')
+    assert cli.main(["table", str(path), "--json"]) == 0
+    atlas = bounds(S)
+    in_memory = sk.tables.family_table(systems_family([S], compute=["bounds", "critical_loss_rate"]), progress=False)
+    for doc, member in ((json.loads(capsys.readouterr().out), "2"), (in_memory.to_json(), "1")):
+        # eleven columns for one member: too wide for a page, so the member is the column
+        assert doc["layout"] == "members as columns" and doc["columns"] == [member]
+        cells = {r["label"]: r["cells"][0] for r in doc["rows"]}
+        assert cells["sinopoli-lower"]["value"]["exact"] == "1/4" and cells["exact eps"]["critical"]["exact"] == "1/16"
+        assert cells["critical loss rate"]["exact"] == "1/16"
+        for r in atlas.rows:
+            if r.applies and r.value is not None:
+                assert cells[r.key]["value"]["exact"] == str(r.value.exact) and cells[r.key]["relation"] == r.relation
+            elif not r.applies:
+                assert r.key not in cells and r.key in doc["notes"][0]

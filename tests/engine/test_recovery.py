@@ -328,3 +328,14 @@ def test_a_gilbert_elliott_model_is_a_template_of_its_fail_probabilities():
     assert sk.critical_recovery_rate(S, ge) == sk.critical_recovery_rate(S, ["1/4", "1/4"])
     with pytest.raises(sk.SymkfError, match="not Gilbert-Elliott channels"):
         sk.critical_recovery_rate(S, sk.IID(["1/4", "1/4"]))
+
+
+def test_one_sensors_recovery_from_the_model_keeps_the_others_recovery():
+    """A Gilbert-Elliott model as ``fail`` with ``sensor``: the other channels keep the model's
+    recovery (ge-two-sensors with s2's recovery 1/2: q_c(s1) = 3/4, hand-derived in tests/test_cli.py)."""
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+    model = sk.GilbertElliott(["1/4", "1/4"], ["1/2", "1/2"])
+    assert sk.critical_recovery_rate(S, model, sensor="s1").exact == sp.Rational(3, 4)
+    assert sk.critical_recovery_rate(S, model, sensor="s2") == sk.critical_recovery_rate(
+        S, ["1/4", "1/4"], recover=["1/2", "1/2"], sensor="s2")
+    assert sk.IID(["1/4"]).channel_recover is None and model.channel_recover == (sp.Rational(1, 2),) * 2

@@ -1,8 +1,10 @@
 """Parameter families (symkf.io.families): built in memory from a function and a grid or from a list
-of systems, and refused when read if they have more members than the cap."""
+of systems, refused when read if they have more members than the cap, and every query as a column
+(each cell the direct API call on its member, and hand-derived values)."""
 
 from __future__ import annotations
 
+import re
 import time
 
 import pytest
@@ -10,7 +12,7 @@ import sympy as sp
 
 import symkf as sk
 from symkf.errors import BudgetError
-from symkf.io.families import grid_family, systems_family
+from symkf.io.families import evaluate, grid_family, systems_family
 
 QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1")])
 
@@ -76,3 +78,98 @@ def test_a_huge_range_is_refused_before_it_is_built(tmp_path):
     assert time.process_time() - start < 1
     with pytest.raises(BudgetError, match="the number of values of grid period is 100000000"):
         grid_family(lambda period: QUARTER_TURN, {"period": range(10 ** 8)})
+
+
+#: 2R(pi/2) watched along both axes: over a period of two steps a loss of both sensors once leaves
+#: one direction unseen, so the filter is stable iff 16 eps_1 eps_2 < 1 (i.i.d.), by hand
+CROSS = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[0, 1]], name="s2")])
+
+
+def _cells(outcome):
+    return {column.plain: value for column, value in outcome.columns}
+
+
+def test_per_sensor_critical_loss_rates_are_the_direct_calls_and_the_hand_values():
+    loss = sk.IID(["1/8", "1/2"])
+    (outcome,) = systems_family([(CROSS, loss)], compute="critical_loss_rate_per_sensor").evaluate(progress=False)
+    cells = _cells(outcome)
+    assert cells["eps_c(s1)"].exact == sp.Rational(1, 8) and cells["eps_c(s2)"].exact == sp.Rational(1, 2)
+    for name in ("s1", "s2"):
+        assert cells[f"eps_c({name})"] == sk.critical_loss_rate(CROSS, name, others=["1/8", "1/2"])
+    # one sensor: its own critical rate is the common one, 1/16 (16 eps < 1)
+    (alone,) = systems_family([(QUARTER_TURN, sk.IID(["1/10"]))],
+                              compute="critical_loss_rate_per_sensor").evaluate(progress=False)
+    assert _cells(alone)["eps_c(s1)"].exact == sp.Rational(1, 16)
+
+
+def test_per_sensor_critical_recovery_rates_are_the_direct_calls_and_the_hand_values():
+    """ge-two-sensors (C = [1, 0], [1, 1] on 2R(pi/2), fail 1/4): with s2's recovery 1/2, s2 lost
+    through a period contributes (1 - 1/2)^2 and s1, free at one phase, q/4 + (1 - q)^2, so
+    16 (1/4) (q/4 + (1 - q)^2) < 1, i.e. (4q - 3)(q - 1) < 0: q_c(s1) = 3/4."""
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+    loss = sk.GilbertElliott(["1/4", "1/4"], ["1/2", "1/2"])
+    (outcome,) = systems_family([(S, loss)], compute="critical_recovery_rate_per_sensor").evaluate(progress=False)
+    cells = _cells(outcome)
+    assert cells["q_c(s1)"].exact == sp.Rational(3, 4)
+    for name in ("s1", "s2"):
+        assert cells[f"q_c({name})"] == sk.critical_recovery_rate(S, ["1/4", "1/4"], recover=["1/2", "1/2"],
+                                                                  sensor=name)
+
+
+def test_stability_margin_column_is_the_verdicts_margin():
+    # one sensor, i.i.d. loss 1/25: 16 eps per period of two steps, margin sqrt(16/25) = 4/5 (by hand)
+    loss = sk.IID(["1/25"])
+    (outcome,) = systems_family([(QUARTER_TURN, loss)], compute="stability_margin").evaluate(progress=False)
+    assert outcome.value.exact == sp.Rational(4, 5) == sk.stability(QUARTER_TURN, loss).limiting_margin.exact
+
+
+def test_a_list_of_queries_gives_their_columns_in_order_on_an_in_memory_grid():
+    def crossed(e):
+        return CROSS, sk.IID([e, "1/2"])
+    family = grid_family(crossed, {"e": ["1/25", "1/8"]}, compute=["critical_loss_rate", "stability_margin",
+                                                                   "critical_loss_rate_per_sensor"])
+    first, second = family.evaluate(progress=False)
+    assert [c.plain for c, _ in first.columns] == ["critical loss rate", "margin", "eps_c(s1)", "eps_c(s2)"]
+    # common: 16 eps^2 < 1; margins sqrt(16 e / 2): 2 sqrt(2)/5 and 1; s1's critical loss 1/(16/2),
+    # s2's 1/(16 e) (at most 1)
+    assert [v.exact for _, v in first.columns] == [sp.Rational(1, 4), 2 * sp.sqrt(2) / 5, sp.Rational(1, 8), 1]
+    assert [v.exact for _, v in second.columns] == [sp.Rational(1, 4), 1, sp.Rational(1, 8), sp.Rational(1, 2)]
+    assert evaluate(family.members[0]) == first
+
+
+def test_a_query_whose_assumptions_fail_leaves_the_others_standing():
+    # fail = 0: the joint chain has a zero transition (Sui-You-Fu Assumption 2 fails), which the
+    # margin needs and the critical common i.i.d. loss rate does not
+    from symkf.io.families import Inapplicable
+    family = systems_family([(QUARTER_TURN, sk.GilbertElliott(["0"], ["1/2"]))],
+                            compute=["critical_loss_rate", "stability_margin"])
+    ((_, rate), (_, margin)), = [o.columns for o in family.evaluate(progress=False)]
+    assert rate.exact == sp.Rational(1, 16) and isinstance(margin, Inapplicable) and "Assumption 2" in margin.reason
+
+
+def test_a_query_without_its_loss_model_names_the_member_and_the_query():
+    family = systems_family([CROSS], compute="critical_loss_rate_per_sensor")
+    with pytest.raises(sk.SymkfError, match='member system = 1: compute = "critical_loss_rate_per_sensor" needs a loss'):
+        family.evaluate(progress=False)
+
+
+def test_a_query_on_the_wrong_loss_model_names_the_query():
+    family = systems_family([(CROSS, sk.IID(["1/8", "1/2"]))],
+                            compute=["critical_loss_rate", "critical_recovery_rate_per_sensor"])
+    with pytest.raises(sk.SymkfError, match='"critical_recovery_rate_per_sensor" needs Gilbert-Elliott channels'):
+        family.evaluate(progress=False)
+
+
+@pytest.mark.parametrize("compute, message", [
+    ('["stability", "stability"]', "queries repeat"),
+    ("[]", "a query name or a non-empty list"),
+    ('["margin"]', "'margin' is not one of"),
+    ('["critical_loss_rate", "stability_margin"]', 'compute = "stability_margin" needs a loss model'),
+])
+def test_bad_compute_lists_are_refused_naming_the_key(tmp_path, compute, message):
+    from symkf.io.families import load_family
+    path = tmp_path / "f.toml"
+    path.write_text(f'[family]\ncompute = {compute}\n[grid]\na = [2, 3]\n[system]\nA = [["a"]]\n'
+                    '[[sensors]]\nC = [["1"]]\n')
+    with pytest.raises(sk.SymkfError, match=re.escape(message)):
+        load_family(path)

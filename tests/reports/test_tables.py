@@ -1,4 +1,5 @@
-"""Family files, LaTeX tables of exact critical loss rates and verdicts, and their compilation."""
+"""Family files, LaTeX tables of exact critical loss rates, verdicts and a family's queries as columns,
+and their compilation."""
 
 import json
 import shutil
@@ -7,6 +8,8 @@ import sys
 
 import pytest
 import sympy as sp
+
+import symkf as sk
 
 from symkf.exact.numbers import sympify as exact
 from symkf import GilbertElliott, examples
@@ -169,7 +172,12 @@ def test_no_radical_form_uses_the_minimal_polynomial():
 def test_every_table_compiles_with_pdflatex(tmp_path, rotations, angle_alpha, ge_recovery, verdicts):
     if shutil.which("pdflatex") is None:
         pytest.skip("pdflatex is not installed")
-    for i, table in enumerate((rotations, angle_alpha, ge_recovery, verdicts, _no_radical_table())):
+    from symkf import bounds  # noqa: F401 -- registers the published bounds' query
+    from symkf.io.families import systems_family
+    quarter_turn = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
+    queries = (family_table(_write(tmp_path, PER_SENSOR), progress=False),   # members as rows
+               family_table(systems_family([quarter_turn], compute=["bounds"]), progress=False))   # as columns
+    for i, table in enumerate((rotations, angle_alpha, ge_recovery, verdicts, _no_radical_table(), *queries)):
         tex = tmp_path / f"t{i}.tex"
         tex.write_text("\\documentclass{article}\n\\usepackage{booktabs}\n\\begin{document}\n"
                        + table.to_latex() + "\\end{document}\n")
@@ -281,3 +289,40 @@ def test_sensor_copies_repeat_names_and_losses(tmp_path):
         "[[sensors]]", "[loss]\nkind = \"iid\"\nloss = [\"1/3\"]\n[[sensors]]\nname = \"s\"")
     system, loss = load_family(_write(tmp_path, text)).members[0].system()
     assert system.sensor_names == ("s_1", "s_2") and loss.loss == (sp.Rational(1, 3),) * 2
+
+
+PER_SENSOR = """
+[family]
+name = "per-sensor"
+compute = ["critical_loss_rate_per_sensor", "stability_margin"]
+[grid]
+eps = ["1/25", "1/8"]
+sensors = [1, 2]
+[system]
+A = [["0", "-2"], ["2", "0"]]
+[[sensors]]
+name = "s"
+C = [["1", "1"]]
+[loss]
+kind = "iid"
+loss = ["eps"]
+"""
+
+
+def test_a_compute_list_is_a_column_per_query_and_a_row_per_member(tmp_path):
+    """2R(pi/2) with d copies of C = [1, 1] at loss eps: C and C A are independent, so a period of
+    two steps blinds the filter when the d copies all lose at one phase: stable iff 16 eps^d < 1
+    (per sensor 16 eps_s eps^(d - 1) < 1), margin sqrt(16 eps^d) = 4 eps^(d/2), by hand."""
+    table = family_table(_write(tmp_path, PER_SENSOR), progress=False)
+    doc = table.to_json()
+    assert doc["columns"] == ["eps_c(s)", "eps_c(s_1)", "eps_c(s_2)", "margin"]
+    assert [r["label"] for r in doc["rows"]] == ["1/25, 1", "1/25, 2", "1/8, 1", "1/8, 2"]
+    cells = [[None if c is None else c["exact"] for c in r["cells"]] for r in doc["rows"]]  # None: no such sensor
+    sixteenth = sp.Rational(1, 16)
+    expected = [[sixteenth, None, None, sp.Rational(4, 5)],
+                [None, 1, 1, sp.Rational(4, 25)],
+                [sixteenth, None, None, sp.sqrt(2)],
+                [None, sp.Rational(1, 2), sp.Rational(1, 2), sp.Rational(1, 2)]]
+    assert [[None if c is None else exact(c) for c in row] for row in cells] == expected
+    assert table.columns[1].latex == r"$\varepsilon_c$ (s\_1)" and "stub" in doc and doc["stub"] == "eps, identical sensors d"
+    assert r"\max_i \alpha_i^2\rho_i" in table.to_latex()
