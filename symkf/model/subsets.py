@@ -89,6 +89,11 @@ class Selected(LossModel):
         fails = self.inner.channel_fail
         return None if fails is None else tuple(fails[j] for j in self.sensors)
 
+    @property
+    def channel_recover(self) -> tuple[sp.Expr, ...] | None:
+        recovers = self.inner.channel_recover
+        return None if recovers is None else tuple(recovers[j] for j in self.sensors)
+
     def positivity_failure(self) -> str | None:
         return self.inner.positivity_failure()
 

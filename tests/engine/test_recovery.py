@@ -338,4 +338,3 @@ def test_one_sensors_recovery_from_the_model_keeps_the_others_recovery():
     assert sk.critical_recovery_rate(S, model, sensor="s1").exact == sp.Rational(3, 4)
     assert sk.critical_recovery_rate(S, model, sensor="s2") == sk.critical_recovery_rate(
         S, ["1/4", "1/4"], recover=["1/2", "1/2"], sensor="s2")
-    assert sk.IID(["1/4"]).channel_recover is None and model.channel_recover == (sp.Rational(1, 2),) * 2

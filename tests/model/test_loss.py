@@ -391,6 +391,16 @@ def test_channel_fail_is_asked_of_the_model(name, capsys):
         assert key == "critical_recovery_rate" and value == sk.critical_recovery_rate(S, fail=["1/10", "1/3"])
 
 
+@pytest.mark.parametrize("name", MODELS)
+def test_channel_recover_is_asked_of_the_model(name):
+    """``critical --vary recovery=NAME`` holds the other channels' recovery at the model's:
+    Gilbert-Elliott channels give theirs, every other model None; parts and selections pass them on."""
+    assert MODELS[name]().channel_recover == ((R(1, 2), R(1, 5)) if name.startswith("gilbert") else None)
+    parts = Independent([GilbertElliott(["1/4"], ["1/3"]), GilbertElliott(["1/4", "1/5"], ["1/2", "2/3"])])
+    assert parts.channel_recover == (R(1, 3), R(1, 2), R(2, 3))
+    assert sk.Selected(parts, [0, 2]).channel_recover == (R(1, 3), R(2, 3))
+
+
 # -- independent parts: groups of sensors on channels of their own ---------------------------
 
 def _pair_of(ge: GilbertElliott) -> MarkovLoss:
