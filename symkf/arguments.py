@@ -24,6 +24,7 @@ checks guard the boundary, where outside data comes in, and cost nothing inside 
 
 from __future__ import annotations
 
+import cmath
 import collections.abc as abc
 import functools
 import inspect
@@ -99,12 +100,13 @@ def _test(hint: Any) -> tuple[Callable[[Any], bool], str] | None:
         return _iterable, "an iterable"
     if hint is bool:
         return (lambda v: isinstance(v, bool) or type(v).__name__ == "bool_"), "a bool"
-    # sympy's numbers (an Integer, oo from an estimate) count as numbers too
+    # sympy's numbers count as numbers too, but an int is an integer (a count or an index: no
+    # infinity), and no float or complex is nan (an infinite float is a bound some functions take)
     if hint is int:  # a bool is an int here: the function's own check names what it wants
-        return (lambda v: isinstance(v, numbers.Integral) or getattr(v, "is_Number", False) is True), "an int"
+        return (lambda v: isinstance(v, numbers.Integral) or getattr(v, "is_Integer", False) is True), "an int"
     if hint in (float, complex):
-        return (lambda v: isinstance(v, numbers.Real if hint is float else numbers.Complex)
-                and not isinstance(v, bool) or getattr(v, "is_Number", False) is True), f"a {hint.__name__}"
+        return (lambda v: (isinstance(v, numbers.Real if hint is float else numbers.Complex) and not isinstance(v, bool)
+                           or getattr(v, "is_Number", False) is True) and _number(v)), f"a {hint.__name__} (not nan)"
     if hint is str:
         return (lambda v: isinstance(v, str)), "a string"
     if issubclass(hint, os.PathLike):
@@ -120,6 +122,37 @@ def _test(hint: Any) -> tuple[Callable[[Any], bool], str] | None:
         root = [c for c in hint.__mro__ if c.__module__.split(".")[0] == "symkf"][-1]
         return (lambda v: isinstance(v, root)), f"a {root.__name__}"
     return (lambda v: isinstance(v, hint)), f"a {hint.__name__}"
+
+
+def _number(value: Any) -> bool:
+    """Not nan, nor sympy's complex infinity."""
+    if getattr(value, "is_Number", False) is True:   # sympy: nan and zoo are Numbers
+        return value.is_extended_real is True or value.is_finite is True
+    try:
+        return not cmath.isnan(complex(value))
+    except (TypeError, ValueError, OverflowError):   # an int too large for a complex is a number
+        return isinstance(value, numbers.Integral)
+
+
+#: how deep an argument's lists, tuples, sets and mappings may nest: symkf reads matrices of rows
+#: (two levels) and tables of them; far deeper input ends in a RecursionError inside a library
+MAX_NESTING = 32
+
+
+def _too_deep(value: Any) -> bool:
+    """Whether ``value`` nests containers more than :data:`MAX_NESTING` deep (iterative: the test
+    itself must not recurse; each container is looked at once)."""
+    stack, seen = [(value, 0)], set()
+    while stack:
+        item, depth = stack.pop()
+        if not isinstance(item, (list, tuple, set, frozenset, dict)) or id(item) in seen:
+            continue
+        if depth >= MAX_NESTING:
+            return True
+        seen.add(id(item))
+        children = item.values() if isinstance(item, dict) else item
+        stack.extend((child, depth + 1) for child in children if isinstance(child, (list, tuple, set, frozenset, dict)))
+    return False
 
 
 def _iterable(value: Any) -> bool:
@@ -175,6 +208,23 @@ def float_array(value: Any, entry: str) -> np.ndarray:
         return np.asarray(value, dtype=float)
     except (TypeError, ValueError, OverflowError):
         raise InputError(f"{entry}: expected real numbers (an array or rows), got {described(value)}") from None
+
+
+def index(value: Any, size: int, entry: str) -> int:
+    """``value`` as a position in ``range(size)`` (a sensor, a state, a block), or an
+    :class:`InputError` naming ``entry`` and the range (Python's negative positions are not taken:
+    a position from outside names one thing)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 0 <= value < size:
+        raise InputError(f"{entry}: expected a position 0..{size - 1}, got {described(value)}")
+    return int(value)
+
+
+def count(value: Any, entry: str, least: int = 0) -> int:
+    """``value`` as an integer count at least ``least`` (a horizon, a holding time), or an
+    :class:`InputError` naming ``entry``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < least:
+        raise InputError(f"{entry}: expected an integer >= {least}, got {described(value)}")
+    return int(value)
 
 
 def _shown(signature: inspect.Signature) -> str:
@@ -243,6 +293,9 @@ def guarded(fn: Callable, types: bool = True) -> Callable:
             bound = signature.bind(*args, **kwargs)
         except TypeError as e:   # Python's message ("missing a required argument: 'loss'") and the signature
             raise ArgumentError(f"{fn.__qualname__}{_shown(signature)}: {e}") from None
+        for name, value in bound.arguments.items():
+            if _too_deep(value):
+                raise InputError(f"{fn.__qualname__}: argument {name!r} nests lists more than {MAX_NESTING} deep")
         for position, name, test, words, default in tests:
             value = args[position] if 0 <= position < len(args) else kwargs.get(name, _ABSENT)
             if value is _ABSENT or value is default:

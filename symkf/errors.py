@@ -9,6 +9,7 @@ assumptions fail for the given system).
 from __future__ import annotations
 
 import importlib
+import reprlib
 from types import ModuleType
 
 
@@ -108,8 +109,9 @@ class ExtraNotInstalledError(SymkfError, ImportError):
 
 def require_extra(module: str, extra: str, needed_for: str) -> ModuleType:
     """Import and return ``module``, or raise :class:`ExtraNotInstalledError` naming the extra."""
-    if not all(isinstance(a, str) for a in (module, extra, needed_for)):
-        raise InputError(f"require_extra: module, extra and needed_for must be strings, got {module!r}, {extra!r}")
+    if not all(isinstance(a, str) and a for a in (module, extra, needed_for)):
+        raise InputError("require_extra: module, extra and needed_for must be non-empty strings, got "
+                         + ", ".join(reprlib.repr(a) for a in (module, extra, needed_for)))
     try:
         return importlib.import_module(module)
     except ImportError:

@@ -9,8 +9,9 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..arguments import check_public
-from .. import output
+from .. import budget, output
+from ..arguments import check_public, count
+from ..errors import InputError
 from ..model.iid import IID
 from ..model.system import Sensor, System
 from ..reproduction import reproduction
@@ -62,7 +63,12 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
     """
     from ..numeric.filters import predicted_covariances, sample_receptions
 
+    horizon, paths, seed = count(horizon, "horizon", 1), count(paths, "paths", 1), count(seed, "seed")
+    if not z > 0:
+        raise InputError(f"z: expected a positive number of standard errors, got {z!r}")
     system, loss = example1_system()
+    budget.check("max_memory", 8 * paths * horizon * system.n ** 2, "paths x horizon",
+                 "the bytes of the predicted covariances of every path and step")
     G = lower_bound_sequence(system, loss, horizon)
     V = MARE(system, loss).sequence(horizon)
     gamma = sample_receptions(loss, horizon, paths, np.random.default_rng(seed))   # per sensor

@@ -29,7 +29,7 @@ from ..errors import AssumptionError
 from ..exact.linalg import rank
 from ..model.loss import LossModel
 from ..model.system import System
-from .quantities import _require_iid, capacity_exceeds, spectral_radius
+from .quantities import _require_iid, capacity_exceeds, initial_matrix, sequence_horizon, spectral_radius
 
 
 def loss_product(loss: LossModel) -> sp.Expr:
@@ -47,6 +47,7 @@ def lower_bound_sequence(system: System, loss: LossModel, horizon: int, *, exact
 
     Exact sympy matrices when ``exact``, else float numpy arrays.
     """
+    horizon = sequence_horizon(horizon, system.n)
     c = loss_product(loss)
     if exact:
         A, Q, G = system.A, system.Q, sp.zeros(system.n, system.n)
@@ -111,11 +112,12 @@ def information_lower_bound_sequence(system: System, loss: LossModel, horizon: i
 
     ``F_1 = P_1^-`` defaults to the system's ``P0`` (the first prediction, as in :class:`MARE`).
     """
+    horizon = sequence_horizon(horizon, system.n)
     A = np.array(system.A.evalf(30), dtype=float)
     Q = np.array(system.Q.evalf(30), dtype=float)
     S = sum(float(1 - e) * np.array((s.C.T * s.R.inv() * s.C).evalf(30), dtype=float)
             for s, e in zip(system.sensors, _require_iid(loss)))
-    F = np.array(system.P0.evalf(30), dtype=float) if P1 is None else np.asarray(P1, float)
+    F = np.array(system.P0.evalf(30), dtype=float) if P1 is None else initial_matrix(P1, system.n, "P1")
     out = [F]
     for _ in range(horizon - 1):
         F = A @ np.linalg.solve(np.linalg.inv(F) + S, A.T) + Q

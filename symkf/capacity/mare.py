@@ -29,12 +29,12 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..arguments import check_public
-from ..errors import AssumptionError
+from ..arguments import check_public, count
+from ..errors import AssumptionError, InputError
 from ..model.iid import IID
 from ..model.loss import LossModel
 from ..model.system import System
-from .quantities import _require_iid
+from .quantities import _require_iid, initial_matrix, sequence_horizon
 
 
 def hadamard_weight(loss: LossModel, dims: list[int]) -> sp.ImmutableMatrix:
@@ -91,7 +91,9 @@ class MARE:
         ``P_1^-`` defaults to the system's ``P0``, the covariance of the first
         prediction (``P_{0|-1}`` in :mod:`symkf.numeric.filters`; Yang et al. index it 1).
         """
-        V = self.P1 if V1 is None else np.asarray(V1, dtype=float)
+        n = self.A.shape[0]
+        horizon = sequence_horizon(horizon, n)
+        V = self.P1 if V1 is None else initial_matrix(V1, n, "V1")
         out = [V]
         for _ in range(horizon - 1):
             V = self(V)
@@ -104,8 +106,10 @@ class MARE:
         Raises :class:`AssumptionError` when the iteration grows without bound
         (no positive definite fixed point: Theorem 4's condition fails).
         """
+        if not tol > 0:
+            raise InputError(f"tol: expected a positive tolerance, got {tol!r}")
         V = np.zeros_like(self.Q)
-        for _ in range(max_iter):
+        for _ in range(count(max_iter, "max_iter", 1)):
             nxt = self(V)
             if not np.all(np.isfinite(nxt)) or np.abs(nxt).max() > 1e14:
                 break

@@ -22,14 +22,32 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 import sympy as sp
 
-from ..arguments import check_public
+from .. import budget
+from ..arguments import check_public, count, float_array
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber, subset_product
 from ..exact.numbers import to_exact_matrix
 from ..model.loss import LossModel, checked
 from ..exact.spectral import eigenvalues, spectral_radius
+
+
+def sequence_horizon(horizon: int, n: int) -> int:
+    """``horizon`` checked as the length of a sequence of ``n x n`` bounds (``G_k``, ``V_k``,
+    ``F_k``): an integer >= 1 whose matrices fit ``max_memory``."""
+    horizon = count(horizon, "horizon", 1)
+    budget.check("max_memory", 8 * n * n * horizon, "horizon", f"the bytes of {horizon} matrices {n}x{n}")
+    return horizon
+
+
+def initial_matrix(value: Any, n: int, entry: str) -> np.ndarray:
+    """A sequence's first matrix given by the caller: finite, ``n x n``, as floats."""
+    M = float_array(value, entry)
+    if M.shape != (n, n) or not np.all(np.isfinite(M)):
+        raise InputError(f"{entry}: expected a finite {n}x{n} matrix, got shape {M.shape}")
+    return M
 
 
 def _require_iid(loss: Any) -> tuple[sp.Expr, ...]:

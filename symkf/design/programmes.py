@@ -116,6 +116,9 @@ def cheapest_point(costs: Sequence[Fraction], rows: Sequence[Sequence[int]], nee
     a minimiser and a lower bound of the optimum that holds exactly.  HiGHS's dual values ``y``,
     clipped at 0 and scaled until ``rows^T y <= costs`` holds in rationals, bound it by weak
     duality (``needs . y``); the fallback's exact simplex gives the optimum itself."""
+    if not costs or len(needs) != len(rows) or any(len(row) != len(costs) for row in rows):
+        raise InputError(f"rows: expected one row of {len(costs)} integers (one per cost) for each of the "
+                         f"{len(needs)} needs, and at least one cost")
     optimize = _scipy() if solver in ("auto", "highs") else None
     if solver == "highs" and optimize is None:
         raise InputError("solver: 'highs' needs SciPy (pip install 'symkf[design]'); 'python' needs nothing")

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, Iterable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 import sympy as sp
 
@@ -348,7 +348,7 @@ def stable_intervals(margins: Sequence[sp.Expr], t: sp.Symbol) -> tuple[tuple[Al
                       lambda v: all(_holds(sympify(m).subs(t, v)) for m in margins))
 
 
-def stable_set(candidates: Sequence[AlgebraicNumber], stable_at: Any
+def stable_set(candidates: Sequence[AlgebraicNumber], stable_at: Callable[[Any], bool]
                ) -> tuple[tuple[AlgebraicNumber, AlgebraicNumber], ...]:
     """``{t in (0, 1) : stable_at(t)}`` as disjoint open intervals, given every point where the
     verdict can change (``candidates``): each gap is classified at a rational point, and a

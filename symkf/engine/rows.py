@@ -33,6 +33,7 @@ import sympy as sp
 from .. import budget
 from . import flat_screen, hyperplane_screen
 from ..arguments import check_public
+from ..errors import InputError
 from ..exact.field import Elem, NumberField
 from ..exact.linalg import field_of, normal_of, nullspace_rows, rank_rows
 from ..exact.numbers import sympify
@@ -171,6 +172,7 @@ class BlockRows:
         floats): weights in proportion have the same maximisers, and the sets kept hold them all
         (a common loss rate's critical value and a verdict at equal rates screen once, not twice).
         """
+        weights = self.screen_weights(weights)
         top = max(weights, default=0.0)
         if floor is not None or not top > 0:
             return self._heaviest(weights, floor, strict)
@@ -379,9 +381,18 @@ class BlockRows:
         """The elements with a generator (the others lie in every hyperplane)."""
         return [e for e, gs in enumerate(self.generators) if gs]
 
+    def screen_weights(self, weights: Sequence[float]) -> list[float]:
+        """``weights`` checked as one finite float ``>= 0`` per element (the screens' ``-log loss``)."""
+        out = list(weights)
+        if len(out) != len(self.elements) or not all(isinstance(w, (int, float)) and not isinstance(w, bool)
+                                                     and 0 <= w < math.inf for w in out):
+            raise InputError(f"weights: expected {len(self.elements)} finite floats >= 0, one per element")
+        return [float(w) for w in out]
+
     def spanned(self, weights: Sequence[float], count: int = 9) -> list[frozenset[int]]:
         """The hyperplanes spanned by ``n - 1`` of the ``count`` heaviest generators (exact): a cheap
         guess of a heavy hyperplane (:meth:`on_hyperplanes`)."""
+        weights = self.screen_weights(weights)
         n, K = self.size, self.K
         weight: dict[str, float] = {}
         first: dict[str, tuple[Elem, ...]] = {}   # distinct generators by key, in order
@@ -403,6 +414,10 @@ class BlockRows:
         0`` (an element without generators lies on every hyperplane).  Screened mod p, vectorised: a
         dot product that vanishes over K vanishes mod p, so only the generators vanishing mod p are
         confirmed exactly."""
+        if any(len(v) != self.size for v in normals):
+            raise InputError(f"normals: each a vector of length {self.size} (the block's dimension)")
+        if not normals:
+            return []
         owner = [e for e, gs in enumerate(self.generators) for _ in gs]
         flat = [g for gs in self.generators for g in gs]
         if not flat:

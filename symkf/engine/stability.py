@@ -184,7 +184,7 @@ def _check_loss(system: System, loss: LossModel) -> list[str]:
            if not any(br.block.defective for br in brs) else
            "Jordan chains on |lambda| >= 1 (symkf's extension of Assumption 3, docs/sui.md)",
            "(A, C) observable" if system.observable else "(A, C) detectable (PBH on |lambda| >= 1)",
-           "loss process " + loss.assumption, _noise_assumption(system)]
+           _noise_assumption(system), "loss process " + loss.assumption]
     if loss.bernoulli is None and not all(br.block.is_periodic for br in brs):
         out.append("aperiodic block under Markov losses (symkf's extension of Theorem 9, docs/sui.md)")
     return out

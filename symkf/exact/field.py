@@ -452,6 +452,9 @@ class NumberField:
         return acc % self.modulus
 
     def vecmat(self, v: Sequence[Elem], M: Sequence[Sequence[Elem]]) -> list[Elem]:
+        """The row vector ``v M`` (``v`` of length ``len(M)``, ``M`` a non-empty matrix of this field)."""
+        if not M or len(v) != len(M) or any(len(row) != len(M[0]) for row in M):
+            raise InputError(f"vecmat: v of length {len(v)} and a matrix of {len(M)} rows of one length do not fit")
         return [self.dot(v, [row[j] for row in M]) for j in range(len(M[0]))]
 
 

@@ -171,8 +171,8 @@ def perron_float(M: Any) -> tuple[float, Any]:
     radius of a non-negative float64 matrix and a non-negative right Perron vector (``numpy.linalg.eig``)."""
     import numpy as np   # floats: the exact layer's only use of numpy
     M = float_array(M, "M")
-    if M.ndim != 2 or M.shape[0] != M.shape[1] or M.size == 0:
-        raise InputError(f"M: expected a non-empty square matrix, got shape {M.shape}")
+    if M.ndim != 2 or M.shape[0] != M.shape[1] or M.size == 0 or not np.all(np.isfinite(M)) or np.any(M < 0):
+        raise InputError(f"M: expected a non-empty square matrix of finite non-negative numbers, got shape {M.shape}")
     w, V = np.linalg.eig(M)
     i = int(np.argmax(w.real))
     return max(float(w[i].real), 0.0), np.abs(V[:, i].real)

@@ -28,12 +28,13 @@ i.i.d. arrivals in steady state solves Stein equations (:func:`expected_remote_c
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 from scipy.linalg import block_diag
 
-from ..arguments import check_public
+from .. import budget
+from ..arguments import check_public, count, index
 from ..errors import InputError
 from .local_filters import LocalFilters
 
@@ -95,6 +96,8 @@ class HoldingTimeCovariance:
 
     def block(self, i: int, j: int, ti: int, tj: int) -> np.ndarray:
         """``P^(ij)`` for holding times ``tau_i = ti``, ``tau_j = tj`` (corrected eq. 18; eq. 17 if i = j)."""
+        N = self.lf.model.N
+        i, j, ti, tj = index(i, N, "i"), index(j, N, "j"), _holding(ti, "ti"), _holding(tj, "tj")
         if ti < tj:
             return self.block(j, i, tj, ti).T
         key = (i, j, ti, tj)
@@ -106,15 +109,24 @@ class HoldingTimeCovariance:
         return self._blocks[key]
 
     def matrix(self, tau: Sequence[int]) -> np.ndarray:
-        N = self.lf.model.N
+        """The joint covariance ``[P^(ij)]`` for the holding times ``tau`` (eq. 18 blocks)."""
+        N, tau = self.lf.model.N, holding_times(self.lf, tau)
         return np.block([[self.block(i, j, tau[i], tau[j]) for j in range(N)] for i in range(N)])
 
 
-def _check_tau(lf: LocalFilters, tau: Sequence[int]) -> list[int]:
+def holding_times(lf: LocalFilters, tau: Sequence[int]) -> list[int]:
+    """``tau`` checked as one holding time per sensor (eq. 10), each within the cap on exponents."""
     tau = list(tau)
-    if len(tau) != lf.model.N or any(not isinstance(t, (int, np.integer)) or t < 0 for t in tau):
-        raise InputError(f"tau: expected {lf.model.N} non-negative integer holding times (eq. 10), got {tau}")
-    return [int(t) for t in tau]
+    if len(tau) != lf.model.N:
+        raise InputError(f"tau: expected {lf.model.N} non-negative integer holding times (eq. 10), got {len(tau)}")
+    return [_holding(t, f"tau[{i}]") for i, t in enumerate(tau)]
+
+
+def _holding(t: Any, entry: str) -> int:
+    """A holding time (eq. 10): an integer from 0 to the cap on exponents (its powers of A are computed)."""
+    t = count(t, entry)
+    budget.check("max_exponent", t, entry, "the holding time (the power of A it takes)")
+    return t
 
 
 def _by_propagation(lf: LocalFilters, tau: list[int]) -> np.ndarray:
@@ -142,7 +154,7 @@ def remote_error_covariance(lf: LocalFilters, tau: Sequence[int], method: str = 
     ``method="closed-form"`` uses the block formula, ``"propagation"`` the
     joint covariance recursion; they agree to rounding.
     """
-    tau = _check_tau(lf, tau)
+    tau = holding_times(lf, tau)
     if method == "closed-form":
         return (cache or HoldingTimeCovariance(lf)).matrix(tau)
     if method == "propagation":

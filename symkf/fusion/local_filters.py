@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import block_diag, solve_discrete_are, solve_discrete_lyapunov
 
-from ..arguments import check_public
+from ..arguments import check_public, index
 from ..errors import AssumptionError
 from .decomposition import LocalModel
 from .model import FusionModel
@@ -69,7 +69,8 @@ class LocalFilters:
 
     def block(self, i: int, j: int) -> np.ndarray:
         """``Gamma_ij`` (``Pbar_i`` when ``i == j``)."""
-        o = self.offsets
+        N = len(self.filters)
+        i, j, o = index(i, N, "i"), index(j, N, "j"), self.offsets
         return self.Pi[o[i]:o[i + 1], o[j]:o[j + 1]]
 
 

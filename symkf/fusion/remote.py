@@ -22,7 +22,7 @@ from scipy.linalg import solve_discrete_are
 
 from ..arguments import check_public
 from ..errors import InputError
-from .covariance import HoldingTimeCovariance
+from .covariance import HoldingTimeCovariance, holding_times
 from .local_filters import LocalFilters
 from .weights import optimal_weights
 from ..numeric.receptions import draw
@@ -41,6 +41,7 @@ class RemoteFusion:
 
     def weights(self, tau: tuple[int, ...]) -> tuple[np.ndarray, float]:
         """``(U, tr P*)``: reduced weights (sum n_i,o x n) and the optimal trace of eq. (19)."""
+        tau = tuple(holding_times(self.cov.lf, tau))
         if tau not in self._cache:
             P = self.cov.matrix(tau)
             U = optimal_weights(P, self.H, "closed-form")

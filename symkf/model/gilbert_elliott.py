@@ -10,7 +10,7 @@ import sympy as sp
 
 from ..errors import InputError
 from ..exact.algebraic import sign
-from ..arguments import check_public
+from ..arguments import check_public, index
 from ..exact.numbers import rationalization, substitution, sympify
 from .loss import (Factor, LossChain, LossModel, check_joint_size, exact_strings, is_scalar, probabilities,
                    two_state_factor)
@@ -89,6 +89,7 @@ class GilbertElliott(LossModel):
 
     def sensor_matrix(self, i: int) -> sp.ImmutableMatrix:
         """Transition matrix of sensor ``i`` on states (received, lost)."""
+        i = index(i, self.d, "i")
         f, r = self.fail[i], self.recover[i]
         return sp.ImmutableMatrix([[1 - f, f], [r, 1 - r]])
 

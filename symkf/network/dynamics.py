@@ -8,12 +8,14 @@ algebraic numbers: ``||M||^2`` is the largest eigenvalue of ``M^T M``.
 
 from __future__ import annotations
 
+import numbers
 from fractions import Fraction
 from typing import Any, Sequence
 
 import sympy as sp
 
-from ..arguments import check_public
+from .. import budget
+from ..arguments import check_public, described
 from ..errors import InputError, ShapeError
 from ..exact.algebraic import AlgebraicNumber, real_from_ball, sign
 from ..exact.numbers import as_matrix, to_exact_matrix
@@ -57,6 +59,9 @@ class PeriodicDynamics:
 
     def Phi(self, l: int, k: int) -> sp.ImmutableMatrix:
         """``Phi(l, k) = A(l-1) A(l-2) ... A(k)``, ``Phi(k, k) = I``."""
+        if not isinstance(l, numbers.Integral) or not isinstance(k, numbers.Integral) or l < k:
+            raise InputError(f"Phi(l, k): expected integers l >= k, got {described(l)} and {described(k)}")
+        budget.check("max_exponent", l - k, "l - k", "the number of factors A(t) of Phi(l, k)")
         out = sp.eye(self.n)
         for t in range(k, l):
             out = self.A_at(t) * out

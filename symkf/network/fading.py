@@ -21,12 +21,13 @@ points ``lower <= phi <= upper``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import Any, Callable, Sequence
 
 import mpmath
 import sympy as sp
 
-from ..arguments import check_public
+from ..arguments import check_public, described
 from ..errors import InputError
 from ..exact.numbers import to_exact
 
@@ -36,7 +37,7 @@ _DIGITS = 20
 
 
 def _positive(value: Any, entry: str, zero: bool = False) -> mpmath.mpf:
-    if isinstance(value, bool) or not isinstance(value, (int, float, str, sp.Basic, mpmath.mpf)):
+    if isinstance(value, bool) or not isinstance(value, (int, float, Fraction, str, sp.Basic, mpmath.mpf)):
         raise InputError(f"{entry}: expected a positive number, got {value!r}")
     with mpmath.workdps(_DPS):
         v = mpmath.mpf(value) if isinstance(value, float) else mpmath.mpf(
@@ -46,21 +47,41 @@ def _positive(value: Any, entry: str, zero: bool = False) -> mpmath.mpf:
     return v
 
 
-class GainDistribution:
-    """Law of a power gain ``h >= 0``: ``pdf(h)`` and a rigorous upper bound ``tail(H) >= Pr{h > H}``."""
+def _gain(h: Any, entry: str) -> mpmath.mpf:
+    """A power gain: a finite real number ``>= 0`` as an mpmath number at the working precision."""
+    try:
+        with mpmath.workdps(_DPS):
+            v = h if isinstance(h, mpmath.mpf) else mpmath.mpf(h) if isinstance(h, (int, float)) and \
+                not isinstance(h, bool) else _positive(h, entry, zero=True)
+    except (TypeError, ValueError):
+        v = None
+    if v is None or not mpmath.isfinite(v) or v < 0:
+        raise InputError(f"{entry}: expected a finite power gain >= 0, got {described(h)}")
+    return v
 
-    def pdf(self, h: mpmath.mpf) -> mpmath.mpf:  # pragma: no cover - abstract
+
+class GainDistribution:
+    """Law of a power gain ``h >= 0``: ``pdf(h)`` and a rigorous upper bound ``tail(H) >= Pr{h > H}``
+    (each law gives ``_density`` and ``_beyond``; the gain is checked here)."""
+
+    def pdf(self, h: mpmath.mpf) -> mpmath.mpf:
         """Probability density of the power gain at ``h``."""
+        return self._density(_gain(h, "h"))
+
+    def tail(self, H: mpmath.mpf) -> mpmath.mpf:
+        """A rigorous upper bound on ``Pr{h > H}``."""
+        return self._beyond(_gain(H, "H"))
+
+    def _density(self, h: mpmath.mpf) -> mpmath.mpf:  # pragma: no cover - abstract
         raise NotImplementedError
 
-    def tail(self, H: mpmath.mpf) -> mpmath.mpf:  # pragma: no cover - abstract
-        """A rigorous upper bound on ``Pr{h > H}``."""
+    def _beyond(self, H: mpmath.mpf) -> mpmath.mpf:  # pragma: no cover - abstract
         raise NotImplementedError
 
     def cutoff(self) -> mpmath.mpf:
         """A truncation point ``H`` with ``tail(H) <= 1e-25``."""
         H = mpmath.mpf(1)
-        while self.tail(H) > _TAIL:
+        while self._beyond(H) > _TAIL:
             H *= 2
         return H
 
@@ -71,10 +92,10 @@ class Rayleigh(GainDistribution):
     def __init__(self, mean: Any):
         self.mean = _positive(mean, "Rayleigh mean")
 
-    def pdf(self, h: mpmath.mpf) -> mpmath.mpf:
+    def _density(self, h: mpmath.mpf) -> mpmath.mpf:
         return mpmath.exp(-h / self.mean) / self.mean
 
-    def tail(self, H: mpmath.mpf) -> mpmath.mpf:
+    def _beyond(self, H: mpmath.mpf) -> mpmath.mpf:
         return mpmath.exp(-H / self.mean)
 
     def __repr__(self) -> str:
@@ -90,11 +111,11 @@ class Nakagami(GainDistribution):
             raise InputError(f"Nakagami m = {m}: the shape parameter must be at least 1/2")
         self.omega = _positive(omega, "Nakagami omega")
 
-    def pdf(self, h: mpmath.mpf) -> mpmath.mpf:
+    def _density(self, h: mpmath.mpf) -> mpmath.mpf:
         m, w = self.m, self.omega
         return (m / w) ** m * h ** (m - 1) * mpmath.exp(-m * h / w) / mpmath.gamma(m)
 
-    def tail(self, H: mpmath.mpf) -> mpmath.mpf:
+    def _beyond(self, H: mpmath.mpf) -> mpmath.mpf:
         return mpmath.gammainc(self.m, self.m * H / self.omega, mpmath.inf, regularized=True)
 
     def __repr__(self) -> str:
@@ -108,12 +129,12 @@ class Rician(GainDistribution):
         self.K = _positive(K, "Rician K", zero=True)
         self.mean = _positive(mean, "Rician mean")
 
-    def pdf(self, h: mpmath.mpf) -> mpmath.mpf:
+    def _density(self, h: mpmath.mpf) -> mpmath.mpf:
         K, w = self.K, self.mean
         return ((K + 1) / w * mpmath.exp(-K - (K + 1) * h / w)
                 * mpmath.besseli(0, 2 * mpmath.sqrt(K * (K + 1) * h / w)))
 
-    def tail(self, H: mpmath.mpf) -> mpmath.mpf:
+    def _beyond(self, H: mpmath.mpf) -> mpmath.mpf:
         # Chernoff: Pr{h > H} <= E[e^{th}] e^{-tH}, with the moment generating
         # function (1+K)/(1+K-tw) exp(K t w/(1+K-tw)) at t = (1+K)/(2w).
         K, w = self.K, self.mean
@@ -132,11 +153,23 @@ class UserGain(GainDistribution):
             raise InputError("UserGain: pdf and tail must be callables h -> mpmath number")
         self._pdf, self._tail = pdf, tail
 
-    def pdf(self, h: mpmath.mpf) -> mpmath.mpf:
-        return mpmath.mpf(self._pdf(h))
+    def _density(self, h: mpmath.mpf) -> mpmath.mpf:
+        return _returned(self._pdf, h, "pdf")
 
-    def tail(self, H: mpmath.mpf) -> mpmath.mpf:
-        return mpmath.mpf(self._tail(H))
+    def _beyond(self, H: mpmath.mpf) -> mpmath.mpf:
+        return _returned(self._tail, H, "tail")
+
+
+def _returned(fn: Callable[[Any], Any], h: mpmath.mpf, name: str) -> mpmath.mpf:
+    """The user's ``fn(h)`` as a real mpmath number, or an :class:`InputError` naming what it returned."""
+    value = fn(h)
+    try:
+        out = mpmath.mpf(value)
+    except (TypeError, ValueError):
+        out = None
+    if out is None or mpmath.isnan(out):
+        raise InputError(f"UserGain {name}({mpmath.nstr(h, 8)}) returned {described(value)}, not a real number")
+    return out
 
 
 def _rational(x: mpmath.mpf, direction: str) -> sp.Rational:
@@ -180,13 +213,13 @@ def success_probability(gain: GainDistribution, f: Callable[[Any, Any], Any],
     b = eta if callable(eta) else (lambda h, c=eta: c)
     with mpmath.workdps(_DPS):
         H = gain.cutoff()
-        tail = gain.tail(H)
+        tail = gain._beyond(H)
 
         def integrand(h):
             s = mpmath.mpf(f(h * mpmath.mpf(u(h)), b(h)))
             if not 0 <= s <= 1:
                 raise InputError(f"f returned {s} at gain {h}: a success probability must lie in [0, 1]")
-            return (1 - (1 - s) ** attempts) * gain.pdf(h)
+            return (1 - (1 - s) ** attempts) * gain._density(h)
 
         cuts = sorted({mpmath.mpf(0), H, *(mpmath.mpf(p) for p in breakpoints if 0 < p < H)})
         value, err = mpmath.quad(integrand, cuts, error=True, maxdegree=8)

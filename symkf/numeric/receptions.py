@@ -15,11 +15,14 @@ from typing import Sequence
 import numpy as np
 
 from ..arguments import check_public
+from ..errors import InputError
 from ..model.loss import LossFactor, LossModel, checked
 
 
 def cumulative(P: np.ndarray) -> np.ndarray:
     """Cumulative laws along the last axis, the last entry ``inf`` (inverse-CDF draws never overrun)."""
+    if P.ndim < 1 or P.shape[-1] == 0 or not np.all(np.isfinite(P)) or np.any(P < 0):
+        raise InputError(f"P: expected laws of finite probabilities along a non-empty last axis, got shape {P.shape}")
     cum = np.cumsum(P, axis=-1)
     cum[..., -1] = np.inf
     return cum

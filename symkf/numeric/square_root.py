@@ -57,6 +57,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import math
+import numbers
 import re
 from pathlib import Path
 
@@ -64,6 +65,7 @@ import numpy as np
 from numba import cfunc, types
 from numba.extending import intrinsic
 
+from .. import budget
 from ..arguments import check_public
 from ..errors import ShapeError
 from ..run.progress import compiling
@@ -90,6 +92,8 @@ BUFFER_STEPS = 64
 BUFFER_PATH_STEPS = 2 ** 14
 def lanes(n: int) -> int:
     """Paths per block of the kernel for ``n`` states."""
+    if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
+        raise ShapeError(f"n: expected a positive number of states, got {n!r}")
     if n <= TINY_MAX:
         return TINY_LANES
     if n <= SMALL_MAX:
@@ -149,6 +153,7 @@ def warm(n: int, *, enabled: bool | None = None) -> None:
     saying so on stderr when that takes more than a second (:func:`symkf.run.progress.compiling`)."""
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise ShapeError(f"n: expected a positive number of states, got {n!r}")
+    budget.check("max_memory", 8 * 4 * n * n, "n", f"the bytes of the {n}-state kernel's matrices")
     A, S0 = np.eye(n), np.eye(n)
     H, row_sensor = np.ones((1, n)), np.zeros(1, dtype=np.int64)
     received = np.ones((1, 1, 1), dtype=bool)
