@@ -40,6 +40,7 @@ from .linalg import field_of, rank, rank_rows
 from .. import budget
 from ..errors import InputError, ShapeError
 from .numbers import to_exact_matrix
+from .text import approximate, number_text, poly_text
 
 x, y, z = sp.symbols("x y z")
 
@@ -193,11 +194,10 @@ class Eigenvalue:
 
     @property
     def label(self) -> str:
-        """The exact form when it is short, else the root's approximate value and minimal polynomial."""
-        if self.minpoly.degree() <= 2 or self.minpoly.is_cyclotomic():
-            return str(self.expr)
-        v = complex(self.ball(64).real.mid(), self.ball(64).imag.mid())
-        return f"[root {v:.6g} of {fmpz_to_sympy(self.minpoly).as_expr()}]"
+        """The eigenvalue for people: its closed form when short (``-3√2/5 + 3√2/5 i``), else its
+        approximate value and monic minimal polynomial (``root ≈ 1.26 of x^3 - 2``)."""
+        return (number_text(self.expr)
+                or f"root ≈ {approximate(self.ball(64))} of {poly_text(self.minpoly)}")
 
     @cached_property
     def modulus(self) -> AlgebraicNumber:
@@ -406,8 +406,24 @@ class EigenBlock:
         return self.governing_period is not None
 
     def __repr__(self) -> str:
-        return (f"EigenBlock(modulus={self.modulus}, eigenvalues={[e.label for e in self.members]}, "
-                f"tau={self.tau}, governing_period={self.governing_period})")
+        """``EigenBlock(modulus 6/5; eigenvalues 1/2 + √3/2 i, 1 (×2); τ = 6, governing period 3)``:
+        each distinct eigenvalue once with its algebraic multiplicity (and its eigenvectors when
+        fewer), the first :data:`SHOWN_EIGENVALUES` of them."""
+        def one(e: Eigenvalue) -> str:
+            times = "" if e.multiplicity == 1 else f" (×{e.multiplicity}" + (
+                f", {e.geometric} eigenvector{'s' if e.geometric != 1 else ''})" if e.defective else ")")
+            return e.label + times
+        shown = [one(e) for e in self.members[:SHOWN_EIGENVALUES]]
+        if len(self.members) > SHOWN_EIGENVALUES:
+            shown.append(f"and {len(self.members) - SHOWN_EIGENVALUES} more (.eigenvalues)")
+        modulus = number_text(self.modulus.exact) or f"≈ {self.modulus.evalf(6)}"
+        periods = (f"τ = {self.tau}" if self.tau is not None else "aperiodic (no τ)") + ", governing period " + (
+            str(self.governing_period) if self.governing_period is not None else "none")
+        return f"EigenBlock(modulus {modulus}; eigenvalues {', '.join(shown)}; {periods})"
+
+
+#: distinct eigenvalues an EigenBlock's repr lists
+SHOWN_EIGENVALUES = 6
 
 
 # -- eigenvalues ------------------------------------------------------------------

@@ -77,7 +77,29 @@ def test_eigen_block_tau_and_governing_period() -> None:
     # A = 2 R(pi/2): eigenvalues +-2i, lambda/|lambda| = i has order 4 (tau = 4); A^2 = -4 I (g = 2)
     [block] = eigen_blocks(sk.System([[0, -2], [2, 0]], [sk.Sensor([[1, 0]])]).A)
     assert (block.tau, block.period, block.governing_period) == (4, 4, 2)
-    assert "tau=4, governing_period=2" in repr(block)
+    assert repr(block) == "EigenBlock(modulus 2; eigenvalues 2i, -2i; τ = 4, governing period 2)"
+
+
+def test_eigen_block_repr_shows_radicals_and_multiplicities() -> None:
+    # x^4 + 1296/625: the roots (6/5) e^(i pi (2k+1)/4) = (3 sqrt(2)/5)(+-1 +- i), modulus 6/5;
+    # beside it eigenvalue 1 of algebraic multiplicity 2, shown once with (×2)
+    c = sp.Rational(-1296, 625)
+    A = sp.diag(sp.Matrix([[0, 0, 0, c], [1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]), sp.eye(2))
+    rotations, ones = eigen_blocks(A)
+    assert repr(rotations) == ("EigenBlock(modulus 6/5; eigenvalues -3√2/5 + 3√2/5 i, -3√2/5 - 3√2/5 i, "
+                               "3√2/5 + 3√2/5 i, 3√2/5 - 3√2/5 i; τ = 8, governing period 4)")
+    assert ones.eigenvalues == (1, 1)
+    assert repr(ones) == "EigenBlock(modulus 1; eigenvalues 1 (×2); τ = 1, governing period 1)"
+    # a Jordan block: multiplicity 2, one eigenvector
+    assert "1 (×2, 1 eigenvector)" in repr(eigen_blocks([[1, 1], [0, 1]])[0])
+
+
+def test_eigen_block_repr_names_a_root_without_short_radical_by_value_and_polynomial() -> None:
+    # x^3 - x - 1 (the plastic number 1.3247...): Cardano's form is long, so value and polynomial
+    real, pair = eigen_blocks([[0, 0, 1], [1, 0, 1], [0, 1, 0]])
+    assert repr(real) == "EigenBlock(modulus ≈ 1.32472; eigenvalues root ≈ 1.325 of x^3 - x - 1; τ = 1, governing period 1)"
+    assert "root ≈ -0.6624+0.5623i of x^3 - x - 1" in repr(pair) and "aperiodic" in repr(pair)
+    assert "**" not in repr(pair) and "[" not in repr(pair)
 
 
 def test_tiny_entry_in_a_rotation_block():
