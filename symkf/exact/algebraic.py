@@ -482,8 +482,10 @@ class AlgebraicNumber:
     * ``hash`` agrees with ``==``: a rational hashes as the equal Fraction, int and (when it is
       one) float.  (sympy's own Rational hashes differently from the equal Fraction, so no
       hash can agree with both.)
-    * ``format(a, ".4f")`` and ``round(a, n)`` are correctly rounded (round half to even),
-      ``round`` giving an int or a Fraction as for Fraction; ``math.floor``/``ceil``/``trunc``.
+    * ``format(a, ".4f")`` and ``round(a, n)`` are correctly rounded (round half to even), decided
+      exactly: ``round(a)`` is an int and ``round(a, n)`` a :class:`decimal.Decimal` with exactly
+      ``n`` decimal places (``Decimal("1.4142")`` for ``sqrt(2)``, ``n = 4``), exact and printed as
+      a paper's table prints it; ``math.floor``/``ceil``/``trunc``.
 
     Parameters
     ----------
@@ -888,13 +890,20 @@ class AlgebraicNumber:
     def __int__(self) -> int:
         return self.__trunc__()
 
-    def __round__(self, ndigits: int | None = None) -> int | Fraction:
-        """Round half to even, as :class:`fractions.Fraction`: an int, or a Fraction with ``ndigits``."""
-        if self.is_rational:
-            return round(self._value(), ndigits)
+    def __round__(self, ndigits: int | None = None) -> int | Decimal:
+        """The nearest integer (``round(a)``, an int) or the nearest multiple of ``10^-ndigits``
+        (``round(a, n)``, a :class:`decimal.Decimal` with exactly ``n`` decimal places:
+        ``round(sqrt(2), 4) == Decimal("1.4142")``), ties to even as Python's ``round``.  Decided
+        exactly: a rational by its value (``round(1/16, 3)`` is ``0.062``), an irrational, which is
+        never a tie, by isolating intervals narrowed until ``floor(10^n a + 1/2)`` is certain;
+        never from a float.  The Decimal is built from that integer, so no context precision
+        rounds it again."""
         scale = Fraction(10) ** (ndigits or 0)
-        n = self._floor(scale, Fraction(1, 2))  # irrational: never a tie
-        return n if ndigits is None else Fraction(n) / scale
+        if self.is_rational:
+            n = round(self._value() * scale)
+        else:
+            n = self._floor(scale, Fraction(1, 2))  # irrational: never a tie
+        return n if ndigits is None else Decimal(f"{n}E{-ndigits}")
 
     def __format__(self, spec: str) -> str:
         """Correctly rounded decimal formatting (``e f g %`` and ``n`` types, width, sign, ...) as

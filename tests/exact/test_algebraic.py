@@ -12,6 +12,7 @@ import math
 import pickle
 import sys
 import time
+from decimal import Decimal
 from fractions import Fraction
 
 import numpy as np
@@ -120,9 +121,27 @@ def test_format_is_correctly_rounded(r: AlgebraicNumber) -> None:
 
 
 def test_round_and_floor(r: AlgebraicNumber) -> None:
-    assert round(r, 3) == Fraction(62, 1000) and isinstance(round(r, 3), Fraction)  # half to even
+    # 1/16 = 0.0625, a tie at 3 places: half to even gives 0.062
+    assert round(r, 3) == Decimal("0.062") and str(round(r, 3)) == "0.062"
     assert round(r) == 0 and isinstance(round(r), int)
-    assert round(SQRT2, 4) == Fraction(14142, 10000) and round(SQRT2) == 1
+    assert round(SQRT2) == 1 and isinstance(round(SQRT2), int)
+    assert (math.floor(SQRT2), math.ceil(SQRT2), math.trunc(-SQRT2), int(-SQRT2)) == (1, 2, -1, -1)
+    assert round(AlgebraicNumber.from_expr(R(5, 2))) == 2 and round(AlgebraicNumber.from_expr(R(7, 2))) == 4
+
+
+def test_round_to_places_is_an_exact_decimal_with_that_many_places(r: AlgebraicNumber) -> None:
+    # sqrt(2) = 1.41421356237309504880168872420969807856967187537694...
+    assert isinstance(round(SQRT2, 4), Decimal) and str(round(SQRT2, 4)) == "1.4142"
+    assert str(round(-SQRT2, 2)) == "-1.41" and str(round(r, 6)) == "0.062500"
+    # 40 places, past Decimal's default 28-digit context: still exact
+    assert str(round(SQRT2, 40)) == "1.4142135623730950488016887242096980785697"
+    # 3/20 = 0.15 exactly: half to even gives 0.2 (the float 0.15 = 0.1499999... would give 0.1)
+    assert str(round(AlgebraicNumber.from_expr(R(3, 20)), 1)) == "0.2"
+    # 0.00005 + sqrt(2) 10^-30, irrational and just above a tie at 4 places: rounds up
+    near_tie = AlgebraicNumber.from_expr(R(5, 10 ** 5) + sp.sqrt(2) / 10 ** 30)
+    assert str(round(near_tie, 4)) == "0.0001"
+    assert str(round(AlgebraicNumber.from_expr(R(5, 10 ** 5)), 4)) == "0.0000"  # the exact tie: to even
+    assert round(AlgebraicNumber.from_expr(R(1234)), -2) == 1200
     assert (math.floor(SQRT2), math.ceil(SQRT2), math.trunc(-SQRT2), int(-SQRT2)) == (1, 2, -1, -1)
     assert round(AlgebraicNumber.from_expr(R(5, 2))) == 2 and round(AlgebraicNumber.from_expr(R(7, 2))) == 4
 
