@@ -132,7 +132,7 @@ def main() -> None:
     rows = []
     for i, (system, kind, off, loss) in enumerate(cases):
         t = time.process_time()
-        rep = verify(system, loss, seed=1000 + 3 * i, paths=args.paths, horizon=args.horizon).to_json()
+        rep = verify(system, loss, seed=1000 + 3 * i, paths=args.paths, horizon=args.horizon).to_dict()
         sim = rep["simulation"]
         m = float(max(float(x["decimal"]) for x in rep["theory"]["margins"]))
         interval = sim["rate_interval"]

@@ -12,7 +12,6 @@ import argparse
 import contextlib
 import importlib
 import json
-import math
 import os
 import re
 import signal
@@ -115,8 +114,8 @@ def _blocks_json(A: Any) -> list[dict[str, Any]]:
 def loss_json(loss: "LossModel") -> dict[str, Any]:
     """A loss model as a JSON object: ``kind`` (as in a system file's ``[loss]`` table) and its
     parameters as exact strings; a Markov or network model also gives its lifted chain
-    (:meth:`symkf.model.loss.LossModel.to_json`)."""
-    return loss.to_json()
+    (:meth:`symkf.model.loss.LossModel.to_dict`)."""
+    return loss.to_dict()
 
 
 def cmd_demo(args: argparse.Namespace) -> dict[str, Any]:
@@ -183,15 +182,7 @@ def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
     if loss is not None:
         v = stability(system, loss)
         res["loss"] = loss_json(loss)
-        res["verdict"] = {"stable": v.stable, "theorem": v.theorem,
-                          "margins": [_number(m, 12) for m in v.margins], "limiting_block": v.limiting_block,
-                          "assumptions": list(v.assumptions),
-                          "certificate": [{"modulus": str(c.modulus), "class_period": c.class_period,
-                                           "decisive_received": [list(e) for e in c.decisive_elements],
-                                           # written as text with --json only (json's default=str): a
-                                           # class period of 3465 makes it 6000 digits, which the text
-                                           # verdict points to instead
-                                           "alpha^(2g) rho^g": c.margin_power} for c in v.certificate]}
+        res["verdict"] = v.to_dict()
         res["_text"] = f"{v}\n  loss model: {loss.words()}"
     return res
 
@@ -276,12 +267,12 @@ def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
     if is_family_file(args.file):
         family = verify_family(args.file, jobs=args.jobs, scheduler=args.scheduler, seed=args.seed,
                                paths=args.paths, horizon=args.horizon)
-        return {"family": str(args.file), "members": family.to_json(), "_text": str(family),
+        return {"family": str(args.file), "members": family.to_dict()["members"], "_text": str(family),
                 "_status": 1 if family.counts()["contradiction"] else 0}
     system, loss = _needs_loss(args)
     result = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon, jobs=args.jobs)
     # exit status 1 (and "outcome": "contradiction") when simulation contradicts the theory
-    return {"system": str(args.file), "loss": loss_json(loss), **result.to_json(),
+    return {"system": str(args.file), "loss": loss_json(loss), **result.to_dict(),
             "_text": f"{result}\nloss model: {loss.words()}", "_status": 1 if result.outcome == "contradiction" else 0}
 
 
@@ -314,7 +305,7 @@ def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
                                                records="json" if args.json else "text"), "--paths x --horizon",
                  f"the bytes (estimate) of a simulation of {args.paths} paths over {args.horizon} steps")
     sim = simulate(system, loss, args.horizon, args.paths, seed=args.seed, curve=target is not None)
-    res: dict[str, Any] = {"system": str(args.file), "loss": loss_json(loss), **sim.to_json(),
+    res: dict[str, Any] = {"system": str(args.file), "loss": loss_json(loss), **sim.to_dict(),
                            "_text": f"{sim}\nloss model: {loss.words()}"}
     if target is not None:
         from .reports.plots import simulation_figure
@@ -431,7 +422,7 @@ def cmd_table(args: argparse.Namespace) -> dict[str, Any]:
     from .reports import tables
     target = None if args.latex is None else output.plan(args.latex, "--latex", inputs=[args.file], force=args.force)
     table = tables.family_table(args.file, jobs=args.jobs, scheduler=args.scheduler)
-    res: dict[str, Any] = {"family": str(args.file), **table.to_json(), "_text": str(table)}
+    res: dict[str, Any] = {"family": str(args.file), **table.to_dict(), "_text": str(table)}
     if target is not None:
         res["latex"] = str(target.put_text(table.to_latex()))
     return res
@@ -456,7 +447,7 @@ def cmd_bounds(args: argparse.Namespace) -> dict[str, Any]:
     target = None if args.latex is None else output.plan(args.latex, "--latex", inputs=[args.file], force=args.force)
     system, loss = files.load(args.file)
     atlas = bounds(system, loss, lmi_steps=args.lmi_steps)
-    res: dict[str, Any] = {"file": str(args.file), **atlas.to_json(), "_text": str(atlas)}
+    res: dict[str, Any] = {"file": str(args.file), **atlas.to_dict(), "_text": str(atlas)}
     if target is not None:
         res["latex"] = str(target.put_text(atlas.to_latex()))
     return res
@@ -732,7 +723,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.json:
             doc = {"schema_version": SCHEMA_VERSION, **{k: v for k, v in res.items() if not k.startswith("_")}}
-            print(json.dumps(_finite(doc), indent=2, default=str, allow_nan=False))
+            print(output.json_text(doc))
         else:
             if source is not None:
                 print(source)
@@ -745,18 +736,6 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _internal(args, exc)
         return _too_many_digits(args)
     return res.get("_status", 0)
-
-
-def _finite(value: Any) -> Any:
-    """``value`` with every non-finite float as the string ``"Infinity"``, ``"-Infinity"`` or ``"NaN"``:
-    strict JSON has no such numbers (a diverging filter's traces overflow)."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return "NaN" if math.isnan(value) else ("Infinity" if value > 0 else "-Infinity")
-    if isinstance(value, dict):
-        return {k: _finite(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_finite(v) for v in value]
-    return value
 
 
 def _fail(args: argparse.Namespace, kind: str, message: str, status: int) -> int:

@@ -24,12 +24,17 @@ A *run* is the scope of one command (:func:`run`; the command line opens one per
 the files it reads (:func:`note_input`, called by the TOML reader) are its inputs, and a target
 that changed after it started is refused.  Outside a :func:`run` block, the process is one run
 whose start is each target's planning.
+
+Every public result and model object is also a JSON document: :class:`JsonDocument` gives it
+``to_dict()``, the strict JSON text (:func:`json_text`) of its ``to_dict()``.
 """
 
 from __future__ import annotations
 
 import contextlib
 import errno
+import json
+import math
 import os
 import secrets
 import stat
@@ -39,6 +44,38 @@ from pathlib import Path
 from typing import IO, Any, Callable, Iterable, Iterator
 
 from .errors import OutputError
+
+def finite(value: Any) -> Any:
+    """``value`` with every non-finite float as the string ``"Infinity"``, ``"-Infinity"`` or ``"NaN"``:
+    strict JSON has no such numbers (a diverging filter's traces overflow)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return "NaN" if math.isnan(value) else ("Infinity" if value > 0 else "-Infinity")
+    if isinstance(value, dict):
+        return {k: finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite(v) for v in value]
+    return value
+
+
+def json_text(value: Any, indent: int | None = 2) -> str:
+    """``value`` as strict JSON text: non-finite floats as strings (:func:`finite`), any other
+    non-JSON value (an exact sympy number) as its ``str``."""
+    return json.dumps(finite(value), indent=indent, default=str, allow_nan=False)
+
+
+class JsonDocument:
+    """A public object's JSON forms: ``to_dict()`` (the subclass's, a dict of JSON values) and
+    ``to_json(indent=2)``, its text."""
+
+    __slots__ = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        raise NotImplementedError
+
+    def to_json(self, indent: int | None = 2) -> str:
+        """The JSON text of :meth:`to_dict` (strict JSON: ``json.loads`` reads it back)."""
+        return json_text(self.to_dict(), indent)
+
 
 #: image formats matplotlib writes, by extension; any other extension is written as PNG
 IMAGE_FORMATS = ("png", "pdf", "svg", "svgz", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp", "pgf")

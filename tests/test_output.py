@@ -475,3 +475,57 @@ def test_two_runs_writing_the_same_new_table(tmp_path):
     assert err == (f"symkf table: --latex {out}: appeared while this run was computing (another run writing the "
                    "same file?); not replaced: pass --force (from Python: force=True) to replace it anyway, or choose another path\n")
     assert "fam" in out.read_text() and leftovers(tmp_path) == []
+
+
+def _symkf_classes() -> list[type]:
+    """Every class defined in an importable symkf module (modules needing a missing extra skipped)."""
+    import importlib
+    import inspect
+    import pkgutil
+
+    import symkf
+    from symkf.errors import SymkfError
+
+    found: dict[str, type] = {}
+    for info in pkgutil.walk_packages(symkf.__path__, "symkf."):
+        if info.name.endswith("__main__"):
+            continue
+        try:
+            module = importlib.import_module(info.name)
+        except (ImportError, SymkfError):
+            continue
+        for _, cls in inspect.getmembers(module, inspect.isclass):
+            if cls.__module__ == info.name:
+                found[f"{cls.__module__}.{cls.__qualname__}"] = cls
+    return list(found.values())
+
+
+def test_every_class_with_a_json_form_is_a_json_document():
+    """A class giving to_json or to_dict gives both, through output.JsonDocument: to_json is
+    never a subclass's own (where it returned a dict, or a list)."""
+    classes = [c for c in _symkf_classes() if hasattr(c, "to_json") or hasattr(c, "to_dict")]
+    assert len(classes) >= 15
+    for cls in classes:
+        assert issubclass(cls, output.JsonDocument), cls
+        assert cls.to_json is output.JsonDocument.to_json, cls
+
+
+def test_public_objects_give_a_dict_and_json_text():
+    import sympy as sp
+
+    import symkf as sk
+
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
+    loss = sk.IID(["1/10", "1/10"])
+    objects = [S, loss, sk.GilbertElliott(fail=["1/20", "1/20"], recover=["1/2", "1/2"]),
+               sk.critical_loss_rate(S), sk.stability(S, loss), sk.AlgebraicNumber.from_expr(sp.sqrt(2)),
+               sk.design.allocate_channels(S), sk.simulate(S, loss, horizon=5, paths=20, seed=1)]
+    for obj in objects:
+        d, text = obj.to_dict(), obj.to_json()
+        assert isinstance(d, dict) and isinstance(text, str), type(obj)
+        assert json.loads(text) == json.loads(output.json_text(d)), type(obj)
+    # one sensor: the critical rate 1/16 (|lambda| = 2, governing period 2, one row per period:
+    # alpha^4 eps = 16 eps = 1)
+    one = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
+    assert json.loads(sk.critical_loss_rate(one).to_json())["exact"] == "1/16"
+    assert json.loads(S.to_json(indent=None))["system"]["A"] == [["0", "-2"], ["2", "0"]]

@@ -15,6 +15,7 @@ from typing import Any, Callable
 
 import sympy as sp
 
+from ..output import JsonDocument
 from ..arguments import check_public
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
@@ -59,7 +60,7 @@ def quantity(system: System, loss: LossModel | None = None) -> tuple[Quantity, s
 
 
 @dataclass(frozen=True)
-class Atlas:
+class Atlas(JsonDocument):
     """The rows of :func:`bounds` on one system."""
 
     system: System
@@ -79,7 +80,7 @@ class Atlas:
         """Rows whose hypotheses hold and whose claim fails (findings)."""
         return tuple(r for r in self.rows if r.relation == VIOLATED)
 
-    def to_json(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, Any]:
         q = self.quantity
         out = {"system": self.system.name or "", "quantity": {"kind": q.kind, "parameter": q.symbol, "words": q.words,
                                                                "stable_set": _intervals_json(q.stable),

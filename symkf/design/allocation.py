@@ -15,7 +15,6 @@ exactly by the pure-Python fallback), bounds the true optimum from below: the ga
 from __future__ import annotations
 
 import itertools
-import json
 import math
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -24,6 +23,7 @@ from typing import Any, Callable, Sequence
 import flint
 import sympy as sp
 
+from ..output import JsonDocument
 from ..arguments import check_public
 from ..engine.region import simplest
 from ..engine.recovery import critical_recovery_rate
@@ -73,7 +73,7 @@ def _near(x: float) -> sp.Rational:
 
 
 @dataclass(frozen=True)
-class Allocation:
+class Allocation(JsonDocument):
     """The cheapest i.i.d. loss probabilities found, certified by the engine.
 
     ``losses`` (exact rationals, one per sensor) meet ``requirement`` (the engine's ``verdict``
@@ -122,9 +122,6 @@ class Allocation:
                 "cost": self.cost, "lower_bound": str(self.lower_bound), "gap": self.gap,
                 "margins": [str(m.exact) for m in self.verdict.margins], "rows": self.rows, "rounds": self.rounds,
                 "solver": self.solver}
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=2)
 
 
 def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2", solver: str = "auto",
@@ -223,7 +220,7 @@ def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2
 
 
 @dataclass(frozen=True)
-class RecoveryAllocation:
+class RecoveryAllocation(JsonDocument):
     """Per-sensor recovery probabilities of Gilbert-Elliott channels (``fail`` fixed), stable and
     no single channel cheaper (:func:`allocate_recovery`): for each sensor, ``critical[j]`` is the exact least recovery that
     keeps the filter stable with the others at ``recover`` (Sui-You-Fu Theorem 9 with eq. 36;
@@ -260,9 +257,6 @@ class RecoveryAllocation:
                 "critical": [str(c.exact) for c in self.critical], "weights": [str(w) for w in self.weights],
                 "cost": self.cost, "sweeps": self.sweeps, "method": self.method,
                 "margins": [str(m.exact) for m in self.verdict.margins]}
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=2)
 
 
 def allocate_recovery(system: System, fail: Sequence[Any], weights: Any = None, *, slack: Any = "1/1000",

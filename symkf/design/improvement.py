@@ -10,12 +10,12 @@ with eq. 36; :func:`symkf.engine.stability.critical_loss_rate` with ``ray``).  A
 """
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 import sympy as sp
 
+from ..output import JsonDocument
 from ..arguments import check_public
 from ..engine.blocks import block_rows
 from ..engine.search import outside_counts
@@ -50,7 +50,7 @@ class Upgrade:
 
 
 @dataclass(frozen=True)
-class Upgrades:
+class Upgrades(JsonDocument):
     """Every sensor's :class:`Upgrade`, the most valuable first (the largest critical rate with a
     tenth fewer of its losses, then the largest elasticity)."""
 
@@ -77,9 +77,6 @@ class Upgrades:
         return {"critical_rate": str(self.base.exact),
                 "upgrades": [{"sensor": u.sensor, "elasticity": str(u.elasticity), "improved": str(u.improved.exact),
                               "lossless": str(u.lossless.exact)} for u in self.ranked]}
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=2)
 
 
 def _along(system: System, sensor: str, t: sp.Expr) -> AlgebraicNumber:
@@ -155,7 +152,7 @@ class ActiveConstraint:
 
 
 @dataclass(frozen=True)
-class ActiveConstraints:
+class ActiveConstraints(JsonDocument):
     """The :class:`ActiveConstraint` of every deciding block, most binding first (a sequence)."""
 
     constraints: tuple[ActiveConstraint, ...]
@@ -176,9 +173,6 @@ class ActiveConstraints:
         return {"active": [{"block": c.block, "modulus": str(c.modulus), "period": c.period,
                             "margin": str(c.margin.exact), "outside": dict(c.outside), "words": c.words}
                            for c in self.constraints]}
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=2)
 
 
 def active_constraints(system: System, loss: LossModel) -> ActiveConstraints:

@@ -13,13 +13,13 @@ each exactly, and :meth:`SelectionCertificate.check` re-derives all of it.
 """
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any, Mapping, Sequence
 
 import sympy as sp
 
+from ..output import JsonDocument
 from ..arguments import check_public
 from ..engine.blocks import block_rows
 from ..engine.rates import exact_rate
@@ -121,7 +121,7 @@ class SelectionCertificate:
 
 
 @dataclass(frozen=True)
-class Selection:
+class Selection(JsonDocument):
     """The cheapest set of a system's sensors meeting a requirement, with its certificate.
 
     ``sensors`` (names) and ``indices`` of the chosen set, its exact ``cost``, the
@@ -175,9 +175,6 @@ class Selection:
                                 "hyperplane_constraints": sum(isinstance(c, HyperplaneCut) for c in self.certificate.cuts),
                                 "failing_sets": [[self.system.sensor_names[j] for j in c.failing]
                                                  for c in self.certificate.cuts if isinstance(c, SubsetCut)]}}
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=2)
 
     def check(self) -> bool:
         """Re-derive the answer: the chosen set passes the engine; every hyperplane constraint is a
@@ -298,7 +295,7 @@ class ParetoPoint:
 
 
 @dataclass(frozen=True)
-class ParetoFront:
+class ParetoFront(JsonDocument):
     """The sets trading cost against the critical common i.i.d. loss rate, cheapest first
     (each the cheapest set whose critical rate exceeds the previous point's)."""
 
@@ -325,9 +322,6 @@ class ParetoFront:
         return {"points": [{"sensors": list(p.sensors), "cost": str(p.cost), "critical_rate": str(p.critical_rate.exact),
                             "approx": float(p.critical_rate.evalf(15))} for p in self.points],
                 "decisions": self.decisions}
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=2)
 
 
 def pareto_front(system: System, *, costs: Any = None, solver: str = "auto") -> ParetoFront:

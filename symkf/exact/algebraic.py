@@ -33,6 +33,7 @@ from sympy.polys.polyerrors import NotAlgebraic
 from .. import budget
 from ..arguments import check_public, outside
 from ..errors import BudgetError, InputError
+from ..output import JsonDocument
 from .numbers import price_sympy, sympify, to_exact, to_rational
 
 x = sp.Symbol("x")
@@ -460,7 +461,7 @@ def _terminating_decimal(q: Fraction) -> Decimal | None:
 _SPEC = re.compile(r"(?P<head>.*?)(?:\.(?P<prec>\d+))?(?P<kind>[eEfFgGn%]?)", re.S)
 
 
-class AlgebraicNumber:
+class AlgebraicNumber(JsonDocument):
     """A real algebraic number: ``.exact``, ``.minpoly``, ``.interval``, ``.evalf(n)``, ``float()``.
 
     It behaves as a SymPy and a Python number:
@@ -920,6 +921,13 @@ class AlgebraicNumber:
             if lo == hi:
                 return lo
             self.refine((self._hi - self._lo) / 2 ** 16)
+
+    def to_dict(self, digits: int = 12) -> dict[str, Any]:
+        """The JSON form of ``symkf critical --json``: the exact closed form, ``digits`` decimals,
+        an isolating interval of width below ``10^-(digits + 2)`` and the minimal polynomial."""
+        lo, hi = self.refine(sp.Rational(1, 10 ** (digits + 2))).interval
+        return {"exact": str(self.exact), "decimal": str(self.evalf(digits)), "interval": [str(lo), str(hi)],
+                "minpoly": str(self.minpoly.as_expr())}
 
     def __repr__(self) -> str:
         return f"AlgebraicNumber({self}, ≈{self.evalf(12)})"

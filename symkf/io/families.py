@@ -487,7 +487,7 @@ def grid_family(build: Callable[..., Any], grid: Mapping[str, Iterable[Any]], *,
     ...     c, s = sp.cos(sp.pi / g), sp.sin(sp.pi / g)
     ...     return sk.System(A=[[2 * c, -2 * s], [2 * s, 2 * c]], sensors=[sk.Sensor(C=[[1, 0]])])
     >>> table = tables.family_table(grid_family(rotation, {"g": [2, 3]}), progress=False)
-    >>> [row["cells"][0]["exact"] for row in table.to_json()["rows"]]
+    >>> [row["cells"][0]["exact"] for row in table.to_dict()["rows"]]
     ['1/16', '1/8']
     """
     compute = _compute(compute if isinstance(compute, str) else list(compute), Path(name), "compute")

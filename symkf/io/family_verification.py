@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator, Sequence
 
+from ..output import JsonDocument
 from ..arguments import check_public
 from ..errors import AssumptionError, FileFormatError, NumericalBreakdownError, SymkfError
 from ..numeric.verify import BREAKDOWN, INAPPLICABLE, OUTCOMES, Verification, approximately, interval_text, verify
@@ -34,7 +35,7 @@ def is_family_file(path: str | Path) -> bool:
 
 
 @dataclass(frozen=True)
-class MemberVerification:
+class MemberVerification(JsonDocument):
     """One member of a verified family: its ``label``, ``index``, grid ``point`` (name, exact
     value) pairs, ``seed``, ``outcome`` and ``reason``; ``verification`` is None when the
     member is inapplicable or its simulation broke down."""
@@ -47,19 +48,19 @@ class MemberVerification:
     reason: str
     verification: Verification | None = None
 
-    def to_json(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, Any]:
         head = {"member": self.label, "index": self.index, "point": {k: str(v) for k, v in self.point},
                 "seed": self.seed}
         if self.verification is None:
             return {**head, "outcome": self.outcome, "reason": self.reason}
-        return {**head, **self.verification.to_json()}
+        return {**head, **self.verification.to_dict()}
 
 
 @dataclass(frozen=True, repr=False)
-class FamilyVerification(Sequence[MemberVerification]):
+class FamilyVerification(Sequence[MemberVerification], JsonDocument):
     """:func:`verify` over a family (:func:`verify_family`): a sequence of
     :class:`MemberVerification` in the family's order.  ``str()`` is the ``symkf verify`` table,
-    ``to_json()`` the members' ``--json`` documents."""
+    ``to_dict()`` the family's name and its members' ``--json`` documents."""
 
     name: str
     members: tuple[MemberVerification, ...]
@@ -77,11 +78,11 @@ class FamilyVerification(Sequence[MemberVerification]):
         """How many members have each outcome."""
         return {o: sum(m.outcome == o for m in self.members) for o in (*OUTCOMES, INAPPLICABLE, BREAKDOWN)}
 
-    def to_json(self) -> list[dict[str, Any]]:
-        return [m.to_json() for m in self.members]
+    def to_dict(self) -> dict[str, Any]:
+        return {"family": self.name, "members": [m.to_dict() for m in self.members]}
 
     def __str__(self) -> str:
-        return family_summary(self.to_json())
+        return family_summary(self.to_dict()["members"])
 
     def __repr__(self) -> str:
         counts = ", ".join(f"{n} {o}" for o, n in self.counts().items() if n)

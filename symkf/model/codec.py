@@ -101,8 +101,8 @@ def built(build: Callable[[], Any], where: str) -> Any:
 
 
 def read_loss(table: Mapping[str, Any], where: str, d: int, rationalize: bool | str = False) -> LossModel:
-    """The loss model of a ``[loss]`` table, or of its JSON object (:meth:`LossModel.to_json
-    <symkf.model.loss.LossModel.to_json>`: a lifted ``chain`` and the ``words`` of a report are
+    """The loss model of a ``[loss]`` table, or of its JSON object (:meth:`LossModel.to_dict
+    <symkf.model.loss.LossModel.to_dict>`: a lifted ``chain`` and the ``words`` of a report are
     derived, and ignored), for ``d`` sensors; ``where`` prefixes errors."""
     table = {k: v for k, v in table.items() if k not in ("chain", "words")}
     kinds = loss_kinds()
@@ -123,8 +123,8 @@ def read_loss(table: Mapping[str, Any], where: str, d: int, rationalize: bool | 
 
 
 def from_table(table: Mapping[str, Any], d: int, where: str = "loss") -> LossModel:
-    """The loss model of a ``[loss]`` table or its JSON object (:meth:`LossModel.to_json
-    <symkf.model.loss.LossModel.to_json>`) for ``d`` sensors: files and JSON share this codec."""
+    """The loss model of a ``[loss]`` table or its JSON object (:meth:`LossModel.to_dict
+    <symkf.model.loss.LossModel.to_dict>`) for ``d`` sensors: files and JSON share this codec."""
     if not isinstance(table, Mapping):
         raise FileFormatError(f"{where}: expected a table (mapping), got {type(table).__name__}")
     return read_loss(dict(table), where, d)

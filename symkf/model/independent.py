@@ -154,8 +154,8 @@ class Independent(LossModel):
     def to_table(self) -> dict[str, Any]:
         return {"kind": self.kind, "parts": [{"sensors": p.d, **p.to_table()} for p in self.parts]}
 
-    def to_json(self) -> dict[str, Any]:
-        return {"kind": self.kind, "parts": [{"sensors": p.d, **p.to_json()} for p in self.parts]}
+    def to_dict(self) -> dict[str, Any]:
+        return {"kind": self.kind, "parts": [{"sensors": p.d, **p.to_dict()} for p in self.parts]}
 
     def subs(self, values: Mapping[Any, Any]) -> "Independent":
         values = substitution(values, "subs", self.symbols)

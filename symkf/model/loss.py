@@ -27,6 +27,7 @@ import numpy as np  # float chains for simulation (LossModel.numeric)
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
+from ..output import JsonDocument
 from .. import budget
 from ..errors import AssumptionError, InputError, ProbabilityError, ShapeError
 from ..exact.algebraic import sign
@@ -212,7 +213,7 @@ def checked(loss: Any, system: Any = None, *, numbers: bool = False, positive: b
     return loss
 
 
-class LossModel:
+class LossModel(JsonDocument):
     """The loss-model interface: what a packet-loss process is, as data the rest of symkf reads.
 
     A new model is one class (docs/losses.md), in symkf or in an installed package that names it
@@ -225,7 +226,7 @@ class LossModel:
       :attr:`channel_fail` (independent two-state channels), from which the engine chooses its
       algorithms (:mod:`symkf.engine.rates`, :mod:`symkf.engine.region`);
     * :func:`checked` / :meth:`require_positive` / :meth:`require_bernoulli`: its check against a system;
-    * :attr:`kind`, :attr:`keys`, :meth:`read_table`, :meth:`to_table`, :meth:`to_json`: its file
+    * :attr:`kind`, :attr:`keys`, :meth:`read_table`, :meth:`to_table`, :meth:`to_dict` (:meth:`to_json` its text): its file
       and JSON form (read back by :func:`symkf.model.codec.from_table`);
     * :meth:`words`, :attr:`label`, :meth:`fields`, :attr:`assumption`: its words for reports,
       tables and figures.
@@ -363,7 +364,7 @@ class LossModel:
         """The ``[loss]`` table of a system file as TOML text (:meth:`to_table`)."""
         return "[loss]\n" + "".join(f"{k} = {_toml(v)}\n" for k, v in self.to_table().items())
 
-    def to_json(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, Any]:
         """The JSON object of the model: :meth:`to_table` (joint chains add their lifted chain)."""
         return self.to_table()
 

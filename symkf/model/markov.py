@@ -203,7 +203,7 @@ class MarkovLoss(LossModel):
             out["initial"] = [str(given.get(h, 0)) for h in histories]
         return out
 
-    def to_json(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, Any]:
         return self._with_chain(self.to_table())
 
     def subs(self, values: Mapping[Any, Any]) -> "MarkovLoss":

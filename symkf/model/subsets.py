@@ -124,8 +124,8 @@ class Selected(LossModel):
     def to_table(self) -> dict[str, Any]:
         return {"kind": self.kind, "sensors": list(self.sensors), "of": self.inner.d, "loss": self.inner.to_table()}
 
-    def to_json(self) -> dict[str, Any]:
-        return {"kind": self.kind, "sensors": list(self.sensors), "of": self.inner.d, "loss": self.inner.to_json()}
+    def to_dict(self) -> dict[str, Any]:
+        return {"kind": self.kind, "sensors": list(self.sensors), "of": self.inner.d, "loss": self.inner.to_dict()}
 
     def subs(self, values: Mapping[Any, Any]) -> "Selected":
         return Selected(self.inner.subs(values), self.sensors)

@@ -20,6 +20,7 @@ from .. import budget
 from ..errors import (InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, SymkfError,
                       UnobservableError)
 from ..exact.algebraic import sign
+from ..output import JsonDocument
 from ..exact.numbers import as_matrix, decimal_matrix, rationalization, sympify, to_exact_matrix
 
 if TYPE_CHECKING:
@@ -178,7 +179,7 @@ class Sensor:
 
 
 @dataclass(frozen=True)
-class System:
+class System(JsonDocument):
     """A linear system observed by ``d`` sensors over lossy channels.
 
     ``Q`` and ``P0`` default to the identity.  ``(A, C)`` with ``C`` the stack
@@ -439,6 +440,15 @@ class System:
         more = f", ... ({self.d} sensors)" if self.d > 8 else ""
         name = f"{self.name!r}, " if self.name else ""
         return f"System({name}n={self.n}, A={A}, sensors: {shown}{more})"
+
+    def to_dict(self) -> dict[str, Any]:
+        """The system file's tables (``[system]``, ``[[sensors]]``: docs/formats.md), entries as
+        exact strings that the file reader takes back, and the name when there is one."""
+        def rows(M: Any) -> list[list[str]]:
+            return [[str(v) for v in M.row(i)] for i in range(M.rows)]
+        out: dict[str, Any] = {"name": self.name} if self.name else {}
+        return {**out, "system": {"A": rows(self.A), "Q": rows(self.Q), "P0": rows(self.P0)},
+                "sensors": [{"name": s.name, "C": rows(s.C), "R": rows(s.R)} for s in self.sensors]}
 
     def _repr_latex_(self) -> str:
         """``A`` and the stacked ``C`` (Sui-You-Fu eq. 3) for a notebook."""

@@ -293,7 +293,7 @@ class NetworkLoss(LossModel):
         out["initial"] = [str(p) for p in self.state.initial]
         return out
 
-    def to_json(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, Any]:
         return self._with_chain(self.to_table())
 
     def __repr__(self) -> str:

@@ -123,7 +123,7 @@ def exact_mean_trace(system: System, loss: LossModel, horizon: int) -> np.ndarra
 # ------------------------------------------------------------------ Monte Carlo
 
 #: bytes per value of a per-step record of the command line (the step's mean, low and high; 32 more
-#: per step for the mean's float): ``Simulation.to_json``'s floats, tuples and lists, and with
+#: per step for the mean's float): ``Simulation.to_dict``'s floats, tuples and lists, and with
 #: ``--json`` also ``json.dumps(..., indent=2)``'s chunks and text.  Chosen so that ``32 + 3
 #: RECORD_BYTES`` per step covers the peak RSS measured above the simulation's own, all steps
 #: resolved, with the lists' and the text's growth at long horizons (docs/performance.md)

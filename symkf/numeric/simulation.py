@@ -7,7 +7,7 @@ the mean (``max(1, max_i alpha_i^2 rho_i)``, Sui-You-Fu Theorems 4 and 7) when t
 applies.  It says in words what the data cannot support: the steps whose mean plain Monte
 Carlo does not resolve (a diverging filter's mean sits on loss bursts too rare for the
 sample), and where and why the importance-sampled curve stops (float64,
-:func:`symkf.numeric.montecarlo.float_horizon`).  ``to_json()`` is the document of ``symkf simulate
+:func:`symkf.numeric.montecarlo.float_horizon`).  ``to_dict()`` is the document of ``symkf simulate
 --json`` (without ``system``, ``loss`` and ``plot``, which the command adds).
 """
 
@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from ..output import JsonDocument
 from ..errors import SymkfError
 from ..arguments import check_public
 from ..exact.algebraic import AlgebraicNumber
@@ -36,7 +37,7 @@ METHOD = "plain Monte Carlo (estimate_mean_trace), intervals on the log scale"
 
 
 @dataclass(frozen=True, repr=False)
-class Simulation:
+class Simulation(JsonDocument):
     """Simulated ``E[tr P_{k|k-1}]`` of ``system`` under ``loss`` (module docstring).
 
     ``estimate``: plain Monte Carlo with per-step resolution; ``curve``: the importance-sampled
@@ -57,7 +58,7 @@ class Simulation:
         """Per step, whether plain Monte Carlo resolves the mean (:class:`TraceEstimate`); for a
         diverging filter no step after the first unresolved one is (its mean outgrows every
         sample: a later step that looks resolved has merely missed the bursts carrying it).
-        Computed once (``interval(k)`` for every step made ``to_json`` quadratic in the horizon);
+        Computed once (``interval(k)`` for every step made ``to_dict`` quadratic in the horizon);
         read-only."""
         ok = self.estimate.resolved
         out = np.logical_and.accumulate(ok) if self.stable is False else ok.copy()
@@ -109,7 +110,7 @@ class Simulation:
             out.append(self.curve.stop_reason)
         return out
 
-    def to_json(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, Any]:
         """The ``symkf simulate --json`` document (docs/json.md), NaN written as null."""
         e = self.estimate
         shown = [self.interval(k) or (None, None) for k in range(e.horizon)]

@@ -53,6 +53,7 @@ from typing import Any
 
 import sympy as sp
 
+from ..output import JsonDocument
 from ..arguments import check_public
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
@@ -71,14 +72,11 @@ BREAKDOWN = "breakdown"
 
 def number_json(a: AlgebraicNumber | sp.Expr, digits: int = 12) -> dict[str, Any]:
     """JSON form of an exact value: exact string, decimal, isolating interval and minimal polynomial."""
-    a = a if isinstance(a, AlgebraicNumber) else AlgebraicNumber.from_expr(a)
-    lo, hi = a.refine(sp.Rational(1, 10 ** (digits + 2))).interval
-    return {"exact": str(a.exact), "decimal": str(a.evalf(digits)), "interval": [str(lo), str(hi)],
-            "minpoly": str(a.minpoly.as_expr())}
+    return (a if isinstance(a, AlgebraicNumber) else AlgebraicNumber.from_expr(a)).to_dict(digits)
 
 
 @dataclass(frozen=True, repr=False)
-class Verification:
+class Verification(JsonDocument):
     """Theory against simulation for one system (:func:`verify`, ``sk.verify``).
 
     ``verdict`` is the exact :class:`~symkf.engine.stability.Verdict`; ``growth_rate`` the exact growth
@@ -88,7 +86,7 @@ class Verification:
     with its ``rate_interval`` or None when not resolved, the finite-horizon ``growth`` with
     its interval, seeds, horizons, paths); ``outcome`` one of :data:`OUTCOMES`, ``reason`` why
     in words, ``rate_consistent`` whether the exact margin lies in the simulated interval (None
-    when that is not resolved).  ``str()`` is the ``symkf verify`` report, ``to_json()`` its
+    when that is not resolved).  ``str()`` is the ``symkf verify`` report, ``to_dict()`` its
     ``--json`` document (without ``system`` and ``loss``).
     """
 
@@ -115,7 +113,7 @@ class Verification:
         s = self.simulation
         return None if s["rate_interval"] is None else (s["rate"], *s["rate_interval"])
 
-    def to_json(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, Any]:
         v = self.verdict
         theory = {"stable": v.stable, "theorem": v.theorem, "assumptions": list(v.assumptions),
                   "margins": [number_json(m) for m in v.margins], "limiting_block": v.limiting_block,
@@ -125,7 +123,7 @@ class Verification:
                 "rate_consistent": self.rate_consistent, "reason": self.reason}
 
     def __str__(self) -> str:
-        return summary(self.to_json())
+        return summary(self.to_dict())
 
     def __repr__(self) -> str:
         sim = self.simulated_margin
@@ -287,11 +285,11 @@ def summary(report: dict[str, Any]) -> str:
 
 def interval_text(s: dict[str, Any], short: bool = False) -> str:
     """The simulated margin with its interval, or why there is none (``short``: for a table row),
-    from the ``"simulation"`` object of :meth:`Verification.to_json` (its ``rate``,
+    from the ``"simulation"`` object of :meth:`Verification.to_dict` (its ``rate``,
     ``rate_interval`` and ``confidence``)."""
     missing = [key for key in ("rate", "rate_interval", "confidence") if key not in s]
     if missing:
-        raise InputError(f"s: the simulation object of Verification.to_json() has the keys rate, rate_interval "
+        raise InputError(f"s: the simulation object of Verification.to_dict() has the keys rate, rate_interval "
                          f"and confidence; {', '.join(missing)} missing")
     if s["rate_interval"] is None:
         return "not resolved" + ("" if short else " (E_k changes less than its noise between the horizons)")

@@ -3,7 +3,7 @@
 :class:`Table` renders as a complete ``table`` environment needing only
 ``\\usepackage{booktabs}`` (:meth:`Table.to_latex`), as plain text for terminals
 (``str``), as a MathJax array in Jupyter (``_repr_latex_``) and as JSON
-(:meth:`Table.to_json`).  Numeric cells keep the exact value (sympy LaTeX, or the
+(:meth:`Table.to_dict`).  Numeric cells keep the exact value (sympy LaTeX, or the
 minimal polynomial where no radical form exists) with a decimal read off a
 certified isolating interval.
 
@@ -30,6 +30,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from ..output import JsonDocument
 from ..arguments import check_public
 from ..io import examples
 from .. import output
@@ -83,7 +84,7 @@ class Cell:
             exact_math = rf"\text{{root of }} {sp.latex(value.minpoly.as_expr())}"
         else:
             exact_text, exact_math = f"${sp.latex(value.exact)}$", sp.latex(value.exact)
-        if len(exact_math) > MAX_EXACT_LATEX:  # too wide for a cell: decimal only, exact form in to_json()
+        if len(exact_math) > MAX_EXACT_LATEX:  # too wide for a cell: decimal only, exact form in to_dict()
             return cls(f"≈ {decimal}", rf"$\approx {decimal}$\textsuperscript{{*}}",
                        rf"\approx {decimal}^{{*}}", data)
         if value.exact.is_Integer:
@@ -113,7 +114,7 @@ def _stack(top: str, bottom: str) -> str:
 
 
 @dataclass(frozen=True)
-class Table:
+class Table(JsonDocument):
     """A booktabs table: row labels (``stub`` heading), columns, optional ``spanner`` over the columns."""
 
     caption: str                 # LaTeX
@@ -166,7 +167,7 @@ class Table:
         notes = "".join("\n" + textwrap.fill(plain, 100) for _, plain in self.notes)
         return textwrap.fill(self.caption_text, 100) + "\n\n" + "\n".join(lines) + notes
 
-    def to_json(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, Any]:
         """A JSON-serialisable dict: caption, headings, and each cell's exact data."""
         return {**self.metadata, "caption": self.caption_text,
                 "stub": self.stub.plain, "spanner": self.spanner.plain if self.spanner else None,
@@ -239,7 +240,7 @@ def family_table(path: str | Path | Family, *, jobs: int = 1, scheduler: Any = N
     -------
     Table
         ``str(table)`` for terminals, :meth:`Table.to_latex` (booktabs), :meth:`Table.write`
-        and :meth:`Table.to_json`; members whose assumptions fail show as ``---``.
+        and :meth:`Table.to_dict`; members whose assumptions fail show as ``---``.
 
     Raises
     ------
@@ -267,7 +268,7 @@ def family_table(path: str | Path | Family, *, jobs: int = 1, scheduler: Any = N
     ... alpha = "2"
     ... ''')
     >>> table = tables.family_table(path, progress=False)
-    >>> [(row["label"], [cell["exact"] for cell in row["cells"]]) for row in table.to_json()["rows"]]
+    >>> [(row["label"], [cell["exact"] for cell in row["cells"]]) for row in table.to_dict()["rows"]]
     [('2', ['1/16', '1/4']), ('3', ['1/8', 'sqrt(2)/4'])]
     >>> all(word in table.to_latex() for word in ("toprule", "midrule", "bottomrule"))
     True
@@ -409,7 +410,7 @@ def _loss_cell(loss: Any) -> Cell:
     """A loss model's name and parameters (:meth:`LossModel.fields <symkf.model.loss.LossModel.fields>`),
     one vector per field (a scalar when all sensors share it); its data is the model's file form."""
     def show(values: tuple[sp.Expr, ...], fmt: Any) -> str:
-        """``= v``, ``= (v_1, ..., v_d)``, or for many sensors ``in [min, max]`` to 3 digits (all in to_json())."""
+        """``= v``, ``= (v_1, ..., v_d)``, or for many sensors ``in [min, max]`` to 3 digits (all in to_dict())."""
         if len(set(values)) == 1:
             return f"= {fmt(values[0])}"
         if len(values) > 4:
@@ -466,7 +467,7 @@ def verdict_table(paths: Sequence[str | Path] | None = None, *, jobs: int = 1, s
 
     >>> from symkf import examples, tables
     >>> table = tables.verdict_table([examples.system("ge-two-sensors")], progress=False)
-    >>> (row,) = table.to_json()["rows"]
+    >>> (row,) = table.to_dict()["rows"]
     >>> row["label"], row["cells"][1], row["cells"][2], row["cells"][3]["exact"]
     ('ge-two-sensors', 'unstable', '2', 'sqrt(6)/2')
     """

@@ -157,7 +157,7 @@ def test_a_row_refused_by_a_cap_leaves_the_rest_of_the_atlas():
     refused = rows(a)["quevedo-theorem1"]
     assert refused.relation == REFUSED and "max_span_states" in refused.note and refused.value is None
     assert "not evaluated: " in str(a) and "max_span_states" in str(a)
-    assert json.loads(json.dumps(a.to_json()))["rows"]
+    assert json.loads(json.dumps(a.to_dict()))["rows"]
     assert "not evaluated" in a.to_latex()
     assert rows(a)["sui-theorem12"].relation == EQUAL
     assert rows(bounds(S, lmi_steps=0))["quevedo-theorem1"].relation == HOLDS

@@ -24,7 +24,7 @@ def test_families_in_memory():
     from symkf import tables
     table = tables.family_table(grid_family(rotation, {"g": [2, 3]}), progress=False)
     # eps_c = 2^(-2g/(g - 1)) (the rotation-periods family's hand derivation, d = 1)
-    assert [r["cells"][0]["exact"] for r in table.to_json()["rows"]] == ["1/16", "1/8"]
+    assert [r["cells"][0]["exact"] for r in table.to_dict()["rows"]] == ["1/16", "1/8"]
     family = systems_family([(QUARTER_TURN, sk.IID(["1/20"])), (QUARTER_TURN, sk.IID(["1/10"]))], compute="stability")
     checked = sk.verify_family(family, paths=2000, horizon=40, progress=False)
     assert [m.label for m in checked] == ["system = 1", "system = 2"]
@@ -50,7 +50,7 @@ def test_fewest_sensors_as_a_family_column():
     from symkf import tables
     S = sk.System(A=[[0, -2], [2, 0]], sensors=THREE)
     family = systems_family([(S, sk.IID(e, d=3)) for e in ("1/20", "1/10", "2/5", "1/2")], compute="fewest_sensors")
-    cells = [r["cells"][0] for r in tables.family_table(family, progress=False).to_json()["rows"]]
+    cells = [r["cells"][0] for r in tables.family_table(family, progress=False).to_dict()["rows"]]
     assert [None if c["sensors"] is None else len(c["sensors"]) for c in cells] == [1, 2, 3, None]
     assert "c" in cells[1]["sensors"]
 
@@ -59,7 +59,7 @@ def test_critical_recovery_rate_as_a_family_column():
     from symkf import tables
     S = sk.System(A=[[0, -2], [2, 0]], sensors=THREE[:1])
     family = systems_family([(S, sk.GilbertElliott(["1/10"], ["1/2"]))], compute="critical_recovery_rate")
-    cell = tables.family_table(family, progress=False).to_json()["rows"][0]["cells"][0]
+    cell = tables.family_table(family, progress=False).to_dict()["rows"][0]["cells"][0]
     q = sk.critical_recovery_rate(S, ["1/10"])
     assert float(cell["decimal"]) == pytest.approx(float(q.evalf(15)), rel=1e-5)
     iid = systems_family([(S, sk.IID(["1/10"]))], compute="critical_recovery_rate")

@@ -49,7 +49,7 @@ def path(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def serial(path):
-    return verify_family(path, seed=SEED, **RUN).to_json()
+    return verify_family(path, seed=SEED, **RUN).to_dict()["members"]
 
 
 def test_members_report_hand_derived_theory_and_agree(serial):
@@ -67,16 +67,16 @@ def test_seeds_follow_member_index(path, serial):
     assert [r["seed"] for r in serial] == [SEED, SEED + 3, SEED + 6]
     assert [r["simulation"]["seeds"] for r in serial] == [list(range(SEED + 3 * i, SEED + 3 * i + 3)) for i in range(3)]
     system, loss = load_family(path).members[1].system()
-    alone = verify(system, loss, seed=SEED + 3, **RUN).to_json()
+    alone = verify(system, loss, seed=SEED + 3, **RUN).to_dict()
     assert {k: serial[1][k] for k in alone} == alone
 
 
 def test_processes_match_serial(path, serial):
-    assert verify_family(path, jobs=2, seed=SEED, **RUN).to_json() == serial
+    assert verify_family(path, jobs=2, seed=SEED, **RUN).to_dict()["members"] == serial
 
 
 def test_dask_local_cluster_matches_serial(path, serial, dask_cluster):
-    assert verify_family(path, scheduler=dask_cluster.scheduler_address, seed=SEED, **RUN).to_json() == serial
+    assert verify_family(path, scheduler=dask_cluster.scheduler_address, seed=SEED, **RUN).to_dict()["members"] == serial
 
 
 @pytest.mark.parametrize("A", [[[0]], [[0, 1], [0, 0]]])
@@ -105,7 +105,7 @@ def test_inapplicable_member_is_recorded(tmp_path):
     p = tmp_path / "positivity.toml"
     p.write_text(FAMILY.replace('eps = ["1/50", "1/10", "1/8"]', 'beta = ["1/10", "0"]')
                  .replace('kind = "iid"\nloss = ["eps"]', 'kind = "gilbert-elliott"\nfail = ["beta"]\nrecover = ["1/2"]'))
-    reports = verify_family(p, paths=200, horizon=10).to_json()
+    reports = verify_family(p, paths=200, horizon=10).to_dict()["members"]
     assert reports[1]["outcome"] == "inapplicable" and "Assumption 2" in reports[1]["reason"]
     assert reports[0]["outcome"] != "inapplicable"
 
@@ -154,7 +154,7 @@ def test_breakdown_is_recorded_in_the_members_row(path, monkeypatch):
         return simulated_verdict(system, loss, v, **kw)
     simulated_verdict = verify_module.simulated_verdict
     monkeypatch.setattr(verify_module, "simulated_verdict", breaks)
-    reports = verify_family(path, seed=SEED, **RUN).to_json()
+    reports = verify_family(path, seed=SEED, **RUN).to_dict()["members"]
     assert [r["outcome"] for r in reports] == ["breakdown", "consistent", "consistent"]
     assert reports[0]["reason"] == "member eps = 1/50: P lost positive semidefiniteness"
     assert cli.main(["verify", str(path), "--seed", str(SEED), "--paths", "2000", "--horizon", "40"]) == 0
@@ -176,7 +176,7 @@ def test_undecided_near_threshold_names_the_float64_horizon():
     from symkf.io import files
     from symkf.model.iid import IID
     system, _ = files.load(examples.directory() / "systems" / "ge-two-sensors.toml")
-    rep = verify(system, IID(["2/5", "2/5"]), seed=SEED, paths=4000).to_json()
+    rep = verify(system, IID(["2/5", "2/5"]), seed=SEED, paths=4000).to_dict()
     assert rep["theory"]["margins"][0]["exact"] == "8*sqrt(10)/25"
     assert rep["outcome"] == "undecided" and rep["simulation"]["horizons"] == [12, 24, 36]
     assert "beyond what float64 resolves here (the horizon is capped at 36" in rep["reason"]

@@ -142,7 +142,7 @@ def test_file_and_json_forms_read_back(tmp_path, name):
     path.write_text('[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nC = [["1", "0"]]\n'
                     '[[sensors]]\nC = [["1", "1"]]\n' + loss.to_toml(), encoding="utf-8")
     _, from_file = files.load(path)
-    from_json = from_table(json.loads(json.dumps(loss.to_json())), 2)
+    from_json = from_table(json.loads(json.dumps(loss.to_dict())), 2)
     for other in (from_file, from_json):
         assert type(other) is type(loss) and other.to_table() == loss.to_table()
         assert other.chain.P == loss.chain.P and other.chain.initial == loss.chain.initial
@@ -284,7 +284,7 @@ def test_verdict_table_of_a_joint_markov_loss():
     # raised AttributeError: 'MarkovLoss' object has no attribute 'fail' (tables treated every
     # non-i.i.d. loss as Gilbert-Elliott)
     table = tables.verdict_table([examples.system("network/markov-shared-channel")], progress=False)
-    (row,) = table.to_json()["rows"]
+    (row,) = table.to_dict()["rows"]
     assert row["cells"][0]["kind"] == "markov" and row["cells"][0]["order"] == 1
     assert row["cells"][1] == "stable" and row["cells"][3]["exact"] == "sqrt(370)/25"
     assert "joint Markov: order = 1, vectors = 4" in str(table)
@@ -293,7 +293,7 @@ def test_verdict_table_of_a_joint_markov_loss():
 
 def test_verdict_table_has_every_loss_kind():
     table = tables.verdict_table([examples.system(n) for n in EXAMPLES.values()], progress=False)
-    cells = [row["cells"][0] for row in table.to_json()["rows"]]
+    cells = [row["cells"][0] for row in table.to_dict()["rows"]]
     assert [c["kind"] for c in cells] == list(EXAMPLES)
     text, latex = str(table), table.to_latex()
     for plain, tex in (("i.i.d.:", "i.i.d."), ("Gilbert-Elliott:", "Gilbert--Elliott"), ("joint Markov:", r"\nu"),
@@ -345,7 +345,7 @@ def test_docs_worked_example_adds_a_model_in_one_place(tmp_path):
                         '[[sensors]]\nC = [["1", "1"]]\n' + loss.to_toml(), encoding="utf-8")
         S, read = files.load(path)
         assert isinstance(read, cls) and read.chain.P == loss.chain.P
-        assert from_table(json.loads(json.dumps(loss.to_json())), 2).to_table() == loss.to_table()
+        assert from_table(json.loads(json.dumps(loss.to_dict())), 2).to_table() == loss.to_table()
         assert sk.stability(S, read).margins[0].exact ** 2 == R(828, 3125)
         p = {s: float(loss.sequence_probability(s)) for s in SEQUENCES}
         assert abs(p[((0, 0),) * 3] - (69 / 1000) ** 3) < 1e-15
@@ -354,7 +354,7 @@ def test_docs_worked_example_adds_a_model_in_one_place(tmp_path):
         found = np.bincount(gamma.transpose(1, 0, 2).reshape(-1, 6).astype(int) @ weights, minlength=64)
         counts = {s: int(found[np.array([g for v in s for g in v]) @ weights]) for s in SEQUENCES}
         assert _z(counts, p, 40_000) < 5
-        (row,) = tables.verdict_table([path], progress=False).to_json()["rows"]
+        (row,) = tables.verdict_table([path], progress=False).to_dict()["rows"]
         assert row["cells"][0]["kind"] == "common-outage" and row["cells"][1] == "stable"
     finally:
         del LossModel.KINDS["common-outage"]

@@ -27,9 +27,9 @@ def test_simulate_never_prints_an_interval_the_data_cannot_support():
         assert sim.stable is False and sim.growth_rate.exact == sp.Rational(9, 8)
         assert 1 <= r < 40 and not sim.resolved[r:].any()       # seen: 9 to 11 at 300 paths
         assert all(sim.interval(k)[0] > 0 for k in range(r)) and sim.interval(r) is None
-    doc = sim.to_json()
+    doc = sim.to_dict()
     assert doc["low"][r:] == [None] * (60 - r) and doc["resolved_until"] == r
-    # computed once per simulation (per call, to_json was quadratic in the horizon), and read-only
+    # computed once per simulation (per call, to_dict was quadratic in the horizon), and read-only
     assert sim.resolved is sim.resolved and not sim.resolved.flags.writeable
     assert "the filter diverges (exact growth 9/8 ~ 1.125 per step)" in doc["notes"][0]
     assert "not resolved" in str(sim) and "[-" not in str(sim)
@@ -41,7 +41,7 @@ def test_simulate_says_where_and_why_the_curve_stops(capsys):
     stop = sim.curve.stop_reason
     assert sim.curve.float_cap is not None and sim.curve.ks[-1] < 200
     assert stop.startswith(f"the importance-sampled curve stops at k = {sim.curve.ks[-1]} of 200: beyond k = ")
-    assert stop in sim.to_json()["notes"] and "montecarlo.float_horizon" in str(sim)
+    assert stop in sim.to_dict()["notes"] and "montecarlo.float_horizon" in str(sim)
     assert repr(sim).startswith("<Simulation of E[tr P_k]: 200 paths x 200 steps, seed 0")
     assert "not resolved" in sim._repr_html_() and r"\text{not resolved}" in sim._repr_latex_()
 

@@ -17,7 +17,7 @@ def test_verify_is_an_object_with_todays_json():
     r = sk.verify(QUARTER_TURN, sk.IID(["1/20"]), paths=3000, seed=0)
     assert isinstance(r, sk.Verification) and r.stable and r.outcome == "consistent"
     assert r.margin.exact == 2 * sp.sqrt(5) / 5 and r.critical_common_loss_rate.exact == sp.Rational(1, 16)
-    doc = r.to_json()
+    doc = r.to_dict()
     assert list(doc) == ["theory", "simulation", "outcome", "rate_consistent", "reason"]
     assert doc["theory"]["margins"][0]["exact"] == "2*sqrt(5)/5" and json.loads(json.dumps(doc)) == doc
     assert repr(r).startswith("<Verification consistent: exact margin 2*sqrt(5)/5 ~ 0.894427 (stable)")

@@ -63,7 +63,7 @@ def verdicts():
 
 
 def _exact(table, row, col):
-    return exact(table.to_json()["rows"][row]["cells"][col]["exact"])
+    return exact(table.to_dict()["rows"][row]["cells"][col]["exact"])
 
 
 # -- values -------------------------------------------------------------------------------------
@@ -85,7 +85,7 @@ def test_rotation_family_hand_derived_values(rotations):
 
 def test_unobservable_member_is_marked_not_fatal(rotations):
     # period 1: A = 2 R(pi) = -2 I and C = [1, 0] does not see the second coordinate
-    row = rotations.to_json()["rows"][0]
+    row = rotations.to_dict()["rows"][0]
     assert row["label"] == "1"
     assert all("detectability of (A, C) fails" in c["inapplicable"] for c in row["cells"])
     assert "period = 1, sensors = 2" in row["cells"][1]["inapplicable"]
@@ -102,11 +102,11 @@ def test_template_family_angle_alpha(angle_alpha):
             assert sp.simplify(_exact(angle_alpha, row, col) - exact(alpha) ** sp.Rational(-2 * g, g - 1)) == 0
     assert _exact(angle_alpha, 0, 0) == sp.Rational(16, 81)
     assert _exact(angle_alpha, 2, 0) == 4 * sp.sqrt(6) / 27               # (2/3)^(5/2)
-    assert angle_alpha.to_json()["rows"][2]["cells"][0]["class_periods"] == [5]
+    assert angle_alpha.to_dict()["rows"][2]["cells"][0]["class_periods"] == [5]
 
 
 def test_stability_family_matches_the_system_file(ge_recovery):
-    rows = ge_recovery.to_json()["rows"]
+    rows = ge_recovery.to_dict()["rows"]
     system, loss = files.load(examples.directory() / "systems" / "ge-two-sensors.toml")  # recover = 1/2
     v = stability(system, loss)
     assert rows[2]["label"] == "1/2"
@@ -121,7 +121,7 @@ def test_stability_family_matches_the_system_file(ge_recovery):
 
 
 def test_verdict_table_of_the_examples(verdicts):
-    data = verdicts.to_json()
+    data = verdicts.to_dict()
     by_name = {r["label"]: r["cells"] for r in data["rows"]}
     assert "aperiodic-rotation" not in by_name                               # no [loss]
     # design-rotation: A = 2R(pi/2), loss 1/20: alpha^4 eps = 4/5 per period 2, margin sqrt(4/5)
@@ -137,7 +137,7 @@ def test_verdict_table_of_the_examples(verdicts):
 # -- rendering ------------------------------------------------------------------------------------
 
 def test_cells_keep_exact_values_and_certified_decimals(angle_alpha):
-    cell = angle_alpha.to_json()["rows"][2]["cells"][1]                      # sqrt(2)/8
+    cell = angle_alpha.to_dict()["rows"][2]["cells"][1]                      # sqrt(2)/8
     assert cell["exact"] == "sqrt(2)/8" and cell["decimal"] == "0.176777"
     lo, hi = map(sp.Rational, cell["interval"])
     assert lo <= sp.sqrt(2) / 8 <= hi and hi - lo < sp.Rational(1, 10 ** 8)
@@ -154,7 +154,7 @@ def test_renderings(rotations):
     text = str(rotations)
     assert "governing period g \\ identical sensors d" in text and "1/16 = 0.0625" in text
     assert rotations._repr_latex_().startswith(r"$$\begin{array}{l|ccc}")
-    assert json.loads(json.dumps(rotations.to_json()))["axes"] == ["period", "sensors"]
+    assert json.loads(json.dumps(rotations.to_dict()))["axes"] == ["period", "sensors"]
 
 
 def _no_radical_table():
