@@ -120,7 +120,8 @@ def _test(hint: Any) -> tuple[Callable[[Any], bool], str] | None:
         return (lambda v: isinstance(v, (hint, numbers.Real)) and not isinstance(v, bool)), "a real number"
     if module == "symkf":  # a sibling of the same symkf root (e.g. any loss model) is the function's to refuse
         # the family's root, not a mixin every public result shares (output.JsonDocument)
-        root = [c for c in hint.__mro__ if c.__module__.split(".")[0] == "symkf" and c.__module__ != "symkf.output"][-1]
+        root = [c for c in hint.__mro__ if c.__module__.split(".")[0] == "symkf"
+                and (c is hint or c.__module__ != "symkf.output")][-1]
         return (lambda v: isinstance(v, root)), f"a {root.__name__}"
     return (lambda v: isinstance(v, hint)), f"a {hint.__name__}"
 

@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any, Callable, Iterable, Iterator
 
-from .errors import OutputError
+from .errors import InputError, OutputError
 
 def finite(value: Any) -> Any:
     """``value`` with every non-finite float as the string ``"Infinity"``, ``"-Infinity"`` or ``"NaN"``:
@@ -60,6 +60,8 @@ def finite(value: Any) -> Any:
 def json_text(value: Any, indent: int | None = 2) -> str:
     """``value`` as strict JSON text: non-finite floats as strings (:func:`finite`), any other
     non-JSON value (an exact sympy number) as its ``str``."""
+    if indent is not None and (isinstance(indent, bool) or not isinstance(indent, int) or not 0 <= indent <= 16):
+        raise InputError(f"indent: expected None or an int from 0 to 16 (spaces), got {indent!r:.60}")
     return json.dumps(finite(value), indent=indent, default=str, allow_nan=False)
 
 

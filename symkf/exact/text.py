@@ -17,6 +17,8 @@ import sympy as sp
 from sympy.printing.precedence import PRECEDENCE
 from sympy.printing.str import StrPrinter
 
+from ..arguments import check_public
+
 #: longest closed form shown; a longer one is named by its value and polynomial
 MAX_CLOSED_FORM = 40
 
@@ -66,11 +68,10 @@ def _closed(expr: sp.Expr) -> bool:
     return all(isinstance(node, _SHOWN) for node in sp.preorder_traversal(expr))
 
 
-def number_text(expr: Any, limit: int = MAX_CLOSED_FORM) -> str | None:
+def number_text(expr: sp.Expr, limit: int = MAX_CLOSED_FORM) -> str | None:
     """The exact number ``expr`` in mathematical notation (a complex one as ``a + b i`` when its
     real and imaginary parts are radicals), or None when it has no closed form of at most
     ``limit`` characters made of rationals, radicals, ``π`` and ``e^(...)``."""
-    expr = sp.sympify(expr)
     if not _closed(expr):
         return None
     text = _plain(expr)
@@ -117,3 +118,6 @@ def ordinal(k: int) -> str:
     """``1st``, ``2nd``, ``3rd``, ``4th``, ``11th``, ``22nd``."""
     suffix = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
     return f"{k}{suffix}"
+
+
+check_public(globals())
