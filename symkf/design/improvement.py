@@ -187,7 +187,7 @@ def active_constraints(system: System, loss: LossModel) -> ActiveConstraints:
     >>> print(sk.design.active_constraints(S, sk.IID(["1/10", "1/10"]))[0].words)
     sensors s1 and s2 together limit block 0 (|lambda| = 2, margin 0.1265): a blind period loses s1 1 of 2 phases; s2 2 of 2 phases
     """
-    checked(loss, system, numbers=True, positive=True)
+    loss = checked(loss, system, numbers=True, positive=True)
     verdict = stability(system, loss)
     out = []
     for i, cert in enumerate(verdict.certificate):

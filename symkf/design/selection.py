@@ -93,7 +93,7 @@ def requirement_of(system: System, loss: LossModel | None, critical_rate: Any, r
                            f"critical recovery rate at most {q} ({loss_words(channels).replace(f'; recover {q}', '')})")
     if loss is None:
         raise InputError("give the loss model (loss=...), a critical_rate or a recovery_rate")
-    checked(loss, system, numbers=True)
+    loss = checked(loss, system, numbers=True)
     if margin is None:
         return Requirement(loss, sp.Integer(1), True, f"stable under {loss_words(loss)}")
     mu = to_exact(margin, "margin")

@@ -376,7 +376,7 @@ def m_matrix(br: BlockRows, loss: LossModel) -> tuple[sp.Matrix, list]:
 
 def probability_rank_deficient(system: System, loss: LossModel, N: int) -> tuple[sp.Expr, ...]:
     """``P(R_N(i))`` per eigen-block by enumerating all ``2^(dN)`` receival patterns (brute force)."""
-    checked(loss, system)
+    loss = checked(loss, system)
     budget.check_power("max_patterns", 2, loss.d * N, "N", "the number of receival patterns 2^(d N) to "
                        "enumerate (m_matrix computes the same probabilities without enumerating)")
     totals = [sp.Integer(0)] * len(block_rows(system))

@@ -190,8 +190,9 @@ class Verdict(JsonDocument):
                 f"\\begin{{array}}{{cccc}} i & \\alpha_i & g_i & \\alpha_i^2\\rho_i \\\\ \\hline {rows}\\end{{array}}$")
 
 
-def _check_loss(system: System, loss: LossModel) -> list[str]:
-    checked(loss, system, positive=True)
+def _check_loss(system: System, loss: LossModel) -> tuple[LossModel, list[str]]:
+    """The model for ``system`` (:func:`checked`) and the assumptions its verdict rests on."""
+    loss = checked(loss, system, positive=True)
     brs = block_rows(system)
     out = [("A" if not system.set_aside() else "the decided blocks") + " diagonalizable (Assumption 3)"
            if not any(br.block.defective for br in brs) else
@@ -200,7 +201,7 @@ def _check_loss(system: System, loss: LossModel) -> list[str]:
            _noise_assumption(system), "loss process " + loss.assumption]
     if loss.bernoulli is None and not all(br.block.is_periodic for br in brs):
         out.append("aperiodic block under Markov losses (symkf's extension of Theorem 9, docs/sui.md)")
-    return out
+    return loss, out
 
 
 def _noise_assumption(system: System) -> str:
@@ -272,7 +273,7 @@ def stability(system: System, loss: LossModel) -> Verdict:
     >>> v.stable, v.margins[0].exact, v.margins[0].exact ** 2
     (True, sqrt(10)/25, 2/125)
     """
-    assumptions = _check_loss(system, loss)
+    loss, assumptions = _check_loss(system, loss)
     if loss.symbols:
         raise InputError(f"loss: symbols {sorted(map(str, loss.symbols))} have no value; "
                          "symkf.stability_conditions(system, loss) gives the stability region as conditions")
@@ -503,7 +504,7 @@ def critical_alpha(system: System, loss: LossModel) -> AlgebraicNumber:
                               "A has no eigenvalue with |lambda| >= 1 (every mode is set aside)",
                               assumption="Assumption 1 (single eigen-block)",
                               applies_instead="stability(system, loss) for each scaled system")
-    _check_loss(system, loss)
+    loss, _ = _check_loss(system, loss)
     br = brs[0]
     rate = block_rate(br, loss)
     if rate.per_period == 0:

@@ -17,7 +17,7 @@ from typing import Any, Callable, Mapping
 from ..arguments import check_public
 from ..errors import FileFormatError, SymkfError
 from ..exact.numbers import to_exact
-from .loss import LossModel
+from .loss import LossModel, checked
 
 #: the entry-point group through which loss kinds register
 GROUP = "symkf.losses"
@@ -117,9 +117,9 @@ def read_loss(table: Mapping[str, Any], where: str, d: int, rationalize: bool | 
                               f"through the {GROUP!r} entry-point group)")
     check_keys(table, kinds[kind].keys, where)
     model = built(lambda: kinds[kind].read_table(table, where, d, rationalize), "[loss]")
-    if model.d != d:
+    if model.d is not None and model.d != d:
         raise FileFormatError(f"{where} gives {model.d} value(s) for {d} sensor(s)")
-    return model
+    return checked(model, d)
 
 
 def from_table(table: Mapping[str, Any], d: int, where: str = "loss") -> LossModel:

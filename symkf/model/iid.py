@@ -9,8 +9,8 @@ import sympy as sp
 
 from ..arguments import check_public
 from ..exact.numbers import rationalization, substitution, sympify
-from .loss import (Factor, LossChain, LossModel, check_joint_size, exact_strings, probabilities,
-                   two_state_factor)
+from .loss import (Factor, LossChain, LossModel, check_joint_size, exact_strings, is_scalar, probabilities,
+                   probability, sized, two_state_factor)
 from .codec import entry, exact_values
 
 
@@ -25,10 +25,12 @@ class IID(LossModel):
     loss : sequence or number
         One loss probability per sensor: exact numbers in ``[0, 1]`` (ints, Fractions, sympy
         numbers, strings such as ``"1/10"``) or sympy symbols
-        (:func:`symkf.engine.region.stability_conditions`); a single number is every sensor's and
-        needs ``d``.
+        (:func:`symkf.engine.region.stability_conditions`); a single number is every sensor's.
     d : int, optional
-        The number of sensors: ``IID("1/10", d=3)`` is ``IID(["1/10"] * 3)``.
+        The number of sensors: ``IID("1/10", d=3)`` is ``IID(["1/10"] * 3)``.  Without it a
+        single number is a common rate that takes the number of sensors of the system it meets
+        (:func:`symkf.model.loss.checked`, in every entry point that pairs a model with a
+        system, as NumPy broadcasts a scalar); where no system gives one, the model refuses.
 
     Raises
     ------
@@ -45,6 +47,9 @@ class IID(LossModel):
     (2, (9/10, 4/5))
     >>> sk.IID("1/10", d=3).loss
     (1/10, 1/10, 1/10)
+    >>> S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[0, 1]])])
+    >>> sk.stability(S, sk.IID("1/10")) == sk.stability(S, sk.IID(["1/10", "1/10"]))
+    True
     >>> sk.IID(["3/2"])
     Traceback (most recent call last):
     ...
@@ -53,8 +58,20 @@ class IID(LossModel):
 
     def __init__(self, loss: Sequence[Any] | Any, *, d: int | None = None, rationalize: bool | str = False):
         with rationalization("IID"):
-            self.loss = probabilities(loss, "loss", rationalize, d)
-        self.d = len(self.loss)
+            if d is None and is_scalar(loss):
+                self._common, self._loss, self.d = probability(loss, "loss", rationalize), None, None
+            else:
+                self._common, self._loss = None, probabilities(loss, "loss", rationalize, d)
+                self.d = len(self._loss)
+
+    @property
+    def loss(self) -> tuple[sp.Expr, ...]:
+        """The loss probability of each sensor (a common rate: once it meets a system)."""
+        return sized(self, "loss")._loss
+
+    def with_sensors(self, d: int) -> "IID":
+        """A common rate (``IID("1/10")``) as every one of ``d`` sensors' rate."""
+        return self if self._common is None else IID([self._common] * d)
 
     @property
     def arrival(self) -> tuple[sp.Expr, ...]:
@@ -73,9 +90,10 @@ class IID(LossModel):
         return cls(exact_values(entry(table, "loss", where), f"{where} loss", rationalize))
 
     def _build_chain(self) -> LossChain:
+        loss = self.loss  # a common rate refuses here, before its missing d is used
         check_joint_size(self.d)
         vecs = tuple(itertools.product((1, 0), repeat=self.d))
-        row = [sp.Mul(*[(1 - e) if g else e for g, e in zip(v, self.loss)]) for v in vecs]
+        row = [sp.Mul(*[(1 - e) if g else e for g, e in zip(v, loss)]) for v in vecs]
         return LossChain(vecs, vecs, sp.ImmutableMatrix([row] * len(vecs)), sp.ImmutableMatrix([row]))
 
     @cached_property
@@ -89,7 +107,7 @@ class IID(LossModel):
 
     @property
     def symbols(self) -> set[sp.Symbol]:
-        return set().union(*(sympify(e).free_symbols for e in self.loss))
+        return set().union(*(sympify(e).free_symbols for e in (self.loss if self.d else (self._common,))))
 
     @property
     def bernoulli(self) -> tuple[sp.Expr, ...]:
@@ -100,20 +118,20 @@ class IID(LossModel):
         return "i.i.d. (Assumption 4)"
 
     def words(self) -> str:
-        return "i.i.d. losses " + ", ".join(map(str, self.loss))
+        return "i.i.d. losses " + (", ".join(map(str, self.loss)) if self.d else f"{self._common} at every sensor")
 
     def fields(self) -> tuple[tuple[str, str, tuple[sp.Expr, ...]], ...]:
         return (("loss", r"\varepsilon", self.loss),)
 
     def to_table(self) -> dict[str, Any]:
-        return {"kind": self.kind, "loss": exact_strings(self.loss)}
+        return {"kind": self.kind, "loss": exact_strings(self.loss) if self.d else str(self._common)}
 
     def subs(self, values: Mapping[Any, Any]) -> "IID":
         values = substitution(values, "subs", self.symbols)
-        return IID([e.subs(values) for e in self.loss])
+        return IID([e.subs(values) for e in self.loss] if self.d else sympify(self._common).subs(values))
 
     def __repr__(self) -> str:
-        return f"IID(loss={[str(e) for e in self.loss]})"
+        return f"IID(loss={[str(e) for e in self.loss]})" if self.d else f"IID({str(self._common)!r})"
 
 
 check_public(globals())

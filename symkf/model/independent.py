@@ -12,7 +12,7 @@ from .. import budget
 from ..errors import FileFormatError, InputError
 from ..arguments import check_public
 from ..exact.numbers import substitution
-from .loss import (Factor, LossChain, LossModel)
+from .loss import Factor, LossChain, LossModel, sized
 from .codec import entry, positive_int, read_loss
 
 
@@ -57,7 +57,7 @@ class Independent(LossModel):
         flat = [q for part in parts for q in (part.parts if isinstance(part, Independent) else [part])]
         if not flat:
             raise InputError("parts: give at least one loss model")
-        self.parts = tuple(flat)
+        self.parts = tuple(sized(p, f"parts[{i}]") for i, p in enumerate(flat))
         self.d = sum(p.d for p in self.parts)
 
     def _offsets(self) -> list[int]:

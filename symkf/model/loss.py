@@ -192,7 +192,9 @@ def two_state_factor(j: int, P: sp.MatrixBase, received: sp.Expr) -> Factor:
 
 
 def checked(loss: Any, system: Any = None, *, numbers: bool = False, positive: bool = False) -> "LossModel":
-    """The one check of a loss model against a system (or a sensor count ``d``).
+    """The one check of a loss model against a system (or a sensor count ``d``), returning the
+    model for it: a model without a sensor count (``IID("1/10")``, a common rate) becomes the
+    system's (:meth:`LossModel.with_sensors`), as NumPy broadcasts a scalar.
 
     Raises :class:`~symkf.errors.InputError` when ``loss`` is no symkf loss model,
     :class:`~symkf.errors.ShapeError` when its sensor count is not the system's, ``InputError``
@@ -201,8 +203,12 @@ def checked(loss: Any, system: Any = None, *, numbers: bool = False, positive: b
     if not isinstance(loss, LossModel):
         raise InputError("loss: expected a symkf loss model (IID, GilbertElliott, MarkovLoss, a network loss "
                          f"or Independent parts of these), got {type(loss).__name__}")
-    if system is not None:
+    if system is None:
+        sized(loss, "loss")
+    else:
         d = system if isinstance(system, int) else system.d
+        # a common rate (IID("1/10")) meets its number of sensors here, and only here
+        loss = loss.with_sensors(d) if loss.d is None else loss
         if loss.d != d:
             names = "" if isinstance(system, int) else f" ({', '.join(system.sensor_names)})"
             raise ShapeError(f"loss: the model has {loss.d} sensor(s), the system has {d}{names}")
@@ -210,6 +216,15 @@ def checked(loss: Any, system: Any = None, *, numbers: bool = False, positive: b
         require_numbers(loss.symbols)
     if positive:
         loss.require_positive()
+    return loss
+
+
+def sized(loss: "LossModel", entry: str) -> "LossModel":
+    """``loss`` when it has a number of sensors; a common rate with none (``IID("1/10")`` where no
+    system fixes ``d``) is an :class:`~symkf.errors.InputError` naming what is missing."""
+    if loss.d is None:
+        raise InputError(f"{entry}: {loss!r} is a common rate with no number of sensors here (no system gives "
+                         f"one); give d (IID(\"1/10\", d=3)) or one probability per sensor")
     return loss
 
 
@@ -240,7 +255,13 @@ class LossModel(JsonDocument):
     KINDS: ClassVar[dict[str, type["LossModel"]]] = {}
     #: the keys of its ``[loss]`` table
     keys: ClassVar[frozenset[str]] = frozenset()
-    d: int
+    #: the number of sensors; None for a common rate that takes the system's (:meth:`with_sensors`)
+    d: int | None
+
+    def with_sensors(self, d: int) -> "LossModel":
+        """The model for ``d`` sensors, when :func:`checked` pairs it with a system: a model with
+        its own sensor count is itself (a mismatch is the check's to report)."""
+        return self
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)

@@ -15,12 +15,13 @@ import sympy as sp
 from ..arguments import check_public
 from ..errors import FileFormatError, InputError
 from .codec import entry, positive_int, read_loss
-from .loss import Factor, LossChain, LossModel
+from .loss import Factor, LossChain, LossModel, sized
 
 
 def _indices(loss: Any, sensors: Any, entry: str) -> tuple[int, ...]:
     if not isinstance(loss, LossModel):
         raise InputError(f"loss: expected a symkf loss model, got {type(loss).__name__}")
+    sized(loss, "loss")
     if isinstance(sensors, (str, bytes)) or not isinstance(sensors, Sequence):
         raise InputError(f"{entry}: expected a list of sensor indices, got {type(sensors).__name__}")
     out: list[int] = []

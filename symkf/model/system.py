@@ -442,12 +442,12 @@ class System(JsonDocument):
         return f"System({name}n={self.n}, A={A}, sensors: {shown}{more})"
 
     def to_dict(self) -> dict[str, Any]:
-        """The system file's tables (``[system]``, ``[[sensors]]``: docs/formats.md), entries as
-        exact strings that the file reader takes back, and the name when there is one."""
+        """The system file's tables (``[system]`` with the name when there is one, ``[[sensors]]``:
+        docs/formats.md), entries as exact strings that the file reader takes back."""
         def rows(M: Any) -> list[list[str]]:
             return [[str(v) for v in M.row(i)] for i in range(M.rows)]
-        out: dict[str, Any] = {"name": self.name} if self.name else {}
-        return {**out, "system": {"A": rows(self.A), "Q": rows(self.Q), "P0": rows(self.P0)},
+        named: dict[str, Any] = {"name": self.name} if self.name else {}
+        return {"system": {"A": rows(self.A), "Q": rows(self.Q), "P0": rows(self.P0), **named},
                 "sensors": [{"name": s.name, "C": rows(s.C), "R": rows(s.R)} for s in self.sensors]}
 
     def _repr_latex_(self) -> str:

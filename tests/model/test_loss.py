@@ -231,10 +231,43 @@ def test_one_probability_for_every_sensor():
     assert sk.IID("1/10", d=3).loss == (sp.Rational(1, 10),) * 3
     ge = sk.GilbertElliott(fail="1/4", recover=["1/2", "1/3"])
     assert ge.fail == (sp.Rational(1, 4),) * 2 and sk.GilbertElliott("1/4", "1/2", d=2).d == 2
-    with pytest.raises(InputError, match="loss: a single probability needs d, the number of sensors"):
-        sk.IID("1/10")
     with pytest.raises(InputError, match=r"loss: 1 probabilities for d = 2 sensors"):
         sk.IID(["1/10"], d=2)
+
+
+THREE_SENSORS = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[1, 1]]),
+                                                          sk.Sensor(C=[[0, 1]])])
+
+
+def test_a_common_iid_rate_takes_the_systems_number_of_sensors():
+    common, listed = sk.IID("1/10"), sk.IID("1/10", d=3)
+    assert checked(common, THREE_SENSORS).loss == listed.loss == (sp.Rational(1, 10),) * 3
+    # by hand: A = 2R(pi/2), g = 2; of the six rows C_j A^k, C_1 = (1, 0) and C_3 A = (-2, 0) span
+    # one line, so a blind period loses the other four: alpha^4 rho^2 = 16 eps^4, margin 4 eps^2 = 1/25
+    v = sk.stability(THREE_SENSORS, common)
+    assert v == sk.stability(THREE_SENSORS, listed) and v.margins[0] == sp.Rational(1, 25)
+    assert sk.critical_alpha(THREE_SENSORS, common) == sk.critical_alpha(THREE_SENSORS, listed)
+    assert np.array_equal(simulate_traces(THREE_SENSORS, common, 15, 40, seed=2),
+                          simulate_traces(THREE_SENSORS, listed, 15, 40, seed=2))
+    assert sk.simulate(THREE_SENSORS, common, horizon=8, paths=20, seed=1).to_dict() == \
+        sk.simulate(THREE_SENSORS, listed, horizon=8, paths=20, seed=1).to_dict()
+
+
+def test_a_common_iid_rate_in_a_file_takes_the_systems_sensors(tmp_path):
+    path = tmp_path / "common.toml"
+    path.write_text('[system]\nA = [["0", "-2"], ["2", "0"]]\n' + '[[sensors]]\nC = [["1", "0"]]\n'
+                    '[[sensors]]\nC = [["1", "1"]]\n[loss]\nkind = "iid"\nloss = "1/10"\n')
+    system, loss = files.load(path)
+    assert loss.loss == (sp.Rational(1, 10),) * 2 and system.d == 2
+
+
+def test_a_common_iid_rate_without_a_system_names_the_missing_sensor_count():
+    common = sk.IID("1/10")
+    assert repr(common) == "IID('1/10')" and common.to_dict() == {"kind": "iid", "loss": "1/10"}
+    for use in (lambda: common.loss, lambda: common.chain, lambda: common.factors, lambda: Independent([common]),
+                lambda: checked(common), lambda: sk.capacity.transmission_capacity(common)):
+        with pytest.raises(InputError, match=r"IID\('1/10'\) is a common rate with no number of sensors"):
+            use()
 
 
 @pytest.mark.parametrize("build", [
