@@ -373,7 +373,9 @@ def _print_examples(res: dict[str, Any]) -> None:
         print(f"{kind} files:" if kind != "family" else "families (symkf table, symkf verify):")
         for e in res["examples"]:
             if e["kind"] == kind:
-                print(f"  {e['name']:<{width}}  {e['summary']}")
+                print("\n".join(textwrap.wrap(e["summary"], 100, initial_indent=f"  {e['name']:<{width}}  ",
+                                               subsequent_indent=" " * (width + 4), break_on_hyphens=False,
+                                               break_long_words=False)))
     print("Every command takes these names where it takes a file; symkf examples NAME copies one here.")
 
 

@@ -36,3 +36,16 @@ def test_every_command_takes_a_shipped_name(capsys, tmp_path, monkeypatch):
     assert examples.resolve("ge-two-sensors") == Path("ge-two-sensors")
     status, out, err = run(capsys, "analyze", "no-such-thing")
     assert status == 2 and out == "" and "no such file; shipped examples are taken by name" in err
+
+
+def test_listing_shows_each_summary_as_a_whole_first_sentence(capsys):
+    # quevedo-robot's comment: its first sentence ends "uniform on 5..10." on the file's third
+    # line, past "Sec. VII-A" (an abbreviation, not a sentence end)
+    robot = next(e for e in examples.catalog() if e.name == "quevedo-robot")
+    assert robot.summary.startswith("Quevedo, Ahlen, Johansson, Sec. VII-A, Example 4: a robot moving")
+    assert robot.summary.endswith("psi_4 uniform on 5..10.")
+    status, out, _ = run(capsys, "examples")
+    words = " ".join(line.strip() for line in out.splitlines())
+    assert status == 0 and not any(line.endswith(" ...") for line in out.splitlines())
+    assert all(e.summary in words for e in examples.catalog())
+    assert max(map(len, out.splitlines())) <= 100

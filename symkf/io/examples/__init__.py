@@ -23,6 +23,7 @@ copies one into the working directory to be edited::
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
@@ -103,11 +104,23 @@ def resolve(file: str | os.PathLike) -> Path:
                      "(symkf examples lists them)")
 
 
-def _summary(path: Path, width: int = 88) -> str:
-    """The first line of the file's leading comment, cut at a word before ``width`` characters."""
-    first = path.read_text(encoding="utf-8").partition("\n")[0]
-    text = first.lstrip("#").strip() if first.startswith("#") else ""
-    return text if len(text) <= width else text[:text.rfind(" ", 0, width - 3)].rstrip(",;:") + " ..."
+#: words whose period ends an abbreviation, not a sentence ("Sec. V", "Yang et al. Theorem 2")
+_ABBREVIATIONS = frozenset({"Sec", "al", "e.g", "i.e", "Fig", "Eq", "Thm", "cf", "vs", "resp", "Ex"})
+
+
+def _summary(path: Path) -> str:
+    """The first sentence of the file's leading comment, whole (its lines joined): a listing
+    wraps it, never cuts it."""
+    comment = []
+    for line in path.read_text(encoding="utf-8").splitlines():
+        if not line.startswith("#"):
+            break
+        comment.append(line.lstrip("#").strip())
+    text = " ".join(comment)
+    for end in re.finditer(r"[.!?](?=\s+[A-Z(\"]|$)", text):
+        if text[:end.start()].rsplit(" ", 1)[-1] not in _ABBREVIATIONS:
+            return text[:end.end()]
+    return text
 
 
 check_public(globals())
