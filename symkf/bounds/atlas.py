@@ -19,6 +19,7 @@ from ..output import JsonDocument
 from ..arguments import check_public
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
+from ..exact.text import algebraic_text
 from ..model.loss import LossModel
 from ..model.system import System
 from ..engine.stability import critical_loss_rate
@@ -254,7 +255,7 @@ def _short_latex(value: AlgebraicNumber) -> str:
 def _intervals_text(intervals: Any) -> str:
     if not intervals:
         return "no value in (0, 1)"
-    return " u ".join(f"({lo.exact}, {hi.exact})" for lo, hi in intervals)
+    return " u ".join(f"({algebraic_text(lo)}, {algebraic_text(hi)})" for lo, hi in intervals)
 
 
 def _row_json(r: Row) -> dict[str, Any]:
@@ -277,7 +278,7 @@ def _value_text(r: Row, q: Quantity) -> str:
         return f"threshold in [{lo}, {hi}] (certified) ~ [{float(lo):.6g}, {float(hi):.6g}]"
     if r.value is not None and r.stable is not None and len(r.stable) <= 1:
         side = "<" if q.iid else ">"
-        return f"stable for {q.symbol} {side} {r.value.exact} ~ {float(r.value):.6g}"
+        return f"stable for {q.symbol} {side} {algebraic_text(r.value)}"
     if not r.stable:
         return f"stable for no {q.symbol} in (0, 1)"
     return f"stable for {q.symbol} in {_intervals_text(r.stable)}"

@@ -18,6 +18,7 @@ from sympy.printing.precedence import PRECEDENCE
 from sympy.printing.str import StrPrinter
 
 from ..arguments import check_public
+from .algebraic import AlgebraicNumber
 
 #: longest closed form shown; a longer one is named by its value and polynomial
 MAX_CLOSED_FORM = 40
@@ -84,6 +85,23 @@ def number_text(expr: sp.Expr, limit: int = MAX_CLOSED_FORM) -> str | None:
             sign = "-" if (im_.is_extended_negative) else "+"
             text = f"{_plain(re_)} {sign} {imag}" if re_ != 0 else f"{'-' if sign == '-' else ''}{imag}"
     return text if len(text) <= limit else None
+
+
+def algebraic_text(value: AlgebraicNumber, digits: int = 6) -> str:
+    """A real algebraic number for people: ``2``, ``9/8 ≈ 1.125``, ``10^(2/5)·11^(3/5)/11 ≈ 0.962594``, or, with
+    no short closed form, ``the 1st real root of 726x^5 - 1815x^4 + 1210x^3 - 100 (≈ 0.692198)``;
+    a rational too long to read, ``a fraction ≈ 0.958833``."""
+    closed = number_text(value.exact)
+    decimal = format(value, f".{digits}g")
+    if "." in decimal and "e" not in decimal:  # Decimal's g keeps trailing zeros: 1.36350
+        decimal = decimal.rstrip("0").rstrip(".")
+    if value.is_rational:  # a long fraction reads as its decimal (the JSON keeps it exact)
+        return closed if closed == decimal else f"{closed} ≈ {decimal}" if closed else f"a fraction ≈ {decimal}"
+    if closed is not None:
+        return f"{closed} ≈ {decimal}"
+    poly = value.minpoly
+    below = poly.count_roots(None, sp.Rational(value.interval[0]))  # the interval isolates the root
+    return f"the {ordinal(below + 1)} real root of {poly_text(poly, monic=False)} (≈ {decimal})"
 
 
 def poly_text(poly: flint.fmpz_poly | sp.Poly, var: str = "x", monic: bool = True) -> str:

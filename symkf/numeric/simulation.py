@@ -26,6 +26,7 @@ from ..output import JsonDocument
 from ..errors import SymkfError
 from ..arguments import check_public
 from ..exact.algebraic import AlgebraicNumber
+from ..exact.text import algebraic_text
 from ..model.loss import LossModel
 from ..model.system import System
 from .montecarlo import MAX_PATH_SHARE, MAX_REL_STDERR, MeanTraceCurve, TraceEstimate
@@ -102,7 +103,7 @@ class Simulation(JsonDocument):
             why = (f"{where}, a few paths carry the mean (relative standard error above {MAX_REL_STDERR:.0%} or "
                    f"one path above {MAX_PATH_SHARE:.0%} of the sum), so no interval is given there")
             if self.stable is False:
-                why += (f"; the filter diverges (exact growth {self.growth_rate.exact} ~ {float(self.growth_rate):.5g}"
+                why += (f"; the filter diverges (exact growth {algebraic_text(self.growth_rate, 5)}"
                         f" per step) and its mean sits on loss bursts too rare for {e.paths} paths: plain Monte "
                         "Carlo cannot resolve it; the importance-sampled curve (--plot, Simulation.curve) follows it")
             out.append(why)
@@ -136,8 +137,7 @@ class Simulation(JsonDocument):
             lines.append(f"{k:>6} {e.mean[k]:>12.6g}  {_interval_text(self.interval(k))}")
         if self.growth_rate is not None:
             lines.append("exact: " + ("stable, E[tr P_k] stays bounded" if self.stable else
-                                      f"NOT stable, E[tr P_k] grows by {self.growth_rate.exact} ~ "
-                                      f"{float(self.growth_rate):.6g} per step") + " (Sui-You-Fu Theorems 4/7)")
+                                      f"NOT stable, E[tr P_k] grows by {algebraic_text(self.growth_rate)} per step") + " (Sui-You-Fu Theorems 4/7)")
         if self.curve is not None:
             c = self.curve
             lines.append(f"log10 E[tr P_k] by {c.sampling}:")
@@ -149,7 +149,7 @@ class Simulation(JsonDocument):
 
     def __repr__(self) -> str:
         e = self.estimate
-        exact = "" if self.growth_rate is None else f", exact growth {self.growth_rate.exact} per step"
+        exact = "" if self.growth_rate is None else f", exact growth {algebraic_text(self.growth_rate)} per step"
         return (f"<Simulation of E[tr P_k]: {e.paths} paths x {e.horizon} steps, seed {e.seed}, plain Monte "
                 f"Carlo resolves {int(self.resolved.sum())} of {e.horizon} steps{exact}>")
 

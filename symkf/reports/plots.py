@@ -69,6 +69,17 @@ def _inline_in_jupyter(figure_type: type) -> None:
         shell.display_formatter.formatters["image/png"].for_type(figure_type, lambda fig: print_figure(fig, "png"))
 
 
+def _math_label(exact: sp.Expr, limit: int = 60) -> str:
+    """An exact number for a legend or title: matplotlib math (``$\\frac{\\sqrt{6}}{2} \\approx
+    1.2247$``) when its LaTeX is at most ``limit`` characters, else the decimal alone; never
+    SymPy's ``243*167**(3/4)``."""
+    decimal = f"{float(exact):.5g}"
+    latex = sp.latex(exact)
+    if exact.is_Integer:
+        return latex
+    return rf"${latex} \approx {decimal}$" if len(latex) <= limit and not exact.has(sp.CRootOf) else f"≈ {decimal}"
+
+
 def figure_target(path: Any) -> Any:
     """The output of a figure function, checked before its work (:func:`symkf.output.plan`): None
     when no ``path`` is given."""
@@ -212,13 +223,12 @@ def mean_trace_figure(system: System, loss: LossModel, curve: MeanTraceCurve, *,
         slope = np.log(float(r))
         anchor = float(np.mean(curve.log_mean[half] - k[half] * slope))
         ax.plot(k, (anchor + k * slope) / ln10, "--", color="black",
-                label=f"exact growth rate {sp.sstr(r.exact)} ~ {float(r):.5g} per step "
-                      f"({'stable' if v.stable else 'not stable'})")
+                label=f"exact growth rate {_math_label(r.exact)} per step ({'stable' if v.stable else 'not stable'})")
     except SymkfError as exc:
         notes.append(f"no exact rate: {exc}".splitlines()[0][:70])
     if curve.float_cap is not None:
         notes.append(f"stops at k = {int(k[-1])} of {curve.requested}: float64 limit (montecarlo.float_horizon)")
-    if loss.bernoulli is not None:
+    if loss.bernoulli is not None:  # Yang's bounds are stated for i.i.d. losses only: otherwise not drawn
         try:
             G, V = yang_bounds(system, loss, int(k[-1]) + 1)
             with np.errstate(divide="ignore", invalid="ignore"):
@@ -226,8 +236,6 @@ def mean_trace_figure(system: System, loss: LossModel, curve: MeanTraceCurve, *,
                 ax.plot(k, np.log10(V[k]), "-.", color="tab:orange", label="Yang upper bound tr $V_k$")
         except SymkfError as exc:
             notes.append(f"no Yang bounds: {exc}".splitlines()[0][:70])
-    else:
-        notes.append("Yang's bounds need i.i.d. losses")
     name = system.name or "the system"
     ax.set(xlabel="step k", ylabel=r"$\log_{10}$ E[tr $P_{k|k-1}$]",
            title="\n".join(["Growth of the expected error covariance:", f"{name} under {loss.words()}",
@@ -285,10 +293,11 @@ def critical_angle_figure(scale: Any = 2, *, max_denominator: int = 6, C: Sequen
                     ha="center", fontsize="x-small")
     ax.plot([float(aperiodic)], [generic], "D", color="tab:red", label=r"$\cos\theta = 3/5$ (aperiodic)")
     ax.axhline(1 / float(scale) ** 2, color="tab:red", ls=":", lw=1,
-               label=f"1/scale$^2$ = {sp.sstr(1 / scale ** 2)}")
+               label=f"1/scale$^2$ = {_math_label(1 / scale ** 2)}")
+    rows = "; ".join(r"\ ".join(sp.latex(to_exact(v, "C")) for v in row) for row in C)
     ax.set(xlim=(0, np.pi), ylim=(0, 1.1 * max(values + [generic])), xlabel=r"rotation angle $\theta$",
            ylabel="critical common i.i.d. loss rate",
-           title=f"A = {sp.sstr(scale)} R($\\theta$), C = {[list(r) for r in C]}: exact critical loss")
+           title=rf"$A = {sp.latex(scale)}\,R(\theta)$, $C = [{rows}]$: exact critical loss")
     ax.legend(fontsize="small", loc="lower right")
     return finish_figure(fig, target)
 

@@ -19,6 +19,7 @@ from symkf import cli, examples
 from symkf.bounds import RESULTS, bounds
 from symkf.bounds.row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE, REFUSED
 from symkf.model.strategies import diagonalizable_systems
+from symkf.io import files
 
 from conftest import ROOT
 
@@ -257,7 +258,7 @@ def test_bad_input():
 def test_an_atlas_reads_in_one_line():
     S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="s1"), sk.Sensor(C=[[1, 1]], name="s2")])
     atlas = sk.bounds(S)
-    assert repr(atlas).startswith("<Atlas system: eps stable in (0, 2**(2/3)/4); 14 results, ")
+    assert repr(atlas).startswith("<Atlas system: eps stable in (0, 2^(2/3)/4 ≈ 0.39685); 14 results, ")
     assert "\n" not in repr(atlas) and len(repr(atlas)) < 120
 
 
@@ -273,7 +274,7 @@ def test_published_bounds_as_family_columns_are_the_atlas_rows(tmp_path, capsys)
     assert cli.main(["table", str(path), "--json"]) == 0
     atlas = bounds(S)
     in_memory = sk.tables.family_table(systems_family([S], compute=["bounds", "critical_loss_rate"]), progress=False)
-    for doc, member in ((json.loads(capsys.readouterr().out), "2"), (in_memory.to_json(), "1")):
+    for doc, member in ((json.loads(capsys.readouterr().out), "2"), (in_memory.to_dict(), "1")):
         # eleven columns for one member: too wide for a page, so the member is the column
         assert doc["layout"] == "members as columns" and doc["columns"] == [member]
         cells = {r["label"]: r["cells"][0] for r in doc["rows"]}
@@ -284,3 +285,16 @@ def test_published_bounds_as_family_columns_are_the_atlas_rows(tmp_path, capsys)
                 assert cells[r.key]["value"]["exact"] == str(r.value.exact) and cells[r.key]["relation"] == r.relation
             elif not r.applies:
                 assert r.key not in cells and r.key in doc["notes"][0]
+
+
+def test_atlas_text_names_roots_and_powers_in_mathematical_notation():
+    # two sensors on Gilbert-Elliott channels (fail 1/4) watching 2R(pi/2): the stable recovery
+    # probabilities start at the least real root of 16q^4 - 60q^3 + 88q^2 - 60q + 15 (15 at q = 0,
+    # -1 at q = 1), a CRootOf in the exact form
+    S, loss = files.load(examples.system("ge-two-sensors"))
+    atlas = sk.bounds(S, loss)
+    text = str(atlas)
+    assert "stable for q in (the 1st real root of 16x^4 - 60x^3 + 88x^2 - 60x + 15 (≈ 0.565084), 1)" in text
+    assert "CRootOf" not in text and "**" not in text and "[" + "'" not in text
+    words = json.loads(atlas.to_json())["quantity"]["words"]
+    assert words == "common Gilbert-Elliott recovery probability q = P(received | lost last), fail 1/4, 1/4"

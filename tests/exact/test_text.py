@@ -3,7 +3,7 @@
 import flint
 import sympy as sp
 
-from symkf.exact.text import approximate, number_text, ordinal, poly_text
+from symkf.exact.text import algebraic_text, approximate, number_text, ordinal, poly_text
 
 
 def test_complex_radical_is_shown_as_real_and_imaginary_parts():
@@ -37,3 +37,15 @@ def test_approximate_value_and_ordinals():
     assert approximate(flint.acb(flint.arb("0.848528137"), flint.arb("-0.848528137"))) == "0.8485-0.8485i"
     assert [ordinal(k) for k in (1, 2, 3, 4, 11, 12, 13, 21, 102, 111)] == [
         "1st", "2nd", "3rd", "4th", "11th", "12th", "13th", "21st", "102nd", "111th"]
+
+
+def test_algebraic_numbers_read_as_closed_form_and_decimal_or_as_a_named_root():
+    from symkf.exact.algebraic import AlgebraicNumber
+    x = sp.Symbol("x")
+    A = AlgebraicNumber.from_expr
+    assert algebraic_text(A(sp.Integer(1))) == "1" and algebraic_text(A(sp.Rational(9, 8))) == "9/8 ≈ 1.125"
+    assert algebraic_text(A(10 ** sp.Rational(2, 5) * 11 ** sp.Rational(3, 5) / 11)) == "10^(2/5)·11^(3/5)/11 ≈ 0.962594"
+    # 16x^4 - 60x^3 + 88x^2 - 60x + 15 is 15, -1 and 23 at x = 0, 1, 2: one real root in (0, 1), one in (1, 2)
+    p = 16 * x ** 4 - 60 * x ** 3 + 88 * x ** 2 - 60 * x + 15
+    assert algebraic_text(A(sp.CRootOf(p, 1))) == "the 2nd real root of 16x^4 - 60x^3 + 88x^2 - 60x + 15 (≈ 1.3635)"
+    assert algebraic_text(A(sp.Rational(10 ** 40 + 1, 10 ** 40))) == "a fraction ≈ 1"

@@ -31,7 +31,7 @@ def test_simulate_never_prints_an_interval_the_data_cannot_support():
     assert doc["low"][r:] == [None] * (60 - r) and doc["resolved_until"] == r
     # computed once per simulation (per call, to_dict was quadratic in the horizon), and read-only
     assert sim.resolved is sim.resolved and not sim.resolved.flags.writeable
-    assert "the filter diverges (exact growth 9/8 ~ 1.125 per step)" in doc["notes"][0]
+    assert "the filter diverges (exact growth 9/8 ≈ 1.125 per step)" in doc["notes"][0]
     assert "not resolved" in str(sim) and "[-" not in str(sim)
 
 
