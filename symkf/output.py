@@ -186,12 +186,13 @@ class Planned:
         """Rename ``tmp`` to :attr:`path`, unless another writer took or changed it since planning."""
         current = _lstat(self.path)
         if not self.force and current is not None and _Identity.of(current) != self.before:
-            raise _concurrent(where, f"{'appeared' if self.before is None else 'changed'} while this run was computing")
+            raise _concurrent(self.option, where,
+                              f"{'appeared' if self.before is None else 'changed'} while this run was computing")
         if self.before is None and not self.force:
             try:  # the name is taken atomically: a writer that got there first is never replaced
                 os.link(tmp, self.path)
             except FileExistsError:
-                raise _concurrent(where, "appeared while this run was computing") from None
+                raise _concurrent(self.option, where, "appeared while this run was computing") from None
             except OSError as exc:
                 if exc.errno not in _NO_LINKS:
                     raise
@@ -243,17 +244,23 @@ def plan(path: str | os.PathLike, option: str, *, inputs: Iterable[str | os.Path
         raise OutputError(f"{where}: is the input file {source}; refusing to overwrite an input")
     before = None if current is None else _Identity.of(current)
     if before is not None and keep_existing and not force:
-        raise OutputError(f"{where}: exists (perhaps edited); pass --force (from Python: force=True) to replace it")
+        raise OutputError(f"{where}: exists (perhaps edited); {_force(option)} to replace it")
     started = _RUN.started_ns
     if (before is not None and not force and started is not None and before.ctime_ns > started
             and before not in _RUN.written):
-        raise _concurrent(where, "was created or changed after this run started")
+        raise _concurrent(option, where, "was created or changed after this run started")
     return Planned(target, option, before, force)
 
 
-def _concurrent(where: str, what: str) -> OutputError:
-    return OutputError(f"{where}: {what} (another run writing the same file?); not replaced: pass --force "
-                       "(from Python: force=True) to replace it anyway, or choose another path")
+def _force(option: str) -> str:
+    """How the caller replaces a file anyway, in its own terms: ``--force`` where the target is a
+    command-line option or argument (``--latex``, ``NAME``), ``force=True`` where it is a parameter."""
+    return "pass --force" if option.startswith("-") or option.isupper() else "pass force=True"
+
+
+def _concurrent(option: str, where: str, what: str) -> OutputError:
+    return OutputError(f"{where}: {what} (another run writing the same file?); not replaced: {_force(option)} "
+                       "to replace it anyway, or choose another path")
 
 
 def _refuse_existing(target: Path, st: os.stat_result, where: str) -> None:

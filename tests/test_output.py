@@ -211,6 +211,17 @@ def test_a_target_changed_meanwhile_is_not_replaced_unless_forced(tmp_path):
     assert target.read_text() == "ours" and leftovers(tmp_path) == []
 
 
+def test_the_refusal_names_force_in_the_callers_terms(tmp_path):
+    # a command-line option or argument (--latex, NAME) takes --force; a Python parameter force=True
+    target = tmp_path / "copy.toml"
+    target.write_text("edited")
+    for option, hint in (("NAME", "pass --force to replace it"), ("--latex", "pass --force to replace it"),
+                         ("path", "pass force=True to replace it")):
+        with pytest.raises(OutputError) as refused:
+            output.plan(target, option, keep_existing=True)
+        assert hint in str(refused.value) and ("force=True" in str(refused.value)) == (option == "path")
+
+
 def test_a_target_changed_after_the_run_started_is_not_replaced(tmp_path):
     """Files planned late (reproduce's figures) are compared with the start of the run; the
     run's own earlier outputs are replaced."""
@@ -473,7 +484,7 @@ def test_two_runs_writing_the_same_new_table(tmp_path):
     _, err = first.communicate(timeout=300)
     assert second.returncode == 0 and first.returncode == 2
     assert err == (f"symkf table: --latex {out}: appeared while this run was computing (another run writing the "
-                   "same file?); not replaced: pass --force (from Python: force=True) to replace it anyway, or choose another path\n")
+                   "same file?); not replaced: pass --force to replace it anyway, or choose another path\n")
     assert "fam" in out.read_text() and leftovers(tmp_path) == []
 
 
