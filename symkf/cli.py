@@ -100,15 +100,25 @@ def _number(a: AlgebraicNumber, digits: int) -> dict[str, Any]:
 
 
 def _blocks_json(A: Any) -> list[dict[str, Any]]:
-    import sympy as sp
     from .exact.spectral import eigen_blocks
-    return [{"modulus": str(b.modulus), "modulus_decimal": str(b.modulus.evalf(10)), "modulus_degree": b.modulus.minpoly.degree(),
-             "eigenvalues": [str(e) for e in b.eigenvalues],
-             "eigenvalues_decimal": [str(sp.N(e, 10)) for e in b.eigenvalues],
-             "eigenvalue_degrees": [e.minpoly.degree() for e in b.members for _ in range(e.multiplicity)],
-             "tau": b.tau, "governing_period": b.governing_period, "proof": b.proof,
-             "jordan_chains": b.defective}
-            for b in eigen_blocks(A)]
+    return [_block_json(b) for b in eigen_blocks(A)]
+
+
+def _block_json(b: Any) -> dict[str, Any]:
+    import sympy as sp
+    return {"modulus": str(b.modulus), "modulus_decimal": str(b.modulus.evalf(10)), "modulus_degree": b.modulus.minpoly.degree(),
+            "eigenvalues": [str(e) for e in b.eigenvalues],
+            "eigenvalues_decimal": [str(sp.N(e, 10)) for e in b.eigenvalues],
+            "eigenvalue_degrees": [e.minpoly.degree() for e in b.members for _ in range(e.multiplicity)],
+            "tau": b.tau, "governing_period": b.governing_period, "proof": b.proof,
+            "jordan_chains": b.defective}
+
+
+def _block_words(b: Any) -> str:
+    """An eigen-block for people: its modulus and distinct eigenvalues in mathematical notation
+    (:meth:`~symkf.exact.spectral.EigenBlock.eigenvalue_words`) and its periods."""
+    periods = _period_words(b.tau, b.governing_period)
+    return f"|lambda| = {b.modulus_words}, eigenvalues {b.eigenvalue_words()}, {periods}"
 
 
 def loss_json(loss: "LossModel") -> dict[str, Any]:
@@ -121,39 +131,19 @@ def loss_json(loss: "LossModel") -> dict[str, Any]:
 def cmd_demo(args: argparse.Namespace) -> dict[str, Any]:
     from .io import examples, files
     from .engine.stability import critical_loss_rate
-    out = []
+    from .exact.text import algebraic_text
+    out, words = [], {}
     for path in examples.systems():
         system, _ = files.load(path)
-        entry = {"system": path.stem, "A": str(system.A.tolist()), "blocks": _blocks_json(system.A)}
-        entry["critical_loss_rate"] = _number(critical_loss_rate(system), 12)
-        out.append(entry)
-    return {"examples": out}
+        blocks, rate = system.eigen_blocks(), critical_loss_rate(system)
+        out.append({"system": path.stem, "A": str(system.A.tolist()), "blocks": [_block_json(b) for b in blocks],
+                    "critical_loss_rate": _number(rate, 12)})
+        words[path.stem] = ([_block_words(b) for b in blocks], algebraic_text(rate))
+    return {"examples": out, "_words": words}
 
 
-def _modulus_words(block: dict[str, Any]) -> str:
-    """A block's modulus for people: its closed form, or its decimal and degree when the form is too
-    long to read (``cos(pi/211)``: a degree-105 polynomial with 40-digit coefficients)."""
-    return _exact_words(block["modulus"], block["modulus_decimal"], block["modulus_degree"])
-
-
-def _eigenvalue_words(block: dict[str, Any]) -> str:
-    """A block's eigenvalues for people, each as :func:`_exact_words` shows it (a ``FlintRoot`` of
-    a degree-32 polynomial runs to thousands of characters)."""
-    return ", ".join(_exact_words(*e) for e in zip(block["eigenvalues"], block["eigenvalues_decimal"],
-                                                     block["eigenvalue_degrees"]))
-
-
-def _exact_words(exact: str, decimal: str, degree: int) -> str:
-    """An exact number's closed form when it is short enough to read, else its decimal and the
-    degree of its minimal polynomial (the JSON output keeps the exact form)."""
-    if len(exact) <= 200:
-        return exact
-    return f"≈{decimal} (a root of a degree-{degree} polynomial; --json gives it)"
-
-
-def _period_words(block: dict[str, Any]) -> str:
+def _period_words(tau: int | None, g: int | None) -> str:
     """A block's periods in words: "none" where the block has none (aperiodic), never Python's None."""
-    tau, g = block["tau"], block["governing_period"]
     if tau is None and g is None:
         return "aperiodic: no period tau, no governing period"
     return f"period tau = {'none' if tau is None else tau}, governing period = {'none' if g is None else g}"
@@ -162,21 +152,23 @@ def _period_words(block: dict[str, Any]) -> str:
 def _print_demo(res: dict[str, Any]) -> None:
     for e in res["examples"]:
         print("\n".join(textwrap.wrap(f"== {e['system']}: A = {e['A']}", 100, subsequent_indent="      ")))
-        for i, b in enumerate(e["blocks"]):
-            print(f"   block {i}: |lambda| = {_modulus_words(b)}, eigenvalues {_eigenvalue_words(b)}")
-            print(f"            {_period_words(b)}")
+        blocks, rate = res["_words"][e["system"]]
+        for i, (b, words) in enumerate(zip(e["blocks"], blocks)):
+            print("\n".join(textwrap.wrap(f"block {i}: {words}", 100, initial_indent="   ", subsequent_indent=" " * 12,
+                                           break_long_words=False, break_on_hyphens=False)))
             if b["tau"] is None or b["governing_period"] is None:
                 print("\n".join(textwrap.wrap(f"proof: {b['proof']}", 100, initial_indent=" " * 12,
                                                subsequent_indent=" " * 14)))
-        c = e["critical_loss_rate"]
-        print(f"   critical common i.i.d. loss rate = {c['exact']} ~ {c['decimal']}")
+        print(f"   critical common i.i.d. loss rate = {rate}")
 
 
 def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
     from .io import files
     from .engine.stability import stability
     system, loss = files.load(args.file)
-    res: dict[str, Any] = {"system": str(args.file), "blocks": _blocks_json(system.A),
+    blocks = system.eigen_blocks()
+    res: dict[str, Any] = {"system": str(args.file), "blocks": [_block_json(b) for b in blocks],
+                           "_blocks": [_block_words(b) for b in blocks],
                            "set_aside": [{"eigenvalues": [e.label for e in b.members], "reason": why}
                                          for b, why in system.set_aside()]}
     if loss is not None:
@@ -635,9 +627,8 @@ def _input_file(file: str) -> tuple[str, str]:
 def _print_plain(res: dict[str, Any]) -> None:
     """A result for people: eigen-blocks and the command's own text when it has one, else every
     key in words (:func:`_words`), never JSON."""
-    for b in res.get("blocks", []):
-        print("\n".join(textwrap.wrap(f"block: |lambda| = {_modulus_words(b)}, eigenvalues {_eigenvalue_words(b)}, "
-                                      f"{_period_words(b)}", 100,
+    for words in res.get("_blocks", []):
+        print("\n".join(textwrap.wrap(f"block: {words}", 100,
                                       subsequent_indent="    ", break_long_words=False, break_on_hyphens=False)))
     if "_text" in res:
         print(res["_text"])

@@ -32,7 +32,7 @@ import sympy as sp
 
 from ..arguments import check_public
 from .algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, precision, with_prec, fmpz_to_sympy,
-                        identify, real_from_ball, root_ball, root_of)
+                        identify, real_from_ball, root_ball, root_of, sympy_to_fmpz)
 from . import nfpoly
 from .field import Elem, NumberField, rational_value
 from .blocks import diagonal_blocks
@@ -40,7 +40,7 @@ from .linalg import field_of, rank, rank_rows
 from .. import budget
 from ..errors import InputError, ShapeError
 from .numbers import to_exact_matrix
-from .text import approximate, number_text, poly_text
+from .text import approximate, number_text, poly_text, root_text
 
 x, y, z = sp.symbols("x y z")
 
@@ -196,8 +196,7 @@ class Eigenvalue:
     def label(self) -> str:
         """The eigenvalue for people: its closed form when short (``-3√2/5 + 3√2/5 i``), else its
         approximate value and monic minimal polynomial (``root ≈ 1.26 of x^3 - 2``)."""
-        return (number_text(self.expr)
-                or f"root ≈ {approximate(self.ball(64))} of {poly_text(self.minpoly)}")
+        return number_text(self.expr) or root_text(self.minpoly, approximate(self.ball(64)))
 
     @cached_property
     def modulus(self) -> AlgebraicNumber:
@@ -267,7 +266,7 @@ class RatioEvidence:
             return (f"{label} has arg/(2 pi) in {t.str(20)} (certified), an interval "
                     f"holding no fraction of denominator <= 2 d^2 = {2 * d * d}, while a root of unity of degree "
                     f"<= d = {d} has order <= 2 d^2, so it is not a root of unity (aperiodic)")
-        return (f"{label} has modulus 1 and minimal polynomial {fmpz_to_sympy(self.minpoly).as_expr()}, "
+        return (f"{label} has modulus 1 and minimal polynomial {poly_text(self.minpoly, monic=False)}, "
                 "which is not cyclotomic, so it is not a root of unity (aperiodic)")
 
 
@@ -405,21 +404,32 @@ class EigenBlock:
         """Whether the block has a governing period (some power of it is a scalar multiple of I)."""
         return self.governing_period is not None
 
-    def __repr__(self) -> str:
-        """``EigenBlock(modulus 6/5; eigenvalues 1/2 + √3/2 i, 1 (×2); τ = 6, governing period 3)``:
-        each distinct eigenvalue once with its algebraic multiplicity (and its eigenvectors when
-        fewer), the first :data:`SHOWN_EIGENVALUES` of them."""
+    def eigenvalue_words(self, shown: int | None = None) -> str:
+        """The eigenvalues for people: each distinct one once (:attr:`Eigenvalue.label`) with its
+        algebraic multiplicity, ``1 (×2)``, and its eigenvectors when fewer; the first ``shown``."""
         def one(e: Eigenvalue) -> str:
             times = "" if e.multiplicity == 1 else f" (×{e.multiplicity}" + (
                 f", {e.geometric} eigenvector{'s' if e.geometric != 1 else ''})" if e.defective else ")")
             return e.label + times
-        shown = [one(e) for e in self.members[:SHOWN_EIGENVALUES]]
-        if len(self.members) > SHOWN_EIGENVALUES:
-            shown.append(f"and {len(self.members) - SHOWN_EIGENVALUES} more (.eigenvalues)")
-        modulus = number_text(self.modulus.exact) or f"≈ {self.modulus.evalf(6)}"
+        words = [one(e) for e in self.members[:shown]]
+        if shown is not None and len(self.members) > shown:
+            words.append(f"and {len(self.members) - shown} more (.eigenvalues)")
+        return ", ".join(words)
+
+    @property
+    def modulus_words(self) -> str:
+        """The modulus for people: its closed form (``√5/2 + 3/2``), else its decimal and minimal
+        polynomial (``root ≈ 1.324717957 of x^3 - x - 1``)."""
+        m = self.modulus
+        return number_text(m.exact) or root_text(sympy_to_fmpz(m.minpoly), str(m.evalf(10)))
+
+    def __repr__(self) -> str:
+        """``EigenBlock(modulus 6/5; eigenvalues 1/2 + √3/2 i, 1 (×2); τ = 6, governing period 3)``:
+        :meth:`eigenvalue_words`, the first :data:`SHOWN_EIGENVALUES` distinct eigenvalues."""
         periods = (f"τ = {self.tau}" if self.tau is not None else "aperiodic (no τ)") + ", governing period " + (
             str(self.governing_period) if self.governing_period is not None else "none")
-        return f"EigenBlock(modulus {modulus}; eigenvalues {', '.join(shown)}; {periods})"
+        return (f"EigenBlock(modulus {self.modulus_words}; eigenvalues {self.eigenvalue_words(SHOWN_EIGENVALUES)}; "
+                f"{periods})")
 
 
 #: distinct eigenvalues an EigenBlock's repr lists

@@ -126,6 +126,17 @@ def poly_text(poly: flint.fmpz_poly | sp.Poly, var: str = "x", monic: bool = Tru
     return " ".join([("-" if first_sign == "-" else "") + first] + [f"{s} {t}" for s, t in terms[1:]])
 
 
+#: longest polynomial written out in a root's name; a longer one is named by its degree
+MAX_POLY_TEXT = 60
+
+
+def root_text(poly: flint.fmpz_poly, value: str) -> str:
+    """``root ≈ 1.26 of x^3 - 2``: a root named by its approximate ``value`` and its (monic)
+    polynomial, or the polynomial's degree when it is longer than :data:`MAX_POLY_TEXT`."""
+    shown = poly_text(poly)
+    return f"root ≈ {value} of " + (shown if len(shown) <= MAX_POLY_TEXT else f"a degree-{poly.degree()} polynomial")
+
+
 def approximate(ball: flint.acb, digits: int = 4) -> str:
     """``0.8485+0.8485i`` or ``1.26``: the midpoint of a complex ball to ``digits`` significant digits."""
     v = complex(float(ball.real.mid()), float(ball.imag.mid()))

@@ -125,6 +125,7 @@ def test_cli_plain_json_and_disagreement_status(path, serial, capsys, monkeypatc
     read, *lines = capsys.readouterr().out.splitlines()
     assert read == f"read: {path}"
     assert len(lines) == 4 and lines[0].startswith("eps = 1/50") and lines[0].endswith("CONSISTENT")
+    assert "theory stable     growth 1; simulation" in lines[0]   # a stable member's growth 1, not "1 ~ 1"
     assert f"seeds {SEED + 3}, {SEED + 4}, {SEED + 5}" in lines[1] and lines[3] == ("3 members: 3 consistent, 0 undecided, 0 contradiction, "
                                                         "0 inapplicable, 0 breakdown")
 
