@@ -158,7 +158,8 @@ def mutate(doc: dict, data: st.DataObject) -> dict:
     elif kind == "loss-kind":
         loss["kind"] = data.draw(st.one_of(st.sampled_from(["markov", "IID", "", "gilbert"]), st.integers()))
     elif kind == "loss-length":
-        loss["loss"] = data.draw(st.sampled_from([[], ["1/2"], ["1/2"] * 3, "1/2", 0]))
+        # (one number, "1/2" or 0, is every sensor's: a common rate, not a broken file)
+        loss["loss"] = data.draw(st.sampled_from([[], ["1/2"], ["1/2"] * 3, {"p": "1/2"}]))
     elif kind == "missing":
         where, key = data.draw(st.sampled_from([(doc, "system"), (doc, "sensors"), (system, "A"),
                                                 (sensors[i], "C"), (loss, "loss")]))
