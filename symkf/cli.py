@@ -101,17 +101,7 @@ def _number(a: AlgebraicNumber, digits: int) -> dict[str, Any]:
 
 def _blocks_json(A: Any) -> list[dict[str, Any]]:
     from .exact.spectral import eigen_blocks
-    return [_block_json(b) for b in eigen_blocks(A)]
-
-
-def _block_json(b: Any) -> dict[str, Any]:
-    import sympy as sp
-    return {"modulus": str(b.modulus), "modulus_decimal": str(b.modulus.evalf(10)), "modulus_degree": b.modulus.minpoly.degree(),
-            "eigenvalues": [str(e) for e in b.eigenvalues],
-            "eigenvalues_decimal": [str(sp.N(e, 10)) for e in b.eigenvalues],
-            "eigenvalue_degrees": [e.minpoly.degree() for e in b.members for _ in range(e.multiplicity)],
-            "tau": b.tau, "governing_period": b.governing_period, "proof": b.proof,
-            "jordan_chains": b.defective}
+    return [b.to_dict() for b in eigen_blocks(A)]
 
 
 def _block_words(b: Any) -> str:
@@ -136,7 +126,7 @@ def cmd_demo(args: argparse.Namespace) -> dict[str, Any]:
     for path in examples.systems():
         system, _ = files.load(path)
         blocks, rate = system.eigen_blocks(), critical_loss_rate(system)
-        out.append({"system": path.stem, "A": str(system.A.tolist()), "blocks": [_block_json(b) for b in blocks],
+        out.append({"system": path.stem, "A": str(system.A.tolist()), "blocks": [b.to_dict() for b in blocks],
                     "critical_loss_rate": _number(rate, 12)})
         words[path.stem] = ([_block_words(b) for b in blocks], algebraic_text(rate))
     return {"examples": out, "_words": words}
@@ -167,7 +157,7 @@ def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
     from .engine.stability import stability
     system, loss = files.load(args.file)
     blocks = system.eigen_blocks()
-    res: dict[str, Any] = {"system": str(args.file), "blocks": [_block_json(b) for b in blocks],
+    res: dict[str, Any] = {"system": str(args.file), "blocks": [b.to_dict() for b in blocks],
                            "_blocks": [_block_words(b) for b in blocks],
                            "set_aside": [{"eigenvalues": [e.label for e in b.members], "reason": why}
                                          for b, why in system.set_aside()]}

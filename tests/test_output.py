@@ -530,7 +530,8 @@ def test_public_objects_give_a_dict_and_json_text():
     loss = sk.IID(["1/10", "1/10"])
     objects = [S, loss, sk.GilbertElliott(fail=["1/20", "1/20"], recover=["1/2", "1/2"]),
                sk.critical_loss_rate(S), sk.stability(S, loss), sk.AlgebraicNumber.from_expr(sp.sqrt(2)),
-               sk.design.allocate_channels(S), sk.simulate(S, loss, horizon=5, paths=20, seed=1)]
+               sk.design.allocate_channels(S), sk.simulate(S, loss, horizon=5, paths=20, seed=1),
+               sk.eigen_blocks(S.A)[0]]
     for obj in objects:
         d, text = obj.to_dict(), obj.to_json()
         assert isinstance(d, dict) and isinstance(text, str), type(obj)

@@ -39,6 +39,7 @@ from .blocks import diagonal_blocks
 from .linalg import field_of, rank, rank_rows
 from .. import budget
 from ..errors import InputError, ShapeError
+from ..output import JsonDocument
 from .numbers import to_exact_matrix
 from .text import approximate, number_text, poly_text, root_text
 
@@ -358,7 +359,7 @@ def _phase_order(lam: Eigenvalue) -> tuple[int | None, RatioEvidence]:
 
 
 @dataclass(frozen=True, eq=False)
-class EigenBlock:
+class EigenBlock(JsonDocument):
     """The eigenvalues of ``A`` of one modulus ``alpha_i`` (Assumption 3)."""
 
     modulus: AlgebraicNumber
@@ -403,6 +404,18 @@ class EigenBlock:
     def is_periodic(self) -> bool:
         """Whether the block has a governing period (some power of it is a scalar multiple of I)."""
         return self.governing_period is not None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The block of ``symkf analyze --json``: modulus and eigenvalues exact (as text) and as
+        10-digit decimals with their degrees, the periods (null when aperiodic), their proof and
+        whether the block has Jordan chains."""
+        return {"modulus": str(self.modulus), "modulus_decimal": str(self.modulus.evalf(10)),
+                "modulus_degree": self.modulus.minpoly.degree(),
+                "eigenvalues": [str(e) for e in self.eigenvalues],
+                "eigenvalues_decimal": [str(sp.N(e, 10)) for e in self.eigenvalues],
+                "eigenvalue_degrees": [e.minpoly.degree() for e in self.members for _ in range(e.multiplicity)],
+                "tau": self.tau, "governing_period": self.governing_period, "proof": self.proof,
+                "jordan_chains": self.defective}
 
     def eigenvalue_words(self, shown: int | None = None) -> str:
         """The eigenvalues for people: each distinct one once (:attr:`Eigenvalue.label`) with its
