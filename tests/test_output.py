@@ -541,3 +541,4 @@ def test_public_objects_give_a_dict_and_json_text():
     one = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
     assert json.loads(sk.critical_loss_rate(one).to_json())["exact"] == "1/16"
     assert json.loads(S.to_json(indent=None))["system"]["A"] == [["0", "-2"], ["2", "0"]]
+

@@ -8,6 +8,7 @@ pickle exactly."""
 from __future__ import annotations
 
 import itertools
+import json
 import re
 import warnings
 from fractions import Fraction
@@ -28,6 +29,7 @@ from symkf.errors import (
 )
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.exact.spectral import eigen_blocks
+from symkf.io import files
 
 R = sp.Rational
 
@@ -172,3 +174,11 @@ def test_singular_initial_covariance_is_still_refused():
 def test_unseen_undriven_unit_mode_is_named_with_what_applies():
     with pytest.raises(sk.errors.UnobservableError, match=r"eigenvalue 1 .*not driven by Q either.*without this undriven"):
         sk.System(A=[[2, 0], [0, 1]], sensors=[sk.Sensor(C=[[1, 0]])], Q=[[1, 0], [0, 0]])
+
+
+def test_a_systems_dict_is_its_file_and_reads_back_exactly():
+    S = sk.System(A=[["sqrt(3)/2", "-1/2"], ["1/2", "sqrt(3)/2"]], sensors=[sk.Sensor(C=[[1, 0]], R=[["1/2"]], name="a")],
+                  name="rotation")
+    read, loss = files.parse(json.loads(S.to_json()), "doc")
+    assert read.A == sp.Matrix([[sp.sqrt(3) / 2, -sp.Rational(1, 2)], [sp.Rational(1, 2), sp.sqrt(3) / 2]])
+    assert (read.name, read.sensor_names, read.sensors[0].R, loss) == ("rotation", ("a",), sp.Matrix([[sp.Rational(1, 2)]]), None)
