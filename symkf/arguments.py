@@ -20,6 +20,11 @@ What an annotation asks (resolved lazily, on the first call, so forward referenc
 
 A parameter left at its default is not checked, and neither is a call from symkf itself: the
 checks guard the boundary, where outside data comes in, and cost nothing inside the engine.
+
+The boundary is also where a loss model meets its system: an argument sized by its sibling (a
+common loss rate, ``IID("1/10")``, has ``d = None`` and ``with_sensors(d)``) takes the number of
+sensors of the one system among the arguments (the object with ``sensor_names``), as NumPy
+broadcasts a scalar; :func:`symkf.model.loss.checked` does the same inside.
 """
 
 from __future__ import annotations
@@ -307,6 +312,8 @@ def guarded(fn: Callable, types: bool = True) -> Callable:
         if PRICERS and not getattr(fn, "__symkf_unpriced__", False):
             for name, value in bound.arguments.items():
                 _price(value, name)
+        if _sized_by_sibling(bound):
+            return fn(*bound.args, **bound.kwargs)
         return fn(*args, **kwargs)
 
     call.__symkf_checked__ = True
@@ -314,6 +321,22 @@ def guarded(fn: Callable, types: bool = True) -> Callable:
         if hasattr(fn, attr):
             setattr(call, attr, getattr(fn, attr))
     return call
+
+
+def _sized_by_sibling(bound: inspect.BoundArguments) -> bool:
+    """Give each argument without a size (``d is None``, a common loss rate) the number of sensors
+    of the one system among the arguments; whether one was given."""
+    # looked up statically: an argument's own attribute hooks never run here (nor a half-built self's)
+    static = inspect.getattr_static
+    args = {k: v for k, v in bound.arguments.items() if k not in ("self", "cls")}
+    sizes = {v.d for v in args.values() if isinstance(static(v, "sensor_names", None), property)}
+    unsized = [k for k, v in args.items() if static(v, "d", 0) is None and static(v, "with_sensors", None) is not None]
+    if len(sizes) != 1 or not unsized:
+        return False
+    (d,) = sizes
+    for name in unsized:
+        bound.arguments[name] = bound.arguments[name].with_sensors(d)
+    return True
 
 
 def check_public(namespace: dict) -> None:

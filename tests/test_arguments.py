@@ -37,3 +37,18 @@ def test_mappings_are_checked_key_by_key_and_value_by_value():
     with pytest.raises(InputError, match="mapping of an int"):
         span_key({0: ["__import__('os')"]})
     assert span_key({0: [flint.fmpq_poly([1]), flint.fmpq_poly([0, 2])]}) == ((0, ((1, 1), (1, 0, 2))),)
+
+
+def test_a_common_loss_rate_takes_the_sensors_of_the_system_beside_it():
+    # every public function given a system and IID("1/10") reads it as IID("1/10", d=3), however
+    # it reaches the model (Yang et al.'s bounds and Theorem 7 read its Bernoulli losses directly)
+    import numpy as np
+
+    from symkf.capacity.theorems import theorem7_necessary
+    from symkf.reports.plots import yang_bounds
+
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[1, 1]]), sk.Sensor(C=[[0, 1]])])
+    common, listed = sk.IID("1/10"), sk.IID("1/10", d=3)
+    assert all(np.array_equal(a, b) for a, b in zip(yang_bounds(S, common, 6), yang_bounds(S, listed, 6)))
+    assert theorem7_necessary(S, common) == theorem7_necessary(S, listed)
+    assert sk.stability(loss=common, system=S) == sk.stability(S, listed)

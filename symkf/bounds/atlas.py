@@ -20,7 +20,7 @@ from ..arguments import check_public
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
 from ..exact.text import algebraic_text
-from ..model.loss import LossModel
+from ..model.loss import LossModel, checked
 from ..model.system import System
 from ..engine.stability import critical_loss_rate
 from ..engine.recovery import stable_recovery_intervals
@@ -187,6 +187,7 @@ def bounds(system: System, loss: LossModel | None = None, *, lmi_steps: int = si
         raise InputError(f"system: expected a symkf.System, got {type(system).__name__}")
     if loss is not None and not isinstance(loss, LossModel):
         raise InputError(f"loss: expected a symkf loss model or None, got {type(loss).__name__}")
+    loss = None if loss is None else checked(loss, system)
     if not isinstance(lmi_steps, int) or not 0 <= lmi_steps <= 60:
         raise InputError(f"lmi_steps: expected an integer in [0, 60], got {lmi_steps!r}")
     q, note = quantity(system, loss)

@@ -77,7 +77,7 @@ def number_text(expr: sp.Expr, limit: int = MAX_CLOSED_FORM) -> str | None:
         return None
     text = _plain(expr)
     if expr.is_extended_real is False:
-        re_, im_ = (sp.nsimplify(p) if p.is_Float else p for p in sp.expand_complex(expr).as_real_imag())
+        re_, im_ = sp.expand_complex(expr).as_real_imag()
         if _closed(re_) and _closed(im_) and not (re_.has(sp.exp) or im_.has(sp.exp, sp.cos, sp.sin)):
             imag = _plain(abs(im_)) if im_.is_extended_real else _plain(im_)
             imag = ("i" if imag == "1" else f"{imag}i" if imag.isdigit() else f"({imag})i" if re.search(r"[ +-]", imag)
