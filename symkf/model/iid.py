@@ -28,9 +28,10 @@ class IID(LossModel):
         (:func:`symkf.engine.region.stability_conditions`); a single number is every sensor's.
     d : int, optional
         The number of sensors: ``IID("1/10", d=3)`` is ``IID(["1/10"] * 3)``.  Without it a
-        single number is a common rate that takes the number of sensors of the system it meets
-        (:func:`symkf.model.loss.checked`, in every entry point that pairs a model with a
-        system, as NumPy broadcasts a scalar); where no system gives one, the model refuses.
+        single number is a common rate that takes the number of sensors of the system it meets,
+        as NumPy broadcasts a scalar: in every public function given both (:mod:`symkf.arguments`),
+        in :func:`symkf.model.loss.checked` and in a file's ``[loss]`` table; where no system
+        gives one, the model refuses, naming the missing count.
 
     Raises
     ------
