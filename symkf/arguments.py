@@ -141,24 +141,25 @@ def _number(value: Any) -> bool:
         return isinstance(value, numbers.Integral)
 
 
-#: how deep an argument's lists, tuples, sets and mappings may nest: symkf reads matrices of rows
-#: (two levels) and tables of them; far deeper input ends in a RecursionError inside a library
+#: how deep an argument's lists, tuples and sets may nest: symkf reads matrices of rows (two levels)
+#: and tables of them; far deeper input ends in a RecursionError inside a library (a mapping nested
+#: deep is a file's table, which the codec reads without recursion and names)
 MAX_NESTING = 32
+_NESTED = (list, tuple, set, frozenset)
 
 
 def _too_deep(value: Any) -> bool:
-    """Whether ``value`` nests containers more than :data:`MAX_NESTING` deep (iterative: the test
-    itself must not recurse; each container is looked at once)."""
-    stack, seen = [(value, 0)], set()
+    """Whether ``value`` nests lists, tuples or sets more than :data:`MAX_NESTING` deep (iterative:
+    the test itself must not recurse; each container is looked at once)."""
+    stack, seen = ([(value, 0)] if isinstance(value, _NESTED) else []), set()
     while stack:
         item, depth = stack.pop()
-        if not isinstance(item, (list, tuple, set, frozenset, dict)) or id(item) in seen:
+        if id(item) in seen:
             continue
         if depth >= MAX_NESTING:
             return True
         seen.add(id(item))
-        children = item.values() if isinstance(item, dict) else item
-        stack.extend((child, depth + 1) for child in children if isinstance(child, (list, tuple, set, frozenset, dict)))
+        stack.extend((child, depth + 1) for child in item if isinstance(child, _NESTED))
     return False
 
 
