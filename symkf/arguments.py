@@ -222,6 +222,8 @@ def index(value: Any, size: int, entry: str) -> int:
     """``value`` as a position in ``range(size)`` (a sensor, a state, a block), or an
     :class:`InputError` naming ``entry`` and the range (Python's negative positions are not taken:
     a position from outside names one thing)."""
+    if not isinstance(entry, str) or isinstance(size, bool) or not isinstance(size, int):
+        raise InputError(f"index: expected an int size and a str entry, got {described(size)}, {described(entry)}")
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 0 <= value < size:
         raise InputError(f"{entry}: expected a position 0..{size - 1}, got {described(value)}")
     return int(value)
@@ -230,6 +232,8 @@ def index(value: Any, size: int, entry: str) -> int:
 def count(value: Any, entry: str, least: int = 0) -> int:
     """``value`` as an integer count at least ``least`` (a horizon, a holding time), or an
     :class:`InputError` naming ``entry``."""
+    if not isinstance(entry, str) or isinstance(least, bool) or not isinstance(least, int):
+        raise InputError(f"count: expected an int least and a str entry, got {described(least)}, {described(entry)}")
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < least:
         raise InputError(f"{entry}: expected an integer >= {least}, got {described(value)}")
     return int(value)

@@ -314,7 +314,7 @@ def test_a_compute_list_is_a_column_per_query_and_a_row_per_member(tmp_path):
     two steps blinds the filter when the d copies all lose at one phase: stable iff 16 eps^d < 1
     (per sensor 16 eps_s eps^(d - 1) < 1), margin sqrt(16 eps^d) = 4 eps^(d/2), by hand."""
     table = family_table(_write(tmp_path, PER_SENSOR), progress=False)
-    doc = table.to_json()
+    doc = table.to_dict()
     assert doc["columns"] == ["eps_c(s)", "eps_c(s_1)", "eps_c(s_2)", "margin"]
     assert [r["label"] for r in doc["rows"]] == ["1/25, 1", "1/25, 2", "1/8, 1", "1/8, 2"]
     cells = [[None if c is None else c["exact"] for c in r["cells"]] for r in doc["rows"]]  # None: no such sensor
