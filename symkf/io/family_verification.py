@@ -19,7 +19,7 @@ from typing import Any, Iterator, Sequence
 
 from ..output import JsonDocument
 from ..arguments import check_public
-from ..errors import AssumptionError, FileFormatError, NumericalBreakdownError, SymkfError
+from ..errors import AssumptionError, FileFormatError, InputError, NumericalBreakdownError, SymkfError
 from ..numeric.verify import BREAKDOWN, INAPPLICABLE, OUTCOMES, Verification, approximately, interval_text, verify
 from ..run.sweep import sweep
 from .families import Family, Member, load_family
@@ -139,6 +139,8 @@ def _member_label(task: tuple[int, Member, int]) -> str:
 
 def family_summary(reports: list[dict[str, Any]]) -> str:
     """One line per member (theory, simulation, outcome) and a count of the outcomes."""
+    if not reports:
+        raise InputError("reports: a family verification has at least one member's report")
     width = max(len(r["member"]) for r in reports)
     lines = []
     for r in reports:

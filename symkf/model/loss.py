@@ -56,6 +56,8 @@ def probabilities(values: Any, entry: str, rationalize: bool | str = False,
     """One exact probability per sensor; a single value is every sensor's when ``d`` sensors are given."""
     if d is not None and (isinstance(d, bool) or not isinstance(d, int) or d < 1):
         raise InputError(f"d: expected a positive number of sensors, got {d!r}")
+    if d is not None:
+        budget.check("max_sensors", d, "d", "the number of sensors")
     if is_scalar(values):
         if d is None:
             raise InputError(f"{entry}: a single probability needs d, the number of sensors it applies to "
@@ -426,9 +428,10 @@ def _toml(value: Any) -> str:
 
 def check_joint_size(d: int) -> None:
     """Refuse the exact joint chain of ``d`` independent sensors before its ``2^d`` states are built."""
-    budget.check("max_markov_states", 2 ** d, "loss", f"the number of states of the joint chain of {d} "
-                 "independent sensors (symkf decides and samples them per sensor; this query needs the joint chain)")
-
+    if isinstance(d, bool) or not isinstance(d, int) or d < 1:
+        raise InputError(f"d: expected a positive number of sensors, got {d!r}")
+    budget.check_power("max_markov_states", 2, d, "loss", f"the number of states of the joint chain of {d} "
+                       "independent sensors (symkf decides and samples them per sensor; this query needs the joint chain)")
 
 
 check_public(globals())

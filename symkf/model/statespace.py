@@ -16,6 +16,7 @@ warning (:func:`symkf.exact.numbers.to_exact`).
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
 import numpy as np
@@ -88,7 +89,13 @@ def statespace_of(A: sp.MatrixBase, C: sp.MatrixBase, outputs: Sequence[str], na
     # python-control mishandles empty (p, 0) feedthroughs, so "no input" is one input that does not act
     inputs = ["no_input"] if B is None else None
     B = np.zeros((n, 1)) if B is None else float_array(B, "B")
+    if B.ndim != 2 or B.shape[0] != n or B.shape[1] == 0 or not np.all(np.isfinite(B)):
+        raise ShapeError(f"B: expected a finite {n} x m matrix with m >= 1 inputs, got shape {B.shape}")
     D = np.zeros((p, B.shape[1])) if D is None else float_array(D, "D")
+    if D.shape != (p, B.shape[1]) or not np.all(np.isfinite(D)):
+        raise ShapeError(f"D: expected a finite {p} x {B.shape[1]} matrix (outputs x inputs), got shape {D.shape}")
+    if isinstance(dt, bool) and not dt or not isinstance(dt, bool) and not 0 < dt < math.inf:
+        raise InputError(f"dt: expected a positive sampling time or True (discrete, unspecified), got {dt!r}")
     return ct.ss(A, B, C, D, dt, outputs=list(outputs), inputs=inputs, name=name)
 
 

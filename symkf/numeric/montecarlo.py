@@ -25,9 +25,9 @@ import sympy as sp
 
 from .. import budget
 from . import receptions
-from ..errors import BudgetError, InputError, SymkfError
+from ..errors import BudgetError, InputError, ShapeError, SymkfError
 from ..exact.algebraic import AlgebraicNumber
-from ..arguments import check_public, float_array
+from ..arguments import check_public, count, float_array
 from ..exact.perron import perron_float
 from ..exact.numbers import sympify, to_exact
 from .filters import (FloatSystem, _positive, _run, exact_covariances, log_traces, real_form, receival_table,
@@ -237,6 +237,8 @@ class TraceEstimate:
     def covers(self, values: np.ndarray) -> np.ndarray:
         """Which steps' intervals contain ``values``."""
         values = float_array(values, "values")
+        if values.shape not in ((), self.low.shape):
+            raise ShapeError(f"values: expected one value or {self.low.shape[0]} (one per step), got shape {values.shape}")
         return (self.low <= values) & (values <= self.high)
 
 
@@ -736,6 +738,7 @@ def polynomial_allowance(horizons: Sequence[int], degree: int = 1) -> float:
 def rate_horizons(horizon: int, period: int) -> tuple[int, int, int]:
     """``(h, 2h, 3h)`` with ``h`` the largest multiple of ``period`` up to ``horizon / 3`` (at least
     one period): equal phases, so a periodic factor of ``E[tr P_k]`` cancels in the ratios."""
+    horizon, period = count(horizon, "horizon", 1), count(period, "period", 1)
     h = max(period, period * (horizon // (3 * period)))
     return h, 2 * h, 3 * h
 

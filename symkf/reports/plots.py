@@ -26,8 +26,9 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
-from ..arguments import check_public
-from .. import output
+from .. import budget, output
+from ..arguments import check_public, count
+from ..exact.algebraic import sign
 from ..errors import ExtraNotInstalledError, InputError, SymkfError
 from ..exact.numbers import to_exact
 from ..model.iid import IID
@@ -53,6 +54,10 @@ def require_matplotlib() -> None:
 
 
 def new_figure(width: float = 6.4, height: float = 4.8) -> Any:
+    """A matplotlib figure of ``width`` x ``height`` inches (each in (0, 200]), without pyplot."""
+    for name, size in (("width", width), ("height", height)):
+        if not 0 < size <= 200:
+            raise InputError(f"{name}: expected a figure size in inches in (0, 200], got {size!r}")
     require_matplotlib()
     from matplotlib.figure import Figure
     _inline_in_jupyter(Figure)
@@ -255,6 +260,9 @@ def rotation_system(scale: Any, angle: Any, C: Sequence[Sequence[Any]] = ((1, 0)
 
 def rational_angles(max_denominator: int) -> list[Fraction]:
     """Fractions ``p/q`` in (0, 1) in lowest terms with ``q <= max_denominator``, increasing."""
+    max_denominator = count(max_denominator, "max_denominator")
+    budget.check("max_members", max_denominator * (max_denominator - 1) // 2, "max_denominator",
+                 f"the number of fractions p/q with q <= {max_denominator} (before lowest terms)")
     return sorted(Fraction(p, q) for q in range(2, max_denominator + 1) for p in range(1, q) if gcd(p, q) == 1)
 
 
@@ -271,6 +279,8 @@ def critical_angle_figure(scale: Any = 2, *, max_denominator: int = 6, C: Sequen
     from ..engine.stability import critical_loss_rate
 
     scale = to_exact(scale, "scale")
+    if sign(scale) <= 0:
+        raise InputError(f"scale: expected the rotation's modulus, a positive number, got {scale}")
     angles = rational_angles(max_denominator)
     if not angles:
         raise InputError(f"max_denominator: expected an integer >= 2, got {max_denominator!r}")

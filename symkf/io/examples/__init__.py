@@ -27,8 +27,9 @@ import re
 from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
+from typing import Any
 
-from ...arguments import check_public
+from ...arguments import check_public, described
 from ...errors import InputError
 
 __all__ = ["directory", "systems", "families", "system", "family", "Example", "catalog", "resolve"]
@@ -41,6 +42,8 @@ def directory() -> Path:
 
 def systems(subdir: str = "") -> list[Path]:
     """The system files in ``systems/`` (or ``systems/<subdir>``, e.g. ``"network"``), sorted."""
+    if subdir not in ("", "network", "fusion"):
+        raise InputError(f"subdir: expected '', 'network' or 'fusion', got {described(subdir)}")
     return sorted((directory() / "systems" / subdir).glob("*.toml"))
 
 
@@ -61,10 +64,23 @@ def family(name: str) -> Path:
 
 def _named(folder: Path, name: str) -> Path:
     path = folder / f"{name}.toml"
-    if not path.is_file():
+    if not _NAME.fullmatch(name) or not path.is_file():
         known = sorted(str(p.relative_to(folder).with_suffix("")) for p in folder.rglob("*.toml"))
         raise InputError(f"no example {name!r} in {folder.name}/; known: {', '.join(known)}")
     return path
+
+
+#: an example's name: a file stem, optionally under ``network/`` or ``fusion/``
+_NAME = re.compile(r"(?:(?:network|fusion)/)?[A-Za-z0-9][A-Za-z0-9_.-]{0,99}")
+
+
+def _exists(path: Path, file: Any) -> bool:
+    """Whether ``path`` exists; a name the system cannot look up (too long, a loop of links) is
+    the caller's file named with the system's reason."""
+    try:
+        return path.exists()
+    except OSError as exc:
+        raise InputError(f"{described(file)}: cannot be looked up ({exc.strerror})") from None
 
 
 @dataclass(frozen=True)
@@ -91,10 +107,10 @@ def resolve(file: str | os.PathLike) -> Path:
     shipped example of that name (with or without ``.toml``, optionally as ``network/<name>``);
     an input error lists the names otherwise."""
     path = Path(file)
-    if path.exists():
+    if _exists(path, file):
         return path
     local = path.with_name(path.name + ".toml")
-    if not path.name.endswith(".toml") and local.exists():
+    if not path.name.endswith(".toml") and _exists(local, file):
         return local
     stem = path.name[:-len(".toml")] if path.name.endswith(".toml") else path.name
     found = [e.path for e in catalog() if e.name == stem]
