@@ -252,19 +252,34 @@ def _shown(signature: inspect.Signature) -> str:
 PRICERS: list[tuple[type, Callable[[Any, str], None]]] = []
 
 
+#: ``check(length, entry)``: refuses a list, tuple or matrix holding items that :data:`PRICERS`
+#: price, when it is longer than any symkf reads, before its first item is priced (pricing is per
+#: item: a million sympy numbers take minutes).  The exact layer registers the budget's cap.
+LENGTHS: list[Callable[[int, str], None]] = []
+
+#: lists up to this long are priced item by item without first looking at their items' types
+_SHORT = 64
+
+
 def _price(value: Any, entry: str, depth: int = 0) -> None:
     """Apply :data:`PRICERS` to ``value`` and, two levels deep, the items of its lists, tuples and
-    matrices (``entry`` names it in errors)."""
+    matrices (``entry`` names it in errors); a long one is measured by :data:`LENGTHS` first, and
+    walked only when it holds priced items or containers."""
     for kind, pricer in PRICERS:
         if isinstance(value, kind):
             pricer(value, entry)
             return
-    if depth < 2 and isinstance(value, (list, tuple)):
-        for i, item in enumerate(value):
-            _price(item, f"{entry}[{i}]", depth + 1)
-    elif depth < 2 and type(value).__module__.startswith("sympy.matrices"):
-        for i, item in enumerate(value):
-            _price(item, f"{entry}[{i}]", depth + 1)
+    if depth >= 2 or not isinstance(value, (list, tuple)) and not type(value).__module__.startswith("sympy.matrices"):
+        return
+    if len(value) > _SHORT:
+        kinds = set(map(type, value))   # at C speed: a list of floats or strings is left at once
+        if any(issubclass(k, kind) for k in kinds for kind, _ in PRICERS):
+            for check in LENGTHS:
+                check(len(value), entry)
+        elif not any(issubclass(k, (list, tuple)) or k.__module__.startswith("sympy.matrices") for k in kinds):
+            return
+    for i, item in enumerate(value):
+        _price(item, f"{entry}[{i}]", depth + 1)
 
 
 def unpriced(fn: Callable) -> Callable:

@@ -127,6 +127,11 @@ class Limits:
     #: with 128 sensors 3.1e7; a 6-dim one with 6 sensors of period 12, 6.3e7; eight 2R(pi/97)
     #: blocks, one 16-dim eigen-block, with 64 sensors: about 10^42)
     max_screen_work: int = 1_000_000_000
+    #: items of one list, tuple or matrix argument of a call from outside symkf that holds sympy
+    #: numbers: each is priced at the boundary (symkf.arguments.PRICERS) at a cost per item, so a
+    #: longer one is refused before the first is priced (the longest lists symkf reads, a network
+    #: state's rows under max_network_chain, fit)
+    max_priced_items: int = 4096
     #: members of a family file
     max_members: int = 2000
     #: bytes of the arrays one Monte Carlo run allocates at its peak, as estimated by
@@ -190,7 +195,7 @@ def check_power(cap: str, base: int, exponent: int, entry: str, what: str) -> No
     """:func:`check` of ``base ** exponent`` without computing it when it is far above the cap
     (the power of a huge exponent is itself the work the cap guards): compared in logarithms."""
     bound = getattr(LIMITS, cap)
-    if exponent * math.log2(base) > math.log2(max(bound, 1)) + 64:   # far above: never built
+    if base > 1 and exponent * math.log2(base) > math.log2(max(bound, 1)) + 64:   # far above: never built
         raise BudgetError(f"{entry}: {what} is {base}^{exponent}, above the cap {bound}; raise it with "
                           f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
     check(cap, base ** exponent, entry, what)

@@ -160,6 +160,24 @@ def library(call) -> int:
     return 0
 
 
+def refused_at_once(call, cap: str | None = None, seconds: float = 1.0) -> int:
+    """For :func:`limited`: 0 when ``call()`` raises symkf's refusal within ``seconds``, naming the
+    cap ``cap`` (when given) and its command-line option; 1 otherwise (the message and time on stderr)."""
+    import time
+    import symkf as sk
+    from symkf import budget
+    start = time.perf_counter()
+    try:
+        call()
+    except sk.SymkfError as exc:
+        took = time.perf_counter() - start
+        print(f"{took:.3f} s: {exc}", file=sys.stderr)
+        named = cap is None or f"{cap}=" in str(exc) and budget.OPTIONS[cap] in str(exc)
+        return 0 if took < seconds and named else 1
+    print("accepted", file=sys.stderr)
+    return 1
+
+
 def system_file(tmp: Path, entry: str, loss: str = "1/2", name: str = "s.toml") -> Path:
     """A system file of one state ``A = [[entry]]``, one sensor and the i.i.d. ``loss``."""
     path = tmp / name

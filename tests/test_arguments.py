@@ -52,3 +52,20 @@ def test_a_common_loss_rate_takes_the_sensors_of_the_system_beside_it():
     assert all(np.array_equal(a, b) for a, b in zip(yang_bounds(S, common, 6), yang_bounds(S, listed, 6)))
     assert theorem7_necessary(S, common) == theorem7_necessary(S, listed)
     assert sk.stability(loss=common, system=S) == sk.stability(S, listed)
+
+
+def test_a_long_list_of_sympy_numbers_is_refused_before_one_is_priced():
+    # each radical was priced at the boundary (150 us each) before IID counted the sensors: ten
+    # thousand took 1.5 s, a million minutes
+    import sympy as sp
+
+    from conftest import limited, refused_at_once
+    radicals = [sp.sqrt(k) / k for k in range(2, 10 ** 4)]
+    code, err = limited(refused_at_once, lambda: sk.IID(radicals), "max_priced_items")
+    assert code == 0 and "loss: the number of sympy numbers of the list is 9998, above the cap 4096" in err, err
+    # long lists of anything else are left to the function, at once: a list of floats is not walked
+    code, err = limited(refused_at_once, lambda: sk.IID([0.5] * 10 ** 6), "max_sensors")
+    assert code == 0, err
+    with sk.budget.limits(max_priced_items=10 ** 4, max_sensors=10 ** 4):   # raised, the list is priced
+        with pytest.raises(InputError, match=r"loss\[0\]: sqrt\(2\)/2 \+ 1 is not a probability"):
+            sk.IID([sp.sqrt(2) / 2 + 1] + radicals[1:100])

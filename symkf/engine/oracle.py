@@ -42,6 +42,7 @@ from sympy.polys.constructor import construct_domain
 from sympy.polys.matrices import DomainMatrix
 
 from ..arguments import check_public
+from .. import budget
 from ..errors import InputError
 from ..exact.numbers import sympify, to_exact_matrix
 
@@ -113,6 +114,7 @@ class RawRegression:
 
 def iid_probability(loss: Sequence[Any]) -> Callable[[list[list[int]]], sp.Expr]:
     """The probability of a receival pattern under independent losses ``loss[j]`` (Assumption 4)."""
+    budget.check("max_sensors", len(loss), "loss", "the number of sensors")   # before a loss is read
     eps = [sympify(e, f"loss[{j}]") for j, e in enumerate(loss)]
 
     def prob(pattern: list[list[int]]) -> sp.Expr:

@@ -97,6 +97,9 @@ class CongruentSets:
 
     def p_star(self, arrival: Sequence[Any]) -> tuple[sp.Expr, ...]:
         """eq. (37) for the merged sensors, from the original sensors' arrival rates."""
+        d = sum(map(len, self.groups))
+        if len(arrival) != d:   # counted before a rate is read
+            raise InputError(f"arrival: {len(arrival)} rates for {d} sensors")
         miss = merged_losses(self, [1 - to_exact(p, f"arrival[{i}]", symbols=True) for i, p in enumerate(arrival)])
         return tuple(sp.Mul(*[miss[j] for j in sorted(J)]) for J in self.sets)
 

@@ -348,9 +348,9 @@ def critical_loss_rate(system: System, sensor: str | None = None, *, others: Seq
     """
     d = system.d
     if sensor is None:
+        if ray is not None and len(ray) != d:   # counted before a weight is read
+            raise InputError(f"ray: {len(ray)} weights for {d} sensors")
         w = [to_exact(v, f"ray[{j}]") for j, v in enumerate(ray)] if ray is not None else [sp.Integer(1)] * d
-        if len(w) != d:
-            raise InputError(f"ray: {len(w)} weights for {d} sensors")
         if len(set(w)) == 1:
             return _min_capped([_Bound(alpha, power, w[0] ** sum(ks), sum(ks)) for alpha, power, ks in _vectors(system)
                                 if w[0] != 0 and sum(ks)])

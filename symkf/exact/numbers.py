@@ -42,7 +42,7 @@ from typing import Any, Callable, Collection, Iterable, Iterator, Mapping, Named
 
 import sympy as sp
 
-from ..arguments import PRICERS, check_public, described, unpriced
+from ..arguments import LENGTHS, PRICERS, check_public, described, unpriced
 from .. import budget
 from ..errors import InexactInputError, InputError, ShapeError
 from .blocks import diagonal_blocks
@@ -572,6 +572,8 @@ def price_sympy(expr: sp.Basic, entry: str) -> None:
 
 
 PRICERS.append((sp.Basic, price_sympy))
+LENGTHS.append(lambda length, entry: budget.check("max_priced_items", length, entry,
+                                                  "the number of sympy numbers of the list"))
 
 
 def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
@@ -671,9 +673,9 @@ def to_exact_matrix(rows: Any, entry: str, *, rationalize: bool | str = False,
         raise ShapeError(f"{entry}: expected a non-empty list of rows, got {type(rows).__name__}")
     if vector == "row" and not any(isinstance(r, Sequence) and not isinstance(r, (str, bytes)) for r in rows):
         rows = [rows]
+    budget.check("max_dimension", len(rows), entry, "the number of rows")
     if not all(isinstance(r, Sequence) and not isinstance(r, (str, bytes)) for r in rows):
         raise ShapeError(f"{entry}: expected a list of rows (a list of lists)")
-    budget.check("max_dimension", len(rows), entry, "the number of rows")
     width = len(rows[0])
     budget.check("max_dimension", width, entry, "the number of columns")
     if width == 0 or any(len(r) != width for r in rows):

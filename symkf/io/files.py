@@ -201,8 +201,14 @@ def load_design(path: str | Path) -> tuple[System, LossModel | None, dict[str, A
             out[key] = dict(zip(names, values))
     for key in ("critical_rate", "recovery_rate", "margin"):
         if key in table:
-            out[key] = exact_values([table[key]], f"{where} {key}", False)[0]
+            out[key] = exact_values(table[key], f"{where} {key}", False, caps=())
     return system, loss, out
+
+
+#: the caps on the lengths of each fusion key's lists (:func:`symkf.model.codec.exact_values`)
+_FUSION_SHAPES = {"A": ("max_dimension", "max_dimension"), "Q": ("max_dimension", "max_dimension"),
+                  "Ac": ("max_dimension", "max_dimension"), "Bc": ("max_dimension", "max_dimension"),
+                  "noise_variance": (), "Ts": (), "arrival": ("max_sensors",)}
 
 
 def load_fusion(path: str | Path) -> "FusionModel":
@@ -236,7 +242,8 @@ def _fusion(data: dict, source: str, rationalize: bool) -> "FusionModel":
     if extra:
         raise FileFormatError(f"{where}: key '{extra[0]}' does not belong with {', '.join(keys)} "
                               "(give A, Q for discrete time or Ac, Bc, noise_variance, Ts for a zero-order hold)")
-    values = [exact_values(entry(table, key, where), f"{where} {key}", rationalize) for key in keys + ("arrival",)]
+    values = [exact_values(entry(table, key, where), f"{where} {key}", rationalize, caps=_FUSION_SHAPES[key])
+              for key in keys + ("arrival",)]
     return built(lambda: build(*values[:-1], sensors, values[-1]), "[fusion]")
 
 check_public(globals())

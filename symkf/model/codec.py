@@ -12,8 +12,9 @@ process, by the Python API, the files and the ``symkf`` command alike.
 from __future__ import annotations
 
 from importlib.metadata import entry_points
-from typing import Any, Callable, Mapping
+from typing import Any, Callable, Mapping, Sequence
 
+from .. import budget
 from ..arguments import check_public
 from ..errors import FileFormatError, SymkfError
 from ..exact.numbers import to_exact
@@ -64,12 +65,44 @@ def check_keys(table: Mapping[str, Any], allowed: set[str] | frozenset[str], whe
         raise FileFormatError(f"{where}: unknown key '{unknown[0]}' (allowed: {', '.join(sorted(allowed))})")
 
 
-def exact_values(value: Any, entry: str, rationalize: bool | str = False, start: int = 0) -> Any:
+def exact_values(value: Any, entry: str, rationalize: bool | str = False, start: int = 0, *,
+                 caps: Sequence[str] = ("max_sensors",)) -> Any:
     """``value`` with every number of its nested lists exact (:func:`symkf.exact.numbers.to_exact`,
     the safe parser); ``entry`` (file, table and key) names it in errors, list positions counted
-    from ``start``. Floats need ``rationalize``; symbols are refused."""
+    from ``start``. Floats need ``rationalize``; symbols are refused.
+
+    ``caps`` names the :mod:`symkf.budget` cap on the length of the lists at each depth (the
+    default: a number, or a list of one number per sensor; ``("max_dimension", "max_dimension")``
+    for a matrix); the whole shape is checked against them, and a list nested deeper refused,
+    before any number is converted (the parser's work is per number: a list a million long costs
+    a minute)."""
+    _check_shape(value, entry, tuple(caps), start)
+    return _converted(value, entry, rationalize, start)
+
+
+def within(cap: str, size: int, entry: str, what: str, exponent: int = 1) -> None:
+    """:func:`symkf.budget.check_power` of ``size ** exponent`` for a file's entry: its refusal is a
+    :class:`~symkf.errors.FileFormatError` (it names the file, the table and the key already), as
+    the refusals of the numbers that :func:`exact_values` converts are."""
+    try:
+        budget.check_power(cap, size, exponent, entry, what)
+    except SymkfError as exc:
+        raise FileFormatError(str(exc)) from None
+
+
+def _check_shape(value: Any, entry: str, caps: tuple[str, ...], start: int) -> None:
+    if not isinstance(value, list):
+        return
+    if not caps:
+        raise FileFormatError(f"{entry}: expected a number, got a list")
+    within(caps[0], len(value), entry, "the length of the list")
+    for i, v in enumerate(value, start=start):
+        _check_shape(v, f"{entry}[{i}]", caps[1:], start)
+
+
+def _converted(value: Any, entry: str, rationalize: bool | str, start: int) -> Any:
     if isinstance(value, list):
-        return [exact_values(v, f"{entry}[{i}]", rationalize, start) for i, v in enumerate(value, start=start)]
+        return [_converted(v, f"{entry}[{i}]", rationalize, start) for i, v in enumerate(value, start=start)]
     try:
         return to_exact(value, entry, rationalize=rationalize)
     except SymkfError as exc:

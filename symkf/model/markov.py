@@ -12,7 +12,7 @@ from ..errors import FileFormatError, InputError, ProbabilityError
 from ..arguments import check_public
 from ..exact.numbers import rationalization, substitution, sympify
 from .loss import (LossChain, LossModel, Vector, probability, stationary_law)
-from .codec import built, entry, exact_values, positive_int
+from .codec import built, entry, exact_values, positive_int, within
 
 
 class MarkovLoss(LossModel):
@@ -79,14 +79,28 @@ class MarkovLoss(LossModel):
         if not isinstance(table, Mapping) or not table:
             raise InputError("table: expected a non-empty mapping history -> {next vector: probability}")
         self.order = order
+        # the chain's size is priced from the table's shape before any probability is read: one
+        # row per history, each with at most one entry per receival vector (a chain state)
+        budget.check("max_markov_states", len(table), "MarkovLoss", "the number of rows (histories, chain states)")
         first = next(iter(table))
         hist0 = (first,) if order == 1 and _is_vector(first) else first
         self.d = len(hist0[0])
-        rows: dict[tuple[Vector, ...], dict[Vector, sp.Expr]] = {}
+        budget.check("max_sensors", self.d, "MarkovLoss", "the length of a receival vector (sensors)")
+        shapes: dict[tuple[Vector, ...], tuple[Any, Mapping[Any, Any]]] = {}
         for key, row in table.items():
             hist = (tuple(key),) if order == 1 and _is_vector(key) else tuple(tuple(v) for v in key)
             if len(hist) != order or any(len(v) != self.d or set(v) - {0, 1} for v in hist):
                 raise InputError(f"table key {key!r}: expected {order} receival vector(s) of length {self.d}")
+            if not isinstance(row, Mapping):
+                raise InputError(f"table[{key!r}]: expected a mapping next vector -> probability")
+            budget.check("max_markov_states", len(row), "MarkovLoss", f"the number of entries of row {key!r}")
+            shapes[hist] = key, row
+        occurring = {v for hist in shapes for v in hist}
+        vecs = tuple(v for v in itertools.product((1, 0), repeat=self.d) if v in occurring)
+        self.vectors = vecs
+        budget.check("max_markov_states", len(vecs) ** order, "MarkovLoss", "the number of histories (chain states)")
+        rows: dict[tuple[Vector, ...], dict[Vector, sp.Expr]] = {}
+        for hist, (key, row) in shapes.items():
             probs = {}
             for nxt, p in row.items():
                 nxt = tuple(nxt)
@@ -97,10 +111,6 @@ class MarkovLoss(LossModel):
             if total != 1:
                 raise ProbabilityError(f"table[{key!r}]: row sums to {total}, not 1")
             rows[hist] = probs
-        occurring = {v for hist in rows for v in hist}
-        vecs = tuple(v for v in itertools.product((1, 0), repeat=self.d) if v in occurring)
-        self.vectors = vecs
-        budget.check("max_markov_states", len(vecs) ** order, "MarkovLoss", "the number of histories (chain states)")
         missing = [h for h in itertools.product(vecs, repeat=order) if h not in rows]
         if missing:
             raise InputError(f"table: history {missing[0]!r} is missing ({len(missing)} of "
@@ -113,6 +123,8 @@ class MarkovLoss(LossModel):
         self.table = rows
         if initial is not None and not isinstance(initial, Mapping):
             raise InputError("initial: expected a mapping window -> probability")
+        if initial is not None:
+            budget.check("max_markov_states", len(initial), "MarkovLoss", "the number of entries of initial")
         self._initial = None if initial is None else {
             k: probability(p, f"initial[{k!r}]", rationalize) for k, p in initial.items()}
 
@@ -148,6 +160,10 @@ class MarkovLoss(LossModel):
         """The model of a ``[loss]`` table (or its JSON object) for ``d`` sensors; ``where`` names it in errors."""
         order = positive_int(table.get("order", 1), f"{where} key 'order'")
         states = entry(table, "states", where)
+        # the chain's size is priced from its shape, before a vector is checked or a probability read
+        if isinstance(states, list):
+            within("max_markov_states", len(states), f"{where} key 'states'",
+                   f"the number of histories (chain states), len(states)^order with order {order}", order)
         if not isinstance(states, list) or any(
                 not isinstance(v, list) or len(v) != d or any(type(g) is not int or g not in (0, 1) for g in v)
                 for v in states):
@@ -159,7 +175,8 @@ class MarkovLoss(LossModel):
             if v in seen:
                 raise FileFormatError(f"{where} key 'states': {list(v)} is listed twice")
             seen.add(v)
-        P = exact_values(entry(table, "P", where), f"{where} P", rationalize)
+        P = exact_values(entry(table, "P", where), f"{where} P", rationalize,
+                         caps=("max_markov_states", "max_markov_states"))
         rows = len(P) if isinstance(P, list) else 0
         if rows and isinstance(P[0], list) and len(vectors) < len(P[0]) <= 2 ** d:   # a vector left out of 'states'
             missing = next(v for v in itertools.product((1, 0), repeat=d) if v not in seen)
@@ -173,7 +190,7 @@ class MarkovLoss(LossModel):
         histories = list(itertools.product(vectors, repeat=order))
         initial = table.get("initial")
         if initial is not None:
-            initial = exact_values(initial, f"{where} initial", rationalize)
+            initial = exact_values(initial, f"{where} initial", rationalize, caps=("max_markov_states",))
             if not isinstance(initial, list) or len(initial) != len(histories):
                 raise FileFormatError(f"{where} key 'initial': expected {len(histories)} probabilities, one per "
                                       "history (the rows of 'P')")

@@ -30,12 +30,16 @@ from .. import budget
 from ..arguments import check_public
 from ..errors import AssumptionError, FileFormatError, InputError
 from ..exact.numbers import substitution
-from ..model.codec import entry, exact_values
+from ..model.codec import entry, exact_values, within
 from ..model.loss import LossChain, LossModel, probability
 from ..model.markov import MarkovLoss
 from .fading import SuccessProbability
 from .state import MarkovNetworkState, SemiMarkovNetworkState
 from .tree import SensorTree, Vector
+
+#: the caps on a network state's transition matrix in a file: the lifted chain has at least one
+#: state per network state
+_MATRIX = ("max_network_chain", "max_network_chain")
 
 if TYPE_CHECKING:
     from .dynamics import PeriodicDynamics
@@ -117,18 +121,21 @@ class NetworkLoss(LossModel):
             raise FileFormatError(f"{where}: give 'P' (Markov network state, Assumption 1) or 'q' and 'holding' "
                                   "(semi-Markov, Assumption 3), not " + ("both" if markov else "neither"))
         initial = table.get("initial")
-        initial = None if initial is None else exact_values(initial, f"{where} initial", rationalize, start=1)
+        initial = None if initial is None else exact_values(initial, f"{where} initial", rationalize, start=1,
+                                                            caps=("max_network_chain",))
         if markov:
-            state = MarkovNetworkState(exact_values(table["P"], f"{where} P", rationalize, start=1), initial)
+            state = MarkovNetworkState(exact_values(table["P"], f"{where} P", rationalize, start=1, caps=_MATRIX),
+                                       initial)
             hidden = state.B
         else:
-            q = exact_values(entry(table, "q", where), f"{where} q", rationalize, start=1)
+            q = exact_values(entry(table, "q", where), f"{where} q", rationalize, start=1, caps=_MATRIX)
             holding = _holding(entry(table, "holding", where), where, rationalize)
             state = SemiMarkovNetworkState(q, holding, initial)
             hidden = sum(max(h) for h in state.holding)
         budget.check("max_network_chain", hidden * 2 ** tree.M, f"{where} key '{'P' if markov else 'holding'}'",
                      f"the bound {hidden} x 2^{tree.M} on the states of the lifted chain")
-        phi = exact_values(entry(table, "phi", where), f"{where} phi", rationalize, start=1)
+        phi = exact_values(entry(table, "phi", where), f"{where} phi", rationalize, start=1,
+                           caps=("max_sensors", "max_network_chain"))
         return cls(tree, state, phi)
 
     @property
@@ -304,15 +311,18 @@ def _holding(value: Any, where: str, rationalize: bool) -> list[Any]:
     """Holding-time laws as lists ``[psi(1), ...]`` or tables ``{delta: psi(delta)}`` (TOML keys are text)."""
     if not isinstance(value, list):
         raise FileFormatError(f"{where} key 'holding': expected a list of holding-time laws, one per network state")
+    within("max_network_chain", len(value), f"{where} key 'holding'", "the number of holding-time laws (network states)")
     laws = []
     for i, law in enumerate(value, start=1):
         if isinstance(law, dict):
+            within("max_network_chain", len(law), f"{where} holding[{i}]", "the number of holding times")
             bad = [k for k in law if not re.fullmatch(r"[1-9][0-9]{0,5}", k)]
             if bad:
                 raise FileFormatError(f"{where} key 'holding[{i}]': holding time {bad[0]!r} is not a positive "
                                       "integer below 10^6")
-            law = {int(k): exact_values(p, f"{where} holding[{i}][{k}]", rationalize) for k, p in law.items()}
-        laws.append(exact_values(law, f"{where} holding[{i}]", rationalize, start=1) if isinstance(law, list) else law)
+            law = {int(k): exact_values(p, f"{where} holding[{i}][{k}]", rationalize, caps=()) for k, p in law.items()}
+        laws.append(exact_values(law, f"{where} holding[{i}]", rationalize, start=1, caps=("max_network_chain",))
+                    if isinstance(law, list) else law)
     return laws
 
 

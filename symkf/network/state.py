@@ -14,6 +14,7 @@ from typing import Any, Mapping, Sequence
 
 import sympy as sp
 
+from .. import budget
 from ..arguments import check_public
 from ..errors import InputError, ProbabilityError
 from ..exact.numbers import substitution, sympify
@@ -27,6 +28,8 @@ def stochastic_matrix(rows: Any, entry: str) -> sp.ImmutableMatrix:
     if isinstance(rows, (str, bytes)) or not isinstance(rows, Sequence) or not rows:
         raise InputError(f"{entry}: expected a square list of rows of probabilities")
     B = len(rows)
+    # each network state is at least one state of the lifted chain: priced before a probability is read
+    budget.check("max_network_chain", B, entry, "the number of network states")
     out = []
     for i, row in enumerate(rows, start=1):
         if isinstance(row, (str, bytes)) or not isinstance(row, Sequence) or len(row) != B:
@@ -107,6 +110,7 @@ class SemiMarkovNetworkState:
             items = list(enumerate(law, start=1))
         else:
             raise InputError(f"{entry}: expected {{delta: probability}} or a list psi(1), psi(2), ...")
+        budget.check("max_network_chain", len(items), entry, "the number of holding times")
         out: dict[int, sp.Expr] = {}
         for delta, p in items:
             if isinstance(delta, bool) or not isinstance(delta, int) or delta < 1:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Mapping, Sequence
 
+from .. import budget
 from ..arguments import check_public
 from ..errors import InputError
 
@@ -32,6 +33,7 @@ class SensorTree:
     parents: tuple[int, ...]
 
     def __init__(self, parents: Sequence[int] | Mapping[int, int]):
+        budget.check("max_sensors", len(parents), "parents", "the number of sensor nodes")
         if isinstance(parents, Mapping):
             M = len(parents)
             if sorted(parents) != list(range(1, M + 1)):

@@ -23,6 +23,8 @@ from symkf.engine.stability import critical_loss_rate, stability
 from symkf.io.files import load
 from symkf.model import strategies as sks
 
+from conftest import limited, refused_at_once
+
 R = sp.Rational
 EXAMPLES = examples.directory() / "systems"
 
@@ -174,3 +176,9 @@ def test_engine_against_oracle_on_drawn_systems(chains, sensors):
 @pytest.mark.parametrize("chains, sensors", CHAINS)
 def test_engine_against_oracle_on_drawn_systems_full(chains, sensors):
     assert compare_drawn(chains, sensors, 12) >= 1
+
+
+def test_a_million_losses_are_refused_before_one_is_read():
+    # each loss went through the number parser before the pattern law could be refused
+    code, err = limited(refused_at_once, lambda: iid_probability(["1/10"] * 10 ** 6), "max_sensors")
+    assert code == 0, err

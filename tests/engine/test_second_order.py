@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from symkf.exact.numbers import sympify as exact
 import symkf as sk
-from conftest import rotation
+from conftest import limited, refused_at_once, rotation
 from symkf import second_order as so
 from symkf.errors import AperiodicError, AssumptionError, InputError
 from conftest import ROOT
@@ -39,6 +39,9 @@ def test_periods_and_congruent_set(quarter):
     assert (cs.alpha, cs.tau, cs.governing_period) == (2, 4, 2)
     assert cs.sets == (frozenset({0}),) and cs.shifts == ({0: 0},) and cs.merges == ()
     assert cs.p_star(["9/10"]) == (R(1, 10),)
+    # the rates are counted before one is read (a million took a minute)
+    code, err = limited(refused_at_once, lambda: cs.p_star(["9/10"] * 10 ** 6))
+    assert code == 0 and "arrival: 1000000 rates for 1 sensors" in err, err
 
 
 def test_critical_loss_rate_corrected_and_printed(quarter):

@@ -26,7 +26,7 @@ from symkf.io.files import load
 from symkf.model.gilbert_elliott import GilbertElliott
 from symkf.model.iid import IID
 
-from conftest import rotation, run
+from conftest import limited, refused_at_once, rotation, run
 
 #: 2R(pi/2), C = [1 0]: critical loss rate 1/16 (rows repeat their direction every 2 steps)
 QUARTER_TURN = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
@@ -66,6 +66,12 @@ def test_two_sensor_values_by_hand():
     assert critical_loss_rate(TWO, "s1", others=[0, "1/2"]) == sp.Rational(1, 4)
     assert critical_loss_rate(TWO, ray=[1, 2]) == sp.Rational(1, 4)
     assert critical_alpha(QUARTER_TURN, sk.IID(["1/16"])) == 2
+
+
+def test_a_ray_of_the_wrong_length_is_refused_before_a_weight_is_read():
+    # every weight went through the number parser before they were counted: a million took a minute
+    code, err = limited(refused_at_once, lambda: critical_loss_rate(TWO, ray=["1/10"] * 10 ** 6))
+    assert code == 0 and "ray: 1000000 weights for 2 sensors" in err, err
 
 
 def test_aperiodic_rotation_critical_is_sinopoli_bound():

@@ -6,6 +6,7 @@ tests/io/test_network_and_fusion_files.py.)"""
 from __future__ import annotations
 
 import os
+import sys
 from decimal import Decimal
 from fractions import Fraction
 from pathlib import Path
@@ -18,7 +19,7 @@ from symkf import cli
 from symkf.exact.numbers import to_exact
 from symkf.io import files
 
-from conftest import ROOT, limited, run
+from conftest import ROOT, limited, refused_at_once, run
 
 R = sp.Rational
 
@@ -85,3 +86,52 @@ def test_a_family_file_given_where_a_system_file_is_read_points_to_symkf_table(t
     family = examples.family("rotation-periods")
     with pytest.raises(sk.SymkfError, match="a family file .*`symkf table` and `symkf verify` read it"):
         files.load(family)
+
+
+def _markov_file(path: Path, d: int) -> Path:
+    """A system file of ``d`` scalar sensors and the joint chain on all ``2^d`` receival vectors,
+    the probabilities of a row distinct (``k / (1 + 2 + ... + 2^d)``, k = 1..2^d)."""
+    states = [[int(c) for c in format(k, f"0{d}b")] for k in range(2 ** d)]
+    total = 2 ** d * (2 ** d + 1) // 2
+    row = ", ".join(f'"{k}/{total}"' for k in range(1, 2 ** d + 1))
+    path.write_text('[system]\nA = [["2"]]\n' + '[[sensors]]\nC = [["1"]]\n' * d +
+                    f'[loss]\nkind = "markov"\nstates = {states}\nP = [\n' + ",\n".join([f"[{row}]"] * 2 ** d) + "]\n")
+    return path
+
+
+def _timed_main(argv: list[str]) -> int:
+    import time
+    start = time.perf_counter()
+    code = cli.main(argv)
+    print(f"{time.perf_counter() - start:.3f} s", file=sys.stderr)
+    return code
+
+
+def test_a_joint_chain_too_large_is_refused_from_its_shape_in_a_second(tmp_path):
+    # 8 sensors: 256 states, 65,536 probabilities (a 620 KB file) were all read, 44.7 s, before
+    # max_markov_states refused the chain
+    path = _markov_file(tmp_path / "m8.toml", 8)
+    assert path.stat().st_size > 500_000
+    code, err = limited(refused_at_once, lambda: files.load(path), "max_markov_states")
+    assert code == 0 and f"{path}: [loss] key 'states'" in err and "is 256, above the cap 128" in err, err
+    code, err = limited(_timed_main, ["analyze", str(path)])
+    message, took = err.splitlines()
+    assert code == 2 and "--max-markov-states" in message and float(took.split()[0]) < 1, err
+
+
+@pytest.mark.parametrize("table, cap", [
+    ('[fusion]\nA = [["1"]]\nQ = [["1"]]\narrival = [' + '"1/2", ' * 100_000 + ']\n', "max_sensors"),
+    ('[fusion]\nA = [' + '["1"], ' * 100_000 + ']\nQ = [["1"]]\narrival = ["1/2"]\n', "max_dimension"),
+], ids=["arrival", "A"])
+def test_fusion_lists_too_long_are_refused_before_a_number_is_read(tmp_path, table, cap):
+    path = tmp_path / "f.toml"
+    path.write_text(table + '[[sensors]]\nC = [["1"]]\n')
+    code, err = limited(refused_at_once, lambda: files.load_fusion(path), cap)
+    assert code == 0, err
+
+
+def test_a_design_rate_is_one_number(tmp_path):
+    path = tmp_path / "d.toml"
+    path.write_text('[system]\nA = [["2"]]\n[[sensors]]\nC = [["1"]]\n[design]\ncritical_rate = ["1/2", "1/3"]\n')
+    with pytest.raises(sk.errors.FileFormatError, match=r"d.toml: \[design\] critical_rate: expected a number, got a list"):
+        files.load_design(path)

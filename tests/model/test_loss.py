@@ -34,7 +34,7 @@ from symkf.numeric.filters import sample_receptions
 from symkf.numeric.montecarlo import exact_mean_covariances, simulate_traces
 from symkf.numeric.receptions import draw
 
-from conftest import ROOT, ROTATION, one_line, run
+from conftest import ROOT, ROTATION, limited, one_line, refused_at_once, run
 
 R = sp.Rational
 
@@ -223,6 +223,52 @@ def test_independent_sensors_never_build_the_joint_chain():
     assert gamma.shape == (40, 500, 16) and 0.8 < gamma.mean() < 0.87   # stationary P(received) = 5/6
     S = sk.System(A=[[0, -1], [1, 0]], sensors=[sk.Sensor(C=[[1, j % 3]]) for j in range(16)])
     assert simulate_traces(S, ge, 10, 64, seed=0).shape == (64, 10)
+
+
+# -- sizes priced from the shape, before a probability is read -------------------------------------
+
+#: every vector of 8 sensors: a joint chain of 2^8 = 256 states, above max_markov_states (128)
+VECTORS8 = list(itertools.product((1, 0), repeat=8))
+#: a row of 256 distinct probabilities summing to 1 (a cache of parsed texts cannot help)
+ROW8 = [f"1/{2 ** (k + 1)}" for k in range(255)] + ["1/" + str(2 ** 255)]
+
+HUGE_TABLES = {
+    "iid loss": ({"kind": "iid", "loss": ["1/10"] * 10 ** 6}, 10 ** 6, "max_sensors"),
+    "gilbert-elliott fail": ({"kind": "gilbert-elliott", "fail": ["1/10"] * 10 ** 6, "recover": ["1/2"] * 10 ** 6},
+                             10 ** 6, "max_sensors"),
+    "markov on 8 sensors": ({"kind": "markov", "states": [list(v) for v in VECTORS8], "P": [ROW8] * 256}, 8,
+                            "max_markov_states"),
+    "markov P of a million rows": ({"kind": "markov", "states": [[1], [0]], "P": [["1/2", "1/2"]] * 10 ** 6}, 1,
+                                   "max_markov_states"),
+    "markov initial": ({"kind": "markov", "states": [[1], [0]], "P": [["1/2", "1/2"]] * 2,
+                        "initial": ["1/2"] * 10 ** 6}, 1, "max_markov_states"),
+    "network P": ({"kind": "network", "parents": [0], "phi": [["1/2"]], "P": [["1/5000"] * 5000] * 5000}, 1,
+                  "max_network_chain"),
+    "network holding": ({"kind": "network", "parents": [0], "phi": [["1/2"]], "q": [["1"]],
+                         "holding": [["1/10"] * 10 ** 6]}, 1, "max_network_chain"),
+}
+
+
+@pytest.mark.parametrize("name", HUGE_TABLES)
+def test_a_loss_table_too_large_is_refused_from_its_shape_at_once(name):
+    # converted every probability first: 8 sensors' joint chain 44.7 s, a million i.i.d. losses > 60 s
+    table, d, cap = HUGE_TABLES[name]
+    code, err = limited(refused_at_once, lambda: from_table(table, d, "f.toml: [loss]"), cap)
+    assert code == 0, err
+    assert err.startswith(("0.", "1.")) and "f.toml: [loss]" in err
+
+
+@pytest.mark.parametrize("build, cap", [
+    (lambda: MarkovLoss({v: dict(zip(VECTORS8, ROW8)) for v in VECTORS8}), "max_markov_states"),
+    (lambda: MarkovLoss({(1,): {(1,): "1/2", (0,): "1/2"}, (0,): {(1,): "1/2", (0,): "1/2"}},
+                        initial={k: "1/2" for k in range(10 ** 6)}), "max_markov_states"),
+    (lambda: MarkovNetworkState([["1"]] * 5000), "max_network_chain"),
+    (lambda: SemiMarkovNetworkState([["1"]], [["1/10"] * 10 ** 6]), "max_network_chain"),
+    (lambda: SensorTree([0] * 10 ** 6), "max_sensors"),
+], ids=["markov on 8 sensors", "markov initial", "network P", "holding law", "sensor tree"])
+def test_a_model_too_large_is_refused_from_its_shape_at_once(build, cap):
+    code, err = limited(refused_at_once, build, cap)
+    assert code == 0, err
 
 
 # -- the probabilities a model takes --------------------------------------------------------------
