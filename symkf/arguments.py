@@ -252,8 +252,8 @@ def _shown(signature: inspect.Signature) -> str:
 PRICERS: list[tuple[type, Callable[[Any, str], None]]] = []
 
 
-#: ``check(length, entry)``: refuses a list, tuple or matrix holding items that :data:`PRICERS`
-#: price, when it is longer than any symkf reads, before its first item is priced (pricing is per
+#: ``check(length, entry)``: refuses a list, tuple or matrix (its larger side) holding items that
+#: :data:`PRICERS` price, when it is longer than any symkf reads, before its first item is priced (pricing is per
 #: item: a million sympy numbers take minutes).  The exact layer registers the budget's cap.
 LENGTHS: list[Callable[[int, str], None]] = []
 
@@ -269,13 +269,14 @@ def _price(value: Any, entry: str, depth: int = 0) -> None:
         if isinstance(value, kind):
             pricer(value, entry)
             return
-    if depth >= 2 or not isinstance(value, (list, tuple)) and not type(value).__module__.startswith("sympy.matrices"):
+    matrix = type(value).__module__.startswith("sympy.matrices")
+    if depth >= 2 or not isinstance(value, (list, tuple)) and not matrix:
         return
     if len(value) > _SHORT:
         kinds = set(map(type, value))   # at C speed: a list of floats or strings is left at once
         if any(issubclass(k, kind) for k in kinds for kind, _ in PRICERS):
-            for check in LENGTHS:
-                check(len(value), entry)
+            for check in LENGTHS:   # a matrix by its larger side, as a list of rows by each level's length
+                check(max(value.shape) if matrix else len(value), entry)
         elif not any(issubclass(k, (list, tuple)) or k.__module__.startswith("sympy.matrices") for k in kinds):
             return
     for i, item in enumerate(value):

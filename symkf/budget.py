@@ -127,10 +127,10 @@ class Limits:
     #: with 128 sensors 3.1e7; a 6-dim one with 6 sensors of period 12, 6.3e7; eight 2R(pi/97)
     #: blocks, one 16-dim eigen-block, with 64 sensors: about 10^42)
     max_screen_work: int = 1_000_000_000
-    #: items of one list, tuple or matrix argument of a call from outside symkf that holds sympy
-    #: numbers: each is priced at the boundary (symkf.arguments.PRICERS) at a cost per item, so a
-    #: longer one is refused before the first is priced (the longest lists symkf reads, a network
-    #: state's rows under max_network_chain, fit)
+    #: items of one list or tuple argument of a call from outside symkf that holds sympy numbers,
+    #: or rows and columns of such a matrix: each is priced at the boundary
+    #: (symkf.arguments.PRICERS) at a cost per item, so a longer one is refused before the first
+    #: is priced (the longest lists symkf reads, a network state's rows under max_network_chain, fit)
     max_priced_items: int = 4096
     #: members of a family file
     max_members: int = 2000
