@@ -515,6 +515,41 @@ def field_cost(exprs: Iterable[sp.Expr]) -> FieldCost:
 
 
 @unpriced
+def radical_degree(expr: sp.Basic) -> int | None:
+    """An upper bound on the degree over Q of the sympy number ``expr``, from its tree: 1 for a
+    rational; ``q`` for ``b^(p/q)``, ``b`` rational (a root of ``x^q - b^p``), ``q d`` for an
+    algebraic ``b`` of degree ``d``; ``lcm(q_i)`` for a product ``c prod b_i^(p_i/q_i)`` of
+    radicals of rationals (its ``lcm``-th power is rational: radicals of one index combine) times
+    the bounds of its other factors; the product of its terms' bounds for a sum (the degree of a
+    compositum is at most the product of the degrees); ``phi(4q)`` for ``cos``, ``sin``, ``tan``
+    of ``p pi/q`` and ``exp(p pi I/q)`` (they lie in Q(zeta_4q)), 2 for I.  None when ``expr``
+    holds anything else (a symbol, pi, E).  Often far below :func:`field_cost`'s bound, the
+    product over all its distinct radicals: ``2^(2/9) 3^(7/9)`` has 9 here, 81 there."""
+    if expr.is_Rational:
+        return 1
+    if expr is sp.I:
+        return 2
+    if isinstance(expr, (sp.cos, sp.sin, sp.tan, sp.exp)):
+        r = expr.args[0] / (sp.pi * sp.I if isinstance(expr, sp.exp) else sp.pi)
+        return int(sp.totient(4 * r.q)) if r.is_Rational else None
+    if expr.is_Pow and expr.exp.is_Rational:
+        base = radical_degree(expr.base)
+        return None if base is None else base * int(expr.exp.q)
+    if expr.is_Mul or expr.is_Add:
+        index, bound = 1, 1
+        for arg in expr.args:
+            if expr.is_Mul and arg.is_Pow and arg.base.is_Rational and arg.exp.is_Rational:
+                index = math.lcm(index, int(arg.exp.q))   # a radical of a rational: combined by index
+                continue
+            part = radical_degree(arg)
+            if part is None:
+                return None
+            bound *= part
+        return index * bound
+    return None
+
+
+@unpriced
 def expr_bits(expr: sp.Basic) -> float:
     """A bound on the height in bits of a sympy number, by the parser's rules: exact for a
     rational, ``|p/q| h(x)`` for ``x**(p/q)`` (an unevaluated power is bounded, not built), sums
@@ -563,12 +598,19 @@ def _check_sympy(expr: sp.Basic, entry: str, degree: bool = True) -> None:
 
 def price_sympy(expr: sp.Basic, entry: str) -> None:
     """A sympy argument of a call from outside symkf, priced like the same number as text
-    (registered in :data:`symkf.arguments.PRICERS`; matrices entry by entry): everything but the
-    field's degree bound, which :func:`to_exact` adds where a number enters a model (a product of
-    radicals of one index, as symkf's own exact results are, has a degree far below that bound,
-    and a user compares such results freely)."""
+    (registered in :data:`symkf.arguments.PRICERS`; matrices entry by entry), and its degree: the
+    lesser of :func:`field_cost`'s bound (the field of all its radicals, which :func:`to_exact`
+    prices where a number enters a model) and :func:`radical_degree` (the number's own: a product
+    of radicals of one index, as symkf's own exact results are, stays far below the field's
+    bound), capped as :func:`check_degree` says before sympy's ``minimal_polynomial`` meets it
+    (a sum of the square roots of the first ten primes has degree 1024: that call never ended)."""
     if isinstance(expr, sp.Expr) and not expr.free_symbols:
         _check_sympy(expr, entry, degree=False)
+        if isinstance(expr, sp.Rational):
+            return
+        cost = field_cost([expr])
+        degree = min(cost.radical * cost.cyclotomic, radical_degree(expr) or math.inf)
+        check_degree(cost.radical > 1 or cost.atoms > 1, degree, entry, f"the sympy number {str(expr)[:40]}")
 
 
 PRICERS.append((sp.Basic, price_sympy))

@@ -25,6 +25,8 @@ import symkf as sk
 from symkf.errors import BudgetError, InputError
 from symkf.exact.algebraic import AlgebraicNumber, root_ball, sign, x
 
+from conftest import limited, refused_at_once
+
 R = sp.Rational
 
 
@@ -333,3 +335,28 @@ def test_precision_exponents_and_digits_are_priced_before_flint_is_asked(call, c
     with pytest.raises(BudgetError, match=f"--{cap}"):
         call(a, e)
     assert time.process_time() - start < 1
+
+
+#: the sum of the square roots of the first ten primes: degree 2^10 = 1024
+PRIMES_SUM = sum(sp.sqrt(p) for p in [2, 3, 5, 7, 11, 13, 17, 19, 23, 29])
+
+
+@pytest.mark.parametrize("call", [
+    lambda: AlgebraicNumber.from_expr(PRIMES_SUM),
+    lambda: AlgebraicNumber.from_expr(sp.Rational(1, 2)) < PRIMES_SUM,
+    lambda: AlgebraicNumber.from_expr(2 ** sp.Rational(1, 61) * 3 ** sp.Rational(1, 59)),   # degree 3599
+], ids=["from_expr", "comparison", "product of indices 61 and 59"])
+def test_a_sympy_number_of_high_degree_is_refused_before_its_minimal_polynomial(call):
+    # reached sympy's minimal_polynomial, which never ended (degree 1024)
+    code, err = limited(refused_at_once, call, "max_degree")
+    assert code == 0 and "algebraic degree (bound)" in err, err
+
+
+def test_products_of_radicals_of_one_index_pass_the_boundary():
+    # 2^(2/9) 3^(7/9) is the ninth root of 2^2 3^7 (degree 9, though its two radicals' field has 81),
+    # a critical value 2^(17/64)/2 a 64th root; both pass at the default caps, as symkf's results do
+    r = AlgebraicNumber.from_expr(2 ** sp.Rational(2, 9) * 3 ** sp.Rational(7, 9))
+    assert r.minpoly == sp.Poly(x ** 9 - 2 ** 2 * 3 ** 7, x)
+    assert AlgebraicNumber.from_expr(2 ** sp.Rational(17, 64) / 2).minpoly == sp.Poly(2 ** 47 * x ** 64 - 1, x)
+    eps = sk.critical_loss_rate(sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[1, 1]])]))
+    assert AlgebraicNumber.from_expr(eps.exact) == eps and eps < eps.exact * 2   # 2^(2/3)/4 back in

@@ -263,3 +263,19 @@ def test_a_sympy_object_is_priced_like_its_text(make, cap):
     with pytest.raises(sk.SymkfError, match=f"--{cap}"):
         make()
     assert time.process_time() - start < 1
+
+
+@pytest.mark.parametrize("expr, bound", [
+    (sp.Rational(3, 7), 1),
+    (2 ** sp.Rational(2, 9) * 3 ** sp.Rational(7, 9), 9),                 # (2^2 3^7)^(1/9)
+    (2 ** sp.Rational(1, 6) * 3 ** sp.Rational(1, 4), 12),                # lcm(6, 4): its 12th power is rational
+    (sp.sqrt(2) + sp.sqrt(3), 4),                                         # a sum: the product of its terms'
+    (sum(sp.sqrt(p) for p in [2, 3, 5, 7, 11, 13, 17, 19, 23, 29]), 1024),
+    (sp.sqrt(2 + sp.sqrt(3)), 4),                                         # nested: 2 x 2
+    (sp.cos(sp.pi / 5) * sp.I, 4),                                        # sympy's (1 + sqrt 5)/4 times I: 2 x 2
+    (sp.cos(sp.pi / 7) + sp.I, 24),                                       # phi(28) x 2
+    (sp.pi + 1, None),
+])
+def test_the_degree_bound_of_a_number_by_hand(expr, bound):
+    from symkf.exact.numbers import radical_degree
+    assert radical_degree(expr) == bound
