@@ -251,6 +251,9 @@ def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
                                paths=args.paths, horizon=args.horizon)
         return {"family": str(args.file), "members": family.to_dict()["members"], "_text": str(family),
                 "_status": 1 if family.counts()["contradiction"] else 0}
+    if args.scheduler is not None:   # a single system's paths run in local processes only
+        raise UsageError(f"{args.file}: --scheduler: a system file's simulation runs in local processes (give "
+                         "--jobs); a Dask scheduler evaluates the members of a family file")
     system, loss = _needs_loss(args)
     result = verify(system, loss, seed=args.seed, paths=args.paths, horizon=args.horizon, jobs=args.jobs)
     # exit status 1 (and "outcome": "contradiction") when simulation contradicts the theory
@@ -258,18 +261,18 @@ def cmd_verify(args: argparse.Namespace) -> dict[str, Any]:
             "_text": f"{result}\nloss model: {loss.words()}", "_status": 1 if result.outcome == "contradiction" else 0}
 
 
-def _args_sweep(p: argparse.ArgumentParser, scope: str = "") -> None:
+def _args_sweep(p: argparse.ArgumentParser, scope: str = "", scheduler_scope: str = "") -> None:
     """``--jobs`` and ``--scheduler``: how the members of a family are evaluated (symkf.sweep)."""
     p.add_argument("--jobs", type=_positive_int, default=1,
                    help=f"{scope}local worker processes (default 1; at most the CPU count unless --oversubscribe)")
     p.add_argument("--oversubscribe", action="store_true", help=f"{scope}allow --jobs above the CPU count")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help=f"{scope}a Dask distributed scheduler (tcp://host:port); needs the dask extra")
+                   help=f"{scheduler_scope}a Dask distributed scheduler (tcp://host:port); needs the dask extra")
 
 
 def _args_verify(p: argparse.ArgumentParser) -> None:
     _args_simulation(p, 120, 20_000)
-    _args_sweep(p, "family members, or a single system's simulated paths: ")
+    _args_sweep(p, "family members, or a single system's simulated paths: ", "family members: ")
 
 
 def cmd_simulate(args: argparse.Namespace) -> dict[str, Any]:
@@ -776,12 +779,22 @@ def _one_line(exc: BaseException) -> str:
 _DIGIT_RUN = re.compile(r"\d{31,}")
 
 
+#: the entries of errors about sweep arguments (symkf.run.sweep) named by their Python keywords,
+#: and the options that gave them on the command line
+_OPTION_ENTRIES = {"scheduler: ": "--scheduler: ", "jobs and scheduler: ": "--jobs and --scheduler: "}
+
+
 def _located(message: str, args: argparse.Namespace) -> str:
     """``message`` prefixed by the command's input file when it does not name it already (an
     error found while computing, e.g. a theorem's assumption, after the file was read); an error
-    about an output or a scheduler names its option instead."""
+    about an output names its option and file instead, one about the Dask scheduler its option
+    after the input file."""
+    for keyword, option in _OPTION_ENTRIES.items():
+        if message.startswith(keyword):
+            message = option + message[len(keyword):]
     file = getattr(args, "file", None)
-    if file is None or str(file) in message or message.startswith(("--", "scheduler")):
+    if file is None or str(file) in message or message.startswith("--") and not message.startswith(
+            tuple(_OPTION_ENTRIES.values())):
         return message
     return f"{file}: {message}"
 

@@ -106,8 +106,35 @@ def test_the_command_line_says_it_in_one_line(capsys, tmp_path):
         status = cli.main(["table", str(family), "--scheduler", address, "--scheduler-timeout", str(TIMEOUT)])
     out, err = capsys.readouterr()
     assert status == 2 and out == "" and err.count("\n") == 1
-    assert err.startswith(f"symkf table: scheduler: the Dask scheduler at {address} accepts connections but did "
-                          "not answer within 1 s")
+    assert err.startswith(f"symkf table: {family}: --scheduler: the Dask scheduler at {address} accepts connections "
+                          "but did not answer within 1 s")
+
+
+@pytest.mark.parametrize("command", ["table", "verify"])
+@pytest.mark.parametrize("extra, message", [
+    (["--scheduler", "nonsense"], "--scheduler: expected a Dask scheduler address such as 'tcp://host:8786'"),
+    (["--scheduler", "tcp://127.0.0.1:1"], "--scheduler: cannot connect to the Dask scheduler at tcp://127.0.0.1:1"),
+    (["--scheduler", "ucx://127.0.0.1:8786"], "--scheduler: the Dask scheduler at ucx://127.0.0.1:8786: ucx:// needs"),
+    (["--scheduler", "tcp://127.0.0.1:1", "--jobs", "2"], "--jobs and --scheduler: give one of them"),
+])
+def test_scheduler_errors_name_the_file_and_the_option_in_one_line(capsys, tmp_path, command, extra, message):
+    # began "symkf table: scheduler: ...", the Python keyword and no file, unlike every other error
+    family = tmp_path / "fam.toml"
+    family.write_text(FAMILY_TEXT + '[loss]\nkind = "iid"\nloss = ["1/2"]\n')
+    status = cli.main([command, str(family), *extra, "--oversubscribe"])
+    out, err = capsys.readouterr()
+    assert status == 2 and out == "" and err.count("\n") == 1, err
+    assert err.startswith(f"symkf {command}: {family}: {message}"), err
+
+
+def test_verify_of_a_system_file_refuses_a_scheduler_it_would_not_use(capsys, tmp_path):
+    # the address was ignored: the paths ran locally, whatever --scheduler said
+    system = tmp_path / "s.toml"
+    system.write_text('[system]\nA = [["2"]]\n[[sensors]]\nC = [["1"]]\n[loss]\nkind = "iid"\nloss = ["1/2"]\n')
+    status = cli.main(["verify", str(system), "--scheduler", "tcp://127.0.0.1:1", "--paths", "100"])
+    out, err = capsys.readouterr()
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith(f"symkf verify: {system}: --scheduler: a system file's simulation runs in local processes")
 
 
 def test_a_scheduler_losing_its_workers_mid_run():
