@@ -4,14 +4,15 @@ import sys
 
 
 def run() -> int:
-    """:func:`symkf.cli.main`; a Ctrl-C while the command line is still being imported is one line
-    and exit status 130 too, not a traceback."""
+    """:func:`symkf.cli.main` as the process's entry point (``symkf.cli._process_main``: signals
+    stay ignored while Python ends the process); a Ctrl-C while the command line is still being
+    imported is one line and exit status 130 too, not a traceback."""
     try:
-        from .cli import main
+        from .cli import _process_main
     except KeyboardInterrupt:
         print("symkf: interrupted", file=sys.stderr)
         return 130
-    return main()
+    return _process_main()
 
 
 if __name__ == "__main__":

@@ -68,10 +68,6 @@ class Terminated(KeyboardInterrupt):
     processes stopped, queued work cancelled, temporary files removed)."""
 
 
-def _raise_terminated(signum: int, frame: Any) -> None:
-    raise Terminated()
-
-
 @dataclass(frozen=True)
 class Command:
     """A subcommand: ``configure`` adds its arguments, ``run`` returns a JSON-serialisable dict
@@ -657,7 +653,22 @@ def _scalar(value: Any) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run ``symkf`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
+    """Run ``symkf`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status.  Ctrl-C
+    (SIGINT) and SIGTERM interrupt the command once (exit 130 and 143); a second one while the
+    first is cleaned up is ignored; the caller's signal handlers are restored at the end."""
+    with _interrupted_once(restore=True):
+        return _main(argv)
+
+
+def _process_main() -> int:
+    """:func:`main` as the process's entry point (``symkf``, ``python -m symkf``): after it, the
+    process ignores SIGINT and SIGTERM while Python ends it (a Ctrl-C then, as during the first's
+    clean-up, killed the process by the signal instead of the exit status 130 it had returned)."""
+    with _interrupted_once(restore=False):
+        return _main(None)
+
+
+def _main(argv: Sequence[str] | None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if not argv:
         _parser().print_help()
@@ -666,6 +677,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = _parser().parse_args(argv)
     except SystemExit as exc:   # --help, --version
         return exc.code if isinstance(exc.code, int) else 2
+    except Terminated:
+        print("symkf: terminated (SIGTERM)", file=sys.stderr)
+        return TERMINATED
     except KeyboardInterrupt:
         print("symkf: interrupted", file=sys.stderr)
         return INTERRUPTED
@@ -681,8 +695,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             args.file, source = _input_file(args.file)
         _cap_jobs(args, command.name)
         with warnings.catch_warnings(record=True) as caught, _quiet(args.quiet), budget.limits(**_caps(args)), \
-                _sigterm_interrupts(), output.run(), \
-                still_working(f"symkf {command.name}", enabled=False if args.quiet else None):
+                output.run(), still_working(f"symkf {command.name}", enabled=False if args.quiet else None):
             warnings.simplefilter("always")
             res = command.run(args)
         # notes for the user (e.g. a float taken as a rational) in one line each; numerical
@@ -737,17 +750,34 @@ def _error_document(kind: str, message: str, status: int) -> dict[str, Any]:
 
 
 @contextlib.contextmanager
-def _sigterm_interrupts() -> Iterator[None]:
-    """SIGTERM raises :class:`Terminated` during the command (in the main thread only: a signal
-    handler cannot be installed elsewhere), and is restored afterwards."""
+def _interrupted_once(restore: bool) -> Iterator[None]:
+    """The first SIGINT raises KeyboardInterrupt, the first SIGTERM :class:`Terminated`; any signal
+    after it is ignored, so that the clean-up it starts (workers stopped, temporary files removed,
+    the one-line message) runs to its end.  Afterwards the previous handlers are restored
+    (``restore``), or both signals are ignored while the process ends; a signal ignored before
+    stays ignored.  In the main thread only:
+    a signal handler cannot be installed elsewhere."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    fired: list[int] = []
+
+    def handler(signum: int, frame: Any) -> None:
+        if fired:
+            return
+        fired.append(signum)
+        raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+
+    # a signal ignored when the command started (a job started in the background with `&`) stays so
+    previous = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    previous = {s: h for s, h in previous.items() if h is not signal.SIG_IGN}
+    for s in previous:
+        signal.signal(s, handler)
     try:
         yield
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for s, before in previous.items():
+            signal.signal(s, (signal.SIG_DFL if before is None else before) if restore else signal.SIG_IGN)
 
 
 @contextlib.contextmanager

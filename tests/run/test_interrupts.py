@@ -4,6 +4,7 @@ no orphan, and no partial file is left."""
 
 from __future__ import annotations
 
+import contextlib
 import gc
 import os
 import signal
@@ -113,6 +114,20 @@ def test_a_signal_stops_the_table_and_its_workers(tmp_path, signum, to, status, 
     assert_nothing_left(proc, tmp_path)
 
 
+def test_a_second_ctrl_c_during_the_clean_up_still_exits_130(tmp_path):
+    """Two Ctrl-C: the second, once the first had stopped the workers and written its message,
+    while Python ended the process, killed the command by SIGINT (status -2; or a traceback from
+    an atexit handler) instead of the status 130 it had decided on."""
+    proc = table_run(tmp_path)
+    os.killpg(proc.pid, signal.SIGINT)
+    first = proc.stderr.readline()
+    with contextlib.suppress(ProcessLookupError):   # the run may have ended before the second came
+        os.killpg(proc.pid, signal.SIGINT)
+    code, out, err, seconds = finished(proc)
+    assert (code, out, first + err) == (130, "", "symkf table: interrupted\n") and seconds < 10
+    assert_nothing_left(proc, tmp_path)
+
+
 SLEEPERS = ("import importlib, time\nsweep = importlib.import_module('symkf.run.sweep')\n"
             "{}sweep.sweep(time.sleep, [30] * 4, jobs=2)\n")
 
@@ -201,11 +216,32 @@ def test_ctrl_c_while_the_command_line_is_imported(monkeypatch, capsys):
 def test_sigterm_is_raised_like_ctrl_c_during_a_command():
     previous = signal.getsignal(signal.SIGTERM)
     with pytest.raises(cli.Terminated):
-        with cli._sigterm_interrupts():
+        with cli._interrupted_once(restore=True):
             os.kill(os.getpid(), signal.SIGTERM)
             time.sleep(5)
     assert signal.getsignal(signal.SIGTERM) is previous
     assert issubclass(cli.Terminated, KeyboardInterrupt)    # every clean-up of Ctrl-C runs for it
+
+
+def test_only_the_first_interrupt_is_raised_and_the_handlers_come_back():
+    before = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    with pytest.raises(KeyboardInterrupt):
+        with cli._interrupted_once(restore=True):
+            try:
+                os.kill(os.getpid(), signal.SIGINT)
+                time.sleep(5)
+            finally:   # the clean-up the first started is not cut short by a second, nor a SIGTERM
+                os.kill(os.getpid(), signal.SIGINT)
+                os.kill(os.getpid(), signal.SIGTERM)
+                time.sleep(0.1)
+    assert {s: signal.getsignal(s) for s in before} == before
+    with cli._interrupted_once(restore=False):   # the process's entry point: ignored while Python ends it
+        pass
+    try:
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN and signal.getsignal(signal.SIGTERM) is signal.SIG_IGN
+    finally:
+        for s, handler in before.items():
+            signal.signal(s, handler)
 
 
 #: A = 2 R(pi/2) watched by [1 0] with i.i.d. loss 1/2
