@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import gzip
 import json
 import math
 import os
@@ -81,6 +82,9 @@ class JsonDocument:
 
 #: image formats matplotlib writes, by extension; any other extension is written as PNG
 IMAGE_FORMATS = ("png", "pdf", "svg", "svgz", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp", "pgf")
+
+#: the metadata that makes matplotlib's vector formats date-free (it writes the time of saving)
+UNDATED = {"svg": {"Date": None}, "svgz": {"Date": None}, "pdf": {"CreationDate": None}}
 
 #: errors of os.link meaning "this file system has no hard links", not "the name is taken"
 _NO_LINKS = {errno.EPERM, errno.ENOTSUP, errno.EOPNOTSUPP, errno.EMLINK, errno.ENOSYS, errno.EXDEV}
@@ -209,10 +213,40 @@ class Planned:
         return self.write(lambda f: f.write(text.encode("utf-8")))
 
     def put_figure(self, figure: Any, **savefig: Any) -> Path:
-        """Write a matplotlib ``figure`` into :attr:`path` in :attr:`image_format`, atomically."""
+        """Write a matplotlib ``figure`` into :attr:`path` in :attr:`image_format`, atomically;
+        the same figure gives the same bytes: matplotlib's vector formats carry the time of saving
+        and random ids, so SVG and PDF are written without a date (:data:`UNDATED`) and with SVG
+        ids from a fixed salt, PostScript dated by ``SOURCE_DATE_EPOCH`` (0 unless set: it has no
+        other way), compressed SVG with a zero gzip time stamp."""
         if not callable(getattr(figure, "savefig", None)):
             raise OutputError(f"{self.option} {self.path}: expected a matplotlib figure, got {type(figure).__name__}")
-        return self.write(lambda f: figure.savefig(f, format=self.image_format, **savefig))
+        import matplotlib
+        fmt = self.image_format
+        if fmt in UNDATED:
+            savefig["metadata"] = {**UNDATED[fmt], **(savefig.get("metadata") or {})}
+
+        def fill(f: IO[bytes]) -> None:
+            if fmt == "svgz":
+                with gzip.GzipFile(filename="", fileobj=f, mode="wb", mtime=0) as zipped:
+                    figure.savefig(zipped, format="svg", **savefig)
+            else:
+                figure.savefig(f, format=fmt, **savefig)
+
+        with matplotlib.rc_context({"svg.hashsalt": "symkf"}), _source_date(fmt in ("ps", "eps")):
+            return self.write(fill)
+
+
+@contextlib.contextmanager
+def _source_date(needed: bool) -> Iterator[None]:
+    """``SOURCE_DATE_EPOCH=0`` while ``needed`` (unless the environment sets it: its date wins)."""
+    if not needed or "SOURCE_DATE_EPOCH" in os.environ:
+        yield
+        return
+    os.environ["SOURCE_DATE_EPOCH"] = "0"
+    try:
+        yield
+    finally:
+        os.environ.pop("SOURCE_DATE_EPOCH", None)
 
 
 def plan(path: str | os.PathLike, option: str, *, inputs: Iterable[str | os.PathLike] = (),

@@ -108,6 +108,21 @@ def test_plot_written_to_the_path_reported(capsys, tmp_path, system):
     assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and not (tmp_path / "plot_noext.png").exists()
 
 
+@pytest.mark.parametrize("extension", ["svg", "pdf", "svgz", "eps"])
+def test_the_same_figure_command_writes_the_same_bytes(capsys, tmp_path, system, extension):
+    # matplotlib wrote the time of saving (SVG to the microsecond, PDF and PostScript to the
+    # second, compressed SVG in its gzip header) and random SVG ids: no two runs were alike
+    pytest.importorskip("matplotlib")
+    written = []
+    for k in range(2):
+        target = tmp_path / f"plot{k}.{extension}"
+        status, _, _ = run(capsys, "simulate", system, "--paths", "20", "--horizon", "5", "--plot", target)
+        assert status == 0
+        written.append(target.read_bytes())
+        time.sleep(1.05)   # the next second: a date to the second would differ
+    assert written[0] == written[1] and len(written[0]) > 1000
+
+
 FAMILY = examples.family("rotation-periods")
 
 
