@@ -5,7 +5,8 @@ starts) and written by :meth:`Planned.write` (:meth:`~Planned.put_text`, :meth:`
 :func:`write_text` and :func:`save_figure` plan and write at once):
 
 * refused at once: an empty path, a missing or unwritable directory, a directory, device or
-  FIFO, a symbolic link (a write never goes through a link, nor replaces one), a file name longer
+  FIFO, a symbolic link (a write never goes through a link, nor replaces one; a linked directory
+  on the way is the user's own and followed), a file name longer
   than the file system allows, and any *input* of the run, whatever path names it (compared by
   device and inode, which also catches hard links, and by resolved path);
 * an existing output is replaced (rerunning a command overwrites its own result), but not when
@@ -259,9 +260,9 @@ def plan(path: str | os.PathLike, option: str, *, inputs: Iterable[str | os.Path
     for source in inputs:
         note_input(source)
     try:
-        directory = target.parent
+        directory = target.parent   # a symbolic link to a directory is the user's own: followed
         if not directory.is_dir():
-            raise OutputError(f"{where}: the directory {directory} does not exist")
+            raise OutputError(f"{where}: {_not_a_directory(directory)}")
         limit = _name_max(directory)
         if len(os.fsencode(target.name)) > limit:
             raise OutputError(f"{where}: the file name is {len(os.fsencode(target.name))} bytes, "
@@ -326,6 +327,8 @@ def save_figure(figure: Any, path: str | os.PathLike, option: str = "path", *, f
 def plan_directory(path: str | os.PathLike, option: str) -> Path:
     """Check (and create) the output directory of ``option`` before any work is done."""
     directory = _path(path, option, "a directory path")
+    if os.path.lexists(directory) and not directory.is_dir():
+        raise OutputError(f"{option} {directory}: {_not_a_directory(directory)}")
     try:
         directory.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -333,6 +336,17 @@ def plan_directory(path: str | os.PathLike, option: str) -> Path:
     if not os.access(directory, os.W_OK | os.X_OK):
         raise OutputError(f"{option} {directory}: the directory is not writable")
     return directory
+
+
+def _not_a_directory(directory: Path) -> str:
+    """Why ``directory``, which is not a directory, cannot hold an output."""
+    missing = not os.path.exists(directory)
+    if os.path.islink(directory):
+        shown = f"{directory} (a symbolic link"
+        with contextlib.suppress(OSError):   # replaced meanwhile: then its target is not named
+            shown += f" to {os.readlink(directory)}"
+        return f"the directory {shown}) " + ("does not exist" if missing else "is not a directory")
+    return f"the directory {directory} does not exist" if missing else f"{directory} is not a directory"
 
 
 def _path(path: Any, option: str, what: str) -> Path:

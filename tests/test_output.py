@@ -8,6 +8,7 @@ import ast
 import errno
 import json
 import os
+import re
 import resource
 import subprocess
 import sys
@@ -162,6 +163,44 @@ def test_symbolic_link_is_never_written_through_nor_replaced(capsys, tmp_path, f
     assert status == 2 and f"--latex {link}: is a symbolic link" in err and err.count("\n") == 1
     assert link.is_symlink() and family.read_text() == FAMILY_TEXT and other.read_text() == "notes"
     assert not (tmp_path / "missing").exists()
+
+
+def test_a_directory_reached_through_a_symbolic_link_is_the_users_own(capsys, tmp_path, family):
+    """--latex through a linked directory writes into the directory it names, and reruns replace
+    that output; inside it, the input (by the link) and a linked target file are still refused."""
+    (tmp_path / "real").mkdir()
+    linked = tmp_path / "linked"
+    linked.symlink_to(tmp_path / "real", target_is_directory=True)
+    for _ in range(2):
+        status, _, err = run(capsys, "table", family, "--latex", linked / "out.tex")
+        assert status == 0 and err == "" and (tmp_path / "real" / "out.tex").read_text().startswith("\\begin{table}")
+    assert leftovers(tmp_path / "real") == [] and sorted(p.name for p in (tmp_path / "real").iterdir()) == ["out.tex"]
+    (tmp_path / "notes.txt").write_text("notes")
+    (tmp_path / "real" / "notes.tex").symlink_to(tmp_path / "notes.txt")
+    status, _, err = run(capsys, "table", family, "--latex", linked / "notes.tex", "--force")
+    assert status == 2 and f"--latex {linked / 'notes.tex'}: is a symbolic link" in one_line(err)
+    assert (tmp_path / "notes.txt").read_text() == "notes"
+    (tmp_path / "real" / "fam.toml").write_text(FAMILY_TEXT)
+    status, _, err = run(capsys, "table", tmp_path / "real" / "fam.toml", "--latex", linked / "fam.toml", "--force")
+    assert status == 2 and "is the input file" in one_line(err)
+
+
+@pytest.mark.parametrize("points_to, message", [
+    ("missing", "the directory {link} (a symbolic link to {target}) does not exist"),   # was "File exists"
+    ("file", "the directory {link} (a symbolic link to {target}) is not a directory"),  # was "does not exist"
+])
+def test_a_linked_directory_that_is_none_says_where_it_points(tmp_path, points_to, message):
+    target = tmp_path / ("notes.txt" if points_to == "file" else "missing")
+    if points_to == "file":
+        target.write_text("notes")
+    link = tmp_path / "linked"
+    link.symlink_to(target)
+    expected = message.format(link=link, target=target)
+    with pytest.raises(OutputError, match=re.escape(f"--latex {link / 'out.tex'}: {expected}")):
+        output.plan(link / "out.tex", "--latex")
+    with pytest.raises(OutputError, match=re.escape(f"--outdir {link}: {expected}")):
+        output.plan_directory(link, "--outdir")
+    assert not (tmp_path / "missing").exists() and (points_to != "file" or target.read_text() == "notes")
 
 
 def test_reproduce_figure_symlinked_to_an_input(capsys, tmp_path):
