@@ -135,3 +135,11 @@ def test_a_design_rate_is_one_number(tmp_path):
     path.write_text('[system]\nA = [["2"]]\n[[sensors]]\nC = [["1"]]\n[design]\ncritical_rate = ["1/2", "1/3"]\n')
     with pytest.raises(sk.errors.FileFormatError, match=r"d.toml: \[design\] critical_rate: expected a number, got a list"):
         files.load_design(path)
+
+
+def test_too_many_sensors_are_counted_before_one_is_read(tmp_path):
+    # each sensor's C was converted before the system counted them: 40,000 in a 1 MB file, 12 s
+    path = tmp_path / "many.toml"
+    path.write_text('[system]\nA = [["2"]]\n' + '[[sensors]]\nC = [["1/3"]]\n' * 40_000)
+    code, err = limited(refused_at_once, lambda: files.load(path), "max_sensors")
+    assert code == 0 and f"{path}: [[sensors]]: the number of sensors is 40000, above the cap 64" in err, err
