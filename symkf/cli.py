@@ -652,20 +652,15 @@ def _scalar(value: Any) -> str:
     return "none" if value is None else str(value)
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+def main(argv: Sequence[str] | None = None, *, entry_point: bool = False) -> int:
     """Run ``symkf`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status.  Ctrl-C
     (SIGINT) and SIGTERM interrupt the command once (exit 130 and 143); a second one while the
-    first is cleaned up is ignored; the caller's signal handlers are restored at the end."""
-    with _interrupted_once(restore=True):
+    first is cleaned up is ignored.  The caller's signal handlers are restored at the end, unless
+    ``entry_point`` (``symkf``, ``python -m symkf``: the process ends with the command): then both
+    signals stay ignored while Python ends it (a Ctrl-C then killed the process by the signal
+    instead of the exit status 130 it had returned)."""
+    with _interrupted_once(restore=not entry_point):
         return _main(argv)
-
-
-def _process_main() -> int:
-    """:func:`main` as the process's entry point (``symkf``, ``python -m symkf``): after it, the
-    process ignores SIGINT and SIGTERM while Python ends it (a Ctrl-C then, as during the first's
-    clean-up, killed the process by the signal instead of the exit status 130 it had returned)."""
-    with _interrupted_once(restore=False):
-        return _main(None)
 
 
 def _main(argv: Sequence[str] | None) -> int:
