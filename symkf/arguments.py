@@ -218,14 +218,15 @@ def float_array(value: Any, entry: str) -> np.ndarray:
         raise InputError(f"{entry}: expected real numbers (an array or rows), got {described(value)}") from None
 
 
-def index(value: Any, size: int, entry: str) -> int:
-    """``value`` as a position in ``range(size)`` (a sensor, a state, a block), or an
-    :class:`InputError` naming ``entry`` and the range (Python's negative positions are not taken:
-    a position from outside names one thing)."""
-    if not isinstance(entry, str) or isinstance(size, bool) or not isinstance(size, int):
-        raise InputError(f"index: expected an int size and a str entry, got {described(size)}, {described(entry)}")
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 0 <= value < size:
-        raise InputError(f"{entry}: expected a position 0..{size - 1}, got {described(value)}")
+def index(value: Any, size: int, entry: str, first: int = 0) -> int:
+    """``value`` as one of ``size`` positions numbered from ``first`` (a sensor, a state numbered
+    from 1 as in a paper, a block), or an :class:`InputError` naming ``entry`` and the range
+    (Python's negative positions are not taken: a position from outside names one thing)."""
+    if not isinstance(entry, str) or any(isinstance(v, bool) or not isinstance(v, int) for v in (size, first)):
+        raise InputError(f"index: expected int size and first and a str entry, got {described(size)}, "
+                         f"{described(first)}, {described(entry)}")
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not first <= value < first + size:
+        raise InputError(f"{entry}: expected a position {first}..{first + size - 1}, got {described(value)}")
     return int(value)
 
 

@@ -38,6 +38,7 @@ import gzip
 import json
 import math
 import os
+import reprlib
 import secrets
 import stat
 import time
@@ -45,6 +46,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any, Callable, Iterable, Iterator
 
+from .arguments import check_public
 from .errors import InputError, OutputError
 
 def finite(value: Any) -> Any:
@@ -250,7 +252,7 @@ def _source_date(needed: bool) -> Iterator[None]:
         os.environ.pop("SOURCE_DATE_EPOCH", None)
 
 
-def plan(path: str | os.PathLike, option: str, *, inputs: Iterable[str | os.PathLike] = (),
+def plan(path: Any, option: str, *, inputs: Iterable[str | os.PathLike] = (),
          force: bool = False, keep_existing: bool = False) -> Planned:
     """Check ``path`` as the target of ``option`` before any work is done (module docstring);
     ``inputs`` are protected besides the run's own.  ``keep_existing``: the target is a file the
@@ -312,19 +314,19 @@ def _refuse_existing(target: Path, st: os.stat_result, where: str) -> None:
                           "refusing to overwrite an input")
 
 
-def write_text(path: str | os.PathLike, text: str, option: str = "path", *, force: bool = False) -> Path:
+def write_text(path: Any, text: str, option: str = "path", *, force: bool = False) -> Path:
     """:func:`plan` ``path`` and write ``text`` (UTF-8) into it, atomically."""
     return plan(path, option, force=force).put_text(text)
 
 
-def save_figure(figure: Any, path: str | os.PathLike, option: str = "path", *, force: bool = False,
+def save_figure(figure: Any, path: Any, option: str = "path", *, force: bool = False,
                 **savefig: Any) -> Path:
     """:func:`plan` ``path`` and write the matplotlib ``figure`` into it, atomically (its format
     from the extension, PNG when the extension names no image format)."""
     return plan(path, option, force=force).put_figure(figure, **savefig)
 
 
-def plan_directory(path: str | os.PathLike, option: str) -> Path:
+def plan_directory(path: Any, option: str) -> Path:
     """Check (and create) the output directory of ``option`` before any work is done."""
     directory = _path(path, option, "a directory path")
     if os.path.lexists(directory) and not directory.is_dir():
@@ -353,7 +355,7 @@ def _path(path: Any, option: str, what: str) -> Path:
     """``path`` as a Path: a non-empty str or os.PathLike of one, without NUL characters."""
     text = os.fspath(path) if isinstance(path, (str, os.PathLike)) else None
     if not isinstance(text, str) or not text or "\0" in text:
-        raise OutputError(f"{option}: expected {what}, got {_shown(repr(path))}")
+        raise OutputError(f"{option}: expected {what}, got {_shown(reprlib.repr(path))}")
     return Path(text)
 
 
@@ -402,3 +404,7 @@ def _sync_directory(directory: Path) -> None:
 
 def _reason(exc: OSError) -> str:
     return exc.strerror or type(exc).__name__
+
+
+# the target path is left to _path, whose refusal names the option (--latex, --outdir)
+check_public(globals())

@@ -333,6 +333,161 @@ def test_walk_full(mark):
     _check(result)
 
 
+# ------------------------------------------------------------------ hostile values
+
+def _deep(levels: int) -> list:
+    value: list = []
+    for _ in range(levels):
+        value = [value]
+    return value
+
+
+#: values of the right shape of no parameter, each a class of input that once reached a raw Python
+#: error, a C library's abort or a hang: non-finite numbers of every library, sizes past the machine's
+#: integers, empty and nested containers, numbers priced like the text of the safe parser
+HOSTILE: dict[str, Callable[[], Any]] = {
+    "sympy oo": lambda: sp.oo, "sympy -oo": lambda: -sp.oo, "sympy nan": lambda: sp.nan, "sympy zoo": lambda: sp.zoo,
+    "float nan": lambda: float("nan"), "float inf": lambda: float("inf"), "numpy nan": lambda: np.float64("nan"),
+    "-1": lambda: -1, "0": lambda: 0, "numpy -5": lambda: np.int64(-5), "True": lambda: True, "None": lambda: None,
+    "10**100": lambda: 10 ** 100, "2**63": lambda: 2 ** 63, "-10**30": lambda: -10 ** 30,
+    "empty string": lambda: "", "bytes": lambda: b"\x00\xff", "object": object, "1+1j": lambda: 1 + 1j,
+    "empty list": list, "empty dict": dict, "empty array": lambda: np.zeros((0, 0)),
+    "nan array": lambda: np.full((2, 2), np.nan), "list nested 10**5 deep": lambda: _deep(10 ** 5),
+    "a million characters": lambda: "1" * 10 ** 6, "symbol": lambda: sp.Symbol("x"),
+    "sum of ten radicals": lambda: sum(sp.sqrt(p) for p in (2, 3, 5, 7, 11, 13, 17, 19, 23, 29)),
+    "cos(pi/10**9)": lambda: sp.cos(sp.pi / 10 ** 9), "10**(10**10)": lambda: sp.Pow(10, 10 ** 10, evaluate=False),
+    "Fraction(1, 10**400)": lambda: Fraction(1, 10 ** 400), "fullwidth sqrt(2)": lambda: "ｓｑｒｔ(2)",
+    "/dev/zero": lambda: Path("/dev/zero"), "a function": lambda: (lambda *a: 0),
+}
+
+#: CPU seconds a hostile value may run (it was accepted as data and real work started: a skip)
+CPU_PER_HOSTILE = 0.5
+
+
+def hostile_calls(qualname: str, fn: Callable, select: Callable[[str, str], bool]) -> dict:
+    """Every parameter of ``fn`` with every :data:`HOSTILE` value that ``select(parameter, value
+    name)`` keeps; the untranslated exceptions by (parameter, type), an example of each, the skips."""
+    params = _parameters(fn)
+    found, examples, skips, calls = collections.Counter(), {}, [], 0
+    if params is None:
+        return {"found": found, "examples": examples, "skips": skips, "calls": calls}
+    old = signal.signal(signal.SIGPROF, _alarm)
+    try:
+        for target in params or [None]:
+            name = target.name if target else ""
+            for form, make in HOSTILE.items():
+                if not select(f"{qualname}.{name}", form):
+                    continue
+                calls += 1
+                signal.setitimer(signal.ITIMER_PROF, CPU_PER_HOSTILE)
+                try:
+                    _call(fn, params, target, make()) if target else fn()
+                except _Timeout:
+                    skips.append(f"{qualname}({name}) {form}")
+                except StringEvaluation:
+                    found[(name, "string evaluation")] += 1
+                except BaseException as exc:  # noqa: BLE001 - the walk classifies every outcome
+                    if not _allowed(qualname, exc):
+                        found[(name, type(exc).__name__)] += 1
+                        examples.setdefault((name, type(exc).__name__), f"{form}: {str(exc)[:160]}")
+                finally:
+                    signal.setitimer(signal.ITIMER_PROF, 0)
+    finally:
+        signal.signal(signal.SIGPROF, old)
+    return {"found": found, "examples": examples, "skips": skips, "calls": calls}
+
+
+def hostile_walk(prefix: str, select: Callable[[str, str], bool], forked: bool) -> dict:
+    """:func:`hostile_calls` over every public callable whose name starts with ``prefix``; with
+    ``forked``, each callable in a child process, so that a death (a C library's abort, a
+    segmentation fault) or a hang past a minute is seen and counted instead of ending the walk."""
+    import os
+    import pickle
+    for module in ("cvxpy", "control", "matplotlib.pyplot", "distributed"):  # imported outside the CPU timer
+        try:
+            importlib.import_module(module)
+        except ImportError:
+            pass
+    figures, lines, deaths = collections.Counter(), [], []
+    for qualname, fn in public_callables():
+        if not qualname.startswith(prefix):
+            continue
+        figures["callables"] += 1
+        if not forked:
+            result = hostile_calls(qualname, fn, select)
+        else:
+            read, write = os.pipe()
+            pid = os.fork()
+            if pid == 0:   # the child: report and leave without running the parent's clean-up
+                os.close(read)
+                try:
+                    data = pickle.dumps(hostile_calls(qualname, fn, select))
+                except BaseException as exc:  # noqa: BLE001 - reported as the child's own failure
+                    data = pickle.dumps({"failure": repr(exc)[:300]})
+                with os.fdopen(write, "wb") as pipe:
+                    pipe.write(data)
+                os._exit(0)
+            os.close(write)
+            signal.signal(signal.SIGALRM, lambda *_: os.kill(pid, signal.SIGKILL))
+            signal.alarm(60)
+            with os.fdopen(read, "rb") as pipe:
+                data = pipe.read()
+            _, status = os.waitpid(pid, 0)
+            signal.alarm(0)
+            if not data or os.WIFSIGNALED(status):
+                deaths.append(f"{qualname}: ended by signal {os.WTERMSIG(status) if os.WIFSIGNALED(status) else '?'}")
+                continue
+            result = pickle.loads(data)
+            if "failure" in result:
+                deaths.append(f"{qualname}: the walk itself failed: {result['failure']}")
+                continue
+        figures["calls"] += result["calls"]
+        figures["skips"] += len(result["skips"])
+        for (name, kind), count in sorted(result["found"].items()):
+            figures["untranslated"] += count
+            lines.append(f"{count} x {qualname}({name}) {kind}: {result['examples'].get((name, kind), '')}")
+    figures["deaths"] = len(deaths)
+    return {"figures": figures, "findings": lines, "deaths": deaths}
+
+
+def _one_hostile_value(key: str, form: str) -> bool:
+    """The fast tier's sample: one hostile value per parameter, rotating by a hash of its name."""
+    names = list(HOSTILE)
+    return names[zlib.crc32(key.encode()) % len(names)] == form
+
+
+def _hostile_check(result: dict) -> None:
+    report = "\n".join([", ".join(f"{k} {v}" for k, v in result["figures"].items()),
+                        *[f"DEATH {d}" for d in result["deaths"]], *result["findings"]])
+    print(report)
+    assert not result["deaths"] and not result["findings"], report
+
+
+def test_hostile_values_sample(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)   # an accepted path argument writes here
+    result = hostile_walk("symkf.", _one_hostile_value, forked=False)
+    assert result["figures"]["callables"] > 400
+    _hostile_check(result)
+
+
+#: the walk's share per subpackage, so that the full tier's workers take them in parallel
+SUBPACKAGES = ("symkf.arguments", "symkf.budget", "symkf.cli", "symkf.errors", "symkf.output", "symkf.reproduction",
+               "symkf.exact", "symkf.run", "symkf.model", "symkf.engine", "symkf.numeric", "symkf.network",
+               "symkf.capacity", "symkf.fusion", "symkf.design", "symkf.io", "symkf.reports", "symkf.bounds")
+
+
+@pytest.mark.full
+@pytest.mark.parametrize("prefix", SUBPACKAGES)
+def test_hostile_values_everywhere(prefix, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    _hostile_check(hostile_walk(prefix, lambda *_: True, forked=True))
+
+
+def test_subpackages_cover_every_module():
+    modules = {info.name for info in pkgutil.walk_packages(sk.__path__, "symkf.") if not info.name.endswith("__main__")}
+    assert sorted(m for m in modules if not m.startswith(SUBPACKAGES)) == []
+
+
 def test_the_walk_can_see_an_execution(mark, monkeypatch):
     """The detector works: with the session guard lifted, sympy's own sympify of a tuple (not
     strict inside containers) runs the payload and the marker appears."""

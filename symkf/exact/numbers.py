@@ -604,6 +604,8 @@ def price_sympy(expr: sp.Basic, entry: str) -> None:
     of radicals of one index, as symkf's own exact results are, stays far below the field's
     bound), capped as :func:`check_degree` says before sympy's ``minimal_polynomial`` meets it
     (a sum of the square roots of the first ten primes has degree 1024: that call never ended)."""
+    if isinstance(expr, sp.Expr) and expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+        raise InputError(f"{entry}: {str(expr)[:60]} is not a finite number (symkf's exact numbers are algebraic)")
     if isinstance(expr, sp.Expr) and not expr.free_symbols:
         _check_sympy(expr, entry, degree=False)
         if isinstance(expr, sp.Rational):

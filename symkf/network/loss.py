@@ -27,7 +27,7 @@ from typing import ClassVar, TYPE_CHECKING, Any, Mapping, Sequence
 import sympy as sp
 
 from .. import budget
-from ..arguments import check_public
+from ..arguments import check_public, index
 from ..errors import AssumptionError, FileFormatError, InputError
 from ..exact.numbers import substitution
 from ..model.codec import entry, exact_values, within
@@ -194,6 +194,7 @@ class NetworkLoss(LossModel):
     def link_law(self, j: int, phi: sp.MatrixBase | None = None) -> dict[Vector, sp.Expr]:
         """``Pr{gamma(k) = g | Xi(k) = j}`` for every ``g`` (links independent given ``Xi``, eq. 5)."""
         phi = self.phi if phi is None else phi
+        j = index(j, phi.cols, "j", 1)
         col = [phi[m, j - 1] for m in range(self.d)]
         return {g: bernoulli_product(g, col) for g in self.link_vectors}
 

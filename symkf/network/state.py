@@ -15,7 +15,7 @@ from typing import Any, Mapping, Sequence
 import sympy as sp
 
 from .. import budget
-from ..arguments import check_public
+from ..arguments import check_public, count, index
 from ..errors import InputError, ProbabilityError
 from ..exact.numbers import substitution, sympify
 from ..model.loss import probability, stationary_law
@@ -67,7 +67,8 @@ class MarkovNetworkState:
 
     def p(self, i: int, j: int) -> sp.Expr:
         """``p_ij`` (eq. 4), states numbered from 1."""
-        return self.P[i - 1, j - 1]
+        N = self.P.rows
+        return self.P[index(i, N, "i", 1) - 1, index(j, N, "j", 1) - 1]
 
     def subs(self, values: Mapping[Any, Any]) -> "MarkovNetworkState":
         """A copy with symbols in ``P`` and the initial law replaced by exact values."""
@@ -129,11 +130,12 @@ class SemiMarkovNetworkState:
 
     def psi(self, i: int, delta: int) -> sp.Expr:
         """``psi_i(delta) = Pr{Delta_l = delta | Xi(k_l) = i}`` (eq. 28)."""
-        return self.holding[i - 1].get(delta, sp.Integer(0))
+        return self.holding[index(i, len(self.holding), "i", 1) - 1].get(count(delta, "delta"), sp.Integer(0))
 
     def qij(self, i: int, j: int) -> sp.Expr:
         """``q_ij`` (eq. 28), states numbered from 1."""
-        return self.q[i - 1, j - 1]
+        N = self.q.rows
+        return self.q[index(i, N, "i", 1) - 1, index(j, N, "j", 1) - 1]
 
     def subs(self, values: Mapping[Any, Any]) -> "SemiMarkovNetworkState":
         """A copy with symbols in ``q``, the holding laws and the initial law replaced by exact values."""
