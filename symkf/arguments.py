@@ -211,10 +211,13 @@ def _symkf_classes() -> dict[str, type]:
 
 def float_array(value: Any, entry: str) -> np.ndarray:
     """``value`` as a float64 array, or an :class:`InputError` naming ``entry`` (numpy's
-    ``asarray`` raises ValueError or TypeError for text, objects and ragged rows)."""
+    ``asarray`` raises ValueError or TypeError for text, objects and ragged rows, RecursionError for
+    rows nested past Python's limit)."""
+    if not isinstance(entry, str):
+        raise InputError(f"float_array: entry must be a string naming the argument, got {described(entry)}")
     try:
         return np.asarray(value, dtype=float)
-    except (TypeError, ValueError, OverflowError):
+    except (TypeError, ValueError, OverflowError, RecursionError):
         raise InputError(f"{entry}: expected real numbers (an array or rows), got {described(value)}") from None
 
 

@@ -20,6 +20,8 @@ import textwrap
 import threading
 import warnings
 from dataclasses import dataclass
+from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal, localcontext
+from fractions import Fraction
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Sequence
 
 
@@ -624,10 +626,36 @@ def _print_plain(res: dict[str, Any]) -> None:
         return
     for k, v in res.items():
         if isinstance(v, dict) and "exact" in v and "interval" in v:
-            print(f"{k} = {v['exact']}\n  ~ {v['decimal']}\n  in [{v['interval'][0]}, {v['interval'][1]}]"
-                  f"\n  minimal polynomial {v['minpoly']}")
+            print(_exact_number_text(k, v))
         elif not k.startswith("_") and k != "blocks":
             print("\n".join(_words(k, v)))
+
+
+def _exact_number_text(key: str, v: dict[str, Any]) -> str:
+    """An exact number of the JSON (``exact``, ``decimal``, ``interval``, ``minpoly``) for people:
+    powers as ``^``, products as ``·``, a root without a closed form named by its polynomial, the
+    certified interval in decimals rounded outward (its exact rationals are in ``--json``)."""
+    poly = _mathematical_text(v["minpoly"])
+    exact = f"the root of {poly} in the certified interval" if "CRootOf" in v["exact"] else _mathematical_text(v["exact"])
+    lo, hi = (Fraction(e) for e in v["interval"])
+    digits = len(v["decimal"].replace("-", "").replace(".", "").lstrip("0")) + 2
+    return (f"{key} = {exact}\n  ≈ {v['decimal']}\n  certified in [{_decimal(lo, digits, ROUND_FLOOR)}, "
+            f"{_decimal(hi, digits, ROUND_CEILING)}] (exact rationals: --json)\n  minimal polynomial {poly}")
+
+
+def _mathematical_text(sympy_text: str) -> str:
+    """SymPy's printed form for people: ``2**(7/15)/2`` as ``2^(7/15)/2``, ``256*x**15 - 1`` as
+    ``256x^15 - 1``, other products with ``·``."""
+    text = sympy_text.replace("**", "^")
+    text = re.sub(r"(?<=\d)\*(?=[a-z(])", "", text)
+    return text.replace("*", "·")
+
+
+def _decimal(q: Fraction, digits: int, rounding: str) -> str:
+    """``q`` to ``digits`` significant digits, rounded as ``rounding`` says (outward for an interval)."""
+    with localcontext() as ctx:
+        ctx.prec, ctx.rounding = max(digits, 1), rounding
+        return format(Decimal(q.numerator) / Decimal(q.denominator), "f")
 
 
 def _words(key: str, value: Any, indent: str = "", width: int = 100) -> list[str]:

@@ -14,6 +14,7 @@ import numpy as np
 import sympy as sp
 
 from ..arguments import check_public
+from ..errors import InputError
 from ..model.system import System
 from ..reports.plots import figure_target, finish_figure, new_figure, rational_angles, rotation_system
 from ..run.progress import progress
@@ -42,6 +43,8 @@ def atlas_figure(family: Sequence[tuple[float, System]] | None = None, *, parame
     """Each applicable row's threshold and the exact critical loss against the family's parameter."""
     target = figure_target(path)   # checked before the work
     family = rotation_family() if family is None else list(family)
+    if not family or not all(isinstance(m, (tuple, list)) and len(m) == 2 and isinstance(m[1], System) for m in family):
+        raise InputError("family: expected a non-empty list of (parameter value, System) pairs")
     points: dict[str, list] = {}
     labels: dict[str, str] = {}
     exact = []

@@ -108,6 +108,8 @@ class RawRegression:
 
     def least_lost_weight(self, weights: Sequence[int]) -> int:
         """``L(N)``: the least total weight ``sum w_j`` of the lost pairs of a deficient pattern."""
+        if len(weights) != self.d or not all(isinstance(w, int) and not isinstance(w, bool) and w >= 0 for w in weights):
+            raise InputError(f"weights: expected {self.d} integers >= 0, one per sensor")
         full = self.N * sum(weights)
         return full - max(sum(weights[j] for _, j in D) for D in self.deficient_sets)
 

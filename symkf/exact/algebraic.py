@@ -669,15 +669,12 @@ class AlgebraicNumber(JsonDocument):
         return self
 
     def evalf(self, n: int = 15) -> sp.Float:
-        """``n`` significant digits from an interval refined far below ``10^-n`` relative width."""
+        """``n`` significant digits, correctly rounded (the decimal of :meth:`__format__`: a Float
+        made from a rational at ``n`` digits rounds twice, through binary, and can end one unit off)."""
         if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
             raise InputError(f"n: expected a positive int number of digits, got {n!r}")
         budget.check("max_digits", int(n), "n", "the digits asked for")
-        if self.is_rational:
-            return sp.Float(self._lo, n)
-        scale = max(abs(self._lo), abs(self._hi), sp.Rational(1, 10 ** 6))
-        self.refine(scale / 10 ** (n + 6))
-        return sp.Float((self._lo + self._hi) / 2, n)
+        return sp.Float(format(self, f".{int(n) - 1}e"), int(n))
 
     def __float__(self) -> float:
         return float(self.evalf(20))
@@ -925,6 +922,9 @@ class AlgebraicNumber(JsonDocument):
     def to_dict(self, digits: int = 12) -> dict[str, Any]:
         """The JSON form of ``symkf critical --json``: the exact closed form, ``digits`` decimals,
         an isolating interval of width below ``10^-(digits + 2)`` and the minimal polynomial."""
+        if isinstance(digits, bool) or not isinstance(digits, numbers.Integral) or digits < 1:
+            raise InputError(f"digits: expected a positive int number of digits, got {digits!r}")
+        budget.check("max_digits", int(digits), "digits", "the digits asked for")
         lo, hi = self.refine(sp.Rational(1, 10 ** (digits + 2))).interval
         return {"exact": str(self.exact), "decimal": str(self.evalf(digits)), "interval": [str(lo), str(hi)],
                 "minpoly": str(self.minpoly.as_expr())}

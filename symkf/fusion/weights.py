@@ -49,7 +49,7 @@ def _validate(Sigma: np.ndarray, Vo: np.ndarray) -> tuple[np.ndarray, np.ndarray
     Vo = float_array(Vo, "Vo")
     if Sigma.ndim != 2 or Sigma.shape[0] != Sigma.shape[1]:
         raise ShapeError(f"Sigma: must be square (nN x nN), got shape {Sigma.shape}")
-    if Vo.ndim != 2 or Vo.shape[0] != Sigma.shape[0] or Vo.shape[1] > Vo.shape[0]:
+    if Vo.ndim != 2 or Vo.shape[0] != Sigma.shape[0] or Vo.shape[1] > Vo.shape[0] or Vo.size == 0:
         raise ShapeError(f"Vo: must be nN x n with nN = {Sigma.shape[0]} rows of Sigma, got shape {Vo.shape}")
     if not (np.all(np.isfinite(Sigma)) and np.all(np.isfinite(Vo))):
         raise InputError("Sigma, Vo: entries must be finite")

@@ -55,13 +55,16 @@ def require_matplotlib() -> None:
 
 def new_figure(width: float = 6.4, height: float = 4.8) -> Any:
     """A matplotlib figure of ``width`` x ``height`` inches (each in (0, 200]), without pyplot."""
+    sizes = []
     for name, size in (("width", width), ("height", height)):
-        if not 0 < size <= 200:
+        inches = float(size)
+        if not 0 < inches <= 200:
             raise InputError(f"{name}: expected a figure size in inches in (0, 200], got {size!r}")
+        sizes.append(inches)
     require_matplotlib()
     from matplotlib.figure import Figure
     _inline_in_jupyter(Figure)
-    return Figure(figsize=(width, height), layout="constrained")
+    return Figure(figsize=tuple(sizes), layout="constrained")
 
 
 def _inline_in_jupyter(figure_type: type) -> None:

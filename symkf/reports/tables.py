@@ -36,6 +36,7 @@ from ..io import examples
 from .. import output
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
+from ..exact.text import algebraic_text, number_text
 from ..io.families import Column, Family, Inapplicable, Member, Outcome, load_family
 from ..design.selection import Selection
 from ..engine.stability import Verdict
@@ -90,7 +91,8 @@ class Cell:
         if value.exact.is_Integer:
             return cls(str(value.exact), exact_text, exact_math, data)
         relation = "=" if value.is_rational and sp.Rational(decimal) == value.exact else r"\approx"
-        return cls(f"{value.exact} {'=' if relation == '=' else '≈'} {decimal}",
+        plain = f"{number_text(value.exact) or value.exact} = {decimal}" if relation == "=" else algebraic_text(value, digits)
+        return cls(plain,
                    _stack(exact_text, f"${relation} {decimal}$"), rf"{exact_math} {relation} {decimal}", data)
 
 
