@@ -99,6 +99,10 @@ class Atlas(JsonDocument):
         return (f"<Atlas {self.system.name or 'system'}: {q.symbol} stable in {_intervals_text(q.stable)}; "
                 f"{len(self.rows)} results, {len(applying)} apply, {len(self.violations)} violated>")
 
+    def _repr_latex_(self) -> str:
+        """The rows that apply and the exact value, as :meth:`table` shows them (a notebook)."""
+        return self.table()._repr_latex_()
+
     def __str__(self) -> str:
         q = self.quantity
         lines = [f"parameter: {q.words}", f"exact (symkf engine): stable for {q.symbol} in {_intervals_text(q.stable)}"]

@@ -244,6 +244,10 @@ class RecoveryAllocation(JsonDocument):
     def __repr__(self) -> str:
         return f"RecoveryAllocation(recover={[str(q) for q in self.recover]}, cost={self.cost:.6g})"
 
+    def _repr_latex_(self) -> str:
+        q = r",\ ".join(rf"q_{{\mathrm{{{n}}}}} = {sp.latex(r)}" for n, r in zip(self.system.sensor_names, self.recover))
+        return rf"${q};\quad \mathrm{{cost}} = {self.cost:.6g}$"
+
     def __str__(self) -> str:
         lines = [f"per-sensor recovery probabilities (fail {', '.join(map(str, self.fail))}): stable, cost "
                  f"sum w_j (-ln(1 - q_j)) = {self.cost:.6f} after {self.sweeps} sweeps"]

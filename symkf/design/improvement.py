@@ -10,6 +10,8 @@ with eq. 36; :func:`symkf.engine.stability.critical_loss_rate` with ``ray``).  A
 """
 from __future__ import annotations
 
+import html
+
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
@@ -168,6 +170,13 @@ class ActiveConstraints(JsonDocument):
 
     def __str__(self) -> str:
         return "\n".join(c.words for c in self.constraints) or "no block decides (every |lambda| < 1)"
+
+    def _repr_html_(self) -> str:
+        rows = "".join(f"<tr><td>{c.block}</td><td>{html.escape(str(c.modulus))}</td><td>{c.period}</td>"
+                       f"<td>{float(c.margin.evalf(6)):.4g}</td><td>{html.escape(', '.join(f'{n} {k}' for n, k in c.outside))}"
+                       "</td></tr>" for c in self.constraints)
+        return ("<table><tr><th>block</th><th>|&lambda;|</th><th>period</th><th>margin</th>"
+                f"<th>phases lost in a blind period</th></tr>{rows}</table>")
 
     def to_dict(self) -> dict[str, Any]:
         return {"active": [{"block": c.block, "modulus": str(c.modulus), "period": c.period,

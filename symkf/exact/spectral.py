@@ -445,6 +445,21 @@ class EigenBlock(JsonDocument):
                 f"{periods})")
 
 
+    def _repr_latex_(self) -> str:
+        """The block for a notebook: its modulus, the first :data:`SHOWN_EIGENVALUES` distinct
+        eigenvalues with their multiplicities (a root without a short closed form by its decimal)."""
+        def one(e: Eigenvalue) -> str:
+            shown = sp.latex(e.expr) if number_text(e.expr) is not None else rf"\approx {sp.latex(sp.N(e.expr, 6))}"
+            return shown + (rf"\ (\times {e.multiplicity})" if e.multiplicity > 1 else "")
+        values = ",\ ".join(one(e) for e in self.members[:SHOWN_EIGENVALUES])
+        more = rf",\ \ldots\ ({len(self.members) - SHOWN_EIGENVALUES}\text{{ more}})" \
+            if len(self.members) > SHOWN_EIGENVALUES else ""
+        modulus = (f"= {sp.latex(self.modulus.exact)}" if number_text(self.modulus.exact) else
+                   rf"\approx {self.modulus.evalf(10)}")
+        period = (rf"g = {self.governing_period}" if self.governing_period is not None else r"\text{aperiodic}")
+        return rf"$|\lambda| {modulus}:\quad \lambda \in \{{{values}{more}\}},\quad {period}$"
+
+
 #: distinct eigenvalues an EigenBlock's repr lists
 SHOWN_EIGENVALUES = 6
 

@@ -298,3 +298,10 @@ def test_atlas_text_names_roots_and_powers_in_mathematical_notation():
     assert "CRootOf" not in text and "**" not in text and "[" + "'" not in text
     words = json.loads(atlas.to_json())["quantity"]["words"]
     assert words == "common Gilbert-Elliott recovery probability q = P(received | lost last), fail 1/4, 1/4"
+
+
+def test_the_atlas_in_a_notebook_is_its_table():
+    # 2R(pi/2), C = [1 0] (by hand above): Sinopoli's lower bound 1/4 and the exact 1/16 among the rows
+    atlas = bounds(system(ROT, [1, 0]), lmi_steps=0)
+    shown = atlas._repr_latex_()
+    assert shown == atlas.table()._repr_latex_() and r"\frac{1}{16}" in shown and r"\frac{1}{4}" in shown

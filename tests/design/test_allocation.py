@@ -88,6 +88,7 @@ def test_recovery_allocation_is_stable_single_channel_minimal_and_beats_a_grid()
         cost = sum(-w * math.log1p(-float(r)) for w, r in zip(weights, q))
         if cost < a.cost:
             assert not sk.stability(S, sk.GilbertElliott(fail, list(q))).stable, q
+    assert a._repr_latex_().startswith(rf"$q_{{\mathrm{{s1}}}} = {sp.latex(a.recover[0])},")
 
 
 def test_recovery_allocation_refuses_channels_no_recovery_can_save():

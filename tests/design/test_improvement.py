@@ -33,6 +33,8 @@ def test_active_constraints_name_the_limiting_sensors():
     # the decisive line holds s1's phase-1 element only: one of s1's two phases and both of s2's lost
     assert c.outside == (("s1", 1), ("s2", 2)) and c.margin.exact == sp.sqrt(10) / 25
     assert c.words.startswith("sensors s1 and s2 together limit block 0")
+    html = sk.design.active_constraints(S, sk.IID(["1/10", "1/10"]))._repr_html_()
+    assert "<td>0</td><td>2</td><td>2</td><td>0.1265</td><td>s1 1, s2 2</td>" in html   # margin sqrt(10)/25
 
 
 def test_front_and_upgrades_render_in_a_notebook():

@@ -320,3 +320,10 @@ def test_aperiodicity_proof_printed_without_the_ratio_polynomial(monkeypatch):
         proof = block.proof
     assert block.tau is None and "has arg/(2 pi) in [0.2951672353" in proof
     assert "denominator <= 2 d^2 = 32" in proof and "not a root of unity (aperiodic)" in proof
+
+
+def test_a_block_in_a_notebook_shows_its_modulus_eigenvalues_and_period():
+    unit, = [b for b in eigen_blocks(sp.Matrix([[1, 1, 0], [0, 1, 0], [0, 0, 2]])) if b.modulus == 1]
+    assert unit._repr_latex_() == r"$|\lambda| = 1:\quad \lambda \in \{1\ (\times 2)\},\quad g = 1$"
+    plastic = eigen_blocks(sp.Matrix([[0, 0, 1], [1, 0, 1], [0, 1, 0]]))   # x^3 - x - 1: no short form
+    assert plastic[0]._repr_latex_().startswith(r"$|\lambda| \approx 1.324717957:") and "aperiodic" in plastic[1]._repr_latex_()
