@@ -636,7 +636,9 @@ def _exact_number_text(key: str, v: dict[str, Any]) -> str:
     powers as ``^``, products as ``·``, a root without a closed form named by its polynomial, the
     certified interval in decimals rounded outward (its exact rationals are in ``--json``)."""
     poly = _mathematical_text(v["minpoly"])
-    exact = f"the root of {poly} in the certified interval" if "CRootOf" in v["exact"] else _mathematical_text(v["exact"])
+    exact = (_mathematical_text(v["exact"]) if "CRootOf" not in v["exact"] else
+             f"the root of {poly} in the certified interval" if len(poly) <= 60 else
+             "the root of the minimal polynomial below in the certified interval")
     lo, hi = (Fraction(e) for e in v["interval"])
     digits = len(v["decimal"].replace("-", "").replace(".", "").lstrip("0")) + 2
     return (f"{key} = {exact}\n  ≈ {v['decimal']}\n  certified in [{_decimal(lo, digits, ROUND_FLOOR)}, "

@@ -166,3 +166,13 @@ def test_dir_lists_only_the_public_api():
     names = dir(sk)
     assert not {"Any", "TYPE_CHECKING", "sys", "importlib", "types"} & set(names)
     assert {"verify", "simulate", "Verification", "Simulation", "System", "__version__"} <= set(names)
+
+
+def test_every_module_compiles_without_a_warning():
+    # an invalid escape in a string ("\ ") is a SyntaxWarning that the command line prints as a note
+    import warnings
+    from conftest import ROOT
+    for path in sorted((ROOT / "symkf").rglob("*.py")):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            compile(path.read_text(encoding="utf-8"), str(path), "exec")

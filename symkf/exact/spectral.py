@@ -451,7 +451,7 @@ class EigenBlock(JsonDocument):
         def one(e: Eigenvalue) -> str:
             shown = sp.latex(e.expr) if number_text(e.expr) is not None else rf"\approx {sp.latex(sp.N(e.expr, 6))}"
             return shown + (rf"\ (\times {e.multiplicity})" if e.multiplicity > 1 else "")
-        values = ",\ ".join(one(e) for e in self.members[:SHOWN_EIGENVALUES])
+        values = r",\ ".join(one(e) for e in self.members[:SHOWN_EIGENVALUES])
         more = rf",\ \ldots\ ({len(self.members) - SHOWN_EIGENVALUES}\text{{ more}})" \
             if len(self.members) > SHOWN_EIGENVALUES else ""
         modulus = (f"= {sp.latex(self.modulus.exact)}" if number_text(self.modulus.exact) else
