@@ -444,6 +444,24 @@ def subset_product(poly: flint.fmpz_poly, indices: list[int], entry: str = "A") 
     return AlgebraicNumber._irreducible(f, idx) / scale
 
 
+def _significant(q: Fraction, n: int) -> tuple[int, int]:
+    """``q`` rounded half to even to ``n`` significant digits, as ``(mantissa, exponent)`` with
+    ``q ~ mantissa * 10^exponent``; exact integer arithmetic (no decimal string of ``q`` is made)."""
+    if q == 0:
+        return 0, 0
+    size = abs(q)
+    e = int((size.numerator.bit_length() - size.denominator.bit_length()) * 0.30102999566398120)
+    while size >= Fraction(10) ** (e + 1):
+        e += 1
+    while size < Fraction(10) ** e:
+        e -= 1
+    shift = n - 1 - e
+    mantissa = round(q * Fraction(10) ** shift)
+    if abs(mantissa) == 10 ** n:   # 9.99...5 rounds up to the next power of ten
+        mantissa, shift = mantissa // 10, shift - 1
+    return mantissa, -shift
+
+
 def _terminating_decimal(q: Fraction) -> Decimal | None:
     """``q`` as an exact Decimal when its denominator is ``2^a 5^b``; else None."""
     den, a, b = q.denominator, 0, 0
@@ -669,12 +687,19 @@ class AlgebraicNumber(JsonDocument):
         return self
 
     def evalf(self, n: int = 15) -> sp.Float:
-        """``n`` significant digits, correctly rounded (the decimal of :meth:`__format__`: a Float
-        made from a rational at ``n`` digits rounds twice, through binary, and can end one unit off)."""
+        """``n`` significant digits, correctly rounded (half to even) from the isolating interval,
+        refined until both ends round alike (a Float made from a rational at ``n`` digits rounds
+        twice, through binary, and can end one unit off)."""
         if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
             raise InputError(f"n: expected a positive int number of digits, got {n!r}")
-        budget.check("max_digits", int(n), "n", "the digits asked for")
-        return sp.Float(format(self, f".{int(n) - 1}e"), int(n))
+        n = int(n)
+        budget.check("max_digits", n, "n", "the digits asked for")
+        while True:
+            ends = {_significant(Fraction(e), n) for e in ((self._value(),) if self.is_rational else self.interval)}
+            if len(ends) == 1:
+                mantissa, exponent = ends.pop()
+                return sp.Float(f"{mantissa}e{exponent}", n)
+            self.refine((self._hi - self._lo) / 2 ** 16)
 
     def __float__(self) -> float:
         return float(self.evalf(20))
