@@ -635,22 +635,15 @@ def _exact_number_text(key: str, v: dict[str, Any]) -> str:
     """An exact number of the JSON (``exact``, ``decimal``, ``interval``, ``minpoly``) for people:
     powers as ``^``, products as ``·``, a root without a closed form named by its polynomial, the
     certified interval in decimals rounded outward (its exact rationals are in ``--json``)."""
-    poly = _mathematical_text(v["minpoly"])
-    exact = (_mathematical_text(v["exact"]) if "CRootOf" not in v["exact"] else
+    from .exact.text import printed_text
+    poly = printed_text(v["minpoly"])
+    exact = (printed_text(v["exact"]) if "CRootOf" not in v["exact"] else
              f"the root of {poly} in the certified interval" if len(poly) <= 60 else
              "the root of the minimal polynomial below in the certified interval")
     lo, hi = (Fraction(e) for e in v["interval"])
     digits = len(v["decimal"].replace("-", "").replace(".", "").lstrip("0")) + 2
     return (f"{key} = {exact}\n  ≈ {v['decimal']}\n  certified in [{_decimal(lo, digits, ROUND_FLOOR)}, "
             f"{_decimal(hi, digits, ROUND_CEILING)}] (exact rationals: --json)\n  minimal polynomial {poly}")
-
-
-def _mathematical_text(sympy_text: str) -> str:
-    """SymPy's printed form for people: ``2**(7/15)/2`` as ``2^(7/15)/2``, ``256*x**15 - 1`` as
-    ``256x^15 - 1``, other products with ``·``."""
-    text = sympy_text.replace("**", "^")
-    text = re.sub(r"(?<=\d)\*(?=[a-z(])", "", text)
-    return text.replace("*", "·")
 
 
 def _decimal(q: Fraction, digits: int, rounding: str) -> str:

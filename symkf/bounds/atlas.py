@@ -9,6 +9,7 @@ set from the engine) and one :class:`~symkf.bounds.row.Row` per result, in the o
 from __future__ import annotations
 
 import math
+import textwrap
 
 from dataclasses import dataclass
 from typing import Any, Callable
@@ -108,15 +109,19 @@ class Atlas(JsonDocument):
         lines = [f"parameter: {q.words}", f"exact (symkf engine): stable for {q.symbol} in {_intervals_text(q.stable)}"]
         if self.note:
             lines.append(f"note: {self.note}")
+        unmet: dict[str, list[str]] = {}   # the results that do not apply, by the hypothesis that fails
         for r in self.rows:
-            lines.append(f"- {r.result}: {r.statement}")
             if not r.applies:
-                lines.append(f"    does not apply: {r.failed}")
+                unmet.setdefault(str(r.failed), []).append(r.result)
                 continue
+            lines.append(f"- {r.result}: {r.statement}")
             if r.relation == REFUSED:
                 lines.append(f"    not evaluated: {r.note}")
                 continue
             lines.append(f"    value: {_value_text(r, q)}; relation: {_relation_text(r)}")
+        for failed, results in unmet.items():
+            lines.append(textwrap.fill(f"- does not apply ({failed}): {'; '.join(results)}", 100,
+                                       subsequent_indent="    ", break_long_words=False, break_on_hyphens=False))
         return "\n".join(lines)
 
     def table(self) -> Table:

@@ -29,6 +29,7 @@ from ..output import JsonDocument
 from ..exact.algebraic import AlgebraicNumber, identify, sign, with_prec
 from ..arguments import check_public
 from ..exact.numbers import sympify, to_exact
+from ..exact.text import number_text, printed_text
 from ..model.loss import LossModel, checked
 from ..model.system import System
 from .rows import BlockRows
@@ -77,7 +78,7 @@ def _readable(expr: sp.Expr, pointer: str, degree: int | None = None) -> str:
     the modulus ``cos(pi/211)``: 40-digit coefficients of degree 105; ``2^6930 / 10^6160``, past
     Python's limit on integer-to-text conversion, for a class period of 3465)."""
     try:
-        text = str(expr)
+        text = number_text(expr, 200) or printed_text(str(expr))
     except ValueError:
         text = None
     if text is not None and len(text) <= 200:

@@ -18,6 +18,7 @@ from sympy.printing.precedence import PRECEDENCE
 from sympy.printing.str import StrPrinter
 
 from ..arguments import check_public
+from ..errors import InputError
 from .algebraic import AlgebraicNumber
 
 #: longest closed form shown; a longer one is named by its value and polynomial
@@ -102,6 +103,15 @@ def algebraic_text(value: AlgebraicNumber, digits: int = 6) -> str:
     poly = value.minpoly
     below = poly.count_roots(None, sp.Rational(value.interval[0]))  # the interval isolates the root
     return f"the {ordinal(below + 1)} real root of {poly_text(poly, monic=False)} (≈ {decimal})"
+
+
+def printed_text(sympy_text: str) -> str:
+    """SymPy's printed form of a number or a polynomial (as JSON carries it) for people:
+    ``2**(7/15)/2`` as ``2^(7/15)/2``, ``256*x**15 - 1`` as ``256x^15 - 1``, other products with ``·``."""
+    if not isinstance(sympy_text, str):
+        raise InputError(f"sympy_text: expected a string, got {type(sympy_text).__name__}")
+    text = re.sub(r"(?<=\d)\*(?=[a-z(])", "", sympy_text.replace("**", "^"))
+    return text.replace("*", "·")
 
 
 def poly_text(poly: flint.fmpz_poly | sp.Poly, var: str = "x", monic: bool = True) -> str:

@@ -57,6 +57,7 @@ from ..output import JsonDocument
 from ..arguments import check_public
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber
+from ..exact.text import printed_text
 from ..model.loss import LossModel
 from ..model.system import System
 from .montecarlo import DivergenceResult, divergence_test, exact_growth_rate, polynomial_degree, verdict_plan
@@ -263,11 +264,11 @@ def summary(report: dict[str, Any]) -> str:
     t, s = report["theory"], report["simulation"]
     lines = [f"theory:     {'stable' if t['stable'] else 'NOT stable'} ({t['theorem']})",
              "            margins alpha_i^2 rho_i: " + ", ".join(
-                 f"{m['exact']} ~ {float(m['decimal']):.6g}" for m in t["margins"]),
-             f"            exact growth rate of E[tr P_k]: {t['growth_rate']['exact']} "
-             f"~ {float(t['growth_rate']['decimal']):.6g}",
-             f"            critical common i.i.d. loss rate: {t['critical_common_loss_rate']['exact']} "
-             f"~ {float(t['critical_common_loss_rate']['decimal']):.6g}",
+                 approximately(printed_text(m["exact"]), m["decimal"], 6) for m in t["margins"]),
+             f"            exact growth rate of E[tr P_k]: "
+             f"{approximately(printed_text(t['growth_rate']['exact']), t['growth_rate']['decimal'], 6)}",
+             f"            critical common i.i.d. loss rate: "
+             f"{approximately(printed_text(t['critical_common_loss_rate']['exact']), t['critical_common_loss_rate']['decimal'], 6)}",
              f"simulation: {s['verdict']} ({s['method']})",
              f"            margin {interval_text(s)}; growth over the horizons {s['growth']:.5g} "
              f"[{s['growth_interval'][0]:.5g}, {s['growth_interval'][1]:.5g}], tolerance {s['tolerance']:g}",

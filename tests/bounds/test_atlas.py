@@ -305,3 +305,13 @@ def test_the_atlas_in_a_notebook_is_its_table():
     atlas = bounds(system(ROT, [1, 0]), lmi_steps=0)
     shown = atlas._repr_latex_()
     assert shown == atlas.table()._repr_latex_() and r"\frac{1}{16}" in shown and r"\frac{1}{4}" in shown
+
+
+def test_results_that_do_not_apply_are_one_line_per_failing_hypothesis():
+    # two sensors on Gilbert-Elliott channels: the single-sensor results fail one hypothesis, the
+    # i.i.d. results another; each reason is said once, with the results it rules out
+    S, loss = files.load(examples.system("ge-two-sensors"))
+    text = str(sk.bounds(S, loss))
+    unmet = [line for line in text.splitlines() if line.startswith("- does not apply")]
+    assert len(unmet) == len({line.split("):")[0] for line in unmet}) >= 2
+    assert text.count("one sensor: FAILS") == 1 and "Plarre, Bullo 2009" in " ".join(text.split())
