@@ -959,7 +959,9 @@ class AlgebraicNumber(JsonDocument):
 
     def __str__(self) -> str:
         if self._exact is None and self._poly.degree() > 4:
-            return f"[root ≈{self.evalf(10)} of {self.minpoly.as_expr()}]"
+            poly = str(self.minpoly.as_expr())
+            shown = poly if len(poly) <= 60 else f"a degree-{self._poly.degree()} polynomial (.minpoly)"
+            return f"[root ≈{self.evalf(10)} of {shown}]"
         return str(self.exact)
 
     def _repr_latex_(self) -> str:

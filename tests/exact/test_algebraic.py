@@ -360,3 +360,11 @@ def test_products_of_radicals_of_one_index_pass_the_boundary():
     assert AlgebraicNumber.from_expr(2 ** sp.Rational(17, 64) / 2).minpoly == sp.Poly(2 ** 47 * x ** 64 - 1, x)
     eps = sk.critical_loss_rate(sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[1, 1]])]))
     assert AlgebraicNumber.from_expr(eps.exact) == eps and eps < eps.exact * 2   # 2^(2/3)/4 back in
+
+
+def test_a_root_of_a_long_polynomial_prints_its_degree_not_the_polynomial():
+    x = sp.Symbol("x")
+    long = AlgebraicNumber.from_root(sp.Poly(3 ** 200 * x ** 9 - 1, x), 0, 1)   # 3^(-200/9), no short form kept
+    short = AlgebraicNumber.from_root(sp.Poly(x ** 5 - x - 1, x), 1, 2)
+    assert str(long) == f"[root ≈{long.evalf(10)} of a degree-9 polynomial (.minpoly)]"
+    assert str(short) == f"[root ≈{short.evalf(10)} of x**5 - x - 1]"
