@@ -3,11 +3,15 @@
 
 from __future__ import annotations
 
+import importlib
 import json
+import time
 
+import pytest
 import sympy as sp
 
 from symkf.exact.numbers import sympify as exact
+import symkf as sk
 from symkf import cli
 from symkf.reproduction import discrepancy, reproduction
 
@@ -41,3 +45,18 @@ def test_sui_theorem12_refutation_is_a_list_of_discrepancies(capsys) -> None:
 def test_a_report_with_nothing_to_dispute(capsys) -> None:
     doc = reproduce_json(capsys, "quevedo-example3")
     assert all(doc["checks"].values()) and doc["discrepancies"] == []
+
+
+@pytest.mark.parametrize("module, name", [
+    ("symkf.network.reproduce", "reproduce_quevedo_semi_markov"), ("symkf.network.reproduce", "reproduce_quevedo_robot"),
+    ("symkf.network.reproduce", "reproduce_quevedo_example3"), ("symkf.engine.second_order", "reproduce_sui_theorem12"),
+    ("symkf.capacity.example1", "reproduce_yang_example1"), ("symkf.fusion.pendulum", "reproduce_fusion_pendulum")])
+def test_a_reproduction_refuses_its_output_directory_before_the_work(module, name, tmp_path):
+    fn = getattr(importlib.import_module(module), name)
+    afile = tmp_path / "a-file"
+    afile.write_text("x")
+    for bad in ("", afile, "\0"):
+        start = time.process_time()
+        with pytest.raises(sk.errors.SymkfError, match="outdir"):
+            fn(outdir=bad)
+        assert time.process_time() - start < 0.5

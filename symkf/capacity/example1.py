@@ -61,6 +61,8 @@ def reproduce_yang_example1(outdir: str | None = None, *, horizon: int = 40, pat
     Monte Carlo standard errors.  A PNG like Fig. 2 (traces, 95% band) is
     written to ``outdir`` when given.
     """
+    if outdir is not None:   # refused before the work, not after it
+        output.plan_directory(outdir, "outdir")
     from ..numeric.filters import predicted_covariances, sample_receptions
 
     horizon, paths, seed = count(horizon, "horizon", 1), count(paths, "paths", 1), count(seed, "seed")

@@ -471,6 +471,8 @@ def reproduce_sui_theorem12(outdir: str | None = None) -> dict:
     rotations ``2 R(pi/g)``, ``C = [1, 0]``, ``g = 2..12`` (``tau = 2g``); figure of the critical
     loss rates against ``g`` when ``outdir`` is given.  Where eq. (38) as printed differs from
     the engine, both values are a discrepancy."""
+    if outdir is not None:   # refused before the work, not after it
+        output.plan_directory(outdir, "outdir")
     from ..reproduction import discrepancy, reproduction
     from .stability import critical_loss_rate as engine
 

@@ -104,6 +104,8 @@ def _plots(outdir: str, t: np.ndarray, curves: dict[str, np.ndarray], sub: dict[
 def reproduce_fusion_pendulum(outdir: str | None = None, paths: int = 50, horizon: int = 2000,
                               seed: int = 2012_04896) -> dict[str, Any]:
     """Reproduce Section 4 of arXiv:2012.04896: Assumption 2, Figs. 2-3, weight methods, Proposition 1."""
+    if outdir is not None:   # refused before the work, not after it
+        output.plan_directory(outdir, "outdir")
     model = pendulum_model()
     lf = local_filters(model)
     a2 = model.assumption2

@@ -81,6 +81,8 @@ def example3_dynamics() -> PeriodicDynamics:
 
 def reproduce_quevedo_example3(outdir: str | None = None) -> dict:
     """Example 3 (Sec. V): J for "at least three measurements reach the gateway" and Pr{r = 1 | Xi}."""
+    if outdir is not None:   # refused before the work, not after it
+        output.plan_directory(outdir, "outdir")
     tree = example3_tree()
     J_rule = full_rank_configurations(tree, rule=lambda theta: sum(theta) >= 3)
     dyn = example3_dynamics()
@@ -161,6 +163,8 @@ def robot_network() -> tuple[SensorTree, PeriodicDynamics, list[list[str]]]:
 
 def reproduce_quevedo_robot(outdir: str | None = None) -> dict:
     """Example 4 (Sec. VII-A): the four-state semi-Markov robot model and Theorem 2's left-hand side."""
+    if outdir is not None:   # refused before the work, not after it
+        output.plan_directory(outdir, "outdir")
     tree, dyn, phi = robot_network()
     state = SemiMarkovNetworkState(ROBOT_Q, ROBOT_HOLDING)
     loss = NetworkLoss(tree, state, phi)
@@ -250,6 +254,8 @@ def _viic_lhs_numeric(norms: list[float]):
 
 def reproduce_quevedo_semi_markov(outdir: str | None = None, simulate: bool = True) -> dict:
     """Sec. VII-C: one sensor, two network states with uniform holding times on 1..5 and 1..7."""
+    if outdir is not None:   # refused before the work, not after it
+        output.plan_directory(outdir, "outdir")
     dyn = PeriodicDynamics(VIIC_A, [VIIC_C1])
     A, C1 = dyn.A[0], dyn.C[0]
     invertible = {r: (C1.col_join(C1 * A ** r)).det() != 0 for r in range(1, 7)}
