@@ -641,6 +641,8 @@ def _exact_number_text(key: str, v: dict[str, Any]) -> str:
              f"the root of {poly} in the certified interval" if len(poly) <= 60 else
              "the root of the minimal polynomial below in the certified interval")
     lo, hi = (Fraction(e) for e in v["interval"])
+    if lo == hi:   # a rational: its value is the certificate
+        return f"{key} = {exact}" + ("" if str(lo) == v["decimal"].rstrip("0").rstrip(".") else f"\n  = {v['decimal']}")
     digits = len(v["decimal"].replace("-", "").replace(".", "").lstrip("0")) + 2
     return (f"{key} = {exact}\n  ≈ {v['decimal']}\n  certified in [{_decimal(lo, digits, ROUND_FLOOR)}, "
             f"{_decimal(hi, digits, ROUND_CEILING)}] (exact rationals: --json)\n  minimal polynomial {poly}")

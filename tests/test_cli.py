@@ -452,3 +452,14 @@ def test_a_file_with_a_byte_order_mark_is_read(capsys, tmp_path):
     f.write_bytes(b"\xef\xbb\xbf" + b'[system]\nA = [["0", "-2"], ["2", "0"]]\n[[sensors]]\nC = [["1", "0"]]\n')
     status, out, err = run(capsys, "analyze", f)
     assert status == 0 and "governing period = 2" in out, err
+
+
+def test_critical_text_reads_as_mathematics(capsys):
+    # 2R(pi/12) with four sensors: 2^(7/15)/2, a root of 256x^15 - 1; its certified interval in decimals
+    # rounded outward; a rational (A = 2R(pi/2), one sensor: 1/16) is its own certificate
+    status, out, _ = run(capsys, "critical", "rotation-pi12-four-sensors", "--digits", "20")
+    assert status == 0 and "critical_loss_rate = 2^(7/15)/2\n  ≈ 0.69095643998388804041\n" in out
+    assert "certified in [0.6909564399838880404097, 0.6909564399838880404098]" in out
+    assert "minimal polynomial 256x^15 - 1" in out and "**" not in out
+    status, out, _ = run(capsys, "critical", "design-rotation")
+    assert "critical_loss_rate = 1/16\n  = 0.0625" in out and "certified" not in out
