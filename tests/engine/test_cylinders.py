@@ -157,7 +157,7 @@ def test_analyze_prints_a_four_field_verdict_whose_margin_power_has_6000_digits(
     path.write_text(text + '\n[loss]\nkind = "iid"\nloss = ["1/10", "1/10"]\n')
     assert cli.main(["analyze", str(path)]) == 0
     out = capsys.readouterr().out
-    assert "margin alpha^2 rho = 10**(2/9)/25" in out
+    assert "margin alpha^2 rho = 10^(2/9)/25" in out
     assert "alpha^6930 * rho^3465 = a closed form with integers of more than 4300" in " ".join(out.split())
     assert cli.main(["analyze", str(path), "--json"]) == 2
     assert "--max-digits" in capsys.readouterr().err
