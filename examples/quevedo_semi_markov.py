@@ -5,11 +5,8 @@ Usage: python examples/quevedo_semi_markov.py [OUTDIR]   (prints the JSON report
 
 import json
 import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from symkf.network.reproduce import reproduce_quevedo_semi_markov  # noqa: E402
+from symkf.network.reproduce import reproduce_quevedo_semi_markov
 
 if __name__ == "__main__":
     report = reproduce_quevedo_semi_markov(sys.argv[1] if len(sys.argv) > 1 else None)

@@ -7,11 +7,8 @@ report lists a discrepancy with the printed and the computed critical loss rate.
 
 import json
 import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from symkf.engine.second_order import reproduce_sui_theorem12  # noqa: E402
+from symkf.engine.second_order import reproduce_sui_theorem12
 
 if __name__ == "__main__":
     report = reproduce_sui_theorem12(sys.argv[1] if len(sys.argv) > 1 else None)

@@ -5,16 +5,12 @@ Uses the exact engine ``symkf.stability`` for eps* and the verdicts;
 Usage: python examples/yang_capacity_comparison.py
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+import sympy as sp
 
-import sympy as sp  # noqa: E402
-
-from symkf import IID, Sensor, System  # noqa: E402
-from symkf.capacity import comparison_table, critical_loss_comparison, verdict_comparison  # noqa: E402
-from symkf.engine.stability import critical_loss_rate, stability  # noqa: E402
+from symkf import IID, Sensor, System
+from symkf.capacity import comparison_table, critical_loss_comparison, verdict_comparison
+from symkf.engine.stability import critical_loss_rate, stability
 
 R = sp.Rational
 SYSTEMS = [

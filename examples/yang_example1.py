@@ -5,12 +5,8 @@ Usage: python examples/yang_example1.py [--paths M] [--outdir DIR]
 
 import argparse
 import json
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from symkf.capacity import reproduce_yang_example1  # noqa: E402
+from symkf.capacity import reproduce_yang_example1
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
