@@ -39,12 +39,3 @@ def test_scripts_use_the_installed_package():
     # a script that put the source tree on sys.path would run that tree, not what the user installed
     assert [p.name for p in EXAMPLES.glob("*.py") if "sys.path" in p.read_text(encoding="utf-8")] == []
 
-
-def test_critical_table_script_writes_the_table_symkf_table_writes(tmp_path):
-    out = tmp_path / "table.tex"
-    proc = subprocess.run([sys.executable, str(EXAMPLES / "critical_table.py"), str(out)], capture_output=True,
-                          text=True, timeout=300)
-    assert proc.returncode == 0, proc.stderr[-2000:]
-    from symkf import examples
-    from symkf.reports.tables import family_table
-    assert out.read_text() == family_table(examples.family("rotation-periods"), progress=False).to_latex()

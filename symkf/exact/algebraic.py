@@ -957,12 +957,19 @@ class AlgebraicNumber(JsonDocument):
     def __repr__(self) -> str:
         return f"AlgebraicNumber({self}, ≈{self.evalf(12)})"
 
-    def __str__(self) -> str:
+    def exact_text(self) -> str:
+        """The value as exact text: its closed form, or (degree above 4, none known yet) the root
+        near its decimal of its whole minimal polynomial, as JSON documents carry it."""
         if self._exact is None and self._poly.degree() > 4:
-            poly = str(self.minpoly.as_expr())
-            shown = poly if len(poly) <= 60 else f"a degree-{self._poly.degree()} polynomial (.minpoly)"
-            return f"[root ≈{self.evalf(10)} of {shown}]"
+            return f"[root ≈{self.evalf(10)} of {self.minpoly.as_expr()}]"
         return str(self.exact)
+
+    def __str__(self) -> str:
+        """:meth:`exact_text` for people: a minimal polynomial too long to read is named by its degree."""
+        text = self.exact_text()
+        if len(text) > 80 and text.startswith("[root"):
+            return f"[root ≈{self.evalf(10)} of a degree-{self._poly.degree()} polynomial (.minpoly)]"
+        return text
 
     def _repr_latex_(self) -> str:
         return f"${sp.latex(self.exact)} \\approx {self.evalf(10)}$"

@@ -409,7 +409,7 @@ class EigenBlock(JsonDocument):
         """The block of ``symkf analyze --json``: modulus and eigenvalues exact (as text) and as
         10-digit decimals with their degrees, the periods (null when aperiodic), their proof and
         whether the block has Jordan chains."""
-        return {"modulus": str(self.modulus), "modulus_decimal": str(self.modulus.evalf(10)),
+        return {"modulus": self.modulus.exact_text(), "modulus_decimal": str(self.modulus.evalf(10)),
                 "modulus_degree": self.modulus.minpoly.degree(),
                 "eigenvalues": [str(e) for e in self.eigenvalues],
                 "eigenvalues_decimal": [str(sp.N(e, 10)) for e in self.eigenvalues],
