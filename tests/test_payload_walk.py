@@ -196,11 +196,36 @@ class _Timeout(BaseException):
     """Not an Exception: code under test that catches Exception cannot swallow it."""
 
 
+#: whether a call is under the CPU timer: a profiling signal that arrives after the call (it counts
+#: every thread's CPU, and a busy machine delays its handler) must not raise in the walk itself
+_ARMED = False
+
+
 def _alarm(signum, frame):
+    if not _ARMED:
+        return
     # re-armed first: a raise inside a weakref callback or __del__ is printed as unraisable and
     # lost, and the call would run on unbounded; the repeat comes 0.1 CPU-s later
     signal.setitimer(signal.ITIMER_PROF, 0.1)
     raise _Timeout
+
+
+def _limited(call: Callable[[], Any], cpu: float) -> BaseException | None:
+    """Run ``call`` under ``cpu`` CPU-seconds: None, the exception it raised, or a :class:`_Timeout`."""
+    global _ARMED
+    try:
+        try:
+            _ARMED = True
+            signal.setitimer(signal.ITIMER_PROF, cpu)
+            call()
+        finally:
+            _ARMED = False
+            signal.setitimer(signal.ITIMER_PROF, 0)
+    except BaseException as exc:  # noqa: BLE001 - the walks classify every outcome
+        _ARMED = False
+        signal.setitimer(signal.ITIMER_PROF, 0)
+        return exc
+    return None
 
 
 def _parameters(fn: Callable) -> list[inspect.Parameter] | None:
@@ -262,20 +287,15 @@ def walk(mark: Path, select: Callable[[str, str, str, int], bool]) -> dict:
                         walked.add(qualname)
                         value = make(payload.format(mark=mark))
                         figures["calls"] += 1
-                        signal.setitimer(signal.ITIMER_PROF, CPU_PER_CALL)
-                        try:
-                            _call(fn, params, target, value) if target else fn()
-                        except _Timeout:
+                        exc = _limited(lambda: _call(fn, params, target, value) if target else fn(), CPU_PER_CALL)
+                        if isinstance(exc, _Timeout):
                             skips.append(f"{qualname}({target.name if target else ''}) {form}")
-                        except StringEvaluation:
+                        elif isinstance(exc, StringEvaluation):
                             reached.append(f"{qualname}({target.name}) {form}")
-                        except BaseException as exc:  # noqa: BLE001 - the walk classifies every outcome
-                            if not _allowed(qualname, exc):
-                                key = (qualname, target.name if target else "", type(exc).__name__)
-                                untranslated[key] += 1
-                                examples.setdefault(key, f"{form}: {str(exc)[:160]}")
-                        finally:
-                            signal.setitimer(signal.ITIMER_PROF, 0)
+                        elif exc is not None and not _allowed(qualname, exc):
+                            key = (qualname, target.name if target else "", type(exc).__name__)
+                            untranslated[key] += 1
+                            examples.setdefault(key, f"{form}: {str(exc)[:160]}")
                         if mark.exists():
                             executions.append(f"{qualname}({target.name}) {form}")
                             mark.unlink()
@@ -379,19 +399,14 @@ def hostile_calls(qualname: str, fn: Callable, select: Callable[[str, str], bool
                 if not select(f"{qualname}.{name}", form):
                     continue
                 calls += 1
-                signal.setitimer(signal.ITIMER_PROF, CPU_PER_HOSTILE)
-                try:
-                    _call(fn, params, target, make()) if target else fn()
-                except _Timeout:
+                exc = _limited(lambda: _call(fn, params, target, make()) if target else fn(), CPU_PER_HOSTILE)
+                if isinstance(exc, _Timeout):
                     skips.append(f"{qualname}({name}) {form}")
-                except StringEvaluation:
+                elif isinstance(exc, StringEvaluation):
                     found[(name, "string evaluation")] += 1
-                except BaseException as exc:  # noqa: BLE001 - the walk classifies every outcome
-                    if not _allowed(qualname, exc):
-                        found[(name, type(exc).__name__)] += 1
-                        examples.setdefault((name, type(exc).__name__), f"{form}: {str(exc)[:160]}")
-                finally:
-                    signal.setitimer(signal.ITIMER_PROF, 0)
+                elif exc is not None and not _allowed(qualname, exc):
+                    found[(name, type(exc).__name__)] += 1
+                    examples.setdefault((name, type(exc).__name__), f"{form}: {str(exc)[:160]}")
     finally:
         signal.signal(signal.SIGPROF, old)
     return {"found": found, "examples": examples, "skips": skips, "calls": calls}
