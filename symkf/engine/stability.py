@@ -26,7 +26,7 @@ from .rates import BlockRate
 from .search import block_rate, least_iid_bound, outside_counts
 from ..errors import AssumptionError, InputError
 from ..output import JsonDocument
-from ..exact.algebraic import AlgebraicNumber, identify, sign, with_prec
+from ..exact.algebraic import AlgebraicNumber, identify, with_prec
 from ..arguments import check_public
 from ..exact.numbers import sympify, to_exact
 from ..exact.text import number_text, printed_text
@@ -207,17 +207,13 @@ def _check_loss(system: System, loss: LossModel) -> tuple[LossModel, list[str]]:
 
 def _noise_assumption(system: System) -> str:
     """How the process noise meets the theorems' ``Q > 0`` (see :meth:`System.undriven`)."""
-    if all(sign(v) > 0 for v in _leading_minors(system.Q)):
+    if system.noise_definite:
         return "Q > 0"
     undriven = system.undriven()
     if not undriven:
         return "Q singular, (A, Q^(1/2)) controllable (PBH)"
     names = ", ".join(str(lam.expr) for lam in undriven)
     return f"Q singular, eigenvalue(s) {names} not driven by the noise (PBH on (A, Q^(1/2))), P0 > 0"
-
-
-def _leading_minors(M: sp.MatrixBase) -> list[sp.Expr]:
-    return [sp.expand(M[:k, :k].det(method="berkowitz")) for k in range(1, M.rows + 1)]
 
 
 def _undriven_unit_block(system: System, br: BlockRows, margin: AlgebraicNumber) -> None:

@@ -57,8 +57,8 @@ class _Printer(StrPrinter):
 
 
 def _mathematical(text: str) -> str:
-    """SymPy's ``*`` as juxtaposition after a number (``3√2``, ``2iπ``), else as ``·``."""
-    text = re.sub(r"(?<=[\d)])\*(?=[√πi(e])", "", text)
+    """SymPy's ``*`` as juxtaposition after a number (``3√2``, ``2iπ``, ``256x``), else as ``·``."""
+    text = re.sub(r"(?<=[\d)])\*(?=[√πi(ex])", "", text)
     return text.replace("*", "·").replace("i·π", "πi")
 
 
@@ -110,8 +110,7 @@ def printed_text(sympy_text: str) -> str:
     ``2**(7/15)/2`` as ``2^(7/15)/2``, ``256*x**15 - 1`` as ``256x^15 - 1``, other products with ``·``."""
     if not isinstance(sympy_text, str):
         raise InputError(f"sympy_text: expected a string, got {type(sympy_text).__name__}")
-    text = re.sub(r"(?<=\d)\*(?=[a-z(])", "", sympy_text.replace("**", "^"))
-    return text.replace("*", "·")
+    return _mathematical(sympy_text.replace("**", "^"))
 
 
 def poly_text(poly: flint.fmpz_poly | sp.Poly, var: str = "x", monic: bool = True) -> str:

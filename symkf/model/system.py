@@ -52,8 +52,8 @@ def _identity(n: int) -> sp.ImmutableMatrix:
     return sp.ImmutableMatrix(sp.eye(n))
 
 
-def check_positive_definite(M: sp.MatrixBase, entry: str) -> None:
-    """Raise unless ``M`` is Hermitian positive definite (exact leading minors)."""
+def _hermitian(M: Any, entry: str) -> sp.MatrixBase:
+    """``M`` as a square, Hermitian exact matrix (a covariance), or the entry that breaks it."""
     M = as_matrix(M, entry)
     if M.shape[0] != M.shape[1]:
         raise ShapeError(f"{entry}: covariance must be square, got {M.shape[0]}x{M.shape[1]}")
@@ -62,6 +62,12 @@ def check_positive_definite(M: sp.MatrixBase, entry: str) -> None:
             if sp.simplify(M[i, j] - sp.conjugate(M[j, i])) != 0:
                 raise NotPositiveDefiniteError(
                     f"{entry}: not symmetric, entry [{i}][{j}] = {M[i, j]} but [{j}][{i}] = {M[j, i]}")
+    return M
+
+
+def check_positive_definite(M: sp.MatrixBase, entry: str) -> None:
+    """Raise unless ``M`` is Hermitian positive definite (exact leading minors)."""
+    M = _hermitian(M, entry)
     for k in range(1, M.shape[0] + 1):
         minor = sp.expand(M[:k, :k].det(method="berkowitz"))
         if sign(minor) <= 0:
@@ -75,15 +81,8 @@ def check_positive_semidefinite(M: sp.MatrixBase, entry: str) -> None:
     Symmetric elimination with diagonal pivots: a negative pivot, or a zero pivot whose row is not
     zero, gives a principal minor ``det M[S]`` below zero (the pivots' product times the last
     pivot, or times ``-|e|^2``), which the message names with its rows."""
-    M = as_matrix(M, entry)
-    if M.shape[0] != M.shape[1]:
-        raise ShapeError(f"{entry}: covariance must be square, got {M.shape[0]}x{M.shape[1]}")
+    M = _hermitian(M, entry)
     n = M.shape[0]
-    for i in range(n):
-        for j in range(i + 1, n):
-            if sp.simplify(M[i, j] - sp.conjugate(M[j, i])) != 0:
-                raise NotPositiveDefiniteError(
-                    f"{entry}: not symmetric, entry [{i}][{j}] = {M[i, j]} but [{j}][{i}] = {M[j, i]}")
     S, rest, pivots, product = sp.Matrix(M), list(range(n)), [], sp.Integer(1)
 
     def fail(rows: list[int], minor: sp.Expr) -> None:
@@ -336,6 +335,15 @@ class System(JsonDocument):
             cached = self._cache["unseen"] = unseen(self.A, self.C)
         return lam.key in cached
 
+    @property
+    def noise_definite(self) -> bool:
+        """Whether ``Q > 0`` (cached): of full rank, ``Q`` being checked positive semidefinite."""
+        cached = self._cache.get("noise_definite")
+        if cached is None:
+            from ..exact.linalg import rank
+            cached = self._cache["noise_definite"] = rank(sp.Matrix(self.Q)) == self.n
+        return cached
+
     def undriven(self) -> tuple["Eigenvalue", ...]:
         """The eigenvalues of ``A`` that the process noise does not drive (cached): PBH on
         ``(A, Q^(1/2))``, a left eigenvector ``w' A = lambda w'`` with ``Q w = 0`` (``range Q^(1/2) =
@@ -351,9 +359,8 @@ class System(JsonDocument):
         mode decides."""
         cached = self._cache.get("undriven")
         if cached is None:
-            from ..exact.linalg import rank
             from ..exact.spectral import unseen
-            keys = frozenset() if rank(sp.Matrix(self.Q)) == self.n else unseen(self.A.T, self.Q)
+            keys = frozenset() if self.noise_definite else unseen(self.A.T, self.Q)
             cached = self._cache["undriven"] = tuple(
                 lam for block in self.eigen_blocks() for lam in block.members if lam.key in keys)
         return cached
