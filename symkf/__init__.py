@@ -17,8 +17,7 @@ from typing import TYPE_CHECKING, Any
 from .errors import SymkfError
 
 if TYPE_CHECKING:
-    from . import capacity, design, fusion, network
-    from .model import statespace as control
+    from . import capacity, control, design, fusion, network
     from .io import examples
     from .numeric import montecarlo
     from .engine import second_order
@@ -44,7 +43,7 @@ if TYPE_CHECKING:
 __version__ = "0.1.0"
 
 #: subpackages imported on first attribute access, with their modules
-_SUBMODULES = {"capacity": "capacity", "control": "model.statespace", "design": "design", "examples": "io.examples", "fusion": "fusion",
+_SUBMODULES = {"capacity": "capacity", "control": "control", "design": "design", "examples": "io.examples", "fusion": "fusion",
                "montecarlo": "numeric.montecarlo", "network": "network", "second_order": "engine.second_order",
                "tables": "reports.tables"}
 #: public names imported on first access, with the module that defines them
@@ -64,7 +63,7 @@ __all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLos
            "critical_recovery_rate", "stable_recovery_intervals", "stability_region", "stability_conditions",
            "StabilityRegion", "sweep", "load_family", "bounds", "verify", "verify_family", "Verification",
            "FamilyVerification", "simulate", "Simulation",
-           "capacity", "design", "fusion", "montecarlo", "network", "second_order", "tables"]
+           "capacity", "control", "design", "fusion", "montecarlo", "network", "second_order", "tables"]
 
 def __getattr__(name: str) -> Any:
     if name in _SUBMODULES:

@@ -522,7 +522,7 @@ def test_guard_refuses_string_evaluation():
 
 def _confirmed_holes(p: str) -> dict[str, Callable[[], Any]]:
     """The calls that created the marker file before the walk found them, each with its form."""
-    from symkf import control
+    from symkf.model import statespace as control
     from symkf.model import system as model, strategies
     from symkf.engine import oracle, region
     from symkf.exact import algebraic, field

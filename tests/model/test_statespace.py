@@ -13,6 +13,7 @@ import sympy as sp
 import symkf as sk
 from symkf.errors import ExtraNotInstalledError, InexactInputError, InputError, ShapeError
 from symkf.numeric.filters import predicted_covariances
+from symkf.model.statespace import float_matrix
 
 ct = pytest.importorskip("control")
 
@@ -37,8 +38,8 @@ def test_zero_loss_riccati_limit_equals_dlqe_for_two_sensors():
                   sensors=[sk.Sensor(C=[[1, 0]], R=[["1/2"]], name="pos"),
                            sk.Sensor(C=[[1, 1], [0, 1]], R=[[1, 0], [0, 3]], name="pair")])
     plant = S.to_statespace()
-    Q = sk.control.float_matrix(S.Q, "Q")
-    R = sk.control.float_matrix(S.R, "R")
+    Q = float_matrix(S.Q, "Q")
+    R = float_matrix(S.R, "R")
     _, P, _ = ct.dlqe(plant.A, np.eye(2), plant.C, Q, R)
     np.testing.assert_allclose(_riccati_limit(S), P, rtol=1e-10)
     assert plant.output_labels == ["pos", "pair[0]", "pair[1]"]
