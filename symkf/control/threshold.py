@@ -50,10 +50,10 @@ import sympy as sp
 
 from .. import budget
 from ..arguments import check_public
-from ..errors import AssumptionError, InputError, NumericalBreakdownError
+from ..errors import AssumptionError, InputError, NumericalBreakdownError, ShapeError
 from ..exact.algebraic import AlgebraicNumber, subset_product, with_prec
 from ..exact.linalg import rank
-from ..exact.numbers import to_rational
+from ..exact.numbers import to_exact_matrix, to_rational
 from ..exact.spectral import Eigenvalue, eigenvalues
 from ..exact.text import algebraic_text
 from ..output import JsonDocument
@@ -126,15 +126,13 @@ def _det2(members: list[Eigenvalue]) -> AlgebraicNumber:
     return out
 
 
-def _quotient_rank(A: sp.MatrixBase, B: sp.MatrixBase, members: list[Eigenvalue], rank_B: int) -> tuple[int, bool]:
-    """``rank B_Q``: exact when the quotient is rational (every conjugate of a kept eigenvalue kept):
-    ``B_Q`` is ``B`` seen through ``h(A)``, ``h`` the characteristic polynomial without the kept
-    factors, whose range is the kept generalised eigenspace and whose kernel is ``V``."""
-    dim = sum(e.multiplicity for e in members)
+def _cofactor(A: sp.MatrixBase, members: list[Eigenvalue]) -> sp.Matrix | None:
+    """``h(A)``, ``h`` the characteristic polynomial without the kept factors, when the quotient is
+    rational (every conjugate of a kept eigenvalue kept), else None: ``h(A)`` has the kept
+    generalised eigenspace as range and ``V`` as kernel, so ``B_Q`` is ``B`` seen through it."""
     polys = {e.key[0]: e for e in members}
-    rational = all(sum(1 for m in members if m.key[0] == k) == e.minpoly.degree() for k, e in polys.items())
-    if not rational:
-        return min(dim, rank_B), False
+    if any(sum(1 for m in members if m.key[0] == k) != e.minpoly.degree() for k, e in polys.items()):
+        return None
     x = sp.Symbol("x")
     kept = sp.Mul(*[sp.Poly(list(reversed([int(c) for c in e.minpoly.coeffs()])), x).as_expr() ** e.multiplicity
                     for e in polys.values()])
@@ -142,40 +140,64 @@ def _quotient_rank(A: sp.MatrixBase, B: sp.MatrixBase, members: list[Eigenvalue]
     H = sp.zeros(*A.shape)
     for c in h.all_coeffs():
         H = H * A + c * sp.eye(A.shape[0])
+    return H
+
+
+def _quotient_rank(H: sp.Matrix | None, B: sp.MatrixBase, dimension: int) -> tuple[int, bool]:
+    """``rank B_Q`` and whether it is exact: ``rank h(A) B`` for a rational quotient (``H`` from
+    :func:`_quotients`), else the upper bound ``min(dim Q, rank B)`` (sound: a larger rank weakens
+    the bound)."""
+    if H is None:
+        return min(dimension, rank(B)), False
     return rank(H * B), True
+
+
+def _quotients(A: sp.Matrix) -> list[tuple[list[Eigenvalue], AlgebraicNumber, sp.Matrix | None]]:
+    """Every quotient by a sum of generalised eigenspaces that keeps only eigenvalues of modulus
+    above one: its eigenvalues, ``|det A_Q|^2`` exactly and ``h(A)`` when rational (else None).
+    ``2^u`` of them for ``u`` unstable modes (a real eigenvalue or a conjugate pair), capped by
+    ``max_patterns``."""
+    modes = _modes(A)
+    budget.check_power("max_patterns", 2, len(modes), "A", f"the number 2^{len(modes)} of quotients of "
+                       f"{len(modes)} unstable modes searched by the quotient bound")
+    out = []
+    for k in range(1, len(modes) + 1):
+        for chosen in itertools.combinations(modes, k):
+            members = [e for mode in chosen for e in mode]
+            out.append((members, _det2(members), _cofactor(A, members)))
+    return out
 
 
 def quotient_bound(A: Any, B: Any) -> Quotient | None:
     """The quotient whose bound ``1 - |det A_Q|^(-2/r_Q)`` is largest (module doc), or None when
     ``A`` has no eigenvalue of modulus above one (``nu_c = 0``).
 
-    Quotients by sums of generalised eigenspaces of the unstable eigenvalues; their number is
-    ``2^u`` for ``u`` unstable modes (a real eigenvalue or a conjugate pair), capped by
-    ``max_patterns``."""
-    A, B = sp.Matrix(A), sp.Matrix(B)
-    modes = _modes(A)
-    if not modes:
-        return None
-    budget.check_power("max_patterns", 2, len(modes), "A", f"the number 2^{len(modes)} of quotients of "
-                       f"{len(modes)} unstable modes searched by the quotient bound")
-    rank_B = rank(B)
+    >>> quotient_bound([[2, 0], [0, 3]], [[1], [1]]).bound.exact     # one input: 1 - 1/(2 * 3)^2
+    35/36
+    """
+    A, B = _plant_matrices(A, B)
     best: Quotient | None = None
-    best_key: tuple[AlgebraicNumber, int] | None = None
-    for k in range(1, len(modes) + 1):
-        for chosen in itertools.combinations(modes, k):
-            members = [e for mode in chosen for e in mode]
-            r, exact = _quotient_rank(A, B, members, rank_B)
-            if r == 0:
-                continue   # an unreachable unstable quotient: refused by stabilizability
-            det2 = _det2(members)
-            # compare det2^(1/r) exactly: a^(1/r) > b^(1/s) iff a^s > b^r
-            if best_key is None or det2 ** best_key[1] > best_key[0] ** r:
-                best = Quotient(tuple(members), det2, r, exact)
-                best_key = (det2, r)
+    for members, det2, H in _quotients(A):
+        r, exact = _quotient_rank(H, B, sum(e.multiplicity for e in members))
+        if r == 0:
+            continue   # an unreachable unstable quotient: refused by stabilizability
+        # compare det2^(1/r) exactly: a^(1/r) > b^(1/s) iff a^s > b^r
+        if best is None or det2 ** best.rank > best.det2 ** r:
+            best = Quotient(tuple(members), det2, r, exact)
     return best
 
 
 # -- the upper side: a gain from policy iteration, verified in exact rationals ----------------
+
+def _plant_matrices(A: Any, B: Any) -> tuple[sp.Matrix, sp.Matrix]:
+    """``A`` (square) and ``B`` (as many rows) as exact matrices, or the entry that breaks them."""
+    A, B = sp.Matrix(to_exact_matrix(A, "A")), sp.Matrix(to_exact_matrix(B, "B"))
+    if A.rows != A.cols or A.rows == 0:
+        raise ShapeError(f"A: must be square and non-empty, got {A.rows}x{A.cols}")
+    if B.rows != A.rows or B.cols == 0:
+        raise ShapeError(f"B: must have {A.rows} rows (A is {A.rows}x{A.rows}) and a column, got {B.rows}x{B.cols}")
+    return A, B
+
 
 def _arb_matrix(M: sp.MatrixBase) -> flint.arb_mat:
     return flint.arb_mat([[flint.arb(str(sp.N(v, _PREC // 3))) for v in M.row(i)] for i in range(M.rows)])
@@ -493,7 +515,7 @@ def critical_arrival_rate(system: Any, tolerance: Any = "1e-12") -> ControlThres
     >>> import symkf as sk
     >>> S = sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])], actuators=[sk.Actuator(B=[[1]])])
     >>> t = sk.control.critical_arrival_rate(S)
-    >>> t.exact, t.reached, t.check()
+    >>> t.exact.exact, t.reached, t.check()
     (3/4, True, True)
     """
     tol = to_rational(tolerance, "tolerance")
