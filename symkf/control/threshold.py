@@ -318,11 +318,26 @@ def _fmpq_matrix(M: sp.MatrixBase) -> flint.fmpq_mat:
                            for i in range(M.rows)])
 
 
-def lyapunov_certificate(A: sp.MatrixBase, B: sp.MatrixBase, K: sp.MatrixBase, nu: sp.Rational
+def lyapunov_certificate(A: Any, B: Any, K: Any, nu: Any
                          ) -> sp.ImmutableMatrix | None:
     """Exact: the solution ``S`` of ``S - (1 - nu) A'SA - nu (A+BK)'S(A+BK) = I`` when it is positive
     definite (then the loop ``x+ = (A + nu_k B K) x`` is mean-square stable at arrival rate ``nu``:
-    the positive map has spectral radius below one), else None.  Rational ``A, B, K, nu``."""
+    the positive map has spectral radius below one), else None.  Rational ``A, B, K, nu``.
+
+    >>> lyapunov_certificate([[2]], [[1]], [[-2]], "4/5")     # (1 - 4/5) 4 = 4/5 < 1: S = 1/(1 - 4/5)
+    Matrix([[5]])
+    """
+    A, B = _plant_matrices(A, B)
+    K = sp.Matrix(to_exact_matrix(K, "K"))
+    if K.shape != (B.cols, A.rows):
+        raise ShapeError(f"K: must be {B.cols}x{A.rows} (inputs x states), got {K.rows}x{K.cols}")
+    nu = to_rational(nu, "nu")
+    if not 0 <= nu <= 1:
+        raise InputError(f"nu: an arrival rate lies in [0, 1], got {nu}")
+    if not all(sp.sympify(v).is_Rational for v in (*A, *B, *K)):
+        raise AssumptionError("A, B, K: an entry is irrational", assumption="rational A, B and K",
+                              applies_instead="a rational gain (the certificate's solve is over Q)")
+    budget.check("max_dimension", A.rows, "A", "the dimension of the plant (an n^2 x n^2 exact solve)")
     n = A.rows
     Acl = A + B * K
     At, Ct = _fmpq_matrix(A.T), _fmpq_matrix(Acl.T)
@@ -343,6 +358,7 @@ def lyapunov_certificate(A: sp.MatrixBase, B: sp.MatrixBase, K: sp.MatrixBase, n
     if not _pivots_positive([row[:] for row in S]):
         return None
     return sp.ImmutableMatrix([[sp.Rational(int(x.p), int(x.q)) for x in row] for row in S])
+
 
 
 def _pivots_positive(a: list[list[flint.fmpq]]) -> bool:
