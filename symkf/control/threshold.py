@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from decimal import Decimal
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -427,6 +428,20 @@ def _verified(A, B, K: flint.arb_mat, nu: Fraction) -> tuple[sp.ImmutableMatrix,
     return None if S is None else (Kq, S)
 
 
+def _decimal(q: Fraction) -> str:
+    """A rational rate as people read it: its exact decimal when it has one of at most 30 digits (the
+    certificate's rates do), else the fraction."""
+    d, twos, fives = q.denominator, 0, 0
+    while d % 2 == 0:
+        d, twos = d // 2, twos + 1
+    while d % 5 == 0:
+        d, fives = d // 5, fives + 1
+    places = max(twos, fives)
+    if d != 1 or places > 30:
+        return str(q)
+    return str(Decimal(q.numerator * 10 ** places // q.denominator).scaleb(-places))
+
+
 CLOSED_FORMS = {
     "one input": "rank B = 1: nu_c = 1 - 1/prod|lambda_u|^2 (Elia 2005; Schenato et al. 2007, Section IV)",
     "B invertible": "B square invertible: nu_c = 1 - 1/rho(A)^2 (Schenato et al. 2007, Section IV)",
@@ -480,13 +495,13 @@ class ControlThreshold(JsonDocument):
         return S is not None and S == self.certificate
 
     def __str__(self) -> str:
-        low = algebraic_text(self.lower)
+        low, up = algebraic_text(self.lower), _decimal(self.upper)
         if self.exact is not None:
-            return f"nu_c = {low} exactly ({self.closed_form}); certified: loop stable at nu = {self.upper}"
+            return f"nu_c = {low} exactly ({self.closed_form}); certified: loop stable at nu = {up}"
         state = (f"width {float(self.width):.2g} <= tolerance {float(self.tolerance):.2g}" if self.reached else
                  f"width {float(self.width):.3g} above the tolerance {float(self.tolerance):.2g}: no gain found "
                  f"closer to the bound")
-        return f"nu_c in [{low}, {self.upper}] ({state})"
+        return f"nu_c in [{low}, {up}] ({state})"
 
     __repr__ = __str__
 
