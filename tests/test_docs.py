@@ -103,6 +103,20 @@ def test_json_page_documents_every_printed_key(capsys):
     assert {"critical_loss_rate", "varied", "theorem"} <= set(printed["critical"])
 
 
+def test_json_page_documents_every_key_of_the_control_side(capsys):
+    page = (DOCS / "json.md").read_text(encoding="utf-8")
+    lqg = str(examples.system("lqg-two-modes"))
+    printed = {}
+    for command in ("analyze", "critical"):
+        assert cli.main([command, lqg, "--json"]) == 0
+        printed[command] = json.loads(capsys.readouterr().out)["control"]
+    analyzed, region = printed["analyze"], printed["critical"]
+    nested = [*analyzed, *analyzed["critical_arrival_rate"], *analyzed["loop"], *analyzed["udp"],
+              *analyzed["udp"]["rows"][0], *analyzed["udp"]["rows"][0]["hypotheses"][0], *region, *region["nu_c"]]
+    for key in ["control", *nested]:
+        assert f"`{key}`" in page, f"docs/json.md does not document {key!r}"
+
+
 def _without_code(text: str) -> str:
     """Markdown without fenced code blocks and inline code (links there are not links)."""
     return re.sub(r"`[^`\n]*`", "", re.sub(r"^```.*?^```", "", text, flags=re.M | re.S))
