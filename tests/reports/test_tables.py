@@ -302,7 +302,7 @@ def test_bad_family_files_name_file_key_and_problem(tmp_path, text, message):
 
 @pytest.mark.parametrize("text, pieces", [
     (GOOD_TEMPLATE.replace('"a/2"', '"a/"'), ["A[1][1]: not a well-formed expression"]),
-    (GOOD_TEMPLATE.replace('C = [["1", "1"]]', 'C = [["1", "1", "1"]]'), ["sensor 0 C: has 3 columns"]),
+    (GOOD_TEMPLATE.replace('C = [["1", "1"]]', 'C = [["1", "1", "1"]]'), ["sensors[0].C: has 3 columns"]),
     (GOOD_TEMPLATE.replace("[[sensors]]", "[loss]\nkind = \"iid\"\nloss = [\"1/2\", \"1/2\"]\n[[sensors]]"),
      ["[loss] gives 2 value(s) for 1 sensor(s)"]),
     # members are read as system files, so their guards apply: no 370-million-digit numbers
