@@ -559,3 +559,13 @@ def test_critical_tolerance_out_of_range_is_a_usage_error(capsys, argv, message)
 def test_critical_tolerance_on_a_file_without_actuators_names_the_missing_table(capsys):
     status, _, err = run(capsys, "critical", GE, "--tolerance", "1/100")
     assert status == 2 and "--tolerance" in one_line(err) and "no [[actuators]]" in err
+
+
+@pytest.mark.parametrize("command", ["analyze", "critical"])
+def test_an_unstable_mode_no_actuator_reaches_is_exit_3_naming_the_assumption(capsys, tmp_path, command):
+    path = tmp_path / "unreached.toml"   # B = e_1 never reaches the mode 3: no arrival rate stabilises
+    path.write_text('[system]\nA = [["2", "0"], ["0", "3"]]\n[[sensors]]\nC = [["1", "1"]]\n'
+                    '[[actuators]]\nB = [["1"], ["0"]]\n')
+    status, out, err = run(capsys, command, path)
+    assert status == 3 and out == ""
+    assert one_line(err).startswith(f"symkf {command}: {path}: (A, B) stabilizable") and "eigenvalue 3" in err
