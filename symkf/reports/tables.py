@@ -9,7 +9,8 @@ certified isolating interval.
 
 * :func:`family_table` -- the queries of a parameter family (a TOML family file or one built in
   memory, see :mod:`symkf.io.families`): critical loss and recovery rates, common or per sensor,
-  verdicts, margins, the fewest stable sensors, the published bounds, evaluated with
+  verdicts, margins, the fewest stable sensors, the published bounds, the critical control-packet
+  arrival rate of LQG control (exact, or its certified bracket ``[lower, upper]``), evaluated with
   :func:`symkf.run.sweep.sweep`;
 * :func:`verdict_table` -- the stability verdicts of system files with a ``[loss]``
   (by default the papers' examples, ``symkf/io/examples/systems/``).
