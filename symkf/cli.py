@@ -262,8 +262,9 @@ def cmd_critical(args: argparse.Namespace) -> dict[str, Any]:
     budget.check("max_digits", args.digits, "--digits", "the number of digits asked for")
     budget.check("max_memory", DIGIT_BYTES * args.digits, "--digits", "the bytes (estimate) of the digits asked "
                  f"for, {DIGIT_BYTES} per digit")
+    tolerance = None if args.tolerance is None else _tolerance(args.tolerance)   # refused before any work
     system, loss, _ = files.load_loop(args.file)
-    if args.tolerance is not None and not system.actuators:
+    if tolerance is not None and not system.actuators:
         raise UsageError(f"{args.file}: --tolerance bounds the bracket of the critical control-packet arrival "
                          "rate, and the file has no [[actuators]]")
     key, exact, how = VARY[kind](system, loss, value, args.file)
@@ -271,18 +272,18 @@ def cmd_critical(args: argparse.Namespace) -> dict[str, Any]:
                            "theorem": "Sui-You-Fu Theorems 4/7 with eq. (36), hyperplane form"}
     if system.actuators:
         region = _tcp_region(system, exact if key == "critical_loss_rate" and kind == "common" else None,
-                             "1e-12" if args.tolerance is None else args.tolerance)
+                             "1e-12" if tolerance is None else tolerance)
         res["control"], res["_control"] = region.to_dict(), str(region)
     return res
 
 
-def _tcp_region(system: Any, eps_c: AlgebraicNumber | None, tolerance: str) -> Any:
+def _tcp_region(system: Any, eps_c: AlgebraicNumber | None, tolerance: Any) -> Any:
     """The TCP-like region of Schenato et al. (2007, Section IV): ``gamma_c = 1 - eps_c`` (``eps_c``
     reused when ``critical`` has just computed it) and ``nu_c`` to the bracket width ``tolerance``."""
     from .control import TcpRegion, critical_arrival_rate, tcp_region
     if eps_c is None:
-        return tcp_region(system, _tolerance(tolerance))
-    return TcpRegion(1 - eps_c, critical_arrival_rate(system, _tolerance(tolerance)))
+        return tcp_region(system, tolerance)
+    return TcpRegion(1 - eps_c, critical_arrival_rate(system, tolerance))
 
 
 def _tolerance(text: str) -> Any:
