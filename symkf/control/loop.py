@@ -53,17 +53,11 @@ class TcpRegion(JsonDocument):
     def contains(self, gamma: Any, nu: Any) -> bool | None:
         """Whether the cost is bounded at ``(gamma, nu)``, exactly; None when ``nu`` lies inside the
         control threshold's certified bracket (not decided)."""
-        g, v = to_rational(gamma, "gamma"), to_rational(nu, "nu")
-        for value, entry in ((g, "gamma"), (v, "nu")):
-            if not 0 <= value <= 1:
-                raise InputError(f"{entry}: an arrival rate lies in [0, 1], got {value}")
-        if not self.gamma_c < g:
-            return False
-        if not self.control.lower < v:
-            return False
-        if Fraction(int(v.p), int(v.q)) >= self.control.upper:
-            return True
-        return None
+        g = to_rational(gamma, "gamma")
+        if not 0 <= g <= 1:
+            raise InputError(f"gamma: an arrival rate lies in [0, 1], got {g}")
+        control = self.control.decides(nu)
+        return False if not self.gamma_c < g else control
 
     def __str__(self) -> str:
         return (f"TCP-like LQG bounded iff gamma > gamma_c = {algebraic_text(self.gamma_c)} (observations, every "
@@ -148,11 +142,9 @@ def control_stabilizable(system: System, actuator_loss: LossModel) -> tuple[bool
     if len(losses) == 1:
         nu = 1 - sp.Rational(losses[0])
         threshold = critical_arrival_rate(system)
-        if not threshold.lower < nu:
-            return False, f"nu = {nu} <= nu_c, {threshold}"
-        if Fraction(int(nu.p), int(nu.q)) >= threshold.upper:
-            return True, f"nu = {nu} > nu_c, {threshold}"
-        return None, f"nu = {nu} inside the certified bracket, {threshold}"
+        decided = threshold.decides(nu)
+        where = {False: "<= nu_c", True: "> nu_c", None: "inside the certified bracket"}[decided]
+        return decided, f"nu = {nu} {where}, {threshold}"
     system.check_stabilizable()
     obstruction = _quotient_obstruction(system, [1 - sp.Rational(e) for e in losses])
     if obstruction:

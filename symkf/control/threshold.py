@@ -41,7 +41,6 @@ from __future__ import annotations
 
 import itertools
 import math
-from decimal import Decimal
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -52,7 +51,7 @@ import sympy as sp
 from .. import budget
 from ..arguments import check_public
 from ..errors import AssumptionError, InputError, NumericalBreakdownError, ShapeError
-from ..exact.algebraic import AlgebraicNumber, subset_product, with_prec
+from ..exact.algebraic import AlgebraicNumber, subset_product, terminating_decimal, with_prec
 from ..exact.linalg import rank
 from ..exact.numbers import to_exact_matrix, to_rational
 from ..exact.spectral import Eigenvalue, eigenvalues
@@ -429,17 +428,10 @@ def _verified(A, B, K: flint.arb_mat, nu: Fraction) -> tuple[sp.ImmutableMatrix,
 
 
 def _decimal(q: Fraction) -> str:
-    """A rational rate as people read it: its exact decimal when it has one of at most 30 digits (the
-    certificate's rates do), else the fraction."""
-    d, twos, fives = q.denominator, 0, 0
-    while d % 2 == 0:
-        d, twos = d // 2, twos + 1
-    while d % 5 == 0:
-        d, fives = d // 5, fives + 1
-    places = max(twos, fives)
-    if d != 1 or places > 30:
-        return str(q)
-    return str(Decimal(q.numerator * 10 ** places // q.denominator).scaleb(-places))
+    """A rational rate as people read it: its exact decimal when it has one (the certificate's rates
+    do), else the fraction."""
+    d = terminating_decimal(q)
+    return str(q) if d is None else str(d)
 
 
 CLOSED_FORMS = {
@@ -487,6 +479,19 @@ class ControlThreshold(JsonDocument):
     def critical_loss_rate(self) -> AlgebraicNumber | None:
         """``1 - nu_c`` (the control channel's critical loss probability) when exact."""
         return None if self.exact is None else 1 - self.exact
+
+    def decides(self, nu: Any) -> bool | None:
+        """Whether the loop is stabilizable at arrival rate ``nu``, exactly: False at or below the
+        bound, True from ``upper`` on or, when ``nu_c`` is exact, anywhere above it; None inside an
+        open bracket."""
+        v = to_rational(nu, "nu")
+        if not 0 <= v <= 1:
+            raise InputError(f"nu: an arrival rate lies in [0, 1], got {v}")
+        if not self.lower < v:
+            return False
+        if self.exact is not None or Fraction(int(v.p), int(v.q)) >= self.upper:
+            return True
+        return None
 
     def check(self) -> bool:
         """Re-verify the certificate exactly: ``S > 0`` and ``S - T(S) = I`` at ``upper`` (the map of the
@@ -554,6 +559,13 @@ def critical_arrival_rate(system: Any, tolerance: Any = "1e-12") -> ControlThres
         raise InputError(f"tolerance: must lie in (0, 1), got {tol}")
     if not getattr(system, "actuators", ()):
         raise InputError("system: has no actuators; give System(..., actuators=[Actuator(B=...)])")
+    key = ("control_threshold", tol)
+    if key not in system._cache:   # analyze asks once for the threshold and once for the loop's verdict
+        system._cache[key] = _threshold(system, Fraction(int(tol.p), int(tol.q)))
+    return system._cache[key]
+
+
+def _threshold(system: Any, tol: Fraction) -> ControlThreshold:
     system.check_stabilizable()
     A, B = sp.ImmutableMatrix(system.A), sp.ImmutableMatrix(system.B)
     irrational = [v for v in (*A, *B) if not sp.sympify(v).is_Rational]
@@ -566,12 +578,11 @@ def critical_arrival_rate(system: Any, tolerance: Any = "1e-12") -> ControlThres
                  "an n^2 x n^2 rational system")
     quotient = quotient_bound(A, B)
     lower = AlgebraicNumber.from_expr(0) if quotient is None else quotient.bound
-    upper, gain, certificate = _certified_upper(A, B, sp.Matrix(system.W), sp.Matrix(system.U), lower,
-                                                Fraction(int(tol.p), int(tol.q)))
+    upper, gain, certificate = _certified_upper(A, B, sp.Matrix(system.W), sp.Matrix(system.U), lower, tol)
     rank_B = rank(B)
     closed = (CLOSED_FORMS["one input"] if rank_B == 1 else
               CLOSED_FORMS["B invertible"] if B.rows == B.cols == rank_B else None)
-    return ControlThreshold(lower, upper, quotient, gain, certificate, Fraction(int(tol.p), int(tol.q)), closed, A, B)
+    return ControlThreshold(lower, upper, quotient, gain, certificate, tol, closed, A, B)
 
 
 check_public(globals())
