@@ -34,7 +34,8 @@ from ..model.iid import IID
 from ..model.loss import LossModel
 from ..model.system import Sensor, System
 from ..output import JsonDocument
-from .threshold import ControlThreshold, _quotient_rank, _quotients, critical_arrival_rate
+from .markov import _gilbert_elliott_stabilizable
+from .threshold import ControlThreshold, _quotient_rank, _quotients, critical_arrival_rate, rational_plant
 
 
 @dataclass(frozen=True, repr=False)
@@ -130,13 +131,19 @@ def control_stabilizable(system: System, actuator_loss: LossModel) -> tuple[bool
     """Whether the control MARE has a fixed point under the actuators' losses, with the reason: one
     actuator (one channel): against :func:`~symkf.control.threshold.critical_arrival_rate`;
     independent i.i.d. channels per actuator: the multi-channel MARE's LMI with exact certificates
-    (None near its boundary).  Other loss processes are refused: the critical arrival rates of
-    Markov control channels need the coupled Riccati equations of Markov jump linear systems, which
-    symkf does not decide."""
+    (None near its boundary); one Gilbert-Elliott channel for every input: :mod:`.markov` (exact where
+    a certificate decides, else None).  Other loss processes are refused with the reason."""
+    fail, recover = actuator_loss.channel_fail, actuator_loss.channel_recover
+    if actuator_loss.bernoulli is None and fail is not None and recover is not None and len(system.actuators) == 1 \
+            and len(fail) == 1:
+        A, B = rational_plant(system)
+        return _gilbert_elliott_stabilizable(sp.Matrix(A), sp.Matrix(B), sp.Matrix(system.W), sp.Matrix(system.U),
+                                             fail[0], recover[0])
     losses = actuator_loss.require_bernoulli(
-        "i.i.d. control-packet losses (Schenato et al. 2007, Section IV)",
-        "Markov (e.g. Gilbert-Elliott) control channels make the control recursion a Markov jump "
-        "linear system (coupled Riccati equations), not decided here")
+        "i.i.d. control-packet losses, or one Gilbert-Elliott channel for every input (Schenato et al. 2007, "
+        "Section IV)",
+        "per-actuator Markov channels make the control recursion a Markov jump linear system with one mode per "
+        "joint channel state, not decided here")
     if len(losses) != len(system.actuators):
         raise InputError(f"actuator_loss: {len(losses)} channels for {len(system.actuators)} actuators")
     if len(losses) == 1:

@@ -565,17 +565,24 @@ def critical_arrival_rate(system: Any, tolerance: Any = "1e-12") -> ControlThres
     return system._cache[key]
 
 
-def _threshold(system: Any, tol: Fraction) -> ControlThreshold:
+def rational_plant(system: Any) -> tuple[sp.ImmutableMatrix, sp.ImmutableMatrix]:
+    """``(A, B)`` of a stabilizable plant with rational entries and a dimension within
+    ``max_dimension``: what every exact certificate of :mod:`symkf.control` solves over Q."""
     system.check_stabilizable()
     A, B = sp.ImmutableMatrix(system.A), sp.ImmutableMatrix(system.B)
     irrational = [v for v in (*A, *B) if not sp.sympify(v).is_Rational]
     if irrational:
         raise AssumptionError(f"A, B: the entry {irrational[0]} is irrational",
-                              assumption="rational A and B (the certificate's exact solve is over Q)",
+                              assumption="rational A and B (the certificates' exact solves are over Q)",
                               applies_instead="the closed forms and the quotient bound: "
                                               "symkf.control.threshold.quotient_bound(A, B)")
     budget.check("max_dimension", A.rows, "A", "the dimension of the plant, whose certificate solves "
                  "an n^2 x n^2 rational system")
+    return A, B
+
+
+def _threshold(system: Any, tol: Fraction) -> ControlThreshold:
+    A, B = rational_plant(system)
     quotient = quotient_bound(A, B)
     lower = AlgebraicNumber.from_expr(0) if quotient is None else quotient.bound
     upper, gain, certificate = _certified_upper(A, B, sp.Matrix(system.W), sp.Matrix(system.U), lower, tol)

@@ -7,7 +7,7 @@ import sympy as sp
 
 import symkf as sk
 from symkf.control import lqg_stable, tcp_region
-from symkf.errors import AssumptionError, InputError
+from symkf.errors import InputError
 
 R = sp.Rational
 
@@ -62,11 +62,6 @@ def test_independent_channels_decided_by_the_dual_lmi(two_modes):
     pytest.importorskip("cvxpy")
     v = lqg_stable(two_modes, sk.IID(loss=["1/100"]), sk.IID(loss=["1/100", "1/100"]))
     assert v.control is True and "verified exactly" in v.control_reason
-
-
-def test_markov_control_channels_are_refused_naming_the_missing_result(scalar):
-    with pytest.raises(AssumptionError, match="Markov jump"):
-        lqg_stable(scalar, sk.IID(loss=["1/10"]), sk.GilbertElliott(fail=["1/10"], recover=["1/2"]))
 
 
 def test_wrong_number_of_actuator_channels_is_refused(scalar):

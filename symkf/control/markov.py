@@ -1,0 +1,154 @@
+"""TCP-like control over one Gilbert-Elliott channel: exact verdicts where a certificate decides.
+
+With acknowledged packets the controller knows whether the previous command arrived, which is
+the channel's state (Gilbert-Elliott: ``P(lost | received last) = f``, ``P(received | lost last) =
+q``).  The cost-to-go ``x'S_i x`` depends on that state ``i`` (0 lost, 1 received) and the LQ
+recursion of Schenato et al. 2007, Section IV, becomes the coupled pair (a Markov jump linear
+system with the mode seen one step late; Costa, Fragoso and Marques, *Discrete-time Markov jump
+linear systems*, 2005)
+
+    S_i = W + A'(p_i0 S_0 + p_i1 S_1)A - p_i1 A'S_1 B (B'S_1 B + U)^{-1} B'S_1 A,
+
+``p_01 = q``, ``p_11 = 1 - f``, whose optimal gain ``K = -(B'S_1B + U)^{-1} B'S_1 A`` is the same in
+both states.  Decided exactly:
+
+* **stable** when a rational gain passes the coupled Lyapunov test: ``S_i - sum_j p_ij M_j' S_j M_j
+  = I`` (``M_0 = A``, ``M_1 = A + BK``) has a positive definite solution, one exact rational solve
+  (the second-moment operator of the loop then has spectral radius below one);
+* **unstable** when a loss burst alone diverges: ``(1 - q) rho(A)^2 >= 1`` (the operator dominates
+  its lost-to-lost term ``(1 - q) A (.) A'``);
+* otherwise **undecided**, with both numbers.  For one input the i.i.d. threshold's argument
+  (:mod:`.threshold`) suggests ``(1 - q) prod |lambda_u|^2 < 1``; it is not proved here for
+  Markov channels (the determinant argument needs one Riccati matrix, the channel gives two), so
+  symkf does not use it.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import Any
+
+import flint
+import sympy as sp
+
+from ..exact.algebraic import AlgebraicNumber, with_prec
+from ..exact.text import algebraic_text
+from ..exact.spectral import eigenvalues
+from .threshold import _PREC, _Plant, _dyadic, _fmpq_matrix, _kron, _mid, _pivots_positive, _positive_float, _unvec, _vec
+
+
+def _evaluate(plant: _Plant, K: flint.arb_mat, p: list[list[flint.arb]]) -> tuple[flint.arb_mat, flint.arb_mat] | None:
+    """The coupled cost ``S_i = W + p_i1 K'UK + sum_j p_ij M_j' S_j M_j`` of the gain ``K``, or None
+    when the loop is not mean-square stable."""
+    n = plant.n
+    M = [plant.A, plant.A + plant.B * K]
+    blocks = [_kron(Mj.transpose(), Mj.transpose()) for Mj in M]
+    size = 2 * n * n
+    L = flint.arb_mat(size, size)
+    for i in range(2):
+        for k in range(n * n):
+            L[i * n * n + k, i * n * n + k] = 1
+        for j in range(2):
+            for a in range(n * n):
+                for b in range(n * n):
+                    L[i * n * n + a, j * n * n + b] -= p[i][j] * blocks[j][a, b]
+    rhs = flint.arb_mat(size, 1)
+    for i in range(2):
+        v = _vec(plant.W + p[i][1] * K.transpose() * plant.U * K)
+        for a in range(n * n):
+            rhs[i * n * n + a, 0] = v[a, 0]
+    try:
+        x = _mid(L).solve(rhs)
+    except ZeroDivisionError:
+        return None
+    S = [_mid(_unvec(flint.arb_mat([[x[i * n * n + a, 0]] for a in range(n * n)]), n)) for i in range(2)]
+    return (S[0], S[1]) if all(_positive_float(Si) for Si in S) else None
+
+
+def _optimal(plant: _Plant, K: flint.arb_mat, p) -> flint.arb_mat | None:
+    for _ in range(60):
+        S = _evaluate(plant, K, p)
+        if S is None:
+            return None
+        new = plant.improve(S[1])
+        change = max(abs(float((new[i, j] - K[i, j]).mid())) for i in range(K.nrows()) for j in range(K.ncols()))
+        K = new
+        if change < 2.0 ** (-_PREC // 2):
+            break
+    return K
+
+
+def _gain(plant: _Plant, f: Fraction, q: Fraction) -> flint.arb_mat | None:
+    """The optimal gain at ``(f, q)``, continued from the lossless channel ``(0, 1)`` along
+    ``(t f, 1 - t (1 - q))``, the step halved when the previous gain no longer stabilizes."""
+    from .threshold import _lqr_gain
+    K = _lqr_gain(plant)
+    t, step = Fraction(0), Fraction(1, 4)
+    while t < 1:
+        trial = min(Fraction(1), t + step)
+        ft, qt = trial * f, 1 - trial * (1 - q)
+        p = [[1 - _arb(qt), _arb(qt)], [_arb(ft), 1 - _arb(ft)]]
+        found = _optimal(plant, K, p)
+        if found is None:
+            step /= 2
+            if step < Fraction(1, 2 ** 30):
+                return None
+            continue
+        t, K, step = trial, found, min(step * 2, Fraction(1, 2))
+    return K
+
+
+def _arb(q: Fraction) -> flint.arb:
+    return flint.arb(q.numerator) / q.denominator
+
+
+def _coupled_certificate(A: sp.MatrixBase, B: sp.MatrixBase, K: sp.MatrixBase, f: Fraction, q: Fraction
+                        ) -> tuple[sp.ImmutableMatrix, sp.ImmutableMatrix] | None:
+    """Exact: ``(S_0, S_1) > 0`` solving ``S_i - sum_j p_ij M_j' S_j M_j = I`` (module doc) over the
+    rationals, or None when the solution is not positive definite (or does not exist)."""
+    n = A.rows
+    M = [_fmpq_matrix(A.T), _fmpq_matrix((A + B * K).T)]
+    p = [[1 - _q(q), _q(q)], [_q(f), 1 - _q(f)]]
+    size = 2 * n * n
+    L = flint.fmpq_mat(size, size)
+    for i in range(2):
+        for a in range(n):
+            for b in range(n):
+                for c in range(n):
+                    for d in range(n):
+                        row, col = a * n + c, b * n + d
+                        for j in range(2):
+                            L[i * n * n + row, j * n * n + col] -= p[i][j] * M[j][a, b] * M[j][c, d]
+        for k in range(n * n):
+            L[i * n * n + k, i * n * n + k] += 1
+    rhs = flint.fmpq_mat([[1 if (k // n == k % n) else 0] for _ in range(2) for k in range(n * n)])
+    try:
+        x = L.solve(rhs)
+    except ZeroDivisionError:
+        return None
+    S = [[[x[i * n * n + a * n + c, 0] for c in range(n)] for a in range(n)] for i in range(2)]
+    if not all(_pivots_positive([row[:] for row in Si]) for Si in S):
+        return None
+    return tuple(sp.ImmutableMatrix([[sp.Rational(int(v.p), int(v.q)) for v in row] for row in Si]) for Si in S)
+
+
+def _q(x: Fraction) -> flint.fmpq:
+    return flint.fmpq(x.numerator, x.denominator)
+
+
+def _gilbert_elliott_stabilizable(A: sp.MatrixBase, B: sp.MatrixBase, W: sp.MatrixBase, U: sp.MatrixBase,
+                                 fail: Any, recover: Any) -> tuple[bool | None, str]:
+    """The verdict of the module doc, with its reason (``A``, ``B`` rational; ``(A, B)`` stabilizable)."""
+    f, q = Fraction(str(sp.Rational(fail))), Fraction(str(sp.Rational(recover)))
+    rho2 = max((e.modulus for e in eigenvalues(A)), default=None) ** 2
+    burst = AlgebraicNumber.from_expr(rho2.exact * (1 - sp.Rational(q.numerator, q.denominator)))
+    if not burst < 1:
+        return False, (f"a burst of lost commands diverges: (1 - recover) rho(A)^2 = {algebraic_text(burst)} >= 1")
+    K = with_prec(_PREC, lambda: _gain(_Plant(A, B, W, U), f, q))
+    if K is not None:
+        Kq = _dyadic(K)
+        if _coupled_certificate(A, B, Kq, f, q) is not None:
+            return True, ("a rational gain passes the coupled Lyapunov test exactly (coupled second moments of the "
+                          "Markov jump linear system)")
+    return None, (f"undecided: no gain found stabilizing the coupled recursion, and (1 - recover) rho(A)^2 = "
+                  f"{algebraic_text(burst)} < 1 does not rule one out")
