@@ -74,8 +74,10 @@ def arrival_weight(arrival: Sequence[Any], dims: Sequence[int]) -> list[list[Any
     (``E[gamma_i gamma_j] = lambda_i lambda_j`` for ``i != j``, ``E[gamma_i^2] = lambda_i``).  Exact
     or float as the ``lambda_i`` are; every ``lambda_i`` must be nonzero."""
     sizes = [count(p, f"dims[{i}]", 1) for i, p in enumerate(dims)]
-    if len(sizes) != len(arrival) or not all(isinstance(a, numbers.Number) or hasattr(a, "is_zero") for a in arrival):
-        raise InputError(f"arrival: expected one number per block of dims ({len(sizes)}), got {len(arrival)} entries")
+    if len(sizes) != len(arrival):
+        raise InputError(f"arrival: expected one rate per block of dims ({len(sizes)}), got {len(arrival)}")
+    if not all(isinstance(a, numbers.Number) or hasattr(a, "is_zero") for a in arrival):
+        raise InputError(f"arrival: expected numbers (floats or exact), got {[type(a).__name__ for a in arrival]}")
     if any(a == 0 for a in arrival):
         raise InputError("arrival: a channel with arrival rate 0 has no entry 1 / lambda_i; leave it out")
     labels = [i for i, p in enumerate(sizes) for _ in range(p)]
@@ -160,6 +162,8 @@ def loop_plant(A: Any, B: Any, C: Any, Q: Any = None, R: Any = None, W: Any = No
     C = np.atleast_2d(float_array(C, "C"))
     C = _matrix(C, (C.shape[0], n), "C")
     m, p = B.shape[1], C.shape[0]
+    if min(n, m, p) == 0:
+        raise ShapeError(f"A, B, C: expected at least one state, input and output, got n = {n}, m = {m}, p = {p}")
     return LoopPlant(A, B, C, _covariance(Q, n, "Q", False), _covariance(R, p, "R", True),
                      _covariance(W, n, "W", False), _covariance(U, m, "U", True), _covariance(P0, n, "P0", False),
                      _sizes(sensor_rows, p, "sensor_rows"), _sizes(actuator_columns, m, "actuator_columns"))
@@ -171,9 +175,9 @@ def plant_of(system: System) -> LoopPlant:
     column groups of ``system.actuators`` (each actuator's ``m`` columns) where the system has
     them (``U``, ``W``: identities when absent or None)."""
     B = getattr(system, "B", None)
-    if B is None:
-        raise InputError("system.B: the system has no input matrix B; give the arrays to "
-                         "symkf.numeric.closed_loop.loop_plant instead")
+    if B is None or 0 in getattr(B, "shape", (1,)):     # a system without actuators: B is None or n x 0
+        raise InputError("system.B: the system has no actuators (no input matrix B); give it actuators, or "
+                         "give the arrays to symkf.numeric.closed_loop.loop_plant")
     actuators = getattr(system, "actuators", None)
     columns = None if not actuators else [getattr(a, "m", None) or np.atleast_2d(np.asarray(a.B)).shape[1]
                                           for a in actuators]
@@ -223,6 +227,8 @@ def control_riccati(A: Any, B: Any, W: Any, U: Any, arrival: Any = 1.0, columns:
     B = np.atleast_2d(float_array(B, "B"))
     B = _matrix(B, (n, B.shape[-1]), "B")
     m = B.shape[1]
+    if min(n, m) == 0:
+        raise ShapeError(f"A, B: expected at least one state and one input, got n = {n}, m = {m}")
     W, U = _matrix(W, (n, n), "W"), _matrix(U, (m, m), "U")
     iterations = count(iterations, "iterations", 1)
     if not isinstance(tol, float) or not tol > 0:
