@@ -17,8 +17,7 @@ from typing import TYPE_CHECKING, Any
 from .errors import SymkfError
 
 if TYPE_CHECKING:
-    from . import capacity, design, fusion, network
-    from .model import statespace as control
+    from . import capacity, control, design, fusion, network
     from .io import examples
     from .numeric import montecarlo
     from .engine import second_order
@@ -31,7 +30,7 @@ if TYPE_CHECKING:
     from .model.independent import Independent
     from .model.subsets import Selected
     from .model.markov import MarkovLoss
-    from .model.system import Sensor, System
+    from .model.system import Actuator, Sensor, System
     from .engine.region import StabilityRegion, stability_conditions, stability_region
     from .exact.spectral import eigen_blocks, eigenvalues
     from .engine.recovery import critical_recovery_rate, stable_recovery_intervals
@@ -44,12 +43,13 @@ if TYPE_CHECKING:
 __version__ = "0.1.0"
 
 #: subpackages imported on first attribute access, with their modules
-_SUBMODULES = {"capacity": "capacity", "control": "model.statespace", "design": "design", "examples": "io.examples", "fusion": "fusion",
+_SUBMODULES = {"capacity": "capacity", "control": "control", "design": "design", "examples": "io.examples", "fusion": "fusion",
                "montecarlo": "numeric.montecarlo", "network": "network", "second_order": "engine.second_order",
                "tables": "reports.tables"}
 #: public names imported on first access, with the module that defines them
 _LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "model.iid", "GilbertElliott": "model.gilbert_elliott",
-         "MarkovLoss": "model.markov", "Independent": "model.independent", "Selected": "model.subsets", "Sensor": "model.system", "System": "model.system",
+         "MarkovLoss": "model.markov", "Independent": "model.independent", "Selected": "model.subsets", "Sensor": "model.system", "Actuator": "model.system",
+         "System": "model.system",
          "eigen_blocks": "exact.spectral", "eigenvalues": "exact.spectral", "Verdict": "engine.stability",
          "critical_alpha": "engine.stability", "critical_loss_rate": "engine.stability",
          "critical_recovery_rate": "engine.recovery", "stability": "engine.stability",
@@ -59,12 +59,12 @@ _LAZY = {"AlgebraicNumber": "exact.algebraic", "IID": "model.iid", "GilbertEllio
          "verify_family": "io.family_verification", "Verification": "numeric.verify", "FamilyVerification": "io.family_verification",
          "simulate": "numeric.simulation", "Simulation": "numeric.simulation"}
 
-__all__ = ["SymkfError", "System", "Sensor", "IID", "GilbertElliott", "MarkovLoss", "Independent", "Selected", "AlgebraicNumber",
+__all__ = ["SymkfError", "System", "Sensor", "Actuator", "IID", "GilbertElliott", "MarkovLoss", "Independent", "Selected", "AlgebraicNumber",
            "eigen_blocks", "eigenvalues", "stability", "Verdict", "critical_loss_rate", "critical_alpha",
            "critical_recovery_rate", "stable_recovery_intervals", "stability_region", "stability_conditions",
            "StabilityRegion", "sweep", "load_family", "bounds", "verify", "verify_family", "Verification",
            "FamilyVerification", "simulate", "Simulation",
-           "capacity", "design", "fusion", "montecarlo", "network", "second_order", "tables"]
+           "capacity", "control", "design", "fusion", "montecarlo", "network", "second_order", "tables"]
 
 def __getattr__(name: str) -> Any:
     if name in _SUBMODULES:

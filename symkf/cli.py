@@ -153,7 +153,7 @@ def _print_demo(res: dict[str, Any]) -> None:
 def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
     from .io import files
     from .engine.stability import stability
-    system, loss = files.load(args.file)
+    system, loss, actuator_loss = files.load_loop(args.file)
     blocks = system.eigen_blocks()
     res: dict[str, Any] = {"system": str(args.file), "blocks": [b.to_dict() for b in blocks],
                            "_blocks": [_block_words(b) for b in blocks],
@@ -164,7 +164,42 @@ def cmd_analyze(args: argparse.Namespace) -> dict[str, Any]:
         res["loss"] = loss_json(loss)
         res["verdict"] = v.to_dict()
         res["_text"] = f"{v}\n  loss model: {loss.words()}"
+    if system.actuators:
+        res["control"], res["_control"] = _control_side(system, loss, actuator_loss)
     return res
+
+
+def _control_side(system: Any, loss: Any, actuator_loss: Any) -> tuple[dict[str, Any], str]:
+    """The control side of a file with actuators (Schenato et al., "Foundations of control and
+    estimation over lossy networks", 2007, Sections IV and V), as JSON and in words: the critical
+    control-packet arrival rate (exact or a certified bracket), with ``[actuator_loss]`` that model
+    and, with ``[loss]`` too, the TCP-like loop's verdict (bounded, unbounded or undecided: an
+    arrival rate inside the bracket decides nothing), and the UDP-like results."""
+    from .control import critical_arrival_rate, lqg_stable, udp_region
+    threshold, udp = critical_arrival_rate(system), udp_region(system)
+    out: dict[str, Any] = {"actuators": list(system.actuator_names), "critical_arrival_rate": threshold.to_dict()}
+    words = [f"control ({', '.join(system.actuator_names)}), TCP-like (acknowledged packets, one channel for "
+             f"all inputs): {threshold}"]
+    if actuator_loss is not None:
+        out["actuator_loss"] = loss_json(actuator_loss)
+        words.append(f"  actuator loss model: {actuator_loss.words()}")
+        if loss is None:
+            words.append("  loop: no verdict without a [loss] table for the sensors")
+        else:
+            loop = lqg_stable(system, loss, actuator_loss)
+            out["loop"] = loop.to_dict()
+            words.append(f"  loop: {loop}")
+    out["udp"] = udp.to_dict()
+    return out, "\n".join([*words, str(udp)])
+
+
+def _print_control(res: dict[str, Any]) -> None:
+    """A result for people (:func:`_print_plain`), its control side (``"control"``) in words after it."""
+    _print_plain({k: v for k, v in res.items() if k not in ("control", "_control")})
+    for line in res.get("_control", "").splitlines():
+        indent = " " * (len(line) - len(line.lstrip()))
+        print("\n".join(textwrap.wrap(line, 100, subsequent_indent=indent + "    ", break_long_words=False,
+                                       break_on_hyphens=False)))
 
 
 def _vary_common(system: Any, loss: Any, value: str, file: str) -> tuple[str, AlgebraicNumber, str]:
@@ -227,10 +262,37 @@ def cmd_critical(args: argparse.Namespace) -> dict[str, Any]:
     budget.check("max_digits", args.digits, "--digits", "the number of digits asked for")
     budget.check("max_memory", DIGIT_BYTES * args.digits, "--digits", "the bytes (estimate) of the digits asked "
                  f"for, {DIGIT_BYTES} per digit")
-    system, loss = files.load(args.file)
+    tolerance = None if args.tolerance is None else _tolerance(args.tolerance)   # refused before any work
+    system, loss, _ = files.load_loop(args.file)
+    if tolerance is not None and not system.actuators:
+        raise UsageError(f"{args.file}: --tolerance bounds the bracket of the critical control-packet arrival "
+                         "rate, and the file has no [[actuators]]")
     key, exact, how = VARY[kind](system, loss, value, args.file)
-    return {key: _number(exact, args.digits), "varied": how,
-            "theorem": "Sui-You-Fu Theorems 4/7 with eq. (36), hyperplane form"}
+    res: dict[str, Any] = {key: _number(exact, args.digits), "varied": how,
+                           "theorem": "Sui-You-Fu Theorems 4/7 with eq. (36), hyperplane form"}
+    if system.actuators:
+        region = _tcp_region(system, exact if key == "critical_loss_rate" and kind == "common" else None,
+                             "1e-12" if tolerance is None else tolerance)
+        res["control"], res["_control"] = region.to_dict(), str(region)
+    return res
+
+
+def _tcp_region(system: Any, eps_c: AlgebraicNumber | None, tolerance: Any) -> Any:
+    """The TCP-like region of Schenato et al. (2007, Section IV): ``gamma_c = 1 - eps_c`` (``eps_c``
+    reused when ``critical`` has just computed it) and ``nu_c`` to the bracket width ``tolerance``."""
+    from .control import TcpRegion, critical_arrival_rate, tcp_region
+    if eps_c is None:
+        return tcp_region(system, tolerance)
+    return TcpRegion(1 - eps_c, critical_arrival_rate(system, tolerance))
+
+
+def _tolerance(text: str) -> Any:
+    """``--tolerance`` as an exact rational in (0, 1), or a usage error naming the option."""
+    from .exact.numbers import to_rational
+    value = to_rational(text, "--tolerance")
+    if not 0 < value < 1:
+        raise UsageError(f"--tolerance: the bracket's width must lie in (0, 1), got {value}")
+    return value
 
 
 def _needs_loss(args: argparse.Namespace) -> tuple[Any, Any]:
@@ -371,6 +433,9 @@ def _args_critical(p: argparse.ArgumentParser) -> None:
     p.add_argument("file")
     p.add_argument("--vary", default="common", help="common | sensor=NAME | alpha | recovery | recovery=NAME")
     p.add_argument("--digits", type=_positive_int, default=15)
+    p.add_argument("--tolerance", default=None, metavar="WIDTH",
+                   help="a file with [[actuators]]: the width aimed at by the certified bracket of the critical "
+                   "control-packet arrival rate nu_c where no closed form applies (an exact number, default 1e-12)")
 
 
 def _args_simulation(p: argparse.ArgumentParser, horizon: int | None, paths: int | None) -> None:
@@ -542,9 +607,13 @@ def _cap_jobs(args: argparse.Namespace, command: str) -> None:
 
 register(Command("demo", "eigen-blocks, periods and critical loss rates of the example systems",
                  lambda p: None, cmd_demo, _print_demo))
-register(Command("analyze", "eigen-blocks, periods and, with a [loss] table, the exact verdict",
-                 lambda p: p.add_argument("file"), cmd_analyze))
-register(Command("critical", "an exact critical value with its isolating interval", _args_critical, cmd_critical))
+register(Command("analyze", "eigen-blocks, periods and, with a [loss] table, the exact verdict; with "
+                 "[[actuators]], the control side (critical control-packet arrival rate, the LQG loop's verdict "
+                 "under [loss] and [actuator_loss], the UDP-like results)",
+                 lambda p: p.add_argument("file"), cmd_analyze, _print_control))
+register(Command("critical", "an exact critical value with its isolating interval; with [[actuators]], also "
+                 "the TCP-like region (gamma_c, and nu_c exact or certified in a bracket)", _args_critical,
+                 cmd_critical, _print_control))
 register(Command("verify", "theory against simulation: the exact verdict beside a Monte Carlo divergence "
                  "test, for a system file or every member of a family file (in parallel with --jobs or "
                  "--scheduler); exit status 1 when they disagree",

@@ -87,6 +87,10 @@ class UnobservableError(AssumptionError):
     """(A, C) is not detectable: a mode with ``|lambda| >= 1`` that no sensor sees; the mode is named."""
 
 
+class UncontrollableError(AssumptionError):
+    """(A, B) is not stabilizable: a mode with ``|lambda| >= 1`` that no actuator reaches; the mode is named."""
+
+
 class SingularSystemError(AssumptionError):
     """A is singular where a theorem needs it invertible (Lemma 2, Sui-You-Fu)."""
 

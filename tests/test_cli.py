@@ -301,6 +301,7 @@ def _readable(text: str) -> list[str]:
 def test_text_output_is_words(capsys):
     commands = [["demo"], ["analyze", "aperiodic-rotation"], ["analyze", "ge-two-sensors"],
                 ["analyze", "quevedo-semi-markov-network"], ["critical", "rotation-pi12-four-sensors"],
+                ["analyze", "lqg-two-modes"], ["critical", "lqg-two-modes"],
                 ["examples"], ["reproduce", "sui-theorem12", "--quick"], ["reproduce", "--list"],
                 ["simulate", "ge-two-sensors", "--horizon", "12", "--paths", "60"],
                 ["verify", "design-rotation", "--paths", "300", "--horizon", "16"]]
@@ -463,3 +464,108 @@ def test_critical_text_reads_as_mathematics(capsys):
     assert "minimal polynomial 256x^15 - 1" in out and "**" not in out
     status, out, _ = run(capsys, "critical", "design-rotation")
     assert "critical_loss_rate = 1/16\n  = 0.0625" in out and "certified" not in out
+
+
+LQG = SYSTEMS / "lqg-two-modes.toml"   # A = [[5/4, 1], [0, 11/10]], B = e_2, sensor loss 1/5, actuator loss 1/10
+#: one channel carrying two inputs of A = diag(2, 3, 5): no closed form; the quotient bound of the
+#: whole plant, rank B = 2 and |det A|^2 = 900, is 1 - 900^(-1/2) = 29/30 (the quotients {5},
+#: {3, 5}, {2, 5} give 24/25, 14/15, 9/10), and the certificate lands within 1e-12 above it
+THREE_MODES = """[system]
+A = [["2", "0", "0"], ["0", "3", "0"], ["0", "0", "5"]]
+[[sensors]]
+C = [["1", "1", "1"]]
+[[actuators]]
+name = "u"
+B = [["1", "0"], ["0", "1"], ["1", "1"]]
+[loss]
+kind = "iid"
+loss = ["1/100"]
+[actuator_loss]
+kind = "iid"
+loss = ["LOSS"]
+"""
+
+
+def three_modes(tmp_path: Path, actuator_loss: str) -> Path:
+    path = tmp_path / "three.toml"
+    path.write_text(THREE_MODES.replace("LOSS", actuator_loss))
+    return path
+
+
+def test_analyze_adds_the_control_side_of_a_file_with_actuators(capsys):
+    # one input: nu_c = 1 - 1/(5/4 * 11/10)^2 = 1 - 64/121 = 57/121 < 9/10, the arrival rate of the
+    # file's control packets; the estimator: eps = 1/5 < eps_c = 1/rho(A)^2 = 16/25
+    status, out, err = run(capsys, "analyze", LQG, "--json")
+    assert status == 0 and err == ""
+    doc = json.loads(out)
+    control = doc["control"]
+    assert set(control) == {"actuators", "critical_arrival_rate", "actuator_loss", "loop", "udp"}
+    assert control["actuators"] == ["u"] and control["actuator_loss"] == {"kind": "iid", "loss": ["1/10"]}
+    nu_c = control["critical_arrival_rate"]
+    assert nu_c["exact"]["exact"] == nu_c["lower"]["exact"] == "57/121" and nu_c["reached"] is True
+    assert sp.Rational(57, 121) < sp.Rational(nu_c["upper"]) <= sp.Rational(57, 121) + sp.Rational(1, 10 ** 12)
+    assert control["loop"]["stable"] is True and control["loop"]["control"] is True
+    assert control["loop"]["estimation"]["stable"] is doc["verdict"]["stable"] is True
+    assert [r["status"] for r in control["udp"]["rows"]] == ["outer bound", "does not apply", "does not apply"]
+    status, out, _ = run(capsys, "analyze", LQG)
+    assert status == 0 and "nu_c = 57/121" in out and "loop: TCP-like LQG cost bounded" in out
+    assert "UDP-like LQG" in out and '"control"' not in out
+    status, out, _ = run(capsys, "analyze", GE, "--json")   # no actuators: no control side
+    assert status == 0 and "control" not in json.loads(out)
+
+
+def test_an_arrival_rate_inside_the_bracket_is_undecided_never_stable(capsys, tmp_path):
+    # nu = 29/30 + 10^-13 lies inside [29/30, upper]: the control side decides nothing, the exit
+    # status stays 0 (analyze reports verdicts, it does not grade them) and nothing says stable
+    path = three_modes(tmp_path, "1/30 - 1/10000000000000")
+    status, out, _ = run(capsys, "analyze", path, "--json")
+    loop = json.loads(out)["control"]["loop"]
+    assert status == 0 and loop["stable"] is None and loop["control"] is None
+    assert loop["estimation"]["stable"] is True and "inside the certified bracket" in loop["control_reason"]
+    status, out, _ = run(capsys, "analyze", path)
+    assert status == 0 and "TCP-like LQG cost undecided" in out and "cost bounded" not in out
+    status, out, _ = run(capsys, "analyze", three_modes(tmp_path, "1/20"), "--json")   # nu = 19/20 < 29/30
+    assert status == 0 and json.loads(out)["control"]["loop"]["stable"] is False
+
+
+def test_critical_gives_the_tcp_region_of_a_file_with_actuators(capsys, tmp_path):
+    status, out, err = run(capsys, "critical", LQG, "--json")
+    assert status == 0 and err == ""
+    doc = json.loads(out)
+    assert doc["critical_loss_rate"]["exact"] == "16/25"
+    region = doc["control"]
+    assert region["protocol"] == "TCP-like" and region["gamma_c"]["exact"] == "9/25"   # 1 - 16/25
+    assert region["nu_c"]["exact"]["exact"] == "57/121"
+    status, out, _ = run(capsys, "critical", LQG)
+    assert status == 0 and "gamma_c = 9/25" in out and "nu_c = 57/121" in out
+    status, out, _ = run(capsys, "critical", three_modes(tmp_path, "1/10"), "--json", "--tolerance", "1/1000")
+    nu_c = json.loads(out)["control"]["nu_c"]
+    assert status == 0 and nu_c["exact"] is None and nu_c["lower"]["exact"] == "29/30"
+    assert nu_c["tolerance"] == "1/1000" and nu_c["reached"] is True
+    assert sp.Rational(29, 30) < sp.Rational(nu_c["upper"]) <= sp.Rational(29, 30) + sp.Rational(1, 1000)
+    status, out, _ = run(capsys, "critical", three_modes(tmp_path, "1/10"))
+    assert status == 0 and "nu_c in [29/30" in out and "gamma_c = 24/25" in out   # eps_c = 1/rho(A)^2 = 1/25
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--tolerance", "2"], "--tolerance: the bracket's width must lie in (0, 1), got 2"),
+    (["--tolerance", "x"], "--tolerance"),
+])
+def test_critical_tolerance_out_of_range_is_a_usage_error(capsys, argv, message):
+    status, out, err = run(capsys, "critical", LQG, *argv)
+    assert status == 2 and out == "" and message in one_line(err)
+
+
+def test_critical_tolerance_on_a_file_without_actuators_names_the_missing_table(capsys):
+    status, _, err = run(capsys, "critical", GE, "--tolerance", "1/100")
+    assert status == 2 and "--tolerance" in one_line(err) and "no [[actuators]]" in err
+
+
+@pytest.mark.parametrize("command", ["analyze", "critical"])
+def test_an_unstable_mode_no_actuator_reaches_is_exit_3_naming_the_assumption(capsys, tmp_path, command):
+    path = tmp_path / "unreached.toml"   # B = e_1 never reaches the mode 3: no arrival rate stabilises
+    path.write_text('[system]\nA = [["2", "0"], ["0", "3"]]\n[[sensors]]\nC = [["1", "1"]]\n'
+                    '[[actuators]]\nB = [["1"], ["0"]]\n')
+    status, out, err = run(capsys, command, path)
+    assert status == 3 and out == ""
+    assert one_line(err).startswith(f"symkf {command}: {path}: (A, B) stabilizable") and "eigenvalue 3" in err

@@ -89,16 +89,26 @@ def test_cli_page_names_every_command_and_option():
         assert f"| {status} |" in page
 
 
-def test_json_page_documents_every_printed_key(capsys):
-    page = (DOCS / "json.md").read_text(encoding="utf-8")
-    ge = str(examples.system("ge-two-sensors"))
+def _printed(capsys, example: str) -> dict[str, dict]:
+    """The JSON documents of ``symkf analyze`` and ``symkf critical`` on a shipped example."""
     printed = {}
     for command in ("analyze", "critical"):
-        assert cli.main([command, ge, "--json"]) == 0
+        assert cli.main([command, str(examples.system(example)), "--json"]) == 0
         printed[command] = json.loads(capsys.readouterr().out)
+    return printed
+
+
+def test_json_page_documents_every_printed_key(capsys):
+    page = (DOCS / "json.md").read_text(encoding="utf-8")
+    printed = _printed(capsys, "ge-two-sensors")
     verdict = printed["analyze"]["verdict"]
     nested = [*verdict, *verdict["margins"][0], *printed["analyze"]["blocks"][0], *verdict["certificate"][0]]
-    for key in [*printed["analyze"], *printed["critical"], *nested]:
+    # the control side of a file with actuators
+    lqg = _printed(capsys, "lqg-two-modes")
+    control, region = lqg["analyze"]["control"], lqg["critical"]["control"]
+    nested += [*control, *control["critical_arrival_rate"], *control["loop"], *control["udp"],
+               *control["udp"]["rows"][0], *control["udp"]["rows"][0]["hypotheses"][0], *region, *region["nu_c"]]
+    for key in [*printed["analyze"], *printed["critical"], "control", *nested]:
         assert f"`{key}`" in page, f"docs/json.md does not document {key!r}"
     assert {"critical_loss_rate", "varied", "theorem"} <= set(printed["critical"])
 

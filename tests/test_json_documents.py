@@ -57,7 +57,8 @@ def test_losses_are_structured_objects(capsys) -> None:
     assert all(len(v) == 2 for v in chain["emit"])
 
 
-@pytest.mark.parametrize("argv", [("demo",), ("critical", QUARTER_TURN), ("reproduce", "--list")])
+@pytest.mark.parametrize("argv", [("demo",), ("critical", QUARTER_TURN), ("reproduce", "--list"),
+                                  ("analyze", SYSTEMS / "lqg-two-modes.toml"), ("critical", SYSTEMS / "lqg-two-modes.toml")])
 def test_every_document_carries_schema_version(capsys, argv) -> None:
     doc = json_of(capsys, *argv)
     assert doc["schema_version"] == cli.SCHEMA_VERSION

@@ -488,7 +488,7 @@ def test_hostile_values_sample(tmp_path, monkeypatch):
 #: the walk's share per subpackage, so that the full tier's workers take them in parallel
 SUBPACKAGES = ("symkf.arguments", "symkf.budget", "symkf.cli", "symkf.errors", "symkf.output", "symkf.reproduction",
                "symkf.exact", "symkf.run", "symkf.model", "symkf.engine", "symkf.numeric", "symkf.network",
-               "symkf.capacity", "symkf.fusion", "symkf.design", "symkf.io", "symkf.reports", "symkf.bounds")
+               "symkf.capacity", "symkf.fusion", "symkf.design", "symkf.control", "symkf.io", "symkf.reports", "symkf.bounds")
 
 
 @pytest.mark.full
@@ -522,7 +522,7 @@ def test_guard_refuses_string_evaluation():
 
 def _confirmed_holes(p: str) -> dict[str, Callable[[], Any]]:
     """The calls that created the marker file before the walk found them, each with its form."""
-    from symkf import control
+    from symkf.model import statespace as control
     from symkf.model import system as model, strategies
     from symkf.engine import oracle, region
     from symkf.exact import algebraic, field

@@ -462,7 +462,7 @@ def _significant(q: Fraction, n: int) -> tuple[int, int]:
     return mantissa, -shift
 
 
-def _terminating_decimal(q: Fraction) -> Decimal | None:
+def terminating_decimal(q: Fraction) -> Decimal | None:
     """``q`` as an exact Decimal when its denominator is ``2^a 5^b``; else None."""
     den, a, b = q.denominator, 0, 0
     while den % 2 == 0:
@@ -936,10 +936,10 @@ class AlgebraicNumber(JsonDocument):
         if not spec or m is None or not (m["kind"] or m["prec"]):
             return format(str(self), spec)
         spec = f"{m['head']}.{m['prec'] or 6}{m['kind']}"
-        if self.is_rational and (d := _terminating_decimal(self._value())) is not None:
+        if self.is_rational and (d := terminating_decimal(self._value())) is not None:
             return format(d, spec)
         while True:  # the end points' roundings agree once the interval is narrow (no ties)
-            lo, hi = (format(_terminating_decimal(e), spec) for e in self.interval)
+            lo, hi = (format(terminating_decimal(e), spec) for e in self.interval)
             if lo == hi:
                 return lo
             self.refine((self._hi - self._lo) / 2 ** 16)

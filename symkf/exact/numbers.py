@@ -708,15 +708,16 @@ def to_exact_matrix(rows: Any, entry: str, *, rationalize: bool | str = False,
     """Return a rectangular exact matrix; ``shape`` entries that are not None are enforced.
 
     A flat list or 1-D array is refused, or read as one row when ``vector == "row"`` (a sensor's
-    C).  Each dimension is checked against ``symkf.budget`` (``max_dimension``) before any entry
-    is converted.
+    C) and as one column when ``vector == "column"`` (an actuator's B).  Each dimension is
+    checked against ``symkf.budget`` (``max_dimension``) before any entry is converted.
     """
     if isinstance(rows, sp.MatrixBase) or hasattr(rows, "tolist"):
         rows = rows.tolist()
     if isinstance(rows, (str, bytes)) or not isinstance(rows, Sequence) or len(rows) == 0:
         raise ShapeError(f"{entry}: expected a non-empty list of rows, got {type(rows).__name__}")
-    if vector == "row" and not any(isinstance(r, Sequence) and not isinstance(r, (str, bytes)) for r in rows):
-        rows = [rows]
+    if vector in ("row", "column") and not any(isinstance(r, Sequence) and not isinstance(r, (str, bytes))
+                                               for r in rows):
+        rows = [rows] if vector == "row" else [[v] for v in rows]
     budget.check("max_dimension", len(rows), entry, "the number of rows")
     if not all(isinstance(r, Sequence) and not isinstance(r, (str, bytes)) for r in rows):
         raise ShapeError(f"{entry}: expected a list of rows (a list of lists)")

@@ -18,8 +18,8 @@ parameters, plus a grid of exact parameter values::
     [constants]                        # parameters fixed over the family
     alpha = "2"
 
-``kind = "template"`` takes ``[system]``, ``[[sensors]]`` and ``[loss]`` as in a
-system file, e.g. ``A = [["alpha*cos(theta)", "-alpha*sin(theta)"], ...]``; every
+``kind = "template"`` takes ``[system]``, ``[[sensors]]``, ``[[actuators]]`` (optional: the plant's
+inputs, for ``compute = "critical_arrival_rate"``) and ``[loss]`` as in a system file, e.g. ``A = [["alpha*cos(theta)", "-alpha*sin(theta)"], ...]``; every
 parameter is substituted as an exact parenthesised value into the text of each
 entry before it is parsed, so the member's numbers are exactly those of the
 equivalent system file.  ``kind = "rotation"`` builds ``A = alpha R(theta)`` with
@@ -63,9 +63,11 @@ from ..design.selection import select_sensors
 from ..engine.recovery import critical_recovery_rate
 from ..engine.stability import Verdict, critical_loss_rate, stability
 from ..run.sweep import sweep
+from ..control import critical_arrival_rate
 
 COMPUTE = ("critical_loss_rate", "stability", "critical_recovery_rate", "fewest_sensors",
-           "critical_loss_rate_per_sensor", "critical_recovery_rate_per_sensor", "stability_margin", "bounds")
+           "critical_loss_rate_per_sensor", "critical_recovery_rate_per_sensor", "stability_margin", "bounds",
+           "critical_arrival_rate")
 KINDS = ("template", "rotation")
 _FAMILY_KEYS = {"name", "description", "kind", "compute", "digits", "labels"}
 _ROTATION_A = [["alpha*cos(THETA)", "-alpha*sin(THETA)"], ["alpha*sin(THETA)", "alpha*cos(THETA)"]]
@@ -90,19 +92,19 @@ class Member:
 
     label: str                               # "period = 3, sensors = 2"
     point: tuple[tuple[str, sp.Expr], ...]   # grid coordinates, exact
-    tables: dict                             # {"system": ..., "sensors": [...], "loss": ... or None}
+    tables: dict                             # {"system": ..., "sensors": [...], "actuators": [...] or None,
+                                             #  "loss": ... or None}
     source: str                              # file name, for error messages
     rationalize: bool
     compute: str | tuple[str, ...]
 
     def system(self) -> tuple[System, Any]:
-        """The member's System and loss model (None without ``[loss]``), read by :func:`symkf.io.files.parse`,
-        so a member is validated exactly like a system file; errors name the family file and the grid point.
+        """The member's System (its actuators included) and loss model (None without ``[loss]``), read
+        by :func:`symkf.io.files.parse`, so a member is validated exactly like a system file; errors
+        name the family file and the grid point.
         """
         data = {"rationalize": self.rationalize, "system": {**self.tables["system"], "name": self.label},
-                "sensors": self.tables["sensors"]}
-        if self.tables["loss"] is not None:
-            data["loss"] = self.tables["loss"]
+                **{key: table for key, table in self.tables.items() if key != "system" and table is not None}}
         return files.parse(data, f"{self.source}: at {self.label}")
 
     @property
@@ -237,7 +239,8 @@ def _names(compute: str | Sequence[str]) -> tuple[str, ...]:
 
 
 #: the queries whose one column fits the grid layout (rows the first axis, columns the second)
-_ONE_COLUMN = ("critical_loss_rate", "stability", "critical_recovery_rate", "fewest_sensors", "stability_margin")
+_ONE_COLUMN = ("critical_loss_rate", "stability", "critical_recovery_rate", "fewest_sensors", "stability_margin",
+               "critical_arrival_rate")
 
 
 def _needs(loss: Any, capability: str, name: str, kind: str) -> tuple:
@@ -250,6 +253,13 @@ def _needs(loss: Any, capability: str, name: str, kind: str) -> tuple:
 
 def _critical_loss_rate(system: System, loss: Any) -> tuple[tuple[Column, Any], ...]:
     return ((QUERIES["critical_loss_rate"].heading, critical_loss_rate(system)),)
+
+
+def _critical_arrival_rate(system: System, loss: Any) -> tuple[tuple[Column, Any], ...]:
+    if not system.actuators:
+        raise InputError("compute = \"critical_arrival_rate\" needs actuators: [[actuators]] in the family file, "
+                         "or System(..., actuators=[Actuator(B=...)]) from the builder")
+    return ((QUERIES["critical_arrival_rate"].heading, critical_arrival_rate(system)),)
 
 
 def _stability(system: System, loss: Any) -> tuple[tuple[Column, Any], ...]:
@@ -338,6 +348,16 @@ QUERIES: dict[str, Query] = {q.name: q for q in (
            "exact critical recovery probability q_c(s) of each sensor's Gilbert-Elliott channel, the fail "
            "probabilities and the other channels' recovery fixed at the member's (stable iff q_s > q_c(s))"),
           Column("q_c", "$q_c$")),
+    Query("critical_arrival_rate", _critical_arrival_rate, False,
+          (r"critical control-packet arrival rate $\nu_c$ of TCP-like LQG control, every input on one i.i.d.\ "
+           r"channel (bounded cost iff $\nu > \nu_c$; Schenato et al.\ 2007, Section~IV): exact where a closed "
+           r"form applies, else a certified bracket $[\underline{\nu}, \overline{\nu}]$ (the quotient bound and a "
+           r"rate at which a rational gain is verified to stabilise the loop)",
+           "critical control-packet arrival rate nu_c of TCP-like LQG control, every input on one i.i.d. channel "
+           "(bounded cost iff nu > nu_c; Schenato et al. 2007, Section IV): exact where a closed form applies, "
+           "else a certified bracket [lower, upper] (the quotient bound and a rate at which a rational gain is "
+           "verified to stabilise the loop)"),
+          Column("critical arrival rate", r"$\nu_c$")),
 )}
 
 
@@ -459,7 +479,8 @@ def load_family(path: str | Path) -> Family:
     used = _strings(template)
     for key in [*grid, *fixed]:
         if key != "sensors" and not any(re.search(rf"\b{key}\b", s) for s in used):
-            raise _fail(path, f"parameter {key!r} appears in no entry of [system], [[sensors]] or [loss]")
+            raise _fail(path, f"parameter {key!r} appears in no entry of [system], [[sensors]], [[actuators]] "
+                              "or [loss]")
 
     budget.check("max_members", math.prod(len(a.values) for a in axes), str(path), "the number of family members")
     members = []
@@ -612,6 +633,7 @@ def _template(data: dict, kind: str, compute: str | tuple[str, ...], fixed: dict
     if not isinstance(system, dict):
         raise _fail(path, "[system] must be a table")
     sensors = data.get("sensors")
+    actuators = data.get("actuators")
     loss = data.get("loss")
     if kind == "rotation":
         params = set(grid) | set(fixed)
@@ -628,12 +650,16 @@ def _template(data: dict, kind: str, compute: str | tuple[str, ...], fixed: dict
         raise _fail(path, "[system]: missing key 'A' (kind = \"template\")")
     if not isinstance(sensors, list) or not sensors or not all(isinstance(s, dict) for s in sensors):
         raise _fail(path, "[[sensors]] must list at least one sensor table")
+    if actuators is not None and (not isinstance(actuators, list) or not all(isinstance(a, dict) for a in actuators)):
+        raise _fail(path, "[[actuators]] must list tables, one per actuator")
     if loss is not None and not isinstance(loss, dict):
         raise _fail(path, "[loss] must be a table")
+    if "critical_arrival_rate" in _names(compute) and not actuators:
+        raise _fail(path, "[[actuators]]: compute = \"critical_arrival_rate\" needs actuators")
     needing = [name for name in _names(compute) if name in QUERIES and QUERIES[name].needs_loss]
     if needing and loss is None:
         raise _fail(path, f"[loss]: compute = \"{needing[0]}\" needs a loss model")
-    return {"system": system, "sensors": sensors, "loss": loss}
+    return {"system": system, "sensors": sensors, "actuators": actuators, "loss": loss}
 
 
 def _strings(value: Any) -> list[str]:

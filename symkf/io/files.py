@@ -3,7 +3,11 @@
 A system file holds ``[system]`` (``A``, optional ``Q``, ``P0``, ``name``), a list
 ``[[sensors]]`` (``C``, optional ``R``, ``name``) and an optional ``[loss]`` table whose
 ``kind`` selects the loss model; :data:`KEYS` lists the keys each table may hold (a ``[loss]``
-table, those of its kind's model).
+table, those of its kind's model).  The plant of LQG control over lossy networks (Schenato,
+Sinopoli, Franceschetti, Poolla, Sastry, "Foundations of control and estimation over lossy
+networks", 2007, Section II) adds a list ``[[actuators]]`` (``B``, optional ``U``, ``name``), the
+state weight ``W`` in ``[system]`` and an optional ``[actuator_loss]`` table, of the same kinds as
+``[loss]`` with one channel per actuator (:func:`load_loop`).
 Numbers are integers, decimals (TOML ``0.1`` is exactly 1/10: the file's text is read, never
 a binary float) or strings read by :func:`symkf.exact.numbers.parse_exact` ("5/4",
 "sqrt(3)/2"); symbols are refused (a file gives numbers).  ``rationalize = true`` is accepted
@@ -49,7 +53,7 @@ from .. import budget, output
 from ..errors import FileFormatError, SymkfError
 from ..model.codec import built, check_keys, entry, exact_values, read_loss, within
 from ..model.loss import LossModel
-from ..model.system import Sensor, System
+from ..model.system import Actuator, Sensor, System
 
 if TYPE_CHECKING:
     from ..fusion import FusionModel
@@ -58,9 +62,10 @@ if TYPE_CHECKING:
 #: the keys each table may hold, by table ("" is the top level); any other key is refused (a
 #: misspelt optional key would otherwise be silently replaced by its default). A ``[loss]``
 #: table holds the keys of its kind's model (:func:`symkf.model.codec.loss_kinds`).
-KEYS = {"": {"system", "sensors", "loss", "rationalize", "design"}, "[system]": {"A", "Q", "P0", "name"},
+KEYS = {"": {"system", "sensors", "actuators", "loss", "actuator_loss", "rationalize", "design"},
+        "[system]": {"A", "Q", "P0", "W", "name"},
         "[design]": {"query", "costs", "weights", "critical_rate", "recovery_rate", "margin"},
-        "sensors": {"name", "C", "R"},
+        "sensors": {"name", "C", "R"}, "actuators": {"name", "B", "U"},
         "fusion file": {"fusion", "sensors", "rationalize"},
         "[fusion]": {"arrival", "A", "Q", "Ac", "Bc", "noise_variance", "Ts"}}
 
@@ -107,6 +112,14 @@ def load(path: str | Path) -> tuple[System, LossModel | None]:
     return parse(read_toml(path), str(path))
 
 
+def load_loop(path: str | Path) -> tuple[System, LossModel | None, LossModel | None]:
+    """Read a system file with its control loop: the system (its actuators included), the loss
+    model of its sensors' channels (``[loss]``) and that of its actuators' channels
+    (``[actuator_loss]``, one channel per actuator: Schenato et al., 2007, Section II), each None
+    when absent."""
+    return parse_loop(read_toml(path), str(path))
+
+
 def _rationalize(data: dict, source: str) -> bool:
     rationalize = data.get("rationalize", False)
     if not isinstance(rationalize, bool):
@@ -114,28 +127,43 @@ def _rationalize(data: dict, source: str) -> bool:
     return rationalize
 
 
-def _sensors(data: dict, source: str, rationalize: bool) -> list[Sensor]:
-    sensors_data = entry(data, "sensors", source)
-    if not isinstance(sensors_data, list) or not sensors_data:
-        raise FileFormatError(f"{source}: [[sensors]] must list at least one sensor")
-    # counted before a sensor's matrices are read (40,000 small sensors in a 1 MB file took 12 s)
-    within("max_sensors", len(sensors_data), f"{source}: [[sensors]]", "the number of sensors")
-    sensors = []
-    for i, s in enumerate(sensors_data):
-        where = f"{source}: sensors[{i}]"
-        if not isinstance(s, dict):
+#: a list of channels: its class and the keys of its matrix and weight
+_CHANNELS = {"sensors": (Sensor, "C", "R"), "actuators": (Actuator, "B", "U")}
+
+
+def _channels(data: dict, source: str, rationalize: bool, key: str = "sensors") -> list[Any]:
+    """The sensors (``[[sensors]]``, at least one) or actuators (``[[actuators]]``, optional)."""
+    kind, matrix, weight = _CHANNELS[key]
+    listed = entry(data, key, source, required=kind is Sensor)
+    if listed is None:
+        return []
+    if not isinstance(listed, list) or kind is Sensor and not listed:
+        raise FileFormatError(f"{source}: [[{key}]] must list " + (
+            "at least one sensor" if kind is Sensor else "tables, one per actuator"))
+    # counted before a channel's matrices are read (40,000 small sensors in a 1 MB file took 12 s)
+    within("max_sensors", len(listed), f"{source}: [[{key}]]", f"the number of {key}")
+    out = []
+    for i, c in enumerate(listed):
+        where = f"{source}: {key}[{i}]"
+        if not isinstance(c, dict):
             raise FileFormatError(f"{where} must be a table")
-        check_keys(s, KEYS["sensors"], where)
-        C, name = entry(s, "C", where), _name(s.get("name"), where)
-        sensors.append(built(lambda: Sensor(C=C, R=s.get("R"), name=name, rationalize=rationalize),
-                              f"sensors[{i}]"))
-    return sensors
+        check_keys(c, KEYS[key], where)
+        M, name = entry(c, matrix, where), _name(c.get("name"), where)
+        out.append(built(lambda: kind(M, c.get(weight), name=name, rationalize=rationalize), f"{key}[{i}]"))
+    return out
 
 
 def parse(data: dict, source: str) -> tuple[System, LossModel | None]:
     """The system and loss model of already-read TOML ``data``; errors are prefixed by ``source``
     (a file name, or a file and a family grid point).  The system's default name is the last
     path component of ``source``."""
+    system, loss, _ = parse_loop(data, source)
+    return system, loss
+
+
+def parse_loop(data: dict, source: str) -> tuple[System, LossModel | None, LossModel | None]:
+    """The system, the loss model of its sensors and that of its actuators of already-read TOML
+    ``data`` (:func:`load_loop`); errors are prefixed by ``source`` as :func:`parse`'s."""
     if "fusion" in data:
         raise FileFormatError(f"{source}: key 'fusion': a fusion file (arXiv:2012.04896) has no [system]; "
                               "read it with symkf.io.files.load_fusion")
@@ -147,24 +175,35 @@ def parse(data: dict, source: str) -> tuple[System, LossModel | None]:
     return built(lambda: _system_and_loss(data, source, rationalize), source)
 
 
-def _system_and_loss(data: dict, source: str, rationalize: bool) -> tuple[System, LossModel | None]:
+def _system_and_loss(data: dict, source: str, rationalize: bool
+                     ) -> tuple[System, LossModel | None, LossModel | None]:
     sysdata = entry(data, "system", source)
     if not isinstance(sysdata, dict):
         raise FileFormatError(f"{source}: [system] must be a table")
     check_keys(sysdata, KEYS["[system]"], f"{source}: [system]")
-    sensors = _sensors(data, source, rationalize)
+    sensors = _channels(data, source, rationalize)
+    actuators = _channels(data, source, rationalize, "actuators")
     system = System(A=entry(sysdata, "A", f"{source}: [system]"), sensors=sensors, Q=sysdata.get("Q"),
                     P0=sysdata.get("P0"), rationalize=rationalize,
-                    name=_name(sysdata.get("name"), f"{source}: [system]") or Path(source).stem)
-    return system, _loss(data.get("loss"), source, system.d, rationalize)
+                    name=_name(sysdata.get("name"), f"{source}: [system]") or Path(source).stem,
+                    actuators=actuators, W=sysdata.get("W"))
+    return (system, _loss(data, "loss", source, system.d, rationalize),
+            _loss(data, "actuator_loss", source, len(system.actuators), rationalize))
 
 
-def _loss(table: Any, source: str, d: int, rationalize: bool) -> LossModel | None:
+def _loss(data: dict, key: str, source: str, d: int, rationalize: bool) -> LossModel | None:
+    """The loss model of the table ``key``: ``loss`` (one channel per sensor) or ``actuator_loss``
+    (one per actuator)."""
+    table = data.get(key)
     if table is None:
         return None
     if not isinstance(table, dict):
-        raise FileFormatError(f"{source}: [loss] must be a table")
-    return read_loss(table, f"{source}: [loss]", d, rationalize)
+        raise FileFormatError(f"{source}: [{key}] must be a table")
+    channels = "sensor" if key == "loss" else "actuator"
+    if d == 0:
+        raise FileFormatError(f"{source}: [{key}] gives the losses of the {channels}s' channels, and the file "
+                              f"has no [[{channels}s]]")
+    return read_loss(table, f"{source}: [{key}]", d, rationalize, label=f"[{key}]", channels=channels)
 
 
 #: the queries of a ``[design]`` table (:mod:`symkf.design`)
@@ -235,7 +274,7 @@ def _fusion(data: dict, source: str, rationalize: bool) -> "FusionModel":
     if not isinstance(table, dict):
         raise FileFormatError(f"{where} must be a table")
     check_keys(table, KEYS["[fusion]"], where)
-    sensors = _sensors(data, source, rationalize)
+    sensors = _channels(data, source, rationalize)
     if "Ac" in table:
         keys, build = ("Ac", "Bc", "noise_variance", "Ts"), FusionModel.zoh
     else:

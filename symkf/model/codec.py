@@ -133,10 +133,13 @@ def built(build: Callable[[], Any], where: str) -> Any:
         raise located(exc, where) from None
 
 
-def read_loss(table: Mapping[str, Any], where: str, d: int, rationalize: bool | str = False) -> LossModel:
+def read_loss(table: Mapping[str, Any], where: str, d: int, rationalize: bool | str = False, *,
+              label: str = "[loss]", channels: str = "sensor") -> LossModel:
     """The loss model of a ``[loss]`` table, or of its JSON object (:meth:`LossModel.to_dict
     <symkf.model.loss.LossModel.to_dict>`: a lifted ``chain`` and the ``words`` of a report are
-    derived, and ignored), for ``d`` sensors; ``where`` prefixes errors."""
+    derived, and ignored), for ``d`` channels; ``where`` prefixes errors, ``label`` (the table)
+    the model's own, and ``channels`` says what the ``d`` channels are (``"actuator"`` for a
+    system file's ``[actuator_loss]``)."""
     table = {k: v for k, v in table.items() if k not in ("chain", "words")}
     kinds = loss_kinds()
     known = ", ".join(map(repr, kinds))
@@ -149,9 +152,9 @@ def read_loss(table: Mapping[str, Any], where: str, d: int, rationalize: bool | 
         raise FileFormatError(f"{where} kind {kind!r} is not one of {known} (a package may add kinds "
                               f"through the {GROUP!r} entry-point group)")
     check_keys(table, kinds[kind].keys, where)
-    model = built(lambda: kinds[kind].read_table(table, where, d, rationalize), "[loss]")
+    model = built(lambda: kinds[kind].read_table(table, where, d, rationalize), label)
     if model.d is not None and model.d != d:
-        raise FileFormatError(f"{where} gives {model.d} value(s) for {d} sensor(s)")
+        raise FileFormatError(f"{where} gives {model.d} value(s) for {d} {channels}(s)")
     return checked(model, d)
 
 

@@ -1,7 +1,11 @@
-"""Systems and sensors with exact data (Sui-You-Fu eqs. 1-3).
+"""Systems, sensors and actuators with exact data (Sui-You-Fu eqs. 1-3).
 
 ``x_{k+1} = A x_k + w_k``, ``y_k^i = C_i x_k + v_k^i`` with ``w ~ N(0, Q)``,
-``v^i ~ N(0, R_i)`` and ``x_0 ~ N(xbar_0, P0)``.  Every entry is exact (see
+``v^i ~ N(0, R_i)`` and ``x_0 ~ N(xbar_0, P0)``.  A system with actuators is the plant
+``x_{k+1} = A x_k + sum_i B_i u_k^i + w_k`` of LQG control over lossy networks, each actuator's
+packet ``u^i`` sent over its own lossy channel, with the cost ``E sum_k (x_k' W x_k + u_k' U u_k)``
+(Schenato, Sinopoli, Franceschetti, Poolla, Sastry, "Foundations of control and estimation over
+lossy networks", 2007, Section II).  Every entry is exact (see
 :mod:`symkf.exact.numbers`); covariances are checked Hermitian positive
 definite exactly (Sylvester's criterion with certified signs); the process noise ``Q`` may be
 singular (positive semidefinite, symmetric elimination with certified signs).
@@ -11,14 +15,14 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
 import sympy as sp
 
 from ..arguments import check_public
 from .. import budget
 from ..errors import (InputError, NotPositiveDefiniteError, ShapeError, SingularSystemError, SymkfError,
-                      UnobservableError)
+                      UncontrollableError, UnobservableError)
 from ..exact.algebraic import sign
 from ..output import JsonDocument
 from ..exact.numbers import as_matrix, decimal_matrix, rationalization, sympify, to_exact_matrix
@@ -162,19 +166,89 @@ class Sensor:
     rationalize: bool | str = False
 
     def __post_init__(self) -> None:
-        label = f"sensor {self.name!r}" if self.name else "sensor"
-        with rationalization("Sensor"):
-            C = to_exact_matrix(self.C, f"{label} C", rationalize=self.rationalize, vector="row")
-            R = _identity(C.shape[0]) if self.R is None else to_exact_matrix(
-                self.R, f"{label} R", rationalize=self.rationalize, shape=(C.shape[0], C.shape[0]))
-        object.__setattr__(self, "C", C)
-        check_positive_definite(R, f"{label} R")
-        object.__setattr__(self, "R", R)
+        _read_channel(self, "sensor", "C", "R", "row")
 
     @property
     def m(self) -> int:
         """Number of measurement channels m_i."""
         return self.C.shape[0]
+
+
+def _read_channel(channel: Any, kind: str, matrix: str, weight: str, vector: str) -> None:
+    """Read a channel's exact matrix and its Hermitian positive definite weight in place: a
+    sensor's ``C`` (rows are its outputs) and ``R``, an actuator's ``B`` (columns are its inputs)
+    and ``U``; the weight defaults to the identity of the channel's size."""
+    label = f"{kind} {channel.name!r}" if channel.name else kind
+    with rationalization(kind.capitalize()):
+        M = to_exact_matrix(getattr(channel, matrix), f"{label} {matrix}", rationalize=channel.rationalize,
+                            vector=vector)
+        k = M.shape[0] if vector == "row" else M.shape[1]
+        given = getattr(channel, weight)
+        W = _identity(k) if given is None else to_exact_matrix(
+            given, f"{label} {weight}", rationalize=channel.rationalize, shape=(k, k))
+    object.__setattr__(channel, matrix, M)
+    check_positive_definite(W, f"{label} {weight}")
+    object.__setattr__(channel, weight, W)
+
+
+@dataclass(frozen=True)
+class Actuator:
+    """One actuator: the columns ``B_i`` of the input matrix that its control packet ``u^i``
+    drives, with the weight ``U_i`` of ``u^i`` in the LQG cost; U defaults to I.
+
+    The plant is ``x_{k+1} = A x_k + sum_i nu_k^i B_i u_k^i + w_k`` where ``nu_k^i`` is 1 when
+    actuator ``i``'s packet arrives and 0 when it is lost, and the cost is
+    ``E sum_k (x_k' W x_k + nu_k u_k' U u_k)`` (Schenato, Sinopoli, Franceschetti, Poolla,
+    Sastry, "Foundations of control and estimation over lossy networks", 2007, Section II: the
+    plant and the LQG cost functional, here with one lossy channel per actuator).
+
+    Parameters
+    ----------
+    B : matrix-like
+        The ``n x m_i`` input matrix of this actuator (``m_i >= 1`` columns), exact entries as
+        for :class:`Sensor`; a flat list is one column.
+    U : matrix-like, optional
+        The ``m_i x m_i`` input weight of the LQG cost, Hermitian positive definite; default the
+        identity.
+    name : str, optional
+        The actuator's name; :class:`System` names an unnamed actuator ``a1``, ``a2``, ... by
+        its position.
+    rationalize : bool, default False
+        Accept binary floats, read as the exact rationals they denote.
+
+    Raises
+    ------
+    InputError
+        An entry is not an exact number (or a float without ``rationalize``).
+    ShapeError
+        ``U`` is not ``m_i x m_i``.
+    NotPositiveDefiniteError
+        ``U`` is not Hermitian positive definite (exact leading minors).
+
+    Examples
+    --------
+    >>> import symkf as sk
+    >>> a = sk.Actuator(B=[[0], [1]], name="thrust")
+    >>> a.m, a.U
+    (1, Matrix([[1]]))
+    >>> sk.Actuator(B=[[0], [1]], U=[[0]])
+    Traceback (most recent call last):
+    ...
+    symkf.errors.NotPositiveDefiniteError: actuator U: not positive definite, leading 1x1 minor is 0
+    """
+
+    B: Any
+    U: Any = None
+    name: str | None = None
+    rationalize: bool | str = False
+
+    def __post_init__(self) -> None:
+        _read_channel(self, "actuator", "B", "U", "column")
+
+    @property
+    def m(self) -> int:
+        """Number of inputs m_i (columns of B_i)."""
+        return self.B.shape[1]
 
 
 @dataclass(frozen=True)
@@ -200,18 +274,27 @@ class System(JsonDocument):
     P0 : matrix-like, optional
         Covariance of ``x_0``, Hermitian positive definite; default the identity.
     rationalize : bool, default False
-        Accept binary floats in ``A``, ``Q`` and ``P0`` as the rationals they denote.
+        Accept binary floats in ``A``, ``Q``, ``P0`` and ``W`` as the rationals they denote.
     name : str, optional
         A name for reports and tables.
+    actuators : sequence of Actuator, keyword only
+        The actuators of the LQG plant ``x_{k+1} = A x_k + B u_k + w_k`` with ``B = [B_1, ...,
+        B_c]`` (Schenato et al., 2007, Section II), each on its own lossy channel; names
+        distinct from each other and from the sensors' (unnamed ones become ``a1``, ``a2``, ...).
+        Default none: an estimation-only system.
+    W : matrix-like, keyword only, optional
+        State weight of the LQG cost ``E sum_k (x_k' W x_k + u_k' U u_k)``, Hermitian positive
+        semidefinite; default the identity.
 
     Raises
     ------
     InputError
-        No sensor, a non-:class:`Sensor` entry, repeated names, or an inexact entry.
+        No sensor, a non-:class:`Sensor` or non-:class:`Actuator` entry, repeated names (an
+        actuator's included), or an inexact entry.
     ShapeError
-        ``A`` is not square, or a ``C_i``, ``Q`` or ``P0`` does not fit ``n``.
+        ``A`` is not square, or a ``C_i``, ``B_i``, ``Q``, ``P0`` or ``W`` does not fit ``n``.
     NotPositiveDefiniteError
-        ``Q`` is not Hermitian positive semidefinite or ``P0`` not positive definite.
+        ``Q`` or ``W`` is not Hermitian positive semidefinite or ``P0`` not positive definite.
     UnobservableError
         ``(A, C)`` is not detectable; the message names the unseen eigenvalue.
 
@@ -245,6 +328,8 @@ class System(JsonDocument):
     P0: Any = None
     rationalize: bool | str = False
     name: str | None = None
+    actuators: Sequence[Actuator] = field(default=(), kw_only=True)
+    W: Any = field(default=None, kw_only=True)
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False, hash=False)
 
     def __getstate__(self) -> dict:
@@ -279,27 +364,44 @@ class System(JsonDocument):
             raise ShapeError(f"A: must be square, got {A.shape[0]}x{A.shape[1]}")
         n = A.shape[0]
         object.__setattr__(self, "A", A)
-        sensors = list(self.sensors) if isinstance(self.sensors, Sequence) else [self.sensors]
-        if not sensors:
+        if isinstance(self.sensors, Sequence) and not self.sensors:
             raise InputError("sensors: at least one sensor is needed")
-        budget.check("max_sensors", len(sensors), "sensors", "the number of sensors")
-        names = []
-        for i, s in enumerate(sensors):
-            if not isinstance(s, Sensor):
-                raise InputError(f"sensors[{i}]: expected a symkf.Sensor, got {type(s).__name__}")
-            if s.C.shape[1] != n:
-                raise ShapeError(f"sensor {s.name or i!r} C: has {s.C.shape[1]} columns, A is {n}x{n}")
-            names.append(s.name or f"s{i + 1}")
-        if len(set(names)) != len(names):
-            raise InputError(f"sensors: names must be distinct, got {names}")
-        object.__setattr__(self, "sensors", tuple(
-            s if s.name else Sensor(s.C, s.R, name=names[i]) for i, s in enumerate(sensors)))
-        for key, check in (("Q", check_positive_semidefinite), ("P0", check_positive_definite)):
+        self._channels("sensors", Sensor, n)
+        self._channels("actuators", Actuator, n, taken=self.sensor_names)
+        for key, check in (("Q", check_positive_semidefinite), ("P0", check_positive_definite),
+                           ("W", check_positive_semidefinite)):
             value = getattr(self, key)
             M = _identity(n) if value is None else to_exact_matrix(
                 value, key, rationalize=self.rationalize, shape=(n, n))
             check(M, key)
             object.__setattr__(self, key, M)
+
+    def _channels(self, key: str, kind: type, n: int, taken: Sequence[str] = ()) -> None:
+        """Check and name the sensors (``key = "sensors"``, the rows of ``C``) or the actuators
+        (``"actuators"``, the columns of ``B``) in place: each of ``kind``, fitting ``n``, counted
+        against ``max_sensors`` before any is looked at, unnamed ones named by position (``s1``,
+        ``a1``, ...), names distinct and none of them in ``taken``."""
+        value = getattr(self, key)
+        items = list(value) if isinstance(value, Sequence) else [value]
+        budget.check("max_sensors", len(items), key, f"the number of {key}")
+        matrix, axis = ("C", 1) if kind is Sensor else ("B", 0)
+        names = []
+        for i, c in enumerate(items):
+            if not isinstance(c, kind):
+                raise InputError(f"{key}[{i}]: expected a symkf.{kind.__name__}, got {type(c).__name__}")
+            M = getattr(c, matrix)
+            if M.shape[axis] != n:
+                raise ShapeError(f"{key}[{i}].{matrix}{f' ({c.name!r})' if c.name else ''}: has {M.shape[axis]} "
+                                 f"{('rows', 'columns')[axis]}, A is {n}x{n}")
+            names.append(c.name or f"{key[0]}{i + 1}")
+        if len(set(names)) != len(names):
+            raise InputError(f"{key}: names must be distinct, got {names}")
+        clash = [name for name in names if name in taken]
+        if clash:
+            raise InputError(f"{key}: the name {clash[0]!r} is also a sensor's; a system's sensors and actuators "
+                             "share one namespace (files and commands name either by it), so rename one")
+        object.__setattr__(self, key, tuple(c if c.name else dataclasses.replace(c, name=names[i])
+                                            for i, c in enumerate(items)))
 
     @property
     def n(self) -> int:
@@ -326,14 +428,46 @@ class System(JsonDocument):
         """The sensors' names, in order."""
         return tuple(s.name for s in self.sensors)
 
+    @property
+    def B(self) -> sp.ImmutableMatrix:
+        """The input matrix ``B = [B_1, ..., B_c]`` of the actuators side by side (Schenato et al.,
+        2007, Section II); ``n x 0`` when the system has no actuator."""
+        return sp.ImmutableMatrix(sp.Matrix.hstack(sp.zeros(self.n, 0), *[a.B for a in self.actuators]))
+
+    @property
+    def U(self) -> sp.ImmutableMatrix:
+        """Block-diagonal ``U = diag(U_1, ..., U_c)``, the input weight of the LQG cost; ``0 x 0``
+        without actuators."""
+        return sp.ImmutableMatrix(sp.diag(*[a.U for a in self.actuators]))
+
+    @property
+    def inputs(self) -> int:
+        """Number of inputs: the columns of ``B`` (``len(system.actuators)`` counts the channels)."""
+        return sum(a.m for a in self.actuators)
+
+    @property
+    def actuator_names(self) -> tuple[str, ...]:
+        """The actuators' names, in order."""
+        return tuple(a.name for a in self.actuators)
+
+    def _pbh(self, key: str, A: sp.MatrixBase, C: sp.MatrixBase) -> frozenset:
+        """The eigenvalue keys that :func:`symkf.exact.spectral.unseen` finds for ``(A, C)``, cached under ``key``."""
+        cached = self._cache.get(key)
+        if cached is None:
+            from ..exact.spectral import unseen
+            cached = self._cache[key] = unseen(A, C)
+        return cached
+
     def unseen(self, lam: "Eigenvalue") -> bool:
         """PBH test: whether the eigenvalue ``lam`` (a :class:`~symkf.exact.spectral.Eigenvalue` of A)
         has an eigenvector in the kernel of every C_i (:func:`symkf.exact.spectral.unseen`, cached)."""
-        cached = self._cache.get("unseen")
-        if cached is None:
-            from ..exact.spectral import unseen
-            cached = self._cache["unseen"] = unseen(self.A, self.C)
-        return lam.key in cached
+        return lam.key in self._pbh("unseen", self.A, self.C)
+
+    def unreached(self, lam: "Eigenvalue") -> bool:
+        """PBH test, the control dual of :meth:`unseen`: whether no actuator reaches the eigenvalue
+        ``lam`` of A, i.e. ``rank [A - lam I, B] < n``: a left eigenvector ``w' A = lam w'`` with
+        ``w' B = 0``, an eigenvector of ``A'`` in the kernel of ``B'`` (cached)."""
+        return lam.key in self._pbh("unreached", self.A.T, self.B.T)
 
     @property
     def noise_definite(self) -> bool:
@@ -365,19 +499,77 @@ class System(JsonDocument):
                 lam for block in self.eigen_blocks() for lam in block.members if lam.key in keys)
         return cached
 
+    def _full_rank(self, key: str, A: sp.MatrixBase, C: sp.MatrixBase, missed: Any) -> bool:
+        """Whether ``(A, C)`` is observable (cached under ``key``): the exact rank of
+        ``col{C, CA, ..., CA^(n-1)}`` over Q, else no eigenvalue ``missed`` (Hautus), decided per
+        diagonal block of A in its own field.  ``(A', B')`` gives controllability."""
+        cached = self._cache.get(key)
+        if cached is None:
+            if all(sympify(v).is_Rational for M in (A, C) for v in M):
+                from ..exact.linalg import rank
+                cached = C.rows > 0 and rank(sp.Matrix.vstack(*[C * A ** k for k in range(self.n)])) == self.n
+            else:
+                cached = not any(missed(e) for b in self.eigen_blocks() for e in b.members)
+            self._cache[key] = cached
+        return cached
+
     @property
     def observable(self) -> bool:
         """Whether ``(A, C)`` is observable (cached): the exact rank of the observability matrix
         over Q, else no eigenvalue unseen (Hautus), decided per diagonal block of A in its own field."""
-        cached = self._cache.get("observable")
+        return self._full_rank("observable", self.A, self.C, self.unseen)
+
+    @property
+    def controllable(self) -> bool:
+        """Whether ``(A, B)`` is controllable (cached), as :attr:`observable` decides ``(A', B')``;
+        False without actuators (for ``n >= 1``)."""
+        return self._full_rank("controllable", self.A.T, self.B.T, self.unreached)
+
+    @property
+    def stabilizable(self) -> bool:
+        """Whether ``(A, B)`` is stabilizable (cached): ``rank [A - lambda I, B] = n`` for every
+        eigenvalue with ``|lambda| >= 1`` (PBH), the assumption under which the LQG controller of
+        Schenato et al. (2007, Section II) exists without losses.  True when every mode is stable,
+        even without actuators."""
+        cached = self._cache.get("stabilizable")
         if cached is None:
-            if all(sympify(v).is_Rational for M in (self.A, self.C) for v in M):
-                from ..exact.linalg import rank
-                cached = rank(sp.Matrix.vstack(*[self.C * self.A ** k for k in range(self.n)])) == self.n
-            else:
-                cached = not any(self.unseen(e) for b in self.eigen_blocks() for e in b.members)
-            self._cache["observable"] = cached
+            cached = self._cache["stabilizable"] = self._unreached_unstable() is None
         return cached
+
+    def _unreached_unstable(self) -> tuple[Any, "Eigenvalue"] | None:
+        """The first (block, eigenvalue) with ``|lambda| >= 1`` that no actuator reaches, or None."""
+        if self.controllable:
+            return None
+        return next(((block, lam) for block in self.eigen_blocks() if not block.is_stable
+                     for lam in block.members if self.unreached(lam)), None)
+
+    def check_stabilizable(self) -> None:
+        """Raise :class:`~symkf.errors.UncontrollableError` naming an eigenvalue with
+        ``|lambda| >= 1`` that no actuator reaches (PBH: ``rank [A - lambda I, B] < n``).
+
+        Stabilizability of ``(A, B)`` is what LQG control needs (Schenato et al., 2007, Section
+        II); a mode with ``|lambda| < 1`` that no actuator reaches decays by itself.  Not checked
+        at construction: an estimation-only system has no actuator.
+
+        >>> import symkf as sk
+        >>> S = sk.System(A=[[2, 0], [0, "1/2"]], sensors=[sk.Sensor(C=[[1, 1]])],
+        ...               actuators=[sk.Actuator(B=[[0], [1]], name="u")])
+        >>> S.stabilizable
+        False
+        >>> S.check_stabilizable()  # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+        ...
+        symkf.errors.UncontrollableError: (A, B) stabilizable: ... the eigenvalue 2 of A ...
+        """
+        if self.stabilizable:
+            return
+        block, lam = self._unreached_unstable()
+        raise UncontrollableError(
+            f"the eigenvalue {lam.expr} of A (|lambda| = {block.modulus} >= 1) is not reached by any actuator"
+            + ("" if self.actuators else " (the system has none)") + ", so (A, B) is not stabilizable",
+            assumption="(A, B) stabilizable: PBH rank [A - lambda I, B] = n for |lambda| >= 1",
+            applies_instead=f"add an actuator acting on the mode of {lam.expr} (a column of B not orthogonal to "
+                            "its left eigenvector), or estimation alone (symkf.stability), which needs no actuator")
 
     def check_detectable(self) -> None:
         """Raise :class:`UnobservableError` naming an eigenvalue with ``|lambda| >= 1`` that no sensor sees.
@@ -439,75 +631,119 @@ class System(JsonDocument):
                                       assumption="Lemma 2 (Sui-You-Fu): A invertible")
 
     def __repr__(self) -> str:
-        """Short: the size, the sensors and A (the matrices in full: ``.A``, ``.C``, ``.Q``, ``.P0``)."""
+        """Short: the size, the sensors, the actuators if any, and A (the matrices in full: ``.A``,
+        ``.C``, ``.B``, ``.Q``, ``.P0``)."""
         def rows(M: Any) -> str:
             return "[" + ", ".join("[" + ", ".join(map(str, M.row(i))) + "]" for i in range(M.rows)) + "]"
+
+        def listed(channels: Sequence[Any], matrix: str, what: str) -> str:
+            shown = ", ".join(f"{c.name} " + (rows(getattr(c, matrix)) if self.n <= 4 else
+                                              "<{}x{}>".format(*getattr(c, matrix).shape)) for c in channels[:8])
+            return f"{what}: {shown}" + (f", ... ({len(channels)} {what})" if len(channels) > 8 else "")
         A = rows(self.A) if self.n <= 4 else f"<{self.n}x{self.n}>"
-        shown = ", ".join(f"{s.name} {rows(s.C) if self.n <= 4 else f'<{s.m}x{self.n}>'}" for s in self.sensors[:8])
-        more = f", ... ({self.d} sensors)" if self.d > 8 else ""
         name = f"{self.name!r}, " if self.name else ""
-        return f"System({name}n={self.n}, A={A}, sensors: {shown}{more})"
+        acting = f", {listed(self.actuators, 'B', 'actuators')}" if self.actuators else ""
+        return f"System({name}n={self.n}, A={A}, {listed(self.sensors, 'C', 'sensors')}{acting})"
 
     def to_dict(self) -> dict[str, Any]:
-        """The system file's tables (``[system]`` with the name when there is one, ``[[sensors]]``:
-        docs/formats.md), entries as exact strings that the file reader takes back."""
+        """The system file's tables (``[system]`` with the name when there is one, ``[[sensors]]``,
+        and ``[[actuators]]`` with ``W`` in ``[system]`` when the system has actuators or a ``W``
+        other than I: docs/formats.md), entries as exact strings that the file reader takes back."""
         def rows(M: Any) -> list[list[str]]:
             return [[str(v) for v in M.row(i)] for i in range(M.rows)]
         named: dict[str, Any] = {"name": self.name} if self.name else {}
-        return {"system": {"A": rows(self.A), "Q": rows(self.Q), "P0": rows(self.P0), **named},
-                "sensors": [{"name": s.name, "C": rows(s.C), "R": rows(s.R)} for s in self.sensors]}
+        control = bool(self.actuators) or self.W != _identity(self.n)
+        weighted: dict[str, Any] = {"W": rows(self.W)} if control else {}
+        acting = {"actuators": [{"name": a.name, "B": rows(a.B), "U": rows(a.U)} for a in self.actuators]} \
+            if self.actuators else {}
+        return {"system": {"A": rows(self.A), "Q": rows(self.Q), "P0": rows(self.P0), **weighted, **named},
+                "sensors": [{"name": s.name, "C": rows(s.C), "R": rows(s.R)} for s in self.sensors], **acting}
 
     def _repr_latex_(self) -> str:
-        """``A`` and the stacked ``C`` (Sui-You-Fu eq. 3) for a notebook."""
+        """``A``, the stacked ``C`` (Sui-You-Fu eq. 3) and, with actuators, ``B`` (Schenato et al.,
+        2007, Section II) for a notebook."""
         names = ", ".join(self.sensor_names)
-        return (rf"$x_{{k+1}} = {sp.latex(self.A)}\, x_k + w_k,\quad y_k = {sp.latex(self.C)}\, x_k + v_k"
-                rf"\quad(\text{{sensors {names}}})$")
+        acting = rf" + {sp.latex(self.B)}\, u_k" if self.actuators else ""
+        actuators = f"; actuators {', '.join(self.actuator_names)}" if self.actuators else ""
+        return (rf"$x_{{k+1}} = {sp.latex(self.A)}\, x_k{acting} + w_k,\quad y_k = {sp.latex(self.C)}\, x_k + v_k"
+                rf"\quad(\text{{sensors {names}{actuators}}})$")
 
     def sensor_index(self, name: str) -> int:
         """Position of the sensor called ``name``; :class:`~symkf.errors.InputError` listing the names if none."""
-        try:
-            return self.sensor_names.index(name)
-        except ValueError:
-            raise InputError(f"no sensor named {name!r}; sensors are {list(self.sensor_names)}") from None
+        return _position(self.sensor_names, name, "sensor")
+
+    def actuator_index(self, name: str) -> int:
+        """Position of the actuator called ``name``; :class:`~symkf.errors.InputError` listing the names if none."""
+        return _position(self.actuator_names, name, "actuator")
 
     @classmethod
-    def from_statespace(cls, sys: Any, sensors: Any = None, *, Q: Any = None, R: Any = None, P0: Any = None,
-                        rationalize: bool | str = False, name: str | None = None) -> System:
-        """The system ``(A, C)`` of a discrete-time python-control ``StateSpace`` (only ``A`` and
-        ``C`` are used; python-control carries no noise, so ``Q``, ``P0`` and the sensors' ``R``,
-        a mapping from sensor name to matrix, are given here and default to identities).
+    def from_statespace(cls, sys: Any, sensors: Mapping[str, Iterable[int]] | Sequence[str] | None = None,
+                        actuators: Mapping[str, Iterable[int]] | Sequence[str] | None = None, *, Q: Any = None,
+                        R: Mapping[str, Any] | None = None, P0: Any = None, W: Any = None,
+                        U: Mapping[str, Any] | None = None, rationalize: bool | str = False,
+                        name: str | None = None) -> System:
+        """The system ``(A, C)``, with its actuators ``B``, of a discrete-time python-control
+        ``StateSpace`` (``D`` is not used; python-control carries no noise and no cost, so ``Q``,
+        ``P0``, ``W``, the sensors' ``R`` and the actuators' ``U``, mappings from name to matrix,
+        are given here and default to identities).
 
         ``sensors`` splits the rows of ``C``: a mapping from sensor name to row indices, a list
         of names (one row each), or None (one sensor per row, named by ``sys.output_labels``);
-        see :func:`symkf.model.statespace.statespace_parts`. python-control stores float64, so
+        ``actuators`` splits the columns of ``B`` likewise (None: one actuator per input, named
+        by ``sys.input_labels``; none when ``B`` is zero, as the ``no_input`` of
+        :meth:`to_statespace` without actuators); see
+        :func:`symkf.model.statespace.statespace_parts`. python-control stores float64, so
         entries that are not exact in binary need ``rationalize`` (True: the shortest decimal;
         ``"nearby"``: a nearby exact constant).
 
         >>> import control as ct
-        >>> plant = ct.ss([[0, -2], [2, 0]], [[0], [1]], [[1, 0], [1, 1]], 0, dt=1)
+        >>> plant = ct.ss([[0, -2], [2, 0]], [[0], [1]], [[1, 0], [1, 1]], 0, dt=1, inputs=["u"])
         >>> S = System.from_statespace(plant, {"s1": [0], "s2": [1]}, rationalize=True)
-        >>> S.sensor_names, S.A.tolist()
-        (('s1', 's2'), [[0, -2], [2, 0]])
+        >>> S.sensor_names, S.actuator_names, S.A.tolist(), S.B.tolist()
+        (('s1', 's2'), ('u',), [[0, -2], [2, 0]], [[0], [1]])
         """
         from .statespace import statespace_parts
-        A, parts = statespace_parts(sys, sensors, R)
-        return cls(A=A, Q=Q, P0=P0, rationalize=rationalize, name=name or sys.name,
-                   sensors=[Sensor(C=C, R=Rs, name=s, rationalize=rationalize) for s, (C, Rs) in parts.items()])
+        A, parts, inputs = statespace_parts(sys, sensors, R, actuators, U)
+        return cls(A=A, Q=Q, P0=P0, W=W, rationalize=rationalize, name=name or sys.name,
+                   sensors=[Sensor(C=C, R=Rs, name=s, rationalize=rationalize) for s, (C, Rs) in parts.items()],
+                   actuators=[Actuator(B=B, U=Ua, name=a, rationalize=rationalize) for a, (B, Ua) in inputs.items()])
 
     def to_statespace(self, B: Any = None, D: Any = None, dt: float | bool = 1) -> Any:
-        """This system as a python-control ``StateSpace`` (float64, the ``control`` extra): ``A`` and
-        the stacked ``C``, the rows of sensor ``s`` with ``m`` rows labelled ``s`` (``m = 1``) or
-        ``s[0]``, ..., ``s[m-1]``; ``B``, ``D`` and ``dt`` as :func:`symkf.model.statespace.statespace_of`
-        (default: one input that does not act, ``dt = 1``: one step of ``x_{k+1} = A x_k + w_k``).  ``Q`` and ``R`` for ``control.dlqe``
-        are :func:`~symkf.model.statespace.float_matrix` of ``Q`` and ``R``.
+        """This system as a python-control ``StateSpace`` (float64, the ``control`` extra): ``A``,
+        the stacked ``C`` and the actuators' ``B``; the rows of sensor ``s`` with ``m`` rows
+        labelled ``s`` (``m = 1``) or ``s[0]``, ..., ``s[m-1]``, the inputs of each actuator
+        likewise.  A ``B`` given here replaces the actuators' (inputs labelled by python-control);
+        ``B``, ``D`` and ``dt`` as :func:`symkf.model.statespace.statespace_of` (default without
+        actuators: one input that does not act, ``dt = 1``: one step of ``x_{k+1} = A x_k + w_k``).
+        ``Q`` and ``R`` for ``control.dlqe`` are :func:`~symkf.model.statespace.float_matrix` of
+        ``Q`` and ``R``.
 
         >>> S = System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]], name="s1")])
         >>> G = S.to_statespace()
         >>> G.output_labels, G.input_labels, G.dt
         (['s1'], ['no_input'], 1)
+        >>> S = System(A=S.A, sensors=S.sensors, actuators=[Actuator(B=[[0], [1]], name="u")])
+        >>> S.to_statespace().input_labels
+        ['u']
         """
-        from .statespace import statespace_of
-        labels = [s.name if s.m == 1 else f"{s.name}[{j}]" for s in self.sensors for j in range(s.m)]
-        return statespace_of(self.A, self.C, labels, self.name, B, D, dt)
+        from .statespace import float_matrix, statespace_of
+        inputs = None
+        if B is None and self.actuators:
+            B, inputs = float_matrix(self.B, "B"), _labels(self.actuators)
+        return statespace_of(self.A, self.C, _labels(self.sensors), self.name, B, D, dt, inputs=inputs)
+
+
+def _labels(channels: Sequence[Any]) -> list[str]:
+    """One label per output of the sensors (or input of the actuators): ``s`` for a single one,
+    ``s[0]``, ..., ``s[m-1]`` for ``m`` of them."""
+    return [c.name if c.m == 1 else f"{c.name}[{j}]" for c in channels for j in range(c.m)]
+
+
+def _position(names: tuple[str, ...], name: str, kind: str) -> int:
+    try:
+        return names.index(name)
+    except ValueError:
+        raise InputError(f"no {kind} named {name!r}; {kind}s are {list(names)}") from None
+
 
 check_public(globals())

@@ -9,7 +9,8 @@ certified isolating interval.
 
 * :func:`family_table` -- the queries of a parameter family (a TOML family file or one built in
   memory, see :mod:`symkf.io.families`): critical loss and recovery rates, common or per sensor,
-  verdicts, margins, the fewest stable sensors, the published bounds, evaluated with
+  verdicts, margins, the fewest stable sensors, the published bounds, the critical control-packet
+  arrival rate of LQG control (exact, or its certified bracket ``[lower, upper]``), evaluated with
   :func:`symkf.run.sweep.sweep`;
 * :func:`verdict_table` -- the stability verdicts of system files with a ``[loss]``
   (by default the papers' examples, ``symkf/io/examples/systems/``).
@@ -35,11 +36,12 @@ from ..arguments import check_public
 from ..io import examples
 from .. import output
 from ..errors import InputError
-from ..exact.algebraic import AlgebraicNumber
+from ..exact.algebraic import AlgebraicNumber, terminating_decimal
 from ..exact.text import algebraic_text, number_text
 from ..io.families import Column, Family, Inapplicable, Member, Outcome, load_family
 from ..design.selection import Selection
 from ..engine.stability import Verdict
+from ..control import ControlThreshold
 from ..run.sweep import sweep
 
 _ENGINE = ("symkf (Sui--You--Fu Theorems~4 and~7 with eq.~(36), hyperplane form; the rows "
@@ -199,6 +201,9 @@ def _value_cell(value: Any, member: Member, periods: Sequence[int], digits: int)
         word = "stable" if value.stable else "unstable"
         return Cell(f"{word}, {margin.plain}", _stack(word, margin.latex), rf"\text{{{word}}},\ {margin.math}",
                     {**where, "stable": value.stable, "margin": margin.data, "theorem": value.theorem})
+    if isinstance(value, ControlThreshold):
+        cell = _threshold_cell(value, digits)
+        return Cell(cell.plain, cell.latex, cell.math, {**where, **cell.data})
     if isinstance(value, Selection):
         if value.indices is None:
             return Cell("none", "none", r"\text{none}", {**where, "sensors": None})
@@ -207,6 +212,27 @@ def _value_cell(value: Any, member: Member, periods: Sequence[int], digits: int)
                     rf"{len(value.indices)}\ (\text{{{escape(names)}}})", {**where, "sensors": list(value.sensors)})
     cell = Cell.number(value, digits)
     return Cell(cell.plain, cell.latex, cell.math, {**where, **cell.data})
+
+
+def _threshold_cell(value: ControlThreshold, digits: int) -> Cell:
+    """The critical control-packet arrival rate ``nu_c`` (:func:`symkf.control.critical_arrival_rate`):
+    where a closed form applies, its exact value as every exact cell; else the certified bracket
+    ``[lower, upper]``, ``lower`` the exact quotient bound and ``upper`` the exact rational at which
+    a gain is verified (in decimal when it terminates, as the certificate's rates do).  The JSON
+    data of a bracket has ``lower`` (an exact number), ``upper`` and ``width_at_most`` (exact
+    rationals) and ``reached`` (the tolerance)."""
+    if value.exact is not None:
+        return Cell.number(value.exact, digits)
+    lower = Cell.number(value.lower, digits)
+    upper = terminating_decimal(value.upper)
+    upper_text = str(value.upper) if upper is None else format(upper, "f")
+    upper_latex = sp.latex(sp.Rational(value.upper.numerator, value.upper.denominator)) if upper is None \
+        else upper_text
+    low = value.lower.exact
+    math = rf"[{sp.latex(low)},\, {upper_latex}]"
+    return Cell(f"[{number_text(low) or low}, {upper_text}]", f"${math}$", math,
+                {"lower": lower.data, "upper": str(value.upper), "width_at_most": str(value.width),
+                 "reached": value.reached})
 
 
 def _axis_cell(value: sp.Expr, text: str) -> Cell:

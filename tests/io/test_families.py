@@ -165,6 +165,7 @@ def test_a_query_on_the_wrong_loss_model_names_the_query():
     ("[]", "a query name or a non-empty list"),
     ('["margin"]', "'margin' is not one of"),
     ('["critical_loss_rate", "stability_margin"]', 'compute = "stability_margin" needs a loss model'),
+    ('["critical_loss_rate", "critical_arrival_rate"]', '[[actuators]]: compute = "critical_arrival_rate" needs actuators'),
 ])
 def test_bad_compute_lists_are_refused_naming_the_key(tmp_path, compute, message):
     from symkf.io.families import load_family
@@ -173,3 +174,53 @@ def test_bad_compute_lists_are_refused_naming_the_key(tmp_path, compute, message
                     '[[sensors]]\nC = [["1"]]\n')
     with pytest.raises(sk.SymkfError, match=re.escape(message)):
         load_family(path)
+
+
+def test_critical_arrival_rate_column_is_the_direct_call_and_the_hand_values():
+    # lqg-input-rank: A = diag(a, 5/4), B = [[1, b], [1, 1]] on one channel.  b = 1: rank B = 1 and
+    # nu_c = 1 - 1/(5a/4)^2; b = 0: B invertible and nu_c = 1 - 1/a^2; eps_c = 1/a^2 (by hand)
+    from symkf import examples
+    from symkf.io.families import load_family
+    family = load_family(examples.family("lqg-input-rank"))
+    assert [m.label for m in family.members[:2]] == ["a = 3/2, b = 1", "a = 3/2, b = 0"]
+    hand = [(sp.Rational(4, 9), sp.Rational(161, 225)), (sp.Rational(4, 9), sp.Rational(5, 9)),
+            (sp.Rational(1, 4), sp.Rational(21, 25)), (sp.Rational(1, 4), sp.Rational(3, 4)),
+            (sp.Rational(1, 9), sp.Rational(209, 225)), (sp.Rational(1, 9), sp.Rational(8, 9))]
+    for member, (outcome, (eps_c, nu_c)) in zip(family.members, zip(family.evaluate(progress=False), hand)):
+        (_, rate), (column, threshold) = outcome.columns
+        assert column.plain == "critical arrival rate" and rate.exact == eps_c
+        assert threshold.exact.exact == nu_c == sk.control.critical_arrival_rate(member.system()[0]).exact.exact
+
+
+def test_actuators_of_a_family_file_reach_every_member_as_in_a_system_file():
+    from symkf import examples
+    from symkf.io.families import load_family
+    member = load_family(examples.family("lqg-input-rank")).members[1]     # a = 3/2, b = 0
+    system, loss = member.system()
+    assert system.actuator_names == ("u",) and loss is None
+    assert system.B == sp.Matrix([[1, 0], [1, 1]]) and system.A == sp.diag(sp.Rational(3, 2), sp.Rational(5, 4))
+
+
+def test_a_bad_actuator_list_in_a_family_file_is_refused_when_read(tmp_path):
+    from symkf.io.families import load_family
+    path = tmp_path / "f.toml"
+    path.write_text('[family]\ncompute = "critical_arrival_rate"\n[grid]\na = [2, 3]\n[system]\nA = [["a"]]\n'
+                    '[[sensors]]\nC = [["1"]]\n[actuators]\nB = [["1"]]\n')
+    with pytest.raises(sk.SymkfError, match=re.escape("[[actuators]] must list tables, one per actuator")):
+        load_family(path)
+
+
+def test_a_built_member_without_actuators_names_the_query_that_needs_them():
+    family = systems_family([QUARTER_TURN], compute="critical_arrival_rate")
+    with pytest.raises(sk.SymkfError, match=re.escape('compute = "critical_arrival_rate" needs actuators')):
+        family.evaluate(progress=False)
+
+
+def test_an_unreachable_unstable_mode_leaves_the_control_cell_inapplicable():
+    # B = e_1 never reaches the mode 3: no arrival rate stabilises, the critical loss rate stands
+    from symkf.io.families import Inapplicable
+    S = sk.System(A=[[2, 0], [0, 3]], sensors=[sk.Sensor(C=[[1, 1]])], actuators=[sk.Actuator(B=[[1], [0]])])
+    (outcome,) = systems_family([S], compute=["critical_loss_rate", "critical_arrival_rate"]).evaluate(progress=False)
+    (_, rate), (_, control) = outcome.columns
+    assert rate.exact == sp.Rational(1, 9) and isinstance(control, Inapplicable)
+    assert "the eigenvalue 3 of A" in control.reason and "not stabilizable" in control.reason

@@ -1,10 +1,12 @@
-"""System files (symkf.io.files): TOML decimals read exactly as written, and files that cannot be
-read (unreadable, a FIFO, a directory, a device) refused in one line with exit status 2.
+"""System files (symkf.io.files): TOML decimals read exactly as written, the control loop's tables
+([[actuators]], W, [actuator_loss]) read and written back, and files that cannot be read
+(unreadable, a FIFO, a directory, a device) refused in one line with exit status 2.
 (Broken files: tests/io/test_file_fuzzing.py; network and fusion files:
 tests/io/test_network_and_fusion_files.py.)"""
 
 from __future__ import annotations
 
+import json
 import os
 from decimal import Decimal
 from fractions import Fraction
@@ -14,7 +16,7 @@ import pytest
 import sympy as sp
 
 import symkf as sk
-from symkf import cli
+from symkf import cli, examples
 from symkf.exact.numbers import to_exact
 from symkf.io import files
 
@@ -129,10 +131,92 @@ def test_a_design_rate_is_one_number(tmp_path):
         files.load_design(path)
 
 
-def test_too_many_sensors_are_counted_before_one_is_read(tmp_path):
-    # each sensor's C was converted before the system counted them: 40,000 in a 1 MB file, 12 s
+@pytest.mark.parametrize("key, table, count", [("sensors", 'C = [["1/3"]]', 40_000), ("actuators", 'B = [["1/3"]]', 30_000)])
+def test_too_many_sensors_or_actuators_are_counted_before_one_is_read(tmp_path, key, table, count):
+    # each sensor's C was converted before the system counted them: 40,000 in a 1 MB file, 12 s;
+    # actuators count against the same cap
     path = tmp_path / "many.toml"
-    path.write_text('[system]\nA = [["2"]]\n' + '[[sensors]]\nC = [["1/3"]]\n' * 40_000)
+    first = "" if key == "sensors" else '[[sensors]]\nC = [["1"]]\n'
+    path.write_text('[system]\nA = [["2"]]\n' + first + f"[[{key}]]\n{table}\n" * count)
     data = files.read_toml(path)
     code, err = limited(refused_at_once, lambda: files.parse(data, str(path)), "max_sensors")
-    assert code == 0 and f"{path}: [[sensors]]: the number of sensors is 40000, above the cap 64" in err, err
+    assert code == 0 and f"{path}: [[{key}]]: the number of {key} is {count}, above the cap 64" in err, err
+
+
+# -- the control loop: [[actuators]], W and [actuator_loss] -----------------------------------------
+
+def _toml(doc: dict) -> str:
+    """A system document (System.to_dict) as TOML: its strings and lists of them are JSON's."""
+    lines = ["[system]", *(f"{k} = {json.dumps(v)}" for k, v in doc["system"].items())]
+    for key in ("sensors", "actuators"):
+        for table in doc.get(key, []):
+            lines += [f"[[{key}]]", *(f"{k} = {json.dumps(v)}" for k, v in table.items())]
+    return "\n".join(lines) + "\n"
+
+
+def test_load_loop_reads_the_system_and_both_loss_models():
+    system, loss, actuator_loss = files.load_loop(examples.system("lqg-two-modes"))
+    assert system.actuator_names == ("u",) and system.B == sp.Matrix([[0], [1]]) and system.U == sp.eye(1)
+    assert system.W == sp.eye(2) and system.stabilizable and system.controllable
+    assert loss.loss == (R(1, 5),) and actuator_loss.loss == (R(1, 10),)
+    read, sensor_loss = files.load(examples.system("lqg-two-modes"))        # load: the sensors' loss only
+    assert read == system and sensor_loss.loss == loss.loss
+    assert files.load_loop(examples.system("ge-two-sensors"))[2] is None
+
+
+def test_a_file_with_actuators_reads_back_from_its_written_dict(tmp_path):
+    text = """[system]
+A = [["5/4", "1"], ["0", "11/10"]]
+W = [["2", "0"], ["0", "0"]]
+name = "loop"
+[[sensors]]
+name = "y"
+C = [["1", "0"]]
+[[actuators]]
+B = [["0"], ["1"]]
+U = [["1/2"]]
+[[actuators]]
+name = "pair"
+B = [["1", "0"], ["0", "sqrt(2)"]]
+"""
+    (tmp_path / "a.toml").write_text(text)
+    system, _ = files.load(tmp_path / "a.toml")
+    assert system.actuator_names == ("a1", "pair") and system.W == sp.diag(2, 0)
+    assert system.U == sp.diag(R(1, 2), 1, 1) and system.B[1, 2] == sp.sqrt(2)
+    (tmp_path / "b.toml").write_text(_toml(system.to_dict()))
+    again, _ = files.load(tmp_path / "b.toml")
+    assert again == system
+    shipped, _ = files.load(examples.system("lqg-two-modes"))
+    (tmp_path / "lqg-two-modes.toml").write_text(_toml(shipped.to_dict()))
+    assert files.load(tmp_path / "lqg-two-modes.toml")[0] == shipped
+
+
+@pytest.mark.parametrize("top, tail, message", [
+    ("", '[[actuators]]\nC = [["1"]]\n', "x.toml: actuators[0]: unknown key 'C' (allowed: B, U, name)"),
+    ("", '[[actuators]]\nU = [["1"]]\n', "x.toml: actuators[0]: missing key 'B'"),
+    ("", '[[actuators]]\nB = [["1"], ["0"]]\n', "x.toml: actuators[0].B: has 2 rows, A is 1x1"),
+    ("", '[[actuators]]\nname = "y"\nB = [["1"]]\n', "actuators: the name 'y' is also a sensor's"),
+    ("", '[[actuators]]\nB = [["1"]]\nU = [["-1"]]\n', "x.toml: actuators[0]: actuator U: not positive definite"),
+    ('actuators = "u"\n', "", "x.toml: [[actuators]] must list tables, one per actuator"),
+    ("", '[actuator_loss]\nkind = "iid"\nloss = ["1/2"]\n',
+     "x.toml: [actuator_loss] gives the losses of the actuators' channels, and the file has no [[actuators]]"),
+    ("", '[[actuators]]\nB = [["1"]]\n[actuator_loss]\nkind = "iid"\nloss = ["1/2", "1/3"]\n',
+     "x.toml: [actuator_loss] gives 2 value(s) for 1 actuator(s)"),
+    ("", '[[actuators]]\nB = [["1"]]\n[actuator_loss]\nkind = "bursty"\n',
+     "x.toml: [actuator_loss] kind 'bursty' is not one of"),
+])
+def test_a_bad_control_table_is_named_in_one_line(capsys, tmp_path, top, tail, message):
+    path = tmp_path / "x.toml"
+    path.write_text(top + '[system]\nA = [["2"]]\n[[sensors]]\nname = "y"\nC = [["1"]]\n' + tail)
+    with pytest.raises(sk.errors.SymkfError) as info:
+        files.load_loop(path)
+    assert message in str(info.value), str(info.value)
+    status, out, err = run(capsys, "analyze", str(path))
+    assert status == 2 and out == "" and message in one_line(err)
+
+
+def test_analyze_reads_a_file_with_actuators_as_an_estimation_problem(capsys):
+    status, out, _ = run(capsys, "analyze", "lqg-two-modes", "--json")
+    verdict = json.loads(out)["verdict"]
+    # one sensor, loss 1/5: the limiting margin is (5/4)^2 * 1/5 = 5/16
+    assert status == 0 and verdict["stable"] and verdict["margins"][0]["exact"] == "5/16"

@@ -1,5 +1,5 @@
-"""The python-control bridge (symkf.model.statespace): System.from_statespace / to_statespace, and at
-zero loss symkf's Riccati limit against control.dlqe."""
+"""The python-control bridge (symkf.model.statespace): System.from_statespace / to_statespace (the
+actuators as the columns of B), and at zero loss symkf's Riccati limit against control.dlqe."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ import sympy as sp
 import symkf as sk
 from symkf.errors import ExtraNotInstalledError, InexactInputError, InputError, ShapeError
 from symkf.numeric.filters import predicted_covariances
+from symkf.model.statespace import float_matrix
 
 ct = pytest.importorskip("control")
 
@@ -37,8 +38,8 @@ def test_zero_loss_riccati_limit_equals_dlqe_for_two_sensors():
                   sensors=[sk.Sensor(C=[[1, 0]], R=[["1/2"]], name="pos"),
                            sk.Sensor(C=[[1, 1], [0, 1]], R=[[1, 0], [0, 3]], name="pair")])
     plant = S.to_statespace()
-    Q = sk.control.float_matrix(S.Q, "Q")
-    R = sk.control.float_matrix(S.R, "R")
+    Q = float_matrix(S.Q, "Q")
+    R = float_matrix(S.R, "R")
     _, P, _ = ct.dlqe(plant.A, np.eye(2), plant.C, Q, R)
     np.testing.assert_allclose(_riccati_limit(S), P, rtol=1e-10)
     assert plant.output_labels == ["pos", "pair[0]", "pair[1]"]
@@ -102,3 +103,38 @@ def test_statespace_has_sampling_time_one_and_says_there_is_no_input():
     pytest.importorskip("control")
     G = QUARTER_TURN.to_statespace()
     assert G.dt == 1 and G.input_labels == ["no_input"] and not G.B.any()
+
+
+LOOP = sk.System(A=[["1/2", 3], [-1, "5/4"]], sensors=[sk.Sensor(C=[[1, 0]], name="y"), sk.Sensor(C=[[0, 2]], name="z")],
+                 actuators=[sk.Actuator(B=[["1/4"], [0]], name="u"), sk.Actuator(B=[[-1], [2]], name="v")])
+
+
+def test_actuators_round_trip_through_a_statespace_as_its_input_columns():
+    G = LOOP.to_statespace()
+    assert G.input_labels == ["u", "v"] and G.output_labels == ["y", "z"]
+    np.testing.assert_array_equal(G.B, [[0.25, -1], [0, 2]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                       # dyadic entries: exact without a warning
+        back = sk.System.from_statespace(G, rationalize=True)
+    assert (back.A, back.C, back.B) == (LOOP.A, LOOP.C, LOOP.B)
+    assert (back.sensor_names, back.actuator_names) == (LOOP.sensor_names, LOOP.actuator_names)
+    # no actuator: the "no_input" column that does not act gives none back
+    assert sk.System.from_statespace(QUARTER_TURN.to_statespace()).actuators == ()
+
+
+def test_actuator_splits_weights_and_their_errors():
+    plant = ct.ss([[2, 0], [0, 3]], [[1, 0, 1], [0, 1, 1]], [[1, 1]], 0, dt=True)   # inputs u[0], u[1], u[2]
+    assert sk.System.from_statespace(plant).actuator_names == ("u[0]", "u[1]", "u[2]")
+    S = sk.System.from_statespace(plant, None, {"arm": [0, 1], "w": [2]}, U={"arm": [[2, 0], [0, 3]]}, W=[[1, 0], [0, 0]])
+    assert S.actuators[0].B == sp.eye(2) and S.actuators[0].U == sp.diag(2, 3) and S.actuators[1].U == sp.eye(1)
+    assert S.W == sp.diag(1, 0)
+    G = S.to_statespace()
+    assert G.input_labels == ["arm[0]", "arm[1]", "w"]
+    with pytest.raises(ShapeError, match="actuators: 2 names for the 3 columns of B"):
+        sk.System.from_statespace(plant, None, ["a", "b"])
+    with pytest.raises(InputError, match="every column 0..2 must belong to exactly one actuator"):
+        sk.System.from_statespace(plant, None, {"a": [0, 1], "b": [1, 2]})
+    with pytest.raises(InputError, match="U: no actuator named 'x'"):
+        sk.System.from_statespace(plant, U={"x": [[1]]})
+    with pytest.raises(InputError, match=r"from_statespace.*actuators"):   # checked at the boundary
+        sk.System.from_statespace(plant, None, {"a": "0"})

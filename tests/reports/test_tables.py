@@ -58,6 +58,22 @@ def ge_recovery():
 
 
 @pytest.fixture(scope="module")
+def lqg_input_rank():
+    return family_table(FAMILIES / "lqg-input-rank.toml")
+
+
+@pytest.fixture(scope="module")
+def bracket():
+    """nu_c of A = diag(2, 3, 5) with two inputs B = [[1, 0], [0, 1], [1, 1]] on one channel: no
+    closed form; the quotient bound of the whole plant, rank B = 2 and |det A|^2 = 900, is
+    1 - 900^(-1/2) = 29/30 (the smaller quotients give 24/25, 14/15, 9/10), certified within 1e-12."""
+    from symkf.io.families import systems_family
+    S = sk.System(A=[[2, 0, 0], [0, 3, 0], [0, 0, 5]], sensors=[sk.Sensor(C=[[1, 1, 1]])],
+                  actuators=[sk.Actuator(B=[[1, 0], [0, 1], [1, 1]])])
+    return family_table(systems_family([S], compute="critical_arrival_rate"), progress=False)
+
+
+@pytest.fixture(scope="module")
 def verdicts():
     return verdict_table()
 
@@ -164,12 +180,39 @@ def _no_radical_table():
                  ((Cell.text("x^5 - x - 1"), (Cell.number(root),)),))
 
 
+def test_control_threshold_cells_are_exact_where_a_closed_form_applies(lqg_input_rank):
+    # eps_c = 1/a^2; nu_c = 1 - 16/(25 a^2) at b = 1 (rank B = 1), 1 - 1/a^2 at b = 0 (B invertible)
+    doc = lqg_input_rank.to_dict()
+    assert doc["columns"] == ["critical loss rate", "critical arrival rate"] and doc["layout"] == "members as rows"
+    assert [(r["label"], [c["exact"] for c in r["cells"]]) for r in doc["rows"]] == [
+        ("3/2, 1", ["4/9", "161/225"]), ("3/2, 0", ["4/9", "5/9"]), ("2, 1", ["1/4", "21/25"]),
+        ("2, 0", ["1/4", "3/4"]), ("3, 1", ["1/9", "209/225"]), ("3, 0", ["1/9", "8/9"])]
+    cell = lqg_input_rank.rows[2][1][1]        # a = 2, b = 1: 21/25, rendered as every exact cell
+    number = Cell.number(AlgebraicNumber.from_expr(sp.Rational(21, 25)))
+    assert (cell.plain, cell.latex, cell.math) == (number.plain, number.latex, number.math)
+    assert cell.plain == "21/25 = 0.84" and cell.data == {"point": {"a": "2", "b": "1"}, "class_periods": [1, 1],
+                                                          **number.data}
+
+
+def test_a_bracket_renders_as_an_interval_with_exact_ends(bracket):
+    ((_, (cell,)),) = bracket.rows
+    upper = sp.Rational(cell.data["upper"])
+    assert sp.Rational(29, 30) < upper <= sp.Rational(29, 30) + sp.Rational(1, 10 ** 12)
+    assert cell.data["lower"]["exact"] == "29/30" and cell.data["reached"] is True
+    shown = format(sp.Float(upper, 30), "f").rstrip("0")   # upper terminates: shown exactly in decimal
+    assert sp.Rational(shown) == upper
+    assert cell.plain == f"[29/30, {shown}]"
+    assert cell.latex == rf"$[\frac{{29}}{{30}},\, {shown}]$" and cell.math == cell.latex[1:-1]
+    assert cell.latex in bracket.to_latex() and bracket.to_dict()["rows"][0]["cells"][0]["upper"] == str(upper)
+
+
 def test_no_radical_form_uses_the_minimal_polynomial():
     cell = _no_radical_table().rows[0][1][0]
     assert "root of $x^{5} - x - 1$" in cell.latex and cell.data["decimal"] == "1.1673"
 
 
-def test_every_table_compiles_with_pdflatex(tmp_path, rotations, angle_alpha, ge_recovery, verdicts):
+def test_every_table_compiles_with_pdflatex(tmp_path, rotations, angle_alpha, ge_recovery, verdicts, lqg_input_rank,
+                                           bracket):
     if shutil.which("pdflatex") is None:
         pytest.skip("pdflatex is not installed")
     from symkf import bounds  # noqa: F401 -- registers the published bounds' query
@@ -177,7 +220,8 @@ def test_every_table_compiles_with_pdflatex(tmp_path, rotations, angle_alpha, ge
     quarter_turn = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]])])
     queries = (family_table(_write(tmp_path, PER_SENSOR), progress=False),   # members as rows
                family_table(systems_family([quarter_turn], compute=["bounds"]), progress=False))   # as columns
-    for i, table in enumerate((rotations, angle_alpha, ge_recovery, verdicts, _no_radical_table(), *queries)):
+    for i, table in enumerate((rotations, angle_alpha, ge_recovery, verdicts, _no_radical_table(), *queries,
+                               lqg_input_rank, bracket)):
         tex = tmp_path / f"t{i}.tex"
         tex.write_text("\\documentclass{article}\n\\usepackage{booktabs}\n\\begin{document}\n"
                        + table.to_latex() + "\\end{document}\n")
@@ -258,7 +302,7 @@ def test_bad_family_files_name_file_key_and_problem(tmp_path, text, message):
 
 @pytest.mark.parametrize("text, pieces", [
     (GOOD_TEMPLATE.replace('"a/2"', '"a/"'), ["A[1][1]: not a well-formed expression"]),
-    (GOOD_TEMPLATE.replace('C = [["1", "1"]]', 'C = [["1", "1", "1"]]'), ["sensor 0 C: has 3 columns"]),
+    (GOOD_TEMPLATE.replace('C = [["1", "1"]]', 'C = [["1", "1", "1"]]'), ["sensors[0].C: has 3 columns"]),
     (GOOD_TEMPLATE.replace("[[sensors]]", "[loss]\nkind = \"iid\"\nloss = [\"1/2\", \"1/2\"]\n[[sensors]]"),
      ["[loss] gives 2 value(s) for 1 sensor(s)"]),
     # members are read as system files, so their guards apply: no 370-million-digit numbers
