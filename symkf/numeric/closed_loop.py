@@ -561,7 +561,9 @@ def simulate_loop(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol: L
     ``gain``: ``L`` (m, n) of ``u = -L x^_{k|k}``, by default (TCP-like, Bernoulli controls) the
     steady gain of :func:`control_riccati`.  Receptions are drawn first (factor by factor,
     :func:`symkf.numeric.receptions.sample`), then ``x_0`` and each step's noises, all from
-    ``numpy.random.default_rng(seed)``.
+    ``numpy.random.default_rng(seed)``.  With a System as ``plant``, give a common-rate actuator
+    model its size (``IID("1/10", d=len(system.actuators))``): symkf's argument check gives a
+    model without one the number of the system's sensors.
     """
     plant, channels, L = _setup(plant, gamma, nu, protocol, gain)
     horizon, paths = count(horizon, "horizon", 1), count(paths, "paths", 2)

@@ -11,7 +11,7 @@ from scipy.linalg import solve_discrete_are
 
 from symkf.errors import InputError, NumericalBreakdownError
 from symkf.model.iid import IID
-from symkf.model.system import Sensor, System
+from symkf.model.system import Actuator, Sensor, System
 from symkf.numeric.closed_loop import (LoopDivergence, LoopSimulation, control_riccati, loop_divergence, loop_plant,
                                        plant_of, simulate_loop)
 
@@ -172,6 +172,17 @@ def test_udp_needs_an_explicit_gain_and_bernoulli_controls():
         simulate_loop(SCALAR, 0.9, 0.9, protocol="ip", horizon=5, paths=10)
     with pytest.raises(InputError, match="nu"):
         simulate_loop(SCALAR, 0.9, 1.5, horizon=5, paths=10)
+
+
+def test_plant_of_reads_the_systems_actuators_and_cost_weights():
+    S = System(A=[[2, 0], [1, 1]], sensors=[Sensor(C=[[1, 0]]), Sensor(C=[[0, 1]], R=[[2]])],
+               actuators=[Actuator(B=[[1], [0]], U=[[3]]), Actuator(B=[[0], [1]])], W=[[2, 0], [0, 1]])
+    p = plant_of(S)
+    assert p.sensor_rows == (1, 1) and p.actuator_columns == (1, 1)
+    assert np.array_equal(p.B, np.eye(2)) and np.array_equal(p.U, np.diag([3.0, 1.0]))
+    assert np.array_equal(p.W, np.diag([2.0, 1.0])) and np.array_equal(p.R, np.diag([1.0, 2.0]))
+    r = simulate_loop(S, IID(["1/10", "1/10"]), IID(["1/10", "1/5"]), horizon=5, paths=10, seed=SEED)
+    assert np.allclose(r.gain, control_riccati(p.A, p.B, p.W, p.U, [0.9, 0.8], [1, 1])[1])
 
 
 def test_a_system_without_an_input_matrix_is_refused_by_name():
