@@ -29,6 +29,7 @@ TESTS = [
     "tests/numeric/test_montecarlo.py::test_float_horizon_caps_bursts_float64_cannot_follow",
     "tests/numeric/test_montecarlo.py::test_fieller_interval_covers_at_the_nominal_level",
     "tests/numeric/test_closed_loop.py::test_second_moment_after_one_step_by_hand",
+    "tests/numeric/test_closed_loop.py::test_estimator_covariance_is_the_mean_square_of_its_error",
     "tests/numeric/test_closed_loop.py::test_tcp_loop_at_nine_tenths_stays_below_the_hand_derived_bound",
     "tests/numeric/test_closed_loop.py::test_tcp_loop_below_the_control_threshold_diverges_for_any_gain",
     "tests/numeric/test_closed_loop.py::test_tcp_loop_below_the_observation_threshold_diverges",

@@ -59,7 +59,7 @@ from ..model.loss import LossFactor, LossModel, checked
 from ..model.system import System
 from ..output import JsonDocument
 from . import receptions
-from .montecarlo import (MAX_PATH_SHARE, MAX_REL_STDERR, DivergenceResult, LogMeanEstimate, _burst_lengths,
+from .montecarlo import (MAX_PATH_SHARE, MAX_REL_STDERR, DivergenceResult, _burst_lengths,
                          _divergence_verdict, _factor_tilt, _final_burst_log_ratio, _weighted_log_mean, _z,
                          rate_horizons)
 from .receptions import chain_states, cumulative, emit_into, groups
@@ -378,9 +378,12 @@ def _log_quadratic(x: np.ndarray, M: np.ndarray | None) -> np.ndarray:
 
 
 def _run(plant: LoopPlant, L: np.ndarray, protocol: str, channels: tuple[_Channel, _Channel],
-         received: Sequence[np.ndarray], rng: np.random.Generator, every: bool) -> tuple[np.ndarray, np.ndarray]:
-    """``log x_k' W x_k`` and ``log ||x_k||^2`` per path, at ``k = 0..K`` (``every``) or ``K`` only,
-    of the loop driven by the receptions ``received`` (K, paths, channels) of both sides."""
+         received: Sequence[np.ndarray], rng: np.random.Generator, every: bool) -> dict[str, np.ndarray]:
+    """Per path, of the loop driven by the receptions ``received`` (K, paths, channels) of both
+    sides: ``"cost"`` ``log x_k' W x_k`` at ``k = 0..K`` (``every``) or ``K`` only; with ``every``
+    also ``"norm"`` ``log ||x_k||^2`` (``k = 0..K``), and after each update (``k = 0..K-1``)
+    ``"error"`` ``log ||x_k - x^_{k|k}||^2`` and ``"trace"`` ``log tr P_{k|k}``, the estimator's
+    own account of that error."""
     A, B, C, Q, R = plant.A, plant.B, plant.C, plant.Q, plant.R
     K, m = received[1].shape[:2]
     n, p = A.shape[0], C.shape[0]
@@ -394,11 +397,11 @@ def _run(plant: LoopPlant, L: np.ndarray, protocol: str, channels: tuple[_Channe
     xh = np.zeros((m, n))
     P = np.broadcast_to(plant.P0, (m, n, n)).copy()
     eye_p, eye_n = np.eye(p), np.eye(n)
-    cost, norm = [], []
+    out: dict[str, list] = {"cost": [], "norm": [], "error": [], "trace": []}
     for k in range(K):
         if every:
-            cost.append(_log_quadratic(x, plant.W))
-            norm.append(_log_quadratic(x, None))
+            out["cost"].append(_log_quadratic(x, plant.W))
+            out["norm"].append(_log_quadratic(x, None))
         g = received[0][k][:, sensors.index].astype(float)
         y = x @ C.T + rng.standard_normal((m, p)) @ fR.T
         CP = np.einsum("ij,pjk->pik", C, P)
@@ -410,6 +413,9 @@ def _run(plant: LoopPlant, L: np.ndarray, protocol: str, channels: tuple[_Channe
         J = eye_n - np.einsum("pin,ik->pnk", G, C)              # I - K C, K = G'
         P = J @ P @ J.transpose(0, 2, 1) + np.einsum("pin,ij,pjk->pnk", G, R, G)     # Joseph form
         P = (P + P.transpose(0, 2, 1)) / 2
+        if every:
+            out["error"].append(_log_quadratic(x - xh, None))
+            out["trace"].append(np.log(np.trace(P, axis1=1, axis2=2)))
         u = -xh @ L.T
         a = received[1][k][:, actuators.index].astype(float)
         x = x @ A.T + (a * u) @ B.T + rng.standard_normal((m, n)) @ fQ.T
@@ -422,9 +428,9 @@ def _run(plant: LoopPlant, L: np.ndarray, protocol: str, channels: tuple[_Channe
         if not np.all(np.isfinite(x)) or not np.all(np.isfinite(P)):
             raise NumericalBreakdownError(f"the simulated loop overflowed float64 at step {k + 1} of {K}: a shorter "
                                           "horizon resolves it")
-    cost.append(_log_quadratic(x, plant.W))
-    norm.append(_log_quadratic(x, None))
-    return np.array(cost), np.array(norm)
+    out["cost"].append(_log_quadratic(x, plant.W))
+    out["norm"].append(_log_quadratic(x, None))
+    return {key: np.array(v) for key, v in out.items()}
 
 
 def _gain(plant: LoopPlant, nu: _Channel, protocol: str, gain: Any) -> np.ndarray:
@@ -447,11 +453,11 @@ def memory_estimate(plant: LoopPlant, horizon: int, paths: int, every: bool) -> 
     :func:`loop_divergence`'s runs: the receptions of both sides (one byte per channel, step and
     path; the chain states as many again), the burst sampler's likelihood ratios and their tail
     sums (two components), the per-path covariances and their temporaries (about eight arrays of
-    ``n^2 + p^2 + n p`` floats), and with ``every`` the two per-step records (and their copy)."""
+    ``n^2 + p^2 + n p`` floats), and with ``every`` the four per-step records (and their copy)."""
     n, p = plant.n, plant.C.shape[0]
     channels = len(plant.sensor_rows) + len(plant.actuator_columns)
     step = 8 * paths * 8 * (n * n + p * p + n * p + n + p)
-    records = 4 * 8 * (horizon + 1) * paths if every else 4 * 8 * 2 * (horizon + 1) * paths
+    records = 8 * 8 * (horizon + 1) * paths if every else 4 * 8 * 2 * (horizon + 1) * paths
     return 2 * channels * horizon * paths + step + records
 
 
@@ -482,7 +488,12 @@ class LoopSimulation(JsonDocument):
     method); ``resolved``: the steps where the cost's relative standard error is at most
     :data:`~symkf.numeric.montecarlo.MAX_REL_STDERR` and no path carries more than
     :data:`~symkf.numeric.montecarlo.MAX_PATH_SHARE` of the sum (elsewhere the mean sits on loss
-    bursts too rare for the sample: :func:`loop_divergence` samples them).
+    bursts too rare for the sample: :func:`loop_divergence` samples them).  ``log_error``,
+    ``log_trace`` (steps ``k = 0..horizon-1``, after the update): ``log`` of the means of the
+    estimator's actual error ``||x_k - x^_{k|k}||^2`` and of its own covariance ``tr P_{k|k}``,
+    with relative standard errors: both estimators' ``P`` is the covariance of their error
+    (TCP-like the Kalman filter's; UDP-like by the derivation in the module docstring), so the two
+    means agree within the noise.
     """
 
     protocol: str
@@ -492,6 +503,10 @@ class LoopSimulation(JsonDocument):
     log_norm: np.ndarray
     norm_rel_stderr: np.ndarray
     resolved: np.ndarray
+    log_error: np.ndarray
+    error_rel_stderr: np.ndarray
+    log_trace: np.ndarray
+    trace_rel_stderr: np.ndarray
     paths: int
     seed: int | None
     confidence: float
@@ -524,7 +539,9 @@ class LoopSimulation(JsonDocument):
                 "paths": self.paths, "seed": self.seed, "confidence": self.confidence,
                 "log_cost": self.log_cost.tolist(), "cost_rel_stderr": self.cost_rel_stderr.tolist(),
                 "log_norm": self.log_norm.tolist(), "norm_rel_stderr": self.norm_rel_stderr.tolist(),
-                "resolved": self.resolved.tolist()}
+                "resolved": self.resolved.tolist(), "log_error": self.log_error.tolist(),
+                "error_rel_stderr": self.error_rel_stderr.tolist(), "log_trace": self.log_trace.tolist(),
+                "trace_rel_stderr": self.trace_rel_stderr.tolist()}
 
     def __str__(self) -> str:
         steps = sorted({round(i * self.horizon / 7) for i in range(8)})
@@ -544,9 +561,11 @@ class LoopSimulation(JsonDocument):
         return f"<pre>{html.escape(str(self))}</pre>"
 
 
-def _estimates(logv: np.ndarray, seed: int | None) -> list[LogMeanEstimate]:
+def _estimates(logv: np.ndarray, seed: int | None) -> tuple[np.ndarray, np.ndarray]:
+    """``log`` of the mean and its relative standard error per step (rows of ``logv``)."""
     zero = np.zeros(logv.shape[1])
-    return [_weighted_log_mean(v, zero, k, seed, "plain Monte Carlo") for k, v in enumerate(logv)]
+    runs = [_weighted_log_mean(v, zero, k, seed, "plain Monte Carlo") for k, v in enumerate(logv)]
+    return np.array([r.log_mean for r in runs]), np.array([r.rel_stderr for r in runs])
 
 
 def simulate_loop(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol: Literal["tcp", "udp"] = "tcp",
@@ -572,14 +591,12 @@ def simulate_loop(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol: L
                  f"the bytes (estimate) of a closed-loop simulation of {paths} paths over {horizon} steps")
     rng = np.random.default_rng(seed)
     received = [receptions.sample(ch.factors, horizon, paths, ch.d, rng) for ch in channels]
-    cost, norm = _run(plant, L, protocol, channels, received, rng, True)
-    runs_cost, runs_norm = _estimates(cost, seed), _estimates(norm, seed)
-    log_cost = np.array([r.log_mean for r in runs_cost])
-    rel = np.array([r.rel_stderr for r in runs_cost])
-    share = np.exp(cost.max(axis=1) - log_cost) / paths       # the largest path's share of the sum
-    return LoopSimulation(protocol, L, log_cost, rel, np.array([r.log_mean for r in runs_norm]),
-                          np.array([r.rel_stderr for r in runs_norm]),
-                          (rel <= MAX_REL_STDERR) & (share <= MAX_PATH_SHARE), paths, seed, confidence,
+    records = _run(plant, L, protocol, channels, received, rng, True)
+    log_cost, rel = _estimates(records["cost"], seed)
+    share = np.exp(records["cost"].max(axis=1) - log_cost) / paths       # the largest path's share of the sum
+    return LoopSimulation(protocol, L, log_cost, rel, *_estimates(records["norm"], seed),
+                          (rel <= MAX_REL_STDERR) & (share <= MAX_PATH_SHARE), *_estimates(records["error"], seed),
+                          *_estimates(records["trace"], seed), paths, seed, confidence,
                           (channels[0].words, channels[1].words))
 
 
@@ -681,8 +698,8 @@ def loop_divergence(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol:
         run_seed = None if seed is None else seed + j
         rng = np.random.default_rng(run_seed)
         received, logw, sampling = _bursts(channels, K, paths, weights, rng)
-        cost, _ = _run(plant, L, protocol, channels, received, rng, False)
-        runs.append(_weighted_log_mean(cost[-1], logw, K, run_seed, sampling))
+        cost = _run(plant, L, protocol, channels, received, rng, False)["cost"][-1]
+        runs.append(_weighted_log_mean(cost, logw, K, run_seed, sampling))
     return LoopDivergence(protocol, L, _divergence_verdict(runs, None, tolerance, confidence, degree, paths, seed))
 
 
