@@ -1,22 +1,22 @@
 """Monte Carlo of the closed LQG loop over lossy networks (float64, simulation only).
 
 Schenato, Sinopoli, Franceschetti, Poolla, Sastry, "Foundations of control and estimation over
-lossy networks", Proc. IEEE 95(1), 2007, Sections III-V.  The plant (Section III, eqs. 1-2)
+lossy networks", Proc. IEEE 95(1), 2007, Sections III-V.  The plant
 
     x_{k+1} = A x_k + Gamma_k B u_k + w_k,    y_k = gamma_k (C x_k + v_k),
 
 ``w ~ N(0, Q)``, ``v ~ N(0, R)``, ``x_0 ~ N(0, P0)``, stage cost ``x' W x + u' Gamma U Gamma u``
-(``nu_k u' U u`` with one control channel, eq. 4).  ``gamma_k`` (observations) and ``Gamma_k``
+(``nu_k u' U u`` with one control channel).  ``gamma_k`` (observations) and ``Gamma_k``
 (controls: ``nu_k I``, or ``diag(nu_k^i I_{m_i})`` over the actuators' column groups) are the
 receptions of symkf loss models (:mod:`symkf.numeric.receptions`: an actuator loss model is an
 ordinary :class:`~symkf.model.loss.LossModel` whose "sensors" are the actuators), or one
 Bernoulli channel of a given arrival rate.
 
-* **TCP-like** (acknowledged controls, Section IV): the estimator knows ``Gamma_k`` (eqs. 8-12):
+* **TCP-like** (acknowledged controls, Section IV): the estimator knows ``Gamma_k``:
   ``x^_{k+1|k} = A x^_{k|k} + Gamma_k B u_k``, ``P_{k+1|k} = A P_{k|k} A' + Q``, and the
   Kalman update on the rows received.  Separation holds; the optimal controller is
   ``u_k = -L x^_{k|k}`` with the steady gain ``L = (B'SB + U)^{-1} B'SA`` of the control MARE
-  ``S = A'SA + W - nu A'SB (B'SB + U)^{-1} B'SA`` (eqs. 20-22).  Per actuator,
+  ``S = A'SA + W - nu A'SB (B'SB + U)^{-1} B'SA``.  Per actuator,
   ``E[Gamma M Gamma] = Lambda (Wh o M) Lambda`` with ``Wh`` of
   :func:`arrival_weight` (Yang et al., eqs. 19-20, transposed to the actuators), so the
   expectation of the cost-to-go, minimised over ``u``, gives
@@ -212,7 +212,7 @@ def control_riccati(A: Any, B: Any, W: Any, U: Any, arrival: Any = 1.0, columns:
                     iterations: int = 100_000, tol: float = 1e-12) -> tuple[np.ndarray, np.ndarray]:
     """``(S, L)``: the fixed point of the control MARE and the TCP-like steady gain (module docstring).
 
-    ``S = A'SA + W - A'SB (Wh o (B'SB + U))^{-1} B'SA`` (Schenato et al. 2007, eqs. 20-22; per
+    ``S = A'SA + W - A'SB (Wh o (B'SB + U))^{-1} B'SA`` (Schenato et al. 2007, Section IV; per
     actuator with ``Wh = arrival_weight``), iterated in float64 from ``S = 0`` (monotone) until the
     relative change is at most ``tol``; ``L = Lambda^{-1} (Wh o (B'SB + U))^{-1} B'SA``.
     ``arrival``: one rate (a single channel for every column, the paper's ``nu``) or one per
