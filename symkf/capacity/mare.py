@@ -34,6 +34,7 @@ from ..errors import AssumptionError, InputError
 from ..model.iid import IID
 from ..model.loss import LossModel
 from ..model.system import System
+from ..numeric.closed_loop import arrival_weight
 from .quantities import _require_iid, initial_matrix, sequence_horizon
 
 
@@ -47,13 +48,7 @@ def hadamard_weight(loss: LossModel, dims: list[int]) -> sp.ImmutableMatrix:
         raise AssumptionError("a sensor with lambda_i = 0 has D_SNR^{-1} infinite",
                               assumption="lambda_i > 0 in W (Yang et al., eq. 19)",
                               applies_instead="leave the silent sensor out of the system")
-    m = sum(dims)
-    W = sp.ones(m, m)
-    start = 0
-    for p, a in zip(dims, arrival):
-        W[start:start + p, start:start + p] = sp.ones(p, p) / a
-        start += p
-    return sp.ImmutableMatrix(W)
+    return sp.ImmutableMatrix(arrival_weight(arrival, dims))
 
 
 class MARE:

@@ -343,17 +343,20 @@ class _Tilt:
     rate: float
 
 
-def _factor_tilt(f: LossFactor, allowed: np.ndarray) -> _Tilt:
+def _factor_tilt(f: LossFactor, allowed: np.ndarray, weights: np.ndarray | None = None) -> _Tilt:
     """The chain conditioned to stay in the pattern (Doob h-transform of the restricted
     transfer ``M_H``, Sui-You-Fu eq. 36), mixed with ``DEFENSIVE`` of the original law.
 
     ``allowed`` (g, d): which sensors may be received at each phase.  ``D_r`` keeps the
     states whose received sensors are all allowed at phase ``r``; ``v_r`` is the right
     Perron vector of the one-period transfer seen from phase ``r``; the conditioned step
-    into phase ``r`` is ``P(x, y) D_r(y) v_r(y) / (P D_r v_r)(x)``.
+    into phase ``r`` is ``P(x, y) D_r(y) v_r(y) / (P D_r v_r)(x)``.  ``weights`` (g, states),
+    nonnegative, replaces the 0/1 ``D_r``: the chain twisted by the multiplicative functional
+    ``prod_k D(x_k)``, whose growth per period is then the Perron root ``rate``.
     """
     g = allowed.shape[0]
-    D = np.array([np.all(~f.emit | allowed[r][list(f.sensors)], axis=1) for r in range(g)], float)
+    D = (np.array([np.all(~f.emit | allowed[r][list(f.sensors)], axis=1) for r in range(g)], float)
+         if weights is None else np.asarray(weights, float))
     M = np.eye(len(f.P))
     for r in range(1, g + 1):
         M = M @ f.P * D[r % g]
@@ -572,6 +575,14 @@ def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tup
     logtr = log_traces(model, received)[:, K]
     if plan is None:
         return logtr, np.zeros(m)
+    return logtr, _final_burst_log_ratio(lr, log_law)
+
+
+def _final_burst_log_ratio(lr: np.ndarray, log_law: np.ndarray) -> np.ndarray:
+    """``log dP/dQ`` per path of a final-burst mixture: ``dQ/dP = mean_c sum_L pi(L) prod_{k >= K-L}
+    q_c / p``, from ``lr[c, k, path] = log(q_c / p)`` of the transition into step ``k`` under
+    component ``c``'s burst law and ``log_law[L] = log pi(L)``, ``L = 0..K``."""
+    C, K, m = lr.shape
     # the likelihood ratios' tail sums and the burst lengths' law, in one array written in place:
     # each temporary of C K m floats would cost the zeroing of its fresh pages (docs/performance.md)
     tail = np.empty((C, K + 1, m))
@@ -582,7 +593,7 @@ def _burst_chunk(model: FloatSystem, factors: tuple[LossFactor, ...], tilts: tup
     top = terms.max(axis=0)                                  # log-sum-exp, shifted by the largest term
     terms -= top
     np.exp(terms, out=terms)
-    return logtr, math.log(C) - top - np.log(terms.sum(axis=0))
+    return math.log(C) - top - np.log(terms.sum(axis=0))
 
 
 def log_mean_trace(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None = None,
@@ -596,14 +607,22 @@ def log_mean_trace(system: System, loss: LossModel, horizon: int, paths: int, se
     if paths < 2:
         raise InputError("paths: at least 2 are needed for a standard error")
     logtr, logw = burst_sample(system, loss, horizon, paths, seed, plan, jobs)
-    y = logtr + logw
+    return _weighted_log_mean(logtr, logw, horizon, seed,
+                             "plain Monte Carlo" if plan is None else plan.describe(system.sensor_names))
+
+
+def _weighted_log_mean(logv: np.ndarray, logw: np.ndarray, horizon: int, seed: int | None,
+                      sampling: str) -> LogMeanEstimate:
+    """``log E[v]`` from per-path ``log v`` and log likelihood ratios ``log w`` (``E = mean(w v)``),
+    shifted by the largest ``log w + log v`` so that neither overflows, with its relative standard
+    error and the weights' effective sample size."""
+    y = logv + logw
     top = float(np.max(y))
     f = np.exp(y - top)
     mean = float(f.mean())
     w = np.exp(logw - logw.max())
-    return LogMeanEstimate(top + math.log(mean), float(f.std(ddof=1) / mean / math.sqrt(paths)),
-                           float(w.sum() ** 2 / (w ** 2).sum()), paths, horizon, seed,
-                           "plain Monte Carlo" if plan is None else plan.describe(system.sensor_names))
+    return LogMeanEstimate(top + math.log(mean), float(f.std(ddof=1) / mean / math.sqrt(len(f))),
+                           float(w.sum() ** 2 / (w ** 2).sum()), len(f), horizon, seed, sampling)
 
 
 # ------------------------------------------------------------------ divergence
@@ -826,6 +845,17 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
         for j, k in enumerate(horizons):
             with bar.part(paths * k):
                 runs.append(log_mean_trace(system, loss, k, paths, None if seed is None else seed + j, plan, jobs))
+    exact_value = None if exact_rate is None else to_exact(
+        exact_rate.exact if hasattr(exact_rate, "exact") else exact_rate, "exact_rate")
+    return _divergence_verdict(runs, exact_value, tolerance, confidence, degree, paths, seed)
+
+
+def _divergence_verdict(runs: Sequence[LogMeanEstimate], exact_rate: sp.Expr | None, tolerance: float,
+                       confidence: float, degree: int, paths: int, seed: int | None) -> DivergenceResult:
+    """The :class:`DivergenceResult` of three independent estimates of ``log E`` at ``h, 2h, 3h``:
+    the margin from :func:`margin_interval` widened by :func:`polynomial_allowance`, the growth from
+    :func:`rate_interval`, and the verdict by the rules of :class:`DivergenceResult`."""
+    horizons = tuple(r.horizon for r in runs)
     corrected = margin_interval(runs, confidence)
     allowance = polynomial_allowance(horizons, degree)
     rate, f_low, f_high = corrected if corrected is not None else (None, None, None)
@@ -833,11 +863,9 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
     growth = rate_interval(runs[0], runs[2], confidence)
     verdict = ("unstable" if low is not None and low > 1 else
                "stable" if (f_high is not None and f_high < 1) or growth[2] < 1 + tolerance else "undecided")
-    exact_value = None if exact_rate is None else to_exact(
-        exact_rate.exact if hasattr(exact_rate, "exact") else exact_rate, "exact_rate")
     return DivergenceResult(verdict, rate, low, high, f_low, f_high, *growth, allowance,
-                            None if exact_value is None else float(exact_value),
-                            None if exact_value is None else str(exact_value),
+                            None if exact_rate is None else float(exact_rate),
+                            None if exact_rate is None else str(exact_rate),
                             tolerance, confidence, horizons, paths, seed, runs[-1].sampling, tuple(runs))
 
 
