@@ -334,7 +334,7 @@ def lyapunov_certificate(A: Any, B: Any, K: Any, nu: Any
     nu = to_rational(nu, "nu")
     if not 0 <= nu <= 1:
         raise InputError(f"nu: an arrival rate lies in [0, 1], got {nu}")
-    if not all(sp.sympify(v).is_Rational for v in (*A, *B, *K)):
+    if not all(v.is_Rational for v in (*A, *B, *K)):
         raise AssumptionError("A, B, K: an entry is irrational", assumption="rational A, B and K",
                               applies_instead="a rational gain (the certificate's solve is over Q)")
     budget.check("max_dimension", A.rows, "A", "the dimension of the plant (an n^2 x n^2 exact solve)")
@@ -570,7 +570,7 @@ def rational_plant(system: Any) -> tuple[sp.ImmutableMatrix, sp.ImmutableMatrix]
     ``max_dimension``: what every exact certificate of :mod:`symkf.control` solves over Q."""
     system.check_stabilizable()
     A, B = sp.ImmutableMatrix(system.A), sp.ImmutableMatrix(system.B)
-    irrational = [v for v in (*A, *B) if not sp.sympify(v).is_Rational]
+    irrational = [v for v in (*A, *B) if not v.is_Rational]
     if irrational:
         raise AssumptionError(f"A, B: the entry {irrational[0]} is irrational",
                               assumption="rational A and B (the certificates' exact solves are over Q)",

@@ -69,7 +69,7 @@ def udp_threshold(a: Any, gamma: Any) -> sp.Expr:
     if not (g > 1 - 1 / a2):
         raise InputError(f"gamma: {g} <= 1 - 1/a^2 = {1 - 1 / a2}: the estimation error diverges at every nu "
                          f"(T = (1 - gamma) a^2 T + ... has no solution)")
-    return sp.nsimplify(sp.simplify(g * (a2 - 1) / (a2 - (1 - g) * (2 * a2 - 1))))
+    return sp.simplify(g * (a2 - 1) / (a2 - (1 - g) * (2 * a2 - 1)))
 
 
 @dataclass(frozen=True, repr=False)
