@@ -45,6 +45,8 @@ REPRODUCE: dict[str, tuple[str, str, dict[str, Any]]] = {
     "fusion-pendulum": ("symkf.fusion", "reproduce_fusion_pendulum", {"paths": 4, "horizon": 200}),
     "sui-theorem12": ("symkf.engine.second_order", "reproduce_sui_theorem12", {}),
     "you-2011-counterexample": ("symkf.bounds.counterexample", "reproduce_you_2011_counterexample", {"steps": 4}),
+    "schenato-scalar": ("symkf.control.reproduce", "reproduce_schenato_scalar", {"paths": 5000, "horizon": 90}),
+    "schenato-closed-forms": ("symkf.control.reproduce", "reproduce_schenato_closed_forms", {"simulate": False}),
 }
 
 
