@@ -16,11 +16,10 @@ Child mode: python bench_control.py --child ROW
 """
 
 import json
-import subprocess
 import sys
 import time
 
-from timing import peak_rss_mb
+from timing import peak_rss_mb, run_child_rows
 
 FOUR = ([[1, 2, 0, -1], [0, 2, 1, 0], [1, 0, -3, 1], [0, 1, 1, 2]], [[1, 0], [0, 0], [0, 1], [1, 1]])
 
@@ -78,21 +77,12 @@ ROWS = ["certified-4", "lmi-4", "certified-6", "lmi-6", "certified-8", "lmi-8"]
 
 
 def main(rows: list[str]) -> None:
-    print(f"{'row':<14}{'CPU s':>9}{'peak MB':>10}  answer")
-    cpu, found = {}, {}
-    for row in rows:
-        out = subprocess.run([sys.executable, __file__, "--child", row], capture_output=True, text=True)
-        if out.returncode:
-            print(f"{row:<14} failed: {out.stderr.strip().splitlines()[-1]}")
-            continue
-        res = json.loads(out.stdout.strip().splitlines()[-1])
-        cpu[row], found[row] = res["cpu"], (res["lower"], res["width"])
-        rest = {k: v for k, v in res.items() if k not in ("row", "cpu", "rss_mb")}
-        print(f"{row:<14}{res['cpu']:>9.2f}{res['rss_mb']:>10.0f}  {rest}", flush=True)
+    found = run_child_rows(__file__, rows)
+    cpu = {row: res["cpu"] for row, res in found.items()}
     for row in rows:
         if row.startswith("certified") and f"lmi-{row.split('-')[1]}" in cpu and row in cpu:
             lmi = f"lmi-{row.split('-')[1]}"
-            (lo, w), (exact, _) = found[lmi], found[row]
+            lo, w, exact = found[lmi]["lower"], found[lmi]["width"], found[row]["lower"]
             holds = ("holds the certified value" if lo <= exact <= lo + w else
                      f"misses the certified value by {min(abs(exact - lo), abs(exact - lo - w)):.1e}")
             print(f"n = {row.split('-')[1]}: LMI bisection to 1e-6 / certified bracket to 1e-12 = "

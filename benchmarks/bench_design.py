@@ -20,11 +20,10 @@ Child mode: python bench_design.py --child ROW
 
 import itertools
 import json
-import subprocess
 import sys
 import time
 
-from timing import peak_rss_mb
+from timing import peak_rss_mb, run_child_rows
 
 
 def _query(row: str):
@@ -80,15 +79,7 @@ ROWS = ["iid", "iid-rate", "ge", "ge-recovery", "dense8", "dense12", "pareto", "
 
 
 def main(rows: list[str]) -> None:
-    print(f"{'row':<14}{'CPU s':>9}{'peak MB':>10}  answer")
-    for row in rows:
-        out = subprocess.run([sys.executable, __file__, "--child", row], capture_output=True, text=True)
-        if out.returncode:
-            print(f"{row:<14} failed: {out.stderr.strip().splitlines()[-1]}")
-            continue
-        res = json.loads(out.stdout.strip().splitlines()[-1])
-        rest = {k: v for k, v in res.items() if k not in ("row", "cpu", "rss_mb")}
-        print(f"{row:<14}{res['cpu']:>9.2f}{res['rss_mb']:>10.0f}  {rest}", flush=True)
+    run_child_rows(__file__, rows)
 
 
 if __name__ == "__main__":
