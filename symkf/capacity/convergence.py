@@ -63,7 +63,7 @@ from ..arguments import check_public
 from ..errors import InputError, require_extra
 from ..exact.algebraic import with_prec
 from ..exact.field import Elem, NumberField
-from ..exact.linalg import field_of, rank, solve_rows
+from ..exact.linalg import field_of, positive_definite, rank, schur_positive, solve_rows
 from ..model.loss import LossModel
 from ..model.system import System
 from ..exact.spectral import eigenvalues
@@ -127,85 +127,6 @@ def _dyadic(v: float, bits: int = 40) -> Fraction:
 
 
 Entries = list[dict[tuple[int, int], Elem]]
-
-
-def _positive_definite(K: NumberField, M: list[list[Elem]]) -> bool:
-    """Exact: Sylvester's criterion on a symmetric matrix over ``K``, decided by the pivots of
-    elimination without row exchanges (the leading minors are their running products) on certified
-    balls at 256 bits, then 1024 and 4096 (the terms of an element of Q(cos 2 pi/401), degree 400,
-    cancel by 10^500); when a ball's sign stays open, on the exact pivots (:func:`_pivots_positive`
-    over Q, :func:`_field_pivots_positive` over K: not sympy's determinants and minimal
-    polynomials, far too slow at degree 400)."""
-    for prec in (256, 1024, 4096):
-        decided = with_prec(prec, lambda: _schur_positive(K.real_balls(M, prec)))
-        if decided is not None:
-            return decided
-        if K.is_rational:
-            return _pivots_positive([[a[0] for a in row] for row in M])
-    return _field_pivots_positive(K, M)
-
-
-def _field_pivots_positive(K: NumberField, M: list[list[Elem]]) -> bool:
-    """Sylvester's criterion by exact elimination over K without row exchanges: every pivot must be
-    positive (a zero pivot is a zero leading minor); a nonzero pivot's sign comes from its certified
-    ball at rising precision (one correct bit excludes 0, the pivot being exactly nonzero)."""
-    A = [list(row) for row in M]
-    for k in range(len(A)):
-        pivot = A[k][k]
-        if pivot.is_zero() or K.real_balls([[pivot]], 256, accuracy=1)[0][0] < 0:
-            return False
-        inv = K.inv(pivot)
-        for i in range(k + 1, len(A)):
-            f = K.mul(A[i][k], inv)
-            for j in range(k + 1, len(A)):
-                A[i][j] = (A[i][j] - K.mul(f, A[k][j])) % K.modulus
-    return True
-
-
-#: below this size :func:`_schur_positive` eliminates entry by entry (:func:`_pivots_positive`)
-SCHUR_BLOCK = 48
-
-
-def _schur_positive(a: list[list[flint.arb]]) -> bool | None:
-    """:func:`_pivots_positive` on balls, by halves: the pivots of elimination without row exchanges
-    are those of the leading block ``A11`` followed by those of its Schur complement ``A22 - A21
-    A11^-1 A12``, whose balls (enclosing the exact complement) flint's certified solve and product
-    give in C, where an entry-by-entry elimination runs in Python (docs/performance.md).  Not for
-    rationals: an exact ``fmpq_mat`` solve swells."""
-    k = len(a)
-    if k <= SCHUR_BLOCK:
-        return _pivots_positive(a)
-    h = k // 2
-    leading = _schur_positive([row[:h] for row in a[:h]])
-    if leading is not True:
-        return leading
-    try:
-        X = flint.arb_mat([row[:h] for row in a[:h]]).solve(flint.arb_mat([row[h:] for row in a[:h]]))
-    except ZeroDivisionError:   # a ball of A11 too wide to certify it invertible
-        return None
-    return _schur_positive((flint.arb_mat([row[h:] for row in a[h:]])
-                            - flint.arb_mat([row[:h] for row in a[h:]]) * X).tolist())
-
-
-def _pivots_positive(a: list[list[Any]]) -> bool | None:
-    """Whether every pivot of elimination without row exchanges is positive, in exact rationals
-    (``fmpq``) or certified balls (``arb``, at their precision): a negative pivot decides False, a
-    ball around zero leaves the answer open (None).  One elimination, not ``k`` determinants (the
-    leading minors of a large certificate, each a determinant of its own, repeat that work ``k``
-    times)."""
-    k = len(a)
-    for i in range(k):
-        pivot = a[i][i]
-        if not pivot > 0:
-            return False if pivot < 0 else None
-        for r in range(i + 1, k):
-            f = a[r][i] / pivot
-            if f == 0:
-                continue
-            row, top = a[r], a[i]
-            for j in range(i + 1, k):
-                row[j] -= f * top[j]
-    return True
 
 
 def _entries(basis: list[sp.Matrix]) -> tuple[NumberField, Entries]:
@@ -292,7 +213,7 @@ def _orthogonal_positive(K: NumberField, entries: Entries, gram: list[list[Elem]
     if decided is not None:
         return decided
     coef = solve_rows(K, gram, rhs)
-    return _positive_definite(K, _combination(K, [-c for c in coef], entries, size, Wr))
+    return positive_definite(K, _combination(K, [-c for c in coef], entries, size, Wr))
 
 
 def _projected_positive(K: NumberField, entries: Entries, gram: list[list[Elem]], rhs: list[Elem],
@@ -307,7 +228,7 @@ def _projected_positive(K: NumberField, entries: Entries, gram: list[list[Elem]]
     M = flint.arb_mat(K.real_balls(start, prec))
     for k, i, j, v in _entry_balls(K, entries, prec):
         M[i, j] -= c[k, 0] * v
-    return _schur_positive(M.tolist())
+    return schur_positive(M.tolist())
 
 
 def _rational(v: Fraction) -> Elem:
@@ -345,7 +266,7 @@ def mare_stabilizable(system: System, loss: LossModel) -> LMIVerdict:
     if t_val > 0:
         xr = [_dyadic(v) for v in x.value]
         Fx = _combination(K, [_rational(v) for v in xr], entries, size)
-        if _positive_definite(K, Fx):
+        if positive_definite(K, Fx):
             Yx = sp.Matrix([[K.to_sympy(a) for a in row[:n]] for row in Fx[:n]])
             Z = {}
             for v, (i, r, c) in zip(xr[ny:], zidx):

@@ -32,9 +32,10 @@ import flint
 import sympy as sp
 
 from ..exact.algebraic import AlgebraicNumber, with_prec
+from ..exact.linalg import pivots_positive
 from ..exact.text import algebraic_text
 from ..exact.spectral import eigenvalues
-from .threshold import _PREC, _Plant, _dyadic, _fmpq_matrix, _kron, _mid, _pivots_positive, _positive_float, _unvec, _vec
+from .threshold import _PREC, _Plant, _dyadic, _fmpq_matrix, _kron, _mid, _positive_float, _unvec, _vec
 
 
 def _evaluate(plant: _Plant, K: flint.arb_mat, p: list[list[flint.arb]]) -> tuple[flint.arb_mat, flint.arb_mat] | None:
@@ -127,7 +128,7 @@ def _coupled_certificate(A: sp.MatrixBase, B: sp.MatrixBase, K: sp.MatrixBase, f
     except ZeroDivisionError:
         return None
     S = [[[x[i * n * n + a * n + c, 0] for c in range(n)] for a in range(n)] for i in range(2)]
-    if not all(_pivots_positive([row[:] for row in Si]) for Si in S):
+    if not all(pivots_positive([row[:] for row in Si]) for Si in S):
         return None
     return tuple(sp.ImmutableMatrix([[sp.Rational(int(v.p), int(v.q)) for v in row] for row in Si]) for Si in S)
 

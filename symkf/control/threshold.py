@@ -52,7 +52,7 @@ from .. import budget
 from ..arguments import check_public
 from ..errors import AssumptionError, InputError, NumericalBreakdownError, ShapeError
 from ..exact.algebraic import AlgebraicNumber, subset_product, terminating_decimal, with_prec
-from ..exact.linalg import rank
+from ..exact.linalg import pivots_positive, rank
 from ..exact.numbers import to_exact_matrix, to_rational
 from ..exact.spectral import Eigenvalue, eigenvalues
 from ..exact.text import algebraic_text
@@ -355,24 +355,10 @@ def lyapunov_certificate(A: Any, B: Any, K: Any, nu: Any
     except ZeroDivisionError:
         return None
     S = [[v[j * n + i, 0] for j in range(n)] for i in range(n)]
-    if not _pivots_positive([row[:] for row in S]):
+    if not pivots_positive([row[:] for row in S]):
         return None
     return sp.ImmutableMatrix([[sp.Rational(int(x.p), int(x.q)) for x in row] for row in S])
 
-
-
-def _pivots_positive(a: list[list[flint.fmpq]]) -> bool:
-    """Sylvester's criterion by exact elimination without row exchanges (symmetric ``a``)."""
-    k = len(a)
-    for i in range(k):
-        if not a[i][i] > 0:
-            return False
-        for r in range(i + 1, k):
-            f = a[r][i] / a[i][i]
-            if f != 0:
-                for j in range(i + 1, k):
-                    a[r][j] -= f * a[i][j]
-    return True
 
 
 def _certified_upper(A: sp.MatrixBase, B: sp.MatrixBase, W: sp.MatrixBase, U: sp.MatrixBase,

@@ -15,8 +15,11 @@ from typing import Sequence
 import flint
 import sympy as sp
 
-from ..errors import ShapeError
+from ..errors import InputError, ShapeError
 from ..arguments import check_public
+from typing import Any
+
+from .algebraic import with_prec
 from .field import Elem, NumberField, QQ_FIELD, rational_value
 from .numbers import as_matrix, sympify
 
@@ -169,6 +172,96 @@ def solve_rows(K: NumberField, rows: Sequence[Sequence[Elem]], rhs: Sequence[Ele
             b[i * D + u, 0] = c
     x = big.solve(b)
     return [flint.fmpq_poly([x[j * D + t, 0] for t in range(D)]) for j in range(N)]
+
+
+def positive_definite(K: NumberField, M: list[list[Elem]]) -> bool:
+    """Exact: Sylvester's criterion on a symmetric matrix over ``K``, decided by the pivots of
+    elimination without row exchanges (the leading minors are their running products) on certified
+    balls at 256 bits, then 1024 and 4096 (the terms of an element of Q(cos 2 pi/401), degree 400,
+    cancel by 10^500); when a ball's sign stays open, on the exact pivots (:func:`pivots_positive`
+    over Q, :func:`_field_pivots_positive` over K: not sympy's determinants and minimal
+    polynomials, far too slow at degree 400)."""
+    _square_of(M, (flint.fmpq_poly,), "M")
+    for prec in (256, 1024, 4096):
+        decided = with_prec(prec, lambda: schur_positive(K.real_balls(M, prec)))
+        if decided is not None:
+            return decided
+        if K.is_rational:
+            return pivots_positive([[a[0] for a in row] for row in M])
+    return _field_pivots_positive(K, M)
+
+
+def _field_pivots_positive(K: NumberField, M: list[list[Elem]]) -> bool:
+    """Sylvester's criterion by exact elimination over K without row exchanges: every pivot must be
+    positive (a zero pivot is a zero leading minor); a nonzero pivot's sign comes from its certified
+    ball at rising precision (one correct bit excludes 0, the pivot being exactly nonzero)."""
+    A = [list(row) for row in M]
+    for k in range(len(A)):
+        pivot = A[k][k]
+        if pivot.is_zero() or K.real_balls([[pivot]], 256, accuracy=1)[0][0] < 0:
+            return False
+        inv = K.inv(pivot)
+        for i in range(k + 1, len(A)):
+            f = K.mul(A[i][k], inv)
+            for j in range(k + 1, len(A)):
+                A[i][j] = (A[i][j] - K.mul(f, A[k][j])) % K.modulus
+    return True
+
+
+def _square_of(rows: Any, kinds: tuple[type, ...], entry: str) -> None:
+    """Refuse anything but a square list of lists of ``kinds`` (python-flint numbers)."""
+    if not (isinstance(rows, list) and all(isinstance(r, list) and len(r) == len(rows) for r in rows)
+            and all(isinstance(v, kinds) for r in rows for v in r)):
+        names = " or ".join(k.__name__ for k in kinds)
+        raise InputError(f"{entry}: expected a square list of lists of python-flint {names}")
+
+
+#: below this size :func:`schur_positive` eliminates entry by entry (:func:`pivots_positive`)
+SCHUR_BLOCK = 48
+
+
+def schur_positive(a: list[list[flint.arb]]) -> bool | None:
+    """:func:`pivots_positive` on balls, by halves: the pivots of elimination without row exchanges
+    are those of the leading block ``A11`` followed by those of its Schur complement ``A22 - A21
+    A11^-1 A12``, whose balls (enclosing the exact complement) flint's certified solve and product
+    give in C, where an entry-by-entry elimination runs in Python (docs/performance.md).  Not for
+    rationals: an exact ``fmpq_mat`` solve swells."""
+    _square_of(a, (flint.arb,), "a")
+    k = len(a)
+    if k <= SCHUR_BLOCK:
+        return pivots_positive(a)
+    h = k // 2
+    leading = schur_positive([row[:h] for row in a[:h]])
+    if leading is not True:
+        return leading
+    try:
+        X = flint.arb_mat([row[:h] for row in a[:h]]).solve(flint.arb_mat([row[h:] for row in a[:h]]))
+    except ZeroDivisionError:   # a ball of A11 too wide to certify it invertible
+        return None
+    return schur_positive((flint.arb_mat([row[h:] for row in a[h:]])
+                            - flint.arb_mat([row[:h] for row in a[h:]]) * X).tolist())
+
+
+def pivots_positive(a: list[list[Any]]) -> bool | None:
+    """Whether every pivot of elimination without row exchanges is positive, in exact rationals
+    (``fmpq``) or certified balls (``arb``, at their precision): a negative pivot decides False, a
+    ball around zero leaves the answer open (None).  One elimination, not ``k`` determinants (the
+    leading minors of a large certificate, each a determinant of its own, repeat that work ``k``
+    times)."""
+    _square_of(a, (flint.fmpq, flint.arb), "a")
+    k = len(a)
+    for i in range(k):
+        pivot = a[i][i]
+        if not pivot > 0:
+            return False if pivot < 0 else None
+        for r in range(i + 1, k):
+            f = a[r][i] / pivot
+            if f == 0:
+                continue
+            row, top = a[r], a[i]
+            for j in range(i + 1, k):
+                row[j] -= f * top[j]
+    return True
 
 
 check_public(globals())

@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from symkf import IID, Sensor, System
 from symkf.capacity import MARE, mare_converges, mare_stabilizable, unit_circle_condition
 from symkf.errors import AssumptionError
+from symkf.exact.linalg import positive_definite
 
 R = sp.Rational
 ROTATION = System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]])], name="rotation")
@@ -59,7 +60,7 @@ def test_the_infeasibility_certificate_on_balls_is_the_exact_one(system, bad, mo
     def both(K, entries, gram, rhs, start):
         on_balls = projected(K, entries, gram, rhs, start)
         coef = cv.solve_rows(K, gram, rhs)
-        seen.append((on_balls, cv._positive_definite(K, cv._combination(K, [-c for c in coef], entries, len(start), start))))
+        seen.append((on_balls, positive_definite(K, cv._combination(K, [-c for c in coef], entries, len(start), start))))
         return on_balls
     projected = cv._projected_positive
     monkeypatch.setattr(cv, "_projected_positive", both)
@@ -71,29 +72,6 @@ def test_the_infeasibility_certificate_on_balls_is_the_exact_one(system, bad, mo
         Wr = [[cv._rational(cv._dyadic(v)) for v in row] for row in X @ X.T / size + np.eye(size) / 4]
         both(K, entries, gram, [cv._frobenius(K, P, Wr) for P in entries], Wr)
     assert all(x == y for x, y in seen) and (True, True) in seen and (False, False) in seen
-
-
-@pytest.mark.parametrize("size", [40, 131])
-def test_pivots_by_schur_complements_are_the_pivots(size):
-    # _schur_positive (halves, flint's certified solve and product) against elimination entry by entry,
-    # on balls of the same exact matrices: positive definite, a last pivot negative, a leading minor
-    # zero (both leave it open on balls of nonzero radius: None), at and above SCHUR_BLOCK
-    import flint
-
-    from symkf.capacity.convergence import SCHUR_BLOCK, _pivots_positive, _schur_positive
-    from symkf.exact.algebraic import with_prec
-    X = np.random.default_rng(size).normal(size=(size, size))
-    A = X @ X.T / size + np.eye(size) / 20
-    negative, singular = A.copy(), A.copy()
-    negative[-1, -1] -= np.linalg.eigvalsh(A)[-1] * size
-    singular[:2, :] = A[0]
-    singular[:, :2] = singular[:, :1]
-    for M, expected in ((A, True), (negative, False), (singular, None)):
-        exact = [[flint.fmpq(int(round(v * 2 ** 40)), 2 ** 40) for v in row] for row in M]
-        balls = lambda: [[flint.arb(x) + flint.arb(0, 2.0 ** -200) for x in row] for row in exact]
-        assert with_prec(256, lambda: _schur_positive(balls())) is expected
-        assert with_prec(256, lambda: _pivots_positive(balls())) is expected
-    assert size <= SCHUR_BLOCK or size > 2 * SCHUR_BLOCK
 
 
 def test_theorem4_agrees_with_mare_iteration():
@@ -117,17 +95,3 @@ def test_condition2_with_unit_circle_eigenvalues():
                                         Q=[[1, 0], [0, R(1, 100)]]))
 
 
-@settings(max_examples=40, deadline=None)
-@given(st.lists(st.integers(-3, 3), min_size=9, max_size=9), st.lists(st.integers(-3, 3), min_size=9, max_size=9))
-def test_field_pivots_decide_positive_definiteness_as_sylvester(a, b):
-    """The exact pivots over Q(sqrt 2) (the LMI's last resort, when no certified ball decides a
-    pivot's sign: an element of Q(cos 2 pi/401) cancels by 10^500 at 256 bits) against Sylvester's
-    leading minors in sympy, on M = X X^T + shift (sometimes singular or indefinite)."""
-    from symkf.capacity import convergence as cv
-    from symkf.exact.field import NumberField
-    r2 = sp.sqrt(2)
-    X = sp.Matrix(3, 3, [u + v * r2 for u, v in zip(a, b)])
-    M = X * X.T - (sum(abs(u) for u in a) % 4) * sp.eye(3)
-    K = NumberField([r2])
-    want = all(sp.nsimplify(sp.expand(M[:k, :k].det())) > 0 for k in range(1, 4))
-    assert cv._field_pivots_positive(K, [[K.convert(sp.expand(v)) for v in M.row(i)] for i in range(3)]) == want

@@ -4,6 +4,7 @@ solve_rows and normal_of against sympy and the nullspace."""
 
 
 import numpy as np
+import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -113,3 +114,42 @@ def test_normal_of_is_the_nullspace_up_to_a_scalar(gens, n, dependent, seed):
     (g,) = nullspace_rows(K, rows, n)
     assert any(not x.is_zero() for x in h)
     assert all((K.mul(h[i], g[j]) - K.mul(h[j], g[i])).is_zero() for i in range(n) for j in range(i))
+
+
+@pytest.mark.parametrize("size", [40, 131])
+def test_pivots_by_schur_complements_are_the_pivots(size):
+    # schur_positive (halves, flint's certified solve and product) against elimination entry by entry,
+    # on balls of the same exact matrices: positive definite, a last pivot negative, a leading minor
+    # zero (both leave it open on balls of nonzero radius: None), at and above SCHUR_BLOCK
+    import flint
+
+    from symkf.exact.linalg import SCHUR_BLOCK, pivots_positive, schur_positive
+    from symkf.exact.algebraic import with_prec
+    X = np.random.default_rng(size).normal(size=(size, size))
+    A = X @ X.T / size + np.eye(size) / 20
+    negative, singular = A.copy(), A.copy()
+    negative[-1, -1] -= np.linalg.eigvalsh(A)[-1] * size
+    singular[:2, :] = A[0]
+    singular[:, :2] = singular[:, :1]
+    for M, expected in ((A, True), (negative, False), (singular, None)):
+        exact = [[flint.fmpq(int(round(v * 2 ** 40)), 2 ** 40) for v in row] for row in M]
+        balls = lambda: [[flint.arb(x) + flint.arb(0, 2.0 ** -200) for x in row] for row in exact]
+        assert with_prec(256, lambda: schur_positive(balls())) is expected
+        assert with_prec(256, lambda: pivots_positive(balls())) is expected
+    assert size <= SCHUR_BLOCK or size > 2 * SCHUR_BLOCK
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.integers(-3, 3), min_size=9, max_size=9), st.lists(st.integers(-3, 3), min_size=9, max_size=9))
+def test_field_pivots_decide_positive_definiteness_as_sylvester(a, b):
+    """The exact pivots over Q(sqrt 2) (the LMI's last resort, when no certified ball decides a
+    pivot's sign: an element of Q(cos 2 pi/401) cancels by 10^500 at 256 bits) against Sylvester's
+    leading minors in sympy, on M = X X^T + shift (sometimes singular or indefinite)."""
+    from symkf.exact import linalg
+    from symkf.exact.field import NumberField
+    r2 = sp.sqrt(2)
+    X = sp.Matrix(3, 3, [u + v * r2 for u, v in zip(a, b)])
+    M = X * X.T - (sum(abs(u) for u in a) % 4) * sp.eye(3)
+    K = NumberField([r2])
+    want = all(sp.nsimplify(sp.expand(M[:k, :k].det())) > 0 for k in range(1, 4))
+    assert linalg._field_pivots_positive(K, [[K.convert(sp.expand(v)) for v in M.row(i)] for i in range(3)]) == want
