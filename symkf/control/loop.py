@@ -35,7 +35,7 @@ from ..model.loss import LossModel
 from ..model.system import Sensor, System
 from ..output import JsonDocument
 from .markov import _gilbert_elliott_stabilizable
-from .threshold import ControlThreshold, _quotient_rank, _quotients, critical_arrival_rate, rational_plant
+from .threshold import ControlThreshold, _quotient_rank, _quotients, critical_arrival_rate, exact_plant
 
 
 @dataclass(frozen=True, repr=False)
@@ -136,7 +136,7 @@ def control_stabilizable(system: System, actuator_loss: LossModel) -> tuple[bool
     fail, recover = actuator_loss.channel_fail, actuator_loss.channel_recover
     if actuator_loss.bernoulli is None and fail is not None and recover is not None and len(system.actuators) == 1 \
             and len(fail) == 1:
-        A, B = rational_plant(system)
+        A, B = exact_plant(system)
         return _gilbert_elliott_stabilizable(sp.Matrix(A), sp.Matrix(B), sp.Matrix(system.W), sp.Matrix(system.U),
                                              fail[0], recover[0])
     losses = actuator_loss.require_bernoulli(

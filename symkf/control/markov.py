@@ -32,10 +32,9 @@ import flint
 import sympy as sp
 
 from ..exact.algebraic import AlgebraicNumber, with_prec
-from ..exact.linalg import pivots_positive
 from ..exact.text import algebraic_text
 from ..exact.spectral import eigenvalues
-from .threshold import _PREC, _Plant, _dyadic, _fmpq_matrix, _kron, _mid, _positive_float, _unvec, _vec
+from .threshold import _PREC, _Plant, _dyadic, _kron, _mid, _positive_float, _unvec, _vec, stein_certificate
 
 
 def _evaluate(plant: _Plant, K: flint.arb_mat, p: list[list[flint.arb]]) -> tuple[flint.arb_mat, flint.arb_mat] | None:
@@ -104,42 +103,20 @@ def _arb(q: Fraction) -> flint.arb:
 
 
 def _coupled_certificate(A: sp.MatrixBase, B: sp.MatrixBase, K: sp.MatrixBase, f: Fraction, q: Fraction
-                        ) -> tuple[sp.ImmutableMatrix, sp.ImmutableMatrix] | None:
-    """Exact: ``(S_0, S_1) > 0`` solving ``S_i - sum_j p_ij M_j' S_j M_j = I`` (module doc) over the
-    rationals, or None when the solution is not positive definite (or does not exist)."""
-    n = A.rows
-    M = [_fmpq_matrix(A.T), _fmpq_matrix((A + B * K).T)]
-    p = [[1 - _q(q), _q(q)], [_q(f), 1 - _q(f)]]
-    size = 2 * n * n
-    L = flint.fmpq_mat(size, size)
-    for i in range(2):
-        for a in range(n):
-            for b in range(n):
-                for c in range(n):
-                    for d in range(n):
-                        row, col = a * n + c, b * n + d
-                        for j in range(2):
-                            L[i * n * n + row, j * n * n + col] -= p[i][j] * M[j][a, b] * M[j][c, d]
-        for k in range(n * n):
-            L[i * n * n + k, i * n * n + k] += 1
-    rhs = flint.fmpq_mat([[1 if (k // n == k % n) else 0] for _ in range(2) for k in range(n * n)])
-    try:
-        x = L.solve(rhs)
-    except ZeroDivisionError:
-        return None
-    S = [[[x[i * n * n + a * n + c, 0] for c in range(n)] for a in range(n)] for i in range(2)]
-    if not all(pivots_positive([row[:] for row in Si]) for Si in S):
-        return None
-    return tuple(sp.ImmutableMatrix([[sp.Rational(int(v.p), int(v.q)) for v in row] for row in Si]) for Si in S)
+                         ) -> list[sp.ImmutableMatrix] | None:
+    """Exact: ``(S_0, S_1) > 0`` solving ``S_i - sum_j p_ij M_j' S_j M_j = I`` (module doc), or None."""
+    M = [A, A + B * K]
+    p = [[1 - _rational(q), _rational(q)], [_rational(f), 1 - _rational(f)]]
+    return stein_certificate([[(j, p[i][j], M[j]) for j in range(2)] for i in range(2)], A.rows)
 
 
-def _q(x: Fraction) -> flint.fmpq:
-    return flint.fmpq(x.numerator, x.denominator)
+def _rational(x: Fraction) -> sp.Rational:
+    return sp.Rational(x.numerator, x.denominator)
 
 
 def _gilbert_elliott_stabilizable(A: sp.MatrixBase, B: sp.MatrixBase, W: sp.MatrixBase, U: sp.MatrixBase,
                                  fail: Any, recover: Any) -> tuple[bool | None, str]:
-    """The verdict of the module doc, with its reason (``A``, ``B`` rational; ``(A, B)`` stabilizable)."""
+    """The verdict of the module doc, with its reason (``(A, B)`` stabilizable)."""
     f, q = Fraction(str(sp.Rational(fail))), Fraction(str(sp.Rational(recover)))
     rho2 = max((e.modulus for e in eigenvalues(A)), default=None) ** 2
     burst = AlgebraicNumber.from_expr(rho2.exact * (1 - sp.Rational(q.numerator, q.denominator)))

@@ -30,7 +30,7 @@ One input gives ``r_Q = 1`` and the whole unstable part, ``1 - 1/prod |lambda_u|
 **Upper side: a rational gain, verified exactly.**  At a rational ``nu`` a rational gain ``K``
 makes the loop mean-square stable iff the positive map ``T(S) = (1 - nu) A'SA + nu (A+BK)'S(A+BK)``
 has spectral radius below one, iff ``S - T(S) = I`` has a positive definite solution: one exact
-rational linear solve (python-flint ``fmpq_mat``) and exact pivots.  The gain is the optimal one
+linear solve in the number field of ``A`` and ``B`` (:func:`stein_certificate`) and exact pivots.  The gain is the optimal one
 at that ``nu``, from policy iteration (Hewer's algorithm, the policy-evaluation/improvement form
 of the MARE) continued from ``nu = 1`` towards the quotient bound in 256-bit arithmetic (floats
 only choose the gain; the verdict is the exact solve).  Whenever the certificate verifies at the
@@ -52,7 +52,7 @@ from .. import budget
 from ..arguments import check_public
 from ..errors import AssumptionError, InputError, NumericalBreakdownError, ShapeError
 from ..exact.algebraic import AlgebraicNumber, subset_product, terminating_decimal, with_prec
-from ..exact.linalg import pivots_positive, rank
+from ..exact.linalg import field_of, positive_definite, rank, solve_rows
 from ..exact.numbers import to_exact_matrix, to_rational
 from ..exact.spectral import Eigenvalue, eigenvalues
 from ..exact.text import algebraic_text
@@ -313,16 +313,52 @@ def _round(x: flint.arb, bits: int) -> sp.Rational:
     return sp.Rational(int(scaled.unique_fmpz()), 2 ** bits)
 
 
-def _fmpq_matrix(M: sp.MatrixBase) -> flint.fmpq_mat:
-    return flint.fmpq_mat([[flint.fmpq(int(sp.Rational(v).p), int(sp.Rational(v).q)) for v in M.row(i)]
-                           for i in range(M.rows)])
+def stein_certificate(equations: list[list[tuple[int, Any, sp.MatrixBase]]], n: int
+                      ) -> list[sp.ImmutableMatrix] | None:
+    """Exact: matrices ``S_i > 0`` solving ``S_i - sum_(j, c, M) c M' S_j M = I`` for every ``i``
+    (``equations[i]`` lists the terms ``(j, c, M)``: rational ``c``, ``n x n`` exact ``M``), over the
+    number field of the ``M``'s entries; None when the solution is not positive definite or the
+    system is singular.  A positive map ``S -> (sum_j c M' S_j M)_i`` with such a solution has spectral
+    radius below one: the second moments of the loop it describes decay."""
+    budget.check("max_dimension", n * len(equations), "A", "the size of the certificate's matrices (an "
+                 "(n k)^2 x (n k)^2 exact solve for k coupled matrices)")
+    field = field_of(*[M for terms in equations for _, _, M in terms])
+    budget.check("max_cyclotomic_degree", field.degree, "A", "the degree of the field of the plant's entries, in "
+                 "which the certificate is solved")
+    k, one = len(equations), flint.fmpq_poly([1])
+    size = k * n * n
+    rows = [[flint.fmpq_poly([]) for _ in range(size)] for _ in range(size)]
+    for i, terms in enumerate(equations):
+        for t in range(n * n):
+            rows[i * n * n + t][i * n * n + t] += one
+        for j, c, M in terms:
+            E = field.matrix(sp.Matrix(M))
+            coef = field.convert(c)
+            for a in range(n):
+                for e in range(n):
+                    row = rows[i * n * n + a * n + e]
+                    for b in range(n):
+                        if E[b][a].is_zero():
+                            continue
+                        left = field.mul(coef, E[b][a])
+                        for d in range(n):
+                            if not E[d][e].is_zero():
+                                row[j * n * n + b * n + d] -= field.mul(left, E[d][e])
+    rhs = [one if (t // n == t % n) else flint.fmpq_poly([]) for _ in range(k) for t in range(n * n)]
+    try:
+        x = solve_rows(field, rows, rhs)
+    except ZeroDivisionError:
+        return None
+    blocks = [[[x[i * n * n + a * n + e] % field.modulus for e in range(n)] for a in range(n)] for i in range(k)]
+    if not all(positive_definite(field, S) for S in blocks):
+        return None
+    return [sp.ImmutableMatrix([[field.to_sympy(v) for v in row] for row in S]) for S in blocks]
 
 
-def lyapunov_certificate(A: Any, B: Any, K: Any, nu: Any
-                         ) -> sp.ImmutableMatrix | None:
+def lyapunov_certificate(A: Any, B: Any, K: Any, nu: Any) -> sp.ImmutableMatrix | None:
     """Exact: the solution ``S`` of ``S - (1 - nu) A'SA - nu (A+BK)'S(A+BK) = I`` when it is positive
     definite (then the loop ``x+ = (A + nu_k B K) x`` is mean-square stable at arrival rate ``nu``:
-    the positive map has spectral radius below one), else None.  Rational ``A, B, K, nu``.
+    the positive map has spectral radius below one), else None (:func:`stein_certificate`).
 
     >>> lyapunov_certificate([[2]], [[1]], [[-2]], "4/5")     # (1 - 4/5) 4 = 4/5 < 1: S = 1/(1 - 4/5)
     Matrix([[5]])
@@ -334,31 +370,8 @@ def lyapunov_certificate(A: Any, B: Any, K: Any, nu: Any
     nu = to_rational(nu, "nu")
     if not 0 <= nu <= 1:
         raise InputError(f"nu: an arrival rate lies in [0, 1], got {nu}")
-    if not all(v.is_Rational for v in (*A, *B, *K)):
-        raise AssumptionError("A, B, K: an entry is irrational", assumption="rational A, B and K",
-                              applies_instead="a rational gain (the certificate's solve is over Q)")
-    budget.check("max_dimension", A.rows, "A", "the dimension of the plant (an n^2 x n^2 exact solve)")
-    n = A.rows
-    Acl = A + B * K
-    At, Ct = _fmpq_matrix(A.T), _fmpq_matrix(Acl.T)
-    q = flint.fmpq(int(nu.p), int(nu.q))
-    M = flint.fmpq_mat(n * n, n * n)
-    for i in range(n):
-        for j in range(n):
-            for k in range(n):
-                for l in range(n):
-                    M[i * n + k, j * n + l] = (1 if (i == j and k == l) else 0) - (1 - q) * At[i, j] * At[k, l] \
-                        - q * Ct[i, j] * Ct[k, l]
-    rhs = flint.fmpq_mat([[1 if i == j else 0] for j in range(n) for i in range(n)])
-    try:
-        v = M.solve(rhs)
-    except ZeroDivisionError:
-        return None
-    S = [[v[j * n + i, 0] for j in range(n)] for i in range(n)]
-    if not pivots_positive([row[:] for row in S]):
-        return None
-    return sp.ImmutableMatrix([[sp.Rational(int(x.p), int(x.q)) for x in row] for row in S])
-
+    found = stein_certificate([[(0, 1 - nu, A), (0, nu, A + B * K)]], A.rows)
+    return None if found is None else found[0]
 
 
 def _certified_upper(A: sp.MatrixBase, B: sp.MatrixBase, W: sp.MatrixBase, U: sp.MatrixBase,
@@ -527,8 +540,8 @@ def critical_arrival_rate(system: Any, tolerance: Any = "1e-12") -> ControlThres
     ------
     UncontrollableError
         An eigenvalue of modulus at least one that no actuator reaches (no rate stabilizes).
-    AssumptionError
-        ``A`` or ``B`` has irrational entries (the certificate's exact solve is over the rationals).
+    BudgetError
+        The plant's dimension or its entries' field is above its cap (the certificate's exact solve).
 
     Examples
     --------
@@ -551,24 +564,14 @@ def critical_arrival_rate(system: Any, tolerance: Any = "1e-12") -> ControlThres
     return system._cache[key]
 
 
-def rational_plant(system: Any) -> tuple[sp.ImmutableMatrix, sp.ImmutableMatrix]:
-    """``(A, B)`` of a stabilizable plant with rational entries and a dimension within
-    ``max_dimension``: what every exact certificate of :mod:`symkf.control` solves over Q."""
+def exact_plant(system: Any) -> tuple[sp.ImmutableMatrix, sp.ImmutableMatrix]:
+    """``(A, B)`` of a plant with actuators, stabilizable (:meth:`System.check_stabilizable`)."""
     system.check_stabilizable()
-    A, B = sp.ImmutableMatrix(system.A), sp.ImmutableMatrix(system.B)
-    irrational = [v for v in (*A, *B) if not v.is_Rational]
-    if irrational:
-        raise AssumptionError(f"A, B: the entry {irrational[0]} is irrational",
-                              assumption="rational A and B (the certificates' exact solves are over Q)",
-                              applies_instead="the closed forms and the quotient bound: "
-                                              "symkf.control.threshold.quotient_bound(A, B)")
-    budget.check("max_dimension", A.rows, "A", "the dimension of the plant, whose certificate solves "
-                 "an n^2 x n^2 rational system")
-    return A, B
+    return sp.ImmutableMatrix(system.A), sp.ImmutableMatrix(system.B)
 
 
 def _threshold(system: Any, tol: Fraction) -> ControlThreshold:
-    A, B = rational_plant(system)
+    A, B = exact_plant(system)
     quotient = quotient_bound(A, B)
     lower = AlgebraicNumber.from_expr(0) if quotient is None else quotient.bound
     upper, gain, certificate = _certified_upper(A, B, sp.Matrix(system.W), sp.Matrix(system.U), lower, tol)

@@ -12,7 +12,7 @@ import sympy as sp
 import symkf as sk
 from symkf.control import critical_arrival_rate, quotient_bound
 from symkf.control.threshold import lyapunov_certificate
-from symkf.errors import AssumptionError, InputError, ShapeError, UncontrollableError
+from symkf.errors import InputError, ShapeError, UncontrollableError
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.exact.spectral import eigenvalues
 
@@ -144,7 +144,14 @@ def test_bad_arguments_are_refused():
         critical_arrival_rate(sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])]))
     with pytest.raises(InputError, match="tolerance"):
         critical_arrival_rate(plant([[2]], [[1]]), 2)
-    with pytest.raises(AssumptionError, match="irrational"):
-        critical_arrival_rate(plant([[sp.sqrt(5)]], [[1]]))
     with pytest.raises(ShapeError, match="B"):
         quotient_bound([[2]], [[1], [1]])
+
+
+def test_rotation_plant_is_certified_in_its_number_field():
+    # 2R(pi/6): entries sqrt(3) and 1, eigenvalues 2 e^(+-i pi/6); one input: 1 - 1/(2 * 2)^2 = 15/16,
+    # the certificate's Stein equation solved over Q(sqrt 3)
+    c, s_ = sp.sqrt(3), 1
+    t = critical_arrival_rate(plant([[c, -s_], [s_, c]], [[0], [1]]))
+    assert t.exact == R(15, 16) and t.reached and t.check()
+    assert any(v.has(sp.sqrt(3)) for v in t.certificate)
