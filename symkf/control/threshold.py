@@ -56,6 +56,7 @@ from ..exact.linalg import field_of, positive_definite, rank, solve_rows
 from ..exact.numbers import to_exact_matrix, to_rational
 from ..exact.spectral import Eigenvalue, eigenvalues
 from ..exact.text import algebraic_text
+from ..model.system import System
 from ..output import JsonDocument
 
 #: bits of the arithmetic that computes the gain (not the verdict, which is exact)
@@ -524,7 +525,7 @@ class ControlThreshold(JsonDocument):
         return rf"$\nu_c \in [{sp.latex(self.lower.exact)},\ {sp.latex(sp.Rational(self.upper.numerator, self.upper.denominator))}]$"
 
 
-def critical_arrival_rate(system: Any, tolerance: Any = "1e-12") -> ControlThreshold:
+def critical_arrival_rate(system: System, tolerance: Any = "1e-12") -> ControlThreshold:
     """``nu_c`` of TCP-like LQG control with every input on one lossy channel (Schenato et al. 2007,
     Section IV): exact when a closed form is proved (one input; ``B`` square invertible), otherwise a
     certified bracket ``[lower, upper)`` (module doc) aimed at width ``tolerance``.
@@ -556,7 +557,7 @@ def critical_arrival_rate(system: Any, tolerance: Any = "1e-12") -> ControlThres
     tol = to_rational(tolerance, "tolerance")
     if not 0 < tol < 1:
         raise InputError(f"tolerance: must lie in (0, 1), got {tol}")
-    if not getattr(system, "actuators", ()):
+    if not system.actuators:
         raise InputError("system: has no actuators; give System(..., actuators=[Actuator(B=...)])")
     key = ("control_threshold", tol)
     if key not in system._cache:   # analyze asks once for the threshold and once for the loop's verdict
@@ -564,13 +565,13 @@ def critical_arrival_rate(system: Any, tolerance: Any = "1e-12") -> ControlThres
     return system._cache[key]
 
 
-def exact_plant(system: Any) -> tuple[sp.ImmutableMatrix, sp.ImmutableMatrix]:
+def exact_plant(system: System) -> tuple[sp.ImmutableMatrix, sp.ImmutableMatrix]:
     """``(A, B)`` of a plant with actuators, stabilizable (:meth:`System.check_stabilizable`)."""
     system.check_stabilizable()
     return sp.ImmutableMatrix(system.A), sp.ImmutableMatrix(system.B)
 
 
-def _threshold(system: Any, tol: Fraction) -> ControlThreshold:
+def _threshold(system: System, tol: Fraction) -> ControlThreshold:
     A, B = exact_plant(system)
     quotient = quotient_bound(A, B)
     lower = AlgebraicNumber.from_expr(0) if quotient is None else quotient.bound
