@@ -439,7 +439,7 @@ class _TwistedDraw:
         Ke = np.einsum("ptiq,pq->pti", K, z[:, n:] @ self.plant.C.T)
         Fz = np.einsum("tij,pj->pti", maps.F0, z) + np.einsum("tij,ptj->pti", maps.M, Ke)
         measured = np.einsum("tij,ptiq,qr,ptjr->pt", self.Y, K, self.plant.R, K, optimize=True)   # <V_t, M K R K' M'>
-        with np.errstate(under="ignore"):                           # E <V_t, z' z'> over the step's noise
+        with np.errstate(under="ignore"):                           # E <V_t, z_{k+1} z_{k+1}'> over the step's noise
             h = np.einsum("pti,tij,ptj->pt", Fz, self.V, Fz, optimize=True) + (self.tr_noise[None] + measured) / scale[:, None] ** 2
         q = p * h
         total = q.sum(axis=1, keepdims=True)

@@ -246,7 +246,7 @@ def test_udp_loop_grows_by_the_exact_radius_of_its_second_moment_map():
 def test_udp_loop_simulation_decides_the_exact_verdict_on_both_sides_of_the_threshold(gamma, nu):
     """nu_udp(gamma) = 3 gamma / (7 gamma - 3): 9/11 at 9/10, 12/13 at 4/5.  The theory
     (verify_loop) against the simulation on both sides of the UDP threshold at gamma = 9/10 and 4/5
-    (each about 4.5 CPU-s); where unstable, the interval holds the exact radius of the
+    (each about 4 CPU-s); where unstable, the interval holds the exact radius of the
     second-moment map for the simulated gain (1.0957 at (9/10, 79/100): the mean rests on paths
     the final-burst sampler missed, which called this loop stable)."""
     from symkf.control.verify import verify_loop
