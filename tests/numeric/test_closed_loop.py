@@ -212,3 +212,48 @@ def test_long_runs_find_the_hand_derived_growth_of_the_scalar_loop(seed):
                             paths=20_000, seed=100 * seed)
         low, high = d.rate_interval
         assert d.verdict == "unstable" and low <= exact <= high, (gamma, nu, gain, d)
+
+
+def udp_second_moment_radius(gamma, nu, l, a=2.0):
+    """The spectral radius of the scalar UDP-like loop's second moments with noiseless measurements
+    and u = -l x^ (b = c = 1): X = E[x^2], Z = E[e^2] (E[x^ e] = 0) obey exactly
+    X' = gamma [(a^2 - 2 a nu l + nu l^2) X + a^2 Z] + (1 - gamma) (a - nu l)^2 X,
+    Z' = (1 - gamma) [a^2 Z + nu (1 - nu) l^2 X]  (x^ here the estimate x^_{k|k})."""
+    M = [[gamma * (a * a - 2 * a * nu * l + nu * l * l) + (1 - gamma) * (a - nu * l) ** 2, gamma * a * a],
+         [(1 - gamma) * nu * (1 - nu) * l * l, (1 - gamma) * a * a]]
+    return float(max(abs(np.linalg.eigvals(M))))
+
+
+#: the gain verify_loop simulates the UDP-like loop with at gamma = 9/10 (optimal just inside the region)
+UDP_GAIN = 1.80525306
+
+
+def test_udp_loop_grows_by_the_exact_radius_of_its_second_moment_map():
+    """(gamma, nu) = (0.9, 0.7), noiseless measurements: the loop diverges by rho = 1.4036 per step,
+    through lost observations whose error an arrival moves into the estimate (no final burst of one
+    channel carries it); the simulated rate's interval holds the hand-derived rho."""
+    rho = udp_second_moment_radius(0.9, 0.7, UDP_GAIN)
+    assert rho == pytest.approx(1.4036, abs=1e-4)
+    plant = loop_plant([[2]], [[1]], [[1]], R=[[1e-12]])
+    d = loop_divergence(plant, 0.9, 0.7, protocol="udp", gain=[[UDP_GAIN]], paths=10_000, seed=SEED)
+    low, high = d.rate_interval
+    assert d.verdict == "unstable" and low <= rho <= high and high - low < 0.05
+
+
+@pytest.mark.full
+@pytest.mark.parametrize("gamma, nu", [("9/10", "7/10"), ("9/10", "79/100"), ("9/10", "17/20"), ("9/10", "9/10"),
+                                       ("4/5", "9/10"), ("4/5", "19/20")])
+def test_udp_loop_simulation_decides_the_exact_verdict_on_both_sides_of_the_threshold(gamma, nu):
+    """nu_udp(gamma) = 3 gamma / (7 gamma - 3): 9/11 at 9/10, 12/13 at 4/5.  The theory
+    (verify_loop) against the simulation on both sides of the UDP threshold at gamma = 9/10 and 4/5
+    (each about 4 CPU-s); where unstable, the interval holds the exact radius of the
+    second-moment map for the simulated gain (1.0957 at (9/10, 79/100): the mean rests on paths
+    the final-burst sampler missed, which called this loop stable)."""
+    from symkf.control.verify import verify_loop
+    S = System(A=[[2]], sensors=[Sensor(C=[[1]])], actuators=[Actuator(B=[[1]])])
+    r = verify_loop(S, gamma, nu, protocol="udp", noiseless=True, seed=SEED)
+    assert r.outcome == "consistent", r
+    if not r.theory:
+        rho = udp_second_moment_radius(float(r.gamma), float(r.nu), float(r.simulation.gain[0, 0]))
+        low, high = r.simulation.rate_interval
+        assert low <= rho <= high, (rho, r)
