@@ -34,13 +34,12 @@ Bernoulli channel of a given arrival rate.
 :func:`simulate_loop` runs the loop on the true state, paths vectorised (leading axis), and
 estimates ``E[x_k' W x_k]`` and ``E[||x_k||^2]`` per step with standard errors
 (:class:`LoopSimulation`).  :func:`loop_divergence` decides from simulation whether ``E[x'Wx]``
-stays bounded with the discipline of :func:`symkf.numeric.verify.verify`: three independent runs at ``h, 2h, 3h`` draw each step's
-outcome (the observations' and the controls' arrivals, a state of the channels' joint chain) from
-the Perron change of measure of the loop's second moments (:class:`_TwistedDraw`: the Doob
-transform by ``z' V z``, ``z = (x, x - x^)``, ``V`` the left Perron vector of the second-moment
-operator ``sum P(o) F_o (.) F_o'``), so the paths that carry the growth are sampled whatever its
-mechanism, with exact likelihood ratios; :func:`symkf.numeric.montecarlo._divergence_verdict`
-turns them into the margin (Fieller), its allowance and a verdict.
+stays bounded with the discipline of :func:`symkf.numeric.verify.verify`: three independent runs
+at ``h, 2h, 3h`` sample final bursts of lost controls or lost observations (``Gamma_k = 0``: the
+open loop, ``x`` grows by ``A``; ``gamma_k = 0``: the error grows by ``A``) with exact
+likelihood ratios (:func:`symkf.numeric.montecarlo._final_burst_log_ratio`), and
+:func:`symkf.numeric.montecarlo._divergence_verdict` turns them into the margin (Fieller),
+its allowance and a verdict.
 """
 
 from __future__ import annotations
@@ -49,7 +48,7 @@ import html
 import math
 import numbers
 from dataclasses import dataclass
-from typing import Any, Callable, Literal, Sequence
+from typing import Any, Literal, Sequence
 
 import numpy as np
 
@@ -60,8 +59,10 @@ from ..model.loss import LossFactor, LossModel, checked
 from ..model.system import System
 from ..output import JsonDocument
 from . import receptions
-from .montecarlo import (DEFENSIVE, MAX_PATH_SHARE, MAX_REL_STDERR, DivergenceResult, _divergence_verdict,
-                         _weighted_log_mean, _z, rate_horizons)
+from .montecarlo import (MAX_PATH_SHARE, MAX_REL_STDERR, DivergenceResult, _burst_lengths,
+                         _divergence_verdict, _factor_tilt, _final_burst_log_ratio, _weighted_log_mean, _z,
+                         rate_horizons)
+from .receptions import chain_states, cumulative, emit_into, groups
 
 PROTOCOLS = ("tcp", "udp")
 
@@ -293,174 +294,69 @@ def _channel(arrival: Any, sizes: tuple[int, ...], entry: str) -> _Channel:
                      f"'sensor' per {'sensor' if entry == 'gamma' else 'actuator'}, got {type(arrival).__name__}")
 
 
-def _outcomes(channels: tuple[_Channel, _Channel]) -> tuple[np.ndarray, np.ndarray, list[np.ndarray]]:
-    """The joint chain of every factor of both sides: its transitions ``P`` (S, S), initial law
-    (S,) and, per side, the receptions (S, channels) each joint state emits (the per-step outcome
-    ``o = (gamma_k, Gamma_k)``; for i.i.d. channels the rows of ``P`` are equal)."""
-    factors = [f for ch in channels for f in ch.factors]
-    sizes = [len(f.P) for f in factors]
-    budget.check("max_markov_states", math.prod(sizes), "gamma, nu",
-                 "the number of joint states of the observation and control channels (the twisted sampler's chain)")
-    P, init = np.ones((1, 1)), np.ones(1)
-    for f in factors:
-        P, init = np.kron(P, f.P), np.kron(init, f.init)
-    states = np.array(np.unravel_index(np.arange(len(init)), sizes)).T        # (S, factors): each factor's state
-    emitted, i = [], 0
-    for ch in channels:
-        out = np.zeros((len(init), ch.d), bool)
-        for f in ch.factors:
-            out[:, list(f.sensors)] = f.emit[states[:, i]]
-            i += 1
-        emitted.append(out)
-    return P, init, emitted
+def _bursts(channels: tuple[_Channel, _Channel], K: int, m: int,
+            weights: tuple[float, list[np.ndarray], list[np.ndarray]],
+            rng: np.random.Generator) -> tuple[list[np.ndarray], np.ndarray, str]:
+    """Receptions of both sides with final bursts, and ``log dP/dQ`` per path.
 
-
-def _steady_covariance(plant: LoopPlant, steps: int = 2000) -> np.ndarray:
-    """``P_{k|k-1}`` of the filter that receives every observation, iterated from ``P0`` (its limit
-    when it settles; the last iterate otherwise): the covariance behind the update the twisted
-    sampler's linear model assumes."""
-    A, C, Q, R = plant.A, plant.C, plant.Q, plant.R
-    P = plant.P0
-    for _ in range(steps):
-        CP = C @ P
-        nxt = A @ (P - CP.T @ np.linalg.solve(CP @ C.T + R, CP)) @ A.T + Q
-        nxt = (nxt + nxt.T) / 2
-        if np.allclose(nxt, P, rtol=1e-12, atol=1e-14) or not np.all(np.isfinite(nxt)) or np.abs(nxt).max() > 1e12:
-            break
-        P = nxt
-    return P
-
-
-@dataclass(frozen=True)
-class _OutcomeMaps:
-    """The loop's linear model per joint state ``t`` of the channels (Schenato et al. 2007,
-    Sections IV-V): ``z_{k+1} = (F0_t + M_t K_t C E) z_k + M_t K_t v + G w``, ``z = (x_k, e_k)``,
-    ``e_k = x_k - x^_{k|k-1}``, ``E z = e``, ``G = (I; I)``, with the update's gain ``K_t = P C_g'
-    (C_g P C_g' + R_g)^{-1}`` on the rows ``g`` state ``t`` receives (:meth:`gains`, for the
-    covariance ``P`` of ``x^_{k|k-1}``).  With ``u = -L x^_{k|k} = -L (x - e + K (C e + v))``, ``Gamma``
-    the controls received and ``D = B (Gamma - Lambda) L`` UDP-like (0 TCP-like): ``x_{k+1} = (A -
-    B Gamma L) x + B Gamma L (e - K (C e + v)) + w``, ``e_{k+1} = A (e - K (C e + v)) + w`` TCP-like,
-    plus ``B (Gamma - Lambda) u`` UDP-like; so ``F0_t = [[A - B Gamma L, B Gamma L], [-D, A + D]]``,
-    ``M_t = -(B Gamma L; A + D)``."""
-
-    F0: np.ndarray          # (S, 2n, 2n)
-    M: np.ndarray           # (S, 2n, n)
-    noise: np.ndarray       # G Q G' (2n, 2n)
-    received: np.ndarray    # (G, p) the distinct observation patterns, as floats
-    which: np.ndarray       # (S,) each state's pattern
-
-    def gains(self, plant: LoopPlant, P: np.ndarray) -> np.ndarray:
-        """``K_t`` (..., S, n, p) for covariances ``P`` (..., n, n)."""
-        C, R, g = plant.C, plant.R, self.received
-        CP = (C @ P)[..., None, :, :]                                        # (..., 1, p, n)
-        S = (CP @ C.T + R) * (g[:, :, None] * g[:, None, :]) + np.eye(len(C)) * (1 - g)[:, :, None]
-        return np.swapaxes(np.linalg.solve(S, CP * g[:, :, None]), -1, -2)[..., self.which, :, :]
-
-    def matrices(self, plant: LoopPlant, K: np.ndarray) -> np.ndarray:
-        """``F_t = F0_t + M_t K_t C E`` (S, 2n, 2n) for gains ``K`` (S, n, p)."""
-        F = self.F0.copy()
-        F[:, :, plant.n:] += self.M @ K @ plant.C
-        return F
-
-
-def _outcome_maps(plant: LoopPlant, channels: tuple[_Channel, _Channel], L: np.ndarray, protocol: str,
-                  emitted: list[np.ndarray]) -> _OutcomeMaps:
-    """The :class:`_OutcomeMaps` of the loop with gain ``L`` over the joint states ``emitted``."""
-    A, B = plant.A, plant.B
-    n = plant.n
+    Component 0 (when the sensors can all be lost at once) is the observations' loss chain
+    conditioned to lose everything (:func:`symkf.numeric.montecarlo._factor_tilt`), the error then
+    growing by ``A`` (``weights[0] = rho(A)^2`` per step), except at the last step ``K - 1``: the
+    state lags the estimate by one step (``x_K = A x_{K-1} - B L x^_{K-1|K-1}``), so a path whose
+    burst ends with an observation at ``K - 1`` still carries a share of ``E[x_K' W x_K]``; that
+    step's chain is twisted by ``weights[2]`` instead (``rho(A)^2`` lost, ``rho(A - BL)^2``
+    received).  (Twisting the controls too in the last steps of this component, by
+    ``weights[1]``, was measured worse: after lost observations a received control does not
+    shrink ``x``, so those weights misdirect the draws.)  Component 1 is the
+    controls' chain twisted by ``weights[1]`` (per factor and state, the growth
+    ``rho(A - B Gamma L)^2`` of that state's reception pattern), so that its bursts follow the
+    sequences carrying ``E[x'Wx]`` (all lost for a deadbeat gain, mixed for others).  Every law
+    keeps ``DEFENSIVE`` of the original one; burst lengths ``L`` come from
+    :func:`symkf.numeric.montecarlo._burst_lengths`; outside its burst a channel follows its law.
+    The ratio sums over every ``(c, L)`` (exact, so the estimate is unbiased for any tilt)."""
+    growth, control, last = weights
+    none = np.zeros((1, channels[0].d), bool)
     sensors, actuators = channels
-    patterns, which = np.unique(emitted[0][:, sensors.index], axis=0, return_inverse=True)
-    a = emitted[1][:, actuators.index].astype(float)                        # (S, m)
-    BGL = B @ (a[:, :, None] * L)                                            # (S, n, n)
-    D = B @ ((a - actuators.rates[actuators.index])[:, :, None] * L) if protocol == "udp" else 0 * BGL
-    F0 = np.empty((len(a), 2 * n, 2 * n))
-    F0[:, :n, :n], F0[:, :n, n:], F0[:, n:, :n], F0[:, n:, n:] = A - BGL, BGL, -D, A + D
-    G = np.vstack([np.eye(n), np.eye(n)])
-    return _OutcomeMaps(F0, -np.concatenate([BGL, A + D], axis=1), G @ plant.Q @ G.T, patterns.astype(float),
-                        which.ravel())
-
-
-def _left_perron(P: np.ndarray, F: np.ndarray) -> tuple[float, np.ndarray]:
-    """The growth ``rho`` of the second moments and their left Perron vector ``V`` (S, 2n, 2n).
-
-    The moments ``Z_t = E[z_k z_k' 1{s_k = t}]`` of ``z = (x, e)`` (noise aside) obey ``Z'_t = sum_s
-    P(s, t) F_t Z_s F_t'``, a positive operator ``T`` on ``S`` positive semidefinite matrices;
-    ``rho`` is its spectral radius and ``V`` the positive semidefinite eigenvector of its adjoint
-    ``T*(V)_s = sum_t P(s, t) F_t' V_t F_t``, scaled to trace 1 at most, with ``1e-9 I`` added so
-    that every outcome keeps some weight."""
-    S, nz = F.shape[:2]
-    kron = np.einsum("tij,tkl->tikjl", F, F).reshape(S, nz * nz, nz * nz)
-    T = (P.T[:, None, :, None] * kron[:, :, None, :]).reshape(S * nz * nz, S * nz * nz)
-    w, vecs = np.linalg.eig(T.T)
-    i = int(np.argmax(w.real))
-    V = vecs[:, i].real.reshape(S, nz, nz)
-    V = (V + V.transpose(0, 2, 1)) / 2
-    V = V if np.trace(V, axis1=1, axis2=2).sum() >= 0 else -V
-    vals, basis = np.linalg.eigh(V)                                   # its positive semidefinite part
-    V = np.einsum("sij,sj,skj->sik", basis, np.clip(vals, 0.0, None), basis)
-    return float(w[i].real), V / max(np.trace(V, axis1=1, axis2=2).max(), 1e-300) + 1e-9 * np.eye(nz)
-
-
-class _TwistedDraw:
-    """The Perron change of measure of the loop's per-step outcomes, drawn step by step.
-
-    Given the joint chain's state ``s`` and the loop's ``z = (x_k, x_k - x^_{k|k-1})``, the next
-    state ``t`` is drawn from ``q(t) ∝ p(t) <V_t, F_t z z' F_t'>`` (``p``: the chain's law, ``V``
-    of :func:`_left_perron`), mixed with ``DEFENSIVE`` of ``p``: the Doob transform of the
-    second moments by ``h(t, z) = z' V_t z``.  Were the loop exactly ``z_{k+1} = F_{s_k} z_k``,
-    the likelihood ratio ``prod p / q`` would be ``rho^k h(z_0) / h(z_k)`` and ``z_k' W z_k``
-    times it nearly constant: the draws follow the paths that carry ``E[x'Wx]``, whatever
-    mechanism drives the growth (lost observations, lost controls, or a lost observation whose
-    error an arrival then moves into the estimate, UDP-like).  Noise and the filter's actual
-    gains only move the ratio off that constant; it stays exact (``logw``, ``log dP/dQ`` per
-    path), so the estimate is unbiased whatever the tilt.  Steps before ``start`` follow ``p``
-    (:func:`_tilted_steps`: where the second moments decay, only the last steps matter, and a
-    tilt over the rest would only add variance)."""
-
-    def __init__(self, P: np.ndarray, init: np.ndarray, plant: LoopPlant, maps: _OutcomeMaps, V: np.ndarray,
-                 emitted: list[np.ndarray], paths: int, start: int, rng: np.random.Generator):
-        self.P, self.init, self.plant, self.maps, self.V, self.emitted, self.rng = P, init, plant, maps, V, emitted, rng
-        self.start = start
-        self.Y = np.einsum("tai,tab,tbj->tij", maps.M, V, maps.M)        # M_t' V_t M_t
-        self.tr_noise = np.einsum("tij,ij->t", V, maps.noise)             # <V_t, G Q G'>
-        self.state = np.zeros(paths, np.intp)
-        self.logw = np.zeros(paths)
-
-    def __call__(self, k: int, z: np.ndarray, cov: np.ndarray) -> list[np.ndarray]:
-        p = np.broadcast_to(self.init, (len(z), len(self.init))) if k == 0 else self.P[self.state]
-        if k < self.start:
-            self.state = (np.cumsum(p, axis=1)[:, :-1] <= self.rng.random(len(p))[:, None]).sum(axis=1)
-            return [e[self.state] for e in self.emitted]
-        n, maps = self.plant.n, self.maps
-        K = maps.gains(self.plant, cov)                                   # the path's own gains (P_{k|k-1})
-        scale = np.abs(z).max(axis=1)
-        scale = np.where(scale > 0, scale, 1.0)
-        z = z / scale[:, None]
-        Ke = np.einsum("ptiq,pq->pti", K, z[:, n:] @ self.plant.C.T)
-        Fz = np.einsum("tij,pj->pti", maps.F0, z) + np.einsum("tij,ptj->pti", maps.M, Ke)
-        measured = np.einsum("tij,ptiq,qr,ptjr->pt", self.Y, K, self.plant.R, K, optimize=True)   # <V_t, M K R K' M'>
-        with np.errstate(under="ignore"):                           # E <V_t, z_{k+1} z_{k+1}'> over the step's noise
-            h = np.einsum("pti,tij,ptj->pt", Fz, self.V, Fz, optimize=True) + (self.tr_noise[None] + measured) / scale[:, None] ** 2
-        q = p * h
-        total = q.sum(axis=1, keepdims=True)
-        q = (1 - DEFENSIVE) * np.divide(q, total, out=np.array(p), where=total > 0) + DEFENSIVE * p
-        t = (np.cumsum(q, axis=1)[:, :-1] <= self.rng.random(len(q))[:, None]).sum(axis=1)
-        rows = np.arange(len(q))
-        self.logw += np.log(p[rows, t]) - np.log(q[rows, t])
-        self.state = t
-        return [e[t] for e in self.emitted]
-
-
-def _tilted_steps(rate: float, horizon: int) -> int:
-    """How many final steps :class:`_TwistedDraw` tilts.  All of them when the loop's linear model
-    decays slower than ``rho = 1/2`` per step: near and beyond the threshold the paths that carry
-    the mean may start anywhere (UDP-like at ``(gamma, nu) = (0.9, 0.9)``, ``rho = 0.73``, the
-    higher moments still grow and untilted early steps left the estimate unresolved).  Faster
-    decay forgets the start within ``ceil(ln 1e-6 / ln rho)`` steps, and tilting earlier steps only
-    adds variance (measured: a stable two-mode TCP-like loop, ``rho = 0.35``, was left undecided)."""
-    if rate >= 0.5:
-        return horizon
-    return min(horizon, math.ceil(math.log(1e-6) / math.log(max(rate, 1e-300))))
+    # laws[side][t - 1][factor]: law t of that side's chain
+    laws = [[[_factor_tilt(f, none) for f in sensors.factors],
+             [_factor_tilt(f, none, w[None]) for f, w in zip(sensors.factors, last)]],
+            [[_factor_tilt(f, none, w[None]) for f, w in zip(actuators.factors, control)]]]
+    per_step = [math.prod(t.rate for t in laws[0][0]) * growth, math.prod(t.rate for t in laws[1][0])]
+    sides = [c for c in range(2) if per_step[c] > 0]
+    if not sides:
+        return [receptions.sample(ch.factors, K, m, ch.d, rng) for ch in channels], np.zeros(m), "plain Monte Carlo"
+    # position[c][side][k]: the law of that side at step k inside a burst of component c (0: its own)
+    zero, one = np.zeros(K, np.intp), np.ones(K, np.intp)
+    position = [[np.where(np.arange(K) == K - 1, 2, 1), zero], [zero, one]]
+    position = [position[c] for c in sides]
+    L, log_law = _burst_lengths(K, max(per_step[c] for c in sides), rng, m)
+    comp = rng.integers(0, len(sides), m)
+    inside = np.arange(K)[:, None] >= K - L[None, :]
+    lr = np.zeros((len(sides), K, m))
+    out = []
+    for side, ch in enumerate(channels):
+        received = np.empty((K, m, ch.d), bool)
+        table = np.where(inside, np.stack([p[side] for p in position], axis=1)[:, comp], 0)
+        for group in groups(ch.factors):
+            idx = [ch.factors.index(f) for f in group]
+            first = np.stack([np.stack([cumulative(f.init) for f in group])]
+                             + [np.stack([law[i].cum_init for i in idx]) for law in laws[side]])
+            step = np.stack([np.stack([cumulative(f.P) for f in group])]
+                            + [np.stack([law[i].cum[0] for i in idx]) for law in laws[side]])
+            x = chain_states(first, step, table if table.any() else None, rng, (K, m, len(group)))
+            for c, pos in enumerate(p[side] for p in position):
+                for j, i in enumerate(idx):
+                    xs = x[:, :, j].astype(np.intp)
+                    for t, law in enumerate(laws[side], 1):
+                        if pos[0] == t:
+                            lr[c, 0] += law[i].logr_init[xs[0]]
+                        ks = np.flatnonzero(pos[1:] == t) + 1
+                        S = law[i].logr.shape[-1]
+                        lr[c, ks] += law[i].logr[0].ravel().take(xs[ks - 1] * S + xs[ks])
+            emit_into(received, group, x)
+        out.append(received)
+    names = " and ".join(("observations", "controls")[c] for c in sides)
+    return out, _final_burst_log_ratio(lr, log_law), f"final bursts of lost {names} (importance sampling)"
 
 
 # ------------------------------------------------------------------ the loop
@@ -482,15 +378,14 @@ def _log_quadratic(x: np.ndarray, M: np.ndarray | None) -> np.ndarray:
 
 
 def _run(plant: LoopPlant, L: np.ndarray, protocol: str, channels: tuple[_Channel, _Channel],
-         draw: Callable[[int, np.ndarray, np.ndarray], Sequence[np.ndarray]], K: int, m: int, rng: np.random.Generator,
-         every: bool) -> dict[str, np.ndarray]:
-    """Per path (``m`` paths, ``K`` steps), of the loop driven by the receptions ``draw(k, z)``
-    returns for step ``k`` (both sides, (paths, channels) each; ``z = (x_k, x_k - x^_{k|k-1})`` and
-    ``P_{k|k-1}`` per path, for a sampler that steers by them): ``"cost"`` ``log x_k' W x_k`` at ``k = 0..K`` (``every``) or ``K`` only; with ``every``
+         received: Sequence[np.ndarray], rng: np.random.Generator, every: bool) -> dict[str, np.ndarray]:
+    """Per path, of the loop driven by the receptions ``received`` (K, paths, channels) of both
+    sides: ``"cost"`` ``log x_k' W x_k`` at ``k = 0..K`` (``every``) or ``K`` only; with ``every``
     also ``"norm"`` ``log ||x_k||^2`` (``k = 0..K``), and after each update (``k = 0..K-1``)
     ``"error"`` ``log ||x_k - x^_{k|k}||^2`` and ``"trace"`` ``log tr P_{k|k}``, the estimator's
     own account of that error."""
     A, B, C, Q, R = plant.A, plant.B, plant.C, plant.Q, plant.R
+    K, m = received[1].shape[:2]
     n, p = A.shape[0], C.shape[0]
     sensors, actuators = channels
     if protocol == "udp":
@@ -507,8 +402,7 @@ def _run(plant: LoopPlant, L: np.ndarray, protocol: str, channels: tuple[_Channe
         if every:
             out["cost"].append(_log_quadratic(x, plant.W))
             out["norm"].append(_log_quadratic(x, None))
-        obs, ctl = draw(k, np.hstack([x, x - xh]), P)
-        g = obs[:, sensors.index].astype(float)
+        g = received[0][k][:, sensors.index].astype(float)
         y = x @ C.T + rng.standard_normal((m, p)) @ fR.T
         CP = np.einsum("ij,pjk->pik", C, P)
         # innovation covariance on the received rows, identity on the lost ones: the gain
@@ -523,7 +417,7 @@ def _run(plant: LoopPlant, L: np.ndarray, protocol: str, channels: tuple[_Channe
             out["error"].append(_log_quadratic(x - xh, None))
             out["trace"].append(np.log(np.trace(P, axis1=1, axis2=2)))
         u = -xh @ L.T
-        a = ctl[:, actuators.index].astype(float)
+        a = received[1][k][:, actuators.index].astype(float)
         x = x @ A.T + (a * u) @ B.T + rng.standard_normal((m, n)) @ fQ.T
         P = A @ P @ A.T + Q
         if protocol == "tcp":
@@ -554,18 +448,17 @@ def _gain(plant: LoopPlant, nu: _Channel, protocol: str, gain: Any) -> np.ndarra
                            None if single else list(plant.actuator_columns))[1]
 
 
-def memory_estimate(plant: LoopPlant, horizon: int, paths: int, every: bool, states: int = 0) -> int:
+def memory_estimate(plant: LoopPlant, horizon: int, paths: int, every: bool) -> int:
     """Peak bytes (estimate) of one run of :func:`simulate_loop` (``every``) or of one of
     :func:`loop_divergence`'s runs: the receptions of both sides (one byte per channel, step and
-    path; the chain states as many again), the per-path covariances and their temporaries (about
-    eight arrays of ``n^2 + p^2 + n p`` floats), with ``every`` the four per-step records (and their
-    copy), and for the twisted sampler over ``states`` joint states its per-path maps and noises
-    and their temporaries (about eight arrays of ``states (2n)^2`` floats)."""
+    path; the chain states as many again), the burst sampler's likelihood ratios and their tail
+    sums (two components), the per-path covariances and their temporaries (about eight arrays of
+    ``n^2 + p^2 + n p`` floats), and with ``every`` the four per-step records (and their copy)."""
     n, p = plant.n, plant.C.shape[0]
     channels = len(plant.sensor_rows) + len(plant.actuator_columns)
     step = 8 * paths * 8 * (n * n + p * p + n * p + n + p)
     records = 8 * 8 * (horizon + 1) * paths if every else 4 * 8 * 2 * (horizon + 1) * paths
-    return 2 * channels * horizon * paths + step + records + 8 * paths * 8 * states * (2 * n) ** 2
+    return 2 * channels * horizon * paths + step + records
 
 
 def _setup(plant: LoopPlant | System, gamma: Any, nu: Any, protocol: str,
@@ -698,8 +591,7 @@ def simulate_loop(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol: L
                  f"the bytes (estimate) of a closed-loop simulation of {paths} paths over {horizon} steps")
     rng = np.random.default_rng(seed)
     received = [receptions.sample(ch.factors, horizon, paths, ch.d, rng) for ch in channels]
-    records = _run(plant, L, protocol, channels, lambda k, z, P: (received[0][k], received[1][k]), horizon, paths,
-                   rng, True)
+    records = _run(plant, L, protocol, channels, received, rng, True)
     log_cost, rel = _estimates(records["cost"], seed)
     share = np.exp(records["cost"].max(axis=1) - log_cost) / paths       # the largest path's share of the sum
     return LoopSimulation(protocol, L, log_cost, rel, *_estimates(records["norm"], seed),
@@ -756,6 +648,30 @@ class LoopDivergence(JsonDocument):
         return f"<pre>{html.escape(repr(self))}</pre>"
 
 
+def _burst_weights(plant: LoopPlant, channels: tuple[_Channel, _Channel],
+                   L: np.ndarray) -> tuple[float, list[np.ndarray], list[np.ndarray]]:
+    """The growth weights of :func:`_bursts`: ``rho(A)^2`` (the error's growth while observations
+    are lost); per control factor and state, ``rho(A - B Gamma L)^2`` with that state's actuators
+    as it emits them and the others received (for one channel, the twisted chain is then the
+    zero-variance law of ``prod_k |a - nu_k b L|^2``); per sensor factor and state, ``rho(A)^2``
+    when the state loses all the factor's sensors, else ``rho(A - B L)^2``."""
+    def growth(M: np.ndarray) -> float:
+        return float(np.abs(np.linalg.eigvals(M)).max()) ** 2
+
+    sensors, actuators = channels
+    control = []
+    for f in actuators.factors:
+        w = []
+        for state in f.emit:
+            on = np.ones(actuators.d)
+            on[list(f.sensors)] = state
+            w.append(growth(plant.A - plant.B @ (on[actuators.index][:, None] * L)))
+        control.append(np.array(w))
+    open_loop, closed = growth(plant.A), growth(plant.A - plant.B @ L)
+    last = [np.where(f.emit.any(axis=1), closed, open_loop) for f in sensors.factors]
+    return open_loop, control, last
+
+
 def loop_divergence(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol: Literal["tcp", "udp"] = "tcp",
                     gain: Any = None, horizon: int = 120, paths: int = 20_000, seed: int | None = 0,
                     tolerance: float = 0.01, confidence: float = 0.999, degree: int = 1) -> LoopDivergence:
@@ -763,9 +679,8 @@ def loop_divergence(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol:
 
     Three independent runs (seeds ``seed .. seed + 2``) at ``h, 2h, 3h``
     (:func:`symkf.numeric.montecarlo.rate_horizons`, ``3h <= horizon``) estimate ``log E[x_K' W
-    x_K]`` with each step's outcome drawn from the Perron change of measure of the loop's second
-    moments (:class:`_TwistedDraw`, over the whole run); the margin (growth factor per step) and
-    the verdict follow :func:`symkf.numeric.montecarlo._divergence_verdict`
+    x_K]`` with final bursts of lost controls and lost observations; the margin (growth factor
+    per step) and the verdict follow :func:`symkf.numeric.montecarlo._divergence_verdict`
     (``degree``: the factors ``k`` the allowance admits, :func:`~symkf.numeric.montecarlo.polynomial_allowance`).
     Arguments as :func:`simulate_loop`.
     """
@@ -775,20 +690,16 @@ def loop_divergence(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol:
     if not isinstance(tolerance, float) or tolerance <= 0:
         raise InputError(f"tolerance: expected a positive float, got {tolerance!r}")
     _z(confidence)
-    P, init, emitted = _outcomes(channels)
-    budget.check("max_memory", memory_estimate(plant, horizon, paths, False, len(init)), "paths x horizon",
-                 f"the bytes (estimate) of a closed-loop twisted sample of {paths} paths over {horizon} steps")
-    maps = _outcome_maps(plant, channels, L, protocol, emitted)
-    rate, V = _left_perron(P, maps.matrices(plant, maps.gains(plant, _steady_covariance(plant))))
-    sampling = (f"outcomes twisted by the second moments' left Perron vector (their growth {rate:.4g} in the "
-                "loop's linear model; importance sampling)")
+    budget.check("max_memory", memory_estimate(plant, horizon, paths, False), "paths x horizon",
+                 f"the bytes (estimate) of a closed-loop burst sample of {paths} paths over {horizon} steps")
+    weights = _burst_weights(plant, channels, L)
     runs = []
     for j, K in enumerate(rate_horizons(horizon, 1)):
         run_seed = None if seed is None else seed + j
         rng = np.random.default_rng(run_seed)
-        draw = _TwistedDraw(P, init, plant, maps, V, emitted, paths, K - _tilted_steps(rate, K), rng)
-        cost = _run(plant, L, protocol, channels, draw, K, paths, rng, False)["cost"][-1]
-        runs.append(_weighted_log_mean(cost, draw.logw, K, run_seed, sampling))
+        received, logw, sampling = _bursts(channels, K, paths, weights, rng)
+        cost = _run(plant, L, protocol, channels, received, rng, False)["cost"][-1]
+        runs.append(_weighted_log_mean(cost, logw, K, run_seed, sampling))
     return LoopDivergence(protocol, L, _divergence_verdict(runs, None, tolerance, confidence, degree, paths, seed))
 
 
