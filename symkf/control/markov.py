@@ -71,6 +71,8 @@ def _optimal(plant: _Plant, K: flint.arb_mat, p) -> flint.arb_mat | None:
         if S is None:
             return None
         new = plant.improve(S[1])
+        if new is None:
+            return None
         change = max(abs(float((new[i, j] - K[i, j]).mid())) for i in range(K.nrows()) for j in range(K.ncols()))
         K = new
         if change < 2.0 ** (-_PREC // 2):

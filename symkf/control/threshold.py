@@ -259,10 +259,14 @@ class _Plant:
             return None
         return S if _positive_float(S) else None
 
-    def improve(self, S: flint.arb_mat) -> flint.arb_mat:
-        """``K = -(B'SB + U)^{-1} B'SA``."""
+    def improve(self, S: flint.arb_mat) -> flint.arb_mat | None:
+        """``K = -(B'SB + U)^{-1} B'SA``; None when the working precision cannot solve it (a cost
+        matrix of a barely stabilizing gain, whose entries span more than its 256 bits)."""
         Bt = self.B.transpose()
-        return _mid(-(Bt * S * self.B + self.U).solve(Bt * S * self.A))
+        try:
+            return _mid(-(Bt * S * self.B + self.U).solve(Bt * S * self.A))
+        except ZeroDivisionError:
+            return None
 
     def optimal(self, K: flint.arb_mat, nu: flint.arb) -> flint.arb_mat | None:
         """Policy iteration from the stabilizing ``K`` to the optimal gain at ``nu`` (None: ``K`` does
@@ -272,6 +276,8 @@ class _Plant:
             if S is None:
                 return None
             new = self.improve(S)
+            if new is None:
+                return None
             change = max(abs(float((new[i, j] - K[i, j]).mid())) for i in range(K.nrows()) for j in range(K.ncols()))
             K = new
             if change < 2.0 ** (-_PREC // 2):
@@ -293,6 +299,8 @@ def _lqr_gain(plant: _Plant) -> flint.arb_mat:
     S = plant.W
     for _ in range(5000):
         K = plant.improve(S)
+        if K is None:
+            break
         Acl = plant.A + plant.B * K
         new = _mid(plant.W + K.transpose() * plant.U * K + Acl.transpose() * S * Acl)
         if plant.evaluate(K, flint.arb(1)) is not None:

@@ -21,5 +21,5 @@ def test_closed_form_entry_checks_hold():
 
 @pytest.mark.full
 def test_closed_form_entry_checks_hold_with_the_loop_simulated():
-    rep = reproduce_schenato_closed_forms()
+    rep = reproduce_schenato_closed_forms(paths=8000, horizon=90)
     assert all(rep["checks"].values()), rep["checks"]
