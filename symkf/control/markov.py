@@ -66,18 +66,11 @@ def _evaluate(plant: _Plant, K: flint.arb_mat, p: list[list[flint.arb]]) -> tupl
 
 
 def _optimal(plant: _Plant, K: flint.arb_mat, p) -> flint.arb_mat | None:
-    for _ in range(60):
-        S = _evaluate(plant, K, p)
-        if S is None:
-            return None
-        new = plant.improve(S[1])
-        if new is None:
-            return None
-        change = max(abs(float((new[i, j] - K[i, j]).mid())) for i in range(K.nrows()) for j in range(K.ncols()))
-        K = new
-        if change < 2.0 ** (-_PREC // 2):
-            break
-    return K
+    """Policy iteration on the coupled pair: the next command sees ``S_1`` (module doc)."""
+    def cost(gain: flint.arb_mat) -> flint.arb_mat | None:
+        S = _evaluate(plant, gain, p)
+        return None if S is None else S[1]
+    return plant.iterate(K, cost)
 
 
 def _gain(plant: _Plant, f: Fraction, q: Fraction) -> flint.arb_mat | None:

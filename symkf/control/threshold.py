@@ -271,11 +271,14 @@ class _Plant:
     def optimal(self, K: flint.arb_mat, nu: flint.arb) -> flint.arb_mat | None:
         """Policy iteration from the stabilizing ``K`` to the optimal gain at ``nu`` (None: ``K`` does
         not stabilize at ``nu``)."""
+        return self.iterate(K, lambda gain: self.evaluate(gain, nu))
+
+    def iterate(self, K: flint.arb_mat, cost: Any) -> flint.arb_mat | None:
+        """Hewer's policy iteration: ``K <- -(B'SB + U)^{-1} B'SA`` with ``S = cost(K)`` (the cost
+        matrix the next command sees, None when ``K`` does not stabilize), to a fixed point."""
         for _ in range(60):
-            S = self.evaluate(K, nu)
-            if S is None:
-                return None
-            new = self.improve(S)
+            S = cost(K)
+            new = None if S is None else self.improve(S)
             if new is None:
                 return None
             change = max(abs(float((new[i, j] - K[i, j]).mid())) for i in range(K.nrows()) for j in range(K.ncols()))
