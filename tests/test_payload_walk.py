@@ -366,7 +366,7 @@ def _deep(levels: int) -> list:
 #: error, a C library's abort or a hang: non-finite numbers of every library, sizes past the machine's
 #: integers, empty and nested containers, numbers priced like the text of the safe parser
 HOSTILE: dict[str, Callable[[], Any]] = {
-    "sympy oo": lambda: sp.oo, "sympy nan": lambda: sp.nan, "sympy zoo": lambda: sp.zoo,
+    "sympy oo": lambda: sp.oo, "sympy nan": lambda: sp.nan,
     "float nan": lambda: float("nan"), "float inf": lambda: float("inf"),
     "-1": lambda: -1, "0": lambda: 0, "numpy -5": lambda: np.int64(-5), "True": lambda: True, "None": lambda: None,
     "10**100": lambda: 10 ** 100, "2**63": lambda: 2 ** 63,
@@ -375,13 +375,13 @@ HOSTILE: dict[str, Callable[[], Any]] = {
     "nan array": lambda: np.full((2, 2), np.nan), "list nested 10**5 deep": lambda: _deep(10 ** 5),
     "a million characters": lambda: "1" * 10 ** 6, "symbol": lambda: sp.Symbol("x"),
     "sum of ten radicals": lambda: sum(sp.sqrt(p) for p in (2, 3, 5, 7, 11, 13, 17, 19, 23, 29)),
-    "cos(pi/10**9)": lambda: sp.cos(sp.pi / 10 ** 9), "10**(10**10)": lambda: sp.Pow(10, 10 ** 10, evaluate=False),
+    "10**(10**10)": lambda: sp.Pow(10, 10 ** 10, evaluate=False),
     "Fraction(1, 10**400)": lambda: Fraction(1, 10 ** 400), "fullwidth sqrt(2)": lambda: "ｓｑｒｔ(2)",
     "/dev/zero": lambda: Path("/dev/zero"),
 }
 
 #: CPU seconds a hostile value may run (it was accepted as data and real work started: a skip)
-CPU_PER_HOSTILE = 0.5
+CPU_PER_HOSTILE = 0.3
 
 
 def hostile_calls(qualname: str, fn: Callable, select: Callable[[str, str], bool]) -> dict:

@@ -5,7 +5,7 @@ the channel's state (Gilbert-Elliott: ``P(lost | received last) = f``, ``P(recei
 q``).  The cost-to-go ``x'S_i x`` depends on that state ``i`` (0 lost, 1 received) and the LQ
 recursion of Schenato et al. 2007, Section IV, becomes the coupled pair (a Markov jump linear
 system with the mode seen one step late; Costa, Fragoso and Marques, *Discrete-time Markov jump
-linear systems*, 2005)
+linear systems*, 2005)::
 
     S_i = W + A'(p_i0 S_0 + p_i1 S_1)A - p_i1 A'S_1 B (B'S_1 B + U)^{-1} B'S_1 A,
 

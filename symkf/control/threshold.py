@@ -3,7 +3,7 @@
 Schenato, Sinopoli, Franceschetti, Poolla and Sastry, "Foundations of control and estimation over
 lossy networks", Proc. IEEE 95(1), 2007, Section IV: with acknowledged control packets arriving
 i.i.d. with probability ``nu`` (one channel carrying all inputs), the optimal cost stays bounded
-iff the control MARE
+iff the control MARE::
 
     S = A'SA + W - nu A'SB (B'SB + U)^{-1} B'SA
 
@@ -15,7 +15,7 @@ otherwise as a quasi-convex LMI problem.  ``W`` and ``U`` do not move ``nu_c`` (
 **Lower side: the quotient bound (exact).**  For every ``A``-invariant subspace ``V`` the quotient
 ``(A_Q, B_Q)`` on ``R^n / V`` must be stabilizable too, and at a positive definite fixed point
 ``S`` of its MARE ``S > A_Q' S^(1/2) (I - nu Pi) S^(1/2) A_Q`` with ``Pi`` an orthogonal projection
-of rank ``r = rank B_Q``; taking determinants, ``(1 - nu)^r |det A_Q|^2 < 1``.  So
+of rank ``r = rank B_Q``; taking determinants, ``(1 - nu)^r |det A_Q|^2 < 1``.  So::
 
     nu_c >= max_Q 1 - |det A_Q|^(-2/r_Q)
 

@@ -6,13 +6,13 @@ not know whether a control packet arrived (``x_hat+ = A x_hat + nu_bar B u``), i
 gains ``nu_bar (1 - nu_bar) B u u' B'``, the separation principle fails and the optimal controller
 is nonlinear in general.  With noiseless full-state measurements (``C`` invertible, ``R = 0``) it is
 linear, ``u = -L x_hat`` with ``L = (B'SB + U + (1 - gamma)(1 - nu) B'TB)^{-1} B'SA``, and the
-cost-to-go ``x_hat'S x_hat + e'(S + T)e`` obeys the coupled equations
+cost-to-go ``x_hat'S x_hat + e'(S + T)e`` obeys the coupled equations::
 
     S = A'SA + W - nu A'SB M^{-1} B'SA,   T = (1 - gamma) A'TA + nu A'SB M^{-1} B'SA,
     M = B'SB + U + (1 - gamma)(1 - nu) B'TB
 
 (re-derived in ``proofs/control_udp_scalar.py``).  For a scalar plant ``a`` (``|a| > 1``) they
-have a solution iff ``gamma > 1 - 1/a^2`` and
+have a solution iff ``gamma > 1 - 1/a^2`` and::
 
     nu > nu_udp(gamma) = gamma (a^2 - 1) / (a^2 - (1 - gamma)(2 a^2 - 1))
 
