@@ -69,7 +69,12 @@ def udp_threshold(a: Any, gamma: Any) -> sp.Expr:
     if not (g > 1 - 1 / a2):
         raise InputError(f"gamma: {g} <= 1 - 1/a^2 = {1 - 1 / a2}: the estimation error diverges at every nu "
                          f"(T = (1 - gamma) a^2 T + ... has no solution)")
-    return sp.simplify(g * (a2 - 1) / (a2 - (1 - g) * (2 * a2 - 1)))
+    return _boundary(a2, g)
+
+
+def _boundary(a2: sp.Expr, gamma: sp.Expr) -> sp.Expr:
+    """``gamma (a^2 - 1) / (a^2 - (1 - gamma)(2 a^2 - 1))`` for ``a2 = a^2`` (a number or a symbol)."""
+    return sp.simplify(gamma * (a2 - 1) / (a2 - (1 - gamma) * (2 * a2 - 1)))
 
 
 @dataclass(frozen=True, repr=False)
@@ -118,7 +123,7 @@ def udp_region(system: System, noiseless: bool = False) -> UdpRegion:
         g = sp.Symbol("gamma")
         a2 = a ** 2
         if a2 > 1:
-            bound = sp.simplify(g * (a2 - 1) / (a2 - (1 - g) * (2 * a2 - 1)))
+            bound = _boundary(a2, g)
             text = (f"bounded iff gamma > {1 - 1 / a2} and nu > {bound} (at gamma = 1: nu > {1 - 1 / a2})")
         else:
             text = "|a| <= 1: bounded at every rate with nu > 0 or |a| < 1"

@@ -65,18 +65,20 @@ class LoopVerification(JsonDocument):
     @property
     def simulated_verdict(self) -> str | None:
         """The simulation's word: "stable", "unstable", "undecided" (None when it broke down)."""
-        if self.simulation is None:
-            return None
-        verdict = getattr(self.simulation, "verdict", None)
-        return verdict if verdict is not None else self.simulation.simulation["verdict"]
+        return self._simulated("verdict")
 
     @property
     def simulated_rate(self) -> float | None:
         """The simulated growth factor per step (margin), None when not resolved."""
+        return self._simulated("rate")
+
+    def _simulated(self, key: str) -> Any:
+        # the loop's LoopDivergence holds its answer as attributes, the filter's Verification in a dict
         if self.simulation is None:
             return None
-        rate = getattr(self.simulation, "rate", None)
-        return rate if hasattr(self.simulation, "verdict") else self.simulation.simulation.get("rate")
+        if hasattr(self.simulation, "result"):
+            return getattr(self.simulation, key)
+        return self.simulation.simulation.get(key)
 
     def to_dict(self) -> dict[str, Any]:
         return {"protocol": self.protocol, "gamma": str(self.gamma), "nu": str(self.nu), "theory": self.theory,
