@@ -97,9 +97,12 @@ class HoldingTimeCovariance:
     def block(self, i: int, j: int, ti: int, tj: int) -> np.ndarray:
         """``P^(ij)`` for holding times ``tau_i = ti``, ``tau_j = tj`` (corrected eq. 18; eq. 17 if i = j)."""
         N = self.lf.model.N
-        i, j, ti, tj = index(i, N, "i"), index(j, N, "j"), _holding(ti, "ti"), _holding(tj, "tj")
+        return self._block(index(i, N, "i"), index(j, N, "j"), _holding(ti, "ti"), _holding(tj, "tj"))
+
+    def _block(self, i: int, j: int, ti: int, tj: int) -> np.ndarray:
+        """:meth:`block` of checked indices and holding times."""
         if ti < tj:
-            return self.block(j, i, tj, ti).T
+            return self._block(j, i, tj, ti).T
         key = (i, j, ti, tj)
         if key not in self._blocks:
             d = ti - tj
@@ -110,8 +113,17 @@ class HoldingTimeCovariance:
 
     def matrix(self, tau: Sequence[int]) -> np.ndarray:
         """The joint covariance ``[P^(ij)]`` for the holding times ``tau`` (eq. 18 blocks)."""
-        N, tau = self.lf.model.N, holding_times(self.lf, tau)
-        return np.block([[self.block(i, j, tau[i], tau[j]) for j in range(N)] for i in range(N)])
+        return self._checked_matrix(holding_times(self.lf, tau))
+
+    def _checked_matrix(self, tau: list[int]) -> np.ndarray:
+        """:meth:`matrix` of holding times already checked by :func:`holding_times` (a simulation
+        asks for one per path and step: the blocks are written in place, once each)."""
+        o = self.lf.offsets
+        P = np.empty((o[-1], o[-1]))
+        for i, ti in enumerate(tau):
+            for j, tj in enumerate(tau):
+                P[o[i]:o[i + 1], o[j]:o[j + 1]] = self._block(i, j, ti, tj)
+        return P
 
 
 def holding_times(lf: LocalFilters, tau: Sequence[int]) -> list[int]:

@@ -24,7 +24,7 @@ from ..arguments import check_public
 from ..errors import InputError
 from .covariance import HoldingTimeCovariance, holding_times
 from .local_filters import LocalFilters
-from .weights import optimal_weights
+from .weights import _ClosedForm, _validate
 from ..numeric.receptions import draw
 
 __all__ = ["RemoteFusion", "FusionRun", "simulate_fusion", "centralized_filter"]
@@ -37,16 +37,17 @@ class RemoteFusion:
         self.lf = lf
         self.cov = HoldingTimeCovariance(lf)
         self.H = np.vstack([loc.V.T for loc in lf.model.local])
+        self._closed_form = _ClosedForm(_validate(self.cov.matrix([0] * lf.model.N), self.H)[1])
         self._cache: dict[tuple[int, ...], tuple[np.ndarray, float]] = {}
 
     def weights(self, tau: tuple[int, ...]) -> tuple[np.ndarray, float]:
         """``(U, tr P*)``: reduced weights (sum n_i,o x n) and the optimal trace of eq. (19)."""
-        tau = tuple(holding_times(self.cov.lf, tau))
-        if tau not in self._cache:
-            P = self.cov.matrix(tau)
-            U = optimal_weights(P, self.H, "closed-form")
-            self._cache[tau] = (U, float(np.trace(U.T @ P @ U)))
-        return self._cache[tau]
+        key = tuple(tau)
+        if key not in self._cache:
+            P = self.cov._checked_matrix(holding_times(self.cov.lf, tau))
+            U = self._closed_form(_validate(P, self.H)[0])
+            self._cache[key] = (U, float(np.trace(U.T @ P @ U)))
+        return self._cache[key]
 
 
 def centralized_filter(lf: LocalFilters) -> tuple[np.ndarray, np.ndarray]:

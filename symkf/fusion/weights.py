@@ -75,19 +75,27 @@ def _validate(Sigma: np.ndarray, Vo: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return Sigma, Vo
 
 
-def _closed_form(Sigma: np.ndarray, Vo: np.ndarray) -> np.ndarray:
-    # M = I - Vo Vo^+ = N N' with N an orthonormal basis of null(Vo'), so
-    # (M Sigma M)^+ = N (N' Sigma N)^+ N'.  Computing it that way keeps its range
-    # inside range(M) in floating point, hence W' Vo = I to rounding even when
-    # Sigma's spectrum decays through the rounding level (the pendulum's does).
-    N = scipy.linalg.null_space(Vo.T)
-    pinv_VoT = scipy.linalg.pinv(Vo.T)
-    # Grouped as N ((N' Sigma N)^+ (N' Sigma (Vo')^+)): forming N (N' Sigma N)^+ N' first
-    # multiplies rounding by the huge entries of that pseudo-inverse.
-    # Singular values of N' Sigma N below Sigma's rounding level are zeros: relative to N' Sigma N
-    # alone (pinv's default) an exactly zero N' Sigma N of size 1e-17 would be inverted.
-    rounding = Sigma.shape[0] * np.finfo(float).eps * np.abs(Sigma).max()
-    return pinv_VoT - N @ (scipy.linalg.pinv(N.T @ Sigma @ N, atol=rounding) @ (N.T @ Sigma @ pinv_VoT))
+class _ClosedForm:
+    """Theorem 2's weights (arXiv:2012.04896) for one unbiasedness matrix ``Vo`` of full column
+    rank: its null space and pseudo-inverse are computed once, for every ``Sigma`` asked."""
+
+    def __init__(self, Vo: np.ndarray):
+        # M = I - Vo Vo^+ = N N' with N an orthonormal basis of null(Vo'), so
+        # (M Sigma M)^+ = N (N' Sigma N)^+ N'.  Computing it that way keeps its range
+        # inside range(M) in floating point, hence W' Vo = I to rounding even when
+        # Sigma's spectrum decays through the rounding level (the pendulum's does).
+        self.N = scipy.linalg.null_space(Vo.T)
+        self.pinv_VoT = scipy.linalg.pinv(Vo.T)
+
+    def __call__(self, Sigma: np.ndarray) -> np.ndarray:
+        """``W`` for a symmetric positive semidefinite ``Sigma`` (checked by the caller)."""
+        N, pinv_VoT = self.N, self.pinv_VoT
+        # Grouped as N ((N' Sigma N)^+ (N' Sigma (Vo')^+)): forming N (N' Sigma N)^+ N' first
+        # multiplies rounding by the huge entries of that pseudo-inverse.
+        # Singular values of N' Sigma N below Sigma's rounding level are zeros: relative to N' Sigma N
+        # alone (pinv's default) an exactly zero N' Sigma N of size 1e-17 would be inverted.
+        rounding = Sigma.shape[0] * np.finfo(float).eps * np.abs(Sigma).max()
+        return pinv_VoT - N @ (scipy.linalg.pinv(N.T @ Sigma @ N, atol=rounding) @ (N.T @ Sigma @ pinv_VoT))
 
 
 def _problem3(Sigma: np.ndarray, Vo: np.ndarray) -> np.ndarray:
@@ -177,7 +185,7 @@ def optimal_weights(Sigma: np.ndarray, Vo: np.ndarray, method: str = "closed-for
     if method not in METHODS:
         raise InputError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")
     Sigma, Vo = _validate(Sigma, Vo)
-    return {"closed-form": _closed_form, "sdp": _sdp, "problem3": _problem3}[method](Sigma, Vo)
+    return {"closed-form": lambda Sigma, Vo: _ClosedForm(Vo)(Sigma), "sdp": _sdp, "problem3": _problem3}[method](Sigma, Vo)
 
 
 def fused_covariance(Sigma: np.ndarray, W: np.ndarray) -> np.ndarray:
