@@ -268,7 +268,7 @@ def dask_cluster():
 
 #: the longest tests (a minute or more each on a 2-core runner) start first: with ``pytest -n auto``
 #: a long test collected last (test_wheel.py sorts last) leaves the other workers idle at the end
-LONGEST = ("test_wheel.py::test_readme_and_docs_run_verbatim", "test_pendulum.py::test_reproduce_full",
+LONGEST = ("test_wheel.py::test_a_newcomer_session_runs", "test_pendulum.py::test_reproduce_full",
            "test_spectral.py::test_sqrt2_matrix_analyze", "test_payload_walk.py::test_walk_full",
            "test_atlas.py::test_no_row_violated", "test_resource_limits.py::test_fuzz_under_limits_long",
            "test_second_order.py::test_full_family", "test_output.py::test_two_runs_writing")

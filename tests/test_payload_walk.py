@@ -23,10 +23,12 @@ tier walks a deterministic sample: every callable, each parameter with one form 
 from __future__ import annotations
 
 import collections
+import functools
 import importlib
 import inspect
 import pkgutil
 import signal
+import sys
 import time
 import zlib
 from fractions import Fraction
@@ -355,7 +357,9 @@ def test_walk_full(mark):
 
 # ------------------------------------------------------------------ hostile values
 
+@functools.cache
 def _deep(levels: int) -> list:
+    """A list nested ``levels`` deep, built once (building and freeing it is most of a call's cost)."""
     value: list = []
     for _ in range(levels):
         value = [value]
@@ -412,50 +416,74 @@ def hostile_calls(qualname: str, fn: Callable, select: Callable[[str, str], bool
     return {"found": found, "examples": examples, "skips": skips, "calls": calls}
 
 
-def hostile_walk(prefix: str, select: Callable[[str, str], bool], forked: bool) -> dict:
-    """:func:`hostile_calls` over every public callable whose name starts with ``prefix``; with
-    ``forked``, each callable in a child process, so that a death (a C library's abort, a
-    segmentation fault) or a hang past a minute is seen and counted instead of ending the walk."""
+#: wall seconds one callable may take in the forked walk before its child is counted as hung
+HANG_SECONDS = 60
+
+
+def _forked_calls(callables: list[tuple[str, Callable]], select: Callable[[str, str], bool]) -> list:
+    """:func:`hostile_calls` of each callable in forked children, so that a death (a C library's
+    abort, a segmentation fault) or a hang past :data:`HANG_SECONDS` is seen and counted instead of ending the
+    walk: a child goes through the callables in turn, sending each one's result as it finishes, and
+    after a death the next child starts at the callable that follows.  ``(qualname, result)`` in
+    order, the result a string for a death."""
     import os
     import pickle
+    import struct
+    out, start = [], 0
+    while start < len(callables):
+        read, write = os.pipe()
+        pid = os.fork()
+        if pid == 0:   # the child: report and leave without running the parent's clean-up
+            os.close(read)
+            with os.fdopen(write, "wb") as pipe:
+                for i in range(start, len(callables)):
+                    qualname, fn = callables[i]
+                    try:
+                        data = pickle.dumps(hostile_calls(qualname, fn, select))
+                    except BaseException as exc:  # noqa: BLE001 - reported as the child's own failure
+                        data = pickle.dumps({"failure": repr(exc)[:300]})
+                    pipe.write(struct.pack("<Q", len(data)) + data)
+                    pipe.flush()
+            os._exit(0)
+        os.close(write)
+        signal.signal(signal.SIGALRM, lambda *_: os.kill(pid, signal.SIGKILL))
+        with os.fdopen(read, "rb") as pipe:
+            while start < len(callables):
+                signal.alarm(HANG_SECONDS)
+                header = pipe.read(8)
+                data = pipe.read(struct.unpack("<Q", header)[0]) if len(header) == 8 else b""
+                signal.alarm(0)
+                if not data:
+                    break
+                out.append((callables[start][0], pickle.loads(data)))
+                start += 1
+        _, status = os.waitpid(pid, 0)
+        if start < len(callables):
+            signal_number = os.WTERMSIG(status) if os.WIFSIGNALED(status) else "?"
+            out.append((callables[start][0], f"ended by signal {signal_number}"))
+            start += 1
+    return out
+
+
+def hostile_walk(prefix: str, select: Callable[[str, str], bool], forked: bool) -> dict:
+    """:func:`hostile_calls` over every public callable whose name starts with ``prefix``; with
+    ``forked``, in forked children (:func:`_forked_calls`)."""
     for module in ("cvxpy", "control", "matplotlib.pyplot", "distributed"):  # imported outside the CPU timer
         try:
             importlib.import_module(module)
         except ImportError:
             pass
-    figures, lines, deaths = collections.Counter(), [], []
-    for qualname, fn in public_callables():
-        if not qualname.startswith(prefix):
+    callables = [(qualname, fn) for qualname, fn in public_callables() if qualname.startswith(prefix)]
+    results = _forked_calls(callables, select) if forked else \
+        [(qualname, hostile_calls(qualname, fn, select)) for qualname, fn in callables]
+    figures, lines, deaths = collections.Counter(callables=len(callables)), [], []
+    for qualname, result in results:
+        if isinstance(result, str):
+            deaths.append(f"{qualname}: {result}")
             continue
-        figures["callables"] += 1
-        if not forked:
-            result = hostile_calls(qualname, fn, select)
-        else:
-            read, write = os.pipe()
-            pid = os.fork()
-            if pid == 0:   # the child: report and leave without running the parent's clean-up
-                os.close(read)
-                try:
-                    data = pickle.dumps(hostile_calls(qualname, fn, select))
-                except BaseException as exc:  # noqa: BLE001 - reported as the child's own failure
-                    data = pickle.dumps({"failure": repr(exc)[:300]})
-                with os.fdopen(write, "wb") as pipe:
-                    pipe.write(data)
-                os._exit(0)
-            os.close(write)
-            signal.signal(signal.SIGALRM, lambda *_: os.kill(pid, signal.SIGKILL))
-            signal.alarm(60)
-            with os.fdopen(read, "rb") as pipe:
-                data = pipe.read()
-            _, status = os.waitpid(pid, 0)
-            signal.alarm(0)
-            if not data or os.WIFSIGNALED(status):
-                deaths.append(f"{qualname}: ended by signal {os.WTERMSIG(status) if os.WIFSIGNALED(status) else '?'}")
-                continue
-            result = pickle.loads(data)
-            if "failure" in result:
-                deaths.append(f"{qualname}: the walk itself failed: {result['failure']}")
-                continue
+        if "failure" in result:
+            deaths.append(f"{qualname}: the walk itself failed: {result['failure']}")
+            continue
         figures["calls"] += result["calls"]
         figures["skips"] += len(result["skips"])
         for (name, kind), count in sorted(result["found"].items()):
@@ -496,6 +524,29 @@ SUBPACKAGES = ("symkf.arguments", "symkf.budget", "symkf.cli", "symkf.errors", "
 def test_hostile_values_everywhere(prefix, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     _hostile_check(hostile_walk(prefix, lambda *_: True, forked=True))
+
+
+def test_the_forked_walk_counts_a_death_and_a_hang_and_goes_on_after_them(monkeypatch):
+    import faulthandler
+    import os
+    monkeypatch.setattr(sys.modules[__name__], "HANG_SECONDS", 1)
+
+    def ok():
+        return None
+
+    def crash():
+        faulthandler.disable()   # the child's own report of the fault is not this test's output
+        os.kill(os.getpid(), signal.SIGSEGV)
+
+    def hang():
+        time.sleep(30)
+
+    results = _forked_calls([("ok1", ok), ("crash", crash), ("ok2", ok), ("hang", hang), ("ok3", ok)],
+                            lambda key, form: form == "None")
+    assert [q for q, _ in results] == ["ok1", "crash", "ok2", "hang", "ok3"]
+    assert results[1][1] == f"ended by signal {int(signal.SIGSEGV)}"
+    assert results[3][1] == f"ended by signal {int(signal.SIGKILL)}"
+    assert [results[i][1]["calls"] for i in (0, 2, 4)] == [1, 1, 1]
 
 
 def test_subpackages_cover_every_module():
