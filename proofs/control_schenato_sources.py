@@ -2,9 +2,10 @@
 networks", Proc. IEEE 95(1), 2007: what of the paper could be read, what those texts claim, and the
 checks of every claim symkf can decide.
 
-Search (2026-12-06, the project's search tools: stored web pages, GitHub code and text, documentation).
-The stored web pages keep the opening of each page only (about 2,000 characters): a query made of a
-sentence from the middle of the ACC 2005 paper's introduction does not return that page.  Found:
+Search (2026-12-06, about 60 look-ups with the project's search tools: stored web pages, GitHub code
+and text, documentation, issues).  The stored web pages come back as one excerpt each (about 2,000
+characters, the same for every query; for most pages their opening): a query made of a sentence from
+the middle of the ACC 2005 paper's introduction does not return that page.  Found:
 
 * https://vdocuments.net/invited-paper-foundations-of-control-and-sastrypubspdfs-of-theory-which.html
   and https://sciencedocbox.com/Physics/76508494-Ieee-copyright-statement.html: the Proc. IEEE paper's
@@ -18,14 +19,20 @@ sentence from the middle of the ACC 2005 paper's introduction does not return th
 * https://paperzz.com/doc/7332773/optimal-control-with-unreliable-communication--the-tcp-case: the ACC
   2005 conference version (Sinopoli, Schenato, Franceschetti, Poolla, Sastry, "Optimal control with
   unreliable communication: the TCP case"): title, abstract, the first paragraph of Section I.
+* https://de.scribd.com/document/101084238/10-1-1-216-8237: a stretch of the IFAC 2005 conference
+  version ("LQG control with missing observation and control packets"), the end of Section 2 and the
+  start of Section 3: the information sets (3), ``F_k = {y^k, gamma^k, nu^(k-1)}`` (TCP) and
+  ``G_k = {y^k, gamma^k}`` (UDP), the cost (4), ``J_N = E[x_N' W_N x_N + sum_k (x_k' W_k x_k +
+  nu_k u_k' U_k u_k) | I_N]`` ("we are weighting the input only if it is successfully received"), and
+  Lemma 1 (``E[x'Sx | I] = x_hat' S x_hat + trace(S P)``).
 * GitHub text: a markdown conversion of J. P. Hespanha and A. R. Mesquita, "Networked control systems:
   estimation and control over lossy networks", Encyclopedia of Systems and Control (Springer), the
   section "Two-link networks" (pages 863-868 of the converted book): Theorem 1 (Sinopoli et al. 2004),
   Theorem 2 ("Schenato et al. 2007": the TCP-like control threshold as an LMI and the optimal control),
   Theorem 3 and the paragraph on lost acknowledgements (citing the paper: a Gaussian-mixture posterior,
   no separation).
-* Not found: the paper's body (its examples, figures, section numbers), the IFAC 2005 text, Imer, Yuksel
-  and Basar (Automatica 2006), Elia (Systems & Control Letters 2005).
+* Not found: the paper's body (its examples, figures, section numbers), the rest of the IFAC 2005 text,
+  Imer, Yuksel and Basar (Automatica 2006), Elia (Systems & Control Letters 2005).
 
 Queries (pages unless marked): the paper's title with "TCP-like UDP-like critical probabilities";
 "Region of stability for UDP-like and TCP-like optimal control relative to scalar system example";
@@ -33,7 +40,10 @@ Queries (pages unless marked): the paper's title with "TCP-like UDP-like critica
 nu_max B square invertible"; "scalar system critical region UDP-like smaller than TCP-like"; the ACC
 paper's title with "numerical example figure bounds on cost functional"; a sentence of its introduction;
 the IFAC 2005 title; Sinopoli's dissertation; "Lecture 5: Control over lossy networks"; "CDS 270-2
-Towards a packet-based control theory"; the DOI 10.1109/JPROC.2006.887306; Imer-Yuksel-Basar and Elia
+Towards a packet-based control theory"; "KEYWORDS LQG control networked control systems optimal
+estimation packet losses" (which found the IFAC stretch); its equations (3)-(4) in words; the UDP case with
+"C invertible R = 0 coupled Riccati" and "region strictly smaller than TCP"; the finite-horizon TCP
+control law and MARE in symbols; the DOI 10.1109/JPROC.2006.887306; Imer-Yuksel-Basar and Elia
 by title; the docs corpus with "UDP-like closed-loop stability region"; the code corpus with "Schenato
 Sinopoli UDP-like TCP-like stability region" (three phrasings); exact strings on GitHub: the paper's
 title, "UDP-like", "TCP-like and UDP-like", "UDP-like protocols", "Schenato et al.", "critical arrival
@@ -72,6 +82,10 @@ C4 (Proc. IEEE abstract; Hespanha-Mesquita on lost acknowledgements) UDP-like: t
    ``r = 0``, the case where the paper's controller is linear.  Not checked: that the optimal command
    itself is nonlinear (no UDP-like dynamic programme is solved here).
 C5 (ACC abstract) analytic upper and lower bounds on the cost: not stated in the text read; not checked.
+C6 (IFAC 2005, eqs. (3)-(4), Lemma 1) the information sets and the cost that weighs a command only when
+   it arrives: the model symkf uses (docs/control.md; ``proofs/control_udp_scalar.py`` minimises the
+   expected cost ``w (x_hat^2 + P) + nu u U^2``, Lemma 1 (b) for ``x``, eq. (4)'s ``nu_k`` for the input).
+   Read and compared by hand, not computed.
 
 Discrepancies, all in the secondary source (none of the paper itself could be compared):
 D1 Theorems 1 and 3 print ``E[P_k] <= M`` iff ``theta_bar >= theta_c``: at ``theta_c`` the covariance
@@ -83,8 +97,8 @@ D3 "a critical value theta_c for the dropout rate theta_bar, above which the est
 D4 Remark 1, "the upper bound in (3) is tight in the sense that theta_c - theta_min": (3) is the lower
    bound; read "theta_c = theta_min" (C3 confirms it for ``C`` invertible).
 
-Status: C1-C4 checked (C1 (a) and C2 (a) proved for every scalar plant); the paper's examples and figures
-not available.
+Status: C1-C4 checked (C1 (a) and C2 (a) proved for every scalar plant), C6 consistent by reading; the
+paper's examples and figures not available.
 """
 
 from __future__ import annotations

@@ -3,8 +3,9 @@ control and estimation over lossy networks", Proc. IEEE 95(1), 2007.
 
 The paper's full text could not be read (``proofs/control_schenato_sources.py`` records the search):
 what was read is its abstract, the abstract of the conference version "Optimal control with
-unreliable communication: the TCP case" (Sinopoli et al., ACC 2005), and the paper's TCP-like
-theorem as J. P. Hespanha and A. R. Mesquita restate it in the Encyclopedia of Systems and Control
+unreliable communication: the TCP case" (Sinopoli et al., ACC 2005), the information sets and cost
+of "LQG control with missing observation and control packets" (IFAC 2005, eqs. (3)-(4), the model
+symkf uses), and the paper's TCP-like theorem as J. P. Hespanha and A. R. Mesquita restate it in the Encyclopedia of Systems and Control
 ("Networked control systems: estimation and control over lossy networks", Theorems 1-3).  So no
 numerical example or figure of the paper is compared.  :func:`reproduce_schenato_claims` checks
 what those texts state; the other entries recompute the results symkf implements on plants given
