@@ -2,7 +2,7 @@
 networks", Proc. IEEE 95(1), 2007: what of the paper could be read, what those texts claim, and the
 checks of every claim symkf can decide.
 
-Search (2026-12-06, about 60 look-ups with the project's search tools: stored web pages, GitHub code
+Search (2026-12-06, about 70 look-ups with the project's search tools: stored web pages, GitHub code
 and text, documentation, issues).  The stored web pages come back as one excerpt each (about 2,000
 characters, the same for every query; for most pages their opening): a query made of a sentence from
 the middle of the ACC 2005 paper's introduction does not return that page.  Found:
