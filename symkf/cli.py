@@ -47,6 +47,7 @@ REPRODUCE: dict[str, tuple[str, str, dict[str, Any]]] = {
     "you-2011-counterexample": ("symkf.bounds.counterexample", "reproduce_you_2011_counterexample", {"steps": 4}),
     "schenato-scalar": ("symkf.control.reproduce", "reproduce_schenato_scalar", {"paths": 5000, "horizon": 90}),
     "schenato-closed-forms": ("symkf.control.reproduce", "reproduce_schenato_closed_forms", {"simulate": False}),
+    "schenato-claims": ("symkf.control.reproduce", "reproduce_schenato_claims", {}),
 }
 
 

@@ -50,7 +50,8 @@ def test_a_report_with_nothing_to_dispute(capsys) -> None:
 @pytest.mark.parametrize("module, name", [
     ("symkf.network.reproduce", "reproduce_quevedo_semi_markov"), ("symkf.network.reproduce", "reproduce_quevedo_robot"),
     ("symkf.network.reproduce", "reproduce_quevedo_example3"), ("symkf.engine.second_order", "reproduce_sui_theorem12"),
-    ("symkf.capacity.example1", "reproduce_yang_example1"), ("symkf.fusion.pendulum", "reproduce_fusion_pendulum")])
+    ("symkf.capacity.example1", "reproduce_yang_example1"), ("symkf.fusion.pendulum", "reproduce_fusion_pendulum"),
+    ("symkf.control.reproduce", "reproduce_schenato_claims")])
 def test_a_reproduction_refuses_its_output_directory_before_the_work(module, name, tmp_path):
     fn = getattr(importlib.import_module(module), name)
     afile = tmp_path / "a-file"
