@@ -2,10 +2,7 @@
 networks", Proc. IEEE 95(1), 2007: what of the paper could be read, what those texts claim, and the
 checks of every claim symkf can decide.
 
-Search (2026-12-06, about 70 look-ups with the project's search tools: stored web pages, GitHub code
-and text, documentation, issues).  The stored web pages come back as one excerpt each (about 2,000
-characters, the same for every query; for most pages their opening): a query made of a sentence from
-the middle of the ACC 2005 paper's introduction does not return that page.  Found:
+Texts of the paper and its conference versions that could be read (public copies):
 
 * https://vdocuments.net/invited-paper-foundations-of-control-and-sastrypubspdfs-of-theory-which.html
   and https://sciencedocbox.com/Physics/76508494-Ieee-copyright-statement.html: the Proc. IEEE paper's
@@ -33,22 +30,6 @@ the middle of the ACC 2005 paper's introduction does not return that page.  Foun
   no separation).
 * Not found: the paper's body (its examples, figures, section numbers), the rest of the IFAC 2005 text,
   Imer, Yuksel and Basar (Automatica 2006), Elia (Systems & Control Letters 2005).
-
-Queries (pages unless marked): the paper's title with "TCP-like UDP-like critical probabilities";
-"Region of stability for UDP-like and TCP-like optimal control relative to scalar system example";
-"numerical example A = B = C = 1 W = U = Q = R = 1"; "critical control packet arrival probability nu_min
-nu_max B square invertible"; "scalar system critical region UDP-like smaller than TCP-like"; the ACC
-paper's title with "numerical example figure bounds on cost functional"; a sentence of its introduction;
-the IFAC 2005 title; Sinopoli's dissertation; "Lecture 5: Control over lossy networks"; "CDS 270-2
-Towards a packet-based control theory"; "KEYWORDS LQG control networked control systems optimal
-estimation packet losses" (which found the IFAC stretch); its equations (3)-(4) in words; the UDP case with
-"C invertible R = 0 coupled Riccati" and "region strictly smaller than TCP"; the finite-horizon TCP
-control law and MARE in symbols; the DOI 10.1109/JPROC.2006.887306; Imer-Yuksel-Basar and Elia
-by title; the docs corpus with "UDP-like closed-loop stability region"; the code corpus with "Schenato
-Sinopoli UDP-like TCP-like stability region" (three phrasings); exact strings on GitHub: the paper's
-title, "UDP-like", "TCP-like and UDP-like", "UDP-like protocols", "Schenato et al.", "critical arrival
-probabilit", "Lossy Networks.pdf", "missing observation and control packets", "unreliable communication:
-the TCP case", the paper's teaser and two sentences of its abstract.
 
 So no numerical example, figure or printed value of the paper is compared anywhere in symkf: the
 entries ``schenato-scalar`` and ``schenato-closed-forms`` use plants of the project's own, and the
