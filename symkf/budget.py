@@ -82,7 +82,8 @@ class Limits:
     max_sensors: int = 2 ** 14
     #: states of a joint (lifted) Markov loss chain: the exact engine's work grows with their square
     max_markov_states: int = 128
-    #: estimated CPU seconds of one heavy step, priced before it starts by :func:`price` from its
+    #: estimated CPU milliseconds of one heavy step (60 000: a minute), priced before it starts by
+    #: :func:`price` from its
     #: units of work and their costs (:data:`COSTS`, measured on the machine of docs/caps.md; a
     #: step estimated under it runs whatever the size of its input): the hyperplane screen
     #: (symkf.engine.hyperplane_screen: the points each stage classifies, and point-line
@@ -96,7 +97,7 @@ class Limits:
     #: incidences, 48 CPU-s estimated, 34 measured; on Gilbert-Elliott channels its two screens,
     #: 96, refused at once; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about
     #: 10^42 incidences
-    max_work: int = 60
+    max_work: int = 60_000
     #: receival sequences ``2^(d (horizon - 1))`` that the exact mean trace enumerates
     #: (symkf.numeric.montecarlo.exact_mean_covariances and exact_mean_trace; estimate_mean_trace simulates),
     #: and ``2^(d N)`` that the brute-force symkf.engine.rates.probability_rank_deficient enumerates
@@ -221,7 +222,7 @@ def seconds(**units: float) -> float:
 
 def affordable(kind: str) -> float:
     """The most units of the kind ``kind`` of :data:`COSTS` that ``max_work`` allows alone."""
-    return LIMITS.max_work / COSTS[kind.replace("_", " ")]
+    return LIMITS.max_work / 1000 / COSTS[kind.replace("_", " ")]
 
 
 def price(entry: str | Callable[[], str], what: str | Callable[[], str], **units: float) -> float:
@@ -231,12 +232,12 @@ def price(entry: str | Callable[[], str], what: str | Callable[[], str], **units
     refusing: writing a large expression out costs more than pricing it)."""
     estimate = seconds(**units)
     bound = LIMITS.max_work
-    if estimate > bound:
+    if 1000 * estimate > bound:
         entry, what = (v if isinstance(v, str) else v() for v in (entry, what))
         parts = ", ".join(f"{_shown(amount)} {kind.replace('_', ' ')}s at {_seconds(COSTS[kind.replace('_', ' ')])}"
                           for kind, amount in units.items() if amount)
         raise BudgetError(f"{entry}: the estimated work of {what} is {_seconds(estimate)} ({parts}), above the "
-                          f"cap max_work = {bound} CPU-s; raise it with symkf.budget.limits(max_work=...) or "
+                          f"cap max_work = {bound} CPU-ms; raise it with symkf.budget.limits(max_work=...) or "
                           f"the command-line option {OPTIONS['max_work']}")
     return estimate
 

@@ -376,7 +376,7 @@ class BlockRows:
                     continue
             except hyperplane_screen.Crowded:
                 return None
-            if budget.seconds(kept_point=len(screen.kept) * len(X)) > budget.LIMITS.max_work:
+            if len(screen.kept) * len(X) > budget.affordable("kept point"):
                 return None   # closing them costs more than listing is allowed: the caller lists, priced
             mod_p = {}  # many kept sets share a closure, or one up to the shift (the caller shifts)
             for S in screen.kept:

@@ -262,14 +262,14 @@ def test_the_screen_is_priced_by_the_points_it_classifies(monkeypatch):
 def test_a_markov_query_over_max_work_is_refused_before_its_screens():
     """Gilbert-Elliott channels on 128 sensors of rows in -2..2: the two screens of the Markov
     search are priced together (about 1.4 CPU-s) before the first runs; under a cap of 1 CPU-s
-    they are refused at once, naming the cap and its option."""
+    (1000 CPU-ms) they are refused at once, naming the cap and its option."""
     import time
     rows = [[int(v) for v in r] for r in np.random.default_rng(128).integers(-2, 3, (128, 4)) if r.any()]
     S = _many_sensors(rows)
     loss = sk.GilbertElliott(["1/10"] * len(rows), ["1/2"] * len(rows))
     start = time.process_time()
-    with sk.budget.limits(max_work=1), pytest.raises(sk.errors.BudgetError,
-                                                     match=r"2 such screens\) is .* above the cap max_work = 1 "
-                                                           r"CPU-s.*--max-work"):
+    with sk.budget.limits(max_work=1000), pytest.raises(sk.errors.BudgetError,
+                                                        match=r"2 such screens\) is .* above the cap max_work = 1000 "
+                                                              r"CPU-ms.*--max-work"):
         sk.stability(S, loss)
     assert time.process_time() - start < 10
