@@ -2,7 +2,9 @@
 
 Each cap bounds an *estimate* made before any expensive computation starts (the algebraic
 degree of a parsed number, the size of a matrix, the states of a lifted Markov chain, the
-memory of a Monte Carlo run, ...).  A refusal is a :class:`~symkf.errors.BudgetError` that
+memory of a Monte Carlo run, ...); ``max_work`` bounds the estimated CPU time of a heavy step,
+priced by :func:`price` from its units of work at their measured costs (:data:`COSTS`), so that
+a step estimated under it runs whatever the size of its input.  A refusal is a :class:`~symkf.errors.BudgetError` that
 names the entry, the estimate, the cap, and how to raise it: the keyword of
 :func:`limits` in Python, the option in :data:`OPTIONS` on the command line.
 
@@ -29,7 +31,7 @@ from .errors import BudgetError, InputError
 @dataclass
 class Limits:
     """The caps (defaults in brackets are chosen so that every example of the papers passes; the
-    costs they were sized on: docs/performance.md)."""
+    costs they were sized on: docs/caps.md)."""
 
     #: algebraic degree over Q of a field with radicals, bounded by the product of the degrees of
     #: its radicals and trigonometric constants, times the size of the diagonal block of A whose
