@@ -20,6 +20,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import math
+import numbers
 import sys
 from dataclasses import dataclass
 from typing import Callable, Iterator
@@ -219,12 +220,27 @@ def check(cap: str, estimate: int, entry: str, what: str | Callable[[], str]) ->
 def seconds(**units: float) -> float:
     """The estimated CPU seconds of ``units`` of work: per kind of :data:`COSTS` (spaces written
     as underscores, ``seconds(screen_point=P, incidence=I)``) its amount times its cost."""
-    return sum(COSTS[kind.replace("_", " ")] * float(min(amount, 1e300)) for kind, amount in units.items())
+    return sum(_cost(kind) * float(min(_amount(kind, amount), 1e300)) for kind, amount in units.items())
 
 
 def affordable(kind: str) -> float:
     """The most units of the kind ``kind`` of :data:`COSTS` that ``max_work`` allows alone."""
-    return LIMITS.max_work / 1000 / COSTS[kind.replace("_", " ")]
+    return LIMITS.max_work / 1000 / _cost(kind)
+
+
+def _cost(kind: str) -> float:
+    """The cost of a unit of ``kind`` (spaces written as underscores), or an InputError naming the kinds."""
+    cost = COSTS.get(str(kind).replace("_", " "))
+    if cost is None:
+        raise InputError(f"{kind}: not a kind of work; the kinds are {sorted(COSTS)}")
+    return cost
+
+
+def _amount(kind: str, amount: object) -> numbers.Real:
+    """``amount`` checked as a count of units: a real number >= 0 (not NaN)."""
+    if isinstance(amount, bool) or not isinstance(amount, numbers.Real) or not amount >= 0:
+        raise InputError(f"{kind}: expected a number of units >= 0, got {amount!r}"[:200])
+    return amount
 
 
 def price(entry: str | Callable[[], str], what: str | Callable[[], str], **units: float) -> float:
@@ -236,7 +252,7 @@ def price(entry: str | Callable[[], str], what: str | Callable[[], str], **units
     bound = LIMITS.max_work
     if 1000 * estimate > bound:
         entry, what = (v if isinstance(v, str) else v() for v in (entry, what))
-        parts = ", ".join(f"{_shown(amount)} {kind.replace('_', ' ')}s at {_seconds(COSTS[kind.replace('_', ' ')])}"
+        parts = ", ".join(f"{_shown(amount)} {kind.replace('_', ' ')}s at {_seconds(_cost(kind))}"
                           for kind, amount in units.items() if amount)
         raise BudgetError(f"{entry}: the estimated work of {what} is {_seconds(estimate)} ({parts}), above the "
                           f"cap max_work = {bound} CPU-ms; raise it with symkf.budget.limits(max_work=...) or "

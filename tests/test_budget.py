@@ -79,3 +79,15 @@ def test_price_sums_the_units_at_their_costs_and_refuses_above_max_work():
 def test_an_astronomical_estimate_is_priced_without_overflow():
     with pytest.raises(BudgetError, match=r"is about 10\^35 CPU-s \(about 10\^42 incidences at 0.15 µs\)"):
         budget.price("block", "a screen", incidence=10 ** 42)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: budget.seconds(flops=1), "flops: not a kind of work; the kinds are"),
+    (lambda: budget.affordable("flops"), "flops: not a kind of work"),
+    (lambda: budget.seconds(incidence=float("nan")), "incidence: expected a number of units >= 0, got nan"),
+    (lambda: budget.seconds(incidence=-1), "incidence: expected a number of units >= 0, got -1"),
+    (lambda: budget.seconds(incidence="10"), "incidence: expected a number of units >= 0, got '10'"),
+])
+def test_a_unit_of_work_is_a_known_kind_and_a_count(call, message):
+    with pytest.raises(InputError, match=message):
+        call()
