@@ -199,7 +199,8 @@ def test_proportional_weights_are_screened_once(name, rows, losses, monkeypatch)
     weights = [_weights(loss)[e.sensor] for e in br.elements]
     screens = []
     screened = BlockRows._heaviest
-    monkeypatch.setattr(BlockRows, "_heaviest", lambda self, w, floor: screens.append(1) or screened(self, w, floor))
+    monkeypatch.setattr(BlockRows, "_heaviest",
+                        lambda self, w, floor, **kw: screens.append(1) or screened(self, w, floor, **kw))
     first = br.heaviest(weights)
     again = br.heaviest([4.0 * w for w in weights])   # (exactly proportional in floats: 2.5 w need not be)
     assert len(screens) == 1 and set(again) == set(first)
