@@ -95,8 +95,8 @@ class Limits:
     #: search together, the search through flats (symkf.engine.flat_screen), closing the sets a
     #: screen keeps (``kept sets x points``), and the hyperplanes a decay rate lists when no screen
     #: applies (``C(V, n - 1)`` for V distinct generators in K^n, or fewer through the flats of
-    #: elements of several generators: BlockRows.listing_estimate; their memory meets
-    #: ``max_memory``).  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
+    #: elements of several generators: BlockRows.listing_estimate; times the degree of K; their
+    #: memory meets ``max_memory``).  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
     #: incidences, 48 CPU-s estimated, 34 measured; on Gilbert-Elliott channels its two screens,
     #: 96, refused at once; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about
     #: 10^42 incidences
@@ -159,8 +159,8 @@ OPTIONS = {f.name: "--" + f.name.replace("_", "-") for f in dataclasses.fields(L
 LIMITS = Limits()
 
 #: CPU seconds per unit of each kind of work that :func:`price` prices against ``max_work``,
-#: measured on the machine of docs/caps.md (shared, 2 cores with AVX-512; fitted on the rows of
-#: ``benchmarks/bench_many_sensors.py`` and ``bench_heaviest_hyperplane.py``, within 3x of them)
+#: measured on the machine of docs/caps.md (shared, 2 cores with AVX-512; fitted within 3x on the
+#: rows of ``benchmarks/bench_markov_search.py``: many sensors, and the listed general-position block)
 COSTS = {
     #: a point reduced mod the stage's point and classified (a sort of packed keys) at one stage of
     #: the hyperplane screen
@@ -168,8 +168,10 @@ COSTS = {
     #: a point-line incidence tested by the hyperplane screen (a vectorised pass counts as
     #: ``hyperplane_screen.PASS`` of them)
     "incidence": 0.15e-6,
-    #: a hyperplane listed (its generators' set built and counted, ``BlockRows.inside``)
-    "hyperplane": 25e-6,
+    #: a hyperplane listed (its generators' set built and counted, ``BlockRows.inside``), per degree
+    #: of the block's field: 1.2 million over a field of degree 8 took 12 CPU-s, 597 000 over one of
+    #: degree 120 51 CPU-s
+    "hyperplane degree": 1e-6,
     #: a point tested against a set kept by a screen, to close it mod p (the kept sets of a low
     #: floor: each is closed over every point, then confirmed exactly)
     "kept point": 0.5e-6,

@@ -62,16 +62,17 @@ def listed_hyperplanes(br: BlockRows) -> np.ndarray | list[frozenset[int]]:
     if "inside" not in br.__dict__ and br.size > 1:
         estimate, formula = br.listing_estimate()
         entry = f"eigen-block of modulus {br.block.modulus}"
-        budget.price(entry, f"listing the hyperplanes ({formula}; no screen applies)", hyperplane=estimate)
+        budget.price(entry, f"listing the hyperplanes ({formula}; no screen applies) over a field of degree "
+                            f"{br.K.degree}", hyperplane_degree=estimate * br.K.degree)
         budget.check("max_memory", br.listing_bytes(estimate), entry,
                      lambda: f"the bytes (estimate) of listing {estimate} hyperplanes ({formula}; no screen applies)")
     return br.inside
 
 
-#: estimated CPU seconds (``budget.COSTS["hyperplane"]``) of a listing above which a block in
-#: general position goes through its special and generic hyperplanes (:func:`_beyond_listing`)
-#: rather than the list: about 300 000 hyperplanes, where the two routes cost alike
-LIST_BELOW = 7.5
+#: estimated CPU seconds (``budget.COSTS["hyperplane degree"]``) of a listing above which a block
+#: in general position goes through its special and generic hyperplanes (:func:`_beyond_listing`)
+#: rather than the list: about 300 000 hyperplanes over a field of degree 8
+LIST_BELOW = 2.5
 
 
 def capped_hyperplanes(br: BlockRows) -> tuple[frozenset[int], ...]:
@@ -261,7 +262,7 @@ def _beyond_listing(br: BlockRows, rates: Sequence[FactorRates], patterns: Patte
     them in lexicographic order.  None when that does not apply (the caller lists, refused by the
     estimate)."""
     if "inside" in br.__dict__ or br.cylinders or br.size < 2 or br.several_generators \
-            or budget.seconds(hyperplane=br.listing_estimate()[0]) <= LIST_BELOW:
+            or budget.seconds(hyperplane_degree=br.listing_estimate()[0] * br.K.degree) <= LIST_BELOW:
         return None
     generic = generic_hyperplanes.best_elements(br, rates)
     if generic is None:

@@ -166,7 +166,7 @@ def test_period_24_block_equals_enumeration():
 
 
 def test_a_listing_beyond_the_caps_is_refused_up_front():
-    """9 generators in the plane: C(9, 1) = 9 hyperplanes, 225 µs at 25 µs each and 1746 bytes
+    """9 generators in the plane: C(9, 1) = 9 hyperplanes, microseconds to list but 1746 bytes
     (per hyperplane 4 V + 5 E + 128 for V = 9 generators and E = 6 elements), refused under a
     memory cap of 1024 bytes before any is listed."""
     A, rows, loss = CASES["multi-row sensor"]
