@@ -264,7 +264,7 @@ def price(entry: str | Callable[[], str], what: str | Callable[[], str], **units
 
 def _shown(amount: float) -> str:
     """A count as written in a refusal: exact up to 10^15, else its power of ten."""
-    return f"{int(amount)}" if amount < 10 ** 15 else f"about 10^{math.floor(math.log10(amount))}"
+    return f"{int(amount)}" if amount < 10 ** 15 else f"about 10^{math.floor(math.log10(min(amount, 1e300)))}"
 
 
 def _seconds(seconds: float) -> str:
