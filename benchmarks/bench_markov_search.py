@@ -20,8 +20,10 @@ same by the list (``search.LIST_BELOW`` raised; on main ``max_hyperplanes``), th
 Many sensors (``--rows many``), at the default caps: the same block with d = 128 ... 1024 integer
 rows from the seed 1000 + d, the common critical loss rate (d = 1024: <= 60 CPU-s) and
 Gilbert-Elliott stability (fail 1/10, recover 1/2; d = 1024: answered in <= 60 or refused in <= 5
-CPU-s, the refusal time printed).  Main refuses them by its sensor count (64), so its baseline runs
-with its caps raised (``max_sensors``, ``max_hyperplanes``, ``max_screen_work``), for the digest.
+CPU-s, the refusal time printed), each with the work priced before its heavy steps (``budget.price``)
+beside what it cost; the system's construction is inside their timing.  Main refuses them by its
+sensor count (64), so its baseline runs with its caps raised (``max_sensors``, ``max_hyperplanes``,
+``max_screen_work``), for the digest.
 
 Each measurement is a fresh interpreter (cold caches) printing the CPU seconds of the computation
 (``time.process_time``), its peak RSS and a digest of the exact result.  The baseline is
@@ -188,7 +190,12 @@ def _child(row: str, raised: bool = False) -> None:
 
 
 def _timed(what: str, d: int) -> None:
+    from symkf import budget
     system(d)  # imports and field set-up outside the timing, as in every row
+    estimates = []   # the work priced before each heavy step that ran (a tree with budget.price)
+    if hasattr(budget, "price"):
+        price = budget.price
+        budget.price = lambda *names, **units: estimates.append(price(*names, **units)) or estimates[-1]
     start = time.process_time()
     try:
         result, error = _compute(what, d), None
@@ -196,7 +203,8 @@ def _timed(what: str, d: int) -> None:
         result, error = "", f"{type(exc).__name__}: {str(exc)[:160]}"
     cpu = time.process_time() - start
     print(json.dumps({"cpu": cpu, "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-                      "digest": hashlib.sha1(result.encode()).hexdigest()[:12], "error": error}))
+                      "digest": hashlib.sha1(result.encode()).hexdigest()[:12], "error": error,
+                      "estimate": sum(estimates)}))
 
 
 def _cap() -> None:
@@ -265,6 +273,8 @@ def main() -> None:
         else:
             goal = "(reference)"
         memory = "" if rss <= 500 else "  RSS above 500 MB"
+        if what.startswith("many"):   # the work priced against max_work, beside what it cost
+            goal += f"  (priced {statistics.median(r['estimate'] for r in runs):.1f} CPU-s)"
         print(f"  {row:52s} {new:10.2f} {rss:7.0f} {old:>11s} {old_rss:>8s} {ratio:>8s}  {goal}{memory}")
 
 
