@@ -256,9 +256,9 @@ def price(entry: str | Callable[[], str], what: str | Callable[[], str], **units
         entry, what = (v if isinstance(v, str) else v() for v in (entry, what))
         parts = ", ".join(f"{_shown(amount)} {kind.replace('_', ' ')}s at {_seconds(_cost(kind))}"
                           for kind, amount in units.items() if amount)
-        raise BudgetError(f"{entry}: the estimated work of {what} is {_seconds(estimate)} ({parts}), above the "
-                          f"cap max_work = {bound} CPU-ms; raise it with symkf.budget.limits(max_work=...) or "
-                          f"the command-line option {OPTIONS['max_work']}")
+        raise BudgetError(f"{entry}: the estimated work of {what} is {_seconds(estimate)}, above the cap max_work = "
+                          f"{bound} CPU-ms; raise it with symkf.budget.limits(max_work=...) or the command-line "
+                          f"option {OPTIONS['max_work']} (the estimate: {parts})")
     return estimate
 
 

@@ -367,9 +367,7 @@ class BlockRows:
                 plan = hyperplane_screen.stages(X, weights, p, orbits, skip, screen.bar, cycles)
                 budget.price(lambda: f"eigen-block of modulus {self.block.modulus}",
                              lambda: f"the hyperplane screen ({points} in dimension {n}, {len(orbits) - len(skip)} "
-                                     f"orbits, {len(plan)} stages: the points of each stage classified, and "
-                                     f"point-line incidences, about C(C, {n - 2}) per stage for C classes, fewer "
-                                     f"in a window" + (f"; {screens} such screens)" if screens > 1 else ")"),
+                                     f"orbits, {len(plan)} stages" + (f"; {screens} such screens)" if screens > 1 else ")"),
                              screen_point=screens * sum(len(s.points) for s in plan),
                              incidence=screens * hyperplane_screen.work(X, p, plan, budget.affordable("incidence")))
                 if not hyperplane_screen.search(X, weights, p, plan, screen):

@@ -202,14 +202,16 @@ def _eight_rotations_file(tmp_path):
 @pytest.mark.full
 def test_eight_identical_rotation_blocks_refused_naming_the_screen_cap(tmp_path):
     """This ran past 120 CPU-s in the screen's 13-level flat recursion (6208 elements in
-    dimension 16, 64 orbits: about 10^42 incidences); now refused once the block's elements are
+    dimension 16, 64 orbits: about 10^42 incidences, and the Markov search's two screens are priced
+    together); now refused once the block's elements are
     reduced mod p (about 6 CPU-s, 4 of them the exact generators C_j T D^r over Q(zeta_388))."""
     path = _eight_rotations_file(tmp_path)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     code, err = limited(cli.main, ["analyze", str(path)])
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     assert code == 2 and err.count("\n") == 1, err
-    assert "6208 elements in dimension 16, 64 orbits" in err and "about 10^42 incidences" in err and "--max-work" in err, err
+    assert "6208 elements in dimension 16, 64 orbits" in err and "2 such screens" in err and "about 10^36 CPU-s" in err \
+        and "--max-work" in err, err
     assert after.ru_utime - before.ru_utime < 15
 
 

@@ -139,8 +139,8 @@ def test_the_search_through_flats_is_refused_up_front():
     4 CPU-ms, refused under a cap of 1 before the search starts."""
     A, rows, _ = CASES["two-row sensors, period 12"]
     (br,) = block_rows(_system(A, rows * 4))
-    with budget.limits(max_work=1), pytest.raises(BudgetError, match=r"search through the flats.* \(27072 "
-                                                                      r"incidences at 0.15 µs\).*max_work"):
+    with budget.limits(max_work=1), pytest.raises(BudgetError, match=r"search through the flats.*max_work.*"
+                                                                      r"27072 incidences at 0.15 µs"):
         search.block_rate(br, GE(["1/10", "1/3"] * 4, ["1/2", "1/4"] * 4))
 
 
