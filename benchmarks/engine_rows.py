@@ -45,7 +45,8 @@ def _child(what: str, case: str, args: list[str]) -> None:
     import contextlib
     import engine_cases
     from symkf.errors import BudgetError
-    caps = json.loads(os.environ.get("BENCH_CAPS", "{}"))
+    # a row names the caps of every tree it runs in: each tree takes the ones it knows
+    caps = {k: v for k, v in json.loads(os.environ.get("BENCH_CAPS", "{}")).items() if k in budget.OPTIONS}
     with (budget.limits(**caps) if caps else contextlib.nullcontext()):
         system, loss = getattr(engine_cases, case)(*[int(a) for a in args])
         start = time.process_time()

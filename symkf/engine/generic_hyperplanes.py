@@ -6,7 +6,7 @@ generator ("live"); it is *generic* when it holds exactly ``n - 1`` (independent
 in their span), *special* when it holds more.  A block in general position has ``C(E, n - 1)``
 generic hyperplanes and few special ones; the screens of :func:`symkf.engine.search.markov_search` then
 cannot rule the generic ones out (their additive bound reaches them all), and listing them is
-refused beyond ``budget.Limits.max_hyperplanes``.
+priced (``budget.Limits.max_work``, ``max_memory``) and refused beyond them.
 
 Why the maximum needs no list.  ``rho(M_S)`` is monotone in the element set ``S``.  Every ``n - 1``
 live elements lie in some hyperplane (the elements span ``K^n``), and one of rank below ``n - 1``,

@@ -52,18 +52,27 @@ def outside_counts(br: BlockRows, weights: Sequence[float] | None = None) -> dic
 def listed_hyperplanes(br: BlockRows) -> np.ndarray | list[frozenset[int]]:
     """Every hyperplane: with elements of several generators the search through their flats at
     floor 0 (:meth:`BlockRows.heaviest`, refused up front by its work estimate; index sets in
-    lexicographic order), else :attr:`BlockRows.inside`, refused up front when their estimated
-    number (:meth:`BlockRows.listing_estimate`) exceeds ``budget.Limits.max_hyperplanes``."""
+    lexicographic order), else :attr:`BlockRows.inside`, priced up front from their estimated
+    number (:meth:`BlockRows.listing_estimate`) and refused above ``budget.Limits.max_work`` or,
+    for the memory they take (:meth:`BlockRows.listing_bytes`), ``max_memory``."""
     if br.several_generators and "inside" not in br.__dict__:
         sets = br.heaviest([0.0] * len(br.elements), floor=0.0)
         if sets is not None:
             return sorted(sets, key=sorted)
     if "inside" not in br.__dict__ and br.size > 1:
         estimate, formula = br.listing_estimate()
-        if estimate > budget.LIMITS.max_hyperplanes:  # the modulus named only then
-            budget.check("max_hyperplanes", estimate, f"eigen-block of modulus {br.block.modulus}",
-                         f"the estimated number of hyperplanes to list ({formula}; no screen applies)")
+        entry = f"eigen-block of modulus {br.block.modulus}"
+        budget.price(entry, f"listing the hyperplanes ({formula}; no screen applies) over a field of degree "
+                            f"{br.K.degree}", hyperplane_degree=estimate * br.K.degree)
+        budget.check("max_memory", br.listing_bytes(estimate), entry,
+                     lambda: f"the bytes (estimate) of listing {estimate} hyperplanes ({formula}; no screen applies)")
     return br.inside
+
+
+#: estimated CPU seconds (``budget.COSTS["hyperplane degree"]``) of a listing above which a block
+#: in general position goes through its special and generic hyperplanes (:func:`_beyond_listing`)
+#: rather than the list: about 300 000 hyperplanes over a field of degree 8
+LIST_BELOW = 2.5
 
 
 def capped_hyperplanes(br: BlockRows) -> tuple[frozenset[int], ...]:
@@ -246,15 +255,14 @@ def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
 
 
 def _beyond_listing(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
-    """Where listing the hyperplanes would be refused (their estimated number above
-    ``budget.Limits.max_hyperplanes``): the special ones (at least ``n`` elements with a
-    generator: the screen with unit weights and a strict floor) and, when it is larger than all of
-    theirs, the best rate of ``n - 1`` such elements, attained by generic hyperplanes
+    """Where listing the hyperplanes would cost more than :data:`LIST_BELOW`: the special ones (at
+    least ``n`` elements with a generator: the screen with unit weights and a strict floor) and,
+    when it is larger than all of theirs, the best rate of ``n - 1`` such elements, attained by generic hyperplanes
     (:mod:`symkf.engine.generic_hyperplanes`, which also says why no maximiser is missed), the first of
     them in lexicographic order.  None when that does not apply (the caller lists, refused by the
     estimate)."""
     if "inside" in br.__dict__ or br.cylinders or br.size < 2 or br.several_generators \
-            or br.listing_estimate()[0] <= budget.LIMITS.max_hyperplanes:
+            or budget.seconds(hyperplane_degree=br.listing_estimate()[0] * br.K.degree) <= LIST_BELOW:
         return None
     generic = generic_hyperplanes.best_elements(br, rates)
     if generic is None:
@@ -277,7 +285,7 @@ def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -
     general position, :meth:`BlockRows.generic_weight`: then listing is cheaper)."""
     if br.cylinders:
         return _through_cylinders(br, rates, patterns)
-    first = _first_screen(br, rates, patterns)
+    first = _first_screen(br, rates, patterns, screens=2)   # screen 2 priced with it
     if first is None:
         return None
     tau = max(lg - err for lg, err in map(patterns.log_rate, first))
@@ -317,11 +325,13 @@ def _additive_bound(br: BlockRows, rates: Sequence[FactorRates], patterns: Patte
     return beta, sum(C for C, _ in bounds)
 
 
-def _first_screen(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
-    """Screen 1 of :func:`markov_search`: the hyperplanes heaviest in the gains of single elements."""
+def _first_screen(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns, screens: int = 1
+                  ) -> list[frozenset[int]] | None:
+    """Screen 1 of :func:`markov_search`: the hyperplanes heaviest in the gains of single elements
+    (priced with the ``screens - 1`` screens the caller runs after it: :meth:`BlockRows.heaviest`)."""
     empty = [r.log_rate({}) for r in rates]
     gains = [max(0.0, rates[f].log_rate({phase: bit}) - empty[f]) for f, bit, phase in patterns.of]
-    return br.heaviest(gains) if all(np.isfinite(gains)) else None
+    return br.heaviest(gains, screens=screens) if all(np.isfinite(gains)) else None
 
 
 def _reaching(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns, tau: float

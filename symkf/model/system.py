@@ -415,8 +415,13 @@ class System(JsonDocument):
 
     @property
     def C(self) -> sp.ImmutableMatrix:
-        """The stacked ``C = col{C_1, ..., C_d}`` (eq. 3)."""
-        return sp.ImmutableMatrix(sp.Matrix.vstack(*[s.C for s in self.sensors]))
+        """The stacked ``C = col{C_1, ..., C_d}`` (eq. 3; cached: built once from the rows, as
+        stacking d matrices pairwise costs time quadratic in d)."""
+        cached = self._cache.get("C")
+        if cached is None:
+            rows = [list(s.C.row(i)) for s in self.sensors for i in range(s.C.rows)]
+            cached = self._cache["C"] = sp.ImmutableMatrix(len(rows), self.n, [v for r in rows for v in r])
+        return cached
 
     @property
     def R(self) -> sp.ImmutableMatrix:

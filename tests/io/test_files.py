@@ -140,7 +140,7 @@ def test_too_many_sensors_or_actuators_are_counted_before_one_is_read(tmp_path, 
     path.write_text('[system]\nA = [["2"]]\n' + first + f"[[{key}]]\n{table}\n" * count)
     data = files.read_toml(path)
     code, err = limited(refused_at_once, lambda: files.parse(data, str(path)), "max_sensors")
-    assert code == 0 and f"{path}: [[{key}]]: the number of {key} is {count}, above the cap 64" in err, err
+    assert code == 0 and f"{path}: [[{key}]]: the number of {key} is {count}, above the cap 16384" in err, err
 
 
 # -- the control loop: [[actuators]], W and [actuator_loss] -----------------------------------------
