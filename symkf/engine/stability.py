@@ -448,8 +448,13 @@ class _Bound:
         coeffs = [0] * (k * gamma._poly.degree() + 1)  # p(x^k) for the minimal polynomial p of gamma
         for i, a in enumerate(gamma._poly.coeffs()):
             coeffs[k * i] = int(a)
+        # Capelli's theorem: x^k - gamma (rational gamma > 0) is irreducible over Q when gamma is no
+        # q-th power for any prime q | k (the reduction above took those out)
+        binomial = gamma.is_rational and gamma > 0 and not any(
+            sp.integer_nthroot(gamma._value().numerator, q)[1] and sp.integer_nthroot(gamma._value().denominator, q)[1]
+            for q in sp.primefactors(k))
         f, index = identify(flint.fmpz_poly(coeffs), lambda prec: flint.acb(self.ball(prec)),
-                            "margin" if self.sign > 0 else "critical value")
+                            "margin" if self.sign > 0 else "critical value", irreducible=binomial)
         return AlgebraicNumber._irreducible(f, index, exact)
 
 
