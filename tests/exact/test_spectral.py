@@ -18,6 +18,8 @@ import symkf as sk
 from symkf import budget, cli
 from symkf.errors import BudgetError, UnobservableError
 from symkf.exact.algebraic import identify, real_from_ball
+from symkf.exact import nfpoly, spectral
+from symkf.exact.field import NumberField
 from symkf.exact.spectral import _abs_poly, _cosine_order, _resultant_y, diagonal_blocks, eigen_blocks, eigenvalues
 
 from conftest import library, limited, rotation
@@ -172,6 +174,31 @@ def test_cosine_order():
     assert _cosine_order(flint.fmpz_poly([-1, -4, 4, 8])) == 7
     assert _cosine_order(flint.fmpz_poly([-2, 0, 1])) == 0
     assert _cosine_order(flint.fmpz_poly([-1, 0, 2])) == 8
+
+
+@pytest.mark.parametrize("m", [5, 7, 9, 13, 24, 97])
+def test_cosine_order_of_cos_2pi_over_m_from_closed_form_roots_and_from_phi_m(m, monkeypatch):
+    """The minimal polynomial of cos(2 pi/m) (2^d psi_m(2x), psi_m that of 2 cos(2 pi/m)) has order
+    m, read off its closed-form roots and, without them, from x^d g(x + 1/x) = Phi_m."""
+    psi = flint.fmpz_poly.cos_minpoly(m)
+    f = flint.fmpz_poly([int(c) * 2 ** k for k, c in enumerate(psi.coeffs())])
+    assert _cosine_order(f) == m
+    monkeypatch.setattr(spectral, "_known_roots", lambda coeffs: None)
+    assert _cosine_order(f) == m
+
+
+@pytest.mark.parametrize("m", [5, 7, 13])
+def test_rotation_eigenvalues_from_roots_of_unity_match_the_norm(m, monkeypatch):
+    """The eigenvalues 2 exp(+-2 pi i/m) of 2R(2 pi/m) over its entries' field, identified by
+    powers of x modulo the factor, are those identified among the roots of Trager's norm."""
+    A = sp.ImmutableMatrix(rotation(2 * sp.pi / m, 2))
+    K = NumberField([sp.cos(2 * sp.pi / m), sp.sin(2 * sp.pi / m)])
+    fast = spectral._factor_charpoly(A, K)
+    monkeypatch.setattr(nfpoly, "unit_root_minpoly", lambda K, h: None)
+    slow = spectral._factor_charpoly(A, K)
+    assert fast == slow
+    assert [[(tuple(f.coeffs()), i) for f, i in roots] for _, _, roots in fast] == \
+        [[(tuple(f.coeffs()), i) for f, i in roots] for _, _, roots in slow]
 
 
 def test_field_of_a_matrix_is_budgeted_per_diagonal_block():
