@@ -226,7 +226,8 @@ def test_cyclotomic_rotations_pass_the_default_caps():
     """Rotation blocks of trigonometric constants stay in Q(zeta_m) (m = 4q): 2R(2 pi/97) has
     cyclotomic degree phi(388) = 192 <= 1024 and is decided, to the value the engine gave before the
     cost model with --max-degree raised (2^(192/193)/4), as is 2R(2 pi/401) (phi(1604) = 800,
-    2^(800/801)/4); 2R(2 pi/521) has phi(2084) = 1040 > 1024.  A 1x1 cos(pi/97)
+    2^(800/801)/4) and 2R(2 pi/521) (phi(2084) = 1040, 2^(1040/1041)/4): a rotation's field is
+    priced at a quarter of its degree, so 2R(2 pi/2053) (phi(8212) = 4104) is refused.  A 1x1 cos(pi/97)
     is its own eigenvalue (real, modulus cos(pi/97) < 1: stable for every loss rate).  The same
     constants off the rotation pattern give eigenvalues of degree up to 2 * 192 in a generic
     extension: refused under max_degree, at once."""
@@ -235,8 +236,10 @@ def test_cyclotomic_rotations_pass_the_default_caps():
     assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(192, 193) / 4
     S = sk.System(rot("2*pi/401"), [sk.Sensor([[1, 0]]), sk.Sensor([[0, 1]])])
     assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(800, 801) / 4
-    with pytest.raises(BudgetError, match="is 1040, above the cap 1024.*--max-cyclotomic-degree"):
-        sk.System(rot("2*pi/521"), [sk.Sensor([[1, 0]])])
+    S = sk.System(rot("2*pi/521"), [sk.Sensor([[1, 0]]), sk.Sensor([[0, 1]])])
+    assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(1040, 1041) / 4
+    with pytest.raises(BudgetError, match="4104 .* is 1026, above the cap 1024.*--max-cyclotomic-degree"):
+        sk.System(rot("2*pi/2053"), [sk.Sensor([[1, 0]])])
     assert sk.critical_loss_rate(sk.System([["cos(pi/97)"]], [sk.Sensor([[1]])])).exact == 1
     with pytest.raises(BudgetError, match="is 384, above the cap 64.*--max-degree"):
         sk.System([["cos(2*pi/97)", 1], [1, "sin(2*pi/97)"]], [sk.Sensor([[1, 0]])])
