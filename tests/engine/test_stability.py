@@ -204,6 +204,16 @@ def test_critical_value_binomial_is_irreducible_as_flint_factors_it(power, k, si
     assert sp.simplify(fast.exact - sp.Integer(2) ** sp.Rational(sign * power, k)) == 0
 
 
+def test_critical_value_of_a_power_above_the_exponent_cap():
+    """Five rotations of modulus 2 of class period 45045 (two sensors: 2g = 90090) with K = 81081
+    elements outside: (2^90090)^(-1/81081) = 2^(-10/9) = 2^(8/9)/4, a rational alpha's power taken
+    as a rational (the exponent cap is for a caller's exponents)."""
+    from symkf.engine.stability import _Bound
+    from symkf.exact.algebraic import AlgebraicNumber
+    got = _Bound(AlgebraicNumber.from_expr(2), 90090, 1, 81081, -1).value()
+    assert got.exact == 2 ** sp.Rational(8, 9) / 4
+
+
 # -- the certificate names the class period ---------------------------------------------------
 
 #: an aperiodic block: eigenvalues (6 +- 8i)/5 = 2 e^(+-i t), cos t = 3/5, t not a rational multiple of pi
