@@ -39,10 +39,11 @@ class Limits:
     #: eigenvalues it holds: such fields are built generically (sympy's minimal_polynomial,
     #: Trager's norm), whose cost explodes with the degree
     max_degree: int = 64
-    #: degree of the cyclotomic field Q(zeta_m) holding the trigonometric constants and I of a
-    #: number or matrix without radicals (its real subfield for real entries), times the size of
-    #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and its
-    #: roots come from Euler's formula (2R(2 pi/509), degree 1016, passes);
+    #: a quarter of the degree of the cyclotomic field Q(zeta_m) holding the trigonometric constants
+    #: and I of a number or matrix without radicals (its real subfield for real entries), times the
+    #: size of the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and
+    #: its roots come from Euler's formula (2R(2 pi/1601), degree 3200: 4.4 CPU-s, 330 MB, passes;
+    #: 2R(2 pi/2053), degree 4104, is refused);
     #: also phi(g) for an eigen-block over several diagonal blocks, g its class period (its field
     #: holds Q(zeta_g): four rotations 2R(2 pi/q), q = 5, 7, 9, 11, give phi(3465) = 1440; decided
     #: part by part first, symkf.engine.cylinders), and the degree of the field of all entries of the LMI
@@ -56,8 +57,8 @@ class Limits:
     #: nesting depth of radicals (sqrt(2 + sqrt(3)) has depth 2)
     max_nesting: int = 4
     #: denominator q of an angle p*pi/q inside cos, sin, tan or exp (degree grows like q; the
-    #: cyclotomic cap bounds the field, this one a single constant: 2R(2 pi/509) passes both)
-    max_angle_denominator: int = 1024
+    #: cyclotomic cap bounds the field, this one a single constant: 2R(2 pi/1601) passes both)
+    max_angle_denominator: int = 4096
     #: modulus of an integer exponent (x**e) and decimal digits of any number
     max_exponent: int = 10_000
     max_digits: int = 1000

@@ -996,12 +996,16 @@ def direct_rows(system: System, block: EigenBlock) -> BlockRows:
     # (times 2^phase unscaled for modulus 2: 300-bit coefficients at phase 300)
     first = K.inv(diag[0])  # once: an inverse in a field of high degree is costly
     step = [K.mul(lam, first) for lam in diag]
+    # a unit step (a conjugate pair's second class, see modal_form) keeps the element itself: the
+    # phases share it, where g copies took memory g [K:Q] (2R(2 pi/1601): 140 MB)
+    one = flint.fmpq_poly([1])
+    step = [None if s == one else s for s in step]
     for j, sensor in enumerate(system.sensors):
         CT = [K.vecmat(K.matrix(sensor.C)[r], T) for r in range(sensor.m)]
         rows = CT
         for phase in range(g):
             if phase:
-                rows = [[K.mul(a, lam) for a, lam in zip(row, step)] for row in rows]
+                rows = [[a if lam is None else K.mul(a, lam) for a, lam in zip(row, step)] for row in rows]
             gens = []
             for c in range(len(block.classes)):
                 for row in rows:

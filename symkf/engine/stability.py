@@ -427,7 +427,11 @@ class _Bound:
     def value(self) -> AlgebraicNumber:
         # the k-th root of gamma through p(x^k), also for algebraic c (a Gilbert-Elliott rate over
         # Q(sqrt 2)): sympy's minimal polynomial of the root of the product is far slower at k = 24
-        gamma = self.alpha ** self.power * self._c
+        # a rational alpha's power is a rational of power * log2(alpha) bits, cheap where the
+        # exponent cap of AlgebraicNumber powers (a caller's exponents) refuses it: 2^90090 for five
+        # rotations of class period 45045
+        gamma = (AlgebraicNumber.from_expr(sp.Rational(self.alpha._value() ** self.power)) if self.alpha.is_rational
+                 else self.alpha ** self.power) * self._c
         gamma = gamma if self.sign > 0 else 1 / gamma
         # sympy's root of a huge rational overflows a float in its perfect-power test (Gilbert-
         # Elliott losses at rationals near a critical recovery rate): no closed form then
@@ -448,8 +452,13 @@ class _Bound:
         coeffs = [0] * (k * gamma._poly.degree() + 1)  # p(x^k) for the minimal polynomial p of gamma
         for i, a in enumerate(gamma._poly.coeffs()):
             coeffs[k * i] = int(a)
+        # Capelli's theorem: x^k - gamma (rational gamma > 0) is irreducible over Q when gamma is no
+        # q-th power for any prime q | k (the reduction above took those out)
+        binomial = gamma.is_rational and gamma > 0 and not any(
+            sp.integer_nthroot(gamma._value().numerator, q)[1] and sp.integer_nthroot(gamma._value().denominator, q)[1]
+            for q in sp.primefactors(k))
         f, index = identify(flint.fmpz_poly(coeffs), lambda prec: flint.acb(self.ball(prec)),
-                            "margin" if self.sign > 0 else "critical value")
+                            "margin" if self.sign > 0 else "critical value", irreducible=binomial)
         return AlgebraicNumber._irreducible(f, index, exact)
 
 

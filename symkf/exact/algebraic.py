@@ -114,7 +114,7 @@ def _complex_roots(coeffs: tuple[int, ...], prec: int) -> tuple[flint.acb, ...]:
     if known is not None:
         def ball(kind: str, alpha: Fraction, beta: Fraction, j: int, m: int) -> flint.acb:
             if kind == "unit":
-                return int(beta) * flint.acb(flint.arb(flint.fmpq(2 * j, m))).exp_pi_i()
+                return flint.arb(flint.fmpq(beta.numerator, beta.denominator)) * flint.acb(flint.arb(flint.fmpq(2 * j, m))).exp_pi_i()
             cosine = 2 * flint.arb(flint.fmpq(2 * j, m)).cos_pi()
             return flint.acb(flint.fmpq(alpha.numerator, alpha.denominator)
                              + flint.fmpq(beta.numerator, beta.denominator) * cosine)
@@ -127,8 +127,9 @@ Root = tuple[str, Fraction, Fraction, int, int]
 
 @lru_cache(maxsize=512)
 def _known_roots(coeffs: tuple[int, ...]) -> list[Root] | None:
-    """The roots of ``c^d Phi_m(x / c)`` (``m >= 3``, integer ``c >= 1``: ``c exp(2 pi i j/m)``,
-    none real, listed ``j, -j`` for ``j = 1 .. m/2`` prime to m) as ``("unit", 0, c, j, m)``, and of
+    """The roots of ``c^d Phi_m(x / c)`` (``m >= 3``, rational ``c = p/q > 0``, made integral as
+    ``sum a_k p^(d-k) q^k x^k``: ``c exp(2 pi i j/m)``, none real, listed ``j, -j`` for
+    ``j = 1 .. m/2`` prime to m, in flint's order when ``q > 1``) as ``("unit", 0, c, j, m)``, and of
     the minimal polynomials of ``alpha + beta 2 cos(2 pi/m)`` (rational ``alpha``, ``beta``: cosines
     and sines, their squares ``(1 -+ cos 2t) / 2``, scaled and shifted) as ``("cos", alpha, beta, j,
     m)``, real and ascending as in flint; None for other polynomials.  Such roots are named
@@ -137,14 +138,17 @@ def _known_roots(coeffs: tuple[int, ...]) -> list[Root] | None:
     d, a = len(coeffs) - 1, coeffs
     if d < 2:
         return None
-    if a[d] == 1:
-        c, exact = sp.integer_nthroot(abs(a[0]), d)
-        c = int(c)
-        if a[0] > 0 and exact and all(a[k] % c ** (d - k) == 0 for k in range(d + 1)):
-            m = int(flint.fmpz_poly([a[k] // c ** (d - k) for k in range(d + 1)]).is_cyclotomic())
+    if a[0] > 0 and a[d] > 0:
+        (p, exact_p), (q, exact_q) = sp.integer_nthroot(a[0], d), sp.integer_nthroot(a[d], d)
+        p, q = int(p), int(q)
+        scale = [p ** (d - k) * q ** k for k in range(d + 1)] if exact_p and exact_q else []
+        if scale and all(a[k] % s == 0 for k, s in enumerate(scale)):
+            m = int(flint.fmpz_poly([a[k] // s for k, s in enumerate(scale)]).is_cyclotomic())
             if m >= 3:
-                return [("unit", Fraction(0), Fraction(c), j, m)
-                        for k in range(1, (m + 1) // 2) if math.gcd(k, m) == 1 for j in (k, m - k)]
+                pairs = [k for k in range(1, (m + 1) // 2) if math.gcd(k, m) == 1]
+                if q > 1:  # flint's order, which isolation gave them: by imaginary part, then real part
+                    pairs.sort(key=lambda k: (-abs(4 * k - m), -k))
+                return [("unit", Fraction(0), Fraction(p, q), j, m) for k in pairs for j in (k, m - k)]
     return _affine_cosine_roots(a)
 
 
@@ -202,14 +206,19 @@ def _arb_interval(b: flint.arb) -> tuple[sp.Rational, sp.Rational]:
 
 
 def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
-             what: str | Callable[[], str] = "number") -> tuple[flint.fmpz_poly, int]:
+             what: str | Callable[[], str] = "number", irreducible: bool = False) -> tuple[flint.fmpz_poly, int]:
     """The irreducible factor of ``poly`` with a root in the ball, and that root's index.
 
     ``ball_at(prec)`` returns a certified acb ball for the number at ``prec``
     bits.  The answer is the unique root, over all factors, whose isolating
-    ball meets it; precision grows until exactly one does.
+    ball meets it; precision grows until exactly one does.  ``irreducible=True`` is the caller's
+    proof that ``poly`` is irreducible (factoring a binomial of degree 3201 takes 18 CPU-s).
     """
-    factors = _factors(tuple(int(c) for c in poly.coeffs()))
+    if irreducible:
+        primitive = poly / poly.content()
+        factors = [primitive if primitive.leading_coefficient() > 0 else -primitive]
+    else:
+        factors = _factors(tuple(int(c) for c in poly.coeffs()))
     for prec in (64, 128, 256, 512, 1024, 4096):
         def hits() -> list[tuple[flint.fmpz_poly, int]]:
             z = ball_at(prec)

@@ -84,11 +84,17 @@ def check_degree(generic: bool, degree: int, entry: str, what: str) -> None:
     or eigenvalues in an extension of the entries' field: sympy's ``minimal_polynomial``,
     Trager's norm, whose cost explodes with the degree) is capped by ``max_degree``; one inside a
     cyclotomic field (trigonometric constants and ``I`` alone, presented by ``zeta_m`` or
-    ``2 cos(2 pi/m)`` with cheap arithmetic, :mod:`symkf.exact.field`) by ``max_cyclotomic_degree``."""
+    ``2 cos(2 pi/m)`` with cheap arithmetic, :mod:`symkf.exact.field`) by ``max_cyclotomic_degree``,
+    at a quarter of its degree."""
     if generic:
         budget.check("max_degree", degree, entry, f"the algebraic degree (bound) of {what}")
     else:
-        budget.check("max_cyclotomic_degree", degree, entry, f"the cyclotomic degree (bound) of {what}")
+        # one cyclotomic field, no compositum: its work (a rotation block's spectrum without Trager's
+        # norm, symkf.exact.nfpoly) per degree is a quarter of that of the compositum of several
+        # parts, which the same cap bounds in symkf.engine.cylinders (2R(2 pi/2039), degree 4072:
+        # 7.6 CPU-s, 500 MB, about what 2R(2 pi/509) of degree 1016 cost before)
+        budget.check("max_cyclotomic_degree", -(-degree // 4), entry,
+                     f"a quarter of the cyclotomic degree (bound) {degree} of {what}")
 
 
 @unpriced

@@ -32,7 +32,7 @@ import sympy as sp
 
 from ..arguments import check_public
 from .algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, precision, with_prec, fmpz_to_sympy,
-                        identify, real_from_ball, root_ball, root_of, sympy_to_fmpz)
+                        _known_roots, identify, real_from_ball, root_ball, root_of, sympy_to_fmpz)
 from . import nfpoly
 from .field import Elem, NumberField, rational_value
 from .blocks import diagonal_blocks
@@ -491,14 +491,19 @@ def _cosine_order(f: flint.fmpz_poly) -> int:
     :class:`~symkf.exact.field.NumberField` presents cheaply by ``2 cos(2 pi/m)``."""
     d = f.degree()
     c = [int(v) for v in f.coeffs()]
+    known = _known_roots(tuple(c))  # recognised in closed form without the degree-2d polynomial below
+    if known and known[0][:3] == ("cos", 0, Fraction(1, 2)):
+        return known[0][4]
     if c[d] & (c[d] - 1):  # the leading coefficient of a cosine's polynomial is a power of 2
         return 0
     g = [c[k] * 2 ** (d - k) for k in range(d + 1)]  # 2^d f(x/2), monic times c[d]
     if any(v % c[d] for v in g):
         return 0
     g = [v // c[d] for v in g]
-    t = flint.fmpz_poly([1, 0, 1])  # x^2 + 1: x^d g(x + 1/x) = sum g_k (x^2 + 1)^k x^(d - k)
-    h = sum((g[k] * t ** k * flint.fmpz_poly([0, 1]) ** (d - k) for k in range(d + 1)), flint.fmpz_poly([]))
+    t = flint.fmpz_poly([1, 0, 1])  # x^2 + 1: x^d g(x + 1/x) = sum g_k (x^2 + 1)^k x^(d - k), by Horner
+    h = flint.fmpz_poly([g[d]])
+    for k in range(d - 1, -1, -1):
+        h = h * t + flint.fmpz_poly([0] * (d - k) + [g[k]])
     return int(h.is_cyclotomic())
 
 
@@ -530,16 +535,18 @@ def _factor_charpoly(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Elem],
     theta_poly = flint.fmpz_poly([int(c) for c in K.modulus.coeffs()])  # monic integral theta
     out = []
     for coeffs, e in nfpoly.factor(K, nfpoly.charpoly(K, K.matrix(A))):
-        roots = []
-        for g, _ in nfpoly.norm(K, coeffs).factor()[1]:
-            g = g.numer() // g.numer().content()
-            g = g if g.leading_coefficient() > 0 else -g
-            roots.extend((g, i) for i in range(g.degree()))
-        # the roots of the irreducible h are deg h distinct roots of its norm, never excluded: once
-        # exactly deg h remain, they are h's (the others are excluded at the least precision)
+        known = nfpoly.unit_root_minpoly(K, coeffs)
+        candidates = [known] if known is not None else [g.numer() // g.numer().content()
+                                                        for g, _ in nfpoly.norm(K, coeffs).factor()[1]]
+        candidates = [g if g.leading_coefficient() > 0 else -g for g in candidates]
+        roots = [(g, i) for g in candidates for i in range(g.degree())]
+        # the roots of the irreducible h are deg h distinct roots of its norm (or of the minimal
+        # polynomial they share), never excluded: once exactly deg h remain, they are h's (the others
+        # are excluded at the least precision)
         for prec in (64, 256, 1024):
             balls = _coefficient_balls(coeffs, theta_poly, K.theta_index, prec)
-            roots = [(g, i) for g, i in roots if _maybe_root(balls, g, i, prec)]
+            isolated = {id(g): _complex_roots(tuple(int(c) for c in g.coeffs()), prec) for g in candidates}
+            roots = [(g, i) for g, i in roots if _maybe_root(balls, isolated[id(g)][i], prec)]
             if len(roots) == len(coeffs) - 1:
                 break
         if len(roots) != len(coeffs) - 1:
@@ -561,10 +568,10 @@ def _triangular_factors(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Ele
     return [([-a, flint.fmpq_poly([1])], e, [root_of(v)]) for a, v, e in entries.values()]
 
 
-def _maybe_root(h: list[flint.acb], g: flint.fmpz_poly, i: int, prec: int) -> bool:
-    """False when interval arithmetic at ``prec`` bits proves h(root_i(g)) != 0 (``h``: balls of the
-    coefficients at ``theta``, :func:`_coefficient_balls`); True otherwise."""
-    r = root_ball(g, i, prec)
+def _maybe_root(h: list[flint.acb], r: flint.acb, prec: int) -> bool:
+    """False when interval arithmetic at ``prec`` bits proves h(r) != 0 for the number in the root's
+    isolating ball ``r`` (``h``: balls of the coefficients at ``theta``, :func:`_coefficient_balls`);
+    True otherwise."""
     return with_prec(prec, lambda: sum((c * r ** k for k, c in enumerate(h)), flint.acb(0)).contains(0))
 
 

@@ -188,6 +188,32 @@ def test_critical_value_roots_of_rational_powers(power, k, sign, exponent, poly)
     assert got._poly == flint.fmpz_poly(poly)
 
 
+@pytest.mark.parametrize("power, k, sign", [(24, 25, -1), (12, 13, -1), (5, 6, 1), (9, 12, -1), (14, 15, 1)])
+def test_critical_value_binomial_is_irreducible_as_flint_factors_it(power, k, sign, monkeypatch):
+    """(2^power)^(sign/k), its rational power reduced, is a root of den x^k - num with num/den no
+    q-th power for a prime q | k: irreducible by Capelli's theorem, so taken as it is; factoring it
+    (the slow path) finds the same minimal polynomial and root."""
+    from symkf.engine import stability
+    from symkf.engine.stability import _Bound
+    from symkf.exact.algebraic import AlgebraicNumber
+    fast = _Bound(AlgebraicNumber.from_expr(2), power, 1, k, sign).value()
+    identify = stability.identify
+    monkeypatch.setattr(stability, "identify", lambda *args, irreducible=False: identify(*args))
+    slow = _Bound(AlgebraicNumber.from_expr(2), power, 1, k, sign).value()
+    assert (fast._poly, fast._index) == (slow._poly, slow._index)
+    assert sp.simplify(fast.exact - sp.Integer(2) ** sp.Rational(sign * power, k)) == 0
+
+
+def test_critical_value_of_a_power_above_the_exponent_cap():
+    """Five rotations of modulus 2 of class period 45045 (two sensors: 2g = 90090) with K = 81081
+    elements outside: (2^90090)^(-1/81081) = 2^(-10/9) = 2^(8/9)/4, a rational alpha's power taken
+    as a rational (the exponent cap is for a caller's exponents)."""
+    from symkf.engine.stability import _Bound
+    from symkf.exact.algebraic import AlgebraicNumber
+    got = _Bound(AlgebraicNumber.from_expr(2), 90090, 1, 81081, -1).value()
+    assert got.exact == 2 ** sp.Rational(8, 9) / 4
+
+
 # -- the certificate names the class period ---------------------------------------------------
 
 #: an aperiodic block: eigenvalues (6 +- 8i)/5 = 2 e^(+-i t), cos t = 3/5, t not a rational multiple of pi

@@ -268,6 +268,24 @@ def test_the_roots_of_a_shifted_scaled_cosine_are_known_in_flints_order(m, alpha
     assert all(k.overlaps(r) for k, r in zip(known, isolated))
 
 
+@pytest.mark.parametrize("m", [3, 5, 8, 9, 13, 21])
+@pytest.mark.parametrize("c", [R(3, 2), R(2, 5), sp.Integer(2)])
+def test_the_roots_of_a_scaled_root_of_unity_are_known(m, c):
+    """The minimal polynomial (sympy's) of c exp(2 pi i/m), c rational, non-monic for c = 3/2 and 2/5:
+    its roots c exp(2 pi i j/m), gcd(j, m) = 1, are given without isolation, each within the ball of
+    exactly one root of flint's own isolation; for non-monic ones in flint's order (conjugate pairs
+    by increasing imaginary part, then real part), which isolation gave them before."""
+    from symkf.exact.algebraic import _complex_roots, _known_roots, sympy_to_fmpz
+    p = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(c * sp.exp(2 * sp.pi * sp.I / m), x), x))
+    coeffs = tuple(int(v) for v in p.coeffs())
+    assert _known_roots(coeffs) is not None
+    isolated = [r for r, _ in p.complex_roots()]
+    hits = [[i for i, r in enumerate(isolated) if k.overlaps(r)] for k in _complex_roots(coeffs, 64)]
+    assert sorted(hits) == [[i] for i in range(p.degree())]
+    if c.q > 1:
+        assert hits == [[i] for i in range(p.degree())]
+
+
 @pytest.mark.parametrize("expr", [sp.root(2, 3), sp.sqrt(2) + sp.sqrt(3), 2 * sp.cos(2 * sp.pi / 7) + sp.sqrt(2),
                                   sp.cos(2 * sp.pi / 7) ** 2 + 3 * sp.cos(2 * sp.pi / 7)])
 def test_other_polynomials_are_isolated(expr):

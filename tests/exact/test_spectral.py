@@ -18,6 +18,8 @@ import symkf as sk
 from symkf import budget, cli
 from symkf.errors import BudgetError, UnobservableError
 from symkf.exact.algebraic import identify, real_from_ball
+from symkf.exact import nfpoly, spectral
+from symkf.exact.field import NumberField
 from symkf.exact.spectral import _abs_poly, _cosine_order, _resultant_y, diagonal_blocks, eigen_blocks, eigenvalues
 
 from conftest import library, limited, rotation
@@ -174,6 +176,31 @@ def test_cosine_order():
     assert _cosine_order(flint.fmpz_poly([-1, 0, 2])) == 8
 
 
+@pytest.mark.parametrize("m", [5, 7, 9, 13, 24, 97])
+def test_cosine_order_of_cos_2pi_over_m_from_closed_form_roots_and_from_phi_m(m, monkeypatch):
+    """The minimal polynomial of cos(2 pi/m) (2^d psi_m(2x), psi_m that of 2 cos(2 pi/m)) has order
+    m, read off its closed-form roots and, without them, from x^d g(x + 1/x) = Phi_m."""
+    psi = flint.fmpz_poly.cos_minpoly(m)
+    f = flint.fmpz_poly([int(c) * 2 ** k for k, c in enumerate(psi.coeffs())])
+    assert _cosine_order(f) == m
+    monkeypatch.setattr(spectral, "_known_roots", lambda coeffs: None)
+    assert _cosine_order(f) == m
+
+
+@pytest.mark.parametrize("m", [5, 7, 13])
+def test_rotation_eigenvalues_from_roots_of_unity_match_the_norm(m, monkeypatch):
+    """The eigenvalues 2 exp(+-2 pi i/m) of 2R(2 pi/m) over its entries' field, identified by
+    powers of x modulo the factor, are those identified among the roots of Trager's norm."""
+    A = sp.ImmutableMatrix(rotation(2 * sp.pi / m, 2))
+    K = NumberField([sp.cos(2 * sp.pi / m), sp.sin(2 * sp.pi / m)])
+    fast = spectral._factor_charpoly(A, K)
+    monkeypatch.setattr(nfpoly, "unit_root_minpoly", lambda K, h: None)
+    slow = spectral._factor_charpoly(A, K)
+    assert fast == slow
+    assert [[(tuple(f.coeffs()), i) for f, i in roots] for _, _, roots in fast] == \
+        [[(tuple(f.coeffs()), i) for f, i in roots] for _, _, roots in slow]
+
+
 def test_field_of_a_matrix_is_budgeted_per_diagonal_block():
     """Six distinct square roots on a diagonal: six 1x1 blocks, each decided in its own field of
     degree 2, so the system is accepted; its critical loss rate is 1/13 (one sensor sees every
@@ -199,7 +226,8 @@ def test_cyclotomic_rotations_pass_the_default_caps():
     """Rotation blocks of trigonometric constants stay in Q(zeta_m) (m = 4q): 2R(2 pi/97) has
     cyclotomic degree phi(388) = 192 <= 1024 and is decided, to the value the engine gave before the
     cost model with --max-degree raised (2^(192/193)/4), as is 2R(2 pi/401) (phi(1604) = 800,
-    2^(800/801)/4); 2R(2 pi/521) has phi(2084) = 1040 > 1024.  A 1x1 cos(pi/97)
+    2^(800/801)/4) and 2R(2 pi/521) (phi(2084) = 1040, 2^(1040/1041)/4): a rotation's field is
+    priced at a quarter of its degree, so 2R(2 pi/2053) (phi(8212) = 4104) is refused.  A 1x1 cos(pi/97)
     is its own eigenvalue (real, modulus cos(pi/97) < 1: stable for every loss rate).  The same
     constants off the rotation pattern give eigenvalues of degree up to 2 * 192 in a generic
     extension: refused under max_degree, at once."""
@@ -208,8 +236,10 @@ def test_cyclotomic_rotations_pass_the_default_caps():
     assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(192, 193) / 4
     S = sk.System(rot("2*pi/401"), [sk.Sensor([[1, 0]]), sk.Sensor([[0, 1]])])
     assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(800, 801) / 4
-    with pytest.raises(BudgetError, match="is 1040, above the cap 1024.*--max-cyclotomic-degree"):
-        sk.System(rot("2*pi/521"), [sk.Sensor([[1, 0]])])
+    S = sk.System(rot("2*pi/521"), [sk.Sensor([[1, 0]]), sk.Sensor([[0, 1]])])
+    assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(1040, 1041) / 4
+    with pytest.raises(BudgetError, match="4104 .* is 1026, above the cap 1024.*--max-cyclotomic-degree"):
+        sk.System(rot("2*pi/2053"), [sk.Sensor([[1, 0]])])
     assert sk.critical_loss_rate(sk.System([["cos(pi/97)"]], [sk.Sensor([[1]])])).exact == 1
     with pytest.raises(BudgetError, match="is 384, above the cap 64.*--max-degree"):
         sk.System([["cos(2*pi/97)", 1], [1, "sin(2*pi/97)"]], [sk.Sensor([[1, 0]])])
