@@ -22,7 +22,7 @@ import operator
 import re
 from decimal import Decimal
 from fractions import Fraction
-from functools import lru_cache
+from functools import cmp_to_key, lru_cache
 from typing import Any, Callable
 
 import flint
@@ -100,8 +100,61 @@ def precision(prec: Any, entry: str = "prec") -> int:
 
 
 def root_ball(poly: flint.fmpz_poly, index: int, prec: int) -> flint.acb:
-    """Certified isolating ball of root ``index`` of ``poly`` (flint's ordering) at ``prec`` bits."""
-    return _complex_roots(tuple(int(c) for c in poly.coeffs()), precision(prec))[index]
+    """Certified ball of root ``index`` of ``poly`` (flint's ordering) at ``prec`` bits: isolating
+    (flint's ``complex_roots``), or for a real root of a polynomial whose real roots are known
+    (:func:`known_real_roots`) the enclosure its source gives, which shrinks as ``prec`` grows."""
+    coeffs = tuple(int(c) for c in poly.coeffs())
+    known = _KNOWN_REAL_ROOTS.get(coeffs)
+    if known is not None and index < len(known):
+        prec = precision(prec)
+        return with_prec(prec, lambda: flint.acb(known[index](prec)))
+    return _complex_roots(coeffs, precision(prec))[index]
+
+
+#: irreducible primitive integer polynomials (coefficients) whose real roots are known without
+#: isolating all their roots: each real root's source of certified balls ``source(prec)``, ascending
+#: (so position = flint's index).  Filled by :func:`known_real_roots`.
+_KNOWN_REAL_ROOTS: dict[tuple[int, ...], tuple[Callable[[int], flint.arb], ...]] = {}
+
+#: the working precisions at which membership and order of known real roots are decided
+_LADDER = (64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384)
+
+
+def known_real_roots(factors: list[flint.fmpz_poly], sources: list[Callable[[int], flint.arb]]) -> bool:
+    """Record the real roots of the irreducible ``factors`` (primitive, positive leading
+    coefficient) of a squarefree polynomial, given ``sources`` of certified balls of *all* its real
+    roots (distinct numbers): each root goes to the one factor whose value on its ball keeps 0 (the
+    others exclude it as the precision grows; distinct irreducible factors share no root), and each
+    factor's roots are sorted by their balls, which separate since the roots are distinct.  Then
+    :func:`root_ball` and :func:`identify` (``real=True``) name these roots by flint's index (real
+    roots first, ascending) without isolating every complex root of a factor of degree in the
+    thousands.  False when some membership is not decided at the highest precision tried (then
+    nothing is recorded)."""
+    owned: dict[int, list[Callable[[int], flint.arb]]] = {k: [] for k in range(len(factors))}
+    for source in sources:
+        for prec in _LADDER:
+            z = with_prec(prec, lambda: source(prec))
+            cands = [k for k, f in enumerate(factors) if with_prec(prec, lambda: f(flint.acb(z))).contains(0)]
+            if len(cands) == 1:
+                owned[cands[0]].append(source)
+                break
+        else:
+            return False
+    for k, roots in owned.items():
+        key = tuple(int(c) for c in factors[k].coeffs())
+        _KNOWN_REAL_ROOTS[key] = tuple(sorted(roots, key=cmp_to_key(_order)))
+    return True
+
+
+def _order(a: Callable[[int], flint.arb], b: Callable[[int], flint.arb]) -> int:
+    """-1 or 1 as the distinct real numbers in the balls ``a(prec)``, ``b(prec)`` compare."""
+    for prec in _LADDER:
+        x, y = with_prec(prec, lambda: (a(prec), b(prec)))
+        if x < y:
+            return -1
+        if y < x:
+            return 1
+    raise InputError("two known real roots are not separated at 16384 bits")  # pragma: no cover
 
 
 @lru_cache(maxsize=512)
@@ -202,19 +255,25 @@ def _arb_interval(b: flint.arb) -> tuple[sp.Rational, sp.Rational]:
 
 
 def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
-             what: str | Callable[[], str] = "number") -> tuple[flint.fmpz_poly, int]:
+             what: str | Callable[[], str] = "number", real: bool = False) -> tuple[flint.fmpz_poly, int]:
     """The irreducible factor of ``poly`` with a root in the ball, and that root's index.
 
     ``ball_at(prec)`` returns a certified acb ball for the number at ``prec``
     bits.  The answer is the unique root, over all factors, whose isolating
-    ball meets it; precision grows until exactly one does.
+    ball meets it; precision grows until exactly one does.  For a number known to be ``real``,
+    once a single factor can vanish on the ball and its real roots are known
+    (:func:`known_real_roots`), the number is the one of them whose ball meets it: no isolation.
     """
     factors = _factors(tuple(int(c) for c in poly.coeffs()))
     for prec in (64, 128, 256, 512, 1024, 4096):
         def hits() -> list[tuple[flint.fmpz_poly, int]]:
             z = ball_at(prec)
+            cands = [f for f in factors if f(z).contains(0)]
+            known = _KNOWN_REAL_ROOTS.get(tuple(int(c) for c in cands[0].coeffs())) if len(cands) == 1 else None
+            if real and known is not None:
+                return [(cands[0], i) for i, source in enumerate(known) if flint.acb(source(prec)).overlaps(z)]
             # isolate roots only of the factors that can vanish on the ball: root isolation dominates
-            return [(f, i) for f in factors if f(z).contains(0)
+            return [(f, i) for f in cands
                     for i, r in enumerate(_complex_roots(tuple(int(c) for c in f.coeffs()), prec)) if r.overlaps(z)]
         found = with_prec(prec, hits)
         if len(found) == 1:

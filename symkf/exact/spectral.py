@@ -31,8 +31,9 @@ import flint
 import sympy as sp
 
 from ..arguments import check_public
-from .algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, precision, with_prec, fmpz_to_sympy,
-                        identify, real_from_ball, root_ball, root_of, sympy_to_fmpz)
+from .algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, _factors, _subset_product_poly,
+                        precision, with_prec, fmpz_to_sympy, identify, known_real_roots, real_from_ball, root_ball,
+                        root_of, sympy_to_fmpz)
 from . import nfpoly
 from .field import Elem, NumberField, rational_value
 from .blocks import diagonal_blocks
@@ -92,6 +93,74 @@ def _abs_poly(f: tuple[int, ...]) -> flint.fmpz_poly:
     for j in range(D + 1):  # H = sum_j (-1)^(D-j) e_(D-j) z^j at z = a^2 x^2
         coeffs[2 * j] = (-1) ** (D - j) * e[D - j] * lead ** (2 * j)
     return flint.fmpz_poly(coeffs)
+
+
+@lru_cache(maxsize=64)
+def _pair_modulus_poly(f: tuple[int, ...]) -> flint.fmpz_poly | None:
+    """``M(x) = G(x^2)``, ``G`` the polynomial of the products ``lambda_i lambda_j`` (i < j) of the
+    roots of the irreducible ``f``: its roots include ``|lambda| = sqrt(lambda conj(lambda))`` for
+    every non-real root.  ``G`` comes from certified balls (:func:`~symkf.exact.algebraic.
+    _subset_product_poly`, k = 2, scaled by the leading coefficient), and the real roots of every
+    irreducible factor of ``M`` are recorded (:func:`~symkf.exact.algebraic.known_real_roots`) from
+    the roots of ``f`` alone: when ``M`` is squarefree its roots ``+-sqrt(lambda_i lambda_j)`` are
+    distinct, so ``lambda_i lambda_j`` is real exactly when complex conjugation maps the pair
+    ``{i, j}`` to itself (a conjugate pair, or two real roots), and the real roots of ``M`` are the
+    ``+-sqrt`` of those products that are positive.  Naming ``|lambda|`` then needs no isolation of
+    the ``d(d - 1)`` complex roots of ``M`` (of degree 4032 for a dense 64 x 64 A).  None when ``M``
+    is not squarefree (products that coincide: rotations) or a real root's factor is not decided."""
+    d, c = len(f) - 1, abs(f[-1])
+    bits = (d - 1) * with_prec(64, lambda: sum(((1 + abs(c * r)).log() for r in _complex_roots(f, 64)), flint.arb(0))
+                                / flint.arb(2).log())
+    budget.check("max_modulus_bits", (d * (d - 1) + 1) * math.ceil(float(bits.upper())), "A",
+                 f"the bit size (d(d - 1) + 1 coefficients of at most (d - 1) sum log2(1 + |c lambda_i|) bits) of "
+                 f"the polynomial of the products of pairs of conjugate eigenvalues of degree d = {d}")
+    g = [int(v) * c ** (2 * k) for k, v in enumerate(_subset_product_poly(f, 2).coeffs())]  # G(c^2 z)
+    content = math.gcd(*g)
+    M = flint.fmpz_poly([g[k // 2] // content if k % 2 == 0 else 0 for k in range(2 * len(g) - 1)])
+    factors = _factors(tuple(int(v) for v in M.coeffs()))
+    if sum(h.degree() for h in factors) != M.degree():
+        return None
+    roots = lambda prec: _complex_roots(f, prec)  # noqa: E731
+    conj = _conjugates(f)
+    if conj is None:
+        return None
+    sources = []
+    for i in range(d):
+        for j in range(i + 1, d):
+            if conj[i] == j:   # lambda_i conj(lambda_i) = |lambda_i|^2 > 0
+                size = lambda prec, i=i: abs(roots(prec)[i])  # noqa: E731
+            elif conj[i] == i and conj[j] == j and _positive(lambda prec, i=i, j=j: roots(prec)[i].real * roots(prec)[j].real):
+                size = lambda prec, i=i, j=j: (abs(roots(prec)[i]) * abs(roots(prec)[j])).sqrt()  # noqa: E731
+            else:
+                continue
+            sources += [size, lambda prec, size=size: -size(prec)]
+    return M if known_real_roots(factors, sources) else None
+
+
+def _conjugates(f: tuple[int, ...]) -> list[int] | None:
+    """For each root of ``f`` (flint's ordering) the index of its complex conjugate: itself for a
+    real root (flint isolates real roots with an exactly zero imaginary part), else the one root
+    whose isolating ball meets the conjugate ball."""
+    for prec in (64, 256, 1024, 4096):
+        roots = _complex_roots(f, prec)
+        conj = []
+        for r in roots:
+            hits = [k for k, s in enumerate(roots) if s.overlaps(r.conjugate())] if r.imag != 0 else [len(conj)]
+            if len(hits) != 1:
+                break
+            conj.append(hits[0])
+        else:
+            return conj
+    return None
+
+
+def _positive(ball_at) -> bool:
+    """Whether the nonzero real number in the balls ``ball_at(prec)`` is positive."""
+    for prec in (64, 256, 1024, 4096, 16384):
+        b = with_prec(prec, lambda: ball_at(prec))
+        if b > 0 or b < 0:
+            return bool(b > 0)
+    raise InputError("the sign of a product of two real eigenvalues is not decided")  # pragma: no cover
 
 
 def _negated_index(f: flint.fmpz_poly, index: int) -> int:
@@ -216,13 +285,16 @@ class Eigenvalue:
         if rho is not None:
             return AlgebraicNumber(flint.fmpz_poly([-rho.numerator, 0, rho.denominator]), 1)
         coeffs = tuple(int(c) for c in f.coeffs())
+        size = lambda prec: flint.acb(abs(self.ball(prec)))  # noqa: E731
+        pairs = _pair_modulus_poly(coeffs)
+        if pairs is not None:
+            return real_from_ball(*identify(pairs, size, "modulus", real=True))
         d, b = len(coeffs) - 1, max(abs(c).bit_length() for c in coeffs)
         D = d * (d + 1) // 2
         budget.check("max_modulus_bits", (2 * D + 1) * D * b, "A", f"the bit size (2 D + 1 coefficients of about "
                      f"D b bits, D = d(d+1)/2) of the polynomial giving |lambda| for an eigenvalue of degree d = {d} "
                      f"with b = {b}-bit coefficients")
-        poly, idx = identify(_abs_poly(coeffs),
-                             lambda prec: flint.acb(abs(self.ball(prec))), "modulus")
+        poly, idx = identify(_abs_poly(coeffs), size, "modulus")
         return real_from_ball(poly, idx)
 
     def __repr__(self) -> str:

@@ -506,8 +506,8 @@ class System(JsonDocument):
         cached = self._cache.get(key)
         if cached is None:
             if all(sympify(v).is_Rational for M in (A, C) for v in M):
-                from ..exact.linalg import rank
-                cached = C.rows > 0 and rank(sp.Matrix.vstack(*[C * A ** k for k in range(self.n)])) == self.n
+                from ..exact.linalg import krylov_rank
+                cached = C.rows > 0 and krylov_rank(A, C) == self.n
             else:
                 cached = not any(missed(e) for b in self.eigen_blocks() for e in b.members)
             self._cache[key] = cached
