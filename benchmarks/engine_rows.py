@@ -143,10 +143,11 @@ def compare(title: str, what: str, cases: list[tuple], repeats: int = 3,
         main_tree = _baseline_tree(tmp)
         for case, args, target, *caps in cases:
             caps = caps[0] if caps else {}
+            label = f"{case}{tuple(args)}" + (" raised caps" if caps else "")
             runs = [_run(str(ROOT), what, case, args, cap, caps) for _ in range(repeats)]
             if any(t is None for t, _, _ in runs):
                 why = next(d for t, d, _ in runs if t is None)
-                print(f"  {case}{tuple(args)}: " + (why if why != "timeout" else f"> {cap:.0f} s (did not finish)")
+                print(f"  {label}: " + (why if why != "timeout" else f"> {cap:.0f} s (did not finish)")
                       + f"; main not run   target <= {target} NOT met", flush=True)
                 continue
             new = statistics.median(t for t, _, _ in runs)
@@ -161,7 +162,7 @@ def compare(title: str, what: str, cases: list[tuple], repeats: int = 3,
                 vs = f"main {base[0][1]}"
             else:
                 vs = f"main > {baseline_cap:6.0f} s            ratio > {baseline_cap / new:5.1f}x"
-            print(f"  {case}{tuple(args)}: {new:7.2f} s {rss:6.0f} MB   {vs}   target <= {target} "
+            print(f"  {label}: {new:7.2f} s {rss:6.0f} MB   {vs}   target <= {target} "
                   f"{'met' if new <= target else 'NOT met'}   same exact result: "
                   f"{len(same) == 1 if done else 'baseline did not finish'}   digest {runs[0][1]}", flush=True)
 

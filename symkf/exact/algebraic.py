@@ -132,6 +132,9 @@ def known_real_roots(factors: list[flint.fmpz_poly], sources: list[Callable[[int
     nothing is recorded)."""
     owned: dict[int, list[Callable[[int], flint.arb]]] = {k: [] for k in range(len(factors))}
     for source in sources:
+        if len(factors) == 1:
+            owned[0].append(source)
+            continue
         for prec in _LADDER:
             z = with_prec(prec, lambda: source(prec))
             cands = [k for k, f in enumerate(factors) if with_prec(prec, lambda: f(flint.acb(z))).contains(0)]
@@ -143,6 +146,69 @@ def known_real_roots(factors: list[flint.fmpz_poly], sources: list[Callable[[int
     for k, roots in owned.items():
         key = tuple(int(c) for c in factors[k].coeffs())
         _KNOWN_REAL_ROOTS[key] = tuple(sorted(roots, key=cmp_to_key(_order)))
+    return True
+
+
+def real_sign(ball_at: Callable[[int], flint.arb]) -> int:
+    """-1 or 1: the sign of the nonzero real number in the balls ``ball_at(prec)``."""
+    for prec in _LADDER:
+        b = with_prec(prec, lambda: ball_at(prec))
+        if b > 0 or b < 0:
+            return 1 if b > 0 else -1
+    raise InputError("the sign of a nonzero real number is not decided at 16384 bits")  # pragma: no cover
+
+
+def real_kth_root(gamma: "AlgebraicNumber", k: int, ball_at: Callable[[int], flint.acb],
+                  what: str) -> tuple[flint.fmpz_poly, int]:
+    """The real root ``x`` of ``x^k = gamma`` in the balls ``ball_at(prec)``: its minimal polynomial and
+    index, from ``p(x^k)`` (``p`` the minimal polynomial of ``gamma``).  When the real roots of ``p`` are
+    known (:func:`known_real_roots`) and ``p(x^k)`` is proved irreducible (:func:`_binomial_irreducible`),
+    its real roots are the real k-th roots of theirs, recorded so that no root of ``p(x^k)`` (degree
+    6048 for the critical loss rate of a dense 64 x 64 A) is isolated."""
+    c = [int(v) for v in gamma._poly.coeffs()]
+    coeffs = [0] * (k * (len(c) - 1) + 1)
+    for i, a in enumerate(c):
+        coeffs[k * i] = a
+    g = flint.fmpz_poly(coeffs)
+    known = _KNOWN_REAL_ROOTS.get(tuple(c))
+    if known is not None and tuple(coeffs) not in _KNOWN_REAL_ROOTS and _binomial_irreducible(gamma._poly, k):
+        sources = []
+        for t in known:
+            size = lambda prec, t=t: abs(t(prec)).root(k)  # noqa: E731
+            sign = real_sign(t)
+            if k % 2:
+                sources.append(size if sign > 0 else lambda prec, size=size: -size(prec))
+            elif sign > 0:
+                sources += [size, lambda prec, size=size: -size(prec)]
+        known_real_roots([g], sources)
+    return identify(g, ball_at, what, real=True)
+
+
+def _binomial_irreducible(p: flint.fmpz_poly, k: int) -> bool:
+    """Whether ``p(x^k)`` is proved irreducible for the irreducible ``p`` of root ``gamma``: by Capelli's
+    theorem ``x^k - gamma`` is irreducible over ``Q(gamma)`` iff ``gamma`` is no q-th power there for
+    each prime q dividing k (and not in ``-4 Q(gamma)^4`` when 4 divides k; Lang, Algebra, 3rd ed.
+    2002, Chapter VI, Theorem 9.1), and then ``p(x^k)`` has degree ``k deg p`` over Q with the root
+    ``gamma^(1/k)``.  No q-th power is proved by a prime ``l = 1 (mod q)``, not dividing the
+    leading coefficient, at which ``p`` has a simple root ``r`` that is no q-th power mod ``l``:
+    Hensel's lemma embeds ``Q(gamma)`` in the l-adic numbers with ``gamma`` a unit reducing to ``r``,
+    and a q-th power would reduce to one.  False when 4 divides k or no such prime is among the
+    first 64 tried (undecided)."""
+    if k % 4 == 0:
+        return False
+    lead = int(p.leading_coefficient())
+    for q in sp.primefactors(k):
+        tried, ell = 0, 1
+        while True:
+            ell += q
+            if not flint.fmpz(ell).is_prime() or lead % ell == 0:
+                continue
+            tried += 1
+            reduced = flint.nmod_poly([int(v) % ell for v in p.coeffs()], ell)
+            if any(m == 1 and int(r) and pow(int(r), (ell - 1) // q, ell) != 1 for r, m in reduced.roots()):
+                break
+            if tried == 64:
+                return False
     return True
 
 
@@ -288,6 +354,8 @@ def _factors(coeffs: tuple[int, ...]) -> list[flint.fmpz_poly]:
     that :class:`AlgebraicNumber` hashes and compares, and the spectrum keys its moduli by) of a
     nonconstant integer polynomial, cached: the moduli and phase orders of all eigenvalues of one
     minimal polynomial share one resultant of degree up to ``2 d^2``."""
+    if coeffs in _KNOWN_REAL_ROOTS:   # recorded as irreducible, primitive, with positive leading coefficient
+        return [flint.fmpz_poly(list(coeffs))]
     if _known_roots(coeffs) is not None:  # c^d Phi_m(x/c) and the polynomial of 2 cos(2 pi/m) are irreducible
         f = flint.fmpz_poly(list(coeffs))   # up to its content (sqrt(2) / 2: 4x^2 - 2)
         f = f / f.content()
@@ -499,7 +567,7 @@ def subset_product(poly: flint.fmpz_poly, indices: list[int], entry: str = "A") 
     scale = abs(coeffs[-1]) ** k
     f, idx = identify(_subset_product_poly(coeffs, k),
                       lambda prec: scale * math.prod((root_ball(poly, i, prec) for i in indices), start=flint.acb(1)),
-                      "product of conjugate roots")
+                      "product of conjugate roots", real=True)
     return AlgebraicNumber._irreducible(f, idx) / scale
 
 
@@ -717,9 +785,10 @@ class AlgebraicNumber(JsonDocument):
         if all(v == 0 for v in c[1::2]) and self._lo >= 0:  # p(x) = q(x^2): a square root
             # of the root of q at self^2, identified by its ball (not among all real roots of q:
             # 230 of them for |sin(2 pi/517)|, each isolated)
-            f, index = identify(flint.fmpz_poly(c[::2][::-1]), lambda prec: self._ball(prec) ** 2, "square of a root")
+            f, index = identify(flint.fmpz_poly(c[::2][::-1]), lambda prec: self._ball(prec) ** 2, "square of a root",
+                                real=True)
             return sp.sqrt(AlgebraicNumber._irreducible(f, index).exact)
-        return sp.CRootOf(self.minpoly.as_expr(), x, self._index)
+        return sp.CRootOf(self.minpoly, self._index)   # from the Poly: its expression costs more at degree 2016
 
     def _contains(self, expr: sp.Expr) -> bool:
         v = sp.N(expr, 40)
@@ -862,7 +931,7 @@ class AlgebraicNumber(JsonDocument):
             return AlgebraicNumber.from_expr(0)
         poly = (_sum_poly if op == "+" else _product_poly)(self._poly, other._poly)
         f, idx = identify(poly, lambda prec: self._ball(prec) + other._ball(prec) if op == "+"
-                          else self._ball(prec) * other._ball(prec), lambda: f"{self} {op} {other}")
+                          else self._ball(prec) * other._ball(prec), lambda: f"{self} {op} {other}", real=True)
         exact = None
         if self._exact is not None and other._exact is not None and f.degree() > 1:
             exact = self._exact + other._exact if op == "+" else self._exact * other._exact
@@ -874,7 +943,11 @@ class AlgebraicNumber(JsonDocument):
         if self.is_rational:
             return AlgebraicNumber.from_expr(1 / self._value())
         rev = flint.fmpz_poly(list(reversed(self._poly.coeffs())))
-        f, idx = identify(rev, lambda prec: 1 / self._ball(prec), lambda: f"1/({self})")
+        rev = rev if rev.leading_coefficient() > 0 else -rev
+        known = _KNOWN_REAL_ROOTS.get(tuple(int(c) for c in self._poly.coeffs()))
+        if known is not None:   # the reversed polynomial is irreducible, its real roots the reciprocals
+            known_real_roots([rev], [lambda prec, s=s: 1 / s(prec) for s in known])
+        f, idx = identify(rev, lambda prec: 1 / self._ball(prec), lambda: f"1/({self})", real=True)
         return AlgebraicNumber._irreducible(f, idx, None if self._exact is None else 1 / self._exact)
 
     def __neg__(self) -> "AlgebraicNumber":
@@ -939,7 +1012,14 @@ class AlgebraicNumber(JsonDocument):
             return AlgebraicNumber.from_expr(self._value() ** k)
         if k <= 1:
             return self if k == 1 else AlgebraicNumber.from_expr(1)
-        f, idx = identify(_power_poly(self._poly, k), lambda prec: self._ball(prec) ** k, lambda: f"({self})^{k}")
+        c = [int(v) for v in self._poly.coeffs()]
+        if k % 2 == 0 and not any(c[1::2]):   # p(x) = q(x^2): self^2 is a root of the irreducible q
+            f, idx = identify(flint.fmpz_poly(c[::2]), lambda prec: self._ball(prec) ** 2, lambda: f"({self})^2",
+                              real=True)
+            return AlgebraicNumber._irreducible(f, idx, None if self._exact is None or f.degree() == 1
+                                                else self._exact ** 2) ** (k // 2)
+        f, idx = identify(_power_poly(self._poly, k), lambda prec: self._ball(prec) ** k, lambda: f"({self})^{k}",
+                          real=True)
         return AlgebraicNumber._irreducible(f, idx, None if self._exact is None or f.degree() == 1
                                             else self._exact ** k)
 
@@ -1086,7 +1166,7 @@ def decreasing_root(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction,
             a, b = (mid, b) if s > 0 else (a, mid)
         return with_prec(prec, lambda: flint.acb(flint.arb(flint.fmpq(a.numerator, a.denominator)).union(
             flint.arb(flint.fmpq(b.numerator, b.denominator)))))
-    f, index = identify(composed.numer(), ball_at, "root of a decreasing polynomial")
+    f, index = identify(composed.numer(), ball_at, "root of a decreasing polynomial", real=True)
     return AlgebraicNumber._irreducible(f, index)
 
 

@@ -32,7 +32,7 @@ import sympy as sp
 
 from ..arguments import check_public
 from .algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, _factors, _subset_product_poly,
-                        precision, with_prec, fmpz_to_sympy, identify, known_real_roots, real_from_ball, root_ball,
+                        precision, with_prec, fmpz_to_sympy, identify, known_real_roots, real_from_ball, real_sign, root_ball,
                         root_of, sympy_to_fmpz)
 from . import nfpoly
 from .field import Elem, NumberField, rational_value
@@ -124,16 +124,31 @@ def _pair_modulus_poly(f: tuple[int, ...]) -> flint.fmpz_poly | None:
     conj = _conjugates(f)
     if conj is None:
         return None
-    sources = []
+    sources, products = [], []
     for i in range(d):
         for j in range(i + 1, d):
             if conj[i] == j:   # lambda_i conj(lambda_i) = |lambda_i|^2 > 0
                 size = lambda prec, i=i: abs(roots(prec)[i])  # noqa: E731
-            elif conj[i] == i and conj[j] == j and _positive(lambda prec, i=i, j=j: roots(prec)[i].real * roots(prec)[j].real):
+                products.append(lambda prec, size=size: size(prec) ** 2)
+            elif conj[i] == i and conj[j] == j:
+                products.append(lambda prec, i=i, j=j: roots(prec)[i].real * roots(prec)[j].real)
+                if real_sign(products[-1]) < 0:
+                    continue
                 size = lambda prec, i=i, j=j: (abs(roots(prec)[i]) * abs(roots(prec)[j])).sqrt()  # noqa: E731
             else:
                 continue
             sources += [size, lambda prec, size=size: -size(prec)]
+    # the factors of G: q(x^2) for an even factor q(x^2) of M, else F(x) F(-x) for a pair F(x), +-F(-x) of them
+    halves = {}
+    for h in factors:
+        c = [int(v) for v in (h if not any(int(v) for v in h.coeffs()[1::2]) else
+                              h * flint.fmpz_poly([(-1) ** k * int(v) for k, v in enumerate(h.coeffs())])).coeffs()]
+        q = flint.fmpz_poly(c[::2])
+        q = q / q.content()
+        q = q if q.leading_coefficient() > 0 else -q
+        halves[tuple(int(v) for v in q.coeffs())] = q
+    if not known_real_roots(list(halves.values()), products):
+        return None
     return M if known_real_roots(factors, sources) else None
 
 
@@ -152,15 +167,6 @@ def _conjugates(f: tuple[int, ...]) -> list[int] | None:
         else:
             return conj
     return None
-
-
-def _positive(ball_at) -> bool:
-    """Whether the nonzero real number in the balls ``ball_at(prec)`` is positive."""
-    for prec in (64, 256, 1024, 4096, 16384):
-        b = with_prec(prec, lambda: ball_at(prec))
-        if b > 0 or b < 0:
-            return bool(b > 0)
-    raise InputError("the sign of a product of two real eigenvalues is not decided")  # pragma: no cover
 
 
 def _negated_index(f: flint.fmpz_poly, index: int) -> int:
@@ -647,8 +653,17 @@ def _coefficient_balls(h: list[Elem], mpoly: flint.fmpz_poly, t_idx: int, prec: 
 
 
 def _poly_at(K: NumberField, Ak: list[list[Elem]], h: list[Elem]) -> list[list[Elem]]:
-    """``h(A)`` over K by Horner (``h`` from the constant coefficient up)."""
+    """``h(A)`` over K by Horner (``h`` from the constant coefficient up); over Q in flint's rational
+    matrices (a dense 40 x 40 A: the entries' dot products in Python cost seconds)."""
     n = len(Ak)
+    if K.is_rational:
+        M = flint.fmpq_mat([[rational_value(a) for a in row] for row in Ak])
+        H = flint.fmpq_mat(n, n)
+        for c in reversed(h):
+            H = H * M
+            for i in range(n):
+                H[i, i] += rational_value(c)
+        return [[flint.fmpq_poly([H[i, j]]) for j in range(n)] for i in range(n)]
     H = [[h[-1] if i == j else flint.fmpq_poly([]) for j in range(n)] for i in range(n)]
     for c in reversed(h[:-1]):
         H = [[(K.dot(H[i], [Ak[k][j] for k in range(n)]) + (c if i == j else 0)) % K.modulus
