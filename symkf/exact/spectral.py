@@ -278,7 +278,10 @@ class Eigenvalue:
     def modulus(self) -> AlgebraicNumber:
         """``|lambda|`` exactly: ``+-lambda`` for a real eigenvalue, ``sqrt(rho)`` when
         ``lambda conj(lambda) = rho`` is rational (:func:`_rational_norm`), else a root of the
-        resultant :func:`_abs_poly` (degree ``2 d^2`` for ``d = deg lambda``)."""
+        polynomial of the products of pairs of roots (:func:`_pair_modulus_poly`, degree
+        ``d(d - 1)`` for ``d = deg lambda``, its real roots read off the roots of the minimal
+        polynomial) or, when such products coincide, of :func:`_abs_poly` (degree ``d(d + 1)``,
+        every root isolated)."""
         if self.is_zero:
             return AlgebraicNumber.from_expr(sp.Integer(0))
         f = self.minpoly

@@ -21,7 +21,7 @@ from symkf.exact.algebraic import identify, real_from_ball
 from symkf.exact import algebraic, spectral
 from symkf.exact.spectral import _abs_poly, _cosine_order, _resultant_y, diagonal_blocks, eigen_blocks, eigenvalues
 
-from conftest import library, limited, rotation
+from conftest import library, limited, refused_at_once, rotation
 
 
 def rotation_entries(alpha, angle):
@@ -390,3 +390,15 @@ def test_products_that_coincide_fall_back_to_isolation():
     assert spectral._pair_modulus_poly((3, 0, 1, 0, 1)) is None
     (block,) = eigen_blocks(_companion([3, 0, 1, 0]))
     assert block.modulus == sp.root(3, 4) and len(block.members) == 4
+
+
+def test_pair_polynomial_of_a_dense_64_by_64_matrix_is_priced_before_it_is_built():
+    """The pair polynomial of a dense 64 x 64 integer A (entries -3..3, seed 0) has about 5.6e7 bits
+    by its estimate, under the default max_modulus_bits: below that cap the moduli are refused from
+    the roots of the characteristic polynomial alone, within seconds, naming the cap."""
+    import numpy as np
+    A = [[int(v) for v in row] for row in np.random.default_rng(0).integers(-3, 4, (64, 64))]
+    with budget.limits(max_modulus_bits=5 * 10 ** 7):
+        code, err = limited(refused_at_once, lambda: eigen_blocks(A), "max_modulus_bits", 20.0)
+    assert code == 0, err
+
