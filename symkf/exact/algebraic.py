@@ -929,6 +929,9 @@ class AlgebraicNumber(JsonDocument):
             return AlgebraicNumber.from_expr(v)
         if op == "*" and not (self and other):
             return AlgebraicNumber.from_expr(0)
+        one = AlgebraicNumber.from_expr(1 if op == "*" else 0)   # the unit: no resultant of the degree of the other
+        if self.is_rational and self == one or other.is_rational and other == one:
+            return other if self.is_rational and self == one else self
         poly = (_sum_poly if op == "+" else _product_poly)(self._poly, other._poly)
         f, idx = identify(poly, lambda prec: self._ball(prec) + other._ball(prec) if op == "+"
                           else self._ball(prec) * other._ball(prec), lambda: f"{self} {op} {other}", real=True)

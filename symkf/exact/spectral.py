@@ -30,7 +30,7 @@ from typing import Any, Sequence
 import flint
 import sympy as sp
 
-from ..arguments import check_public
+from ..arguments import check_public, outside
 from .algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, _factors, _subset_product_poly,
                         precision, with_prec, fmpz_to_sympy, identify, known_real_roots, real_from_ball, real_sign, root_ball,
                         root_of, sympy_to_fmpz)
@@ -750,7 +750,9 @@ def factors_in(A: sp.MatrixBase, K: NumberField) -> tuple:
     modal form of one diagonal block factor over the same field)."""
     if not isinstance(K, NumberField):
         raise InputError(f"K: expected a symkf NumberField, got {type(K).__name__}")
-    return _factors_over(to_exact_matrix(A, "A"), K.generators)
+    # symkf's own calls hold exact matrices already: converting each entry again costs seconds at n = 64
+    A = sp.ImmutableMatrix(A) if isinstance(A, sp.MatrixBase) and not outside(__name__) else to_exact_matrix(A, "A")
+    return _factors_over(A, K.generators)
 
 
 @lru_cache(maxsize=256)
