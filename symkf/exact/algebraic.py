@@ -116,6 +116,9 @@ def root_ball(poly: flint.fmpz_poly, index: int, prec: int) -> flint.acb:
 #: (so position = flint's index).  Filled by :func:`known_real_roots`.
 _KNOWN_REAL_ROOTS: dict[tuple[int, ...], tuple[Callable[[int], flint.arb], ...]] = {}
 
+#: polynomials whose real roots are kept (a long sweep meets many systems)
+_KNOWN_LIMIT = 1024
+
 #: the working precisions at which membership and order of known real roots are decided
 _LADDER = (64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384)
 
@@ -146,6 +149,8 @@ def known_real_roots(factors: list[flint.fmpz_poly], sources: list[Callable[[int
     for k, roots in owned.items():
         key = tuple(int(c) for c in factors[k].coeffs())
         _KNOWN_REAL_ROOTS[key] = tuple(sorted(roots, key=cmp_to_key(_order)))
+    while len(_KNOWN_REAL_ROOTS) > _KNOWN_LIMIT:   # the oldest go: their roots are isolated again if asked
+        del _KNOWN_REAL_ROOTS[next(iter(_KNOWN_REAL_ROOTS))]
     return True
 
 
@@ -436,6 +441,14 @@ def root_of(expr: sp.Expr) -> tuple[flint.fmpz_poly, int]:
         raise InputError(f"{expr}: has free symbols, not a number")
     if isinstance(expr, FlintRoot):
         return expr.poly, expr.index
+    if isinstance(expr, sp.CRootOf):
+        # a real root of an irreducible polynomial: sympy's index (real roots first, ascending) is
+        # flint's, read without sympy isolating the real roots (seconds at degree 64)
+        f = sympy_to_fmpz(expr.poly)
+        coeffs = tuple(int(c) for c in f.coeffs())
+        real = len(_KNOWN_REAL_ROOTS.get(coeffs, ())) or sum(1 for r in _complex_roots(coeffs, 64) if r.imag == 0)
+        if _factors(coeffs) == [f] and int(expr.index) < real:
+            return f, int(expr.index)
     poly = _root_of_unity_poly(expr)
     if poly is None:
         poly = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))

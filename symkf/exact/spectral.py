@@ -242,6 +242,8 @@ class Eigenvalue:
         m, _ = self.phase
         if m is None:
             return FlintRoot(f, self.root_index)
+        if m <= 2:   # real: +-alpha, without sympy evaluating alpha (a CRootOf: its real roots isolated)
+            return self.modulus.exact if m == 1 else -self.modulus.exact
         # lambda = alpha exp(2 pi i k/m): k from the ball of m arg(lambda) / (2 pi)
         ball = root_ball(f, self.root_index, 128)
         lo, hi = _arb_interval(with_prec(128, lambda: ball.arg() * m / (2 * flint.arb.pi())))
