@@ -47,9 +47,10 @@ def _child(what: str, case: str, args: list[str]) -> None:
     from symkf.errors import BudgetError
     caps = json.loads(os.environ.get("BENCH_CAPS", "{}"))
     with (budget.limits(**caps) if caps else contextlib.nullcontext()):
-        system, loss = getattr(engine_cases, case)(*[int(a) for a in args])
         start = time.process_time()
-        try:
+        try:  # a system refused at its construction (main's max_dimension) is a refusal too
+            system, loss = getattr(engine_cases, case)(*[int(a) for a in args])
+            start = time.process_time()
             result = _compute(what, system, loss)
         except BudgetError as exc:  # a refusal is a result of its own: the row says which cap and when
             print("refused", time.process_time() - start, str(exc).replace("\n", " "))
