@@ -49,10 +49,11 @@ class Limits:
     #: part by part first, symkf.engine.cylinders), and the degree of the field of all entries of the LMI
     #: of the bounds atlas, where its certificates are checked
     max_cyclotomic_degree: int = 1024
-    #: bit size (2D + 1) D b, D = d(d+1)/2, of the polynomial of the modulus (power sums of the
-    #: products of conjugates, symkf.exact.spectral._abs_poly) for a complex eigenvalue of degree d with
-    #: b-bit minimal polynomial: its factorisation is the cost (a 16 x 16 A over Q(sqrt 2), d = 32,
-    #: b = 70, has 3.9e7 bits and passes)
+    #: bit size of the polynomial of the modulus of a complex eigenvalue of degree d, whose
+    #: construction and factorisation are the cost: (d(d - 1) + 1) (d - 1) sum_i log2(1 + |c lambda_i|)
+    #: for the products of pairs of conjugates (symkf.exact.spectral._pair_modulus_poly; a dense 64 x 64
+    #: integer A has 5.6e7 bits and passes, a 16 x 16 A over Q(sqrt 2) 2.7e7), else (2D + 1) D b, D = d(d+1)/2, for the power sums of
+    #: all products (symkf.exact.spectral._abs_poly) of a b-bit minimal polynomial
     max_modulus_bits: int = 2 ** 26
     #: nesting depth of radicals (sqrt(2 + sqrt(3)) has depth 2)
     max_nesting: int = 4
@@ -76,8 +77,9 @@ class Limits:
     #: so it is checked before flint is asked; the engine's own refinements stay far below it
     max_precision: int = 2 ** 20
     #: rows or columns of a matrix (state dimension n, measurement channels; the exact engine's
-    #: work on a dense system grows steeply with n)
-    max_dimension: int = 32
+    #: work on a dense system grows steeply with n, and is priced by max_modulus_bits: a dense
+    #: 64 x 64 integer A with 3 sensors takes about a minute)
+    max_dimension: int = 64
     #: sensors d of a system or loss model: a memory bound on what is read and held before any
     #: work is priced (a sensor and its rows, a loss per sensor: kilobytes each, so 2^14 of them
     #: take tens of MB); the work that grows with d is priced by ``max_work`` (independent sensors

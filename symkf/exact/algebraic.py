@@ -22,7 +22,7 @@ import operator
 import re
 from decimal import Decimal
 from fractions import Fraction
-from functools import lru_cache
+from functools import cmp_to_key, lru_cache
 from typing import Any, Callable
 
 import flint
@@ -100,8 +100,133 @@ def precision(prec: Any, entry: str = "prec") -> int:
 
 
 def root_ball(poly: flint.fmpz_poly, index: int, prec: int) -> flint.acb:
-    """Certified isolating ball of root ``index`` of ``poly`` (flint's ordering) at ``prec`` bits."""
-    return _complex_roots(tuple(int(c) for c in poly.coeffs()), precision(prec))[index]
+    """Certified ball of root ``index`` of ``poly`` (flint's ordering) at ``prec`` bits: isolating
+    (flint's ``complex_roots``), or for a real root of a polynomial whose real roots are known
+    (:func:`known_real_roots`) the enclosure its source gives, which shrinks as ``prec`` grows."""
+    coeffs = tuple(int(c) for c in poly.coeffs())
+    known = _KNOWN_REAL_ROOTS.get(coeffs)
+    if known is not None and index < len(known):
+        prec = precision(prec)
+        return with_prec(prec, lambda: flint.acb(known[index](prec)))
+    return _complex_roots(coeffs, precision(prec))[index]
+
+
+#: irreducible primitive integer polynomials (coefficients) whose real roots are known without
+#: isolating all their roots: each real root's source of certified balls ``source(prec)``, ascending
+#: (so position = flint's index).  Filled by :func:`known_real_roots`.
+_KNOWN_REAL_ROOTS: dict[tuple[int, ...], tuple[Callable[[int], flint.arb], ...]] = {}
+
+#: polynomials whose real roots are kept (a long sweep meets many systems)
+_KNOWN_LIMIT = 1024
+
+#: the working precisions at which membership and order of known real roots are decided
+_LADDER = (64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384)
+
+
+def known_real_roots(factors: list[flint.fmpz_poly], sources: list[Callable[[int], flint.arb]]) -> bool:
+    """Record the real roots of the irreducible ``factors`` (primitive, positive leading
+    coefficient) of a squarefree polynomial, given ``sources`` of certified balls of *all* its real
+    roots (distinct numbers): each root goes to the one factor whose value on its ball keeps 0 (the
+    others exclude it as the precision grows; distinct irreducible factors share no root), and each
+    factor's roots are sorted by their balls, which separate since the roots are distinct.  Then
+    :func:`root_ball` and :func:`identify` (``real=True``) name these roots by flint's index (real
+    roots first, ascending) without isolating every complex root of a factor of degree in the
+    thousands.  False when some membership is not decided at the highest precision tried (then
+    nothing is recorded)."""
+    owned: dict[int, list[Callable[[int], flint.arb]]] = {k: [] for k in range(len(factors))}
+    for source in sources:
+        if len(factors) == 1:
+            owned[0].append(source)
+            continue
+        for prec in _LADDER:
+            z = with_prec(prec, lambda: source(prec))
+            cands = [k for k, f in enumerate(factors) if with_prec(prec, lambda: f(flint.acb(z))).contains(0)]
+            if len(cands) == 1:
+                owned[cands[0]].append(source)
+                break
+        else:
+            return False
+    for k, roots in owned.items():
+        key = tuple(int(c) for c in factors[k].coeffs())
+        _KNOWN_REAL_ROOTS[key] = tuple(sorted(roots, key=cmp_to_key(_order)))
+    while len(_KNOWN_REAL_ROOTS) > _KNOWN_LIMIT:   # the oldest go: their roots are isolated again if asked
+        del _KNOWN_REAL_ROOTS[next(iter(_KNOWN_REAL_ROOTS))]
+    return True
+
+
+def real_sign(ball_at: Callable[[int], flint.arb]) -> int:
+    """-1 or 1: the sign of the nonzero real number in the balls ``ball_at(prec)``."""
+    for prec in _LADDER:
+        b = with_prec(prec, lambda: ball_at(prec))
+        if b > 0 or b < 0:
+            return 1 if b > 0 else -1
+    raise InputError("the sign of a nonzero real number is not decided at 16384 bits")  # pragma: no cover
+
+
+def real_kth_root(gamma: "AlgebraicNumber", k: int, ball_at: Callable[[int], flint.acb],
+                  what: str) -> tuple[flint.fmpz_poly, int]:
+    """The real root ``x`` of ``x^k = gamma`` in the balls ``ball_at(prec)``: its minimal polynomial and
+    index, from ``p(x^k)`` (``p`` the minimal polynomial of ``gamma``).  When the real roots of ``p`` are
+    known (:func:`known_real_roots`) and ``p(x^k)`` is proved irreducible (:func:`_binomial_irreducible`),
+    its real roots are the real k-th roots of theirs, recorded so that no root of ``p(x^k)`` (degree
+    6048 for the critical loss rate of a dense 64 x 64 A) is isolated."""
+    c = [int(v) for v in gamma._poly.coeffs()]
+    coeffs = [0] * (k * (len(c) - 1) + 1)
+    for i, a in enumerate(c):
+        coeffs[k * i] = a
+    g = flint.fmpz_poly(coeffs)
+    known = _KNOWN_REAL_ROOTS.get(tuple(c))
+    irreducible = _binomial_irreducible(gamma._poly, k)
+    if known is not None and tuple(coeffs) not in _KNOWN_REAL_ROOTS and irreducible:
+        sources = []
+        for t in known:
+            size = lambda prec, t=t: abs(t(prec)).root(k)  # noqa: E731
+            sign = real_sign(t)
+            if k % 2:
+                sources.append(size if sign > 0 else lambda prec, size=size: -size(prec))
+            elif sign > 0:
+                sources += [size, lambda prec, size=size: -size(prec)]
+        known_real_roots([g], sources)
+    return identify(g, ball_at, what, real=True, irreducible=irreducible)
+
+
+def _binomial_irreducible(p: flint.fmpz_poly, k: int) -> bool:
+    """Whether ``p(x^k)`` is proved irreducible for the irreducible ``p`` of root ``gamma``: by Capelli's
+    theorem ``x^k - gamma`` is irreducible over ``Q(gamma)`` iff ``gamma`` is no q-th power there for
+    each prime q dividing k (and not in ``-4 Q(gamma)^4`` when 4 divides k; Lang, Algebra, 3rd ed.
+    2002, Chapter VI, Theorem 9.1), and then ``p(x^k)`` has degree ``k deg p`` over Q with the root
+    ``gamma^(1/k)``.  No q-th power is proved by a prime ``l = 1 (mod q)``, not dividing the
+    leading coefficient, at which ``p`` has a simple root ``r`` that is no q-th power mod ``l``:
+    Hensel's lemma embeds ``Q(gamma)`` in the l-adic numbers with ``gamma`` a unit reducing to ``r``,
+    and a q-th power would reduce to one.  False when 4 divides k or no such prime is among the
+    first 64 tried (undecided)."""
+    if k % 4 == 0:
+        return False
+    lead = int(p.leading_coefficient())
+    for q in sp.primefactors(k):
+        tried, ell = 0, 1
+        while True:
+            ell += q
+            if not flint.fmpz(ell).is_prime() or lead % ell == 0:
+                continue
+            tried += 1
+            reduced = flint.nmod_poly([int(v) % ell for v in p.coeffs()], ell)
+            if any(m == 1 and int(r) and pow(int(r), (ell - 1) // q, ell) != 1 for r, m in reduced.roots()):
+                break
+            if tried == 64:
+                return False
+    return True
+
+
+def _order(a: Callable[[int], flint.arb], b: Callable[[int], flint.arb]) -> int:
+    """-1 or 1 as the distinct real numbers in the balls ``a(prec)``, ``b(prec)`` compare."""
+    for prec in _LADDER:
+        x, y = with_prec(prec, lambda: (a(prec), b(prec)))
+        if x < y:
+            return -1
+        if y < x:
+            return 1
+    raise InputError("two known real roots are not separated at 16384 bits")  # pragma: no cover
 
 
 @lru_cache(maxsize=512)
@@ -206,13 +331,17 @@ def _arb_interval(b: flint.arb) -> tuple[sp.Rational, sp.Rational]:
 
 
 def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
-             what: str | Callable[[], str] = "number", irreducible: bool = False) -> tuple[flint.fmpz_poly, int]:
+             what: str | Callable[[], str] = "number", real: bool = False,
+             irreducible: bool = False) -> tuple[flint.fmpz_poly, int]:
     """The irreducible factor of ``poly`` with a root in the ball, and that root's index.
 
     ``ball_at(prec)`` returns a certified acb ball for the number at ``prec``
     bits.  The answer is the unique root, over all factors, whose isolating
-    ball meets it; precision grows until exactly one does.  ``irreducible=True`` is the caller's
-    proof that ``poly`` is irreducible (factoring a binomial of degree 3201 takes 18 CPU-s).
+    ball meets it; precision grows until exactly one does.  For a number known to be ``real``,
+    once a single factor can vanish on the ball and its real roots are known
+    (:func:`known_real_roots`), the number is the one of them whose ball meets it: no isolation.
+    ``irreducible=True`` is the caller's proof that ``poly`` is irreducible (factoring a binomial
+    of degree 3201 takes 18 CPU-s).
     """
     if irreducible:
         primitive = poly / poly.content()
@@ -222,8 +351,12 @@ def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
     for prec in (64, 128, 256, 512, 1024, 4096):
         def hits() -> list[tuple[flint.fmpz_poly, int]]:
             z = ball_at(prec)
+            cands = [f for f in factors if f(z).contains(0)]
+            known = _KNOWN_REAL_ROOTS.get(tuple(int(c) for c in cands[0].coeffs())) if len(cands) == 1 else None
+            if real and known is not None:
+                return [(cands[0], i) for i, source in enumerate(known) if flint.acb(source(prec)).overlaps(z)]
             # isolate roots only of the factors that can vanish on the ball: root isolation dominates
-            return [(f, i) for f in factors if f(z).contains(0)
+            return [(f, i) for f in cands
                     for i, r in enumerate(_complex_roots(tuple(int(c) for c in f.coeffs()), prec)) if r.overlaps(z)]
         found = with_prec(prec, hits)
         if len(found) == 1:
@@ -238,6 +371,8 @@ def _factors(coeffs: tuple[int, ...]) -> list[flint.fmpz_poly]:
     that :class:`AlgebraicNumber` hashes and compares, and the spectrum keys its moduli by) of a
     nonconstant integer polynomial, cached: the moduli and phase orders of all eigenvalues of one
     minimal polynomial share one resultant of degree up to ``2 d^2``."""
+    if coeffs in _KNOWN_REAL_ROOTS:   # recorded as irreducible, primitive, with positive leading coefficient
+        return [flint.fmpz_poly(list(coeffs))]
     if _known_roots(coeffs) is not None:  # c^d Phi_m(x/c) and the polynomial of 2 cos(2 pi/m) are irreducible
         f = flint.fmpz_poly(list(coeffs))   # up to its content (sqrt(2) / 2: 4x^2 - 2)
         f = f / f.content()
@@ -318,6 +453,14 @@ def root_of(expr: sp.Expr) -> tuple[flint.fmpz_poly, int]:
         raise InputError(f"{expr}: has free symbols, not a number")
     if isinstance(expr, FlintRoot):
         return expr.poly, expr.index
+    if isinstance(expr, sp.CRootOf):
+        # a real root of an irreducible polynomial: sympy's index (real roots first, ascending) is
+        # flint's, read without sympy isolating the real roots (seconds at degree 64)
+        f = sympy_to_fmpz(expr.poly)
+        coeffs = tuple(int(c) for c in f.coeffs())
+        real = len(_KNOWN_REAL_ROOTS.get(coeffs, ())) or sum(1 for r in _complex_roots(coeffs, 64) if r.imag == 0)
+        if _factors(coeffs) == [f] and int(expr.index) < real:
+            return f, int(expr.index)
     poly = _root_of_unity_poly(expr)
     if poly is None:
         poly = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))
@@ -449,7 +592,7 @@ def subset_product(poly: flint.fmpz_poly, indices: list[int], entry: str = "A") 
     scale = abs(coeffs[-1]) ** k
     f, idx = identify(_subset_product_poly(coeffs, k),
                       lambda prec: scale * math.prod((root_ball(poly, i, prec) for i in indices), start=flint.acb(1)),
-                      "product of conjugate roots")
+                      "product of conjugate roots", real=True)
     return AlgebraicNumber._irreducible(f, idx) / scale
 
 
@@ -667,9 +810,10 @@ class AlgebraicNumber(JsonDocument):
         if all(v == 0 for v in c[1::2]) and self._lo >= 0:  # p(x) = q(x^2): a square root
             # of the root of q at self^2, identified by its ball (not among all real roots of q:
             # 230 of them for |sin(2 pi/517)|, each isolated)
-            f, index = identify(flint.fmpz_poly(c[::2][::-1]), lambda prec: self._ball(prec) ** 2, "square of a root")
+            f, index = identify(flint.fmpz_poly(c[::2][::-1]), lambda prec: self._ball(prec) ** 2, "square of a root",
+                                real=True)
             return sp.sqrt(AlgebraicNumber._irreducible(f, index).exact)
-        return sp.CRootOf(self.minpoly.as_expr(), x, self._index)
+        return sp.CRootOf(self.minpoly, self._index)   # from the Poly: its expression costs more at degree 2016
 
     def _contains(self, expr: sp.Expr) -> bool:
         v = sp.N(expr, 40)
@@ -810,9 +954,12 @@ class AlgebraicNumber(JsonDocument):
             return AlgebraicNumber.from_expr(v)
         if op == "*" and not (self and other):
             return AlgebraicNumber.from_expr(0)
+        one = AlgebraicNumber.from_expr(1 if op == "*" else 0)   # the unit: no resultant of the degree of the other
+        if self.is_rational and self == one or other.is_rational and other == one:
+            return other if self.is_rational and self == one else self
         poly = (_sum_poly if op == "+" else _product_poly)(self._poly, other._poly)
         f, idx = identify(poly, lambda prec: self._ball(prec) + other._ball(prec) if op == "+"
-                          else self._ball(prec) * other._ball(prec), lambda: f"{self} {op} {other}")
+                          else self._ball(prec) * other._ball(prec), lambda: f"{self} {op} {other}", real=True)
         exact = None
         if self._exact is not None and other._exact is not None and f.degree() > 1:
             exact = self._exact + other._exact if op == "+" else self._exact * other._exact
@@ -824,7 +971,11 @@ class AlgebraicNumber(JsonDocument):
         if self.is_rational:
             return AlgebraicNumber.from_expr(1 / self._value())
         rev = flint.fmpz_poly(list(reversed(self._poly.coeffs())))
-        f, idx = identify(rev, lambda prec: 1 / self._ball(prec), lambda: f"1/({self})")
+        rev = rev if rev.leading_coefficient() > 0 else -rev
+        known = _KNOWN_REAL_ROOTS.get(tuple(int(c) for c in self._poly.coeffs()))
+        if known is not None:   # the reversed polynomial is irreducible, its real roots the reciprocals
+            known_real_roots([rev], [lambda prec, s=s: 1 / s(prec) for s in known])
+        f, idx = identify(rev, lambda prec: 1 / self._ball(prec), lambda: f"1/({self})", real=True)
         return AlgebraicNumber._irreducible(f, idx, None if self._exact is None else 1 / self._exact)
 
     def __neg__(self) -> "AlgebraicNumber":
@@ -889,7 +1040,14 @@ class AlgebraicNumber(JsonDocument):
             return AlgebraicNumber.from_expr(self._value() ** k)
         if k <= 1:
             return self if k == 1 else AlgebraicNumber.from_expr(1)
-        f, idx = identify(_power_poly(self._poly, k), lambda prec: self._ball(prec) ** k, lambda: f"({self})^{k}")
+        c = [int(v) for v in self._poly.coeffs()]
+        if k % 2 == 0 and not any(c[1::2]):   # p(x) = q(x^2): self^2 is a root of the irreducible q
+            f, idx = identify(flint.fmpz_poly(c[::2]), lambda prec: self._ball(prec) ** 2, lambda: f"({self})^2",
+                              real=True)
+            return AlgebraicNumber._irreducible(f, idx, None if self._exact is None or f.degree() == 1
+                                                else self._exact ** 2) ** (k // 2)
+        f, idx = identify(_power_poly(self._poly, k), lambda prec: self._ball(prec) ** k, lambda: f"({self})^{k}",
+                          real=True)
         return AlgebraicNumber._irreducible(f, idx, None if self._exact is None or f.degree() == 1
                                             else self._exact ** k)
 
@@ -1036,7 +1194,7 @@ def decreasing_root(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction,
             a, b = (mid, b) if s > 0 else (a, mid)
         return with_prec(prec, lambda: flint.acb(flint.arb(flint.fmpq(a.numerator, a.denominator)).union(
             flint.arb(flint.fmpq(b.numerator, b.denominator)))))
-    f, index = identify(composed.numer(), ball_at, "root of a decreasing polynomial")
+    f, index = identify(composed.numer(), ball_at, "root of a decreasing polynomial", real=True)
     return AlgebraicNumber._irreducible(f, index)
 
 

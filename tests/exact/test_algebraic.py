@@ -15,6 +15,7 @@ import time
 from decimal import Decimal
 from fractions import Fraction
 
+import flint
 import numpy as np
 import pytest
 import sympy as sp
@@ -386,3 +387,64 @@ def test_a_root_of_a_long_polynomial_prints_its_degree_not_the_polynomial():
     short = AlgebraicNumber.from_root(sp.Poly(x ** 5 - x - 1, x), 1, 2)
     assert str(long) == f"[root ≈{long.evalf(10)} of a degree-9 polynomial (.minpoly)]"
     assert str(short) == f"[root ≈{short.evalf(10)} of x**5 - x - 1]"
+
+
+# -- real roots known without isolation ------------------------------------------------------------
+
+@pytest.mark.parametrize("p, k, irreducible", [
+    ([-2, 0, 1], 3, True),       # x^6 - 2
+    ([-8, 1], 3, False),         # x^3 - 8 = (x - 2)(x^2 + 2x + 4): 8 is a cube
+    ([-8, 0, 1], 3, False),      # x^6 - 8 = (x^2 - 2)(x^4 + 2x^2 + 4): 2 sqrt 2 = sqrt(2)^3
+    ([-2, 0, 1], 2, True),       # x^4 - 2
+    ([-9, 1], 2, False),         # x^2 - 9: 9 is a square
+    ([1, -6, 1], 2, False),      # x^4 - 6x^2 + 1 = (x^2 - 2x - 1)(x^2 + 2x - 1): 3 + 2 sqrt 2 = (1 + sqrt 2)^2
+    ([-2, 0, 1], 4, False),      # 4 | k: not decided this way (x^4 + 4 = (x^2 + 2x + 2)(x^2 - 2x + 2))
+    ([-5, 1, 0, 1], 15, True),   # x^45 + x^15 - 5
+])
+def test_binomial_irreducibility_is_proved_only_where_flint_finds_one_factor(p, k, irreducible):
+    """Capelli's criterion, proved mod primes: True only for an irreducible p(x^k), as flint's
+    factorisation confirms, and True for the irreducible ones above (a prime proves it)."""
+    from symkf.exact.algebraic import _binomial_irreducible
+    p = flint.fmpz_poly(p)
+    coeffs = [0] * (k * p.degree() + 1)
+    for i, c in enumerate(p.coeffs()):
+        coeffs[k * i] = int(c)
+    flint_says = len(flint.fmpz_poly(coeffs).factor()[1]) == 1
+    assert _binomial_irreducible(p, k) == irreducible
+    assert not irreducible or flint_says
+
+
+def test_known_real_roots_sort_into_their_factors_with_flint_indices(monkeypatch):
+    """Sources for the real roots of (x^2 - 2)(x^2 - 3)(x^3 - 5), given shuffled, give each factor its
+    roots in flint's order, and root_ball and identify(real=True) name them as isolation does."""
+    from symkf.exact import algebraic
+    monkeypatch.setattr(algebraic, "_KNOWN_REAL_ROOTS", {})
+    factors = [flint.fmpz_poly([-2, 0, 1]), flint.fmpz_poly([-3, 0, 1]), flint.fmpz_poly([-5, 0, 0, 1])]
+    root = lambda v: lambda prec: flint.arb(v).sqrt() if v > 0 else -flint.arb(-v).sqrt()  # noqa: E731
+    sources = [root(-3), root(2), lambda prec: flint.arb(5).root(3), root(3), root(-2)]
+    assert algebraic.known_real_roots(factors, sources)
+    assert abs(float(root_ball(factors[1], 0, 64).real.mid()) + 3 ** 0.5) < 1e-15
+    assert abs(float(root_ball(factors[0], 1, 64).real.mid()) - 2 ** 0.5) < 1e-15
+    product = factors[0] * factors[1] * factors[2]
+    for f, i in [(factors[1], 0), (factors[0], 1), (factors[2], 0)]:
+        isolated = algebraic._complex_roots(tuple(int(c) for c in f.coeffs()), 64)[i]
+        assert algebraic.identify(product, lambda prec, b=isolated: b, real=True) == (f, i)
+
+
+def test_real_kth_root_of_a_known_root_matches_isolation(monkeypatch):
+    """The cube root of root 1 of x^3 - 3x + 1 (three real roots) and the square roots of its
+    positive roots: named from the roots of p alone, the same polynomial and index as identify finds
+    by isolating every root of p(x^k)."""
+    from symkf.exact import algebraic
+    monkeypatch.setattr(algebraic, "_KNOWN_REAL_ROOTS", {})
+    p = flint.fmpz_poly([1, -3, 0, 1])
+    isolated = algebraic._complex_roots((1, -3, 0, 1), 64)
+    algebraic.known_real_roots([p], [lambda prec, b=b: b.real for b in isolated])
+    for i, k in [(0, 3), (1, 3), (2, 2), (1, 2)]:
+        gamma = AlgebraicNumber._irreducible(p, i)
+        ball = lambda prec: flint.acb(abs(gamma._ball(prec).real).root(k) * (1 if gamma > 0 or k % 2 == 0 else -1))  # noqa: E731
+        coeffs = [0] * (3 * k + 1)
+        for j, c in enumerate(p.coeffs()):
+            coeffs[k * j] = int(c)
+        expected = algebraic.identify(flint.fmpz_poly(coeffs), ball)
+        assert algebraic.real_kth_root(gamma, k, ball, "root") == expected
