@@ -1009,6 +1009,14 @@ def decreasing_root(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction,
     for c in reversed(mu[:-1]):
         composed = composed * poly + c
     coeffs = poly.coeffs()
+    # bits of sum_i |c_i| max(1, |lo|, |hi|)^i: Horner's rounding errors in arb are relative to it, so a
+    # working precision that much above ``prec`` leaves poly(q) - value decided to about 2^-prec (at
+    # ``prec`` alone, a margin of degree 744 with 1252-bit coefficients was never decided and the ball
+    # stayed the whole interval: every factor's roots were isolated, 13 CPU-s for one of degree 248)
+    size = max(abs(lo), abs(hi), Fraction(1))
+    extra = max(0, max(int(c.p).bit_length() - int(c.q).bit_length() for c in coeffs if c != 0)
+                + poly.degree() * (size.numerator.bit_length() - size.denominator.bit_length() + 1)
+                + poly.degree().bit_length()) + 16
 
     def sign(q: Fraction, prec: int) -> int:  # of poly(q) - value, 0 when the balls cannot tell
         x, v = flint.arb(flint.fmpq(q.numerator, q.denominator)), flint.arb(0)
@@ -1021,7 +1029,7 @@ def decreasing_root(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction,
         a, b = lo, hi
         for _ in range(prec + 8):
             mid = (a + b) / 2
-            s = with_prec(prec, lambda: sign(mid, prec))
+            s = with_prec(prec + extra, lambda: sign(mid, prec))
             if s == 0:
                 break
             a, b = (mid, b) if s > 0 else (a, mid)

@@ -368,3 +368,24 @@ def test_a_root_of_a_long_polynomial_prints_its_degree_not_the_polynomial():
     short = AlgebraicNumber.from_root(sp.Poly(x ** 5 - x - 1, x), 1, 2)
     assert str(long) == f"[root ≈{long.evalf(10)} of a degree-9 polynomial (.minpoly)]"
     assert str(short) == f"[root ≈{short.evalf(10)} of x**5 - x - 1]"
+
+
+def test_decreasing_root_of_a_high_power_is_isolated_by_a_narrow_ball(monkeypatch) -> None:
+    """``(1 - q)^200 = 2^-48`` on ``[0, 1)``: ``q = 1 - 2^(-6/25)`` (by hand).  The coefficients
+    ``C(200, k)`` reach 2^196 while the values near the root are 2^-48: the bisection must decide
+    signs above that cancellation, so the ball handed to the identification is narrow (a ball of
+    the whole interval isolates the roots of every factor of the composed polynomial, degrees 25,
+    25, 50 and 100)."""
+    import flint
+    from symkf.exact import algebraic
+    widths = []
+    identify = algebraic.identify
+
+    def watched(poly, ball_at, what="number"):
+        widths.append(float(ball_at(64).real.rad()))
+        return identify(poly, ball_at, what)
+    monkeypatch.setattr(algebraic, "identify", watched)
+    poly = flint.fmpq_poly([1, -1]) ** 200
+    root = algebraic.decreasing_root(poly, AlgebraicNumber.from_expr(sp.Rational(1, 2 ** 48)), Fraction(0), Fraction(1))
+    assert root == AlgebraicNumber.from_expr(1 - sp.Integer(2) ** sp.Rational(-6, 25))
+    assert widths and widths[0] < 2.0 ** -50
