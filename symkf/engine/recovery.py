@@ -13,13 +13,14 @@ entirely inside ``H`` contributes 1) and holds at least one (a hyperplane misses
 so every margin ``m_H(q) = alpha^(2g) rho(M_H)(q)`` is strictly decreasing on ``(0, q_max]``,
 ``q_max = 1 - max_j f_j``.
 
-Above it.  For ``1 - f <= q < 1``, ``|lambda| <= f``: ``T_1 = 1 - q <= f``, ``T_l <= f/(f + q) <= f``
-for odd ``l`` and ``T_l <= f + |lambda|^l <= f (1 + f)`` for even ``l >= 2``.  For ``q_max <= q <= 1 - f``
-(a sensor whose ``f`` is below the largest), ``lambda >= 0`` and ``T_l <= T_1 = 1 - q <= 1 - q_max``.
-A hyperplane's rate is a product of one term per lost run and of ``1 - q`` per further lost phase,
-so it is at most the i.i.d. rate ``prod_j c_j^(phases of j outside H)``, ``c_j = max(f_j (1 + f_j),
-1 - q_max)``: if the filter is stable under i.i.d. losses ``c_j`` (decided by the screened search),
-it is stable on all of ``[q_max, 1)``.
+Above it.  For ``1 - f <= q < 1``, ``-f < lambda <= 0``: ``T_1 = 1 - q <= f``, ``T_l <= f/(f + q) <= f``
+for odd ``l``, and ``T_l <= f`` for even ``l >= 2`` too (``T_l <= f`` iff ``q lambda^l <= f |lambda|``,
+and ``q |lambda|^l <= |lambda| f^(l - 1) <= f |lambda|``; equality at ``q = 1 - f`` and at ``q = 1``).
+For ``q_max <= q <= 1 - f`` (a sensor whose ``f`` is below the largest), ``lambda >= 0`` and ``T_l <=
+T_1 = 1 - q <= 1 - q_max``.  So every term is at most ``c = 1 - q_max``, the largest ``f``.  A
+hyperplane's rate is a product of one term per lost run and of ``1 - q`` per further lost phase, so
+it is at most the i.i.d. rate ``prod_j c^(phases of j outside H)``: if the filter is stable under
+i.i.d. losses ``c`` (decided by the screened search), it is stable on all of ``[q_max, 1)``.
 
 Then the stable set is ``(q_c, 1)`` and ``q_c = max_H r_H``, ``r_H`` the crossing of ``m_H = 1``.
 The search: at the rational ``t = q_max / 2`` the screened Markov search
@@ -199,8 +200,8 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
     rates as constant factors: it is still non-increasing in ``q`` on ``(0, q_max]`` (``q_max = 1
     - fail_j``), strictly where sensor ``j`` has a lost phase outside ``H``, and constant where
     ``H`` holds every element of ``j``; above ``q_max`` sensor ``j``'s factor is at most that of
-    i.i.d. losses ``fail_j (1 + fail_j)`` (``1 - q_max = fail_j``), a Gilbert-Elliott channel with
-    ``fail + recover = 1`` beside the fixed ones.  A constant margin at least 1 (found by the search at ``q_max / 2`` or
+    i.i.d. losses ``fail_j = 1 - q_max``, a Gilbert-Elliott channel with ``fail + recover = 1``
+    beside the fixed ones.  A constant margin at least 1 (found by the search at ``q_max / 2`` or
     by the certificate's screen) is unstable at every ``q``: the answer is 1, as with the listing."""
     channels = _Channels.of(system.d, fail, recover, sensor)
     if channels is None:
@@ -225,11 +226,9 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
                 r = decreasing_root(m, gamma[br], Fraction(0), t) if gamma[br] > _at(m, t) else decreasing_root(m, gamma[br], t, qmax)
                 if r is not None:
                     lower.append(r)
-        bound = [max(f * (1 + f), 1 - sp.Rational(qmax.numerator, qmax.denominator)) for f in fail]
-        if any(b >= 1 for i, b in enumerate(bound) if i in varying):
-            return None
-        iid = GilbertElliott([b if i in varying else f for i, (f, b) in enumerate(zip(fail, bound))],
-                             [1 - b if i in varying else r for i, (b, r) in enumerate(zip(bound, fixed))])
+        c = 1 - sp.Rational(qmax.numerator, qmax.denominator)   # the largest varying fail
+        iid = GilbertElliott([c if i in varying else f for i, f in enumerate(fail)],
+                             [1 - c if i in varying else r for i, r in enumerate(fixed)])
         if not stability(system, iid).stable:
             return None
         if not lower:
