@@ -250,9 +250,51 @@ def test_listed_margins_equal_sympys(A, rows, fail):
     fail = [sp.Rational(f) for f in fail]
     for sensor, recover in ((None, None), (0, [sp.Rational(1, 3)] * len(rows))):
         model = _recovery_model(S, fail, recover, None if sensor is None else S.sensors[sensor].name, q)
-        got = listed_margins(S, fail, recover, sensor, q)
-        assert got is not None and set(got) == set(ge_margins(S, model))
+        got = listed_margins(S, fail, recover, sensor)
+        assert got is not None
+        margins = {sp.expand(sp.Poly([sp.Rational(int(c.p), int(c.q)) for c in reversed(rho.coeffs())], q).as_expr()
+                             / gamma.exact) for gamma, rates in got for rho in rates}
+        assert margins == set(ge_margins(S, model))
 
+
+BEYOND_Q_MAX = [  # (A, rows, fail, recover, sensor): q_c above 1 - max fail, or several intervals: the list decides
+    (rotation(sp.pi / 2), [[1, 0], [1, 1]], ["1/2", "1/2"], None, None),
+    (rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["3/5", "1/2", "9/10"], None, None),
+    (rotation(sp.pi / 3), [[1, 0], [2, -1]], ["7/10", "1/5"], None, None),
+    ([[0, "-sqrt(6)/2"], ["sqrt(6)/2", 0]], [[1, 0]], ["1/2"], None, None),                   # two end points
+    ([[2, 1], [1, 1]], [[1, 0], [1, -1]], ["4/5", "1/2"], None, None),                         # (3 + sqrt 5)/2
+    (rotation(sp.pi / 2), [[1, 0], [1, 1]], ["4/5", "1/10"], ["9/10", "9/10"], "s1"),
+]
+
+
+@pytest.mark.parametrize("A, rows, fail, recover, sensor", BEYOND_Q_MAX)
+def test_the_listed_stable_set_equals_sympys(A, rows, fail, recover, sensor):
+    """Where the monotone search does not answer, the stable set from the listed rates in flint
+    (crossings isolated by Descartes' rule, the ones inside another margin's unstable range dropped,
+    the gaps decided by exact rates) is the one from every margin expanded in sympy and solved
+    root by root (region.stable_intervals), interval for interval."""
+    from symkf.engine.recovery import _monotone_recovery
+    S = _system(A, rows)
+    fixed = None if sensor is None else [sp.Rational(r) for r in recover]
+    j = None if sensor is None else S.sensor_index(sensor)
+    assert monotone_critical_recovery(S, [sp.Rational(f) for f in fail], fixed, j) is None
+    got = _monotone_recovery(S, fail, recover, sensor)[2]()
+    assert got == _every_hyperplane(S, fail, recover, sensor) and got
+    assert all(lo.minpoly == a.minpoly for (lo, _), (a, _) in zip(got, _every_hyperplane(S, fail, recover, sensor)))
+
+
+def test_four_channels_whose_critical_rate_lies_above_q_max():
+    """The period-24 block with four sensors failing at (3/5, 1/2, 3/5, 9/10): ``q_c ~ 0.3209 > q_max
+    = 1/10``, so every hyperplane is listed (135 568, 39 distinct rates of degree 96) and the stable
+    set comes from their crossings: ``(q_c, 1)`` with ``q_c`` of degree 16, unstable just below and
+    stable just above."""
+    S = _system(sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)),
+                [[2, 1, 0, -1], [-1, -2, -2, -2], [-2, 2, 1, 2], [0, 1, 2, 1]])
+    fail = ["3/5", "1/2", "3/5", "9/10"]
+    assert monotone_critical_recovery(S, [sp.Rational(f) for f in fail]) is None
+    qc = sk.critical_recovery_rate(S, fail=fail)
+    assert qc.minpoly.degree() == 16 and abs(float(qc) - 0.3209414826056192) < 1e-15
+    assert _stable_around(S, fail, qc) == (False, True)
 
 def test_irrational_modulus_by_hand():
     """A = [[2, 1], [1, 1]] with one sensor failing at 1/20: the unstable mode alpha = (3 + sqrt 5)/2 (the other,
