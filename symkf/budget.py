@@ -77,8 +77,10 @@ class Limits:
     #: sensors d of a system or loss model (independent sensors are decided per sensor, never
     #: through the joint 2^d-state chain)
     max_sensors: int = 64
-    #: states of a joint (lifted) Markov loss chain: the exact engine's work grows with their square
-    max_markov_states: int = 128
+    #: states of a joint (lifted) Markov loss chain: its S^2 exact entries are read and built, and its
+    #: stationary law solved (S^3), whatever the query; 256 states (four correlated sensor pairs):
+    #: about 3 CPU-s in all, 512: 26
+    max_markov_states: int = 256
     #: hyperplanes a decay rate must list when no screen applies (chains with several all-lost
     #: states, losses of 0, generators that do not span mod p), estimated before listing by ``C(V, n - 1)`` for V
     #: distinct generators in K^n, or fewer through the flats of elements of several generators
