@@ -10,7 +10,13 @@ sensor rows drawn from -2..2 (fixed seed); rows and targets:
 * ``critical_loss_rate(ray=...)`` and ``(sensor=..., others=...)``, d = 16: <= 2x the common query,
   also with ray weights 0 and above 1 and others of loss 0 (main lists every hyperplane: refused);
   a ray of three weights 1, 2, 3 is measured beside them (no target);
-* peak memory of every row <= 500 MB.
+* peak memory of every row <= 500 MB;
+* ``critical_recovery_rate`` (fail 1/10) with rows from seed 1000 + d, d = 16 / 32 / 64 (d = 64 <= 30
+  CPU-s); on the 6-dim block (3/2) diag(R(pi/2), R(pi/3), R(2 pi/3)) with three sensors in general
+  position, fail (1/2, 1/2, 3/10) (main refuses it by max_hyperplanes); with four sensors failing at
+  (3/5, 1/2, 3/5, 9/10), whose q_c lies above 1 - max fail (every hyperplane listed);
+* joint chains of 2 / 3 / 4 correlated pairs (16 / 64 / 256 states) with rows from seed 1000 + d
+  (four pairs <= 10 CPU-s; main refuses 256 states by max_markov_states).
 
 Beside them (no target), a block in general position: 2R(2 pi/7) + 2R(2 pi/11) with two sensors
 on Gilbert-Elliott channels, whose C(154, 3) hyperplanes cost 40 CPU-s to list, decided by its
@@ -70,6 +76,14 @@ ROWS = {  # name: (what, d, target CPU-s or None)
     "critical_loss_rate(ray=w, w in {0, 2, 9/10}), d = 16": ("ray-extremes", 16, "2x common"),
     "critical_loss_rate(sensor=s1, others with 0), d = 16": ("sensor-zero", 16, "2x common"),
     "critical_loss_rate(ray=w, w in {1, 2, 3}), d = 16": ("ray-three", 16, None),
+    "G-E critical_recovery_rate, rows of seed 1000 + d, d = 16": ("recovery-seeded", 16, None),
+    "G-E critical_recovery_rate, rows of seed 1000 + d, d = 32": ("recovery-seeded", 32, None),
+    "G-E critical_recovery_rate, rows of seed 1000 + d, d = 64": ("recovery-seeded", 64, 30),
+    "critical_recovery_rate, 6-dim block in general position": ("recovery-six", 3, None),
+    "critical_recovery_rate, fail (3/5, 1/2, 3/5, 9/10), d = 4": ("recovery-above", 4, None),
+    "joint chain, pairs, rows of seed 1000 + d, d = 4": ("pairs-seeded", 4, None),
+    "joint chain, pairs, rows of seed 1000 + d, d = 6": ("pairs-seeded", 6, None),
+    "joint chain, pairs, rows of seed 1000 + d, d = 8": ("pairs-seeded", 8, 10),
     "G-E stability, 2R(2pi/7) + 2R(2pi/11), d = 2": ("general", 2, None),
     "the same by the list (max_hyperplanes 10^6)": ("general-listed", 2, None),
     "many: common critical_loss_rate, d = 128": ("many-common", 128, None),
@@ -106,6 +120,28 @@ def system(d: int, seed: int = 0):
         if any(r):
             rows.append(r)
     return sk.System(A=sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)),
+                     sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)])
+
+
+def seeded(d: int):
+    """The same block with d integer rows from seed 1000 + d (a zero row gets a 1 first)."""
+    import numpy as np
+    import symkf as sk
+    rows = np.random.default_rng(1000 + d).integers(-2, 3, (d, 4))
+    rows[np.all(rows == 0, axis=1), 0] = 1
+    return sk.System(A=system(1).A, sensors=[sk.Sensor(C=[[int(v) for v in r]], name=f"s{j + 1}")
+                                             for j, r in enumerate(rows)])
+
+
+def six():
+    """(3/2) diag(R(pi/2), R(pi/3), R(2 pi/3)) seen by three sensors in general position."""
+    import sympy as sp
+    import symkf as sk
+
+    def rotation(angle):
+        return sp.Matrix([[sp.cos(angle), -sp.sin(angle)], [sp.sin(angle), sp.cos(angle)]])
+    rows = [[-2, -2, -2, 0, -1, 0], [0, 2, -1, 2, -2, 2], [-1, 1, 1, 2, 0, 2]]
+    return sk.System(A=sp.Rational(3, 2) * sp.diag(rotation(sp.pi / 2), rotation(sp.pi / 3), rotation(2 * sp.pi / 3)),
                      sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)])
 
 
@@ -156,6 +192,15 @@ def _compute(what: str, d: int) -> str:
         if what == "many-common":
             return str(sk.critical_loss_rate(S).exact)
         v = sk.stability(S, sk.GilbertElliott(["1/10"] * d, ["1/2"] * d))
+        return f"{v.stable} {[str(m.exact) for m in v.margins]}"
+    if what == "recovery-six":
+        return str(sk.critical_recovery_rate(six(), fail=["1/2", "1/2", "3/10"]).exact)
+    if what == "recovery-seeded":
+        return str(sk.critical_recovery_rate(seeded(d), fail=["1/10"] * d).exact)
+    if what == "recovery-above":   # q_c above 1 - max fail: every hyperplane is listed
+        return str(sk.critical_recovery_rate(system(d), fail=["3/5", "1/2", "3/5", "9/10"]).exact)
+    if what == "pairs-seeded":
+        v = sk.stability(seeded(d), pairs(d // 2))
         return f"{v.stable} {[str(m.exact) for m in v.margins]}"
     S = system(d)
     if what == "ge":

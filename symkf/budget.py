@@ -86,8 +86,10 @@ class Limits:
     #: are decided per sensor, never through the joint 2^d-state chain, whose states
     #: ``max_markov_states`` bounds)
     max_sensors: int = 2 ** 14
-    #: states of a joint (lifted) Markov loss chain: the exact engine's work grows with their square
-    max_markov_states: int = 128
+    #: states of a joint (lifted) Markov loss chain: its S^2 exact entries are read and built, and its
+    #: stationary law solved (S^3), whatever the query; 256 states (four correlated sensor pairs):
+    #: about 3 CPU-s in all, 512: 26
+    max_markov_states: int = 256
     #: estimated CPU milliseconds of one heavy step (60 000: a minute), priced before it starts by
     #: :func:`price` from its
     #: units of work and their costs (:data:`COSTS`, measured on the machine of docs/caps.md; a

@@ -569,6 +569,16 @@ def _set(row: np.ndarray) -> frozenset[int]:
     return frozenset(np.flatnonzero(row).tolist())
 
 
+def as_rows(sets, elements: int) -> np.ndarray:
+    """Element sets as boolean rows over ``elements`` columns (boolean rows pass through)."""
+    if isinstance(sets, np.ndarray):
+        return sets
+    rows = np.zeros((len(sets), elements), dtype=bool)
+    for h, H in enumerate(sets):
+        rows[h, list(H)] = True
+    return rows
+
+
 def _lex_order(rows: np.ndarray) -> np.ndarray:
     """The permutation sorting boolean rows as their sorted lists of True indices are sorted."""
     r, c = np.nonzero(rows)

@@ -14,6 +14,7 @@ cylinders through each cylinder's own search (:mod:`symkf.engine.cylinders`).
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 from typing import Any, Callable, Sequence
 
 import flint
@@ -27,7 +28,7 @@ from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import sympify
 from ..model.loss import LossModel
 from . import generic_hyperplanes
-from .rows import BlockRows, _set
+from .rows import BlockRows, _set, as_rows
 from .rates import BlockRate, FactorRates, Patterns, exact_rate, factor_rates
 
 
@@ -84,11 +85,7 @@ def capped_hyperplanes(br: BlockRows) -> tuple[frozenset[int], ...]:
 def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[int]]:
     """:func:`outside_counts` of the hyperplanes ``inside`` (boolean rows or index sets, in
     lexicographic order: the first hyperplane of each vector is kept)."""
-    if not isinstance(inside, np.ndarray):
-        rows = np.zeros((len(inside), len(br.elements)), dtype=bool)
-        for h, H in enumerate(inside):
-            rows[h, list(H)] = True
-        inside = rows
+    inside = as_rows(inside, len(br.elements))
     sensor = np.array([e.sensor for e in br.elements])
     per_sensor = (sensor[:, None] == np.arange(sensor.max() + 1)).astype(np.int64)  # elements x d
     outside = (~inside).astype(np.int64) @ per_sensor                               # hyperplanes x d
@@ -261,13 +258,12 @@ def _beyond_listing(br: BlockRows, rates: Sequence[FactorRates], patterns: Patte
     (:mod:`symkf.engine.generic_hyperplanes`, which also says why no maximiser is missed), the first of
     them in lexicographic order.  None when that does not apply (the caller lists, refused by the
     estimate)."""
-    if "inside" in br.__dict__ or br.cylinders or br.size < 2 or br.several_generators \
-            or budget.seconds(hyperplane_degree=br.listing_estimate()[0] * br.K.degree) <= LIST_BELOW:
+    if not _general_position(br):
         return None
     generic = generic_hyperplanes.best_elements(br, rates)
     if generic is None:
         return None
-    special = br.heaviest([1.0 if gs else 0.0 for gs in br.generators], floor=br.size - 0.5, strict=True)
+    special = _special(br)
     if special is None:
         return None
     rate, S = generic
@@ -277,6 +273,20 @@ def _beyond_listing(br: BlockRows, rates: Sequence[FactorRates], patterns: Patte
     if top is None or rate > top or (rate == top and generic_hyperplanes.is_hyperplane(br, S)):
         return special + [S]
     return special
+
+
+def _general_position(br: BlockRows) -> bool:
+    """Whether :mod:`symkf.engine.generic_hyperplanes` is the way past the list: listing would cost
+    more than :data:`LIST_BELOW` CPU-s (``budget.seconds`` of its hyperplanes times the field's
+    degree) and the block is one of single generators without cylinders."""
+    return not ("inside" in br.__dict__ or br.cylinders or br.size < 2 or br.several_generators
+                or budget.seconds(hyperplane_degree=br.listing_estimate()[0] * br.K.degree) <= LIST_BELOW)
+
+
+def _special(br: BlockRows) -> list[frozenset[int]] | None:
+    """The special hyperplanes (at least ``n`` live elements): the screen with unit weights and a
+    strict floor; None when it declines."""
+    return br.heaviest([1.0 if gs else 0.0 for gs in br.generators], floor=br.size - 0.5, strict=True)
 
 
 def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
@@ -370,11 +380,28 @@ def rates_reaching(br: BlockRows, loss: LossModel, floor: AlgebraicNumber) -> li
     tau = math.log(low.numerator) - math.log(low.denominator) if low > 0 else math.log(float(floor))
     tau -= 1e-6 * (1 + abs(tau))
     sets = _reaching(br, rates, patterns, tau)
+    while not low > 0:   # a positive rational below floor: the generic rates are cut against it
+        low = floor.refine((floor.interval[1] - low) / 4).interval[0]
+    if sets is None:
+        sets = _reaching_beyond_listing(br, rates, low)
     if sets is None:
         sets = list(capped_hyperplanes(br))
     sets = [H for H in sets if sum(patterns.log_rate(H)) >= tau]  # float log plus its proved error
     rated = ((H, exact_rate(patterns.rate(H))) for H in sets)
     return [(H, v) for H, v in rated if not floor > v]
+
+
+def _reaching_beyond_listing(br: BlockRows, rates: Sequence[FactorRates], low: Fraction) -> list[frozenset[int]] | None:
+    """Where listing would be refused (:func:`_general_position`): the special hyperplanes and, per
+    rate of ``n - 1`` live elements at least ``low``, one set of such elements
+    (:func:`symkf.engine.generic_hyperplanes.reaching_elements`: every generic hyperplane is such a
+    set, and every such set lies in a hyperplane, so their rates reaching ``low`` are the
+    hyperplanes' that do).  None when that does not apply."""
+    if not _general_position(br):
+        return None
+    generic = generic_hyperplanes.reaching_elements(br, rates, low)
+    special = None if generic is None else _special(br)
+    return None if special is None else special + generic
 
 
 def _decide(sets: list[frozenset[int]], patterns: Patterns) -> BlockRate:

@@ -1157,6 +1157,38 @@ def real_from_ball(poly: flint.fmpz_poly, index: int) -> AlgebraicNumber:
     return AlgebraicNumber._irreducible(poly, index)
 
 
+def _evaluator(poly: flint.fmpq_poly) -> Callable[[Callable[[], flint.arb], Fraction, int], flint.arb]:
+    """``(ball, size, prec) -> poly(ball())`` for a real ball made by ``ball()`` with ``|x| <= size``,
+    at a working precision above ``prec`` by the bits of ``sum_i |c_i| max(1, size)^i``
+    (:func:`_working_precision`; the ball is made at that precision too: an exact rational point
+    stays exact).  At ``prec`` alone, a margin of degree 744 with 1252-bit coefficients was never
+    told from a threshold, and the ball of :func:`decreasing_root` stayed the whole interval: every
+    factor's roots were isolated, 13 CPU-s for one of degree 248."""
+    coeffs, work = poly.coeffs(), _working_precision(poly)
+
+    def at(ball: Callable[[], flint.arb], size: Fraction, prec: int) -> flint.arb:
+        return with_prec(work(size, prec), lambda: flint.arb_poly([flint.arb(c) for c in coeffs])(ball())
+                         if coeffs else flint.arb(0))
+    return at
+
+
+def _working_precision(poly: flint.fmpq_poly) -> Callable[[Fraction, int], int]:
+    """``(size, prec) ->`` ``prec`` plus the bits of ``sum_i |c_i| max(1, size)^i``: Horner's rounding
+    errors in arb are relative to that sum, so at this precision ``poly(x)`` for ``|x| <= size`` is
+    good to about ``2^-prec`` (beside the radius of ``x``)."""
+    top = max((int(c.p).bit_length() - int(c.q).bit_length() for c in poly.coeffs() if c != 0), default=0)
+    degree = max(poly.degree(), 0)
+
+    def work(size: Fraction, prec: int) -> int:
+        grow = max(0, size.numerator.bit_length() - size.denominator.bit_length() + 1)
+        return prec + max(0, top + degree * grow + degree.bit_length()) + 16
+    return work
+
+
+def _point(x: Fraction) -> Callable[[], flint.arb]:
+    return lambda: flint.arb(flint.fmpq(x.numerator, x.denominator))
+
+
 def decreasing_root(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction, hi: Fraction) -> AlgebraicNumber | None:
     """The root of ``poly(q) = value`` in ``[lo, hi)`` of a rational polynomial strictly decreasing
     there; None when ``poly(lo) < value`` or ``poly(hi) >= value`` (there is none).
@@ -1171,31 +1203,176 @@ def decreasing_root(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction,
         return Fraction(int(v.p), int(v.q))
     if value > at(lo) or not value > at(hi):
         return None
-    mu = [int(c) for c in value._poly.coeffs()]
-    composed = flint.fmpq_poly([mu[-1]])
-    for c in reversed(mu[:-1]):
-        composed = composed * poly + c
-    coeffs = poly.coeffs()
+    composed = _composed(value, poly)
+    evaluate, size = _evaluator(poly), max(abs(lo), abs(hi))
 
     def sign(q: Fraction, prec: int) -> int:  # of poly(q) - value, 0 when the balls cannot tell
-        x, v = flint.arb(flint.fmpq(q.numerator, q.denominator)), flint.arb(0)
-        for c in reversed(coeffs):
-            v = v * x + flint.arb(c)
-        v -= value._ball(prec).real
+        v = evaluate(_point(q), size, prec) - value._ball(prec).real
         return 1 if v > 0 else -1 if v < 0 else 0
 
     def ball_at(prec: int) -> flint.acb:
         a, b = lo, hi
         for _ in range(prec + 8):
             mid = (a + b) / 2
-            s = with_prec(prec, lambda: sign(mid, prec))
+            s = sign(mid, prec)
             if s == 0:
                 break
             a, b = (mid, b) if s > 0 else (a, mid)
-        return with_prec(prec, lambda: flint.acb(flint.arb(flint.fmpq(a.numerator, a.denominator)).union(
-            flint.arb(flint.fmpq(b.numerator, b.denominator)))))
+        return _interval_ball(a, b, prec)
     f, index = identify(composed.numer(), ball_at, "root of a decreasing polynomial", real=True)
     return AlgebraicNumber._irreducible(f, index)
+
+
+def _composed(value: AlgebraicNumber, poly: flint.fmpq_poly) -> flint.fmpq_poly:
+    """``mu(poly(q))``, ``mu`` the minimal polynomial of ``value``: it vanishes where ``poly`` meets
+    ``value`` or one of its conjugates."""
+    mu = [int(c) for c in value._poly.coeffs()]
+    composed = flint.fmpq_poly([mu[-1]])
+    for c in reversed(mu[:-1]):
+        composed = composed * poly + c
+    return composed
+
+
+def _interval_ball(a: Fraction, b: Fraction, prec: int) -> flint.acb:
+    return with_prec(prec, lambda: flint.acb(flint.arb(flint.fmpq(a.numerator, a.denominator)).union(
+        flint.arb(flint.fmpq(b.numerator, b.denominator)))))
+
+
+def unit_roots(poly: flint.fmpz_poly) -> list[tuple[Fraction, Fraction]]:
+    """Isolating intervals ``[lo, hi]`` (dyadic rationals, ascending) of the real roots in the open
+    interval ``(0, 1)`` of a squarefree integer polynomial, each holding exactly one root (``lo =
+    hi`` for a rational root met exactly, else no root at either end): no complex root is isolated.
+
+    Descartes' rule of signs with bisection (Collins and Akritas, "Polynomial real root isolation
+    using Descartes' rule of signs", SYMSAC 1976): ``p_(c, k)(x) = 2^(k d) poly((x + c) / 2^k)``
+    has its roots in ``(0, 1)`` where ``poly`` has them in ``(c / 2^k, (c + 1) / 2^k)``; the sign
+    variations of ``(x + 1)^d p(1 / (x + 1))`` bound their number and equal it when they are 0 or
+    1, and a squarefree polynomial's intervals reach 0 or 1 after finitely many halvings (Vincent's
+    theorem).  A root at a midpoint is the constant term of the right half, taken out exactly."""
+    if poly.degree() < 1:
+        return []
+    one = flint.fmpz_poly([1, 1])
+    out = []
+
+    def reversed_padded(p: flint.fmpz_poly, d: int) -> flint.fmpz_poly:
+        coeffs = [int(c) for c in p.coeffs()] + [0] * (d + 1 - len(p.coeffs()))
+        return flint.fmpz_poly(coeffs[::-1])
+
+    top = poly
+    while int(top.coeffs()[0]) == 0:   # roots at 0 lie outside the open interval
+        top = flint.fmpz_poly([int(c) for c in top.coeffs()[1:]])
+    # (c, k, p, whether the interval's left and right ends are roots: then it is halved further,
+    # so that each interval given holds its root inside and none at an end)
+    stack = [(0, 0, top, poly(0) == 0, poly(1) == 0)]
+    while stack:
+        c, k, p, left_root, right_root = stack.pop()
+        d = p.degree()
+        count = _sign_changes(reversed_padded(p, d)(one))
+        if count == 0:
+            continue
+        if count == 1 and not (left_root or right_root):
+            out.append((Fraction(c, 2 ** k), Fraction(c + 1, 2 ** k)))
+            continue
+        left = flint.fmpz_poly([int(a) << (d - i) for i, a in enumerate(p.coeffs())])   # 2^d p(x / 2)
+        right = left(one)                                                               # 2^d p((x + 1) / 2)
+        middle = int(right.coeffs()[0]) == 0
+        if middle:   # the midpoint is a root
+            out.append((Fraction(2 * c + 1, 2 ** (k + 1)),) * 2)
+            right = flint.fmpz_poly([int(a) for a in right.coeffs()[1:]])
+        stack += [(2 * c + 1, k + 1, right, middle, right_root), (2 * c, k + 1, left, left_root, middle)]
+    return sorted(out)
+
+
+def _sign_changes(p: flint.fmpz_poly) -> int:
+    signs = [c > 0 for c in (int(v) for v in p.coeffs()) if c != 0]
+    return sum(a != b for a, b in zip(signs, signs[1:]))
+
+
+def root_between(poly: flint.fmpz_poly, lo: Fraction, hi: Fraction) -> AlgebraicNumber:
+    """The root of the squarefree integer ``poly`` in ``[lo, hi]``, which holds exactly one
+    (:func:`unit_roots`), identified by a ball from bisection on exact signs (:func:`narrowed`):
+    only the roots of the factor that vanishes on the ball are isolated."""
+    if lo == hi:
+        return AlgebraicNumber.from_expr(sp.Rational(lo.numerator, lo.denominator))
+    state = [lo, hi]
+
+    def ball_at(prec: int) -> flint.acb:
+        state[:] = narrowed(poly, *state, Fraction(1, 2 ** prec))
+        return _interval_ball(*state, prec)
+    f, index = identify(poly, ball_at, "root in an isolating interval")
+    return AlgebraicNumber._irreducible(f, index)
+
+
+def narrowed(poly: flint.fmpz_poly, lo: Fraction, hi: Fraction, width: Fraction) -> tuple[Fraction, Fraction]:
+    """``[lo, hi]``, holding exactly one root of the squarefree ``poly``, halved on exact signs of
+    ``poly`` until it is at most ``width`` wide (a point when a midpoint is the root)."""
+    q = flint.fmpq_poly(poly)
+
+    def sign(x: Fraction) -> int:
+        v = q(flint.fmpq(x.numerator, x.denominator))
+        return (v > 0) - (v < 0)
+    s = sign(lo)
+    while hi - lo > width:
+        mid = (lo + hi) / 2
+        t = sign(mid)
+        if t == 0:
+            return mid, mid
+        lo, hi = (mid, hi) if t == s else (lo, mid)
+    return lo, hi
+
+
+def crossings_in_unit(poly: flint.fmpq_poly, value: AlgebraicNumber) -> list[tuple[flint.fmpz_poly, Fraction, Fraction]]:
+    """Where ``poly(q)`` may meet ``value`` for ``q`` in ``(0, 1)``: the real roots there of
+    ``mu(poly(q))`` (``mu`` the minimal polynomial of ``value``; a root may be where ``poly`` meets a
+    conjugate), as ``(part, lo, hi)``: a squarefree part of it and an isolating interval of one of
+    its roots (:func:`unit_roots`; :func:`root_between` makes it exact)."""
+    composed = _composed(value, poly).numer()
+    if composed.degree() < 1:
+        return []
+    return [(part, lo, hi) for part, _ in composed.factor_squarefree()[1] for lo, hi in unit_roots(part)]
+
+
+def exceeds(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction, hi: Fraction, prec: int = 64) -> bool:
+    """Whether ``poly > value`` on all of ``[lo, hi]``, certified (False when the balls cannot tell):
+    ``poly(m + t) = sum_k a_k t^k`` at the midpoint ``m`` in arb, and ``|t| <= r`` the half-width, so
+    ``poly`` lies in ``a_0 +- sum_(k >= 1) |a_k| r^k`` there (evaluating the monomial form on the
+    interval instead loses every bit to the cancellation of coefficients of 2^93 around 10^-15)."""
+    mid, half = (lo + hi) / 2, (hi - lo) / 2
+    coeffs = poly.coeffs()
+    if not coeffs:
+        return bool(0 > value)
+
+    def enclosure() -> flint.arb:
+        at_mid = flint.arb_poly([flint.arb(c) for c in coeffs])(flint.arb_poly([_point(mid)(), 1])).coeffs()
+        r = _point(half)()
+        spread = sum((abs(a) * r ** k for k, a in enumerate(at_mid) if k), flint.arb(0))
+        return at_mid[0] + flint.arb(0, 1) * spread
+    v = with_prec(_working_precision(poly)(max(abs(lo), abs(hi)), prec), enclosure)
+    return bool(v > value._ball(prec).real)
+
+
+def sign_at(poly: flint.fmpq_poly, x: AlgebraicNumber, value: AlgebraicNumber) -> int:
+    """The sign (-1, 0, 1) of ``poly(x) - value``, exactly: 0 when ``x``'s minimal polynomial divides
+    ``mu(poly)`` (``mu`` that of ``value``) and ``poly(x)`` is the root of ``mu`` that ``value`` is
+    (:func:`identify`); otherwise the two differ, and balls of growing precision separate them."""
+    evaluate, size = _evaluator(poly), max(abs(x.interval[0]), abs(x.interval[1]))
+    if x.is_rational:
+        v = poly(flint.fmpq(x._value().numerator, x._value().denominator))
+        return -value._compare(Fraction(int(v.p), int(v.q)))
+    composed = _composed(value, poly).numer()
+    if composed.is_zero() or (composed % x._poly).is_zero():
+        if value.is_rational:
+            return 0
+        f, index = identify(value._poly, lambda prec: flint.acb(evaluate(lambda: x._ball(prec).real, size, prec)),
+                            "value at a root")
+        if index == value._index:
+            return 0
+    prec = 64
+    while True:
+        v = evaluate(lambda: x._ball(prec).real, size, prec) - value._ball(prec).real
+        if v > 0 or v < 0:
+            return 1 if v > 0 else -1
+        prec *= 2
 
 
 def sign(expr: Any) -> int:

@@ -671,6 +671,9 @@ def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
     else:
         raise InputError(f"{entry}: {described(value)} is not an exact number "
                          "(give an int, Fraction, Decimal, a string like '5/4' or '0.1', or a sympy expression)")
+    if isinstance(out, sp.Rational):   # finite, algebraic, no symbol: only its size is left to check
+        budget.check("max_digits", _digits(out), entry, "the number of digits (about) of a rational in its value")
+        return out
     if out.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
         raise InputError(f"{entry}: {described(value)} is not a finite number")
     # what the parser's estimates let through is measured once evaluated: no later conversion

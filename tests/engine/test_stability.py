@@ -425,3 +425,39 @@ def test_critical_value_of_a_complex_pair_needs_no_sympy_root_isolation(monkeypa
     eps = sk.critical_loss_rate(S)
     assert eps.exact == sp.Pow(sp.CRootOf(square.minpoly, square._index), sp.Rational(-1, 3))
     assert abs(float(eps) - float(top.modulus) ** (-2 / 3)) < 1e-12
+
+
+#: a channel shared by two sensors: (received, received), (received, lost), ... (bursty, correlated)
+PAIR = {(1, 1): {(1, 1): "4/5", (1, 0): "1/20", (0, 1): "1/20", (0, 0): "1/10"},
+        (1, 0): {(1, 1): "1/2", (1, 0): "1/5", (0, 1): "1/10", (0, 0): "1/5"},
+        (0, 1): {(1, 1): "1/2", (1, 0): "1/10", (0, 1): "1/5", (0, 0): "1/5"},
+        (0, 0): {(1, 1): "2/5", (1, 0): "1/10", (0, 1): "1/10", (0, 0): "2/5"}}
+
+
+def _joint(pairs: int) -> sk.MarkovLoss:
+    """The pairs' channels as one joint chain on 4^pairs receival vectors (the product law)."""
+    import itertools
+    table = {}
+    for hist in itertools.product(PAIR, repeat=pairs):
+        table[sum(hist, ())] = {sum(nxt, ()): sp.Mul(*[sp.Rational(PAIR[h][n]) for h, n in zip(hist, nxt)])
+                                for nxt in itertools.product(PAIR, repeat=pairs)}
+    return sk.MarkovLoss(table)
+
+
+@pytest.mark.parametrize("pairs, rows", [
+    (3, [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [1, 1, 1, 1], [1, -1, 0, 2]]),
+    (4, [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [1, 1, 1, 1], [1, -1, 0, 2], [2, 0, -1, 1],
+         [0, 1, 2, -2]]),
+])
+def test_a_joint_chain_of_independent_pairs_decides_as_the_pairs(pairs, rows):
+    """Correlated sensor pairs as one joint chain of 64 and 256 states (the latter within the default
+    ``max_markov_states``) give the margins of the same pairs as independent factors, exactly: a
+    restricted transfer of a product chain is the Kronecker product of the pairs', and its Perron
+    root the product of theirs (the joint chain's patterns with every phase inside the hyperplane go
+    through its exact 64- or 256-state transfer)."""
+    S = sk.System(A=sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)),
+                  sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)])
+    joint = stability(S, _joint(pairs))
+    apart = stability(S, sk.Independent([sk.MarkovLoss(PAIR) for _ in range(pairs)]))
+    assert [m.exact for m in joint.margins] == [m.exact for m in apart.margins]
+    assert joint.stable == apart.stable

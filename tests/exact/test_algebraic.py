@@ -448,3 +448,72 @@ def test_real_kth_root_of_a_known_root_matches_isolation(monkeypatch):
             coeffs[k * j] = int(c)
         expected = algebraic.identify(flint.fmpz_poly(coeffs), ball)
         assert algebraic.real_kth_root(gamma, k, ball, "root") == expected
+
+
+def test_decreasing_root_of_a_high_power_is_isolated_by_a_narrow_ball(monkeypatch) -> None:
+    """``(1 - q)^200 = 2^-48`` on ``[0, 1)``: ``q = 1 - 2^(-6/25)`` (by hand).  The coefficients
+    ``C(200, k)`` reach 2^196 while the values near the root are 2^-48: the bisection must decide
+    signs above that cancellation, so the ball handed to the identification is narrow (a ball of
+    the whole interval isolates the roots of every factor of the composed polynomial, degrees 25,
+    25, 50 and 100)."""
+    import flint
+    from symkf.exact import algebraic
+    widths = []
+    identify = algebraic.identify
+
+    def watched(poly, ball_at, what="number", **flags):
+        widths.append(float(ball_at(64).real.rad()))
+        return identify(poly, ball_at, what, **flags)
+    monkeypatch.setattr(algebraic, "identify", watched)
+    poly = flint.fmpq_poly([1, -1]) ** 200
+    root = algebraic.decreasing_root(poly, AlgebraicNumber.from_expr(sp.Rational(1, 2 ** 48)), Fraction(0), Fraction(1))
+    assert root == AlgebraicNumber.from_expr(1 - sp.Integer(2) ** sp.Rational(-6, 25))
+    assert widths and widths[0] < 2.0 ** -50
+
+
+def test_unit_roots_isolate_the_roots_in_the_open_unit_interval() -> None:
+    """``(2x - 1)(3x - 1)(x^2 - 2)(5x^2 - 5x + 1) x (x - 1)``: in (0, 1) the roots 1/3, 1/2 (met
+    exactly at a midpoint) and ``(5 -+ sqrt 5)/10`` (by hand: ~0.276 and ~0.724); 0, 1 and
+    ``sqrt 2`` lie outside.  Each interval holds its root and is made exact by root_between."""
+    import flint
+    from symkf.exact.algebraic import root_between, unit_roots
+    poly = math.prod((flint.fmpz_poly(c) for c in ([-1, 2], [-1, 3], [-2, 0, 1], [1, -5, 5], [0, 1], [-1, 1])),
+                     start=flint.fmpz_poly([1]))
+    brackets = unit_roots(poly)
+    want = [(5 - sp.sqrt(5)) / 10, sp.Rational(1, 3), sp.Rational(1, 2), (5 + sp.sqrt(5)) / 10]
+    assert len(brackets) == 4 and (Fraction(1, 2), Fraction(1, 2)) in brackets
+    for (lo, hi), root in zip(brackets, want):
+        assert lo <= root <= hi and root_between(poly, lo, hi) == AlgebraicNumber.from_expr(root)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.integers(-12, 12), min_size=3, max_size=10))
+def test_unit_roots_find_every_real_root_in_the_unit_interval(coeffs) -> None:
+    # against the real roots of flint's isolation of every complex root, factor by factor
+    import flint
+    from symkf.exact.algebraic import _real_roots, root_between, unit_roots
+    poly = flint.fmpz_poly(coeffs)
+    if poly.degree() < 1:
+        return
+    for f, _ in poly.factor()[1]:
+        want = [r for r in _real_roots(f) if 0 < r < 1]
+        assert [root_between(f, lo, hi) for lo, hi in unit_roots(f)] == want
+
+
+def test_sign_at_an_algebraic_point_is_exact() -> None:
+    """``2x^2 - 1`` at ``x = sqrt(2)/2`` is 0; ``x`` at it equals ``sqrt(2)/2`` and not
+    ``-sqrt(2)/2`` (a conjugate: both roots of the minimal polynomial of the value); ``3x^2``
+    exceeds 1 there, and over an interval around 3/10 ``3 (1 - x)^96 ~ 4.04e-15`` exceeds 10^-16
+    but not 10^-14 (its coefficients reach 2^93: the interval is bounded through the Taylor form)."""
+    import flint
+    from symkf.exact.algebraic import exceeds, sign_at
+    x = AlgebraicNumber.from_expr(sp.sqrt(2) / 2)
+    one, half = AlgebraicNumber.from_expr(1), AlgebraicNumber.from_expr(sp.sqrt(2) / 2)
+    assert sign_at(flint.fmpq_poly([-1, 0, 2]), x, AlgebraicNumber.from_expr(0)) == 0
+    assert sign_at(flint.fmpq_poly([0, 1]), x, half) == 0
+    assert sign_at(flint.fmpq_poly([0, 1]), x, AlgebraicNumber.from_expr(-sp.sqrt(2) / 2)) == 1
+    assert sign_at(flint.fmpq_poly([0, 0, 3]), x, one) == 1 and sign_at(flint.fmpq_poly([0, 0, 1]), x, one) == -1
+    p = flint.fmpq_poly([1, -1]) ** 96 * 3
+    lo, hi = Fraction(3, 10), Fraction(3, 10) + Fraction(1, 2 ** 40)
+    assert exceeds(p, AlgebraicNumber.from_expr(sp.Rational(1, 10 ** 16)), lo, hi)
+    assert not exceeds(p, AlgebraicNumber.from_expr(sp.Rational(1, 10 ** 14)), lo, hi)

@@ -102,8 +102,8 @@ def test_undetectable_pair_names_the_mode():
     (lambda: sk.System(A=[[1 if i == j else 0 for j in range(1000)] for i in range(1000)],
                        sensors=[sk.Sensor(C=[[1] * 1000])]), "--max-dimension"),
     (lambda: sk.IID(["1/2"] * (2 ** 14 + 1)), "--max-sensors"),
-    (lambda: sk.MarkovLoss({h: {(0,): "1/2", (1,): "1/2"} for h in itertools.product([(0,), (1,)], repeat=8)},
-                           order=8), "--max-markov-states"),
+    (lambda: sk.MarkovLoss({h: {(0,): "1/2", (1,): "1/2"} for h in itertools.product([(0,), (1,)], repeat=9)},
+                           order=9), "--max-markov-states"),
 ])
 def test_large_inputs_refused_early(build, option):
     with pytest.raises(BudgetError, match=option):
