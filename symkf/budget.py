@@ -101,7 +101,7 @@ class Limits:
     #: screen keeps (``kept sets x points``), and the hyperplanes a decay rate lists when no screen
     #: applies (``C(V, n - 1)`` for V distinct generators in K^n, or fewer through the flats of
     #: elements of several generators: BlockRows.listing_estimate; times the degree of K; their
-    #: memory meets ``max_memory``).  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
+    #: memory meets ``max_memory``), and a margin polynomial built for each listed hyperplane.  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
     #: incidences, 48 CPU-s estimated, 34 measured; on Gilbert-Elliott channels its two screens,
     #: 96, refused at once; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about
     #: 10^42 incidences
@@ -177,6 +177,11 @@ COSTS = {
     #: of the block's field: 1.2 million over a field of degree 8 took 12 CPU-s, 597 000 over one of
     #: degree 120 51 CPU-s
     "hyperplane degree": 1e-6,
+    #: a hyperplane's margin built as a polynomial in the loss model's parameters (the critical
+    #: recovery rate's list, symkf.engine.recovery.listed_margins, and the symbolic stable set,
+    #: symkf.engine.region.ge_margins), per hyperplane listed: C(36, 5) = 376 992 of the 6-dim block
+    #: (3/2) diag(R(pi/2), R(pi/3), R(2 pi/3)) with three Gilbert-Elliott sensors took about 50 CPU-s
+    "margin": 130e-6,
     #: a point tested against a set kept by a screen, to close it mod p (the kept sets of a low
     #: floor: each is closed over every point, then confirmed exactly)
     "kept point": 0.5e-6,

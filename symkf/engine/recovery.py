@@ -48,7 +48,7 @@ import sympy as sp
 from ..arguments import check_public
 from ..errors import AssumptionError, InputError
 from .rates import FactorRates, Patterns, factor_rates
-from .search import block_rate, first_screen, listed_hyperplanes, rates_reaching
+from .search import block_rate, first_screen, listed_hyperplanes, price_margins, rates_reaching
 from ..exact.algebraic import AlgebraicNumber, crossings_in_unit, decreasing_root, exceeds, narrowed, root_between, sign_at
 from ..exact.numbers import sympify
 from ..model.gilbert_elliott import GilbertElliott
@@ -213,7 +213,11 @@ def listed_margins(system: System, fail: Sequence[sp.Rational], recover: Sequenc
     channels = _Channels.of(system.d, fail, recover, sensor)
     if channels is None:
         return None
-    return [(_threshold(br), channels.rates(br, listed_hyperplanes(br))) for br in block_rows(system)]
+    out = []
+    for br in block_rows(system):
+        price_margins(br, "the margin polynomial")
+        out.append((_threshold(br), channels.rates(br, listed_hyperplanes(br))))
+    return out
 
 
 def listed_intervals(margins: Sequence[tuple[AlgebraicNumber, Sequence[flint.fmpq_poly]]]

@@ -28,7 +28,7 @@ import sympy as sp
 
 from ..arguments import check_public
 from .rates import hyperplane_rate
-from .search import capped_hyperplanes, outside_counts
+from .search import capped_hyperplanes, outside_counts, price_margins
 from ..errors import InputError
 from ..exact.algebraic import AlgebraicNumber, root_between, sign, sympy_to_fmpz, unit_roots
 from ..exact.numbers import sympify, to_exact
@@ -240,6 +240,7 @@ def ge_margins(system: System, loss: LossModel) -> list[sp.Expr]:
     for br in block_rows(system):
         growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
         seen = set()
+        price_margins(br, "the symbolic margin")
         for H in capped_hyperplanes(br):
             m = sp.expand(growth * hyperplane_rate(br, H, loss))
             if m not in seen:

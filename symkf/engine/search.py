@@ -70,6 +70,16 @@ def listed_hyperplanes(br: BlockRows) -> np.ndarray | list[frozenset[int]]:
     return br.inside
 
 
+def price_margins(br: BlockRows, what: str) -> None:
+    """Refuse, before the hyperplanes are listed, a step that builds ``what`` for each of them when
+    its estimated work (``budget.COSTS["margin"]`` per hyperplane of
+    :meth:`BlockRows.listing_estimate`) is above ``max_work``."""
+    if "inside" not in br.__dict__ and br.size > 1:
+        estimate, formula = br.listing_estimate()
+        budget.price(lambda: f"eigen-block of modulus {br.block.modulus}",
+                     lambda: f"{what} of every hyperplane ({formula})", margin=estimate)
+
+
 #: estimated CPU seconds (``budget.COSTS["hyperplane degree"]``) of a listing above which a block
 #: in general position goes through its special and generic hyperplanes (:func:`_beyond_listing`)
 #: rather than the list: about 300 000 hyperplanes over a field of degree 8

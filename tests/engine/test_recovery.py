@@ -173,6 +173,20 @@ def test_recovery_of_a_block_in_general_position_without_the_list(monkeypatch):
     assert _stable_around(SIX, SIX_FAIL, qc) == (False, True)
 
 
+def test_listing_every_margin_is_priced_before_a_hyperplane_is_listed():
+    """The 6-dim block's C(36, 5) = 376 992 margins at 130 µs each (budget.COSTS["margin"]) are
+    about 49 CPU-s: under a max_work of 10 CPU-s both routes that build every margin, in flint and
+    in sympy, are refused at once, naming the cap and the count."""
+    from symkf import budget
+    from symkf.engine.recovery import _monotone_recovery
+    from symkf.errors import BudgetError
+    with budget.limits(max_work=10_000):
+        with pytest.raises(BudgetError, match=r"max_work.*376992 margins"):
+            _monotone_recovery(SIX, SIX_FAIL, None, None)[2]()
+        with pytest.raises(BudgetError, match=r"max_work.*376992 margins"):
+            _every_hyperplane(SIX, SIX_FAIL)
+
+
 @pytest.mark.full  # the list of C(36, 5) hyperplanes: about 50 CPU-s
 def test_recovery_of_a_block_in_general_position_equals_the_raised_list():
     # every hyperplane's margin built in flint (recovery.listed_margins), as the fallback lists them
