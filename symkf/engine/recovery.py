@@ -54,7 +54,7 @@ from ..exact.numbers import sympify
 from ..model.gilbert_elliott import GilbertElliott
 from ..model.loss import LossModel
 from ..model.system import System
-from .rows import BlockRows, _set, as_rows
+from .rows import BlockRows, _set, _as_rows
 from .blocks import block_rows
 from .region import ge_margins, simplest, stable_intervals, stable_set
 from .stability import _check_loss, stability
@@ -185,7 +185,7 @@ class _Channels:
         one: each is solved once), built once per combination of the factors' :func:`_shape` (tens of
         thousands of listed hyperplanes have a few hundred); a pattern's runs do not depend on ``q``."""
         patterns = Patterns(br, factor_rates(br, self.model(sp.Rational(1, 2))))
-        rows = as_rows(sets, len(br.elements))
+        rows = _as_rows(sets, len(br.elements))
         # per factor, the shape of each of its distinct patterns; then one hyperplane per combination
         # of shapes (numpy, not a set per hyperplane: 135 568 listed ones of four sensors at period 24)
         ids = []

@@ -569,7 +569,7 @@ def _set(row: np.ndarray) -> frozenset[int]:
     return frozenset(np.flatnonzero(row).tolist())
 
 
-def as_rows(sets, elements: int) -> np.ndarray:
+def _as_rows(sets, elements: int) -> np.ndarray:
     """Element sets as boolean rows over ``elements`` columns (boolean rows pass through)."""
     if isinstance(sets, np.ndarray):
         return sets

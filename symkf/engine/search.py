@@ -28,7 +28,7 @@ from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import sympify
 from ..model.loss import LossModel
 from . import generic_hyperplanes
-from .rows import BlockRows, _set, as_rows
+from .rows import BlockRows, _set, _as_rows
 from .rates import BlockRate, FactorRates, Patterns, exact_rate, factor_rates
 
 
@@ -95,7 +95,7 @@ def capped_hyperplanes(br: BlockRows) -> tuple[frozenset[int], ...]:
 def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[int]]:
     """:func:`outside_counts` of the hyperplanes ``inside`` (boolean rows or index sets, in
     lexicographic order: the first hyperplane of each vector is kept)."""
-    inside = as_rows(inside, len(br.elements))
+    inside = _as_rows(inside, len(br.elements))
     sensor = np.array([e.sensor for e in br.elements])
     per_sensor = (sensor[:, None] == np.arange(sensor.max() + 1)).astype(np.int64)  # elements x d
     outside = (~inside).astype(np.int64) @ per_sensor                               # hyperplanes x d
