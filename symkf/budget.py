@@ -50,7 +50,7 @@ class Limits:
     #: of the bounds atlas, where its certificates are checked
     max_cyclotomic_degree: int = 1024
     #: bit size of the polynomial of the modulus of a complex eigenvalue of degree d, whose
-    #: construction and factorisation are the cost: (d(d - 1) + 1) (d - 1) sum_i log2(1 + |c lambda_i|)
+    #: construction and factorisation are the cost: (d(d - 1) + 1) (d - 1) sum_i log2(1 + abs(c lambda_i))
     #: for the products of pairs of conjugates (symkf.exact.spectral._pair_modulus_poly; a dense 64 x 64
     #: integer A has 5.6e7 bits and passes, a 16 x 16 A over Q(sqrt 2) 2.7e7), else (2D + 1) D b, D = d(d+1)/2, for the power sums of
     #: all products (symkf.exact.spectral._abs_poly) of a b-bit minimal polynomial

@@ -7,6 +7,7 @@ import itertools
 import pytest
 
 import symkf as sk
+from symkf import budget
 from symkf.engine import rates as engine_rates, search, rows as observability
 from symkf.engine.generic_hyperplanes import best_elements
 from symkf.engine.blocks import block_rows
@@ -90,10 +91,11 @@ def test_two_rotations_seen_by_two_sensors_on_gilbert_elliott_channels():
 
 @pytest.mark.full
 def test_two_rotations_on_gilbert_elliott_channels_agree_with_the_list(monkeypatch):
-    # the same system against the list, chosen whatever its estimate (about 40 CPU-s)
+    # the same system against the list, chosen whatever its estimate (about 40 CPU-s; priced at 72,
+    # above the default max_work)
     loss = GE(["1/3", "1/20"], ["1/4", "2/3"])
     got = sk.stability(stacked_rotations((7, 11), [[2, 1, 0, -1], [-2, -2, 2, 1]]), loss)
-    with monkeypatch.context() as m:
+    with monkeypatch.context() as m, budget.limits(max_work=200_000):
         m.setattr(search, "LIST_BELOW", float("inf"))
         want = sk.stability(stacked_rotations((7, 11), [[2, 1, 0, -1], [-2, -2, 2, 1]]), loss)
     assert [m.exact for m in got.margins] == [m.exact for m in want.margins]
