@@ -422,17 +422,30 @@ HANG_SECONDS = 60
 
 def _forked_calls(callables: list[tuple[str, Callable]], select: Callable[[str, str], bool]) -> list:
     """:func:`hostile_calls` of each callable in forked children, so that a death (a C library's
-    abort, a segmentation fault) or a hang past :data:`HANG_SECONDS` is seen and counted instead of ending the
-    walk: a child goes through the callables in turn, sending each one's result as it finishes (and
-    leaves after a callable that left a thread running); after a death the next child starts at the
-    callable that follows.  ``(qualname, result)`` in
-    order, the result a string for a death."""
+    abort, a segmentation fault) or a hang past :data:`HANG_SECONDS` is seen and counted instead of
+    ending the walk: a child goes through the callables in turn, sending each one's result as it
+    finishes (and leaves after a callable that left a thread running); after a death the next child
+    starts at the callable that follows.  A finding counts only as it reproduces from a clean state:
+    one made in a child that ran other callables before is made again in a child of its own, whose
+    result replaces it.  ``(qualname, result)`` in order, the result a string for a death."""
+    out, fresh = _children(callables, select, every=False)
+    for i, (qualname, result) in enumerate(out):
+        if not isinstance(result, str) and result.get("found") and i not in fresh:
+            out[i] = _children([callables[i]], select, every=True)[0][0]
+    return out
+
+
+def _children(callables: list[tuple[str, Callable]], select: Callable[[str, str], bool],
+              every: bool) -> tuple[list, set[int]]:
+    """The forked runs of :func:`_forked_calls` (with ``every``, a child for each callable) and the
+    indices of the callables that ran first in their child."""
     import os
     import pickle
     import struct
     import threading
-    out, start = [], 0
+    out, fresh, start = [], set(), 0
     while start < len(callables):
+        fresh.add(start)
         read, write = os.pipe()
         pid = os.fork()
         if pid == 0:   # the child: report and leave without running the parent's clean-up
@@ -446,7 +459,7 @@ def _forked_calls(callables: list[tuple[str, Callable]], select: Callable[[str, 
                         data = pickle.dumps({"failure": repr(exc)[:300]})
                     pipe.write(struct.pack("<Q", len(data)) + data)
                     pipe.flush()
-                    if threading.active_count() > 1:   # a thread the call left running: a fresh child goes on
+                    if every or threading.active_count() > 1:   # a thread the call left running: a fresh child goes on
                         break
             os._exit(0)
         os.close(write)
@@ -466,7 +479,7 @@ def _forked_calls(callables: list[tuple[str, Callable]], select: Callable[[str, 
             signal_number = os.WTERMSIG(status) if os.WIFSIGNALED(status) else "?"
             out.append((callables[start][0], f"ended by signal {signal_number}"))
             start += 1
-    return out
+    return out, fresh
 
 
 def hostile_walk(prefix: str, select: Callable[[str, str], bool], forked: bool) -> dict:
@@ -555,6 +568,24 @@ def test_the_forked_walk_counts_a_death_and_a_hang_and_goes_on_after_them_and_a_
     assert results[1][1] == f"ended by signal {int(signal.SIGSEGV)}"
     assert results[3][1] == f"ended by signal {int(signal.SIGKILL)}"
     assert [results[i][1]["calls"] for i in (0, 2, 4, 5)] == [1, 1, 1, 1]
+
+
+def test_the_forked_walk_counts_a_finding_only_as_it_reproduces_in_a_child_of_its_own():
+    state = []
+
+    def leave_state():
+        state.append(1)
+
+    def fail_after_state():
+        if state:
+            raise RuntimeError("depends on an earlier call in the same child")
+
+    def fail_always():
+        raise RuntimeError("a finding")
+
+    results = dict(_forked_calls([("leave", leave_state), ("after", fail_after_state), ("always", fail_always)],
+                                 lambda key, form: form == "None"))
+    assert not results["after"]["found"] and results["always"]["found"]
 
 
 def test_subpackages_cover_every_module():
