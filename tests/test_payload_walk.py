@@ -30,6 +30,7 @@ import pkgutil
 import signal
 import sys
 import time
+import traceback
 import zlib
 from fractions import Fraction
 from pathlib import Path
@@ -410,10 +411,20 @@ def hostile_calls(qualname: str, fn: Callable, select: Callable[[str, str], bool
                     found[(name, "string evaluation")] += 1
                 elif exc is not None and not _allowed(qualname, exc):
                     found[(name, type(exc).__name__)] += 1
-                    examples.setdefault((name, type(exc).__name__), f"{form}: {str(exc)[:160]}")
+                    examples.setdefault((name, type(exc).__name__), f"{form}: {str(exc)[:160]} ({_raised_at(exc)})")
     finally:
         signal.signal(signal.SIGPROF, old)
     return {"found": found, "examples": examples, "skips": skips, "calls": calls}
+
+
+def _raised_at(exc: BaseException) -> str:
+    """Where ``exc`` was raised: the innermost frame of its traceback and the innermost in symkf."""
+    frames = traceback.extract_tb(exc.__traceback__)
+    if not frames:
+        return "no traceback"
+    ours = [f for f in frames if "/symkf/" in f.filename]
+    shown = [frames[-1]] + ([ours[-1]] if ours and ours[-1] is not frames[-1] else [])
+    return ", in ".join(f"{Path(f.filename).name}:{f.lineno} {f.name}" for f in shown)
 
 
 #: wall seconds one callable may take in the forked walk before its child is counted as hung
@@ -586,6 +597,8 @@ def test_the_forked_walk_counts_a_finding_only_as_it_reproduces_in_a_child_of_it
     results = dict(_forked_calls([("leave", leave_state), ("after", fail_after_state), ("always", fail_always)],
                                  lambda key, form: form == "None"))
     assert not results["after"]["found"] and results["always"]["found"]
+    assert results["always"]["examples"][("", "RuntimeError")] == \
+        f"None: a finding (test_payload_walk.py:{fail_always.__code__.co_firstlineno + 1} fail_always)"
 
 
 def test_subpackages_cover_every_module():

@@ -38,7 +38,7 @@ def test_no_loss_grid_point_meeting_the_margin_is_cheaper():
     S = stacked_rotations([4, 6], [[1, 0, 1, 1], [0, 1, 1, -1], [1, 1, 0, 1]])
     weights = [1, 2, 3]
     a = sk.design.allocate_channels(S, weights, margin="3/4")
-    grid = [sp.Rational(k, 20) for k in range(1, 21)]
+    grid = [sp.Rational(k, 10) for k in range(1, 11)]
     cheapest = math.inf
     for eps in itertools.product(grid, repeat=3):
         cost = sum(-w * math.log(e) for w, e in zip(weights, eps))
