@@ -43,7 +43,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .errors import ArgumentError, InputError
+from .errors import ArgumentError, InputError, SymkfError
 
 _ABSENT = object()
 
@@ -276,6 +276,23 @@ def _price(value: Any, entry: str, depth: int = 0) -> None:
             return
     matrix = type(value).__module__.startswith("sympy.matrices")
     if depth >= 2 or not isinstance(value, (list, tuple)) and not matrix:
+        return
+    if matrix and hasattr(value, "values"):
+        # a sympy matrix's distinct nonzero entries, read from its internal representation: a
+        # 560 x 560 transfer of a few distinct numbers is priced in milliseconds, not entry by entry
+        # through sympy's indexing (its entries are all sympy numbers: measured by its larger side)
+        if len(value) > _SHORT:
+            for check in LENGTHS:
+                check(max(value.shape), entry)
+        refused = set()
+        for item in set(value.values()):
+            try:
+                _price(item, entry, depth + 1)
+            except SymkfError:
+                refused.add(item)
+        if refused:   # the first refused place in row-major order is priced again under its name, and raises
+            i, j = min(key for key, v in value.todok().items() if v in refused)
+            _price(value[i, j], f"{entry}[{i * value.shape[1] + j}]", depth + 1)
         return
     if len(value) > _SHORT:
         kinds = set(map(type, value))   # at C speed: a list of floats or strings is left at once

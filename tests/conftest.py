@@ -161,16 +161,16 @@ def library(call) -> int:
 
 
 def refused_at_once(call, cap: str | None = None, seconds: float = 1.0) -> int:
-    """For :func:`limited`: 0 when ``call()`` raises symkf's refusal within ``seconds``, naming the
+    """For :func:`limited`: 0 when ``call()`` raises symkf's refusal within ``seconds`` of CPU time (its own, so a loaded machine does not fail it), naming the
     cap ``cap`` (when given) and its command-line option; 1 otherwise (the message and time on stderr)."""
     import time
     import symkf as sk
     from symkf import budget
-    start = time.perf_counter()
+    start = time.process_time()
     try:
         call()
     except sk.SymkfError as exc:
-        took = time.perf_counter() - start
+        took = time.process_time() - start
         print(f"{took:.3f} s: {exc}", file=sys.stderr)
         named = cap is None or f"{cap}=" in str(exc) and budget.OPTIONS[cap] in str(exc)
         return 0 if took < seconds and named else 1

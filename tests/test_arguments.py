@@ -69,3 +69,24 @@ def test_a_long_list_of_sympy_numbers_is_refused_before_one_is_priced():
     with sk.budget.limits(max_priced_items=10 ** 4):   # raised, the list is priced
         with pytest.raises(InputError, match=r"loss\[0\]: sqrt\(2\)/2 \+ 1 is not a probability"):
             sk.IID([sp.sqrt(2) / 2 + 1] + radicals[1:100])
+
+
+def test_a_sympy_matrix_is_priced_by_its_distinct_entries_and_a_refused_one_is_named_by_its_place():
+    # a 600 x 600 matrix of two distinct numbers: pricing reads the distinct values from sympy's
+    # internal representation (entry by entry through its indexing took seconds); a refused entry is
+    # still named by its first place in row-major order, as a list of its entries would be
+    import sympy as sp
+
+    from conftest import limited, refused_at_once
+    from symkf.errors import BudgetError
+    big = sp.zeros(600, 600)
+    big[0, 1] = big[599, 599] = sp.Rational(1, 2)
+    code, err = limited(refused_at_once, lambda: sk.System(A=big, sensors=[sk.Sensor(C=[[1]])]), "max_dimension")
+    assert code == 0, err
+    M = sp.zeros(3, 3)
+    M[2, 1] = M[1, 2] = sp.Pow(10, 10 ** 10, evaluate=False)
+    with pytest.raises(BudgetError, match=r"^A\[5\]: the bit size"):
+        sk.System(A=M, sensors=[sk.Sensor(C=[[1, 0, 0]])])
+    M[1, 2] = sp.nan
+    with pytest.raises(InputError, match=r"^A\[5\]: nan is not a finite number"):
+        sk.System(A=M, sensors=[sk.Sensor(C=[[1, 0, 0]])])
