@@ -281,11 +281,13 @@ def _price(value: Any, entry: str, depth: int = 0) -> None:
         # a sympy matrix's distinct nonzero entries, read from its internal representation: a
         # 560 x 560 transfer of a few distinct numbers is priced in milliseconds, not entry by entry
         # through sympy's indexing (its entries are all sympy numbers: measured by its larger side)
-        if len(value) > _SHORT:
+        distinct = set(value.values())
+        if len(value) > _SHORT:   # by its larger side, and by its distinct numbers that cost more than a rational's bits
             for check in LENGTHS:
                 check(max(value.shape), entry)
+                check(sum(not getattr(item, "is_Rational", False) for item in distinct), entry)
         refused = set()
-        for item in set(value.values()):
+        for item in distinct:
             try:
                 _price(item, entry, depth + 1)
             except SymkfError:
