@@ -83,7 +83,7 @@ def test_a_sympy_matrix_is_priced_by_its_distinct_entries_and_a_refused_one_is_n
     big[0, 1] = big[599, 599] = sp.Rational(1, 2)
     code, err = limited(refused_at_once, lambda: sk.System(A=big, sensors=[sk.Sensor(C=[[1]])]), "max_dimension")
     assert code == 0, err
-    # distinct irrational entries are counted before one is priced (square roots of 2..4901: 70 squares among them)
+    # distinct irrational entries are counted before one is priced (square roots of 2..4901: 69 squares among them)
     radicals = sp.Matrix(70, 70, lambda i, j: sp.sqrt(70 * i + j + 2))
     code, err = limited(refused_at_once, lambda: sk.System(A=radicals, sensors=[sk.Sensor(C=[[1]])]), "max_priced_items")
     assert code == 0 and "is 4831, above the cap 4096" in err, err
