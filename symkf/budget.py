@@ -42,7 +42,7 @@ class Limits:
     #: a quarter of the degree of the cyclotomic field Q(zeta_m) holding the trigonometric constants
     #: and I of a number or matrix without radicals (its real subfield for real entries), times the
     #: size of the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and
-    #: its roots come from Euler's formula (2R(2 pi/1601), degree 3200: 4.4 CPU-s, 330 MB, passes;
+    #: its roots come from Euler's formula (2R(2 pi/1601), degree 3200: 2.1 CPU-s, 104 MB, passes;
     #: 2R(2 pi/2053), degree 4104, is refused);
     #: also phi(g) for an eigen-block over several diagonal blocks, g its class period (its field
     #: holds Q(zeta_g): four rotations 2R(2 pi/q), q = 5, 7, 9, 11, give phi(3465) = 1440; decided
