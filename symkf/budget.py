@@ -177,11 +177,16 @@ COSTS = {
     #: of the block's field: 1.2 million over a field of degree 8 took 12 CPU-s, 597 000 over one of
     #: degree 120 51 CPU-s
     "hyperplane degree": 1e-6,
-    #: a hyperplane's margin built as a polynomial in the loss model's parameters (the critical
-    #: recovery rate's list, symkf.engine.recovery.listed_margins, and the symbolic stable set,
-    #: symkf.engine.region.ge_margins), per hyperplane listed: C(36, 5) = 376 992 of the 6-dim block
-    #: (3/2) diag(R(pi/2), R(pi/3), R(2 pi/3)) with three Gilbert-Elliott sensors took about 50 CPU-s
-    "margin": 130e-6,
+    #: a hyperplane's margin built in flint as a polynomial in the recovery rate (the critical
+    #: recovery rate's list, symkf.engine.recovery.listed_margins), per hyperplane of the listing's
+    #: estimate: 11 to 26 µs on the rows of benchmarks/bench_margin_cost.py (4- and 6-dim blocks,
+    #: fields of degree 4 to 48; C(36, 5) = 376 992 of the 6-dim block (3/2) diag(R(pi/2), R(pi/3),
+    #: R(2 pi/3)) with three Gilbert-Elliott sensors, 6.9 CPU-s)
+    "margin": 20e-6,
+    #: the same margin built in sympy as a polynomial in the loss model's parameters (the symbolic
+    #: stable set, symkf.engine.region.ge_margins): 132 µs (period 35, two sensors) and 267 µs
+    #: (period 24, four) on the same rows
+    "symbolic margin": 130e-6,
     #: a point tested against a set kept by a screen, to close it mod p (the kept sets of a low
     #: floor: each is closed over every point, then confirmed exactly)
     "kept point": 0.5e-6,

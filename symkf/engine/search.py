@@ -71,14 +71,14 @@ def listed_hyperplanes(br: BlockRows) -> np.ndarray | list[frozenset[int]]:
     return br.inside
 
 
-def price_margins(br: BlockRows, what: str) -> None:
+def price_margins(br: BlockRows, what: str, unit: str = "margin") -> None:
     """Refuse, before the hyperplanes are listed, a step that builds ``what`` for each of them when
-    its estimated work (``budget.COSTS["margin"]`` per hyperplane of
-    :meth:`BlockRows.listing_estimate`) is above ``max_work``."""
+    its estimated work (``budget.COSTS[unit]``, a margin in flint or a symbolic one, per hyperplane
+    of :meth:`BlockRows.listing_estimate`) is above ``max_work``."""
     if "inside" not in br.__dict__ and br.size > 1:
         estimate, formula = br.listing_estimate()
         budget.price(lambda: f"eigen-block of modulus {br.block.modulus}",
-                     lambda: f"{what} of every hyperplane ({formula})", margin=estimate)
+                     lambda: f"{what} of every hyperplane ({formula})", **{unit.replace(" ", "_"): estimate})
 
 
 #: estimated CPU seconds (``budget.COSTS["hyperplane degree"]``) of a listing above which a block
