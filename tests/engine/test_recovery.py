@@ -192,7 +192,7 @@ def test_listing_every_margin_is_priced_before_a_hyperplane_is_listed():
             _every_hyperplane(SIX, SIX_FAIL)
 
 
-@pytest.mark.full  # the list of C(36, 5) hyperplanes: about 50 CPU-s
+@pytest.mark.full  # the list of C(36, 5) hyperplanes and their margins: about 8 CPU-s
 def test_recovery_of_a_block_in_general_position_equals_the_raised_list():
     # every hyperplane's margin built in flint (recovery.listed_margins), as the fallback lists them
     from symkf.engine.recovery import _monotone_recovery
