@@ -1,7 +1,9 @@
 """Exact results of this checkout against a checkout of main, case by case (no exact value may change).
 
-Each side runs in its own interpreter (``--main-python``, default ``/work/main/.venv/bin/python``
-with ``--main-tree`` first on its path) on the cases below: Perron roots of non-negative matrices
+Each side runs in its own interpreter with its tree on ``PYTHONPATH`` (this checkout, and
+``--main-tree`` run by ``--main-python``, default this interpreter), and the child names the tree it
+imported symkf from (a script's own directory heads ``sys.path``, not the working directory: without
+the path both sides would import the installed symkf).  The cases: Perron roots of non-negative matrices
 over Q(sqrt 2, sqrt 3, sqrt 5) (:func:`engine_cases.radical_matrix`, small enough for main's
 sympy path), over Q(sqrt 2), and critical loss rates and verdicts of the engine rows' systems,
 among them Gilbert-Elliott losses with algebraic probabilities (Perron roots of restricted
@@ -56,24 +58,24 @@ def _child() -> None:
             v = sk.stability(system, loss)
             value = f"{v.stable} {[str(m.exact) for m in v.margins]}"
         out[f"{what} {case} {a} {b}"] = value
-    print(json.dumps(out))
+    print(json.dumps({"tree": str(Path(sk.__file__).resolve().parent.parent), "results": out}))
 
 
-def _run(python: str, tree: str | None) -> dict:
-    env = {"PATH": "/usr/bin:/bin", "OPENBLAS_NUM_THREADS": "1"}
-    if tree:
-        env["PYTHONPATH"] = tree
-    res = subprocess.run([python, __file__, "--child"], env=env, capture_output=True, text=True, check=True,
-                         cwd=tree or str(HERE.parent))
-    return json.loads(res.stdout)
+def _run(python: str, tree: str) -> dict:
+    env = {"PATH": "/usr/bin:/bin", "OPENBLAS_NUM_THREADS": "1", "PYTHONPATH": tree}
+    res = subprocess.run([python, __file__, "--child"], env=env, capture_output=True, text=True, check=True, cwd=tree)
+    out = json.loads(res.stdout)
+    if Path(out["tree"]) != Path(tree).resolve():
+        raise SystemExit(f"the child for {tree} imported symkf from {out['tree']}")
+    return out["results"]
 
 
 def main() -> int:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--main-python", default="/work/main/.venv/bin/python")
+    ap.add_argument("--main-python", default=sys.executable)
     ap.add_argument("--main-tree", default="/work/main")
     args = ap.parse_args()
-    ours, theirs = _run(sys.executable, None), _run(args.main_python, args.main_tree)
+    ours, theirs = _run(sys.executable, str(HERE.parent)), _run(args.main_python, args.main_tree)
     bad = 0
     for key in ours:
         same = ours[key] == theirs.get(key)

@@ -42,7 +42,7 @@ class Limits:
     #: a quarter of the degree of the cyclotomic field Q(zeta_m) holding the trigonometric constants
     #: and I of a number or matrix without radicals (its real subfield for real entries), times the
     #: size of the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and
-    #: its roots come from Euler's formula (2R(2 pi/1601), degree 3200: 4.4 CPU-s, 330 MB, passes;
+    #: its roots come from Euler's formula (2R(2 pi/1601), degree 3200: 2.1 CPU-s, 104 MB, passes;
     #: 2R(2 pi/2053), degree 4104, is refused);
     #: also phi(g) for an eigen-block over several diagonal blocks, g its class period (its field
     #: holds Q(zeta_g): four rotations 2R(2 pi/q), q = 5, 7, 9, 11, give phi(3465) = 1440; decided
@@ -177,11 +177,16 @@ COSTS = {
     #: of the block's field: 1.2 million over a field of degree 8 took 12 CPU-s, 597 000 over one of
     #: degree 120 51 CPU-s
     "hyperplane degree": 1e-6,
-    #: a hyperplane's margin built as a polynomial in the loss model's parameters (the critical
-    #: recovery rate's list, symkf.engine.recovery.listed_margins, and the symbolic stable set,
-    #: symkf.engine.region.ge_margins), per hyperplane listed: C(36, 5) = 376 992 of the 6-dim block
-    #: (3/2) diag(R(pi/2), R(pi/3), R(2 pi/3)) with three Gilbert-Elliott sensors took about 50 CPU-s
-    "margin": 130e-6,
+    #: a hyperplane's margin built in flint as a polynomial in the recovery rate (the critical
+    #: recovery rate's list, symkf.engine.recovery.listed_margins), per hyperplane of the listing's
+    #: estimate: 11 to 26 µs on the rows of benchmarks/bench_margin_cost.py (4- and 6-dim blocks,
+    #: fields of degree 4 to 48; C(36, 5) = 376 992 of the 6-dim block (3/2) diag(R(pi/2), R(pi/3),
+    #: R(2 pi/3)) with three Gilbert-Elliott sensors, 6.9 CPU-s)
+    "margin": 20e-6,
+    #: the same margin built in sympy as a polynomial in the loss model's parameters (the symbolic
+    #: stable set, symkf.engine.region.ge_margins): 132, 214 and 267 µs on the same rows' period 35
+    #: with two and three sensors and period 24 with four
+    "symbolic margin": 200e-6,
     #: a point tested against a set kept by a screen, to close it mod p (the kept sets of a low
     #: floor: each is closed over every point, then confirmed exactly)
     "kept point": 0.5e-6,

@@ -116,12 +116,12 @@ def _vm_size() -> int:
     return 0
 
 
-def limited(fn, *args) -> tuple[int, str]:
-    """Run ``fn(*args)`` (returning an exit status) in a forked child under the limits; returns
-    (exit status, stderr).  A child killed by a signal (SIGXCPU, SIGKILL, SIGSEGV) is -signal.
+def limited(fn, *args, memory: int = EXTRA_MEMORY) -> tuple[int, str]:
+    """Run ``fn(*args)`` (returning an exit status) in a forked child under the limits (``memory``
+    bytes of address space beyond the parent's); returns (exit status, stderr).  A child killed by a signal (SIGXCPU, SIGKILL, SIGSEGV) is -signal.
     A regression that hangs or allocates gigabytes fails its test instead of taking the machine
     down (tests/test_resource_limits.py::test_the_limits_are_real checks the harness itself)."""
-    memory = _vm_size() + EXTRA_MEMORY
+    memory += _vm_size()
     with tempfile.TemporaryFile() as err:
         pid = os.fork()
         if pid == 0:  # the child: never returns into pytest

@@ -240,7 +240,7 @@ def ge_margins(system: System, loss: LossModel) -> list[sp.Expr]:
     for br in block_rows(system):
         growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
         seen = set()
-        price_margins(br, "the symbolic margin")
+        price_margins(br, "the symbolic margin", "symbolic margin")
         for H in capped_hyperplanes(br):
             m = sp.expand(growth * hyperplane_rate(br, H, loss))
             if m not in seen:

@@ -55,6 +55,87 @@ class Element:
     phase: int
 
 
+class PhaseGenerators(Sequence):
+    """The generators of the elements ``(j, r)`` (index ``j g + r``) of a block without Jordan
+    chains, each computed when asked: those of ``(j, 0)`` (``base[j]``, the independent class parts
+    of ``C_j T``) times ``(D / lambda_1)^r`` coordinatewise (``step``; None for a unit step).  An
+    invertible diagonal map keeps which vectors are independent, so these are the generators of
+    ``(j, r)`` that :func:`direct_rows` would choose at each phase.  Stored, they took memory
+    ``g d [K:Q]``, growing as ``m^2`` for the rotation ``2 R(2 pi/m)`` (g = m, [K:Q] = 2(m - 1)):
+    about 120 MB at m = 1601."""
+
+    def __init__(self, K: NumberField, base: tuple[tuple[tuple[Elem, ...], ...], ...],
+                 step: tuple[Elem | None, ...], g: int):
+        self.K, self.base, self.step, self.g = K, base, step, g
+        self.counts = tuple(len(gs) for gs in base for _ in range(g))
+
+    def __len__(self) -> int:
+        return len(self.counts)
+
+    def __getitem__(self, e):
+        j, r = divmod(range(len(self))[e], self.g)
+        if not r:
+            return self.base[j]
+        powers = [None if s is None else self.K.pow(s, r) for s in self.step]
+        return tuple(self._scaled(v, powers) for v in self.base[j])
+
+    def __iter__(self) -> Iterator[tuple[tuple[Elem, ...], ...]]:
+        for gs in self.base:   # one product per phase and coordinate, as direct_rows built them
+            for r in range(self.g):
+                yield gs
+                gs = tuple(self._scaled(v, self.step) for v in gs)
+
+    def _scaled(self, v: tuple[Elem, ...], factors: Sequence[Elem | None]) -> tuple[Elem, ...]:
+        return tuple(a if s is None or a.is_zero() else self.K.mul(a, s) for a, s in zip(v, factors))
+
+    def points(self, elements: Sequence[int], tail: Sequence[Sequence[Elem]] = ()) -> "PhasePoints":
+        """The generators of ``elements`` in order, then the vectors ``tail``, computed when asked."""
+        return PhasePoints(self, [(int(e), i) for e in elements for i in range(self.counts[e])], list(tail))
+
+
+class PhasePoints(Sequence):
+    """A list of vectors: generators ``(element, index)`` of :class:`PhaseGenerators`, then plain
+    vectors ``tail``.  :func:`_reduction` maps them mod p from the base generators and the step
+    (``phi(v s^r) = phi(v) phi(s)^r``: phi is a ring map) without computing them over K."""
+
+    def __init__(self, generators: PhaseGenerators, owner: list[tuple[int, int]], tail: list):
+        self.generators, self.owner, self.tail = generators, owner, tail
+
+    def __len__(self) -> int:
+        return len(self.owner) + len(self.tail)
+
+    def __getitem__(self, k):
+        k = range(len(self))[k]
+        if k >= len(self.owner):
+            return self.tail[k - len(self.owner)]
+        e, i = self.owner[k]
+        return self.generators[e][i]
+
+    def entries(self) -> list[Elem]:
+        """Elements of K whose denominators (and the modulus's) any prime p must avoid for every
+        vector to lie in ``Z_(p)[theta]``: the base generators', the steps', the tail's."""
+        G = self.generators
+        return [a for gs in G.base for v in gs for a in v] + [s for s in G.step if s is not None] + \
+            [a for v in self.tail for a in v]
+
+    def images(self, phi, p: int) -> list[list[int]]:
+        """The vectors mapped by the ring map ``phi`` into ``F_p``."""
+        G = self.generators
+        out = np.zeros((len(self.owner), len(G.step)), dtype=np.int64)
+        if self.owner:
+            base = [[[phi(a) for a in v] for v in gs] for gs in G.base]
+            e, i = np.array(self.owner, dtype=np.int64).T
+            j, r = np.divmod(e, G.g)
+            powers = np.ones((len(G.step), G.g), dtype=np.int64)   # phi(s_k)^r mod p, r < g
+            for k, s in enumerate(G.step):
+                x = 1 if s is None else phi(s)
+                for q in range(1, G.g):
+                    powers[k, q] = powers[k, q - 1] * x % p
+            B = np.array([base[a][b] for a, b in zip(j.tolist(), i.tolist())], dtype=np.int64)
+            out = B * powers[:, r].T % p   # residues below 2^30: a product fits in int64
+        return out.tolist() + [[phi(a) for a in v] for v in self.tail]
+
+
 @dataclass(frozen=True, eq=False)
 class BlockRows:
     """Rows of the regression matrix restricted to one eigen-block, per element."""
@@ -63,7 +144,7 @@ class BlockRows:
     K: NumberField
     class_period: int  # the block's class period (EigenBlock.class_period): the elements' phases
     elements: tuple[Element, ...]
-    generators: tuple[tuple[tuple[Elem, ...], ...], ...]  # per element
+    generators: Sequence[tuple[tuple[Elem, ...], ...]]  # per element (PhaseGenerators: computed when asked)
     size: int
     T: list = field(repr=False)      # modal eigenvector columns (n x n_i over K; see modal_form's conjugate_pair)
     diag: list = field(repr=False)   # the block's eigenvalues in K, repeated by multiplicity
@@ -72,6 +153,20 @@ class BlockRows:
     #: the rows of sub-systems whose lifted hyperplanes are this block's that miss a part of it
     #: (:class:`symkf.engine.cylinders.SplitRows`); none here: these rows hold all their hyperplanes
     cylinders: ClassVar[tuple] = ()
+
+    @cached_property
+    def counts(self) -> tuple[int, ...]:
+        """The number of generators of each element (without computing them)."""
+        if isinstance(self.generators, PhaseGenerators):
+            return self.generators.counts
+        return tuple(len(gs) for gs in self.generators)
+
+    def _points(self, elements: Sequence[int], tail: Sequence[Sequence[Elem]] = ()) -> Sequence[tuple[Elem, ...]]:
+        """The generators of ``elements`` in order, then the vectors ``tail`` (computed when asked
+        from :class:`PhaseGenerators`)."""
+        if isinstance(self.generators, PhaseGenerators):
+            return self.generators.points(elements, tail)
+        return [g for e in elements for g in self.generators[e]] + list(tail)
 
     @cached_property
     def hyperplanes(self) -> tuple[frozenset[int], ...]:
@@ -85,7 +180,7 @@ class BlockRows:
         element is inside a generator hyperplane ``S`` iff all its generators are in ``S``."""
         n, E = self.size, len(self.generators)
         if n == 1:
-            return np.array([[not gs for gs in self.generators]], dtype=bool)
+            return np.array([[not c for c in self.counts]], dtype=bool)
         vectors, bases = self._bases
         member = np.zeros((E, len(vectors)), dtype=np.float32)  # small counts: exact, and BLAS
         for e, b in enumerate(bases):
@@ -110,9 +205,19 @@ class BlockRows:
     @cached_property
     def _bases(self) -> tuple[list[tuple[Elem, ...]], list[tuple[int, ...]]]:
         """The distinct generators and, per element, the indices of its own (independent) ones."""
-        vectors = _distinct([g for gs in self.generators for g in gs])
-        index = {_key(v): i for i, v in enumerate(vectors)}
-        return vectors, [tuple(index[_key(g)] for g in gs) for gs in self.generators]
+        vectors: list[tuple[Elem, ...]] = []
+        index: dict[str, int] = {}
+        bases = []
+        for gs in self.generators:   # one pass: PhaseGenerators computes them as it goes
+            own = []
+            for g in gs:
+                k = _key(g)
+                if k not in index:
+                    index[k] = len(vectors)
+                    vectors.append(g)
+                own.append(index[k])
+            bases.append(tuple(own))
+        return vectors, bases
 
     def listing_estimate(self) -> tuple[int, str]:
         """An upper bound on the number of hyperplanes :attr:`inside` lists, and its formula:
@@ -203,13 +308,13 @@ class BlockRows:
         n = self.size
         if n < 2:
             return None
-        live = [e for e, gs in enumerate(self.generators) if 0 < len(gs) < n]
+        live = [e for e, c in enumerate(self.counts) if 0 < c < n]
         if not live:   # every hyperplane holds the same elements, those without generators
             return [self._always] if not strict or float(np.asarray(weights)[list(self._always)].sum()) >= floor else []
         if self.several_generators:
             return self._through_flats(weights, floor, strict, screens)
         owner = np.array(live, dtype=np.int64)  # point -> element
-        vectors = [self.generators[e][0] for e in live]
+        vectors = self._points(live)   # one generator each
         w = np.asarray(weights, dtype=float)
         shift = self._shift(owner)
         moved = np.arange(len(self.generators))  # the shift on elements (those without points stay)
@@ -230,7 +335,7 @@ class BlockRows:
     @cached_property
     def _always(self) -> frozenset[int]:
         """The elements without generators: in every hyperplane."""
-        return frozenset(e for e, gs in enumerate(self.generators) if not gs)
+        return frozenset(e for e, c in enumerate(self.counts) if not c)
 
     def _through_flats(self, weights: Sequence[float], floor: float | None, strict: bool = False, screens: int = 1
                        ) -> list[frozenset[int]] | None:
@@ -245,9 +350,9 @@ class BlockRows:
         search visits with its full weight, so no kept set strictly inside it survives.  A failed
         confirmation (a merge mod p) repeats the search with the next prime, then returns None."""
         n, E = self.size, len(self.generators)
-        live = np.array([e for e, gs in enumerate(self.generators) if 0 < len(gs) < n], dtype=np.int64)
-        owner = np.array([e for e in live for _ in self.generators[e]], dtype=np.int64)
-        vectors = [g for e in live for g in self.generators[e]]
+        live = np.array([e for e, c in enumerate(self.counts) if 0 < c < n], dtype=np.int64)
+        owner = np.array([e for e in live for _ in range(self.counts[e])], dtype=np.int64)
+        vectors = self._points(live.tolist())
         w = np.asarray(weights, dtype=float)
         tol = 1e-9 * (1 + w.sum())
         moved = np.arange(E)
@@ -304,7 +409,7 @@ class BlockRows:
         """The kept element sets of :meth:`_through_flats` closed mod p, shifted, maximal and confirmed
         exactly; None when a confirmation fails."""
         n = self.size
-        vectors = [g for e in sorted(set(owner.tolist())) for g in self.generators[e]]
+        vectors = self._points(sorted(set(owner.tolist())))
         closures: dict[frozenset[int], tuple[np.ndarray, int]] = {}
         for S in kept:
             rows = np.flatnonzero(np.isin(owner, list(S)))
@@ -334,13 +439,13 @@ class BlockRows:
         (the ``n - 1`` largest weights): a ``floor`` at or below it lets :meth:`heaviest` keep every
         such hyperplane, ``C(E, n - 1)`` of them (with elements of several generators the search
         goes through their flats, and every hyperplane it keeps holds its elements' full weight)."""
-        return float(sum(sorted(w for w, gs in zip(weights, self.generators) if len(gs) == 1)[-(self.size - 1):]))
+        return float(sum(sorted(w for w, c in zip(weights, self.counts) if c == 1)[-(self.size - 1):]))
 
     @cached_property
     def several_generators(self) -> bool:
         """Whether some element that a hyperplane may hold has several generators (:meth:`heaviest`
         then searches through the flats of such elements)."""
-        return any(1 < len(gs) < self.size for gs in self.generators)
+        return any(1 < c < self.size for c in self.counts)
 
     def _screened(self, vectors: list, weights: np.ndarray, shift: np.ndarray | None, tol: float,
                   floor: float | None, points: str, strict: bool = False, screens: int = 1
@@ -391,7 +496,7 @@ class BlockRows:
     @cached_property
     def live(self) -> list[int]:
         """The elements with a generator (the others lie in every hyperplane)."""
-        return [e for e, gs in enumerate(self.generators) if gs]
+        return [e for e, c in enumerate(self.counts) if c]
 
     def screen_weights(self, weights: Sequence[float]) -> list[float]:
         """``weights`` checked as one finite float ``>= 0`` per element (the screens' ``-log loss``)."""
@@ -406,14 +511,24 @@ class BlockRows:
         guess of a heavy hyperplane (:meth:`on_hyperplanes`)."""
         weights = self.screen_weights(weights)
         n, K = self.size, self.K
-        weight: dict[str, float] = {}
-        first: dict[str, tuple[Elem, ...]] = {}   # distinct generators by key, in order
-        for e, gs in enumerate(self.generators):
-            for g in gs:
-                k = _key(g)
-                weight[k] = weight.get(k, 0.0) + weights[e]
-                first.setdefault(k, g)
-        top = [first[k] for k in sorted(first, key=lambda k: -weight[k])[:count]]
+        owner = [e for e, c in enumerate(self.counts) for _ in range(c)]
+        points = self._points(range(len(self.counts)))
+        # the distinct generators (point indices, in order of their first): grouped by their images
+        # mod p and split exactly where several share one (keyed by their coefficients, they took
+        # memory E [K:Q]: 2 R(2 pi/m) has E = 2m over a field of degree 2(m - 1))
+        distinct: list[list[int]] = []
+        by_image: dict[tuple[int, ...], list[list[int]]] = {}
+        for i, image in enumerate(_reduction(K, points)[1] if owner else []):
+            group = by_image.setdefault(tuple(image), [])
+            for same in group:
+                if points[same[0]] == points[i]:
+                    same.append(i)
+                    break
+            else:
+                group.append([i])
+                distinct.append(group[-1])
+        weight = [sum(weights[owner[i]] for i in same) for same in distinct]
+        top = [points[distinct[c][0]] for c in sorted(range(len(distinct)), key=lambda c: -weight[c])[:count]]
         normals = []
         for rows in itertools.combinations(top, n - 1):
             normal = nullspace_rows(K, rows, n) if n > 1 else []
@@ -430,18 +545,18 @@ class BlockRows:
             raise InputError(f"normals: each a vector of length {self.size} (the block's dimension)")
         if not normals:
             return []
-        owner = [e for e, gs in enumerate(self.generators) for _ in gs]
-        flat = [g for gs in self.generators for g in gs]
-        if not flat:
+        owner = [e for e, c in enumerate(self.counts) for _ in range(c)]
+        if not owner:
             return [frozenset(range(len(self.generators)))] * len(normals)
-        p, images = _reduction(self.K, [*flat, *normals])
-        G, N = np.array(images[:len(flat)], dtype=np.int64), np.array(images[len(flat):], dtype=np.int64)
-        dots = np.zeros((len(flat), len(normals)), dtype=np.int64)
+        flat = self._points(range(len(self.counts)), normals)
+        p, images = _reduction(self.K, flat)
+        G, N = np.array(images[:len(owner)], dtype=np.int64), np.array(images[len(owner):], dtype=np.int64)
+        dots = np.zeros((len(owner), len(normals)), dtype=np.int64)
         for k in range(self.size):  # residues below 2^31: a product fits in int64 before reduction
             dots = (dots + G[:, k:k + 1] * N[None, :, k] % p) % p
         out = []
         for h, normal in enumerate(normals):
-            off = {owner[i] for i in range(len(flat))
+            off = {owner[i] for i in range(len(owner))
                    if dots[i, h] != 0 or not self.K.dot(flat[i], normal).is_zero()}
             out.append(frozenset(e for e in range(len(self.generators)) if e not in off))
         return out
@@ -464,7 +579,7 @@ class BlockRows:
         for k, e in enumerate(owner.tolist()):
             element = self.elements[e]
             nxt = at[(element.sensor, (element.phase + 1) % self.class_period)]
-            if nxt not in first or len(self.generators[nxt]) != len(self.generators[e]):
+            if nxt not in first or self.counts[nxt] != self.counts[e]:
                 return None  # pragma: no cover - the counts agree by construction
             out.append(first[nxt] + k - first[e])
         return np.array(out, dtype=np.int64)
@@ -511,7 +626,7 @@ class BlockRows:
 
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
-        rows = [g for e in pattern for g in self.generators[e]]
+        rows = list(self._points(sorted(pattern)))
         return rank_rows(self.K, rows, self.size) < self.size
 
 
@@ -609,7 +724,7 @@ def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]], start: int = 1
     ``phi`` sends ``theta`` to a root of its minimal polynomial mod ``p``; ``p`` divides no
     denominator, so every linear relation over K maps to one over F_p."""
     p = start  # below 2^30: products of two residues, summed n times, stay in int64
-    elements = [a for v in vectors for a in v]
+    elements = vectors.entries() if isinstance(vectors, PhasePoints) else [a for v in vectors for a in v]
     denominators = int(np.lcm.reduce([int(a.denom()) for a in elements] + [int(K.modulus.denom())], dtype=object))
     m = _conductor(K.modulus)
     while True:
@@ -623,22 +738,28 @@ def _reduction(K: NumberField, vectors: Sequence[Sequence[Elem]], start: int = 1
 
         def phi(a: Elem) -> int:
             return int(flint.nmod_poly(a.numer(), p)(r)) * pow(int(a.denom()), -1, p) % p
-        return p, [[phi(a) for a in v] for v in vectors]
+        return p, vectors.images(phi, p) if isinstance(vectors, PhasePoints) else [[phi(a) for a in v] for v in vectors]
 
 
-def _powers(shift: np.ndarray | None, g: int) -> np.ndarray | None:
-    """Rows ``shift^k`` (k = 0..g-1) of the permutation ``shift`` (None without it); int32: four
-    cyclotomic fields' 1386 elements over their period 3465 take 19 MB."""
+def _powers(shift: np.ndarray | None, g: int) -> tuple[np.ndarray, ...] | None:
+    """The powers ``shift^k`` (k = 0..g-1) of the permutation ``shift`` (None without it) as its
+    cycles: ``shift^k(i) = cycles[start_i + (pos_i + k) mod length_i]`` with the cycles listed end to
+    end along the shift (int32), per point its cycle's ``start``, its ``pos`` in it, the cycle's
+    ``length``, and ``g``.  The table of all powers took ``g`` rows of every point: 20 MB for the
+    rotation ``2 R(2 pi/1601)``, growing as ``m^2``."""
     if shift is None:
         return None
-    rows = np.empty((g, len(shift)), dtype=np.int32)
-    rows[0] = np.arange(len(shift))
-    for k in range(1, g):
-        rows[k] = shift[rows[k - 1]]
-    return rows
+    cycles = _cycles(len(shift), shift)
+    lengths = np.array([len(c) for c in cycles], dtype=np.int64)
+    order = np.concatenate(cycles).astype(np.int32)
+    start, pos, length = (np.empty(len(shift), dtype=np.int64) for _ in range(3))
+    start[order] = np.repeat(np.cumsum(lengths) - lengths, lengths)
+    pos[order] = np.arange(len(order)) - start[order]
+    length[order] = np.repeat(lengths, lengths)
+    return order, start, pos, length, np.arange(g)[:, None]
 
 
-def _least_shift(points: np.ndarray, powers: np.ndarray | None) -> bytes:
+def _least_shift(points: np.ndarray, powers: tuple[np.ndarray, ...] | None) -> bytes:
     """A key shared by the point sets that are shifts of one another (``powers``: :func:`_powers`;
     without them the points themselves): the least of the shifts' sorted index lists in
     lexicographic order, as bytes.  All shifts in one sort: a Markov screen keys many closures,
@@ -646,7 +767,8 @@ def _least_shift(points: np.ndarray, powers: np.ndarray | None) -> bytes:
     few indices each, whose per-call cost would dominate (docs/performance.md)."""
     if powers is None:
         return points.tobytes()
-    orbit = np.sort(powers[:, points], axis=1)
+    order, start, pos, length, k = powers
+    orbit = np.sort(order[start[points] + (pos[points] + k) % length[points]], axis=1)
     return orbit[np.lexsort(orbit.T[::-1])[0]].tobytes()
 
 
@@ -1000,31 +1122,27 @@ def direct_rows(system: System, block: EigenBlock) -> BlockRows:
     g = block.class_period
     class_of = [ci for ci, members in enumerate(block.classes)
                 for m in members for _ in range(block.members[m].multiplicity)]
-    elements, generators = [], []
     # rows C_j T D^phase scaled by lambda_1^-phase (parallel, so the same hyperplanes): the ratios
     # lambda_k / lambda_1 are roots of unity within a class, and the rows' coefficients stay small
     # (times 2^phase unscaled for modulus 2: 300-bit coefficients at phase 300)
     first = K.inv(diag[0])  # once: an inverse in a field of high degree is costly
-    step = [K.mul(lam, first) for lam in diag]
-    # a unit step (a conjugate pair's second class, see modal_form) keeps the element itself: the
-    # phases share it, where g copies took memory g [K:Q] (2R(2 pi/1601): 140 MB)
     one = flint.fmpq_poly([1])
-    step = [None if s == one else s for s in step]
-    for j, sensor in enumerate(system.sensors):
+    # a unit step (lambda_1's own, a conjugate pair's second class: see modal_form) keeps the entry
+    step = tuple(None if s == one else s for s in (K.mul(lam, first) for lam in diag))
+    zero = flint.fmpq_poly([])
+    base = []
+    for sensor in system.sensors:
         CT = [K.vecmat(K.matrix(sensor.C)[r], T) for r in range(sensor.m)]
-        rows = CT
-        for phase in range(g):
-            if phase:
-                rows = [[a if lam is None else K.mul(a, lam) for a, lam in zip(row, step)] for row in rows]
-            gens = []
-            for c in range(len(block.classes)):
-                for row in rows:
-                    v = tuple(a if class_of[k] == c else flint.fmpq_poly([]) for k, a in enumerate(row))
-                    if any(not a.is_zero() for a in v):
-                        gens.append(v)
-            elements.append(Element(j, phase))
-            generators.append(tuple(_independent(K, gens, block.size)))
-    return BlockRows(block, K, g, tuple(elements), tuple(generators), block.size, T, diag, phase_shift=True)
+        gens = []
+        for c in range(len(block.classes)):
+            for row in CT:
+                v = tuple(a if class_of[k] == c else zero for k, a in enumerate(row))
+                if any(not a.is_zero() for a in v):
+                    gens.append(v)
+        base.append(tuple(_independent(K, gens, block.size)))
+    elements = tuple(Element(j, phase) for j in range(len(system.sensors)) for phase in range(g))
+    return BlockRows(block, K, g, elements, PhaseGenerators(K, tuple(base), step, g), block.size, T, diag,
+                     phase_shift=True)
 
 
 def _jordan_rows(system: System, block: EigenBlock, K: NumberField, T: list, diag: list) -> BlockRows:

@@ -13,6 +13,7 @@ cylinders through each cylinder's own search (:mod:`symkf.engine.cylinders`).
 
 from __future__ import annotations
 
+import itertools
 import math
 from fractions import Fraction
 from typing import Any, Callable, Sequence
@@ -28,7 +29,7 @@ from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import sympify
 from ..model.loss import LossModel
 from . import generic_hyperplanes
-from .rows import BlockRows, _set, _as_rows
+from .rows import BlockRows, _set
 from .rates import BlockRate, FactorRates, Patterns, exact_rate, factor_rates
 
 
@@ -70,14 +71,14 @@ def listed_hyperplanes(br: BlockRows) -> np.ndarray | list[frozenset[int]]:
     return br.inside
 
 
-def price_margins(br: BlockRows, what: str) -> None:
+def price_margins(br: BlockRows, what: str, unit: str = "margin") -> None:
     """Refuse, before the hyperplanes are listed, a step that builds ``what`` for each of them when
-    its estimated work (``budget.COSTS["margin"]`` per hyperplane of
-    :meth:`BlockRows.listing_estimate`) is above ``max_work``."""
+    its estimated work (``budget.COSTS[unit]``, a margin in flint or a symbolic one, per hyperplane
+    of :meth:`BlockRows.listing_estimate`) is above ``max_work``."""
     if "inside" not in br.__dict__ and br.size > 1:
         estimate, formula = br.listing_estimate()
         budget.price(lambda: f"eigen-block of modulus {br.block.modulus}",
-                     lambda: f"{what} of every hyperplane ({formula})", margin=estimate)
+                     lambda: f"{what} of every hyperplane ({formula})", **{unit.replace(" ", "_"): estimate})
 
 
 #: estimated CPU seconds (``budget.COSTS["hyperplane degree"]``) of a listing above which a block
@@ -95,12 +96,18 @@ def capped_hyperplanes(br: BlockRows) -> tuple[frozenset[int], ...]:
 def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[int]]:
     """:func:`outside_counts` of the hyperplanes ``inside`` (boolean rows or index sets, in
     lexicographic order: the first hyperplane of each vector is kept)."""
-    inside = _as_rows(inside, len(br.elements))
     sensor = np.array([e.sensor for e in br.elements])
-    per_sensor = (sensor[:, None] == np.arange(sensor.max() + 1)).astype(np.int64)  # elements x d
-    outside = (~inside).astype(np.int64) @ per_sensor                               # hyperplanes x d
+    rows = isinstance(inside, np.ndarray)
+    if rows:
+        per_sensor = (sensor[:, None] == np.arange(sensor.max() + 1)).astype(np.int64)  # elements x d
+        outside = (~inside).astype(np.int64) @ per_sensor                               # hyperplanes x d
+    else:   # counted from the members: boolean rows of the g sets over d g elements grow as g^2
+        sizes = np.array([len(H) for H in inside], dtype=np.int64)
+        members = np.fromiter(itertools.chain.from_iterable(inside), dtype=np.int64, count=int(sizes.sum()))
+        outside = np.tile(np.bincount(sensor), (len(inside), 1))
+        np.subtract.at(outside, (np.repeat(np.arange(len(inside)), sizes), sensor[members]), 1)
     _, first = np.unique(outside, axis=0, return_index=True)
-    return {tuple(outside[h].tolist()): _set(inside[h]) for h in sorted(first.tolist())}
+    return {tuple(outside[h].tolist()): _set(inside[h]) if rows else frozenset(inside[h]) for h in sorted(first.tolist())}
 
 
 def _weights(loss: LossModel) -> list[float] | None:

@@ -174,20 +174,25 @@ def test_recovery_of_a_block_in_general_position_without_the_list(monkeypatch):
 
 
 def test_listing_every_margin_is_priced_before_a_hyperplane_is_listed():
-    """The 6-dim block's C(36, 5) = 376 992 margins at 130 µs each (budget.COSTS["margin"]) are
-    about 49 CPU-s: under a max_work of 10 CPU-s both routes that build every margin, in flint and
-    in sympy, are refused at once, naming the cap and the count."""
+    """The 6-dim block's C(36, 5) = 376 992 margins, at 20 µs each in flint (budget.COSTS["margin"],
+    about 7.5 CPU-s; 6.9 measured) and 200 µs in sympy ("symbolic margin", about 75 CPU-s): under a
+    max_work of 5 CPU-s both routes that build every margin are refused at once, naming the cap and
+    the count; at 10 CPU-s the route in sympy only."""
     from symkf import budget
     from symkf.engine.recovery import _monotone_recovery
     from symkf.errors import BudgetError
-    with budget.limits(max_work=10_000):
-        with pytest.raises(BudgetError, match=r"max_work.*376992 margins"):
+    with budget.limits(max_work=5_000):
+        with pytest.raises(BudgetError, match=r"max_work.*376992 margins at 20 µs"):
             _monotone_recovery(SIX, SIX_FAIL, None, None)[2]()
-        with pytest.raises(BudgetError, match=r"max_work.*376992 margins"):
+        with pytest.raises(BudgetError, match=r"max_work.*376992 symbolic margins at 200 µs"):
+            _every_hyperplane(SIX, SIX_FAIL)
+    with budget.limits(max_work=10_000):
+        assert budget.seconds(margin=376992) < 10
+        with pytest.raises(BudgetError, match=r"max_work.*376992 symbolic margins"):
             _every_hyperplane(SIX, SIX_FAIL)
 
 
-@pytest.mark.full  # the list of C(36, 5) hyperplanes: about 50 CPU-s
+@pytest.mark.full  # the list of C(36, 5) hyperplanes and their margins: about 8 CPU-s
 def test_recovery_of_a_block_in_general_position_equals_the_raised_list():
     # every hyperplane's margin built in flint (recovery.listed_margins), as the fallback lists them
     from symkf.engine.recovery import _monotone_recovery
@@ -432,7 +437,7 @@ def test_one_sensor_without_listing_at_period_24():
         if any(r):
             rows.append(r)
     S = _system(sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)), rows)
-    with pytest.raises(BudgetError, match=r"max-work .*1161280 margins"):
+    with pytest.raises(BudgetError, match=r"max-work .*1161280 symbolic margins"):
         _every_hyperplane(S, ["1/10"] * 8, ["1/2"] * 8, "s1")
     assert sk.critical_recovery_rate(S, fail=["1/10"] * 8, recover=["1/2"] * 8, sensor="s1") == 0
     assert stable_recovery_intervals(S, ["1/10"] * 8, recover=["1/2"] * 8, sensor="s1") == ((0, 1),)

@@ -17,6 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import symkf as sk
+from conftest import library, limited, rotation
 from symkf.engine import rows as obs
 from symkf.engine.blocks import block_deficient, block_rows
 from symkf.engine.search import outside_counts
@@ -156,3 +157,44 @@ def test_conjugate_pair_in_q_lambda_equals_the_full_field(seed):
         assert critical_loss_rate(slow) == critical_loss_rate(fast)
     assert [br.hyperplanes for br in block_rows(fast)] == [h for h, _ in reference]
     assert pairs and all(br.K.degree < max(k for _, k in reference) for br in pairs)
+
+
+def test_the_generators_of_each_phase_span_the_class_parts_of_C_A_to_the_phase_T():
+    """The generators of element (j, r), computed when asked (by index, by iteration, and mod p
+    from the base generators and the step), span the class parts of C_j A^r T (A^r T = T D^r):
+    a 4-dim block of period 12 with a sensor of two rows (two generators per class) and one of one."""
+    S = sk.System(A=sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 3)),
+                  sensors=[sk.Sensor(C=[[1, 0, 2, 0], [0, 1, -1, 1]]), sk.Sensor(C=[[1, 1, 0, 3]])])
+    (br,) = block_rows(S)
+    K, n, g = br.K, br.size, br.class_period
+    assert isinstance(br.generators, obs.PhaseGenerators) and g == 12
+    iterated = list(br.generators)
+    Ak, Ar = K.matrix(S.A), K.matrix(sp.eye(4))
+    class_of = [c for c, members in enumerate(br.block.classes) for m in members]
+    for r in range(g):
+        for j, sensor in enumerate(S.sensors):
+            e = br.elements.index(obs.Element(j, r))
+            gens = br.generators[e]
+            assert gens == iterated[e] and len(gens) == br.counts[e]
+            rows = [K.vecmat(K.vecmat(row, Ar), br.T) for row in K.matrix(sensor.C)]
+            parts = [[a if class_of[k] == c else 0 * a for k, a in enumerate(row)]
+                     for c in range(len(br.block.classes)) for row in rows]
+            assert rank_rows(K, list(gens), n) == rank_rows(K, parts, n) == rank_rows(K, [*gens, *parts], n)
+        Ar = [K.vecmat(row, Ak) for row in Ar]
+    points = br._points(range(len(br.elements)))
+    assert obs._reduction(K, points) == obs._reduction(K, list(points))
+
+
+def _rotation_critical(m: int) -> None:
+    S = sk.System(A=rotation(2 * sp.pi / m), sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[0, 1]])])
+    # no two of the 2m elements' rows are parallel: the heaviest line holds one, 2m - 1 lie outside
+    assert sk.critical_loss_rate(S).exact == sp.Integer(2) ** sp.Rational(-2 * m, 2 * m - 1)
+
+
+def test_the_critical_rate_of_the_rotation_by_2_pi_over_797_takes_32_mb():
+    """2R(2 pi/797): 1594 elements over a field of degree 1592.  Its rows are computed when asked
+    and its heaviest lines counted from their members, so the critical rate fits in 32 MB beyond
+    the parent's memory (stored, the rows and the lines' boolean rows over every element took
+    memory growing as m^2: 64 MB here, 250 MB at m = 1601)."""
+    code, err = limited(library, lambda: _rotation_critical(797), memory=32 * 1024 ** 2)
+    assert code == 0, err
