@@ -12,7 +12,7 @@ from .kernel_parts import (NORMAL, ROOT_MAX, _aligned, _aligned_int, _bits_of, _
 
 #: SHA-256 (its first 16 hex digits) of symkf/numeric/kernel_parts.py, whose helpers these kernels inline:
 #: numba's cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file
-INLINED = "309ecbd7bc33b11a"
+INLINED = "6d0667383e5c4afe"
 
 
 def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
