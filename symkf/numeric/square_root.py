@@ -7,8 +7,7 @@ path does the same arithmetic; a lost row is an update by a zero gain, not a
 branch).
 
 Per path ``P_{k|k-1} = 2^E S S^T`` with an even integer ``E`` and ``tr(S S^T)``
-brought into ``[1/2, 2)`` once it has left ``[2^-WINDOW, 2^WINDOW]`` (the
-straight-line kernels above :data:`PHASED_MAX` up to :data:`STRAIGHT_MAX` states: after every step), so
+brought into ``[1/2, 2)`` once it has left ``[2^-WINDOW, 2^WINDOW]``, so
 ``log tr P = E log 2 + log tr(S S^T)`` over any dynamic range; scaling by
 powers of two is exact, and the kernels' bits do not depend on when it is done.
 In these units the whitened measurement noise is ``2^-E`` and the process
@@ -501,9 +500,9 @@ STRAIGHT_MAX = 8
 #: operations per loop, so the core overlaps more paths; at n = 8 the live entries' loads and stores
 #: between the loops cost more than the overlap gains (docs/performance.md)
 PHASED_MAX = 5
-#: up to PHASED_MAX the straight-line kernel, and the loop kernel (beyond STRAIGHT_MAX), rescale ``S``
-#: only when a path's ``tr S S^T`` has left [2^-WINDOW, 2^WINDOW]; the time update's last lane loop
-#: (the loop kernel's write-back of ``R^T``) takes the next step's trace (for the logs it writes
+#: the kernels rescale ``S`` only when a path's ``tr S S^T`` has left [2^-WINDOW, 2^WINDOW]; the time
+#: update's last lane loop (up to PHASED_MAX; the loop kernel's write-back of ``R^T``), or from
+#: beyond PHASED_MAX up to STRAIGHT_MAX a lane loop of its own, takes the step's trace (for the logs it writes
 #: anyway) and its range over the block.  Scaling by a power of two is exact, so the bits do
 #: not depend on when it scales (short of the float range: within the window ``|S| <= 2^(WINDOW/2)``,
 #: and a step overflows, underflows or drops a denominator below NORMAL only where one from
@@ -599,18 +598,29 @@ def _straight_source(n: int) -> str:
     for i in R:
         for j in R:
             w(f"            S[{i}, {j}, p] = S0[{i}, {j}]")
-    # up to PHASED_MAX the time update's last lane loop takes the traces (below), and the rescale
-    # runs only when one has left the window
+    # the rescale runs only when a trace has left the window: up to PHASED_MAX the time update's last
+    # lane loop takes the traces (below), beyond a lane loop of their own at the start of each step
     traced = n <= PHASED_MAX
+    trace_terms = [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i in R for j in range(i + 1)]
     if traced:
         w("        wide = True")
     w("        for k in range(horizon + 1):")
     # --- rescale (as _rescale) and the trace of step k
     if traced:
         w("            if wide:")
-    body = " " * (20 if traced else 16)
+    else:
+        w("            top = 0")
+        w(f"            bottom = {WINDOW_BITS[1]:#x}")
+        w(f"            for p in range({W}):")
+        L += _sum("tp", trace_terms, " " * 16)
+        w("                t[p] = tp")
+        w("                bt = _bits_of(tp)")   # t >= 0 orders as its bits; nan above every bound
+        w("                top = max(top, bt)")
+        w("                bottom = min(bottom, bt)")
+        w(f"            if k == 0 or top > {WINDOW_BITS[1]:#x} or bottom < {WINDOW_BITS[0]:#x}:")
+    body = " " * 20
     w(f"{body[:-4]}for p in range({W}):")
-    L += _sum("tp", [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i in R for j in range(i + 1)], body)
+    L += _sum("tp", trace_terms, body)
     w(f"{body}t[p] = tp")
     w(f"{body}e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0")
     w(f"{body}e -= e & 1")
