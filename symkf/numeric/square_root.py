@@ -501,8 +501,8 @@ STRAIGHT_MAX = 8
 #: between the loops cost more than the overlap gains (docs/performance.md)
 PHASED_MAX = 5
 #: the kernels rescale ``S`` only when a path's ``tr S S^T`` has left [2^-WINDOW, 2^WINDOW]; the time
-#: update's last lane loop (up to PHASED_MAX; the loop kernel's write-back of ``R^T``), or from
-#: beyond PHASED_MAX up to STRAIGHT_MAX a lane loop of its own, takes the step's trace (for the logs it writes
+#: update's last lane loop (up to PHASED_MAX; beyond STRAIGHT_MAX the loop kernel's write-back of
+#: ``R^T``), or in between a lane loop of its own, takes the step's trace (for the logs it writes
 #: anyway) and its range over the block.  Scaling by a power of two is exact, so the bits do
 #: not depend on when it scales (short of the float range: within the window ``|S| <= 2^(WINDOW/2)``,
 #: and a step overflows, underflows or drops a denominator below NORMAL only where one from
