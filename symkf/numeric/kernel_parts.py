@@ -1,8 +1,9 @@
 """The pieces the compiled square-root filter kernels inline: float bit tricks, the scaled
 logarithm, powers of two, aligned arrays, the rescale and the stores of traces
-(:mod:`symkf.numeric.square_root` generates the kernels; the generated modules
+(:mod:`symkf.numeric.square_root` generates the kernels; it and the generated modules
 :mod:`symkf.numeric.straight_kernels` and :mod:`symkf.numeric.unrolled_kernels` import these
-and record this file's digest, since numba keys a cached kernel on its own file alone).
+and record this file's digest, since numba keys a cached kernel on its own file alone:
+:func:`symkf.numeric.square_root._jit`).
 """
 
 from __future__ import annotations
@@ -37,7 +38,8 @@ ROOT_MAX = 1023
 # No fastmath, not even FMA contraction: a fused S - Su f^T does not cancel to the same
 # rounding as the product it subtracts, so a float-exact system (A = 2 R(pi/2)) would drift off
 # its exact log tr P over a long periodic burst and float_horizon would cap it (test_filtering)
-_compiled = njit(cache=True, nogil=True, error_model="numpy")
+OPTIONS = {"nogil": True, "error_model": "numpy"}
+_compiled = njit(cache=True, **OPTIONS)
 
 
 @intrinsic

@@ -7,8 +7,7 @@ path does the same arithmetic; a lost row is an update by a zero gain, not a
 branch).
 
 Per path ``P_{k|k-1} = 2^E S S^T`` with an even integer ``E`` and ``tr(S S^T)``
-brought into ``[1/2, 2)`` after every step (the straight-line kernels up to
-:data:`PHASED_MAX` states: once it has left ``[2^-WINDOW, 2^WINDOW]``), so
+brought into ``[1/2, 2)`` once it has left ``[2^-WINDOW, 2^WINDOW]``, so
 ``log tr P = E log 2 + log tr(S S^T)`` over any dynamic range; scaling by
 powers of two is exact, and the kernels' bits do not depend on when it is done.
 In these units the whitened measurement noise is ``2^-E`` and the process
@@ -62,15 +61,45 @@ import re
 from pathlib import Path
 
 import numpy as np
-from numba import cfunc, types
+from numba import cfunc, njit, types
 from numba.extending import intrinsic
 
 from .. import budget
 from ..arguments import check_public
 from ..errors import ShapeError
 from ..run.progress import compiling
-from .kernel_parts import (LOOP_LANES, NORMAL, ROOT_MAX, _aligned, _aligned_int, _compiled, _pow2, _receptions,
+from .kernel_parts import (LOOP_LANES, NORMAL, OPTIONS, ROOT_MAX, _aligned, _aligned_int, _pow2, _receptions,
                            _rescale, _store)
+
+#: the first 16 hex digits of the SHA-256 of symkf/numeric/kernel_parts.py, whose pieces this module's
+#: kernels inline (:func:`_jit`; a test compares)
+KERNEL_PARTS = "6d0667383e5c4afe"
+
+
+def _inlined_digest() -> str | None:
+    """The first 16 hex digits of the SHA-256 of :mod:`symkf.numeric.kernel_parts`' source (None where
+    the source cannot be read)."""
+    try:
+        source = (Path(__file__).parent / "kernel_parts.py").read_text(encoding="utf-8")
+    except OSError:
+        return None
+    return hashlib.sha256(source.encode()).hexdigest()[:16]
+
+
+_PARTS = _inlined_digest()
+
+
+def _jit(recorded: str, signature=None):
+    """numba's compiler with the kernels' options (:data:`~symkf.numeric.kernel_parts.OPTIONS`;
+    a ``cfunc`` of ``signature`` if given), its on-disk cache on only while ``recorded``, the digest of
+    :mod:`symkf.numeric.kernel_parts` that the module of the compiled function records, is that
+    file's.  numba keys a cached kernel on the time stamp of the file that defines it alone, not on
+    those of the functions it inlines: an edit of kernel_parts.py would leave a stale kernel in the
+    cache.  The digest recorded in the kernel's own file (:data:`KERNEL_PARTS`, the generated
+    modules' ``INLINED``) ties the two: brought up to date, it changes that file's stamp; until it is,
+    the kernels compile afresh in every process."""
+    cache = recorded == _PARTS
+    return njit(cache=cache, **OPTIONS) if signature is None else cfunc(signature, cache=cache, **OPTIONS)
 
 #: paths per block of the straight-line kernels, a compile-time constant: the path loops have a
 #: fixed trip count (no remainder loops, no per-entry set-up).  Up to SMALL_MAX states a lane loop's
@@ -181,7 +210,7 @@ def _loop_kernel(n: int):
     return functools.partial(_loops, householder=_unrolled("householder", n), potter=_unrolled("potter", n))
 
 
-@_compiled
+@_jit(KERNEL_PARTS)
 def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
            S0: np.ndarray, received: np.ndarray, trace: np.ndarray, buffer: np.ndarray,
            linear: bool, householder, potter) -> None:
@@ -242,15 +271,23 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
                     for p in range(LOOP_LANES):
                         fg[n + j, p] = fg[j, p] * coef[p]
                 potter(_data(S), _data(fg), n)
-            _time_update(S, A, UQ, E, X, V, f2, householder)
-            _rescale(S, E, t, f2)
+            _time_update(S, A, UQ, E, X, V, f2, householder, t)
+            bits = t.view(np.int64)   # a trace's bits order as it does (it is not negative; nan above all)
+            top, bottom = 0, WINDOW_BITS[1]
+            for p in range(LOOP_LANES):
+                top = max(top, bits[p])
+                bottom = min(bottom, bits[p])
+            if top > WINDOW_BITS[1] or bottom < WINDOW_BITS[0]:
+                _rescale(S, E, t, f2)
 
 
-@_compiled
+@_jit(KERNEL_PARTS)
 def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X: np.ndarray,
-                 V: np.ndarray, beta: np.ndarray, householder) -> None:
+                 V: np.ndarray, beta: np.ndarray, householder, t: np.ndarray) -> None:
     """``S <- R^T`` with ``R^T R = X^T X``, ``X = [(A S)^T; 2^(-E/2) U_Q]`` (Householder QR by
-    ``householder``, :func:`_unrolled` ``("householder", n)``, its reflectors in ``V``)."""
+    ``householder``, :func:`_unrolled` ``("householder", n)``, its reflectors in ``V``), and ``t``
+    the new ``tr S S^T``, summed as :func:`~symkf.numeric.kernel_parts._rescale` sums it while ``R``
+    is written back (one pass over ``S`` where a rescale at every step took three)."""
     n = A.shape[0]
     for i in range(n):           # X[j, i] = (A S)[i, j] = sum_l A[i, l] S[l, j], S full
         for j in range(n):
@@ -262,15 +299,25 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
                         X[j, i, p] += A[i, l] * S[l, j, p]
     for p in range(LOOP_LANES):
         beta[p] = _pow2(min(-(E[p] // 2), ROOT_MAX))
+    # U_Q's upper triangle: row n + i left of column i is zero from the allocation on (the reflections
+    # of columns j < i leave row n + i alone)
     for i in range(n):
-        for j in range(n):
+        for j in range(i, n):
             for p in range(LOOP_LANES):
                 X[n + i, j, p] = beta[p] * UQ[i, j]
     householder(_data(X), _data(V), n)
+    for p in range(LOOP_LANES):
+        t[p] = 0.0
     for i in range(n):
         for j in range(n):
-            for p in range(LOOP_LANES):
-                S[i, j, p] = X[j, i, p] if j <= i else 0.0
+            if j <= i:
+                for p in range(LOOP_LANES):
+                    x = X[j, i, p]
+                    S[i, j, p] = x
+                    t[p] += x * x
+            else:
+                for p in range(LOOP_LANES):
+                    S[i, j, p] = 0.0
 
 
 #: the signature of the unrolled kernels (:func:`_unrolled`): pointers to the array they update and
@@ -278,7 +325,6 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
 #: LOOP_LANES: the reflector's n + 1 rows, two of scratch); Potter: ``S`` (n, n | 1, LOOP_LANES)
 #: and ``f``, ``g`` (2n + 1, LOOP_LANES: f's n rows, g's, one of scratch)
 ROW_KERNEL = types.void(types.CPointer(types.float64), types.CPointer(types.float64), types.int64)
-_compiled_row_kernel = cfunc(ROW_KERNEL, cache=True, nogil=True, error_model="numpy")
 #: largest n whose kernels are written out in :mod:`symkf.numeric.unrolled_kernels`; beyond, the loops
 #: :func:`_householder_loops` and :func:`_potter_loops` (numba compiles no source made at run
 #: time: symkf runs no exec).  Potter's row of ``S`` stays in registers between ``(S f)_i`` and its
@@ -420,7 +466,10 @@ def _unrolled_module() -> str:
             ':func:`symkf.numeric.square_root._unrolled_module` (do not edit; a test compares it with the generator)."""\n\n'
             "import math\n\n"
             "from ..arguments import check_public\n"
-            "from .kernel_parts import NORMAL\n\n\n")
+            "from .kernel_parts import NORMAL\n\n"
+            "#: SHA-256 (its first 16 hex digits) of symkf/numeric/kernel_parts.py, whose constants these kernels inline\n"
+            "#: (symkf.numeric.square_root._jit)\n"
+            "INLINED = \"%s\"\n\n\n" % _inlined_digest())
     sources = (_UNROLLED[kind][0](n) for n in range(1, max(UNROLLED_MAX.values()) + 1)
                for kind in UNROLLED_MAX if n <= UNROLLED_MAX[kind])
     return head + "\n\n".join(sources) + "\n\ncheck_public(globals())\n"
@@ -429,7 +478,7 @@ def _unrolled_module() -> str:
 @functools.lru_cache(maxsize=None)
 def _row_loops(kind: str):
     """``_{kind}_loops`` compiled (one ``cfunc`` for every ``n``)."""
-    return _compiled_row_kernel(_UNROLLED[kind][1])
+    return _jit(KERNEL_PARTS, ROW_KERNEL)(_UNROLLED[kind][1])
 
 
 @functools.lru_cache(maxsize=None)
@@ -441,7 +490,7 @@ def _unrolled(kind: str, n: int):
     if n > UNROLLED_MAX[kind]:
         return _row_loops(kind)
     from . import unrolled_kernels
-    return _compiled_row_kernel(getattr(unrolled_kernels, f"_{kind}_{n}"))
+    return _jit(unrolled_kernels.INLINED, ROW_KERNEL)(getattr(unrolled_kernels, f"_{kind}_{n}"))
 
 
 #: largest state dimension with a straight-line kernel (compile time and code size grow like n^3)
@@ -451,9 +500,10 @@ STRAIGHT_MAX = 8
 #: operations per loop, so the core overlaps more paths; at n = 8 the live entries' loads and stores
 #: between the loops cost more than the overlap gains (docs/performance.md)
 PHASED_MAX = 5
-#: up to PHASED_MAX the straight-line kernel rescales ``S`` only when a path's ``tr S S^T`` has left
-#: [2^-WINDOW, 2^WINDOW]; the time update's last lane loop takes the next step's trace (for the logs it
-#: writes anyway) and its range over the block.  Scaling by a power of two is exact, so the bits do
+#: the kernels rescale ``S`` only when a path's ``tr S S^T`` has left [2^-WINDOW, 2^WINDOW]; the time
+#: update's last lane loop (up to PHASED_MAX; beyond STRAIGHT_MAX the loop kernel's write-back of
+#: ``R^T``), or in between a lane loop of its own, takes the step's trace (for the logs it writes
+#: anyway) and its range over the block.  Scaling by a power of two is exact, so the bits do
 #: not depend on when it scales (short of the float range: within the window ``|S| <= 2^(WINDOW/2)``,
 #: and a step overflows, underflows or drops a denominator below NORMAL only where one from
 #: ``tr S S^T = 1`` would come within 2^WINDOW of doing so).  So on most steps the rescale's own
@@ -548,18 +598,29 @@ def _straight_source(n: int) -> str:
     for i in R:
         for j in R:
             w(f"            S[{i}, {j}, p] = S0[{i}, {j}]")
-    # up to PHASED_MAX the time update's last lane loop takes the traces (below), and the rescale
-    # runs only when one has left the window
+    # the rescale runs only when a trace has left the window: up to PHASED_MAX the time update's last
+    # lane loop takes the traces (below), beyond a lane loop of their own at the start of each step
     traced = n <= PHASED_MAX
+    trace_terms = [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i in R for j in range(i + 1)]
     if traced:
         w("        wide = True")
     w("        for k in range(horizon + 1):")
     # --- rescale (as _rescale) and the trace of step k
     if traced:
         w("            if wide:")
-    body = " " * (20 if traced else 16)
+    else:
+        w("            top = 0")
+        w(f"            bottom = {WINDOW_BITS[1]:#x}")
+        w(f"            for p in range({W}):")
+        L += _sum("tp", trace_terms, " " * 16)
+        w("                t[p] = tp")
+        w("                bt = _bits_of(tp)")   # t >= 0 orders as its bits; nan above every bound
+        w("                top = max(top, bt)")
+        w("                bottom = min(bottom, bt)")
+        w(f"            if k == 0 or top > {WINDOW_BITS[1]:#x} or bottom < {WINDOW_BITS[0]:#x}:")
+    body = " " * 20
     w(f"{body[:-4]}for p in range({W}):")
-    L += _sum("tp", [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i in R for j in range(i + 1)], body)
+    L += _sum("tp", trace_terms, body)
     w(f"{body}t[p] = tp")
     w(f"{body}e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0")
     w(f"{body}e -= e & 1")
@@ -708,12 +769,6 @@ def _straight_source(n: int) -> str:
     return "\n".join(L) + "\n"
 
 
-def _inlined_digest() -> str:
-    """The first 16 hex digits of the SHA-256 of :mod:`symkf.numeric.kernel_parts`' source."""
-    source = (Path(__file__).parent / "kernel_parts.py").read_text(encoding="utf-8")
-    return hashlib.sha256(source.encode()).hexdigest()[:16]
-
-
 def _straight_module() -> str:
     """The text of :mod:`symkf.numeric.straight_kernels`: :func:`_straight_source` for n = 1..STRAIGHT_MAX
     (regenerate it after any change to this file, which it records: ``python -c "from
@@ -737,7 +792,7 @@ def _straight(n: int):
     """The compiled straight-line kernel for ``n`` states (:mod:`symkf.numeric.straight_kernels`, compiled
     on first use, once per installation: numba's cache)."""
     from . import straight_kernels
-    return _compiled(getattr(straight_kernels, f"_paths_{n}"))
+    return _jit(straight_kernels.INLINED)(getattr(straight_kernels, f"_paths_{n}"))
 
 
 check_public(globals())

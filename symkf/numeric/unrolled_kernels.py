@@ -7,6 +7,10 @@ import math
 from ..arguments import check_public
 from .kernel_parts import NORMAL
 
+#: SHA-256 (its first 16 hex digits) of symkf/numeric/kernel_parts.py, whose constants these kernels inline
+#: (symkf.numeric.square_root._jit)
+INLINED = "6d0667383e5c4afe"
+
 
 def _householder_1(X, V, n):
     for j in range(1):

@@ -1,8 +1,9 @@
 """The compiled square-root filter kernels (symkf.numeric.square_root, and the generated
 symkf.numeric.straight_kernels and unrolled_kernels): the straight-line and unrolled kernels equal
-the loop kernel bit for bit, the generated modules are the generators' output, and
-log_trace_paths takes receptions in any memory order and dtype, rescales traces that leave the
-window in one step and refuses arguments that disagree."""
+the loop kernel bit for bit, the generated modules are the generators' output, the kernels record
+the digest of the parts they inline (a stale one turns numba's cache off), and log_trace_paths
+takes receptions in any memory order and dtype, rescales traces that leave the window in one step
+and refuses arguments that disagree."""
 
 
 import numpy as np
@@ -168,13 +169,13 @@ def test_the_kernel_takes_receptions_of_any_dtype_as_nonzero_received(dtype):
         log_trace_paths(A, UQ, H, rows, S0, received[:, :, 0], traces[0])
 
 
-@pytest.mark.parametrize("n", [1, 2, 3, 4])
+@pytest.mark.parametrize("n", [1, 2, 3, 4, 9])   # 9: the loop kernel through log_trace_paths
 @pytest.mark.parametrize("power", [200, -200])
 def test_the_kernels_rescale_a_trace_that_leaves_the_window_in_one_step(n, power):
-    # up to PHASED_MAX the straight-line kernels rescale only once a trace has left [2^-32, 2^32]:
-    # A = 2^200 I (or 2^-200 I), no noise, nothing received moves tr P by 2^(+-400) a step, out of the
-    # window at every step and out of float64 by the third unless each step is rescaled; a block's
-    # paths all at once, and a partial block's (the loop kernel rescales every step: the same bits).
+    # up to PHASED_MAX the straight-line kernels and the loop kernel rescale only once a trace has left
+    # [2^-32, 2^32]: A = 2^200 I (or 2^-200 I), no noise, nothing received moves tr P by 2^(+-400) a
+    # step, out of the window at every step and out of float64 by the third unless each step is
+    # rescaled; a block's paths all at once, and a partial block's (both kernels: the same bits).
     # With Q = 0 the process noise's scale 2^(-E/2) would pass 2^1024 at the seventh shrinking step
     # (ROOT_MAX): inf times U_Q's zeros made every log nan from there
     from symkf.numeric.square_root import _loop_kernel, log_trace_paths
@@ -188,6 +189,29 @@ def test_the_kernels_rescale_a_trace_that_leaves_the_window_in_one_step(n, power
     looped = np.empty_like(logs)
     _loop_kernel(n)(A, UQ, H, rows, S0, received, looped, np.empty((1, 128)), False)
     assert np.array_equal(logs, looped)
+
+
+def test_the_kernels_record_the_digest_of_the_parts_they_inline():
+    # numba keys a cached kernel on its own file's time stamp alone: square_root.py and the generated
+    # modules record kernel_parts.py's digest, so that an edit there changes them (regenerated, or
+    # KERNEL_PARTS brought up to date)
+    from symkf.numeric import square_root, straight_kernels, unrolled_kernels
+    digest = square_root._inlined_digest()
+    assert square_root.KERNEL_PARTS == straight_kernels.INLINED == unrolled_kernels.INLINED == digest
+
+
+def _plus_one(x):
+    return x + 1
+
+
+def test_a_kernel_whose_recorded_digest_is_stale_is_compiled_without_numbas_cache():
+    # a recorded digest that is not kernel_parts.py's (an edit not yet recorded) turns numba's on-disk
+    # cache off: the kernel is compiled afresh rather than loaded with stale parts inlined
+    from numba.core.caching import NullCache
+
+    from symkf.numeric import square_root
+    assert isinstance(square_root._jit("0" * 16)(_plus_one)._cache, NullCache)
+    assert not isinstance(square_root._jit(square_root.KERNEL_PARTS)(_plus_one)._cache, NullCache)
 
 
 @pytest.mark.parametrize("bad", ["A", "UQ", "S0", "H", "row_sensor"])
