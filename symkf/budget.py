@@ -101,7 +101,9 @@ class Limits:
     #: screen keeps (``kept sets x points``), and the hyperplanes a decay rate lists when no screen
     #: applies (``C(V, n - 1)`` for V distinct generators in K^n, or fewer through the flats of
     #: elements of several generators: BlockRows.listing_estimate; times the degree of K; their
-    #: memory meets ``max_memory``), and a margin polynomial built for each listed hyperplane.  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
+    #: memory meets ``max_memory``), a margin polynomial built for each listed hyperplane, the LMIs of
+    #: Theorem 4 (symkf.capacity.convergence.price_lmi; the bounds atlas's bisection at once), and the
+    #: control threshold's quotient bound and continuation (symkf.control.threshold).  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
     #: incidences, 48 CPU-s estimated, 34 measured; on Gilbert-Elliott channels its two screens,
     #: 96, refused at once; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about
     #: 10^42 incidences
@@ -185,6 +187,24 @@ COSTS = {
     #: a point tested against a set kept by a screen, to close it mod p (the kept sets of a low
     #: floor: each is closed over every point, then confirmed exactly)
     "kept point": 0.5e-6,
+    #: a degree of a product of conjugate eigenvalues in the control quotient bound
+    #: (symkf.control.threshold.quotient_bound: per quotient, C(D, k) for k of D conjugates)
+    "quotient degree": 0.4e-3,
+    #: an entry of A per quotient of that bound (its cofactor h(A) and the rank of h(A) B)
+    "quotient entry": 47e-6,
+    #: a unit of an exact certificate's solve in the control threshold (symkf.control.threshold:
+    #: (n^2 deg K)^2 n^2 per solve of the n^2 unknowns of S - T(S) = I)
+    "stein entry": 0.6e-8,
+    #: a unit (n^2)^3 of a policy evaluation of that continuation (a solve in 256-bit balls)
+    "policy entry": 2e-8,
+    #: an LMI of Theorem 4 (Yang et al.) set up, solved and checked, apart from its size
+    #: (symkf.capacity.convergence.price_lmi; small ones take this)
+    "lmi": 0.15,
+    #: an entry of a basis matrix of that LMI written in SymPy
+    #: (symkf.capacity.convergence.price_lmi: the bounds atlas's LMI row bisects on it)
+    "lmi basis entry": 15e-6,
+    #: a unit ``N^2 V`` of that LMI's SDP, its size ``N`` and coordinates ``V``
+    "lmi sdp entry": 0.05e-6,
 }
 
 
