@@ -103,7 +103,8 @@ class Limits:
     #: elements of several generators: BlockRows.listing_estimate; times the degree of K; their
     #: memory meets ``max_memory``), a margin polynomial built for each listed hyperplane, the LMIs of
     #: Theorem 4 (symkf.capacity.convergence.price_lmi; the bounds atlas's bisection at once), and the
-    #: control threshold's quotient bound and continuation (symkf.control.threshold).  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
+    #: control threshold's quotient bound and continuation (symkf.control.threshold), the design
+    #: queries upgrades and allocate_recovery, and symkf.fusion's local filters and expected covariance.  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
     #: incidences, 48 CPU-s estimated, 34 measured; on Gilbert-Elliott channels its two screens,
     #: 96, refused at once; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about
     #: 10^42 incidences
@@ -197,6 +198,20 @@ COSTS = {
     "stein entry": 0.6e-8,
     #: a unit (n^2)^3 of a policy evaluation of that continuation (a solve in 256-bit balls)
     "policy entry": 2e-8,
+    #: a critical i.i.d. loss rate of a design query (symkf.design.upgrades: along a ray) per
+    #: square of the number of sensors d (its heaviest-hyperplane search grows about so)
+    "ray query": 0.5e-3,
+    #: a critical recovery rate of one sensor's channel (symkf.design.allocate_recovery), per sensor
+    "recovery query": 0.2,
+    #: a local filter of the fusion set-up (symkf.fusion.local_filters: a Riccati equation per sensor)
+    "local filter": 7e-3,
+    #: a unit M^3 of a dense float solve of size M (the joint Stein equation of symkf.fusion.local_filters)
+    "float cube": 2e-8,
+    #: a Stein equation of a pair of sensors solved by symkf.fusion.expected_remote_covariance, apart
+    #: from its size
+    "fusion pair": 70e-6,
+    #: a unit (n_i n_j)^3 of such an equation, a dense solve of n_i n_j unknowns
+    "stein float": 6e-11,
     #: an LMI of Theorem 4 (Yang et al.) set up, solved and checked, apart from its size
     #: (symkf.capacity.convergence.price_lmi; small ones take this)
     "lmi": 0.15,

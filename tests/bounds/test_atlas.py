@@ -24,7 +24,7 @@ from symkf.errors import BudgetError
 from symkf.model.strategies import diagonalizable_systems
 from symkf.io import files
 
-from conftest import ROOT, rotation
+from conftest import ROOT, period_24_block
 
 R = sp.Rational
 PROOFS = ROOT / "proofs"
@@ -318,14 +318,6 @@ def test_results_that_do_not_apply_are_one_line_per_failing_hypothesis():
     unmet = [line for line in text.splitlines() if line.startswith("- does not apply")]
     assert len(unmet) == len({line.split("):")[0] for line in unmet}) >= 2
     assert text.count("one sensor: FAILS") == 1 and "Plarre, Bullo 2009" in " ".join(text.split())
-
-
-def period_24_block(d):
-    """diag(2R(pi/6), 2R(pi/4)) (one eigen-block of period 24) with d integer sensor rows, the first
-    d nonzero rows of {-2, ..., 2}^4 in lexicographic order."""
-    import itertools
-    picked = [r for r in itertools.product(range(-2, 3), repeat=4) if any(r)][:d]
-    return sk.System(A=sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)), sensors=[sk.Sensor(C=[list(r)]) for r in picked])
 
 
 def test_the_lmi_bisection_of_128_sensors_is_refused_by_its_price():

@@ -5,7 +5,6 @@ against Sylvester's minors, condition 2) on the unit circle."""
 
 from __future__ import annotations
 
-import itertools
 import time
 
 import numpy as np
@@ -19,7 +18,7 @@ from symkf.capacity import MARE, mare_converges, mare_stabilizable, unit_circle_
 from symkf.errors import AssumptionError, BudgetError
 from symkf.exact.linalg import positive_definite
 
-from conftest import rotation
+from conftest import period_24_block
 
 R = sp.Rational
 ROTATION = System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]])], name="rotation")
@@ -104,8 +103,7 @@ def test_condition2_with_unit_circle_eigenvalues():
 
 def test_an_lmi_of_320_noisy_sensors_is_refused_by_its_price():
     # the 4-dim block diag(2R(pi/6), 2R(pi/4)) with 320 scalar sensors at loss 1/10: one LMI of size 4 (2 + 320) = 1288 in 1290 coordinates, about 110 CPU-s estimated
-    picked = [r for r in itertools.product(range(-2, 3), repeat=4) if any(r)][:320]
-    S = System(A=sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)), sensors=[Sensor(C=[list(r)]) for r in picked])
+    S = period_24_block(320)
     start = time.process_time()
     with pytest.raises(BudgetError, match=r"mare_stabilizable: .*LMIs of size 1288 in 1290 coordinates.*max_work"):
         mare_stabilizable(S, IID(["1/10"] * 320))
