@@ -104,7 +104,7 @@ class Limits:
     #: memory meets ``max_memory``), a margin polynomial built for each listed hyperplane, the LMIs of
     #: Theorem 4 (symkf.capacity.convergence.price_lmi; the bounds atlas's bisection at once), and the
     #: control threshold's quotient bound and continuation (symkf.control.threshold), the design
-    #: queries upgrades and allocate_recovery, and symkf.fusion's local filters and expected covariance.  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
+    #: queries upgrades, allocate_recovery and pareto_front, and symkf.fusion's local filters and expected covariance.  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
     #: incidences, 48 CPU-s estimated, 34 measured; on Gilbert-Elliott channels its two screens,
     #: 96, refused at once; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about
     #: 10^42 incidences
@@ -203,6 +203,10 @@ COSTS = {
     "ray query": 0.5e-3,
     #: a critical recovery rate of one sensor's channel (symkf.design.allocate_recovery), per sensor
     "recovery query": 0.2,
+    #: a point of symkf.design.pareto_front (a covering search and a critical rate; d points priced)
+    "front point": 0.4,
+    #: the same, per square of the number of sensors d
+    "front pair": 1e-3,
     #: a local filter of the fusion set-up (symkf.fusion.local_filters: a Riccati equation per sensor)
     "local filter": 7e-3,
     #: a unit M^3 of a dense float solve of size M (the joint Stein equation of symkf.fusion.local_filters)

@@ -72,6 +72,17 @@ def period_24_block(d):
                      sensors=[sk.Sensor(C=[list(r)], name=f"s{j + 1}") for j, r in enumerate(picked)])
 
 
+def refused_within(seconds, match, call):
+    """``call()`` refused by symkf's BudgetError (its message matching ``match``) within ``seconds``
+    CPU-s: a priced step refused before its work starts."""
+    import time
+    from symkf.errors import BudgetError
+    start = time.process_time()
+    with pytest.raises(BudgetError, match=match):
+        call()
+    assert time.process_time() - start < seconds
+
+
 # -- processes: the interrupt, writer and output tests watch the processes they start -------------
 
 #: a system file of A = 2 R(pi/2) with one sensor, for the command-line tests (append a [loss])

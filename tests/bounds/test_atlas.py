@@ -20,11 +20,10 @@ from symkf import cli, examples
 from symkf.bounds import RESULTS, bounds
 from symkf.bounds import sinopoli
 from symkf.bounds.row import EQUAL, HOLDS, INSIDE, NOT_APPLICABLE, REFUSED, Quantity
-from symkf.errors import BudgetError
 from symkf.model.strategies import diagonalizable_systems
 from symkf.io import files
 
-from conftest import ROOT, period_24_block
+from conftest import ROOT, period_24_block, refused_within
 
 R = sp.Rational
 PROOFS = ROOT / "proofs"
@@ -325,10 +324,7 @@ def test_the_lmi_bisection_of_128_sensors_is_refused_by_its_price():
     # it was priced: about 50), above max_work; refused before the first LMI is built, and the
     # atlas keeps the row as refused, naming the cap
     S = period_24_block(128)
-    start = time.process_time()
-    with pytest.raises(BudgetError, match=r"lmi_bracket.*9 LMIs of size 520.*max_work.*--max-work"):
-        sinopoli.lmi_bracket(S)
-    assert time.process_time() - start < 5
+    refused_within(5, r"lmi_bracket.*9 LMIs of size 520.*max_work.*--max-work", lambda: sinopoli.lmi_bracket(S))
     q = Quantity("iid", "eps", "common loss", (), None)
     row = sinopoli.lmi(S, q)
     assert row.relation == REFUSED and "max_work" in row.note
