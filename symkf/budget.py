@@ -188,9 +188,9 @@ COSTS = {
     #: a point tested against a set kept by a screen, to close it mod p (the kept sets of a low
     #: floor: each is closed over every point, then confirmed exactly)
     "kept point": 0.5e-6,
-    #: a degree of a product of conjugate eigenvalues in the control quotient bound
-    #: (symkf.control.threshold.quotient_bound: per quotient, C(D, k) for k of D conjugates)
-    "quotient degree": 0.4e-3,
+    #: a unit C(D, k)^1.5 of a product of k of the D conjugate eigenvalues in the control quotient
+    #: bound (symkf.control.threshold.quotient_bound: summed over its quotients)
+    "quotient degree": 40e-6,
     #: an entry of A per quotient of that bound (its cofactor h(A) and the rank of h(A) B)
     "quotient entry": 47e-6,
     #: a unit of an exact certificate's solve in the control threshold (symkf.control.threshold:

@@ -179,7 +179,7 @@ def test_sixteen_unstable_modes_are_refused_by_the_price_of_their_quotients():
 
 def test_the_quotient_bound_estimate_is_within_3x_of_its_cost():
     # diag(2, ..., 8), one input: 127 rational quotients; 7 * 2^6 products of degree 1 and 127
-    # cofactors of 7 x 7 (0.47 CPU-s estimated, 0.5 measured)
+    # cofactors of 7 x 7 (0.31 CPU-s estimated, 0.5 measured)
     A = sp.diag(*range(2, 9))
     modes = threshold._modes(A)
     estimate = sk.budget.seconds(quotient_degree=threshold._compound_degrees(modes), quotient_entry=127 * 49)
