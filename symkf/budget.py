@@ -101,7 +101,10 @@ class Limits:
     #: screen keeps (``kept sets x points``), and the hyperplanes a decay rate lists when no screen
     #: applies (``C(V, n - 1)`` for V distinct generators in K^n, or fewer through the flats of
     #: elements of several generators: BlockRows.listing_estimate; times the degree of K; their
-    #: memory meets ``max_memory``), and a margin polynomial built for each listed hyperplane.  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
+    #: memory meets ``max_memory``), a margin polynomial built for each listed hyperplane, the LMIs of
+    #: Theorem 4 (symkf.capacity.convergence.price_lmi; the bounds atlas's bisection at once), and the
+    #: control threshold's quotient bound and continuation (symkf.control.threshold), the design
+    #: queries upgrades, allocate_recovery and pareto_front, and symkf.fusion's local filters and expected covariance.  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
     #: incidences, 48 CPU-s estimated, 34 measured; on Gilbert-Elliott channels its two screens,
     #: 96, refused at once; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about
     #: 10^42 incidences
@@ -190,6 +193,42 @@ COSTS = {
     #: a point tested against a set kept by a screen, to close it mod p (the kept sets of a low
     #: floor: each is closed over every point, then confirmed exactly)
     "kept point": 0.5e-6,
+    #: a unit C(D, k)^1.5 of a product of k of the D conjugate eigenvalues in the control quotient
+    #: bound (symkf.control.threshold.quotient_bound: summed over its quotients)
+    "quotient degree": 40e-6,
+    #: an entry of A per quotient of that bound (its cofactor h(A) and the rank of h(A) B)
+    "quotient entry": 47e-6,
+    #: a unit of an exact certificate's solve in the control threshold (symkf.control.threshold:
+    #: (n^2 deg K)^2 n^2 per solve of the n^2 unknowns of S - T(S) = I)
+    "stein entry": 0.6e-8,
+    #: a unit (n^2)^3 of a policy evaluation of that continuation (a solve in 256-bit balls)
+    "policy entry": 2e-8,
+    #: a critical i.i.d. loss rate of a design query (symkf.design.upgrades: along a ray) per
+    #: square of the number of sensors d (its heaviest-hyperplane search grows about so)
+    "ray query": 0.5e-3,
+    #: a critical recovery rate of one sensor's channel (symkf.design.allocate_recovery), per sensor
+    "recovery query": 0.2,
+    #: a point of symkf.design.pareto_front (a covering search and a critical rate; d points priced)
+    "front point": 0.4,
+    #: the same, per square of the number of sensors d
+    "front pair": 1e-3,
+    #: a local filter of the fusion set-up (symkf.fusion.local_filters: a Riccati equation per sensor)
+    "local filter": 7e-3,
+    #: a unit M^3 of a dense float solve of size M (the joint Stein equation of symkf.fusion.local_filters)
+    "float cube": 2e-8,
+    #: a Stein equation of a pair of sensors solved by symkf.fusion.expected_remote_covariance, apart
+    #: from its size
+    "fusion pair": 70e-6,
+    #: a unit (n_i n_j)^3 of such an equation, a dense solve of n_i n_j unknowns
+    "stein float": 6e-11,
+    #: an LMI of Theorem 4 (Yang et al.) set up, solved and checked, apart from its size
+    #: (symkf.capacity.convergence.price_lmi; small ones take this)
+    "lmi": 0.15,
+    #: an entry of a basis matrix of that LMI written in SymPy
+    #: (symkf.capacity.convergence.price_lmi: the bounds atlas's LMI row bisects on it)
+    "lmi basis entry": 15e-6,
+    #: a unit ``N^2 V`` of that LMI's SDP, its size ``N`` and coordinates ``V``
+    "lmi sdp entry": 0.05e-6,
 }
 
 

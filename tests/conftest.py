@@ -61,6 +61,28 @@ def stacked_rotations(orders, rows):
                      sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)])
 
 
+def period_24_block(d):
+    """``diag(2R(pi/6), 2R(pi/4))`` (one eigen-block of modulus 2 and period 24) watched by ``d``
+    integer sensor rows, the first ``d`` nonzero rows of ``{-2, ..., 2}^4`` in lexicographic order:
+    the many-sensor systems whose priced work the tests check."""
+    import itertools
+    import symkf as sk
+    picked = [r for r in itertools.product(range(-2, 3), repeat=4) if any(r)][:d]
+    return sk.System(A=sympy.diag(rotation(sympy.pi / 6), rotation(sympy.pi / 4)),
+                     sensors=[sk.Sensor(C=[list(r)], name=f"s{j + 1}") for j, r in enumerate(picked)])
+
+
+def refused_within(seconds, match, call):
+    """``call()`` refused by symkf's BudgetError (its message matching ``match``) within ``seconds``
+    CPU-s: a priced step refused before its work starts."""
+    import time
+    from symkf.errors import BudgetError
+    start = time.process_time()
+    with pytest.raises(BudgetError, match=match):
+        call()
+    assert time.process_time() - start < seconds
+
+
 # -- processes: the interrupt, writer and output tests watch the processes they start -------------
 
 #: a system file of A = 2 R(pi/2) with one sensor, for the command-line tests (append a [loss])

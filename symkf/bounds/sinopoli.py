@@ -32,14 +32,14 @@ from typing import Callable
 import sympy as sp
 
 from ..arguments import check_public
-from ..capacity.convergence import mare_stabilizable
-from ..errors import ExtraNotInstalledError
+from ..capacity.convergence import mare_stabilizable, price_lmi
+from ..errors import BudgetError, ExtraNotInstalledError
 from ..model.iid import IID
 from ..model.system import System
 from ..engine.stability import stability
 from ..exact.spectral import spectral_radius
 from . import hypotheses as hyp
-from .row import EXACT, NECESSARY, SUFFICIENT, VIOLATED, Hypothesis, Quantity, Row, compare_bracket, number, row
+from .row import EXACT, NECESSARY, REFUSED, SUFFICIENT, VIOLATED, Hypothesis, Quantity, Row, compare_bracket, number, row
 
 CITATION = ("B. Sinopoli, L. Schenato, M. Franceschetti, K. Poolla, M. I. Jordan, S. S. Sastry, "
             "\"Kalman filtering with intermittent observations\", IEEE Trans. Autom. Control 49(9), 2004")
@@ -79,6 +79,7 @@ def lmi_bracket(system: System, steps: int = LMI_STEPS) -> tuple[sp.Expr, sp.Exp
     pattern alone rules feasibility out).  A bisection point where neither certificate
     verifies (too close to the boundary) ends the bisection."""
     d = system.d
+    price_lmi(system, d, 1 + steps, "symkf.bounds.sinopoli.lmi_bracket (the atlas's LMI row)")
     hi = sp.radsimp(spectral_radius(system.A).exact ** sp.Rational(-2, d))
     hi = hi if number(hi) < 1 else sp.Integer(1)
     lo = sp.Integer(0)
@@ -124,6 +125,8 @@ def lmi(system: System, quantity: Quantity, steps: int = LMI_STEPS) -> Row:
             note += "; " + at
     except ExtraNotInstalledError as exc:  # the LMI needs cvxpy (the sdp extra); the other rows do not
         return Row(**base, hypotheses=hyps + (Hypothesis("the sdp extra installed", False, str(exc)),))
+    except BudgetError as exc:   # a cap refuses the bisection, not the atlas: its message is the row's note
+        return Row(**base, hypotheses=hyps, relation=REFUSED, note=str(exc))
     return Row(**base, hypotheses=hyps, bracket=(lo, hi), relation=relation, gap=gap, certificate=notes,
                stable=quantity.below(lo), note=note)
 

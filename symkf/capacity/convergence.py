@@ -235,6 +235,21 @@ def _rational(v: Fraction) -> Elem:
     return flint.fmpq_poly([flint.fmpq(v.numerator, v.denominator)])
 
 
+def price_lmi(system: System, noisy: int, calls: int, entry: str) -> None:
+    """Refuse, before the first is built, ``calls`` LMIs of :func:`mare_stabilizable` on ``system``
+    with ``noisy`` sensors of arrival rates in (0, 1) whose estimated work is above ``max_work``: the
+    basis matrices written entry by entry (:func:`_basis`: ``n^2`` per block, ``4 + noisy`` blocks
+    per ``Y`` coordinate, 2 or 4 per ``Z`` coordinate) and the SDP over the LMI of size ``N = n (2 +
+    noisy)`` with ``V`` coordinates (``N^2 V``)."""
+    n, rows = system.n, sum(s.m for s in system.sensors)
+    ny, nz = n * (n + 1) // 2, n * rows
+    size = n * (2 + noisy)
+    written = n * n * (ny * (4 + noisy) + nz * (4 if noisy else 2))
+    budget.price(entry, f"{calls} LMIs of size {size} in {ny + nz} coordinates (Theorem 4's condition 1), "
+                        f"n = {n}, {noisy} noisy sensors)",
+                 lmi=calls, lmi_basis_entry=calls * written, lmi_sdp_entry=calls * size * size * (ny + nz))
+
+
 def mare_stabilizable(system: System, loss: LossModel) -> LMIVerdict:
     """Decide Theorem 4's condition 1) (eq. 22) by the convex reformulation above, with exact certificates.
 
@@ -246,6 +261,7 @@ def mare_stabilizable(system: System, loss: LossModel) -> LMIVerdict:
     if not capacity_exceeds(loss, spectral_radius(system.A)):
         return LMIVerdict(False, "C <= ln rho(A): rho(T) >= prod(1 - lambda_i) rho(A)^2 >= 1 (exact)",
                           0.0, np.inf)
+    price_lmi(system, sum(1 for e in _require_iid(loss) if 0 < e < 1), 1, "symkf.capacity.mare_stabilizable")
     basis, ny, zidx = _basis(system, loss)
     K, entries = _entries(basis)
     # every certificate is checked in K, the compositum of all entries (no one trigonometric

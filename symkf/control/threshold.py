@@ -161,12 +161,38 @@ def _quotients(A: sp.Matrix) -> list[tuple[list[Eigenvalue], AlgebraicNumber, sp
     modes = _modes(A)
     budget.check_power("max_patterns", 2, len(modes), "A", f"the number 2^{len(modes)} of quotients of "
                        f"{len(modes)} unstable modes searched by the quotient bound")
+    budget.price("symkf.control.quotient_bound",
+                 lambda: f"the quotient bound's {2 ** len(modes) - 1} quotients of {len(modes)} unstable modes (each an "
+                         f"exact product of conjugate eigenvalues, of its compound degree, and a cofactor h(A), "
+                         f"{A.rows} x {A.rows})",
+                 quotient_degree=_compound_degrees(modes), quotient_entry=(2 ** len(modes) - 1) * A.rows ** 2)
     out = []
     for k in range(1, len(modes) + 1):
         for chosen in itertools.combinations(modes, k):
             members = [e for mode in chosen for e in mode]
             out.append((members, _det2(members), _cofactor(A, members)))
     return out
+
+
+def _compound_degrees(modes: list[list[Eigenvalue]]) -> float:
+    """The sum over every quotient of :func:`_quotients` of ``C(D, k)^1.5`` for its products of ``k``
+    of the ``D`` conjugates of a minimal polynomial (:func:`_det2`: isolating the roots of a product
+    of degree ``C(D, k)`` costs about so, measured on dense plants of 8 to 12 states), counted
+    without listing the quotients: per minimal polynomial, the number of its mode sets keeping ``k``
+    roots is the coefficient of ``x^k`` in ``prod (1 + x^size)`` over its modes, and each goes with
+    every set of the other modes."""
+    groups: dict[tuple[int, ...], list[list[Eigenvalue]]] = {}
+    for mode in modes:
+        groups.setdefault(mode[0].key[0], []).append(mode)
+    total = 0.0
+    for group in groups.values():
+        counts = [1]
+        for mode in group:
+            size = len(mode)
+            counts = [a + (counts[k - size] if k >= size else 0) for k, a in enumerate(counts + [0] * size)]
+        degree = group[0][0].minpoly.degree()
+        total += sum(c * math.comb(degree, k) ** 1.5 for k, c in enumerate(counts) if k) * 2.0 ** (len(modes) - len(group))
+    return total
 
 
 def quotient_bound(A: Any, B: Any) -> Quotient | None:
@@ -582,8 +608,22 @@ def exact_plant(system: System) -> tuple[sp.ImmutableMatrix, sp.ImmutableMatrix]
     return sp.ImmutableMatrix(system.A), sp.ImmutableMatrix(system.B)
 
 
+#: the exact certificates (:func:`lyapunov_certificate`) and policy evaluations (:class:`_Plant`, a
+#: solve of the n^2 coordinates of S in 256-bit balls) a continuation is priced at: it verifies one
+#: gain per step of a gap shrinking about fourfold, and evaluates a few policies per step (2 to 21
+#: certificates and up to 126 evaluations on plants of 4 to 12 states)
+VERIFICATIONS, EVALUATIONS = 16, 128
+
+
 def _threshold(system: System, tol: Fraction) -> ControlThreshold:
     A, B = exact_plant(system)
+    n, degree = A.rows, field_of(A, B).degree
+    # each is a dense system in the n^2 entries of S: (n^2)^3, over a field of degree D (D^2)
+    budget.price("symkf.control.critical_arrival_rate",
+                 lambda: f"the continuation towards the quotient bound ({VERIFICATIONS} exact certificates over a "
+                         f"field of degree {degree} and {EVALUATIONS} policy evaluations, each a solve in the n^2 = "
+                         f"{n * n} entries of S)",
+                 stein_entry=VERIFICATIONS * (n * n * degree) ** 2 * n * n, policy_entry=EVALUATIONS * n ** 6)
     quotient = quotient_bound(A, B)
     lower = AlgebraicNumber.from_expr(0) if quotient is None else quotient.bound
     upper, gain, certificate = _certified_upper(A, B, sp.Matrix(system.W), sp.Matrix(system.U), lower, tol)

@@ -14,6 +14,7 @@ exactly by the pure-Python fallback), bounds the true optimum from below: the ga
 """
 from __future__ import annotations
 
+import collections
 import itertools
 import math
 from dataclasses import dataclass, field
@@ -23,6 +24,7 @@ from typing import Any, Callable, Sequence
 import flint
 import sympy as sp
 
+from .. import budget
 from ..output import JsonDocument
 from ..arguments import check_public
 from ..engine.region import simplest
@@ -301,6 +303,15 @@ def allocate_recovery(system: System, fail: Sequence[Any], weights: Any = None, 
     fails = GilbertElliott(list(fail), ["1/2"] * system.d).fail if not isinstance(fail, GilbertElliott) else fail.fail
     if len(fails) != system.d:
         raise InputError(f"fail: {len(fails)} probabilities for {system.d} sensors")
+    d = system.d
+    # the common rate, one sweep (each sensor lowered, two trials per exchange from a dearer to a
+    # cheaper channel) and the final pass: critical recovery rates of d sensors each; a further
+    # sweep (at most max_sweeps) costs as much as the first
+    exchanges = (d * d - sum(c * c for c in collections.Counter(w).values())) // 2
+    budget.price("symkf.design.allocate_recovery",
+                 lambda: f"{2 * d + 1 + 2 * exchanges} critical recovery rates of {d} sensors (the common one, a sweep "
+                         f"with {exchanges} exchanges, the final pass)",
+                 recovery_query=(2 * d + 1 + 2 * exchanges) * d)
     common = critical_recovery_rate(system, list(fails))
     if common >= 1:
         raise InputError("fail: no common recovery probability below 1 makes the filter stable; no allocation exists")

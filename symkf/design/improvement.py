@@ -17,6 +17,7 @@ from typing import Any, Sequence
 
 import sympy as sp
 
+from .. import budget
 from ..output import JsonDocument
 from ..arguments import check_public
 from ..engine.blocks import block_rows
@@ -123,6 +124,11 @@ def upgrades(system: System) -> Upgrades:
     >>> u.base.exact, [(x.sensor, x.elasticity, x.improved.exact) for x in u.ranked]
     (1/2, [('c', 1/2, sqrt(10)/6), ('a', 1/4, 10**(1/4)*sqrt(3)/6), ('b', 1/4, 10**(1/4)*sqrt(3)/6)])
     """
+    d = system.d
+    # 2d + 1 critical rates, each a heaviest-hyperplane search whose cost grows about as d^2 here
+    budget.price("symkf.design.upgrades", lambda: f"{2 * d + 1} critical i.i.d. loss rates of {d} sensors (the common "
+                                                  "one and two along each sensor's ray)",
+                 ray_query=(2 * d + 1) * d * d)
     base = critical_loss_rate(system)
     names = system.sensor_names
     shares = _elasticities(system, base)

@@ -19,6 +19,7 @@ from typing import Any, Mapping, Sequence
 
 import sympy as sp
 
+from .. import budget
 from ..output import JsonDocument
 from ..arguments import check_public
 from ..engine.blocks import block_rows
@@ -345,6 +346,11 @@ def pareto_front(system: System, *, costs: Any = None, solver: str = "auto") -> 
         raise InputError(f"solver: {solver!r} is not one of 'auto', 'highs', 'python'")
     weights = candidate_costs(system, costs)
     d, points = system.d, []
+    # a point per number of sensors at unit costs (other costs may give more): each a covering
+    # search deciding sets and a critical rate, a fixed cost and one growing about as d^2
+    budget.price("symkf.design.pareto_front", lambda: f"the front of {d} sensors (up to {d} points, each a search "
+                                                      "and a critical i.i.d. loss rate)",
+                 front_point=d, front_pair=d * d * d)
     first, decisions = _cheapest_detectable(system, weights, solver)
     rate = critical_loss_rate(subsystem(system, first))
     points.append(ParetoPoint(tuple(system.sensor_names[j] for j in first), sum((weights[j] for j in first), sp.Integer(0)),

@@ -204,6 +204,11 @@ def expected_remote_covariance(lf: LocalFilters) -> np.ndarray:
     """
     m = lf.model
     N = m.N
+    cubes = sum(loc.n_o ** 3 for loc in m.local)
+    # N^2 Stein equations X_ij and N (N + 1)/2 Y_ij, each solved as a dense system of n_i n_j unknowns
+    budget.price("symkf.fusion.expected_remote_covariance",
+                 lambda: f"{N * N + N * (N + 1) // 2} Stein equations of {N} sensors' observable parts",
+                 fusion_pair=N * N + N * (N + 1) // 2, stein_float=3 * cubes * cubes // 2)
     lam = [float(x) for x in m.arrival]
     A = [loc.A for loc in m.local]
     F = [f.F for f in lf.filters]

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import block_diag, solve_discrete_are, solve_discrete_lyapunov
 
+from .. import budget
 from ..arguments import check_public, index
 from ..errors import AssumptionError
 from .decomposition import LocalModel
@@ -76,6 +77,10 @@ class LocalFilters:
 
 def local_filters(model: FusionModel) -> LocalFilters:
     """Lemma 1 for every sensor and the joint Stein equation for ``[Gamma_ij]``."""
+    size = sum(loc.n_o for loc in model.local)
+    budget.price("symkf.fusion.local_filters",
+                 lambda: f"{model.N} local Riccati equations and the joint Stein equation of size {size}",
+                 local_filter=model.N, float_cube=size ** 3)
     filters = tuple(steady_filter(loc) for loc in model.local)
     F = block_diag(*[f.F for f in filters])
     G = block_diag(*[f.G for f in filters])

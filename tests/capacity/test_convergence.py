@@ -16,6 +16,8 @@ from symkf.capacity import MARE, mare_converges, mare_stabilizable, unit_circle_
 from symkf.errors import AssumptionError
 from symkf.exact.linalg import positive_definite
 
+from conftest import period_24_block, refused_within
+
 R = sp.Rational
 ROTATION = System(A=[[0, -2], [2, 0]], sensors=[Sensor(C=[[1, 0]])], name="rotation")
 FULL_C = System(A=[[2, 1], [0, 3]], sensors=[Sensor(C=[[1, 0], [0, 1]])], name="full C")
@@ -95,3 +97,9 @@ def test_condition2_with_unit_circle_eigenvalues():
                                         Q=[[1, 0], [0, R(1, 100)]]))
 
 
+
+
+def test_an_lmi_of_320_noisy_sensors_is_refused_by_its_price():
+    # the 4-dim block diag(2R(pi/6), 2R(pi/4)) with 320 scalar sensors at loss 1/10: one LMI of size 4 (2 + 320) = 1288 in 1290 coordinates, about 110 CPU-s estimated
+    S = period_24_block(320)
+    refused_within(5, r"mare_stabilizable: .*LMIs of size 1288 in 1290 coordinates.*max_work", lambda: mare_stabilizable(S, IID(["1/10"] * 320)))

@@ -12,9 +12,12 @@ import sympy as sp
 import symkf as sk
 from symkf.control import critical_arrival_rate, quotient_bound
 from symkf.control.threshold import lyapunov_certificate
+from symkf.control import threshold
 from symkf.errors import InputError, ShapeError, UncontrollableError
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.exact.spectral import eigenvalues
+
+from conftest import refused_within
 
 R = sp.Rational
 
@@ -155,3 +158,44 @@ def test_rotation_plant_is_certified_in_its_number_field():
     t = critical_arrival_rate(plant([[c, -s_], [s_, c]], [[0], [1]]))
     assert t.exact == R(15, 16) and t.reached and t.check()
     assert any(v.has(sp.sqrt(3)) for v in t.certificate)
+
+
+def test_a_plant_of_32_states_is_refused_by_the_price_of_its_continuation():
+    # each certificate and policy evaluation solves for the n^2 = 1024 entries of S: 16 + 128 of
+    # them are estimated at about 100 CPU-s, above max_work (a minute); refused before the first
+    n = 32
+    S = plant(2 * sp.eye(n), sp.eye(n))
+    refused_within(5, r"critical_arrival_rate: .*continuation.*max_work.*--max-work", lambda: critical_arrival_rate(S))
+    with sk.budget.limits(max_work=10 ** 9):   # the estimate is the only refusal: raised, it goes on to the bound
+        assert quotient_bound(S.A, S.B).bound.exact == R(3, 4)
+
+
+def test_sixteen_unstable_modes_are_refused_by_the_price_of_their_quotients():
+    # diag(2, ..., 17) with one input: 2^16 - 1 quotients, each a product of its kept eigenvalues
+    # and a cofactor h(A) of 16 x 16; estimated at about 1000 CPU-s
+    S = plant(sp.diag(*range(2, 18)), sp.ones(16, 1), C=sp.ones(1, 16))
+    refused_within(5, r"quotient_bound: .*65535 quotients of 16 unstable modes.*max_work", lambda: critical_arrival_rate(S))
+
+
+def test_the_quotient_bound_estimate_is_within_3x_of_its_cost():
+    # diag(2, ..., 8), one input: 127 rational quotients; 7 * 2^6 products of degree 1 and 127
+    # cofactors of 7 x 7 (0.31 CPU-s estimated, 0.5 measured)
+    A = sp.diag(*range(2, 9))
+    modes = threshold._modes(A)
+    estimate = sk.budget.seconds(quotient_degree=threshold._compound_degrees(modes), quotient_entry=127 * 49)
+    start = time.process_time()
+    assert quotient_bound(A, sp.ones(7, 1)).bound.exact == 1 - R(1, sp.factorial(8) ** 2)   # 1 - 1/prod^2
+    measured = time.process_time() - start
+    assert measured / 3 < estimate < 3 * measured
+
+
+def test_the_continuation_estimate_is_within_3x_of_its_cost():
+    # 2 I_7 with B = I: nu_c = 1 - 1/4 exactly; 16 certificates and 128 policy evaluations of
+    # (n^2)^3 = 49^3 each (0.31 CPU-s estimated, about 0.4 measured)
+    n = 7
+    S = plant(2 * sp.eye(n), sp.eye(n))
+    estimate = sk.budget.seconds(stein_entry=threshold.VERIFICATIONS * n ** 6, policy_entry=threshold.EVALUATIONS * n ** 6)
+    start = time.process_time()
+    assert critical_arrival_rate(S).exact.exact == R(3, 4)
+    measured = time.process_time() - start
+    assert measured / 3 < estimate < 3 * measured

@@ -3,6 +3,7 @@ engine decides, and the two solvers against each other."""
 
 import itertools
 import math
+import time
 
 import pytest
 import sympy as sp
@@ -10,7 +11,7 @@ import sympy as sp
 import symkf as sk
 from symkf.errors import InputError
 
-from conftest import stacked_rotations
+from conftest import period_24_block, refused_within, stacked_rotations
 
 
 def two_sensors():
@@ -114,3 +115,21 @@ def test_simulation_sees_the_allocated_losses_stable():
     a = sk.design.allocate_channels(S, [1, 2, 3], margin="3/4")
     check = sk.verify(S, sk.IID(list(a.losses)), seed=0, paths=4000)
     assert check.verdict.stable and check.outcome == "consistent", check
+
+
+def test_recovery_allocation_of_16_sensors_is_refused_by_its_price():
+    # the common rate, a sweep and the final pass: 33 critical recovery rates of 16 sensors,
+    # 106 CPU-s estimated, refused before the first
+    S = period_24_block(16)
+    refused_within(2, r"allocate_recovery: .*33 critical recovery rates of 16 sensors.*max_work", lambda: sk.design.allocate_recovery(S, ["1/20"] * 16))
+
+
+def test_the_recovery_allocation_estimate_is_within_3x_of_its_cost():
+    # two sensors: 5 critical recovery rates of 2 sensors, 2 CPU-s estimated
+    S = period_24_block(2)
+    estimate = sk.budget.seconds(recovery_query=5 * 2)
+    start = time.process_time()
+    a = sk.design.allocate_recovery(S, ["1/20"] * 2)
+    measured = time.process_time() - start
+    assert a.verdict.stable
+    assert measured / 3 < estimate < 3 * measured

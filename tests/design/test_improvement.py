@@ -1,10 +1,13 @@
 """Upgrades and active constraints (symkf.design.improvement) against values by hand and the
 critical rate along the ray."""
 
+import time
+
 import sympy as sp
 
 import symkf as sk
 
+from conftest import period_24_block, refused_within
 from test_selection import three_sensors
 
 
@@ -41,3 +44,20 @@ def test_front_and_upgrades_render_in_a_notebook():
     S = three_sensors()
     assert sk.design.pareto_front(S)._repr_latex_().count(r"\\") >= 3
     assert sk.design.upgrades(S)._repr_latex_().startswith(r"$\varepsilon_c = \frac{1}{2}")
+
+
+def test_upgrades_of_64_sensors_are_refused_by_their_price():
+    # 129 critical rates, each a search growing about as d^2: 264 CPU-s estimated, above max_work
+    S = period_24_block(64)
+    refused_within(2, r"upgrades: .*129 critical i.i.d. loss rates of 64 sensors.*max_work", lambda: sk.design.upgrades(S))
+
+
+def test_the_upgrades_estimate_is_within_3x_of_their_cost():
+    # 8 sensors: 17 critical rates, 0.54 CPU-s estimated
+    S = period_24_block(8)
+    estimate = sk.budget.seconds(ray_query=17 * 64)
+    start = time.process_time()
+    u = sk.design.upgrades(S)
+    measured = time.process_time() - start
+    assert len(u.ranked) == 8 and all(x.improved >= u.base for x in u.ranked)
+    assert measured / 3 < estimate < 3 * measured

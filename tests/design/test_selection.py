@@ -3,6 +3,7 @@ subset: the answer is the cheapest set that meets the requirement, its certifica
 
 import itertools
 import random
+import time
 
 import pytest
 import sympy as sp
@@ -13,7 +14,7 @@ from symkf.design.constraints import SubsetCut
 from symkf.design.selection import subsystem
 from symkf.errors import InputError, UnobservableError
 
-from conftest import rotation, stacked_rotations
+from conftest import period_24_block, refused_within, rotation, stacked_rotations
 
 
 def three_sensors():
@@ -249,3 +250,20 @@ def test_every_cheaper_set_fails_a_certificate_cut_exactly():
             if sum(costs[j] for j in keep) < pick.cost:
                 assert any(cut.fails(keep, pick.requirement) for cut in pick.certificate.cuts), keep
     assert not any(cut.fails(pick.indices, pick.requirement) for cut in pick.certificate.cuts)
+
+
+def test_the_front_of_64_sensors_is_refused_by_its_price():
+    # up to 64 points, each a search and a critical rate (0.4 CPU-s, and d^2 ms): 288 CPU-s estimated
+    S = period_24_block(64)
+    refused_within(2, r"pareto_front: .*front of 64 sensors.*max_work", lambda: sk.design.pareto_front(S))
+
+
+def test_the_front_estimate_is_within_3x_of_its_cost():
+    # 4 sensors: 1.7 CPU-s estimated
+    S = period_24_block(4)
+    estimate = sk.budget.seconds(front_point=4, front_pair=4 ** 3)
+    start = time.process_time()
+    front = sk.design.pareto_front(S)
+    measured = time.process_time() - start
+    assert [p.cost for p in front.points] == sorted(p.cost for p in front.points)
+    assert measured / 3 < estimate < 3 * measured

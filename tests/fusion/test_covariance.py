@@ -5,6 +5,8 @@ average over holding times."""
 import numpy as np
 import pytest
 
+from symkf import budget
+from symkf.errors import BudgetError
 from symkf.fusion import expected_remote_covariance, fusion_sigma, remote_error_covariance
 
 
@@ -25,3 +27,10 @@ def test_expected_covariance_is_the_average_over_holding_times(small_fusion):
                 p = np.prod([l * (1 - l) ** t for l, t in zip(lam, (t0, t1, t2))])
                 avg += p * remote_error_covariance(small_fusion, (t0, t1, t2))
     assert np.allclose(avg, expected_remote_covariance(small_fusion), rtol=1e-7, atol=1e-9)
+
+
+def test_the_expected_covariance_over_max_work_is_refused_by_its_price(small_fusion):
+    # the small set-up's three sensors: 9 + 6 Stein equations, refused under a cap of
+    # 1 CPU-ms (1024 sensors of two states: about 110 CPU-s estimated, above the default)
+    with budget.limits(max_work=1), pytest.raises(BudgetError, match=r"expected_remote_covariance: .*Stein equations"):
+        expected_remote_covariance(small_fusion)
