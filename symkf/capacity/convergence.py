@@ -66,6 +66,7 @@ from ..exact.field import Elem, NumberField
 from ..exact.linalg import field_of, positive_definite, rank, schur_positive, solve_rows
 from ..model.loss import LossModel
 from ..model.system import System
+from ..numeric import convex
 from ..exact.spectral import eigenvalues
 from .quantities import _require_iid, capacity_exceeds, spectral_radius
 
@@ -277,7 +278,7 @@ def mare_stabilizable(system: System, loss: LossModel) -> LMIVerdict:
     Y = F[:n, :n]   # the Z coordinates' F_k vanish there
     positive = (F + F.T) / 2 >> t * np.eye(size)
     primal = cp.Problem(cp.Maximize(t), [positive, (Y + Y.T) / 2 << np.eye(n)])
-    primal.solve(solver=cp.CLARABEL)
+    primal_status = convex.solve(primal)
     t_val = float(t.value) if t.value is not None else -np.inf
     if t_val > 0:
         xr = [_dyadic(v) for v in x.value]
@@ -298,11 +299,13 @@ def mare_stabilizable(system: System, loss: LossModel) -> LMIVerdict:
     W, s = cp.Variable((size, size), symmetric=True), cp.Variable()
     dual = cp.Problem(cp.Maximize(s), [W >> s * np.eye(size), cp.trace(W) == 1,
                                        vec.T @ cp.reshape(W, (size * size,), order="F") == 0])
-    dual.solve(solver=cp.CLARABEL)
+    dual_status = convex.solve(dual)
     s_val = float(s.value) if s.value is not None else -np.inf
     if s_val > 0 and _orthogonal_positive(K, entries, gram, W.value):
         return LMIVerdict(False, infeasible, t_val, s_val)
-    return LMIVerdict(None, "undecided: neither certificate verifies (too close to the boundary)", t_val, s_val)
+    failed = [name for name, status in (("primal", primal_status), ("dual", dual_status)) if status == convex.FAILED]
+    why = f"the SDP solver failed on the {' and '.join(failed)}" if failed else "too close to the boundary"
+    return LMIVerdict(None, f"undecided: neither certificate verifies ({why})", t_val, s_val)
 
 
 def unit_circle_condition(system: System) -> bool:

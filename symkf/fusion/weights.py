@@ -35,6 +35,7 @@ import scipy.linalg
 
 from ..arguments import check_public, float_array
 from ..errors import AssumptionError, InputError, NotPositiveDefiniteError, ShapeError, require_extra
+from ..numeric import convex
 
 __all__ = ["optimal_weights", "fused_covariance", "METHODS"]
 
@@ -116,9 +117,9 @@ def _sdp(Sigma: np.ndarray, Vo: np.ndarray) -> np.ndarray:
     X = cp.Variable((nN, nN), symmetric=True)
     schur = cp.bmat([[np.eye(n), W.T], [W, X]])
     problem = cp.Problem(cp.Minimize(cp.trace(S @ X)), [W.T @ Vo == np.eye(n), schur >> 0])
-    problem.solve(solver=cp.CLARABEL, tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10)
-    if problem.status not in ("optimal", "optimal_inaccurate") or W.value is None:
-        raise AssumptionError(f"the SDP solver returned status {problem.status!r}",
+    status = convex.solve(problem, tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10)
+    if status not in ("optimal", "optimal_inaccurate") or W.value is None:
+        raise AssumptionError(f"the SDP solver returned status {status!r}",
                               assumption="Problem 2 (arXiv:2012.04896) solvable", applies_instead='method="closed-form"')
     return np.asarray(W.value)
 
