@@ -147,12 +147,36 @@ def _labels(X: np.ndarray, p: int) -> tuple[np.ndarray, np.ndarray]:
     Y = X[rows]
     lead = Y[np.arange(len(rows)), np.argmax(Y != 0, axis=1)]
     canon = Y * inverses(lead, p)[:, None] % p
-    _, first, inverse = np.unique(canon, axis=0, return_index=True, return_inverse=True)
+    first, inverse = _groups(canon, p)
     order = np.argsort(first)
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
-    label[rows] = rank[inverse.ravel()]
+    label[rows] = rank[inverse]
     return label, canon[first[order]]
+
+
+def _groups(Y: np.ndarray, p: int) -> tuple[np.ndarray, np.ndarray]:
+    """``np.unique(Y, axis=0, return_index=True, return_inverse=True)[1:]`` for residues mod p (``Y``
+    of one column or more): the first row of each distinct row, and each row's group, groups in
+    the rows' lexicographic order.  The residues are packed big-endian, as many to an int64 as fit
+    (the order stays lexicographic), and the rows ordered by one stable lexsort of those columns:
+    np.unique sorts rows as opaque records, four to six times slower (a fifth of the screens of
+    five cyclotomic fields)."""
+    bits = max(1, int(p - 1).bit_length())
+    per = max(1, 63 // bits)
+    cols = []
+    for start in range(0, Y.shape[1], per):
+        packed = np.zeros(len(Y), dtype=np.int64)
+        for c in range(start, min(start + per, Y.shape[1])):
+            packed = packed << bits | Y[:, c]
+        cols.append(packed)
+    order = np.lexsort(cols[::-1])
+    ordered = np.stack(cols, axis=1)[order]
+    new = np.ones(len(Y), dtype=bool)
+    new[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
+    inverse = np.empty(len(Y), dtype=np.int64)
+    inverse[order] = np.cumsum(new) - 1
+    return order[new], inverse
 
 
 def _classes(X: np.ndarray, p: int) -> tuple[np.ndarray, list[np.ndarray], np.ndarray]:

@@ -502,12 +502,34 @@ class BlockRows:
 
     def _exact(self, X: np.ndarray, p: int, members: np.ndarray, vectors) -> bool:
         """Whether the points ``members`` (a mod-p closure: rank ``n - 1`` mod p, so at least that
-        over K) have rank ``n - 1`` over K: the exact normal of ``n - 1`` of them independent mod p
-        is orthogonal to every other one (a dot product each, where an echelon form of all of
-        them costs about n times more)."""
-        basis = _independent_mod_p(X[members], p)
-        normal = normal_of(self.K, [vectors[members[i]] for i in basis], self.size)
-        return all(self.K.dot(vectors[i], normal).is_zero() for i in np.delete(members, basis))
+        over K) have rank ``n - 1`` over K (:func:`_hyperplane_normal`)."""
+        return _hyperplane_normal(self.K, [vectors[i] for i in members], X[members], p, self.size) is not None
+
+    def normal(self, S: frozenset[int]) -> list[Elem] | None:
+        """A normal over K of the span of the generators of the elements ``S`` when that span is a
+        hyperplane (rank ``n - 1``), else None: :func:`_hyperplane_normal` from ``n - 1`` of them
+        independent mod p, by minors, without the inverses in K of an echelon form (each costs
+        hundreds of products at high degree: the fibres of five cyclotomic fields took 1570 of
+        them, most of the row's time); an echelon form only when they have lower rank mod p."""
+        members = sorted(S)
+        vectors = [v for e in members for v in self.generators[e]]
+        if not vectors:
+            return None
+        p, images, first = self._images
+        X = images[np.concatenate([np.arange(first[e], first[e + 1]) for e in members])]
+        found = _hyperplane_normal(self.K, vectors, X, p, self.size)
+        if found is None and flint.nmod_mat(X.tolist(), p).rank() < self.size - 1:
+            basis = nullspace_rows(self.K, vectors, self.size)
+            found = basis[0] if len(basis) == 1 else None
+        return found
+
+    @cached_property
+    def _images(self) -> tuple[int, np.ndarray, np.ndarray]:
+        """A prime, the images mod p of every element's generators (:func:`_reduction`), element by
+        element, and where each element's rows start (with the end)."""
+        p, images = _reduction(self.K, [v for gs in self.generators for v in gs])
+        first = np.concatenate([[0], np.cumsum([len(gs) for gs in self.generators])])
+        return p, np.array(images, dtype=np.int64).reshape(-1, self.size), first
 
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
@@ -660,6 +682,25 @@ def _independent_mod_p(rows: np.ndarray, p: int) -> list[int]:
             col += 1
         out.append(col)
     return out
+
+
+def _hyperplane_normal(K: NumberField, vectors: Sequence[Sequence[Elem]], X: np.ndarray, p: int, n: int) \
+        -> list[Elem] | None:
+    """The exact normal (signed maximal minors, :func:`symkf.exact.linalg.normal_of`) of ``n - 1`` of
+    ``vectors`` independent mod p (their images ``X``, independent over K as they are mod p), when
+    it is orthogonal to every other one: then the vectors have rank ``n - 1`` over K.  None when
+    they do not have rank ``n - 1`` mod p or some vector is off that normal (a dot product each,
+    where an echelon form of all of them costs about n times more; one nonzero mod p is nonzero
+    over K, and only those vanishing mod p are checked exactly)."""
+    basis = _independent_mod_p(X, p)
+    if len(basis) != n - 1:
+        return None
+    rest = np.delete(np.arange(len(vectors)), basis)
+    null, _ = flint.nmod_mat(X[basis].tolist(), p).nullspace()
+    if (X[rest] @ np.array([int(null[i, 0]) for i in range(n)], dtype=np.int64) % p).any():
+        return None
+    normal = normal_of(K, [vectors[i] for i in basis], n)
+    return normal if all(K.dot(vectors[i], normal).is_zero() for i in rest) else None
 
 
 def _some_root(f: flint.nmod_poly, p: int) -> int | None:
