@@ -515,21 +515,44 @@ class BlockRows:
         vectors = [v for e in members for v in self.generators[e]]
         if not vectors:
             return None
-        p, images, first = self._images
-        X = images[np.concatenate([np.arange(first[e], first[e + 1]) for e in members])]
+        p, X = self._images_of(members)
         found = _hyperplane_normal(self.K, vectors, X, p, self.size)
         if found is None and flint.nmod_mat(X.tolist(), p).rank() < self.size - 1:
             basis = nullspace_rows(self.K, vectors, self.size)
             found = basis[0] if len(basis) == 1 else None
         return found
 
+    def state_normal_mod_p(self, S: frozenset[int]) -> tuple[int, np.ndarray] | None:
+        """``(p, u)``: the image under a ring map ``Z_(p)[theta] -> F_p`` (:func:`_reduction`) of
+        the normal of ``S``'s span in state coordinates (``T`` times it), when the generators of
+        ``S`` have rank ``n - 1`` mod p; else None.  Then they have rank ``n - 1`` or ``n`` over K,
+        and with rank ``n - 1`` the image of their exact normal (:meth:`normal`) is a multiple of
+        the one mod p: a coordinate of ``u`` nonzero mod p is nonzero over K."""
+        members = sorted(S)
+        if not any(self.generators[e] for e in members):
+            return None
+        p, X = self._images_of(members)
+        null, nullity = flint.nmod_mat(X.tolist(), p).nullspace()
+        if nullity != 1:
+            return None
+        N = np.array([int(null[i, 0]) for i in range(self.size)], dtype=np.int64)
+        return p, self._images[3] @ N % p
+
+    def _images_of(self, members: Sequence[int]) -> tuple[int, np.ndarray]:
+        """The prime of :attr:`_images` and the images of the generators of ``members``, in order."""
+        p, images, first, _ = self._images
+        return p, images[np.concatenate([np.arange(first[e], first[e + 1]) for e in members])]
+
     @cached_property
-    def _images(self) -> tuple[int, np.ndarray, np.ndarray]:
+    def _images(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
         """A prime, the images mod p of every element's generators (:func:`_reduction`), element by
-        element, and where each element's rows start (with the end)."""
-        p, images = _reduction(self.K, [v for gs in self.generators for v in gs])
+        element, where each element's rows start (with the end), and the image of ``T`` under the
+        same map."""
+        gens = [v for gs in self.generators for v in gs]
+        p, images = _reduction(self.K, [*gens, *self.T])
         first = np.concatenate([[0], np.cumsum([len(gs) for gs in self.generators])])
-        return p, np.array(images, dtype=np.int64).reshape(-1, self.size), first
+        images = np.array(images, dtype=np.int64).reshape(-1, self.size)
+        return p, images[:len(gens)], first, images[len(gens):]
 
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""

@@ -78,7 +78,8 @@ def _plain(X, weights, cycles):
 @given(st.integers(0, 10 ** 6))
 def test_windowed_screen_finds_what_the_plain_screen_finds(seed):
     """Same heaviest weight, same hyperplanes at it (up to the shift), and the windowed plan's
-    work estimate bounds what its search does (C(W, n - 4) passes of at most W C incidences)."""
+    work estimate bounds what its search does (C(W, n - 4) passes, C(W, n - 3) flats each against at
+    most C classes)."""
     X, weights, cycles = _configuration(seed)
     n = X.shape[1]
     if _rank(X) < n:
