@@ -3,7 +3,8 @@
 Each side runs in its own interpreter (``--main-python``, default ``/work/main/.venv/bin/python``
 with ``--main-tree`` first on its path) on the cases below: Perron roots of non-negative matrices
 over Q(sqrt 2, sqrt 3, sqrt 5) (:func:`engine_cases.radical_matrix`, small enough for main's
-sympy path), over Q(sqrt 2), and critical loss rates and verdicts of the engine rows' systems,
+sympy path), over Q(sqrt 2), and critical loss rates and verdicts of the engine rows' systems
+(rotations in two to four cyclotomic fields among them: the cylinders and their fibres),
 among them Gilbert-Elliott losses with algebraic probabilities (Perron roots of restricted
 transfers over Q(sqrt 2)).  Prints one line per case and exits 1 on any difference.
 
@@ -22,7 +23,9 @@ HERE = Path(__file__).resolve().parent
 
 CASES = ([("perron", "radical", seed, 2) for seed in range(6)] + [("perron", "radical", seed, 3) for seed in range(3)]
          + [("perron", "sqrt2", k, 0) for k in range(4)]
-         + [("critical", "cyclotomic_fields", 2, 0), ("critical", "rotation_block", 2, 2),
+         + [("critical", "cyclotomic_fields", 2, 0), ("critical", "cyclotomic_fields", 3, 0),
+            ("critical", "cyclotomic_fields", 4, 0), ("stability", "cyclotomic_fields", 3, 0),
+            ("stability", "cyclotomic_fields", 4, 0), ("critical", "rotation_block", 2, 2),
             ("critical", "prime_rotation", 23, 0), ("critical", "dense", 8, 0),
             ("stability", "gilbert_elliott", 2, 0), ("stability", "rotation_stack", 3, 0),
             ("stability_ge_sqrt2", "gilbert_elliott", 2, 0), ("stability_ge_sqrt2", "gilbert_elliott", 3, 1)])
@@ -73,7 +76,7 @@ def main() -> int:
     ap.add_argument("--main-python", default="/work/main/.venv/bin/python")
     ap.add_argument("--main-tree", default="/work/main")
     args = ap.parse_args()
-    ours, theirs = _run(sys.executable, None), _run(args.main_python, args.main_tree)
+    ours, theirs = _run(sys.executable, str(HERE.parent)), _run(args.main_python, args.main_tree)
     bad = 0
     for key in ours:
         same = ours[key] == theirs.get(key)
