@@ -511,7 +511,7 @@ class BlockRows:
         independent mod p, by minors, without the inverses in K of an echelon form (each costs
         hundreds of products at high degree: the fibres of five cyclotomic fields took 1570 of
         them, most of the row's time); an echelon form only when they have lower rank mod p."""
-        members = sorted(S)
+        members = self._indices(S)
         vectors = [v for e in members for v in self.generators[e]]
         if not vectors:
             return None
@@ -528,7 +528,7 @@ class BlockRows:
         ``S`` have rank ``n - 1`` mod p; else None.  Then they have rank ``n - 1`` or ``n`` over K,
         and with rank ``n - 1`` the image of their exact normal (:meth:`normal`) is a multiple of
         the one mod p: a coordinate of ``u`` nonzero mod p is nonzero over K."""
-        members = sorted(S)
+        members = self._indices(S)
         if not any(self.generators[e] for e in members):
             return None
         p, X = self._images_of(members)
@@ -537,6 +537,15 @@ class BlockRows:
             return None
         N = np.array([int(null[i, 0]) for i in range(self.size)], dtype=np.int64)
         return p, self._images[3] @ N % p
+
+    def _indices(self, S: frozenset[int]) -> list[int]:
+        """The element indices ``S``, sorted; an :class:`~symkf.errors.InputError` naming them when
+        one is not an element of this block."""
+        members = sorted(int(e) for e in S)   # a bool is an int, never a numpy mask
+        if any(not 0 <= e < len(self.elements) for e in members):
+            raise InputError(f"S: element indices from 0 to {len(self.elements) - 1} expected (the block's "
+                             f"elements), got {str(members)[:80]}")
+        return members
 
     def _images_of(self, members: Sequence[int]) -> tuple[int, np.ndarray]:
         """The prime of :attr:`_images` and the images of the generators of ``members``, in order."""
