@@ -5,7 +5,8 @@ Each side runs in its own interpreter with its tree on ``PYTHONPATH`` (this chec
 imported symkf from (a script's own directory heads ``sys.path``, not the working directory: without
 the path both sides would import the installed symkf).  The cases: Perron roots of non-negative matrices
 over Q(sqrt 2, sqrt 3, sqrt 5) (:func:`engine_cases.radical_matrix`, small enough for main's
-sympy path), over Q(sqrt 2), and critical loss rates and verdicts of the engine rows' systems,
+sympy path), over Q(sqrt 2), and critical loss rates and verdicts of the engine rows' systems
+(rotations in two to four cyclotomic fields among them: the cylinders and their fibres),
 among them Gilbert-Elliott losses with algebraic probabilities (Perron roots of restricted
 transfers over Q(sqrt 2)).  Prints one line per case and exits 1 on any difference.
 
@@ -24,7 +25,9 @@ HERE = Path(__file__).resolve().parent
 
 CASES = ([("perron", "radical", seed, 2) for seed in range(6)] + [("perron", "radical", seed, 3) for seed in range(3)]
          + [("perron", "sqrt2", k, 0) for k in range(4)]
-         + [("critical", "cyclotomic_fields", 2, 0), ("critical", "rotation_block", 2, 2),
+         + [("critical", "cyclotomic_fields", 2, 0), ("critical", "cyclotomic_fields", 3, 0),
+            ("critical", "cyclotomic_fields", 4, 0), ("stability", "cyclotomic_fields", 3, 0),
+            ("stability", "cyclotomic_fields", 4, 0), ("critical", "rotation_block", 2, 2),
             ("critical", "prime_rotation", 23, 0), ("critical", "dense", 8, 0),
             ("stability", "gilbert_elliott", 2, 0), ("stability", "rotation_stack", 3, 0),
             ("stability_ge_sqrt2", "gilbert_elliott", 2, 0), ("stability_ge_sqrt2", "gilbert_elliott", 3, 1)])

@@ -54,7 +54,8 @@ def _child(what: str, case: str, args: list[str]) -> None:
             start = time.process_time()
             result = _compute(what, system, loss)
         except BudgetError as exc:  # a refusal is a result of its own: the row says which cap and when
-            print("refused", time.process_time() - start, str(exc).replace("\n", " "))
+            print("refused", time.process_time() - start, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
+                  str(exc).replace("\n", " "))
             return
         cpu = time.process_time() - start
     print(cpu, hashlib.sha1(result.encode()).hexdigest()[:12], resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
@@ -130,7 +131,7 @@ def _run(tree: str, what: str, case: str, args: list, cap: float, caps: dict) ->
             raise
         return None, "timeout", 0
     if out[0] == "refused":
-        return None, f"refused after {float(out[1]):.1f} CPU-s: {' '.join(out[2:])}", 0
+        return None, f"refused after {float(out[1]):.1f} CPU-s, {int(out[2]) / 1024:.0f} MB: {' '.join(out[3:])}", 0
     return float(out[0]), out[1], int(out[2])
 
 

@@ -96,7 +96,7 @@ class Limits:
     #: step estimated under it runs whatever the size of its input): the hyperplane screen
     #: (symkf.engine.hyperplane_screen: the points each stage classifies, and point-line
     #: incidences, about ``C(C, n - 2)`` per stage for ``C`` classes in an n-dim block, with a
-    #: window of ``W`` classes ``C(W, n - 4) (W C + 10^4)``), the two screens of a Markov loss's
+    #: window of ``W`` classes ``C(W, n - 3) C + 10^4 C(W, n - 4)``), the two screens of a Markov loss's
     #: search together, the search through flats (symkf.engine.flat_screen), closing the sets a
     #: screen keeps (``kept sets x points``), and the hyperplanes a decay rate lists when no screen
     #: applies (``C(V, n - 1)`` for V distinct generators in K^n, or fewer through the flats of

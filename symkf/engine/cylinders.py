@@ -53,7 +53,6 @@ from .. import budget
 from . import rows as observability
 from ..arguments import check_public
 from ..exact.blocks import diagonal_blocks
-from ..exact.linalg import nullspace_rows
 from ..model.system import Sensor, System
 from ..exact.spectral import EigenBlock, support
 
@@ -184,13 +183,17 @@ class SplitRows:
         for S in sets:
             if len(S) <= cap:
                 continue
-            gens = [v for e in sorted(S) for v in lifted.generators[e]]
-            normal = nullspace_rows(lifted.K, gens, lifted.size)
-            if len(normal) != 1:
-                return len(S)
-            u = lifted.K.vecmat(normal[0], [list(r) for r in zip(*lifted.T)])
-            on_i = any(not a.is_zero() for a in u[:ni])
-            on_j = any(not a.is_zero() for a in u[ni:ni + len(self.parts[j])])
+            # the normal meets both parts when its image mod p does (a nonzero residue is nonzero
+            # over K; a set of rank n counts len(S) either way); else exactly, by minors
+            image = lifted.state_normal_mod_p(S)
+            on_i = on_j = image is not None and image[1][:ni].any() and image[1][ni:ni + len(self.parts[j])].any()
+            if not on_i:
+                normal = lifted.normal(S)
+                if normal is None:
+                    return len(S)
+                u = lifted.K.vecmat(normal, [list(r) for r in zip(*lifted.T)])
+                on_i = any(not a.is_zero() for a in u[:ni])
+                on_j = any(not a.is_zero() for a in u[ni:ni + len(self.parts[j])])
             phases = np.array(sorted(S), dtype=np.int64)
             if on_i and on_j:
                 count = len(S)

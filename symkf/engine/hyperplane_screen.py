@@ -147,12 +147,36 @@ def _labels(X: np.ndarray, p: int) -> tuple[np.ndarray, np.ndarray]:
     Y = X[rows]
     lead = Y[np.arange(len(rows)), np.argmax(Y != 0, axis=1)]
     canon = Y * inverses(lead, p)[:, None] % p
-    _, first, inverse = np.unique(canon, axis=0, return_index=True, return_inverse=True)
+    first, inverse = _groups(canon, p)
     order = np.argsort(first)
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
-    label[rows] = rank[inverse.ravel()]
+    label[rows] = rank[inverse]
     return label, canon[first[order]]
+
+
+def _groups(Y: np.ndarray, p: int) -> tuple[np.ndarray, np.ndarray]:
+    """``np.unique(Y, axis=0, return_index=True, return_inverse=True)[1:]`` for residues mod p (``Y``
+    of one column or more): the first row of each distinct row, and each row's group, groups in
+    the rows' lexicographic order.  The residues are packed big-endian, as many to an int64 as fit
+    (the order stays lexicographic), and the rows ordered by one stable lexsort of those columns:
+    np.unique sorts rows as opaque records, four to six times slower (a fifth of the screens of
+    five cyclotomic fields)."""
+    bits = max(1, int(p - 1).bit_length())
+    per = max(1, 63 // bits)
+    cols = []
+    for start in range(0, Y.shape[1], per):
+        packed = np.zeros(len(Y), dtype=np.int64)
+        for c in range(start, min(start + per, Y.shape[1])):
+            packed = packed << bits | Y[:, c]
+        cols.append(packed)
+    order = np.lexsort(cols[::-1])
+    ordered = np.stack(cols, axis=1)[order]
+    new = np.ones(len(Y), dtype=bool)
+    new[1:] = (ordered[1:] != ordered[:-1]).any(axis=1)
+    inverse = np.empty(len(Y), dtype=np.int64)
+    inverse[order] = np.cumsum(new) - 1
+    return order[new], inverse
 
 
 def _classes(X: np.ndarray, p: int) -> tuple[np.ndarray, list[np.ndarray], np.ndarray]:
@@ -279,14 +303,18 @@ def _most_in_span(reps: np.ndarray, sizes: np.ndarray, k: int, p: int) -> int:
 
 def _stage_work(C: int, n: int, window: int | None = None) -> int:
     """Incidences of one stage with ``C`` classes in ``F_p^n / <a>`` (at most: deeper quotients
-    merge classes): ``C(C, n - 3)`` flats each against ``C`` classes, about ``C(C, n - 2)``, and
-    ``C(C, n - 4)`` vectorised passes (none without classes); with a window of ``W`` classes,
-    ``C(W, n - 4)`` passes each of at most ``W C`` incidences."""
+    merge classes): ``C(C, n - 3)`` flats each against the classes after its last, ``C(C, n - 2)``
+    in all, and ``C(C, n - 4)`` vectorised passes (none without classes); with a window of ``W``
+    classes, ``C(W, n - 3)`` flats (their bases increasing chains in the window: each level's
+    window holds the classes after the last chosen) each against at most ``C`` classes, and
+    ``C(W, n - 4)`` passes.  (``C(W, n - 4)`` passes of ``W C`` incidences each overcounted by
+    ``n - 3``: the three-field block 2R(2 pi/9) + 2R(2 pi/11) + 2R(2 pi/13), 64 CPU-s estimated,
+    19 measured.)"""
     if n < 4 or not C:
         return C
     if window is not None:
         W = min(window, C)
-        return math.comb(W, n - 4) * (W * C + PASS)
+        return math.comb(W, n - 3) * C + PASS * math.comb(W, n - 4)
     return math.comb(C, n - 2) + PASS * math.comb(C, n - 4)
 
 
@@ -381,11 +409,13 @@ def _lines_through_points(reps: np.ndarray, w: np.ndarray, owner: np.ndarray, me
         valid = np.arange(U)[None, :] >= np.arange(rows)[:, None]  # class b0 + 1 + j after b0 + i
         key = np.where(Y != 0, X * inverses(np.where(Y != 0, Y, 1), p) % p, p)
         key[~valid] = p + 1
-        # the stable order by key as one sort of key U + column: the packed values are unique, so
-        # numpy's vectorised quicksort gives the stable order, without a stable argsort's cost (a large
-        # share of a Markov screen's time: docs/performance.md)
-        packed = np.sort(key * U + np.arange(U)[None, :], axis=1)
-        order, keys = packed % max(U, 1), packed // max(U, 1)
+        # the stable order by key as one sort of (key, column) packed in bits: the packed values are
+        # unique, so numpy's vectorised quicksort gives the stable order, without a stable argsort's
+        # cost (a large share of a Markov screen's time: docs/performance.md); shifts and masks unpack
+        # them, where a division and a remainder by U cost more than the sort
+        shift = max(U - 1, 1).bit_length()
+        packed = np.sort(key << shift | np.arange(U)[None, :], axis=1)
+        order, keys = packed & ((1 << shift) - 1), packed >> shift
         run = np.ones_like(keys, dtype=bool)
         run[:, 1:] = keys[:, 1:] != keys[:, :-1]
         starts = np.flatnonzero(run)

@@ -617,12 +617,66 @@ class BlockRows:
 
     def _exact(self, X: np.ndarray, p: int, members: np.ndarray, vectors) -> bool:
         """Whether the points ``members`` (a mod-p closure: rank ``n - 1`` mod p, so at least that
-        over K) have rank ``n - 1`` over K: the exact normal of ``n - 1`` of them independent mod p
-        is orthogonal to every other one (a dot product each, where an echelon form of all of
-        them costs about n times more)."""
-        basis = _independent_mod_p(X[members], p)
-        normal = normal_of(self.K, [vectors[members[i]] for i in basis], self.size)
-        return all(self.K.dot(vectors[i], normal).is_zero() for i in np.delete(members, basis))
+        over K) have rank ``n - 1`` over K (:func:`_hyperplane_normal`)."""
+        return _hyperplane_normal(self.K, [vectors[i] for i in members], X[members], p, self.size) is not None
+
+    def normal(self, S: frozenset[int]) -> list[Elem] | None:
+        """A normal over K of the span of the generators of the elements ``S`` when that span is a
+        hyperplane (rank ``n - 1``), else None: :func:`_hyperplane_normal` from ``n - 1`` of them
+        independent mod p, by minors, without the inverses in K of an echelon form (each costs
+        hundreds of products at high degree: the fibres of five cyclotomic fields took 1570 of
+        them, most of the row's time); an echelon form only when they have lower rank mod p."""
+        members = self._indices(S)
+        vectors = [v for e in members for v in self.generators[e]]
+        if not vectors:
+            return None
+        p, X = self._images_of(members)
+        found = _hyperplane_normal(self.K, vectors, X, p, self.size)
+        if found is None and flint.nmod_mat(X.tolist(), p).rank() < self.size - 1:
+            basis = nullspace_rows(self.K, vectors, self.size)
+            found = basis[0] if len(basis) == 1 else None
+        return found
+
+    def state_normal_mod_p(self, S: frozenset[int]) -> tuple[int, np.ndarray] | None:
+        """``(p, u)``: the image under a ring map ``Z_(p)[theta] -> F_p`` (:func:`_reduction`) of
+        the normal of ``S``'s span in state coordinates (``T`` times it), when the generators of
+        ``S`` have rank ``n - 1`` mod p; else None.  Then they have rank ``n - 1`` or ``n`` over K,
+        and with rank ``n - 1`` the image of their exact normal (:meth:`normal`) is a multiple of
+        the one mod p: a coordinate of ``u`` nonzero mod p is nonzero over K."""
+        members = self._indices(S)
+        if not any(self.generators[e] for e in members):
+            return None
+        p, X = self._images_of(members)
+        null, nullity = flint.nmod_mat(X.tolist(), p).nullspace()
+        if nullity != 1:
+            return None
+        N = np.array([int(null[i, 0]) for i in range(self.size)], dtype=np.int64)
+        return p, self._images[3] @ N % p
+
+    def _indices(self, S: frozenset[int]) -> list[int]:
+        """The element indices ``S``, sorted; an :class:`~symkf.errors.InputError` naming them when
+        one is not an element of this block."""
+        members = sorted(int(e) for e in S)   # a bool is an int, never a numpy mask
+        if any(not 0 <= e < len(self.elements) for e in members):
+            raise InputError(f"S: element indices from 0 to {len(self.elements) - 1} expected (the block's "
+                             f"elements), got {str(members)[:80]}")
+        return members
+
+    def _images_of(self, members: Sequence[int]) -> tuple[int, np.ndarray]:
+        """The prime of :attr:`_images` and the images of the generators of ``members``, in order."""
+        p, images, first, _ = self._images
+        return p, images[np.concatenate([np.arange(first[e], first[e + 1]) for e in members])]
+
+    @cached_property
+    def _images(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+        """A prime, the images mod p of every element's generators (:func:`_reduction`), element by
+        element, where each element's rows start (with the end), and the image of ``T`` under the
+        same map."""
+        gens = [v for gs in self.generators for v in gs]
+        p, images = _reduction(self.K, [*gens, *self.T])
+        first = np.concatenate([[0], np.cumsum([len(gs) for gs in self.generators])])
+        images = np.array(images, dtype=np.int64).reshape(-1, self.size)
+        return p, images[:len(gens)], first, images[len(gens):]
 
     def deficient(self, pattern: frozenset[int]) -> bool:
         """Whether the elements in ``pattern`` leave O^i rank deficient."""
@@ -782,6 +836,25 @@ def _independent_mod_p(rows: np.ndarray, p: int) -> list[int]:
             col += 1
         out.append(col)
     return out
+
+
+def _hyperplane_normal(K: NumberField, vectors: Sequence[Sequence[Elem]], X: np.ndarray, p: int, n: int) \
+        -> list[Elem] | None:
+    """The exact normal (signed maximal minors, :func:`symkf.exact.linalg.normal_of`) of ``n - 1`` of
+    ``vectors`` independent mod p (their images ``X``, independent over K as they are mod p), when
+    it is orthogonal to every other one: then the vectors have rank ``n - 1`` over K.  None when
+    they do not have rank ``n - 1`` mod p or some vector is off that normal (a dot product each,
+    where an echelon form of all of them costs about n times more; one nonzero mod p is nonzero
+    over K, and only those vanishing mod p are checked exactly)."""
+    basis = _independent_mod_p(X, p)
+    if len(basis) != n - 1:
+        return None
+    rest = np.delete(np.arange(len(vectors)), basis)
+    null, _ = flint.nmod_mat(X[basis].tolist(), p).nullspace()
+    if (X[rest] @ np.array([int(null[i, 0]) for i in range(n)], dtype=np.int64) % p).any():
+        return None
+    normal = normal_of(K, [vectors[i] for i in basis], n)
+    return normal if all(K.dot(vectors[i], normal).is_zero() for i in rest) else None
 
 
 def _some_root(f: flint.nmod_poly, p: int) -> int | None:

@@ -78,7 +78,8 @@ def _plain(X, weights, cycles):
 @given(st.integers(0, 10 ** 6))
 def test_windowed_screen_finds_what_the_plain_screen_finds(seed):
     """Same heaviest weight, same hyperplanes at it (up to the shift), and the windowed plan's
-    work estimate bounds what its search does (C(W, n - 4) passes of at most W C incidences)."""
+    work estimate bounds what its search does (C(W, n - 4) passes, C(W, n - 3) flats each against at
+    most C classes)."""
     X, weights, cycles = _configuration(seed)
     n = X.shape[1]
     if _rank(X) < n:
@@ -226,3 +227,25 @@ def test_rotations_in_three_cyclotomic_fields_critical_loss_rate():
     A = sp.diag(*(rotation(2 * sp.pi / q, 2) for q in (5, 7, 9)))
     S = sk.System(A=A, sensors=[sk.Sensor(C=[[2, 1, 0, -1, -1, -2]]), sk.Sensor(C=[[-2, -2, -2, 2, 1, 2]])])
     assert sp.simplify(sk.critical_loss_rate(S).exact - 2 ** sp.Rational(-9, 8)) == 0
+
+
+def test_windowed_stage_work_counts_its_flats_against_every_class():
+    """A stage of C = 100 classes at n = 6 with a window of 10: its greedy bases are increasing
+    chains of 3 window classes, C(10, 3) = 120 flats each against at most 100 classes, and
+    C(10, 2) = 45 vectorised passes; at n = 4 one pass of 10 flats.  Without a window the chains
+    run over all classes: C(100, 4) incidences and C(100, 2) passes."""
+    assert hs._stage_work(100, 6, 10) == 120 * 100 + 45 * hs.PASS
+    assert hs._stage_work(100, 4, 10) == 10 * 100 + hs.PASS
+    assert hs._stage_work(100, 6) == math.comb(100, 4) + math.comb(100, 2) * hs.PASS
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 40), st.integers(1, 4), st.sampled_from([2, 5, 7, 10007, (1 << 27) + 29]), st.randoms())
+def test_groups_of_residue_rows_are_numpys_unique_rows(rows, width, p, rnd):
+    """The packed lexsort gives np.unique's first rows and groups (rows drawn with repeats)."""
+    Y = np.array([[rnd.randrange(min(p, 3)) if rnd.random() < 0.5 else rnd.randrange(p) for _ in range(width)]
+                  for _ in range(rows)], dtype=np.int64)
+    Y = np.concatenate([Y, Y[::2]])
+    _, first, inverse = np.unique(Y, axis=0, return_index=True, return_inverse=True)
+    got_first, got_inverse = hs._groups(Y, p)
+    assert got_first.tolist() == first.tolist() and got_inverse.tolist() == inverse.ravel().tolist()

@@ -198,3 +198,26 @@ def test_the_critical_rate_of_the_rotation_by_2_pi_over_797_takes_32_mb():
     memory growing as m^2: 64 MB here, 250 MB at m = 1601)."""
     code, err = limited(library, lambda: _rotation_critical(797), memory=32 * 1024 ** 2)
     assert code == 0, err
+
+
+def test_normal_of_a_hyperplane_is_its_exact_normal_and_none_for_a_spanning_set():
+    """diag(2R(pi/3), 2R(pi/2)) with one sensor (1, 0, 1, 0): period 12 over Q(zeta_12), one
+    generator per element.  Every hyperplane's normal (by minors from generators independent mod
+    p) is orthogonal to all its generators and spans the nullspace of an echelon form, and its
+    image mod p in state coordinates vanishes where T times it does; the elements together span
+    K^4: no normal."""
+    A = sp.diag(sp.Matrix(rotation_entries(2, sp.pi / 3)), sp.Matrix(rotation_entries(2, sp.pi / 2)))
+    S = sk.System(A=A, sensors=[sk.Sensor(C=[[1, 0, 1, 0]])])
+    (br,) = block_rows(S)
+    K, n = br.K, br.size
+    for H in br.hyperplanes:
+        gens = [v for e in sorted(H) for v in br.generators[e]]
+        normal = br.normal(H)
+        assert all(K.dot(v, normal).is_zero() for v in gens)
+        (exact,) = nullspace_rows(K, gens, n)
+        assert rank_rows(K, [normal, exact], n) == 1
+        _, u = br.state_normal_mod_p(H)
+        assert [x != 0 for x in u.tolist()] == [not K.dot(row, normal).is_zero() for row in br.T]
+    spanning = frozenset(e for e, gs in enumerate(br.generators) if gs)
+    assert rank_rows(K, [v for e in spanning for v in br.generators[e]], n) == n
+    assert br.normal(spanning) is None and br.state_normal_mod_p(spanning) is None
