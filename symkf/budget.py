@@ -22,6 +22,7 @@ import dataclasses
 import math
 import numbers
 import sys
+import time
 from dataclasses import dataclass
 from typing import Callable, Iterator
 
@@ -314,6 +315,36 @@ def price(entry: str | Callable[[], str], what: str | Callable[[], str], **units
                           f"{bound} CPU-ms; raise it with symkf.budget.limits(max_work=...) or the command-line "
                           f"option {OPTIONS['max_work']} (the estimate: {parts})")
     return estimate
+
+
+class Meter:
+    """The work of a loop whose number of rounds is not known before it runs (row generation,
+    cutting planes), held to ``max_work`` as it goes: each round's start calls :meth:`round`,
+    which refuses when the CPU time spent so far and one more round as dear as the dearest yet
+    would pass the cap. The first round is not refused here (its own steps are priced); a loop
+    that would run for hours is stopped at the cap, with what it spent, the rounds it made and
+    how to raise it."""
+
+    def __init__(self, entry: str, what: str) -> None:
+        if not (isinstance(entry, str) and isinstance(what, str)):
+            raise InputError(f"Meter: entry and what must be strings, got {type(entry).__name__}, {type(what).__name__}")
+        self.entry, self.what = entry, what
+        self.rounds, self.dearest = 0, 0.0
+        self._start = self._last = time.process_time()
+
+    def round(self) -> None:
+        """Start a round: refused when the time spent and one more of the dearest round pass ``max_work``."""
+        now = time.process_time()
+        if self.rounds:
+            self.dearest = max(self.dearest, now - self._last)
+            spent = now - self._start
+            if 1000 * (spent + self.dearest) > LIMITS.max_work:
+                raise BudgetError(
+                    f"{self.entry}: {self.what} spent {_seconds(spent)} in {self.rounds} rounds, and one more (up to "
+                    f"{_seconds(self.dearest)}) would pass the cap max_work = {LIMITS.max_work} CPU-ms; raise it with "
+                    f"symkf.budget.limits(max_work=...) or the command-line option {OPTIONS['max_work']}")
+        self.rounds += 1
+        self._last = now
 
 
 def _shown(amount: float) -> str:

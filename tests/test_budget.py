@@ -91,3 +91,37 @@ def test_an_astronomical_estimate_is_priced_without_overflow():
 def test_a_unit_of_work_is_a_known_kind_and_a_count(call, message):
     with pytest.raises(InputError, match=message):
         call()
+
+
+def _burn(seconds):
+    import time
+    end = time.process_time() + seconds
+    while time.process_time() < end:
+        pass
+
+
+def test_a_meter_refuses_the_round_that_would_pass_the_cap_after_the_first():
+    from symkf.errors import BudgetError
+    with budget.limits(max_work=250):    # 0.25 CPU-s; rounds of 0.06 CPU-s: after 4 rounds 0.24 + 0.06 > 0.25
+        meter = budget.Meter("symkf.design.example", "the rounds")
+        with pytest.raises(BudgetError, match=r"^symkf.design.example: the rounds spent 0.2\d+ CPU-s in 4 rounds, and "
+                                              r"one more \(up to 0.0\d+ CPU-s\) would pass the cap max_work = 250"):
+            for _ in range(10):
+                meter.round()
+                _burn(0.06)
+    assert meter.rounds == 4
+    with budget.limits(max_work=1):      # the first round always runs: its own steps are priced
+        budget.Meter("e", "w").round()
+
+
+def test_the_covering_search_is_metered():
+    # 2R(pi/2) with three sensors needs more than one covering round at loss 1/10 (the docstring's example)
+    import symkf as sk
+    from symkf.errors import BudgetError
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]], name="a"), sk.Sensor(C=[[0, 1]], name="b"),
+                                                sk.Sensor(C=[[1, 1]], name="c")])
+    with budget.limits(max_work=1), pytest.raises(BudgetError, match="symkf.design: the covering search .* in 1 rounds"):
+        sk.design.select_sensors(S, sk.IID("1/10", d=3), costs={"a": 5, "b": 2, "c": 3})
+    # the row generation of allocate_channels makes at least two rounds (the first only proposes)
+    with budget.limits(max_work=1), pytest.raises(BudgetError, match="symkf.design.allocate_channels: the row generation"):
+        sk.design.allocate_channels(S)

@@ -188,7 +188,10 @@ def allocate_channels(system: System, weights: Any = None, *, margin: Any = "1/2
     requirement = Requirement(IID(list(losses)), mu, False, f"every margin alpha^2 rho at most {mu} (i.i.d. losses)")
     cuts = Cuts(system, requirement)
     rounds, safe = 0, False
+    meter = budget.Meter("symkf.design.allocate_channels", "the row generation (a linear programme and a verdict "
+                                                            "per round)")
     while True:
+        meter.round()
         rounds += 1
         requirement = Requirement(IID(list(losses)), mu, False, requirement.words)
         cuts.requirement = requirement

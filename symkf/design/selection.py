@@ -223,7 +223,9 @@ def _search(system: System, requirement: Requirement, costs: Sequence[sp.Rationa
     # with no sensor every deciding block is blind (margin alpha^2 >= 1): the empty set fails
     cuts.subsets.append(subset_cut((), system.d))
     floats = [float(c) for c in costs]
+    meter = budget.Meter("symkf.design", "the covering search (a covering programme and a verdict per round)")
     while True:
+        meter.round()
         chosen = cheapest_cover(floats, [c.weights for c in cuts.all], [c.need for c in cuts.all], TOLERANCE, solver)
         chosen = every if chosen is None else chosen
         ok, verdict = cuts.decide(chosen)
@@ -400,7 +402,9 @@ def _cheapest_detectable(system: System, costs: Sequence[sp.Rational], solver: s
     failing: list[SubsetCut] = [subset_cut((), system.d)]
     decided = 0
     floats = [float(c) for c in costs]
+    meter = budget.Meter("symkf.design", "the covering search (a covering programme and a verdict per round)")
     while True:
+        meter.round()
         chosen = cheapest_cover(floats, [c.weights for c in failing], [c.need for c in failing], TOLERANCE, solver)
         decided += 1
         try:
