@@ -1,6 +1,7 @@
 """Elements of several generators (sensors of several rows, Jordan chains) and dense systems under
 Gilbert-Elliott channels, against main (``SYMKF_BASELINE=DIR`` for an older checkout), the
-max_hyperplanes cap raised in both (past its default 300 000 the listing refused most rows).
+listing's cap raised in both (``max_hyperplanes`` of a baseline, past its default 300 000 the listing
+refused most rows; ``max_work`` here).
 
 * i.i.d.: the critical common loss rate for a planar constant-velocity model beside an oscillator
   (one 6-dim block, Jordan chains) with 8, 16, 32 scalar sensors, and two-row sensors on the
@@ -20,7 +21,7 @@ from engine_rows import compare
 
 repeats = int(sys.argv[1]) if len(sys.argv) > 1 else 1
 cap = float(sys.argv[2]) if len(sys.argv) > 2 else 120
-listing = {"max_hyperplanes": 10 ** 9}
+listing = {"max_hyperplanes": 10 ** 9, "max_work": 10 ** 7}
 compare("elements of several generators: critical_loss_rate", "critical",
         [("tracker_oscillator", [d], 10, listing) for d in (8, 16, 32)]
         + [("two_row_rotations", [d], 10, listing) for d in (16, 64)], repeats=repeats, baseline_cap=cap, cap=cap)

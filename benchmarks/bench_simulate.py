@@ -123,7 +123,7 @@ def numpy_grid(repeats: int, quick: bool) -> None:
     print(f"peak RSS of this process {peak_rss_mb():.0f} MB")
 
 
-SETUP = ("import time, numpy as np, sympy as sp; from symkf.model.loss import IID; from symkf.model.system import Sensor, System; "
+SETUP = ("import time, numpy as np, sympy as sp; from symkf.model.iid import IID; from symkf.model.system import Sensor, System; "
          "from symkf.numeric.montecarlo import burst_sample; S = System(A=sp.Matrix([[1, 1], [0, 1]]), "
          "sensors=[Sensor(C=[[1, 0]])]); t = time.process_time(); burst_sample(S, IID(['3/10']), 1, 2, 0, None); "
          "print(time.process_time() - t)")

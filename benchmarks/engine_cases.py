@@ -81,10 +81,16 @@ def gilbert_elliott(d: int, seed: int = 0) -> tuple[sk.System, sk.GilbertElliott
 
 def cyclotomic_fields(k: int, seed: int = 0) -> tuple[sk.System, sk.IID]:
     """One eigen-block of modulus 2 over k cyclotomic fields: 2R(2 pi/5), 2R(2 pi/7), 2R(2 pi/9),
-    2R(2 pi/11) (the first k), with 2 random integer sensor rows (``bench_cyclotomic_fields.py``)."""
-    blocks = [_rotation(2 * sp.pi / q, 2) for q in (5, 7, 9, 11)][:k]
+    2R(2 pi/11), 2R(2 pi/13) (the first k), with 2 random integer sensor rows (``bench_cyclotomic_fields.py``)."""
+    blocks = [_rotation(2 * sp.pi / q, 2) for q in (5, 7, 9, 11, 13)][:k]
     rng = np.random.default_rng(seed)
     return sk.System(A=sp.diag(*blocks), sensors=_sensors(_random_rows(rng, 2, 2 * k))), sk.IID(["1/10"] * 2)
+
+
+def cyclotomic_fields_ge(k: int, seed: int = 0) -> tuple[sk.System, sk.GilbertElliott]:
+    """:func:`cyclotomic_fields` under Gilbert-Elliott channels (fail 1/10, recover 1/2 each)."""
+    system, _ = cyclotomic_fields(k, seed)
+    return system, sk.GilbertElliott(["1/10"] * 2, ["1/2"] * 2)
 
 
 def tracker_oscillator(d: int, seed: int = 0) -> tuple[sk.System, sk.IID]:

@@ -45,11 +45,13 @@ def _child(what: str, case: str, args: list[str]) -> None:
     import contextlib
     import engine_cases
     from symkf.errors import BudgetError
-    caps = json.loads(os.environ.get("BENCH_CAPS", "{}"))
+    # a row names the caps of every tree it runs in: each tree takes the ones it knows
+    caps = {k: v for k, v in json.loads(os.environ.get("BENCH_CAPS", "{}")).items() if k in budget.OPTIONS}
     with (budget.limits(**caps) if caps else contextlib.nullcontext()):
-        system, loss = getattr(engine_cases, case)(*[int(a) for a in args])
         start = time.process_time()
-        try:
+        try:  # a system refused at its construction (main's max_dimension) is a refusal too
+            system, loss = getattr(engine_cases, case)(*[int(a) for a in args])
+            start = time.process_time()
             result = _compute(what, system, loss)
         except BudgetError as exc:  # a refusal is a result of its own: the row says which cap and when
             print("refused", time.process_time() - start, str(exc).replace("\n", " "))
@@ -143,10 +145,11 @@ def compare(title: str, what: str, cases: list[tuple], repeats: int = 3,
         main_tree = _baseline_tree(tmp)
         for case, args, target, *caps in cases:
             caps = caps[0] if caps else {}
+            label = f"{case}{tuple(args)}" + (" raised caps" if caps else "")
             runs = [_run(str(ROOT), what, case, args, cap, caps) for _ in range(repeats)]
             if any(t is None for t, _, _ in runs):
                 why = next(d for t, d, _ in runs if t is None)
-                print(f"  {case}{tuple(args)}: " + (why if why != "timeout" else f"> {cap:.0f} s (did not finish)")
+                print(f"  {label}: " + (why if why != "timeout" else f"> {cap:.0f} s (did not finish)")
                       + f"; main not run   target <= {target} NOT met", flush=True)
                 continue
             new = statistics.median(t for t, _, _ in runs)
@@ -161,7 +164,7 @@ def compare(title: str, what: str, cases: list[tuple], repeats: int = 3,
                 vs = f"main {base[0][1]}"
             else:
                 vs = f"main > {baseline_cap:6.0f} s            ratio > {baseline_cap / new:5.1f}x"
-            print(f"  {case}{tuple(args)}: {new:7.2f} s {rss:6.0f} MB   {vs}   target <= {target} "
+            print(f"  {label}: {new:7.2f} s {rss:6.0f} MB   {vs}   target <= {target} "
                   f"{'met' if new <= target else 'NOT met'}   same exact result: "
                   f"{len(same) == 1 if done else 'baseline did not finish'}   digest {runs[0][1]}", flush=True)
 

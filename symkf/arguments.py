@@ -204,7 +204,8 @@ def _symkf_classes() -> dict[str, type]:
     out: dict[str, type] = {}
     for name, module in list(sys.modules.items()):
         if name.startswith("symkf.") and module is not None:
-            out.update({k: v for k, v in vars(module).items()
+            # a copy taken at once: a module another thread is importing still gains names
+            out.update({k: v for k, v in list(vars(module).items())
                         if isinstance(v, type) and not k.startswith("_") and v.__module__.startswith("symkf.")})
     return out
 

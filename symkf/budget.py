@@ -2,7 +2,9 @@
 
 Each cap bounds an *estimate* made before any expensive computation starts (the algebraic
 degree of a parsed number, the size of a matrix, the states of a lifted Markov chain, the
-memory of a Monte Carlo run, ...).  A refusal is a :class:`~symkf.errors.BudgetError` that
+memory of a Monte Carlo run, ...); ``max_work`` bounds the estimated CPU time of a heavy step,
+priced by :func:`price` from its units of work at their measured costs (:data:`COSTS`), so that
+a step estimated under it runs whatever the size of its input.  A refusal is a :class:`~symkf.errors.BudgetError` that
 names the entry, the estimate, the cap, and how to raise it: the keyword of
 :func:`limits` in Python, the option in :data:`OPTIONS` on the command line.
 
@@ -18,6 +20,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import math
+import numbers
 import sys
 from dataclasses import dataclass
 from typing import Callable, Iterator
@@ -29,32 +32,34 @@ from .errors import BudgetError, InputError
 @dataclass
 class Limits:
     """The caps (defaults in brackets are chosen so that every example of the papers passes; the
-    costs they were sized on: docs/performance.md)."""
+    costs they were sized on: docs/caps.md)."""
 
     #: algebraic degree over Q of a field with radicals, bounded by the product of the degrees of
     #: its radicals and trigonometric constants, times the size of the diagonal block of A whose
     #: eigenvalues it holds: such fields are built generically (sympy's minimal_polynomial,
     #: Trager's norm), whose cost explodes with the degree
     max_degree: int = 64
-    #: degree of the cyclotomic field Q(zeta_m) holding the trigonometric constants and I of a
-    #: number or matrix without radicals (its real subfield for real entries), times the size of
-    #: the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and its
-    #: roots come from Euler's formula (2R(2 pi/509), degree 1016, passes);
+    #: a quarter of the degree of the cyclotomic field Q(zeta_m) holding the trigonometric constants
+    #: and I of a number or matrix without radicals (its real subfield for real entries), times the
+    #: size of the diagonal block: presented by zeta_m or 2 cos(2 pi/m), its arithmetic is cheap and
+    #: its roots come from Euler's formula (2R(2 pi/1601), degree 3200: 4.4 CPU-s, 330 MB, passes;
+    #: 2R(2 pi/2053), degree 4104, is refused);
     #: also phi(g) for an eigen-block over several diagonal blocks, g its class period (its field
     #: holds Q(zeta_g): four rotations 2R(2 pi/q), q = 5, 7, 9, 11, give phi(3465) = 1440; decided
     #: part by part first, symkf.engine.cylinders), and the degree of the field of all entries of the LMI
     #: of the bounds atlas, where its certificates are checked
     max_cyclotomic_degree: int = 1024
-    #: bit size (2D + 1) D b, D = d(d+1)/2, of the polynomial of the modulus (power sums of the
-    #: products of conjugates, symkf.exact.spectral._abs_poly) for a complex eigenvalue of degree d with
-    #: b-bit minimal polynomial: its factorisation is the cost (a 16 x 16 A over Q(sqrt 2), d = 32,
-    #: b = 70, has 3.9e7 bits and passes)
+    #: bit size of the polynomial of the modulus of a complex eigenvalue of degree d, whose
+    #: construction and factorisation are the cost: (d(d - 1) + 1) (d - 1) sum_i log2(1 + abs(c lambda_i))
+    #: for the products of pairs of conjugates (symkf.exact.spectral._pair_modulus_poly; a dense 64 x 64
+    #: integer A has 5.6e7 bits and passes, a 16 x 16 A over Q(sqrt 2) 2.7e7), else (2D + 1) D b, D = d(d+1)/2, for the power sums of
+    #: all products (symkf.exact.spectral._abs_poly) of a b-bit minimal polynomial
     max_modulus_bits: int = 2 ** 26
     #: nesting depth of radicals (sqrt(2 + sqrt(3)) has depth 2)
     max_nesting: int = 4
     #: denominator q of an angle p*pi/q inside cos, sin, tan or exp (degree grows like q; the
-    #: cyclotomic cap bounds the field, this one a single constant: 2R(2 pi/509) passes both)
-    max_angle_denominator: int = 1024
+    #: cyclotomic cap bounds the field, this one a single constant: 2R(2 pi/1601) passes both)
+    max_angle_denominator: int = 4096
     #: modulus of an integer exponent (x**e) and decimal digits of any number
     max_exponent: int = 10_000
     max_digits: int = 1000
@@ -72,19 +77,35 @@ class Limits:
     #: so it is checked before flint is asked; the engine's own refinements stay far below it
     max_precision: int = 2 ** 20
     #: rows or columns of a matrix (state dimension n, measurement channels; the exact engine's
-    #: work on a dense system grows steeply with n)
-    max_dimension: int = 32
-    #: sensors d of a system or loss model (independent sensors are decided per sensor, never
-    #: through the joint 2^d-state chain)
-    max_sensors: int = 64
-    #: states of a joint (lifted) Markov loss chain: the exact engine's work grows with their square
-    max_markov_states: int = 128
-    #: hyperplanes a decay rate must list when no screen applies (chains with several all-lost
-    #: states, losses of 0, generators that do not span mod p), estimated before listing by ``C(V, n - 1)`` for V
-    #: distinct generators in K^n, or fewer through the flats of elements of several generators
-    #: (BlockRows.listing_estimate): each is built and held, E bytes (a 4-dim block with 8 sensors of
-    #: period 24 has 1.2 million)
-    max_hyperplanes: int = 300_000
+    #: work on a dense system grows steeply with n, and is priced by max_modulus_bits: a dense
+    #: 64 x 64 integer A with 3 sensors takes about a minute)
+    max_dimension: int = 64
+    #: sensors d of a system or loss model: a memory bound on what is read and held before any
+    #: work is priced (a sensor and its rows, a loss per sensor: kilobytes each, so 2^14 of them
+    #: take tens of MB); the work that grows with d is priced by ``max_work`` (independent sensors
+    #: are decided per sensor, never through the joint 2^d-state chain, whose states
+    #: ``max_markov_states`` bounds)
+    max_sensors: int = 2 ** 14
+    #: states of a joint (lifted) Markov loss chain: its S^2 exact entries are read and built, and its
+    #: stationary law solved (S^3), whatever the query; 256 states (four correlated sensor pairs):
+    #: about 3 CPU-s in all, 512: 26
+    max_markov_states: int = 256
+    #: estimated CPU milliseconds of one heavy step (60 000: a minute), priced before it starts by
+    #: :func:`price` from its
+    #: units of work and their costs (:data:`COSTS`, measured on the machine of docs/caps.md; a
+    #: step estimated under it runs whatever the size of its input): the hyperplane screen
+    #: (symkf.engine.hyperplane_screen: the points each stage classifies, and point-line
+    #: incidences, about ``C(C, n - 2)`` per stage for ``C`` classes in an n-dim block, with a
+    #: window of ``W`` classes ``C(W, n - 4) (W C + 10^4)``), the two screens of a Markov loss's
+    #: search together, the search through flats (symkf.engine.flat_screen), closing the sets a
+    #: screen keeps (``kept sets x points``), and the hyperplanes a decay rate lists when no screen
+    #: applies (``C(V, n - 1)`` for V distinct generators in K^n, or fewer through the flats of
+    #: elements of several generators: BlockRows.listing_estimate; times the degree of K; their
+    #: memory meets ``max_memory``), and a margin polynomial built for each listed hyperplane.  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
+    #: incidences, 48 CPU-s estimated, 34 measured; on Gilbert-Elliott channels its two screens,
+    #: 96, refused at once; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about
+    #: 10^42 incidences
+    max_work: int = 60_000
     #: receival sequences ``2^(d (horizon - 1))`` that the exact mean trace enumerates
     #: (symkf.numeric.montecarlo.exact_mean_covariances and exact_mean_trace; estimate_mean_trace simulates),
     #: and ``2^(d N)`` that the brute-force symkf.engine.rates.probability_rank_deficient enumerates
@@ -119,14 +140,6 @@ class Limits:
     #: states of the lifted chain of a network loss read from a file, bounded before it is built by
     #: (network states, or the sum over states of the longest holding time) times 2^M link outcomes
     max_network_chain: int = 4096
-    #: point-line incidences the hyperplane screen (symkf.engine.hyperplane_screen) tests, estimated
-    #: before it starts: ``C(C, n - 2)`` per stage for ``C`` classes in an n-dim block (with a
-    #: window of ``W`` classes ``C(W, n - 4) (W C + 10^4)``: 1.9e7 for three rotations
-    #: 2R(2 pi/q), q = 5, 7, 9, with 2 sensors, against 9.3e9 without), plus
-    #: 10^4 per vectorised pass (a 4-dim block with 64 sensors of period 24, 1.1e7 per screen,
-    #: with 128 sensors 3.1e7; a 6-dim one with 6 sensors of period 12, 6.3e7; eight 2R(pi/97)
-    #: blocks, one 16-dim eigen-block, with 64 sensors: about 10^42)
-    max_screen_work: int = 1_000_000_000
     #: items of one list or tuple argument of a call from outside symkf that holds sympy numbers,
     #: or rows and columns of such a matrix: each is priced at the boundary
     #: (symkf.arguments.PRICERS) at a cost per item, so a longer one is refused before the first
@@ -149,6 +162,31 @@ OPTIONS = {f.name: "--" + f.name.replace("_", "-") for f in dataclasses.fields(L
 
 #: the limits in force
 LIMITS = Limits()
+
+#: CPU seconds per unit of each kind of work that :func:`price` prices against ``max_work``,
+#: measured on the machine of docs/caps.md (shared, 2 cores with AVX-512; fitted within 3x on the
+#: rows of ``benchmarks/bench_markov_search.py``: many sensors, and the listed general-position block)
+COSTS = {
+    #: a point reduced mod the stage's point and classified (a sort of packed keys) at one stage of
+    #: the hyperplane screen
+    "screen point": 0.5e-6,
+    #: a point-line incidence tested by the hyperplane screen (a vectorised pass counts as
+    #: ``hyperplane_screen.PASS`` of them)
+    "incidence": 0.15e-6,
+    #: a hyperplane listed (its generators' set built and counted, ``BlockRows.inside``), per degree
+    #: of the block's field: 1.2 million over a field of degree 8 took 12 CPU-s, 597 000 over one of
+    #: degree 120 51 CPU-s
+    "hyperplane degree": 1e-6,
+    #: a hyperplane's margin built as a polynomial in the loss model's parameters (the critical
+    #: recovery rate's list, symkf.engine.recovery.listed_margins, and the symbolic stable set,
+    #: symkf.engine.region.ge_margins), per hyperplane listed: C(36, 5) = 376 992 of the 6-dim block
+    #: (3/2) diag(R(pi/2), R(pi/3), R(2 pi/3)) with three Gilbert-Elliott sensors took about 50 CPU-s
+    "margin": 130e-6,
+    #: a point tested against a set kept by a screen, to close it mod p (the kept sets of a low
+    #: floor: each is closed over every point, then confirmed exactly)
+    "kept point": 0.5e-6,
+}
+
 
 #: the largest ``max_digits``: :func:`limits` lets Python convert integers of twice that many
 #: digits to text, and Python's limit is a C int
@@ -190,6 +228,61 @@ def check(cap: str, estimate: int, entry: str, what: str | Callable[[], str]) ->
         shown = estimate if estimate < 10 ** 15 else f"about 10^{math.floor(math.log10(estimate))}"
         raise BudgetError(f"{entry}: {what} is {shown}, above the cap {bound}; raise it with "
                           f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
+
+def seconds(**units: float) -> float:
+    """The estimated CPU seconds of ``units`` of work: per kind of :data:`COSTS` (spaces written
+    as underscores, ``seconds(screen_point=P, incidence=I)``) its amount times its cost."""
+    return sum(_cost(kind) * float(min(_amount(kind, amount), 1e300)) for kind, amount in units.items())
+
+
+def affordable(kind: str) -> float:
+    """The most units of the kind ``kind`` of :data:`COSTS` that ``max_work`` allows alone."""
+    return LIMITS.max_work / 1000 / _cost(kind)
+
+
+def _cost(kind: str) -> float:
+    """The cost of a unit of ``kind`` (spaces written as underscores), or an InputError naming the kinds."""
+    cost = COSTS.get(str(kind).replace("_", " "))
+    if cost is None:
+        raise InputError(f"{kind}: not a kind of work; the kinds are {sorted(COSTS)}")
+    return cost
+
+
+def _amount(kind: str, amount: object) -> numbers.Real:
+    """``amount`` checked as a count of units: a real number >= 0 (not NaN)."""
+    if isinstance(amount, bool) or not isinstance(amount, numbers.Real) or not amount >= 0:
+        raise InputError(f"{kind}: expected a number of units >= 0, got {amount!r}"[:200])
+    return amount
+
+
+def price(entry: str | Callable[[], str], what: str | Callable[[], str], **units: float) -> float:
+    """:func:`seconds` of ``units``, refused above ``max_work`` before the step they measure starts
+    (a :class:`~symkf.errors.BudgetError` naming the estimate, its units, the cap and how to raise
+    it); ``entry`` and ``what`` name the step (or are functions giving the words, called only when
+    refusing: writing a large expression out costs more than pricing it)."""
+    estimate = seconds(**units)
+    bound = LIMITS.max_work
+    if 1000 * estimate > bound:
+        entry, what = (v if isinstance(v, str) else v() for v in (entry, what))
+        parts = ", ".join(f"{_shown(amount)} {kind.replace('_', ' ')}s at {_seconds(_cost(kind))}"
+                          for kind, amount in units.items() if amount)
+        raise BudgetError(f"{entry}: the estimated work of {what} is {_seconds(estimate)}, above the cap max_work = "
+                          f"{bound} CPU-ms; raise it with symkf.budget.limits(max_work=...) or the command-line "
+                          f"option {OPTIONS['max_work']} (the estimate: {parts})")
+    return estimate
+
+
+def _shown(amount: float) -> str:
+    """A count as written in a refusal: exact up to 10^15, else its power of ten."""
+    return f"{int(amount)}" if amount < 10 ** 15 else f"about 10^{math.floor(math.log10(min(amount, 1e300)))}"
+
+
+def _seconds(seconds: float) -> str:
+    """CPU seconds as written in a refusal (µs for a unit cost, powers of ten when astronomical)."""
+    if seconds < 1e-3:
+        return f"{seconds * 1e6:g} µs"
+    return f"{seconds:.3g} CPU-s" if seconds < 1e15 else f"about 10^{math.floor(math.log10(seconds))} CPU-s"
+
 
 def check_power(cap: str, base: int, exponent: int, entry: str, what: str) -> None:
     """:func:`check` of ``base ** exponent`` without computing it when it is far above the cap

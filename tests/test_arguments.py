@@ -66,6 +66,6 @@ def test_a_long_list_of_sympy_numbers_is_refused_before_one_is_priced():
     # long lists of anything else are left to the function, at once: a list of floats is not walked
     code, err = limited(refused_at_once, lambda: sk.IID([0.5] * 10 ** 6), "max_sensors")
     assert code == 0, err
-    with sk.budget.limits(max_priced_items=10 ** 4, max_sensors=10 ** 4):   # raised, the list is priced
+    with sk.budget.limits(max_priced_items=10 ** 4):   # raised, the list is priced
         with pytest.raises(InputError, match=r"loss\[0\]: sqrt\(2\)/2 \+ 1 is not a probability"):
             sk.IID([sp.sqrt(2) / 2 + 1] + radicals[1:100])

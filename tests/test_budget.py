@@ -59,3 +59,35 @@ def test_raised_digit_cap_serves_beyond_pythons_int_limit(tmp_path):
     path.write_text('[system]\nA = [["root(3, 3)"]]\n[[sensors]]\nC = [["1"]]\n')
     code, err = limited(cli.main, ["critical", str(path), "--digits", "5000", "--max-digits", "6000", "--json"])
     assert code == 0, err
+
+
+def test_price_sums_the_units_at_their_costs_and_refuses_above_max_work():
+    """2 * 10^6 screen points at 0.5 µs and 2 * 10^8 incidences at 0.15 µs: 1 + 30 = 31 CPU-s,
+    under the default 60 000 CPU-ms; with the cap at 30 000 the same step is refused before it starts, the message
+    naming the estimate, its units, the cap and the option that raises it."""
+    assert budget.COSTS["screen point"] == 0.5e-6 and budget.COSTS["incidence"] == 0.15e-6
+    assert budget.price("block", "a screen", screen_point=2 * 10 ** 6, incidence=2 * 10 ** 8) == pytest.approx(31)
+    with budget.limits(max_work=30_000), pytest.raises(BudgetError) as refused:
+        budget.price("block", "a screen", screen_point=2 * 10 ** 6, incidence=2 * 10 ** 8)
+    assert str(refused.value) == ("block: the estimated work of a screen is 31 CPU-s, above the cap max_work = "
+                                  "30000 CPU-ms; raise it with symkf.budget.limits(max_work=...) or the command-line "
+                                  "option --max-work (the estimate: 2000000 screen points at 0.5 µs, 200000000 "
+                                  "incidences at 0.15 µs)")
+    assert budget.affordable("incidence") == pytest.approx(60 / 0.15e-6)
+
+
+def test_an_astronomical_estimate_is_priced_without_overflow():
+    with pytest.raises(BudgetError, match=r"is about 10\^35 CPU-s, .*\(the estimate: about 10\^42 incidences at 0.15 µs\)"):
+        budget.price("block", "a screen", incidence=10 ** 42)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: budget.seconds(flops=1), "flops: not a kind of work; the kinds are"),
+    (lambda: budget.affordable("flops"), "flops: not a kind of work"),
+    (lambda: budget.seconds(incidence=float("nan")), "incidence: expected a number of units >= 0, got nan"),
+    (lambda: budget.seconds(incidence=-1), "incidence: expected a number of units >= 0, got -1"),
+    (lambda: budget.seconds(incidence="10"), "incidence: expected a number of units >= 0, got '10'"),
+])
+def test_a_unit_of_work_is_a_known_kind_and_a_count(call, message):
+    with pytest.raises(InputError, match=message):
+        call()

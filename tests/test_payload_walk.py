@@ -422,15 +422,30 @@ HANG_SECONDS = 60
 
 def _forked_calls(callables: list[tuple[str, Callable]], select: Callable[[str, str], bool]) -> list:
     """:func:`hostile_calls` of each callable in forked children, so that a death (a C library's
-    abort, a segmentation fault) or a hang past :data:`HANG_SECONDS` is seen and counted instead of ending the
-    walk: a child goes through the callables in turn, sending each one's result as it finishes, and
-    after a death the next child starts at the callable that follows.  ``(qualname, result)`` in
-    order, the result a string for a death."""
+    abort, a segmentation fault) or a hang past :data:`HANG_SECONDS` is seen and counted instead of
+    ending the walk: a child goes through the callables in turn, sending each one's result as it
+    finishes (and leaves after a callable that left a thread running); after a death the next child
+    starts at the callable that follows.  A finding counts only as it reproduces from a clean state:
+    one made in a child that ran other callables before is made again in a child of its own, whose
+    result replaces it.  ``(qualname, result)`` in order, the result a string for a death."""
+    out, fresh = _children(callables, select, every=False)
+    for i, (qualname, result) in enumerate(out):
+        if not isinstance(result, str) and result.get("found") and i not in fresh:
+            out[i] = _children([callables[i]], select, every=True)[0][0]
+    return out
+
+
+def _children(callables: list[tuple[str, Callable]], select: Callable[[str, str], bool],
+              every: bool) -> tuple[list, set[int]]:
+    """The forked runs of :func:`_forked_calls` (with ``every``, a child for each callable) and the
+    indices of the callables that ran first in their child."""
     import os
     import pickle
     import struct
-    out, start = [], 0
+    import threading
+    out, fresh, start = [], set(), 0
     while start < len(callables):
+        fresh.add(start)
         read, write = os.pipe()
         pid = os.fork()
         if pid == 0:   # the child: report and leave without running the parent's clean-up
@@ -444,6 +459,8 @@ def _forked_calls(callables: list[tuple[str, Callable]], select: Callable[[str, 
                         data = pickle.dumps({"failure": repr(exc)[:300]})
                     pipe.write(struct.pack("<Q", len(data)) + data)
                     pipe.flush()
+                    if every or threading.active_count() > 1:   # a thread the call left running: a fresh child goes on
+                        break
             os._exit(0)
         os.close(write)
         signal.signal(signal.SIGALRM, lambda *_: os.kill(pid, signal.SIGKILL))
@@ -458,11 +475,11 @@ def _forked_calls(callables: list[tuple[str, Callable]], select: Callable[[str, 
                 out.append((callables[start][0], pickle.loads(data)))
                 start += 1
         _, status = os.waitpid(pid, 0)
-        if start < len(callables):
+        if start < len(callables) and not (os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0):
             signal_number = os.WTERMSIG(status) if os.WIFSIGNALED(status) else "?"
             out.append((callables[start][0], f"ended by signal {signal_number}"))
             start += 1
-    return out
+    return out, fresh
 
 
 def hostile_walk(prefix: str, select: Callable[[str, str], bool], forked: bool) -> dict:
@@ -526,7 +543,7 @@ def test_hostile_values_everywhere(prefix, tmp_path, monkeypatch):
     _hostile_check(hostile_walk(prefix, lambda *_: True, forked=True))
 
 
-def test_the_forked_walk_counts_a_death_and_a_hang_and_goes_on_after_them(monkeypatch):
+def test_the_forked_walk_counts_a_death_and_a_hang_and_goes_on_after_them_and_a_left_thread(monkeypatch):
     import faulthandler
     import os
     monkeypatch.setattr(sys.modules[__name__], "HANG_SECONDS", 1)
@@ -541,12 +558,34 @@ def test_the_forked_walk_counts_a_death_and_a_hang_and_goes_on_after_them(monkey
     def hang():
         time.sleep(30)
 
-    results = _forked_calls([("ok1", ok), ("crash", crash), ("ok2", ok), ("hang", hang), ("ok3", ok)],
-                            lambda key, form: form == "None")
-    assert [q for q, _ in results] == ["ok1", "crash", "ok2", "hang", "ok3"]
+    def thread():   # a thread left running: the next callable starts in a fresh child, no death
+        import threading
+        threading.Thread(target=time.sleep, args=(5,), daemon=True).start()
+
+    results = _forked_calls([("ok1", ok), ("crash", crash), ("ok2", ok), ("hang", hang), ("thread", thread),
+                             ("ok3", ok)], lambda key, form: form == "None")
+    assert [q for q, _ in results] == ["ok1", "crash", "ok2", "hang", "thread", "ok3"]
     assert results[1][1] == f"ended by signal {int(signal.SIGSEGV)}"
     assert results[3][1] == f"ended by signal {int(signal.SIGKILL)}"
-    assert [results[i][1]["calls"] for i in (0, 2, 4)] == [1, 1, 1]
+    assert [results[i][1]["calls"] for i in (0, 2, 4, 5)] == [1, 1, 1, 1]
+
+
+def test_the_forked_walk_counts_a_finding_only_as_it_reproduces_in_a_child_of_its_own():
+    state = []
+
+    def leave_state():
+        state.append(1)
+
+    def fail_after_state():
+        if state:
+            raise RuntimeError("depends on an earlier call in the same child")
+
+    def fail_always():
+        raise RuntimeError("a finding")
+
+    results = dict(_forked_calls([("leave", leave_state), ("after", fail_after_state), ("always", fail_always)],
+                                 lambda key, form: form == "None"))
+    assert not results["after"]["found"] and results["always"]["found"]
 
 
 def test_subpackages_cover_every_module():

@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import Any, Sequence
 
 import numpy as np  # weights by phase and fibre
@@ -230,8 +230,19 @@ class SplitRows:
 
 
 def _sub_block(system: System, block: EigenBlock) -> Any:
-    """The rows of ``system``'s eigen-block of ``block``'s modulus."""
-    sub = next(b for b in system.eigen_blocks() if b.modulus == block.modulus)
+    """The rows of ``system``'s eigen-block of ``block``'s modulus, shared by equal sub-systems: the
+    cylinders of the cylinders of five parts meet each sub-system of three parts twice and each
+    lifted pair three times (:func:`_sub_block_of`)."""
+    return _sub_block_of(sp.ImmutableMatrix(system.A), tuple((s.name, sp.ImmutableMatrix(s.C)) for s in system.sensors),
+                         block.modulus, budget.LIMITS.max_cyclotomic_degree)
+
+
+@lru_cache(maxsize=32)
+def _sub_block_of(A: sp.ImmutableMatrix, sensors: tuple, modulus: Any, cap: int) -> Any:
+    """:func:`_sub_block` of the system ``(A, sensors)``; ``cap`` (the cyclotomic cap that
+    :func:`rows_of` reads) is part of the key."""
+    system = System._unchecked(A, [Sensor(C=C, name=name) for name, C in sensors])
+    sub = next(b for b in system.eigen_blocks() if b.modulus == modulus)
     return rows_of(system, sub)
 
 

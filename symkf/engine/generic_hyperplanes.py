@@ -6,7 +6,7 @@ generator ("live"); it is *generic* when it holds exactly ``n - 1`` (independent
 in their span), *special* when it holds more.  A block in general position has ``C(E, n - 1)``
 generic hyperplanes and few special ones; the screens of :func:`symkf.engine.search.markov_search` then
 cannot rule the generic ones out (their additive bound reaches them all), and listing them is
-refused beyond ``budget.Limits.max_hyperplanes``.
+priced (``budget.Limits.max_work``, ``max_memory``) and refused beyond them.
 
 Why the maximum needs no list.  ``rho(M_S)`` is monotone in the element set ``S``.  Every ``n - 1``
 live elements lie in some hyperplane (the elements span ``K^n``), and one of rank below ``n - 1``,
@@ -27,8 +27,10 @@ on ``m``, exactly (rationals).
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 from typing import TYPE_CHECKING, Any, Sequence
 
+import flint
 from sympy.utilities.iterables import multiset_permutations
 
 from ..arguments import check_public
@@ -52,30 +54,12 @@ def best_elements(br: BlockRows, rates: Sequence[FactorRates]) -> tuple[Any, fro
     earlier (elements are numbered sensor by sensor).  None when it does not apply: an element
     of several generators, a factor outside the segment form, a sensor live at some phases only,
     a factor with live and dead sensors, or more than :data:`MAX_SHAPES` multisets of words."""
-    n, g = br.size, br.class_period
-    index = {(e.sensor, e.phase): i for i, e in enumerate(br.elements)}
-    live = {}
-    for sensor in {e.sensor for e in br.elements}:
-        counts = {len(br.generators[index[sensor, r]]) for r in range(g)}
-        if len(counts) > 1 or counts - {0, 1}:
-            return None
-        live[sensor] = counts == {1}
-    table = []   # per factor: per count m, (rate, masks) of its best m elements
-    for r in rates:
-        sensors = r.factor.sensors
-        if not r.screened or len({live[j] for j in sensors}) > 1:
-            return None
-        if not live[sensors[0]]:   # every element of the factor lies in every set
-            full = (1 << len(sensors)) - 1
-            masks = {phase: full for phase in range(g)}
-            table.append([(r.rate(masks), masks)])
-            continue
-        best = _best_words(r, [[index[j, phase] for phase in range(g)] for j in sensors], n - 1)
-        if best is None:
-            return None
-        table.append(best)
+    shapes = _factor_shapes(br, rates)
+    if shapes is None:
+        return None
+    n, (index, table) = br.size, shapes
     knapsack: list[tuple[Any, tuple] | None] = [(1, ())] + [None] * (n - 1)
-    for best in table:
+    for best in map(_best_per_count, table):
         step: list[tuple[Any, tuple] | None] = [None] * n
         for total in range(n - 1, -1, -1):   # more elements to the earlier factors first
             held = knapsack[total]
@@ -89,15 +73,97 @@ def best_elements(br: BlockRows, rates: Sequence[FactorRates]) -> tuple[Any, fro
     if knapsack[n - 1] is None:
         return None
     value, chosen = knapsack[n - 1]
-    members = frozenset(index[r.factor.sensors[b], phase] for r, masks in zip(rates, chosen)
-                        for phase, mask in masks.items() for b in range(len(r.factor.sensors)) if mask >> b & 1)
-    return value, members
+    return value, _members(index, rates, chosen)
 
 
-def _best_words(rates: FactorRates, element: list[list[int]], most: int) -> list[tuple[Any, dict[int, int]]] | None:
-    """Per ``m = 0..most``: the largest rate of the factor over its patterns of ``m`` elements, and
-    of the patterns attaining it (exact comparison) the one whose elements ``element[bit][phase]``
-    come first in lexicographic order; None beyond :data:`MAX_SHAPES` multisets of words."""
+def reaching_elements(br: BlockRows, rates: Sequence[FactorRates], floor: Fraction) -> list[frozenset[int]] | None:
+    """Every rate ``rho(M_S) >= floor`` of the sets ``S`` of :func:`best_elements` (the elements
+    without a generator and ``n - 1`` live ones), each through one such ``S``: a factor's rate
+    depends only on its multiset of words, so one ``S`` per combination of the factors' multisets
+    whose product reaches ``floor`` (exact rationals; a product that the best rates of the factors
+    still to choose cannot lift to ``floor`` is cut).  With the special hyperplanes this holds
+    every hyperplane rate at least ``floor`` (module docstring: a generic hyperplane is such an
+    ``S``, and every ``S`` lies in some hyperplane).  None when :func:`best_elements` does not
+    apply or more than :data:`MAX_SHAPES` combinations reach ``floor``."""
+    shapes = _factor_shapes(br, rates)
+    if shapes is None:
+        return None
+    most, (index, table) = br.size - 1, shapes
+    floor = flint.fmpq(floor.numerator, floor.denominator)
+    # reach[f][m]: the largest product of the factors f.. over m elements in all (None: no such)
+    reach: list[list[Any]] = [[1] + [None] * most]
+    for factor in reversed(table):
+        best, after = _best_per_count(factor), reach[0]
+        reach.insert(0, [max((best[m][0] * after[total - m] for m in range(min(total, len(best) - 1) + 1)
+                              if after[total - m] is not None), default=None) for total in range(most + 1)])
+    found: list[tuple] = []
+
+    def extend(f: int, used: int, value: Any, chosen: tuple) -> bool:
+        if f == len(table):
+            found.append(chosen)
+            return len(found) <= MAX_SHAPES
+        for m, rate, masks in table[f]:
+            bound = reach[f + 1][most - used - m] if used + m <= most else None
+            if bound is not None and value * rate * bound >= floor:
+                if not extend(f + 1, used + m, value * rate, chosen + (masks,)):
+                    return False
+        return True
+    if not extend(0, 0, 1, ()):
+        return None
+    return [_members(index, rates, chosen) for chosen in found]
+
+
+def _factor_shapes(br: BlockRows, rates: Sequence[FactorRates]) -> tuple[dict, list[list[tuple[int, Any, dict[int, int]]]]] | None:
+    """The element index ``{(sensor, phase): e}`` and per factor every ``(m, rate, masks)`` of its
+    patterns of ``m <= n - 1`` live elements, one per multiset of words (:func:`_shapes`; a factor
+    of dead sensors: its full pattern, ``m = 0``); None where :func:`best_elements` does not apply."""
+    n, g = br.size, br.class_period
+    index = {(e.sensor, e.phase): i for i, e in enumerate(br.elements)}
+    live = {}
+    for sensor in {e.sensor for e in br.elements}:
+        counts = {len(br.generators[index[sensor, r]]) for r in range(g)}
+        if len(counts) > 1 or counts - {0, 1}:
+            return None
+        live[sensor] = counts == {1}
+    table = []
+    for r in rates:
+        sensors = r.factor.sensors
+        if not r.screened or len({live[j] for j in sensors}) > 1:
+            return None
+        if not live[sensors[0]]:   # every element of the factor lies in every set
+            full = (1 << len(sensors)) - 1
+            masks = {phase: full for phase in range(g)}
+            table.append([(0, r.rate(masks), masks)])
+            continue
+        shapes = _shapes(r, [[index[j, phase] for phase in range(g)] for j in sensors], n - 1)
+        if shapes is None:
+            return None
+        table.append(shapes)
+    return index, table
+
+
+def _members(index: dict, rates: Sequence[FactorRates], chosen: tuple[dict[int, int], ...]) -> frozenset[int]:
+    """The elements of the factors' patterns ``chosen`` (``{phase: mask}`` each)."""
+    return frozenset(index[r.factor.sensors[b], phase] for r, masks in zip(rates, chosen)
+                     for phase, mask in masks.items() for b in range(len(r.factor.sensors)) if mask >> b & 1)
+
+
+def _best_per_count(shapes: list[tuple[int, Any, dict[int, int]]]) -> list[tuple[Any, dict[int, int]]]:
+    """Per ``m = 0..`` (up to ``n - 1``, or the factor's one full pattern): the first shape of the
+    largest rate among those of ``m`` elements (:func:`_shapes` lists them in the tie-break's order)."""
+    best: list[tuple[Any, dict[int, int]] | None] = [None] * (max(m for m, _, _ in shapes) + 1)
+    for m, rate, masks in shapes:
+        if best[m] is None or rate > best[m][0]:
+            best[m] = (rate, masks)
+    return best
+
+
+def _shapes(rates: FactorRates, element: list[list[int]], most: int) -> list[tuple[int, Any, dict[int, int]]] | None:
+    """Per multiset of words of at most ``most`` elements in all that fits the period: ``(m, rate,
+    masks)``, its words packed in the order whose elements ``element[bit][phase]`` come first in
+    lexicographic order, listed by rate and then by that order within each ``m`` (so the first of
+    the largest rate is the one that comes first); None beyond :data:`MAX_SHAPES` multisets, or
+    when some ``m`` has none."""
     g, bits = rates.g, len(element)
     words = []
 
@@ -109,8 +175,7 @@ def _best_words(rates: FactorRates, element: list[list[int]], most: int) -> list
                 extend(word + (mask,), count)
     extend((), 0)
     weight = [sum(bin(m).count("1") for m in w) for w in words]
-    best: list[tuple[Any, list[int], dict[int, int]] | None] = [None] * (most + 1)
-    shapes = 0
+    found: list[tuple[int, Any, list[int], dict[int, int]]] = []
 
     def packed(chosen: tuple[int, ...]) -> tuple[list[int], dict[int, int]]:
         masks, phase = {}, 0
@@ -122,23 +187,19 @@ def _best_words(rates: FactorRates, element: list[list[int]], most: int) -> list
         return sorted(element[b][p] for p, mask in masks.items() for b in range(bits) if mask >> b & 1), masks
 
     def choose(first: int, chosen: list[int], used: int, span: int) -> bool:
-        nonlocal shapes
-        shapes += 1
-        if shapes > MAX_SHAPES:
+        if len(found) >= MAX_SHAPES:
             return False
         key, masks = min(map(packed, _orders(chosen, words)))   # the order of the runs that comes first
-        rate = rates.rate(masks)
-        held = best[used]
-        if held is None or rate > held[0] or (rate == held[0] and key < held[1]):
-            best[used] = (rate, key, masks)
+        found.append((used, rates.rate(masks), key, masks))
         for w in range(first, len(words)):   # multisets: words in non-decreasing index order
             if used + weight[w] <= most and span + len(words[w]) + 1 <= g:
                 if not choose(w, chosen + [w], used + weight[w], span + len(words[w]) + 1):
                     return False
         return True
-    if not choose(0, [], 0, 0) or not all(best):
+    if not choose(0, [], 0, 0) or {m for m, _, _, _ in found} != set(range(most + 1)):
         return None
-    return [(rate, masks) for rate, _, masks in best]
+    found.sort(key=lambda shape: (shape[0], -shape[1], shape[2]))
+    return [(m, rate, masks) for m, rate, _, masks in found]
 
 
 #: the most orders of one multiset of words that are packed to find the one that comes first

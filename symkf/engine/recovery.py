@@ -13,13 +13,14 @@ entirely inside ``H`` contributes 1) and holds at least one (a hyperplane misses
 so every margin ``m_H(q) = alpha^(2g) rho(M_H)(q)`` is strictly decreasing on ``(0, q_max]``,
 ``q_max = 1 - max_j f_j``.
 
-Above it.  For ``1 - f <= q < 1``, ``|lambda| <= f``: ``T_1 = 1 - q <= f``, ``T_l <= f/(f + q) <= f``
-for odd ``l`` and ``T_l <= f + |lambda|^l <= f (1 + f)`` for even ``l >= 2``.  For ``q_max <= q <= 1 - f``
-(a sensor whose ``f`` is below the largest), ``lambda >= 0`` and ``T_l <= T_1 = 1 - q <= 1 - q_max``.
-A hyperplane's rate is a product of one term per lost run and of ``1 - q`` per further lost phase,
-so it is at most the i.i.d. rate ``prod_j c_j^(phases of j outside H)``, ``c_j = max(f_j (1 + f_j),
-1 - q_max)``: if the filter is stable under i.i.d. losses ``c_j`` (decided by the screened search),
-it is stable on all of ``[q_max, 1)``.
+Above it.  For ``1 - f <= q < 1``, ``-f < lambda <= 0``: ``T_1 = 1 - q <= f``, ``T_l <= f/(f + q) <= f``
+for odd ``l``, and ``T_l <= f`` for even ``l >= 2`` too (``T_l <= f`` iff ``q lambda^l <= f |lambda|``,
+and ``q |lambda|^l <= |lambda| f^(l - 1) <= f |lambda|``; equality at ``q = 1 - f`` and at ``q = 1``).
+For ``q_max <= q <= 1 - f`` (a sensor whose ``f`` is below the largest), ``lambda >= 0`` and ``T_l <=
+T_1 = 1 - q <= 1 - q_max``.  So every term is at most ``c = 1 - q_max``, the largest ``f``.  A
+hyperplane's rate is a product of one term per lost run and of ``1 - q`` per further lost phase, so
+it is at most the i.i.d. rate ``prod_j c^(phases of j outside H)``: if the filter is stable under
+i.i.d. losses ``c`` (decided by the screened search), it is stable on all of ``[q_max, 1)``.
 
 Then the stable set is ``(q_c, 1)`` and ``q_c = max_H r_H``, ``r_H`` the crossing of ``m_H = 1``.
 The search: at the rational ``t = q_max / 2`` the screened Markov search
@@ -41,20 +42,21 @@ from functools import lru_cache
 from typing import Any, Sequence
 
 import flint
+import numpy as np
 import sympy as sp
 
 from ..arguments import check_public
 from ..errors import AssumptionError, InputError
-from .rates import Patterns, factor_rates
-from .search import block_rate, capped_hyperplanes, first_screen, rates_reaching
-from ..exact.algebraic import AlgebraicNumber, decreasing_root
+from .rates import FactorRates, Patterns, factor_rates
+from .search import block_rate, first_screen, listed_hyperplanes, price_margins, rates_reaching
+from ..exact.algebraic import AlgebraicNumber, crossings_in_unit, decreasing_root, exceeds, narrowed, root_between, sign_at
 from ..exact.numbers import sympify
 from ..model.gilbert_elliott import GilbertElliott
 from ..model.loss import LossModel
 from ..model.system import System
-from .rows import BlockRows
+from .rows import BlockRows, _set, _as_rows
 from .blocks import block_rows
-from .region import ge_margins, simplest, stable_intervals
+from .region import ge_margins, simplest, stable_intervals, stable_set
 from .stability import _check_loss, stability
 
 _GAP = Fraction(1, 10 ** 12)  # how far the rational point sits below the crossing
@@ -101,6 +103,27 @@ def _rate_poly(br: BlockRows, H: frozenset[int], fail: Sequence[Fraction], varyi
         for w in runs:
             out *= _run_term(f, len(w) + 1)
     return out
+
+
+def _shape(rates: FactorRates, masks: dict[int, int]) -> tuple:
+    """What a factor's rate depends on: its phases inside ``H`` and its runs, sorted (the segment
+    form), or its whole pattern; hyperplanes whose factors have one shape each have one rate."""
+    runs = rates.runs(masks)
+    return (len(masks), tuple(sorted(runs))) if runs is not None else tuple(sorted(masks.items()))
+
+
+def _classes(matrix: np.ndarray) -> tuple[np.ndarray, list[int]]:
+    """Per row the index of its class of equal rows (numbered by first appearance), and each
+    class's first row (``np.unique`` by rows sorts them as records: ten times slower)."""
+    keys: dict[bytes, int] = {}
+    first = []
+    which = np.empty(len(matrix), dtype=np.int64)
+    for h, row in enumerate(np.ascontiguousarray(matrix)):
+        k = keys.setdefault(row.tobytes(), len(keys))
+        if k == len(first):
+            first.append(h)
+        which[h] = k
+    return which, first
 
 
 def _at(rho: flint.fmpq_poly, q: Fraction) -> Fraction:
@@ -159,29 +182,70 @@ class _Channels:
 
     def rates(self, br: BlockRows, sets) -> list[flint.fmpq_poly]:
         """The distinct ``rho(M_H)(q)`` of the hyperplanes ``sets`` (shifted and tied hyperplanes share
-        one: each is solved once); a pattern's runs do not depend on ``q``."""
+        one: each is solved once), built once per combination of the factors' :func:`_shape` (tens of
+        thousands of listed hyperplanes have a few hundred); a pattern's runs do not depend on ``q``."""
         patterns = Patterns(br, factor_rates(br, self.model(sp.Rational(1, 2))))
-        distinct = {tuple(m.coeffs()): m for m in (_rate_poly(br, H, self.fail, self.varying, patterns) for H in sets)}
+        rows = _as_rows(sets, len(br.elements))
+        # per factor, the shape of each of its distinct patterns; then one hyperplane per combination
+        # of shapes (numpy, not a set per hyperplane: 135 568 listed ones of four sensors at period 24)
+        ids = []
+        for k, rates in enumerate(patterns.rates):
+            columns = np.array([e for e, (f, _, _) in enumerate(patterns.of) if f == k], dtype=np.int64)
+            which, first = _classes(np.packbits(rows[:, columns], axis=1))
+            shapes: dict[tuple, int] = {}
+            shape = [shapes.setdefault(_shape(rates, patterns.of_set(columns[rows[h, columns]].tolist())[k]), len(shapes))
+                     for h in first]
+            ids.append(np.array(shape, dtype=np.int64)[which])
+        _, first = _classes(np.column_stack(ids))
+        polys = (_rate_poly(br, _set(rows[h]), self.fail, self.varying, patterns) for h in first)
+        distinct = {str(m): m for m in polys}
         return list(distinct.values())
 
 
 def listed_margins(system: System, fail: Sequence[sp.Rational], recover: Sequence[sp.Rational] | None,
-                   sensor: int | None, q: sp.Symbol) -> list[sp.Expr] | None:
-    """Every hyperplane's margin ``alpha^(2g) rho_H(q)`` as a polynomial in ``q`` (the hyperplanes
-    listed, capped: :func:`symkf.engine.search.capped_hyperplanes`), the distinct ones once, their rates
-    built in flint (sympy's expansion of the same products is far slower with a few two-row sensors
-    of a long period: docs/performance.md); None when a rate is not rational (then
+                   sensor: int | None) -> list[tuple[AlgebraicNumber, list[flint.fmpq_poly]]] | None:
+    """Per block ``(gamma, rates)``: the threshold ``gamma = alpha^(-2g)`` and every hyperplane's
+    ``rho_H(q)`` (the hyperplanes listed, capped: :func:`symkf.engine.search.listed_hyperplanes`),
+    the distinct ones once, built in flint (sympy's expansion of the same products is far slower
+    with a few two-row sensors of a long period: docs/performance.md); the margin ``alpha^(2g)
+    rho_H(q)`` is below 1 iff ``rho_H(q) < gamma``.  None when a rate is not rational (then
     :func:`symkf.engine.region.ge_margins`)."""
     channels = _Channels.of(system.d, fail, recover, sensor)
     if channels is None:
         return None
     out = []
     for br in block_rows(system):
-        growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
-        for m in channels.rates(br, capped_hyperplanes(br)):
-            rho = sp.Poly([sp.Rational(int(c.p), int(c.q)) for c in reversed(m.coeffs())], q).as_expr()
-            out.append(sp.expand(growth * rho))
+        price_margins(br, "the margin polynomial")
+        out.append((_threshold(br), channels.rates(br, listed_hyperplanes(br))))
     return out
+
+
+def listed_intervals(margins: Sequence[tuple[AlgebraicNumber, Sequence[flint.fmpq_poly]]]
+                     ) -> tuple[tuple[AlgebraicNumber, AlgebraicNumber], ...]:
+    """``{q in (0, 1) : rho(q) < gamma for every (gamma, rates) and rate rho}`` (:func:`listed_margins`)
+    as disjoint open intervals, exactly.
+
+    The verdict changes only where some ``rho`` meets its ``gamma``: a real root of ``mu(rho(q))``
+    in ``(0, 1)`` (:func:`symkf.exact.algebraic.crossings_in_unit`: isolating intervals by Descartes'
+    rule, no complex root isolated), and only where no rate is above its threshold around it: a root
+    whose interval, narrowed to ``2^-40``, has some ``rho > gamma`` on all of it (ball arithmetic)
+    is not a boundary.  The others become exact numbers (:func:`symkf.exact.algebraic.root_between`),
+    and the gaps between them are decided at rationals by exact rates
+    (:func:`symkf.engine.region.stable_set`).  Each margin's roots used to be isolated among all its
+    complex roots, and its rates expanded in sympy: 67 CPU-s for four sensors of the period-24 block
+    at fail (3/5, 1/2, 3/5, 9/10), 135 568 hyperplanes and 39 distinct rates of degree up to 96."""
+    rates = [(gamma, rho) for gamma, polys in margins for rho in polys]
+    kept = []
+    for gamma, rho in rates:
+        for part, lo, hi in crossings_in_unit(rho, gamma):
+            lo, hi = narrowed(part, lo, hi, Fraction(1, 2 ** 40))
+            if not any(exceeds(other, bound, lo, hi) for bound, other in rates):
+                kept.append(root_between(part, lo, hi))
+
+    def stable_at(v: Any) -> bool:
+        x = AlgebraicNumber.from_expr(v)
+        return all(sign_at(rho, x, gamma) < 0 for gamma, rho in rates)
+    return stable_set(kept, stable_at)
 
 
 def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
@@ -199,8 +263,8 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
     rates as constant factors: it is still non-increasing in ``q`` on ``(0, q_max]`` (``q_max = 1
     - fail_j``), strictly where sensor ``j`` has a lost phase outside ``H``, and constant where
     ``H`` holds every element of ``j``; above ``q_max`` sensor ``j``'s factor is at most that of
-    i.i.d. losses ``fail_j (1 + fail_j)`` (``1 - q_max = fail_j``), a Gilbert-Elliott channel with
-    ``fail + recover = 1`` beside the fixed ones.  A constant margin at least 1 (found by the search at ``q_max / 2`` or
+    i.i.d. losses ``fail_j = 1 - q_max``, a Gilbert-Elliott channel with ``fail + recover = 1``
+    beside the fixed ones.  A constant margin at least 1 (found by the search at ``q_max / 2`` or
     by the certificate's screen) is unstable at every ``q``: the answer is 1, as with the listing."""
     channels = _Channels.of(system.d, fail, recover, sensor)
     if channels is None:
@@ -225,11 +289,9 @@ def monotone_critical_recovery(system: System, fail: Sequence[sp.Rational],
                 r = decreasing_root(m, gamma[br], Fraction(0), t) if gamma[br] > _at(m, t) else decreasing_root(m, gamma[br], t, qmax)
                 if r is not None:
                     lower.append(r)
-        bound = [max(f * (1 + f), 1 - sp.Rational(qmax.numerator, qmax.denominator)) for f in fail]
-        if any(b >= 1 for i, b in enumerate(bound) if i in varying):
-            return None
-        iid = GilbertElliott([b if i in varying else f for i, (f, b) in enumerate(zip(fail, bound))],
-                             [1 - b if i in varying else r for i, (b, r) in enumerate(zip(bound, fixed))])
+        c = 1 - sp.Rational(qmax.numerator, qmax.denominator)   # the largest varying fail
+        iid = GilbertElliott([c if i in varying else f for i, f in enumerate(fail)],
+                             [1 - c if i in varying else r for i, r in enumerate(fixed)])
         if not stability(system, iid).stable:
             return None
         if not lower:
@@ -287,8 +349,8 @@ def _monotone_recovery(system: System, fail: Sequence[Any], recover: Sequence[An
     fixed = None if j is None else model.recover
 
     def listed() -> tuple[tuple[AlgebraicNumber, AlgebraicNumber], ...]:
-        margins = listed_margins(system, model.fail, fixed, j, q)
-        return stable_intervals(ge_margins(system, model) if margins is None else margins, q)
+        margins = listed_margins(system, model.fail, fixed, j)
+        return stable_intervals(ge_margins(system, model), q) if margins is None else listed_intervals(margins)
     return model, q, listed, monotone_critical_recovery(system, model.fail, fixed, j)
 
 

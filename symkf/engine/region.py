@@ -28,9 +28,9 @@ import sympy as sp
 
 from ..arguments import check_public
 from .rates import hyperplane_rate
-from .search import capped_hyperplanes, outside_counts
+from .search import capped_hyperplanes, outside_counts, price_margins
 from ..errors import InputError
-from ..exact.algebraic import AlgebraicNumber, sign, sympy_to_fmpz
+from ..exact.algebraic import AlgebraicNumber, root_between, sign, sympy_to_fmpz, unit_roots
 from ..exact.numbers import sympify, to_exact
 from ..model.loss import LossModel, checked
 from ..model.system import System
@@ -240,6 +240,7 @@ def ge_margins(system: System, loss: LossModel) -> list[sp.Expr]:
     for br in block_rows(system):
         growth = sympify(br.block.modulus.exact ** (2 * br.class_period))
         seen = set()
+        price_margins(br, "the symbolic margin")
         for H in capped_hyperplanes(br):
             m = sp.expand(growth * hyperplane_rate(br, H, loss))
             if m not in seen:
@@ -329,15 +330,10 @@ def roots_in_unit(expr: sp.Expr, t: sp.Symbol) -> list[AlgebraicNumber]:
         return []
     if not poly.domain.is_QQ and not poly.domain.is_ZZ:
         poly = poly.norm()
-    out = []
-    for f, _ in sympy_to_fmpz(poly.as_expr().subs(t, sp.Symbol("x"))).factor()[1]:
-        f = f if f.leading_coefficient() > 0 else -f
-        for i, (r, _) in enumerate(f.complex_roots()):
-            if r.imag == 0:
-                a = AlgebraicNumber(f, i)
-                if a > 0 and a < 1:
-                    out.append(a)
-    return out
+    # per factor its roots in (0, 1) by Descartes' rule, each made exact by its own ball: a factor
+    # without one there has none of its complex roots isolated
+    return [root_between(f, lo, hi) for f, _ in sympy_to_fmpz(poly.as_expr().subs(t, sp.Symbol("x"))).factor()[1]
+            for lo, hi in unit_roots(f if f.leading_coefficient() > 0 else -f)]
 
 
 def stable_intervals(margins: Sequence[sp.Expr], t: sp.Symbol) -> tuple[tuple[AlgebraicNumber, AlgebraicNumber], ...]:

@@ -127,8 +127,14 @@ class BlockRows:
         return (sum(math.comb(V, n - 1 - r) for r in live),
                 f"the sum of C({V}, {n - 1} - r) over {len(live)} elements of r generators, in dimension {n}")
 
-    def heaviest(self, weights: Sequence[float], floor: float | None = None, strict: bool = False
-                 ) -> list[frozenset[int]] | None:
+    def listing_bytes(self, hyperplanes: int) -> int:
+        """Bytes that :attr:`inside` holds at its peak for ``hyperplanes`` hyperplanes: per
+        hyperplane a float32 row over the ``V`` distinct generators, its boolean and float32 rows
+        over the ``E`` elements, and its generators' index tuple (about 128 bytes)."""
+        return hyperplanes * (4 * len(self._bases[0]) + 5 * len(self.elements) + 128)
+
+    def heaviest(self, weights: Sequence[float], floor: float | None = None, strict: bool = False,
+                 screens: int = 1) -> list[frozenset[int]] | None:
         """The hyperplanes (element sets, as in :attr:`hyperplanes`) whose weight ``sum_{e in H}
         weights[e]`` may be maximal, without enumerating every hyperplane; None when the fast
         path does not apply (then enumerate).
@@ -162,8 +168,12 @@ class BlockRows:
         whose greedy bases come from a window of positions after its first element, when that is
         the cheaper plan (:func:`symkf.engine.hyperplane_screen._windowed`: the pigeonhole argument that
         no hyperplane at the bound is missed).  The screen's work (:func:`symkf.engine.hyperplane_screen.work`,
-        about ``C(C, n - 2)`` incidences per stage) is estimated before it starts and refused
-        (:class:`~symkf.errors.BudgetError`) above ``budget.Limits.max_screen_work``.
+        about ``C(C, n - 2)`` incidences per stage, and the points each stage classifies) is priced
+        before it starts and refused (:class:`~symkf.errors.BudgetError`) above ``budget.Limits.max_work``.
+
+        ``screens``: the screens of this block the caller's query runs, this one and others
+        priced alike (the points they classify are the same; their windows at a lower floor are
+        no shorter), so that a query beyond ``max_work`` is refused before the first of them.
 
         An element with several generators (a sensor of several rows, a Jordan chain's
         ``w_(c, s)``) lies in ``H`` iff all of them do: then :meth:`_through_flats`.
@@ -175,10 +185,10 @@ class BlockRows:
         weights = self.screen_weights(weights)
         top = max(weights, default=0.0)
         if floor is not None or not top > 0:
-            return self._heaviest(weights, floor, strict)
+            return self._heaviest(weights, floor, strict, screens)
         direction = tuple(float(w) / top for w in weights)
         if direction not in self._maxima:
-            self._maxima[direction] = self._heaviest(weights, None)
+            self._maxima[direction] = self._heaviest(weights, None, screens=screens)
         found = self._maxima[direction]
         return None if found is None else list(found)
 
@@ -187,7 +197,7 @@ class BlockRows:
         """:meth:`heaviest` without a floor, per direction of the weights."""
         return {}
 
-    def _heaviest(self, weights: Sequence[float], floor: float | None, strict: bool = False
+    def _heaviest(self, weights: Sequence[float], floor: float | None, strict: bool = False, screens: int = 1
                   ) -> list[frozenset[int]] | None:
         """:meth:`heaviest`, screened."""
         n = self.size
@@ -197,7 +207,7 @@ class BlockRows:
         if not live:   # every hyperplane holds the same elements, those without generators
             return [self._always] if not strict or float(np.asarray(weights)[list(self._always)].sum()) >= floor else []
         if self.several_generators:
-            return self._through_flats(weights, floor, strict)
+            return self._through_flats(weights, floor, strict, screens)
         owner = np.array(live, dtype=np.int64)  # point -> element
         vectors = [self.generators[e][0] for e in live]
         w = np.asarray(weights, dtype=float)
@@ -205,7 +215,8 @@ class BlockRows:
         moved = np.arange(len(self.generators))  # the shift on elements (those without points stay)
         if shift is not None:
             moved[owner] = owner[shift]
-        closures = self._screened(vectors, w[owner], shift, 1e-9 * (1 + w.sum()), floor, f"{len(live)} elements", strict)
+        closures = self._screened(vectors, w[owner], shift, 1e-9 * (1 + w.sum()), floor, f"{len(live)} elements", strict,
+                                  screens)
         if closures is None:
             return None
         out = set()
@@ -221,7 +232,7 @@ class BlockRows:
         """The elements without generators: in every hyperplane."""
         return frozenset(e for e, gs in enumerate(self.generators) if not gs)
 
-    def _through_flats(self, weights: Sequence[float], floor: float | None, strict: bool = False
+    def _through_flats(self, weights: Sequence[float], floor: float | None, strict: bool = False, screens: int = 1
                        ) -> list[frozenset[int]] | None:
         """:meth:`heaviest` for elements of several generators, by :mod:`symkf.engine.flat_screen`: the
         hyperplanes through the first flat element they hold (one stage per orbit under the phase
@@ -264,10 +275,11 @@ class BlockRows:
             classes = len(np.unique(hyperplane_screen._labels(X[np.isin(owner, points)], p)[1], axis=0))
             work = flat_screen.work(n, list(rank.values()), len(stages), len(live)) + \
                 hyperplane_screen._stage_work(classes, n + 1)
-            if work > budget.LIMITS.max_screen_work:
-                budget.check("max_screen_work", work, f"eigen-block of modulus {self.block.modulus}",
-                             f"the estimated work of the hyperplane search through the flats of {len(flats)} elements "
-                             f"of several generators and {len(points)} of one, in dimension {n} ({len(stages)} stages)")
+            budget.price(lambda: f"eigen-block of modulus {self.block.modulus}",
+                         lambda: f"the hyperplane search through the flats of {len(flats)} elements of several "
+                                 f"generators and {len(points)} of one, in dimension {n} ({len(stages)} stages"
+                                 + (f", {screens} such searches)" if screens > 1 else ")"),
+                         incidence=screens * work)
             config = flat_screen.Configuration(X, owner, live, w)
             screen = hyperplane_screen.Screen(tol, floor, budget.LIMITS.max_memory // KEPT_SHARE, strict)
             for a in stages:   # a hyperplane through a's flat and no flat element of an earlier orbit
@@ -279,10 +291,10 @@ class BlockRows:
                     budget.check("max_memory", crowded.bytes, f"eigen-block of modulus {self.block.modulus}",
                                  f"the bytes (estimate) of the element sets kept by the search through the flats "
                                  f"({crowded}, {hyperplane_screen.MEMBER_BYTES} bytes per point)")
-                if len(screen.kept) > budget.LIMITS.max_hyperplanes:   # the modulus named only then
-                    budget.check("max_hyperplanes", len(screen.kept), f"eigen-block of modulus {self.block.modulus}",
-                                 "the number of element sets kept by the search through the flats")
             flat_screen.points_only(config.select(np.array(points, dtype=np.int64)), p, screen, always, base_weight)
+            budget.price(lambda: f"eigen-block of modulus {self.block.modulus}",
+                         lambda: f"closing the {len(screen.kept)} element sets kept by the search through the flats",
+                         kept_point=len(screen.kept) * len(owner))
             sets = self._closed(X, owner, p, screen.kept, moved)
             if sets is not None:
                 return sets
@@ -331,10 +343,11 @@ class BlockRows:
         return any(1 < len(gs) < self.size for gs in self.generators)
 
     def _screened(self, vectors: list, weights: np.ndarray, shift: np.ndarray | None, tol: float,
-                  floor: float | None, points: str, strict: bool = False) -> list[np.ndarray] | None:
+                  floor: float | None, points: str, strict: bool = False, screens: int = 1
+                  ) -> list[np.ndarray] | None:
         """The exact closures (point indices) of the sets :mod:`symkf.engine.hyperplane_screen` keeps for
         the points ``vectors`` with ``weights`` (see :meth:`heaviest`; ``points`` names them in a
-        refusal), or None."""
+        refusal; ``screens`` as in :meth:`heaviest`), or None."""
         n = self.size
         orbits = _orbits(len(vectors), shift)
         cycles = _cycles(len(vectors), shift) if shift is not None and np.array_equal(weights[shift], weights) \
@@ -352,18 +365,17 @@ class BlockRows:
                 if cycles is not None:
                     hyperplane_screen.lower_bound(X, weights, p, cycles, screen)
                 plan = hyperplane_screen.stages(X, weights, p, orbits, skip, screen.bar, cycles)
-                work = hyperplane_screen.work(X, p, plan, budget.LIMITS.max_screen_work)
-                if work > budget.LIMITS.max_screen_work:  # the modulus named only then
-                    budget.check("max_screen_work", work, f"eigen-block of modulus {self.block.modulus}",
-                                 f"the estimated work of the hyperplane screen ({points} in dimension {n}, "
-                                 f"{len(orbits) - len(skip)} orbits, {len(plan)} stages: point-line incidences, "
-                                 f"about C(C, {n - 2}) per stage for C classes, fewer in a window)")
+                budget.price(lambda: f"eigen-block of modulus {self.block.modulus}",
+                             lambda: f"the hyperplane screen ({points} in dimension {n}, {len(orbits) - len(skip)} "
+                                     f"orbits, {len(plan)} stages" + (f"; {screens} such screens)" if screens > 1 else ")"),
+                             screen_point=screens * sum(len(s.points) for s in plan),
+                             incidence=screens * hyperplane_screen.work(X, p, plan, budget.affordable("incidence")))
                 if not hyperplane_screen.search(X, weights, p, plan, screen):
                     continue
             except hyperplane_screen.Crowded:
                 return None
-            if len(screen.kept) > budget.LIMITS.max_hyperplanes:
-                return None
+            if len(screen.kept) * len(X) > budget.affordable("kept point"):
+                return None   # closing them costs more than listing is allowed: the caller lists, priced
             mod_p = {}  # many kept sets share a closure, or one up to the shift (the caller shifts)
             for S in screen.kept:
                 c = self._mod_p_closure(X, p, sorted(S), vectors)
@@ -555,6 +567,16 @@ def _parallel(K: NumberField, u: Sequence[Elem], v: Sequence[Elem]) -> bool:
 
 def _set(row: np.ndarray) -> frozenset[int]:
     return frozenset(np.flatnonzero(row).tolist())
+
+
+def _as_rows(sets, elements: int) -> np.ndarray:
+    """Element sets as boolean rows over ``elements`` columns (boolean rows pass through)."""
+    if isinstance(sets, np.ndarray):
+        return sets
+    rows = np.zeros((len(sets), elements), dtype=bool)
+    for h, H in enumerate(sets):
+        rows[h, list(H)] = True
+    return rows
 
 
 def _lex_order(rows: np.ndarray) -> np.ndarray:
@@ -984,12 +1006,16 @@ def direct_rows(system: System, block: EigenBlock) -> BlockRows:
     # (times 2^phase unscaled for modulus 2: 300-bit coefficients at phase 300)
     first = K.inv(diag[0])  # once: an inverse in a field of high degree is costly
     step = [K.mul(lam, first) for lam in diag]
+    # a unit step (a conjugate pair's second class, see modal_form) keeps the element itself: the
+    # phases share it, where g copies took memory g [K:Q] (2R(2 pi/1601): 140 MB)
+    one = flint.fmpq_poly([1])
+    step = [None if s == one else s for s in step]
     for j, sensor in enumerate(system.sensors):
         CT = [K.vecmat(K.matrix(sensor.C)[r], T) for r in range(sensor.m)]
         rows = CT
         for phase in range(g):
             if phase:
-                rows = [[K.mul(a, lam) for a, lam in zip(row, step)] for row in rows]
+                rows = [[a if lam is None else K.mul(a, lam) for a, lam in zip(row, step)] for row in rows]
             gens = []
             for c in range(len(block.classes)):
                 for row in rows:

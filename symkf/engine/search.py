@@ -14,6 +14,7 @@ cylinders through each cylinder's own search (:mod:`symkf.engine.cylinders`).
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 from typing import Any, Callable, Sequence
 
 import flint
@@ -27,7 +28,7 @@ from ..exact.algebraic import AlgebraicNumber
 from ..exact.numbers import sympify
 from ..model.loss import LossModel
 from . import generic_hyperplanes
-from .rows import BlockRows, _set
+from .rows import BlockRows, _set, _as_rows
 from .rates import BlockRate, FactorRates, Patterns, exact_rate, factor_rates
 
 
@@ -52,18 +53,37 @@ def outside_counts(br: BlockRows, weights: Sequence[float] | None = None) -> dic
 def listed_hyperplanes(br: BlockRows) -> np.ndarray | list[frozenset[int]]:
     """Every hyperplane: with elements of several generators the search through their flats at
     floor 0 (:meth:`BlockRows.heaviest`, refused up front by its work estimate; index sets in
-    lexicographic order), else :attr:`BlockRows.inside`, refused up front when their estimated
-    number (:meth:`BlockRows.listing_estimate`) exceeds ``budget.Limits.max_hyperplanes``."""
+    lexicographic order), else :attr:`BlockRows.inside`, priced up front from their estimated
+    number (:meth:`BlockRows.listing_estimate`) and refused above ``budget.Limits.max_work`` or,
+    for the memory they take (:meth:`BlockRows.listing_bytes`), ``max_memory``."""
     if br.several_generators and "inside" not in br.__dict__:
         sets = br.heaviest([0.0] * len(br.elements), floor=0.0)
         if sets is not None:
             return sorted(sets, key=sorted)
     if "inside" not in br.__dict__ and br.size > 1:
         estimate, formula = br.listing_estimate()
-        if estimate > budget.LIMITS.max_hyperplanes:  # the modulus named only then
-            budget.check("max_hyperplanes", estimate, f"eigen-block of modulus {br.block.modulus}",
-                         f"the estimated number of hyperplanes to list ({formula}; no screen applies)")
+        entry = f"eigen-block of modulus {br.block.modulus}"
+        budget.price(entry, f"listing the hyperplanes ({formula}; no screen applies) over a field of degree "
+                            f"{br.K.degree}", hyperplane_degree=estimate * br.K.degree)
+        budget.check("max_memory", br.listing_bytes(estimate), entry,
+                     lambda: f"the bytes (estimate) of listing {estimate} hyperplanes ({formula}; no screen applies)")
     return br.inside
+
+
+def price_margins(br: BlockRows, what: str) -> None:
+    """Refuse, before the hyperplanes are listed, a step that builds ``what`` for each of them when
+    its estimated work (``budget.COSTS["margin"]`` per hyperplane of
+    :meth:`BlockRows.listing_estimate`) is above ``max_work``."""
+    if "inside" not in br.__dict__ and br.size > 1:
+        estimate, formula = br.listing_estimate()
+        budget.price(lambda: f"eigen-block of modulus {br.block.modulus}",
+                     lambda: f"{what} of every hyperplane ({formula})", margin=estimate)
+
+
+#: estimated CPU seconds (``budget.COSTS["hyperplane degree"]``) of a listing above which a block
+#: in general position goes through its special and generic hyperplanes (:func:`_beyond_listing`)
+#: rather than the list: about 300 000 hyperplanes over a field of degree 8
+LIST_BELOW = 2.5
 
 
 def capped_hyperplanes(br: BlockRows) -> tuple[frozenset[int], ...]:
@@ -75,11 +95,7 @@ def capped_hyperplanes(br: BlockRows) -> tuple[frozenset[int], ...]:
 def _outside_vectors(br: BlockRows, inside) -> dict[tuple[int, ...], frozenset[int]]:
     """:func:`outside_counts` of the hyperplanes ``inside`` (boolean rows or index sets, in
     lexicographic order: the first hyperplane of each vector is kept)."""
-    if not isinstance(inside, np.ndarray):
-        rows = np.zeros((len(inside), len(br.elements)), dtype=bool)
-        for h, H in enumerate(inside):
-            rows[h, list(H)] = True
-        inside = rows
+    inside = _as_rows(inside, len(br.elements))
     sensor = np.array([e.sensor for e in br.elements])
     per_sensor = (sensor[:, None] == np.arange(sensor.max() + 1)).astype(np.int64)  # elements x d
     outside = (~inside).astype(np.int64) @ per_sensor                               # hyperplanes x d
@@ -246,20 +262,18 @@ def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
 
 
 def _beyond_listing(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
-    """Where listing the hyperplanes would be refused (their estimated number above
-    ``budget.Limits.max_hyperplanes``): the special ones (at least ``n`` elements with a
-    generator: the screen with unit weights and a strict floor) and, when it is larger than all of
-    theirs, the best rate of ``n - 1`` such elements, attained by generic hyperplanes
+    """Where listing the hyperplanes would cost more than :data:`LIST_BELOW`: the special ones (at
+    least ``n`` elements with a generator: the screen with unit weights and a strict floor) and,
+    when it is larger than all of theirs, the best rate of ``n - 1`` such elements, attained by generic hyperplanes
     (:mod:`symkf.engine.generic_hyperplanes`, which also says why no maximiser is missed), the first of
     them in lexicographic order.  None when that does not apply (the caller lists, refused by the
     estimate)."""
-    if "inside" in br.__dict__ or br.cylinders or br.size < 2 or br.several_generators \
-            or br.listing_estimate()[0] <= budget.LIMITS.max_hyperplanes:
+    if not _general_position(br):
         return None
     generic = generic_hyperplanes.best_elements(br, rates)
     if generic is None:
         return None
-    special = br.heaviest([1.0 if gs else 0.0 for gs in br.generators], floor=br.size - 0.5, strict=True)
+    special = _special(br)
     if special is None:
         return None
     rate, S = generic
@@ -271,13 +285,27 @@ def _beyond_listing(br: BlockRows, rates: Sequence[FactorRates], patterns: Patte
     return special
 
 
+def _general_position(br: BlockRows) -> bool:
+    """Whether :mod:`symkf.engine.generic_hyperplanes` is the way past the list: listing would cost
+    more than :data:`LIST_BELOW` CPU-s (``budget.seconds`` of its hyperplanes times the field's
+    degree) and the block is one of single generators without cylinders."""
+    return not ("inside" in br.__dict__ or br.cylinders or br.size < 2 or br.several_generators
+                or budget.seconds(hyperplane_degree=br.listing_estimate()[0] * br.K.degree) <= LIST_BELOW)
+
+
+def _special(br: BlockRows) -> list[frozenset[int]] | None:
+    """The special hyperplanes (at least ``n`` live elements): the screen with unit weights and a
+    strict floor; None when it declines."""
+    return br.heaviest([1.0 if gs else 0.0 for gs in br.generators], floor=br.size - 0.5, strict=True)
+
+
 def _screened(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
     """The hyperplanes of :func:`markov_search`'s two screens; None when a screen declines or the
     bound cannot rule out the generic hyperplanes (through ``n - 1`` elements of one generator in
     general position, :meth:`BlockRows.generic_weight`: then listing is cheaper)."""
     if br.cylinders:
         return _through_cylinders(br, rates, patterns)
-    first = _first_screen(br, rates, patterns)
+    first = _first_screen(br, rates, patterns, screens=2)   # screen 2 priced with it
     if first is None:
         return None
     tau = max(lg - err for lg, err in map(patterns.log_rate, first))
@@ -317,11 +345,13 @@ def _additive_bound(br: BlockRows, rates: Sequence[FactorRates], patterns: Patte
     return beta, sum(C for C, _ in bounds)
 
 
-def _first_screen(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> list[frozenset[int]] | None:
-    """Screen 1 of :func:`markov_search`: the hyperplanes heaviest in the gains of single elements."""
+def _first_screen(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns, screens: int = 1
+                  ) -> list[frozenset[int]] | None:
+    """Screen 1 of :func:`markov_search`: the hyperplanes heaviest in the gains of single elements
+    (priced with the ``screens - 1`` screens the caller runs after it: :meth:`BlockRows.heaviest`)."""
     empty = [r.log_rate({}) for r in rates]
     gains = [max(0.0, rates[f].log_rate({phase: bit}) - empty[f]) for f, bit, phase in patterns.of]
-    return br.heaviest(gains) if all(np.isfinite(gains)) else None
+    return br.heaviest(gains, screens=screens) if all(np.isfinite(gains)) else None
 
 
 def _reaching(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns, tau: float
@@ -360,11 +390,28 @@ def rates_reaching(br: BlockRows, loss: LossModel, floor: AlgebraicNumber) -> li
     tau = math.log(low.numerator) - math.log(low.denominator) if low > 0 else math.log(float(floor))
     tau -= 1e-6 * (1 + abs(tau))
     sets = _reaching(br, rates, patterns, tau)
+    while not low > 0:   # a positive rational below floor: the generic rates are cut against it
+        low = floor.refine((floor.interval[1] - low) / 4).interval[0]
+    if sets is None:
+        sets = _reaching_beyond_listing(br, rates, low)
     if sets is None:
         sets = list(capped_hyperplanes(br))
     sets = [H for H in sets if sum(patterns.log_rate(H)) >= tau]  # float log plus its proved error
     rated = ((H, exact_rate(patterns.rate(H))) for H in sets)
     return [(H, v) for H, v in rated if not floor > v]
+
+
+def _reaching_beyond_listing(br: BlockRows, rates: Sequence[FactorRates], low: Fraction) -> list[frozenset[int]] | None:
+    """Where listing would be refused (:func:`_general_position`): the special hyperplanes and, per
+    rate of ``n - 1`` live elements at least ``low``, one set of such elements
+    (:func:`symkf.engine.generic_hyperplanes.reaching_elements`: every generic hyperplane is such a
+    set, and every such set lies in a hyperplane, so their rates reaching ``low`` are the
+    hyperplanes' that do).  None when that does not apply."""
+    if not _general_position(br):
+        return None
+    generic = generic_hyperplanes.reaching_elements(br, rates, low)
+    special = None if generic is None else _special(br)
+    return None if special is None else special + generic
 
 
 def _decide(sets: list[frozenset[int]], patterns: Patterns) -> BlockRate:

@@ -26,7 +26,7 @@ from .rates import BlockRate
 from .search import block_rate, least_iid_bound, outside_counts
 from ..errors import AssumptionError, InputError
 from ..output import JsonDocument
-from ..exact.algebraic import AlgebraicNumber, identify, with_prec
+from ..exact.algebraic import AlgebraicNumber, real_kth_root, sympy_to_fmpz, with_prec
 from ..arguments import check_public
 from ..exact.numbers import sympify, to_exact
 from ..exact.text import number_text, printed_text
@@ -399,6 +399,15 @@ def _least(system: System, losses, bound, safe: AlgebraicNumber | None = None) -
     return min(values, default=one)
 
 
+def _positive_root(r: sp.CRootOf) -> bool:
+    """Whether the ``CRootOf`` is a positive real number, decided on flint's certified balls (its index
+    counts real roots first, ascending, as flint's does)."""
+    try:
+        return AlgebraicNumber._irreducible(sympy_to_fmpz(r.poly), int(r.index)) > 0
+    except InputError:   # not real
+        return False
+
+
 class _Bound:
     """``(alpha^power c)^(sign/k)`` (``alpha > 0`` a block's modulus, ``c > 0``, ``k >= 1``): a
     critical value (``sign = -1``) or a margin (``sign = 1``).  A certified ball, and the exact
@@ -412,8 +421,14 @@ class _Bound:
         self.key = (alpha, power, self.c, k, sign)
 
     def expr(self) -> sp.Expr:
-        base = sympify(self.alpha.exact ** self.power) * self.c
-        return sympify(sp.root(base if self.sign > 0 else 1 / base, self.k))
+        # sympy asks for the sign of a CRootOf by isolating every real root of its polynomial in pure
+        # Python (most of the time of a dense 24 x 24 A, hopeless at degree 2016): positive roots enter
+        # as positive symbols, which sympy's rules treat alike, and come back at the end
+        alpha = self.alpha.exact
+        stand_ins = {r: sp.Dummy(positive=True) for r in alpha.atoms(sp.CRootOf) if _positive_root(r)}
+        base = sympify(alpha.xreplace(stand_ins) ** self.power) * self.c
+        value = sympify(sp.root(base if self.sign > 0 else 1 / base, self.k))
+        return value.xreplace({v: r for r, v in stand_ins.items()})
 
     def ball(self, prec: int) -> flint.arb:
         c = flint.fmpq(int(self.c.p), int(self.c.q)) if self.c.is_Rational else self._c._ball(prec).real
@@ -427,7 +442,11 @@ class _Bound:
     def value(self) -> AlgebraicNumber:
         # the k-th root of gamma through p(x^k), also for algebraic c (a Gilbert-Elliott rate over
         # Q(sqrt 2)): sympy's minimal polynomial of the root of the product is far slower at k = 24
-        gamma = self.alpha ** self.power * self._c
+        # a rational alpha's power is a rational of power * log2(alpha) bits, cheap where the
+        # exponent cap of AlgebraicNumber powers (a caller's exponents) refuses it: 2^90090 for five
+        # rotations of class period 45045
+        gamma = (AlgebraicNumber.from_expr(sp.Rational(self.alpha._value() ** self.power)) if self.alpha.is_rational
+                 else self.alpha ** self.power) * self._c
         gamma = gamma if self.sign > 0 else 1 / gamma
         # sympy's root of a huge rational overflows a float in its perfect-power test (Gilbert-
         # Elliott losses at rationals near a critical recovery rate): no closed form then
@@ -445,11 +464,8 @@ class _Bound:
             gamma = AlgebraicNumber.from_expr(sp.Rational(num, den))
         if k == 1:
             return AlgebraicNumber._irreducible(gamma._poly, gamma._index, exact)
-        coeffs = [0] * (k * gamma._poly.degree() + 1)  # p(x^k) for the minimal polynomial p of gamma
-        for i, a in enumerate(gamma._poly.coeffs()):
-            coeffs[k * i] = int(a)
-        f, index = identify(flint.fmpz_poly(coeffs), lambda prec: flint.acb(self.ball(prec)),
-                            "margin" if self.sign > 0 else "critical value")
+        f, index = real_kth_root(gamma, k, lambda prec: flint.acb(self.ball(prec)),
+                                 "margin" if self.sign > 0 else "critical value")
         return AlgebraicNumber._irreducible(f, index, exact)
 
 

@@ -22,7 +22,7 @@ import operator
 import re
 from decimal import Decimal
 from fractions import Fraction
-from functools import lru_cache
+from functools import cmp_to_key, lru_cache
 from typing import Any, Callable
 
 import flint
@@ -100,8 +100,133 @@ def precision(prec: Any, entry: str = "prec") -> int:
 
 
 def root_ball(poly: flint.fmpz_poly, index: int, prec: int) -> flint.acb:
-    """Certified isolating ball of root ``index`` of ``poly`` (flint's ordering) at ``prec`` bits."""
-    return _complex_roots(tuple(int(c) for c in poly.coeffs()), precision(prec))[index]
+    """Certified ball of root ``index`` of ``poly`` (flint's ordering) at ``prec`` bits: isolating
+    (flint's ``complex_roots``), or for a real root of a polynomial whose real roots are known
+    (:func:`known_real_roots`) the enclosure its source gives, which shrinks as ``prec`` grows."""
+    coeffs = tuple(int(c) for c in poly.coeffs())
+    known = _KNOWN_REAL_ROOTS.get(coeffs)
+    if known is not None and index < len(known):
+        prec = precision(prec)
+        return with_prec(prec, lambda: flint.acb(known[index](prec)))
+    return _complex_roots(coeffs, precision(prec))[index]
+
+
+#: irreducible primitive integer polynomials (coefficients) whose real roots are known without
+#: isolating all their roots: each real root's source of certified balls ``source(prec)``, ascending
+#: (so position = flint's index).  Filled by :func:`known_real_roots`.
+_KNOWN_REAL_ROOTS: dict[tuple[int, ...], tuple[Callable[[int], flint.arb], ...]] = {}
+
+#: polynomials whose real roots are kept (a long sweep meets many systems)
+_KNOWN_LIMIT = 1024
+
+#: the working precisions at which membership and order of known real roots are decided
+_LADDER = (64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384)
+
+
+def known_real_roots(factors: list[flint.fmpz_poly], sources: list[Callable[[int], flint.arb]]) -> bool:
+    """Record the real roots of the irreducible ``factors`` (primitive, positive leading
+    coefficient) of a squarefree polynomial, given ``sources`` of certified balls of *all* its real
+    roots (distinct numbers): each root goes to the one factor whose value on its ball keeps 0 (the
+    others exclude it as the precision grows; distinct irreducible factors share no root), and each
+    factor's roots are sorted by their balls, which separate since the roots are distinct.  Then
+    :func:`root_ball` and :func:`identify` (``real=True``) name these roots by flint's index (real
+    roots first, ascending) without isolating every complex root of a factor of degree in the
+    thousands.  False when some membership is not decided at the highest precision tried (then
+    nothing is recorded)."""
+    owned: dict[int, list[Callable[[int], flint.arb]]] = {k: [] for k in range(len(factors))}
+    for source in sources:
+        if len(factors) == 1:
+            owned[0].append(source)
+            continue
+        for prec in _LADDER:
+            z = with_prec(prec, lambda: source(prec))
+            cands = [k for k, f in enumerate(factors) if with_prec(prec, lambda: f(flint.acb(z))).contains(0)]
+            if len(cands) == 1:
+                owned[cands[0]].append(source)
+                break
+        else:
+            return False
+    for k, roots in owned.items():
+        key = tuple(int(c) for c in factors[k].coeffs())
+        _KNOWN_REAL_ROOTS[key] = tuple(sorted(roots, key=cmp_to_key(_order)))
+    while len(_KNOWN_REAL_ROOTS) > _KNOWN_LIMIT:   # the oldest go: their roots are isolated again if asked
+        del _KNOWN_REAL_ROOTS[next(iter(_KNOWN_REAL_ROOTS))]
+    return True
+
+
+def real_sign(ball_at: Callable[[int], flint.arb]) -> int:
+    """-1 or 1: the sign of the nonzero real number in the balls ``ball_at(prec)``."""
+    for prec in _LADDER:
+        b = with_prec(prec, lambda: ball_at(prec))
+        if b > 0 or b < 0:
+            return 1 if b > 0 else -1
+    raise InputError("the sign of a nonzero real number is not decided at 16384 bits")  # pragma: no cover
+
+
+def real_kth_root(gamma: "AlgebraicNumber", k: int, ball_at: Callable[[int], flint.acb],
+                  what: str) -> tuple[flint.fmpz_poly, int]:
+    """The real root ``x`` of ``x^k = gamma`` in the balls ``ball_at(prec)``: its minimal polynomial and
+    index, from ``p(x^k)`` (``p`` the minimal polynomial of ``gamma``).  When the real roots of ``p`` are
+    known (:func:`known_real_roots`) and ``p(x^k)`` is proved irreducible (:func:`_binomial_irreducible`),
+    its real roots are the real k-th roots of theirs, recorded so that no root of ``p(x^k)`` (degree
+    6048 for the critical loss rate of a dense 64 x 64 A) is isolated."""
+    c = [int(v) for v in gamma._poly.coeffs()]
+    coeffs = [0] * (k * (len(c) - 1) + 1)
+    for i, a in enumerate(c):
+        coeffs[k * i] = a
+    g = flint.fmpz_poly(coeffs)
+    known = _KNOWN_REAL_ROOTS.get(tuple(c))
+    irreducible = _binomial_irreducible(gamma._poly, k)
+    if known is not None and tuple(coeffs) not in _KNOWN_REAL_ROOTS and irreducible:
+        sources = []
+        for t in known:
+            size = lambda prec, t=t: abs(t(prec)).root(k)  # noqa: E731
+            sign = real_sign(t)
+            if k % 2:
+                sources.append(size if sign > 0 else lambda prec, size=size: -size(prec))
+            elif sign > 0:
+                sources += [size, lambda prec, size=size: -size(prec)]
+        known_real_roots([g], sources)
+    return identify(g, ball_at, what, real=True, irreducible=irreducible)
+
+
+def _binomial_irreducible(p: flint.fmpz_poly, k: int) -> bool:
+    """Whether ``p(x^k)`` is proved irreducible for the irreducible ``p`` of root ``gamma``: by Capelli's
+    theorem ``x^k - gamma`` is irreducible over ``Q(gamma)`` iff ``gamma`` is no q-th power there for
+    each prime q dividing k (and not in ``-4 Q(gamma)^4`` when 4 divides k; Lang, Algebra, 3rd ed.
+    2002, Chapter VI, Theorem 9.1), and then ``p(x^k)`` has degree ``k deg p`` over Q with the root
+    ``gamma^(1/k)``.  No q-th power is proved by a prime ``l = 1 (mod q)``, not dividing the
+    leading coefficient, at which ``p`` has a simple root ``r`` that is no q-th power mod ``l``:
+    Hensel's lemma embeds ``Q(gamma)`` in the l-adic numbers with ``gamma`` a unit reducing to ``r``,
+    and a q-th power would reduce to one.  False when 4 divides k or no such prime is among the
+    first 64 tried (undecided)."""
+    if k % 4 == 0:
+        return False
+    lead = int(p.leading_coefficient())
+    for q in sp.primefactors(k):
+        tried, ell = 0, 1
+        while True:
+            ell += q
+            if not flint.fmpz(ell).is_prime() or lead % ell == 0:
+                continue
+            tried += 1
+            reduced = flint.nmod_poly([int(v) % ell for v in p.coeffs()], ell)
+            if any(m == 1 and int(r) and pow(int(r), (ell - 1) // q, ell) != 1 for r, m in reduced.roots()):
+                break
+            if tried == 64:
+                return False
+    return True
+
+
+def _order(a: Callable[[int], flint.arb], b: Callable[[int], flint.arb]) -> int:
+    """-1 or 1 as the distinct real numbers in the balls ``a(prec)``, ``b(prec)`` compare."""
+    for prec in _LADDER:
+        x, y = with_prec(prec, lambda: (a(prec), b(prec)))
+        if x < y:
+            return -1
+        if y < x:
+            return 1
+    raise InputError("two known real roots are not separated at 16384 bits")  # pragma: no cover
 
 
 @lru_cache(maxsize=512)
@@ -114,7 +239,7 @@ def _complex_roots(coeffs: tuple[int, ...], prec: int) -> tuple[flint.acb, ...]:
     if known is not None:
         def ball(kind: str, alpha: Fraction, beta: Fraction, j: int, m: int) -> flint.acb:
             if kind == "unit":
-                return int(beta) * flint.acb(flint.arb(flint.fmpq(2 * j, m))).exp_pi_i()
+                return flint.arb(flint.fmpq(beta.numerator, beta.denominator)) * flint.acb(flint.arb(flint.fmpq(2 * j, m))).exp_pi_i()
             cosine = 2 * flint.arb(flint.fmpq(2 * j, m)).cos_pi()
             return flint.acb(flint.fmpq(alpha.numerator, alpha.denominator)
                              + flint.fmpq(beta.numerator, beta.denominator) * cosine)
@@ -127,8 +252,9 @@ Root = tuple[str, Fraction, Fraction, int, int]
 
 @lru_cache(maxsize=512)
 def _known_roots(coeffs: tuple[int, ...]) -> list[Root] | None:
-    """The roots of ``c^d Phi_m(x / c)`` (``m >= 3``, integer ``c >= 1``: ``c exp(2 pi i j/m)``,
-    none real, listed ``j, -j`` for ``j = 1 .. m/2`` prime to m) as ``("unit", 0, c, j, m)``, and of
+    """The roots of ``c^d Phi_m(x / c)`` (``m >= 3``, rational ``c = p/q > 0``, made integral as
+    ``sum a_k p^(d-k) q^k x^k``: ``c exp(2 pi i j/m)``, none real, listed ``j, -j`` for
+    ``j = 1 .. m/2`` prime to m, in flint's order when ``q > 1``) as ``("unit", 0, c, j, m)``, and of
     the minimal polynomials of ``alpha + beta 2 cos(2 pi/m)`` (rational ``alpha``, ``beta``: cosines
     and sines, their squares ``(1 -+ cos 2t) / 2``, scaled and shifted) as ``("cos", alpha, beta, j,
     m)``, real and ascending as in flint; None for other polynomials.  Such roots are named
@@ -137,14 +263,17 @@ def _known_roots(coeffs: tuple[int, ...]) -> list[Root] | None:
     d, a = len(coeffs) - 1, coeffs
     if d < 2:
         return None
-    if a[d] == 1:
-        c, exact = sp.integer_nthroot(abs(a[0]), d)
-        c = int(c)
-        if a[0] > 0 and exact and all(a[k] % c ** (d - k) == 0 for k in range(d + 1)):
-            m = int(flint.fmpz_poly([a[k] // c ** (d - k) for k in range(d + 1)]).is_cyclotomic())
+    if a[0] > 0 and a[d] > 0:
+        (p, exact_p), (q, exact_q) = sp.integer_nthroot(a[0], d), sp.integer_nthroot(a[d], d)
+        p, q = int(p), int(q)
+        scale = [p ** (d - k) * q ** k for k in range(d + 1)] if exact_p and exact_q else []
+        if scale and all(a[k] % s == 0 for k, s in enumerate(scale)):
+            m = int(flint.fmpz_poly([a[k] // s for k, s in enumerate(scale)]).is_cyclotomic())
             if m >= 3:
-                return [("unit", Fraction(0), Fraction(c), j, m)
-                        for k in range(1, (m + 1) // 2) if math.gcd(k, m) == 1 for j in (k, m - k)]
+                pairs = [k for k in range(1, (m + 1) // 2) if math.gcd(k, m) == 1]
+                if q > 1:  # flint's order, which isolation gave them: by imaginary part, then real part
+                    pairs.sort(key=lambda k: (-abs(4 * k - m), -k))
+                return [("unit", Fraction(0), Fraction(p, q), j, m) for k in pairs for j in (k, m - k)]
     return _affine_cosine_roots(a)
 
 
@@ -202,19 +331,32 @@ def _arb_interval(b: flint.arb) -> tuple[sp.Rational, sp.Rational]:
 
 
 def identify(poly: flint.fmpz_poly, ball_at: Callable[[int], flint.acb],
-             what: str | Callable[[], str] = "number") -> tuple[flint.fmpz_poly, int]:
+             what: str | Callable[[], str] = "number", real: bool = False,
+             irreducible: bool = False) -> tuple[flint.fmpz_poly, int]:
     """The irreducible factor of ``poly`` with a root in the ball, and that root's index.
 
     ``ball_at(prec)`` returns a certified acb ball for the number at ``prec``
     bits.  The answer is the unique root, over all factors, whose isolating
-    ball meets it; precision grows until exactly one does.
+    ball meets it; precision grows until exactly one does.  For a number known to be ``real``,
+    once a single factor can vanish on the ball and its real roots are known
+    (:func:`known_real_roots`), the number is the one of them whose ball meets it: no isolation.
+    ``irreducible=True`` is the caller's proof that ``poly`` is irreducible (factoring a binomial
+    of degree 3201 takes 18 CPU-s).
     """
-    factors = _factors(tuple(int(c) for c in poly.coeffs()))
+    if irreducible:
+        primitive = poly / poly.content()
+        factors = [primitive if primitive.leading_coefficient() > 0 else -primitive]
+    else:
+        factors = _factors(tuple(int(c) for c in poly.coeffs()))
     for prec in (64, 128, 256, 512, 1024, 4096):
         def hits() -> list[tuple[flint.fmpz_poly, int]]:
             z = ball_at(prec)
+            cands = [f for f in factors if f(z).contains(0)]
+            known = _KNOWN_REAL_ROOTS.get(tuple(int(c) for c in cands[0].coeffs())) if len(cands) == 1 else None
+            if real and known is not None:
+                return [(cands[0], i) for i, source in enumerate(known) if flint.acb(source(prec)).overlaps(z)]
             # isolate roots only of the factors that can vanish on the ball: root isolation dominates
-            return [(f, i) for f in factors if f(z).contains(0)
+            return [(f, i) for f in cands
                     for i, r in enumerate(_complex_roots(tuple(int(c) for c in f.coeffs()), prec)) if r.overlaps(z)]
         found = with_prec(prec, hits)
         if len(found) == 1:
@@ -229,6 +371,8 @@ def _factors(coeffs: tuple[int, ...]) -> list[flint.fmpz_poly]:
     that :class:`AlgebraicNumber` hashes and compares, and the spectrum keys its moduli by) of a
     nonconstant integer polynomial, cached: the moduli and phase orders of all eigenvalues of one
     minimal polynomial share one resultant of degree up to ``2 d^2``."""
+    if coeffs in _KNOWN_REAL_ROOTS:   # recorded as irreducible, primitive, with positive leading coefficient
+        return [flint.fmpz_poly(list(coeffs))]
     if _known_roots(coeffs) is not None:  # c^d Phi_m(x/c) and the polynomial of 2 cos(2 pi/m) are irreducible
         f = flint.fmpz_poly(list(coeffs))   # up to its content (sqrt(2) / 2: 4x^2 - 2)
         f = f / f.content()
@@ -309,6 +453,14 @@ def root_of(expr: sp.Expr) -> tuple[flint.fmpz_poly, int]:
         raise InputError(f"{expr}: has free symbols, not a number")
     if isinstance(expr, FlintRoot):
         return expr.poly, expr.index
+    if isinstance(expr, sp.CRootOf):
+        # a real root of an irreducible polynomial: sympy's index (real roots first, ascending) is
+        # flint's, read without sympy isolating the real roots (seconds at degree 64)
+        f = sympy_to_fmpz(expr.poly)
+        coeffs = tuple(int(c) for c in f.coeffs())
+        real = len(_KNOWN_REAL_ROOTS.get(coeffs, ())) or sum(1 for r in _complex_roots(coeffs, 64) if r.imag == 0)
+        if _factors(coeffs) == [f] and int(expr.index) < real:
+            return f, int(expr.index)
     poly = _root_of_unity_poly(expr)
     if poly is None:
         poly = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(expr, x), x))
@@ -440,7 +592,7 @@ def subset_product(poly: flint.fmpz_poly, indices: list[int], entry: str = "A") 
     scale = abs(coeffs[-1]) ** k
     f, idx = identify(_subset_product_poly(coeffs, k),
                       lambda prec: scale * math.prod((root_ball(poly, i, prec) for i in indices), start=flint.acb(1)),
-                      "product of conjugate roots")
+                      "product of conjugate roots", real=True)
     return AlgebraicNumber._irreducible(f, idx) / scale
 
 
@@ -658,9 +810,10 @@ class AlgebraicNumber(JsonDocument):
         if all(v == 0 for v in c[1::2]) and self._lo >= 0:  # p(x) = q(x^2): a square root
             # of the root of q at self^2, identified by its ball (not among all real roots of q:
             # 230 of them for |sin(2 pi/517)|, each isolated)
-            f, index = identify(flint.fmpz_poly(c[::2][::-1]), lambda prec: self._ball(prec) ** 2, "square of a root")
+            f, index = identify(flint.fmpz_poly(c[::2][::-1]), lambda prec: self._ball(prec) ** 2, "square of a root",
+                                real=True)
             return sp.sqrt(AlgebraicNumber._irreducible(f, index).exact)
-        return sp.CRootOf(self.minpoly.as_expr(), x, self._index)
+        return sp.CRootOf(self.minpoly, self._index)   # from the Poly: its expression costs more at degree 2016
 
     def _contains(self, expr: sp.Expr) -> bool:
         v = sp.N(expr, 40)
@@ -801,9 +954,12 @@ class AlgebraicNumber(JsonDocument):
             return AlgebraicNumber.from_expr(v)
         if op == "*" and not (self and other):
             return AlgebraicNumber.from_expr(0)
+        one = AlgebraicNumber.from_expr(1 if op == "*" else 0)   # the unit: no resultant of the degree of the other
+        if self.is_rational and self == one or other.is_rational and other == one:
+            return other if self.is_rational and self == one else self
         poly = (_sum_poly if op == "+" else _product_poly)(self._poly, other._poly)
         f, idx = identify(poly, lambda prec: self._ball(prec) + other._ball(prec) if op == "+"
-                          else self._ball(prec) * other._ball(prec), lambda: f"{self} {op} {other}")
+                          else self._ball(prec) * other._ball(prec), lambda: f"{self} {op} {other}", real=True)
         exact = None
         if self._exact is not None and other._exact is not None and f.degree() > 1:
             exact = self._exact + other._exact if op == "+" else self._exact * other._exact
@@ -815,7 +971,11 @@ class AlgebraicNumber(JsonDocument):
         if self.is_rational:
             return AlgebraicNumber.from_expr(1 / self._value())
         rev = flint.fmpz_poly(list(reversed(self._poly.coeffs())))
-        f, idx = identify(rev, lambda prec: 1 / self._ball(prec), lambda: f"1/({self})")
+        rev = rev if rev.leading_coefficient() > 0 else -rev
+        known = _KNOWN_REAL_ROOTS.get(tuple(int(c) for c in self._poly.coeffs()))
+        if known is not None:   # the reversed polynomial is irreducible, its real roots the reciprocals
+            known_real_roots([rev], [lambda prec, s=s: 1 / s(prec) for s in known])
+        f, idx = identify(rev, lambda prec: 1 / self._ball(prec), lambda: f"1/({self})", real=True)
         return AlgebraicNumber._irreducible(f, idx, None if self._exact is None else 1 / self._exact)
 
     def __neg__(self) -> "AlgebraicNumber":
@@ -880,7 +1040,14 @@ class AlgebraicNumber(JsonDocument):
             return AlgebraicNumber.from_expr(self._value() ** k)
         if k <= 1:
             return self if k == 1 else AlgebraicNumber.from_expr(1)
-        f, idx = identify(_power_poly(self._poly, k), lambda prec: self._ball(prec) ** k, lambda: f"({self})^{k}")
+        c = [int(v) for v in self._poly.coeffs()]
+        if k % 2 == 0 and not any(c[1::2]):   # p(x) = q(x^2): self^2 is a root of the irreducible q
+            f, idx = identify(flint.fmpz_poly(c[::2]), lambda prec: self._ball(prec) ** 2, lambda: f"({self})^2",
+                              real=True)
+            return AlgebraicNumber._irreducible(f, idx, None if self._exact is None or f.degree() == 1
+                                                else self._exact ** 2) ** (k // 2)
+        f, idx = identify(_power_poly(self._poly, k), lambda prec: self._ball(prec) ** k, lambda: f"({self})^{k}",
+                          real=True)
         return AlgebraicNumber._irreducible(f, idx, None if self._exact is None or f.degree() == 1
                                             else self._exact ** k)
 
@@ -990,6 +1157,38 @@ def real_from_ball(poly: flint.fmpz_poly, index: int) -> AlgebraicNumber:
     return AlgebraicNumber._irreducible(poly, index)
 
 
+def _evaluator(poly: flint.fmpq_poly) -> Callable[[Callable[[], flint.arb], Fraction, int], flint.arb]:
+    """``(ball, size, prec) -> poly(ball())`` for a real ball made by ``ball()`` with ``|x| <= size``,
+    at a working precision above ``prec`` by the bits of ``sum_i |c_i| max(1, size)^i``
+    (:func:`_working_precision`; the ball is made at that precision too: an exact rational point
+    stays exact).  At ``prec`` alone, a margin of degree 744 with 1252-bit coefficients was never
+    told from a threshold, and the ball of :func:`decreasing_root` stayed the whole interval: every
+    factor's roots were isolated, 13 CPU-s for one of degree 248."""
+    coeffs, work = poly.coeffs(), _working_precision(poly)
+
+    def at(ball: Callable[[], flint.arb], size: Fraction, prec: int) -> flint.arb:
+        return with_prec(work(size, prec), lambda: flint.arb_poly([flint.arb(c) for c in coeffs])(ball())
+                         if coeffs else flint.arb(0))
+    return at
+
+
+def _working_precision(poly: flint.fmpq_poly) -> Callable[[Fraction, int], int]:
+    """``(size, prec) ->`` ``prec`` plus the bits of ``sum_i |c_i| max(1, size)^i``: Horner's rounding
+    errors in arb are relative to that sum, so at this precision ``poly(x)`` for ``|x| <= size`` is
+    good to about ``2^-prec`` (beside the radius of ``x``)."""
+    top = max((int(c.p).bit_length() - int(c.q).bit_length() for c in poly.coeffs() if c != 0), default=0)
+    degree = max(poly.degree(), 0)
+
+    def work(size: Fraction, prec: int) -> int:
+        grow = max(0, size.numerator.bit_length() - size.denominator.bit_length() + 1)
+        return prec + max(0, top + degree * grow + degree.bit_length()) + 16
+    return work
+
+
+def _point(x: Fraction) -> Callable[[], flint.arb]:
+    return lambda: flint.arb(flint.fmpq(x.numerator, x.denominator))
+
+
 def decreasing_root(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction, hi: Fraction) -> AlgebraicNumber | None:
     """The root of ``poly(q) = value`` in ``[lo, hi)`` of a rational polynomial strictly decreasing
     there; None when ``poly(lo) < value`` or ``poly(hi) >= value`` (there is none).
@@ -1004,31 +1203,176 @@ def decreasing_root(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction,
         return Fraction(int(v.p), int(v.q))
     if value > at(lo) or not value > at(hi):
         return None
-    mu = [int(c) for c in value._poly.coeffs()]
-    composed = flint.fmpq_poly([mu[-1]])
-    for c in reversed(mu[:-1]):
-        composed = composed * poly + c
-    coeffs = poly.coeffs()
+    composed = _composed(value, poly)
+    evaluate, size = _evaluator(poly), max(abs(lo), abs(hi))
 
     def sign(q: Fraction, prec: int) -> int:  # of poly(q) - value, 0 when the balls cannot tell
-        x, v = flint.arb(flint.fmpq(q.numerator, q.denominator)), flint.arb(0)
-        for c in reversed(coeffs):
-            v = v * x + flint.arb(c)
-        v -= value._ball(prec).real
+        v = evaluate(_point(q), size, prec) - value._ball(prec).real
         return 1 if v > 0 else -1 if v < 0 else 0
 
     def ball_at(prec: int) -> flint.acb:
         a, b = lo, hi
         for _ in range(prec + 8):
             mid = (a + b) / 2
-            s = with_prec(prec, lambda: sign(mid, prec))
+            s = sign(mid, prec)
             if s == 0:
                 break
             a, b = (mid, b) if s > 0 else (a, mid)
-        return with_prec(prec, lambda: flint.acb(flint.arb(flint.fmpq(a.numerator, a.denominator)).union(
-            flint.arb(flint.fmpq(b.numerator, b.denominator)))))
-    f, index = identify(composed.numer(), ball_at, "root of a decreasing polynomial")
+        return _interval_ball(a, b, prec)
+    f, index = identify(composed.numer(), ball_at, "root of a decreasing polynomial", real=True)
     return AlgebraicNumber._irreducible(f, index)
+
+
+def _composed(value: AlgebraicNumber, poly: flint.fmpq_poly) -> flint.fmpq_poly:
+    """``mu(poly(q))``, ``mu`` the minimal polynomial of ``value``: it vanishes where ``poly`` meets
+    ``value`` or one of its conjugates."""
+    mu = [int(c) for c in value._poly.coeffs()]
+    composed = flint.fmpq_poly([mu[-1]])
+    for c in reversed(mu[:-1]):
+        composed = composed * poly + c
+    return composed
+
+
+def _interval_ball(a: Fraction, b: Fraction, prec: int) -> flint.acb:
+    return with_prec(prec, lambda: flint.acb(flint.arb(flint.fmpq(a.numerator, a.denominator)).union(
+        flint.arb(flint.fmpq(b.numerator, b.denominator)))))
+
+
+def unit_roots(poly: flint.fmpz_poly) -> list[tuple[Fraction, Fraction]]:
+    """Isolating intervals ``[lo, hi]`` (dyadic rationals, ascending) of the real roots in the open
+    interval ``(0, 1)`` of a squarefree integer polynomial, each holding exactly one root (``lo =
+    hi`` for a rational root met exactly, else no root at either end): no complex root is isolated.
+
+    Descartes' rule of signs with bisection (Collins and Akritas, "Polynomial real root isolation
+    using Descartes' rule of signs", SYMSAC 1976): ``p_(c, k)(x) = 2^(k d) poly((x + c) / 2^k)``
+    has its roots in ``(0, 1)`` where ``poly`` has them in ``(c / 2^k, (c + 1) / 2^k)``; the sign
+    variations of ``(x + 1)^d p(1 / (x + 1))`` bound their number and equal it when they are 0 or
+    1, and a squarefree polynomial's intervals reach 0 or 1 after finitely many halvings (Vincent's
+    theorem).  A root at a midpoint is the constant term of the right half, taken out exactly."""
+    if poly.degree() < 1:
+        return []
+    one = flint.fmpz_poly([1, 1])
+    out = []
+
+    def reversed_padded(p: flint.fmpz_poly, d: int) -> flint.fmpz_poly:
+        coeffs = [int(c) for c in p.coeffs()] + [0] * (d + 1 - len(p.coeffs()))
+        return flint.fmpz_poly(coeffs[::-1])
+
+    top = poly
+    while int(top.coeffs()[0]) == 0:   # roots at 0 lie outside the open interval
+        top = flint.fmpz_poly([int(c) for c in top.coeffs()[1:]])
+    # (c, k, p, whether the interval's left and right ends are roots: then it is halved further,
+    # so that each interval given holds its root inside and none at an end)
+    stack = [(0, 0, top, poly(0) == 0, poly(1) == 0)]
+    while stack:
+        c, k, p, left_root, right_root = stack.pop()
+        d = p.degree()
+        count = _sign_changes(reversed_padded(p, d)(one))
+        if count == 0:
+            continue
+        if count == 1 and not (left_root or right_root):
+            out.append((Fraction(c, 2 ** k), Fraction(c + 1, 2 ** k)))
+            continue
+        left = flint.fmpz_poly([int(a) << (d - i) for i, a in enumerate(p.coeffs())])   # 2^d p(x / 2)
+        right = left(one)                                                               # 2^d p((x + 1) / 2)
+        middle = int(right.coeffs()[0]) == 0
+        if middle:   # the midpoint is a root
+            out.append((Fraction(2 * c + 1, 2 ** (k + 1)),) * 2)
+            right = flint.fmpz_poly([int(a) for a in right.coeffs()[1:]])
+        stack += [(2 * c + 1, k + 1, right, middle, right_root), (2 * c, k + 1, left, left_root, middle)]
+    return sorted(out)
+
+
+def _sign_changes(p: flint.fmpz_poly) -> int:
+    signs = [c > 0 for c in (int(v) for v in p.coeffs()) if c != 0]
+    return sum(a != b for a, b in zip(signs, signs[1:]))
+
+
+def root_between(poly: flint.fmpz_poly, lo: Fraction, hi: Fraction) -> AlgebraicNumber:
+    """The root of the squarefree integer ``poly`` in ``[lo, hi]``, which holds exactly one
+    (:func:`unit_roots`), identified by a ball from bisection on exact signs (:func:`narrowed`):
+    only the roots of the factor that vanishes on the ball are isolated."""
+    if lo == hi:
+        return AlgebraicNumber.from_expr(sp.Rational(lo.numerator, lo.denominator))
+    state = [lo, hi]
+
+    def ball_at(prec: int) -> flint.acb:
+        state[:] = narrowed(poly, *state, Fraction(1, 2 ** prec))
+        return _interval_ball(*state, prec)
+    f, index = identify(poly, ball_at, "root in an isolating interval")
+    return AlgebraicNumber._irreducible(f, index)
+
+
+def narrowed(poly: flint.fmpz_poly, lo: Fraction, hi: Fraction, width: Fraction) -> tuple[Fraction, Fraction]:
+    """``[lo, hi]``, holding exactly one root of the squarefree ``poly``, halved on exact signs of
+    ``poly`` until it is at most ``width`` wide (a point when a midpoint is the root)."""
+    q = flint.fmpq_poly(poly)
+
+    def sign(x: Fraction) -> int:
+        v = q(flint.fmpq(x.numerator, x.denominator))
+        return (v > 0) - (v < 0)
+    s = sign(lo)
+    while hi - lo > width:
+        mid = (lo + hi) / 2
+        t = sign(mid)
+        if t == 0:
+            return mid, mid
+        lo, hi = (mid, hi) if t == s else (lo, mid)
+    return lo, hi
+
+
+def crossings_in_unit(poly: flint.fmpq_poly, value: AlgebraicNumber) -> list[tuple[flint.fmpz_poly, Fraction, Fraction]]:
+    """Where ``poly(q)`` may meet ``value`` for ``q`` in ``(0, 1)``: the real roots there of
+    ``mu(poly(q))`` (``mu`` the minimal polynomial of ``value``; a root may be where ``poly`` meets a
+    conjugate), as ``(part, lo, hi)``: a squarefree part of it and an isolating interval of one of
+    its roots (:func:`unit_roots`; :func:`root_between` makes it exact)."""
+    composed = _composed(value, poly).numer()
+    if composed.degree() < 1:
+        return []
+    return [(part, lo, hi) for part, _ in composed.factor_squarefree()[1] for lo, hi in unit_roots(part)]
+
+
+def exceeds(poly: flint.fmpq_poly, value: AlgebraicNumber, lo: Fraction, hi: Fraction, prec: int = 64) -> bool:
+    """Whether ``poly > value`` on all of ``[lo, hi]``, certified (False when the balls cannot tell):
+    ``poly(m + t) = sum_k a_k t^k`` at the midpoint ``m`` in arb, and ``|t| <= r`` the half-width, so
+    ``poly`` lies in ``a_0 +- sum_(k >= 1) |a_k| r^k`` there (evaluating the monomial form on the
+    interval instead loses every bit to the cancellation of coefficients of 2^93 around 10^-15)."""
+    mid, half = (lo + hi) / 2, (hi - lo) / 2
+    coeffs = poly.coeffs()
+    if not coeffs:
+        return bool(0 > value)
+
+    def enclosure() -> flint.arb:
+        at_mid = flint.arb_poly([flint.arb(c) for c in coeffs])(flint.arb_poly([_point(mid)(), 1])).coeffs()
+        r = _point(half)()
+        spread = sum((abs(a) * r ** k for k, a in enumerate(at_mid) if k), flint.arb(0))
+        return at_mid[0] + flint.arb(0, 1) * spread
+    v = with_prec(_working_precision(poly)(max(abs(lo), abs(hi)), prec), enclosure)
+    return bool(v > value._ball(prec).real)
+
+
+def sign_at(poly: flint.fmpq_poly, x: AlgebraicNumber, value: AlgebraicNumber) -> int:
+    """The sign (-1, 0, 1) of ``poly(x) - value``, exactly: 0 when ``x``'s minimal polynomial divides
+    ``mu(poly)`` (``mu`` that of ``value``) and ``poly(x)`` is the root of ``mu`` that ``value`` is
+    (:func:`identify`); otherwise the two differ, and balls of growing precision separate them."""
+    evaluate, size = _evaluator(poly), max(abs(x.interval[0]), abs(x.interval[1]))
+    if x.is_rational:
+        v = poly(flint.fmpq(x._value().numerator, x._value().denominator))
+        return -value._compare(Fraction(int(v.p), int(v.q)))
+    composed = _composed(value, poly).numer()
+    if composed.is_zero() or (composed % x._poly).is_zero():
+        if value.is_rational:
+            return 0
+        f, index = identify(value._poly, lambda prec: flint.acb(evaluate(lambda: x._ball(prec).real, size, prec)),
+                            "value at a root")
+        if index == value._index:
+            return 0
+    prec = 64
+    while True:
+        v = evaluate(lambda: x._ball(prec).real, size, prec) - value._ball(prec).real
+        if v > 0 or v < 0:
+            return 1 if v > 0 else -1
+        prec *= 2
 
 
 def sign(expr: Any) -> int:

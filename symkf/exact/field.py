@@ -163,19 +163,29 @@ def _start_cyclotomic(state: _Presentation, generators: Sequence[sp.Expr]) -> No
         for a, k in powers.items():
             state.reps[a] = _power(t, k % m, state.modulus)
     else:
-        V = [flint.fmpq_poly([2]), t]  # V_k(theta) = 2 cos(2 pi k/m), V_(k+1) = theta V_k - V_(k-1)
-        for _ in range(m // 2):
-            V.append((t * V[-1] - V[-2]) % state.modulus)
-
         def cos2(k: int) -> Elem:
             k %= m
-            return V[min(k, m - k)]
+            return _lucas(min(k, m - k), t, state.modulus)
     for a, k in cosines.items():
         state.reps[a] = cos2(k) / 2
     for h, (n, real, p) in radicals.items():
         atom = cos2(m // n) if real else _power(t, m // n, state.modulus)
         state.reps[h] = _compose(p, atom, state.modulus)
         state.atoms.add(h)  # certified with the others: not by Euler's formula
+
+
+def _lucas(k: int, t: Elem, modulus: Elem) -> Elem:
+    """``V_k(t)`` modulo ``modulus`` (``V_0 = 2``, ``V_1 = t``, ``V_(j+1) = t V_j - V_(j-1)``: at
+    ``t = 2 cos x``, ``V_k = 2 cos(k x)``) by the ladder ``V_2j = V_j^2 - 2``,
+    ``V_(2j+1) = V_j V_(j+1) - t``: O(log k) products, where the table of all ``V_k`` up to
+    ``m/2`` held ``m/2`` elements of degree ``phi(m)/2`` (memory growing as ``m^2``)."""
+    a, b = flint.fmpq_poly([2]), t  # (V_j, V_(j+1)), j = 0
+    for bit in bin(k)[2:]:
+        if bit == "1":
+            a, b = (a * b - t) % modulus, (b * b - 2) % modulus
+        else:
+            a, b = (a * a - 2) % modulus, (a * b - t) % modulus
+    return a
 
 
 def _cyclotomic_generator(m: int, real: bool) -> tuple[Integral, Elem, sp.Expr]:

@@ -55,6 +55,24 @@ def rank(M: sp.MatrixBase, K: NumberField | None = None) -> int:
     return rank_rows(K, K.matrix(M), M.shape[1])
 
 
+def krylov_rank(A: sp.MatrixBase, C: sp.MatrixBase) -> int:
+    """Exact rank of ``col{C, CA, ..., CA^(n-1)}`` (the observability matrix) for rational ``A``
+    (n x n) and ``C``: each block ``C A^(k+1) = (C A^k) A`` from the last in flint's rational
+    matrices (sympy's powers ``A^k``, one per k, cost far more at n = 48), ranked at once."""
+    A, C = as_matrix(A, "A"), as_matrix(C, "C")
+    n = A.shape[0]
+    if n == 0 or C.shape[0] == 0:
+        return 0
+    to_q = lambda M: flint.fmpq_mat([[rational_value(QQ_FIELD.convert(v)) for v in M.row(i)]  # noqa: E731
+                                     for i in range(M.shape[0])])
+    Aq, block = to_q(A), to_q(C)
+    rows = []
+    for _ in range(n):
+        rows.extend(block.tolist())
+        block = block * Aq
+    return flint.fmpq_mat(rows).rank()
+
+
 def _echelon(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -> tuple[list[list[Elem]], list[int]]:
     """Reduced row echelon form over ``K``: the normalised pivot rows and their pivot columns."""
     basis = echelon_extended(K, {}, rows, ncols)

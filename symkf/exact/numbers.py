@@ -84,11 +84,17 @@ def check_degree(generic: bool, degree: int, entry: str, what: str) -> None:
     or eigenvalues in an extension of the entries' field: sympy's ``minimal_polynomial``,
     Trager's norm, whose cost explodes with the degree) is capped by ``max_degree``; one inside a
     cyclotomic field (trigonometric constants and ``I`` alone, presented by ``zeta_m`` or
-    ``2 cos(2 pi/m)`` with cheap arithmetic, :mod:`symkf.exact.field`) by ``max_cyclotomic_degree``."""
+    ``2 cos(2 pi/m)`` with cheap arithmetic, :mod:`symkf.exact.field`) by ``max_cyclotomic_degree``,
+    at a quarter of its degree."""
     if generic:
         budget.check("max_degree", degree, entry, f"the algebraic degree (bound) of {what}")
     else:
-        budget.check("max_cyclotomic_degree", degree, entry, f"the cyclotomic degree (bound) of {what}")
+        # one cyclotomic field, no compositum: its work (a rotation block's spectrum without Trager's
+        # norm, symkf.exact.nfpoly) per degree is a quarter of that of the compositum of several
+        # parts, which the same cap bounds in symkf.engine.cylinders (2R(2 pi/2039), degree 4072:
+        # 7.6 CPU-s, 500 MB, about what 2R(2 pi/509) of degree 1016 cost before)
+        budget.check("max_cyclotomic_degree", -(-degree // 4), entry,
+                     f"a quarter of the cyclotomic degree (bound) {degree} of {what}")
 
 
 @unpriced
@@ -665,6 +671,9 @@ def to_exact(value: Any, entry: str, *, rationalize: bool | str = False,
     else:
         raise InputError(f"{entry}: {described(value)} is not an exact number "
                          "(give an int, Fraction, Decimal, a string like '5/4' or '0.1', or a sympy expression)")
+    if isinstance(out, sp.Rational):   # finite, algebraic, no symbol: only its size is left to check
+        budget.check("max_digits", _digits(out), entry, "the number of digits (about) of a rational in its value")
+        return out
     if out.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
         raise InputError(f"{entry}: {described(value)} is not a finite number")
     # what the parser's estimates let through is measured once evaluated: no later conversion

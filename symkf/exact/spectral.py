@@ -30,9 +30,10 @@ from typing import Any, Sequence
 import flint
 import sympy as sp
 
-from ..arguments import check_public
-from .algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, precision, with_prec, fmpz_to_sympy,
-                        identify, real_from_ball, root_ball, root_of, sympy_to_fmpz)
+from ..arguments import check_public, outside
+from .algebraic import (AlgebraicNumber, FlintRoot, _arb_interval, _complex_roots, _factors, _known_roots, _subset_product_poly,
+                        precision, with_prec, fmpz_to_sympy, identify, known_real_roots, real_from_ball, real_sign, root_ball,
+                        root_of, sympy_to_fmpz)
 from . import nfpoly
 from .field import Elem, NumberField, rational_value
 from .blocks import diagonal_blocks
@@ -92,6 +93,80 @@ def _abs_poly(f: tuple[int, ...]) -> flint.fmpz_poly:
     for j in range(D + 1):  # H = sum_j (-1)^(D-j) e_(D-j) z^j at z = a^2 x^2
         coeffs[2 * j] = (-1) ** (D - j) * e[D - j] * lead ** (2 * j)
     return flint.fmpz_poly(coeffs)
+
+
+@lru_cache(maxsize=64)
+def _pair_modulus_poly(f: tuple[int, ...]) -> flint.fmpz_poly | None:
+    """``M(x) = G(x^2)``, ``G`` the polynomial of the products ``lambda_i lambda_j`` (i < j) of the
+    roots of the irreducible ``f``: its roots include ``|lambda| = sqrt(lambda conj(lambda))`` for
+    every non-real root.  ``G`` comes from certified balls (:func:`~symkf.exact.algebraic.
+    _subset_product_poly`, k = 2, scaled by the leading coefficient), and the real roots of every
+    irreducible factor of ``M`` are recorded (:func:`~symkf.exact.algebraic.known_real_roots`) from
+    the roots of ``f`` alone: when ``M`` is squarefree its roots ``+-sqrt(lambda_i lambda_j)`` are
+    distinct, so ``lambda_i lambda_j`` is real exactly when complex conjugation maps the pair
+    ``{i, j}`` to itself (a conjugate pair, or two real roots), and the real roots of ``M`` are the
+    ``+-sqrt`` of those products that are positive.  Naming ``|lambda|`` then needs no isolation of
+    the ``d(d - 1)`` complex roots of ``M`` (of degree 4032 for a dense 64 x 64 A).  None when ``M``
+    is not squarefree (products that coincide: rotations) or a real root's factor is not decided."""
+    d, c = len(f) - 1, abs(f[-1])
+    bits = (d - 1) * with_prec(64, lambda: sum(((1 + abs(c * r)).log() for r in _complex_roots(f, 64)), flint.arb(0))
+                                / flint.arb(2).log())
+    budget.check("max_modulus_bits", (d * (d - 1) + 1) * math.ceil(float(bits.upper())), "A",
+                 f"the bit size (d(d - 1) + 1 coefficients of at most (d - 1) sum log2(1 + |c lambda_i|) bits) of "
+                 f"the polynomial of the products of pairs of conjugate eigenvalues of degree d = {d}")
+    g = [int(v) * c ** (2 * k) for k, v in enumerate(_subset_product_poly(f, 2).coeffs())]  # G(c^2 z)
+    content = math.gcd(*g)
+    M = flint.fmpz_poly([g[k // 2] // content if k % 2 == 0 else 0 for k in range(2 * len(g) - 1)])
+    factors = _factors(tuple(int(v) for v in M.coeffs()))
+    if sum(h.degree() for h in factors) != M.degree():
+        return None
+    roots = lambda prec: _complex_roots(f, prec)  # noqa: E731
+    conj = _conjugates(f)
+    if conj is None:
+        return None
+    sources, products = [], []
+    for i in range(d):
+        for j in range(i + 1, d):
+            if conj[i] == j:   # lambda_i conj(lambda_i) = |lambda_i|^2 > 0
+                size = lambda prec, i=i: abs(roots(prec)[i])  # noqa: E731
+                products.append(lambda prec, size=size: size(prec) ** 2)
+            elif conj[i] == i and conj[j] == j:
+                products.append(lambda prec, i=i, j=j: roots(prec)[i].real * roots(prec)[j].real)
+                if real_sign(products[-1]) < 0:
+                    continue
+                size = lambda prec, i=i, j=j: (abs(roots(prec)[i]) * abs(roots(prec)[j])).sqrt()  # noqa: E731
+            else:
+                continue
+            sources += [size, lambda prec, size=size: -size(prec)]
+    # the factors of G: q(x^2) for an even factor q(x^2) of M, else F(x) F(-x) for a pair F(x), +-F(-x) of them
+    halves = {}
+    for h in factors:
+        c = [int(v) for v in (h if not any(int(v) for v in h.coeffs()[1::2]) else
+                              h * flint.fmpz_poly([(-1) ** k * int(v) for k, v in enumerate(h.coeffs())])).coeffs()]
+        q = flint.fmpz_poly(c[::2])
+        q = q / q.content()
+        q = q if q.leading_coefficient() > 0 else -q
+        halves[tuple(int(v) for v in q.coeffs())] = q
+    if not known_real_roots(list(halves.values()), products):
+        return None
+    return M if known_real_roots(factors, sources) else None
+
+
+def _conjugates(f: tuple[int, ...]) -> list[int] | None:
+    """For each root of ``f`` (flint's ordering) the index of its complex conjugate: itself for a
+    real root (flint isolates real roots with an exactly zero imaginary part), else the one root
+    whose isolating ball meets the conjugate ball."""
+    for prec in (64, 256, 1024, 4096):
+        roots = _complex_roots(f, prec)
+        conj = []
+        for r in roots:
+            hits = [k for k, s in enumerate(roots) if s.overlaps(r.conjugate())] if r.imag != 0 else [len(conj)]
+            if len(hits) != 1:
+                break
+            conj.append(hits[0])
+        else:
+            return conj
+    return None
 
 
 def _negated_index(f: flint.fmpz_poly, index: int) -> int:
@@ -167,6 +242,8 @@ class Eigenvalue:
         m, _ = self.phase
         if m is None:
             return FlintRoot(f, self.root_index)
+        if m <= 2:   # real: +-alpha, without sympy evaluating alpha (a CRootOf: its real roots isolated)
+            return self.modulus.exact if m == 1 else -self.modulus.exact
         # lambda = alpha exp(2 pi i k/m): k from the ball of m arg(lambda) / (2 pi)
         ball = root_ball(f, self.root_index, 128)
         lo, hi = _arb_interval(with_prec(128, lambda: ball.arg() * m / (2 * flint.arb.pi())))
@@ -203,7 +280,10 @@ class Eigenvalue:
     def modulus(self) -> AlgebraicNumber:
         """``|lambda|`` exactly: ``+-lambda`` for a real eigenvalue, ``sqrt(rho)`` when
         ``lambda conj(lambda) = rho`` is rational (:func:`_rational_norm`), else a root of the
-        resultant :func:`_abs_poly` (degree ``2 d^2`` for ``d = deg lambda``)."""
+        polynomial of the products of pairs of roots (:func:`_pair_modulus_poly`, degree
+        ``d(d - 1)`` for ``d = deg lambda``, its real roots read off the roots of the minimal
+        polynomial) or, when such products coincide, of :func:`_abs_poly` (degree ``d(d + 1)``,
+        every root isolated)."""
         if self.is_zero:
             return AlgebraicNumber.from_expr(sp.Integer(0))
         f = self.minpoly
@@ -216,13 +296,16 @@ class Eigenvalue:
         if rho is not None:
             return AlgebraicNumber(flint.fmpz_poly([-rho.numerator, 0, rho.denominator]), 1)
         coeffs = tuple(int(c) for c in f.coeffs())
+        size = lambda prec: flint.acb(abs(self.ball(prec)))  # noqa: E731
+        pairs = _pair_modulus_poly(coeffs)
+        if pairs is not None:
+            return real_from_ball(*identify(pairs, size, "modulus", real=True))
         d, b = len(coeffs) - 1, max(abs(c).bit_length() for c in coeffs)
         D = d * (d + 1) // 2
         budget.check("max_modulus_bits", (2 * D + 1) * D * b, "A", f"the bit size (2 D + 1 coefficients of about "
                      f"D b bits, D = d(d+1)/2) of the polynomial giving |lambda| for an eigenvalue of degree d = {d} "
                      f"with b = {b}-bit coefficients")
-        poly, idx = identify(_abs_poly(coeffs),
-                             lambda prec: flint.acb(abs(self.ball(prec))), "modulus")
+        poly, idx = identify(_abs_poly(coeffs), size, "modulus")
         return real_from_ball(poly, idx)
 
     def __repr__(self) -> str:
@@ -491,14 +574,19 @@ def _cosine_order(f: flint.fmpz_poly) -> int:
     :class:`~symkf.exact.field.NumberField` presents cheaply by ``2 cos(2 pi/m)``."""
     d = f.degree()
     c = [int(v) for v in f.coeffs()]
+    known = _known_roots(tuple(c))  # recognised in closed form without the degree-2d polynomial below
+    if known and known[0][:3] == ("cos", 0, Fraction(1, 2)):
+        return known[0][4]
     if c[d] & (c[d] - 1):  # the leading coefficient of a cosine's polynomial is a power of 2
         return 0
     g = [c[k] * 2 ** (d - k) for k in range(d + 1)]  # 2^d f(x/2), monic times c[d]
     if any(v % c[d] for v in g):
         return 0
     g = [v // c[d] for v in g]
-    t = flint.fmpz_poly([1, 0, 1])  # x^2 + 1: x^d g(x + 1/x) = sum g_k (x^2 + 1)^k x^(d - k)
-    h = sum((g[k] * t ** k * flint.fmpz_poly([0, 1]) ** (d - k) for k in range(d + 1)), flint.fmpz_poly([]))
+    t = flint.fmpz_poly([1, 0, 1])  # x^2 + 1: x^d g(x + 1/x) = sum g_k (x^2 + 1)^k x^(d - k), by Horner
+    h = flint.fmpz_poly([g[d]])
+    for k in range(d - 1, -1, -1):
+        h = h * t + flint.fmpz_poly([0] * (d - k) + [g[k]])
     return int(h.is_cyclotomic())
 
 
@@ -530,16 +618,18 @@ def _factor_charpoly(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Elem],
     theta_poly = flint.fmpz_poly([int(c) for c in K.modulus.coeffs()])  # monic integral theta
     out = []
     for coeffs, e in nfpoly.factor(K, nfpoly.charpoly(K, K.matrix(A))):
-        roots = []
-        for g, _ in nfpoly.norm(K, coeffs).factor()[1]:
-            g = g.numer() // g.numer().content()
-            g = g if g.leading_coefficient() > 0 else -g
-            roots.extend((g, i) for i in range(g.degree()))
-        # the roots of the irreducible h are deg h distinct roots of its norm, never excluded: once
-        # exactly deg h remain, they are h's (the others are excluded at the least precision)
+        known = nfpoly.unit_root_minpoly(K, coeffs)
+        candidates = [known] if known is not None else [g.numer() // g.numer().content()
+                                                        for g, _ in nfpoly.norm(K, coeffs).factor()[1]]
+        candidates = [g if g.leading_coefficient() > 0 else -g for g in candidates]
+        roots = [(g, i) for g in candidates for i in range(g.degree())]
+        # the roots of the irreducible h are deg h distinct roots of its norm (or of the minimal
+        # polynomial they share), never excluded: once exactly deg h remain, they are h's (the others
+        # are excluded at the least precision)
         for prec in (64, 256, 1024):
             balls = _coefficient_balls(coeffs, theta_poly, K.theta_index, prec)
-            roots = [(g, i) for g, i in roots if _maybe_root(balls, g, i, prec)]
+            isolated = {id(g): _complex_roots(tuple(int(c) for c in g.coeffs()), prec) for g in candidates}
+            roots = [(g, i) for g, i in roots if _maybe_root(balls, isolated[id(g)][i], prec)]
             if len(roots) == len(coeffs) - 1:
                 break
         if len(roots) != len(coeffs) - 1:
@@ -561,10 +651,10 @@ def _triangular_factors(A: sp.MatrixBase, K: NumberField) -> list[tuple[list[Ele
     return [([-a, flint.fmpq_poly([1])], e, [root_of(v)]) for a, v, e in entries.values()]
 
 
-def _maybe_root(h: list[flint.acb], g: flint.fmpz_poly, i: int, prec: int) -> bool:
-    """False when interval arithmetic at ``prec`` bits proves h(root_i(g)) != 0 (``h``: balls of the
-    coefficients at ``theta``, :func:`_coefficient_balls`); True otherwise."""
-    r = root_ball(g, i, prec)
+def _maybe_root(h: list[flint.acb], r: flint.acb, prec: int) -> bool:
+    """False when interval arithmetic at ``prec`` bits proves h(r) != 0 for the number in the root's
+    isolating ball ``r`` (``h``: balls of the coefficients at ``theta``, :func:`_coefficient_balls`);
+    True otherwise."""
     return with_prec(prec, lambda: sum((c * r ** k for k, c in enumerate(h)), flint.acb(0)).contains(0))
 
 
@@ -575,8 +665,17 @@ def _coefficient_balls(h: list[Elem], mpoly: flint.fmpz_poly, t_idx: int, prec: 
 
 
 def _poly_at(K: NumberField, Ak: list[list[Elem]], h: list[Elem]) -> list[list[Elem]]:
-    """``h(A)`` over K by Horner (``h`` from the constant coefficient up)."""
+    """``h(A)`` over K by Horner (``h`` from the constant coefficient up); over Q in flint's rational
+    matrices (a dense 40 x 40 A: the entries' dot products in Python cost seconds)."""
     n = len(Ak)
+    if K.is_rational:
+        M = flint.fmpq_mat([[rational_value(a) for a in row] for row in Ak])
+        H = flint.fmpq_mat(n, n)
+        for c in reversed(h):
+            H = H * M
+            for i in range(n):
+                H[i, i] += rational_value(c)
+        return [[flint.fmpq_poly([H[i, j]]) for j in range(n)] for i in range(n)]
     H = [[h[-1] if i == j else flint.fmpq_poly([]) for j in range(n)] for i in range(n)]
     for c in reversed(h[:-1]):
         H = [[(K.dot(H[i], [Ak[k][j] for k in range(n)]) + (c if i == j else 0)) % K.modulus
@@ -660,7 +759,9 @@ def factors_in(A: sp.MatrixBase, K: NumberField) -> tuple:
     modal form of one diagonal block factor over the same field)."""
     if not isinstance(K, NumberField):
         raise InputError(f"K: expected a symkf NumberField, got {type(K).__name__}")
-    return _factors_over(to_exact_matrix(A, "A"), K.generators)
+    # symkf's own calls hold exact matrices already: converting each entry again costs seconds at n = 64
+    A = sp.ImmutableMatrix(A) if isinstance(A, sp.MatrixBase) and not outside(__name__) else to_exact_matrix(A, "A")
+    return _factors_over(A, K.generators)
 
 
 @lru_cache(maxsize=256)

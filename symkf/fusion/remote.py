@@ -42,12 +42,15 @@ class RemoteFusion:
 
     def weights(self, tau: tuple[int, ...]) -> tuple[np.ndarray, float]:
         """``(U, tr P*)``: reduced weights (sum n_i,o x n) and the optimal trace of eq. (19)."""
-        key = tuple(tau)
-        if key not in self._cache:
-            P = self.cov._checked_matrix(holding_times(self.cov.lf, tau))
+        return self._weights(tuple(holding_times(self.cov.lf, tau)))
+
+    def _weights(self, tau: tuple[int, ...]) -> tuple[np.ndarray, float]:
+        """:meth:`weights` of holding times the simulation built (Python ints), cached."""
+        if tau not in self._cache:
+            P = self.cov._checked_matrix(list(tau))
             U = self._closed_form(_validate(P, self.H)[0])
-            self._cache[key] = (U, float(np.trace(U.T @ P @ U)))
-        return self._cache[key]
+            self._cache[tau] = (U, float(np.trace(U.T @ P @ U)))
+        return self._cache[tau]
 
 
 def centralized_filter(lf: LocalFilters) -> tuple[np.ndarray, np.ndarray]:
@@ -119,7 +122,7 @@ def simulate_fusion(lf: LocalFilters, horizon: int, paths: int, seed: int) -> Fu
     def record(k: int) -> None:
         r = np.concatenate(remote, axis=1)
         for p in range(paths):
-            U, tr = fusion.weights(tuple(tau[p]))
+            U, tr = fusion._weights(tuple(tau[p].tolist()))
             fused_err[k, p] = x[p] - U.T @ r[p]
             trace_P[k, p] = tr
         central_err[k] = x - xc

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, ClassVar, Iterable, Mapping, Sequence
 
+import flint
 import numpy as np  # float chains for simulation (LossModel.numeric)
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
@@ -39,7 +40,10 @@ Vector = tuple[int, ...]
 
 def probability(value: Any, entry: str, rationalize: bool | str = False) -> sp.Expr:
     p = to_exact(value, entry, symbols=True, rationalize=rationalize)
-    if not p.free_symbols:
+    if isinstance(p, sp.Rational):   # compared directly: a joint chain of 256 states has 65 536 entries
+        if p.p < 0 or p.p > p.q:
+            raise ProbabilityError(f"{entry}: {p} is not a probability (must lie in [0, 1])")
+    elif not p.free_symbols:
         if not p.is_real:
             raise ProbabilityError(f"{entry}: {p} is not real")
         if sign(p) < 0 or sign(p - 1) > 0:
@@ -125,21 +129,38 @@ def _floats(M: sp.MatrixBase) -> np.ndarray:
 
 
 def stationary_law(P: sp.MatrixBase, entry: str) -> sp.ImmutableMatrix:
-    """The unique stationary row vector ``pi = pi P`` of a stochastic matrix, exactly (a null space
-    of ``P^T - I``: over the rationals by :class:`~sympy.polys.matrices.DomainMatrix`, with
-    symbols by sympy); raises naming ``entry`` when it is not unique."""
+    """The unique stationary row vector ``pi = pi P`` of a stochastic matrix, exactly: a rational
+    ``P`` by one solve in flint of ``P^T - I`` with a row replaced by ``sum(pi) = 1`` (the rows of
+    ``P^T - I`` add up to 0, so the others keep its rank: the system is regular iff the law is
+    unique; sympy's null space of a 256-state chain took minutes), an algebraic one by the null
+    space of :class:`~sympy.polys.matrices.DomainMatrix`, with symbols by sympy; raises naming
+    ``entry`` when it is not unique."""
     S = P.shape[0]
+    dm = DomainMatrix.from_Matrix(sp.Matrix(P))
+    symbolic = bool(P.free_symbols)
+    if dm.domain.is_QQ or dm.domain.is_ZZ:
+        K = dm.domain
+        M = flint.fmpq_mat(S, S)
+        for (r, c), v in dm.to_sparse().to_dok().items():   # M = P^T - I
+            M[c, r] = flint.fmpq(int(K.numer(v)), int(K.denom(v)))
+        for i in range(S):
+            M[i, i] -= 1
+        A = flint.fmpq_mat(M)
+        for i in range(S):
+            A[S - 1, i] = 1
+        try:
+            pi = A.solve(flint.fmpq_mat(S, 1, [0] * (S - 1) + [1]))
+        except ZeroDivisionError:
+            raise InputError(f"{entry}: the chain has {S - M.rank()} stationary laws; give `initial`") from None
+        return sp.ImmutableMatrix([[sp.Rational(int(pi[i, 0].p), int(pi[i, 0].q)) for i in range(S)]])
     M = sp.Matrix(P).T - sp.eye(S)
-    if not M.free_symbols:
-        dm = DomainMatrix.from_Matrix(M).to_field()
-        null = [sp.Matrix(v) for v in dm.nullspace().to_Matrix().tolist()]
-    else:
-        null = M.nullspace(simplify=True)
+    null = (M.nullspace(simplify=True) if symbolic else
+            [sp.Matrix(v) for v in DomainMatrix.from_Matrix(M).to_field().nullspace().to_Matrix().tolist()])
     if len(null) != 1:
         raise InputError(f"{entry}: the chain has {len(null)} stationary laws; give `initial`")
     v = null[0]
     total = sum(v)
-    return sp.ImmutableMatrix([[sp.simplify(x / total) if M.free_symbols else x / total for x in v]])
+    return sp.ImmutableMatrix([[sp.simplify(x / total) if symbolic else x / total for x in v]])
 
 
 @dataclass(frozen=True)
@@ -341,10 +362,10 @@ class LossModel(JsonDocument):
 
     def positivity_failure(self) -> str | None:
         """Why Assumption 2's positivity fails, or None when every transition is positive."""
-        for r, s in itertools.product(range(len(self.chain.states)), repeat=2):
+        for (r, row), s in itertools.product(enumerate(self.chain.P.tolist()), range(len(self.chain.states))):
             if self._reachable(r, s):
-                p = self.chain.P[r, s]
-                if not p.free_symbols and sign(p) <= 0:
+                p = row[s]
+                if not p.free_symbols and (p.p <= 0 if isinstance(p, sp.Rational) else sign(p) <= 0):
                     return (f"P(next = {self.chain.states[s]} | {self.chain.states[r]}) = {p}; "
                             "Assumption 2 needs every transition probability positive")
         return None

@@ -131,10 +131,11 @@ class MarkovLoss(LossModel):
     def _build_chain(self) -> LossChain:
         windows = tuple(itertools.product(self.vectors, repeat=self.order))
         index = {w: i for i, w in enumerate(windows)}
-        P = sp.zeros(len(windows), len(windows))
+        rows = [[sp.Integer(0)] * len(windows) for _ in windows]   # lists: a 256-state chain's 65 536 entries
         for w in windows:
             for nxt, p in self.table[w].items():
-                P[index[w], index[w[1:] + (nxt,)]] += p
+                rows[index[w]][index[w[1:] + (nxt,)]] += p
+        P = sp.Matrix(rows)
         if self._initial is None:
             init = stationary_law(P, "initial")
         else:

@@ -17,6 +17,7 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
+import flint
 import sympy as sp
 
 from ..arguments import check_public
@@ -87,29 +88,34 @@ def check_positive_semidefinite(M: sp.MatrixBase, entry: str) -> None:
     pivot, or times ``-|e|^2``), which the message names with its rows."""
     M = _hermitian(M, entry)
     n = M.shape[0]
-    S, rest, pivots, product = sp.Matrix(M), list(range(n)), [], sp.Integer(1)
+    rest, pivots = list(range(n)), []
+    if all(sympify(v).is_Rational for v in M):   # flint's rationals: sympy's cost n^3 / 3 expansions (n = 64: seconds)
+        S = [[flint.fmpq(int(v.p), int(v.q)) for v in row] for row in M.tolist()]
+        product, expand, signum, conj = flint.fmpq(1), (lambda v: v), (lambda v: int(v > 0) - int(v < 0)), (lambda v: v)
+    else:
+        S, product, expand, signum, conj = M.tolist(), sp.Integer(1), sp.expand, sign, sp.conjugate
 
-    def fail(rows: list[int], minor: sp.Expr) -> None:
+    def fail(rows: list[int], minor: Any) -> None:
+        minor = sp.Rational(int(minor.p), int(minor.q)) if isinstance(minor, flint.fmpq) else sp.simplify(minor)
         raise NotPositiveDefiniteError(
-            f"{entry}: not positive semidefinite, the principal minor on rows {sorted(rows)} is "
-            f"{sp.simplify(minor)} < 0")
+            f"{entry}: not positive semidefinite, the principal minor on rows {sorted(rows)} is {minor} < 0")
     for i in range(n):   # the plainest witness first: a negative variance
-        if sign(M[i, i]) < 0:
-            fail([i], M[i, i])
+        if signum(S[i][i]) < 0:
+            fail([i], S[i][i])
     while rest:
         i = rest.pop(0)
-        d = sp.expand(S[i, i])
-        s = sign(d)
+        d = expand(S[i][i])
+        s = signum(d)
         if s < 0:
             fail(pivots + [i], product * d)
         if s == 0:
             for j in rest:
-                if sign(sp.expand(S[i, j] * sp.conjugate(S[i, j]))) != 0:
-                    fail(pivots + [i, j], -product * S[i, j] * sp.conjugate(S[i, j]))
+                if signum(expand(S[i][j] * conj(S[i][j]))) != 0:
+                    fail(pivots + [i, j], -product * S[i][j] * conj(S[i][j]))
             continue
         for j in rest:
             for k in rest:
-                S[j, k] = sp.expand(S[j, k] - S[j, i] * S[i, k] / d)
+                S[j][k] = expand(S[j][k] - S[j][i] * S[i][k] / d)
         pivots.append(i)
         product *= d
 
@@ -415,8 +421,13 @@ class System(JsonDocument):
 
     @property
     def C(self) -> sp.ImmutableMatrix:
-        """The stacked ``C = col{C_1, ..., C_d}`` (eq. 3)."""
-        return sp.ImmutableMatrix(sp.Matrix.vstack(*[s.C for s in self.sensors]))
+        """The stacked ``C = col{C_1, ..., C_d}`` (eq. 3; cached: built once from the rows, as
+        stacking d matrices pairwise costs time quadratic in d)."""
+        cached = self._cache.get("C")
+        if cached is None:
+            rows = [list(s.C.row(i)) for s in self.sensors for i in range(s.C.rows)]
+            cached = self._cache["C"] = sp.ImmutableMatrix(len(rows), self.n, [v for r in rows for v in r])
+        return cached
 
     @property
     def R(self) -> sp.ImmutableMatrix:
@@ -506,8 +517,8 @@ class System(JsonDocument):
         cached = self._cache.get(key)
         if cached is None:
             if all(sympify(v).is_Rational for M in (A, C) for v in M):
-                from ..exact.linalg import rank
-                cached = C.rows > 0 and rank(sp.Matrix.vstack(*[C * A ** k for k in range(self.n)])) == self.n
+                from ..exact.linalg import krylov_rank
+                cached = C.rows > 0 and krylov_rank(A, C) == self.n
             else:
                 cached = not any(missed(e) for b in self.eigen_blocks() for e in b.members)
             self._cache[key] = cached

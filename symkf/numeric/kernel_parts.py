@@ -19,9 +19,12 @@ from numba.np.arrayobj import _empty_nd_impl
 
 from ..arguments import check_public
 
-#: paths per block of the loop kernel (more states than the straight-line kernels), whose lane loops are many and short: 128
-#: halves their set-up per path against 64, and 256 gains nothing consistent (docs/performance.md)
-LOOP_LANES = 128
+#: paths per block of the loop kernel (more states than the straight-line kernels).  Its passes over a
+#: block's S and X (n^2 and 2n^2 lanes of 8 bytes: 835 KiB at n = 16 and 128 lanes) run at the speed
+#: of the cache that holds them: 64 lanes keep them in the L2 cache with room to spare, and were
+#: 1.6-1.7x faster than 128 at n = 12 and 16, 1.15x at n = 24; 32 lanes, whose lane loops are four
+#: vectors long, 0.6-0.7x (docs/performance.md)
+LOOP_LANES = 64
 #: the smallest normal float64, 2^-1022: a Potter denominator or a Householder ``|v|^2 / 2`` below it
 #: is dropped (its reciprocal could overflow; what it would change is below 2^-511 of ``S``'s scale)
 NORMAL = float(np.finfo(np.float64).tiny)

@@ -76,11 +76,15 @@ from .kernel_parts import (LOOP_LANES, NORMAL, ROOT_MAX, _aligned, _aligned_int,
 #: fixed trip count (no remainder loops, no per-entry set-up).  Up to SMALL_MAX states a lane loop's
 #: set-up (the compiler's run-time checks that its arrays do not overlap) weighs on its few operations,
 #: so the blocks widen as n falls: SMALL_LANES up to SMALL_MAX, TINY_LANES up to TINY_MAX, LANES above,
-#: where a wider block is slower.  At n = 2 each step's two long lane loops (Potter's, the time
-#: update's) also fill and drain the core's window of overlapping paths, which a wide block spreads
-#: over more paths.  Each width is the fastest measured for its range of n (docs/performance.md,
-#: benchmarks/bench_kernel.py).  A run of fewer paths still computes a whole block
+#: where a wider block is slower, and NARROW_LANES from NARROW_MIN on, where a block's S (n^2 lanes
+#: of 8 bytes: 32 KiB at n = 8 and 64 lanes, the whole L1 data cache) leaves no room in the L1
+#: cache for the time update's spilled entries.  At n = 2 each step's two long lane loops (Potter's,
+#: the time update's) also fill and drain the core's window of overlapping paths, which a wide block
+#: spreads over more paths.  Each width is the fastest measured for its range of n
+#: (docs/performance.md, benchmarks/bench_kernel.py).  A run of fewer paths still computes a whole block
 LANES = 64
+NARROW_LANES = 32
+NARROW_MIN = 8
 SMALL_LANES = 128
 SMALL_MAX = 4
 TINY_LANES = 2048
@@ -98,7 +102,9 @@ def lanes(n: int) -> int:
         return TINY_LANES
     if n <= SMALL_MAX:
         return SMALL_LANES
-    return LANES if n <= STRAIGHT_MAX else LOOP_LANES
+    if n < NARROW_MIN:
+        return LANES
+    return NARROW_LANES if n <= STRAIGHT_MAX else LOOP_LANES
 
 
 def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,

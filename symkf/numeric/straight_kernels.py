@@ -12,7 +12,7 @@ from .kernel_parts import (NORMAL, ROOT_MAX, _aligned, _aligned_int, _bits_of, _
 
 #: SHA-256 (its first 16 hex digits) of symkf/numeric/kernel_parts.py, whose helpers these kernels inline:
 #: numba's cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file
-INLINED = "ac9d6be6f2f2727c"
+INLINED = "309ecbd7bc33b11a"
 
 
 def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
@@ -4798,16 +4798,16 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
 
 def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     horizon, paths, d = received.shape
-    block = np.empty((d, 64), np.bool_)
+    block = np.empty((d, 32), np.bool_)
     lone = received.reshape(horizon, paths * d)
     rows = H.shape[0]
-    S = _aligned((8, 8, 64))
-    t = _aligned((64,))
+    S = _aligned((8, 8, 32))
+    t = _aligned((32,))
     bits = t.view(np.int64)
-    E = _aligned_int((64,))
-    noise = _aligned((64,))
-    half = _aligned((64,))
-    spare = _aligned((64,))
+    E = _aligned_int((32,))
+    noise = _aligned((32,))
+    half = _aligned((32,))
+    spare = _aligned((32,))
     a0_0 = A[0, 0]
     a0_1 = A[0, 1]
     a0_2 = A[0, 2]
@@ -4887,8 +4887,8 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
     q6_6 = UQ[6, 6]
     q6_7 = UQ[6, 7]
     q7_7 = UQ[7, 7]
-    for start in range(0, paths, 64):
-        for p in range(64):
+    for start in range(0, paths, 32):
+        for p in range(32):
             E[p] = 0
             S[0, 0, p] = S0[0, 0]
             S[0, 1, p] = S0[0, 1]
@@ -4955,7 +4955,7 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
             S[7, 6, p] = S0[7, 6]
             S[7, 7, p] = S0[7, 7]
         for k in range(horizon + 1):
-            for p in range(64):
+            for p in range(32):
                 tp = S[0, 0, p] * S[0, 0, p]
                 tp += S[1, 0, p] * S[1, 0, p]
                 tp += S[1, 1, p] * S[1, 1, p]
@@ -5044,7 +5044,7 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 break
             direct = _receptions(received, k, start, block)
             for r in range(rows):
-                got = lone[k, start:start + 64] if direct else block[row_sensor[r]]
+                got = lone[k, start:start + 32] if direct else block[row_sensor[r]]
                 h0 = H[r, 0]
                 h1 = H[r, 1]
                 h2 = H[r, 2]
@@ -5054,7 +5054,7 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 h6 = H[r, 6]
                 h7 = H[r, 7]
                 if r == 0:
-                    for p in range(64):
+                    for p in range(32):
                         s0_0 = S[0, 0, p]
                         s1_0 = S[1, 0, p]
                         s1_1 = S[1, 1, p]
@@ -5248,7 +5248,7 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                         S[7, 6, p] = s7_6 - u7 * g6
                         S[7, 7, p] = s7_7 - u7 * g7
                 else:
-                    for p in range(64):
+                    for p in range(32):
                         s0_0 = S[0, 0, p]
                         s0_1 = S[0, 1, p]
                         s0_2 = S[0, 2, p]
@@ -5525,7 +5525,7 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                         S[7, 5, p] = s7_5 - u7 * g5
                         S[7, 6, p] = s7_6 - u7 * g6
                         S[7, 7, p] = s7_7 - u7 * g7
-            for p in range(64):
+            for p in range(32):
                 s0_0 = S[0, 0, p]
                 s0_1 = S[0, 1, p]
                 s0_2 = S[0, 2, p]

@@ -132,8 +132,9 @@ def test_a_screen_gives_up_before_its_kept_sets_outgrow_the_memory_cap():
         screen.offer(1.0, range(6, 12))
     system = stacked_rotations((5, 7, 9), [[2, 1, 0, -1, -1, -2], [1, 2, 0, 0, 0, 0]])
     start = time.process_time()
-    with budget.limits(max_memory=64 * 2 ** 20), pytest.raises(BudgetError, match=r"number of hyperplanes to list.*"
-                                                                                 r"--max-hyperplanes"):
+    # max_work raised past the screen's estimate (140 CPU-s), so that the screen runs and gives up
+    with budget.limits(max_memory=64 * 2 ** 20, max_work=10 ** 6), \
+            pytest.raises(BudgetError, match=r"listing the hyperplanes .*--max-work"):
         sk.critical_loss_rate(system, ray=[1, 2])
     assert time.process_time() - start < 60
     assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss < 4 * 2 ** 20   # KiB: below 4 GiB
@@ -197,3 +198,18 @@ def test_markov_verdicts_part_by_part_agree_with_the_compositum(rows):
         got = sk.stability(split, loss)
     assert got.margins[0].exact == want.margins[0].exact
     assert got.certificate[0].decisive_elements == want.certificate[0].decisive_elements
+
+
+
+def test_equal_sub_systems_share_their_rows():
+    """A sub-system (a union of parts, here the rotations by 2 pi/5 and 2 pi/7 of a stack of three)
+    reached from two equal systems (as the cylinders of the cylinders of five parts reach each
+    sub-system of three parts twice) has one rows object, computed once; under another cyclotomic
+    cap (which chooses the rows' kind) it is built anew."""
+    from symkf.engine.cylinders import _sub_rows
+    one, two = (stacked_rotations((5, 7, 9), [[2, 1, 0, -1, -1, -2]]) for _ in range(2))
+    assert one is not two
+    first = _sub_rows(one, one.eigen_blocks()[0], [0, 1, 2, 3])
+    assert _sub_rows(two, two.eigen_blocks()[0], [0, 1, 2, 3]) is first
+    with budget.limits(max_cyclotomic_degree=100):
+        assert _sub_rows(two, two.eigen_blocks()[0], [0, 1, 2, 3]) is not first

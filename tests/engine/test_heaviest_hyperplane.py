@@ -199,7 +199,8 @@ def test_proportional_weights_are_screened_once(name, rows, losses, monkeypatch)
     weights = [_weights(loss)[e.sensor] for e in br.elements]
     screens = []
     screened = BlockRows._heaviest
-    monkeypatch.setattr(BlockRows, "_heaviest", lambda self, w, floor: screens.append(1) or screened(self, w, floor))
+    monkeypatch.setattr(BlockRows, "_heaviest",
+                        lambda self, w, floor, **kw: screens.append(1) or screened(self, w, floor, **kw))
     first = br.heaviest(weights)
     again = br.heaviest([4.0 * w for w in weights])   # (exactly proportional in floats: 2.5 w need not be)
     assert len(screens) == 1 and set(again) == set(first)
@@ -208,3 +209,68 @@ def test_proportional_weights_are_screened_once(name, rows, losses, monkeypatch)
     assert {H for H in scaled if sum(4.0 * weights[e] for e in H) >= best - 1e-9} <= set(again)
     br.heaviest([w * (1 + br.elements[e].sensor) for e, w in enumerate(weights)])
     assert len(screens) == 3   # the fresh system's screen, then the new direction
+
+
+def _many_sensors(rows):
+    """The 4-dim block diag(2R(pi/6), 2R(pi/4)) (modulus 2, period 24) seen by scalar sensors."""
+    return sk.System(A=sp.diag(rotation(sp.pi / 6, 2), rotation(sp.pi / 4, 2)),
+                     sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(rows)])
+
+
+SIXTEEN = [[int(v) for v in np.random.default_rng(16).integers(1, 3, 4)] for _ in range(16)]
+
+
+def test_eighty_sensors_under_the_work_cap_run_and_five_copies_take_the_fifth_root():
+    """80 sensors, above the former size cap of 64, run under max_work: sixteen rows each sent by
+    five sensors.  A hyperplane holds every copy of a row or none, so each exponent vector is five
+    times the sixteen sensors' and the critical common loss rate is the fifth root of theirs."""
+    once = critical_loss_rate(_many_sensors(SIXTEEN))
+    five = critical_loss_rate(_many_sensors([r for r in SIXTEEN for _ in range(5)]))
+    assert sp.simplify(five.exact ** 5 - once.exact) == 0 and 0 < five < 1
+
+
+def test_the_screen_is_priced_by_the_points_it_classifies(monkeypatch):
+    """The units priced before the screen are the work it then does: every point a stage
+    classifies is counted (none more), and the incidences bound the pairs of classes its lines
+    test."""
+    from symkf import budget
+    from symkf.engine import hyperplane_screen
+    priced, classified, searching = [], [0], [False]
+    price, classes, search = budget.price, hyperplane_screen._classes, hyperplane_screen.search
+
+    def spy_price(entry, what, **units):
+        priced.append(units)
+        return price(entry, what, **units)
+
+    def spy_classes(X, p):
+        classified[0] += len(X) if searching[0] else 0
+        return classes(X, p)
+
+    def spy_search(*args):
+        searching[0] = True
+        try:
+            return search(*args)
+        finally:
+            searching[0] = False
+    monkeypatch.setattr(budget, "price", spy_price)
+    monkeypatch.setattr(hyperplane_screen, "_classes", spy_classes)
+    monkeypatch.setattr(hyperplane_screen, "search", spy_search)
+    critical_loss_rate(_many_sensors(SIXTEEN * 2))
+    (units,) = priced
+    assert units["screen_point"] == classified[0] > 0
+
+
+def test_a_markov_query_over_max_work_is_refused_before_its_screens():
+    """Gilbert-Elliott channels on 128 sensors of rows in -2..2: the two screens of the Markov
+    search are priced together (about 1.4 CPU-s) before the first runs; under a cap of 1 CPU-s
+    (1000 CPU-ms) they are refused at once, naming the cap and its option."""
+    import time
+    rows = [[int(v) for v in r] for r in np.random.default_rng(128).integers(-2, 3, (128, 4)) if r.any()]
+    S = _many_sensors(rows)
+    loss = sk.GilbertElliott(["1/10"] * len(rows), ["1/2"] * len(rows))
+    start = time.process_time()
+    with sk.budget.limits(max_work=1000), pytest.raises(sk.errors.BudgetError,
+                                                        match=r"2 such screens\) is .* above the cap max_work = 1000 "
+                                                              r"CPU-ms.*--max-work"):
+        sk.stability(S, loss)
+    assert time.process_time() - start < 10

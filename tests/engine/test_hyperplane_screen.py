@@ -169,12 +169,12 @@ def _rotation_pair(rows):
 
 def test_screen_work_refused_up_front_naming_the_cap():
     """One 4-dim eigen-block of modulus 2 (period 12) with 3 sensors: 36 elements, 3 orbits; the
-    screen's estimate sum C(C, 2) + 10^4 per stage is far above a cap of 1000, so the decay rate is
-    refused before the screen runs (under the default cap it runs: tests/engine/test_heaviest_hyperplane.py)."""
+    screen's estimate (its points classified, sum C(C, 2) + 10^4 incidences per stage) is above a
+    cap of 1 CPU-ms, so the decay rate is refused before the screen runs (under the default cap it runs: tests/engine/test_heaviest_hyperplane.py)."""
     S = _rotation_pair([[1, 0, 1, 0], [0, 1, 1, 1], [1, 2, 0, 1]])
-    with budget.limits(max_screen_work=1000):
+    with budget.limits(max_work=1):
         with pytest.raises(BudgetError, match=r"eigen-block of modulus 2: the estimated work of the hyperplane "
-                                              r"screen \(36 elements in dimension 4, 3 orbits.*--max-screen-work"):
+                                              r"screen \(36 elements in dimension 4, 3 orbits.*--max-work"):
             sk.stability(S, sk.IID(["1/10"] * 3))
     assert sk.stability(S, sk.IID(["1/10"] * 3)).stable
 
@@ -202,14 +202,16 @@ def _eight_rotations_file(tmp_path):
 @pytest.mark.full
 def test_eight_identical_rotation_blocks_refused_naming_the_screen_cap(tmp_path):
     """This ran past 120 CPU-s in the screen's 13-level flat recursion (6208 elements in
-    dimension 16, 64 orbits: about 10^42 incidences); now refused once the block's elements are
+    dimension 16, 64 orbits: about 10^42 incidences, and the Markov search's two screens are priced
+    together); now refused once the block's elements are
     reduced mod p (about 6 CPU-s, 4 of them the exact generators C_j T D^r over Q(zeta_388))."""
     path = _eight_rotations_file(tmp_path)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     code, err = limited(cli.main, ["analyze", str(path)])
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     assert code == 2 and err.count("\n") == 1, err
-    assert "6208 elements in dimension 16, 64 orbits" in err and "about 10^42" in err and "--max-screen-work" in err, err
+    assert "6208 elements in dimension 16, 64 orbits" in err and "2 such screens" in err and "about 10^36 CPU-s" in err \
+        and "--max-work" in err, err
     assert after.ru_utime - before.ru_utime < 15
 
 

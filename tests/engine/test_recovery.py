@@ -27,7 +27,7 @@ from symkf.engine.stability import stability
 from symkf.exact.algebraic import AlgebraicNumber
 from symkf.io.files import load
 
-from conftest import rotation
+from conftest import rotation, stacked_rotations
 
 TWO = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[[1, 0]]), sk.Sensor(C=[[1, 1]])])
 # alpha^2 = 3/2, governing period 2: fail 1/2 gives margin 9/4 (q/2 + (1-q)^2), stable iff 2/3 < q < 5/6
@@ -101,6 +101,101 @@ def _listed(S, fail):
     return lo
 
 
+def test_the_bound_above_q_max_is_iid_losses_at_the_largest_fail():
+    """Fail 1/3 on both channels of TWO: above ``q_max = 2/3`` every run term is at most 1/3, and
+    i.i.d. losses 1/3 are stable (``16 eps^3 < 1`` iff ``eps < 0.397``), so the monotone search
+    answers; a bound of ``f (1 + f) = 4/9`` per lost phase is not stable there and left it to the list."""
+    fail = [sp.Rational(1, 3)] * 2
+    assert stability(TWO, sk.IID(["1/3", "1/3"])).stable and not stability(TWO, sk.IID(["4/9", "4/9"])).stable
+    fast = monotone_critical_recovery(TWO, fail)
+    assert fast is not None and fast == _listed(TWO, fail) and fast.minpoly == _listed(TWO, fail).minpoly
+
+
+def _stable_around(S, fail, qc, width=sp.Rational(1, 10 ** 9)):
+    """The verdicts at rationals just below and just above ``qc``: (False, True) for a critical rate."""
+    lo, hi = qc.refine(width).interval
+    return tuple(stability(S, sk.GilbertElliott(fail, [r] * len(fail))).stable
+                 for r in (sp.Rational(lo) - width, sp.Rational(hi) + width))
+
+
+GENERIC = [  # (orders, rows, fail): blocks whose screens cannot rule the generic hyperplanes out
+    ((5, 6), [[2, -1, -2, 2]], ["2/100"]),
+    ((3, 5), [[1, 2, 1, -2], [-1, 0, 1, 0]], ["1/10", "1/10"]),
+]
+
+
+@pytest.mark.parametrize("orders, rows, fail", GENERIC)
+def test_recovery_beyond_the_list_equals_the_list(orders, rows, fail, monkeypatch):
+    """The list's estimate pretended past ``search.LIST_BELOW``: the certificate's hyperplanes come from
+    the special ones and the rates of any ``n - 1`` live elements reaching the floor
+    (generic_hyperplanes.reaching_elements), not from a refused list, and the critical rate is the
+    list's exact number, unstable just below and stable just above."""
+    from symkf.engine import rows as engine_rows, search
+    answered = []
+    beyond = search._reaching_beyond_listing
+
+    def spy(br, rates, low):
+        out = beyond(br, rates, low)
+        answered.append(out is not None)
+        return out
+    fail = [sp.Rational(f) for f in fail]
+    with monkeypatch.context() as m:
+        m.setattr(search, "_reaching_beyond_listing", spy)
+        m.setattr(engine_rows.BlockRows, "listing_estimate", lambda self: (10 ** 12, "pretended"))
+        got = monotone_critical_recovery(stacked_rotations(orders, rows), fail)
+    S = stacked_rotations(orders, rows)
+    assert answered and all(answered)
+    assert got is not None and got == _listed(S, fail) and got.minpoly == _listed(S, fail).minpoly
+    assert _stable_around(S, fail, got) == (False, True)
+
+
+#: the 6-dim block (3/2) diag(R(pi/2), R(pi/3), R(2 pi/3)) (period 12) with three sensors in general
+#: position: C(36, 5) hyperplanes to list
+SIX = sk.System(A=sp.Rational(3, 2) * sp.diag(rotation(sp.pi / 2, 1), rotation(sp.pi / 3, 1), rotation(2 * sp.pi / 3, 1)),
+                sensors=[sk.Sensor(C=[r], name=f"s{j + 1}") for j, r in enumerate(
+                    [[-2, -2, -2, 0, -1, 0], [0, 2, -1, 2, -2, 2], [-1, 1, 1, 2, 0, 2]])])
+SIX_FAIL = ["1/2", "1/2", "3/10"]
+
+
+def test_recovery_of_a_block_in_general_position_without_the_list(monkeypatch):
+    """The critical rate comes from the special hyperplanes and the best rates of five elements,
+    no hyperplane's margin listed: degree 36, ``q_c ~ 0.2872187181941923``, unstable just below and
+    stable just above."""
+    from symkf.engine import recovery
+
+    def listing(*args):
+        raise AssertionError("the hyperplanes were listed")
+    with monkeypatch.context() as m:
+        m.setattr(recovery, "listed_margins", listing)
+        m.setattr(recovery, "ge_margins", listing)
+        qc = sk.critical_recovery_rate(SIX, fail=SIX_FAIL)
+    assert qc.minpoly.degree() == 36 and abs(float(qc) - 0.2872187181941923) < 1e-15
+    assert _stable_around(SIX, SIX_FAIL, qc) == (False, True)
+
+
+def test_listing_every_margin_is_priced_before_a_hyperplane_is_listed():
+    """The 6-dim block's C(36, 5) = 376 992 margins at 130 µs each (budget.COSTS["margin"]) are
+    about 49 CPU-s: under a max_work of 10 CPU-s both routes that build every margin, in flint and
+    in sympy, are refused at once, naming the cap and the count."""
+    from symkf import budget
+    from symkf.engine.recovery import _monotone_recovery
+    from symkf.errors import BudgetError
+    with budget.limits(max_work=10_000):
+        with pytest.raises(BudgetError, match=r"max_work.*376992 margins"):
+            _monotone_recovery(SIX, SIX_FAIL, None, None)[2]()
+        with pytest.raises(BudgetError, match=r"max_work.*376992 margins"):
+            _every_hyperplane(SIX, SIX_FAIL)
+
+
+@pytest.mark.full  # the list of C(36, 5) hyperplanes: about 50 CPU-s
+def test_recovery_of_a_block_in_general_position_equals_the_raised_list():
+    # every hyperplane's margin built in flint (recovery.listed_margins), as the fallback lists them
+    from symkf.engine.recovery import _monotone_recovery
+    qc = sk.critical_recovery_rate(SIX, fail=SIX_FAIL)
+    (listed, one), = _monotone_recovery(SIX, SIX_FAIL, None, None)[2]()
+    assert one == 1 and qc == listed and qc.minpoly == listed.minpoly
+
+
 def test_two_sensor_example():
     S, loss = load(sk.examples.system("ge-two-sensors"))
     expected = sp.CRootOf(16 * sp.Symbol("x") ** 4 - 60 * sp.Symbol("x") ** 3 + 88 * sp.Symbol("x") ** 2
@@ -171,9 +266,51 @@ def test_listed_margins_equal_sympys(A, rows, fail):
     fail = [sp.Rational(f) for f in fail]
     for sensor, recover in ((None, None), (0, [sp.Rational(1, 3)] * len(rows))):
         model = _recovery_model(S, fail, recover, None if sensor is None else S.sensors[sensor].name, q)
-        got = listed_margins(S, fail, recover, sensor, q)
-        assert got is not None and set(got) == set(ge_margins(S, model))
+        got = listed_margins(S, fail, recover, sensor)
+        assert got is not None
+        margins = {sp.expand(sp.Poly([sp.Rational(int(c.p), int(c.q)) for c in reversed(rho.coeffs())], q).as_expr()
+                             / gamma.exact) for gamma, rates in got for rho in rates}
+        assert margins == set(ge_margins(S, model))
 
+
+BEYOND_Q_MAX = [  # (A, rows, fail, recover, sensor): q_c above 1 - max fail, or several intervals: the list decides
+    (rotation(sp.pi / 2), [[1, 0], [1, 1]], ["1/2", "1/2"], None, None),
+    (rotation(sp.pi / 2), [[1, 0], [0, 1], [1, 1]], ["3/5", "1/2", "9/10"], None, None),
+    (rotation(sp.pi / 3), [[1, 0], [2, -1]], ["7/10", "1/5"], None, None),
+    ([[0, "-sqrt(6)/2"], ["sqrt(6)/2", 0]], [[1, 0]], ["1/2"], None, None),                   # two end points
+    ([[2, 1], [1, 1]], [[1, 0], [1, -1]], ["4/5", "1/2"], None, None),                         # (3 + sqrt 5)/2
+    (rotation(sp.pi / 2), [[1, 0], [1, 1]], ["4/5", "1/10"], ["9/10", "9/10"], "s1"),
+]
+
+
+@pytest.mark.parametrize("A, rows, fail, recover, sensor", BEYOND_Q_MAX)
+def test_the_listed_stable_set_equals_sympys(A, rows, fail, recover, sensor):
+    """Where the monotone search does not answer, the stable set from the listed rates in flint
+    (crossings isolated by Descartes' rule, the ones inside another margin's unstable range dropped,
+    the gaps decided by exact rates) is the one from every margin expanded in sympy and solved
+    root by root (region.stable_intervals), interval for interval."""
+    from symkf.engine.recovery import _monotone_recovery
+    S = _system(A, rows)
+    fixed = None if sensor is None else [sp.Rational(r) for r in recover]
+    j = None if sensor is None else S.sensor_index(sensor)
+    assert monotone_critical_recovery(S, [sp.Rational(f) for f in fail], fixed, j) is None
+    got = _monotone_recovery(S, fail, recover, sensor)[2]()
+    assert got == _every_hyperplane(S, fail, recover, sensor) and got
+    assert all(lo.minpoly == a.minpoly for (lo, _), (a, _) in zip(got, _every_hyperplane(S, fail, recover, sensor)))
+
+
+def test_four_channels_whose_critical_rate_lies_above_q_max():
+    """The period-24 block with four sensors failing at (3/5, 1/2, 3/5, 9/10): ``q_c ~ 0.3209 > q_max
+    = 1/10``, so every hyperplane is listed (135 568, 39 distinct rates of degree 96) and the stable
+    set comes from their crossings: ``(q_c, 1)`` with ``q_c`` of degree 16, unstable just below and
+    stable just above."""
+    S = _system(sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)),
+                [[2, 1, 0, -1], [-1, -2, -2, -2], [-2, 2, 1, 2], [0, 1, 2, 1]])
+    fail = ["3/5", "1/2", "3/5", "9/10"]
+    assert monotone_critical_recovery(S, [sp.Rational(f) for f in fail]) is None
+    qc = sk.critical_recovery_rate(S, fail=fail)
+    assert qc.minpoly.degree() == 16 and abs(float(qc) - 0.3209414826056192) < 1e-15
+    assert _stable_around(S, fail, qc) == (False, True)
 
 def test_irrational_modulus_by_hand():
     """A = [[2, 1], [1, 1]] with one sensor failing at 1/20: the unstable mode alpha = (3 + sqrt 5)/2 (the other,
@@ -282,8 +419,8 @@ def test_one_sensor_hypothesis_against_listing(fail, recover, j, q):
 
 
 def test_one_sensor_without_listing_at_period_24():
-    """The 4-dim block of period 24 with 8 sensors: the listing is refused (C(192, 3) hyperplanes
-    estimated), the monotone search answers 0 (the other seven channels keep it stable, by the
+    """The 4-dim block of period 24 with 8 sensors: the list of every margin is refused (C(192, 3)
+    hyperplanes estimated, their margins priced), the monotone search answers 0 (the other seven channels keep it stable, by the
     screened search at q = 0), so the stable set is all of (0, 1), and 1/2 is stable, as it must be."""
     import numpy as np
 
@@ -295,7 +432,7 @@ def test_one_sensor_without_listing_at_period_24():
         if any(r):
             rows.append(r)
     S = _system(sp.diag(rotation(sp.pi / 6), rotation(sp.pi / 4)), rows)
-    with pytest.raises(BudgetError, match="max_hyperplanes"):
+    with pytest.raises(BudgetError, match=r"max-work .*1161280 margins"):
         _every_hyperplane(S, ["1/10"] * 8, ["1/2"] * 8, "s1")
     assert sk.critical_recovery_rate(S, fail=["1/10"] * 8, recover=["1/2"] * 8, sensor="s1") == 0
     assert stable_recovery_intervals(S, ["1/10"] * 8, recover=["1/2"] * 8, sensor="s1") == ((0, 1),)

@@ -135,10 +135,13 @@ def test_two_row_sensors_at_period_24_decided_through_their_flats():
 
 
 def test_the_search_through_flats_is_refused_up_front():
-    A, rows, loss = CASES["two-row sensors, period 12"]
-    (br,) = block_rows(_system(A, rows))
-    with budget.limits(max_screen_work=10), pytest.raises(BudgetError, match="max_screen_work"):
-        search.block_rate(br, loss)
+    """Eight two-row sensors at period 12 (the case's two, four times): 27 072 incidences, about
+    4 CPU-ms, refused under a cap of 1 before the search starts."""
+    A, rows, _ = CASES["two-row sensors, period 12"]
+    (br,) = block_rows(_system(A, rows * 4))
+    with budget.limits(max_work=1), pytest.raises(BudgetError, match=r"search through the flats.*max_work.*"
+                                                                      r"27072 incidences at 0.15 µs"):
+        search.block_rate(br, GE(["1/10", "1/3"] * 4, ["1/2", "1/4"] * 4))
 
 
 @pytest.mark.parametrize("name", ["period 12, anti-correlated", "period 8, anti-correlated"])
@@ -162,10 +165,15 @@ def test_period_24_block_equals_enumeration():
     _check(A, [[1, 0, 1, 0]], GE(["4/5"], ["9/10"]))
 
 
-def test_a_listing_beyond_the_cap_is_refused_up_front():
+def test_a_listing_beyond_the_caps_is_refused_up_front():
+    """9 generators in the plane: C(9, 1) = 9 hyperplanes, microseconds to list but 1746 bytes
+    (per hyperplane 4 V + 5 E + 128 for V = 9 generators and E = 6 elements), refused under a
+    memory cap of 1024 bytes before any is listed."""
     A, rows, loss = CASES["multi-row sensor"]
     (br,) = block_rows(_system(A, rows))
-    with budget.limits(max_hyperplanes=5), pytest.raises(BudgetError, match="max_hyperplanes"):
+    assert br.listing_estimate()[0] == 9 and br.listing_bytes(9) == 1746
+    with budget.limits(max_memory=1024), pytest.raises(BudgetError, match=r"bytes \(estimate\) of listing 9 "
+                                                                          r"hyperplanes.* is 1746.*--max-memory"):
         search.block_rate(br, loss)
     assert "inside" not in br.__dict__
 

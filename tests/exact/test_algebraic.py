@@ -15,6 +15,7 @@ import time
 from decimal import Decimal
 from fractions import Fraction
 
+import flint
 import numpy as np
 import pytest
 import sympy as sp
@@ -268,6 +269,24 @@ def test_the_roots_of_a_shifted_scaled_cosine_are_known_in_flints_order(m, alpha
     assert all(k.overlaps(r) for k, r in zip(known, isolated))
 
 
+@pytest.mark.parametrize("m", [3, 5, 8, 9, 13, 21])
+@pytest.mark.parametrize("c", [R(3, 2), R(2, 5), sp.Integer(2)])
+def test_the_roots_of_a_scaled_root_of_unity_are_known(m, c):
+    """The minimal polynomial (sympy's) of c exp(2 pi i/m), c rational, non-monic for c = 3/2 and 2/5:
+    its roots c exp(2 pi i j/m), gcd(j, m) = 1, are given without isolation, each within the ball of
+    exactly one root of flint's own isolation; for non-monic ones in flint's order (conjugate pairs
+    by increasing imaginary part, then real part), which isolation gave them before."""
+    from symkf.exact.algebraic import _complex_roots, _known_roots, sympy_to_fmpz
+    p = sympy_to_fmpz(sp.Poly(sp.minimal_polynomial(c * sp.exp(2 * sp.pi * sp.I / m), x), x))
+    coeffs = tuple(int(v) for v in p.coeffs())
+    assert _known_roots(coeffs) is not None
+    isolated = [r for r, _ in p.complex_roots()]
+    hits = [[i for i, r in enumerate(isolated) if k.overlaps(r)] for k in _complex_roots(coeffs, 64)]
+    assert sorted(hits) == [[i] for i in range(p.degree())]
+    if c.q > 1:
+        assert hits == [[i] for i in range(p.degree())]
+
+
 @pytest.mark.parametrize("expr", [sp.root(2, 3), sp.sqrt(2) + sp.sqrt(3), 2 * sp.cos(2 * sp.pi / 7) + sp.sqrt(2),
                                   sp.cos(2 * sp.pi / 7) ** 2 + 3 * sp.cos(2 * sp.pi / 7)])
 def test_other_polynomials_are_isolated(expr):
@@ -368,3 +387,133 @@ def test_a_root_of_a_long_polynomial_prints_its_degree_not_the_polynomial():
     short = AlgebraicNumber.from_root(sp.Poly(x ** 5 - x - 1, x), 1, 2)
     assert str(long) == f"[root ≈{long.evalf(10)} of a degree-9 polynomial (.minpoly)]"
     assert str(short) == f"[root ≈{short.evalf(10)} of x**5 - x - 1]"
+
+
+# -- real roots known without isolation ------------------------------------------------------------
+
+@pytest.mark.parametrize("p, k, irreducible", [
+    ([-2, 0, 1], 3, True),       # x^6 - 2
+    ([-8, 1], 3, False),         # x^3 - 8 = (x - 2)(x^2 + 2x + 4): 8 is a cube
+    ([-8, 0, 1], 3, False),      # x^6 - 8 = (x^2 - 2)(x^4 + 2x^2 + 4): 2 sqrt 2 = sqrt(2)^3
+    ([-2, 0, 1], 2, True),       # x^4 - 2
+    ([-9, 1], 2, False),         # x^2 - 9: 9 is a square
+    ([1, -6, 1], 2, False),      # x^4 - 6x^2 + 1 = (x^2 - 2x - 1)(x^2 + 2x - 1): 3 + 2 sqrt 2 = (1 + sqrt 2)^2
+    ([-2, 0, 1], 4, False),      # 4 | k: not decided this way (x^4 + 4 = (x^2 + 2x + 2)(x^2 - 2x + 2))
+    ([-5, 1, 0, 1], 15, True),   # x^45 + x^15 - 5
+])
+def test_binomial_irreducibility_is_proved_only_where_flint_finds_one_factor(p, k, irreducible):
+    """Capelli's criterion, proved mod primes: True only for an irreducible p(x^k), as flint's
+    factorisation confirms, and True for the irreducible ones above (a prime proves it)."""
+    from symkf.exact.algebraic import _binomial_irreducible
+    p = flint.fmpz_poly(p)
+    coeffs = [0] * (k * p.degree() + 1)
+    for i, c in enumerate(p.coeffs()):
+        coeffs[k * i] = int(c)
+    flint_says = len(flint.fmpz_poly(coeffs).factor()[1]) == 1
+    assert _binomial_irreducible(p, k) == irreducible
+    assert not irreducible or flint_says
+
+
+def test_known_real_roots_sort_into_their_factors_with_flint_indices(monkeypatch):
+    """Sources for the real roots of (x^2 - 2)(x^2 - 3)(x^3 - 5), given shuffled, give each factor its
+    roots in flint's order, and root_ball and identify(real=True) name them as isolation does."""
+    from symkf.exact import algebraic
+    monkeypatch.setattr(algebraic, "_KNOWN_REAL_ROOTS", {})
+    factors = [flint.fmpz_poly([-2, 0, 1]), flint.fmpz_poly([-3, 0, 1]), flint.fmpz_poly([-5, 0, 0, 1])]
+    root = lambda v: lambda prec: flint.arb(v).sqrt() if v > 0 else -flint.arb(-v).sqrt()  # noqa: E731
+    sources = [root(-3), root(2), lambda prec: flint.arb(5).root(3), root(3), root(-2)]
+    assert algebraic.known_real_roots(factors, sources)
+    assert abs(float(root_ball(factors[1], 0, 64).real.mid()) + 3 ** 0.5) < 1e-15
+    assert abs(float(root_ball(factors[0], 1, 64).real.mid()) - 2 ** 0.5) < 1e-15
+    product = factors[0] * factors[1] * factors[2]
+    for f, i in [(factors[1], 0), (factors[0], 1), (factors[2], 0)]:
+        isolated = algebraic._complex_roots(tuple(int(c) for c in f.coeffs()), 64)[i]
+        assert algebraic.identify(product, lambda prec, b=isolated: b, real=True) == (f, i)
+
+
+def test_real_kth_root_of_a_known_root_matches_isolation(monkeypatch):
+    """The cube root of root 1 of x^3 - 3x + 1 (three real roots) and the square roots of its
+    positive roots: named from the roots of p alone, the same polynomial and index as identify finds
+    by isolating every root of p(x^k)."""
+    from symkf.exact import algebraic
+    monkeypatch.setattr(algebraic, "_KNOWN_REAL_ROOTS", {})
+    p = flint.fmpz_poly([1, -3, 0, 1])
+    isolated = algebraic._complex_roots((1, -3, 0, 1), 64)
+    algebraic.known_real_roots([p], [lambda prec, b=b: b.real for b in isolated])
+    for i, k in [(0, 3), (1, 3), (2, 2), (1, 2)]:
+        gamma = AlgebraicNumber._irreducible(p, i)
+        ball = lambda prec: flint.acb(abs(gamma._ball(prec).real).root(k) * (1 if gamma > 0 or k % 2 == 0 else -1))  # noqa: E731
+        coeffs = [0] * (3 * k + 1)
+        for j, c in enumerate(p.coeffs()):
+            coeffs[k * j] = int(c)
+        expected = algebraic.identify(flint.fmpz_poly(coeffs), ball)
+        assert algebraic.real_kth_root(gamma, k, ball, "root") == expected
+
+
+def test_decreasing_root_of_a_high_power_is_isolated_by_a_narrow_ball(monkeypatch) -> None:
+    """``(1 - q)^200 = 2^-48`` on ``[0, 1)``: ``q = 1 - 2^(-6/25)`` (by hand).  The coefficients
+    ``C(200, k)`` reach 2^196 while the values near the root are 2^-48: the bisection must decide
+    signs above that cancellation, so the ball handed to the identification is narrow (a ball of
+    the whole interval isolates the roots of every factor of the composed polynomial, degrees 25,
+    25, 50 and 100)."""
+    import flint
+    from symkf.exact import algebraic
+    widths = []
+    identify = algebraic.identify
+
+    def watched(poly, ball_at, what="number", **flags):
+        widths.append(float(ball_at(64).real.rad()))
+        return identify(poly, ball_at, what, **flags)
+    monkeypatch.setattr(algebraic, "identify", watched)
+    poly = flint.fmpq_poly([1, -1]) ** 200
+    root = algebraic.decreasing_root(poly, AlgebraicNumber.from_expr(sp.Rational(1, 2 ** 48)), Fraction(0), Fraction(1))
+    assert root == AlgebraicNumber.from_expr(1 - sp.Integer(2) ** sp.Rational(-6, 25))
+    assert widths and widths[0] < 2.0 ** -50
+
+
+def test_unit_roots_isolate_the_roots_in_the_open_unit_interval() -> None:
+    """``(2x - 1)(3x - 1)(x^2 - 2)(5x^2 - 5x + 1) x (x - 1)``: in (0, 1) the roots 1/3, 1/2 (met
+    exactly at a midpoint) and ``(5 -+ sqrt 5)/10`` (by hand: ~0.276 and ~0.724); 0, 1 and
+    ``sqrt 2`` lie outside.  Each interval holds its root and is made exact by root_between."""
+    import flint
+    from symkf.exact.algebraic import root_between, unit_roots
+    poly = math.prod((flint.fmpz_poly(c) for c in ([-1, 2], [-1, 3], [-2, 0, 1], [1, -5, 5], [0, 1], [-1, 1])),
+                     start=flint.fmpz_poly([1]))
+    brackets = unit_roots(poly)
+    want = [(5 - sp.sqrt(5)) / 10, sp.Rational(1, 3), sp.Rational(1, 2), (5 + sp.sqrt(5)) / 10]
+    assert len(brackets) == 4 and (Fraction(1, 2), Fraction(1, 2)) in brackets
+    for (lo, hi), root in zip(brackets, want):
+        assert lo <= root <= hi and root_between(poly, lo, hi) == AlgebraicNumber.from_expr(root)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.integers(-12, 12), min_size=3, max_size=10))
+def test_unit_roots_find_every_real_root_in_the_unit_interval(coeffs) -> None:
+    # against the real roots of flint's isolation of every complex root, factor by factor
+    import flint
+    from symkf.exact.algebraic import _real_roots, root_between, unit_roots
+    poly = flint.fmpz_poly(coeffs)
+    if poly.degree() < 1:
+        return
+    for f, _ in poly.factor()[1]:
+        want = [r for r in _real_roots(f) if 0 < r < 1]
+        assert [root_between(f, lo, hi) for lo, hi in unit_roots(f)] == want
+
+
+def test_sign_at_an_algebraic_point_is_exact() -> None:
+    """``2x^2 - 1`` at ``x = sqrt(2)/2`` is 0; ``x`` at it equals ``sqrt(2)/2`` and not
+    ``-sqrt(2)/2`` (a conjugate: both roots of the minimal polynomial of the value); ``3x^2``
+    exceeds 1 there, and over an interval around 3/10 ``3 (1 - x)^96 ~ 4.04e-15`` exceeds 10^-16
+    but not 10^-14 (its coefficients reach 2^93: the interval is bounded through the Taylor form)."""
+    import flint
+    from symkf.exact.algebraic import exceeds, sign_at
+    x = AlgebraicNumber.from_expr(sp.sqrt(2) / 2)
+    one, half = AlgebraicNumber.from_expr(1), AlgebraicNumber.from_expr(sp.sqrt(2) / 2)
+    assert sign_at(flint.fmpq_poly([-1, 0, 2]), x, AlgebraicNumber.from_expr(0)) == 0
+    assert sign_at(flint.fmpq_poly([0, 1]), x, half) == 0
+    assert sign_at(flint.fmpq_poly([0, 1]), x, AlgebraicNumber.from_expr(-sp.sqrt(2) / 2)) == 1
+    assert sign_at(flint.fmpq_poly([0, 0, 3]), x, one) == 1 and sign_at(flint.fmpq_poly([0, 0, 1]), x, one) == -1
+    p = flint.fmpq_poly([1, -1]) ** 96 * 3
+    lo, hi = Fraction(3, 10), Fraction(3, 10) + Fraction(1, 2 ** 40)
+    assert exceeds(p, AlgebraicNumber.from_expr(sp.Rational(1, 10 ** 16)), lo, hi)
+    assert not exceeds(p, AlgebraicNumber.from_expr(sp.Rational(1, 10 ** 14)), lo, hi)

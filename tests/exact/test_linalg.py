@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from sympy.polys.matrices import DomainMatrix
 
 from symkf.exact.field import NumberField
-from symkf.exact.linalg import rank
+from symkf.exact.linalg import krylov_rank, rank
 
 
 @settings(max_examples=60, deadline=None)
@@ -153,3 +153,16 @@ def test_field_pivots_decide_positive_definiteness_as_sylvester(a, b):
     K = NumberField([r2])
     want = all(sp.nsimplify(sp.expand(M[:k, :k].det())) > 0 for k in range(1, 4))
     assert linalg._field_pivots_positive(K, [[K.convert(sp.expand(v)) for v in M.row(i)] for i in range(3)]) == want
+
+
+@pytest.mark.parametrize("A, C, expected", [
+    ([[2, 0], [0, 3]], [[1, 1]], 2),                        # distinct eigenvalues, both seen
+    ([[2, 0], [0, 2]], [[1, 1]], 1),                        # 2 I: C A = 2 C, one direction only
+    ([[1, 1, 0], [0, 1, 0], [0, 0, sp.Rational(1, 2)]], [[0, 1, 0]], 1),   # sees only the chain's end: C A = C
+    ([[0, 1, 0], [0, 0, 1], [1, -2, 3]], [[1, 0, 0]], 3),   # companion form: C, CA, CA^2 the unit rows
+])
+def test_krylov_rank_is_the_rank_of_the_stacked_powers(A, C, expected):
+    """The rank of col{C, CA, ..., CA^(n-1)} by hand, and as the sympy matrix of the powers gives it."""
+    A, C = sp.Matrix(A), sp.Matrix(C)
+    assert krylov_rank(A, C) == expected == rank(sp.Matrix.vstack(*[C * A ** k for k in range(A.rows)]))
+

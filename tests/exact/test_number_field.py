@@ -195,3 +195,64 @@ def test_radicals_of_cyclotomic_fields_join_the_cyclotomic_presentation():
     assert 2 * C == E + K.inv(E)  # 2 cos(2 pi/5) = zeta_5 + zeta_5^-1: the intended conjugate
     for g in gens[2:]:  # the trigonometric atoms, by Euler's formula independently of symkf
         assert vanishes_cyclotomic(K.to_sympy(K.convert(g)) - g, 630)
+
+
+def _rotation_field(m, scale=2):
+    c, s = sp.cos(2 * sp.pi / m), sp.sin(2 * sp.pi / m)
+    K = NumberField([c, s])
+    return K, nfpoly.charpoly(K, K.matrix(scale * sp.Matrix([[c, -s], [s, c]])))
+
+
+@pytest.mark.parametrize("m", [5, 7, 13])
+def test_quadratic_with_negative_discriminant_is_factored_as_trager_factors_it(m, monkeypatch):
+    """x^2 - 4 cos(2 pi/m) x + 4 over Q(cos, sin) has discriminant -16 sin^2(2 pi/m) < 0 at the real
+    embedding: irreducible without the norm, and Trager's algorithm agrees."""
+    K, chi = _rotation_field(m)
+    fast = nfpoly.factor(K, chi)
+    monkeypatch.setattr(nfpoly, "_negative_at_real_embedding", lambda K, a: False)
+    assert fast == nfpoly.factor(K, chi) == [(nfpoly.monic(K, chi), 1)]
+
+
+def test_quadratic_with_positive_discriminant_goes_to_trager():
+    """x^2 - 2 over Q(sqrt 2) splits (discriminant 8 > 0: no shortcut); x^2 + 1 over Q(i) too
+    (theta = i is not real)."""
+    K = NumberField([sp.sqrt(2)])
+    assert not nfpoly._negative_at_real_embedding(K, _poly(K, [8])[0])
+    assert len(nfpoly.factor(K, _poly(K, [-2, 0, 1]))) == 2
+    Ki = NumberField([sp.I])
+    assert not nfpoly._negative_at_real_embedding(Ki, _poly(Ki, [-4])[0])
+    assert len(nfpoly.factor(Ki, _poly(Ki, [1, 0, 1]))) == 2
+
+
+@pytest.mark.parametrize("m, scale", [(5, 2), (7, 2), (13, 2), (7, sp.Rational(3, 2)), (9, 1)])
+def test_unit_root_minpoly_is_the_factor_of_the_norm(m, scale):
+    """The roots scale * exp(+-2 pi i/m) of a rotation's characteristic polynomial: their minimal
+    polynomial c^d Phi_m(x/c) (primitive) is the factor of Trager's norm that they are roots of."""
+    K, chi = _rotation_field(m, scale)
+    ((h, _),) = nfpoly.factor(K, chi)
+    g = nfpoly.unit_root_minpoly(K, h)
+    expected = sp.Poly(scale ** sp.totient(m) * sp.cyclotomic_poly(m, x / scale), x).clear_denoms()[1].primitive()[1]
+    assert [int(c) for c in reversed(g.coeffs())] == expected.all_coeffs()
+    norm_factors = [f.numer() // f.numer().content() for f, _ in nfpoly.norm(K, h).factor()[1]]
+    assert g in norm_factors or -g in norm_factors
+
+
+def test_unit_root_minpoly_refuses_other_roots():
+    """1 + 2 exp(+-2 pi i/7) (|.| irrational) and 2 sqrt 2 exp(+-2 pi i/7) (c^2 = 8, c irrational):
+    no scaled root of unity by a rational c."""
+    c, s = sp.cos(2 * sp.pi / 7), sp.sin(2 * sp.pi / 7)
+    K = NumberField([c, s, sp.sqrt(2)])
+    for M in (sp.eye(2) + 2 * sp.Matrix([[c, -s], [s, c]]), 2 * sp.sqrt(2) * sp.Matrix([[c, -s], [s, c]])):
+        ((h, _),) = nfpoly.factor(K, nfpoly.charpoly(K, K.matrix(M)))
+        assert nfpoly.unit_root_minpoly(K, h) is None
+
+
+def test_lucas_ladder_is_the_chebyshev_recurrence():
+    """V_k(theta) = 2 cos(2 pi k/60) at theta = 2 cos(2 pi/60), from the ladder, equals the
+    three-term recurrence V_(k+1) = theta V_k - V_(k-1) reduced modulo theta's minimal polynomial."""
+    from symkf.exact.field import _lucas
+    mod, t = flint.fmpq_poly(flint.fmpz_poly.cos_minpoly(60)), flint.fmpq_poly([0, 1])
+    V = [flint.fmpq_poly([2]), t]
+    for _ in range(40):
+        V.append((t * V[-1] - V[-2]) % mod)
+    assert all(_lucas(k, t, mod) == V[k] % mod for k in range(42))

@@ -18,9 +18,11 @@ import symkf as sk
 from symkf import budget, cli
 from symkf.errors import BudgetError, UnobservableError
 from symkf.exact.algebraic import identify, real_from_ball
+from symkf.exact import algebraic, nfpoly, spectral
+from symkf.exact.field import NumberField
 from symkf.exact.spectral import _abs_poly, _cosine_order, _resultant_y, diagonal_blocks, eigen_blocks, eigenvalues
 
-from conftest import library, limited, rotation
+from conftest import library, limited, refused_at_once, rotation
 
 
 def rotation_entries(alpha, angle):
@@ -174,6 +176,31 @@ def test_cosine_order():
     assert _cosine_order(flint.fmpz_poly([-1, 0, 2])) == 8
 
 
+@pytest.mark.parametrize("m", [5, 7, 9, 13, 24, 97])
+def test_cosine_order_of_cos_2pi_over_m_from_closed_form_roots_and_from_phi_m(m, monkeypatch):
+    """The minimal polynomial of cos(2 pi/m) (2^d psi_m(2x), psi_m that of 2 cos(2 pi/m)) has order
+    m, read off its closed-form roots and, without them, from x^d g(x + 1/x) = Phi_m."""
+    psi = flint.fmpz_poly.cos_minpoly(m)
+    f = flint.fmpz_poly([int(c) * 2 ** k for k, c in enumerate(psi.coeffs())])
+    assert _cosine_order(f) == m
+    monkeypatch.setattr(spectral, "_known_roots", lambda coeffs: None)
+    assert _cosine_order(f) == m
+
+
+@pytest.mark.parametrize("m", [5, 7, 13])
+def test_rotation_eigenvalues_from_roots_of_unity_match_the_norm(m, monkeypatch):
+    """The eigenvalues 2 exp(+-2 pi i/m) of 2R(2 pi/m) over its entries' field, identified by
+    powers of x modulo the factor, are those identified among the roots of Trager's norm."""
+    A = sp.ImmutableMatrix(rotation(2 * sp.pi / m, 2))
+    K = NumberField([sp.cos(2 * sp.pi / m), sp.sin(2 * sp.pi / m)])
+    fast = spectral._factor_charpoly(A, K)
+    monkeypatch.setattr(nfpoly, "unit_root_minpoly", lambda K, h: None)
+    slow = spectral._factor_charpoly(A, K)
+    assert fast == slow
+    assert [[(tuple(f.coeffs()), i) for f, i in roots] for _, _, roots in fast] == \
+        [[(tuple(f.coeffs()), i) for f, i in roots] for _, _, roots in slow]
+
+
 def test_field_of_a_matrix_is_budgeted_per_diagonal_block():
     """Six distinct square roots on a diagonal: six 1x1 blocks, each decided in its own field of
     degree 2, so the system is accepted; its critical loss rate is 1/13 (one sensor sees every
@@ -199,7 +226,8 @@ def test_cyclotomic_rotations_pass_the_default_caps():
     """Rotation blocks of trigonometric constants stay in Q(zeta_m) (m = 4q): 2R(2 pi/97) has
     cyclotomic degree phi(388) = 192 <= 1024 and is decided, to the value the engine gave before the
     cost model with --max-degree raised (2^(192/193)/4), as is 2R(2 pi/401) (phi(1604) = 800,
-    2^(800/801)/4); 2R(2 pi/521) has phi(2084) = 1040 > 1024.  A 1x1 cos(pi/97)
+    2^(800/801)/4) and 2R(2 pi/521) (phi(2084) = 1040, 2^(1040/1041)/4): a rotation's field is
+    priced at a quarter of its degree, so 2R(2 pi/2053) (phi(8212) = 4104) is refused.  A 1x1 cos(pi/97)
     is its own eigenvalue (real, modulus cos(pi/97) < 1: stable for every loss rate).  The same
     constants off the rotation pattern give eigenvalues of degree up to 2 * 192 in a generic
     extension: refused under max_degree, at once."""
@@ -208,8 +236,10 @@ def test_cyclotomic_rotations_pass_the_default_caps():
     assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(192, 193) / 4
     S = sk.System(rot("2*pi/401"), [sk.Sensor([[1, 0]]), sk.Sensor([[0, 1]])])
     assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(800, 801) / 4
-    with pytest.raises(BudgetError, match="is 1040, above the cap 1024.*--max-cyclotomic-degree"):
-        sk.System(rot("2*pi/521"), [sk.Sensor([[1, 0]])])
+    S = sk.System(rot("2*pi/521"), [sk.Sensor([[1, 0]]), sk.Sensor([[0, 1]])])
+    assert sk.critical_loss_rate(S).exact == 2 ** sp.Rational(1040, 1041) / 4
+    with pytest.raises(BudgetError, match="4104 .* is 1026, above the cap 1024.*--max-cyclotomic-degree"):
+        sk.System(rot("2*pi/2053"), [sk.Sensor([[1, 0]])])
     assert sk.critical_loss_rate(sk.System([["cos(pi/97)"]], [sk.Sensor([[1]])])).exact == 1
     with pytest.raises(BudgetError, match="is 384, above the cap 64.*--max-degree"):
         sk.System([["cos(2*pi/97)", 1], [1, "sin(2*pi/97)"]], [sk.Sensor([[1, 0]])])
@@ -226,13 +256,13 @@ def _sqrt2_matrix() -> list[list[str]]:
 
 
 def test_modulus_polynomial_is_sized_before_it_is_built():
-    """The polynomial of |lambda| of a 16x16 A with entries in {+-sqrt 2, 1, 1/2, 0} (d = 32, b = 70
-    bits: D = 528, 3.9e7 bits) is sized once d and b are known: under the default cap it is built
-    (37 CPU-s in all), under a lower one refused at once, naming the cap."""
+    """The polynomial of |lambda| of a 16x16 A with entries in {+-sqrt 2, 1, 1/2, 0} (d = 32: the
+    products of pairs of its conjugate eigenvalues) is sized once d and the eigenvalues' sizes are
+    known: under a cap below its size refused at once, naming the cap."""
     with budget.limits(max_modulus_bits=2 ** 24):
         code, err = limited(library, lambda: sk.System(A=_sqrt2_matrix(), sensors=[sk.Sensor(C=[[1] * 16])]))
         assert code == 2, err
-        with pytest.raises(BudgetError, match=r"degree d = 32 with b = 70-bit coefficients is 39066720.*--max-modulus-bits"):
+        with pytest.raises(BudgetError, match=r"pairs of conjugate eigenvalues of degree d = 32 is \d+.*--max-modulus-bits"):
             sk.System(A=_sqrt2_matrix(), sensors=[sk.Sensor(C=[[1] * 16])])
 
 
@@ -327,3 +357,77 @@ def test_a_block_in_a_notebook_shows_its_modulus_eigenvalues_and_period():
     assert unit._repr_latex_() == r"$|\lambda| = 1:\quad \lambda \in \{1\ (\times 2)\},\quad g = 1$"
     plastic = eigen_blocks(sp.Matrix([[0, 0, 1], [1, 0, 1], [0, 1, 0]]))   # x^3 - x - 1: no short form
     assert plastic[0]._repr_latex_().startswith(r"$|\lambda| \approx 1.324717957:") and "aperiodic" in plastic[1]._repr_latex_()
+
+
+# -- moduli from the products of pairs of eigenvalues -------------------------------------------
+
+DENSE_6 = [[2, -1, 3, 0, 1, -2], [1, 0, -3, 2, 2, 1], [-2, 3, 1, 1, 0, -1],
+           [0, 2, -1, -3, 1, 3], [3, 1, 0, 2, -2, 1], [-1, -3, 2, 1, 3, 0]]
+
+
+@pytest.mark.parametrize("A", [
+    DENSE_6,                                      # dense integer: complex pairs beside real eigenvalues
+    _companion([-7, 3, 0, -2, 1]),             # x^5 + x^4 - 2x^3 + 3x - 7: real roots of both signs
+    _companion([3, 0, 1, 0]),                  # x^4 + x^2 + 3: lambda, -lambda and conjugates, one modulus
+    _companion([5, 0, 0, 1, 0, 0]),            # x^6 + x^3 + 5: lambda, omega lambda, omega^2 lambda (rotations)
+])
+def test_moduli_from_pair_products_agree_with_the_isolated_resultant(A):
+    """The modulus named from the products lambda_i lambda_j (spectral._pair_modulus_poly) is the
+    root that the old path (every root of the power-sum polynomial isolated) names: the same
+    minimal polynomial and flint index; conjugates and rotated eigenvalues (lambda, -lambda,
+    omega lambda) get one equal modulus, and a block holds exactly the eigenvalues of equal
+    |lambda| (decided on balls)."""
+    evs = eigenvalues(A)
+    for ev in evs:
+        if ev.is_real:
+            continue
+        f = tuple(int(c) for c in ev.minpoly.coeffs())
+        ball = lambda prec, ev=ev: flint.acb(abs(ev.ball(prec)))  # noqa: E731
+        assert (ev.modulus._poly, ev.modulus._index) == identify(_abs_poly(f), ball, "modulus")
+    for block in eigen_blocks(A):
+        members = {e.key for e in block.members}
+        for ev in evs:
+            size = abs(complex(ev.ball(128).mid()))
+            assert (ev.key in members) == (abs(size - float(block.modulus)) < 1e-12)
+
+
+def test_dense_moduli_are_named_without_isolating_the_pair_polynomial(monkeypatch):
+    """For a dense 6 x 6 integer A (degree-6 characteristic polynomial, squarefree pair products)
+    the moduli come from the roots of f alone: no polynomial of degree above 6 has its roots
+    isolated, where the old path isolated the 30 roots of x^2-polynomial of the products."""
+    isolated = []
+    real = algebraic._complex_roots
+
+    def spy(coeffs, prec):
+        isolated.append(len(coeffs) - 1)
+        return real(coeffs, prec)
+    monkeypatch.setattr(algebraic, "_complex_roots", spy)
+    monkeypatch.setattr(spectral, "_complex_roots", spy)
+    A = [[v + 1 if i == j else v for j, v in enumerate(row)] for i, row in enumerate(DENSE_6)]
+    moduli = [ev.modulus for ev in eigenvalues(A) if not ev.is_real]
+    assert moduli and max(isolated) <= 6
+    f = tuple(int(c) for c in eigenvalues(A)[0].minpoly.coeffs())
+    assert spectral._pair_modulus_poly(f).degree() == 30
+    for m, ev in zip(moduli, [ev for ev in eigenvalues(A) if not ev.is_real]):
+        assert abs(float(m) - abs(complex(ev.ball(128).mid()))) < 1e-12
+
+
+def test_products_that_coincide_fall_back_to_isolation():
+    """x^4 + x^2 + 3 has roots lambda, -lambda and conjugates: lambda (-conj lambda) = -(lambda
+    conj lambda) twice, so the pair polynomial is not squarefree and realness cannot be read off
+    the pairs: the old path names the modulus 3^(1/4) (|lambda|^4 = |lambda^2|^2 = 3)."""
+    assert spectral._pair_modulus_poly((3, 0, 1, 0, 1)) is None
+    (block,) = eigen_blocks(_companion([3, 0, 1, 0]))
+    assert block.modulus == sp.root(3, 4) and len(block.members) == 4
+
+
+def test_pair_polynomial_of_a_dense_64_by_64_matrix_is_priced_before_it_is_built():
+    """The pair polynomial of a dense 64 x 64 integer A (entries -3..3, seed 0) has about 5.6e7 bits
+    by its estimate, under the default max_modulus_bits: below that cap the moduli are refused from
+    the roots of the characteristic polynomial alone, within seconds, naming the cap."""
+    import numpy as np
+    A = [[int(v) for v in row] for row in np.random.default_rng(0).integers(-3, 4, (64, 64))]
+    with budget.limits(max_modulus_bits=5 * 10 ** 7):
+        code, err = limited(refused_at_once, lambda: eigen_blocks(A), "max_modulus_bits", 20.0)
+    assert code == 0, err
+

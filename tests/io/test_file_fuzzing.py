@@ -143,7 +143,8 @@ def mutate(doc: dict, data: st.DataObject) -> dict:
         sensors[i]["R"] = [[data.draw(st.one_of(BAD_NUMBERS, st.sampled_from(["0", "-1", "-5/2"]),
                                                 st.integers(max_value=0)))]]
     elif kind == "Q-entry":
-        system["Q"] = [["1", "0"], ["0", data.draw(st.one_of(BAD_NUMBERS, st.sampled_from(["0", "-1"])))]]
+        # (a zero is no break: Q = diag(1, 0) is singular, but (A, Q^(1/2)) stays controllable under the rotation)
+        system["Q"] = [["1", "0"], ["0", data.draw(st.one_of(BAD_NUMBERS, st.sampled_from(["-1", "-1/3"])))]]
     elif kind == "loss-entry":
         loss["loss"][i] = data.draw(BAD_PROBABILITIES)
     elif kind == "A-shape":

@@ -227,16 +227,16 @@ def test_independent_sensors_never_build_the_joint_chain():
 
 # -- sizes priced from the shape, before a probability is read -------------------------------------
 
-#: every vector of 8 sensors: a joint chain of 2^8 = 256 states, above max_markov_states (128)
-VECTORS8 = list(itertools.product((1, 0), repeat=8))
-#: a row of 256 distinct probabilities summing to 1 (a cache of parsed texts cannot help)
-ROW8 = [f"1/{2 ** (k + 1)}" for k in range(255)] + ["1/" + str(2 ** 255)]
+#: every vector of 9 sensors: a joint chain of 2^9 = 512 states, above max_markov_states (256)
+VECTORS9 = list(itertools.product((1, 0), repeat=9))
+#: a row of 512 distinct probabilities summing to 1 (a cache of parsed texts cannot help)
+ROW9 = [f"1/{2 ** (k + 1)}" for k in range(511)] + ["1/" + str(2 ** 511)]
 
 HUGE_TABLES = {
     "iid loss": ({"kind": "iid", "loss": ["1/10"] * 10 ** 6}, 10 ** 6, "max_sensors"),
     "gilbert-elliott fail": ({"kind": "gilbert-elliott", "fail": ["1/10"] * 10 ** 6, "recover": ["1/2"] * 10 ** 6},
                              10 ** 6, "max_sensors"),
-    "markov on 8 sensors": ({"kind": "markov", "states": [list(v) for v in VECTORS8], "P": [ROW8] * 256}, 8,
+    "markov on 9 sensors": ({"kind": "markov", "states": [list(v) for v in VECTORS9], "P": [ROW9] * 512}, 9,
                             "max_markov_states"),
     "markov P of a million rows": ({"kind": "markov", "states": [[1], [0]], "P": [["1/2", "1/2"]] * 10 ** 6}, 1,
                                    "max_markov_states"),
@@ -259,13 +259,13 @@ def test_a_loss_table_too_large_is_refused_from_its_shape_at_once(name):
 
 
 @pytest.mark.parametrize("build, cap", [
-    (lambda: MarkovLoss({v: dict(zip(VECTORS8, ROW8)) for v in VECTORS8}), "max_markov_states"),
+    (lambda: MarkovLoss({v: dict(zip(VECTORS9, ROW9)) for v in VECTORS9}), "max_markov_states"),
     (lambda: MarkovLoss({(1,): {(1,): "1/2", (0,): "1/2"}, (0,): {(1,): "1/2", (0,): "1/2"}},
                         initial={k: "1/2" for k in range(10 ** 6)}), "max_markov_states"),
     (lambda: MarkovNetworkState([["1"]] * 5000), "max_network_chain"),
     (lambda: SemiMarkovNetworkState([["1"]], [["1/10"] * 10 ** 6]), "max_network_chain"),
     (lambda: SensorTree([0] * 10 ** 6), "max_sensors"),
-], ids=["markov on 8 sensors", "markov initial", "network P", "holding law", "sensor tree"])
+], ids=["markov on 9 sensors", "markov initial", "network P", "holding law", "sensor tree"])
 def test_a_model_too_large_is_refused_from_its_shape_at_once(build, cap):
     code, err = limited(refused_at_once, build, cap)
     assert code == 0, err

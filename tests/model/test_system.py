@@ -98,12 +98,12 @@ def test_undetectable_pair_names_the_mode():
 
 
 @pytest.mark.parametrize("build, option", [
-    (lambda: sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]]) for _ in range(65)]), "--max-sensors"),
+    (lambda: sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])] * (2 ** 14 + 1)), "--max-sensors"),
     (lambda: sk.System(A=[[1 if i == j else 0 for j in range(1000)] for i in range(1000)],
                        sensors=[sk.Sensor(C=[[1] * 1000])]), "--max-dimension"),
-    (lambda: sk.IID(["1/2"] * 65), "--max-sensors"),
-    (lambda: sk.MarkovLoss({h: {(0,): "1/2", (1,): "1/2"} for h in itertools.product([(0,), (1,)], repeat=8)},
-                           order=8), "--max-markov-states"),
+    (lambda: sk.IID(["1/2"] * (2 ** 14 + 1)), "--max-sensors"),
+    (lambda: sk.MarkovLoss({h: {(0,): "1/2", (1,): "1/2"} for h in itertools.product([(0,), (1,)], repeat=9)},
+                           order=9), "--max-markov-states"),
 ])
 def test_large_inputs_refused_early(build, option):
     with pytest.raises(BudgetError, match=option):
@@ -249,8 +249,17 @@ def test_actuators_that_do_not_fit_the_system_are_refused_by_name(actuators, W, 
 
 
 def test_too_many_actuators_are_refused_by_the_sensors_cap():
-    with pytest.raises(BudgetError, match="actuators: the number of actuators is 65.*--max-sensors"):
-        sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])], actuators=[sk.Actuator(B=[[1]]) for _ in range(65)])
+    with pytest.raises(BudgetError, match="actuators: the number of actuators is 16385.*--max-sensors"):
+        sk.System(A=[[2]], sensors=[sk.Sensor(C=[[1]])], actuators=[sk.Actuator(B=[[1]])] * (2 ** 14 + 1))
+
+
+def test_many_sensors_stack_into_C_in_their_order():
+    """1024 sensors (above the former size cap of 64: the sensors' count bounds memory only) stack
+    into the 1024 x 2 C row by row, and the system is observable exactly when some row sees the
+    rotation."""
+    rows = [[j % 3, (j + 1) % 2] for j in range(1024)]
+    S = sk.System(A=[[0, -2], [2, 0]], sensors=[sk.Sensor(C=[r]) for r in rows])
+    assert S.C.shape == (1024, 2) and S.C.tolist() == rows and S.observable
 
 
 def controlled(A, *Bs):
