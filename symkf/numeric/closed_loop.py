@@ -33,13 +33,36 @@ Bernoulli channel of a given arrival rate.
 
 :func:`simulate_loop` runs the loop on the true state, paths vectorised (leading axis), and
 estimates ``E[x_k' W x_k]`` and ``E[||x_k||^2]`` per step with standard errors
-(:class:`LoopSimulation`).  :func:`loop_divergence` decides from simulation whether ``E[x'Wx]``
-stays bounded with the discipline of :func:`symkf.numeric.verify.verify`: three independent runs
-at ``h, 2h, 3h`` sample final bursts of lost controls or lost observations (``Gamma_k = 0``: the
-open loop, ``x`` grows by ``A``; ``gamma_k = 0``: the error grows by ``A``) with exact
-likelihood ratios (:func:`symkf.numeric.montecarlo._final_burst_log_ratio`), and
-:func:`symkf.numeric.montecarlo._divergence_verdict` turns them into the margin (Fieller),
-its allowance and a verdict.
+(:class:`LoopSimulation`).
+
+:func:`loop_divergence` decides from simulation whether ``E[x'Wx]`` stays bounded with the
+discipline of :func:`symkf.numeric.verify.verify` (three independent runs at ``h, 2h, 3h``,
+:func:`symkf.numeric.montecarlo._divergence_verdict`: the margin's Fieller interval, its
+allowance, a verdict).  Given the loss sequences the loop is linear, with the filter's gains a
+function of the observations' losses (TCP-like: the Kalman gain of ``P_{k|k-1}``; UDP-like: ``P``
+takes ``E[u u' | losses]`` in place of ``u u'``, the simulated estimator's gain when the
+measurements are noiseless), so ``Sigma_k = E[z_k z_k' | losses]``, ``z = (x_k - x^_{k|k-1},
+x^_{k|k-1})``, follows ``Sigma' = M_o Sigma M_o' + N_o R N_o' + Q_z`` for each step's reception
+state ``o`` and ``E[x_K' W x_K | losses]`` is computed, not sampled (Rao-Blackwellisation: the
+noises leave the estimator's variance).  Only the losses are drawn (:func:`_moment_sample`), from
+a path-level mixture whose components' path probabilities are known on every path, with the
+exact balance-heuristic ratio ``p / sum_c a_c q_c``:
+
+0. the losses' own law (defensive);
+1. the controls twisted by ``<H_{k+1}, E[x_{k+1} x_{k+1}' | o]>``, ``H_k`` the backward value of
+   the controls' jump linear system ``x+ = (A - B Gamma L) x`` from ``W``, observations from their law;
+2. every outcome twisted by ``<H'_{k+1}, Sigma'_o> + c_{k+1}``, the backward value (with its noise
+   term) of the loop's linear model with the steady gain of the filter that receives everything
+   (exact for the UDP-like scalar noiseless loop);
+3. (i.i.d. observations) a window of lost observations (every sensor) at a uniform place, of a
+   length drawn ``~ (p_lost rho(A)^2)^l`` and at most as long as float64 follows (the filter's
+   heavy tail: a burst's covariance, moved into ``x^`` by the next reception), the losses' own
+   law elsewhere; ``q / p`` sums over the windows the path's runs of losses contain.
+
+The gains are computed in square-root form (:func:`_gains`), and TCP-like ``E[e e' | losses]``
+must stay the filter's own ``P``: paths where the two part (a burst spread a covariance beyond
+float64's resolution) may carry at most :data:`MAX_PARTED_SHARE` of the estimate, else the run
+is refused (:class:`~symkf.errors.NumericalBreakdownError`: a shorter horizon resolves it).
 """
 
 from __future__ import annotations
@@ -61,10 +84,8 @@ from ..model.loss import LossFactor, LossModel, checked
 from ..model.system import System
 from ..output import JsonDocument
 from . import receptions
-from .montecarlo import (MAX_PATH_SHARE, MAX_REL_STDERR, DivergenceResult, _burst_lengths,
-                         _divergence_verdict, _factor_tilt, _final_burst_log_ratio, _weighted_log_mean, _z,
-                         rate_horizons)
-from .receptions import chain_states, cumulative, emit_into, groups
+from .montecarlo import (MAX_PATH_SHARE, MAX_REL_STDERR, RESOLUTION_BITS, DivergenceResult, _burst_lengths,
+                         _divergence_verdict, _weighted_log_mean, _z, rate_horizons)
 
 PROTOCOLS = ("tcp", "udp")
 
@@ -296,71 +317,6 @@ def _channel(arrival: Any, sizes: tuple[int, ...], entry: str) -> _Channel:
                      f"'sensor' per {'sensor' if entry == 'gamma' else 'actuator'}, got {type(arrival).__name__}")
 
 
-def _bursts(channels: tuple[_Channel, _Channel], K: int, m: int,
-            weights: tuple[float, list[np.ndarray], list[np.ndarray]],
-            rng: np.random.Generator) -> tuple[list[np.ndarray], np.ndarray, str]:
-    """Receptions of both sides with final bursts, and ``log dP/dQ`` per path.
-
-    Component 0 (when the sensors can all be lost at once) is the observations' loss chain
-    conditioned to lose everything (:func:`symkf.numeric.montecarlo._factor_tilt`), the error then
-    growing by ``A`` (``weights[0] = rho(A)^2`` per step), except at the last step ``K - 1``: the
-    state lags the estimate by one step (``x_K = A x_{K-1} - B L x^_{K-1|K-1}``), so a path whose
-    burst ends with an observation at ``K - 1`` still carries a share of ``E[x_K' W x_K]``; that
-    step's chain is twisted by ``weights[2]`` instead (``rho(A)^2`` lost, ``rho(A - BL)^2``
-    received).  (Twisting the controls too in the last steps of this component, by
-    ``weights[1]``, was measured worse: after lost observations a received control does not
-    shrink ``x``, so those weights misdirect the draws.)  Component 1 is the
-    controls' chain twisted by ``weights[1]`` (per factor and state, the growth
-    ``rho(A - B Gamma L)^2`` of that state's reception pattern), so that its bursts follow the
-    sequences carrying ``E[x'Wx]`` (all lost for a deadbeat gain, mixed for others).  Every law
-    keeps ``DEFENSIVE`` of the original one; burst lengths ``L`` come from
-    :func:`symkf.numeric.montecarlo._burst_lengths`; outside its burst a channel follows its law.
-    The ratio sums over every ``(c, L)`` (exact, so the estimate is unbiased for any tilt)."""
-    growth, control, last = weights
-    none = np.zeros((1, channels[0].d), bool)
-    sensors, actuators = channels
-    # laws[side][t - 1][factor]: law t of that side's chain
-    laws = [[[_factor_tilt(f, none) for f in sensors.factors],
-             [_factor_tilt(f, none, w[None]) for f, w in zip(sensors.factors, last)]],
-            [[_factor_tilt(f, none, w[None]) for f, w in zip(actuators.factors, control)]]]
-    per_step = [math.prod(t.rate for t in laws[0][0]) * growth, math.prod(t.rate for t in laws[1][0])]
-    sides = [c for c in range(2) if per_step[c] > 0]
-    if not sides:
-        return [receptions.sample(ch.factors, K, m, ch.d, rng) for ch in channels], np.zeros(m), "plain Monte Carlo"
-    # position[c][side][k]: the law of that side at step k inside a burst of component c (0: its own)
-    zero, one = np.zeros(K, np.intp), np.ones(K, np.intp)
-    position = [[np.where(np.arange(K) == K - 1, 2, 1), zero], [zero, one]]
-    position = [position[c] for c in sides]
-    L, log_law = _burst_lengths(K, max(per_step[c] for c in sides), rng, m)
-    comp = rng.integers(0, len(sides), m)
-    inside = np.arange(K)[:, None] >= K - L[None, :]
-    lr = np.zeros((len(sides), K, m))
-    out = []
-    for side, ch in enumerate(channels):
-        received = np.empty((K, m, ch.d), bool)
-        table = np.where(inside, np.stack([p[side] for p in position], axis=1)[:, comp], 0)
-        for group in groups(ch.factors):
-            idx = [ch.factors.index(f) for f in group]
-            first = np.stack([np.stack([cumulative(f.init) for f in group])]
-                             + [np.stack([law[i].cum_init for i in idx]) for law in laws[side]])
-            step = np.stack([np.stack([cumulative(f.P) for f in group])]
-                            + [np.stack([law[i].cum[0] for i in idx]) for law in laws[side]])
-            x = chain_states(first, step, table if table.any() else None, rng, (K, m, len(group)))
-            for c, pos in enumerate(p[side] for p in position):
-                for j, i in enumerate(idx):
-                    xs = x[:, :, j].astype(np.intp)
-                    for t, law in enumerate(laws[side], 1):
-                        if pos[0] == t:
-                            lr[c, 0] += law[i].logr_init[xs[0]]
-                        ks = np.flatnonzero(pos[1:] == t) + 1
-                        S = law[i].logr.shape[-1]
-                        lr[c, ks] += law[i].logr[0].ravel().take(xs[ks - 1] * S + xs[ks])
-            emit_into(received, group, x)
-        out.append(received)
-    names = " and ".join(("observations", "controls")[c] for c in sides)
-    return out, _final_burst_log_ratio(lr, log_law), f"final bursts of lost {names} (importance sampling)"
-
-
 # ------------------------------------------------------------------ the loop
 
 def _root(M: np.ndarray) -> np.ndarray:
@@ -380,10 +336,9 @@ def _log_quadratic(x: np.ndarray, M: np.ndarray | None) -> np.ndarray:
 
 
 def _run(plant: LoopPlant, L: np.ndarray, protocol: str, channels: tuple[_Channel, _Channel],
-         received: Sequence[np.ndarray], rng: np.random.Generator, every: bool) -> dict[str, np.ndarray]:
+         received: Sequence[np.ndarray], rng: np.random.Generator) -> dict[str, np.ndarray]:
     """Per path, of the loop driven by the receptions ``received`` (K, paths, channels) of both
-    sides: ``"cost"`` ``log x_k' W x_k`` at ``k = 0..K`` (``every``) or ``K`` only; with ``every``
-    also ``"norm"`` ``log ||x_k||^2`` (``k = 0..K``), and after each update (``k = 0..K-1``)
+    sides: ``"cost"`` ``log x_k' W x_k`` and ``"norm"`` ``log ||x_k||^2`` (``k = 0..K``), and after each update (``k = 0..K-1``)
     ``"error"`` ``log ||x_k - x^_{k|k}||^2`` and ``"trace"`` ``log tr P_{k|k}``, the estimator's
     own account of that error."""
     A, B, C, Q, R = plant.A, plant.B, plant.C, plant.Q, plant.R
@@ -402,9 +357,8 @@ def _run(plant: LoopPlant, L: np.ndarray, protocol: str, channels: tuple[_Channe
     out: dict[str, list] = {"cost": [], "norm": [], "error": [], "trace": []}
     try:
         for k in range(K):
-            if every:
-                out["cost"].append(_log_quadratic(x, plant.W))
-                out["norm"].append(_log_quadratic(x, None))
+            out["cost"].append(_log_quadratic(x, plant.W))
+            out["norm"].append(_log_quadratic(x, None))
             g = received[0][k][:, sensors.index].astype(float)
             y = x @ C.T + rng.standard_normal((m, p)) @ fR.T
             CP = np.einsum("ij,pjk->pik", C, P)
@@ -416,9 +370,8 @@ def _run(plant: LoopPlant, L: np.ndarray, protocol: str, channels: tuple[_Channe
             J = eye_n - np.einsum("pin,ik->pnk", G, C)              # I - K C, K = G'
             P = J @ P @ J.transpose(0, 2, 1) + np.einsum("pin,ij,pjk->pnk", G, R, G)     # Joseph form
             P = (P + P.transpose(0, 2, 1)) / 2
-            if every:
-                out["error"].append(_log_quadratic(x - xh, None))
-                out["trace"].append(np.log(np.trace(P, axis1=1, axis2=2)))
+            out["error"].append(_log_quadratic(x - xh, None))
+            out["trace"].append(np.log(np.trace(P, axis1=1, axis2=2)))
             u = -xh @ L.T
             a = received[1][k][:, actuators.index].astype(float)
             x = x @ A.T + (a * u) @ B.T + rng.standard_normal((m, n)) @ fQ.T
@@ -454,17 +407,22 @@ def _gain(plant: LoopPlant, nu: _Channel, protocol: str, gain: Any) -> np.ndarra
                            None if single else list(plant.actuator_columns))[1]
 
 
-def memory_estimate(plant: LoopPlant, horizon: int, paths: int, every: bool) -> int:
-    """Peak bytes (estimate) of one run of :func:`simulate_loop` (``every``) or of one of
-    :func:`loop_divergence`'s runs: the receptions of both sides (one byte per channel, step and
-    path; the chain states as many again), the burst sampler's likelihood ratios and their tail
-    sums (two components), the per-path covariances and their temporaries (about eight arrays of
-    ``n^2 + p^2 + n p`` floats), and with ``every`` the four per-step records (and their copy)."""
+def memory_estimate(plant: LoopPlant, horizon: int, paths: int, outcomes: int | None = None) -> int:
+    """Peak bytes (estimate) of one run of :func:`simulate_loop` (``outcomes`` None) or of one of
+    :func:`loop_divergence`'s runs over ``outcomes`` joint reception states per step.
+
+    :func:`simulate_loop`: the receptions of both sides (one byte per channel, step and path; the
+    chain states as many again), the per-path covariances and their temporaries (about eight
+    arrays of ``n^2 + p^2 + n p`` floats) and the four per-step records (and their copy).
+    :func:`loop_divergence`: per path and outcome, the next second moments, the loop's maps and
+    their temporaries (about six arrays of ``(2n)^2`` floats, and the gains' ``3 n p + 2 n^2``),
+    and the twists' values per step and outcome (``(2n)^2 + n^2`` floats)."""
     n, p = plant.n, plant.C.shape[0]
-    channels = len(plant.sensor_rows) + len(plant.actuator_columns)
-    step = 8 * paths * 8 * (n * n + p * p + n * p + n + p)
-    records = 8 * 8 * (horizon + 1) * paths if every else 4 * 8 * 2 * (horizon + 1) * paths
-    return 2 * channels * horizon * paths + step + records
+    if outcomes is None:
+        channels = len(plant.sensor_rows) + len(plant.actuator_columns)
+        step = 8 * paths * 8 * (n * n + p * p + n * p + n + p)
+        return 2 * channels * horizon * paths + step + 8 * 8 * (horizon + 1) * paths
+    return 8 * outcomes * (paths * (6 * 4 * n * n + 3 * n * p + 2 * n * n) + (horizon + 1) * 5 * n * n)
 
 
 def _setup(plant: LoopPlant | System, gamma: Any, nu: Any, protocol: str,
@@ -477,6 +435,236 @@ def _setup(plant: LoopPlant | System, gamma: Any, nu: Any, protocol: str,
         raise InputError("nu: the UDP-like estimator uses the expected input Lambda u, defined for Bernoulli "
                          "(i.i.d.) control losses; give an arrival rate or an IID model")
     return plant, channels, _gain(plant, channels[1], protocol, gain)
+
+
+# ------------------------------------------------------------------ the conditional-moment sampler
+
+@dataclass(frozen=True)
+class _Chain:
+    """One side's receptions as one chain, the product of its factors' chains: transition ``T``,
+    initial law ``init`` and, per joint state, each row's (sensors) or column's (actuators)
+    reception as 0/1 floats (``emit``, states x rows)."""
+
+    T: np.ndarray
+    init: np.ndarray
+    emit: np.ndarray
+
+
+def _joint(ch: _Channel) -> _Chain:
+    T, init, emit = np.ones((1, 1)), np.ones(1), np.zeros((1, ch.d), bool)
+    for f in ch.factors:
+        T, init = np.kron(T, f.P), np.kron(init, f.init)
+        e = np.repeat(emit, len(f.P), axis=0)            # the new factor's state runs fastest, as in kron
+        e[:, list(f.sensors)] = np.tile(f.emit, (len(emit), 1))
+        emit = e
+    return _Chain(T, init, emit[:, ch.index].astype(float))
+
+
+def _states(channels: tuple[_Channel, _Channel]) -> int:
+    """The number of joint reception states of both sides (the sampler's outcomes per step)."""
+    return math.prod(len(f.P) for ch in channels for f in ch.factors)
+
+
+def _gains(plant: LoopPlant, g: np.ndarray, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Kalman gains ``K`` and updated covariances ``P_{k|k}`` per path (``P``: paths x n x n, the
+    prediction ``P_{k|k-1}``) and reception pattern (rows ``g``, patterns x p: the received rows
+    are measured, the lost ones are not): paths x patterns x n x p and paths x patterns x n x n.
+
+    In square-root form: ``P = F F'`` (eigenvalues that rounding made negative taken as 0),
+    ``G = R_g^{-1/2} C_g F = U s V'``; then ``K = F V diag(s / (1 + s^2)) U' R_g^{-1/2}`` and
+    ``P_{k|k} = F V diag(1 / (1 + s^2)) V' F'`` (Woodbury).  Formed as ``P C' (C P C' + R)^{-1}``
+    the gain is lost once ``P``'s scales spread beyond 1e16 (a long burst of lost observations):
+    the rounded ``C P C' + R`` then mixes ``P``'s largest scale into its smallest directions."""
+    C, R = plant.C, plant.R
+    vals, vecs = np.linalg.eigh((P + np.swapaxes(P, -1, -2)) / 2)
+    F = vecs * np.sqrt(np.maximum(vals, 0.0))[:, None, :]
+    # per pattern: R of the received rows, unit noise on the lost ones (which C_g does not measure)
+    Rg = R * (g[:, :, None] * g[:, None, :]) + np.eye(len(C)) * (1 - g)[:, :, None]
+    rv, rw = np.linalg.eigh(Rg)
+    Rih = (rw / np.sqrt(rv)[:, None, :]) @ np.swapaxes(rw, -1, -2)
+    G = (Rih @ (g[:, :, None] * C))[None] @ F[:, None]
+    U, s, Vt = np.linalg.svd(G, full_matrices=False)
+    FV = F[:, None] @ np.swapaxes(Vt, -1, -2)
+    K = (FV * (s / (1 + s * s))[..., None, :]) @ np.swapaxes(U, -1, -2) @ Rih[None]
+    Fp = FV * np.sqrt(1 / (1 + s * s))[..., None, :]
+    # a pattern measuring fewer rows than n leaves directions of F that G does not see
+    rest = F[:, None] @ (np.eye(plant.n) - np.swapaxes(Vt, -1, -2) @ Vt)
+    return K, Fp @ np.swapaxes(Fp, -1, -2) + rest @ np.swapaxes(rest, -1, -2)
+
+
+def _loop_maps(plant: LoopPlant, L: np.ndarray, protocol: str, a: np.ndarray, lam: np.ndarray | None,
+               K: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The loop given the receptions, on ``z_k = (e_k, x^_{k|k-1})``, ``e_k = x_k - x^_{k|k-1}``:
+    ``z_{k+1} = M z_k + N v_k + (w_k, 0)`` with ``x^_{k|k} = J z_k + K v_k``; ``M``, ``N``, ``J`` for
+    gains ``K`` (..., n, p) and control receptions ``a`` (..., m) broadcast together.  (In these
+    coordinates ``x = e + x^`` adds parts that the TCP-like filter keeps uncorrelated, where
+    ``(x, x^)`` would subtract nearly equal ones once ``x`` is large.)"""
+    A, B, C = plant.A, plant.B, plant.C
+    n = plant.n
+    KC = K @ C
+    J = np.concatenate([KC, np.broadcast_to(np.eye(n), KC.shape)], axis=-1)       # x^_{k|k} = x^ + K (C e + v)
+    BGL = B @ (a[..., :, None] * L)
+    BEL = BGL if protocol == "tcp" else np.broadcast_to(B @ (lam[:, None] * L), BGL.shape)
+    # e' = A (I - K C) e - A K v - B (Gamma - E Gamma) L x^_{k|k} + w,  x^' = (A - B E Gamma L) x^_{k|k}
+    # (E Gamma: Gamma TCP-like, Lambda UDP-like, so that the first term's x^ part is exactly 0 TCP-like)
+    D = np.concatenate([BEL - BGL, A - BEL], axis=-2)
+    M = D @ J
+    M[..., :n, :n] += A - A @ KC
+    N = D @ K
+    N[..., :n, :] -= A @ K
+    return M, N, J
+
+
+def _steady(plant: LoopPlant) -> np.ndarray:
+    """``P_{k|k-1}`` of the filter that receives everything, iterated from ``P0`` (for the twists'
+    value model only: a plant whose filter diverges stops at 1e12)."""
+    A, C, Q, R = plant.A, plant.C, plant.Q, plant.R
+    P = plant.P0.copy()
+    for _ in range(2000):
+        CP = C @ P
+        nxt = A @ (P - CP.T @ np.linalg.solve(CP @ C.T + R, CP)) @ A.T + Q
+        nxt = (nxt + nxt.T) / 2
+        if np.allclose(nxt, P, rtol=1e-12, atol=1e-14) or np.abs(nxt).max() > 1e12:
+            return nxt
+        P = nxt
+    return P
+
+
+#: the largest share of :func:`_moment_sample`'s estimate that paths beyond float64's resolution may
+#: carry (their error moves ``log E`` by at most about this much)
+MAX_PARTED_SHARE = 0.01
+
+#: how :func:`loop_divergence` samples, in its results' words
+SAMPLING = "conditional second moments given the losses, losses from a mixture of twisted laws (importance sampling)"
+
+#: the mixture of :func:`_moment_sample` (module docstring): the losses' own law (defensive),
+#: controls twisted, every outcome twisted, a window of lost observations (its share goes to the
+#: losses' own law where the observations are not i.i.d.)
+MIX = (0.1, 0.25, 0.15, 0.5)
+
+
+def _moment_sample(plant: LoopPlant, L: np.ndarray, protocol: str, channels: tuple[_Channel, _Channel], K: int,
+                   m: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """``log E[x_K' W x_K | losses]`` and ``log dP/dQ`` per path (module docstring, the sampler).
+
+    Per step, every joint reception state ``o = (o_s, o_a)`` of the two sides is scored and one is
+    drawn from the path's component of the mixture :data:`MIX` (each component's law is a
+    function of the path so far, so every component's path probability is known on every path
+    and the ratio ``p / sum_c MIX_c q_c`` is exact: the balance heuristic)."""
+    A, B, Q, R, W = plant.A, plant.B, plant.Q, plant.R, plant.W
+    n, n2 = plant.n, 2 * plant.n
+    sensors, actuators = (_joint(ch) for ch in channels)
+    Ns, Na = len(sensors.T), len(actuators.T)
+    N = Ns * Na
+    T = np.kron(sensors.T, actuators.T)
+    a = np.tile(actuators.emit, (Ns, 1))                     # the controls received in joint state o
+    lam = None
+    if protocol == "udp":
+        rates = channels[1].rates[channels[1].index]
+        lam = rates
+        V = np.where(channels[1].index[:, None] == channels[1].index[None, :], (rates * (1 - rates))[:, None], 0.0)
+    Qz, Wz = np.zeros((n2, n2)), np.zeros((n2, n2))
+    Qz[:n, :n], Wz = Q, np.tile(W, (2, 2))            # x' W x with x = e + x^
+    # the twists' values: H (every outcome, the loop with the steady filter gain) and Hc (the
+    # controls' jump linear system x+ = (A - B Gamma L) x), backward from W, per joint state
+    Ms, Ns_, _ = _loop_maps(plant, L, protocol, a, lam, _gains(plant, sensors.emit, _steady(plant)[None])[0][0].repeat(Na, axis=0))
+    F = A - B @ (actuators.emit[:, :, None] * L)
+    noise = np.einsum("oij,jk,olk->oil", Ns_, R, Ns_) + Qz
+    H, c, Hc = np.empty((K + 1, N, n2, n2)), np.zeros((K + 1, N)), np.empty((K + 1, Na, n, n))
+    H[K], Hc[K] = Wz / np.trace(W), W / np.trace(W)
+    for k in range(K - 1, -1, -1):
+        nxt = np.einsum("so,oji,ojk,okl->sil", T, Ms, H[k + 1], Ms)
+        cn = T @ (c[k + 1] + np.einsum("oij,oij->o", H[k + 1], noise))
+        s = max(np.trace(nxt, axis1=1, axis2=2).max(), 1e-300)
+        H[k], c[k] = nxt / s, cn / s
+        nc = np.einsum("so,oji,ojk,okl->sil", actuators.T, F, Hc[k + 1], F)
+        Hc[k] = nc / max(np.trace(nc, axis1=1, axis2=2).max(), 1e-300)
+    Sig = np.zeros((m, n2, n2))
+    Sig[:, :n, :n] = plant.P0
+    P = np.broadcast_to(plant.P0, (m, n, n)).copy()
+    logp, logq = np.zeros(m), np.zeros((2, m))
+    mix = np.array(MIX)
+    # the window component: a burst of lost observations (every sensor) of length ~ (p_lost rho(A)^2)^l
+    # at a uniform place, the observations' own law elsewhere; for i.i.d. observations only
+    lost = np.flatnonzero(~sensors.emit.any(axis=1))
+    iid = lost.size == 1 and np.allclose(sensors.T, sensors.T[0]) and sensors.T[0, lost[0]] > 0
+    if not iid:
+        mix[3], mix[0] = 0.0, mix[0] + mix[3]
+    comp = np.searchsorted(np.cumsum(mix), rng.random(m), side="right")
+    if iid:
+        p_lost, alpha = sensors.T[0, lost[0]], float(np.abs(np.linalg.eigvals(A)).max())
+        # windows no longer than float64 follows: P spans alpha^(2l) (symkf.numeric.montecarlo.float_horizon)
+        longest = K if alpha <= 1 else min(K, max(8, int(RESOLUTION_BITS * math.log(2) / math.log(alpha))))
+        width, log_len = _burst_lengths(longest, p_lost * alpha ** 2, rng, m)
+        start = (rng.random(m) * (K - width + 1)).astype(np.intp)
+        ls = np.arange(longest + 1)
+        # log sum_{l <= r} pi(l) / (K - l + 1) / p_lost^l: the window mixture's q / p at an end with r losses before it
+        log_run = np.logaddexp.accumulate(log_len - np.log(K - ls + 1) - ls * math.log(p_lost))
+        run, acc = np.zeros(m, np.intp), np.full(m, log_run[0])
+        forced = np.zeros(N)
+        forced[lost[0] * Na:(lost[0] + 1) * Na] = 1.0
+    rows, parted = np.arange(m), np.zeros(m, bool)
+    prev = None
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore", under="ignore"):
+        for k in range(K):
+            p = np.broadcast_to(np.kron(sensors.init, actuators.init), (m, N)) if prev is None else T[prev]
+            Kg, Pg = _gains(plant, sensors.emit, P)                              # paths x Ns x ...
+            Ko = np.repeat(Kg, Na, axis=1)
+            M, Nv, J = _loop_maps(plant, L, protocol, a, lam, Ko)
+            Sn = M @ Sig[:, None] @ np.swapaxes(M, -1, -2) + Nv @ R @ np.swapaxes(Nv, -1, -2) + Qz
+            Sn = (Sn + np.swapaxes(Sn, -1, -2)) / 2
+            hc = np.tile(Hc[k + 1], (Ns, 1, 1))
+            Sx = Sn[:, :, :n, :n] + Sn[:, :, :n, n:] + Sn[:, :, n:, :n] + Sn[:, :, n:, n:]       # E[x x' | o]
+            h1 = np.clip(np.einsum("poij,oij->po", Sx, hc), 1e-300, None).reshape(m, Ns, Na)
+            pr = p.reshape(m, Ns, Na)
+            q1 = pr * h1
+            q1 = (pr.sum(axis=2, keepdims=True) * q1 / q1.sum(axis=2, keepdims=True)).reshape(m, N)
+            q2 = p * np.clip(np.einsum("poij,oij->po", Sn, H[k + 1]) + c[k + 1], 1e-300, None)
+            q2 = q2 / q2.sum(axis=1, keepdims=True)
+            q = np.select([comp[:, None] == 1, comp[:, None] == 2], [q1, q2], p)
+            if iid:
+                inside = (comp == 3) & (start <= k) & (k < start + width)
+                q = np.where(inside[:, None], p * forced / (p * forced).sum(axis=1, keepdims=True), q)
+            o = np.minimum((np.cumsum(q, axis=1)[:, :-1] <= rng.random(m)[:, None]).sum(axis=1), N - 1)
+            logp += np.log(p[rows, o])
+            logq += np.log(np.stack([q1[rows, o], q2[rows, o]]))
+            os_ = o // Na
+            if iid:
+                run = np.where(os_ == lost[0], run + 1, 0)
+                acc = np.logaddexp(acc, log_run[np.minimum(run, longest)])
+            Kp, P_post = Kg[rows, os_], Pg[rows, os_]
+            if protocol == "udp":
+                Jo = J[rows, o]
+                Euu = L @ (Jo @ Sig @ np.swapaxes(Jo, -1, -2) + Kp @ R @ np.swapaxes(Kp, -1, -2)) @ L.T
+            P = A @ P_post @ A.T + Q
+            if protocol == "udp":
+                P = P + B @ (V * Euu) @ B.T
+            Sig, prev = Sn[rows, o], o
+            # TCP-like, E[e e' | losses] is the filter's own P: where the two part by a share of the
+            # second moment, float64 lost the small directions of a covariance spread beyond its
+            # resolution (the gain is then noise)
+            if protocol == "tcp":
+                te, th = np.trace(Sig[:, :n, :n], axis1=1, axis2=2), np.trace(Sig[:, n:, n:], axis1=1, axis2=2)
+                parted |= np.abs(te - np.trace(P, axis1=1, axis2=2)) > 0.01 * (te + th)
+            if not (np.all(np.isfinite(P)) and np.all(np.isfinite(Sig))):
+                raise NumericalBreakdownError(f"the loop's conditional second moments left float64 at step {k + 1} "
+                                              f"of {K}: a shorter horizon resolves it")
+        terms = [np.log(mix[0]) + logp, *(np.log(mix[1:3])[:, None] + logq)]
+        if iid:
+            terms.append(np.log(mix[3]) + logp + acc)
+        logw = logp - np.logaddexp.reduce(np.vstack(terms), axis=0)
+        logv = np.log(np.einsum("pij,ij->p", Sig, Wz))
+    if not (np.all(np.isfinite(logv)) and np.all(np.isfinite(logw))):
+        # a cost that rounding made negative: P's scales spread beyond float64 on some path
+        raise NumericalBreakdownError(f"the loop's conditional second moments lost their definiteness in float64 "
+                                      f"within {K} steps: a shorter horizon resolves it")
+    y = logv + logw
+    share = np.exp(y[parted] - y.max()).sum() / np.exp(y - y.max()).sum()
+    if share > MAX_PARTED_SHARE:
+        raise NumericalBreakdownError(f"paths whose second moments parted from the filter's covariance in float64 "
+                                      f"(bursts that spread its scales beyond float64) carry {share:.1%} of the "
+                                      f"estimate at {K} steps: a shorter horizon resolves it")
+    return logv, logw
 
 
 # ------------------------------------------------------------------ results
@@ -593,11 +781,11 @@ def simulate_loop(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol: L
     plant, channels, L = _setup(plant, gamma, nu, protocol, gain)
     horizon, paths = count(horizon, "horizon", 1), count(paths, "paths", 2)
     _z(confidence)
-    budget.check("max_memory", memory_estimate(plant, horizon, paths, True), "paths x horizon",
+    budget.check("max_memory", memory_estimate(plant, horizon, paths), "paths x horizon",
                  f"the bytes (estimate) of a closed-loop simulation of {paths} paths over {horizon} steps")
     rng = np.random.default_rng(seed)
     received = [receptions.sample(ch.factors, horizon, paths, ch.d, rng) for ch in channels]
-    records = _run(plant, L, protocol, channels, received, rng, True)
+    records = _run(plant, L, protocol, channels, received, rng)
     log_cost, rel = _estimates(records["cost"], seed)
     share = np.exp(records["cost"].max(axis=1) - log_cost) / paths       # the largest path's share of the sum
     return LoopSimulation(protocol, L, log_cost, rel, *_estimates(records["norm"], seed),
@@ -654,30 +842,6 @@ class LoopDivergence(JsonDocument):
         return f"<pre>{html.escape(repr(self))}</pre>"
 
 
-def _burst_weights(plant: LoopPlant, channels: tuple[_Channel, _Channel],
-                   L: np.ndarray) -> tuple[float, list[np.ndarray], list[np.ndarray]]:
-    """The growth weights of :func:`_bursts`: ``rho(A)^2`` (the error's growth while observations
-    are lost); per control factor and state, ``rho(A - B Gamma L)^2`` with that state's actuators
-    as it emits them and the others received (for one channel, the twisted chain is then the
-    zero-variance law of ``prod_k |a - nu_k b L|^2``); per sensor factor and state, ``rho(A)^2``
-    when the state loses all the factor's sensors, else ``rho(A - B L)^2``."""
-    def growth(M: np.ndarray) -> float:
-        return float(np.abs(np.linalg.eigvals(M)).max()) ** 2
-
-    sensors, actuators = channels
-    control = []
-    for f in actuators.factors:
-        w = []
-        for state in f.emit:
-            on = np.ones(actuators.d)
-            on[list(f.sensors)] = state
-            w.append(growth(plant.A - plant.B @ (on[actuators.index][:, None] * L)))
-        control.append(np.array(w))
-    open_loop, closed = growth(plant.A), growth(plant.A - plant.B @ L)
-    last = [np.where(f.emit.any(axis=1), closed, open_loop) for f in sensors.factors]
-    return open_loop, control, last
-
-
 #: the least effective sample size (of the three runs') on which :func:`loop_divergence` says "stable"
 #: from the growth alone (its margin not resolved)
 MIN_ESS = 100
@@ -690,10 +854,11 @@ def loop_divergence(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol:
 
     Three independent runs (seeds ``seed .. seed + 2``) at ``h, 2h, 3h``
     (:func:`symkf.numeric.montecarlo.rate_horizons`, ``3h <= horizon``) estimate ``log E[x_K' W
-    x_K]`` with final bursts of lost controls and lost observations; the margin (growth factor
-    per step) and the verdict follow :func:`symkf.numeric.montecarlo._divergence_verdict`
-    (``degree``: the factors ``k`` the allowance admits, :func:`~symkf.numeric.montecarlo.polynomial_allowance`).
-    Arguments as :func:`simulate_loop`.
+    x_K]`` from the conditional second moments given sampled losses (:func:`_moment_sample`); the
+    margin (growth factor per step) and the verdict follow
+    :func:`symkf.numeric.montecarlo._divergence_verdict` (``degree``: the factors ``k`` the allowance
+    admits, :func:`~symkf.numeric.montecarlo.polynomial_allowance`), "stable" from the growth alone
+    only on effective sample sizes of at least :data:`MIN_ESS`.  Arguments as :func:`simulate_loop`.
     """
     plant, channels, L = _setup(plant, gamma, nu, protocol, gain)
     horizon, paths = count(horizon, "horizon", 8), count(paths, "paths", 2)
@@ -701,24 +866,17 @@ def loop_divergence(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol:
     if not isinstance(tolerance, float) or tolerance <= 0:
         raise InputError(f"tolerance: expected a positive float, got {tolerance!r}")
     _z(confidence)
-    budget.check("max_memory", memory_estimate(plant, horizon, paths, False), "paths x horizon",
-                 f"the bytes (estimate) of a closed-loop burst sample of {paths} paths over {horizon} steps")
-    weights = _burst_weights(plant, channels, L)
+    budget.check("max_memory", memory_estimate(plant, horizon, paths, _states(channels)), "paths x horizon",
+                 f"the bytes (estimate) of the closed loop's second moments on {paths} paths over {horizon} steps")
     runs = []
     for j, K in enumerate(rate_horizons(horizon, 1)):
         run_seed = None if seed is None else seed + j
-        rng = np.random.default_rng(run_seed)
-        received, logw, sampling = _bursts(channels, K, paths, weights, rng)
-        cost = _run(plant, L, protocol, channels, received, rng, False)["cost"][-1]
-        runs.append(_weighted_log_mean(cost, logw, K, run_seed, sampling))
+        logv, logw = _moment_sample(plant, L, protocol, channels, K, paths, np.random.default_rng(run_seed))
+        runs.append(_weighted_log_mean(logv, logw, K, run_seed, SAMPLING))
     result = _divergence_verdict(runs, None, tolerance, confidence, degree, paths, seed)
-    if result.verdict == "stable" and result.rate is None and (
-            protocol == "udp" or min(e.ess for e in result.estimates) < MIN_ESS):
+    if result.verdict == "stable" and result.rate is None and min(e.ess for e in result.estimates) < MIN_ESS:
         # "stable" from the growth alone trusts the sample to have seen the loop's heavy tail, which
-        # only ever hides growth: not on weights that degenerated, and not UDP-like, whose growth
-        # (a lost observation with a mismatched command, then an arrival) the final bursts do not
-        # target (the scalar noiseless loop at gamma = 9/10, nu = 79/100 grows by 1.096 per step
-        # yet looks flat over 360 steps); there only a margin resolved below one says "stable"
+        # only ever hides growth: not on weights that degenerated
         result = dataclasses.replace(result, verdict="undecided")
     return LoopDivergence(protocol, L, result)
 

@@ -14,7 +14,7 @@ from symkf.control.reproduce import (_lmi_point, _mare_root, _udp_mixture, repro
 
 
 def test_scalar_entry_checks_hold_with_the_loop_simulated_on_both_sides(tmp_path):
-    rep = reproduce_schenato_scalar(str(tmp_path), paths=5000, horizon=90)
+    rep = reproduce_schenato_scalar(str(tmp_path), paths=1000, horizon=60)
     assert rep["checks"] and all(rep["checks"].values()), rep["checks"]
     assert [p["outcome"] for p in rep["results"]["tcp_simulation"]] == ["consistent"] * 4
     assert rep["results"]["udp_boundary"]["9/10"] == "9/11" and (tmp_path / "schenato_scalar_regions.png").exists()

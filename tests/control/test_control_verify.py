@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 import sympy as sp
 
 import symkf as sk
+from symkf.control.threshold import critical_arrival_rate
 from symkf.control.verify import verify_loop
 
 R = sp.Rational
@@ -46,32 +48,49 @@ def _sides(S):
     return out
 
 
+def _points(S):
+    """The distinct points of :func:`_sides` (the bounded point is the same for both thresholds)."""
+    return dict(_sides(S))
+
+
 def test_scalar_loop_agrees_with_the_simulation_on_both_sides_of_both_thresholds():
     S = PLANTS[0]
-    for (g, v), bounded in _sides(S):
-        r = verify_loop(S, g, v, paths=8000)
+    for (g, v), bounded in _points(S).items():
+        r = verify_loop(S, g, v, paths=1000, horizon=60)
         assert r.theory is bounded and r.outcome == "consistent", r
 
 
-@pytest.mark.full
-def test_no_simulation_contradicts_the_loop_theory_on_ten_plants():
-    """Both sides of both TCP thresholds of ten plants: never a contradiction; the simulation
-    decides (consistent) on most points and says why where it does not (undecided)."""
-    outcomes = []
-    for S in PLANTS:
-        for (g, v), bounded in _sides(S):
-            r = verify_loop(S, g, v, paths=8000, horizon=90)
-            assert r.theory is bounded and r.outcome != "contradiction", r
-            outcomes.append(r.outcome)
-    print(f"consistent {outcomes.count('consistent')} of {len(outcomes)}")
-    assert len(outcomes) == 40 and outcomes.count("consistent") >= 20, outcomes
+#: the points the simulation leaves undecided at seed 0 (4000 paths, horizon 90), with the reason:
+#: the bounded loop of two modes with one sensor, whose estimate sits on the filter's heavy tail
+#: ((1 - gamma) 3^4 = 4.5 > 1: relative standard errors 0.1-0.5), and the complex pair below the
+#: observation threshold, whose witness (the filter's own simulation) is refused by the cap on
+#: the exact growth rate's algebraic degree (72 > 64)
+UNDECIDED = {("two modes, one input, one sensor", R(189, 200), R(987, 1000)),
+             ("complex pair, one input", R(173, 250), R(189, 200))}
 
 
 @pytest.mark.full
-@pytest.mark.xfail(strict=True, reason="known limit of the loop sampler: below nu_c = 65/81 the Jordan block's "
-                   "loop with the certificate gain grows by rho = 1.107 per step (exact second moments), and "
-                   "the final-burst sampler leaves it undecided")
+@pytest.mark.parametrize("S", PLANTS, ids=[S.name for S in PLANTS])
+def test_simulation_decides_the_loop_theory_on_both_sides_of_both_thresholds(S):
+    """Both sides of both TCP thresholds: the simulation decides the theory's verdict (consistent)
+    at every point but the two of :data:`UNDECIDED`, which it leaves undecided; never a contradiction."""
+    for (g, v), bounded in _points(S).items():
+        r = verify_loop(S, g, v, paths=4000, horizon=90)
+        assert r.theory is bounded, r
+        assert r.outcome == ("undecided" if (S.name, g, v) in UNDECIDED else "consistent"), r
+
+
+@pytest.mark.full
 def test_jordan_block_loop_below_the_control_threshold_is_seen_diverging():
+    """Below nu_c = 65/81 the Jordan block's loop with the certificate gain L grows, its estimator
+    being stable, as the controls' jump linear system: E[x x'] by X -> nu F X F' + (1 - nu) A X A',
+    F = A - B L, whose spectral radius (1.107) the margin's interval holds."""
     S = next(S for S in PLANTS if S.name == "Jordan block 3/2")
-    r = verify_loop(S, R(389, 500), R(381, 500), paths=8000, horizon=90)
+    nu = R(381, 500)
+    r = verify_loop(S, R(389, 500), nu, paths=4000, horizon=90)
+    A = np.array(S.A.tolist(), dtype=float)
+    F = A - np.array(S.B.tolist(), dtype=float) @ -np.array(critical_arrival_rate(S).gain.tolist(), dtype=float)
+    growth = max(abs(np.linalg.eigvals(float(nu) * np.kron(F, F) + (1 - float(nu)) * np.kron(A, A))))
     assert r.theory is False and r.outcome == "consistent", r
+    low, high = r.simulation.rate_interval
+    assert growth == pytest.approx(1.107, abs=1e-3) and low <= growth <= high and low > 1.05, r

@@ -127,7 +127,7 @@ def test_tcp_loop_at_nine_tenths_stays_below_the_hand_derived_bound():
     r = simulate_loop(SCALAR, 0.9, 0.9, horizon=200, paths=2000, seed=SEED)
     assert np.allclose(r.gain, L)
     assert r.cost_interval(200)[1] < bound
-    d = loop_divergence(SCALAR, 0.9, 0.9, horizon=120, paths=4000, seed=SEED)
+    d = loop_divergence(SCALAR, 0.9, 0.9, horizon=120, paths=1000, seed=SEED)
     assert d.verdict == "stable"
 
 
@@ -135,7 +135,7 @@ def test_tcp_loop_at_nine_tenths_stays_below_the_hand_derived_bound():
 def test_tcp_loop_below_the_control_threshold_diverges_for_any_gain(gain):
     """nu = 0.6 < 3/4: x+ = (2 - nu L) x + nu L e + w with e of bounded second moment (gamma = 0.9),
     so E[x^2] grows by exactly (1 - nu) a^2 + nu (a - L)^2 >= (1 - nu) a^2 = 1.6 per step."""
-    d = loop_divergence(SCALAR, 0.9, 0.6, gain=[[gain]], horizon=120, paths=8000, seed=SEED)
+    d = loop_divergence(SCALAR, 0.9, 0.6, gain=[[gain]], horizon=120, paths=1000, seed=SEED)
     exact = 0.4 * 4 + 0.6 * (2 - gain) ** 2
     low, high = d.rate_interval
     assert d.verdict == "unstable"
@@ -145,7 +145,7 @@ def test_tcp_loop_below_the_control_threshold_diverges_for_any_gain(gain):
 def test_tcp_loop_below_the_observation_threshold_diverges():
     """gamma = 0.6 < 3/4: the error grows through bursts of lost observations, E[P] by
     (1 - gamma) a^2 = 1.6 per step (Sui-You-Fu's margin alpha^2 rho), and E[x^2] with it."""
-    d = loop_divergence(SCALAR, 0.6, 0.95, horizon=120, paths=8000, seed=SEED)
+    d = loop_divergence(SCALAR, 0.6, 0.95, horizon=120, paths=1000, seed=SEED)
     low, high = d.rate_interval
     assert d.verdict == "unstable" and low <= 1.6 <= high
 
@@ -157,9 +157,9 @@ def test_per_sensor_and_per_actuator_loss_models_drive_their_channels():
     L = control_riccati(plant.A, plant.B, plant.W, plant.U, [0.8, 0.9], [1, 1])[1]
     assert np.allclose(r.gain, L)
     assert isinstance(r, LoopSimulation) and r.log_cost.shape == (31,)
-    assert loop_divergence(plant, gamma, nu, horizon=60, paths=2000, seed=SEED).verdict == "stable"
+    assert loop_divergence(plant, gamma, nu, horizon=60, paths=500, seed=SEED).verdict == "stable"
     # an actuator that never receives its controls leaves the open loop: E[x'Wx] grows
-    lost = loop_divergence(plant, gamma, IID(["1", "1"]), gain=L, horizon=60, paths=2000, seed=SEED)
+    lost = loop_divergence(plant, gamma, IID(["1", "1"]), gain=L, horizon=60, paths=500, seed=SEED)
     assert lost.verdict == "unstable"
 
 
@@ -209,6 +209,6 @@ def test_long_runs_find_the_hand_derived_growth_of_the_scalar_loop(seed):
     (1 - nu) a^2 + nu (a - L)^2 of the control side, or (1 - gamma) a^2 of the observation side."""
     for gamma, nu, gain, exact in [(0.9, 0.6, 2.0, 1.6), (0.9, 0.7, 1.0, 0.3 * 4 + 0.7), (0.6, 0.95, None, 1.6)]:
         d = loop_divergence(SCALAR, gamma, nu, gain=None if gain is None else [[gain]], horizon=240,
-                            paths=20_000, seed=100 * seed)
+                            paths=2000, seed=100 * seed)
         low, high = d.rate_interval
         assert d.verdict == "unstable" and low <= exact <= high, (gamma, nu, gain, d)
