@@ -322,7 +322,9 @@ def work(images: np.ndarray, p: int, plan: Sequence[Stage], cap: int) -> int:
     """An upper bound of the incidences :func:`search` tests (:func:`_stage_work` per stage), from
     the stages' numbers of points; when that exceeds ``cap``, from their classes mod the stage's
     point (parallel and collinear points merged; a stage whose point vanishes mod p is left out:
-    the search then fails)."""
+    the search then fails).  Counted stage by stage, the sum stops as soon as it passes ``cap``:
+    what is returned then is a lower bound of the work, already above the cap (the caller refuses
+    without classifying the remaining stages, which costs most at thousands of sensors)."""
     n = images.shape[1]
     rough = sum(_stage_work(len(s.points), n, s.window) for s in plan)
     if rough <= cap:
@@ -334,6 +336,8 @@ def work(images: np.ndarray, p: int, plan: Sequence[Stage], cap: int) -> int:
             classes = int(label.max(initial=-1)) + 1
             window = None if s.window is None else int(label[:s.window].max(initial=-1)) + 1
             total += _stage_work(classes, n, window)
+            if total > cap:
+                break
     return total
 
 

@@ -74,6 +74,13 @@ def _plain(X, weights, cycles):
     return screen
 
 
+def _class_work(X, p, plan):
+    """hyperplane_screen.work counted from every stage's classes: under a cap just below the bound
+    from the stages' point counts (under a lower cap it stops at the first stage past it)."""
+    from symkf.engine import hyperplane_screen as hs
+    return hs.work(X, p, plan, cap=hs.work(X, p, plan, cap=10 ** 30) - 1)
+
+
 @settings(max_examples=60, deadline=None)
 @given(st.integers(0, 10 ** 6))
 def test_windowed_screen_finds_what_the_plain_screen_finds(seed):
@@ -100,7 +107,7 @@ def test_windowed_screen_finds_what_the_plain_screen_finds(seed):
         assert hs.search(X, weights, P, plan, screen)
     finally:
         hs._lines_through_points = inner
-    assert counted[0] <= hs.work(X, P, plan, cap=0)
+    assert counted[0] <= _class_work(X, P, plan)
     assert math.isclose(screen.best, plain.best, rel_tol=0, abs_tol=1e-9)
     assert _hyperplane_orbits(screen, X, cycles, n) == _hyperplane_orbits(plain, X, cycles, n)
 
@@ -123,7 +130,7 @@ def test_windows_shorten_the_search_on_a_heavy_coset():
     windowed = hs.stages(X, weights, p, cycles, set(), screen.bar, cycles)
     plain = hs.stages(X, weights, p, cycles, set(), screen.bar)
     assert all(s.window is not None and s.window < 60 for s in windowed)
-    assert 100 * hs.work(X, p, windowed, cap=0) < hs.work(X, p, plain, cap=0)
+    assert 100 * _class_work(X, p, windowed) < _class_work(X, p, plain)
 
 
 # -- the work estimate and its cap --------------------------------------------------------------
@@ -139,7 +146,7 @@ def test_screen_work_estimate_bounds_the_search(monkeypatch, n, count):
     """hyperplane_screen.work bounds what search does: per call of _lines_through_points with C
     classes, C(C, 2) incidences plus one pass, counted here by wrapping it; equality at n = 4
     (no deeper quotient merges classes, weights 0 prune nothing), and the bound from the stages'
-    point counts is never below the one from their classes."""
+    point counts is never below the one from their classes; once the count passes the cap it stops."""
     import math
 
     from symkf.engine import hyperplane_screen as hs
@@ -155,11 +162,14 @@ def test_screen_work_estimate_bounds_the_search(monkeypatch, n, count):
     import numpy as np
     plan = hs.stages(X, np.zeros(count), p, orbits, set(), -np.inf)
     assert hs.search(X, np.zeros(count), p, plan, hs.Screen(1e-9))
-    exact = hs.work(X, p, plan, cap=0)
     rough = hs.work(X, p, plan, cap=10 ** 30)
+    exact = _class_work(X, p, plan)
     assert counted[0] <= exact <= rough
     if n == 4:
         assert counted[0] == exact
+    # under a cap the classes pass at once, the count stops at the first stage: a lower bound above it
+    first = hs.work(X, p, plan[:1], cap=0)
+    assert 0 < first == hs.work(X, p, plan, cap=0) <= exact
 
 
 def _rotation_pair(rows):
