@@ -55,7 +55,7 @@ def scalar_plant() -> System:
                   name="scalar a = 2")
 
 
-def _simulated(system: System, points: list[tuple[Any, Any]], protocol: str, paths: int, horizon: int,
+def _simulated(system: System, points: list[tuple[Any, Any]], protocol: str, paths: int | None, horizon: int | None,
                noiseless: bool = False) -> list[dict[str, Any]]:
     out = []
     for g, v in points:
@@ -65,14 +65,15 @@ def _simulated(system: System, points: list[tuple[Any, Any]], protocol: str, pat
     return out
 
 
-def reproduce_schenato_scalar(outdir: str | None = None, simulate: bool = True, paths: int = 20_000,
-                              horizon: int = 120) -> dict:
+def reproduce_schenato_scalar(outdir: str | None = None, simulate: bool = True, paths: int | None = None,
+                              horizon: int | None = None) -> dict:
     """The scalar plant ``a = 2``: TCP-like ``gamma_c = nu_c = 3/4`` exactly, the UDP-like boundary
     ``nu_udp(gamma) = 3 gamma/(7 gamma - 3)``, the figure of both regions (``outdir``), and the loop
     simulated on both sides of each TCP threshold (``simulate``)."""
     if outdir is not None:   # refused before the work, not after it
         output.plan_directory(outdir, "outdir")
-    paths, horizon = count(paths, "paths", 2), count(horizon, "horizon", 8)
+    paths = None if paths is None else count(paths, "paths", 2)   # None: the witnesses' own defaults
+    horizon = None if horizon is None else count(horizon, "horizon", 8)
     S = scalar_plant()
     region = tcp_region(S)
     rows = udp_region(S, noiseless=True).rows
@@ -120,14 +121,15 @@ def closed_form_plants() -> dict[str, System]:
     }
 
 
-def reproduce_schenato_closed_forms(outdir: str | None = None, simulate: bool = True, paths: int = 20_000,
-                                    horizon: int = 120) -> dict:
+def reproduce_schenato_closed_forms(outdir: str | None = None, simulate: bool = True, paths: int | None = None,
+                                    horizon: int | None = None) -> dict:
     """The control threshold's closed forms (one input, invertible ``B``) and a certified bracket where
     none applies, each simulated at ``nu_c -+ 1/50`` with every observation arriving (the results say
     which points the simulation decided; a check fails only on a contradiction)."""
     if outdir is not None:
         output.plan_directory(outdir, "outdir")
-    paths, horizon = count(paths, "paths", 2), count(horizon, "horizon", 8)
+    paths = None if paths is None else count(paths, "paths", 2)   # None: the witnesses' own defaults
+    horizon = None if horizon is None else count(horizon, "horizon", 8)
     expected = {"one input": R(35, 36), "B invertible": R(8, 9), "two inputs, three modes": R(29, 30)}
     results: dict[str, Any] = {}
     checks: dict[str, bool] = {}

@@ -41,7 +41,7 @@ from ..errors import InputError, NumericalBreakdownError, SymkfError
 from ..exact.numbers import to_rational
 from ..model.iid import IID
 from ..model.system import System
-from ..numeric.closed_loop import control_riccati, loop_divergence, loop_plant, plant_of
+from ..numeric.closed_loop import HORIZON, PATHS, control_riccati, loop_divergence, loop_plant, plant_of
 from ..numeric.verify import verify as filter_verify
 from ..output import JsonDocument
 from .loop import lqg_stable
@@ -116,8 +116,12 @@ def _udp_gain(A: np.ndarray, B: np.ndarray, W: np.ndarray, U: np.ndarray, gamma:
 
 
 def verify_loop(system: System, gamma: Any, nu: Any, *, protocol: str = "tcp", noiseless: bool = False,
-                seed: int = 0, paths: int = 20_000, horizon: int = 120) -> LoopVerification:
+                seed: int = 0, paths: int | None = None, horizon: int | None = None) -> LoopVerification:
     """The exact verdict of the loop at ``(gamma, nu)`` against its simulation (module doc).
+
+    ``paths`` and ``horizon`` default to each witness's own: the loop sampler's 4000 paths of 90
+    steps (``closed_loop.PATHS``, ``HORIZON``, where it was calibrated), the filter's
+    (:func:`symkf.numeric.verify.verify`) where only the estimator diverges.
 
     ``protocol="udp"`` is decided exactly for a scalar plant with noiseless measurements only
     (``noiseless=True``; simulated with ``R = 10^-12``); otherwise the theory is undecided there.
@@ -138,7 +142,8 @@ def verify_loop(system: System, gamma: Any, nu: Any, *, protocol: str = "tcp", n
             # separation: only the filter diverges; its witness is the filter's own simulation, whose
             # sampler targets the decisive loss pattern (symkf.verify)
             try:
-                sim = filter_verify(system, IID(loss=[1 - g] * system.d), seed=seed, paths=paths, horizon=horizon)
+                sim = filter_verify(system, IID(loss=[1 - g] * system.d), seed=seed,
+                                    **{k: v for k, v in (("paths", paths), ("horizon", horizon)) if v is not None})
             except SymkfError as exc:   # e.g. a margin priced above a cap at this rate
                 return LoopVerification(protocol, g, v, theory, theory_reason, None, "undecided",
                                         f"the filter's simulation was refused: {exc}")
@@ -155,6 +160,7 @@ def verify_loop(system: System, gamma: Any, nu: Any, *, protocol: str = "tcp", n
                                plant.U, plant.P0)
     # a long horizon's bursts may spread the covariances beyond float64: then the horizon is cut
     # to two thirds, down to 30 steps, before the point is left undecided
+    paths, horizon = PATHS if paths is None else paths, HORIZON if horizon is None else horizon
     while True:
         try:
             sim = loop_divergence(plant, float(g), float(v), protocol=protocol, gain=gain, horizon=horizon,

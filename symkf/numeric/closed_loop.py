@@ -847,8 +847,13 @@ class LoopDivergence(JsonDocument):
 MIN_ESS = 100
 
 
+#: the loop sampler's default paths and horizon, at which its verdicts were calibrated over seeds
+#: (``benchmarks/calibrate_loop_verify.py``)
+PATHS, HORIZON = 4000, 90
+
+
 def loop_divergence(plant: LoopPlant | System, gamma: Any, nu: Any, *, protocol: Literal["tcp", "udp"] = "tcp",
-                    gain: Any = None, horizon: int = 120, paths: int = 20_000, seed: int | None = 0,
+                    gain: Any = None, horizon: int = HORIZON, paths: int = PATHS, seed: int | None = 0,
                     tolerance: float = 0.01, confidence: float = 0.999, degree: int = 1) -> LoopDivergence:
     """Decide from simulation whether ``E[x_k' W x_k]`` stays bounded (module docstring).
 
