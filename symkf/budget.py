@@ -214,9 +214,9 @@ COSTS = {
     #: the same, per square of the number of sensors d
     "front pair": 1e-3,
     #: a local filter of the fusion set-up (symkf.fusion.local_filters: a Riccati equation per sensor)
-    "local filter": 7e-3,
+    "local filter": 1e-3,
     #: a unit M^3 of a dense float solve of size M (the joint Stein equation of symkf.fusion.local_filters)
-    "float cube": 2e-8,
+    "float cube": 5e-9,
     #: a Stein equation of a pair of sensors solved by symkf.fusion.expected_remote_covariance, apart
     #: from its size
     "fusion pair": 70e-6,
@@ -224,7 +224,7 @@ COSTS = {
     "stein float": 6e-11,
     #: an LMI of Theorem 4 (Yang et al.) set up, solved and checked, apart from its size
     #: (symkf.capacity.convergence.price_lmi; small ones take this)
-    "lmi": 0.15,
+    "lmi": 0.03,
     #: an entry of a basis matrix of that LMI written in SymPy
     #: (symkf.capacity.convergence.price_lmi: the bounds atlas's LMI row bisects on it)
     "lmi basis entry": 15e-6,

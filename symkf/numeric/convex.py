@@ -9,7 +9,7 @@ import warnings
 from typing import Any
 
 from ..arguments import check_public
-from ..errors import require_extra
+from ..errors import InputError, require_extra
 
 #: the status :func:`solve` gives when the solver itself failed (cvxpy's own statuses are the others)
 FAILED = "solver_error"
@@ -21,6 +21,8 @@ def solve(problem: Any, **options: Any) -> str:
     a numerical breakdown on an ill-conditioned programme), after which its variables hold no value.
     cvxpy's warning that a solution "may be inaccurate" is not shown: the callers certify or check."""
     cp = require_extra("cvxpy", "sdp", "a convex programme")
+    if not isinstance(problem, cp.Problem):
+        raise InputError(f"problem: expected a cvxpy Problem, got {type(problem).__name__}")
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="Solution may be inaccurate", category=UserWarning)
         try:

@@ -331,8 +331,8 @@ def test_the_lmi_bisection_of_128_sensors_is_refused_by_its_price():
 
 
 def test_the_lmi_bisection_estimate_is_within_3x_of_its_cost():
-    # 8 sensors, one bisection step: two LMIs of size 40 in 42 coordinates (0.43 CPU-s estimated,
-    # about 0.4 measured once cvxpy is imported)
+    # 8 sensors, one bisection step: two LMIs of size 40 in 42 coordinates (0.19 CPU-s estimated;
+    # 0.13 measured once cvxpy has solved a programme, 0.4 on the first)
     pytest.importorskip("cvxpy")
     S = period_24_block(8)
     estimate = sk.budget.seconds(lmi=2, lmi_basis_entry=2 * 16 * (10 * (4 + 8) + 32 * 4),

@@ -45,3 +45,9 @@ def test_the_fusion_sdp_names_the_closed_form_when_the_solver_fails(failing_solv
     Vo = np.vstack([np.eye(2), np.eye(2)])
     with pytest.raises(AssumptionError, match="'solver_error'.*closed-form"):
         optimal_weights(np.eye(4), Vo, "sdp")
+
+
+def test_what_is_not_a_programme_is_refused_naming_it():
+    from symkf.errors import InputError
+    with pytest.raises(InputError, match="problem: expected a cvxpy Problem, got list"):
+        convex.solve([[1]])
