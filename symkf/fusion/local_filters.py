@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import block_diag, solve_discrete_are, solve_discrete_lyapunov
+from threadpoolctl import threadpool_limits
 
 from .. import budget
 from ..arguments import check_public, index
@@ -86,7 +87,10 @@ def local_filters(model: FusionModel) -> LocalFilters:
     G = block_diag(*[f.G for f in filters])
     K = block_diag(*[f.K for f in filters])
     Vt = np.vstack([loc.V.T for loc in model.local])
-    Pi = solve_discrete_lyapunov(F, G @ Vt @ model.Q @ Vt.T @ G.T + K @ model.R @ K.T)
+    # one BLAS thread, as priced: beside other work BLAS's threads spin, and the solve of size 192
+    # cost four times its CPU
+    with threadpool_limits(1):
+        Pi = solve_discrete_lyapunov(F, G @ Vt @ model.Q @ Vt.T @ G.T + K @ model.R @ K.T)
     offsets = tuple(np.concatenate([[0], np.cumsum([loc.n_o for loc in model.local])]).tolist())
     return LocalFilters(model=model, filters=filters, Pi=(Pi + Pi.T) / 2, offsets=offsets)
 
