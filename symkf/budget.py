@@ -208,11 +208,11 @@ COSTS = {
     #: square of the number of sensors d (its heaviest-hyperplane search grows about so)
     "ray query": 0.5e-3,
     #: a critical recovery rate of one sensor's channel (symkf.design.allocate_recovery), per sensor
-    "recovery query": 0.2,
+    "recovery query": 0.15,
     #: a point of symkf.design.pareto_front (a covering search and a critical rate; d points priced)
-    "front point": 0.4,
+    "front point": 0.25,
     #: the same, per square of the number of sensors d
-    "front pair": 1e-3,
+    "front pair": 1.7e-3,
     #: a local filter of the fusion set-up (symkf.fusion.local_filters: a Riccati equation per sensor)
     "local filter": 1e-3,
     #: a unit M^3 of a dense float solve of size M (the joint Stein equation of symkf.fusion.local_filters)
