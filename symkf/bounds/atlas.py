@@ -271,7 +271,7 @@ def _intervals_text(intervals: Any) -> str:
 def _row_json(r: Row) -> dict[str, Any]:
     failed = r.failed
     return {"key": r.key, "result": r.result, "citation": r.citation, "statement": r.statement, "claim": r.claim,
-            "applies": r.applies, "hypotheses": [{"name": h.name, "holds": h.holds, "detail": h.detail}
+            "applies": r.applies, "hypotheses": [{"name": h.name, "holds": h.holds, "detail": h.detail, "refused": h.refused}
                                                  for h in r.hypotheses],
             "failed": None if failed is None else {"name": failed.name, "detail": failed.detail},
             "value": _num(r.value), "stable_set": _intervals_json(r.stable),

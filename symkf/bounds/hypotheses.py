@@ -6,16 +6,51 @@ when it fails, the offending data.
 
 from __future__ import annotations
 
+import functools
+from typing import Callable
+
 import sympy as sp
 
+from .. import budget
 from ..arguments import check_public
-from ..exact.linalg import nullspace_rows, rank
+from ..errors import BudgetError
+from ..exact.linalg import field_of, nullspace_rows, rank, rank_rows
 from ..model.system import System
 from ..engine.rows import modal_form
 from .row import Hypothesis, Quantity
 from ..exact.spectral import spectral_radius
 
 
+
+
+def _refusable(name: str) -> Callable[[Callable[..., Hypothesis]], Callable[..., Hypothesis]]:
+    """The hypothesis ``name`` checked by the decorated function, or, when a cap refuses its exact
+    check (a rank over the compositum of many cyclotomic fields), the refusal as the hypothesis's
+    detail: the row is refused, naming the cap, and the rest of the atlas is read."""
+    def wrap(check: Callable[..., Hypothesis]) -> Callable[..., Hypothesis]:
+        @functools.wraps(check)
+        def checked(*args: object) -> Hypothesis:
+            try:
+                return check(*args)
+            except BudgetError as exc:
+                return Hypothesis(name, False, str(exc), refused=True)
+        return checked
+    return wrap
+
+
+def _krylov_rank(A: sp.Matrix, C: sp.Matrix) -> int:
+    """The exact rank of ``col{C, CA, ..., CA^(n-1)}``, its rows computed in the field of A's and C's
+    entries (the entries of A^k would each be a new generator of it), which is first priced by its
+    degree like the LMI's field (:func:`symkf.capacity.mare_stabilizable`)."""
+    K = field_of(A, C)
+    budget.check("max_cyclotomic_degree", K.degree, "A", "the degree of the field of A's and C's entries, in which "
+                 "the hypothesis is checked")
+    Ak = K.matrix(A)
+    rows, block = [], K.matrix(C)
+    for _ in range(A.rows):
+        rows += block
+        block = [K.vecmat(row, Ak) for row in block]
+    return rank_rows(K, rows, A.rows)
 
 
 def one_sensor(system: System) -> Hypothesis:
@@ -34,17 +69,20 @@ def gilbert_elliott(quantity: Quantity) -> Hypothesis:
                       "" if ok else "the loss model is i.i.d.; the result is stated for Markov losses")
 
 
+@_refusable("A unstable")
 def unstable(system: System) -> Hypothesis:
     rho = spectral_radius(system.A)
     return Hypothesis("A unstable", rho >= 1,
                       f"rho(A) = {rho.exact}" + ("" if rho >= 1 else ": every loss rate is stable"))
 
 
+@_refusable("(A, Q^(1/2)) controllable")
 def controllable_noise(system: System) -> Hypothesis:
     """``(A, Q^(1/2))`` controllable: ``range Q^(1/2) = range Q``, Krylov rank."""
     A, Q = sp.Matrix(system.A), sp.Matrix(system.Q)
-    r = rank(sp.Matrix.hstack(*[A ** k * Q for k in range(system.n)]))
-    detail = "Q > 0" if rank(Q) == system.n else f"rank [Q, AQ, ...] = {r}, n = {system.n}"
+    definite = rank(Q) == system.n
+    r = system.n if definite else _krylov_rank(A.T, Q.T)
+    detail = "Q > 0" if definite else f"rank [Q, AQ, ...] = {r}, n = {system.n}"
     return Hypothesis("(A, Q^(1/2)) controllable", r == system.n, detail)
 
 
@@ -53,42 +91,48 @@ def detectable(system: System) -> Hypothesis:
     return Hypothesis("(A, C) detectable", True, "PBH test on |lambda| >= 1 (System)")
 
 
+@_refusable("A diagonalizable")
 def diagonalizable(system: System) -> Hypothesis:
     chains = [str(e.expr) for b in system.eigen_blocks() for e in b.members if e.defective]
     return Hypothesis("A diagonalizable", not chains, f"Jordan chains at {', '.join(chains)}" if chains else "")
 
 
+@_refusable("no unit-circle Jordan chain")
 def no_defective_unit_circle_eigenvalue(system: System) -> Hypothesis:
     bad = [str(e.expr) for b in system.eigen_blocks() if b.modulus == 1 for e in b.members if e.defective]
     return Hypothesis("no unit-circle Jordan chain", not bad,
                       f"Jordan chains at {', '.join(bad)}" if bad else "")
 
 
+@_refusable("one-step observable")
 def one_step_observable(system: System) -> Hypothesis:
     """``C`` of full column rank (the state is recovered from one measurement)."""
     r = rank(sp.Matrix(system.C))
     return Hypothesis("one-step observable", r == system.n, f"C of full column rank: rank C = {r}, n = {system.n}")
 
 
+@_refusable("C invertible")
 def invertible_C(system: System) -> Hypothesis:
     C = system.C
     ok = C.shape[0] == C.shape[1] and rank(sp.Matrix(C)) == system.n
     return Hypothesis("C invertible", ok, "" if ok else f"C is {C.shape[0]}x{C.shape[1]} of rank {rank(sp.Matrix(C))}")
 
 
+@_refusable("C_o invertible")
 def invertible_on_observable_subspace(system: System) -> Hypothesis:
     """Plarre-Bullo: in the observability decomposition ``C = [C_o, 0]``, ``C_o`` invertible.
 
     Read as: ``rank C`` equals the dimension ``n_o`` of the observable part, i.e. ``C_o`` is
     injective (redundant rows of ``C`` are dropped, which changes no covariance bound)."""
     A, C = sp.Matrix(system.A), sp.Matrix(system.C)
-    n_o = rank(sp.Matrix.vstack(*[C * A ** k for k in range(system.n)]))
+    n_o = _krylov_rank(A, C)
     r = rank(C)
     return Hypothesis("C_o invertible", r == n_o,
                       f"C = [C_o, 0] in the observability decomposition: rank C = {r}, "
                       f"observable part of dimension {n_o}")
 
 
+@_refusable("non-degenerate")
 def non_degenerate(system: System) -> Hypothesis:
     """Mo-Sinopoli: every equiblock (eigenvalues of one modulus) is one-step observable.
 

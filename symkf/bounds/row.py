@@ -78,14 +78,17 @@ class Quantity:
 
 @dataclass(frozen=True)
 class Hypothesis:
-    """One hypothesis of a result, checked exactly: ``holds`` and what was found."""
+    """One hypothesis of a result, checked exactly: ``holds`` and what was found; ``refused`` when a
+    cap refused its check (it does not hold then, and the row is refused, the cap named in ``detail``)."""
 
     name: str
     holds: bool
     detail: str = ""
+    refused: bool = False
 
     def __str__(self) -> str:
-        return f"{self.name}: {'holds' if self.holds else 'FAILS'}" + (f" ({self.detail})" if self.detail else "")
+        word = "NOT CHECKED" if self.refused else "holds" if self.holds else "FAILS"
+        return f"{self.name}: {word}" + (f" ({self.detail})" if self.detail else "")
 
 
 @dataclass(frozen=True)
@@ -176,6 +179,9 @@ def row(key: str, result: str, citation: str, statement: str, claim: str,
     :class:`BudgetError` a computation refused (relation ``refused``, the cap named in the note)."""
     hyps = tuple(hypotheses)
     base = dict(key=key, result=result, citation=citation, statement=statement, claim=claim, note=note)
+    refused = next((h for h in hyps if h.refused), None)
+    if refused is not None:   # a cap refused a hypothesis's check: the row is refused, not the atlas
+        return Row(**{**base, "note": refused.detail}, hypotheses=hyps, relation=REFUSED)
     if not all(h.holds for h in hyps):
         return Row(**base, hypotheses=hyps)
     try:

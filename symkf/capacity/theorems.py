@@ -31,10 +31,11 @@ from typing import Any
 
 import sympy as sp
 
+from .. import budget
 from ..arguments import check_public
 from ..errors import AssumptionError, InputError
 from ..exact.algebraic import AlgebraicNumber
-from ..exact.linalg import rank
+from ..exact.linalg import field_of, rank
 from ..exact.numbers import to_exact_matrix
 from ..model.iid import IID
 from ..model.loss import LossModel
@@ -69,6 +70,11 @@ def wonham_decomposition(system: System, order: list[tuple[int, int]] | None = N
     """
     A = sp.Matrix(system.A)
     n = system.n
+    # computed with sympy's linear algebra on the entries (rref, inverses), whose cost explodes with
+    # the degree of their field as a generic field's does: priced by max_degree (four cyclotomic
+    # fields, degree 1440, did not end)
+    budget.check("max_degree", field_of(system.A, system.C).degree, "A", "the degree of the field of A's and C's "
+                 "entries, in which the decomposition is computed")
     order = order or [(i, r) for i, s in enumerate(system.sensors) for r in range(s.m)]
     rows: list[sp.Matrix] = []
     U = [sp.eye(n)[:, k] for k in range(n)]

@@ -2,6 +2,8 @@
 against the direct rows over the compositum, against values by hand, and refused (naming the cap)
 where the bound on the hyperplanes meeting every part does not decide."""
 
+import re
+
 import pytest
 import sympy as sp
 from hypothesis import given, settings
@@ -165,13 +167,20 @@ def test_analyze_prints_a_four_field_verdict_whose_margin_power_has_6000_digits(
 
 
 @pytest.mark.full
-def test_the_bounds_atlas_refuses_the_lmi_over_the_four_fields_compositum():
+def test_the_bounds_atlas_refuses_the_rows_that_need_the_four_fields_compositum():
     """The LMI of the bounds atlas checks its certificates in the field of all of A's entries, the
-    compositum of degree 1440 that the exact engine avoids: refused naming the cap (it returned
-    NaN to the SDP solver, an internal error, once the exact value was computed)."""
+    compositum of degree 1440 that the exact engine avoids, and so would Plarre and Bullo's
+    hypothesis (an observability rank): both rows are refused naming the cap (the LMI returned NaN
+    to the SDP solver once; the rank, over a field with a generator per entry of A^k, did not end),
+    and the rest of the atlas is read."""
     system = stacked_rotations((5, 7, 9, 11), [[2, 1, 0, -1, -1, -2, 1, 0], [-2, -2, -2, 2, 1, 2, 0, 1]])
-    with pytest.raises(BudgetError, match=r"field of the LMI's entries .* is 1440, above the cap 1024"):
-        sk.bounds(system)
+    atlas = sk.bounds(system)
+    refused = {r.key: r.note for r in atlas.rows if r.relation == "refused"}
+    assert {"sinopoli-lmi", "plarre-bullo", "yang-theorem5"} <= set(refused), refused
+    for key in ("sinopoli-lmi", "plarre-bullo"):
+        assert re.search(r"field of .* is 1440, above the cap 1024", refused[key]), refused
+    assert all("above the cap" in note for note in refused.values()), refused
+    assert atlas.row("quevedo-theorem1").relation == "holds"
 
 
 @pytest.mark.parametrize("rows", [[[2, 1, 0, -1, -1, -2], [1, 2, 0, 0, 0, 0]], [[2, 1, 0, -1, -1, -2], [0, 0, 0, 0, 1, 1]]])
