@@ -22,9 +22,9 @@ from conftest import ROOT, cpu_seconds, wait_for
 
 #: members of about 10 CPU-s each (2 R(2 pi/g) for primes g > 200, under raised caps): every
 #: signal arrives while both workers compute
-SLOW_FAMILY = ('[family]\nname = "slow"\nkind = "rotation"\n[grid]\nperiod = [211, 223, 227, 229]\nsensors = [1]\n'
+SLOW_FAMILY = ('[family]\nname = "slow"\nkind = "rotation"\n[grid]\nperiod = [1601, 1607, 1609, 1613]\nsensors = [1]\n'
                '[constants]\nalpha = "2"\n')
-CAPS = ["--max-cyclotomic-degree", "2000", "--max-angle-denominator", "1000", "--max-degree", "1000"]
+CAPS = ["--max-cyclotomic-degree", "2000", "--max-angle-denominator", "4000", "--max-degree", "1000"]
 
 
 def _processes() -> dict[int, tuple[int, int, str]]:
