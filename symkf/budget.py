@@ -270,9 +270,7 @@ def check(cap: str, estimate: int, entry: str, what: str | Callable[[], str]) ->
     bound = getattr(LIMITS, cap)
     if estimate > bound:
         what = what if isinstance(what, str) else what()
-        shown = estimate if estimate < 10 ** 15 else f"about 10^{math.floor(math.log10(estimate))}"
-        raise BudgetError(f"{entry}: {what} is {shown}, above the cap {bound}; raise it with "
-                          f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
+        raise BudgetError(f"{entry}: {what} is {_shown(estimate)}, above the cap {bound}; {_raise_it(cap)}")
 
 def seconds(**units: float) -> float:
     """The estimated CPU seconds of ``units`` of work: per kind of :data:`COSTS` (spaces written
@@ -312,8 +310,7 @@ def price(entry: str | Callable[[], str], what: str | Callable[[], str], **units
         parts = ", ".join(f"{_shown(amount)} {kind.replace('_', ' ')}s at {_seconds(_cost(kind))}"
                           for kind, amount in units.items() if amount)
         raise BudgetError(f"{entry}: the estimated work of {what} is {_seconds(estimate)}, above the cap max_work = "
-                          f"{bound} CPU-ms; raise it with symkf.budget.limits(max_work=...) or the command-line "
-                          f"option {OPTIONS['max_work']} (the estimate: {parts})")
+                          f"{bound} CPU-ms; {_raise_it('max_work')} (the estimate: {parts})")
     return estimate
 
 
@@ -341,10 +338,15 @@ class Meter:
             if 1000 * (spent + self.dearest) > LIMITS.max_work:
                 raise BudgetError(
                     f"{self.entry}: {self.what} spent {_seconds(spent)} in {self.rounds} rounds, and one more (up to "
-                    f"{_seconds(self.dearest)}) would pass the cap max_work = {LIMITS.max_work} CPU-ms; raise it with "
-                    f"symkf.budget.limits(max_work=...) or the command-line option {OPTIONS['max_work']}")
+                    f"{_seconds(self.dearest)}) would pass the cap max_work = {LIMITS.max_work} CPU-ms; "
+                    f"{_raise_it('max_work')}")
         self.rounds += 1
         self._last = now
+
+
+def _raise_it(cap: str) -> str:
+    """How a refusal by ``cap`` is lifted, in the words every refusal ends with."""
+    return f"raise it with symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}"
 
 
 def _shown(amount: float) -> str:
@@ -364,8 +366,7 @@ def check_power(cap: str, base: int, exponent: int, entry: str, what: str) -> No
     (the power of a huge exponent is itself the work the cap guards): compared in logarithms."""
     bound = getattr(LIMITS, cap)
     if base > 1 and exponent * math.log2(base) > math.log2(max(bound, 1)) + 64:   # far above: never built
-        raise BudgetError(f"{entry}: {what} is {base}^{exponent}, above the cap {bound}; raise it with "
-                          f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
+        raise BudgetError(f"{entry}: {what} is {base}^{exponent}, above the cap {bound}; {_raise_it(cap)}")
     check(cap, base ** exponent, entry, what)
 
 
