@@ -278,9 +278,10 @@ def seconds(**units: float) -> float:
     return sum(_cost(kind) * float(min(_amount(kind, amount), 1e300)) for kind, amount in units.items())
 
 
-def affordable(kind: str) -> float:
-    """The most units of the kind ``kind`` of :data:`COSTS` that ``max_work`` allows alone."""
-    return LIMITS.max_work / 1000 / _cost(kind)
+def affordable(kind: str, **beside: float) -> float:
+    """The most units of the kind ``kind`` of :data:`COSTS` that ``max_work`` allows beside the
+    work ``beside`` (units as in :func:`seconds`; none: alone), at least 0."""
+    return max(0.0, LIMITS.max_work / 1000 - seconds(**beside)) / _cost(kind)
 
 
 def _cost(kind: str) -> float:

@@ -74,6 +74,9 @@ def test_price_sums_the_units_at_their_costs_and_refuses_above_max_work():
                                   "option --max-work (the estimate: 2000000 screen points at 0.5 µs, 200000000 "
                                   "incidences at 0.15 µs)")
     assert budget.affordable("incidence") == pytest.approx(60 / 0.15e-6)
+    # beside 2 * 10^7 screen points (10 CPU-s), 50 CPU-s are left; beside 2 * 10^8 (100 CPU-s), none
+    assert budget.affordable("incidence", screen_point=2 * 10 ** 7) == pytest.approx(50 / 0.15e-6)
+    assert budget.affordable("incidence", screen_point=2 * 10 ** 8) == 0
 
 
 def test_an_astronomical_estimate_is_priced_without_overflow():

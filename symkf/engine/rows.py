@@ -470,11 +470,14 @@ class BlockRows:
                 if cycles is not None:
                     hyperplane_screen.lower_bound(X, weights, p, cycles, screen)
                 plan = hyperplane_screen.stages(X, weights, p, orbits, skip, screen.bar, cycles)
+                # when the points alone pass the cap, the incidences (a class count per stage: seconds
+                # at thousands of sensors) are not counted past the first stage
+                visits = screens * sum(len(s.points) for s in plan)
+                left = int(budget.affordable("incidence")) if budget.affordable("incidence", screen_point=visits) else 0
                 budget.price(lambda: f"eigen-block of modulus {self.block.modulus}",
                              lambda: f"the hyperplane screen ({points} in dimension {n}, {len(orbits) - len(skip)} "
                                      f"orbits, {len(plan)} stages" + (f"; {screens} such screens)" if screens > 1 else ")"),
-                             screen_point=screens * sum(len(s.points) for s in plan),
-                             incidence=screens * hyperplane_screen.work(X, p, plan, budget.affordable("incidence")))
+                             screen_point=visits, incidence=screens * hyperplane_screen.work(X, p, plan, left))
                 if not hyperplane_screen.search(X, weights, p, plan, screen):
                     continue
             except hyperplane_screen.Crowded:
