@@ -176,7 +176,8 @@ def _trace_chunk(horizon: int, d: int) -> int:
 
 
 def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None) -> np.ndarray:
-    """tr P_{k|k-1} (paths, horizon), receptions drawn from ``loss`` per factor (:meth:`LossModel.sample`)."""
+    """tr P_{k|k-1} (paths, horizon) in Fortran order (:func:`simulate_traces`), receptions drawn from ``loss``
+    per factor (:meth:`LossModel.sample`)."""
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     # refused before numpy tries to allocate the arrays
     budget.check("max_memory", memory_estimate(system, loss, horizon, paths), "paths x horizon",
