@@ -849,12 +849,22 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
         for j, k in enumerate(horizons):
             with bar.part(paths * k):
                 runs.append(log_mean_trace(system, loss, k, paths, None if seed is None else seed + j, plan, jobs))
-    exact_value = None if exact_rate is None else to_exact(
-        exact_rate.exact if hasattr(exact_rate, "exact") else exact_rate, "exact_rate")
-    return _divergence_verdict(runs, exact_value, tolerance, confidence, degree, paths, seed)
+    return _divergence_verdict(runs, _shown_rate(exact_rate), tolerance, confidence, degree, paths, seed)
 
 
-def _divergence_verdict(runs: Sequence[LogMeanEstimate], exact_rate: sp.Expr | None, tolerance: float,
+def _shown_rate(exact_rate: Any) -> tuple[float, str] | None:
+    """``exact_rate`` as :class:`DivergenceResult` shows it (its float and its exact form): the
+    engine's own (an AlgebraicNumber, certified: its ball gives the float, whatever its degree) as
+    it is, a caller's value through the safe reader (:func:`symkf.exact.numbers.to_exact`)."""
+    if exact_rate is None:
+        return None
+    if isinstance(exact_rate, AlgebraicNumber):
+        return float(exact_rate), str(exact_rate.exact)
+    value = to_exact(exact_rate, "exact_rate")
+    return float(value), str(value)
+
+
+def _divergence_verdict(runs: Sequence[LogMeanEstimate], exact_rate: tuple[float, str] | None, tolerance: float,
                        confidence: float, degree: int, paths: int, seed: int | None) -> DivergenceResult:
     """The :class:`DivergenceResult` of three independent estimates of ``log E`` at ``h, 2h, 3h``:
     the margin from :func:`margin_interval` widened by :func:`polynomial_allowance`, the growth from
@@ -868,8 +878,7 @@ def _divergence_verdict(runs: Sequence[LogMeanEstimate], exact_rate: sp.Expr | N
     verdict = ("unstable" if low is not None and low > 1 else
                "stable" if (f_high is not None and f_high < 1) or growth[2] < 1 + tolerance else "undecided")
     return DivergenceResult(verdict, rate, low, high, f_low, f_high, *growth, allowance,
-                            None if exact_rate is None else float(exact_rate),
-                            None if exact_rate is None else str(exact_rate),
+                            *((None, None) if exact_rate is None else exact_rate),
                             tolerance, confidence, horizons, paths, seed, runs[-1].sampling, tuple(runs))
 
 
