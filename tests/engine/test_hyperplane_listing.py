@@ -99,7 +99,7 @@ def _built(br: BlockRows) -> int:
     return len(observability._generator_hyperplanes(br.K, vectors, n, observability._element_flats(bases, len(vectors), n)))
 
 
-@settings(max_examples=12, deadline=None, derandomize=True)
+@settings(max_examples=12, deadline=None)
 @given(st.integers(0, 3), st.lists(st.lists(st.lists(st.integers(-2, 2), min_size=4, max_size=4), min_size=2, max_size=3),
                                    min_size=1, max_size=2))
 def test_listing_estimate_bounds_the_generator_hyperplanes_built(block, drawn):
