@@ -364,14 +364,19 @@ def _first_screen(br: BlockRows, rates: Sequence[FactorRates], patterns: Pattern
 def _reaching(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns, tau: float
               ) -> list[frozenset[int]] | None:
     """Every hyperplane whose rate may reach ``exp(tau)`` (screen 2 of :func:`markov_search`);
-    None when the additive bound cannot rule out the generic hyperplanes or a screen declines."""
+    None when the additive bound cannot rule out the generic hyperplanes or a screen declines.
+    A set the screen keeps whose float rate plus its proved error is below ``tau`` is not
+    confirmed (``needed`` of :meth:`BlockRows.heaviest`): the rates of its subsets are at most its
+    own (``rho(M_H)`` is monotone in ``H``), and so are those of its phase shifts' (a shift rotates
+    the period's product of transfers, whose spectrum it keeps)."""
     beta, C = _additive_bound(br, rates, patterns)
     if not np.isfinite(tau) or not np.isfinite(C):
         return None
     floor = tau - C
     if not br.several_generators and br.generic_weight(beta) >= floor:
         return None
-    return br.heaviest(beta, floor=floor - 1e-9 * (1 + abs(floor) + abs(C)))
+    return br.heaviest(beta, floor=floor - 1e-9 * (1 + abs(floor) + abs(C)),
+                       needed=lambda H: sum(patterns.log_rate(H)) >= tau)
 
 
 def first_screen(br: BlockRows, loss: LossModel) -> list[frozenset[int]]:
