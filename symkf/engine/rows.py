@@ -492,11 +492,13 @@ class BlockRows:
             if len(screen.kept) * len(X) > budget.affordable("kept point"):
                 return None   # closing them costs more than listing is allowed: the caller lists, priced
             mod_p = {}  # many kept sets share a closure, or one up to the shift (the caller shifts)
+            seen = set()  # a closure's key sorts all its shifts: once per closure, not per kept set
             for S in screen.kept:
                 c = self._mod_p_closure(X, p, sorted(S), vectors)
                 if c is None:
                     break
-                if len(c):
+                if len(c) and c.tobytes() not in seen:
+                    seen.add(c.tobytes())
                     mod_p.setdefault(_least_shift(c, powers), c)
             else:
                 wanted = [c for c in mod_p.values() if needed is None or needed(c)]
