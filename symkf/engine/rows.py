@@ -650,6 +650,27 @@ class BlockRows:
             found = basis[0] if len(basis) == 1 else None
         return found
 
+    def longest_run(self, sensor: int) -> int | None:
+        """The most consecutive phases (cyclically) of ``sensor`` whose elements one hyperplane
+        holds, ``n - 1``, when the generators of its elements at phases ``0 .. n - 1`` (one each)
+        have rank ``n`` mod p (:func:`_reduction`; then over K too): those of any ``n`` consecutive
+        phases are theirs times a power of the step ``D / lambda_1`` (:class:`PhaseGenerators`, an
+        invertible diagonal map; ``(D / lambda_1)^g = I`` across the period's end), so they span
+        K^n and no hyperplane holds them all.  None when that is not shown (the block's generators
+        are not a phase shift's, or the sensor sees too little of it)."""
+        if not isinstance(sensor, int) or isinstance(sensor, bool) or \
+                not 0 <= sensor < 1 + max((e.sensor for e in self.elements), default=-1):
+            raise InputError(f"sensor: a sensor index of this block's elements expected, got {str(sensor)[:80]}")
+        n, g = self.size, self.class_period
+        if not isinstance(self.generators, PhaseGenerators) or n > g:
+            return None
+        at = {(e.sensor, e.phase): i for i, e in enumerate(self.elements)}
+        phases = [at.get((sensor, r)) for r in range(n)]
+        if None in phases or any(self.counts[e] != 1 for e in phases):
+            return None
+        p, X = self._images_of(phases)
+        return n - 1 if flint.nmod_mat(X.tolist(), p).rank() == n else None
+
     def state_normal_mod_p(self, S: frozenset[int]) -> tuple[int, np.ndarray] | None:
         """``(p, u)``: the image under a ring map ``Z_(p)[theta] -> F_p`` (:func:`_reduction`) of
         the normal of ``S``'s span in state coordinates (``T`` times it), when the generators of

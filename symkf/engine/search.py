@@ -345,9 +345,14 @@ def _through_cylinders(br: BlockRows, rates: Sequence[FactorRates], patterns: Pa
 
 def _additive_bound(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> tuple[list[float], float]:
     """``(beta, C)`` of screen 2 of :func:`markov_search`: ``log rho(M_H) <= C + sum_(e in H)
-    beta_e`` for every set ``H`` (:meth:`FactorRates.gain_bound`, per factor, at ``n - 1``
-    elements inside); ``C`` is -inf or NaN where a factor has no finite bound."""
-    bounds = [r.gain_bound(br.size - 1) for r in rates]
+    beta_e`` for every hyperplane ``H`` (:meth:`FactorRates.gain_bound`, per factor, at ``n - 1``
+    elements inside; the words of a factor of one sensor no longer than the consecutive phases of
+    it that a hyperplane may hold, :meth:`BlockRows.longest_run`, not asked of a block over
+    several parts, whose direct rows it would build); ``C`` is -inf or NaN where a factor has no
+    finite bound."""
+    def longest(sensors: Sequence[int]) -> int | None:
+        return br.longest_run(sensors[0]) if len(sensors) == 1 and not br.cylinders else None
+    bounds = [r.gain_bound(br.size - 1, longest(r.factor.sensors)) for r in rates]
     beta = [bounds[f][1][rates[f].factor.sensors.index(br.elements[e].sensor)] for e, (f, _, _) in enumerate(patterns.of)]
     return beta, sum(C for C, _ in bounds)
 
