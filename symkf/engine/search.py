@@ -249,9 +249,13 @@ def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
     2. Per factor ``f``, ``rho_f(H) <= c_f^(g - n_f(H)) <= c_f^g prod_(e in H, e of f) c_f^(-1)``
        with ``c_f = max_l (P^l)_(z, z)`` (:meth:`FactorRates.lost_bound`) and ``n_f(H) <= |H_f|``
        the phases where ``H`` holds an element of ``f``: an additive upper bound with weights
-       ``beta_e = -log c_f >= 0``.  A maximiser ``H*`` has ``C + sum_(e in H*) beta_e >= log
-       rho(H*) >= tau`` (``C = sum_f g log c_f``), so ``heaviest(beta, floor=tau - C)``, which
-       returns every hyperplane whose weight reaches the floor (its no-miss argument), holds it.
+       ``beta_e = -log c_f >= 0``, or the least of the other bounds of
+       :meth:`FactorRates.gain_bound` (:func:`_additive_bound`: a hyperplane holds at most ``n - 1``
+       consecutive phases of a sensor that sees every mode, which bounds a one-sensor factor's
+       words).  A maximiser ``H*`` has ``C + sum_(e in H*) beta_e >= log rho(H*) >= tau`` (``C =
+       sum_f g log c_f``), so ``heaviest(beta, floor=tau - C)``, which returns every hyperplane
+       whose weight reaches the floor (its no-miss argument), holds it; of what it keeps only the
+       sets whose rate may reach ``tau`` are confirmed (:func:`_reaching`).
 
     Every returned hyperplane is rated; those whose float log is within the proved errors of the
     largest are compared exactly (rationals), and the first maximum in lexicographic order is
