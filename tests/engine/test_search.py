@@ -175,6 +175,21 @@ def test_the_second_screen_returns_only_the_hyperplanes_that_may_reach_the_first
 
 
 @pytest.mark.full
+def test_three_cyclotomic_fields_on_gilbert_elliott_channels_are_decided_at_the_default_caps():
+    """2R(2pi/5) + 2R(2pi/7) + 2R(2pi/9) (one eigen-block, period 315, a field of degree 288) with two
+    sensors failing at 1/10 and recovering at 1/2: the margin that main gives with ``max_work``
+    raised (its screen was estimated at 96.6 CPU-s), now within the default caps: words of at most 5
+    phases (BlockRows.longest_run) let screen 2 need 27 points of a hyperplane, not 19."""
+    A = sp.diag(*[_rotation(2 * sp.pi / q) for q in (5, 7, 9)])
+    S = _system(A, [[2, 1, 0, -1, -1, -2], [-2, -2, -2, 2, 1, 2]])
+    (br,) = block_rows(S)
+    assert br.longest_run(0) == br.longest_run(1) == 5
+    v = sk.stability(S, GE(["1/10"] * 2, ["1/2"] * 2))
+    assert not v.stable
+    assert [m.exact for m in v.margins] == [sp.Integer(5) ** sp.Rational(7, 9) * sp.Integer(6) ** sp.Rational(2, 9) / 5]
+
+
+@pytest.mark.full
 def test_period_24_block_equals_enumeration():
     """The 4-dim block diag(2R(pi/6), 2R(pi/4)) (period 24, 970 hyperplanes for one sensor)."""
     A = sp.diag(_rotation(sp.pi / 6), _rotation(sp.pi / 4))
