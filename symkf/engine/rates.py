@@ -240,17 +240,22 @@ class FactorRates:
         gamma = k * _U / (1 - k * _U)
         return terms * (2 * gamma + 4 * _U * (1 + self.g * (1 + abs(np.log(max(self.Pf.min(initial=1.0), 1e-300))))))
 
-    def gain_bound(self, elements: int) -> tuple[float, list[float]]:
+    def gain_bound(self, elements: int, longest: int | None = None) -> tuple[float, list[float]]:
         """``(C, b)`` with ``log rho(M) <= C + sum_(elements (j, r) inside) b[j]`` for every pattern,
         ``b >= 0``: of three proved bounds (floats rounded outwards) the least at ``elements``
         elements inside.  With ``a_l = (P^l)_(z, z)``, a word of length ``l - 1`` is at most
         ``a_l`` (``D_r <= I``); ``n`` phases with a non-zero mask hold at least ``n`` elements.
+        ``longest``: the longest word (run of non-zero masks) of the patterns bounded, when the
+        caller knows one below ``g`` (a hyperplane holds at most ``n - 1`` consecutive phases of a
+        sensor: :meth:`symkf.engine.rows.BlockRows.longest_run`); None: any.
 
         * Lost runs: ``rho(M) <= c^(g - n)``, ``c = max_(l <= g) a_l``: ``C = g log c``,
           ``b_j = -log c``.
         * Run lengths: ``rho(M) <= prod_segments a_l <= a_1^g kappa^n`` with ``kappa`` the largest
-          of ``(a_l / a_1^l)^(1/(l - 1))`` and ``1 / a_1`` (no zero mask: ``rho <= 1``):
-          ``C = g log a_1``, ``b_j = log kappa``.
+          of ``(a_l / a_1^l)^(1/(l - 1))`` over the words' lengths ``l - 1 <= longest`` and, unless
+          ``longest < g`` (then every pattern has a zero mask), ``1 / a_1`` (no zero mask: ``rho <=
+          1``): ``C = g log a_1``, ``b_j = log kappa``.  On a Gilbert-Elliott channel (fail 1/10,
+          recover 1/2) ``kappa`` is 2 for any lengths, 1.61 for words of at most 5.
         * Row sums: ``rho(M) <= ||M||_inf <= prod_r mu(m_r)`` with ``mu(m) = max_s sum_(t allowed
           by m) P_(s, t)``, and ``log mu(m) <= log mu(0) + sum_(j in m) b_j`` with ``b_j`` the
           largest increase of ``log mu`` from adding ``j`` to a mask (telescoping).
@@ -266,8 +271,11 @@ class FactorRates:
             return -np.inf, [np.inf] * k
         a1 = a[0] / pad ** 2
         # a1^l may fall below float64 (g = 3465): kappa is then inf, and its bound is never the least
+        short = longest is not None and longest < g
         with np.errstate(over="ignore", divide="ignore"):
-            kappa = max([1 / a1] + [(a[l - 1] / a1 ** l) ** (1 / (l - 1)) for l in range(2, g + 1)]) * pad
+            kappa = max(([] if short else [1 / a1]) + [(a[l - 1] / a1 ** l) ** (1 / (l - 1))
+                                                       for l in range(2, (longest + 2) if short else g + 1)],
+                        default=1.0) * pad
         rows = [max(np.log(mu[m]) - np.log(mu[m & ~(1 << j)]) for m in range(1 << k) if m >> j & 1) * pad
                 for j in range(k)]
         bounds = [(g * np.log(max(a)), [-np.log(max(a))] * k), (g * np.log(a1), [np.log(kappa)] * k),

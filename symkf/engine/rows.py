@@ -24,7 +24,7 @@ import itertools
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import ClassVar, Iterator, Sequence
+from typing import Callable, ClassVar, Iterator, Sequence
 
 import flint
 import numpy as np  # vectorised hyperplane screen and counts (BlockRows.inside)
@@ -248,7 +248,8 @@ class BlockRows:
         return hyperplanes * (4 * len(self._bases[0]) + 5 * len(self.elements) + 128)
 
     def heaviest(self, weights: Sequence[float], floor: float | None = None, strict: bool = False,
-                 screens: int = 1) -> list[frozenset[int]] | None:
+                 screens: int = 1, needed: Callable[[frozenset[int]], bool] | None = None
+                 ) -> list[frozenset[int]] | None:
         """The hyperplanes (element sets, as in :attr:`hyperplanes`) whose weight ``sum_{e in H}
         weights[e]`` may be maximal, without enumerating every hyperplane; None when the fast
         path does not apply (then enumerate).
@@ -285,6 +286,14 @@ class BlockRows:
         about ``C(C, n - 2)`` incidences per stage, and the points each stage classifies) is priced
         before it starts and refused (:class:`~symkf.errors.BudgetError`) above ``budget.Limits.max_work``.
 
+        ``needed``: a test of element sets that is false only on a set of which the caller needs no
+        subset, nor of any of its phase shifts (a rate's upper bound, monotone in the set and kept by
+        the shift, below the least rate the caller wants: :func:`symkf.engine.search._reaching`).  A
+        closure it rejects is neither confirmed exactly nor returned: every exact hyperplane the
+        closure stands for lies inside it (above).  The confirmations of closures the caller never
+        reads were most of the time of a Gilbert-Elliott verdict (docs/performance.md).  The search
+        through flats (elements of several generators) does not test its sets.
+
         ``screens``: the screens of this block the caller's query runs, this one and others
         priced alike (the points they classify are the same; their windows at a lower floor are
         no shorter), so that a query beyond ``max_work`` is refused before the first of them.
@@ -298,8 +307,8 @@ class BlockRows:
         """
         weights = self.screen_weights(weights)
         top = max(weights, default=0.0)
-        if floor is not None or not top > 0:
-            return self._heaviest(weights, floor, strict, screens)
+        if floor is not None or needed is not None or not top > 0:
+            return self._heaviest(weights, floor, strict, screens, needed)
         direction = tuple(float(w) / top for w in weights)
         if direction not in self._maxima:
             self._maxima[direction] = self._heaviest(weights, None, screens=screens)
@@ -311,8 +320,8 @@ class BlockRows:
         """:meth:`heaviest` without a floor, per direction of the weights."""
         return {}
 
-    def _heaviest(self, weights: Sequence[float], floor: float | None, strict: bool = False, screens: int = 1
-                  ) -> list[frozenset[int]] | None:
+    def _heaviest(self, weights: Sequence[float], floor: float | None, strict: bool = False, screens: int = 1,
+                  needed: Callable[[frozenset[int]], bool] | None = None) -> list[frozenset[int]] | None:
         """:meth:`heaviest`, screened."""
         n = self.size
         if n < 2:
@@ -329,8 +338,9 @@ class BlockRows:
         moved = np.arange(len(self.generators))  # the shift on elements (those without points stay)
         if shift is not None:
             moved[owner] = owner[shift]
+        wanted = None if needed is None else lambda c: needed(frozenset(owner[c].tolist()) | self._always)
         closures = self._screened(vectors, w[owner], shift, 1e-9 * (1 + w.sum()), floor, f"{len(live)} elements", strict,
-                                  screens)
+                                  screens, wanted)
         if closures is None:
             return None
         out = set()
@@ -457,11 +467,11 @@ class BlockRows:
         return any(1 < c < self.size for c in self.counts)
 
     def _screened(self, vectors: list, weights: np.ndarray, shift: np.ndarray | None, tol: float,
-                  floor: float | None, points: str, strict: bool = False, screens: int = 1
-                  ) -> list[np.ndarray] | None:
+                  floor: float | None, points: str, strict: bool = False, screens: int = 1,
+                  needed: Callable[[np.ndarray], bool] | None = None) -> list[np.ndarray] | None:
         """The exact closures (point indices) of the sets :mod:`symkf.engine.hyperplane_screen` keeps for
         the points ``vectors`` with ``weights`` (see :meth:`heaviest`; ``points`` names them in a
-        refusal; ``screens`` as in :meth:`heaviest`), or None."""
+        refusal; ``screens`` and ``needed``, a test of closures, as in :meth:`heaviest`), or None."""
         n = self.size
         orbits = _orbits(len(vectors), shift)
         cycles = _cycles(len(vectors), shift) if shift is not None and np.array_equal(weights[shift], weights) \
@@ -494,15 +504,18 @@ class BlockRows:
             if len(screen.kept) * len(X) > budget.affordable("kept point"):
                 return None   # closing them costs more than listing is allowed: the caller lists, priced
             mod_p = {}  # many kept sets share a closure, or one up to the shift (the caller shifts)
+            seen = set()  # a closure's key sorts all its shifts: once per closure, not per kept set
             for S in screen.kept:
                 c = self._mod_p_closure(X, p, sorted(S), vectors)
                 if c is None:
                     break
-                if len(c):
+                if len(c) and c.tobytes() not in seen:
+                    seen.add(c.tobytes())
                     mod_p.setdefault(_least_shift(c, powers), c)
             else:
-                if all(self._exact(X, p, c, vectors) for c in mod_p.values()):
-                    return list(mod_p.values())
+                wanted = [c for c in mod_p.values() if needed is None or needed(c)]
+                if all(self._exact(X, p, c, vectors) for c in wanted):
+                    return wanted
         return None
 
     @cached_property
@@ -648,6 +661,27 @@ class BlockRows:
             basis = nullspace_rows(self.K, vectors, self.size)
             found = basis[0] if len(basis) == 1 else None
         return found
+
+    def longest_run(self, sensor: int) -> int | None:
+        """The most consecutive phases (cyclically) of ``sensor`` whose elements one hyperplane
+        holds, ``n - 1``, when the generators of its elements at phases ``0 .. n - 1`` (one each)
+        have rank ``n`` mod p (:func:`_reduction`; then over K too): those of any ``n`` consecutive
+        phases are theirs times a power of the step ``D / lambda_1`` (:class:`PhaseGenerators`, an
+        invertible diagonal map; ``(D / lambda_1)^g = I`` across the period's end), so they span
+        K^n and no hyperplane holds them all.  None when that is not shown (the block's generators
+        are not a phase shift's, or the sensor sees too little of it)."""
+        if not isinstance(sensor, int) or isinstance(sensor, bool) or \
+                not 0 <= sensor < 1 + max((e.sensor for e in self.elements), default=-1):
+            raise InputError(f"sensor: a sensor index of this block's elements expected, got {str(sensor)[:80]}")
+        n, g = self.size, self.class_period
+        if not isinstance(self.generators, PhaseGenerators) or n > g:
+            return None
+        at = {(e.sensor, e.phase): i for i, e in enumerate(self.elements)}
+        phases = [at.get((sensor, r)) for r in range(n)]
+        if None in phases or any(self.counts[e] != 1 for e in phases):
+            return None
+        p, X = self._images_of(phases)
+        return n - 1 if flint.nmod_mat(X.tolist(), p).rank() == n else None
 
     def state_normal_mod_p(self, S: frozenset[int]) -> tuple[int, np.ndarray] | None:
         """``(p, u)``: the image under a ring map ``Z_(p)[theta] -> F_p`` (:func:`_reduction`) of

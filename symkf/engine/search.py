@@ -249,9 +249,13 @@ def markov_search(br: BlockRows, rates: Sequence[FactorRates]) -> BlockRate:
     2. Per factor ``f``, ``rho_f(H) <= c_f^(g - n_f(H)) <= c_f^g prod_(e in H, e of f) c_f^(-1)``
        with ``c_f = max_l (P^l)_(z, z)`` (:meth:`FactorRates.lost_bound`) and ``n_f(H) <= |H_f|``
        the phases where ``H`` holds an element of ``f``: an additive upper bound with weights
-       ``beta_e = -log c_f >= 0``.  A maximiser ``H*`` has ``C + sum_(e in H*) beta_e >= log
-       rho(H*) >= tau`` (``C = sum_f g log c_f``), so ``heaviest(beta, floor=tau - C)``, which
-       returns every hyperplane whose weight reaches the floor (its no-miss argument), holds it.
+       ``beta_e = -log c_f >= 0``, or the least of the other bounds of
+       :meth:`FactorRates.gain_bound` (:func:`_additive_bound`: a hyperplane holds at most ``n - 1``
+       consecutive phases of a sensor that sees every mode, which bounds a one-sensor factor's
+       words).  A maximiser ``H*`` has ``C + sum_(e in H*) beta_e >= log rho(H*) >= tau`` (``C =
+       sum_f g log c_f``), so ``heaviest(beta, floor=tau - C)``, which returns every hyperplane
+       whose weight reaches the floor (its no-miss argument), holds it; of what it keeps only the
+       sets whose rate may reach ``tau`` are confirmed (:func:`_reaching`).
 
     Every returned hyperplane is rated; those whose float log is within the proved errors of the
     largest are compared exactly (rationals), and the first maximum in lexicographic order is
@@ -345,9 +349,14 @@ def _through_cylinders(br: BlockRows, rates: Sequence[FactorRates], patterns: Pa
 
 def _additive_bound(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns) -> tuple[list[float], float]:
     """``(beta, C)`` of screen 2 of :func:`markov_search`: ``log rho(M_H) <= C + sum_(e in H)
-    beta_e`` for every set ``H`` (:meth:`FactorRates.gain_bound`, per factor, at ``n - 1``
-    elements inside); ``C`` is -inf or NaN where a factor has no finite bound."""
-    bounds = [r.gain_bound(br.size - 1) for r in rates]
+    beta_e`` for every hyperplane ``H`` (:meth:`FactorRates.gain_bound`, per factor, at ``n - 1``
+    elements inside; the words of a factor of one sensor no longer than the consecutive phases of
+    it that a hyperplane may hold, :meth:`BlockRows.longest_run`, not asked of a block over
+    several parts, whose direct rows it would build); ``C`` is -inf or NaN where a factor has no
+    finite bound."""
+    def longest(sensors: Sequence[int]) -> int | None:
+        return br.longest_run(sensors[0]) if len(sensors) == 1 and not br.cylinders else None
+    bounds = [r.gain_bound(br.size - 1, longest(r.factor.sensors)) for r in rates]
     beta = [bounds[f][1][rates[f].factor.sensors.index(br.elements[e].sensor)] for e, (f, _, _) in enumerate(patterns.of)]
     return beta, sum(C for C, _ in bounds)
 
@@ -364,14 +373,19 @@ def _first_screen(br: BlockRows, rates: Sequence[FactorRates], patterns: Pattern
 def _reaching(br: BlockRows, rates: Sequence[FactorRates], patterns: Patterns, tau: float
               ) -> list[frozenset[int]] | None:
     """Every hyperplane whose rate may reach ``exp(tau)`` (screen 2 of :func:`markov_search`);
-    None when the additive bound cannot rule out the generic hyperplanes or a screen declines."""
+    None when the additive bound cannot rule out the generic hyperplanes or a screen declines.
+    A set the screen keeps whose float rate plus its proved error is below ``tau`` is not
+    confirmed (``needed`` of :meth:`BlockRows.heaviest`): the rates of its subsets are at most its
+    own (``rho(M_H)`` is monotone in ``H``), and so are those of its phase shifts' (a shift rotates
+    the period's product of transfers, whose spectrum it keeps)."""
     beta, C = _additive_bound(br, rates, patterns)
     if not np.isfinite(tau) or not np.isfinite(C):
         return None
     floor = tau - C
     if not br.several_generators and br.generic_weight(beta) >= floor:
         return None
-    return br.heaviest(beta, floor=floor - 1e-9 * (1 + abs(floor) + abs(C)))
+    return br.heaviest(beta, floor=floor - 1e-9 * (1 + abs(floor) + abs(C)),
+                       needed=lambda H: sum(patterns.log_rate(H)) >= tau)
 
 
 def first_screen(br: BlockRows, loss: LossModel) -> list[frozenset[int]]:

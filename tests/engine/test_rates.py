@@ -98,3 +98,18 @@ def test_ge_hyperplane_rate_equals_spectral_radius_of_full_m(angle, scale, c, pa
     (br,) = block_rows(S)
     M, _ = m_matrix(br, loss)
     assert abs(float(AlgebraicNumber.from_expr(block_rate(br, loss).per_period)) - _float_radius(M)) < 1e-9
+
+
+def test_the_run_length_gain_is_taken_over_the_words_a_hyperplane_may_hold():
+    """Gilbert-Elliott, fail 1/10, recover 1/2 (lost state z): ``a_l = (P^l)_(z, z)`` is 1/2, 3/10,
+    11/50, 47/250, 219/1250, 1063/6250; any word length gives ``kappa = 1 / a_1 = 2`` (the lost-run
+    bound's ``-log max a_l`` alike), words of at most 5 ``kappa = (a_6 / a_1^6)^(1/5) = 1.612``,
+    with ``C = g log a_1`` either way."""
+    from symkf.engine.rates import FactorRates
+    rates = FactorRates(sk.GilbertElliott(["1/10"], ["1/2"]).factors[0], 315)
+    C, b = rates.gain_bound(5)
+    assert C == pytest.approx(315 * np.log(0.5), rel=1e-9) and b[0] == pytest.approx(np.log(2), rel=1e-9)
+    C, b = rates.gain_bound(5, longest=5)
+    assert C == pytest.approx(315 * np.log(0.5), rel=1e-9)
+    assert b[0] == pytest.approx(np.log(float(sp.Rational(1063, 6250) * 2 ** 6)) / 5, rel=1e-9)
+    assert rates.gain_bound(5, longest=315)[1] == rates.gain_bound(5)[1]   # no shorter than the period

@@ -119,7 +119,7 @@ def _stable_around(S, fail, qc, width=sp.Rational(1, 10 ** 9)):
 
 
 GENERIC = [  # (orders, rows, fail): blocks whose screens cannot rule the generic hyperplanes out
-    ((5, 6), [[2, -1, -2, 2]], ["2/100"]),
+    ((4, 6), [[2, -1, -2, 2]], ["2/100"]),
     ((3, 5), [[1, 2, 1, -2], [-1, 0, 1, 0]], ["1/10", "1/10"]),
 ]
 

@@ -221,3 +221,22 @@ def test_normal_of_a_hyperplane_is_its_exact_normal_and_none_for_a_spanning_set(
     spanning = frozenset(e for e, gs in enumerate(br.generators) if gs)
     assert rank_rows(K, [v for e in spanning for v in br.generators[e]], n) == n
     assert br.normal(spanning) is None and br.state_normal_mod_p(spanning) is None
+
+
+def test_a_hyperplane_holds_at_most_n_minus_one_consecutive_phases_of_a_sensor_seeing_every_mode():
+    """diag(2R(pi/6), 2R(pi/4)) (n = 4, period 24): the row (1, 0, 1, 0) meets all four eigenvectors, so
+    four consecutive phases span K^4 (a Vandermonde matrix in the eigenvalue ratios, times its
+    nonzero coordinates) and a hyperplane holds at most 3 of them; the row (1, 0, 0, 0) sees one
+    rotation only, and the hyperplane of the other's coordinates holds all its phases."""
+    A = sp.diag(rotation(sp.pi / 6, 2), rotation(sp.pi / 4, 2))
+    (br,) = block_rows(sk.System(A=A, sensors=[sk.Sensor(C=[[1, 0, 1, 0]]), sk.Sensor(C=[[1, 0, 0, 0]])]))
+    assert br.longest_run(0) == 3 and br.longest_run(1) is None
+    held = [H for H in br.hyperplanes if all(e in H for e, el in enumerate(br.elements) if el.sensor == 1)]
+    assert held and max(_longest_cyclic_run(H, br, 0) for H in br.hyperplanes) == 3
+
+
+def _longest_cyclic_run(H, br, sensor):
+    phases = {br.elements[e].phase for e in H if br.elements[e].sensor == sensor}
+    g = br.class_period
+    return max((next(k for k in range(g + 1) if (r + k) % g not in phases or k == g)
+                for r in phases if (r - 1) % g not in phases), default=0)
