@@ -181,6 +181,10 @@ COSTS = {
     #: of the block's field: 1.2 million over a field of degree 8 took 12 CPU-s, 597 000 over one of
     #: degree 120 51 CPU-s
     "hyperplane degree": 1e-6,
+    #: the same through the flats of elements of several generators (multi-row sensors), each
+    #: hyperplane found by exact echelon forms over the field: 18 240 over a field of degree 8 took
+    #: 1.4 CPU-s, 1 970 640 over one of degree 4 (a 6-dim block) 52 CPU-s
+    "flat hyperplane degree": 8e-6,
     #: a hyperplane's margin built in flint as a polynomial in the recovery rate (the critical
     #: recovery rate's list, symkf.engine.recovery.listed_margins), per hyperplane of the listing's
     #: estimate: 11 to 26 µs on the rows of benchmarks/bench_margin_cost.py (4- and 6-dim blocks,

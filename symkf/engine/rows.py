@@ -219,6 +219,14 @@ class BlockRows:
             bases.append(tuple(own))
         return vectors, bases
 
+    @cached_property
+    def through_element_flats(self) -> bool:
+        """Whether :attr:`inside` lists through the flats of the elements' generators
+        (:func:`_element_flats`: elements of several generators), where each hyperplane costs
+        exact echelon forms over K, rather than through every ``n - 1`` generators."""
+        vectors, bases = self._bases
+        return _element_flats(bases, len(vectors), self.size) is not None
+
     def listing_estimate(self) -> tuple[int, str]:
         """An upper bound on the number of generator hyperplanes :attr:`inside` builds (each a row
         of its matrices, :meth:`listing_bytes`; the element sets it lists are fewer), and its

@@ -64,8 +64,9 @@ def listed_hyperplanes(br: BlockRows) -> np.ndarray | list[frozenset[int]]:
     if "inside" not in br.__dict__ and br.size > 1:
         estimate, formula = br.listing_estimate()
         entry = f"eigen-block of modulus {br.block.modulus}"
+        unit = "flat_hyperplane_degree" if br.through_element_flats else "hyperplane_degree"
         budget.price(entry, f"listing the hyperplanes ({formula}; no screen applies) over a field of degree "
-                            f"{br.K.degree}", hyperplane_degree=estimate * br.K.degree)
+                            f"{br.K.degree}", **{unit: estimate * br.K.degree})
         budget.check("max_memory", br.listing_bytes(estimate), entry,
                      lambda: f"the bytes (estimate) of listing {estimate} hyperplanes ({formula}; no screen applies)")
     return br.inside
