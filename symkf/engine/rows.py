@@ -62,12 +62,16 @@ class PhaseGenerators(Sequence):
     invertible diagonal map keeps which vectors are independent, so these are the generators of
     ``(j, r)`` that :func:`direct_rows` would choose at each phase.  Stored, they took memory
     ``g d [K:Q]``, growing as ``m^2`` for the rotation ``2 R(2 pi/m)`` (g = m, [K:Q] = 2(m - 1)):
-    about 120 MB at m = 1601."""
+    about 120 MB at m = 1601.  A step that is a power ``theta^k`` of K's root of unity (the
+    cyclotomic presentation: :meth:`~symkf.exact.field.NumberField.root_exponent`) is kept as its
+    exponent: ``a s^r`` is then ``a theta^(k r)``, a shift and one reduction, where ``s^r`` cost
+    ``log r`` products (the exact rows of five cyclotomic fields spent most of their time there)."""
 
     def __init__(self, K: NumberField, base: tuple[tuple[tuple[Elem, ...], ...], ...],
                  step: tuple[Elem | None, ...], g: int):
         self.K, self.base, self.step, self.g = K, base, step, g
         self.counts = tuple(len(gs) for gs in base for _ in range(g))
+        self.exponents = tuple(None if s is None else K.root_exponent(s) for s in step)
 
     def __len__(self) -> int:
         return len(self.counts)
@@ -76,8 +80,11 @@ class PhaseGenerators(Sequence):
         j, r = divmod(range(len(self))[e], self.g)
         if not r:
             return self.base[j]
-        powers = [None if s is None else self.K.pow(s, r) for s in self.step]
-        return tuple(self._scaled(v, powers) for v in self.base[j])
+        K = self.K
+        powers = [None if s is None or k is not None else K.pow(s, r) for s, k in zip(self.step, self.exponents)]
+        return tuple(tuple(a if (s is None and k is None) or a.is_zero() else
+                           K.times_root_power(a, k * r) if k is not None else K.mul(a, s)
+                           for a, s, k in zip(v, powers, self.exponents)) for v in self.base[j])
 
     def __iter__(self) -> Iterator[tuple[tuple[Elem, ...], ...]]:
         for gs in self.base:   # one product per phase and coordinate, as direct_rows built them
