@@ -55,6 +55,12 @@ class Element:
     phase: int
 
 
+#: coefficients (over Q) of the generators that :class:`PhaseGenerators` keeps of the elements asked
+#: for last: the fibres of five cyclotomic fields ask for each of the 143 elements of a lifted pair
+#: (over a field of degree 240) about 95 times; 2^18 coefficients took 24 MB there
+RECENT = 1 << 18
+
+
 class PhaseGenerators(Sequence):
     """The generators of the elements ``(j, r)`` (index ``j g + r``) of a block without Jordan
     chains, each computed when asked: those of ``(j, 0)`` (``base[j]``, the independent class parts
@@ -65,19 +71,31 @@ class PhaseGenerators(Sequence):
     about 120 MB at m = 1601.  A step that is a power ``theta^k`` of K's root of unity (the
     cyclotomic presentation: :meth:`~symkf.exact.field.NumberField.root_exponent`) is kept as its
     exponent: ``a s^r`` is then ``a theta^(k r)``, a shift and one reduction, where ``s^r`` cost
-    ``log r`` products (the exact rows of five cyclotomic fields spent most of their time there)."""
+    ``log r`` products (the exact rows of five cyclotomic fields spent most of their time there).
+    The generators of the elements asked for last are kept, up to :data:`RECENT` coefficients."""
 
     def __init__(self, K: NumberField, base: tuple[tuple[tuple[Elem, ...], ...], ...],
                  step: tuple[Elem | None, ...], g: int):
         self.K, self.base, self.step, self.g = K, base, step, g
         self.counts = tuple(len(gs) for gs in base for _ in range(g))
         self.exponents = tuple(None if s is None else K.root_exponent(s) for s in step)
+        self._recent: dict[int, tuple[tuple[Elem, ...], ...]] = {}
+        self._room = max(16, RECENT // max(1, len(step) * K.degree * max((len(gs) for gs in base), default=1)))
 
     def __len__(self) -> int:
         return len(self.counts)
 
     def __getitem__(self, e):
-        j, r = divmod(range(len(self))[e], self.g)
+        e = range(len(self))[e]
+        found = self._recent.get(e)
+        if found is None:
+            found = self._recent[e] = self._phase(*divmod(e, self.g))
+            if len(self._recent) > self._room:   # the earliest asked goes
+                del self._recent[next(iter(self._recent))]
+        return found
+
+    def _phase(self, j: int, r: int) -> tuple[tuple[Elem, ...], ...]:
+        """The generators of element ``(j, r)``."""
         if not r:
             return self.base[j]
         K = self.K
