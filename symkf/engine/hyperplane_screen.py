@@ -38,7 +38,10 @@ _BLOCK = 1 << 21  # entries of one vectorised block of flats x points (about 16 
 #: per-call overhead and the offers of tied sets), in units of one incidence: the ratio of the two
 #: measured costs (docs/performance.md)
 PASS = 10_000
-_BATCH = 2048  # entries from which inverses() batches (Montgomery) rather than powers each
+#: entries per run of :func:`inverses`' batch trick, squared: each run costs a numpy pass and the
+#: Fermat power one per run position, so the cheapest count of runs grows as the square root of
+#: the entries (docs/performance.md)
+RUN = 40
 #: quotients :func:`_crowding` may take over all stages to bound a window: choosing a window must
 #: stay cheap beside the search it shortens
 CROWDING = 10_000
@@ -94,13 +97,13 @@ class Screen:
 
 def inverses(y: np.ndarray, p: int) -> np.ndarray:
     """Inverses mod p of the nonzero entries of ``y`` (any shape): Fermat's ``y^(p - 2)``, for
-    large arrays by Montgomery's batch trick over 64 interleaved runs (prefix products, one Fermat
-    power per run position, a backward pass); below ``_BATCH`` entries the trick's 128 passes cost
-    more than the power over every entry."""
+    larger arrays by Montgomery's batch trick over ``sqrt(entries / RUN)`` interleaved runs, at
+    most 64 (prefix products, one Fermat power per run position, a backward pass); below
+    ``25 RUN`` entries the power over every entry (the trick's passes cost more)."""
     flat = y.ravel()
-    if len(flat) < _BATCH:
+    runs = min(64, math.isqrt(len(flat) // RUN))
+    if runs < 5:
         return _power(flat % p, p - 2, p).reshape(y.shape)
-    runs = 64
     width = -(-len(flat) // runs)
     Y = np.ones(runs * width, dtype=np.int64)
     Y[:len(flat)] = flat
