@@ -304,3 +304,14 @@ def _canonical(v: list[int], p: int) -> tuple[int, ...] | None:
 
 def _det(u: list[int], v: list[int], x: list[int]) -> int:
     return u[0] * (v[1] * x[2] - v[2] * x[1]) - u[1] * (v[0] * x[2] - v[2] * x[0]) + u[2] * (v[0] * x[1] - v[1] * x[0])
+
+
+@pytest.mark.parametrize("size", [1, 999, 1000, 2570, 40 * 64 ** 2 + 7])
+def test_inverses_mod_p_by_powers_and_by_batches_of_runs(size):
+    """Every entry times its inverse is 1 mod p, below the batch trick's threshold (1000 entries),
+    at it, at the screens' 2570 and past 64 runs; a 2-d shape is kept."""
+    p = (1 << 27) + 29
+    y = np.random.default_rng(size).integers(1, p, size)
+    assert (y * hs.inverses(y, p) % p == 1).all()
+    Y = np.stack([y, y[::-1]])
+    assert hs.inverses(Y, p).shape == Y.shape and (Y * hs.inverses(Y, p) % p == 1).all()
