@@ -197,7 +197,7 @@ def asm_divider_work(n: int) -> tuple[list[tuple[int, int]], str]:
     from symkf.numeric.square_root import lanes
     kernel = njit(error_model="numpy")(getattr(straight_kernels, f"_paths_{n}"))
     kernel(np.eye(n), np.eye(n), np.ones((1, n)), np.zeros(1, np.int64), np.eye(n), np.ones((1, lanes(n), 1), bool),
-           np.empty((lanes(n), 1)), np.empty((1, lanes(n))), True)
+           np.empty((1, lanes(n))), 0, True)
     asm = "\n".join(kernel.inspect_asm().values())
     register = next(r for r in ("zmm", "ymm", "xmm") if re.search(rf"^\s*v(div|sqrt)pd\s.*%{r}", asm, re.M))
     bodies = re.split(r"^\.LBB\w+:", asm, flags=re.M)

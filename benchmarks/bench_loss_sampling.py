@@ -56,7 +56,7 @@ for r in range(repeats):   # "both": alternately, so that both see the same mach
             u = rng.random((paths, d))
             received[k] = np.where(received[k - 1], u >= 1 / 10, u < 1 / 2)
         t = time.process_time()
-        traces_into(model, received, np.empty((paths, horizon)))
+        traces_into(model, received, np.empty((horizon, paths)).T)
         kernel.append(time.process_time() - t)
         del received, u
     if mode != "kernel":

@@ -26,7 +26,7 @@ same by the list (``search.LIST_BELOW`` raised; on main ``max_hyperplanes``), th
 Many sensors (``--rows many``), at the default caps: the same block with d = 128 ... 1024 integer
 rows from the seed 1000 + d, the common critical loss rate (d = 1024: <= 60 CPU-s) and
 Gilbert-Elliott stability (fail 1/10, recover 1/2; d = 1024: answered in <= 60 or refused in <= 5
-CPU-s, the refusal time printed), each with the work priced before its heavy steps (``budget.price``)
+CPU-s, the refusal time printed; d = 2048: refused in <= 5), each with the work priced before its heavy steps (``budget.price``)
 beside what it cost; the system's construction is inside their timing.  Main refuses them by its
 sensor count (64), so its baseline runs with its caps raised (``max_sensors``, ``max_hyperplanes``,
 ``max_screen_work``), for the digest.
@@ -93,6 +93,7 @@ ROWS = {  # name: (what, d, target CPU-s or None)
     "many: G-E stability, d = 128": ("many-ge", 128, None),
     "many: G-E stability, d = 512": ("many-ge", 512, None),
     "many: G-E stability, d = 1024": ("many-ge", 1024, 60),
+    "many: G-E stability, d = 2048": ("many-ge", 2048, 5),
 }
 
 #: the caps a baseline without work pricing needs raised to run the many-sensor rows (names that

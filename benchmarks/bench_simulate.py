@@ -105,7 +105,7 @@ def numpy_grid(repeats: int, quick: bool) -> None:
                 simulate_traces(S, loss, 2, 64, seed=0)                  # compiled kernel loaded
                 gamma = sample_receptions(loss, HORIZON, paths, np.random.default_rng(0))   # (paths, horizon, d)
                 received = np.ascontiguousarray(gamma.transpose(1, 0, 2))
-                out = np.empty((paths, HORIZON))
+                out = np.empty((HORIZON, paths)).T   # Fortran order, as simulate_traces's
                 runs = {"sim": lambda r: simulate_traces(S, loss, HORIZON, paths, seed=r),
                         "base": lambda r: trace_batch(model.A, model.Q, model.P0, model.H, model.row_sensor,
                                                       HORIZON, paths, *law, r),

@@ -222,6 +222,15 @@ COSTS = {
     "fusion pair": 70e-6,
     #: a unit (n_i n_j)^3 of such an equation, a dense solve of n_i n_j unknowns
     "stein float": 6e-11,
+    #: a unit M^3 of the fusion weights of an M x M Sigma by Theorem 2's closed form or Problem 3's
+    #: linear system (symkf.fusion.optimal_weights: an eigenvalue check, SVDs and a pseudo-inverse)
+    "weights cube": 8e-10,
+    #: a unit M^4 of the same weights by Problem 2's SDP (an interior-point solve with an M x M
+    #: matrix variable)
+    "weights sdp entry": 4e-7,
+    #: a block P^(ij) of the joint covariance of symkf.fusion.simulate_fusion's holding times, built
+    #: the first time (matrix powers and sums of the block's pair of sensors)
+    "fusion block": 300e-6,
     #: an LMI of Theorem 4 (Yang et al.) set up, solved and checked, apart from its size
     #: (symkf.capacity.convergence.price_lmi; small ones take this)
     "lmi": 0.03,
@@ -270,9 +279,7 @@ def check(cap: str, estimate: int, entry: str, what: str | Callable[[], str]) ->
     bound = getattr(LIMITS, cap)
     if estimate > bound:
         what = what if isinstance(what, str) else what()
-        shown = estimate if estimate < 10 ** 15 else f"about 10^{math.floor(math.log10(estimate))}"
-        raise BudgetError(f"{entry}: {what} is {shown}, above the cap {bound}; raise it with "
-                          f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
+        raise BudgetError(f"{entry}: {what} is {_shown(estimate)}, above the cap {bound}; {_raise_it(cap)}")
 
 def seconds(**units: float) -> float:
     """The estimated CPU seconds of ``units`` of work: per kind of :data:`COSTS` (spaces written
@@ -280,9 +287,10 @@ def seconds(**units: float) -> float:
     return sum(_cost(kind) * float(min(_amount(kind, amount), 1e300)) for kind, amount in units.items())
 
 
-def affordable(kind: str) -> float:
-    """The most units of the kind ``kind`` of :data:`COSTS` that ``max_work`` allows alone."""
-    return LIMITS.max_work / 1000 / _cost(kind)
+def affordable(kind: str, **beside: float) -> float:
+    """The most units of the kind ``kind`` of :data:`COSTS` that ``max_work`` allows beside the
+    work ``beside`` (units as in :func:`seconds`; none: alone), at least 0."""
+    return max(0.0, LIMITS.max_work / 1000 - seconds(**beside)) / _cost(kind)
 
 
 def _cost(kind: str) -> float:
@@ -312,28 +320,35 @@ def price(entry: str | Callable[[], str], what: str | Callable[[], str], **units
         parts = ", ".join(f"{_shown(amount)} {kind.replace('_', ' ')}s at {_seconds(_cost(kind))}"
                           for kind, amount in units.items() if amount)
         raise BudgetError(f"{entry}: the estimated work of {what} is {_seconds(estimate)}, above the cap max_work = "
-                          f"{bound} CPU-ms; raise it with symkf.budget.limits(max_work=...) or the command-line "
-                          f"option {OPTIONS['max_work']} (the estimate: {parts})")
+                          f"{bound} CPU-ms; {_raise_it('max_work')} (the estimate: {parts})")
     return estimate
 
 
 class Meter:
-    """The work of a loop whose number of rounds is not known before it runs (row generation,
-    cutting planes), held to ``max_work`` as it goes: each round's start calls :meth:`round`,
-    which refuses when the CPU time spent so far and one more round as dear as the dearest yet
-    would pass the cap. The first round is not refused here (its own steps are priced); a loop
-    that would run for hours is stopped at the cap, with what it spent, the rounds it made and
-    how to raise it."""
+    """The work of a loop whose rounds' cost is not known before it runs (row generation, cutting
+    planes, a simulation whose cache of solves fills as it goes), held to ``max_work`` as it goes:
+    each round's start calls :meth:`round`, which refuses when the CPU time spent so far and one
+    more round as dear as the dearest yet would pass the cap, or, when the loop has a known number
+    of ``rounds`` and a tenth of the cap is spent, when the rounds left at the mean cost of the
+    rounds in the latter half (at least) of the time spent would (the first rounds of a loop whose
+    cache fills cost more than the later ones; a burst of dear rounds is averaged out). The first
+    round is not refused here (its own steps are priced); a loop that would run for hours is
+    stopped within a tenth of the cap, with what it spent, the rounds it made and how to raise
+    the cap."""
 
-    def __init__(self, entry: str, what: str) -> None:
+    def __init__(self, entry: str, what: str, rounds: int | None = None) -> None:
         if not (isinstance(entry, str) and isinstance(what, str)):
             raise InputError(f"Meter: entry and what must be strings, got {type(entry).__name__}, {type(what).__name__}")
-        self.entry, self.what = entry, what
+        if rounds is not None and (isinstance(rounds, bool) or not isinstance(rounds, int) or rounds < 0):
+            raise InputError(f"Meter: rounds must be an int >= 0 or None, got {rounds!r}"[:200])
+        self.entry, self.what, self.total = entry, what, rounds
         self.rounds, self.dearest = 0, 0.0
         self._start = self._last = time.process_time()
+        self._marks = [(0.0, 0)]   # (time spent, rounds made) each time the time spent doubled
 
     def round(self) -> None:
-        """Start a round: refused when the time spent and one more of the dearest round pass ``max_work``."""
+        """Start a round: refused when the time spent and one more of the dearest round, or (with a
+        known number of rounds) the rounds left at the recent cost, pass ``max_work``."""
         now = time.process_time()
         if self.rounds:
             self.dearest = max(self.dearest, now - self._last)
@@ -341,10 +356,33 @@ class Meter:
             if 1000 * (spent + self.dearest) > LIMITS.max_work:
                 raise BudgetError(
                     f"{self.entry}: {self.what} spent {_seconds(spent)} in {self.rounds} rounds, and one more (up to "
-                    f"{_seconds(self.dearest)}) would pass the cap max_work = {LIMITS.max_work} CPU-ms; raise it with "
-                    f"symkf.budget.limits(max_work=...) or the command-line option {OPTIONS['max_work']}")
+                    f"{_seconds(self.dearest)}) would pass the cap max_work = {LIMITS.max_work} CPU-ms; "
+                    f"{_raise_it('max_work')}")
+            if self.total is not None:
+                self._project(spent)
         self.rounds += 1
         self._last = now
+
+    def _project(self, spent: float) -> None:
+        """The refusal of :meth:`round` by the rounds left at the recent cost (a known number of rounds)."""
+        if spent >= 2 * self._marks[-1][0]:
+            self._marks.append((spent, self.rounds))
+        if 10_000 * spent < LIMITS.max_work:
+            return
+        since, made = self._marks[-2]   # at most half the time spent: the window holds the latter half
+        recent = (spent - since) / max(self.rounds - made, 1)
+        left = max(self.total - self.rounds, 0)
+        if 1000 * (spent + left * recent) > LIMITS.max_work:
+            raise BudgetError(
+                f"{self.entry}: {self.what} spent {_seconds(spent)} in {self.rounds} of {self.total} rounds; the {left} "
+                f"left at {_seconds(recent)} each (the mean of the last {self.rounds - made}) would take "
+                f"{_seconds(spent + left * recent)} in all, above the cap max_work = {LIMITS.max_work} CPU-ms; "
+                f"{_raise_it('max_work')}")
+
+
+def _raise_it(cap: str) -> str:
+    """How a refusal by ``cap`` is lifted, in the words every refusal ends with."""
+    return f"raise it with symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}"
 
 
 def _shown(amount: float) -> str:
@@ -364,8 +402,7 @@ def check_power(cap: str, base: int, exponent: int, entry: str, what: str) -> No
     (the power of a huge exponent is itself the work the cap guards): compared in logarithms."""
     bound = getattr(LIMITS, cap)
     if base > 1 and exponent * math.log2(base) > math.log2(max(bound, 1)) + 64:   # far above: never built
-        raise BudgetError(f"{entry}: {what} is {base}^{exponent}, above the cap {bound}; raise it with "
-                          f"symkf.budget.limits({cap}=...) or the command-line option {OPTIONS[cap]}")
+        raise BudgetError(f"{entry}: {what} is {base}^{exponent}, above the cap {bound}; {_raise_it(cap)}")
     check(cap, base ** exponent, entry, what)
 
 

@@ -74,6 +74,9 @@ def test_price_sums_the_units_at_their_costs_and_refuses_above_max_work():
                                   "option --max-work (the estimate: 2000000 screen points at 0.5 µs, 200000000 "
                                   "incidences at 0.15 µs)")
     assert budget.affordable("incidence") == pytest.approx(60 / 0.15e-6)
+    # beside 2 * 10^7 screen points (10 CPU-s), 50 CPU-s are left; beside 2 * 10^8 (100 CPU-s), none
+    assert budget.affordable("incidence", screen_point=2 * 10 ** 7) == pytest.approx(50 / 0.15e-6)
+    assert budget.affordable("incidence", screen_point=2 * 10 ** 8) == 0
 
 
 def test_an_astronomical_estimate_is_priced_without_overflow():
@@ -125,3 +128,24 @@ def test_the_covering_search_is_metered():
     # the row generation of allocate_channels makes at least two rounds (the first only proposes)
     with budget.limits(max_work=1), pytest.raises(BudgetError, match="symkf.design.allocate_channels: the row generation"):
         sk.design.allocate_channels(S)
+
+
+def test_a_meter_of_known_rounds_refuses_when_the_rest_at_the_recent_cost_would_pass_the_cap():
+    """1000 rounds of 0.02 CPU-s under a cap of 2 CPU-s: once a tenth of the cap (0.2 CPU-s, ten
+    rounds) is spent, the 990 left at 0.02 each project about 20 CPU-s, so the eleventh round is
+    refused, naming the projection; 50 such rounds (1 CPU-s in all) run to the end."""
+    from symkf.errors import BudgetError
+    with budget.limits(max_work=2000):
+        meter = budget.Meter("symkf.fusion.example", "the steps", rounds=1000)
+        with pytest.raises(BudgetError, match=r"^symkf.fusion.example: the steps spent 0.2\d* CPU-s in 1[01] of 1000 "
+                                              r"rounds; the 99\d left at 0.0\d+ CPU-s each \(the mean of the last [5-9]\) "
+                                              r"would take (19|20|21)(\.\d)? CPU-s in all, above the cap max_work = 2000"):
+            for _ in range(1000):
+                meter.round()
+                _burn(0.02)
+        assert meter.rounds in (10, 11)
+        meter = budget.Meter("symkf.fusion.example", "the steps", rounds=50)
+        for _ in range(50):
+            meter.round()
+            _burn(0.02)
+        assert meter.rounds == 50

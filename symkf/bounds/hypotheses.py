@@ -11,10 +11,9 @@ from typing import Callable
 
 import sympy as sp
 
-from .. import budget
 from ..arguments import check_public
 from ..errors import BudgetError
-from ..exact.linalg import field_of, nullspace_rows, rank, rank_rows
+from ..exact.linalg import krylov_rank, nullspace_rows, rank
 from ..model.system import System
 from ..engine.rows import modal_form
 from .row import Hypothesis, Quantity
@@ -36,21 +35,6 @@ def _refusable(name: str) -> Callable[[Callable[..., Hypothesis]], Callable[...,
                 return Hypothesis(name, False, str(exc), refused=True)
         return checked
     return wrap
-
-
-def _krylov_rank(A: sp.Matrix, C: sp.Matrix) -> int:
-    """The exact rank of ``col{C, CA, ..., CA^(n-1)}``, its rows computed in the field of A's and C's
-    entries (the entries of A^k would each be a new generator of it), which is first priced by its
-    degree like the LMI's field (:func:`symkf.capacity.mare_stabilizable`)."""
-    K = field_of(A, C)
-    budget.check("max_cyclotomic_degree", K.degree, "A", "the degree of the field of A's and C's entries, in which "
-                 "the hypothesis is checked")
-    Ak = K.matrix(A)
-    rows, block = [], K.matrix(C)
-    for _ in range(A.rows):
-        rows += block
-        block = [K.vecmat(row, Ak) for row in block]
-    return rank_rows(K, rows, A.rows)
 
 
 def one_sensor(system: System) -> Hypothesis:
@@ -81,7 +65,7 @@ def controllable_noise(system: System) -> Hypothesis:
     """``(A, Q^(1/2))`` controllable: ``range Q^(1/2) = range Q``, Krylov rank."""
     A, Q = sp.Matrix(system.A), sp.Matrix(system.Q)
     definite = rank(Q) == system.n
-    r = system.n if definite else _krylov_rank(A.T, Q.T)
+    r = system.n if definite else krylov_rank(A.T, Q.T)
     detail = "Q > 0" if definite else f"rank [Q, AQ, ...] = {r}, n = {system.n}"
     return Hypothesis("(A, Q^(1/2)) controllable", r == system.n, detail)
 
@@ -125,7 +109,7 @@ def invertible_on_observable_subspace(system: System) -> Hypothesis:
     Read as: ``rank C`` equals the dimension ``n_o`` of the observable part, i.e. ``C_o`` is
     injective (redundant rows of ``C`` are dropped, which changes no covariance bound)."""
     A, C = sp.Matrix(system.A), sp.Matrix(system.C)
-    n_o = _krylov_rank(A, C)
+    n_o = krylov_rank(A, C)
     r = rank(C)
     return Hypothesis("C_o invertible", r == n_o,
                       f"C = [C_o, 0] in the observability decomposition: rank C = {r}, "

@@ -199,9 +199,15 @@ def lower_bound(images: np.ndarray, weights: np.ndarray, p: int, cycles: Sequenc
     lower bound of the heaviest hyperplane's weight (the caller confirms what is kept) that lets
     :func:`stages` shorten its windows."""
     g = len(cycles[0])
+    seen = set()   # cycles of repeated or parallel sensors span the same flats: each is read once
     for q in (q for q in range(1, g) if g % q == 0):
         for rows in [*(list(c[::q]) for c in cycles), [e for c in cycles for e in c[::q]]]:
-            null, nullity = flint.nmod_mat(images[rows].tolist(), p).nullspace()
+            span, rank = flint.nmod_mat(images[rows].tolist(), p).rref()
+            key = tuple(int(v) for v in span.entries()[:rank * images.shape[1]])   # the span's basis
+            if key in seen:
+                continue
+            seen.add(key)
+            null, nullity = span.nullspace()
             if nullity:
                 N = np.array([[int(null[i, j]) for j in range(nullity)] for i in range(images.shape[1])],
                              dtype=np.int64)

@@ -245,17 +245,26 @@ class BlockRows:
         return vectors, bases
 
     def listing_estimate(self) -> tuple[int, str]:
-        """An upper bound on the number of hyperplanes :attr:`inside` lists, and its formula:
-        ``C(V, n - 1)`` for V distinct generators, or, when :func:`_element_flats` applies,
-        ``sum_e C(V, n - 1 - r_e)`` over the elements held by some hyperplane (``r_e`` independent
-        generators)."""
+        """An upper bound on the number of generator hyperplanes :attr:`inside` builds (each a row
+        of its matrices, :meth:`listing_bytes`; the element sets it lists are fewer), and its
+        formula: ``C(V, n - 1)`` for V distinct generators, or, when :func:`_element_flats`
+        applies, ``sum_e C(V - s_e, n - 1 - s_e)`` over the elements held by some hyperplane, with
+        ``s_e = min(r_e, n - 2)`` for ``r_e`` independent generators.
+
+        Why it bounds them.  Through the flats of an element ``e`` with ``r_e <= n - 2`` the listing
+        finds the hyperplanes ``H`` holding its span ``P_e``; a basis of ``H`` extends ``b_e`` by
+        ``n - 1 - r_e`` generators outside ``P_e``, which holds ``r_e`` of the ``V`` (``b_e``), so
+        there are at most ``C(V - r_e, n - 1 - r_e)`` of them.  With ``r_e = n - 1`` the listing
+        visits the flat ``Z`` of ``b_e``'s first ``n - 2`` and every hyperplane through it, each
+        ``Z`` and one generator outside it: at most ``V - (n - 2)``.  Every row is one of these."""
         vectors, bases = self._bases
         V, n = len(vectors), self.size
         if _element_flats(bases, V, n) is None:
             return math.comb(V, n - 1), f"C({V}, {n - 1}) for {V} generators in dimension {n}"
-        live = [len(b) for b in bases if 0 < len(b) < n]
-        return (sum(math.comb(V, n - 1 - r) for r in live),
-                f"the sum of C({V}, {n - 1} - r) over {len(live)} elements of r generators, in dimension {n}")
+        live = [min(len(b), n - 2) for b in bases if 0 < len(b) < n]
+        return (sum(math.comb(V - s, n - 1 - s) for s in live),
+                f"the sum of C({V} - s, {n - 1} - s) over {len(live)} elements of s = min(r, {n - 2}) of r generators, "
+                f"in dimension {n}")
 
     def listing_bytes(self, hyperplanes: int) -> int:
         """Bytes that :attr:`inside` holds at its peak for ``hyperplanes`` hyperplanes: per
@@ -495,11 +504,14 @@ class BlockRows:
                 if cycles is not None:
                     hyperplane_screen.lower_bound(X, weights, p, cycles, screen)
                 plan = hyperplane_screen.stages(X, weights, p, orbits, skip, screen.bar, cycles)
+                # when the points alone pass the cap, the incidences (a class count per stage: seconds
+                # at thousands of sensors) are not counted past the first stage
+                visits = screens * sum(len(s.points) for s in plan)
+                left = int(budget.affordable("incidence")) if budget.affordable("incidence", screen_point=visits) else 0
                 budget.price(lambda: f"eigen-block of modulus {self.block.modulus}",
                              lambda: f"the hyperplane screen ({points} in dimension {n}, {len(orbits) - len(skip)} "
                                      f"orbits, {len(plan)} stages" + (f"; {screens} such screens)" if screens > 1 else ")"),
-                             screen_point=screens * sum(len(s.points) for s in plan),
-                             incidence=screens * hyperplane_screen.work(X, p, plan, budget.affordable("incidence")))
+                             screen_point=visits, incidence=screens * hyperplane_screen.work(X, p, plan, left))
                 if not hyperplane_screen.search(X, weights, p, plan, screen):
                     continue
             except hyperplane_screen.Crowded:

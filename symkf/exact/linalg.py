@@ -15,6 +15,7 @@ from typing import Sequence
 import flint
 import sympy as sp
 
+from .. import budget
 from ..errors import InputError, ShapeError
 from ..arguments import check_public
 from typing import Any
@@ -56,21 +57,35 @@ def rank(M: sp.MatrixBase, K: NumberField | None = None) -> int:
 
 
 def krylov_rank(A: sp.MatrixBase, C: sp.MatrixBase) -> int:
-    """Exact rank of ``col{C, CA, ..., CA^(n-1)}`` (the observability matrix) for rational ``A``
-    (n x n) and ``C``: each block ``C A^(k+1) = (C A^k) A`` from the last in flint's rational
-    matrices (sympy's powers ``A^k``, one per k, cost far more at n = 48), ranked at once."""
+    """Exact rank of ``col{C, CA, ..., CA^(n-1)}`` (the observability matrix; with ``A'``, ``Q'`` it is
+    the controllability rank of ``(A, Q)``) for ``A`` (n x n) and ``C`` with algebraic entries.
+
+    Each block ``C A^(k+1) = (C A^k) A`` is computed from the last: in flint's rational matrices when
+    every entry is rational (sympy's powers ``A^k``, one per k, cost far more at n = 48), otherwise in
+    the field of A's and C's entries (the entries of ``A^k`` would each be a new generator), which is
+    first priced by its degree (``max_cyclotomic_degree``); the stacked rows are ranked at once."""
     A, C = as_matrix(A, "A"), as_matrix(C, "C")
     n = A.shape[0]
     if n == 0 or C.shape[0] == 0:
         return 0
-    to_q = lambda M: flint.fmpq_mat([[rational_value(QQ_FIELD.convert(v)) for v in M.row(i)]  # noqa: E731
-                                     for i in range(M.shape[0])])
-    Aq, block = to_q(A), to_q(C)
-    rows = []
+    K = field_of(A, C)
+    if K.is_rational:
+        to_q = lambda M: flint.fmpq_mat([[rational_value(QQ_FIELD.convert(v)) for v in M.row(i)]  # noqa: E731
+                                         for i in range(M.shape[0])])
+        Aq, block = to_q(A), to_q(C)
+        rows = []
+        for _ in range(n):
+            rows.extend(block.tolist())
+            block = block * Aq
+        return flint.fmpq_mat(rows).rank()
+    budget.check("max_cyclotomic_degree", K.degree, "A", "the degree of the field of A's and C's entries, in which "
+                 "the Krylov rank is computed")
+    Ak = K.matrix(A)
+    rows, kblock = [], K.matrix(C)
     for _ in range(n):
-        rows.extend(block.tolist())
-        block = block * Aq
-    return flint.fmpq_mat(rows).rank()
+        rows += kblock
+        kblock = [K.vecmat(row, Ak) for row in kblock]
+    return rank_rows(K, rows, n)
 
 
 def _echelon(K: NumberField, rows: Sequence[Sequence[Elem]], ncols: int) -> tuple[list[list[Elem]], list[int]]:

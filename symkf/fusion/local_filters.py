@@ -82,14 +82,15 @@ def local_filters(model: FusionModel) -> LocalFilters:
     budget.price("symkf.fusion.local_filters",
                  lambda: f"{model.N} local Riccati equations and the joint Stein equation of size {size}",
                  local_filter=model.N, float_cube=size ** 3)
-    filters = tuple(steady_filter(loc) for loc in model.local)
-    F = block_diag(*[f.F for f in filters])
-    G = block_diag(*[f.G for f in filters])
-    K = block_diag(*[f.K for f in filters])
-    Vt = np.vstack([loc.V.T for loc in model.local])
-    # one BLAS thread, as priced: beside other work BLAS's threads spin, and the solve of size 192
-    # cost four times its CPU
+    # one BLAS thread, as priced: beside other work BLAS's threads spin, and the Stein solve of size
+    # 192 cost four times its CPU (the small Riccati solves, 256 triangular solves at 128 sensors,
+    # up to five times)
     with threadpool_limits(1):
+        filters = tuple(steady_filter(loc) for loc in model.local)
+        F = block_diag(*[f.F for f in filters])
+        G = block_diag(*[f.G for f in filters])
+        K = block_diag(*[f.K for f in filters])
+        Vt = np.vstack([loc.V.T for loc in model.local])
         Pi = solve_discrete_lyapunov(F, G @ Vt @ model.Q @ Vt.T @ G.T + K @ model.R @ K.T)
     offsets = tuple(np.concatenate([[0], np.cumsum([loc.n_o for loc in model.local])]).tolist())
     return LocalFilters(model=model, filters=filters, Pi=(Pi + Pi.T) / 2, offsets=offsets)

@@ -98,7 +98,7 @@ def _assumption2(A_exact: sp.Matrix, Ts: sp.Rational | None, loss_max: sp.Ration
             if not value[0] <= 1 <= value[1]:
                 break
         else:
-            raise AssumptionError(f"(1 - min lambda) rho(A)^2 is within 2^-1000 of 1",
+            raise AssumptionError("(1 - min lambda) rho(A)^2 is within 2^-1000 of 1",
                                   assumption="Assumption 2 (arXiv:2012.04896): decidable by certified intervals")
         best = max(range(len(ends)), key=lambda k: ends[k][1])
         dominant_real = roots[best].imag == 0 and all(

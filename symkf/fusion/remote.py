@@ -19,7 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import solve_discrete_are
+from threadpoolctl import threadpool_limits
 
+from .. import budget
 from ..arguments import check_public
 from ..errors import InputError
 from .covariance import HoldingTimeCovariance, holding_times
@@ -97,8 +99,27 @@ def simulate_fusion(lf: LocalFilters, horizon: int, paths: int, seed: int) -> Fu
     if horizon < 1 or paths < 1:
         raise InputError(f"horizon, paths: must be positive, got {horizon}, {paths}")
     m = lf.model
-    rng = np.random.default_rng(seed)
     n, N = m.n, m.N
+    # the error records (floats) and the arrivals (bytes) it returns and draws
+    budget.check("max_memory", 8 * (horizon + 1) * paths * (2 * n + N * n + 1) + horizon * paths * N,
+                 "symkf.fusion.simulate_fusion", f"the bytes (estimate) of {paths} paths x {horizon} steps of "
+                 f"{N} sensors' errors")
+    size = lf.Pi.shape[0]
+    budget.price("symkf.fusion.simulate_fusion", f"the first fusion weights ({N * N} blocks of a {size} x {size} "
+                 "covariance and its solve)", fusion_block=N * N, weights_cube=size ** 3)
+    # each path's step solves the weights of its holding times unless they were met before (cached):
+    # their cost is known only as the cache fills, so the (step, path) rounds are metered
+    meter = budget.Meter("symkf.fusion.simulate_fusion", f"the fusion weights of {paths} paths x {horizon + 1} "
+                         f"steps (a {size} x {size} solve for each new holding time)", rounds=(horizon + 1) * paths)
+    with threadpool_limits(1):   # one BLAS thread, as priced (see symkf.fusion.optimal_weights)
+        return _simulate(lf, horizon, paths, seed, meter)
+
+
+def _simulate(lf: LocalFilters, horizon: int, paths: int, seed: int, meter: budget.Meter) -> FusionRun:
+    """:func:`simulate_fusion` of checked and priced arguments, its rounds counted by ``meter``."""
+    m = lf.model
+    n, N = m.n, m.N
+    rng = np.random.default_rng(seed)
     fusion = RemoteFusion(lf)
     Kc, Pc = centralized_filter(lf)
     Cc, Rc = m.C, m.R
@@ -122,6 +143,7 @@ def simulate_fusion(lf: LocalFilters, horizon: int, paths: int, seed: int) -> Fu
     def record(k: int) -> None:
         r = np.concatenate(remote, axis=1)
         for p in range(paths):
+            meter.round()
             U, tr = fusion._weights(tuple(tau[p].tolist()))
             fused_err[k, p] = x[p] - U.T @ r[p]
             trace_P[k, p] = tr

@@ -32,7 +32,9 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.linalg
+from threadpoolctl import threadpool_limits
 
+from .. import budget
 from ..arguments import check_public, float_array
 from ..errors import AssumptionError, InputError, NotPositiveDefiniteError, ShapeError, require_extra
 from ..numeric import convex
@@ -185,8 +187,16 @@ def optimal_weights(Sigma: np.ndarray, Vo: np.ndarray, method: str = "closed-for
     """
     if method not in METHODS:
         raise InputError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")
-    Sigma, Vo = _validate(Sigma, Vo)
-    return {"closed-form": lambda Sigma, Vo: _ClosedForm(Vo)(Sigma), "sdp": _sdp, "problem3": _problem3}[method](Sigma, Vo)
+    Sigma = float_array(Sigma, "Sigma")
+    M = Sigma.shape[0] if Sigma.ndim == 2 else 0
+    budget.price("symkf.fusion.optimal_weights", f'the weights by method="{method}" for a {M} x {M} Sigma',
+                 **({"weights_sdp_entry": M ** 4} if method == "sdp" else {"weights_cube": M ** 3}))
+    # one BLAS thread, as priced: beside other work BLAS's threads spin, and a 512 x 512 closed form
+    # cost 4 to 40 times its CPU
+    with threadpool_limits(1):
+        Sigma, Vo = _validate(Sigma, Vo)
+        return {"closed-form": lambda Sigma, Vo: _ClosedForm(Vo)(Sigma), "sdp": _sdp,
+                "problem3": _problem3}[method](Sigma, Vo)
 
 
 def fused_covariance(Sigma: np.ndarray, W: np.ndarray) -> np.ndarray:

@@ -318,7 +318,8 @@ def _hessenberg_basis(A: np.ndarray) -> np.ndarray:
 
 def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
     """``log tr P_{k|k-1}`` (paths, horizon + 1), k = 0..horizon, for receptions ``received``
-    (horizon, paths, d) bool.
+    (horizon, paths, d) bool: a transposed view (Fortran order), each step's logs contiguous as the
+    kernel writes them.
 
     Square-root filter with a running power-of-two scale per path (Potter measurement
     updates one whitened row at a time, Yang et al. eq. 8; Householder time update,
@@ -334,16 +335,25 @@ def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
     return trace.T
 
 
-def traces_into(model: FloatSystem, received: np.ndarray, out: np.ndarray) -> None:
-    """``out[p, k] = tr P_{k|k-1}``, k = 0..horizon-1, by the filter of :func:`log_traces` for
-    ``received`` (horizon, paths, d): the exact product of its trace and power-of-two scale
-    (``inf`` where ``tr P`` exceeds float64), written by the kernel without a log."""
+def traces_into(model: FloatSystem, received: np.ndarray, out: np.ndarray, first: int = 0) -> None:
+    """``out[first + p, k] = tr P_{k|k-1}``, k = 0..horizon-1, by the filter of :func:`log_traces`
+    for ``received`` (horizon, paths, d): the exact product of its trace and power-of-two scale
+    (``inf`` where ``tr P`` exceeds float64), written by the kernel without a log.  ``out`` is a
+    float64 array (at least ``first + paths``, horizon) in Fortran order (``out.T`` C-contiguous,
+    as ``np.empty((horizon, m)).T`` is): the kernel writes each step's traces of a block of paths
+    contiguously, where rows of a C-ordered ``out`` would take a transposing copy."""
     from .square_root import log_trace_paths
     arguments = _kernel_arguments(model, received)
     horizon, paths = np.shape(received)[:2]
-    if out.shape != (paths, horizon) or out.dtype != np.float64 or not out.flags.c_contiguous:
-        raise ShapeError(f"out: expected a C-contiguous float64 array {(paths, horizon)}, got {out.shape} {out.dtype}")
-    log_trace_paths(*arguments, out, True)
+    if isinstance(first, bool) or not isinstance(first, (int, np.integer)) or first < 0:
+        raise ShapeError(f"first: expected the row of out that takes the first path (an integer >= 0), got {first!r}")
+    if (not isinstance(out, np.ndarray) or out.ndim != 2 or out.dtype != np.float64 or not out.T.flags.c_contiguous
+            or not out.flags.writeable or out.shape[1] != horizon or out.shape[0] < first + paths):
+        raise ShapeError(f"out: expected a writeable float64 array in Fortran order (out.T C-contiguous) of {horizon} "
+                         f"columns and at least first + paths = {first + paths} rows, got "
+                         f"{getattr(out, 'shape', None)} {getattr(out, 'dtype', type(out).__name__)}"
+                         f"{'' if getattr(out, 'ndim', 0) != 2 or out.T.flags.c_contiguous else ' in C order'}")
+    log_trace_paths(*arguments, out.T, True, int(first))
 
 
 def predicted_covariances(system: System | FloatSystem, receptions: np.ndarray, keep: str = "trace",

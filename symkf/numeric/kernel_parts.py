@@ -206,73 +206,40 @@ def _linear_scaled(t: float, e: int) -> float:
 
 
 @_compiled
-def _row(trace: np.ndarray, buffer: np.ndarray, spare: np.ndarray, k: int, start: int, linear: bool) -> np.ndarray:
-    """Where a lane loop writes step ``k``'s traces of the block at ``start`` (``spare.size`` lanes):
-    its row of ``trace`` (their logs, ``trace[k, p]``), or with ``linear`` the row ``k mod w`` of
-    ``buffer`` (w, lanes), the block's ``w`` steps, which :func:`_flush` writes along the steps;
-    ``spare`` for a partial last block's logs, or a step beyond those ``trace`` has."""
-    if linear:
-        return buffer[k % buffer.shape[0]] if k < trace.shape[1] else spare
-    if start + spare.size <= trace.shape[1]:
-        return trace[k, start:start + spare.size]
+def _row(trace: np.ndarray, spare: np.ndarray, k: int, start: int, offset: int, paths: int) -> np.ndarray:
+    """Where a lane loop writes step ``k``'s traces of the block at path ``start`` (``spare.size``
+    lanes) of a run of ``paths`` paths: ``trace[k, offset + start + p]``, the row of step ``k``
+    (one store per lane, at unit stride), or ``spare`` for a partial last block (:func:`_flush`
+    copies what it holds) and for a step beyond ``trace``'s rows."""
+    if k < trace.shape[0] and start + spare.size <= paths:
+        return trace[k, offset + start:offset + start + spare.size]
     return spare
 
 
 @_compiled
-def _flush(trace: np.ndarray, buffer: np.ndarray, spare: np.ndarray, k: int, start: int, linear: bool) -> None:
-    """After step ``k``'s lane loop has written :func:`_row`: a partial last block's logs from
-    ``spare`` into ``trace``; with ``linear``, every ``w`` steps (and at the last) the buffer into
-    the block's rows of ``trace[p, k]`` along the steps (stores across paths, 8 ``horizon`` bytes
-    apart), eight paths (a cache line of the buffer) at a time: path by path, a column of the
-    buffer is ``w`` lines one lane row (4 KiB at 512 lanes) apart, all in one set of the L1 cache,
-    each line evicted before the next path reads it: eight at a time, every line loaded is used
-    whole.  It matters most at n = 2, where the kernel's own work per path-step is smallest
-    (docs/performance.md)."""
-    width = spare.size
-    if not linear:
-        if start + width > trace.shape[1]:
-            row = trace[k, start:]
-            for p in range(row.size):
-                row[p] = spare[p]
-        return
-    steps, w = trace.shape[1], buffer.shape[0]
-    if k < steps and start < trace.shape[0] and (k % w == w - 1 or k == steps - 1):   # trace may hold fewer paths
-        first, count = k - k % w, min(width, trace.shape[0] - start)
-        whole, blocks = count - count % 8, first + (k + 1 - first) // 8 * 8
-        # fixed trip counts of 8, unrolled: tiles of 8 paths x 8 steps (a variable bound such as
-        # min(tile + 8, count) is slower); the steps and paths past the whole tiles below
-        for tile in range(0, whole, 8):
-            paths = trace[start + tile:start + tile + 8]
-            for j0 in range(first, blocks, 8):
-                square = buffer[j0 - first:j0 - first + 8, tile:tile + 8]
-                for p in range(8):
-                    row = paths[p]
-                    for j in range(8):
-                        row[j0 + j] = square[j, p]
-            for j in range(blocks, k + 1):
-                line = buffer[j - first, tile:tile + 8]
-                for p in range(8):
-                    paths[p, j] = line[p]
-        for p in range(whole, count):
-            out = trace[start + p]
-            for j in range(first, k + 1):
-                out[j] = buffer[j - first, p]
+def _flush(trace: np.ndarray, spare: np.ndarray, k: int, start: int, offset: int, paths: int) -> None:
+    """After step ``k``'s lane loop has written :func:`_row`: a partial last block's traces from
+    ``spare`` into ``trace``'s row ``k``."""
+    if k < trace.shape[0] and start + spare.size > paths:
+        row = trace[k, offset + start:offset + paths]
+        for p in range(row.size):
+            row[p] = spare[p]
 
 
 @_compiled
-def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, buffer: np.ndarray,
-           spare: np.ndarray, linear: bool) -> None:
-    """Step ``k`` of the block at ``start``: ``trace[k, p] = log t + E ln 2`` (:func:`_log_scaled`),
-    or with ``linear`` ``trace[p, k] = t 2^E`` (:func:`_linear_scaled`) for the paths and steps
+def _store(k: int, start: int, t: np.ndarray, E: np.ndarray, trace: np.ndarray, spare: np.ndarray,
+           offset: int, paths: int, linear: bool) -> None:
+    """Step ``k`` of the block at ``start``: ``trace[k, offset + start + p] = log t + E ln 2``
+    (:func:`_log_scaled`), or with ``linear`` ``t 2^E`` (:func:`_linear_scaled`), for the steps
     ``trace`` has, in a lane loop of its own (:func:`_row`, :func:`_flush`)."""
-    out = _row(trace, buffer, spare, k, start, linear)
+    out = _row(trace, spare, k, start, offset, paths)
     if linear:
         for p in range(out.size):
             out[p] = _linear_scaled(t[p], E[p])
     else:
         for p in range(out.size):
             out[p] = _log_scaled(t[p], E[p])
-    _flush(trace, buffer, spare, k, start, linear)
+    _flush(trace, spare, k, start, offset, paths)
 
 
 @_compiled

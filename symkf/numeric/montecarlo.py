@@ -140,25 +140,22 @@ def memory_estimate(system: System, loss: LossModel, horizon: int, paths: int, *
     :func:`burst_sample` with that many burst components, on ``jobs`` processes.  Counted, per
     chunk of ``m`` paths and ``K`` steps: the receptions and chain states; plain Monte Carlo, the
     kernel writes ``tr P`` into the traces itself (:func:`symkf.numeric.filters.traces_into`; its
-    buffers are one step's receptions and at most 64 steps' traces of a block of paths, at most 128 KiB each);
+    buffer is one step's receptions of a block of paths);
     for bursts the kernel's log traces ``8 (K + 1) m``
     (:func:`symkf.numeric.filters.log_traces`: the kernel writes the logs), the law table, the likelihood
     ratios ``8 C K m`` and their tail sums (one more of that size), and the log-trace
-    rows; the traces ``8 paths K`` kept whole (resident as far as the chunks up to the current one
-    filled them) and the standard deviation's copy of them; per path results ``72 paths`` for
+    rows; the traces ``8 paths K`` kept whole (from the first chunk on: a row per step, in
+    Fortran order, :func:`simulate_traces`) and the standard deviation's copy of them; per path results ``72 paths`` for
     bursts.  Checked against measured peak RSS in
     ``tests/numeric/test_memory_estimate.py``.
     """
     d, K = system.d, horizon
     if components is None:
-        def chunk(m: int) -> int:   # chain states (one byte per sensor and step), receptions, kernel, its traces
-            return d * K * m + max(8 * K * m, d * K * m) + 8 * K * m
-        size = _trace_chunk(K, d)
-        full, last = min(paths, size), paths % size or min(paths, size)
-        # the traces are resident as far as the chunks before the current one filled them
-        phases = [chunk(full), 8 * (paths - last) * K + chunk(last), 16 * paths * K]
-        if paths > size + last:
-            phases.append(8 * (paths - last - full) * K + chunk(full))
+        # a chunk's chain states (one byte per sensor and step) and receptions beside the traces,
+        # counted whole: in Fortran order every chunk writes into every step's row, so that the
+        # first chunk already touches (huge) pages all along them
+        m = min(paths, _trace_chunk(K, d))
+        phases = [d * K * m + max(8 * K * m, d * K * m) + 8 * paths * K, 16 * paths * K]
         if records is not None:
             phases.append(K * (32 + 3 * RECORD_BYTES[records]))
         return max(phases)
@@ -179,7 +176,8 @@ def _trace_chunk(horizon: int, d: int) -> int:
 
 
 def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: int | None) -> np.ndarray:
-    """tr P_{k|k-1} (paths, horizon), receptions drawn from ``loss`` per factor (:meth:`LossModel.sample`)."""
+    """tr P_{k|k-1} (paths, horizon) in Fortran order (:func:`simulate_traces`), receptions drawn from ``loss``
+    per factor (:meth:`LossModel.sample`)."""
     horizon, paths = _positive(horizon, "horizon"), _positive(paths, "paths")
     # refused before numpy tries to allocate the arrays
     budget.check("max_memory", memory_estimate(system, loss, horizon, paths), "paths x horizon",
@@ -187,14 +185,15 @@ def _simulate(system: System, loss: LossModel, horizon: int, paths: int, seed: i
     model = real_form(system)
     factors = loss_factors(loss, system.d)
     rng = np.random.default_rng(seed)
-    traces = np.empty((paths, horizon))
+    # Fortran order: the kernel writes each step's traces of a block of paths contiguously (traces_into)
+    traces = np.empty((horizon, paths)).T
     chunk = _trace_chunk(horizon, system.d)
     chunks = range(0, paths, chunk)
     with _progress(len(chunks), paths * horizon, "simulate") as bar:
         for start in chunks:
             stop = min(start + chunk, paths)
             received = receptions.sample(factors, horizon, stop - start, system.d, rng)
-            traces_into(model, received, traces[start:stop])   # tr P beyond float64 is inf; log_mean_trace keeps logs
+            traces_into(model, received, traces, start)   # tr P beyond float64 is inf; log_mean_trace keeps logs
             bar.update()
     return traces
 
@@ -206,6 +205,11 @@ def simulate_traces(system: System, loss: LossModel, horizon: int, paths: int,
     Receival sequences are drawn from ``loss`` with ``numpy.random.default_rng(seed)``, factor by
     factor (:meth:`~symkf.model.loss.LossModel.sample`: independent sensors never build the joint
     ``2^d`` chain; memory is linear in ``d``).
+
+    The array is in Fortran order: the transposed view of a C-contiguous (horizon, paths) buffer,
+    so that a step's traces of all paths are contiguous in memory (the compiled kernel writes them
+    so, without a transposing copy).  Its values do not depend on the order; code that needs a
+    path's traces contiguous takes ``np.ascontiguousarray(traces)``.
     """
     return _simulate(system, loss, horizon, paths, seed)
 
@@ -845,12 +849,22 @@ def divergence_test(system: System, loss: LossModel, seed: int | None = None, *,
         for j, k in enumerate(horizons):
             with bar.part(paths * k):
                 runs.append(log_mean_trace(system, loss, k, paths, None if seed is None else seed + j, plan, jobs))
-    exact_value = None if exact_rate is None else to_exact(
-        exact_rate.exact if hasattr(exact_rate, "exact") else exact_rate, "exact_rate")
-    return _divergence_verdict(runs, exact_value, tolerance, confidence, degree, paths, seed)
+    return _divergence_verdict(runs, _shown_rate(exact_rate), tolerance, confidence, degree, paths, seed)
 
 
-def _divergence_verdict(runs: Sequence[LogMeanEstimate], exact_rate: sp.Expr | None, tolerance: float,
+def _shown_rate(exact_rate: Any) -> tuple[float, str] | None:
+    """``exact_rate`` as :class:`DivergenceResult` shows it (its float and its exact form): the
+    engine's own (an AlgebraicNumber, certified: its ball gives the float, whatever its degree) as
+    it is, a caller's value through the safe reader (:func:`symkf.exact.numbers.to_exact`)."""
+    if exact_rate is None:
+        return None
+    if isinstance(exact_rate, AlgebraicNumber):
+        return float(exact_rate), str(exact_rate.exact)
+    value = to_exact(exact_rate, "exact_rate")
+    return float(value), str(value)
+
+
+def _divergence_verdict(runs: Sequence[LogMeanEstimate], exact_rate: tuple[float, str] | None, tolerance: float,
                        confidence: float, degree: int, paths: int, seed: int | None) -> DivergenceResult:
     """The :class:`DivergenceResult` of three independent estimates of ``log E`` at ``h, 2h, 3h``:
     the margin from :func:`margin_interval` widened by :func:`polynomial_allowance`, the growth from
@@ -864,8 +878,7 @@ def _divergence_verdict(runs: Sequence[LogMeanEstimate], exact_rate: sp.Expr | N
     verdict = ("unstable" if low is not None and low > 1 else
                "stable" if (f_high is not None and f_high < 1) or growth[2] < 1 + tolerance else "undecided")
     return DivergenceResult(verdict, rate, low, high, f_low, f_high, *growth, allowance,
-                            None if exact_rate is None else float(exact_rate),
-                            None if exact_rate is None else str(exact_rate),
+                            *((None, None) if exact_rate is None else exact_rate),
                             tolerance, confidence, horizons, paths, seed, runs[-1].sampling, tuple(runs))
 
 

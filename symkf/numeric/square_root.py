@@ -73,7 +73,7 @@ from .kernel_parts import (LOOP_LANES, NORMAL, OPTIONS, ROOT_MAX, _aligned, _ali
 
 #: the first 16 hex digits of the SHA-256 of symkf/numeric/kernel_parts.py, whose pieces this module's
 #: kernels inline (:func:`_jit`; a test compares)
-KERNEL_PARTS = "6d0667383e5c4afe"
+KERNEL_PARTS = "beae74933e15ede5"
 
 
 def _inlined_digest() -> str | None:
@@ -118,11 +118,6 @@ SMALL_LANES = 128
 SMALL_MAX = 4
 TINY_LANES = 2048
 TINY_MAX = 2
-#: steps of one block's linear traces held before they are written along the steps (64 x 128 lanes: 64 KiB),
-#: at most BUFFER_PATH_STEPS path-steps (128 KiB): 8 steps of 2048 lanes, faster at n = 2 than more
-#: steps per flush, while blocks of 128 lanes are faster with their 64 (docs/performance.md)
-BUFFER_STEPS = 64
-BUFFER_PATH_STEPS = 2 ** 14
 def lanes(n: int) -> int:
     """Paths per block of the kernel for ``n`` states."""
     if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:
@@ -137,13 +132,15 @@ def lanes(n: int) -> int:
 
 
 def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
-                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, linear: bool = False) -> None:
-    """``trace[k, p] = log tr P_{k|k-1}`` (k = 0..horizon) for receptions ``received[k, p, i]``
+                    S0: np.ndarray, received: np.ndarray, trace: np.ndarray, linear: bool = False,
+                    offset: int = 0) -> None:
+    """``trace[k, offset + p] = log tr P_{k|k-1}`` (k = 0..horizon) for receptions ``received[k, p, i]``
     (sensor ``i``), ``A`` upper Hessenberg, from ``P_0 = S0 S0^T`` (``S0`` lower triangular), in blocks of :func:`lanes`
     ``(n)`` paths (a partial last block included).
-    ``linear``: ``trace[p, k] = tr P_{k|k-1}`` for the paths and
-    steps of ``trace`` instead (through a block buffer of :data:`BUFFER_STEPS` steps, fewer for wide blocks).  By
-    :func:`_kernel` ``(n)``."""
+    ``linear``: ``tr P_{k|k-1}`` itself, k = 0..horizon-1.  ``trace`` is C-contiguous float64 with a
+    row per step (``horizon + 1`` rows, or ``horizon`` with ``linear``) and at least ``offset + paths``
+    columns: the kernel writes each step's traces of a block of paths in place, at unit stride
+    (``trace.T`` is the (paths, steps) array in Fortran order).  By :func:`_kernel` ``(n)``."""
     n = A.shape[0]
     if np.ndim(received) != 3:
         raise ShapeError(f"received: expected (horizon, paths, sensors), got shape {np.shape(received)}")
@@ -153,10 +150,15 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     if np.ndim(S0) == 2 and np.any(np.triu(S0, 1)):   # the first Potter row skips its zeros
         raise ShapeError("S0: the kernel takes S0 lower triangular (symkf.numeric.filters's kernel arguments make it so)")
     # the compiled loops do not check bounds
-    if not linear and trace.shape != (horizon + 1, paths):
-        raise ShapeError(f"log traces: expected {(horizon + 1, paths)}, got {trace.shape}")
-    if linear and (trace.shape[0] > paths or trace.shape[1] > horizon):
-        raise ShapeError(f"traces: at most {(paths, horizon)}, got {trace.shape}")
+    steps = horizon if linear else horizon + 1
+    if isinstance(offset, bool) or not isinstance(offset, numbers.Integral) or offset < 0:
+        raise ShapeError(f"offset: expected a column (an integer >= 0), got {offset!r}")
+    if (not isinstance(trace, np.ndarray) or trace.ndim != 2 or trace.dtype != np.float64
+            or not trace.flags.c_contiguous or not trace.flags.writeable
+            or trace.shape[0] != steps or trace.shape[1] < offset + paths):
+        raise ShapeError(f"{'traces' if linear else 'log traces'}: expected a writeable C-contiguous float64 array "
+                         f"of {steps} rows and at least {offset + paths} columns, got "
+                         f"{getattr(trace, 'shape', None)} {getattr(trace, 'dtype', type(trace).__name__)}")
     shapes = {"A": np.shape(A), "UQ": np.shape(UQ), "S0": np.shape(S0), "H": np.shape(H), "row_sensor": np.shape(row_sensor)}
     if len({shapes[k] for k in ("A", "UQ", "S0")}) > 1 or shapes["A"] != (n, n) or shapes["H"] != (len(row_sensor), n):
         raise ShapeError("A, UQ, S0 (n x n), H (rows x n) and row_sensor (rows) disagree: "
@@ -164,19 +166,11 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     if len(row_sensor) and not 0 <= min(row_sensor) <= max(row_sensor) < received.shape[2]:
         raise ShapeError(f"row_sensor: sensors 0..{received.shape[2] - 1} (the receptions' last axis), got "
                          f"{min(row_sensor)}..{max(row_sensor)}")
-    buffer = _buffer(n, linear)
     kernel = _kernel(n)
     if n not in _READY:   # compiled (or loaded from numba's cache) on a path of one step first, with a notice
         warm(n)
     # bool in C order: a step's receptions are one flat row per block (_receptions), one sensor's read in place
-    kernel(A, UQ, H, row_sensor, S0, np.ascontiguousarray(received, bool), trace, buffer, linear)
-
-
-def _buffer(n: int, linear: bool) -> np.ndarray:
-    """The kernel's block buffer: :data:`BUFFER_STEPS` steps (fewer for wide blocks) of traces
-    along the steps (``linear``), else one row."""
-    width = lanes(n)
-    return np.empty((min(BUFFER_STEPS, BUFFER_PATH_STEPS // width) if linear else 1, width))
+    kernel(A, UQ, H, row_sensor, S0, np.ascontiguousarray(received, bool), trace, int(offset), linear)
 
 
 #: state dimensions whose kernel this process has compiled or loaded
@@ -195,7 +189,7 @@ def warm(n: int, *, enabled: bool | None = None) -> None:
     with compiling(f"the {n}-state filter kernel", enabled=enabled):
         for linear in (False, True):
             trace = np.empty((1, 1)) if linear else np.empty((2, 1))
-            _kernel(n)(A, np.eye(n), H, row_sensor, S0, received, trace, _buffer(n, linear), linear)
+            _kernel(n)(A, np.eye(n), H, row_sensor, S0, received, trace, 0, linear)
     _READY.add(n)
 
 
@@ -212,7 +206,7 @@ def _loop_kernel(n: int):
 
 @_jit(KERNEL_PARTS)
 def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
-           S0: np.ndarray, received: np.ndarray, trace: np.ndarray, buffer: np.ndarray,
+           S0: np.ndarray, received: np.ndarray, trace: np.ndarray, offset: int,
            linear: bool, householder, potter) -> None:
     """:func:`log_trace_paths` for any ``n``: loops over the entries, the lane loop innermost, and
     the kernels of :func:`_unrolled` for the time update's triangularisation (``householder``) and
@@ -244,7 +238,7 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
             E[p] = 0
         _rescale(S, E, t, f2)
         for k in range(horizon + 1):
-            _store(k, start, t, E, trace, buffer, spare, linear)
+            _store(k, start, t, E, trace, spare, offset, paths, linear)
             if k == horizon:
                 break
             direct = _receptions(received, k, start, block)
@@ -570,7 +564,7 @@ def _straight_source(n: int) -> str:
     def load_S(indent: str, entries: list = every) -> None:   # the lane's S (those entries) into locals s{i}_{j}
         for i, j in entries:
             w(f"{indent}s{i}_{j} = S[{i}, {j}, p]")
-    w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):")
+    w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, offset, linear):")
     w("    horizon, paths, d = received.shape")
     w(f"    block = np.empty((d, {W}), np.bool_)")   # a step's receptions of the block, sensor-major
     w("    lone = received.reshape(horizon, paths * d)")   # one sensor: a step's receptions in a row
@@ -581,7 +575,7 @@ def _straight_source(n: int) -> str:
     w(f"    E = _aligned_int(({W},))")
     w(f"    noise = _aligned(({W},))")
     w(f"    half = _aligned(({W},))")
-    w(f"    spare = _aligned(({W},))")   # a partial last block's logs, or a step beyond trace's (_row)
+    w(f"    spare = _aligned(({W},))")   # a partial last block's traces, or a step beyond trace's (_row)
     if PHASED_MIN <= n <= PHASED_MAX:   # the time update's live entries between its lane loops, and Potter's u, w
         w(f"    X = _aligned(({2 * n}, {n}, {W}))")
         w(f"    F = _aligned(({n}, {W}))")
@@ -640,10 +634,10 @@ def _straight_source(n: int) -> str:
     w(f"{body}noise[p] = root * root")
     if traced:
         w("            if k == horizon:")
-        w("                _store(k, start, t, E, trace, buffer, spare, linear)")
+        w("                _store(k, start, t, E, trace, spare, offset, paths, linear)")
         w("                break")
     else:
-        w("            _store(k, start, t, E, trace, buffer, spare, linear)")
+        w("            _store(k, start, t, E, trace, spare, offset, paths, linear)")
         w("            if k == horizon:")
         w("                break")
     w("            direct = _receptions(received, k, start, block)")
@@ -754,10 +748,10 @@ def _straight_source(n: int) -> str:
         return "\n".join(L) + "\n"
     # up to PHASED_MAX this step's traces are taken in the last lane loop of the time update, which
     # does not read them: its square roots and the log's polynomial overlap.  That loop is written
-    # twice, for the logs and for the traces along the steps (linear); beyond PHASED_MAX it would be
+    # twice, for the logs and for the traces themselves (linear); beyond PHASED_MAX it would be
     # the whole time update, written twice: double its compile time, and no measured gain
     # (docs/performance.md)
-    w("            out = _row(trace, buffer, spare, k, start, linear)")
+    w("            out = _row(trace, spare, k, start, offset, paths)")
     w("            top = 0")
     w(f"            bottom = {WINDOW_BITS[1]:#x}")
     w("            if linear:")
@@ -765,7 +759,7 @@ def _straight_source(n: int) -> str:
     w("            else:")
     time_update(phases[-1], " " * 16, "_log_scaled")
     w(f"            wide = top > {WINDOW_BITS[1]:#x} or bottom < {WINDOW_BITS[0]:#x}")
-    w("            _flush(trace, buffer, spare, k, start, linear)")
+    w("            _flush(trace, spare, k, start, offset, paths)")
     return "\n".join(L) + "\n"
 
 

@@ -12,10 +12,10 @@ from .kernel_parts import (NORMAL, ROOT_MAX, _aligned, _aligned_int, _bits_of, _
 
 #: SHA-256 (its first 16 hex digits) of symkf/numeric/kernel_parts.py, whose helpers these kernels inline:
 #: numba's cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file
-INLINED = "6d0667383e5c4afe"
+INLINED = "beae74933e15ede5"
 
 
-def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
+def _paths_1(A, UQ, H, row_sensor, S0, received, trace, offset, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 2048), np.bool_)
     lone = received.reshape(horizon, paths * d)
@@ -51,7 +51,7 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     half[p] = root
                     noise[p] = root * root
             if k == horizon:
-                _store(k, start, t, E, trace, buffer, spare, linear)
+                _store(k, start, t, E, trace, spare, offset, paths, linear)
                 break
             direct = _receptions(received, k, start, block)
             for r in range(rows):
@@ -68,7 +68,7 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     g0 = f0 * coef
                     u0 = s0_0 * f0
                     S[0, 0, p] = s0_0 - u0 * g0
-            out = _row(trace, buffer, spare, k, start, linear)
+            out = _row(trace, spare, k, start, offset, paths)
             top = 0
             bottom = 0x41f0000000000000
             if linear:
@@ -110,10 +110,10 @@ def _paths_1(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     top = max(top, bt)
                     bottom = min(bottom, bt)
             wide = top > 0x41f0000000000000 or bottom < 0x3df0000000000000
-            _flush(trace, buffer, spare, k, start, linear)
+            _flush(trace, spare, k, start, offset, paths)
 
 
-def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
+def _paths_2(A, UQ, H, row_sensor, S0, received, trace, offset, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 2048), np.bool_)
     lone = received.reshape(horizon, paths * d)
@@ -161,7 +161,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     half[p] = root
                     noise[p] = root * root
             if k == horizon:
-                _store(k, start, t, E, trace, buffer, spare, linear)
+                _store(k, start, t, E, trace, spare, offset, paths, linear)
                 break
             direct = _receptions(received, k, start, block)
             for r in range(rows):
@@ -217,7 +217,7 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                         S[0, 1, p] = s0_1 - u0 * g1
                         S[1, 0, p] = s1_0 - u1 * g0
                         S[1, 1, p] = s1_1 - u1 * g1
-            out = _row(trace, buffer, spare, k, start, linear)
+            out = _row(trace, spare, k, start, offset, paths)
             top = 0
             bottom = 0x41f0000000000000
             if linear:
@@ -433,10 +433,10 @@ def _paths_2(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     bottom = min(bottom, bt)
                     bottom = min(bottom, bt_1w)
             wide = top > 0x41f0000000000000 or bottom < 0x3df0000000000000
-            _flush(trace, buffer, spare, k, start, linear)
+            _flush(trace, spare, k, start, offset, paths)
 
 
-def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
+def _paths_3(A, UQ, H, row_sensor, S0, received, trace, offset, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 128), np.bool_)
     lone = received.reshape(horizon, paths * d)
@@ -505,7 +505,7 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     half[p] = root
                     noise[p] = root * root
             if k == horizon:
-                _store(k, start, t, E, trace, buffer, spare, linear)
+                _store(k, start, t, E, trace, spare, offset, paths, linear)
                 break
             direct = _receptions(received, k, start, block)
             for r in range(rows):
@@ -753,7 +753,7 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 X[2, 2, p] = x2_2
                 X[3, 2, p] = x3_2
                 X[4, 2, p] = x4_2
-            out = _row(trace, buffer, spare, k, start, linear)
+            out = _row(trace, spare, k, start, offset, paths)
             top = 0
             bottom = 0x41f0000000000000
             if linear:
@@ -815,10 +815,10 @@ def _paths_3(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     top = max(top, bt)
                     bottom = min(bottom, bt)
             wide = top > 0x41f0000000000000 or bottom < 0x3df0000000000000
-            _flush(trace, buffer, spare, k, start, linear)
+            _flush(trace, spare, k, start, offset, paths)
 
 
-def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
+def _paths_4(A, UQ, H, row_sensor, S0, received, trace, offset, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 128), np.bool_)
     lone = received.reshape(horizon, paths * d)
@@ -911,7 +911,7 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     half[p] = root
                     noise[p] = root * root
             if k == horizon:
-                _store(k, start, t, E, trace, buffer, spare, linear)
+                _store(k, start, t, E, trace, spare, offset, paths, linear)
                 break
             direct = _receptions(received, k, start, block)
             for r in range(rows):
@@ -1359,7 +1359,7 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 X[4, 3, p] = x4_3
                 X[5, 3, p] = x5_3
                 X[6, 3, p] = x6_3
-            out = _row(trace, buffer, spare, k, start, linear)
+            out = _row(trace, spare, k, start, offset, paths)
             top = 0
             bottom = 0x41f0000000000000
             if linear:
@@ -1435,10 +1435,10 @@ def _paths_4(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     top = max(top, bt)
                     bottom = min(bottom, bt)
             wide = top > 0x41f0000000000000 or bottom < 0x3df0000000000000
-            _flush(trace, buffer, spare, k, start, linear)
+            _flush(trace, spare, k, start, offset, paths)
 
 
-def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
+def _paths_5(A, UQ, H, row_sensor, S0, received, trace, offset, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 64), np.bool_)
     lone = received.reshape(horizon, paths * d)
@@ -1561,7 +1561,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     half[p] = root
                     noise[p] = root * root
             if k == horizon:
-                _store(k, start, t, E, trace, buffer, spare, linear)
+                _store(k, start, t, E, trace, spare, offset, paths, linear)
                 break
             direct = _receptions(received, k, start, block)
             for r in range(rows):
@@ -2294,7 +2294,7 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 X[6, 4, p] = x6_4
                 X[7, 4, p] = x7_4
                 X[8, 4, p] = x8_4
-            out = _row(trace, buffer, spare, k, start, linear)
+            out = _row(trace, spare, k, start, offset, paths)
             top = 0
             bottom = 0x41f0000000000000
             if linear:
@@ -2386,10 +2386,10 @@ def _paths_5(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     top = max(top, bt)
                     bottom = min(bottom, bt)
             wide = top > 0x41f0000000000000 or bottom < 0x3df0000000000000
-            _flush(trace, buffer, spare, k, start, linear)
+            _flush(trace, spare, k, start, offset, paths)
 
 
-def _paths_6(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
+def _paths_6(A, UQ, H, row_sensor, S0, received, trace, offset, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 64), np.bool_)
     lone = received.reshape(horizon, paths * d)
@@ -2571,7 +2571,7 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     root = _pow2(min(-(Ep // 2), ROOT_MAX))
                     half[p] = root
                     noise[p] = root * root
-            _store(k, start, t, E, trace, buffer, spare, linear)
+            _store(k, start, t, E, trace, spare, offset, paths, linear)
             if k == horizon:
                 break
             direct = _receptions(received, k, start, block)
@@ -3421,7 +3421,7 @@ def _paths_6(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 S[5, 5, p] = x5_5
 
 
-def _paths_7(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
+def _paths_7(A, UQ, H, row_sensor, S0, received, trace, offset, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 64), np.bool_)
     lone = received.reshape(horizon, paths * d)
@@ -3652,7 +3652,7 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     root = _pow2(min(-(Ep // 2), ROOT_MAX))
                     half[p] = root
                     noise[p] = root * root
-            _store(k, start, t, E, trace, buffer, spare, linear)
+            _store(k, start, t, E, trace, spare, offset, paths, linear)
             if k == horizon:
                 break
             direct = _receptions(received, k, start, block)
@@ -4861,7 +4861,7 @@ def _paths_7(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                 S[6, 6, p] = x6_6
 
 
-def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
+def _paths_8(A, UQ, H, row_sensor, S0, received, trace, offset, linear):
     horizon, paths, d = received.shape
     block = np.empty((d, 32), np.bool_)
     lone = received.reshape(horizon, paths * d)
@@ -5148,7 +5148,7 @@ def _paths_8(A, UQ, H, row_sensor, S0, received, trace, buffer, linear):
                     root = _pow2(min(-(Ep // 2), ROOT_MAX))
                     half[p] = root
                     noise[p] = root * root
-            _store(k, start, t, E, trace, buffer, spare, linear)
+            _store(k, start, t, E, trace, spare, offset, paths, linear)
             if k == horizon:
                 break
             direct = _receptions(received, k, start, block)

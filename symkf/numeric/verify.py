@@ -234,7 +234,7 @@ def simulated_verdict(system: System, loss: LossModel, v: Verdict, *, seed: int 
     """The simulation half of :func:`verify`, steered by the theory's verdict ``v`` (JSON form)."""
     plan = verdict_plan(system, v, loss)
     r = divergence_test(system, loss, seed=seed, horizon=horizon, paths=paths, plan=plan,
-                        exact_rate=exact_growth_rate(v).exact, tolerance=tolerance, confidence=confidence,
+                        exact_rate=exact_growth_rate(v), tolerance=tolerance, confidence=confidence,
                         degree=polynomial_degree(system, v), jobs=jobs)
     return _divergence_json(r, horizon)
 

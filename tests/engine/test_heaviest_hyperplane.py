@@ -274,3 +274,21 @@ def test_a_markov_query_over_max_work_is_refused_before_its_screens():
                                                               r"CPU-ms.*--max-work"):
         sk.stability(S, loss)
     assert time.process_time() - start < 10
+
+
+def test_the_incidences_are_not_counted_when_the_screen_points_alone_pass_the_cap(monkeypatch):
+    """Under max_work = 1 CPU-ms the screens' points (0.5 µs each, thousands of them) alone pass
+    the cap: the incidences, a class count per stage, are counted under a cap of 0 (one stage),
+    and the refusal names max_work."""
+    from symkf.engine import hyperplane_screen
+    caps, work = [], hyperplane_screen.work
+
+    def spy_work(X, p, plan, cap):
+        caps.append(cap)
+        return work(X, p, plan, cap)
+    monkeypatch.setattr(hyperplane_screen, "work", spy_work)
+    rows = [[int(v) for v in r] for r in np.random.default_rng(128).integers(-2, 3, (128, 4)) if r.any()]
+    loss = sk.GilbertElliott(["1/10"] * len(rows), ["1/2"] * len(rows))
+    with sk.budget.limits(max_work=1), pytest.raises(sk.errors.BudgetError, match=r"screen points at 0.5 µs"):
+        sk.stability(_many_sensors(rows), loss)
+    assert caps == [0]

@@ -160,6 +160,11 @@ def test_field_pivots_decide_positive_definiteness_as_sylvester(a, b):
     ([[2, 0], [0, 2]], [[1, 1]], 1),                        # 2 I: C A = 2 C, one direction only
     ([[1, 1, 0], [0, 1, 0], [0, 0, sp.Rational(1, 2)]], [[0, 1, 0]], 1),   # sees only the chain's end: C A = C
     ([[0, 1, 0], [0, 0, 1], [1, -2, 3]], [[1, 0, 0]], 3),   # companion form: C, CA, CA^2 the unit rows
+    # over Q(sqrt 2): C = (sqrt 2, 1) is a left eigenvector of A (C A = (1 + sqrt 2) C), one direction;
+    # with C = (1, 0) the rows (1, 0) and (1, 1) are independent
+    ([[1, 1], [2, 1]], [[sp.sqrt(2), 1]], 1),
+    ([[1, 1], [2, 1]], [[1, 0]], 2),
+    ([[sp.sqrt(2), 1], [0, sp.sqrt(2)]], [[0, 1]], 1),     # a Jordan chain seen only at its end
 ])
 def test_krylov_rank_is_the_rank_of_the_stacked_powers(A, C, expected):
     """The rank of col{C, CA, ..., CA^(n-1)} by hand, and as the sympy matrix of the powers gives it."""

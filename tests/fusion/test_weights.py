@@ -77,3 +77,29 @@ def test_invalid_inputs_name_entry_and_assumption():
         optimal_weights(Sigma, Vo[:4])
     with pytest.raises(AssumptionError, match="Assumption 1"):
         optimal_weights(Sigma, np.hstack([Vo[:, :1], Vo[:, :1]]))
+
+
+def test_the_weights_are_priced_by_the_size_of_sigma_before_any_factorisation():
+    """Problem 2's SDP for a 200 x 200 Sigma: 200^4 units of 0.4 µs, 640 CPU-s, refused at once
+    naming max_work; the closed form of a 512 x 512 Sigma (512^3 units of 0.8 ns, 0.11 CPU-s) is
+    within 4x of its measured cost (one BLAS thread)."""
+    import time
+
+    from threadpoolctl import threadpool_limits
+
+    from symkf import budget
+    from symkf.errors import BudgetError
+    Vo = np.ones((200, 1))
+    start = time.process_time()
+    with pytest.raises(BudgetError, match=r"^symkf.fusion.optimal_weights: the estimated work of the weights by "
+                                          r'method="sdp" for a 200 x 200 Sigma is 640 CPU-s, .*--max-work'):
+        optimal_weights(np.eye(200), Vo, "sdp")
+    assert time.process_time() - start < 0.5
+    Sigma, Vo = random_sigma(np.random.default_rng(5), 4, 128)
+    optimal_weights(*random_sigma(np.random.default_rng(5), 4, 3))
+    with threadpool_limits(1):
+        start = time.process_time()
+        optimal_weights(Sigma, Vo)
+        measured = time.process_time() - start
+    estimate = budget.seconds(weights_cube=512 ** 3)
+    assert measured / 4 < estimate < 4 * measured

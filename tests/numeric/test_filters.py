@@ -21,6 +21,7 @@ from symkf.numeric.filters import (
     real_form,
     sample_receptions,
     simulate_trajectories,
+    traces_into,
 )
 
 TRI = System(A=[["5/4", 0], [1, "11/10"]], sensors=[Sensor(C=[[1, 1]], R=[[2]]),
@@ -109,6 +110,25 @@ def test_log_traces_match_the_exact_oracle(system):
         exact = exact_covariances(system, [tuple(int(g) for g in v) for v in seq])
         target = [float(sp.re(sp.N(Pk.trace()))) for Pk in exact]
         np.testing.assert_allclose(np.exp(lt), target, rtol=1e-11)
+
+
+def test_traces_into_writes_a_row_per_step_from_its_first_path_and_refuses_c_order():
+    # the kernel writes each step's traces of a block of paths contiguously: out is in Fortran order,
+    # a run of paths fills its own rows from `first` (chunks of a longer run), the same bits as one run
+    # over all paths, and tr P itself: exp of log_traces to rounding
+    model = real_form(TRI)
+    received = np.random.default_rng(3).random((6, 300, TRI.d)) < 0.6
+    whole = np.empty((6, 300)).T
+    traces_into(model, received, whole)
+    np.testing.assert_allclose(whole, np.exp(log_traces(model, received)[:, :6]), rtol=1e-14)
+    parts = np.full((6, 310), np.nan).T
+    traces_into(model, received[:, :200], parts, 3)
+    traces_into(model, received[:, 200:], parts, 203)
+    assert np.array_equal(parts[3:303], whole) and np.isnan(parts[:3]).all() and np.isnan(parts[303:]).all()
+    with pytest.raises(ShapeError, match="Fortran order.* in C order"):
+        traces_into(model, received, np.empty((300, 6)))
+    with pytest.raises(ShapeError, match="first \\+ paths = 301"):
+        traces_into(model, received, whole, 1)
 
 
 def test_log_traces_follow_thousands_of_unstable_steps():

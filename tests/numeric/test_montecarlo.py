@@ -84,6 +84,23 @@ def test_simulate_traces_shape_and_seed():
     np.testing.assert_array_equal(a, simulate_traces(TRI, LOSS, 7, 3, seed=5))
 
 
+def test_simulated_traces_are_a_row_per_step_in_memory_and_chunks_fill_their_own_paths(monkeypatch):
+    # simulate_traces returns the transposed view of a (horizon, paths) buffer that the kernel fills
+    # step by step; chunks of 64 paths (the last partial) write their own columns: each path's traces
+    # are those of log_traces on the same receptions (drawn chunk by chunk from the same generator)
+    from symkf.numeric import receptions
+    from symkf.numeric.filters import log_traces, real_form
+    monkeypatch.setattr(montecarlo, "CHUNK", 64)
+    horizon, paths = 9, 150
+    a = simulate_traces(TRI, LOSS, horizon, paths, seed=3)
+    assert a.shape == (paths, horizon) and a.T.flags.c_contiguous and a.flags.f_contiguous
+    rng = np.random.default_rng(3)
+    for start in range(0, paths, 64):
+        received = receptions.sample(loss_factors(LOSS, 1), horizon, min(64, paths - start), 1, rng)
+        np.testing.assert_allclose(a[start:start + 64], np.exp(log_traces(real_form(TRI), received)[:, :horizon]),
+                                   rtol=1e-14)
+
+
 def test_burst_pattern_from_the_engine():
     phases, growth = burst_pattern(TRI, stability(TRI, LOSS))
     assert phases == ((0,),) and growth == sp.Rational(25, 16)

@@ -37,23 +37,27 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         received = rng.random((600, 2 * width + 37, 2)) < 0.3   # whole blocks of both kernels' lanes, and a partial one
         received[:, :64] = False
         received[:, 64:128] = True
+        paths = received.shape[1]
         out = []
         for kernel in (_straight(n), _loop_kernel(n)):
-            logs, linear = np.empty((601, 2 * width + 37)), np.empty((150, 600))
-            kernel(A, UQ, H, rows, S0, received, logs, np.empty((1, width)), False)
-            kernel(A, UQ, H, rows, S0, received, linear, np.empty((64, width)), True)   # the first 150 paths
+            logs = np.empty((601, paths))
+            # the traces into columns 5.. of a wider array (a chunk of a longer run): the others untouched
+            linear = np.full((600, paths + 9), np.nan)
+            kernel(A, UQ, H, rows, S0, received, logs, 0, False)
+            kernel(A, UQ, H, rows, S0, received, linear, 5, True)
             out.append((logs, linear))
-        assert all(np.array_equal(x, y) for x, y in zip(*out))
+        assert all(np.array_equal(x, y, equal_nan=True) for x, y in zip(*out))
         logs, linear = out[0]
-        # through log_trace_paths, whose buffer holds fewer steps for wide blocks (8 at n <= 2)
-        chosen = np.empty((150, 600))
+        assert np.all(np.isnan(linear[:, :5])) and np.all(np.isnan(linear[:, 5 + paths:]))
+        linear = linear[:, 5:5 + paths]
+        chosen = np.empty((600, paths))
         log_trace_paths(A, UQ, H, rows, S0, received, chosen, True)
         assert np.array_equal(chosen, linear)
         assert np.all(np.isfinite(logs)) and np.ptp(logs) > 100
         # linear units: the same trace times 2^E (inf beyond float64), so its log agrees to rounding
         held = np.isfinite(linear)
         assert held.mean() > 0.2
-        np.testing.assert_allclose(np.log(linear[held]), logs[:600, :150].T[held], rtol=4e-16, atol=4e-15)
+        np.testing.assert_allclose(np.log(linear[held]), logs[:600][held], rtol=4e-16, atol=4e-15)
 
 
 def test_a_lane_loops_paths_interleave_with_their_own_names_and_shared_reductions():
@@ -187,7 +191,7 @@ def test_the_kernels_rescale_a_trace_that_leaves_the_window_in_one_step(n, power
     expected = np.log(n) + 2 * power * np.log(2) * np.arange(31)
     np.testing.assert_allclose(logs, np.repeat(expected[:, None], 515, axis=1), rtol=1e-14)
     looped = np.empty_like(logs)
-    _loop_kernel(n)(A, UQ, H, rows, S0, received, looped, np.empty((1, 128)), False)
+    _loop_kernel(n)(A, UQ, H, rows, S0, received, looped, 0, False)
     assert np.array_equal(logs, looped)
 
 

@@ -38,3 +38,16 @@ def test_simulation_agrees_on_the_tracker_with_white_acceleration_noise():
     S = sk.System(A=[[1, 1], [0, 1]], sensors=[sk.Sensor(C=[[1, 0]])], Q=G * G.T)
     r = sk.verify(S, sk.IID(["9/10"]), paths=4000, seed=0)
     assert r.stable and r.outcome == "consistent"
+
+
+def test_a_growth_rate_above_the_degree_cap_is_shown_from_its_certified_ball():
+    """[[1, 1], [-1, 2]] (eigenvalues of modulus sqrt 3) with C = (0, 1) at loss 77/250: the exact
+    growth rate 3 2^(1/6) sqrt(5) 77^(5/6) / 250 has algebraic degree (bound) 72, above the cap
+    max_degree = 64 that guards numbers read from outside; the engine's own certified number is
+    shown as it is, and the simulation decides (unstable: the margin 1.12438 inside its interval)."""
+    S = sk.System(A=[[1, 1], [-1, 2]], sensors=[sk.Sensor(C=[[0, 1]])])
+    r = sk.verify(S, sk.IID([sp.Rational(77, 250)]), paths=500, horizon=60)
+    assert r.to_dict()["outcome"] == "consistent"
+    sim = r.to_dict()["simulation"]
+    low, high = sim["rate_interval"]
+    assert sim["verdict"] == "unstable" and low < 1.12438 < high
