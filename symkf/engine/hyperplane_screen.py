@@ -38,7 +38,10 @@ _BLOCK = 1 << 21  # entries of one vectorised block of flats x points (about 16 
 #: per-call overhead and the offers of tied sets), in units of one incidence: the ratio of the two
 #: measured costs (docs/performance.md)
 PASS = 10_000
-_BATCH = 2048  # entries from which inverses() batches (Montgomery) rather than powers each
+#: entries per run of :func:`inverses`' batch trick, squared: each run costs a numpy pass and the
+#: Fermat power one per run position, so the cheapest count of runs grows as the square root of
+#: the entries (docs/performance.md)
+RUN = 40
 #: quotients :func:`_crowding` may take over all stages to bound a window: choosing a window must
 #: stay cheap beside the search it shortens
 CROWDING = 10_000
@@ -94,13 +97,13 @@ class Screen:
 
 def inverses(y: np.ndarray, p: int) -> np.ndarray:
     """Inverses mod p of the nonzero entries of ``y`` (any shape): Fermat's ``y^(p - 2)``, for
-    large arrays by Montgomery's batch trick over 64 interleaved runs (prefix products, one Fermat
-    power per run position, a backward pass); below ``_BATCH`` entries the trick's 128 passes cost
-    more than the power over every entry."""
+    larger arrays by Montgomery's batch trick over ``sqrt(entries / RUN)`` interleaved runs, at
+    most 64 (prefix products, one Fermat power per run position, a backward pass); below
+    ``25 RUN`` entries the power over every entry (the trick's passes cost more)."""
     flat = y.ravel()
-    if len(flat) < _BATCH:
+    runs = min(64, math.isqrt(len(flat) // RUN))
+    if runs < 5:
         return _power(flat % p, p - 2, p).reshape(y.shape)
-    runs = 64
     width = -(-len(flat) // runs)
     Y = np.ones(runs * width, dtype=np.int64)
     Y[:len(flat)] = flat
@@ -396,42 +399,54 @@ def _lines_through_points(reps: np.ndarray, w: np.ndarray, owner: np.ndarray, me
                           flat: list[int], base: float, p: int, screen: Screen, lim: int) -> None:
     """``m = 3``: for each class ``b`` among the first ``lim`` (a flat ``flat + b``) the lines
     through ``b`` among the later classes, grouped by their point ``(x : y)`` in ``F_p^3 / <b>``;
-    vectorised over blocks of ``b``."""
+    vectorised over blocks of ``b``.  With a finite bar only the lines that may reach it are
+    grouped: a line's classes share a bucket (its point's low bits), so a line of weight ``v``
+    lies in a bucket of weight at least ``v``, and one pass of sums over the buckets (most of
+    them a class or none) leaves the few heavy ones, where sorting every point cost a third of
+    the screen of three cyclotomic fields (docs/performance.md)."""
     C = len(reps)
     stop = min(C, lim)
     suffix = np.concatenate([np.cumsum(w[::-1])[::-1], [0.0]])
     others = np.array([[1, 2], [0, 2], [0, 1]])
+    coords = np.ascontiguousarray(reps.T)                        # 3 x C
     b0 = 0
     while b0 < stop:
         if base + w[b0:].max() + suffix[b0 + 1] < screen.bar:
             return  # no later flat can reach the best
         rows = max(1, min(stop - b0, _BLOCK // max(1, C - b0)))
-        B = reps[b0:b0 + rows]                                  # rows x 3
-        cols = reps[b0 + 1:]                                     # U x 3, class b0 + 1 + j
-        U = len(cols)
-        k = np.argmax(B != 0, axis=1)
-        inv = inverses(B[np.arange(rows), k], p)
-        coef = cols[:, k].T * inv[:, None] % p                   # rows x U
-        idx = others[k]
         at = np.arange(rows)
-        X = (cols[:, idx[:, 0]].T - coef * B[at, idx[:, 0]][:, None]) % p  # the image mod b:
-        Y = (cols[:, idx[:, 1]].T - coef * B[at, idx[:, 1]][:, None]) % p  # coordinates other than k
-        valid = np.arange(U)[None, :] >= np.arange(rows)[:, None]  # class b0 + 1 + j after b0 + i
+        B = reps[b0:b0 + rows]                                  # rows x 3
+        k = np.argmax(B != 0, axis=1)
+        B = B * inverses(B[at, k], p)[:, None] % p               # b_k = 1: c mod b is c - c_k b
+        idx = others[k]
+        cols = coords[:, b0 + 1:]                                # class b0 + 1 + j
+        U = cols.shape[1]
+        ck = cols[k]                                             # rows x U
+        X = (cols[idx[:, 0]] - ck * B[at, idx[:, 0]][:, None]) % p  # the image mod b:
+        Y = (cols[idx[:, 1]] - ck * B[at, idx[:, 1]][:, None]) % p  # coordinates other than k
+        valid = np.arange(U)[None, :] >= at[:, None]             # class b0 + 1 + j after b0 + i
         key = np.where(Y != 0, X * inverses(np.where(Y != 0, Y, 1), p) % p, p)
         key[~valid] = p + 1
-        # the stable order by key as one sort of (key, column) packed in bits: the packed values are
-        # unique, so numpy's vectorised quicksort gives the stable order, without a stable argsort's
-        # cost (a large share of a Markov screen's time: docs/performance.md); shifts and masks unpack
-        # them, where a division and a remainder by U cost more than the sort
-        shift = max(U - 1, 1).bit_length()
-        packed = np.sort(key << shift | np.arange(U)[None, :], axis=1)
-        order, keys = packed & ((1 << shift) - 1), packed >> shift
-        run = np.ones_like(keys, dtype=bool)
-        run[:, 1:] = keys[:, 1:] != keys[:, :-1]
+        later = w[b0 + 1:]
+        if np.isfinite(screen.bar) and U:
+            size = 1 << U.bit_length()                           # buckets per row, more than U
+            cell = (at[:, None] * size + (key & (size - 1))).ravel()
+            sums = np.bincount(cell, np.where(valid, later[None, :], 0.0).ravel(), rows * size)
+            # what a line through row i's class must weigh, less the tolerance of the float sums
+            need = (screen.bar - base - w[b0:b0 + rows] - screen.tol)[:, None]
+            heavy = (sums.reshape(rows, size) >= need)[at[:, None], key & (size - 1)] & valid
+        else:
+            heavy = valid
+        r, j = np.nonzero(heavy)
+        kb, jb = int(p + 1).bit_length(), max(U - 1, 1).bit_length()
+        # (row, point, class) in one int64 (below 2^52): one unstable sort groups the lines row by row
+        packed = np.sort(r << (kb + jb) | key[r, j] << jb | j)
+        order, keys, r = packed & ((1 << jb) - 1), packed >> jb & ((1 << kb) - 1), packed >> (kb + jb)
+        run = np.ones(len(packed), dtype=bool)
+        run[1:] = (keys[1:] != keys[:-1]) | (r[1:] != r[:-1])
         starts = np.flatnonzero(run)
-        r, line = starts // max(U, 1), keys.ravel()[starts]
-        score = (np.add.reduceat(w[b0 + 1:][order].ravel(), starts) if U else np.zeros(0)) + base + w[b0 + r]
-        score[line == p + 1] = -np.inf
+        line, r = keys[starts], r[starts]
+        score = (np.add.reduceat(later[order], starts) if len(starts) else np.zeros(0)) + base + w[b0 + r]
         if len(score):  # the block's best first: fewer sets kept on the way
             for i in [int(np.argmax(score)), *np.flatnonzero(score >= screen.bar).tolist()]:
                 if score[i] >= screen.bar:

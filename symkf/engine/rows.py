@@ -55,6 +55,12 @@ class Element:
     phase: int
 
 
+#: coefficients (over Q) of the generators that :class:`PhaseGenerators` keeps of the elements asked
+#: for last: the fibres of five cyclotomic fields ask for each of the 143 elements of a lifted pair
+#: (over a field of degree 240) about 95 times; 2^18 coefficients took 24 MB there
+RECENT = 1 << 18
+
+
 class PhaseGenerators(Sequence):
     """The generators of the elements ``(j, r)`` (index ``j g + r``) of a block without Jordan
     chains, each computed when asked: those of ``(j, 0)`` (``base[j]``, the independent class parts
@@ -62,22 +68,41 @@ class PhaseGenerators(Sequence):
     invertible diagonal map keeps which vectors are independent, so these are the generators of
     ``(j, r)`` that :func:`direct_rows` would choose at each phase.  Stored, they took memory
     ``g d [K:Q]``, growing as ``m^2`` for the rotation ``2 R(2 pi/m)`` (g = m, [K:Q] = 2(m - 1)):
-    about 120 MB at m = 1601."""
+    about 120 MB at m = 1601.  A step that is a power ``theta^k`` of K's root of unity (the
+    cyclotomic presentation: :meth:`~symkf.exact.field.NumberField.root_exponent`) is kept as its
+    exponent: ``a s^r`` is then ``a theta^(k r)``, a shift and one reduction, where ``s^r`` cost
+    ``log r`` products (the exact rows of five cyclotomic fields spent most of their time there).
+    The generators of the elements asked for last are kept, up to :data:`RECENT` coefficients."""
 
     def __init__(self, K: NumberField, base: tuple[tuple[tuple[Elem, ...], ...], ...],
                  step: tuple[Elem | None, ...], g: int):
         self.K, self.base, self.step, self.g = K, base, step, g
         self.counts = tuple(len(gs) for gs in base for _ in range(g))
+        self.exponents = tuple(None if s is None else K.root_exponent(s) for s in step)
+        self._recent: dict[int, tuple[tuple[Elem, ...], ...]] = {}
+        self._room = max(16, RECENT // max(1, len(step) * K.degree * max((len(gs) for gs in base), default=1)))
 
     def __len__(self) -> int:
         return len(self.counts)
 
     def __getitem__(self, e):
-        j, r = divmod(range(len(self))[e], self.g)
+        e = range(len(self))[e]
+        found = self._recent.get(e)
+        if found is None:
+            found = self._recent[e] = self._phase(*divmod(e, self.g))
+            if len(self._recent) > self._room:   # the earliest asked goes
+                del self._recent[next(iter(self._recent))]
+        return found
+
+    def _phase(self, j: int, r: int) -> tuple[tuple[Elem, ...], ...]:
+        """The generators of element ``(j, r)``."""
         if not r:
             return self.base[j]
-        powers = [None if s is None else self.K.pow(s, r) for s in self.step]
-        return tuple(self._scaled(v, powers) for v in self.base[j])
+        K = self.K
+        powers = [None if s is None or k is not None else K.pow(s, r) for s, k in zip(self.step, self.exponents)]
+        return tuple(tuple(a if (s is None and k is None) or a.is_zero() else
+                           K.times_root_power(a, k * r) if k is not None else K.mul(a, s)
+                           for a, s, k in zip(v, powers, self.exponents)) for v in self.base[j])
 
     def __iter__(self) -> Iterator[tuple[tuple[Elem, ...], ...]]:
         for gs in self.base:   # one product per phase and coordinate, as direct_rows built them
@@ -1177,14 +1202,31 @@ def _split_modal_form(A: sp.MatrixBase, members: Sequence, extra: Sequence[sp.Ma
         basis = _krylov_eigenvector(K, sub, lam) if ev.multiplicity == 1 else None
         if not basis:
             Ak = K.matrix(sub)
-            basis = nullspace_rows(K, [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(len(own))]
-                                       for i in range(len(own))], len(own))
+            shifted = [[(Ak[i][j] - lam) % K.modulus if i == j else Ak[i][j] for j in range(len(own))]
+                       for i in range(len(own))]
+            basis = (_plane_eigenvector(K, shifted) if len(own) == 2 and ev.multiplicity == 1 else None) or \
+                nullspace_rows(K, shifted, len(own))
         if len(basis) != ev.multiplicity:
             raise AssertionError("eigenspace dimension mismatch")  # pragma: no cover
         row_of = {i: r for r, i in enumerate(own)}
         cols.extend([[v[row_of[i]] if i in row_of else zero for i in range(n)] for v in basis])
         diag.extend([lam] * ev.multiplicity)
     return K, [[col[i] for col in cols] for i in range(n)], diag
+
+
+def _plane_eigenvector(K: NumberField, M: list[list[Elem]]) -> list[list[Elem]] | None:
+    """``[v]`` with ``M v = 0``, ``v != 0``, for a singular 2 x 2 ``M = A - lam I`` over K of rank 1
+    (a 2 x 2 diagonal block of ``A``, ``lam`` a simple eigenvalue): a nonzero row of the adjugate,
+    ``(-q, p)`` or ``(s, -r)`` for rows ``(p, q)``, ``(r, s)``, checked exactly; None when ``M`` is
+    zero.  Without the inverse in K of an echelon form's pivot (0.1 CPU-s at degree 1440: the modal
+    forms of five cyclotomic fields' sub-systems took 96 of them)."""
+    (p, q), (r, s) = M
+    for v in ([-q, p], [s, -r]):
+        if any(not a.is_zero() for a in v):
+            if not all(K.dot(row, v).is_zero() for row in M):
+                raise AssertionError("adjugate eigenvector check failed")  # pragma: no cover
+            return [v]
+    return None
 
 
 def _krylov_eigenvector(K: NumberField, A: sp.MatrixBase, lam: Elem) -> list[list[Elem]] | None:

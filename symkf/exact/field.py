@@ -80,6 +80,7 @@ class _Presentation:
         self.reps: dict[sp.Expr, Elem] = {}
         self.atoms: set[sp.Expr] = set()
         self.certified: set[sp.Expr] = set()
+        self.root_order = 0  # m when theta is zeta_m = exp(2 pi i/m) (the cyclotomic presentation)
 
     def certify(self) -> None:
         """``minpoly(c a)`` vanishes at ``c rep(theta)`` exactly, and the ball of ``c rep(theta)``
@@ -156,6 +157,7 @@ def _start_cyclotomic(state: _Presentation, generators: Sequence[sp.Expr]) -> No
     if not atoms or m <= 4 or H not in ([1], [1, m - 1]):
         return
     state.prim, state.modulus, state.theta = _cyclotomic_generator(m, H == [1, m - 1])
+    state.root_order = m if H == [1] else 0
     t = flint.fmpq_poly([0, 1])
     if H == [1]:
         def cos2(k: int) -> Elem:  # 2 cos(2 pi k/m) = zeta^k + zeta^-k
@@ -278,6 +280,7 @@ def _add_generator(state: _Presentation, g: sp.Expr) -> None:
         state.reps = {e: _compose(p, old, modulus) for e, p in state.reps.items()}
         state.reps[core] = (flint.fmpq_poly([0, 1]) - adj.k * old) / c
         state.prim, state.modulus, state.theta = adj.prim, modulus, c * core + adj.k * state.theta
+        state.root_order = 0
     state.atoms.add(core)
     _express(state, g)
 
@@ -454,6 +457,37 @@ class NumberField:
 
     def pow(self, a: Elem, k: int) -> Elem:
         return _power(a, k, self.modulus)
+
+    @property
+    def root_order(self) -> int:
+        """``m`` when ``theta`` is the root of unity ``zeta_m = exp(2 pi i/m)`` (the cyclotomic
+        presentation), else 0."""
+        return self._state.root_order
+
+    def root_exponent(self, a: Elem) -> int | None:
+        """``k`` (``0 <= k < m``) with ``a = theta^k`` when ``theta = zeta_m`` (:attr:`root_order`) and
+        ``a`` is a root of unity (every one in ``Q(zeta_m)`` is a power of ``zeta_m``: ``m`` is even),
+        else None: read off the argument of ``a(zeta_m)`` (a ball) and confirmed exactly."""
+        m = self.root_order
+        if not m:
+            return None
+        prec = 64 + 2 * max((int(abs(c.p)).bit_length() + int(c.q).bit_length() for c in a.coeffs()), default=0)
+        value = with_prec(prec, lambda: flint.acb_poly([flint.acb(flint.arb(c)) for c in a.coeffs()])(
+            flint.acb(flint.arb(flint.fmpq(2, m))).exp_pi_i()))
+        turn = with_prec(prec, lambda: value.arg() * m / (2 * flint.arb.pi()))  # k, if a is zeta_m^k
+        if not turn.rad() < 0.25:
+            return None
+        k = round(float(turn.mid())) % m
+        return k if self.times_root_power(flint.fmpq_poly([1]), k) == a % self.modulus else None
+
+    def times_root_power(self, a: Elem, k: int) -> Elem:
+        """``a theta^k`` for ``theta = zeta_m`` (:attr:`root_order`; ``k`` any integer): a shift of
+        ``a``'s coefficients by ``k mod m`` and one reduction, where ``theta^k`` as an element costs
+        ``log k`` products of dense polynomials of degree ``phi(m)``."""
+        m = self.root_order
+        if not m:
+            raise InputError(f"times_root_power: theta of {self} is no root of unity")
+        return a.left_shift(k % m) % self.modulus
 
     def dot(self, u: Sequence[Elem], v: Sequence[Elem]) -> Elem:
         acc = flint.fmpq_poly([])

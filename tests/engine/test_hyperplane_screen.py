@@ -261,3 +261,57 @@ def test_groups_of_residue_rows_are_numpys_unique_rows(rows, width, p, rnd):
     _, first, inverse = np.unique(Y, axis=0, return_index=True, return_inverse=True)
     got_first, got_inverse = hs._groups(Y, p)
     assert got_first.tolist() == first.tolist() and got_inverse.tolist() == inverse.ravel().tolist()
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(2, 60), st.integers(0, 3), st.floats(0.5, 4.0), st.randoms())
+def test_lines_above_a_finite_bar_are_every_line_that_reaches_it(count, planted, floor, rnd):
+    """In the plane F_p^3 (classes: distinct projective points, lines through a point b among the
+    later classes), the sets kept at a finite bar (the heavy buckets only grouped) are those of
+    every line through some b that weighs at least the bar, found by brute force (collinear iff
+    the 3 x 3 determinant vanishes mod p); lines with many points are planted, and with few
+    classes the buckets (key mod 2^k, above the classes' count) collide."""
+    p = 10007
+    points = {(1, 0, 0), (0, 1, 0), *(_canonical([rnd.randrange(p) for _ in range(3)], p) for _ in range(count))} - {None}
+    for _ in range(planted):   # the points of a line through two of them
+        u, v = (np.array(rnd.choice(sorted(points))) for _ in range(2))
+        points |= {_canonical(((s * u + v) % p).tolist(), p) for s in rnd.sample(range(p), 5)} - {None}
+    reps = np.array(sorted(points), dtype=np.int64)
+    C = len(reps)
+    w = np.array([rnd.choice([0.0, 0.5, 1.0, 1.5]) for _ in range(C)])
+    lim = rnd.randint(1, C)
+    screen = hs.Screen(1e-9, floor, strict=True)
+    hs._lines_through_points(reps, w, np.arange(C), [np.array([c]) for c in range(C)], [], 0.0, p, screen, lim)
+    expected = set()
+    for b in range(lim):
+        later = list(range(b + 1, C))
+        while later:
+            c = later[0]
+            line = [d for d in later if _det(*(reps[i].tolist() for i in (b, c, d))) % p == 0]
+            later = [d for d in later if d not in line]
+            if w[b] + w[line].sum() >= floor - 1e-9:
+                expected.add(frozenset([b, *line]))
+        if b == C - 1 and w[b] >= floor - 1e-9:
+            expected.add(frozenset([b]))
+    assert set(screen.kept) == expected
+
+
+def _canonical(v: list[int], p: int) -> tuple[int, ...] | None:
+    """The representative of the projective point of ``v`` with first nonzero coordinate 1 (None for 0)."""
+    lead = next((a for a in v if a % p), None)
+    return None if lead is None else tuple(a * pow(lead, -1, p) % p for a in v)
+
+
+def _det(u: list[int], v: list[int], x: list[int]) -> int:
+    return u[0] * (v[1] * x[2] - v[2] * x[1]) - u[1] * (v[0] * x[2] - v[2] * x[0]) + u[2] * (v[0] * x[1] - v[1] * x[0])
+
+
+@pytest.mark.parametrize("size", [1, 999, 1000, 2570, 40 * 64 ** 2 + 7])
+def test_inverses_mod_p_by_powers_and_by_batches_of_runs(size):
+    """Every entry times its inverse is 1 mod p, below the batch trick's threshold (1000 entries),
+    at it, at the screens' 2570 and past 64 runs; a 2-d shape is kept."""
+    p = (1 << 27) + 29
+    y = np.random.default_rng(size).integers(1, p, size)
+    assert (y * hs.inverses(y, p) % p == 1).all()
+    Y = np.stack([y, y[::-1]])
+    assert hs.inverses(Y, p).shape == Y.shape and (Y * hs.inverses(Y, p) % p == 1).all()

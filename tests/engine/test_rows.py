@@ -240,3 +240,21 @@ def _longest_cyclic_run(H, br, sensor):
     g = br.class_period
     return max((next(k for k in range(g + 1) if (r + k) % g not in phases or k == g)
                 for r in phases if (r - 1) % g not in phases), default=0)
+
+
+def test_eigenvector_of_a_plane_block_is_a_row_of_the_adjugate():
+    """2 R(2 pi/7) - lam I at lam = 2 exp(2 pi i/7) over Q(zeta_28): the adjugate's row (-q, p) of
+    the rows (p, q), (r, s) is (2 sin(2 pi/7), 2 cos(2 pi/7) - lam), and A v = lam v exactly; with a
+    zero first row the second gives (s, -r); the zero matrix has none."""
+    c, s = sp.cos(2 * sp.pi / 7), sp.sin(2 * sp.pi / 7)
+    K = NumberField([c, s, sp.exp(2 * sp.pi * sp.I / 7)])
+    A = K.matrix(2 * sp.Matrix([[c, -s], [s, c]]))
+    lam = K.convert(2 * sp.exp(2 * sp.pi * sp.I / 7))
+    M = [[(A[i][j] - lam) % K.modulus if i == j else A[i][j] for j in range(2)] for i in range(2)]
+    (v,) = obs._plane_eigenvector(K, M)
+    assert v == [-M[0][1], M[0][0]] and not v[0].is_zero()
+    assert K.vecmat(v, [list(col) for col in zip(*A)]) == [K.mul(lam, a) for a in v]   # A v = lam v
+    assert K.convert(2 * s) == v[0] and K.convert(2 * c - 2 * sp.exp(2 * sp.pi * sp.I / 7)) == v[1]
+    zero, one = K.convert(0), K.convert(1)
+    assert obs._plane_eigenvector(K, [[zero, zero], [one, K.convert(-3)]]) == [[K.convert(-3), K.convert(-1)]]
+    assert obs._plane_eigenvector(K, [[zero, zero], [zero, zero]]) is None

@@ -256,3 +256,26 @@ def test_lucas_ladder_is_the_chebyshev_recurrence():
     for _ in range(40):
         V.append((t * V[-1] - V[-2]) % mod)
     assert all(_lucas(k, t, mod) == V[k] % mod for k in range(42))
+
+
+def test_roots_of_unity_of_the_cyclotomic_presentation_are_exponents_of_theta():
+    """Q(zeta_9, cos(2 pi/7), sin(2 pi/7)) is Q(zeta_252) (degree phi(252) = 72, theta = zeta_252):
+    exp(2 pi i/9) = theta^28, -1 = theta^126, exp(2 pi i/9) exp(2 pi i/7)^3 = theta^(28 + 108),
+    -exp(2 pi i/9) = theta^154; 1/2, cos(2 pi/7) and 2 exp(2 pi i/9) are no roots of unity.  The
+    product by theta^k takes k of any sign, modulo 252.  A field presented by a generic primitive
+    element, or by 2 cos(2 pi/7) (real), has no root order."""
+    z9, c7, s7 = sp.exp(2 * sp.pi * sp.I / 9), sp.cos(2 * sp.pi / 7), sp.sin(2 * sp.pi / 7)
+    K = NumberField([z9, c7, s7])
+    assert (K.degree, K.root_order) == (72, 252)
+    z7 = K.convert(c7 + sp.I * s7)
+    cases = [(K.convert(z9), 28), (flint.fmpq_poly([-1]), 126), (K.mul(K.convert(z9), K.pow(z7, 3)), 136),
+             (flint.fmpq_poly([1]), 0), (K.convert(-z9), 154)]
+    assert [K.root_exponent(a) for a, _ in cases] == [k for _, k in cases]
+    assert [K.root_exponent(K.convert(a)) for a in (sp.Rational(1, 2), c7, 2 * z9)] == [None] * 3
+    a = K.convert(1 + 3 * z9)
+    assert K.times_root_power(a, -28) == K.mul(a, K.inv(K.convert(z9)))
+    assert K.times_root_power(a, 300) == K.mul(a, K.pow(flint.fmpq_poly([0, 1]), 48))
+    for L in (NumberField([sp.sqrt(2)]), NumberField([c7])):
+        assert L.root_order == 0 and L.root_exponent(flint.fmpq_poly([-1])) is None
+        with pytest.raises(InputError, match="no root of unity"):
+            L.times_root_power(flint.fmpq_poly([1]), 1)
