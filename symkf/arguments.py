@@ -202,10 +202,12 @@ def _symkf_classes() -> dict[str, type]:
     """The public classes of the symkf modules imported so far, by name: annotations that name a
     class imported only for type checking resolve through them."""
     out: dict[str, type] = {}
-    for name, module in list(sys.modules.items()):
+    # dict.copy, not list(d.items()): building a tuple per item may start the garbage collector,
+    # whose finalizers can import (and so grow sys.modules) in the middle of the iteration
+    for name, module in sys.modules.copy().items():
         if name.startswith("symkf.") and module is not None:
             # a copy taken at once: a module another thread is importing still gains names
-            out.update({k: v for k, v in list(vars(module).items())
+            out.update({k: v for k, v in vars(module).copy().items()
                         if isinstance(v, type) and not k.startswith("_") and v.__module__.startswith("symkf.")})
     return out
 

@@ -211,8 +211,11 @@ COSTS = {
     #: a critical i.i.d. loss rate of a design query (symkf.design.upgrades: along a ray) per
     #: square of the number of sensors d (its heaviest-hyperplane search grows about so)
     "ray query": 0.5e-3,
-    #: a critical recovery rate of one sensor's channel (symkf.design.allocate_recovery), per sensor
-    "recovery query": 0.15,
+    #: a critical recovery rate of one sensor's channel (symkf.design.allocate_recovery), apart from
+    #: its sensors
+    "recovery query": 0.04,
+    #: the same per square of the number of sensors d (its screens grow about so)
+    "recovery pair": 0.75e-3,
     #: a point of symkf.design.pareto_front (a covering search and a critical rate; d points priced)
     "front point": 0.25,
     #: the same, per square of the number of sensors d

@@ -314,7 +314,7 @@ def allocate_recovery(system: System, fail: Sequence[Any], weights: Any = None, 
     budget.price("symkf.design.allocate_recovery",
                  lambda: f"{2 * d + 1 + 2 * exchanges} critical recovery rates of {d} sensors (the common one, a sweep "
                          f"with {exchanges} exchanges, the final pass)",
-                 recovery_query=(2 * d + 1 + 2 * exchanges) * d)
+                 recovery_query=2 * d + 1 + 2 * exchanges, recovery_pair=(2 * d + 1 + 2 * exchanges) * d * d)
     common = critical_recovery_rate(system, list(fails))
     if common >= 1:
         raise InputError("fail: no common recovery probability below 1 makes the filter stable; no allocation exists")
