@@ -106,8 +106,8 @@ class Limits:
     #: Theorem 4 (symkf.capacity.convergence.price_lmi; the bounds atlas's bisection at once), and the
     #: control threshold's quotient bound and continuation (symkf.control.threshold), the design
     #: queries upgrades, allocate_recovery and pareto_front, and symkf.fusion's local filters and expected covariance.  A 4-dim block of period 24 with 1024 sensors: 2.5e7 points and 2.4e8
-    #: incidences, 48 CPU-s estimated, 34 measured; on Gilbert-Elliott channels its two screens,
-    #: 96, refused at once; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about
+    #: incidences, 31.5 CPU-s estimated, 13.5 measured; on Gilbert-Elliott channels its two screens,
+    #: 63, refused at once; eight 2R(pi/97) blocks, one 16-dim eigen-block, with 64 sensors: about
     #: 10^42 incidences
     max_work: int = 60_000
     #: receival sequences ``2^(d (horizon - 1))`` that the exact mean trace enumerates
@@ -176,7 +176,7 @@ COSTS = {
     "screen point": 0.5e-6,
     #: a point-line incidence tested by the hyperplane screen (a vectorised pass counts as
     #: ``hyperplane_screen.PASS`` of them)
-    "incidence": 0.15e-6,
+    "incidence": 0.08e-6,
     #: a hyperplane listed (its generators' set built and counted, ``BlockRows.inside``), per degree
     #: of the block's field: 1.2 million over a field of degree 8 took 12 CPU-s, 597 000 over one of
     #: degree 120 51 CPU-s

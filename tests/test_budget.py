@@ -62,25 +62,25 @@ def test_raised_digit_cap_serves_beyond_pythons_int_limit(tmp_path):
 
 
 def test_price_sums_the_units_at_their_costs_and_refuses_above_max_work():
-    """2 * 10^6 screen points at 0.5 µs and 2 * 10^8 incidences at 0.15 µs: 1 + 30 = 31 CPU-s,
-    under the default 60 000 CPU-ms; with the cap at 30 000 the same step is refused before it starts, the message
+    """2 * 10^6 screen points at 0.5 µs and 2 * 10^8 incidences at 0.08 µs: 1 + 16 = 17 CPU-s,
+    under the default 60 000 CPU-ms; with the cap at 15 000 the same step is refused before it starts, the message
     naming the estimate, its units, the cap and the option that raises it."""
-    assert budget.COSTS["screen point"] == 0.5e-6 and budget.COSTS["incidence"] == 0.15e-6
-    assert budget.price("block", "a screen", screen_point=2 * 10 ** 6, incidence=2 * 10 ** 8) == pytest.approx(31)
-    with budget.limits(max_work=30_000), pytest.raises(BudgetError) as refused:
+    assert budget.COSTS["screen point"] == 0.5e-6 and budget.COSTS["incidence"] == 0.08e-6
+    assert budget.price("block", "a screen", screen_point=2 * 10 ** 6, incidence=2 * 10 ** 8) == pytest.approx(17)
+    with budget.limits(max_work=15_000), pytest.raises(BudgetError) as refused:
         budget.price("block", "a screen", screen_point=2 * 10 ** 6, incidence=2 * 10 ** 8)
-    assert str(refused.value) == ("block: the estimated work of a screen is 31 CPU-s, above the cap max_work = "
-                                  "30000 CPU-ms; raise it with symkf.budget.limits(max_work=...) or the command-line "
+    assert str(refused.value) == ("block: the estimated work of a screen is 17 CPU-s, above the cap max_work = "
+                                  "15000 CPU-ms; raise it with symkf.budget.limits(max_work=...) or the command-line "
                                   "option --max-work (the estimate: 2000000 screen points at 0.5 µs, 200000000 "
-                                  "incidences at 0.15 µs)")
-    assert budget.affordable("incidence") == pytest.approx(60 / 0.15e-6)
+                                  "incidences at 0.08 µs)")
+    assert budget.affordable("incidence") == pytest.approx(60 / 0.08e-6)
     # beside 2 * 10^7 screen points (10 CPU-s), 50 CPU-s are left; beside 2 * 10^8 (100 CPU-s), none
-    assert budget.affordable("incidence", screen_point=2 * 10 ** 7) == pytest.approx(50 / 0.15e-6)
+    assert budget.affordable("incidence", screen_point=2 * 10 ** 7) == pytest.approx(50 / 0.08e-6)
     assert budget.affordable("incidence", screen_point=2 * 10 ** 8) == 0
 
 
 def test_an_astronomical_estimate_is_priced_without_overflow():
-    with pytest.raises(BudgetError, match=r"is about 10\^35 CPU-s, .*\(the estimate: about 10\^42 incidences at 0.15 µs\)"):
+    with pytest.raises(BudgetError, match=r"is about 10\^34 CPU-s, .*\(the estimate: about 10\^42 incidences at 0.08 µs\)"):
         budget.price("block", "a screen", incidence=10 ** 42)
 
 

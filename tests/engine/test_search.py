@@ -140,7 +140,7 @@ def test_the_search_through_flats_is_refused_up_front():
     A, rows, _ = CASES["two-row sensors, period 12"]
     (br,) = block_rows(_system(A, rows * 4))
     with budget.limits(max_work=1), pytest.raises(BudgetError, match=r"search through the flats.*max_work.*"
-                                                                      r"27072 incidences at 0.15 µs"):
+                                                                      r"27072 incidences at 0.08 µs"):
         search.block_rate(br, GE(["1/10", "1/3"] * 4, ["1/2", "1/4"] * 4))
 
 
