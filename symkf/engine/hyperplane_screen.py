@@ -192,6 +192,18 @@ def _classes(X: np.ndarray, p: int) -> tuple[np.ndarray, list[np.ndarray], np.nd
     return np.flatnonzero(label < 0), members, reps
 
 
+def least_visits(orbits: Sequence[Sequence[int]], skip: set[int], cycles: Sequence[Sequence[int]] | None) -> int:
+    """The fewest points the stages of :func:`stages` classify, whichever plan they take: the plain
+    plan's (per orbit not in ``skip``, the points after its first) or, with ``cycles``, the
+    windowed plan's (a stage per cycle over the ``V - 1`` other points), known before
+    :func:`lower_bound` chooses between them."""
+    total, start, plain = sum(map(len, orbits)), 0, 0
+    for o, orbit in enumerate(orbits):
+        plain += 0 if o in skip else total - start - 1
+        start += len(orbit)
+    return plain if cycles is None else min(plain, len(cycles) * (sum(map(len, cycles)) - 1))
+
+
 def lower_bound(images: np.ndarray, weights: np.ndarray, p: int, cycles: Sequence[Sequence[int]], screen: Screen) -> None:
     """Offer to ``screen`` the points on the span of each coset of shifts: the points ``q`` apart
     along one cycle (``cycles`` as in :func:`_windowed`), or along every cycle, for each proper

@@ -256,8 +256,8 @@ def test_the_screen_is_priced_by_the_points_it_classifies(monkeypatch):
     monkeypatch.setattr(hyperplane_screen, "_classes", spy_classes)
     monkeypatch.setattr(hyperplane_screen, "search", spy_search)
     critical_loss_rate(_many_sensors(SIXTEEN * 2))
-    (units,) = priced
-    assert units["screen_point"] == classified[0] > 0
+    *least, units = priced   # the points of the cheaper plan, priced before the floor, then the plan's
+    assert units["screen_point"] == classified[0] > 0 and all(u["screen_point"] <= classified[0] for u in least)
 
 
 def test_a_markov_query_over_max_work_is_refused_before_its_screens():
@@ -277,18 +277,30 @@ def test_a_markov_query_over_max_work_is_refused_before_its_screens():
 
 
 def test_the_incidences_are_not_counted_when_the_screen_points_alone_pass_the_cap(monkeypatch):
-    """Under max_work = 1 CPU-ms the screens' points (0.5 µs each, thousands of them) alone pass
-    the cap: the incidences, a class count per stage, are counted under a cap of 0 (one stage),
-    and the refusal names max_work."""
+    """Gilbert-Elliott channels on 128 sensors of rows in -2..2: the cheaper plan classifies 210 758
+    points in the two screens (0.105 CPU-s at 0.5 µs), the windowed plan the floor leads to 786 176
+    (0.39 CPU-s). Under max_work = 200 CPU-ms the plan's points alone pass the cap: its incidences,
+    a class count per stage, are counted under a cap of 0 (one stage); under 50 CPU-ms even the
+    cheaper plan's points pass it, and the screen is refused before its floor reads any flat."""
     from symkf.engine import hyperplane_screen
-    caps, work = [], hyperplane_screen.work
+    caps, floors, work, lower_bound = [], [], hyperplane_screen.work, hyperplane_screen.lower_bound
 
     def spy_work(X, p, plan, cap):
         caps.append(cap)
         return work(X, p, plan, cap)
+
+    def spy_lower_bound(*args):
+        floors.append(1)
+        return lower_bound(*args)
     monkeypatch.setattr(hyperplane_screen, "work", spy_work)
+    monkeypatch.setattr(hyperplane_screen, "lower_bound", spy_lower_bound)
     rows = [[int(v) for v in r] for r in np.random.default_rng(128).integers(-2, 3, (128, 4)) if r.any()]
     loss = sk.GilbertElliott(["1/10"] * len(rows), ["1/2"] * len(rows))
-    with sk.budget.limits(max_work=1), pytest.raises(sk.errors.BudgetError, match=r"screen points at 0.5 µs"):
+    with sk.budget.limits(max_work=200), pytest.raises(sk.errors.BudgetError, match=r"786176 screen points at 0.5 µs"):
         sk.stability(_many_sensors(rows), loss)
-    assert caps == [0]
+    assert caps == [0] and floors == [1]
+    with sk.budget.limits(max_work=50), pytest.raises(sk.errors.BudgetError,
+                                                      match=r"its points alone, whichever plan; 2 such screens\) is "
+                                                            r"0.105 CPU-s.*\(the estimate: 210758 screen points"):
+        sk.stability(_many_sensors(rows), loss)
+    assert caps == [0] and floors == [1]
