@@ -519,13 +519,15 @@ class BlockRows:
             skip = self._parallel_orbits(X, p, orbits, vectors)
             screen = hyperplane_screen.Screen(tol, floor, budget.LIMITS.max_memory // KEPT_SHARE, strict)
             entry = lambda: f"eigen-block of modulus {self.block.modulus}"   # noqa: E731
+
+            def screen_of(detail: str) -> str:
+                return f"the hyperplane screen ({points} in dimension {n}, {detail}" + \
+                    (f"; {screens} such screens)" if screens > 1 else ")")
             try:   # Crowded: more sets than fit, and the caller lists, refused by its own estimate
                 if cycles is not None:
                     # the floor reads every point per flat of the cycles: refused first when even the
                     # cheaper plan's points pass the cap
-                    budget.price(entry, lambda: f"the hyperplane screen ({points} in dimension {n}, {len(cycles)} "
-                                                f"cycles; its points alone, whichever plan"
-                                                + (f"; {screens} such screens)" if screens > 1 else ")"),
+                    budget.price(entry, lambda: screen_of(f"{len(cycles)} cycles; its points alone, whichever plan"),
                                  screen_point=screens * hyperplane_screen.least_visits(orbits, skip, cycles))
                     hyperplane_screen.lower_bound(X, weights, p, cycles, screen)
                 plan = hyperplane_screen.stages(X, weights, p, orbits, skip, screen.bar, cycles)
@@ -533,9 +535,7 @@ class BlockRows:
                 # at thousands of sensors) are not counted past the first stage
                 visits = screens * sum(len(s.points) for s in plan)
                 left = int(budget.affordable("incidence")) if budget.affordable("incidence", screen_point=visits) else 0
-                budget.price(entry,
-                             lambda: f"the hyperplane screen ({points} in dimension {n}, {len(orbits) - len(skip)} "
-                                     f"orbits, {len(plan)} stages" + (f"; {screens} such screens)" if screens > 1 else ")"),
+                budget.price(entry, lambda: screen_of(f"{len(orbits) - len(skip)} orbits, {len(plan)} stages"),
                              screen_point=visits, incidence=screens * hyperplane_screen.work(X, p, plan, left))
                 if not hyperplane_screen.search(X, weights, p, plan, screen):
                     continue
