@@ -510,6 +510,11 @@ class BlockRows:
         cycles = _cycles(len(vectors), shift) if shift is not None and np.array_equal(weights[shift], weights) \
             else None
         powers = _powers(shift, self.class_period)
+        entry = lambda: f"eigen-block of modulus {self.block.modulus}"   # noqa: E731
+
+        def screen_of(detail: str) -> str:
+            return f"the hyperplane screen ({points} in dimension {n}, {detail}" + \
+                (f"; {screens} such screens)" if screens > 1 else ")")
         p = 1 << 27
         for _ in range(3):
             p, images = _reduction(self.K, vectors, p)
@@ -518,11 +523,6 @@ class BlockRows:
             X = np.array(images, dtype=np.int64)
             skip = self._parallel_orbits(X, p, orbits, vectors)
             screen = hyperplane_screen.Screen(tol, floor, budget.LIMITS.max_memory // KEPT_SHARE, strict)
-            entry = lambda: f"eigen-block of modulus {self.block.modulus}"   # noqa: E731
-
-            def screen_of(detail: str) -> str:
-                return f"the hyperplane screen ({points} in dimension {n}, {detail}" + \
-                    (f"; {screens} such screens)" if screens > 1 else ")")
             try:   # Crowded: more sets than fit, and the caller lists, refused by its own estimate
                 if cycles is not None:
                     # the floor reads every point per flat of the cycles: refused first when even the
