@@ -10,7 +10,7 @@ margin's Fieller interval, the same discipline as :func:`symkf.verify`; "stable"
 alone needs an effective sample size of 100; where a burst spreads a covariance beyond float64
 the horizon is cut to two thirds, down to 30 steps).  Where the sampler does not see a loop's
 growth the outcome is "undecided", never "consistent": on ten plants of the tests, both sides of
-both thresholds (``tests/control/test_control_verify.py``, seed 0, 4000 paths, horizon 90), 37 of
+both thresholds (``tests/control/test_control_verify.py``, seed 0, 4000 paths, horizon 90), 38 of
 40 points decide, none contradicts; over 9 seeds (``benchmarks/calibrate_loop_verify.py``) 170 of
 180 loop points decide and 72 of 72 UDP-like scalar noiseless points, none contradicts.  The outcome:
 
