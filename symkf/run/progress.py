@@ -74,10 +74,16 @@ class Progress:
             self._parent = stack[-1]
             self._parent._pending = 0.0
         elif self.mode is not None:
-            self._view = (_Lines if self.mode == "lines" else _Bar)(self)
+            # shown before its view is built (a tqdm bar takes a while to start): a still_working
+            # reporter that wakes meanwhile stays quiet, as it does once the bar draws
             with _shown_lock:
                 _shown.append(self)
             self._exit.callback(_forget, self)
+            try:
+                self._view = (_Lines if self.mode == "lines" else _Bar)(self)
+            except BaseException:
+                self._exit.close()
+                raise
             self._exit.enter_context(_reporting(self._tick, True))
         stack.append(self)
         self._exit.callback(stack.remove, self)
@@ -112,6 +118,8 @@ class Progress:
             root = root._parent
         if root._view is not None:
             root._view.note(text)
+        elif root.mode not in (None, "child"):   # shown, its view still being built
+            print(text, file=root.file, flush=True)
 
     def _child_moved(self, fraction: float) -> None:
         self._pending = self._span * fraction

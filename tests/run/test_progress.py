@@ -147,6 +147,22 @@ def test_still_working_is_quiet_while_a_bar_shows_the_elapsed_time(capsys):
     assert "still working" not in capsys.readouterr().err
 
 
+def test_still_working_is_quiet_while_a_reporter_builds_its_view(capsys, monkeypatch):
+    """A reporter counts as drawing from the moment it is entered: a view that takes 0.3 s to build
+    (a tqdm bar starting under load) leaves a still_working reporter that wakes meanwhile quiet."""
+    from symkf.run import progress as module
+    built = module._Lines.__init__
+
+    def slow(self, p):
+        time.sleep(0.3)
+        built(self, p)
+    monkeypatch.setattr(module._Lines, "__init__", slow)
+    with still_working("symkf verify", after=0.05, every=0.05, enabled=True):
+        with progress(2, "verify", enabled=True, every=100):
+            pass
+    assert "still working" not in capsys.readouterr().err
+
+
 def test_still_working_notes_on_stderr_and_silenceable(capsys):
     from symkf.run.progress import still_working
     with still_working("symkf analyze", after=0.05, every=0.05, enabled=True):
