@@ -202,11 +202,17 @@ class _Timeout(BaseException):
 #: whether a call is under the CPU timer: a profiling signal that arrives after the call (it counts
 #: every thread's CPU, and a busy machine delays its handler) must not raise in the walk itself
 _ARMED = False
+#: whether the CPU timer fired during the current call: a C library that calls back into Python
+#: (numpy promoting structured dtypes) replaces the :class:`_Timeout` raised there by an error of
+#: its own, which is the timer's doing, not the code's
+_FIRED = False
 
 
 def _alarm(signum, frame):
+    global _FIRED
     if not _ARMED:
         return
+    _FIRED = True
     # re-armed first: a raise inside a weakref callback or __del__ is printed as unraisable and
     # lost, and the call would run on unbounded; the repeat comes 0.1 CPU-s later
     signal.setitimer(signal.ITIMER_PROF, 0.1)
@@ -214,8 +220,10 @@ def _alarm(signum, frame):
 
 
 def _limited(call: Callable[[], Any], cpu: float) -> BaseException | None:
-    """Run ``call`` under ``cpu`` CPU-seconds: None, the exception it raised, or a :class:`_Timeout`."""
-    global _ARMED
+    """Run ``call`` under ``cpu`` CPU-seconds: None, the exception it raised, or a :class:`_Timeout`
+    (also when the timer fired and another exception came out)."""
+    global _ARMED, _FIRED
+    _FIRED = False
     try:
         try:
             _ARMED = True
@@ -227,7 +235,7 @@ def _limited(call: Callable[[], Any], cpu: float) -> BaseException | None:
     except BaseException as exc:  # noqa: BLE001 - the walks classify every outcome
         _ARMED = False
         signal.setitimer(signal.ITIMER_PROF, 0)
-        return exc
+        return _Timeout() if _FIRED and not isinstance(exc, _Timeout) else exc
     return None
 
 
@@ -663,3 +671,22 @@ def test_confirmed_holes_are_refused_without_running(mark, name):
         with pytest.raises((SymkfError, InvalidArgument)):
             _confirmed_holes(PAYLOADS[0].format(mark=mark))[name]()
     assert not mark.exists()
+
+
+def test_a_call_whose_timeout_a_library_turned_into_its_own_error_counts_as_a_timeout():
+    import numpy as np
+
+    def converting():   # as numpy does when the timer interrupts a structured-dtype promotion
+        try:
+            rows = np.arange(4000, dtype=np.int64).reshape(1000, 4)
+            while True:
+                np.unique(rows, axis=0)
+        except BaseException:
+            raise TypeError("Cannot compare structured arrays unless they have a common dtype") from None
+
+    old = signal.signal(signal.SIGPROF, _alarm)
+    try:
+        assert isinstance(_limited(converting, 0.05), _Timeout)
+        assert isinstance(_limited(lambda: int("x"), 0.05), ValueError)
+    finally:
+        signal.signal(signal.SIGPROF, old)
