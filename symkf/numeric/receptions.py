@@ -97,6 +97,9 @@ def _thresholds(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 #: entries of one pass of the compiled step: a whole number of rows of sensors, thresholds tiled
 #: to it so that its loop runs contiguously (vectorised) for any number of sensors
 _TILE = 1024
+#: 16-bit draws per call of the compiled step (128 KiB, within the L2 cache): steps are drawn together, so that the
+#: generator and the step are called once per batch of steps, not once per step
+_BATCH = 2 ** 16
 
 
 def _two_state(group: Sequence[LossFactor], horizon: int, paths: int, rng: np.random.Generator) -> np.ndarray:
@@ -105,45 +108,56 @@ def _two_state(group: Sequence[LossFactor], horizon: int, paths: int, rng: np.ra
     bits per draw (four per 64-bit output of the generator) and 16 more where the first 16 tie with
     ``T``'s high part (probability ``2^-16``): the law of 32-bit draws at half their cost (a
     quarter of float64 uniforms').  The generator's outputs are its cost: a draw costs more than
-    the compiled step that uses it (docs/performance.md)."""
+    the compiled step that uses it (docs/performance.md).  The draws of a batch of steps are taken
+    at once and the compiled step runs through the batch, each step after the one it depends on."""
     J = len(group)
     rows = max(1, _TILE // J)
     tile = lambda t: np.tile(t, rows)   # noqa: E731
     start, stay, back = (tuple(map(tile, _thresholds(q))) for q in
                          ([f.init[0] for f in group], [f.P[0, 0] for f in group], [f.P[1, 0] for f in group]))
     out = np.empty((horizon, paths, J), bool)
+    flat = out.reshape(horizon, paths * J)
     bits = rng.bit_generator
     step = _markov_step()
     size = paths * J
     spare = np.empty(0, np.uint16)
-    for k in range(horizon):
-        u = bits.random_raw(-(-size // 4)).view(np.uint16)[:size]
-        s, b = (start, start) if k == 0 else (stay, back)
-        prev = out[k - 1] if k else out[0]     # at k = 0 both laws are the initial one: prev does not matter
-        done = used = 0
-        while True:     # more spare draws only when the ties outnumber them (about 2^-16 size expected)
-            done, used = step(u, prev.reshape(-1), *s, *b, out[k].reshape(-1), spare, done, used)
-            if done == size:
-                break
-            spare = np.concatenate([spare[used:], bits.random_raw(8 + size // 2 ** 16).view(np.uint16)])
-            used = 0
+    batch = max(1, _BATCH // size)
+    for k in range(0, horizon, batch):
+        m = min(batch, horizon - k)
+        u = bits.random_raw(-(-m * size // 4)).view(np.uint16)[:m * size]
+        # step 0 follows the initial law from either state; later steps from step k - 1's receptions
+        parts = [(u[:size], flat[0], start, start, flat[0]), (u[size:], flat[0], stay, back, flat[1:m])] \
+            if k == 0 else [(u, flat[k - 1], stay, back, flat[k:k + m])]
+        for draws, prev, s, b, into in parts:
+            done = used = 0
+            while True:     # more spare draws only when the ties outnumber them (about 2^-16 per draw)
+                done, used = step(draws, prev, *s, *b, into.reshape(-1), spare, done, used)
+                if done == draws.size:
+                    break
+                spare = np.concatenate([spare[used:], bits.random_raw(8 + draws.size // 2 ** 16).view(np.uint16)])
+                used = 0
+            spare = spare[used:]
     return out
 
 
 def _markov_step_py(u: np.ndarray, prev: np.ndarray, stay_hi: np.ndarray, stay_lo: np.ndarray,
                     back_hi: np.ndarray, back_lo: np.ndarray, out: np.ndarray, spare: np.ndarray,
                     done: int, used: int) -> tuple[int, int]:
-    """``out = (u, v) < (stay if prev else back)`` entrywise, in 16-bit halves: ``u`` against the
-    high half, and where they tie a spare draw ``v`` against the low half.  Thresholds are tiled
-    over a pass of ``len(stay_hi)`` entries (whole rows of sensors) and chosen by a mask, not a
-    branch, so that each pass's loop vectorises.  Runs from entry ``done`` and spare ``used``;
-    returns where it stopped (``len(u)`` unless the spares ran out) and the spares used."""
-    n, B = len(u), len(stay_hi)
-    was, now = prev.view(np.uint8), out.view(np.uint8)
+    """``out = (u, v) < (stay if was else back)`` entrywise, in 16-bit halves: ``u`` against the
+    high half, and where they tie a spare draw ``v`` against the low half.  ``was`` is ``prev``
+    for the first ``len(prev)`` entries and ``out`` itself ``len(prev)`` entries back for the
+    rest: ``out`` may hold several steps of ``len(prev)`` entries, each after the one before.
+    Thresholds are tiled over a pass of ``len(stay_hi)`` entries (whole rows of sensors) and
+    chosen by a mask, not a branch, so that each pass's loop vectorises.  Runs from entry ``done``
+    and spare ``used``; returns where it stopped (``len(u)`` unless the spares ran out) and the
+    spares used."""
+    n, B, size = len(u), len(stay_hi), len(prev)
+    before, now = prev.view(np.uint8), out.view(np.uint8)
     flip = stay_hi ^ back_hi
     while done < n:
-        width = min(B, n - done)
-        uu, ww, nn = u[done:done + width], was[done:done + width], now[done:done + width]
+        width = min(B, n - done, size - done) if done < size else min(B, n - done)
+        uu, nn = u[done:done + width], now[done:done + width]
+        ww = before[done:done + width] if done < size else now[done - size:done - size + width]
         ties = 0
         for i in range(width):
             high = back_hi[i] ^ (flip[i] & (np.uint32(0) - np.uint32(ww[i])))

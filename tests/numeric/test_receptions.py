@@ -1,5 +1,6 @@
 """Receptions drawn per factor of a loss model (symkf.numeric.receptions): the compiled Markov step is
-its definition, draw by draw, and probabilities 0 and 1 hold exactly.  (Each loss model's sampled
+its definition, draw by draw, several steps in one call as one call each, and probabilities 0 and 1
+hold exactly.  (Each loss model's sampled
 law against exact enumeration: tests/model/test_loss.py.)"""
 
 from __future__ import annotations
@@ -48,6 +49,32 @@ def test_the_compiled_markov_step_is_its_definition(sensors):
         taken += k
     np.testing.assert_array_equal(out, expected)
     assert taken == used and chunks > 1
+
+
+@pytest.mark.parametrize("sensors", [1, 3, 300])
+def test_steps_in_one_call_of_the_markov_step_equal_the_steps_one_call_each(sensors):
+    # out may hold several steps: after the first (against prev) each entry follows the entry one
+    # step back in out itself; a pass never straddles two steps, so the thresholds stay aligned
+    from symkf.numeric.receptions import _TILE, _markov_step, _thresholds
+    rng = np.random.default_rng(sensors)
+    size, steps = (_TILE // sensors + 3) * sensors, 5
+    (sh, sl), (bh, bl) = _thresholds(rng.random(sensors)), _thresholds(rng.random(sensors))
+    rows = max(1, _TILE // sensors)
+    tiled = [np.tile(t, rows) for t in (sh, sl, bh, bl)]
+    u = rng.integers(0, 2 ** 16, steps * size).astype(np.uint16)
+    u[::7] = np.tile(sh, steps * size // sensors)[::7]                 # ties, each taking a spare
+    spare = rng.integers(0, 2 ** 16, steps * size, dtype=np.uint16)
+    prev = rng.random(size) < 0.5
+    step = _markov_step()
+    together = np.empty(steps * size, bool)
+    assert step(u, prev, *tiled, together, spare, 0, 0)[0] == steps * size
+    alone, used, was = np.empty((steps, size), bool), 0, prev
+    for k in range(steps):
+        done, taken = step(u[k * size:(k + 1) * size], was, *tiled, alone[k], spare[used:], 0, 0)
+        assert done == size
+        used, was = used + taken, alone[k]
+    np.testing.assert_array_equal(together.reshape(steps, size), alone)
+    assert 0 < used < spare.size
 
 
 def test_certain_transitions_are_sampled_exactly():
