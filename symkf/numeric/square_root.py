@@ -506,15 +506,16 @@ PHASED_MAX = 5
 WINDOW = 32
 #: the bits of 2^-WINDOW and 2^WINDOW (a trace's bits order as it does: it is not negative)
 WINDOW_BITS = (1023 - WINDOW) << 52, (1023 + WINDOW) << 52
-#: the straight-line kernels' time update in one lane loop (n = 2) runs this many paths per iteration,
+#: the straight-line kernels' time update in one lane loop (n = 2..4) runs this many paths per iteration,
 #: their statements interleaved: its chain of dependent square roots and division is long, and the
 #: core overlaps more paths when their operations come in program order.  Two, not four: four paths'
 #: live values exceed the 32 vector registers.  n = 1 (one square root, no division) gains nothing
 #: from it: not interleaved (docs/performance.md)
 INTERLEAVED = 2
-#: below this n the straight-line kernel does not split its loops: at n = 2 the unsplit loops are
-#: the faster (docs/performance.md); n = 1 has nothing to split
-PHASED_MIN = 3
+#: below this n the straight-line kernel does not split its loops: up to n = 4 the unsplit loops
+#: (the time update's interleaved) are as fast or faster with three sensors and the faster with
+#: one, where the time update is most of a step (docs/performance.md); n = 1 has nothing to split
+PHASED_MIN = 5
 
 
 def _sum(target: str, terms: list[str], indent: str) -> list[str]:
