@@ -3,7 +3,7 @@
 The kernel is :func:`symkf.numeric.filters.log_traces` on receptions drawn beforehand (i.i.d. 0.3
 losses, ``d`` single-row sensors, systems of ``bench_simulate.system``).  Work per path-step
 is counted by the yardstick ``4 n^3 + 4 d n^2`` flop (time update ~ ``4 n^3``: ``A S`` and
-the Householder reflections; Potter ~ ``4 n^2`` per row), whatever the kernel skips.
+the Householder reflections; a measurement row ~ ``4 n^2``), whatever the kernel skips.
 
 Peak: derived from ``lscpu`` (FMA pipes x doubles per pipe x 2 flop x clock; AMD family 25,
 Zen 3/4, has two 256-bit FMA pipes, AVX-512 is double-pumped; family 26, Zen 5, two 512-bit
@@ -163,27 +163,23 @@ def measured_rates(repeats: int) -> tuple[float, float, float, float]:
 
 def divider_work(n: int, rows: int) -> tuple[int, int]:
     """Divisions and square roots per path-step the kernel cannot avoid (:mod:`symkf.numeric.square_root`):
-    per Potter row ``sqrt(a r)`` and ``1 / denom``; per Householder column the norm, and but for
-    the last column (never applied) ``1 / (|x| (|x| + |x_0|))``; the log of the trace, ``s = f /
-    (2 + f)``."""
-    return rows + n, rows + n
+    per Carlson row and column ``sqrt(alpha_j)`` and ``1 / s_j``; per Householder column the norm,
+    and but for the last column (never applied) ``1 / (|x| (|x| + |x_0|))``; the log of the trace,
+    ``s = f / (2 + f)``."""
+    return rows * n + n, rows * n + n
 
 
 def loop_divider_work(n: int) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
     """(divisions, square roots) per path of each lane loop of the straight-line kernel that has
-    any, and of those a step runs for the logs at d = 1.  A Potter row's gain, written twice from
-    n = 2 (the first row, on the time update's triangular S, and the others); the time update,
-    one loop per Householder column from ``PHASED_MIN`` to ``PHASED_MAX`` states (the last column
-    only its norm), else one loop; up to ``PHASED_MAX`` its last loop written twice, once with the
-    log of the traces (one division more); the log's own loop (the last step, and every step
-    beyond ``PHASED_MAX``)."""
-    from symkf.numeric.square_root import PHASED_MAX, PHASED_MIN
-    potter = [(1, 1)] * (2 if n > 1 else 1)
-    columns = [(1, 1)] * (n - 1) + [(0, 1)] if PHASED_MIN <= n <= PHASED_MAX else [(n - 1, n)]
-    if n > PHASED_MAX:
-        return potter + columns + [(1, 0)], [(1, 1)] + columns + [(1, 0)]
-    with_log = (columns[-1][0] + 1, columns[-1][1])
-    return potter + columns + [with_log, (1, 0)], [(1, 1)] + columns[:-1] + [with_log]
+    any, and of those a step runs for the logs at d = 1.  A Carlson row (one loop); the time update,
+    one loop; up to ``TRACED_MAX`` written twice, once with the log of the traces (one division
+    more); the log's own loop (the last step, and every step beyond ``TRACED_MAX``)."""
+    from symkf.numeric.square_root import TRACED_MAX
+    carlson, update = [(n, n)], (n - 1, n)
+    if n > TRACED_MAX:
+        return carlson + [update, (1, 0)], carlson + [update, (1, 0)]
+    with_log = (update[0] + 1, update[1])
+    return carlson + [update, with_log, (1, 0)], carlson + [with_log]
 
 
 def asm_divider_work(n: int) -> tuple[list[tuple[int, int]], str]:

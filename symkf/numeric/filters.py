@@ -284,12 +284,17 @@ def _kernel_arguments(model: FloatSystem, received: np.ndarray) -> tuple:
         raise InputError("P0: the prior covariance is zero; log tr P_0 is undefined")
     received = np.ascontiguousarray(received)
     A, H, P0, Q = model.A, model.H, model.P0, model.Q
-    if np.any(np.tril(A, -2)):
-        # the kernel's time update takes A upper Hessenberg (it skips the entries below the
-        # subdiagonal: a third of A S at n = 8): the state in an orthonormal basis that makes it
-        # so, which leaves tr P unchanged (P -> T P T^T)
-        T = _hessenberg_basis(A)
-        A, H, P0, Q = np.triu(T @ A @ T.T, -1), H @ T.T, T @ P0 @ T.T, T @ Q @ T.T
+    if np.any(np.triu(A, 2)):
+        # the kernel takes A lower Hessenberg: its measurement update keeps S lower triangular
+        # (Carlson's), so A S is lower Hessenberg and the time update's reflector of column c spans
+        # c + 3 rows instead of n + 1, and A S skips A's zeros.  The state in an orthonormal basis
+        # that makes it so, which leaves tr P unchanged (P -> T P T^T): a Householder reduction to
+        # upper Hessenberg form where A is not already, then the states in reverse order
+        # (J A J is lower Hessenberg for the reversal J; P -> J P J)
+        if np.any(np.tril(A, -2)):
+            T = _hessenberg_basis(A)
+            A, H, P0, Q = np.triu(T @ A @ T.T, -1), H @ T.T, T @ P0 @ T.T, T @ Q @ T.T
+        A, H, P0, Q = A[::-1, ::-1], H[:, ::-1], P0[::-1, ::-1], Q[::-1, ::-1]
     # triangular factors: S0 S0^T = P0 (lower), U_Q^T U_Q = Q (upper), from QR of any square root
     S0 = np.linalg.qr(_psd_factor(P0).T, mode="r").T
     UQ = np.linalg.qr(_psd_factor(Q).T, mode="r")
@@ -321,8 +326,9 @@ def log_traces(model: FloatSystem, received: np.ndarray) -> np.ndarray:
     (horizon, paths, d) bool: a transposed view (Fortran order), each step's logs contiguous as the
     kernel writes them.
 
-    Square-root filter with a running power-of-two scale per path (Potter measurement
-    updates one whitened row at a time, Yang et al. eq. 8; Householder time update,
+    Square-root filter with a running power-of-two scale per path (Carlson's triangular
+    measurement update one whitened row at a time, Yang et al. eq. 8 and Carlson, "Fast
+    triangular formulation of the square root filter", 1973; Householder time update,
     Sui-You-Fu eq. 9), compiled: :mod:`symkf.numeric.square_root`.  ``log tr P`` is available over
     any dynamic range (thousands of unstable steps), and ``P`` stays positive semidefinite
     by construction.

@@ -26,16 +26,23 @@ from ..arguments import check_public
 #: 1.6-1.7x faster than 128 at n = 12 and 16, 1.15x at n = 24; 32 lanes, whose lane loops are four
 #: vectors long, 0.6-0.7x (docs/performance.md)
 LOOP_LANES = 64
-#: the smallest normal float64, 2^-1022: a Potter denominator or a Householder ``|v|^2 / 2`` below it
+#: the smallest normal float64, 2^-1022: a Carlson s_j or a Householder ``|v|^2 / 2`` below it
 #: is dropped (its reciprocal could overflow; what it would change is below 2^-511 of ``S``'s scale)
 NORMAL = float(np.finfo(np.float64).tiny)
+#: the largest finite float64: a Carlson column whose ``s_j = sqrt(2^-E + f_j^2 + ...)`` is beyond it
+#: (the measurement noise 2^-E = inf) is left as it is, as a lost row leaves it
+BIG = float(np.finfo(np.float64).max)
+#: below this ``tr S S^T`` (2^-960) the rescale scales by ``sum |S_ij|`` instead: the squares of an ``S``
+#: whose entries are all below 2^-537 underflow (Carlson's update collapses an observed direction
+#: exactly), a zero trace of a nonzero ``S`` that the trace's exponent cannot bring back
+TINY_TRACE = 2.0 ** -960
 #: the largest exponent of the process noise's scale 2^(-E/2): beyond, tr P < 2^-2048 < tr Q, so
 #: Q = 0 (a time update leaves tr P >= tr Q), and 2^(-E/2) = inf would make inf * 0 = nan of its
 #: zero entries (A = I/2, Q = 0: nan from step 1024 on); the measurement noise 2^-E may be inf
-#: (a Potter gain of 0: no row moves a P below 2^-1024 R)
+#: (a Carlson column beyond BIG is left alone: no row moves a P below 2^-1024 R)
 ROOT_MAX = 1023
 # error_model="numpy": divisions need no Python zero check, so the path loops vectorise.
-# No fastmath, not even FMA contraction: a fused S - Su f^T does not cancel to the same
+# No fastmath, not even FMA contraction: a fused c S - sn v does not cancel to the same
 # rounding as the product it subtracts, so a float-exact system (A = 2 R(pi/2)) would drift off
 # its exact log tr P over a long periodic burst and float_horizon would cap it (test_filtering)
 OPTIONS = {"nogil": True, "error_model": "numpy"}
@@ -175,27 +182,31 @@ def _pow2(typingctx, e):
 
 @_compiled
 def _rescale(S: np.ndarray, E: np.ndarray, t: np.ndarray, scale: np.ndarray) -> None:
-    """Scale every ``S`` (n, n, paths) by a power of two so that ``tr S S^T`` is in [1/2, 2),
-    adding the (even) exponent taken out to ``E``; ``t`` receives the new trace."""
+    """Scale every ``S`` (n, n, paths; lower triangular) by a power of two so that ``tr S S^T`` is in
+    [1/2, 2) (below :data:`TINY_TRACE`: ``sum |S_ij|`` in [1/2, 1)), adding the (even) exponent taken
+    out to ``E``; ``t`` receives the new trace, summed from the scaled entries."""
     n = S.shape[0]
     for p in range(LOOP_LANES):
         t[p] = 0.0
+        scale[p] = 0.0
     for i in range(n):
         for j in range(i + 1):
             for p in range(LOOP_LANES):
                 t[p] += S[i, j, p] * S[i, j, p]
-    bits = t.view(np.int64)
+                scale[p] += abs(S[i, j, p])
     for p in range(LOOP_LANES):
         # t = m 2^e with m in [1/2, 1): e from the exponent field (frexp's, without a call)
-        e = ((bits[p] >> 52) & 2047) - 1022 if t[p] > 0.0 else 0
+        e = ((_bits_of(t[p]) >> 52) & 2047) - 1022 if t[p] > 0.0 else 0
         e -= e & 1
+        e = 2 * (((_bits_of(scale[p]) >> 52) & 2047) - 1022) if t[p] < TINY_TRACE and scale[p] > 0.0 else e
         E[p] += e
-        t[p] *= _pow2(-e)
-        scale[p] = _float_bits((1023 - e // 2) << 52)   # -e / 2 in [-512, 511]: one power of two
+        scale[p] = _float_bits((1023 - e // 2) << 52)   # -e / 2 in [-512, 1022]: one power of two
+        t[p] = 0.0
     for i in range(n):
         for j in range(i + 1):
             for p in range(LOOP_LANES):
                 S[i, j, p] *= scale[p]
+                t[p] += S[i, j, p] * S[i, j, p]
 
 
 @_compiled

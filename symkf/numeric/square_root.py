@@ -3,7 +3,7 @@
 numba-compiled loops (``cache=True``: compiled once per installation, then
 loaded from ``__pycache__``) over blocks of :func:`lanes` paths, the innermost loop
 running across the paths of a block so that the compiler vectorises it (every
-path does the same arithmetic; a lost row is an update by a zero gain, not a
+path does the same arithmetic; a lost row is an identity rotation, not a
 branch).
 
 Per path ``P_{k|k-1} = 2^E S S^T`` with an even integer ``E`` and ``tr(S S^T)``
@@ -14,26 +14,37 @@ In these units the whitened measurement noise is ``2^-E`` and the process
 noise ``2^-E Q``.
 
 * Measurement update (Yang et al. eq. 8, rows independent with unit variance
-  after whitening): Potter's square-root form, one received row ``h`` at a
-  time, ``S <- S - (S f) g^T`` with ``f = S^T h``, ``r = 2^-E``, ``a = |f|^2 + r``
-  and ``g = f / (a + sqrt(a r))`` (``S S^T`` becomes ``P - P h h^T P / a``): one
-  square root and one division per row and path.  A lost row has ``g = 0``,
-  not a branch.
+  after whitening): Carlson's triangular form (N. A. Carlson, "Fast triangular
+  formulation of the square root filter", AIAA Journal 11(9), 1973), reversed to
+  a lower-triangular ``S`` and written as Givens rotations, one received row
+  ``h`` at a time: ``f = S^T h``, ``s_n = 2^(-E/2)``, and for ``j = n-1..0``
+  ``s_j = max(sqrt(2^-E + f_j^2 + ... + f_{n-1}^2), s_{j+1})``, ``c = s_{j+1} / s_j``,
+  ``sn = f_j / s_j``, ``S_ij <- c S_ij - sn v_i`` and ``v_i <- c v_i + sn S_ij`` (``v``
+  the later columns weighted by their ``f``): ``S S^T`` becomes ``P - P h h^T P / (|f|^2
+  + 2^-E)`` and ``S`` stays lower triangular, one square root and one division per
+  column.  The square roots of the running sums, never of their products (whose
+  product form ``sqrt(s_{j+1}^2 s_j^2)`` underflows); the ``max`` keeps a column whose
+  noise and ``f`` underflow to 0 from being zeroed for ever.  A lost row is a rotation
+  by ``c = 1``, ``sn = 0``, not a branch.  Unlike Potter's full update, the
+  triangular one collapses an observed direction exactly: on badly conditioned
+  systems its ``log tr P`` stays with a high-precision reference where Potter's
+  drifts off by tens (tests in ``test_square_root``).
 * Time update (Sui-You-Fu eq. 9, ``P <- A P A^T + Q``): Householder
-  triangularisation of the stacked ``[(A S)^T; 2^(-E/2) U_Q]`` (``U_Q``
-  upper triangular, ``U_Q^T U_Q = Q``), giving a lower-triangular ``S`` with
-  the same ``S S^T``; the triangular structure of both blocks is skipped,
-  and so are the entries of ``A`` below its subdiagonal: the kernel takes
-  ``A`` upper Hessenberg (:mod:`symkf.numeric.filters` writes a dense ``A`` in an
-  orthonormal basis that makes it so; ``tr P`` does not change), which
-  saves a third of ``A S`` at n = 8.  Each reflector ``v = x + sign(x_0) |x| e_1`` stays unnormalised and is
-  applied as ``y - (v^T y) v / (|x| (|x| + |x_0|))`` (``|v|^2 = 2 |x| (|x| +
-  |x_0|)``): one square root per column and one division per applied column.
+  triangularisation (Golub and Van Loan, Matrix Computations, section 5.2.1) of
+  the stacked ``[(A S)^T; 2^(-E/2) U_Q]`` (``U_Q`` upper triangular,
+  ``U_Q^T U_Q = Q``), giving a lower-triangular ``S`` with the same ``S S^T``.  The
+  kernel takes ``A`` lower Hessenberg (:mod:`symkf.numeric.filters` writes a dense ``A``
+  in an orthonormal basis, in reversed order, that makes it so; ``tr P`` does not
+  change): ``A S`` is lower Hessenberg, so column ``c``'s reflector spans rows ``c``,
+  ``c + 1`` and ``U_Q``'s rows ``0..c`` (``c + 3`` of them, against ``n + 1`` for a
+  full ``S``), and the zeros of ``A`` and ``S`` are skipped in ``A S``.  Each reflector
+  ``v = x + sign(x_0) |x| e_1`` stays unnormalised and is applied as ``y - (v^T y) v /
+  (|x| (|x| + |x_0|))`` (``|v|^2 = 2 |x| (|x| + |x_0|)``): one square root per column and
+  one division per applied column.
 
 The divider (division and square root share it) bounds the kernel at small
-``n``: these forms need ``rows + n - 1`` divisions and ``rows + n`` square roots
-per path-step, against ``rows (n + 1) + n^2 - 1`` and ``2 rows + 2n - 1`` for
-the normalised ``u = f / |f|`` and ``v / |v|``.  Below 2^-1022 a denominator
+``n``: these forms need ``rows n + n - 1`` divisions and ``rows n + n`` square
+roots per path-step.  Below 2^-1022 a denominator
 is dropped (its reciprocal could overflow); what it would remove is below
 2^-511 of ``S``'s scale.
 
@@ -45,7 +56,7 @@ the rounding (``benchmarks/float_resolution.py`` measures where on
 ``ge-two-sensors`` and ``ge-recovery.toml``).  Float-exact systems
 (``A = 2 R(pi/2)``) keep their exact cancellations over thousands of steps
 (tests in ``test_filtering``); FMA contraction would break them (a fused
-``S - S u w^T`` does not cancel to the same rounding as the product it
+``c S_ij - sn v_i`` does not cancel to the same rounding as the product it
 subtracts), so none is used.
 This module imports numba; :mod:`symkf.numeric.filters` imports it only when a
 simulation runs, so ``import symkf`` and the exact engine never pay for it.
@@ -68,12 +79,12 @@ from .. import budget
 from ..arguments import check_public
 from ..errors import ShapeError
 from ..run.progress import compiling
-from .kernel_parts import (LOOP_LANES, NORMAL, OPTIONS, ROOT_MAX, _aligned, _aligned_int, _pow2, _receptions,
+from .kernel_parts import (BIG, LOOP_LANES, NORMAL, OPTIONS, ROOT_MAX, _aligned, _aligned_int, _pow2, _receptions,
                            _rescale, _store)
 
 #: the first 16 hex digits of the SHA-256 of symkf/numeric/kernel_parts.py, whose pieces this module's
 #: kernels inline (:func:`_jit`; a test compares)
-KERNEL_PARTS = "beae74933e15ede5"
+KERNEL_PARTS = "2c4a229dea463059"
 
 
 def _inlined_digest() -> str | None:
@@ -107,7 +118,7 @@ def _jit(recorded: str, signature=None):
 #: so the blocks widen as n falls: SMALL_LANES up to SMALL_MAX, TINY_LANES up to TINY_MAX, LANES above,
 #: where a wider block is slower, and NARROW_LANES from NARROW_MIN on, where a block's S (n^2 lanes
 #: of 8 bytes: 32 KiB at n = 8 and 64 lanes, the whole L1 data cache) leaves no room in the L1
-#: cache for the time update's spilled entries.  At n = 2 each step's two long lane loops (Potter's,
+#: cache for the time update's spilled entries.  At n = 2 each step's two long lane loops (Carlson's,
 #: the time update's) also fill and drain the core's window of overlapping paths, which a wide block
 #: spreads over more paths.  Each width is the fastest measured for its range of n
 #: (docs/performance.md, benchmarks/bench_kernel.py).  A run of fewer paths still computes a whole block
@@ -135,7 +146,7 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
                     S0: np.ndarray, received: np.ndarray, trace: np.ndarray, linear: bool = False,
                     offset: int = 0) -> None:
     """``trace[k, offset + p] = log tr P_{k|k-1}`` (k = 0..horizon) for receptions ``received[k, p, i]``
-    (sensor ``i``), ``A`` upper Hessenberg, from ``P_0 = S0 S0^T`` (``S0`` lower triangular), in blocks of :func:`lanes`
+    (sensor ``i``), ``A`` lower Hessenberg, from ``P_0 = S0 S0^T`` (``S0`` lower triangular), in blocks of :func:`lanes`
     ``(n)`` paths (a partial last block included).
     ``linear``: ``tr P_{k|k-1}`` itself, k = 0..horizon-1.  ``trace`` is C-contiguous float64 with a
     row per step (``horizon + 1`` rows, or ``horizon`` with ``linear``) and at least ``offset + paths``
@@ -145,9 +156,9 @@ def log_trace_paths(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np
     if np.ndim(received) != 3:
         raise ShapeError(f"received: expected (horizon, paths, sensors), got shape {np.shape(received)}")
     horizon, paths, _ = received.shape
-    if np.any(np.tril(A, -2)):
-        raise ShapeError("A: the kernel takes A upper Hessenberg (symkf.numeric.filters's kernel arguments make it so)")
-    if np.ndim(S0) == 2 and np.any(np.triu(S0, 1)):   # the first Potter row skips its zeros
+    if np.any(np.triu(A, 2)):   # the time update's short reflectors rely on A S lower Hessenberg
+        raise ShapeError("A: the kernel takes A lower Hessenberg (symkf.numeric.filters's kernel arguments make it so)")
+    if np.ndim(S0) == 2 and np.any(np.triu(S0, 1)):   # the kernels keep S lower triangular and read no other entry
         raise ShapeError("S0: the kernel takes S0 lower triangular (symkf.numeric.filters's kernel arguments make it so)")
     # the compiled loops do not check bounds
     steps = horizon if linear else horizon + 1
@@ -201,16 +212,16 @@ def _kernel(n: int):
 
 def _loop_kernel(n: int):
     """:func:`_loops` with the unrolled kernels of ``n`` states (:func:`_unrolled`)."""
-    return functools.partial(_loops, householder=_unrolled("householder", n), potter=_unrolled("potter", n))
+    return functools.partial(_loops, householder=_unrolled("householder", n), carlson=_unrolled("carlson", n))
 
 
 @_jit(KERNEL_PARTS)
 def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
            S0: np.ndarray, received: np.ndarray, trace: np.ndarray, offset: int,
-           linear: bool, householder, potter) -> None:
+           linear: bool, householder, carlson) -> None:
     """:func:`log_trace_paths` for any ``n``: loops over the entries, the lane loop innermost, and
     the kernels of :func:`_unrolled` for the time update's triangularisation (``householder``) and
-    Potter's rank-one update (``potter``)."""
+    Carlson's triangular update of ``S`` by its rotations (``carlson``)."""
     horizon, paths, d = received.shape
     n = A.shape[0]
     rows = H.shape[0]
@@ -220,10 +231,11 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
     S = _aligned((n, cols, LOOP_LANES))
     X = _aligned((2 * n, cols, LOOP_LANES))
     V = _aligned(((n + 3) * LOOP_LANES,))
-    fg = _aligned((2 * n + 1, LOOP_LANES))   # Potter's f (rows 0..n-1), g (n..2n-1), a row of scratch
-    f2 = _aligned((LOOP_LANES,))
-    coef = _aligned((LOOP_LANES,))
+    cs = _aligned((2 * n + 1, LOOP_LANES))   # Carlson's f, then c (rows 0..n-1), sn (n..2n-1), a row of scratch
+    alpha = _aligned((LOOP_LANES,))
+    sprev = _aligned((LOOP_LANES,))
     noise = _aligned((LOOP_LANES,))
+    half = _aligned((LOOP_LANES,))
     E = _aligned_int((LOOP_LANES,))
     t = _aligned((LOOP_LANES,))
     spare = _aligned((LOOP_LANES,))
@@ -236,65 +248,69 @@ def _loops(A: np.ndarray, UQ: np.ndarray, H: np.ndarray, row_sensor: np.ndarray,
                     S[i, j, p] = S0[i, j]
         for p in range(LOOP_LANES):
             E[p] = 0
-        _rescale(S, E, t, f2)
+        _rescale(S, E, t, alpha)
         for k in range(horizon + 1):
             _store(k, start, t, E, trace, spare, offset, paths, linear)
             if k == horizon:
                 break
             direct = _receptions(received, k, start, block)
             for p in range(LOOP_LANES):
-                noise[p] = _pow2(-E[p])
-            for r in range(rows):                   # Potter, one whitened row at a time
+                half[p] = _pow2(min(-(E[p] // 2), ROOT_MAX))
+                noise[p] = half[p] * half[p]
+            for r in range(rows):                   # Carlson, one whitened row at a time
                 got = lone[k, start:start + LOOP_LANES] if direct else block[row_sensor[r]]
-                for p in range(LOOP_LANES):
-                    f2[p] = 0.0
-                for j in range(n):
+                for j in range(n):                  # f = S^T h, S lower triangular
                     for p in range(LOOP_LANES):
-                        fg[j, p] = 0.0
-                    for i in range(n):
+                        cs[j, p] = 0.0
+                    for i in range(j, n):
                         if H[r, i] != 0.0:          # integer sensor rows are often sparse
                             for p in range(LOOP_LANES):
-                                fg[j, p] += S[i, j, p] * H[r, i]
-                    for p in range(LOOP_LANES):
-                        f2[p] += fg[j, p] * fg[j, p]
+                                cs[j, p] += S[i, j, p] * H[r, i]
                 for p in range(LOOP_LANES):
-                    a = f2[p] + noise[p]
-                    denom = a + math.sqrt(a * noise[p])
-                    coef[p] = 1.0 / denom if got[p] and denom >= NORMAL else 0.0
-                for j in range(n):
+                    alpha[p] = noise[p]
+                    sprev[p] = half[p]
+                for j in range(n - 1, -1, -1):      # each column's rotation (as _straight_source)
                     for p in range(LOOP_LANES):
-                        fg[n + j, p] = fg[j, p] * coef[p]
-                potter(_data(S), _data(fg), n)
-            _time_update(S, A, UQ, E, X, V, f2, householder, t)
+                        f = cs[j, p]
+                        a = alpha[p] + f * f
+                        alpha[p] = a
+                        sq = max(math.sqrt(a), sprev[p])
+                        ok = got[p] and sq >= NORMAL and sq <= BIG
+                        inv = 1.0 / sq if ok else 0.0
+                        cs[j, p] = sprev[p] * inv if ok else 1.0
+                        cs[n + j, p] = f * inv
+                        sprev[p] = sq
+                carlson(_data(S), _data(cs), n)
+            _time_update(S, A, UQ, E, X, V, half, householder, t)
             bits = t.view(np.int64)   # a trace's bits order as it does (it is not negative; nan above all)
             top, bottom = 0, WINDOW_BITS[1]
             for p in range(LOOP_LANES):
                 top = max(top, bits[p])
                 bottom = min(bottom, bits[p])
             if top > WINDOW_BITS[1] or bottom < WINDOW_BITS[0]:
-                _rescale(S, E, t, f2)
+                _rescale(S, E, t, alpha)
 
 
 @_jit(KERNEL_PARTS)
 def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X: np.ndarray,
                  V: np.ndarray, beta: np.ndarray, householder, t: np.ndarray) -> None:
     """``S <- R^T`` with ``R^T R = X^T X``, ``X = [(A S)^T; 2^(-E/2) U_Q]`` (Householder QR by
-    ``householder``, :func:`_unrolled` ``("householder", n)``, its reflectors in ``V``), and ``t``
-    the new ``tr S S^T``, summed as :func:`~symkf.numeric.kernel_parts._rescale` sums it while ``R``
-    is written back (one pass over ``S`` where a rescale at every step took three)."""
+    ``householder``, :func:`_unrolled` ``("householder", n)``, its reflectors in ``V``; ``beta`` holds
+    2^(-E/2)), and ``t`` the new ``tr S S^T``, summed as :func:`~symkf.numeric.kernel_parts._rescale`
+    sums it while ``R`` is written back (one pass over ``S`` where a rescale at every step took
+    three).  ``A`` lower Hessenberg and ``S`` lower triangular: ``(A S)^T`` is upper Hessenberg, and
+    only those entries of ``X``'s top block are written (the reflectors read no other)."""
     n = A.shape[0]
-    for i in range(n):           # X[j, i] = (A S)[i, j] = sum_l A[i, l] S[l, j], S full
-        for j in range(n):
+    for i in range(n):           # X[j, i] = (A S)[i, j] = sum_l A[i, l] S[l, j], l = j..min(i + 1, n - 1)
+        for j in range(min(i + 2, n)):
             for p in range(LOOP_LANES):
                 X[j, i, p] = 0.0
-            for l in range(n):
+            for l in range(j, min(i + 2, n)):
                 if A[i, l] != 0.0:                  # block-diagonal A: skip its zero blocks
                     for p in range(LOOP_LANES):
                         X[j, i, p] += A[i, l] * S[l, j, p]
-    for p in range(LOOP_LANES):
-        beta[p] = _pow2(min(-(E[p] // 2), ROOT_MAX))
-    # U_Q's upper triangle: row n + i left of column i is zero from the allocation on (the reflections
-    # of columns j < i leave row n + i alone)
+    # U_Q's upper triangle: row n + i left of column i is never read (the reflector of column c spans
+    # U_Q's rows 0..c only: _reflector_rows)
     for i in range(n):
         for j in range(i, n):
             for p in range(LOOP_LANES):
@@ -303,28 +319,24 @@ def _time_update(S: np.ndarray, A: np.ndarray, UQ: np.ndarray, E: np.ndarray, X:
     for p in range(LOOP_LANES):
         t[p] = 0.0
     for i in range(n):
-        for j in range(n):
-            if j <= i:
-                for p in range(LOOP_LANES):
-                    x = X[j, i, p]
-                    S[i, j, p] = x
-                    t[p] += x * x
-            else:
-                for p in range(LOOP_LANES):
-                    S[i, j, p] = 0.0
+        for j in range(i + 1):
+            for p in range(LOOP_LANES):
+                x = X[j, i, p]
+                S[i, j, p] = x
+                t[p] += x * x
 
 
 #: the signature of the unrolled kernels (:func:`_unrolled`): pointers to the array they update and
 #: to their vectors, and n.  Householder: ``X`` (2n, n | 1, LOOP_LANES) and ``V`` (n + 3,
-#: LOOP_LANES: the reflector's n + 1 rows, two of scratch); Potter: ``S`` (n, n | 1, LOOP_LANES)
-#: and ``f``, ``g`` (2n + 1, LOOP_LANES: f's n rows, g's, one of scratch)
+#: LOOP_LANES: the reflector's up to n + 1 rows, two of scratch); Carlson: ``S`` (n, n | 1, LOOP_LANES)
+#: and ``cs`` (2n + 1, LOOP_LANES: the rotations' c in n rows, their sn in n, one row of scratch)
 ROW_KERNEL = types.void(types.CPointer(types.float64), types.CPointer(types.float64), types.int64)
 #: largest n whose kernels are written out in :mod:`symkf.numeric.unrolled_kernels`; beyond, the loops
-#: :func:`_householder_loops` and :func:`_potter_loops` (numba compiles no source made at run
-#: time: symkf runs no exec).  Potter's row of ``S`` stays in registers between ``(S f)_i`` and its
-#: update; beyond 16 it no longer fits the 32 vector registers, and written out it would spill (or read
-#: the row twice), slower than the loops (docs/performance.md)
-UNROLLED_MAX = {"householder": 32, "potter": 16}
+#: :func:`_householder_loops` and :func:`_carlson_loops` (numba compiles no source made at run
+#: time: symkf runs no exec).  The Householder kernel is written out column by column (its reflectors'
+#: lengths differ: :func:`_reflector_rows`), ``n^2 / 2`` rows of source per column at n = 16, so
+#: its size grows like n^3; the Carlson kernel row by row (docs/performance.md)
+UNROLLED_MAX = {"householder": 16, "carlson": 16}
 
 
 @intrinsic
@@ -335,18 +347,28 @@ def _data(typingctx, array):
     return types.CPointer(array.dtype)(array), codegen
 
 
+def _reflector_offsets(j: int, n: int) -> list:
+    """The offsets in the flat ``X`` (``2n`` rows of ``n | 1`` columns of LOOP_LANES) of column
+    ``j``'s entries of the rows its reflector spans (:func:`_reflector_rows`), in that order."""
+    L, st = LOOP_LANES, (n | 1) * LOOP_LANES
+    return [row * st + j * L for row in _reflector_rows(j, n)]
+
+
 def _householder_loops(X, V, n):
     """The operations of :func:`_householder_source` ``(n)`` in its order, for any ``n``, as loops
     over the rows (its sums through the scratch rows of ``V``: a test compares every bit)."""
     L, st = LOOP_LANES, (n | 1) * LOOP_LANES
     beta, acc = (n + 1) * L, (n + 2) * L
     for j in range(n):
+        top = 2 if j < n - 1 else 1          # rows j (and j + 1) of (A S)^T, then U_Q's rows 0..j
+        m = top + j + 1
         b = j * (st + L)
         for p in range(L):
             V[acc + p] = 0.0
-        for r in range(n + 1):
+        for r in range(m):
+            o = (j + r if r < top else n + r - top) * st + j * L
             for p in range(L):
-                V[acc + p] += X[b + r * st + p] * X[b + r * st + p]
+                V[acc + p] += X[o + p] * X[o + p]
         for p in range(L):
             norm = math.sqrt(V[acc + p])
             x0 = X[b + p]
@@ -355,107 +377,114 @@ def _householder_loops(X, V, n):
             V[beta + p] = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0
             V[p] = x0 + head
             X[b + p] = -head
-        for r in range(1, n + 1):
+        for r in range(1, m):
+            o = (j + r if r < top else n + r - top) * st + j * L
             for p in range(L):
-                V[r * L + p] = X[b + r * st + p]
+                V[r * L + p] = X[o + p]
         for k in range(j + 1, n):
-            c = b + (k - j) * L
             for p in range(L):
                 V[acc + p] = 0.0
-            for r in range(n + 1):
+            for r in range(m):
+                o = (j + r if r < top else n + r - top) * st + k * L
                 for p in range(L):
-                    V[acc + p] += V[r * L + p] * X[c + r * st + p]
-            for r in range(n + 1):
+                    V[acc + p] += V[r * L + p] * X[o + p]
+            for r in range(m):
+                o = (j + r if r < top else n + r - top) * st + k * L
                 for p in range(L):
-                    X[c + r * st + p] -= V[beta + p] * V[acc + p] * V[r * L + p]
+                    X[o + p] -= V[beta + p] * V[acc + p] * V[r * L + p]
 
 
-def _potter_loops(S, fg, n):
-    """The operations of :func:`_potter_source` ``(n)`` in its order, for any ``n``, as loops over the
-    entries (``(S f)_i`` through the scratch row of ``fg``: a test compares every bit)."""
+def _carlson_loops(S, cs, n):
+    """The operations of :func:`_carlson_source` ``(n)`` in its order, for any ``n``, as loops over the
+    entries (``v`` through the scratch row of ``cs``: a test compares every bit)."""
     L, st = LOOP_LANES, (n | 1) * LOOP_LANES
-    u = 2 * n * L
+    v = 2 * n * L
     for i in range(n):
+        b = i * st
         for p in range(L):
-            fg[u + p] = 0.0
-        for j in range(n):
+            s = S[b + i * L + p]
+            S[b + i * L + p] = cs[i * L + p] * s
+            cs[v + p] = cs[(n + i) * L + p] * s
+        for j in range(i - 1, -1, -1):
             for p in range(L):
-                fg[u + p] += S[i * st + j * L + p] * fg[j * L + p]
-        for j in range(n):
-            for p in range(L):
-                S[i * st + j * L + p] -= fg[u + p] * fg[(n + j) * L + p]
+                s = S[b + j * L + p]
+                S[b + j * L + p] = cs[j * L + p] * s - cs[(n + j) * L + p] * cs[v + p]
+                cs[v + p] = cs[j * L + p] * cs[v + p] + cs[(n + j) * L + p] * s
 
 
-def _potter_source(n: int) -> str:
-    """Source of ``_potter_{n}``: Potter's rank-one update ``S <- S - (S f) g^T`` (Yang et al. eq. 8
-    in square-root form, ``f = u``, ``g = u w``: the module's text) for ``n`` states, row ``i`` of
-    ``S f`` and of ``S`` in one lane loop, the row's ``n`` entries written out (the sum stays in a
-    register; every entry at a constant offset)."""
+def _carlson_source(n: int) -> str:
+    """Source of ``_carlson_{n}``: Carlson's triangular measurement update (N. A. Carlson, "Fast
+    triangular formulation of the square root filter", AIAA Journal 11(9), 1973, in Givens form:
+    the module's text) of a lower-triangular ``S`` by the rotations ``c_j``, ``sn_j`` of its columns,
+    row ``i`` in one lane loop: ``S_ij <- c_j S_ij - sn_j v`` and ``v <- c_j v + sn_j S_ij`` from
+    column ``i`` (``v = sn_i S_ii``) down to 0, ``v`` in a register (each row's ``v`` depends on that
+    row alone), every entry at a constant offset."""
     L, st = LOOP_LANES, (n | 1) * LOOP_LANES
-    s = [f"S[b + {j * L} + p]" if j else "S[b + p]" for j in range(n)]
-    f = [f"fg[{j * L} + p]" if j else "fg[p]" for j in range(2 * n)]
-    w = [f"def _potter_{n}(S, fg, n):", f"    for i in range({n}):", f"        b = i * {st}",
-         f"        for p in range({L}):"]
-    w += [f"            s{j} = {s[j]}" for j in range(n)]
-    w += ["            u = 0.0"] + [f"            u += s{j} * {f[j]}" for j in range(n)]
-    w += [f"            {s[j]} = s{j} - u * {f[n + j]}" for j in range(n)]
+    w = [f"def _carlson_{n}(S, cs, n):"]
+    for i in range(n):
+        w.append(f"    for p in range({L}):")
+        w.append(f"        s = S[{i * st + i * L} + p]")
+        w.append(f"        S[{i * st + i * L} + p] = cs[{i * L} + p] * s")
+        w.append(f"        v = cs[{(n + i) * L} + p] * s")
+        for j in range(i - 1, -1, -1):
+            w.append(f"        s = S[{i * st + j * L} + p]")
+            w.append(f"        S[{i * st + j * L} + p] = cs[{j * L} + p] * s - cs[{(n + j) * L} + p] * v")
+            if j:   # column 0's v is never read
+                w.append(f"        v = cs[{j * L} + p] * v + cs[{(n + j) * L} + p] * s")
     return "\n".join(w) + "\n"
 
 
 def _householder_source(n: int) -> str:
-    """Source of ``_householder_{n}``: the Householder triangularisation of ``_time_update``'s ``X``
-    for ``n`` states, column ``j`` in one lane loop (norm, pivot, reflector ``v`` into ``V``; only
-    row ``j`` of ``X`` is read afterwards) and its reflection of each later column ``k`` in one
-    (``v^T x`` and ``x - 2 (v^T x) v`` over the rows ``j..n+j``, written out: the sum stays in a
-    register).  Row ``n + i`` of ``X`` is zero left of column ``i`` and stays so until step ``i``
-    (a reflection leaves rows with a zero pivot-column entry alone), so step ``j`` touches rows
-    ``j..n+j`` only: ``n + 1`` of them, ``st`` apart in the flat ``X``."""
-    L, st = LOOP_LANES, (n | 1) * LOOP_LANES
-    R = range(n + 1)
-    w = []
+    """Source of ``_householder_{n}``: the Householder triangularisation (Golub and Van Loan, Matrix
+    Computations, section 5.2.1) of ``_time_update``'s ``X`` for ``n`` states, column ``j`` in one
+    lane loop (norm, pivot, reflector ``v`` into ``V``; only row ``j`` of ``X`` is read afterwards)
+    and its reflection of each later column ``k`` in one (``v^T x`` and ``x - 2 (v^T x) v`` over the
+    reflector's rows, written out: the sum stays in a register).  Column ``j``'s reflector spans rows
+    ``j``, ``j + 1`` and ``n..n + j`` (:func:`_reflector_rows`: ``(A S)^T`` is upper Hessenberg, and
+    the rows below stay zero in the columns from ``j`` on): each column is written out apart."""
+    L = LOOP_LANES
+    w = [f"def _householder_{n}(X, V, n):"]
     a = w.append
-
-    def per_row(line: str) -> None:   # line for each row j + r: {row} its offset in X past the pivot, {v} its V entry
-        w.extend(line.format(r=r, row=f" + {r * st}" if r else "", v=f"V[{r * L} + p]" if r else "V[p]")
-                 for r in R)
-    a(f"def _householder_{n}(X, V, n):")
-    a(f"    for j in range({n}):")
-    a(f"        b = j * {st + L}")                      # X[j, j, 0]
-    a(f"        for p in range({L}):")
-    per_row("            x{r} = X[b{row} + p]")
-    a("            sq = 0.0")
-    per_row("            sq += x{r} * x{r}")
-    a("            norm = math.sqrt(sq)")
-    a("            head = norm if x0 >= 0.0 else -norm")
-    # v = x + sign(x0) |x| e_1 unnormalised, 2 / |v|^2 = 1 / (|x| (|x| + |x0|)): one division and
-    # no second square root per column; below the normal range the reflection is dropped (tau = 0)
-    a("            half_v2 = norm * (norm + abs(x0))")
-    a(f"            V[{(n + 1) * L} + p] = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0")
-    a("            x0 = x0 + head")
-    per_row("            {v} = x{r}")
-    a("            X[b + p] = -head")
-    a(f"        for k in range(j + 1, {n}):")
-    a(f"            c = b + (k - j) * {L}")              # X[j, k, 0]
-    a(f"            for p in range({L}):")
-    per_row("                y{r} = X[c{row} + p]")
-    a("                dot = 0.0")
-    per_row("                dot += {v} * y{r}")
-    a(f"                twice = V[{(n + 1) * L} + p] * dot")
-    per_row("                X[c{row} + p] = y{r} - twice * {v}")
+    for j in range(n):
+        rows = _reflector_offsets(j, n)
+        v = [f"V[{r * L} + p]" if r else "V[p]" for r in range(len(rows))]
+        a(f"    for p in range({L}):")
+        w.extend(f"        x{r} = X[{o} + p]" for r, o in enumerate(rows))
+        a("        sq = 0.0")
+        w.extend(f"        sq += x{r} * x{r}" for r in range(len(rows)))
+        a("        norm = math.sqrt(sq)")
+        a("        head = norm if x0 >= 0.0 else -norm")
+        # v = x + sign(x0) |x| e_1 unnormalised, 2 / |v|^2 = 1 / (|x| (|x| + |x0|)): one division and
+        # no second square root per column; below the normal range the reflection is dropped (tau = 0)
+        a("        half_v2 = norm * (norm + abs(x0))")
+        a(f"        V[{(n + 1) * L} + p] = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0")
+        a("        x0 = x0 + head")
+        w.extend(f"        {v[r]} = x{r}" for r in range(len(rows)))
+        a(f"        X[{rows[0]} + p] = -head")
+        if j == n - 1:   # the last column's reflector is never applied
+            continue
+        a(f"    for k in range({j + 1}, {n}):")
+        a(f"        c = (k - {j}) * {L}")
+        a(f"        for p in range({L}):")
+        w.extend(f"            y{r} = X[c + {o} + p]" for r, o in enumerate(rows))
+        a("            dot = 0.0")
+        w.extend(f"            dot += {v[r]} * y{r}" for r in range(len(rows)))
+        a(f"            twice = V[{(n + 1) * L} + p] * dot")
+        w.extend(f"            X[c + {o} + p] = y{r} - twice * {v[r]}" for r, o in enumerate(rows))
     return "\n".join(w) + "\n"
 
 
 #: each unrolled kernel's generator and its loops for any n
-_UNROLLED = {"householder": (_householder_source, _householder_loops), "potter": (_potter_source, _potter_loops)}
+_UNROLLED = {"householder": (_householder_source, _householder_loops), "carlson": (_carlson_source, _carlson_loops)}
 
 
 def _unrolled_module() -> str:
     """The text of :mod:`symkf.numeric.unrolled_kernels`: :func:`_householder_source` and
-    :func:`_potter_source` for n = 1.. :data:`UNROLLED_MAX` (regenerate it after changing a template:
+    :func:`_carlson_source` for n = 1.. :data:`UNROLLED_MAX` (regenerate it after changing a template:
     ``python -c "from symkf.numeric.square_root import _unrolled_module as m; print(m(), end='')" >
     symkf/numeric/unrolled_kernels.py``; a test compares)."""
     sizes = " and ".join(f"{kind} for n = 1..{top}" for kind, top in UNROLLED_MAX.items())
-    head = ('"""The loop filter kernel\'s Householder time update and Potter update (:func:`symkf.numeric.square_root._loops`),\n'
+    head = ('"""The loop filter kernel\'s Householder time update and Carlson update (:func:`symkf.numeric.square_root._loops`),\n'
             f'each row\'s entries written out, the lane loop innermost ({sizes} states): generated by\n'
             ':func:`symkf.numeric.square_root._unrolled_module` (do not edit; a test compares it with the generator)."""\n\n'
             "import math\n\n"
@@ -477,7 +506,7 @@ def _row_loops(kind: str):
 
 @functools.lru_cache(maxsize=None)
 def _unrolled(kind: str, n: int):
-    """The compiled ``kind`` (``"householder"`` or ``"potter"``) kernel for ``n`` states (a numba
+    """The compiled ``kind`` (``"householder"`` or ``"carlson"``) kernel for ``n`` states (a numba
     ``cfunc``: the loop kernel is compiled once for its type, whatever ``n``); from
     :mod:`symkf.numeric.unrolled_kernels` up to :data:`UNROLLED_MAX` ``[kind]``, compiled on first use once per
     installation (numba's cache), beyond :func:`_row_loops`."""
@@ -489,13 +518,12 @@ def _unrolled(kind: str, n: int):
 
 #: largest state dimension with a straight-line kernel (compile time and code size grow like n^3)
 STRAIGHT_MAX = 8
-#: up to this n the straight-line kernel runs each Potter row in two lane loops (its gain, then the
-#: update) and the time update in one per Householder column: shorter chains of dependent
-#: operations per loop, so the core overlaps more paths; at n = 8 the live entries' loads and stores
-#: between the loops cost more than the overlap gains (docs/performance.md)
-PHASED_MAX = 5
+#: up to this n the straight-line kernel takes each step's traces in the time update's lane loop,
+#: written twice (for the logs and for the traces themselves); beyond, in a lane loop of their own
+#: (docs/performance.md)
+TRACED_MAX = 5
 #: the kernels rescale ``S`` only when a path's ``tr S S^T`` has left [2^-WINDOW, 2^WINDOW]; the time
-#: update's last lane loop (up to PHASED_MAX; beyond STRAIGHT_MAX the loop kernel's write-back of
+#: update's lane loop (up to TRACED_MAX; beyond STRAIGHT_MAX the loop kernel's write-back of
 #: ``R^T``), or in between a lane loop of its own, takes the step's trace (for the logs it writes
 #: anyway) and its range over the block.  Scaling by a power of two is exact, so the bits do
 #: not depend on when it scales (short of the float range: within the window ``|S| <= 2^(WINDOW/2)``,
@@ -506,16 +534,13 @@ PHASED_MAX = 5
 WINDOW = 32
 #: the bits of 2^-WINDOW and 2^WINDOW (a trace's bits order as it does: it is not negative)
 WINDOW_BITS = (1023 - WINDOW) << 52, (1023 + WINDOW) << 52
-#: the straight-line kernels' time update in one lane loop (n = 2..4) runs this many paths per iteration,
-#: their statements interleaved: its chain of dependent square roots and division is long, and the
-#: core overlaps more paths when their operations come in program order.  Two, not four: four paths'
-#: live values exceed the 32 vector registers.  n = 1 (one square root, no division) gains nothing
-#: from it: not interleaved (docs/performance.md)
+#: the straight-line kernels' time update runs this many paths per iteration from n = 2 to
+#: INTERLEAVED_MAX, their statements interleaved: its chain of dependent square roots and division
+#: is long, and the core overlaps more paths when their operations come in program order.  Two, not
+#: four: four paths' live values exceed the 32 vector registers.  n = 1 (one square root, no
+#: division) gains nothing from it: not interleaved (docs/performance.md)
 INTERLEAVED = 2
-#: below this n the straight-line kernel does not split its loops: up to n = 4 the unsplit loops
-#: (the time update's interleaved) are as fast or faster with three sensors and the faster with
-#: one, where the time update is most of a step (docs/performance.md); n = 1 has nothing to split
-PHASED_MIN = 5
+INTERLEAVED_MAX = 4
 
 
 def _sum(target: str, terms: list[str], indent: str) -> list[str]:
@@ -543,27 +568,30 @@ def _interleaved(body: list[str], ways: int, stride: int) -> list[str]:
     return [line for group in zip(*copies) for line in group]
 
 
-def _live(X: dict, j: int, n: int) -> list:
-    """The entries of the time update's ``X`` that the steps from column ``j`` on read (rows
-    ``j..n+j-1``, columns ``j..``: row ``n + j`` has not entered yet)."""
-    return sorted(key for key in X if key[1] >= j and j <= key[0] < n + j)
+def _reflector_rows(c: int, n: int) -> list:
+    """The rows of the time update's ``X`` (``2n`` rows: ``(A S)^T`` upper Hessenberg over
+    ``2^(-E/2) U_Q``) that column ``c``'s Householder reflector spans, in the order the kernels sum
+    them: the pivot row ``c``, row ``c + 1`` (the subdiagonal of ``A S``) and ``U_Q``'s rows
+    ``n..n + c`` (row ``n + i`` is zero left of column ``i``, and a reflection leaves a row with a
+    zero pivot-column entry alone): ``c + 3`` rows, ``n + 1`` at the last column."""
+    return [c] + ([c + 1] if c + 1 < n else []) + [n + i for i in range(c + 1)]
 
 
 def _straight_source(n: int) -> str:
     """Source of ``_paths_{n}``: log_trace_paths for n states, every per-path operation of one
     step written out (the same operations in the same order as the loops of
-    log_trace_paths / _time_update / _rescale, but that its sums start from their first term where
-    the loops add it to 0.0: only a zero sum's sign can differ, and no trace sees it), the lane
-    loop innermost."""
+    log_trace_paths / _time_update / _rescale and the unrolled kernels, but that its sums start
+    from their first term where the loops add it to 0.0 and skip zero entries of ``H`` and ``A``:
+    only a zero sum's sign can differ, and no trace sees it), the lane loop innermost.  ``S`` is
+    lower triangular throughout: only its lower triangle is read or written."""
     L = []
     w = L.append
     R = range(n)
     W = lanes(n)
+    lower = [(i, j) for i in R for j in range(i + 1)]
 
-    every = [(i, j) for i in R for j in R]
-
-    def load_S(indent: str, entries: list = every) -> None:   # the lane's S (those entries) into locals s{i}_{j}
-        for i, j in entries:
+    def load_S(indent: str) -> None:   # the lane's S (its lower triangle) into locals s{i}_{j}
+        for i, j in lower:
             w(f"{indent}s{i}_{j} = S[{i}, {j}, p]")
     w(f"def _paths_{n}(A, UQ, H, row_sensor, S0, received, trace, offset, linear):")
     w("    horizon, paths, d = received.shape")
@@ -572,17 +600,12 @@ def _straight_source(n: int) -> str:
     w("    rows = H.shape[0]")
     w(f"    S = _aligned(({n}, {n}, {W}))")
     w(f"    t = _aligned(({W},))")
-    w("    bits = t.view(np.int64)")
     w(f"    E = _aligned_int(({W},))")
     w(f"    noise = _aligned(({W},))")
     w(f"    half = _aligned(({W},))")
     w(f"    spare = _aligned(({W},))")   # a partial last block's traces, or a step beyond trace's (_row)
-    if PHASED_MIN <= n <= PHASED_MAX:   # the time update's live entries between its lane loops, and Potter's u, w
-        w(f"    X = _aligned(({2 * n}, {n}, {W}))")
-        w(f"    F = _aligned(({n}, {W}))")
-        w(f"    G = _aligned(({n}, {W}))")
-    for i in R:
-        for l in range(max(i - 1, 0), n):
+    for i in R:                          # A lower Hessenberg (log_trace_paths)
+        for l in range(min(i + 2, n)):
             w(f"    a{i}_{l} = A[{i}, {l}]")
     for i in R:
         for j in range(i, n):
@@ -590,13 +613,12 @@ def _straight_source(n: int) -> str:
     w(f"    for start in range(0, paths, {W}):")
     w(f"        for p in range({W}):")
     w("            E[p] = 0")
-    for i in R:
-        for j in R:
-            w(f"            S[{i}, {j}, p] = S0[{i}, {j}]")
-    # the rescale runs only when a trace has left the window: up to PHASED_MAX the time update's last
-    # lane loop takes the traces (below), beyond a lane loop of their own at the start of each step
-    traced = n <= PHASED_MAX
-    trace_terms = [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i in R for j in range(i + 1)]
+    for i, j in lower:
+        w(f"            S[{i}, {j}, p] = S0[{i}, {j}]")
+    # the rescale runs only when a trace has left the window: up to TRACED_MAX the time update's lane
+    # loop takes the traces (below), beyond a lane loop of their own at the start of each step
+    traced = n <= TRACED_MAX
+    trace_terms = [f"S[{i}, {j}, p] * S[{i}, {j}, p]" for i, j in lower]
     if traced:
         w("        wide = True")
     w("        for k in range(horizon + 1):")
@@ -616,19 +638,23 @@ def _straight_source(n: int) -> str:
     body = " " * 20
     w(f"{body[:-4]}for p in range({W}):")
     L += _sum("tp", trace_terms, body)
-    w(f"{body}t[p] = tp")
-    w(f"{body}e = ((bits[p] >> 52) & 2047) - 1022 if tp > 0.0 else 0")
+    w(f"{body}e = ((_bits_of(tp) >> 52) & 2047) - 1022 if tp > 0.0 else 0")
     w(f"{body}e -= e & 1")
+    # an S whose entries are all below 2^-537 has squares that underflow (Carlson's update collapses
+    # an observed direction exactly): then the scale brings sum |S_ij| into [1/2, 1) (kernel_parts's
+    # TINY_TRACE), and the trace is summed again from the scaled entries (tp times the square of the
+    # scale, to the bit, wherever nothing underflows)
+    L += _sum("ta", [f"abs(S[{i}, {j}, p])" for i, j in lower], body)
+    w(f"{body}e = 2 * (((_bits_of(ta) >> 52) & 2047) - 1022) if tp < TINY_TRACE and ta > 0.0 else e")
     w(f"{body}Ep = E[p] + e")
     w(f"{body}E[p] = Ep")
     # e and E are even: 2^-e and 2^-E are squares of the halves, exactly (a power of two squares to
     # itself, or rounds to 0 or inf where 2^-E does), so two powers of two do for the three; -e / 2
-    # is in [-512, 511] (tp is finite or inf): one power of two, from its exponent bits (as _rescale)
+    # is in [-512, 1022]: one power of two, from its exponent bits (as _rescale)
     w(f"{body}scale = _float_bits((1023 - e // 2) << 52)")
-    w(f"{body}tp *= scale * scale")
-    for i in R:
-        for j in range(i + 1):
-            w(f"{body}S[{i}, {j}, p] *= scale")
+    for i, j in lower:
+        w(f"{body}S[{i}, {j}, p] *= scale")
+    L += _sum("tp", trace_terms, body)
     w(f"{body}t[p] = tp")
     w(f"{body}root = _pow2(min(-(Ep // 2), ROOT_MAX))")
     w(f"{body}half[p] = root")
@@ -642,123 +668,105 @@ def _straight_source(n: int) -> str:
         w("            if k == horizon:")
         w("                break")
     w("            direct = _receptions(received, k, start, block)")
-    # --- Potter, one row at a time; the first sees the time update's S = R^T (or S0), lower
-    # triangular, and skips the terms of its zeros (only a zero sum's sign can differ, as above):
-    # fewer operations, the same bits
+    # --- Carlson's triangular update (as _loops and the Carlson row kernels), one row at a time:
+    # f = S^T h, then the columns from the last to the first, each a Givens rotation of S's column j
+    # against v (the sum of the later columns weighted by their f): c = s_{j+1} / s_j, sn = f_j / s_j
+    # with s_j = sqrt(2^-E + f_j^2 + ... + f_{n-1}^2)
     w("            for r in range(rows):")
     w(f"                got = lone[k, start:start + {W}] if direct else block[row_sensor[r]]")
     for i in R:
         w(f"                h{i} = H[r, {i}]")
-
-    def potter(indent: str, triangular: bool) -> None:   # the lane loop(s) of one row
-        entries = [(i, j) for i, j in every if j <= i or not triangular]
-        body = indent + " " * 4
-        w(f"{indent}for p in range({W}):")
-        load_S(body, entries)
-        for j in R:
-            L.extend(_sum(f"f{j}", [f"s{i}_{j} * h{i}" for i in R if (i, j) in entries], body))
-            w(f"{body}ff {'+=' if j else '='} f{j} * f{j}")
-        w(f"{body}nz = noise[p]")
-        w(f"{body}a = ff + nz")
-        w(f"{body}denom = a + math.sqrt(a * nz)")
-        w(f"{body}coef = 1.0 / denom if got[p] and denom >= NORMAL else 0.0")
-        for j in R:
-            w(f"{body}g{j} = f{j} * coef")
-        if PHASED_MIN <= n <= PHASED_MAX:   # the row's update in a second lane loop: u and w through memory
-            for j in R:
-                w(f"{body}F[{j}, p] = f{j}")
-                w(f"{body}G[{j}, p] = g{j}")
-            w(f"{indent}for p in range({W}):")
-            load_S(body, entries)
-            for j in R:
-                w(f"{body}f{j} = F[{j}, p]")
-                w(f"{body}g{j} = G[{j}, p]")
-        for i in R:
-            L.extend(_sum(f"u{i}", [f"s{i}_{j} * f{j}" for j in R if (i, j) in entries], body))
-        for i in R:
-            for j in R:
-                w(f"{body}S[{i}, {j}, p] = {f's{i}_{j}' if (i, j) in entries else '0.0'} - u{i} * g{j}")
-    if n > 1:
-        w("                if r == 0:")
-        potter(" " * 20, True)
-        w("                else:")
-        potter(" " * 20, False)
-    else:
-        potter(" " * 16, False)
-    # --- time update (as _time_update): X[j][i] = (A S)[i, j], rows n.. = 2^(-E/2) UQ; for small n
-    # one lane loop per Householder column (the live entries kept in X between them), else one loop
-    X = {(j, i): f"x{j}_{i}" for i in R for j in R}
+    ind = " " * 16
+    body = ind + " " * 4
+    w(f"{ind}for p in range({W}):")
+    load_S(body)
+    for j in R:
+        L.extend(_sum(f"f{j}", [f"s{i}_{j} * h{i}" for i in range(j, n)], body))
+    w(f"{body}g = got[p]")
+    w(f"{body}alpha = noise[p]")
+    w(f"{body}sprev = half[p]")   # sqrt(2^-E), exactly (2^-E itself may underflow)
+    for j in reversed(R):
+        w(f"{body}alpha += f{j} * f{j}")
+        # s_j >= s_{j+1} >= 2^(-E/2) even where the noise or the sum underflow: a column is never
+        # zeroed by a rotation of 0 / 0; a lost row (or s_j outside the normal range) leaves S alone
+        w(f"{body}sq = max(math.sqrt(alpha), sprev)")
+        w(f"{body}ok = g and sq >= NORMAL and sq <= BIG")
+        w(f"{body}inv = 1.0 / sq if ok else 0.0")
+        w(f"{body}c = sprev * inv if ok else 1.0")
+        w(f"{body}sn = f{j} * inv")
+        if j > 0:
+            w(f"{body}sprev = sq")
+        for i in range(j, n):
+            if i == j:
+                w(f"{body}S[{i}, {j}, p] = c * s{i}_{j}")
+                if j > 0:
+                    w(f"{body}v{i} = sn * s{i}_{j}")
+            else:
+                w(f"{body}S[{i}, {j}, p] = c * s{i}_{j} - sn * v{i}")
+                if j > 0:
+                    w(f"{body}v{i} = c * v{i} + sn * s{i}_{j}")
+    # --- time update (as _time_update and the Householder kernels): X[j][i] = (A S)[i, j], A lower
+    # Hessenberg and S lower triangular: A S lower Hessenberg, X's top block upper Hessenberg; rows
+    # n.. = 2^(-E/2) UQ, row n + c entering at column c.  Column c's reflector spans rows c, c + 1
+    # and n..n + c: the rows below c + 1 are zero in columns c.. and stay so (no fill-in)
+    X = {(j, i): f"x{j}_{i}" for i in R for j in range(min(i + 2, n))}
     X.update({(n + i, j): f"x{n + i}_{j}" for i in R for j in range(i, n)})
-    phases = [[j] for j in R] if PHASED_MIN <= n <= PHASED_MAX else [list(R)]
 
-    def time_update(cols: list, indent: str, trace: str = "") -> None:   # the lane loop of columns cols, and the traces by ``trace``
+    def time_update(indent: str, trace: str = "") -> None:   # the time update's lane loop, and the traces by ``trace``
         w(f"{indent}for p in range({W}):")
         first = len(L)
         body = indent + " " * 4
-        if cols[0] == 0:
-            load_S(body)
-            for i in R:
-                for j in R:
-                    # A upper Hessenberg (log_trace_paths)
-                    L.extend(_sum(X[j, i], [f"a{i}_{l} * s{l}_{j}" for l in range(max(i - 1, 0), n)], body))
-        else:
-            for key in _live(X, cols[0], n):
-                w(f"{body}{X[key]} = X[{key[0]}, {key[1]}, p]")
+        load_S(body)
+        for i in R:
+            for j in range(min(i + 2, n)):
+                L.extend(_sum(X[j, i], [f"a{i}_{l} * s{l}_{j}" for l in range(j, min(i + 1, n - 1) + 1)], body))
         w(f"{body}root = half[p]")
-        for j in cols:
-            for k in range(j, n):        # row n + j enters at step j (its entries left of j are zero)
-                w(f"{body}{X[n + j, k]} = root * q{j}_{k}")
-            rowsj = range(j, n + j + 1)
-            L.extend(_sum("sq", [f"{X[i, j]} * {X[i, j]}" for i in rowsj], body))
+        for c in R:
+            for k in range(c, n):
+                w(f"{body}{X[n + c, k]} = root * q{c}_{k}")
+            rows = _reflector_rows(c, n)
+            L.extend(_sum("sq", [f"{X[i, c]} * {X[i, c]}" for i in rows], body))
             w(f"{body}norm = math.sqrt(sq)")
-            w(f"{body}x0 = {X[j, j]}")
+            w(f"{body}x0 = {X[c, c]}")
             w(f"{body}head = norm if x0 >= 0.0 else -norm")
-            if j < n - 1:   # the last column's reflector is never applied: only its pivot -head is kept
-                w(f"{body}{X[j, j]} = x0 + head")
+            if c < n - 1:   # the last column's reflector is never applied: only its pivot -head is kept
+                w(f"{body}{X[c, c]} = x0 + head")
                 w(f"{body}half_v2 = norm * (norm + abs(x0))")
                 w(f"{body}tau = 1.0 / half_v2 if half_v2 >= NORMAL else 0.0")
-                for k in range(j + 1, n):
-                    L.extend(_sum("dot", [f"{X[i, j]} * {X[i, k]}" for i in rowsj], body))
+                for k in range(c + 1, n):
+                    L.extend(_sum("dot", [f"{X[i, c]} * {X[i, k]}" for i in rows], body))
                     w(f"{body}twice = tau * dot")
-                    for i in rowsj:
-                        w(f"{body}{X[i, k]} -= twice * {X[i, j]}")
-            w(f"{body}{X[j, j]} = -head")
-            for i in R:          # row j of R is final: column j of S = R^T
-                w(f"{body}S[{i}, {j}, p] = {X[j, i] if j <= i else '0.0'}")
-        if cols[-1] < n - 1:
-            for key in _live(X, cols[-1] + 1, n):
-                w(f"{body}X[{key[0]}, {key[1]}, p] = {X[key]}")
+                    for i in rows:
+                        w(f"{body}{X[i, k]} -= twice * {X[i, c]}")
+            w(f"{body}{X[c, c]} = -head")
+            for i in range(c, n):        # row c of R is final: column c of S = R^T
+                w(f"{body}S[{i}, {c}, p] = {X[c, i]}")
         if trace:
             w(f"{body}out[p] = {trace}(t[p], E[p])")
-            # the next step's trace, summed in the rescale's order (the same bits up to its power of
-            # two); the entries of earlier lane loops' columns from S
-            L.extend(_sum("tp", [f"{X[j, i]} * {X[j, i]}" if j in cols else f"S[{i}, {j}, p] * S[{i}, {j}, p]"
-                                 for i in R for j in range(i + 1)], body))
+            # the next step's trace, summed in the rescale's order (the same bits up to its power of two)
+            L.extend(_sum("tp", [f"{X[j, i]} * {X[j, i]}" for i, j in lower], body))
             w(f"{body}t[p] = tp")
             w(f"{body}bt = _bits_of(tp)")   # t >= 0 orders as its bits; nan above every bound
             w(f"{body}top = max(top, bt)")
             w(f"{body}bottom = min(bottom, bt)")
-        if 1 < n < PHASED_MIN:   # the whole time update in one lane loop (INTERLEAVED)
+        if 1 < n <= INTERLEAVED_MAX:   # INTERLEAVED paths per iteration
             L[first - 1:] = [f"{indent}for p in range({W // INTERLEAVED}):"] + _interleaved(L[first:], INTERLEAVED,
                                                                                           W // INTERLEAVED)
 
-    for cols in phases[:-1]:
-        time_update(cols, " " * 12)
     if not traced:
-        time_update(phases[-1], " " * 12)
+        time_update(" " * 12)
         return "\n".join(L) + "\n"
-    # up to PHASED_MAX this step's traces are taken in the last lane loop of the time update, which
-    # does not read them: its square roots and the log's polynomial overlap.  That loop is written
-    # twice, for the logs and for the traces themselves (linear); beyond PHASED_MAX it would be
-    # the whole time update, written twice: double its compile time, and no measured gain
-    # (docs/performance.md)
+    # up to TRACED_MAX this step's traces are taken in the time update's lane loop, which does not
+    # read them: its square roots and the log's polynomial overlap.  That loop is written twice, for
+    # the logs and for the traces themselves (linear): beyond TRACED_MAX double the compile time,
+    # and no measured gain (docs/performance.md)
     w("            out = _row(trace, spare, k, start, offset, paths)")
     w("            top = 0")
     w(f"            bottom = {WINDOW_BITS[1]:#x}")
     w("            if linear:")
-    time_update(phases[-1], " " * 16, "_linear_scaled")
+    time_update(" " * 16, "_linear_scaled")
     w("            else:")
-    time_update(phases[-1], " " * 16, "_log_scaled")
+    time_update(" " * 16, "_log_scaled")
     w(f"            wide = top > {WINDOW_BITS[1]:#x} or bottom < {WINDOW_BITS[0]:#x}")
     w("            _flush(trace, spare, k, start, offset, paths)")
     return "\n".join(L) + "\n"
@@ -769,13 +777,13 @@ def _straight_module() -> str:
     (regenerate it after any change to this file, which it records: ``python -c "from
     symkf.numeric.square_root import _straight_module as m; print(m(), end='')" > symkf/numeric/straight_kernels.py``;
     a test compares)."""
-    head = ('"""Straight-line square-root filter kernels (Potter updates, Yang et al. eq. 8; Householder time\n'
-            'update, Sui-You-Fu eq. 9) for n = 1..%d states, the lane loop innermost: generated by\n'
+    head = ('"""Straight-line square-root filter kernels (Carlson\'s triangular measurement update, Carlson 1973;\n'
+            'Householder time update, Sui-You-Fu eq. 9) for n = 1..%d states, the lane loop innermost: generated by\n'
             ':func:`symkf.numeric.square_root._straight_module` (do not edit; a test compares it with the generator)."""\n\n'
             "import math\n\nimport numpy as np\n\n"
             "from ..arguments import check_public\n"
-            "from .kernel_parts import (NORMAL, ROOT_MAX, _aligned, _aligned_int, _bits_of, _float_bits, _flush,\n"
-            "                           _linear_scaled, _log_scaled, _pow2, _receptions, _row, _store)\n\n"
+            "from .kernel_parts import (BIG, NORMAL, ROOT_MAX, TINY_TRACE, _aligned, _aligned_int, _bits_of, _float_bits,\n"
+            "                           _flush, _linear_scaled, _log_scaled, _pow2, _receptions, _row, _store)\n\n"
             "#: SHA-256 (its first 16 hex digits) of symkf/numeric/kernel_parts.py, whose helpers these kernels inline:\n"
             "#: numba's cache keys a compiled kernel on this file's time stamp alone, so a change there must change this file\n"
             "INLINED = \"%s\"\n\n\n" % (STRAIGHT_MAX, _inlined_digest()))

@@ -12,7 +12,7 @@ import pytest
 from symkf.errors import ShapeError
 
 
-# 5: the last phased time update (PHASED_MAX); 5 and 8 (STRAIGHT_MAX) in the full tier: their
+# 5: the last kernel whose time update takes the traces (TRACED_MAX); 5 and 8 (STRAIGHT_MAX) in the full tier: their
 # straight kernels compile in 5 and 11 CPU-s
 @pytest.mark.parametrize("n", [1, 2, 3, 4, pytest.param(5, marks=pytest.mark.full),
                                pytest.param(8, marks=pytest.mark.full)])
@@ -26,8 +26,8 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
     width = max(lanes(n), LOOP_LANES)   # the buffers' lanes: each kernel's block fits
     rng = np.random.default_rng(n)
     dense = rng.normal(size=(n, n))
-    # (A upper Hessenberg, as the kernels take it: symkf.numeric.filters's arguments reduce a dense A)
-    for A, H in ((np.triu(dense, -1) * 1.5 / np.abs(np.linalg.eigvals(np.triu(dense, -1))).max(), rng.normal(size=(3, n))),
+    # (A lower Hessenberg, as the kernels take it: symkf.numeric.filters's arguments reduce a dense A)
+    for A, H in ((np.tril(dense, 1) * 1.5 / np.abs(np.linalg.eigvals(np.tril(dense, 1))).max(), rng.normal(size=(3, n))),
                  (np.kron(np.eye(-(-n // 2)), [[0.0, -2.0], [2.0, 0.0]])[:n, :n] + np.diag([0.0] * (n - 1) + [1.5 * (n % 2)]),
                   rng.integers(-1, 2, (3, n)).astype(float))):
         M = rng.normal(size=(n, n))
@@ -81,20 +81,21 @@ def _row_kernel(kind: str, n: int, unrolled: bool, data: np.ndarray, vectors: np
     kernel.ctypes(data.ctypes.data_as(pointer), vectors.ctypes.data_as(pointer), n)
 
 
-@pytest.mark.parametrize("n", [1, 2, 9, 16, 32])   # 32: UNROLLED_MAX["householder"], the largest written out
+@pytest.mark.parametrize("n", [1, 2, 9, 16, 17])   # 16: UNROLLED_MAX["householder"], the largest written out
 def test_the_unrolled_householder_kernels_equal_the_loops_bit_for_bit(n):
-    # beyond 8 states the time update triangularises with symkf.numeric.unrolled_kernels (rows written
-    # out) and beyond UNROLLED_MAX with _householder_loops: the same operations in the same order.
-    # X as the time update builds it (U_Q's rows zero left of their diagonal), with a lane whose
-    # columns are zero (|v| = 0: the reflector divides by inf) and negative pivots; compared
-    # where the time update reads it afterwards (row j from column j on)
+    # beyond 8 states the time update triangularises with symkf.numeric.unrolled_kernels (columns
+    # written out) and beyond UNROLLED_MAX with _householder_loops: the same operations in the same
+    # order.  X as the time update builds it ((A S)^T upper Hessenberg, U_Q's rows zero left of their
+    # diagonal; the entries below, never read, nan), with a lane whose columns are zero (|v| = 0: the
+    # reflector divides by inf) and negative pivots; compared where the time update reads it
+    # afterwards (row j from column j on)
     from symkf.numeric.square_root import LOOP_LANES
     rng = np.random.default_rng(n)
-    X = np.zeros((2 * n, n | 1, LOOP_LANES))
-    X[:n, :n] = rng.normal(size=(n, n, LOOP_LANES))
+    X = np.full((2 * n, n | 1, LOOP_LANES), np.nan)
     for i in range(n):
+        X[:min(i + 2, n), i] = rng.normal(size=(min(i + 2, n), LOOP_LANES))
         X[n + i, i:n] = rng.normal(size=(n - i, LOOP_LANES))
-    X[:, :, 0] = 0.0
+    X[:, :n, 0] = np.where(np.isnan(X[:, :n, 0]), np.nan, 0.0)
     outs = []
     for unrolled in (True, False):
         Y = X.copy()
@@ -102,31 +103,46 @@ def test_the_unrolled_householder_kernels_equal_the_loops_bit_for_bit(n):
         outs.append(Y)
     upper = np.triu(np.ones((2 * n, n | 1), bool))[:, :, None] & (np.arange(2 * n) < n)[:, None, None]
     upper = np.broadcast_to(upper, X.shape)
-    assert np.array_equal(outs[0][upper], outs[1][upper])
+    assert np.array_equal(outs[0][upper], outs[1][upper], equal_nan=True)
     R = np.where(upper, outs[0], 0.0)[:n, :n]           # R^T R = X^T X in every lane
-    np.testing.assert_allclose(np.einsum("kip,kjp->ijp", R, R), np.einsum("kip,kjp->ijp", X[:, :n], X[:, :n]),
-                               atol=1e-9)
+    dense = np.nan_to_num(X[:, :n])
+    np.testing.assert_allclose(np.einsum("kip,kjp->ijp", R, R), np.einsum("kip,kjp->ijp", dense, dense), atol=1e-9)
     assert np.all(R[:, :, 0] == 0.0)
 
 
-@pytest.mark.parametrize("n", [1, 2, 9, 16, 17])   # 16: UNROLLED_MAX["potter"]; 17: the loops alone
-def test_the_unrolled_potter_kernels_equal_the_loops_bit_for_bit(n):
-    # S <- S - (S f) g^T, row by row: the written-out rows and _potter_loops agree in every bit
-    # and with numpy's product (to rounding); the padding column of S (n | 1 columns) is untouched
+@pytest.mark.parametrize("n", [1, 2, 9, 16, 17])   # 16: UNROLLED_MAX["carlson"]; 17: the loops alone
+def test_the_unrolled_carlson_kernels_equal_the_loops_bit_for_bit(n):
+    # Carlson's rotations of a lower-triangular S, row by row: the written-out rows and
+    # _carlson_loops agree in every bit; with the rotations of a received row h (as _loops makes
+    # them) S S^T becomes P - P h h^T P / (h^T P h + r) (to rounding), and the upper triangle and the
+    # padding column of S (n | 1 columns) are left as they were (never read or written)
     from symkf.numeric.square_root import LOOP_LANES
     rng = np.random.default_rng(n)
-    S = rng.normal(size=(n, n | 1, LOOP_LANES))
-    fg = np.concatenate([rng.normal(size=(2 * n, LOOP_LANES)), np.full((1, LOOP_LANES), np.nan)])
+    S = np.full((n, n | 1, LOOP_LANES), np.nan)
+    for i in range(n):
+        S[i, :i + 1] = rng.normal(size=(i + 1, LOOP_LANES))
+    h, r = rng.normal(size=n), 0.5
+    f = np.einsum("ijp,i->jp", np.nan_to_num(np.tril(S[:, :n].transpose(2, 0, 1)).transpose(1, 2, 0)), h)
+    cs = np.full((2 * n + 1, LOOP_LANES), np.nan)
+    alpha, previous = np.full(LOOP_LANES, r), np.full(LOOP_LANES, np.sqrt(r))
+    for j in reversed(range(n)):
+        alpha = alpha + f[j] * f[j]
+        root = np.sqrt(alpha)
+        cs[j], cs[n + j], previous = previous / root, f[j] / root, root
     outs = []
     for unrolled in (True, False):
         T = S.copy()
-        _row_kernel("potter", n, unrolled, T, fg.copy())
+        _row_kernel("carlson", n, unrolled, T, cs.copy())
         outs.append(T)
-    assert np.array_equal(outs[0], outs[1])
-    f, g = fg[:n], fg[n:2 * n]
-    expected = S[:, :n] - np.einsum("ijp,jp->ip", S[:, :n], f)[:, None, :] * g[None, :, :]
-    np.testing.assert_allclose(outs[0][:, :n], expected, atol=1e-12 * n)
-    assert np.array_equal(outs[0][:, n:], S[:, n:])
+    assert np.array_equal(outs[0], outs[1], equal_nan=True)
+    above = np.broadcast_to(~np.tril(np.ones((n, n | 1), bool))[:, :, None], S.shape)
+    assert np.all(np.isnan(outs[0][above]))
+    lower = np.nan_to_num(outs[0][:, :n])
+    before = np.nan_to_num(S[:, :n])
+    P = np.einsum("ikp,jkp->ijp", before, before)
+    Ph = np.einsum("ijp,j->ip", P, h)
+    expected = P - Ph[:, None] * Ph[None, :] / (np.einsum("ip,i->p", Ph, h) + r)
+    np.testing.assert_allclose(np.einsum("ikp,jkp->ijp", lower, lower), expected, atol=1e-11 * n)
 
 
 @pytest.mark.parametrize("module, generator", [("straight_kernels", "_straight_module"),
@@ -228,3 +244,46 @@ def test_the_kernel_refuses_arguments_that_disagree(bad):
     args[bad] = np.array([0, 2]) if bad == "row_sensor" else np.eye(3)
     with pytest.raises(ShapeError, match=bad):
         log_trace_paths(**args, received=np.ones((4, 8, 2), bool), trace=np.empty((5, 8)))
+
+
+def test_the_triangular_update_stays_with_a_high_precision_reference_on_an_ill_conditioned_path():
+    # A = 8.4 diag(R(pi/3), R(pi/4)) (lower Hessenberg), one sensor h = (0, 1, -1, -1), P0 = Q = I,
+    # R = 1, a path of 100 steps receiving 46 of them: tr P grows by 8.4^2 a lost step while each
+    # reception collapses the observed direction to O(1), so P's scales drift up to e^90 apart.  A
+    # full (Potter) update left a residue of its rounding in the collapsed direction and its log tr P
+    # was off by 19 from the covariance form's in 300 digits; Carlson's triangular update stays within
+    # 1e-4 (1.5e-6 measured)
+    import mpmath as mp
+
+    from symkf.numeric.square_root import log_trace_paths
+    c3, s3, c4 = 0.5, np.sqrt(3.0) / 2, np.sqrt(0.5)
+    A = 8.4 * np.array([[c3, -s3, 0, 0], [s3, c3, 0, 0], [0, 0, c4, -c4], [0, 0, c4, c4]])
+    h = np.array([0.0, 1.0, -1.0, -1.0])
+    got = [bit == "1" for bit in f"{0x67d643664bf700210633bc561:0100b}"]
+    received = np.array(got).reshape(100, 1, 1)
+    logs = np.empty((101, 1))
+    log_trace_paths(A, np.eye(4), h[None, :], np.array([0]), np.eye(4), received, logs)
+    mp.mp.dps = 300
+    Am, hm, P = mp.matrix(A.tolist()), mp.matrix(h.tolist()), mp.eye(4)
+    reference = []
+    for k in range(101):
+        reference.append(float(mp.log(sum(P[i, i] for i in range(4)))))
+        if k < 100 and got[k]:
+            Ph = P * hm
+            P = P - Ph * Ph.T / ((hm.T * Ph)[0] + 1)
+        P = Am * P * Am.T + mp.eye(4)
+    assert max(reference) - min(reference) > 80
+    np.testing.assert_allclose(logs[:, 0], reference, rtol=0, atol=1e-4)
+
+
+def test_the_straight_line_kernels_read_and_write_only_the_lower_triangle_of_s():
+    # S stays lower triangular (Carlson's update keeps it so, the time update writes R^T): no kernel
+    # reads an entry above the diagonal (S0's, zero, are never loaded) nor writes one
+    import re
+
+    from symkf.numeric import straight_kernels
+    from symkf.numeric.square_root import STRAIGHT_MAX, _straight_source
+    for n in range(1, STRAIGHT_MAX + 1):
+        entries = {(int(i), int(j)) for i, j in re.findall(r"\bS0?\[(\d+), (\d+)", _straight_source(n))}
+        assert entries == {(i, j) for i in range(n) for j in range(i + 1)}
+    assert "S[0, 1, p]" not in open(straight_kernels.__file__, encoding="utf-8").read()
