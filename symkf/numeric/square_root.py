@@ -26,9 +26,10 @@ noise ``2^-E Q``.
   product form ``sqrt(s_{j+1}^2 s_j^2)`` underflows); the ``max`` keeps a column whose
   noise and ``f`` underflow to 0 from being zeroed for ever.  A lost row is a rotation
   by ``c = 1``, ``sn = 0``, not a branch.  Unlike Potter's full update, the
-  triangular one collapses an observed direction exactly: on badly conditioned
-  systems its ``log tr P`` stays with a high-precision reference where Potter's
-  drifts off by tens (tests in ``test_square_root``).
+  triangular one collapses an observed direction exactly: on a badly
+  conditioned path its ``log tr P`` stays with a high-precision reference where
+  Potter's drifted off by tens (``test_square_root``), though beyond float64's
+  resolution neither is reliable (see below; docs/performance.md).
 * Time update (Sui-You-Fu eq. 9, ``P <- A P A^T + Q``): Householder
   triangularisation (Golub and Van Loan, Matrix Computations, section 5.2.1) of
   the stacked ``[(A S)^T; 2^(-E/2) U_Q]`` (``U_Q`` upper triangular,

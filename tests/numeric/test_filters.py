@@ -178,9 +178,10 @@ def test_log_traces_match_the_covariance_form_on_stable_runs(n, modulus, loss):
 
 @pytest.mark.parametrize("n", [3, 6, 11])
 def test_log_traces_of_a_dense_A_match_the_covariance_form(n):
-    # the kernel takes A upper Hessenberg: a dense A runs in an orthonormal basis that makes it so
-    # (tr P is unchanged); the float64 covariance recursion in the original basis is the reference
-    from symkf.numeric.filters import _hessenberg_basis
+    # the kernel takes A lower Hessenberg: a dense A runs in an orthonormal basis that makes it so
+    # (reduced to upper Hessenberg form, then the states reversed; tr P is unchanged); the float64
+    # covariance recursion in the original basis is the reference
+    from symkf.numeric.filters import _hessenberg_basis, _kernel_arguments
     rng = np.random.default_rng(100 + n)
     M = rng.integers(-3, 4, (n, n))
     radius = max(abs(np.linalg.eigvals(M)))
@@ -193,6 +194,8 @@ def test_log_traces_of_a_dense_A_match_the_covariance_form(n):
                         Q=sp.diag(*range(1, n + 1)))
     gamma = rng.random((200, 150, 2)) >= 0.4
     plain = predicted_covariances(system, gamma, check_every=0)
+    kernel_A = _kernel_arguments(real_form(system), gamma.transpose(1, 0, 2))[0]
+    assert not np.any(np.triu(kernel_A, 2)) and np.any(np.tril(kernel_A, -1))
     logs = log_traces(real_form(system), gamma.transpose(1, 0, 2))
     np.testing.assert_allclose(logs[:, :150], np.log(plain), rtol=1e-10)
 

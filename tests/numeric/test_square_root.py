@@ -192,7 +192,7 @@ def test_the_kernel_takes_receptions_of_any_dtype_as_nonzero_received(dtype):
 @pytest.mark.parametrize("n", [1, 2, 3, 4, 9])   # 9: the loop kernel through log_trace_paths
 @pytest.mark.parametrize("power", [200, -200])
 def test_the_kernels_rescale_a_trace_that_leaves_the_window_in_one_step(n, power):
-    # up to PHASED_MAX the straight-line kernels and the loop kernel rescale only once a trace has left
+    # up to TRACED_MAX the straight-line kernels and the loop kernel rescale only once a trace has left
     # [2^-32, 2^32]: A = 2^200 I (or 2^-200 I), no noise, nothing received moves tr P by 2^(+-400) a
     # step, out of the window at every step and out of float64 by the third unless each step is
     # rescaled; a block's paths all at once, and a partial block's (both kernels: the same bits).
