@@ -397,7 +397,8 @@ def _householder_loops(X, V, n):
 
 def _carlson_loops(S, cs, n):
     """The operations of :func:`_carlson_source` ``(n)`` in its order, for any ``n``, as loops over the
-    entries (``v`` through the scratch row of ``cs``: a test compares every bit)."""
+    entries, four columns per lane loop (``v`` in a register across them, through the scratch row
+    of ``cs`` between lane loops: a test compares every bit)."""
     L, st = LOOP_LANES, (n | 1) * LOOP_LANES
     v = 2 * n * L
     for i in range(n):
@@ -406,11 +407,21 @@ def _carlson_loops(S, cs, n):
             s = S[b + i * L + p]
             S[b + i * L + p] = cs[i * L + p] * s
             cs[v + p] = cs[(n + i) * L + p] * s
-        for j in range(i - 1, -1, -1):
+        j = i - 1
+        while j >= 3:
             for p in range(L):
-                s = S[b + j * L + p]
-                S[b + j * L + p] = cs[j * L + p] * s - cs[(n + j) * L + p] * cs[v + p]
-                cs[v + p] = cs[j * L + p] * cs[v + p] + cs[(n + j) * L + p] * s
+                x = cs[v + p]
+                for k in range(j, j - 4, -1):
+                    s = S[b + k * L + p]
+                    S[b + k * L + p] = cs[k * L + p] * s - cs[(n + k) * L + p] * x
+                    x = cs[k * L + p] * x + cs[(n + k) * L + p] * s
+                cs[v + p] = x
+            j -= 4
+        for k in range(j, -1, -1):
+            for p in range(L):
+                s = S[b + k * L + p]
+                S[b + k * L + p] = cs[k * L + p] * s - cs[(n + k) * L + p] * cs[v + p]
+                cs[v + p] = cs[k * L + p] * cs[v + p] + cs[(n + k) * L + p] * s
 
 
 def _carlson_source(n: int) -> str:
