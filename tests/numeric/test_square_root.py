@@ -287,3 +287,13 @@ def test_the_straight_line_kernels_read_and_write_only_the_lower_triangle_of_s()
         entries = {(int(i), int(j)) for i, j in re.findall(r"\bS0?\[(\d+), (\d+)", _straight_source(n))}
         assert entries == {(i, j) for i in range(n) for j in range(i + 1)}
     assert "S[0, 1, p]" not in open(straight_kernels.__file__, encoding="utf-8").read()
+
+
+def test_the_kernel_refuses_an_a_that_is_not_lower_hessenberg():
+    # the time update's reflectors span c + 3 rows only because A S is lower Hessenberg: an A with an
+    # entry above its superdiagonal is refused, naming the form (symkf.numeric.filters reduces a dense A)
+    from symkf.numeric.square_root import log_trace_paths
+    A = np.triu(np.ones((3, 3)))
+    with pytest.raises(ShapeError, match="A: the kernel takes A lower Hessenberg"):
+        log_trace_paths(A, np.eye(3), np.ones((1, 3)), np.array([0]), np.eye(3), np.ones((4, 8, 1), bool),
+                        np.empty((5, 8)))
