@@ -172,14 +172,17 @@ def divider_work(n: int, rows: int) -> tuple[int, int]:
 def loop_divider_work(n: int) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
     """(divisions, square roots) per path of each lane loop of the straight-line kernel that has
     any, and of those a step runs for the logs at d = 1.  A Carlson row (one loop); the time update,
-    one loop; up to ``TRACED_MAX`` written twice, once with the log of the traces (one division
-    more); the log's own loop (the last step, and every step beyond ``TRACED_MAX``)."""
-    from symkf.numeric.square_root import TRACED_MAX
-    carlson, update = [(n, n)], (n - 1, n)
+    one loop per Householder column from ``PHASED_MIN`` to ``PHASED_MAX`` states (the last column
+    only its norm), else one loop; up to ``TRACED_MAX`` its last loop written twice, once with the
+    log of the traces (one division more); the log's own loop (the last step, and every step
+    beyond ``TRACED_MAX``)."""
+    from symkf.numeric.square_root import PHASED_MAX, PHASED_MIN, TRACED_MAX
+    carlson = [(n, n)]
+    columns = [(1, 1)] * (n - 1) + [(0, 1)] if PHASED_MIN <= n <= PHASED_MAX else [(n - 1, n)]
     if n > TRACED_MAX:
-        return carlson + [update, (1, 0)], carlson + [update, (1, 0)]
-    with_log = (update[0] + 1, update[1])
-    return carlson + [update, with_log, (1, 0)], carlson + [with_log]
+        return carlson + columns + [(1, 0)], carlson + columns + [(1, 0)]
+    with_log = (columns[-1][0] + 1, columns[-1][1])
+    return carlson + columns + [with_log, (1, 0)], carlson + columns[:-1] + [with_log]
 
 
 def asm_divider_work(n: int) -> tuple[list[tuple[int, int]], str]:

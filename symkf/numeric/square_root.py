@@ -121,7 +121,7 @@ def _jit(recorded: str, signature=None):
 #: so the blocks widen as n falls: SMALL_LANES up to SMALL_MAX, TINY_LANES up to TINY_MAX, LANES above,
 #: where a wider block is slower, and NARROW_LANES from NARROW_MIN on, where a block's S (n^2 lanes
 #: of 8 bytes: 32 KiB at n = 8 and 64 lanes, the whole L1 data cache) leaves no room in the L1
-#: cache for the time update's spilled entries.  At n = 2 each step's two long lane loops (Carlson's,
+#: cache for the time update's spilled entries.  At n = 2 each step's long lane loops (Carlson's,
 #: the time update's) also fill and drain the core's window of overlapping paths, which a wide block
 #: spreads over more paths.  Each width is the fastest measured for its range of n
 #: (docs/performance.md, benchmarks/bench_kernel.py).  A run of fewer paths still computes a whole block
@@ -532,7 +532,7 @@ def _unrolled(kind: str, n: int):
 
 #: largest state dimension with a straight-line kernel (compile time and code size grow like n^3)
 STRAIGHT_MAX = 8
-#: up to this n the straight-line kernel takes each step's traces in the time update's lane loop,
+#: up to this n the straight-line kernel takes each step's traces in the time update's last lane loop,
 #: written twice (for the logs and for the traces themselves); beyond, in a lane loop of their own
 #: (docs/performance.md)
 TRACED_MAX = 5
@@ -548,13 +548,12 @@ TRACED_MAX = 5
 WINDOW = 32
 #: the bits of 2^-WINDOW and 2^WINDOW (a trace's bits order as it does: it is not negative)
 WINDOW_BITS = (1023 - WINDOW) << 52, (1023 + WINDOW) << 52
-#: the straight-line kernels' time update runs this many paths per iteration from n = 2 to
-#: INTERLEAVED_MAX, their statements interleaved: its chain of dependent square roots and division
-#: is long, and the core overlaps more paths when their operations come in program order.  Two, not
-#: four: four paths' live values exceed the 32 vector registers.  n = 1 (one square root, no
-#: division) gains nothing from it: not interleaved (docs/performance.md)
-INTERLEAVED = 2
-INTERLEAVED_MAX = 4
+#: from PHASED_MIN to PHASED_MAX states the straight-line kernel runs its time update one lane loop per
+#: Householder column (the live entries of ``X`` through memory between them): shorter chains of
+#: dependent square roots and divisions per loop, so the core overlaps more paths; from n = 6 the
+#: live entries' loads and stores cost more than the overlap gains (docs/performance.md)
+PHASED_MIN = 2
+PHASED_MAX = 5
 
 
 def _sum(target: str, terms: list[str], indent: str) -> list[str]:
@@ -564,22 +563,11 @@ def _sum(target: str, terms: list[str], indent: str) -> list[str]:
     return [f"{indent}{target} = {terms[0]}"] + [f"{indent}{target} += {term}" for term in terms[1:]]
 
 
-def _interleaved(body: list[str], ways: int, stride: int) -> list[str]:
-    """The statements of a lane loop's ``body`` for ``ways`` paths ``stride`` apart (``p``, ``p +
-    stride``, ...), statement by statement: the copies' names suffixed, but for those the body reads
-    before it assigns them (the loop-carried reductions, shared)."""
-    names, carried = set(), set()
-    for line in body:
-        target = re.match(r"\s*(\w+) *([-+*]?)= ", line)
-        if target:
-            name = target[1]
-            if name not in names and (target[2] or re.search(rf"\b{name}\b", line[target.end():])):
-                carried.add(name)
-            names.add(name)
-    local = re.compile(r"\b(" + "|".join(sorted(names - carried, key=len, reverse=True)) + r")\b")
-    copies = [body] + [[re.sub(r"\bp\]", f"p + {w * stride}]", local.sub(rf"\g<1>_{w}w", line)) for line in body]
-                       for w in range(1, ways)]
-    return [line for group in zip(*copies) for line in group]
+def _live(X: dict, c: int, n: int) -> list:
+    """The entries of the time update's ``X`` that the steps from column ``c`` on read: columns
+    ``c..``, of the rows ``c..n-1`` of ``(A S)^T`` and ``U_Q``'s rows ``n..n+c-1`` (row ``n + c``
+    has not entered yet)."""
+    return sorted(key for key in X if key[1] >= c and (c <= key[0] < n or n <= key[0] < n + c))
 
 
 def _reflector_rows(c: int, n: int) -> list:
@@ -618,6 +606,8 @@ def _straight_source(n: int) -> str:
     w(f"    noise = _aligned(({W},))")
     w(f"    half = _aligned(({W},))")
     w(f"    spare = _aligned(({W},))")   # a partial last block's traces, or a step beyond trace's (_row)
+    if PHASED_MIN <= n <= PHASED_MAX:   # the time update's live entries between its lane loops
+        w(f"    X = _aligned(({2 * n}, {n}, {W}))")
     for i in R:                          # A lower Hessenberg (log_trace_paths)
         for l in range(min(i + 2, n)):
             w(f"    a{i}_{l} = A[{i}, {l}]")
@@ -722,20 +712,26 @@ def _straight_source(n: int) -> str:
     # --- time update (as _time_update and the Householder kernels): X[j][i] = (A S)[i, j], A lower
     # Hessenberg and S lower triangular: A S lower Hessenberg, X's top block upper Hessenberg; rows
     # n.. = 2^(-E/2) UQ, row n + c entering at column c.  Column c's reflector spans rows c, c + 1
-    # and n..n + c: the rows below c + 1 are zero in columns c.. and stay so (no fill-in)
+    # and n..n + c: the rows below c + 1 are zero in columns c.. and stay so (no fill-in).  From
+    # PHASED_MIN to PHASED_MAX one lane loop per column (the live entries kept in X between them),
+    # else one loop
     X = {(j, i): f"x{j}_{i}" for i in R for j in range(min(i + 2, n))}
     X.update({(n + i, j): f"x{n + i}_{j}" for i in R for j in range(i, n)})
+    phases = [[c] for c in R] if PHASED_MIN <= n <= PHASED_MAX else [list(R)]
 
-    def time_update(indent: str, trace: str = "") -> None:   # the time update's lane loop, and the traces by ``trace``
+    def time_update(cols: list, indent: str, trace: str = "") -> None:   # the lane loop of columns cols, and the traces by ``trace``
         w(f"{indent}for p in range({W}):")
-        first = len(L)
         body = indent + " " * 4
-        load_S(body)
-        for i in R:
-            for j in range(min(i + 2, n)):
-                L.extend(_sum(X[j, i], [f"a{i}_{l} * s{l}_{j}" for l in range(j, min(i + 1, n - 1) + 1)], body))
+        if cols[0] == 0:
+            load_S(body)
+            for i in R:
+                for j in range(min(i + 2, n)):
+                    L.extend(_sum(X[j, i], [f"a{i}_{l} * s{l}_{j}" for l in range(j, min(i + 1, n - 1) + 1)], body))
+        else:
+            for key in _live(X, cols[0], n):
+                w(f"{body}{X[key]} = X[{key[0]}, {key[1]}, p]")
         w(f"{body}root = half[p]")
-        for c in R:
+        for c in cols:
             for k in range(c, n):
                 w(f"{body}{X[n + c, k]} = root * q{c}_{k}")
             rows = _reflector_rows(c, n)
@@ -755,32 +751,36 @@ def _straight_source(n: int) -> str:
             w(f"{body}{X[c, c]} = -head")
             for i in range(c, n):        # row c of R is final: column c of S = R^T
                 w(f"{body}S[{i}, {c}, p] = {X[c, i]}")
+        if cols[-1] < n - 1:
+            for key in _live(X, cols[-1] + 1, n):
+                w(f"{body}X[{key[0]}, {key[1]}, p] = {X[key]}")
         if trace:
             w(f"{body}out[p] = {trace}(t[p], E[p])")
-            # the next step's trace, summed in the rescale's order (the same bits up to its power of two)
-            L.extend(_sum("tp", [f"{X[j, i]} * {X[j, i]}" for i, j in lower], body))
+            # the next step's trace, summed in the rescale's order (the same bits up to its power of
+            # two); the entries of earlier lane loops' columns from S
+            L.extend(_sum("tp", [f"{X[j, i]} * {X[j, i]}" if j in cols else f"S[{i}, {j}, p] * S[{i}, {j}, p]"
+                                 for i, j in lower], body))
             w(f"{body}t[p] = tp")
             w(f"{body}bt = _bits_of(tp)")   # t >= 0 orders as its bits; nan above every bound
             w(f"{body}top = max(top, bt)")
             w(f"{body}bottom = min(bottom, bt)")
-        if 1 < n <= INTERLEAVED_MAX:   # INTERLEAVED paths per iteration
-            L[first - 1:] = [f"{indent}for p in range({W // INTERLEAVED}):"] + _interleaved(L[first:], INTERLEAVED,
-                                                                                          W // INTERLEAVED)
 
+    for cols in phases[:-1]:
+        time_update(cols, " " * 12)
     if not traced:
-        time_update(" " * 12)
+        time_update(phases[-1], " " * 12)
         return "\n".join(L) + "\n"
-    # up to TRACED_MAX this step's traces are taken in the time update's lane loop, which does not
-    # read them: its square roots and the log's polynomial overlap.  That loop is written twice, for
-    # the logs and for the traces themselves (linear): beyond TRACED_MAX double the compile time,
-    # and no measured gain (docs/performance.md)
+    # up to TRACED_MAX this step's traces are taken in the time update's last lane loop, which does
+    # not read them: its square roots and the log's polynomial overlap.  That loop is written twice,
+    # for the logs and for the traces themselves (linear): beyond TRACED_MAX double the compile
+    # time, and no measured gain (docs/performance.md)
     w("            out = _row(trace, spare, k, start, offset, paths)")
     w("            top = 0")
     w(f"            bottom = {WINDOW_BITS[1]:#x}")
     w("            if linear:")
-    time_update(" " * 16, "_linear_scaled")
+    time_update(phases[-1], " " * 16, "_linear_scaled")
     w("            else:")
-    time_update(" " * 16, "_log_scaled")
+    time_update(phases[-1], " " * 16, "_log_scaled")
     w(f"            wide = top > {WINDOW_BITS[1]:#x} or bottom < {WINDOW_BITS[0]:#x}")
     w("            _flush(trace, spare, k, start, offset, paths)")
     return "\n".join(L) + "\n"

@@ -60,16 +60,6 @@ def test_straight_line_kernels_equal_the_loop_kernel_bit_for_bit(n):
         np.testing.assert_allclose(np.log(linear[held]), logs[:600][held], rtol=4e-16, atol=4e-15)
 
 
-def test_a_lane_loops_paths_interleave_with_their_own_names_and_shared_reductions():
-    # the n = 2 time update runs two paths per iteration, statement by statement: names the body
-    # assigns before reading are each path's own, names it reads first (reductions) are shared
-    from symkf.numeric.square_root import _interleaved
-    body = ["x = S[0, p] * 2.0", "x += t[p]", "top = max(top, x)", "acc += x", "out[p] = x"]
-    assert _interleaved(body, 2, 64) == [
-        "x = S[0, p] * 2.0", "x_1w = S[0, p + 64] * 2.0", "x += t[p]", "x_1w += t[p + 64]",
-        "top = max(top, x)", "top = max(top, x_1w)", "acc += x", "acc += x_1w", "out[p] = x", "out[p + 64] = x_1w"]
-
-
 def _row_kernel(kind: str, n: int, unrolled: bool, data: np.ndarray, vectors: np.ndarray) -> None:
     """Run ``kind``'s kernel for ``n`` in place: the one the loop kernel uses (``unrolled``), or its
     loops (which the loop kernel uses beyond UNROLLED_MAX)."""
