@@ -47,7 +47,7 @@ The divider (division and square root share it) bounds the kernel at small
 ``n``: these forms need ``rows n + n - 1`` divisions and ``rows n + n`` square
 roots per path-step, where Potter's full update needed one of each per row: up to
 n = 4, where the reflectors are hardly shorter, this kernel is the slower
-(0.72-0.82x at n = 2; docs/performance.md).  Below 2^-1022 a denominator
+(0.69-0.90x at n = 2; docs/performance.md).  Below 2^-1022 a denominator
 is dropped (its reciprocal could overflow); what it would remove is below
 2^-511 of ``S``'s scale.
 
