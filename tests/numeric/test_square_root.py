@@ -71,7 +71,8 @@ def _row_kernel(kind: str, n: int, unrolled: bool, data: np.ndarray, vectors: np
     kernel.ctypes(data.ctypes.data_as(pointer), vectors.ctypes.data_as(pointer), n)
 
 
-@pytest.mark.parametrize("n", [1, 2, 9, 16, 17])   # 16: UNROLLED_MAX["householder"], the largest written out
+# 16: UNROLLED_MAX["householder"], the largest written out, in the full tier (5 CPU-s to compile); 17: the loops
+@pytest.mark.parametrize("n", [1, 2, 9, pytest.param(16, marks=pytest.mark.full), 17])
 def test_the_unrolled_householder_kernels_equal_the_loops_bit_for_bit(n):
     # beyond 8 states the time update triangularises with symkf.numeric.unrolled_kernels (columns
     # written out) and beyond UNROLLED_MAX with _householder_loops: the same operations in the same
@@ -100,7 +101,8 @@ def test_the_unrolled_householder_kernels_equal_the_loops_bit_for_bit(n):
     assert np.all(R[:, :, 0] == 0.0)
 
 
-@pytest.mark.parametrize("n", [1, 2, 9, 16, 17])   # 16: UNROLLED_MAX["carlson"]; 17: the loops alone
+# 16: UNROLLED_MAX["carlson"], in the full tier (2 CPU-s to compile); 17: the loops alone
+@pytest.mark.parametrize("n", [1, 2, 9, pytest.param(16, marks=pytest.mark.full), 17])
 def test_the_unrolled_carlson_kernels_equal_the_loops_bit_for_bit(n):
     # Carlson's rotations of a lower-triangular S, row by row: the written-out rows and
     # _carlson_loops agree in every bit; with the rotations of a received row h (as _loops makes
