@@ -1,9 +1,12 @@
 """The square-root filter kernel's share of one core's floating-point peak, n = 2, 4, 8, 16 states.
 
 The kernel is :func:`symkf.numeric.filters.log_traces` on receptions drawn beforehand (i.i.d. 0.3
-losses, ``d`` single-row sensors, systems of ``bench_simulate.system``).  Work per path-step
-is counted by the yardstick ``4 n^3 + 4 d n^2`` flop (time update ~ ``4 n^3``: ``A S`` and
-the Householder reflections; a measurement row ~ ``4 n^2``), whatever the kernel skips.
+losses, ``d`` single-row sensors, systems of ``bench_simulate.system``).  Work per path-step is
+the kernel's own multiplications and additions (:func:`arithmetic_work`: ``d`` Carlson rows, the
+time update with ``A`` lower Hessenberg and its short reflectors, the trace), each one flop; the
+kernel fuses none (no FMA contraction), so it can reach at most half of an FMA peak.  For n <= 8
+the count is checked against the operators of the generated source (:func:`source_arithmetic`);
+the loop kernel beyond runs the same operations (and skips zero entries of ``A`` and ``H``).
 
 Peak: derived from ``lscpu`` (FMA pipes x doubles per pipe x 2 flop x clock; AMD family 25,
 Zen 3/4, has two 256-bit FMA pipes, AVX-512 is double-pumped; family 26, Zen 5, two 512-bit
@@ -169,6 +172,65 @@ def divider_work(n: int, rows: int) -> tuple[int, int]:
     return rows * n + n, rows * n + n
 
 
+def arithmetic_work(n: int, rows: int) -> tuple[int, int]:
+    """(multiplications, additions) per path-step of :mod:`symkf.numeric.square_root`'s kernel for a
+    dense lower-Hessenberg ``A``: per Carlson row ``f = S^T h`` and, column by column from the last,
+    ``alpha += f_j^2``, ``c`` and ``sn``, the diagonal entry and the rotation of the entries below it
+    (and of ``v`` but for column 0); the time update's ``A S`` (entry ``(i, j)``, ``j <= i + 1``: the
+    terms ``l = j..min(i + 1, n - 1)``), ``2^(-E/2) U_Q``, each column's reflector over its ``c + 3``
+    rows (``c + 2`` for the last, never applied) and the trace's sum of squares."""
+    mul = add = 0
+    for j in range(n):                                  # a Carlson row
+        below = n - 1 - j
+        mul += (n - j) + 3 + (2 + 4 * below if j else 1 + 2 * below)
+        add += (n - j - 1) + 1 + (2 * below if j else below)
+    mul, add = rows * mul, rows * add
+    for i in range(n):                                  # A S
+        for j in range(min(i + 2, n)):
+            terms = min(i + 1, n - 1) - j + 1
+            mul, add = mul + terms, add + terms - 1
+    mul += n * (n + 1) // 2                             # 2^(-E/2) U_Q
+    for c in range(n):                                  # the reflectors
+        rows_c = c + 3 if c < n - 1 else c + 2
+        mul, add = mul + rows_c, add + rows_c - 1
+        if c < n - 1:
+            mul, add = mul + 1, add + 2
+            later = n - 1 - c
+            mul, add = mul + later * (2 * rows_c + 1), add + later * (2 * rows_c - 1)
+    return mul + n * (n + 1) // 2, add + n * (n + 1) // 2 - 1
+
+
+def source_arithmetic(n: int, rows: int) -> tuple[int, int]:
+    """(multiplications, additions) per path-step read off the straight-line kernel's source for ``n``
+    states: the operators of the lane loop of a Carlson row (``rows`` times) and of the time update's
+    lane loops for the logs (the copy for the traces themselves skipped), indices and the
+    power-of-two scaling left out."""
+    from symkf.numeric.square_root import _straight_source
+    lines = _straight_source(n).splitlines()
+    loops, skip = [], False
+    for i, line in enumerate(lines):
+        if line.strip() == "if linear:":
+            skip = True
+        elif line.strip() == "else:":
+            skip = False
+        if re.match(r"\s*for p in range\(", line) and not skip:
+            depth = len(line) - len(line.lstrip())
+            body = list(itertools.takewhile(lambda l: len(l) - len(l.lstrip()) > depth, lines[i + 1:]))
+            loops.append("\n".join(body))
+
+    def count(text: str) -> tuple[int, int]:
+        text = re.sub(r"\[[^\]]*\]|_pow2\([^)]*\)|_float_bits\([^)]*\)", "", text)
+        return (len(re.findall(r"(?<![*])\*(?![*])", text)),
+                len(re.findall(r" [-+] ", text)) + len(re.findall(r"[-+]= ", text)))
+
+    carlson = [count(b) for b in loops if "sprev" in b]
+    update = [count(b) for b in loops if "root = half[p]" in b]
+    trace = [count(b) for b in loops if "tp +=" in b and "root = half[p]" not in b and "scale" not in b]
+    mul = rows * carlson[0][0] + sum(m for m, _ in update + trace)
+    add = rows * carlson[0][1] + sum(a for _, a in update + trace)
+    return mul, add
+
+
 def loop_divider_work(n: int) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
     """(divisions, square roots) per path of each lane loop of the straight-line kernel that has
     any, and of those a step runs for the logs at d = 1.  A Carlson row (one loop); the time update,
@@ -243,7 +305,11 @@ def main() -> None:
         print(f"compiled kernel n = {n}: {register} vdivpd, vsqrtpd per loop body ({width} paths) {bodies}"
               f"{', as the source' if same else ' DIFFERS from the source ' + str(written)}; a step for the logs "
               f"at d = 1 runs {step}: {total} per path-step, the yardstick's {divider_work(n, 1)}"
-              f"{'' if total == divider_work(n, 1) else ' DIFFERS'}; each further row adds {(1, 1)}")
+              f"{'' if total == divider_work(n, 1) else ' DIFFERS'}; each further row adds {(n, n)}")
+        for d in sorted({d for m, d in CELLS if m == n}):
+            counted, read = arithmetic_work(n, d), source_arithmetic(n, d)
+            print(f"  d = {d}: multiplications, additions per path-step {counted}"
+                  f"{', as the source' if counted == read else ' DIFFER from the source ' + str(read)}")
     cells = [(n, d, paths_for(n, args.quick)) for n, d in CELLS]
     rounds = 3 if args.main else 1
     here, old = [[] for _ in cells], [[] for _ in cells]
@@ -255,18 +321,19 @@ def main() -> None:
                 old[j] += run_cells(sys.executable, args.main, HORIZON, repeats, [cell], env)[0]
     median = lambda v: sorted(v)[len(v) // 2]
     ratio = [median([b[0] / a[0] for a, b in zip(h, o)]) for h, o in zip(here, old)] if args.main else None
-    print(f"horizon {HORIZON}; yardstick 4n^3 + 4dn^2 flop per path-step; % peak: the median over {len(here[0])} runs "
+    print(f"horizon {HORIZON}; flop: the kernel's multiplications and additions (arithmetic_work); % peak: the median over {len(here[0])} runs "
           f"of each run's GFLOP/s over the FMA loop's just before it (peak: that loop's median) and, in "
           f"brackets, of the lscpu peak ({peak:.1f}); bound: the divider's limit on that share")
     print(f"{'n':>3} {'d':>2} {'paths':>6} {'CPU s':>7} {'path-steps/s':>12} {'GFLOP/s':>8} {'peak':>5} {'% peak':>13} "
           f"{'bound %':>8}" + (f" {'main CPU s':>10} {'speed-up':>8}" if args.main else ""))
     for j, (n, d, paths) in enumerate(cells):
-        flop = (4 * n ** 3 + 4 * d * n ** 2) * paths * HORIZON
+        work = sum(arithmetic_work(n, d))
+        flop = work * paths * HORIZON
         t, paired = median([t for t, _ in here[j]]), median([p for _, p in here[j]])
         share = median([flop / t_r / 1e9 / p_r * 100 for t_r, p_r in here[j]])
         ndiv, nsqrt = divider_work(n, d)
         floor = ndiv / div + nsqrt / sqrt                      # ns per path-step
-        bound = (4 * n ** 3 + 4 * d * n ** 2) / floor / paired * 100
+        bound = work / floor / paired * 100
         line = (f"{n:>3} {d:>2} {paths:>6} {t:>7.3f} {paths * HORIZON / t:>12.3e} {flop / t / 1e9:>8.2f} {paired:>5.1f} "
                 f"{share:>5.1f} ({flop / t / 1e9 / peak * 100:>5.1f}) {min(bound, 100):>8.1f}")
         if args.main:
@@ -275,7 +342,7 @@ def main() -> None:
     ndiv, nsqrt = divider_work(2, 1)
     floor = ndiv / div + nsqrt / sqrt
     print(f"division/square-root floor at n = 2, d = 1: {ndiv} divisions + {nsqrt} square roots per path-step "
-          f"= {floor:.2f} ns, i.e. at most {48 / floor / fma * 100:.1f} % of the measured peak")
+          f"= {floor:.2f} ns, i.e. at most {sum(arithmetic_work(2, 1)) / floor / fma * 100:.1f} % of the measured peak")
     print(f"peak RSS of this process {peak_rss_mb():.0f} MB")
 
 
