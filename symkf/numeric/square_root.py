@@ -357,19 +357,30 @@ def _reflector_offsets(j: int, n: int) -> list:
     return [row * st + j * L for row in _reflector_rows(j, n)]
 
 
+@_jit(KERNEL_PARTS)
+def _reflector_row(r: int, c: int, n: int) -> int:
+    """The row of the time update's ``X`` (``2n`` rows: ``(A S)^T`` upper Hessenberg over
+    ``2^(-E/2) U_Q``) of the ``r``-th row that column ``c``'s Householder reflector spans, in the
+    order the kernels sum them: the pivot row ``c``, row ``c + 1`` (the subdiagonal of ``A S``;
+    none at the last column) and ``U_Q``'s rows ``n..n + c`` (row ``n + i`` is zero left of column
+    ``i``, and a reflection leaves a row with a zero pivot-column entry alone): ``c + 3`` rows,
+    ``n + 1`` at the last column."""
+    top = 2 if c < n - 1 else 1
+    return c + r if r < top else n + r - top
+
+
 def _householder_loops(X, V, n):
     """The operations of :func:`_householder_source` ``(n)`` in its order, for any ``n``, as loops
     over the rows (its sums through the scratch rows of ``V``: a test compares every bit)."""
     L, st = LOOP_LANES, (n | 1) * LOOP_LANES
     beta, acc = (n + 1) * L, (n + 2) * L
     for j in range(n):
-        top = 2 if j < n - 1 else 1          # rows j (and j + 1) of (A S)^T, then U_Q's rows 0..j
-        m = top + j + 1
+        m = j + 3 if j < n - 1 else j + 2     # the reflector's rows (_reflector_row)
         b = j * (st + L)
         for p in range(L):
             V[acc + p] = 0.0
         for r in range(m):
-            o = (j + r if r < top else n + r - top) * st + j * L
+            o = _reflector_row(r, j, n) * st + j * L
             for p in range(L):
                 V[acc + p] += X[o + p] * X[o + p]
         for p in range(L):
@@ -381,18 +392,18 @@ def _householder_loops(X, V, n):
             V[p] = x0 + head
             X[b + p] = -head
         for r in range(1, m):
-            o = (j + r if r < top else n + r - top) * st + j * L
+            o = _reflector_row(r, j, n) * st + j * L
             for p in range(L):
                 V[r * L + p] = X[o + p]
         for k in range(j + 1, n):
             for p in range(L):
                 V[acc + p] = 0.0
             for r in range(m):
-                o = (j + r if r < top else n + r - top) * st + k * L
+                o = _reflector_row(r, j, n) * st + k * L
                 for p in range(L):
                     V[acc + p] += V[r * L + p] * X[o + p]
             for r in range(m):
-                o = (j + r if r < top else n + r - top) * st + k * L
+                o = _reflector_row(r, j, n) * st + k * L
                 for p in range(L):
                     X[o + p] -= V[beta + p] * V[acc + p] * V[r * L + p]
 
@@ -571,12 +582,9 @@ def _live(X: dict, c: int, n: int) -> list:
 
 
 def _reflector_rows(c: int, n: int) -> list:
-    """The rows of the time update's ``X`` (``2n`` rows: ``(A S)^T`` upper Hessenberg over
-    ``2^(-E/2) U_Q``) that column ``c``'s Householder reflector spans, in the order the kernels sum
-    them: the pivot row ``c``, row ``c + 1`` (the subdiagonal of ``A S``) and ``U_Q``'s rows
-    ``n..n + c`` (row ``n + i`` is zero left of column ``i``, and a reflection leaves a row with a
-    zero pivot-column entry alone): ``c + 3`` rows, ``n + 1`` at the last column."""
-    return [c] + ([c + 1] if c + 1 < n else []) + [n + i for i in range(c + 1)]
+    """The rows of the time update's ``X`` that column ``c``'s reflector spans, in order
+    (:func:`_reflector_row`, as the loops read them)."""
+    return [_reflector_row.py_func(r, c, n) for r in range(c + 3 if c < n - 1 else c + 2)]
 
 
 def _straight_source(n: int) -> str:
